@@ -1,0 +1,134 @@
+"""``mech check``: every exercise's cross-check at its defaults and, with --hard, on its hard cases."""
+
+from __future__ import annotations
+
+import sys
+import time
+from dataclasses import dataclass, field
+from xml.etree import ElementTree as ET
+
+from mech.problems.spec import BadInput, Exercise
+
+
+@dataclass
+class Case:
+    exercise: Exercise
+    label: str
+    given: dict
+    ok: bool = False
+    seconds: float = 0.0
+    worst_ratio: float | None = None
+    detail: str = ""
+    result: object = None
+
+    def as_json(self) -> dict:
+        d = {"id": self.exercise.id, "case": self.label, "params": self.given, "ok": self.ok,
+             "seconds": self.seconds, "worst_err_over_tol": self.worst_ratio, "detail": self.detail}
+        if self.result is not None:
+            d["quantities"] = [q.as_json() for q in self.result.quantities]
+        return d
+
+
+@dataclass
+class Report:
+    cases: list[Case] = field(default_factory=list)
+    seconds: float = 0.0
+
+    @property
+    def passed(self) -> int:
+        return sum(c.ok for c in self.cases)
+
+    @property
+    def failed(self) -> int:
+        return len(self.cases) - self.passed
+
+    @property
+    def ok(self) -> bool:
+        return self.failed == 0
+
+    def as_json(self) -> dict:
+        return {"ok": self.ok, "passed": self.passed, "failed": self.failed, "seconds": self.seconds,
+                "cases": [c.as_json() for c in self.cases]}
+
+
+def plan(exercises, hard: bool) -> list[Case]:
+    cases = []
+    for ex in exercises:
+        cases.append(Case(ex, "defaults", {}))
+        if hard:
+            for k, h in enumerate(ex.hard_cases, 1):
+                cases.append(Case(ex, f"hard {k}", dict(h["params"])))
+    return cases
+
+
+def run_case(case: Case) -> Case:
+    from mech.solvers.crosscheck import cross_check
+
+    t0 = time.perf_counter()
+    ex = case.exercise
+    try:
+        params = ex.resolve(case.given)
+    except BadInput as exc:
+        case.detail = f"bad parameters: {exc}"
+        case.ok = False
+        case.seconds = time.perf_counter() - t0
+        return case
+    if len(ex.methods) < 2:
+        case.detail = f"only {', '.join(ex.methods) or 'no'} solver registered"
+        case.seconds = time.perf_counter() - t0
+        return case
+    result = cross_check(ex, params)
+    case.result = result
+    case.seconds = time.perf_counter() - t0
+    ratios = [q.abs_err / (q.tol * abs(q.analytic) + q.tol_abs) for q in result.quantities
+              if q.abs_err is not None and (q.tol * abs(q.analytic) + q.tol_abs) > 0]
+    zero_tol_miss = any(q.abs_err and (q.tol * abs(q.analytic) + q.tol_abs) == 0 for q in result.quantities)
+    case.worst_ratio = max(ratios) if ratios else None
+    case.ok = result.agree is True and not zero_tol_miss
+    bad = [q.name for q in result.quantities if q.agree is False]
+    details = []
+    if bad:
+        details.append("disagree: " + ", ".join(bad))
+    details.extend(result.errors)
+    for q in result.quantities:
+        if q.agree is False and q.notes:
+            details.append(f"{q.name}: {'; '.join(q.notes)}")
+    case.detail = "; ".join(details)
+    return case
+
+
+def run_check(exercises, hard: bool = False, progress: bool = True) -> Report:
+    cases = plan(exercises, hard)
+    report = Report()
+    t0 = time.perf_counter()
+    show = progress and sys.stderr.isatty()
+    if show:
+        from rich.console import Console
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+        with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                      console=Console(stderr=True), transient=True) as bar:
+            task = bar.add_task("checking", total=len(cases))
+            for case in cases:
+                bar.update(task, description=f"{case.exercise.id} {case.label}")
+                report.cases.append(run_case(case))
+                bar.advance(task)
+    else:
+        report.cases = [run_case(c) for c in cases]
+    report.seconds = time.perf_counter() - t0
+    return report
+
+
+def write_junit(report: Report, path: str) -> None:
+    suite = ET.Element("testsuite", name="mech check", tests=str(len(report.cases)), failures=str(report.failed),
+                       errors="0", time=f"{report.seconds:.3f}")
+    for case in report.cases:
+        tc = ET.SubElement(suite, "testcase", classname=f"mech.{case.exercise.id}", name=case.label,
+                           time=f"{case.seconds:.3f}")
+        if not case.ok:
+            fail = ET.SubElement(tc, "failure", message=case.detail or "cross-check failed")
+            fail.text = case.detail
+    root = ET.Element("testsuites", name="mech", tests=str(len(report.cases)), failures=str(report.failed))
+    root.append(suite)
+    ET.indent(root)
+    ET.ElementTree(root).write(path, encoding="utf-8", xml_declaration=True)

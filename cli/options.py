@@ -1,0 +1,74 @@
+"""Turn ``--NAME VALUE``, ``--NAME=VALUE`` and ``-p NAME=VALUE`` into SI parameter values."""
+
+from __future__ import annotations
+
+from mech.cli.values import ValueError_, to_si
+from mech.problems.spec import BadInput, Exercise
+
+__all__ = ["collect_params", "parse_rtol"]
+
+
+def _canonical(ex: Exercise, raw: str) -> str:
+    name = raw.strip().replace("-", "_")
+    if name not in ex.param_map:
+        names = ", ".join(ex.param_map)
+        raise BadInput(f"unknown parameter '{raw}' for {ex.id}; its parameters are: {names}")
+    return name
+
+
+def _convert(ex: Exercise, name: str, text: str) -> float:
+    param = ex.param_map[name]
+    try:
+        value = to_si(text, param.unit)
+    except ValueError_ as exc:
+        raise BadInput(f"{name}: cannot use '{text}': {exc}; allowed range {param.range_text()}") from None
+    param.check(value)
+    return value
+
+
+def collect_params(ex: Exercise, args: list[str], pairs: list[str]) -> dict[str, float]:
+    """Read the extra ``--NAME VALUE`` arguments and the ``-p`` pairs; a name given twice is an error."""
+    texts: dict[str, str] = {}
+
+    def put(raw_name: str, text: str) -> None:
+        name = _canonical(ex, raw_name)
+        if name in texts:
+            raise BadInput(f"{name}: given more than once; allowed range {ex.param_map[name].range_text()}")
+        texts[name] = text
+
+    i = 0
+    while i < len(args):
+        arg = args[i]
+        if not arg.startswith("--") or len(arg) <= 2:
+            raise BadInput(f"unexpected argument '{arg}'; parameters are given as --NAME VALUE or -p NAME=VALUE")
+        body = arg[2:]
+        if "=" in body:
+            name, text = body.split("=", 1)
+        else:
+            name = body
+            if i + 1 >= len(args):
+                _canonical(ex, name)
+                raise BadInput(f"{name.replace('-', '_')}: no value given; allowed range "
+                               f"{ex.param_map[name.replace('-', '_')].range_text()}")
+            i += 1
+            text = args[i]
+        put(name, text)
+        i += 1
+    for pair in pairs:
+        if "=" not in pair:
+            raise BadInput(f"-p takes NAME=VALUE, got '{pair}'")
+        name, text = pair.split("=", 1)
+        put(name, text)
+    return {name: _convert(ex, name, text) for name, text in texts.items()}
+
+
+def parse_rtol(text: str | None, ex: Exercise) -> float | None:
+    if text is None:
+        return None
+    try:
+        value = to_si(text, "1")
+    except ValueError_ as exc:
+        raise BadInput(f"rtol: cannot use '{text}': {exc}; allowed range [{ex.min_rtol:g}, 0.01]") from None
+    if not (ex.min_rtol <= value <= 1e-2):
+        raise BadInput(f"rtol: {value:g} is out of range; allowed [{ex.min_rtol:g}, 0.01]")
+    return value

@@ -1,0 +1,101 @@
+"""4.15 Sliding ladder: the angle at which it leaves the wall.
+
+Analytic: with both ends in contact the ladder has one coordinate, theta.
+Energy gives dtheta/dt^2 = (3g/l)(sin theta0 - sin theta); the wall's force is
+M times the horizontal acceleration of the center, which is proportional to
+cos theta (3/2 sin theta - sin theta0); it vanishes first at
+sin theta_c = (2/3) sin theta0, where omega_c^2 = (g/l) sin theta0.
+
+Numeric: Newton-Euler for the rigid rod, not the Lagrangian: at each instant the
+three unknowns (the angular acceleration and the two normal forces) solve the
+linear system of the center's two equations of motion and the torque about the
+center, with the center's acceleration tied to theta by the contacts.  The
+integration stops at the event N_wall = 0 (confirmed with a bounded step).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mech.problems.spec import Exercise
+from mech.solvers.ode import Event, integrate_to_event
+
+exercise = Exercise(
+    "4.15",
+    formulas=[
+        "sin θc = (2/3) sin θ₀",
+        "ω_c = (g sin θ₀ / l)^(1/2)",
+        "(from θ'² = (3g/l)(sin θ₀ - sin θ) and N_wall ∝ cos θ (3/2 sin θ - sin θ₀))",
+    ],
+)
+
+# Start this close below the upright position on the energy-conserving path:
+# the upright ladder is an equilibrium that an integrator would never leave.
+UPRIGHT_NUDGE = 1e-6
+
+
+@exercise.analytic
+def _(p):
+    s0 = np.sin(p.theta0)
+    return {"theta_c": np.arcsin(2.0 * s0 / 3.0), "omega_c": np.sqrt(p.g * s0 / p.l)}
+
+
+def _accelerations(theta, omega, M, l, g):
+    """(theta'', N_wall, N_floor) from Newton's laws for the rod with both ends on the walls."""
+    s, c = np.sin(theta), np.cos(theta)
+    I_cm = M * l**2 / 12.0
+    # center (x, y) = (l/2 cos theta, l/2 sin theta): x'' = -(l/2)(s th'' + c w^2), y'' = (l/2)(c th'' - s w^2)
+    # unknowns u = (theta'', N_wall, N_floor):
+    #   M x'' = N_wall ;  M y'' = N_floor - M g
+    #   the rod's orientation angle is pi - theta, so -I_cm theta'' = torque about the center:
+    #   torque = -(l/2) s N_wall + (l/2) c N_floor
+    A = np.array(
+        [
+            [M * l / 2 * s, 1.0, 0.0],
+            [-M * l / 2 * c, 0.0, 1.0],
+            [-I_cm, l / 2 * s, -l / 2 * c],
+        ]
+    )
+    b = np.array([-M * l / 2 * c * omega**2, M * g - M * l / 2 * s * omega**2, 0.0])
+    return np.linalg.solve(A, b)
+
+
+def _energy(theta, omega, M, l, g):
+    """T + U summed from the center's motion and the rotation about it."""
+    v2 = (l / 2 * omega) ** 2
+    return 0.5 * M * v2 + 0.5 * (M * l**2 / 12.0) * omega**2 + M * g * l / 2 * np.sin(theta)
+
+
+@exercise.numeric
+def _(p, run):
+    M, l, g = 1.0, p.l, p.g  # the mass cancels from every output
+    theta_start, omega_start = p.theta0, 0.0
+    if np.pi / 2 - p.theta0 < UPRIGHT_NUDGE:
+        theta_start = p.theta0 - UPRIGHT_NUDGE
+        # speed from energy conservation with the start at rest at theta0
+        e0 = _energy(p.theta0, 0.0, M, l, g)
+        u_start = _energy(theta_start, 0.0, M, l, g)
+        t_per_unit_omega2 = _energy(theta_start, 1.0, M, l, g) - u_start
+        omega_start = -np.sqrt((e0 - u_start) / t_per_unit_omega2)
+
+    def rhs(t, y):
+        th_dd = _accelerations(y[0], y[1], M, l, g)[0]
+        return np.array([y[1], th_dd])
+
+    def wall_force(t, y):
+        return _accelerations(y[0], y[1], M, l, g)[1]
+
+    t_unit = np.sqrt(l / g)
+    t_ev, y_ev, traj = integrate_to_event(
+        rhs,
+        (0.0, 200.0 * t_unit),
+        [theta_start, omega_start],
+        Event(wall_force, direction=-1, name="N_wall = 0"),
+        rtol=run.rtol,
+        atol=[run.rtol * 1e-3 * max(p.theta0, 1e-300), run.rtol * 1e-3 * max(p.theta0, 1e-300) / t_unit],
+    )
+    run.record(traj)
+    e_start = _energy(theta_start, omega_start, M, l, g)
+    run.invariant("energy", (_energy(y_ev[0], y_ev[1], M, l, g) - e_start) / (M * g * l / 2))
+    run.info["t_c"] = t_ev
+    return {"theta_c": y_ev[0], "omega_c": abs(y_ev[1])}

@@ -1,0 +1,332 @@
+"""What an exercise is: its catalogue metadata, its parameters, its outputs and its two solvers.
+
+The catalogue file (``problems/catalogue/ID.toml``, a verbatim copy of the shared
+specification) is the single source of the statement, the parameters and the
+outputs; an exercise module binds it with ``Exercise("4.15", formulas=[...])``
+and adds what only the module knows: the formulas as text, the analytic and
+numeric solvers, joint parameter constraints and, for a leading-order theory,
+the size of what it neglects.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from importlib import resources
+from typing import Any, Callable, Mapping
+
+__all__ = [
+    "BadInput",
+    "Exercise",
+    "Output",
+    "Param",
+    "Params",
+    "Run",
+    "Undefined",
+    "NumericFailure",
+]
+
+
+class BadInput(ValueError):
+    """A parameter value the exercise cannot take; the message is one line for the user."""
+
+
+class NumericFailure(RuntimeError):
+    """The numeric solver could not produce a trustworthy answer; never swallowed into a number."""
+
+
+@dataclass(frozen=True)
+class Undefined:
+    """An output that has no finite value for these parameters, with the reason."""
+
+    why: str
+
+
+DISPLAY_FACTORS = {"deg": math.pi / 180.0}
+
+
+def _fmt(x: float) -> str:
+    return f"{x:.6g}"
+
+
+@dataclass(frozen=True)
+class Param:
+    name: str
+    unit: str
+    default: float
+    symbol: str = ""
+    doc: str = ""
+    display: str | None = None
+    min: float | None = None
+    max: float | None = None
+    min_open: bool = False
+    max_open: bool = False
+
+    def to_display(self, value: float) -> float:
+        return value / DISPLAY_FACTORS[self.display] if self.display else value
+
+    def show(self, value: float) -> str:
+        """The value as people read it: in the display unit where there is one."""
+        if self.display:
+            return f"{_fmt(self.to_display(value))} {self.display}"
+        unit = "" if self.unit == "1" else f" {self.unit}"
+        return f"{_fmt(value)}{unit}"
+
+    def range_text(self) -> str:
+        """The allowed range in interval notation, in SI and (where set) the display unit."""
+        lo = "(-inf" if self.min is None else ("(" if self.min_open else "[") + _fmt(self.min)
+        hi = "+inf)" if self.max is None else _fmt(self.max) + (")" if self.max_open else "]")
+        unit = "" if self.unit == "1" else f" {self.unit}"
+        text = f"{lo}, {hi}{unit}"
+        if self.display and (self.min is not None or self.max is not None):
+            dlo = "(-inf" if self.min is None else ("(" if self.min_open else "[") + _fmt(self.to_display(self.min))
+            dhi = "+inf)" if self.max is None else _fmt(self.to_display(self.max)) + (")" if self.max_open else "]")
+            text += f" = {dlo}, {dhi} {self.display}"
+        return text
+
+    def check(self, value: float) -> None:
+        if not math.isfinite(value):
+            raise BadInput(f"{self.name}: {value} is not a finite number; allowed range {self.range_text()}")
+        below = self.min is not None and (value < self.min or (self.min_open and value == self.min))
+        above = self.max is not None and (value > self.max or (self.max_open and value == self.max))
+        if below or above:
+            raise BadInput(f"{self.name}: {_fmt(value)} is out of range; allowed {self.range_text()}")
+
+    def as_json(self) -> dict:
+        d: dict[str, Any] = {"name": self.name, "symbol": self.symbol, "unit": self.unit, "default": self.default}
+        for key in ("min", "max"):
+            if getattr(self, key) is not None:
+                d[key] = getattr(self, key)
+                d[key + "_open"] = getattr(self, key + "_open")
+        if self.display:
+            d["display"] = self.display
+        d["doc"] = self.doc
+        return d
+
+
+@dataclass(frozen=True)
+class Output:
+    name: str
+    unit: str
+    doc: str = ""
+    theory: str = "exact"  # or "leading-order": the analytic value neglects higher orders
+
+    def as_json(self) -> dict:
+        d = {"name": self.name, "unit": self.unit, "doc": self.doc}
+        if self.theory != "exact":
+            d["theory"] = self.theory
+        return d
+
+
+class Params(Mapping[str, float]):
+    """Resolved parameter values in SI, readable as ``p.theta0`` or ``p["theta0"]``."""
+
+    def __init__(self, values: Mapping[str, float]):
+        object.__setattr__(self, "_values", dict(values))
+
+    def __getattr__(self, name: str) -> float:
+        try:
+            return self._values[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __setattr__(self, name, value):
+        raise AttributeError("Params are read-only")
+
+    def __getitem__(self, key: str) -> float:
+        return self._values[key]
+
+    def __iter__(self):
+        return iter(self._values)
+
+    def __len__(self) -> int:
+        return len(self._values)
+
+    def replace(self, **changes: float) -> "Params":
+        return Params({**self._values, **changes})
+
+    def __repr__(self) -> str:
+        return f"Params({self._values!r})"
+
+
+@dataclass
+class Run:
+    """What a numeric solver is given and what it reports back besides its answers.
+
+    ``rtol`` is the requested relative accuracy.  The solver records the cost of
+    what it integrated (``record``), the drift of the invariants it monitors
+    (``invariant``) and, where its accuracy differs from the exercise's default
+    claim, what it claims for an output (``claim``).
+    """
+
+    rtol: float
+    method: str | None = None
+    info: dict = field(default_factory=dict)
+    claims: dict = field(default_factory=dict)
+    invariants: dict = field(default_factory=dict)
+    nfev: int = 0
+
+    def record(self, result: Any, method: str | None = None) -> Any:
+        """Add the cost of an integration (anything with ``nfev`` and ``method``)."""
+        self.nfev += int(getattr(result, "nfev", 0) or 0)
+        m = method or getattr(result, "method", None)
+        if m and not self.method:
+            self.method = m
+        return result
+
+    def claim(self, name: str, rel: float | None = None, abs: float | None = None) -> None:
+        """Declare the accuracy of one output: relative and/or absolute."""
+        self.claims[name] = (rel, abs)
+
+    def invariant(self, name: str, drift: float) -> None:
+        """Record the relative drift of a conserved quantity (the worst over the run)."""
+        drift = float(abs(drift))
+        self.invariants[name] = max(drift, self.invariants.get(name, 0.0))
+
+    def as_json(self) -> dict:
+        d = {"method": self.method, "rtol": self.rtol, "nfev": self.nfev}
+        if self.invariants:
+            d["invariants"] = {k: v for k, v in self.invariants.items()}
+        d.update(self.info)
+        return d
+
+
+def _load_catalogue(ex_id: str) -> dict:
+    text = resources.files("mech.problems").joinpath("catalogue", f"{ex_id}.toml").read_text("utf-8")
+    return tomllib.loads(text)
+
+
+class Exercise:
+    """One exercise: catalogue metadata plus the analytic and numeric solvers.
+
+    Parameters beyond the id:
+      formulas      the analytic results as text, for ``mech show``
+      leading_order names of outputs whose analytic value is a leading-order theory
+      tol_factor    the numeric claim for every output is ``tol_factor * rtol`` unless
+                    the solver claims otherwise; the cross-check uses that claim
+      default_rtol  the numeric solver's default requested accuracy
+    """
+
+    def __init__(
+        self,
+        id: str,
+        *,
+        formulas: list[str],
+        leading_order: tuple[str, ...] = (),
+        tol_factor: float = 100.0,
+        default_rtol: float = 1e-10,
+        min_rtol: float = 1e-13,
+    ):
+        spec = _load_catalogue(id)
+        self.id = spec["id"]
+        self.title = spec["title"]
+        self.topic = spec["topic"]
+        self.statement = spec["statement"].strip()
+        self.model = spec["model"].strip()
+        self.numeric_route = spec.get("numeric", {}).get("route", "").strip()
+        self.params = [Param(**p) for p in spec["params"]]
+        self.outputs = [
+            Output(**o, theory="leading-order" if o["name"] in leading_order else "exact") for o in spec["outputs"]
+        ]
+        unknown = set(leading_order) - {o.name for o in self.outputs}
+        if unknown:
+            raise ValueError(f"{id}: leading_order names unknown outputs {sorted(unknown)}")
+        self.hard_cases = [{"params": dict(h["params"]), "why": h.get("why", "")} for h in spec.get("hard_cases", [])]
+        self.formulas = list(formulas)
+        self.tol_factor = tol_factor
+        self.default_rtol = default_rtol
+        self.min_rtol = min_rtol
+        self._analytic: Callable | None = None
+        self._numeric: Callable | None = None
+        self._constraints: list[Callable] = []
+        self._expected_error: Callable | None = None
+        self.param_map = {p.name: p for p in self.params}
+
+    # -- decorators -------------------------------------------------------
+    def analytic(self, fn: Callable[[Params], dict]) -> Callable:
+        """Register ``fn(p) -> {output: value}``: the derived answer."""
+        self._analytic = fn
+        return fn
+
+    def numeric(self, fn: Callable[[Params, Run], dict]) -> Callable:
+        """Register ``fn(p, run) -> {output: value}``: the independent computation from the physics."""
+        self._numeric = fn
+        return fn
+
+    def constraint(self, fn: Callable[[Params], str | None]) -> Callable:
+        """Register a joint check of the parameters: return a one-line message when they are unphysical."""
+        self._constraints.append(fn)
+        return fn
+
+    def expected_error(self, fn: Callable[[Params], dict]) -> Callable:
+        """For leading-order outputs: ``fn(p) -> {output: relative size of what the theory neglects}``."""
+        self._expected_error = fn
+        return fn
+
+    # -- use --------------------------------------------------------------
+    @property
+    def methods(self) -> list[str]:
+        return [m for m, f in (("analytic", self._analytic), ("numeric", self._numeric)) if f is not None]
+
+    @property
+    def chapter(self) -> int:
+        return int(self.id.split(".")[0])
+
+    def resolve(self, given: Mapping[str, float] | None = None) -> Params:
+        """Defaults overlaid by the given values, each checked against its bounds, then the joint checks."""
+        given = dict(given or {})
+        unknown = [k for k in given if k not in self.param_map]
+        if unknown:
+            names = ", ".join(self.param_map)
+            raise BadInput(f"unknown parameter '{unknown[0]}' for {self.id}; its parameters are: {names}")
+        values = {}
+        for p in self.params:
+            v = float(given.get(p.name, p.default))
+            p.check(v)
+            values[p.name] = v
+        params = Params(values)
+        for check in self._constraints:
+            msg = check(params)
+            if msg:
+                raise BadInput(msg)
+        return params
+
+    def solve_analytic(self, p: Params) -> dict:
+        return self._finish(self._analytic(p), "analytic")
+
+    def solve_numeric(self, p: Params, rtol: float | None = None, method: str | None = None) -> tuple[dict, Run]:
+        run = Run(rtol=float(rtol or self.default_rtol), method=None)
+        if method:
+            run.info["requested_method"] = method
+        values = self._numeric(p, run)
+        return self._finish(values, "numeric"), run
+
+    def expected_errors(self, p: Params) -> dict:
+        return dict(self._expected_error(p)) if self._expected_error else {}
+
+    def _finish(self, values: dict, which: str) -> dict:
+        names = [o.name for o in self.outputs]
+        missing = [n for n in names if n not in values]
+        extra = [n for n in values if n not in names]
+        if missing or extra:
+            raise RuntimeError(f"{self.id} {which} solver: missing outputs {missing}, unexpected {extra}")
+        return {n: values[n] if isinstance(values[n], Undefined) else float(values[n]) for n in names}
+
+    def as_json(self) -> dict:
+        return {
+            "id": self.id,
+            "title": self.title,
+            "topic": self.topic,
+            "statement": self.statement,
+            "model": self.model,
+            "params": [p.as_json() for p in self.params],
+            "outputs": [o.as_json() for o in self.outputs],
+            "formulas": self.formulas,
+            "numeric_route": self.numeric_route,
+            "hard_cases": self.hard_cases,
+            "methods": self.methods,
+        }
+
+    def __repr__(self) -> str:
+        return f"<Exercise {self.id}: {self.title}>"

@@ -1,0 +1,243 @@
+"""The cross-check: both solvers run on the same parameters and every output is compared.
+
+Tolerance of an output, relative to the analytic value:
+  * the numeric solver's claim for it (``run.claim``), by default
+    ``exercise.tol_factor * rtol``: a global error of an adaptive integrator
+    stays within a few tens of its requested rtol on the smooth, bounded runs
+    these exercises need, and the verification below tests that claim;
+  * for a leading-order analytic theory, at least the relative size of what it
+    neglects (``exercise.expected_error``).
+An absolute claim adds to it, for outputs that can be zero.
+
+Verification (on by default): the numeric solver is run again at rtol/10;
+when the two numeric answers differ by more than the claim, the claim is not
+earned and the output is reported as unreliable (agree false).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import traceback
+from dataclasses import dataclass, field
+from typing import Any
+
+from mech.problems.spec import BadInput, Exercise, NumericFailure, Params, Undefined
+
+__all__ = ["Quantity", "CrossCheck", "cross_check"]
+
+
+@dataclass
+class Quantity:
+    name: str
+    unit: str
+    analytic: float | Undefined | None = None
+    numeric: float | Undefined | None = None
+    abs_err: float | None = None
+    rel_err: float | None = None
+    tol: float | None = None
+    tol_abs: float = 0.0
+    agree: bool | None = None
+    theory: str = "exact"
+    expected_err: float | None = None
+    verify_diff: float | None = None
+    notes: list[str] = field(default_factory=list)
+
+    def as_json(self) -> dict:
+        d: dict[str, Any] = {"name": self.name, "unit": self.unit}
+        for key in ("analytic", "numeric"):
+            v = getattr(self, key)
+            if isinstance(v, Undefined):
+                d[key] = None
+                self._note(f"{key}: {v.why}")
+            else:
+                d[key] = _finite_or_none(v)
+        d["abs_err"] = _finite_or_none(self.abs_err)
+        d["rel_err"] = _finite_or_none(self.rel_err)
+        d["tol"] = _finite_or_none(self.tol)
+        if self.tol_abs:
+            d["tol_abs"] = self.tol_abs
+        d["agree"] = self.agree
+        if self.theory != "exact":
+            d["theory"] = self.theory
+            d["expected_err"] = _finite_or_none(self.expected_err)
+        if self.verify_diff is not None:
+            d["verify_diff"] = _finite_or_none(self.verify_diff)
+        if self.notes:
+            d["note"] = "; ".join(dict.fromkeys(self.notes))
+        return d
+
+    def _note(self, text: str) -> None:
+        if text not in self.notes:
+            self.notes.append(text)
+
+
+def _finite_or_none(v):
+    if v is None or isinstance(v, Undefined):
+        return None
+    v = float(v)
+    return v if math.isfinite(v) else None
+
+
+@dataclass
+class CrossCheck:
+    exercise: Exercise
+    params: Params
+    quantities: list[Quantity]
+    timing: dict
+    numeric_info: dict | None
+    errors: list[str] = field(default_factory=list)
+
+    @property
+    def agree(self) -> bool | None:
+        flags = [q.agree for q in self.quantities]
+        if self.errors or any(f is False for f in flags):
+            return False
+        if all(f is None for f in flags):
+            return None
+        return True
+
+    def as_json(self) -> dict:
+        d = {
+            "id": self.exercise.id,
+            "title": self.exercise.title,
+            "params": dict(self.params),
+            "quantities": [q.as_json() for q in self.quantities],
+            "agree": self.agree,
+            "timing": self.timing,
+            "numeric_info": _clean(self.numeric_info),
+        }
+        if self.errors:
+            d["errors"] = self.errors
+        return d
+
+
+def _clean(obj):
+    """Make an info structure JSON-safe: non-finite numbers become null."""
+    if isinstance(obj, dict):
+        return {str(k): _clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, bool) or obj is None or isinstance(obj, str):
+        return obj
+    try:
+        f = float(obj)
+    except (TypeError, ValueError):
+        return str(obj)
+    if isinstance(obj, int) and not isinstance(obj, bool):
+        return obj
+    return f if math.isfinite(f) else None
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, float) and math.isfinite(v)
+
+
+def _failure_text(exc: BaseException) -> str:
+    if isinstance(exc, (NumericFailure, BadInput)):
+        return str(exc)
+    tb = traceback.extract_tb(exc.__traceback__)
+    where = f" at {tb[-1].filename.rsplit('/', 1)[-1]}:{tb[-1].lineno}" if tb else ""
+    return f"{type(exc).__name__}: {exc}{where}"
+
+
+def cross_check(
+    ex: Exercise,
+    params: Params,
+    *,
+    methods: tuple[str, ...] = ("analytic", "numeric"),
+    rtol: float | None = None,
+    verify: bool = True,
+) -> CrossCheck:
+    """Run the asked-for solvers and compare; solver failures become loud entries, never numbers."""
+    rtol = float(rtol or ex.default_rtol)
+    timing: dict[str, float | None] = {"analytic_s": None, "numeric_s": None}
+    errors: list[str] = []
+    analytic: dict = {}
+    numeric: dict = {}
+    run = None
+
+    if "analytic" in methods and ex._analytic is not None:
+        t0 = time.perf_counter()
+        try:
+            analytic = ex.solve_analytic(params)
+        except Exception as exc:  # a broken solver is a failed check, reported, not a crash
+            errors.append(f"analytic solver failed: {_failure_text(exc)}")
+        timing["analytic_s"] = time.perf_counter() - t0
+
+    verify_values: dict = {}
+    if "numeric" in methods and ex._numeric is not None:
+        t0 = time.perf_counter()
+        try:
+            numeric, run = ex.solve_numeric(params, rtol)
+        except Exception as exc:
+            errors.append(f"numeric solver failed: {_failure_text(exc)}")
+        timing["numeric_s"] = time.perf_counter() - t0
+        tighter = max(rtol / 10.0, ex.min_rtol)
+        if verify and run is not None and tighter < rtol:
+            try:
+                verify_values, vrun = ex.solve_numeric(params, tighter)
+                run.info["verify_rtol"] = tighter
+            except Exception as exc:
+                errors.append(f"numeric solver failed at rtol={tighter:g}: {_failure_text(exc)}")
+
+    expected = ex.expected_errors(params) if analytic and numeric else {}
+    quantities = []
+    for out in ex.outputs:
+        q = Quantity(out.name, out.unit, theory=out.theory)
+        q.analytic = analytic.get(out.name) if analytic else None
+        q.numeric = numeric.get(out.name) if numeric else None
+        rel_claim, abs_claim = (None, None)
+        if run is not None:
+            rel_claim, abs_claim = run.claims.get(out.name, (None, None))
+        tol = rel_claim if rel_claim is not None else ex.tol_factor * rtol
+        q.tol_abs = float(abs_claim or 0.0)
+        if out.theory != "exact":
+            q.expected_err = expected.get(out.name)
+            if q.expected_err is None and analytic and numeric:
+                q._note("the exercise gives no size for what its leading-order theory neglects")
+            elif q.expected_err is not None:
+                tol = max(tol, float(q.expected_err))
+        q.tol = tol
+
+        for key in ("analytic", "numeric"):
+            v = getattr(q, key)
+            if isinstance(v, float) and not math.isfinite(v):
+                q._note(f"{key} value is not finite ({v}): a solver defect")
+                setattr(q, key, Undefined(f"non-finite {key} value"))
+                errors.append(f"{out.name}: {key} value is not finite")
+
+        a, n = q.analytic, q.numeric
+        if a is None or n is None:
+            q.agree = None
+        elif isinstance(a, Undefined) or isinstance(n, Undefined):
+            both = isinstance(a, Undefined) and isinstance(n, Undefined)
+            q.agree = both
+            if not both:
+                q._note("one method finds no finite value where the other does")
+        else:
+            q.abs_err = abs(n - a)
+            denom = abs(a) if a != 0 else abs(n)
+            q.rel_err = q.abs_err / denom if denom > 0 else 0.0
+            q.agree = q.abs_err <= tol * abs(a) + q.tol_abs
+
+        if verify_values and _is_number(n) and _is_number(verify_values.get(out.name)):
+            q.verify_diff = abs(verify_values[out.name] - n)
+            scale = abs(a) if _is_number(a) and a != 0 else abs(n)
+            claim = (rel_claim if rel_claim is not None else ex.tol_factor * rtol) * scale + q.tol_abs
+            if q.verify_diff > claim:
+                q._note(
+                    f"unreliable: the numeric value moves by {q.verify_diff:.3g} at rtol/10, "
+                    f"more than its claimed accuracy {claim:.3g}"
+                )
+                q.agree = False
+        quantities.append(q)
+
+    return CrossCheck(
+        exercise=ex,
+        params=params,
+        quantities=quantities,
+        timing=timing,
+        numeric_info=run.as_json() if run is not None else None,
+        errors=errors,
+    )

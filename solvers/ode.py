@@ -1,0 +1,170 @@
+"""An ODE front end over scipy's ``solve_ivp`` that reports its cost and finds events reliably.
+
+Work in scaled (order-one) variables: the default absolute tolerance is
+``rtol * atol_scale`` with ``atol_scale = 1e-3``, which suits them.
+
+scipy imports happen inside the functions so that importing this module (and so
+listing exercises) stays cheap.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+
+from mech.problems.spec import NumericFailure
+
+__all__ = ["Event", "Trajectory", "integrate", "integrate_to_event", "first_event"]
+
+
+@dataclass
+class Event:
+    """A zero of ``fn(t, y)``; ``direction`` +1 / -1 keeps only upward / downward crossings."""
+
+    fn: Callable[[float, np.ndarray], float]
+    terminal: bool = True
+    direction: float = 0.0
+    name: str = "event"
+
+    def as_scipy(self) -> Callable:
+        def f(t, y):
+            return self.fn(t, y)
+
+        f.terminal = self.terminal
+        f.direction = self.direction
+        return f
+
+
+@dataclass
+class Trajectory:
+    """An integration's result with what it cost."""
+
+    t: np.ndarray
+    y: np.ndarray
+    t_events: list[np.ndarray]
+    y_events: list[np.ndarray]
+    nfev: int
+    njev: int
+    nlu: int
+    method: str
+    rtol: float
+    wall_s: float
+    status: int
+    message: str
+    sol: object = None
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def y_end(self) -> np.ndarray:
+        return self.y[:, -1]
+
+    @property
+    def t_end(self) -> float:
+        return float(self.t[-1])
+
+
+def integrate(
+    rhs: Callable,
+    t_span: tuple[float, float],
+    y0: Sequence[float],
+    *,
+    rtol: float,
+    atol: float | Sequence[float] | None = None,
+    method: str = "DOP853",
+    events: Sequence[Event] = (),
+    max_step: float = math.inf,
+    first_step: float | None = None,
+    t_eval: Sequence[float] | None = None,
+    dense_output: bool = False,
+    jac: Callable | None = None,
+    vectorized: bool = False,
+) -> Trajectory:
+    """Integrate ``y' = rhs(t, y)``; a failed integration raises ``NumericFailure``, never returns quietly."""
+    from scipy.integrate import solve_ivp
+
+    y0 = np.asarray(y0, dtype=float)
+    if atol is None:
+        atol = rtol * 1e-3
+    kwargs = dict(
+        method=method,
+        rtol=rtol,
+        atol=atol,
+        events=[e.as_scipy() for e in events] or None,
+        max_step=max_step,
+        t_eval=t_eval,
+        dense_output=dense_output,
+        vectorized=vectorized,
+    )
+    if first_step is not None:
+        kwargs["first_step"] = first_step
+    if jac is not None and method in ("Radau", "BDF", "LSODA"):
+        kwargs["jac"] = jac
+    start = time.perf_counter()
+    res = solve_ivp(rhs, t_span, y0, **kwargs)
+    wall = time.perf_counter() - start
+    if res.status < 0:
+        raise NumericFailure(f"{method} integration failed at t={res.t[-1]:.6g}: {res.message}")
+    return Trajectory(
+        t=res.t,
+        y=res.y,
+        t_events=list(res.t_events) if res.t_events is not None else [],
+        y_events=list(res.y_events) if res.y_events is not None else [],
+        nfev=int(res.nfev),
+        njev=int(res.njev),
+        nlu=int(res.nlu),
+        method=method,
+        rtol=rtol,
+        wall_s=wall,
+        status=int(res.status),
+        message=res.message,
+        sol=res.sol,
+    )
+
+
+def first_event(traj: Trajectory, index: int = 0) -> tuple[float, np.ndarray]:
+    """The first occurrence of event ``index``; its absence is a failure, not a default."""
+    if index >= len(traj.t_events) or len(traj.t_events[index]) == 0:
+        raise NumericFailure(f"the event was not reached by t={traj.t_end:.6g} ({traj.method})")
+    return float(traj.t_events[index][0]), np.asarray(traj.y_events[index][0])
+
+
+def integrate_to_event(
+    rhs: Callable,
+    t_span: tuple[float, float],
+    y0: Sequence[float],
+    event: Event,
+    *,
+    rtol: float,
+    confirm: bool = True,
+    steps_per_event: int = 64,
+    **kwargs,
+) -> tuple[float, np.ndarray, Trajectory]:
+    """Integrate to the first zero of ``event`` and return ``(t_event, y_event, trajectory)``.
+
+    solve_ivp looks for a sign change only between the ends of each step, so an
+    event function that crosses zero twice inside one step is missed (scipy
+    issue 9228).  With ``confirm`` the run is repeated with the step bounded to
+    ``t_event / steps_per_event``; a different first event is a failure.
+    """
+    event = Event(event.fn, terminal=True, direction=event.direction, name=event.name)
+    traj = integrate(rhs, t_span, y0, rtol=rtol, events=[event], **kwargs)
+    t_ev, y_ev = first_event(traj)
+    if confirm:
+        bounded = dict(kwargs)
+        span = abs(t_ev - t_span[0])
+        bounded["max_step"] = min(kwargs.get("max_step", math.inf), span / steps_per_event) if span > 0 else math.inf
+        second = integrate(rhs, t_span, y0, rtol=rtol, events=[event], **bounded)
+        t_ev2, _ = first_event(second)
+        scale = max(abs(t_ev - t_span[0]), abs(t_ev2 - t_span[0]))
+        if abs(t_ev2 - t_ev) > max(1e3 * rtol * scale, 1e-300):
+            raise NumericFailure(
+                f"event '{event.name}' at t={t_ev:.10g} but at t={t_ev2:.10g} with a bounded step: "
+                "a sign change was stepped over"
+            )
+        traj.nfev += second.nfev
+        traj.extra["confirm_nfev"] = second.nfev
+    return t_ev, y_ev, traj

@@ -1,0 +1,106 @@
+"""Small oscillations: mass and stiffness matrices built numerically from T and U, then the modes.
+
+The kinetic energy is a quadratic form in the velocities, so its matrix follows
+exactly (to round-off) by polarization.  The potential's Hessian is taken by
+central differences with one Richardson step (error O(h^4) plus round-off
+~ eps |U| / h^2); pass ``scale``, the length over which U changes, so the step
+suits the problem.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Sequence
+
+import numpy as np
+
+__all__ = ["mass_matrix", "hessian", "gradient", "normal_modes", "Modes"]
+
+
+def mass_matrix(T: Callable[[np.ndarray, np.ndarray], float], q0: Sequence[float]) -> np.ndarray:
+    """``M`` with ``T(q0, v) = v.M.v / 2``, by polarization of the quadratic form (exact for a quadratic)."""
+    q0 = np.asarray(q0, dtype=float)
+    n = q0.size
+    eye = np.eye(n)
+    diag = np.array([T(q0, eye[i]) for i in range(n)])
+    M = np.diag(2.0 * diag)
+    for i in range(n):
+        for j in range(i + 1, n):
+            M[i, j] = M[j, i] = T(q0, eye[i] + eye[j]) - diag[i] - diag[j]
+    return M
+
+
+def _steps(q0: np.ndarray, scale) -> np.ndarray:
+    s = np.broadcast_to(np.asarray(scale, dtype=float), q0.shape)
+    return 1e-3 * s
+
+
+def gradient(U: Callable[[np.ndarray], float], q0: Sequence[float], scale=1.0) -> np.ndarray:
+    """Gradient by fourth-order central differences."""
+    q0 = np.asarray(q0, dtype=float)
+    h = _steps(q0, scale)
+    g = np.empty(q0.size)
+    for i in range(q0.size):
+        e = np.zeros(q0.size)
+        e[i] = h[i]
+        g[i] = (8 * (U(q0 + e) - U(q0 - e)) - (U(q0 + 2 * e) - U(q0 - 2 * e))) / (12 * h[i])
+    return g
+
+
+def hessian(U: Callable[[np.ndarray], float], q0: Sequence[float], scale=1.0) -> np.ndarray:
+    """Hessian of ``U`` at ``q0`` by central differences at steps h and h/2, Richardson-combined."""
+    q0 = np.asarray(q0, dtype=float)
+    n = q0.size
+    h0 = _steps(q0, scale)
+
+    def at(h):
+        H = np.empty((n, n))
+        u0 = U(q0)
+        for i in range(n):
+            ei = np.zeros(n)
+            ei[i] = h[i]
+            H[i, i] = (U(q0 + ei) - 2 * u0 + U(q0 - ei)) / h[i] ** 2
+            for j in range(i + 1, n):
+                ej = np.zeros(n)
+                ej[j] = h[j]
+                H[i, j] = H[j, i] = (
+                    U(q0 + ei + ej) - U(q0 + ei - ej) - U(q0 - ei + ej) + U(q0 - ei - ej)
+                ) / (4 * h[i] * h[j])
+        return H
+
+    coarse, fine = at(h0), at(h0 / 2)
+    return fine + (fine - coarse) / 3.0
+
+
+@dataclass
+class Modes:
+    """Normal modes: ``omega2`` ascending; ``shapes[:, k]`` is mode k, scaled to largest component +1."""
+
+    omega2: np.ndarray
+    shapes: np.ndarray
+
+    @property
+    def omega(self) -> np.ndarray:
+        """Angular frequencies; NaN where omega^2 < 0 (an unstable direction)."""
+        with np.errstate(invalid="ignore"):
+            return np.where(self.omega2 >= 0, np.sqrt(np.abs(self.omega2)), np.nan)
+
+    @property
+    def stable(self) -> bool:
+        return bool(np.all(self.omega2 > 0))
+
+
+def normal_modes(M: np.ndarray, K: np.ndarray) -> Modes:
+    """Solve ``K a = omega^2 M a`` (the generalized symmetric eigenproblem)."""
+    from scipy.linalg import eigh
+
+    M = np.atleast_2d(np.asarray(M, dtype=float))
+    K = np.atleast_2d(np.asarray(K, dtype=float))
+    K = 0.5 * (K + K.T)
+    w2, vecs = eigh(K, 0.5 * (M + M.T))
+    order = np.argsort(w2)
+    w2, vecs = w2[order], vecs[:, order]
+    for k in range(vecs.shape[1]):
+        i = int(np.argmax(np.abs(vecs[:, k])))
+        vecs[:, k] /= vecs[i, k]
+    return Modes(omega2=w2, shapes=vecs)

@@ -1,0 +1,16 @@
+import pytest
+
+from mech.problems import registry
+
+
+@pytest.fixture(scope="session")
+def exercises():
+    return registry.all_exercises()
+
+
+def solve_both(ex_id: str, rtol: float | None = None, **given):
+    """Analytic values and numeric values of one exercise at the given parameters (SI)."""
+    ex = registry.get(ex_id)
+    p = ex.resolve(given)
+    numeric, run = ex.solve_numeric(p, rtol)
+    return ex.solve_analytic(p), numeric, run

@@ -1,0 +1,39 @@
+"""4.15 against values worked out by hand.
+
+Hand derivation: energy, (M l^2/3) w^2 / 2 = M g (l/2)(sin t0 - sin t), gives
+w^2 = (3g/l)(sin t0 - sin t).  The wall's force is M d^2/dt^2 (l/2 cos t) =
+(3 M g/2) cos t (3/2 sin t - sin t0), zero at sin tc = 2/3 sin t0, and there
+w^2 = (g/l) sin t0.  Numbers below by a calculator from those two lines.
+"""
+
+import math
+
+import pytest
+
+from conftest import solve_both
+
+
+@pytest.mark.parametrize(
+    "theta0, l, g, theta_c, omega_c",
+    [
+        # sin tc = 2/3 -> tc = 0.7297276562269663; w = sqrt(9.81) = 3.132091952673165
+        (math.pi / 2, 1.0, 9.81, 0.7297276562269663, 3.132091952673165),
+        # t0 = 30 deg: sin tc = 1/3 -> 0.3398369094541219; w = sqrt(9.81 * 0.5 / 3)
+        (math.pi / 6, 3.0, 9.81, 0.3398369094541219, math.sqrt(9.81 * 0.5 / 3.0)),
+        # t0 = 1 deg on the Moon: sin tc = 2/3 sin(1 deg) = 0.011635463...
+        (math.radians(1.0), 2.0, 1.62, math.asin(2 / 3 * math.sin(math.radians(1.0))),
+         math.sqrt(1.62 * math.sin(math.radians(1.0)) / 2.0)),
+    ],
+)
+def test_against_hand_values(theta0, l, g, theta_c, omega_c):
+    a, n, run = solve_both("4.15", theta0=theta0, l=l, g=g)
+    for values in (a, n):
+        assert values["theta_c"] == pytest.approx(theta_c, rel=1e-8)
+        assert values["omega_c"] == pytest.approx(omega_c, rel=1e-8)
+    assert run.invariants["energy"] < 1e-8
+
+
+def test_nearly_upright_start_at_rest_matches_upright_limit():
+    # 1e-9 rad below vertical, started at rest: leaves the unstable equilibrium by itself
+    a, n, _ = solve_both("4.15", theta0=math.pi / 2 - 1e-9)
+    assert n["theta_c"] == pytest.approx(0.7297276562269663, rel=1e-8)
