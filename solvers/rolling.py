@@ -1,0 +1,70 @@
+"""Plane rigid-body kinematics for bodies that roll or slide on a surface, and well-scaled normal modes.
+
+Everything here is geometry, no exercise's answer:
+
+* ``rolling_spin``: the angular velocity (about the axis normal to the plane of
+  motion) at which a round body's material point in contact moves with the
+  surface it touches: the no-slip condition solved for the spin.
+* ``plane_kinetic_energy``: T of a rigid body as a quadrature sum of w |v|^2 / 2
+  over its mass points, with the rigid velocity field v = v_ref + omega z x r.
+* ``balanced_modes``: the generalized eigenproblem K a = omega^2 M a after a
+  diagonal rescaling that makes every diagonal element of M equal to 1; it
+  removes the trivial ill-conditioning of coordinates with very different
+  units or scales (an angle next to a displacement, a mass 1e6 times another).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mech.solvers.smallosc import Modes, normal_modes
+
+__all__ = ["cross_z", "rolling_spin", "plane_kinetic_energy", "balanced_modes", "rotate2"]
+
+
+def cross_z(omega: float, r: np.ndarray) -> np.ndarray:
+    """omega z x r for plane vectors r (shape (..., 2))."""
+    r = np.asarray(r, dtype=float)
+    return omega * np.stack([-r[..., 1], r[..., 0]], axis=-1)
+
+
+def rotate2(r: np.ndarray, angle: float) -> np.ndarray:
+    """Plane vectors r (shape (..., 2)) turned counterclockwise by ``angle``."""
+    r = np.asarray(r, dtype=float)
+    c, s = np.cos(angle), np.sin(angle)
+    return np.stack([c * r[..., 0] - s * r[..., 1], s * r[..., 0] + c * r[..., 1]], axis=-1)
+
+
+def rolling_spin(v_center, v_surface, n, radius: float) -> float:
+    """Spin omega (counterclockwise positive) of a round body rolling without slip.
+
+    The contact point is ``center + radius * n`` (``n`` the unit vector from the
+    body's center of curvature to the contact); its material velocity is
+    ``v_center + omega z x (radius n)``.  No slip asks its tangential component
+    to equal the surface's (the normal components agree by the contact itself),
+    which fixes omega.
+    """
+    n = np.asarray(n, dtype=float)
+    t = np.array([-n[1], n[0]])  # z x n: the direction omega z x (R n) points along
+    rel = np.asarray(v_center, dtype=float) - np.asarray(v_surface, dtype=float)
+    return -float(rel @ t) / radius
+
+
+def plane_kinetic_energy(weights, r_rel, v_ref, omega: float) -> float:
+    """sum_i w_i |v_ref + omega z x r_i|^2 / 2 for the mass points r_i (relative to the reference point)."""
+    v = np.asarray(v_ref, dtype=float)[None, :] + cross_z(omega, r_rel)
+    return 0.5 * float(np.sum(np.asarray(weights) * np.sum(v * v, axis=1)))
+
+
+def balanced_modes(M: np.ndarray, K: np.ndarray) -> Modes:
+    """Normal modes of K a = omega^2 M a, solved with M rescaled to unit diagonal.
+
+    With D = diag(M_ii^-1/2) the problem (D K D) b = omega^2 (D M D) b has the same
+    eigenvalues and a = D b; the shapes are returned in the original coordinates,
+    each scaled to its largest component (in the balanced units) equal to +1.
+    """
+    M = np.atleast_2d(np.asarray(M, dtype=float))
+    K = np.atleast_2d(np.asarray(K, dtype=float))
+    d = 1.0 / np.sqrt(np.diag(M))
+    modes = normal_modes(M * np.outer(d, d), K * np.outer(d, d))
+    return Modes(omega2=modes.omega2, shapes=modes.shapes * d[:, None])
