@@ -1,0 +1,87 @@
+"""4.12 Chime: a uniform bar hung on a thread; Lagrange equations and normal modes.
+
+Analytic: with a = l' the thread, the bar's point at distance s from its upper end
+is at a (sin phi, -cos phi) + s (sin psi, -cos psi), so
+T = (M/2)[a^2 phi'^2 + a l cos(phi - psi) phi' psi' + l^2 psi'^2 / 3] and
+U = -M g (a cos phi + (l/2) cos psi).  Linearized: mass matrix M [[a^2, a l/2],
+[a l/2, l^2/3]], stiffness M g diag(a, l/2).  The characteristic equation
+a l w^4 - g (4 l + 6 a) w^2 + 6 g^2 = 0 gives, with D = 4 l^2 + 6 a l + 9 a^2,
+omega_{2,1}^2 = g (2l + 3a +- sqrt D)/(a l) (the lower root as 6 g/(2l + 3a + sqrt D),
+free of cancellation), and the mode ratios psi/phi = (2l - 3a +- sqrt D)/(3l),
+evaluated as r1 = [2l + (4l^2 + 6al)/(sqrt D + 3a)]/(3l) and
+r2 = -[3a + (6al + 9a^2)/(2l + sqrt D)]/(3l), each free of cancellation.
+
+Numeric: Gauss-Legendre points along the bar; T(q, q') = sum w |v|^2/2 and
+U(q) = sum w g (y - y_eq) straight from the points' positions (heights measured
+from equilibrium as 2 sin^2 of the half-angles, so U carries no large constant).
+The mass matrix by polarization, the stiffness by Richardson central
+differences (smallosc), the generalized symmetric eigenproblem solved with M
+scaled to unit diagonal, mode ratios from the eigenvectors.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.inertia import gauss_legendre
+from mech.solvers.rolling import balanced_modes
+from mech.solvers.smallosc import hessian, mass_matrix
+
+exercise = Exercise(
+    "4.12",
+    formulas=[
+        "l'² φ'' + (l l'/2)[cos(φ-ψ) ψ'' + sin(φ-ψ) ψ'²] + g l' sin φ = 0",
+        "(l/2)[l' cos(φ-ψ) φ'' - l' sin(φ-ψ) φ'²] + (l²/3) ψ'' + (g l/2) sin ψ = 0",
+        "l l' ω⁴ - g (4l + 6l') ω² + 6 g² = 0, D = 4l² + 6 l l' + 9 l'²",
+        "ω²₁,₂ = g (2l + 3l' ∓ √D) / (l l')",
+        "ψ/φ = (2l - 3l' ± √D) / (3l)  (+ for mode 1, - for mode 2)",
+    ],
+)
+
+
+@exercise.analytic
+def _(p):
+    a, l, g = p.l_prime, p.l, p.g
+    sD = np.sqrt(4 * l**2 + 6 * a * l + 9 * a**2)
+    S = 2 * l + 3 * a
+    w2_hi = g * (S + sD) / (a * l)
+    w2_lo = 6 * g / (S + sD)
+    r1 = (2 * l + (4 * l**2 + 6 * a * l) / (sD + 3 * a)) / (3 * l)
+    r2 = -(3 * a + (6 * a * l + 9 * a**2) / (2 * l + sD)) / (3 * l)
+    return {"omega1": np.sqrt(w2_lo), "omega2": np.sqrt(w2_hi), "r1": r1, "r2": r2}
+
+
+@exercise.numeric
+def _(p, run):
+    a, l, g, M = p.l_prime, p.l, p.g, p.M
+    s, ws = gauss_legendre(8, 0.0, l)
+    w = M * ws / l  # mass of each point
+
+    def T(q, qdot):
+        phi, psi = q
+        # velocity of the point at s: a phi' (cos phi, sin phi) + s psi' (cos psi, sin psi)
+        vx = a * qdot[0] * np.cos(phi) + s * qdot[1] * np.cos(psi)
+        vy = a * qdot[0] * np.sin(phi) + s * qdot[1] * np.sin(psi)
+        return 0.5 * float(np.sum(w * (vx**2 + vy**2)))
+
+    def U(q):
+        # y - y_eq of each point: a (1 - cos phi) + s (1 - cos psi), written as 2 sin^2(x/2)
+        dy = 2 * a * np.sin(q[0] / 2) ** 2 + 2 * s * np.sin(q[1] / 2) ** 2
+        return g * float(np.sum(w * dy))
+
+    q0 = np.zeros(2)
+    Mm = mass_matrix(T, q0)
+    K = hessian(U, q0, scale=1.0)
+    modes = balanced_modes(Mm, K)
+    if not modes.stable:
+        raise NumericFailure(f"the hanging equilibrium came out unstable: omega^2 = {modes.omega2}")
+    ratios = modes.shapes[1, :] / modes.shapes[0, :]
+    run.info["mass_matrix"] = Mm.tolist()
+    run.info["stiffness"] = K.tolist()
+    # polarization is exact; the Hessian's truncation (h^4/1440, h = 1e-3) and round-off
+    # (U has no large constant) stay near 1e-13; eigh of the balanced problem loses
+    # at most eps * omega2^2/omega1^2 on the lower root (1e-12 for the hard cases)
+    for name in ("omega1", "omega2", "r1", "r2"):
+        run.claim(name, rel=1e-10)
+    return {"omega1": modes.omega[0], "omega2": modes.omega[1], "r1": ratios[0], "r2": ratios[1]}

@@ -1,0 +1,76 @@
+"""4.12 against a hand-set-up eigenproblem and hand limits.
+
+Hand derivation: the bar's point at s from its top is at a(sin f, -cos f) +
+s(sin p, -cos p) (a = l').  Integrating |v|^2 over s in [0, l] with density M/l:
+T = (M/2)[a^2 f'^2 + a l f' p' cos(f - p) + l^2 p'^2/3]; the center of mass is at
+depth a cos f + (l/2) cos p.  At f = p = 0: mass matrix M [[a^2, a l/2], [a l/2, l^2/3]],
+stiffness M g [[a, 0], [0, l/2]].  det(K - w^2 M) = 0 expands to
+a l w^4/12 - g (l/3 + a/2) w^2 + g^2/2 = 0; the test solves this quadratic with
+numpy.roots (not the closed form of the module) and takes psi/phi from the
+first row, (g a - w^2 a^2) phi = w^2 (a l/2) psi.
+Limits: a >> l gives w1^2 -> g/a (a simple pendulum of length a) and
+psi/phi -> -2a/l in the upper mode; a << l gives w1^2 -> 3g/(2l) (the bar hung
+from its end) and psi/phi of the lower mode -> 4/3.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from conftest import solve_both
+
+
+def hand(a, l, g):
+    w2 = np.sort(np.roots([a * l / 12.0, -g * (l / 3.0 + a / 2.0), g**2 / 2.0]).real)
+    r = [(g * a - x * a**2) / (x * a * l / 2.0) for x in w2]
+    return math.sqrt(w2[0]), math.sqrt(w2[1]), r[0], r[1]
+
+
+@pytest.mark.parametrize(
+    "M, l, l_prime, g",
+    [(0.5, 0.4, 0.3, 9.81), (2.0, 1.0, 1.0, 9.81), (0.1, 0.05, 2.0, 1.62), (3.0, 2.5, 0.2, 9.81)],
+)
+def test_against_hand_eigenproblem(M, l, l_prime, g):
+    w1, w2, r1, r2 = hand(l_prime, l, g)
+    a, n, _ = solve_both("4.12", M=M, l=l, l_prime=l_prime, g=g)
+    for values in (a, n):
+        assert values["omega1"] == pytest.approx(w1, rel=1e-9)
+        assert values["omega2"] == pytest.approx(w2, rel=1e-9)
+        assert values["r1"] == pytest.approx(r1, rel=1e-8)
+        assert values["r2"] == pytest.approx(r2, rel=1e-8)
+        assert values["r1"] > 0 > values["r2"]
+
+
+def test_defaults_by_hand():
+    # a = 0.3, l = 0.4: D = 0.64 + 0.72 + 0.81 = 2.17, S = 1.7
+    sD = math.sqrt(2.17)
+    a, n, _ = solve_both("4.12")
+    for values in (a, n):
+        assert values["omega1"] == pytest.approx(math.sqrt(6 * 9.81 / (1.7 + sD)), rel=1e-10)
+        assert values["omega2"] == pytest.approx(math.sqrt(9.81 * (1.7 + sD) / 0.12), rel=1e-10)
+        assert values["r1"] == pytest.approx((0.8 - 0.9 + sD) / 1.2, rel=1e-10)
+        assert values["r2"] == pytest.approx((0.8 - 0.9 - sD) / 1.2, rel=1e-10)
+
+
+def test_limits():
+    a, n, _ = solve_both("4.12", l_prime=1000.0, l=0.01)
+    for values in (a, n):
+        assert values["omega1"] == pytest.approx(math.sqrt(9.81 / 1000.0), rel=1e-5)
+        assert values["r2"] == pytest.approx(-2 * 1000.0 / 0.01, rel=1e-4)
+    a, n, _ = solve_both("4.12", l_prime=1e-6, l=1.0)
+    for values in (a, n):
+        assert values["omega1"] == pytest.approx(math.sqrt(1.5 * 9.81), rel=1e-5)
+        assert values["r1"] == pytest.approx(4.0 / 3.0, rel=1e-5)
+    # the mass drops out
+    a1, n1, _ = solve_both("4.12", M=0.001)
+    a2, n2, _ = solve_both("4.12", M=1000.0)
+    assert n1["omega1"] == pytest.approx(n2["omega1"], rel=1e-12)
+
+
+def test_modes_are_orthogonal_in_the_mass_metric():
+    a_, l = 0.7, 0.3
+    a, n, _ = solve_both("4.12", l_prime=a_, l=l)
+    r1, r2 = n["r1"], n["r2"]
+    # (1, r1) . Mhand . (1, r2) = 0
+    assert a_**2 + a_ * l / 2 * (r1 + r2) + l**2 / 3 * r1 * r2 == pytest.approx(0.0, abs=1e-12)
