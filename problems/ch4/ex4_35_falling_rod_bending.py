@@ -16,7 +16,7 @@ dF/ds = -q, d tau/ds = -F, integrated in closed (Cauchy) form from the end
 that keeps the small residual: from the pivot (tau = 0, F(0) = integral of q
 over the rod) for xi <= 1/2, from the free end (tau = F = 0) above, the
 lever arm r - s taken as (section length) * node, never as a difference of
-positions.  s_max is the root of the shear F, bracketed by [0, r0] with r0
+positions.  s_max is the root of the shear F by bisection, bracketed by [0, r0] with r0
 the point where the load q changes sign (F < 0 at the pivot, F > 0 above r0).
 """
 
@@ -53,8 +53,6 @@ _W = 0.5 * _WEIGHTS
 
 @exercise.numeric
 def _(p, run):
-    from scipy.optimize import brentq
-
     m, l, g, th = p.m, p.l, p.g, p.theta
     lam = m / l  # uniform linear density
     sin_t = np.sin(th)
@@ -96,7 +94,17 @@ def _(p, run):
     F0, Fr0 = section(0.0)[0], section(r0)[0]
     if not (F0 < 0.0 < Fr0):
         raise NumericFailure(f"shear root not bracketed: F(0) = {F0:.3g}, F(r0) = {Fr0:.3g}")
-    s_max = brentq(lambda s: section(s)[0], 0.0, r0, xtol=1e-15 * l, rtol=4 * np.finfo(float).eps)
+    # bisection on the shear (monotone across its root); stops when the bracket stops shrinking
+    lo, hi = 0.0, r0
+    while True:
+        mid = 0.5 * (lo + hi)
+        if not lo < mid < hi:
+            break
+        if section(mid)[0] < 0.0:
+            lo = mid
+        else:
+            hi = mid
+    s_max = 0.5 * (lo + hi)
     tau_max = section(s_max)[1]
     if not tau_max >= max(section(0.0)[1], section(l)[1]):
         raise NumericFailure("the shear root is not the maximum of the bending torque")
