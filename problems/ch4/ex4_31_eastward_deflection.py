@@ -1,0 +1,147 @@
+"""4.31 Body dropped from a height: eastward deflection by the Earth's rotation.
+
+Analytic (exact solution of dv/dt = g - 2 w x v from rest): split the motion
+along w = w_E (0, sin th, cos th) and across it.  Along w the body accelerates
+uniformly with -g cos th; across it the complex velocity u = v_east + i v_perp
+obeys u' = -2i w_E u + i g sin th, so u = (g sin th / 2w_E)(1 - exp(-2i w_E t)).
+With phi = w_E t this gives
+    height lost  g t^2 [cos^2 th + sin^2 th (sin phi / phi)^2] / 2 = h  (fall time),
+    d_east = g sin th t^2 (2 phi - sin 2 phi) / (4 phi^2)  ~ (1/3) g w_E t^3 sin th,
+    v_east = g sin th t sin^2 phi / phi                  ~ g w_E t^2 sin th.
+The fall-time equation is solved by a bracketed root search; phi - sin phi is
+evaluated by its series for small phi (no cancellation).
+
+Numeric: the six Earth-frame equations of motion, in units of h and
+T0 = (2h/g)^(1/2), integrated from rest with DOP853 to the event z = 0.  The
+eastward and northward components get absolute tolerances on their own scale
+(w_E T0 sin th times the height), so the centimetre deflection is integrated as
+a variable in its own right, not as a difference of large coordinates.  The
+Earth-frame energy v^2/2 + g z (the Coriolis force does no work) is monitored.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mech.problems.spec import Exercise
+from mech.solvers.ode import Event, integrate_to_event
+
+exercise = Exercise(
+    "4.31",
+    formulas=[
+        "t_fall: (g t²/2) [cos²θ + sin²θ (sin φ/φ)²] = h, φ = ω_E t   (≈ (2h/g)^(1/2))",
+        "d_east = g sinθ t² (2φ - sin 2φ)/(4φ²) ≈ (1/3) ω_E g t³ sinθ = (2√2/3) ω_E sinθ h^(3/2) g^(-1/2)",
+        "v_east = g sinθ t sin²φ / φ ≈ ω_E g t² sinθ = 2 ω_E h sinθ",
+        "(exact solution of dv/dt = g - 2 ω_E × v; the ≈ forms are leading order in ω_E t)",
+    ],
+)
+
+# The model (uniform g with the centrifugal part folded in, h << R_E) needs the
+# fall to take a small part of a turn of the Earth: w_E T0 = w_E (2h/g)^(1/2) << 1.
+MAX_EPS = 0.5
+
+
+@exercise.constraint
+def _(p):
+    eps = p.omega_E * math.sqrt(2.0 * p.h / p.g)
+    if eps > MAX_EPS:
+        return (
+            f"omega_E (2h/g)^(1/2) = {eps:.3g} exceeds {MAX_EPS}: the fall would last a sizeable part of a "
+            "turn of the Earth, which h << R_E (and a planet that holds together, omega_E^2 R_E < g) excludes"
+        )
+
+
+def _x_minus_sin(x: float) -> float:
+    """x - sin x without cancellation for small x."""
+    if abs(x) > 0.5:
+        return x - math.sin(x)
+    # x^3/3! - x^5/5! + x^7/7! - ...; terms fall by x^2/((2k)(2k+1)) < 0.0125
+    term = x**3 / 6.0
+    total = 0.0
+    k = 1
+    while True:
+        total += term
+        if abs(term) <= 1e-18 * abs(total):
+            break
+        term *= -(x * x) / ((2 * k + 2) * (2 * k + 3))
+        k += 1
+    return total
+
+
+def _sinc(x: float) -> float:
+    return 1.0 if x == 0.0 else math.sin(x) / x
+
+
+def _bisect(f, lo: float, hi: float) -> float:
+    """The root of an increasing f in [lo, hi] (f(lo) <= 0 < f(hi)), to the last bit."""
+    while True:
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            return mid
+        if f(mid) <= 0.0:
+            lo = mid
+        else:
+            hi = mid
+
+
+@exercise.analytic
+def _(p):
+    s, c = math.sin(p.theta), math.cos(p.theta)
+    T0 = math.sqrt(2.0 * p.h / p.g)
+    eps = p.omega_E * T0
+
+    def lost(tau):  # height lost over h at scaled time tau, minus 1
+        return tau * tau * (c * c + s * s * _sinc(eps * tau) ** 2) - 1.0
+
+    if eps == 0.0:
+        tau = 1.0
+    else:
+        # lost(1) <= 0 (sinc <= 1); at eps tau = pi/2 it is >= 1/eps^2 - 1 > 0 for eps <= 0.5
+        tau = _bisect(lost, 1.0, math.pi / (2.0 * eps))
+    t = tau * T0
+    phi = p.omega_E * t
+    if phi == 0.0:
+        d, v = 0.0, 0.0
+    else:
+        d = p.g * s * t * t * _x_minus_sin(2.0 * phi) / (4.0 * phi * phi)
+        v = p.g * s * t * math.sin(phi) * _sinc(phi)
+    return {"t_fall": t, "d_east": d, "v_east": v}
+
+
+@exercise.numeric
+def _(p, run):
+    s, c = math.sin(p.theta), math.cos(p.theta)
+    T0 = math.sqrt(2.0 * p.h / p.g)
+    eps = p.omega_E * T0
+    wv = eps * np.array([0.0, s, c])  # scaled Earth angular velocity (east, north, up); g T0^2/h = 2
+
+    wn, wu = wv[1], wv[2]
+
+    def rhs(t, y):
+        vx, vy, vz = y[3], y[4], y[5]
+        # dv/dt = g - 2 w x v, with w = (0, wn, wu)
+        return np.array([vx, vy, vz, -2.0 * (wn * vz - wu * vy), -2.0 * wu * vx, -2.0 - 2.0 * (-wn * vx)])
+
+    # per-component absolute tolerances on each component's own scale
+    small = max(eps * s, 1e-300)
+    base = run.rtol * 1e-3
+    atol = np.array([base * small, base * small, base, base * small, base * small, base])
+    t_ev, y_ev, traj = integrate_to_event(
+        rhs,
+        (0.0, 3.0),  # lands by tau = arcsin(eps)/eps <= 1.05 for eps <= 0.5
+        [0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
+        Event(lambda t, y: y[2], direction=-1, name="z = 0"),
+        rtol=run.rtol,
+        atol=atol,
+    )
+    run.record(traj)
+    e_end = 0.5 * float(np.dot(y_ev[3:], y_ev[3:])) + 2.0 * y_ev[2]
+    run.invariant("energy", (e_end - 2.0) / 2.0)
+    run.info["north_deviation_m"] = y_ev[1] * p.h
+    return {
+        "t_fall": t_ev * T0,
+        "d_east": y_ev[0] * p.h,
+        "v_east": y_ev[3] * p.h / T0,
+    }
