@@ -7,6 +7,9 @@ Everything here is geometry, no exercise's answer:
   surface it touches: the no-slip condition solved for the spin.
 * ``plane_kinetic_energy``: T of a rigid body as a quadrature sum of w |v|^2 / 2
   over its mass points, with the rigid velocity field v = v_ref + omega z x r.
+* ``scaled_mass_matrix``: smallosc.mass_matrix probed with velocities of a
+  chosen size per coordinate, so that every probe moves the body at comparable
+  speeds and the polarization's cross terms do not drown in round-off.
 * ``balanced_modes``: the generalized eigenproblem K a = omega^2 M a after a
   diagonal rescaling that makes every diagonal element of M equal to 1; it
   removes the trivial ill-conditioning of coordinates with very different
@@ -17,9 +20,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from mech.solvers.smallosc import Modes, normal_modes
+from mech.solvers.smallosc import Modes, mass_matrix, normal_modes
 
-__all__ = ["cross_z", "rolling_spin", "plane_kinetic_energy", "balanced_modes", "rotate2"]
+__all__ = ["cross_z", "rolling_spin", "plane_kinetic_energy", "balanced_modes", "rotate2", "scaled_mass_matrix"]
 
 
 def cross_z(omega: float, r: np.ndarray) -> np.ndarray:
@@ -54,6 +57,19 @@ def plane_kinetic_energy(weights, r_rel, v_ref, omega: float) -> float:
     """sum_i w_i |v_ref + omega z x r_i|^2 / 2 for the mass points r_i (relative to the reference point)."""
     v = np.asarray(v_ref, dtype=float)[None, :] + cross_z(omega, r_rel)
     return 0.5 * float(np.sum(np.asarray(weights) * np.sum(v * v, axis=1)))
+
+
+def scaled_mass_matrix(T, q0, velocity_scale) -> np.ndarray:
+    """The mass matrix of T(q, qdot), polarized with probe velocities ``velocity_scale[i] * e_i``.
+
+    smallosc.mass_matrix probes with unit velocities; when a unit rate of one
+    coordinate moves the masses 1e7 times slower than a unit rate of another,
+    the cross terms lose digits in T(e_i + e_j) - T(e_i) - T(e_j).  Choose the
+    scales so that each probe gives speeds of the same order.
+    """
+    s = np.asarray(velocity_scale, dtype=float)
+    Ms = mass_matrix(lambda q, u: T(q, s * np.asarray(u)), q0)
+    return Ms / np.outer(s, s)
 
 
 def balanced_modes(M: np.ndarray, K: np.ndarray) -> Modes:
