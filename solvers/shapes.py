@@ -79,12 +79,14 @@ def tetrahedron(v0, v1, v2, v3, n: int = 5):
     return _normalized(pts.reshape(-1, 3), W.ravel())
 
 
-def cone(height: float, radius: float, n_axis: int = 5, n_r: int = 4, n_phi: int = 8):
+def cone(height: float, radius: float, n_axis: int = 5, n_r: int = 4, n_phi: int = 8, volume: bool = False):
     """A uniform solid right circular cone, apex at the origin, axis along +z, base at z = height.
 
     Nodes: z = height u, cylindrical radius = radius u t, azimuth phi (trapezoid rule);
     weight ~ u^2 t.  Exact for polynomials of degree <= min(2 n_axis - 3, 2 n_r - 2)
     in the Cartesian coordinates whose azimuthal order is below n_phi.
+    With ``volume=True`` also returns the rule's volume, sum of the raw weights times
+    the Jacobian height * radius^2 (exact: the integrand 1 is a polynomial).
     """
     u, wu = gauss_legendre(n_axis, 0.0, 1.0)
     t, wt = gauss_legendre(n_r, 0.0, 1.0)
@@ -93,4 +95,5 @@ def cone(height: float, radius: float, n_axis: int = 5, n_r: int = 4, n_phi: int
     W = (wu * u**2)[:, None, None] * (wt * t)[None, :, None] * wp[None, None, :]
     rr = radius * U * Tt
     pts = np.stack([rr * np.cos(P), rr * np.sin(P), height * U], axis=-1)
-    return _normalized(pts.reshape(-1, 3), W.ravel())
+    out = _normalized(pts.reshape(-1, 3), W.ravel())
+    return (*out, float(W.sum()) * height * radius**2) if volume else out
