@@ -1,0 +1,147 @@
+"""Floquet theory and shooting: monodromy matrices over one period, multipliers, periodic orbits.
+
+* ``linear_monodromy(damp, stiff, T, ...)``: the monodromy matrix of the scalar
+  linear equation q'' + damp(t) q' + stiff(t) q = 0 over [t0, t0 + T], from the
+  two fundamental solutions integrated together (one 4-state run).  Its
+  determinant is exp(-int damp dt) exactly (Liouville), which the caller can
+  use as a check.
+* ``flow_with_variations(f, jac, y0, t_span, ...)``: the end state of a
+  nonlinear flow and its Jacobian with respect to the start (the variational
+  equations carried along), the building block of shooting by Newton.
+* ``multipliers``, ``largest_exponent``, ``minus_one_function`` (p(-1) =
+  1 + tr M + det M, which changes sign when a multiplier crosses -1: a smooth
+  function to root-find on, unlike the growth rate).
+
+No physics of one exercise lives here.  scipy is imported inside functions.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable, Sequence
+
+import numpy as np
+
+from mech.solvers.ode import Trajectory, integrate
+
+__all__ = [
+    "linear_monodromy",
+    "flow_with_variations",
+    "multipliers",
+    "largest_exponent",
+    "minus_one_function",
+]
+
+
+def linear_monodromy(
+    damp: Callable[[float], float],
+    stiff: Callable[[float], float],
+    T: float,
+    *,
+    rtol: float,
+    t0: float = 0.0,
+    vscale: float = 1.0,
+    method: str = "DOP853",
+) -> tuple[np.ndarray, Trajectory]:
+    """Monodromy matrix of q'' + damp(t) q' + stiff(t) q = 0 for the state (q, q').
+
+    ``vscale`` is the typical size of q' for q ~ 1 (an angular frequency); the
+    absolute tolerances are set from it so that both components are resolved.
+    """
+
+    def rhs(t, y):
+        c, k = damp(t), stiff(t)
+        return np.array([y[1], -c * y[1] - k * y[0], y[3], -c * y[3] - k * y[2]])
+
+    atol_q = rtol * 1e-3
+    atol = [atol_q, atol_q * vscale, atol_q, atol_q * vscale]
+    # second column started with q' = vscale so that both columns have the same size
+    traj = integrate(rhs, (t0, t0 + T), [1.0, 0.0, 0.0, vscale], rtol=rtol, atol=atol, method=method)
+    y = traj.y_end
+    M = np.array([[y[0], y[2] / vscale], [y[1], y[3] / vscale]])
+    return M, traj
+
+
+def flow_with_variations(
+    f: Callable[[float, np.ndarray], np.ndarray],
+    jac: Callable[[float, np.ndarray], np.ndarray],
+    y0: Sequence[float],
+    t_span: tuple[float, float],
+    *,
+    rtol: float,
+    scale: Sequence[float] | None = None,
+    method: str = "DOP853",
+    extra: Callable[[float, np.ndarray], Sequence[float]] | None = None,
+    n_extra: int = 0,
+    events=(),
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, Trajectory]:
+    """(phi(y0), d phi / d y0, extra integrals, trajectory) over ``t_span``.
+
+    ``scale``: the typical size of each component of y (absolute tolerances
+    follow from it).  ``extra(t, y)`` optionally adds quadratures carried along
+    (e.g. the divergence of f for Liouville's formula), started at zero.
+    """
+    y0 = np.asarray(y0, dtype=float)
+    n = y0.size
+
+    def rhs(t, z):
+        y = z[:n]
+        Phi = z[n : n + n * n].reshape(n, n)
+        out = [f(t, y), (jac(t, y) @ Phi).ravel()]
+        if extra is not None:
+            out.append(np.asarray(extra(t, y), dtype=float))
+        return np.concatenate(out)
+
+    z0 = np.concatenate([y0, np.eye(n).ravel(), np.zeros(n_extra)])
+    s = np.ones(n) if scale is None else np.asarray(scale, dtype=float)
+    # the variational entries d y_i / d y0_j have the size s_i / s_j
+    atol = rtol * 1e-3 * np.concatenate([s, np.outer(s, 1.0 / s).ravel(), np.ones(n_extra)])
+    traj = integrate(rhs, t_span, z0, rtol=rtol, atol=atol, method=method, events=events)
+    z = traj.y_end
+    return z[:n], z[n : n + n * n].reshape(n, n), z[n + n * n :], traj
+
+
+def multipliers(M: np.ndarray) -> np.ndarray:
+    """Floquet multipliers, largest modulus first."""
+    ev = np.linalg.eigvals(M)
+    return ev[np.argsort(-np.abs(ev))]
+
+
+def largest_exponent(M: np.ndarray, T: float) -> float:
+    """ln |largest multiplier| / T: the growth rate of the fastest-growing solution."""
+    return math.log(float(np.max(np.abs(np.linalg.eigvals(M))))) / T
+
+
+def minus_one_function(M: np.ndarray) -> float:
+    """det(M + I) = 1 + tr M + det M for 2x2 M: zero when a multiplier is -1."""
+    return 1.0 + float(np.trace(M)) + float(np.linalg.det(M))
+
+
+def even_hill_discriminant(
+    stiff: Callable[[float], float],
+    T: float,
+    *,
+    rtol: float,
+    vscale: float = 1.0,
+    method: str = "DOP853",
+) -> tuple[float, float, Trajectory]:
+    """tr M of the Hill equation y'' + stiff(t) y = 0 with stiff even in t and of period T.
+
+    Only half a period is integrated: with y1 even (y1(0) = 1, y1'(0) = 0) and
+    y2 odd (y2(0) = 0, y2'(0) = 1), tr M = 2 [y1 y2' + y1' y2](T/2).  Returns
+    (tr M, Wronskian drift y1 y2' - y1' y2 - 1 at T/2, trajectory); det M = 1.
+    A damped equation q'' + 2 delta q' + k(t) q = 0 reduces to this one by
+    q = exp(-delta t) y with stiff = k - delta^2; its multipliers are
+    exp(-delta T) times those of y.
+    """
+
+    def rhs(t, y):
+        k = stiff(t)
+        return np.array([y[1], -k * y[0], y[3], -k * y[2]])
+
+    atol_q = rtol * 1e-3
+    atol = [atol_q, atol_q * vscale, atol_q, atol_q * vscale]
+    traj = integrate(rhs, (0.0, 0.5 * T), [1.0, 0.0, 0.0, vscale], rtol=rtol, atol=atol, method=method)
+    y1, y1p, y2, y2p = traj.y_end
+    y2, y2p = y2 / vscale, y2p / vscale
+    return 2.0 * (y1 * y2p + y1p * y2), y1 * y2p - y1p * y2 - 1.0, traj
