@@ -1,0 +1,75 @@
+"""4.29 against values worked out by hand.
+
+Along the rod, in the rotating frame, only the centrifugal force acts:
+r'' = w^2 r, so r = r0 cosh wt + (v0/w) sinh wt and r' = r0 w sinh wt + v0 cosh wt.
+Across the rod the rod's force cancels the Coriolis force: N = 2 m w r'.
+In the lab (polar coordinates) the radial acceleration is r'' - w^2 r = 0 and the
+azimuthal one 2 w r', so |a_lab| = 2 w |r'|.  Numbers below by a calculator.
+"""
+
+import math
+
+import pytest
+
+from conftest import solve_both
+
+
+def hand(m, w, r0, v0, t):
+    r = r0 * math.cosh(w * t) + v0 / w * math.sinh(w * t)
+    rd = r0 * w * math.sinh(w * t) + v0 * math.cosh(w * t)
+    return {"r": r, "a_rot": w * w * r, "a_lab": 2 * w * abs(rd), "N": 2 * m * w * rd}
+
+
+def test_defaults_by_hand():
+    # cosh 2 = 3.7621956910836314, sinh 2 = 3.626860407847019
+    expect = {
+        "r": 0.37621956910836314,
+        "a_rot": 1.5048782764334526,
+        "a_lab": 2.901488326277615,
+        "N": 0.2901488326277615,
+    }
+    a, n, run = solve_both("4.29")
+    for values in (a, n):
+        for k, v in expect.items():
+            assert values[k] == pytest.approx(v, rel=1e-9)
+    assert run.invariants["jacobi"] < 1e-9
+
+
+def test_decaying_branch_hard_case():
+    # v0 = -w r0: r = r0 e^(-wt) exactly; e^-6 = 0.0024787521766663585
+    e6 = 0.0024787521766663585
+    a, n, _ = solve_both("4.29", m=0.1, omega=2.0, r0=0.1, v0=-0.2, t=3.0)
+    for values in (a, n):
+        assert values["r"] == pytest.approx(0.1 * e6, rel=1e-9)
+        assert values["a_rot"] == pytest.approx(0.4 * e6, rel=1e-9)
+        assert values["N"] == pytest.approx(-0.08 * e6, rel=1e-9)
+        assert values["a_lab"] == pytest.approx(0.8 * e6, rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    "m, w, r0, v0, t",
+    [
+        (0.05, 3.0, 0.2, -1.0, 0.8),  # hard case 2: passes through the axis, r < 0
+        (2.0, 0.5, -0.3, 0.1, 4.0),  # starts on the negative side
+        (1.0, 1.0, 0.0, 0.0, 5.0),  # at rest on the axis: stays there
+        (0.1, 7.0, 0.05, 0.0, 0.0),  # t = 0: a_rot = w^2 r0, no Coriolis yet
+    ],
+)
+def test_other_parameters(m, w, r0, v0, t):
+    expect = hand(m, w, r0, v0, t)
+    a, n, _ = solve_both("4.29", m=m, omega=w, r0=r0, v0=v0, t=t)
+    for values in (a, n):
+        for k, v in expect.items():
+            assert values[k] == pytest.approx(v, rel=1e-9, abs=1e-14)
+
+
+def test_axis_crossing_keeps_sign():
+    a, n, _ = solve_both("4.29", m=0.05, omega=3.0, r0=0.2, v0=-1.0, t=0.8)
+    for values in (a, n):
+        assert values["r"] < 0 and values["a_rot"] < 0 and values["N"] < 0
+
+
+def test_lab_acceleration_is_the_rod_force_over_mass():
+    a, n, _ = solve_both("4.29", m=0.3, omega=1.3, r0=0.4, v0=0.7, t=2.2)
+    for values in (a, n):
+        assert values["a_lab"] == pytest.approx(abs(values["N"]) / 0.3, rel=1e-9)
