@@ -117,22 +117,19 @@ def minus_one_function(M: np.ndarray) -> float:
     return 1.0 + float(np.trace(M)) + float(np.linalg.det(M))
 
 
-def even_hill_discriminant(
+def even_hill_half(
     stiff: Callable[[float], float],
     T: float,
     *,
     rtol: float,
     vscale: float = 1.0,
     method: str = "DOP853",
-) -> tuple[float, float, Trajectory]:
-    """tr M of the Hill equation y'' + stiff(t) y = 0 with stiff even in t and of period T.
+) -> tuple[tuple[float, float, float, float], Trajectory]:
+    """(y1, y1', y2, y2') at T/2 for y'' + stiff(t) y = 0, y1 even and y2 odd (stiff even, period T).
 
-    Only half a period is integrated: with y1 even (y1(0) = 1, y1'(0) = 0) and
-    y2 odd (y2(0) = 0, y2'(0) = 1), tr M = 2 [y1 y2' + y1' y2](T/2).  Returns
-    (tr M, Wronskian drift y1 y2' - y1' y2 - 1 at T/2, trajectory); det M = 1.
-    A damped equation q'' + 2 delta q' + k(t) q = 0 reduces to this one by
-    q = exp(-delta t) y with stiff = k - delta^2; its multipliers are
-    exp(-delta T) times those of y.
+    They give the whole monodromy matrix: tr M = 2 (y1 y2' + y1' y2), and with
+    the Wronskian y1 y2' - y1' y2 = 1, tr M - 2 = 4 y1' y2 and tr M + 2 = 4 y1 y2',
+    forms that keep their relative accuracy when a multiplier is near +1 or -1.
     """
 
     def rhs(t, y):
@@ -143,5 +140,24 @@ def even_hill_discriminant(
     atol = [atol_q, atol_q * vscale, atol_q, atol_q * vscale]
     traj = integrate(rhs, (0.0, 0.5 * T), [1.0, 0.0, 0.0, vscale], rtol=rtol, atol=atol, method=method)
     y1, y1p, y2, y2p = traj.y_end
-    y2, y2p = y2 / vscale, y2p / vscale
+    return (y1, y1p, y2 / vscale, y2p / vscale), traj
+
+
+def even_hill_discriminant(
+    stiff: Callable[[float], float],
+    T: float,
+    *,
+    rtol: float,
+    vscale: float = 1.0,
+    method: str = "DOP853",
+) -> tuple[float, float, Trajectory]:
+    """tr M of the Hill equation y'' + stiff(t) y = 0 with stiff even in t and of period T.
+
+    Only half a period is integrated (see ``even_hill_half``).  Returns
+    (tr M, Wronskian drift y1 y2' - y1' y2 - 1 at T/2, trajectory); det M = 1.
+    A damped equation q'' + 2 delta q' + k(t) q = 0 reduces to this one by
+    q = exp(-delta t) y with stiff = k - delta^2; its multipliers are
+    exp(-delta T) times those of y.
+    """
+    (y1, y1p, y2, y2p), traj = even_hill_half(stiff, T, rtol=rtol, vscale=vscale, method=method)
     return 2.0 * (y1 * y2p + y1p * y2), y1 * y2p - y1p * y2 - 1.0, traj
