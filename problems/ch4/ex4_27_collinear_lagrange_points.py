@@ -1,0 +1,128 @@
+"""4.27 Collinear Lagrange points L1, L2, L3.
+
+Analytic.  In units of d with mu = M2/(M1+M2), the force balance on the line,
+cleared of denominators, is a quintic for each point:
+  L1 (s = r_L1/d):  s^5 - (3-mu) s^4 + (3-2mu) s^3 - mu s^2 + 2mu s - mu = 0,
+  L2 (s = r_L2/d):  s^5 + (3-mu) s^4 + (3-2mu) s^3 - mu s^2 - 2mu s - mu = 0,
+  L3 (e = r_L3/d - 1):
+      e^5 + (7+mu) e^4 + (19+6mu) e^3 + (24+13mu) e^2 + (12+14mu) e + 7mu = 0,
+each with exactly one root in its interval (s in (0, 1); s > 0; e in (-1, 0)).
+For mu << 1: r_L1 ~ r_L2 ~ d (mu/3)^(1/3) (the Hill radius, 3 s^3 = mu) and
+dr_L3 ~ -(7/12) mu d (12 e = -7 mu).  The roots are computed from these
+leading-order starts by Newton's method on the quintic, safeguarded by
+bisection on its sign-change interval.
+
+Numeric.  The force per unit mass along the line, -dU_ef/dx (gravity of both
+bodies plus the centrifugal force), with each unknown measured from its nearest
+body and the O(1) terms combined by hand so that no large numbers cancel; each
+root is bracketed by walking from the middle of its interval toward the body
+(halving the distance) and toward infinity (doubling) until the force changes
+sign, then found by brentq to the last bits; d^2U_ef/dx^2 < 0 is checked.
+"""
+
+from __future__ import annotations
+
+import math
+
+from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.rotframe import bracketed_root, mass_fractions, walk_to_sign_change
+
+exercise = Exercise(
+    "4.27",
+    formulas=[
+        "L1: s⁵ - (3-μ)s⁴ + (3-2μ)s³ - μs² + 2μs - μ = 0, r_L1 = s d, μ = M2/(M1+M2)",
+        "L2: s⁵ + (3-μ)s⁴ + (3-2μ)s³ - μs² - 2μs - μ = 0, r_L2 = s d",
+        "L3: e⁵ + (7+μ)e⁴ + (19+6μ)e³ + (24+13μ)e² + (12+14μ)e + 7μ = 0, r_L3 = (1+e) d",
+        "μ ≪ 1: r_L1 ≈ r_L2 ≈ d (μ/3)^(1/3) = d (M2/3M1)^(1/3); dr_L3 ≈ -(7/12) μ d",
+    ],
+)
+
+
+@exercise.constraint
+def _(p):
+    if p.M2 > p.M1:
+        return f"M2 = {p.M2:g} kg must not exceed M1 = {p.M1:g} kg (L3 lies beyond the heavier body M1)"
+    if p.M2 / (p.M1 + p.M2) < 1e-290:
+        return f"M2/M1 = {p.M2 / p.M1:.3g} is below 1e-290: the mass fraction leaves the floating-point range"
+
+
+def _horner(coeffs, x):
+    v, dv = 0.0, 0.0
+    for c in coeffs:
+        dv = dv * x + v
+        v = v * x + c
+    return v, dv
+
+
+def _quintic_root(coeffs, lo, hi, x0):
+    """The root of the polynomial in [lo, hi] (sign change there), by Newton from x0 with bisection safeguard."""
+    flo = _horner(coeffs, lo)[0]
+    x = min(max(x0, lo), hi)
+    for _ in range(400):
+        v, dv = _horner(coeffs, x)
+        if v == 0.0:
+            return x
+        if (v > 0) == (flo > 0):
+            lo, flo = x, v
+        else:
+            hi = x
+        newton = x - v / dv if dv != 0.0 else math.nan
+        nxt = newton if lo < newton < hi else 0.5 * (lo + hi)
+        if nxt == x or abs(nxt - x) <= 2e-16 * abs(x):
+            return nxt
+        x = nxt
+    raise RuntimeError("quintic root did not converge")
+
+
+@exercise.analytic
+def _(p):
+    nu, mu = mass_fractions(p.M1, p.M2)
+    hill = (mu / 3.0) ** (1.0 / 3.0)
+    c1 = [1.0, -(3.0 - mu), 3.0 - 2.0 * mu, -mu, 2.0 * mu, -mu]
+    c2 = [1.0, 3.0 - mu, 3.0 - 2.0 * mu, -mu, -2.0 * mu, -mu]
+    c3 = [1.0, 7.0 + mu, 19.0 + 6.0 * mu, 24.0 + 13.0 * mu, 12.0 + 14.0 * mu, 7.0 * mu]
+    s1 = _quintic_root(c1, 0.0, 1.0, hill)
+    s2 = _quintic_root(c2, 0.0, 2.0, hill)
+    e3 = _quintic_root(c3, -1.0, 0.0, -7.0 * mu / 12.0)
+    return {"r_L1": s1 * p.d, "r_L2": s2 * p.d, "r_L3": (1.0 + e3) * p.d, "dr_L3": e3 * p.d}
+
+
+@exercise.numeric
+def _(p, run):
+    nu, mu = mass_fractions(p.M1, p.M2)  # M1 at x = -mu, M2 at x = nu (units of d)
+
+    # Force per unit mass along +x, F = -dU/dx = -nu (x+mu)/|x+mu|^3 - mu (x-nu)/|x-nu|^3 + x.
+    def f_L1(s):  # x = nu - s: F = mu/s^2 - nu/(1-s)^2 + nu - s, with nu/(1-s)^2 - nu written out
+        return mu / (s * s) - nu * s * (2.0 - s) / (1.0 - s) ** 2 - s
+
+    def f_L2(s):  # x = nu + s: F = -nu/(1+s)^2 - mu/s^2 + nu + s
+        return nu * s * (2.0 + s) / (1.0 + s) ** 2 + s - mu / (s * s)
+
+    def f_L3(e):  # x = -mu - (1+e): F = nu/(1+e)^2 + mu/(2+e)^2 - mu - (1+e), with 1 = nu + mu
+        return -(mu + e * (3.0 + e * (3.0 + e))) / (1.0 + e) ** 2 + mu / (2.0 + e) ** 2 - mu
+
+    def dF_dx(r1, r2):  # d^2U/dx^2 = -dF/dx; on the line dF/dx = 1 + 2 nu/r1^3 + 2 mu/r2^3
+        return 1.0 + 2.0 * nu / r1**3 + 2.0 * mu / r2**3
+
+    # L1: F -> +inf at M2 (s -> 0), -inf at M1 (s -> 1)
+    lo = walk_to_sign_change(f_L1, 0.5, lambda s: 0.5 * s, +1.0)
+    hi = walk_to_sign_change(f_L1, 0.5, lambda s: 1.0 - 0.5 * (1.0 - s), -1.0)
+    s1 = bracketed_root(f_L1, lo, hi)
+    # L2: F -> -inf at M2 (s -> 0), +inf far out
+    lo = walk_to_sign_change(f_L2, 1.0, lambda s: 0.5 * s, -1.0)
+    hi = walk_to_sign_change(f_L2, 1.0, lambda s: 2.0 * s, +1.0)
+    s2 = bracketed_root(f_L2, lo, hi)
+    # L3: F -> +inf at M1 (e -> -1), -inf far out (e -> +inf)
+    lo = walk_to_sign_change(f_L3, -0.5, lambda e: -1.0 + 0.5 * (1.0 + e), +1.0)
+    hi = walk_to_sign_change(f_L3, 0.0, lambda e: 2.0 * e + 1.0, -1.0)
+    e3 = bracketed_root(f_L3, lo, hi)
+
+    # distances (r1, r2) from the two bodies, in units of d
+    for name, r1, r2 in (("L1", 1.0 - s1, s1), ("L2", 1.0 + s2, s2), ("L3", 1.0 + e3, 2.0 + e3)):
+        if not dF_dx(r1, r2) > 0.0:
+            raise NumericFailure(f"{name} at r1 = {r1:.17g} d is not a maximum of U_ef along the line")
+    run.method = "brentq"
+    run.info["residuals"] = [f_L1(s1), f_L2(s2), f_L3(e3)]
+    for name in ("r_L1", "r_L2", "r_L3", "dr_L3"):
+        run.claim(name, rel=1e-12)
+    return {"r_L1": s1 * p.d, "r_L2": s2 * p.d, "r_L3": (1.0 + e3) * p.d, "dr_L3": e3 * p.d}
