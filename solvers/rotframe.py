@@ -37,6 +37,7 @@ __all__ = [
     "bracketed_root",
     "grad_eff",
     "hess_eff",
+    "hess_eigen",
     "newton_equilibrium",
     "linearized_matrix",
     "Exponents",
@@ -139,22 +140,58 @@ def hess_eff(r, mu: float, nu: float) -> np.ndarray:
     return H
 
 
-def newton_equilibrium(r0, mu: float, nu: float, max_iter: int = 100) -> tuple[np.ndarray, int]:
-    """A stationary point of U_eff by Newton's method on its gradient, with step halving on |grad|.
+def hess_eigen(r, mu: float, nu: float) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenvalues and eigenvectors of the Hessian, each eigenvalue to its own relative precision.
 
-    Converged when the step stops shrinking at the round-off level; returns (point, iterations)."""
+    In the frame (n1, t1) of the direction from body 1 the first body's part is
+    diagonal, nu [(r1^-3 - 1 - 3 r1^-3), (r1^-3 - 1)], so the weak curvature along
+    t1 (of order mu near L4) is not the difference of O(1) numbers; the 2x2 is then
+    diagonalized with the small eigenvalue taken as det / large one."""
+    d1, d2, r1, r2 = _offsets(np.asarray(r, float), mu, nu)
+    n1 = d1 / r1
+    t1 = np.array([-n1[1], n1[0]])
+    R = np.column_stack([n1, t1])
+    A2 = (r2**-3 - 1.0) * np.eye(2) - 3.0 * np.outer(d2, d2) / r2**5
+    B = mu * (R.T @ A2 @ R)
+    a = nu * (r1**-3 - 1.0 - 3.0 * r1**-3) + B[0, 0]
+    c = nu * (r1**-3 - 1.0) + B[1, 1]
+    b = B[0, 1]
+    half = 0.5 * (a - c)
+    rad = math.hypot(half, b)
+    det = a * c - b * b
+    if a + c >= 0.0:
+        plus = 0.5 * (a + c) + rad
+        minus = det / plus if plus != 0.0 else 0.0
+    else:
+        minus = 0.5 * (a + c) - rad
+        plus = det / minus
+    ang = 0.5 * math.atan2(2.0 * b, a - c)  # (cos, sin) of ang in (n1, t1) belongs to `plus`
+    cs, sn = math.cos(ang), math.sin(ang)
+    Q = R @ np.array([[cs, -sn], [sn, cs]])
+    lam0, lam1 = plus, minus
+    return np.array([lam0, lam1]), Q
+
+
+def newton_equilibrium(r0, mu: float, nu: float, max_iter: int = 200, max_step: float = 0.1) -> tuple[np.ndarray, int]:
+    """A maximum of U_eff by Newton's method on its gradient (exact Hessian).
+
+    Far from the maximum the Hessian need not be negative definite, and a plain
+    Newton step would head for a saddle: each step uses the Hessian with its
+    eigenvalues made negative (|lambda| flipped) and is capped at ``max_step``
+    (units of d).  Converged when the step stops
+    shrinking at the round-off level; returns (point, iterations)."""
     r = np.asarray(r0, float).copy()
     g = grad_eff(r, mu, nu)
     last = math.inf
     for it in range(1, max_iter + 1):
-        step = np.linalg.solve(hess_eff(r, mu, nu), -g)
-        lam = 1.0
-        while True:
-            trial = r + lam * step
-            gt = grad_eff(trial, mu, nu)
-            if np.linalg.norm(gt) < np.linalg.norm(g) or lam < 1e-3:
-                break
-            lam *= 0.5
+        w, V = hess_eigen(r, mu, nu)
+        w = -np.maximum(np.abs(w), 1e-300)
+        step = -(V @ ((V.T @ g) / w))
+        size = float(np.linalg.norm(step))
+        if size > max_step:
+            step *= max_step / size
+        trial = r + step
+        gt = grad_eff(trial, mu, nu)
         size = float(np.linalg.norm(trial - r))
         r, g = trial, gt
         if size <= 4 * EPS * max(1.0, float(np.linalg.norm(r))) or (size >= last and size < 1e-12):

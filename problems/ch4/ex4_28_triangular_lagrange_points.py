@@ -1,0 +1,121 @@
+"""4.28 Triangular Lagrange points L4, L5 and their linear stability.
+
+Analytic.  With the origin at the center of mass, r = nu d1 + mu d2
+(mu = M2/(M1+M2), nu = 1 - mu), and grad U_ef = G M1 (1/r1^3 - 1/d^3) d1
++ G M2 (1/r2^3 - 1/d^3) d2; off the line d1 and d2 are independent, so
+r1 = r2 = d: L4 is the apex of the equilateral triangle,
+x_L4 = d (1/2 - mu), y_L4 = (sqrt 3/2) d.  There the Hessian is
+-3 Omega^2 [nu n1 n1^T + mu n2 n2^T] and the linearized equations
+x'' - 2 Omega y' = -U_xx x - U_xy y, y'' + 2 Omega x' = -U_xy x - U_yy y give
+lambda^4 + Omega^2 lambda^2 + (27/4) mu nu Omega^4 = 0.  With D = 1 - 27 mu nu:
+D >= 0 (mu <= mu_c = (1 - sqrt(23/27))/2 = 0.0385): stable,
+  omega_slow^2 = Omega^2 (1 - sqrt D)/2 = Omega^2 (27 mu nu/2)/(1 + sqrt D),
+  omega_fast^2 = Omega^2 (1 + sqrt D)/2;
+D < 0: lambda = (Omega/2) [+-(sqrt(27 mu nu) - 1)^(1/2) +- i (sqrt(27 mu nu) + 1)^(1/2)].
+
+Numeric (scaled units d, 1/Omega): Newton's method on the cancellation-free
+gradient of U_eff from (0, 1), with the exact Hessian (solvers/rotframe.py);
+then the eigenvalues of the 4x4 linearized rotating-frame matrix built from
+that exact Hessian.  Each exponent gets an absolute error claim from
+perturbation theory that switches to the square-root law where two exponents
+merge (the defective matrix at the Routh limit).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.rotframe import (
+    characteristic_exponents,
+    grad_eff,
+    hess_eff,
+    hess_eigen,
+    mass_fractions,
+    newton_equilibrium,
+)
+
+G = 6.67430e-11
+
+exercise = Exercise(
+    "4.28",
+    formulas=[
+        "x_L4 = d (1/2 - μ), y_L4 = (√3/2) d   (equilateral triangle; μ = M2/(M1+M2))",
+        "λ⁴ + Ω² λ² + (27/4) μ(1-μ) Ω⁴ = 0, Ω² = G(M1+M2)/d³",
+        "stable for 27 μ(1-μ) ≤ 1 (μ ≤ (1 - √(23/27))/2 ≈ 0.0385): ω_slow,fast² = Ω² (1 ∓ √(1 - 27μ(1-μ)))/2",
+        "unstable: growth = (Ω/2)(√(27μ(1-μ)) - 1)^(1/2), ω_slow = ω_fast = (Ω/2)(√(27μ(1-μ)) + 1)^(1/2)",
+    ],
+)
+
+
+@exercise.constraint
+def _(p):
+    if min(p.M1, p.M2) / (p.M1 + p.M2) < 1e-290:
+        return "the mass ratio is below 1e-290: the smaller mass fraction leaves the floating-point range"
+
+
+def _omega(p):
+    return math.sqrt(G * (p.M1 + p.M2) / p.d**3)
+
+
+@exercise.analytic
+def _(p):
+    nu, mu = mass_fractions(p.M1, p.M2)
+    W = _omega(p)
+    q = 27.0 * mu * nu
+    D = 1.0 - q
+    if D >= 0.0:
+        root = math.sqrt(D)
+        growth = 0.0
+        slow = W * math.sqrt(0.5 * q / (1.0 + root))
+        fast = W * math.sqrt(0.5 * (1.0 + root))
+    else:
+        sq = math.sqrt(q)
+        growth = 0.5 * W * math.sqrt(sq - 1.0)
+        slow = fast = 0.5 * W * math.sqrt(sq + 1.0)
+    return {
+        "x_L4": p.d * (0.5 - mu),
+        "y_L4": p.d * math.sqrt(3.0) / 2.0,
+        "growth_rate": growth,
+        "omega_slow": slow,
+        "omega_fast": fast,
+    }
+
+
+@exercise.numeric
+def _(p, run):
+    nu, mu = mass_fractions(p.M1, p.M2)
+    W = _omega(p)
+    r, iters = newton_equilibrium([0.0, 1.0], mu, nu)
+    if not r[1] > 0.0:
+        raise NumericFailure(f"Newton's method converged to ({r[0]:.6g}, {r[1]:.6g}) d, not to the point above the line")
+    H = hess_eff(r, mu, nu)
+    if not max(hess_eigen(r, mu, nu)[0]) < 0.0:
+        raise NumericFailure("the stationary point found is not a maximum of U_eff")
+    ex = characteristic_exponents(H)
+    if ex.err_slow > 1e-3 * ex.slow:
+        raise NumericFailure(
+            f"the slow exponent {ex.slow:.3g} Omega is below what the 4x4 eigenvalues resolve "
+            f"(+-{ex.err_slow:.2g} Omega at mass ratio {mu:.3g})"
+        )
+    run.method = "Newton + eigvals"
+    run.info["newton_iterations"] = iters
+    run.info["grad_residual"] = float(np.linalg.norm(grad_eff(r, mu, nu)))
+    run.info["exponents_over_Omega"] = [f"{z.real:.6g}{z.imag:+.6g}i" for z in ex.values]
+    # the position is a root to round-off; the exponents are claimed from their sensitivity
+    run.claim("x_L4", rel=1e-12, abs=1e-14 * p.d)
+    run.claim("y_L4", rel=1e-12)
+    tol = exercise.tol_factor * run.rtol
+    run.claim("growth_rate", rel=tol, abs=4.0 * ex.err_growth * W)
+    run.claim("omega_slow", rel=tol, abs=4.0 * ex.err_slow * W)
+    run.claim("omega_fast", rel=tol, abs=4.0 * ex.err_fast * W)
+    growth = max(ex.growth, 0.0)
+    return {
+        "x_L4": r[0] * p.d,
+        "y_L4": r[1] * p.d,
+        "growth_rate": growth * W,
+        "omega_slow": ex.slow * W,
+        "omega_fast": ex.fast * W,
+    }
