@@ -1,0 +1,84 @@
+"""5.1 against values worked out by hand, and G against a direct integration.
+
+Hand derivation: q = a exp(-i w t) in m(q'' + 2 d q' + w0^2 q) = F exp(-i w t)
+gives m(w0^2 - w^2 - 2 i d w) a = F, chi = (w0^2 - w^2 + 2 i d w)/(m D),
+D = (w0^2 - w^2)^2 + 4 d^2 w^2.  Defaults (m = 0.5, w0 = 6, d = 0.4, w = 5):
+w0^2 - w^2 = 11, 2 d w = 4, D = 137: chi = (22 + 8 i)/137.
+Critical d = 6: 11 and 60, D = 3721: chi = (22 + 120 i)/3721.
+Overdamped d = 120, w = 0.5: 35.75 and 120: chi = 2 (35.75 + 120 i)/(35.75^2 + 14400).
+G: the impulse 1 gives q(0+) = 0, q'(0+) = 1/m; the free solution with roots
+-d +- (d^2 - w0^2)^(1/2) gives e^{-d t} sin(w1 t)/(m w1) (w1^2 = w0^2 - d^2),
+t e^{-d t}/m at d = w0, e^{-d t} sinh(w' t)/(m w') above; these are evaluated
+below, and G is also checked against a direct integration of the free motion
+(scipy's solve_ivp, independent of both solvers: the module's G comes from a
+Fourier integral).  Causality: G(-tau) = 0.
+"""
+
+import math
+
+import pytest
+
+from conftest import solve_both
+
+
+def G_hand(m, w0, d, t):
+    if d < w0:
+        w1 = math.sqrt(w0 * w0 - d * d)
+        return math.exp(-d * t) * math.sin(w1 * t) / (m * w1)
+    if d == w0:
+        return t * math.exp(-d * t) / m
+    wp = math.sqrt(d * d - w0 * w0)
+    return (math.exp(-(d - wp) * t) - math.exp(-(d + wp) * t)) / (2 * m * wp)
+
+
+CASES = [
+    (dict(), 22 / 137, 8 / 137),
+    (dict(delta=6.0), 22 / 3721, 120 / 3721),
+    (dict(delta=120.0, tau=2.0, omega=0.5), 2 * 35.75 / (35.75**2 + 14400), 2 * 120 / (35.75**2 + 14400)),
+    # Q = 500 near resonance: w0^2 - w^2 = 36 - 35.928036 = 0.071964, 2 d w = 0.071928
+    (dict(delta=0.006, omega=5.994, tau=40.0), 2 * 0.071964 / (0.071964**2 + 0.071928**2),
+     2 * 0.071928 / (0.071964**2 + 0.071928**2)),
+    # m = 2, w0 = 1, d = 0.25, w = 2, t = 3: -3 and 1, D = 10: chi = (-3 + i)/20
+    (dict(m=2.0, omega0=1.0, delta=0.25, omega=2.0, tau=3.0), -3 / 20, 1 / 20),
+]
+
+
+@pytest.mark.parametrize("given, chi_re, chi_im", CASES)
+def test_hand_values(given, chi_re, chi_im):
+    a, n, _ = solve_both("5.1", **given)
+    p = dict(m=0.5, omega0=6.0, delta=0.4, tau=0.7)
+    p.update({k: v for k, v in given.items() if k in p})
+    G = G_hand(p["m"], p["omega0"], p["delta"], p["tau"])
+    for values in (a, n):
+        assert values["chi_re"] == pytest.approx(chi_re, rel=1e-8)
+        assert values["chi_im"] == pytest.approx(chi_im, rel=1e-8)
+        assert values["G"] == pytest.approx(G, rel=1e-8, abs=1e-10 / (p["m"] * p["omega0"]))
+        assert abs(values["G_minus"]) < 1e-10 / (p["m"] * p["omega0"])
+
+
+@pytest.mark.parametrize("delta, tau", [(0.4, 0.7), (6.0, 1.3), (15.0, 0.9), (0.05, 11.0)])
+def test_G_matches_direct_integration_of_the_impulse_response(delta, tau):
+    from scipy.integrate import solve_ivp
+
+    m, w0 = 0.5, 6.0
+    sol = solve_ivp(lambda t, y: [y[1], -2 * delta * y[1] - w0 * w0 * y[0]], (0, tau), [0.0, 1.0 / m],
+                    method="DOP853", rtol=1e-12, atol=1e-15)
+    a, n, _ = solve_both("5.1", delta=delta, tau=tau)
+    for values in (a, n):
+        assert values["G"] == pytest.approx(sol.y[0, -1], rel=1e-8, abs=1e-12)
+
+
+def test_critical_damping_is_the_limit_of_both_sides():
+    a_c, _, _ = solve_both("5.1", delta=6.0)
+    for d in (6.0 * (1 - 1e-7), 6.0 * (1 + 1e-7)):
+        a, n, _ = solve_both("5.1", delta=d)
+        assert a["G"] == pytest.approx(a_c["G"], rel=1e-6)
+        assert n["G"] == pytest.approx(a_c["G"], rel=1e-6)
+
+
+def test_static_response_is_one_over_stiffness():
+    # w = 0: chi = 1/(m w0^2) = 1/18, no absorption
+    a, n, _ = solve_both("5.1", omega=0.0)
+    for values in (a, n):
+        assert values["chi_re"] == pytest.approx(1 / 18, rel=1e-9)
+        assert abs(values["chi_im"]) < 1e-12
