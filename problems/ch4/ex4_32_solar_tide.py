@@ -1,0 +1,187 @@
+"""4.32 Height of the solar tide on a global ocean.
+
+Analytic: in the Earth's freely falling frame the Sun leaves only its tidal
+potential, -(G M_S/r_S) sum_{n>=2} (r/r_S)^n P_n(cos psi).  In units of
+G M_E/R_E, with r = R_E (1 + u) and A_n = (M_S/M_E)(R_E/r_S)^(n+1), the
+surface -1/(1 + u) - sum A_n (1 + u)^n P_n = const is solved by series in the
+tiny A_n: with S = sum A_n P_n, T = sum n A_n P_n, V = sum n(n-1)/2 A_n P_n,
+  u = c + S + S^2 + S T + [c (T + 2S) + S^3 + 3 S^2 T + S T^2 + S^2 V] + O(A^4),
+the constant c fixed by the volume, <(1 + u)^3> = 1 over directions:
+  c = -2<S^2> - <S T> - (10/3)<S^3> - 5<S^2 T> - <S T^2> - <S^2 V>.
+Leading order (the book's): h = (M_S/M_E)(R_E^4/r_S^3) P2(cos psi): tide
+1.5 (M_S/M_E) R_E^4/r_S^3 = 0.246 m for the Sun, +2/3 of it at the sub-solar
+point, -1/3 on the ring at 90 degrees.  The series keeps every multipole (the
+lunar 1.7% corrections) and the nonlinearity in h; what it drops is
+relatively ~ (h/R_E)^3, below 1e-15 under the constraint h/R_E <= 1e-5.
+h_low is the minimum of the series (Newton on its derivative from psi = 90 deg).
+
+Numeric: the exact closed-form potential, written without cancellation:
+with rho = r/r_S, w = rho (2 cos psi - rho), s = (1 - w)^(1/2),
+  r_S/|r_S - r| - 1 - rho cos psi = w^2 (2 + s)/(2 s (1 + s)^2) - rho^2/2,
+so the ~1e-11 tidal part is never the difference of ~1 numbers.  The unknown
+is the elevation u = h/R_E, not r: at each of 64 Gauss-Legendre nodes in
+cos psi, u/(1 + u) (the Earth's potential minus its value on the sphere) equals
+the level c plus the tidal term, solved by fixed-point iteration (contraction
+~ h/R_E); the level c solves the volume condition (quadrature of
+3u + 3u^2 + u^3, secant iteration).  h_low: bisection for the zero of the
+slope of the tidal term along the surface (bracket [0, 1] in cos psi: the slope
+is negative at 90 degrees, positive at the sub-solar point).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.polynomial import legendre as L
+
+from mech.problems.spec import Exercise, NumericFailure
+
+exercise = Exercise(
+    "4.32",
+    formulas=[
+        "h(ψ) ≈ (M_S/M_E)(R_E⁴/r_S³) P₂(cos ψ)  (leading order)",
+        "h_range ≈ (3/2)(M_S/M_E) R_E⁴/r_S³,  h_high ≈ (M_S/M_E) R_E⁴/r_S³,  h_low ≈ -h_high/2",
+        "exact for the model: u = h/R_E = c + S + S² + ST + O(A³), S = Σ_{n≥2} A_n P_n, "
+        "T = Σ n A_n P_n, A_n = (M_S/M_E)(R_E/r_S)^{n+1}, c from ⟨(1+u)³⟩ = 1",
+    ],
+)
+
+MAX_EPS = 0.3  # R_E / r_S: the tide-raising body far outside the Earth
+MAX_ETA = 1e-5  # leading tide / R_E
+
+
+@exercise.constraint
+def _(p):
+    eps = p.R_E / p.r_S
+    if eps > MAX_EPS:
+        return f"R_E/r_S = {eps:.3g} must be at most {MAX_EPS} (the body must be far: r_S >> R_E)"
+    eta = (p.M_S / p.M_E) * eps**3
+    if eta > MAX_ETA:
+        return (
+            f"(M_S/M_E)(R_E/r_S)^3 = {eta:.3g}: the tide would be {eta:.2g} of the Earth's radius; "
+            f"the thin equilibrium ocean of the model needs at most {MAX_ETA:g}"
+        )
+
+
+def _series(p):
+    eps = p.R_E / p.r_S
+    mu = p.M_S / p.M_E
+    a2 = mu * eps**3
+    coeffs = [0.0, 0.0]
+    n = 2
+    while True:
+        an = mu * eps ** (n + 1)
+        coeffs.append(an)
+        if an < 1e-20 * a2 or n > 400:
+            break
+        n += 1
+    A = np.array(coeffs)
+    nn = np.arange(A.size)
+    S = L.Legendre(A)
+    T = L.Legendre(nn * A)
+    V = L.Legendre(0.5 * nn * (nn - 1) * A)
+    x, wts = L.leggauss(max(64, 2 * A.size + 8))
+
+    def mean(poly):
+        return 0.5 * np.sum(wts * poly(x))
+
+    c2 = -2 * mean(S * S) - mean(S * T)
+    c3 = -(10.0 / 3.0) * mean(S * S * S) - 5 * mean(S * S * T) - mean(S * T * T) - mean(S * S * V)
+    c = c2 + c3
+    u = c + S + S * S + S * T + c * (T + 2 * S) + S * S * S + 3 * S * S * T + S * T * T + S * S * V
+    return u, eps
+
+
+@exercise.analytic
+def _(p):
+    u, eps = _series(p)
+    du, d2u = u.deriv(), u.deriv(2)
+    x = 0.0
+    for _ in range(100):  # Newton for the minimum, from 90 degrees
+        step = du(x) / d2u(x)
+        x -= step
+        if abs(step) < 1e-16:
+            break
+    h_high = p.R_E * u(1.0)
+    h_low = p.R_E * u(x)
+    return {"h_range": h_high - h_low, "h_high": h_high, "h_low": h_low}
+
+
+def _tidal(rho, x):
+    """r_S/|r_S - r| - 1 - rho x for |r| = rho r_S at cos(angle) = x, without cancellation."""
+    w = rho * (2.0 * x - rho)
+    s = np.sqrt(1.0 - w)
+    return w * w * (2.0 + s) / (2.0 * s * (1.0 + s) ** 2) - 0.5 * rho * rho
+
+
+def _tidal_slope(rho, x):
+    """d/dx of the same at fixed rho: rho [(1 - w)^(-3/2) - 1], without cancellation."""
+    w = rho * (2.0 * x - rho)
+    s = np.sqrt(1.0 - w)
+    return rho * w * (1.0 + s + s * s) / ((1.0 + s) * s**3)
+
+
+@exercise.numeric
+def _(p, run):
+    eps = p.R_E / p.r_S
+    k = (p.M_S / p.M_E) * eps  # (G M_S / r_S) / (G M_E / R_E)
+    x, wts = L.leggauss(64)
+    wts = 0.5 * wts
+
+    def surface(c, xx):
+        """u(x) on the level c: u/(1+u) = c + k F(eps (1+u), x), by fixed-point iteration."""
+        u = np.zeros_like(np.asarray(xx, dtype=float))
+        for it in range(100):
+            q = c + k * _tidal(eps * (1.0 + u), xx)
+            new = q / (1.0 - q)
+            done = np.all(np.abs(new - u) <= 1e-15 * np.abs(new) + 1e-300)
+            u = new
+            if done:
+                return u
+        raise NumericFailure("the surface iteration did not converge")
+
+    def volume(c):
+        u = surface(c, x)
+        return np.sum(wts * u * (3.0 + u * (3.0 + u)))  # <(1+u)^3> - 1
+
+    # secant on the level
+    c0, v0 = 0.0, volume(0.0)
+    c1 = -v0 / 3.0
+    v1 = volume(c1)
+    for it in range(60):
+        if v1 == 0.0 or v1 == v0:
+            break
+        c2 = c1 - v1 * (c1 - c0) / (v1 - v0)
+        c0, v0 = c1, v1
+        c1, v1 = c2, volume(c2)
+        if abs(c1 - c0) <= 1e-15 * abs(c1):
+            break
+    else:
+        raise NumericFailure("the volume condition did not converge")
+    c = c1
+    run.invariant("volume", v1)  # residual of <(1+u)^3> = 1
+
+    u_high = float(surface(c, np.array(1.0)))
+
+    def slope(xx):
+        return _tidal_slope(eps * (1.0 + float(surface(c, np.array(xx)))), xx)
+
+    lo, hi = 0.0, 1.0
+    if not (slope(lo) < 0.0 < slope(hi)):
+        raise NumericFailure("the lowest point is not bracketed in [0, 1] in cos(psi)")
+    while True:
+        mid = 0.5 * (lo + hi)
+        if not lo < mid < hi:
+            break
+        if slope(mid) < 0.0:
+            lo = mid
+        else:
+            hi = mid
+    u_low = float(surface(c, np.array(0.5 * (lo + hi))))
+    run.method = "Gauss-Legendre surface solve"
+    run.info["cos_psi_low"] = 0.5 * (lo + hi)
+    run.info["level_c"] = c
+    for name in ("h_range", "h_high", "h_low"):
+        run.claim(name, rel=1e-12)
+    return {"h_range": p.R_E * (u_high - u_low), "h_high": p.R_E * u_high, "h_low": p.R_E * u_low}
