@@ -1,0 +1,107 @@
+"""5.3 against values worked out by hand (the textbook particular-plus-homogeneous form).
+
+Hand derivation: with f = F0/m the stationary part is Re[a e^{i w t}],
+a = f/(w0^2 - w^2 + 2 i d w), A_ss = |a|.  The transient solves the free
+equation with q_h(0) = -Re a, q_h'(0) = -Re(i w a) = w Im a:
+underdamped q_h = e^{-dt}(C cos wd t + D sin wd t), C = q_h(0),
+D = (q_h'(0) + d C)/wd; critical q_h = (C + (q_h'(0) + d C) t) e^{-dt};
+overdamped: a sum of e^{r1 t}, e^{r2 t}.  At d = 0, w = w0 the limit is
+q = f t sin(w0 t)/(2 w0).  The helper below evaluates these textbook forms
+(a different route from the module's divided differences) at parameters where
+they lose nothing to cancellation.
+"""
+
+import cmath
+import math
+
+import pytest
+
+from conftest import solve_both
+from mech.problems.spec import Undefined
+
+
+def textbook(m, omega0, delta, F0, omega, t1):
+    t = t1
+    f = F0 / m
+    a = f / complex(omega0**2 - omega**2, 2 * delta * omega)
+    qp = (a * cmath.exp(1j * omega * t)).real
+    vp = (1j * omega * a * cmath.exp(1j * omega * t)).real
+    q0, v0 = -a.real, omega * a.imag
+    if delta < omega0:
+        wd = math.sqrt(omega0**2 - delta**2)
+        C, D = q0, (v0 + delta * q0) / wd
+        e = math.exp(-delta * t)
+        qh = e * (C * math.cos(wd * t) + D * math.sin(wd * t))
+        vh = e * (-delta * (C * math.cos(wd * t) + D * math.sin(wd * t))
+                  + wd * (-C * math.sin(wd * t) + D * math.cos(wd * t)))
+    elif delta == omega0:
+        B = v0 + delta * q0
+        qh = (q0 + B * t) * math.exp(-delta * t)
+        vh = (B - delta * (q0 + B * t)) * math.exp(-delta * t)
+    else:
+        k = math.sqrt(delta**2 - omega0**2)
+        r1, r2 = -delta + k, -delta - k
+        c1 = (v0 - r2 * q0) / (r1 - r2)
+        c2 = q0 - c1
+        qh = c1 * math.exp(r1 * t) + c2 * math.exp(r2 * t)
+        vh = c1 * r1 * math.exp(r1 * t) + c2 * r2 * math.exp(r2 * t)
+    return qp + qh, vp + vh, abs(a)
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        {},                                                     # defaults: resonance, Q = 60
+        {"delta": 0.5, "omega": 4.0, "t1": 3.3},                # underdamped, off resonance
+        {"delta": 6.0, "omega": 2.0, "t1": 0.9},                # critical damping
+        {"delta": 20.0, "omega": 3.0, "t1": 0.7, "F0": -2.0},   # overdamped, negative force
+        {"m": 3.0, "omega0": 0.7, "delta": 0.02, "omega": 2.0, "t1": 40.0},
+    ],
+)
+def test_against_textbook_form(params):
+    full = {"m": 0.5, "omega0": 6.0, "delta": 0.05, "F0": 1.0, "omega": 6.0, "t1": 5.0, **params}
+    q, v, amp = textbook(**full)
+    a, n, _ = solve_both("5.3", **params)
+    for vals in (a, n):
+        assert vals["q_t"] == pytest.approx(q, rel=1e-8, abs=1e-12)
+        assert vals["v_t"] == pytest.approx(v, rel=1e-8, abs=1e-12)
+        assert vals["A_ss"] == pytest.approx(amp, rel=1e-8)
+
+
+def test_defaults_amplitude_by_hand():
+    # at resonance A_ss = f/(2 d w) = 2/(2*0.05*6) = 10/3
+    a, n, _ = solve_both("5.3")
+    assert a["A_ss"] == pytest.approx(10 / 3, rel=1e-12)
+    assert n["A_ss"] == pytest.approx(10 / 3, rel=1e-8)
+
+
+def test_undamped_resonance_secular_growth():
+    # q = f t sin(w0 t)/(2 w0), q' = f (t cos(w0 t)/2 + sin(w0 t)/(2 w0)); f = 2, w0 = 6, t = 100
+    a, n, run = solve_both("5.3", delta=0.0, t1=100.0)
+    q = 2 * 100 * math.sin(600.0) / 12
+    v = 2 * (100 * math.cos(600.0) / 2 + math.sin(600.0) / 12)
+    for vals in (a, n):
+        assert vals["q_t"] == pytest.approx(q, rel=1e-8)
+        assert vals["v_t"] == pytest.approx(v, rel=1e-8)
+        assert isinstance(vals["A_ss"], Undefined)
+
+
+def test_undamped_detuned_product_form():
+    # q = 2 f sin((w0+w)t/2) sin((w0-w)t/2)/((w0-w)(w0+w)), w0 - w = -6e-11 exactly representable enough
+    w = 6.00000000006
+    S, D = 6.0 + w, 6.0 - w
+    q = 2 * 2.0 * math.sin(S * 50.0) * math.sin(D * 50.0) / (S * D)
+    a, n, _ = solve_both("5.3", delta=0.0, omega=w, t1=100.0)
+    for vals in (a, n):
+        assert vals["q_t"] == pytest.approx(q, rel=1e-7)
+        assert vals["A_ss"] == pytest.approx(2.0 / abs(S * D), rel=1e-6)
+
+
+def test_short_time_taylor():
+    # Taylor from rest: q2(0) = f, q3(0) = -2 d f, q4(0) = f (4 d^2 - w^2 - w0^2) (qk: k-th derivative)
+    # f = 2, d = 0.05, w = w0 = 6: q4(0) = 2 (0.01 - 72) = -143.98; t = 1e-4
+    t = 1e-4
+    a, n, _ = solve_both("5.3", t1=t)
+    for vals in (a, n):
+        assert vals["q_t"] == pytest.approx(t**2 - 0.1 * t**3 / 3 - 143.98 * t**4 / 24, rel=1e-9)
+        assert vals["v_t"] == pytest.approx(2 * t - 0.1 * t**2 - 143.98 * t**3 / 6, rel=1e-9)
