@@ -1,0 +1,230 @@
+"""4.20 Free rotation about the principal axes: stable about n1 and n3, unstable about n2.
+
+Analytic: linearizing Euler's equations about omega0 n_j leaves the two other
+components obeying x'' = -(I_j - I_k)(I_j - I_l) omega0^2/(I_k I_l) x, so
+  Omega_1 = omega0 [(I2 - I1)(I3 - I1)/(I2 I3)]^(1/2),
+  Omega_3 = omega0 [(I3 - I1)(I3 - I2)/(I1 I2)]^(1/2),
+  lambda_2 = omega0 [(I2 - I1)(I3 - I2)/(I1 I3)]^(1/2).
+The flip started at omega0 (sin d, cos d, 0) has L^2 < 2 E I2 (it circles n1);
+Euler's equations are solved by Jacobi elliptic functions with
+  T_period = (4 K(k)/omega0) [I1 I2 I3 / ((I2 - I1) D)]^(1/2),
+  D = I1 (I3 - I1) sin^2 d + I2 (I3 - I2) cos^2 d,  1 - k^2 = I1 (I3 - I1) sin^2 d / D,
+with K = pi / (2 AGM(1, k')) evaluated from the complementary parameter, so
+that d -> 0 (T ~ (4/lambda_2) ln(4/k')) keeps its digits.
+
+Numeric: the Jacobian of the torque-free Euler equations at each steady
+rotation by central differences (exact for a quadratic right-hand side) and
+its eigenvalues: an imaginary pair gives Omega_1 or Omega_3, a real pair
+lambda_2 (checked).  T_period: the Euler equations (in units of omega0)
+integrated with a relative error control reaching down to the size of
+the small components, from omega(0), timing the
+upward crossings of omega3 = 0 at T/2 and 3T/2; energy, |L|^2 and the orbit's
+distance from the separatrix, 2 E I2 - L^2 (evaluated as
+sum I_i (I2 - I_i) omega_i^2, free of cancellation), are monitored.  When that
+distance drifts by more than 10 rtol of itself (tiny d: the orbit hugs the
+separatrix), the integration is not trusted and the period is instead four
+times the quarter-cycle quadrature of d(omega3)/|d(omega3)/dt| from omega3 = 0
+to its maximum, with omega1^2 and omega2^2 from the conserved E and L^2,
+omega3 = omega3_max sin(phi), Gauss-Legendre on intervals halving toward the
+logarithmically singular end phi = 0 (checked against a higher-order rule).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.freebody import euler_omega_rhs, steady_rotation_pair
+from mech.solvers.inertia import gauss_legendre
+from mech.solvers.ode import Event, first_event, integrate
+
+exercise = Exercise(
+    "4.20",
+    formulas=[
+        "Ω₁ = ω₀ [(I₂ - I₁)(I₃ - I₁)/(I₂I₃)]^(1/2)",
+        "λ₂ = ω₀ [(I₂ - I₁)(I₃ - I₂)/(I₁I₃)]^(1/2)",
+        "Ω₃ = ω₀ [(I₃ - I₁)(I₃ - I₂)/(I₁I₂)]^(1/2)",
+        "T = (4K(k)/ω₀) [I₁I₂I₃/((I₂ - I₁)D)]^(1/2), D = I₁(I₃ - I₁) sin²δ + I₂(I₃ - I₂) cos²δ",
+        "1 - k² = I₁(I₃ - I₁) sin²δ / D   (δ → 0: T ≈ (4/λ₂) ln(4/k'))",
+    ],
+)
+
+# the integration is trusted while the separatrix distance keeps this many rtol of itself
+SEPARATRIX_DRIFT_LIMIT = 10.0
+
+
+@exercise.constraint
+def _(p):
+    if not (p.I1 < p.I2 < p.I3):
+        return f"the moments must satisfy I1 < I2 < I3 strictly (got {p.I1:g}, {p.I2:g}, {p.I3:g} kg m^2)"
+    if p.I3 > p.I1 + p.I2:
+        return f"I3 = {p.I3:g} exceeds I1 + I2 = {p.I1 + p.I2:g} kg m^2: no real body has such moments"
+
+
+def _complete_K(kp2: float) -> float:
+    """K(k) from the complementary parameter k'^2 = 1 - k^2: pi / (2 AGM(1, k'))."""
+    a, b = 1.0, float(np.sqrt(kp2))
+    for _ in range(60):
+        if abs(a - b) <= 1e-16 * a:
+            break
+        a, b = 0.5 * (a + b), float(np.sqrt(a * b))
+    return float(np.pi / (a + b))
+
+
+@exercise.analytic
+def _(p):
+    I1, I2, I3, w = p.I1, p.I2, p.I3, p.omega0
+    s2, c2 = np.sin(p.delta) ** 2, np.cos(p.delta) ** 2
+    D = I1 * (I3 - I1) * s2 + I2 * (I3 - I2) * c2
+    kp2 = I1 * (I3 - I1) * s2 / D
+    T = 4.0 * _complete_K(kp2) / w * np.sqrt(I1 * I2 * I3 / ((I2 - I1) * D))
+    return {
+        "Omega_1": w * np.sqrt((I2 - I1) * (I3 - I1) / (I2 * I3)),
+        "lambda_2": w * np.sqrt((I2 - I1) * (I3 - I2) / (I1 * I3)),
+        "Omega_3": w * np.sqrt((I3 - I1) * (I3 - I2) / (I1 * I2)),
+        "T_period": T,
+    }
+
+
+def _rates(I, omega0, run):
+    """Omega_1, lambda_2, Omega_3 from the Jacobian eigenvalues at the three steady rotations."""
+    out = {}
+    for k, name, kind in ((0, "Omega_1", "imag"), (1, "lambda_2", "real"), (2, "Omega_3", "imag")):
+        la, lb, ev = steady_rotation_pair(I, k, omega0)
+        mag = max(abs(la), abs(lb))
+        run.info[f"eigenvalues_n{k + 1}"] = [str(complex(e)) for e in ev]
+        if kind == "imag":
+            if max(abs(la.real), abs(lb.real)) > 1e-12 * mag or abs(la.imag + lb.imag) > 1e-12 * mag:
+                raise NumericFailure(f"the eigenvalues at n{k + 1} are not an imaginary pair: {la}, {lb}")
+            out[name] = 0.5 * (abs(la.imag) + abs(lb.imag))
+        else:
+            if max(abs(la.imag), abs(lb.imag)) > 1e-12 * mag or abs(la.real + lb.real) > 1e-12 * mag:
+                raise NumericFailure(f"the eigenvalues at n{k + 1} are not a real pair +-lambda: {la}, {lb}")
+            out[name] = 0.5 * (abs(la.real) + abs(lb.real))
+        run.claim(name, rel=1e-12)
+    return out
+
+
+def _separatrix_distance(I, w):
+    """2 E I2 - |L|^2 as a sum of terms that each vanish with its own component (no cancellation)."""
+    return I[0] * (I[1] - I[0]) * w[0] ** 2 + I[2] * (I[1] - I[2]) * w[2] ** 2
+
+
+def _period_by_integration(I, w0, rtol, run, slowest_rate):
+    """Times of the upward crossings of omega3 = 0 at T/2 and 3T/2 (units omega0 = 1)."""
+    rhs = euler_omega_rhs(I)
+    # relative control down to the size of the small components near the saddle (they carry the answer)
+    atol = 1e-3 * rtol * abs(w0[0]) * np.linalg.norm(w0)
+
+    def w3(t, y):
+        return y[2]
+
+    # a generous bound on each leg: the slowest linear rate, times the logarithm of the initial tilt
+    t_max = 1e3 * (40.0 + abs(np.log(abs(w0[0]) + 1e-300))) / slowest_rate
+    times, state, t0 = [], np.asarray(w0, dtype=float), 0.0
+    states = [state]
+    sep0 = _separatrix_distance(I, state)
+    limit = SEPARATRIX_DRIFT_LIMIT * rtol
+
+    def drift(t, y):
+        return abs(_separatrix_distance(I, y) / sep0 - 1.0) - limit
+
+    def leg(t0, y0, direction, name, max_step=np.inf):
+        traj = integrate(
+            rhs, (t0, t0 + t_max), y0, rtol=rtol, atol=atol, max_step=max_step,
+            events=[Event(w3, direction=direction, name=name), Event(drift, direction=+1, name="drift")],
+        )
+        run.record(traj)
+        if len(traj.t_events[1]):
+            return None  # the orbit's side of the separatrix is no longer certain
+        return first_event(traj, 0)
+
+    for direction, name in ((+1, "omega3 up (T/2)"), (-1, "omega3 down (T)"), (+1, "omega3 up (3T/2)")):
+        hit = leg(t0, state, direction, name)
+        if hit is None:
+            return times, {"separatrix distance 2EI2 - L^2": np.inf}
+        # confirm with a bounded step: a crossing pair inside one step would be missed (scipy#9228)
+        check = leg(t0, state, direction, name, max_step=(hit[0] - t0) / 64)
+        if check is None or abs(check[0] - hit[0]) > 1e3 * rtol * (hit[0] - t0):
+            raise NumericFailure(f"crossing '{name}' not confirmed with a bounded step")
+        t_ev, y_ev = hit
+        times.append(t_ev)
+        states.append(y_ev)
+        state, t0 = y_ev, t_ev
+    sep_drift = max(abs(_separatrix_distance(I, y) / sep0 - 1) for y in states)
+    E = [0.5 * np.dot(I, s * s) for s in states]
+    L2 = [np.dot(I * s, I * s) for s in states]
+    drifts = {
+        "energy": max(abs(e / E[0] - 1) for e in E),
+        "|L|^2": max(abs(x / L2[0] - 1) for x in L2),
+        "separatrix distance 2EI2 - L^2": sep_drift,
+    }
+    run.info["crossing_times_scaled"] = times
+    return times, drifts
+
+
+def _quarter_quadrature(I, w0, n):
+    """T/4 from dt = d(omega3)/|omega3'| with omega3 = omega3_max sin(phi), geometric subdivision at phi = 0."""
+    I1, I2, I3 = I
+    a = _separatrix_distance(I, w0)  # 2 E I2 - L^2 > 0
+    P = I2 * (I2 - I1) * w0[1] ** 2 + I3 * (I3 - I1) * w0[2] ** 2  # L^2 - 2 E I1 (the n1 term is zero)
+    w3max = np.sqrt(P / (I3 * (I3 - I1)))
+    w2coef = np.sqrt(I3 * (I3 - I1) / (I2 * (I2 - I1))) * w3max  # omega2 = w2coef cos(phi)
+
+    def dt_dphi(phi):
+        w3 = w3max * np.sin(phi)
+        w1 = np.sqrt((a + I3 * (I3 - I2) * w3 * w3) / (I1 * (I2 - I1)))
+        # |d omega3/dt| = (I2 - I1) |omega1 omega2| / I3, and d omega3 = w3max cos(phi) d phi
+        return w3max * I3 / ((I2 - I1) * w1 * w2coef)
+
+    # where the two terms of omega1^2 are equal: the width of the near-singular region
+    phi_star = np.sqrt(a / (I3 * (I3 - I2))) / w3max
+    edges = [np.pi / 2]
+    while edges[-1] > 1e-3 * phi_star and edges[-1] > 1e-300:
+        edges.append(edges[-1] / 2)
+    edges.append(0.0)
+    total = 0.0
+    for hi, lo in zip(edges[:-1], edges[1:]):
+        x, w = gauss_legendre(n, lo, hi)
+        total += float(np.dot(w, dt_dphi(x)))
+    return total, len(edges) - 1
+
+
+@exercise.numeric
+def _(p, run):
+    # moments as given: rescaling them would round I2 and spoil I3 - I2 for a near-symmetric body
+    I = np.array([p.I1, p.I2, p.I3])
+    out = _rates(I, 1.0, run)
+
+    w0 = np.array([np.sin(p.delta), np.cos(p.delta), 0.0])
+    try:
+        times, drifts = _period_by_integration(I, w0, run.rtol, run, min(out.values()))
+        trusted = drifts["separatrix distance 2EI2 - L^2"] <= SEPARATRIX_DRIFT_LIMIT * run.rtol
+        if trusted:
+            for name, drift in drifts.items():
+                run.invariant(name, drift)
+        else:
+            run.info["abandoned_integration_drifts"] = drifts
+    except NumericFailure as exc:
+        run.info["integration_refused"] = str(exc)
+        trusted = False
+    if trusted:
+        half_1 = times[1] - times[0]
+        half_2 = times[2] - times[1]
+        T = times[2] - times[0]
+        run.info["half_periods_scaled"] = [half_1, half_2]
+        if abs(half_1 - half_2) > 1e3 * run.rtol * T:
+            raise NumericFailure(f"the two half periods differ: {half_1:.12g} and {half_2:.12g}")
+        run.info["T_route"] = "integration: successive upward crossings of omega3 = 0"
+    else:
+        q20, nint = _quarter_quadrature(I, w0, 20)
+        q30, _ = _quarter_quadrature(I, w0, 30)
+        if abs(q30 - q20) > 1e-13 * q30:
+            raise NumericFailure(f"the quarter-period quadrature does not settle: {q20!r} vs {q30!r}")
+        T = 4.0 * q30
+        run.claim("T_period", rel=1e-12)
+        run.info["T_route"] = f"quarter-cycle quadrature on {nint} geometric intervals (integration drifts across the separatrix)"
+        run.method = run.method or "Gauss-Legendre quadrature"
+    result = {k: v * p.omega0 for k, v in out.items()}
+    result["T_period"] = T / p.omega0
+    return result
