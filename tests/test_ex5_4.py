@@ -1,0 +1,83 @@
+"""5.4 against values worked out by hand.
+
+Hand derivation: q = C1 e^{-l1 t} + C2 e^{-l2 t} with l1,2 = w0 (z -+ sqrt(z^2-1));
+q(0) = q0, q'(0) = 0 give q = q0 (l2 e^{-l1 t} - l1 e^{-l2 t})/(l2 - l1) and
+q' = q0 l1 l2 (e^{-l2 t} - e^{-l1 t})/(l2 - l1) (one sign: no crossing).  The
+speed peaks at q'' = 0: t* = ln(l2/l1)/(l2 - l1).  Critical: q = q0 (1 + w0 t) e^{-w0 t},
+q' = -q0 w0^2 t e^{-w0 t}, peak at t = 1/w0, v_max = q0 w0/e.  t_eps is found here by
+plain bisection on these textbook forms (not the module's log form).
+"""
+
+import math
+
+import pytest
+
+from conftest import solve_both
+
+
+def bisect(f, lo, hi):
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if f(mid) > 0:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def textbook(omega0, zeta, q0, t1, eps):
+    s = math.sqrt(zeta**2 - 1)
+    l1, l2 = omega0 * (zeta - s), omega0 * (zeta + s)
+    q = lambda t: q0 * (l2 * math.exp(-l1 * t) - l1 * math.exp(-l2 * t)) / (l2 - l1)
+    v = lambda t: q0 * l1 * l2 * (math.exp(-l2 * t) - math.exp(-l1 * t)) / (l2 - l1)
+    ts = math.log(l2 / l1) / (l2 - l1)
+    t_eps = bisect(lambda t: q(t) - eps * q0, 0.0, 100.0 / l1)
+    return l1, q(t1), t_eps, abs(v(ts))
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        {},                                                    # defaults: zeta = 2
+        {"omega0": 0.3, "zeta": 1.5, "q0": 2.0, "t1": 7.0, "eps": 0.2},
+        {"omega0": 40.0, "zeta": 8.0, "q0": 0.01, "t1": 0.05, "eps": 1e-4},   # Radau
+    ],
+)
+def test_against_textbook_form(params):
+    full = {"omega0": 5.0, "zeta": 2.0, "q0": 0.1, "t1": 1.0, "eps": 0.01, **params}
+    lam, q, t_eps, v_max = textbook(**full)
+    a, n, _ = solve_both("5.4", **params)
+    for vals in (a, n):
+        assert vals["lambda_slow"] == pytest.approx(lam, rel=1e-10)
+        assert vals["q_t"] == pytest.approx(q, rel=1e-7)
+        assert vals["t_eps"] == pytest.approx(t_eps, rel=1e-7)
+        assert vals["v_max"] == pytest.approx(v_max, rel=1e-7)
+
+
+def test_critical_damping():
+    # q(1) = 0.1 * 6 e^{-5}; v_max = 0.1 * 5/e; (1 + x) e^{-x} = 0.01 at x = 5 t_eps
+    a, n, run = solve_both("5.4", zeta=1.0)
+    x = bisect(lambda x: (1 + x) * math.exp(-x) - 0.01, 0.0, 50.0)
+    for vals in (a, n):
+        assert vals["lambda_slow"] == pytest.approx(5.0, rel=1e-7)
+        assert vals["q_t"] == pytest.approx(0.6 * math.exp(-5.0), rel=1e-7)
+        assert vals["v_max"] == pytest.approx(0.5 / math.e, rel=1e-7)
+        assert vals["t_eps"] == pytest.approx(x / 5.0, rel=1e-7)
+    assert run.invariants["E + dissipated work"] < 1e-6
+
+
+def test_strong_damping_asymptotics():
+    # zeta = 1e6: l1 = w0/(z + s) = 2.5e-6 (1 + 1/(4 z^2) + ...), fast part negligible:
+    # q ~ q0 (1 + l1/l2) e^{-l1 t}, so t_eps ~ ln(1/eps)/l1 and v_max ~ q0 l1
+    a, n, _ = solve_both("5.4", zeta=1e6, t1=3e5)
+    l1 = 2.5e-6
+    for vals in (a, n):
+        assert vals["lambda_slow"] == pytest.approx(l1, rel=1e-11)
+        assert vals["t_eps"] == pytest.approx(math.log(100.0) / l1, rel=1e-9)
+        assert vals["q_t"] == pytest.approx(0.1 * math.exp(-l1 * 3e5), rel=1e-9)
+        assert vals["v_max"] == pytest.approx(0.1 * l1, rel=1e-9)
+
+
+def test_critical_damping_relaxes_fastest():
+    rates = [solve_both("5.4", zeta=z)[0]["lambda_slow"] for z in (1.0, 1.01, 1.5, 3.0)]
+    assert rates == sorted(rates, reverse=True)
