@@ -1,0 +1,95 @@
+"""4.30 against values worked out independently.
+
+By hand: in a frame turning at -w_z = -w_E cos(theta) about the vertical the
+Coriolis term of zeta'' + 2i w_z zeta' + w0^2 zeta = 0 disappears except for a
+frequency shift (w'^2 = w0^2 + w_z^2), so the path there is a fixed ellipse and the
+plane turns at Omega_F = -w_E cos(theta) relative to the ground.
+
+Independent method (in the test): the eigenvalues of the 4x4 first-order matrix
+of the Earth-frame equations are the two circular modes' frequencies nu+ and nu-;
+the plane turns at their half sum (signed), and the release at rest fixes the
+modes' amplitudes from the eigenvectors, whose difference is the minor semi-axis.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from conftest import solve_both
+
+WE = 7.2921159e-5
+
+
+def by_modes(theta, l, g, a, wE):
+    wz = wE * math.sin(math.pi / 2 - theta)
+    w0sq = g / l
+    M = np.array([[0, 0, 1, 0], [0, 0, 0, 1], [-w0sq, 0, 0, 2 * wz], [0, -w0sq, -2 * wz, 0]], float)
+    vals, vecs = np.linalg.eig(M)
+    # complex coordinate zeta = x + i y: the circular modes are zeta ~ exp(i nu t)
+    # with nu = Im(lambda) for eigenvectors where y = i x (counterclockwise) or y = -i x
+    freqs, amps = [], []
+    coeff = np.linalg.solve(vecs, np.array([a, 0, 0, 0], complex))
+    for j in range(4):
+        v = vecs[:, j] * coeff[j]
+        zeta0 = v[0] + 1j * v[1]
+        if abs(zeta0) > 1e-9 * a:  # this eigenvector carries zeta (the others carry conj(zeta))
+            freqs.append(vals[j].imag)
+            amps.append(abs(zeta0))
+    assert len(freqs) == 2
+    omega_F = 0.5 * (freqs[0] + freqs[1])
+    return omega_F, abs(amps[0] - amps[1])
+
+
+@pytest.mark.parametrize(
+    "theta, l, g, a, wE",
+    [
+        (0.7182029871956666, 67.0, 9.81, 3.0, WE),  # defaults: Paris, Pantheon
+        (1.5690509975429023, 67.0, 9.81, 3.0, WE),  # hard case 1: 0.1 deg from the equator
+        (0.0, 0.25, 9.81, 0.01, WE),  # hard case 2: the pole, a 1 s pendulum
+        (2.4, 10.0, 9.81, 0.5, WE),  # southern hemisphere: the plane turns counterclockwise
+        (0.3, 2.0, 9.81, 0.1, 1.5),  # a fast "planet": w_z comparable to w0
+    ],
+)
+def test_against_mode_decomposition(theta, l, g, a, wE):
+    omega_F, b_modes = by_modes(theta, l, g, a, wE)
+    hand = -wE * math.cos(theta)
+    wz = wE * math.cos(theta)
+    b = a * abs(wz) / math.sqrt(g / l + wz * wz)  # hand: ||A| - |B|| with A - B = a w_z/w'
+    assert omega_F == pytest.approx(hand, rel=1e-9)
+    # the eigenvectors resolve ||A| - |B|| to ~ eps a / b relatively (3e-7 near the equator: skip there)
+    if b > 1e-6 * a:
+        assert b_modes == pytest.approx(b, rel=1e-6)
+    A, N, run = solve_both("4.30", theta=theta, l=l, g=g, a=a, omega_E=wE)
+    for values in (A, N):
+        assert values["Omega_F"] == pytest.approx(hand, rel=1e-8)
+        assert values["T_F"] == pytest.approx(2 * math.pi / abs(hand), rel=1e-8)
+        assert values["b_miss"] == pytest.approx(b, rel=1e-7)
+    assert run.invariants["energy"] < 1e-8
+    assert run.invariants["L_inertial"] < 1e-8
+
+
+def test_paris_numbers():
+    # cos(41.15 deg) = 0.7529864; T_F = 2 pi/(7.2921159e-5 * 0.7529864) = 31.79 h
+    A, N, _ = solve_both("4.30")
+    for values in (A, N):
+        assert values["T_F"] / 3600 == pytest.approx(31.786, rel=1e-4)
+        assert values["Omega_F"] < 0  # clockwise in the north
+
+
+def test_equator_plane_does_not_turn():
+    from mech.problems.spec import Undefined
+
+    A, N, _ = solve_both("4.30", theta=math.pi / 2)
+    for values in (A, N):
+        assert values["Omega_F"] == 0.0
+        assert isinstance(values["T_F"], Undefined)
+        assert abs(values["b_miss"]) < 1e-12
+
+
+def test_pole_miss_distance_is_tiny_fraction_of_amplitude():
+    # w_z/w0 = 7.29e-5/6.264 = 1.164e-5 of a = 1 cm
+    A, N, _ = solve_both("4.30", theta=0.0, l=0.25, g=9.81, a=0.01)
+    expect = 0.01 * WE / math.sqrt(9.81 / 0.25 + WE**2)
+    for values in (A, N):
+        assert values["b_miss"] == pytest.approx(expect, rel=1e-7)
