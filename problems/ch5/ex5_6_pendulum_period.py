@@ -1,0 +1,135 @@
+"""5.6 Period of a pendulum at finite amplitude.
+
+Analytic (exact): T = 4 K(m)/omega0, m = sin^2(theta0/2), omega0 = sqrt(g/l),
+K the complete elliptic integral of the first kind, evaluated as
+ellipkm1(cos^2(theta0/2)) with cos(theta0/2) = sin(phi0/2), phi0 = pi - theta0
+taken against the true pi (math.pi plus its rounding residue), so the
+separatrix approach keeps its digits.  T/T0 = (2/pi) K.  The frequency shift,
+2 pi/T - omega0 = omega0 (AGM(1, cos(theta0/2)) - 1) (from K = pi/(2 AGM)), is
+computed as the deviation of the AGM from 1, carried through the iteration, so
+a tiny shift is not lost.  Small amplitude: domega ~ -omega0 theta0^2/16 (relative
+error O(theta0^2)); near the top T ~ (4/omega0) ln(8/phi0) (logarithmic divergence).
+
+Numeric: theta'' = -omega0^2 sin theta from rest at theta0 to the event theta = 0
+(a quarter period), DOP853 in tau = omega0 t; above 90 degrees in the deviation
+phi = pi - theta from the upright position (phi'' = sin phi, event phi = pi),
+which keeps the small offset phi0 to full relative accuracy.  The energy is
+monitored.  For theta0 < 1 rad, domega comes from a quadrature (scipy quad) of the
+period integral minus its harmonic counterpart, with theta = theta0 sin u and the
+integrand F - 1 = (F^2 - 1)/(F + 1), F^2 = 1/(sinc a sinc b),
+a, b = (theta0 -+ theta)/2, and 1 - sinc by its series: no difference of nearly
+equal numbers is formed.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.ode import Event, integrate_to_event
+
+exercise = Exercise(
+    "5.6",
+    formulas=[
+        "T = 4 K(sin²(θ₀/2)) (l/g)^½",
+        "T/T₀ = (2/π) K(sin²(θ₀/2)) ≈ 1 + θ₀²/16 + 11θ₀⁴/3072",
+        "δω = 2π/T − ω₀ = ω₀ [AGM(1, cos(θ₀/2)) − 1] ≈ −ω₀ θ₀²/16",
+        "θ₀ → π: T ≈ (4/ω₀) ln(8/(π − θ₀))",
+    ],
+)
+
+PI_LO = 1.2246467991473532e-16  # pi - math.pi
+
+
+def _phi0(theta0):
+    return (math.pi - theta0) + PI_LO
+
+
+@exercise.analytic
+def _(p):
+    from scipy.special import ellipkm1
+
+    w0 = math.sqrt(p.g / p.l)
+    c = math.sin(_phi0(p.theta0) / 2.0)  # cos(theta0/2)
+    K = float(ellipkm1(c * c))
+    # AGM(1, c) as 1 - alpha: track the deviations alpha, beta of a, b from 1
+    alpha, beta = 0.0, 2.0 * math.sin(p.theta0 / 4.0) ** 2  # 1 - cos(theta0/2)
+    for _ in range(60):
+        x = alpha + beta - alpha * beta  # 1 - a b
+        alpha, beta = 0.5 * (alpha + beta), x / (1.0 + math.sqrt(1.0 - x))
+        if abs(alpha - beta) <= 1e-17 * abs(alpha):
+            break
+    return {"T": 4.0 * K / w0, "T_ratio": 2.0 * K / math.pi, "domega": -w0 * alpha}
+
+
+def _one_minus_sinc(x):
+    if abs(x) < 0.3:
+        x2, term, total = x * x, x * x / 6.0, 0.0
+        for k in range(1, 12):
+            total += term
+            term *= -x2 / ((2 * k + 2) * (2 * k + 3))
+        return total
+    return 1.0 - math.sin(x) / x
+
+
+def _period_excess(theta0):
+    """(T - T0) omega0 by quadrature of the period integral minus the harmonic one; also its error estimate."""
+    from scipy.integrate import quad
+
+    def integrand(u):
+        th = theta0 * math.sin(u)
+        a = theta0 * math.sin(math.pi / 4.0 - u / 2.0) ** 2  # (theta0 - theta)/2
+        b = (theta0 + th) / 2.0
+        sa, sb = 1.0 - _one_minus_sinc(a), 1.0 - _one_minus_sinc(b)
+        f2m1 = (_one_minus_sinc(a) + sa * _one_minus_sinc(b)) / (sa * sb)
+        f = math.sqrt(1.0 + f2m1)
+        return f2m1 / (f + 1.0)
+
+    val, err = quad(integrand, 0.0, math.pi / 2.0, epsabs=0.0, epsrel=1e-13, limit=200)
+    return 4.0 * val, 4.0 * err
+
+
+@exercise.numeric
+def _(p, run):
+    w0 = math.sqrt(p.g / p.l)
+    rtol = run.rtol
+    th0 = p.theta0
+    if th0 <= math.pi / 2.0:
+        def rhs(t, y):
+            return np.array([y[1], -math.sin(y[0])])
+
+        event = Event(lambda t, y: y[0], direction=-1, name="theta = 0")
+        start = [th0, 0.0]
+        scale = th0
+        energy = lambda y: 0.5 * y[1] ** 2 - math.cos(y[0])  # noqa: E731
+    else:
+        def rhs(t, y):
+            return np.array([y[1], math.sin(y[0])])
+
+        event = Event(lambda t, y: y[0] - math.pi, direction=1, name="phi = pi")
+        start = [_phi0(th0), 0.0]
+        scale = 1.0
+        energy = lambda y: 0.5 * y[1] ** 2 + math.cos(y[0])  # noqa: E731
+    span = 8.0 * (math.pi + math.log(1.0 + 8.0 / _phi0(th0)))
+    atol = [rtol * 1e-3 * min(scale, start[0]), rtol * 1e-3 * scale]
+    t_q, y_q, traj = integrate_to_event(rhs, (0.0, span), start, event, rtol=rtol, atol=atol)
+    run.record(traj)
+    e0 = energy(np.array(start))
+    # relative to the energy range explored (~ theta0^2/2 for small swings)
+    run.invariant("energy", (energy(y_q) - e0) / max(0.5 * y_q[1] ** 2, 1e-300))
+    T = 4.0 * t_q / w0
+    T0 = 2.0 * math.pi / w0
+    out = {"T": T, "T_ratio": T / T0}
+    if th0 < 1.0:
+        excess, err = _period_excess(th0)
+        out["domega"] = -w0 * excess / (2.0 * math.pi + excess)
+        run.claim("domega", rel=max(1e-12, 10.0 * err / excess))
+        run.info["domega_route"] = "quadrature of T - T0"
+    else:
+        out["domega"] = 2.0 * math.pi / T - w0
+        run.claim("domega", rel=exercise.tol_factor * rtol * (2.0 * math.pi / T) / abs(out["domega"]))
+    if not math.isfinite(T):
+        raise NumericFailure("no finite quarter period")
+    return out

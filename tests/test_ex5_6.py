@@ -1,0 +1,56 @@
+"""5.6 against values worked out by hand.
+
+Hand derivation: energy gives dt = dtheta / (omega0 sqrt(2 (cos theta - cos theta0))),
+and sin(theta/2) = k sin(psi), k = sin(theta0/2), turns the quarter period into
+K(k^2)/omega0.  Independent values used below:
+  * theta0 = 90 deg: K(1/2) = Gamma(1/4)^2 / (4 sqrt(pi)) (lemniscate constant);
+  * theta0 = 60 deg: K(1/4) = 1.6857503548125960 (tables);
+  * small theta0: 2K/pi = 1 + m/4 + 9 m^2/64 + O(m^3), so
+    2 pi/T - omega0 = omega0 (-m/4 - 5 m^2/64 + O(m^3)), m = sin^2(theta0/2);
+  * near the top: K ~ ln(4/k') with k' = cos(theta0/2) ~ phi0/2, T ~ (4/omega0) ln(8/phi0)
+    with a relative correction O(phi0^2).
+"""
+
+import math
+
+import pytest
+
+from conftest import solve_both
+
+
+def test_ninety_degrees_lemniscate():
+    K = math.gamma(0.25) ** 2 / (4 * math.sqrt(math.pi))
+    w0 = math.sqrt(9.81 / 2.0)
+    a, n, run = solve_both("5.6", theta0=math.pi / 2, l=2.0)
+    for v in (a, n):
+        assert v["T"] == pytest.approx(4 * K / w0, rel=1e-8)
+        assert v["T_ratio"] == pytest.approx(2 * K / math.pi, rel=1e-8)
+        assert v["domega"] == pytest.approx(w0 * (math.pi / (2 * K) - 1), rel=1e-7)
+    assert run.invariants["energy"] < 1e-8
+
+
+def test_sixty_degrees_defaults():
+    K = 1.6857503548125960
+    a, n, _ = solve_both("5.6")
+    for v in (a, n):
+        assert v["T"] == pytest.approx(4 * K / math.sqrt(9.81), rel=1e-8)
+        assert v["T_ratio"] == pytest.approx(2 * K / math.pi, rel=1e-8)
+
+
+@pytest.mark.parametrize("theta0", [0.01, 1e-4])
+def test_small_amplitude_series(theta0):
+    m = math.sin(theta0 / 2) ** 2
+    w0 = math.sqrt(1.62 / 0.5)
+    a, n, _ = solve_both("5.6", theta0=theta0, l=0.5, g=1.62)
+    for v in (a, n):
+        assert v["T_ratio"] == pytest.approx(1 + m / 4 + 9 * m * m / 64, rel=1e-10)
+        assert v["domega"] == pytest.approx(w0 * (-m / 4 - 5 * m * m / 64), rel=1e-8)
+
+
+def test_logarithmic_divergence_near_the_top():
+    phi0 = 1e-7
+    w0 = math.sqrt(9.81)
+    a, n, _ = solve_both("5.6", theta0=math.pi - phi0)
+    for v in (a, n):
+        # (math.pi - phi0) is phi0 below the true pi to ~1e-9 relative in phi0
+        assert v["T"] == pytest.approx(4 / w0 * math.log(8 / phi0), rel=1e-8)
