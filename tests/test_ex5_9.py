@@ -1,0 +1,84 @@
+"""5.9 against hand values, the Lindstedt series and direct simulations.
+
+Hand derivation (reduced equation): q = A cos(omega0 t + phi), averaging the
+damping mu (1 - beta q^2) q' over a period gives dA/dt = (mu/2) A (1 - beta A^2/4):
+A0 = 2/sqrt(beta), omega = omega0, and the slope at A0 is (mu/2)(1 - 3) = -mu.
+Defaults (omega0 = 3, mu = 0.3, beta = 4): A = 1, omega = 3, lambda = -0.3.
+
+Different methods for the exact cycle: the Lindstedt-Poincare series of the
+scaled equation x'' - e (1 - x^2) x' + x = 0, omega/omega0 = 1 - e^2/16 +
+17 e^4/3072 + O(e^6) (textbook result, independent of the code); and direct
+long simulations with another integrator (LSODA), timing upward zero
+crossings and reading the contraction of successive maxima.
+"""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from conftest import solve_both
+
+
+def test_defaults_by_hand():
+    a, n, run = solve_both("5.9")
+    assert a == {"A": 1.0, "omega": 3.0, "lambda_lc": -0.3}
+    assert n["A"] == pytest.approx(1.0, rel=1e-3)
+    assert n["omega"] == pytest.approx(3.0, rel=2e-3)
+    assert n["lambda_lc"] == pytest.approx(-0.3, rel=2e-3)
+    assert run.invariants["Liouville (ln det M - int div)"] < 1e-8
+
+
+@pytest.mark.parametrize("omega0, mu, beta", [(3.0, 0.3, 4.0), (1.0, 0.2, 1.0), (2.0, 0.002, 9.0)])
+def test_frequency_against_lindstedt_series(omega0, mu, beta):
+    e = mu / omega0
+    a, n, _ = solve_both("5.9", omega0=omega0, mu=mu, beta=beta)
+    series = omega0 * (1 - e**2 / 16 + 17 * e**4 / 3072)
+    assert n["omega"] == pytest.approx(series, rel=5e-5 * e**6 + 1e-9)
+    assert a["omega"] == omega0
+    assert a["A"] == pytest.approx(2 / math.sqrt(beta), rel=1e-15)
+
+
+def _simulate(omega0, mu, beta, t_end, x0):
+    def rhs(t, y):
+        return [y[1], mu * (1 - beta * y[0] ** 2) * y[1] - omega0**2 * y[0]]
+
+    up = lambda t, y: y[0]  # noqa: E731
+    up.direction = 1.0
+    top = lambda t, y: y[1]  # noqa: E731
+    top.direction = -1.0
+    return solve_ivp(rhs, (0, t_end), [x0, 0.0], method="LSODA", rtol=1e-12, atol=1e-14, events=[up, top])
+
+
+@pytest.mark.parametrize("mu", [15.0, 6.0])
+def test_relaxation_period_and_amplitude_against_lsoda(mu):
+    _, n, _ = solve_both("5.9", mu=mu)
+    sol = _simulate(3.0, mu, 4.0, 60.0, 1.5)
+    ups = sol.t_events[0]
+    T = ups[-1] - ups[-2]
+    assert n["omega"] == pytest.approx(2 * math.pi / T, rel=1e-6)
+    assert n["A"] == pytest.approx(max(y[0] for y in sol.y_events[1][-2:]), rel=1e-6)
+
+
+def test_floquet_exponent_from_contraction_of_maxima():
+    # successive maxima X_k approach the cycle's as e^{lambda T k}: (X_{k+2}-X_{k+1})/(X_{k+1}-X_k) = e^{lambda T}
+    omega0, mu, beta = 3.0, 0.9, 4.0
+    _, n, _ = solve_both("5.9", omega0=omega0, mu=mu, beta=beta)
+    sol = _simulate(omega0, mu, beta, 12.0, 1.003)  # 3e-3 off the cycle (A = 1)
+    X = np.array([y[0] for y in sol.y_events[1] if y[0] > 0])
+    t = np.array([tt for tt, y in zip(sol.t_events[1], sol.y_events[1]) if y[0] > 0])
+    ratio = (X[2] - X[1]) / (X[1] - X[0])
+    T = 2 * math.pi / n["omega"]
+    assert math.log(ratio) / T == pytest.approx(n["lambda_lc"], rel=1e-2)  # near the cycle the approach is linear to ~1e-3
+    assert t[-1] > 0
+
+
+def test_leading_order_errors_scale_as_eps_squared():
+    errs = []
+    for mu in (0.6, 0.3, 0.15):
+        a, n, _ = solve_both("5.9", mu=mu)
+        errs.append([abs(n[k] / a[k] - 1) for k in ("A", "omega", "lambda_lc")])
+    errs = np.array(errs)
+    slopes = np.log(errs[0] / errs[2]) / np.log(4.0)
+    assert np.all(slopes > 1.9) and np.all(slopes < 2.1)
