@@ -89,6 +89,17 @@ def test_period_at_the_separatrix():
     assert "quadrature" in run.info["T_route"]
 
 
+@pytest.mark.parametrize("d", [1e-300, 5e-324])
+def test_period_for_tilts_that_underflow_when_squared(d):
+    I1, I2, I3, w0 = 2.8e-3, 5.3e-3, 7.9e-3, 10.0
+    lam = w0 * math.sqrt((I2 - I1) * (I3 - I2) / (I1 * I3))
+    log_kp = 0.5 * math.log(I1 * (I3 - I1) / (I2 * (I3 - I2))) + math.log(d)
+    T = 4.0 / lam * (math.log(4.0) - log_kp)
+    an, nu, _ = solve_both("4.20", delta=d)
+    for v in (an, nu):
+        assert v["T_period"] == pytest.approx(T, rel=1e-12)
+
+
 def test_default_uses_integration_and_monitors_invariants():
     _, _, run = solve_both("4.20")
     assert "integration" in run.info["T_route"]

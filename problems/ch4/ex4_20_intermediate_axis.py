@@ -22,11 +22,14 @@ upward crossings of omega3 = 0 at T/2 and 3T/2; energy, |L|^2 and the orbit's
 distance from the separatrix, 2 E I2 - L^2 (evaluated as
 sum I_i (I2 - I_i) omega_i^2, free of cancellation), are monitored.  When that
 distance drifts by more than 10 rtol of itself (tiny d: the orbit hugs the
-separatrix), the integration is not trusted and the period is instead four
+separatrix; a tilt below 1e-4 is not even tried), the integration is not
+trusted and the period is instead four
 times the quarter-cycle quadrature of d(omega3)/|d(omega3)/dt| from omega3 = 0
 to its maximum, with omega1^2 and omega2^2 from the conserved E and L^2,
 omega3 = omega3_max sin(phi), Gauss-Legendre on intervals halving toward the
-logarithmically singular end phi = 0 (checked against a higher-order rule).
+logarithmically singular end phi = 0 (checked against a higher-order rule);
+below phi ~ 1e-8 the variable is phi/sin(delta), so that even a subnormal
+tilt keeps its digits.
 """
 
 from __future__ import annotations
@@ -61,9 +64,9 @@ def _(p):
         return f"I3 = {p.I3:g} exceeds I1 + I2 = {p.I1 + p.I2:g} kg m^2: no real body has such moments"
 
 
-def _complete_K(kp2: float) -> float:
-    """K(k) from the complementary parameter k'^2 = 1 - k^2: pi / (2 AGM(1, k'))."""
-    a, b = 1.0, float(np.sqrt(kp2))
+def _complete_K(kp: float) -> float:
+    """K(k) from the complementary modulus k' = (1 - k^2)^(1/2): pi / (2 AGM(1, k'))."""
+    a, b = 1.0, float(kp)
     for _ in range(60):
         if abs(a - b) <= 1e-16 * a:
             break
@@ -74,10 +77,17 @@ def _complete_K(kp2: float) -> float:
 @exercise.analytic
 def _(p):
     I1, I2, I3, w = p.I1, p.I2, p.I3, p.omega0
-    s2, c2 = np.sin(p.delta) ** 2, np.cos(p.delta) ** 2
-    D = I1 * (I3 - I1) * s2 + I2 * (I3 - I2) * c2
-    kp2 = I1 * (I3 - I1) * s2 / D
-    T = 4.0 * _complete_K(kp2) / w * np.sqrt(I1 * I2 * I3 / ((I2 - I1) * D))
+    s, c = np.sin(p.delta), np.cos(p.delta)
+    D = I1 * (I3 - I1) * s * s + I2 * (I3 - I2) * c * c
+    ratio = np.sqrt(I1 * (I3 - I1) / D)
+    kp = ratio * s  # not from its square: a tilt below 1e-154 would underflow
+    if kp < 1e-100:
+        # K = ln(4/k') + O(k'^2 ln k'), exact in double precision here, and with the logarithm
+        # split so that a subnormal tilt keeps its digits
+        K = np.log(4.0) - np.log(ratio) - np.log(s)
+    else:
+        K = _complete_K(kp)
+    T = 4.0 * K / w * np.sqrt(I1 * I2 * I3 / ((I2 - I1) * D))
     return {
         "Omega_1": w * np.sqrt((I2 - I1) * (I3 - I1) / (I2 * I3)),
         "lambda_2": w * np.sqrt((I2 - I1) * (I3 - I2) / (I1 * I3)),
@@ -166,28 +176,48 @@ def _period_by_integration(I, w0, rtol, run, slowest_rate):
 def _quarter_quadrature(I, w0, n):
     """T/4 from dt = d(omega3)/|omega3'| with omega3 = omega3_max sin(phi), geometric subdivision at phi = 0."""
     I1, I2, I3 = I
-    a = _separatrix_distance(I, w0)  # 2 E I2 - L^2 > 0
-    P = I2 * (I2 - I1) * w0[1] ** 2 + I3 * (I3 - I1) * w0[2] ** 2  # L^2 - 2 E I1 (the n1 term is zero)
+    if w0[2] != 0.0:
+        raise ValueError("the quadrature starts at omega3 = 0")
+    # 2 E I2 - L^2 = I1 (I2 - I1) omega1(0)^2 at omega3 = 0 = (sigma s)^2 with s = omega1(0)
+    sig = np.sqrt(I1 * (I2 - I1))
+    s = abs(w0[0])
+    P = I2 * (I2 - I1) * w0[1] ** 2  # L^2 - 2 E I1 at omega3 = 0
     w3max = np.sqrt(P / (I3 * (I3 - I1)))
     w2coef = np.sqrt(I3 * (I3 - I1) / (I2 * (I2 - I1))) * w3max  # omega2 = w2coef cos(phi)
+    b = np.sqrt(I3 * (I3 - I2))
+    pre = w3max * I3 / ((I2 - I1) * w2coef) * sig  # times 1/(sigma |omega1|)
 
     def dt_dphi(phi):
-        w3 = w3max * np.sin(phi)
-        w1 = np.sqrt((a + I3 * (I3 - I2) * w3 * w3) / (I1 * (I2 - I1)))
-        # |d omega3/dt| = (I2 - I1) |omega1 omega2| / I3, and d omega3 = w3max cos(phi) d phi
-        return w3max * I3 / ((I2 - I1) * w1 * w2coef)
+        # |d omega3/dt| = (I2 - I1) |omega1 omega2| / I3, d omega3 = w3max cos(phi) d phi,
+        # sigma |omega1| = hypot(sigma s, b omega3) from E and L^2
+        return pre / np.hypot(sig * s, b * w3max * np.sin(phi))
 
-    # where the two terms of omega1^2 are equal: the width of the near-singular region
-    phi_star = np.sqrt(a / (I3 * (I3 - I2))) / w3max
-    edges = [np.pi / 2]
-    while edges[-1] > 1e-3 * phi_star and edges[-1] > 1e-300:
-        edges.append(edges[-1] / 2)
-    edges.append(0.0)
-    total = 0.0
-    for hi, lo in zip(edges[:-1], edges[1:]):
-        x, w = gauss_legendre(n, lo, hi)
-        total += float(np.dot(w, dt_dphi(x)))
-    return total, len(edges) - 1
+    def dt_du(u):
+        # the same below phi0 with phi = s u (d phi = s du), where sin(s u) = s u to round-off: the
+        # factor s cancels, so a tilt down to the smallest double keeps its digits
+        return pre / np.hypot(sig, b * w3max * u)
+
+    x01, w01 = gauss_legendre(n, 0.0, 1.0)
+
+    def rule(f, edges):
+        hi, lo = edges[:-1], edges[1:]
+        x = lo[:, None] + (hi - lo)[:, None] * x01[None, :]
+        return float(np.sum((hi - lo)[:, None] * w01[None, :] * f(x)))
+
+    def halving(top, floor):
+        edges = [top]
+        while edges[-1] > floor:
+            edges.append(edges[-1] / 2)
+        return edges
+
+    # upper part in phi, halving from pi/2 down to phi0, where sin(phi) = phi to round-off
+    # and phi0/s stays finite
+    phi0 = min(1e-8, s * 1e300)
+    up = np.array(halving(np.pi / 2, phi0))
+    # the rest, [0, up[-1]], in u = phi/s, halving toward the width sigma/(b w3max) of the singular region
+    low = np.array(halving(up[-1] / s, 1e-3 * sig / (b * w3max)) + [0.0])
+    total = rule(dt_dphi, up) + rule(dt_du, low)
+    return total, len(up) + len(low) - 2
 
 
 @exercise.numeric
@@ -197,7 +227,11 @@ def _(p, run):
     out = _rates(I, 1.0, run)
 
     w0 = np.array([np.sin(p.delta), np.cos(p.delta), 0.0])
+    # below a tilt of 1e-4 the separatrix distance is under 1e-8 of its natural size and no
+    # double-precision integration keeps it: go to the quadrature at once
     try:
+        if w0[0] < 1e-4:
+            raise NumericFailure(f"tilt {w0[0]:.3g} too close to the separatrix for an integration")
         times, drifts = _period_by_integration(I, w0, run.rtol, run, min(out.values()))
         trusted = drifts["separatrix distance 2EI2 - L^2"] <= SEPARATRIX_DRIFT_LIMIT * run.rtol
         if trusted:
@@ -223,7 +257,7 @@ def _(p, run):
             raise NumericFailure(f"the quarter-period quadrature does not settle: {q20!r} vs {q30!r}")
         T = 4.0 * q30
         run.claim("T_period", rel=1e-12)
-        run.info["T_route"] = f"quarter-cycle quadrature on {nint} geometric intervals (integration drifts across the separatrix)"
+        run.info["T_route"] = f"quarter-cycle quadrature on {nint} geometric intervals (the integration was not trusted here)"
         run.method = run.method or "Gauss-Legendre quadrature"
     result = {k: v * p.omega0 for k, v in out.items()}
     result["T_period"] = T / p.omega0
