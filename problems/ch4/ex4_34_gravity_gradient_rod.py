@@ -1,0 +1,245 @@
+"""4.34 Gravity-gradient orientation of an elongated satellite.
+
+Analytic: in the orbital frame each mass element of the rod feels Hill's
+field, potential Omega^2 (-3 x^2/2 + z^2/2) per unit mass, and the Coriolis
+force, which on a rigid rod points along the rod (no torque).  For a rod of
+half-length l along the unit vector n the potential energy is
+m l^2 Omega^2 (-3 n_x^2 + n_z^2) (two masses m): lowest for n along the local
+vertical, cos_psi_eq = 1.  In-plane, with pitch theta from the vertical,
+2 m l^2 theta'' = -3 m l^2 Omega^2 sin 2 theta: a pendulum in 2 theta,
+omega_pitch = 3^(1/2) Omega, and the period of amplitude theta_amp is
+T = 4 K(k)/(3^(1/2) Omega), k = sin theta_amp (K: complete elliptic integral,
+evaluated through 1 - k^2 = cos^2 theta_amp near the separatrix).  Out of
+plane, the roll angle alpha feels the tilt stiffness 3 Omega^2 (vertical)
+plus Omega^2 (normal): omega_roll = 2 Omega.
+
+Numeric (units l = m = Omega = 1): the rod is two point masses at +-n.
+(1) The effective potential is minimized over the unit sphere (two angles,
+BFGS from an arbitrary start, polished by Newton steps); cos_psi_eq = |n_x| there.  (2) At that
+minimum the mass, gyroscopic and stiffness matrices of the two angles are
+built numerically (Jacobian and gyroscopic vector by complex-step, stiffness
+by Richardson differences of the complex-step gradient) and the linearized
+rotating-frame equations M q'' + G q' + K q = 0 are solved as a first-order
+eigenproblem: purely imaginary eigenvalues confirm stability, the in-plane
+and out-of-plane modes give the two frequencies.  (3) T_pitch: the planar
+constrained motion of one mass (the other mirrors it), r'' = Coriolis + Hill
+- lambda r with the link tension lambda from the constraint, integrated from
+rest at theta_amp (DOP853) to the first passage through the stable (vertical)
+orientation, confirmed with a bounded step: a quarter period, the swing being
+symmetric (the Coriolis force on the rod acts along it; the field is even in
+the pitch).  The tension is eliminated in closed form and the accelerations
+expanded so that no order-one terms cancel (checked against the unexpanded
+form): otherwise round-off in the along-rod balance (x ~ 1) feeds the Coriolis
+term and errs by 1e-16/theta_amp (3e-9 at 1e-8 rad).  Not to the turning point: near the separatrix the arrival there
+is an approach to the unstable along-track orientation, where an energy error
+of 1e-13 shifts the turning time by 1e-6 (measured: the turning-point time
+moved by 3e-6 relative between rtol and rtol/10 at 89.99 degrees), whereas
+the departure from the exactly given start is well conditioned.  The Jacobi integral and the
+link length are monitored.  At theta_amp = 0 nothing moves:
+T = 2 pi/omega_pitch from (2).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.gravity import coriolis, hill_acceleration, hill_potential
+from mech.solvers.ode import Event, integrate_to_event
+
+exercise = Exercise(
+    "4.34",
+    formulas=[
+        "stable: rod along the local vertical, |cos ψ| = 1",
+        "ω_pitch = √3 Ω,  ω_roll = 2 Ω,  Ω = (GM/R³)^{1/2}",
+        "T_pitch = 4 K(sin θ_amp)/(√3 Ω)  (pendulum in 2θ: θ'' = -(3/2) Ω² sin 2θ)",
+    ],
+)
+
+
+def _omega(p):
+    return math.sqrt(p.GM / p.R**3)
+
+
+@exercise.analytic
+def _(p):
+    from scipy.special import ellipkm1
+
+    W = _omega(p)
+    c = math.cos(p.theta_amp)
+    K = float(ellipkm1(c * c))  # K(m) with m = sin^2 = 1 - cos^2, accurate as m -> 1
+    return {
+        "cos_psi_eq": 1.0,
+        "omega_pitch": math.sqrt(3.0) * W,
+        "omega_roll": 2.0 * W,
+        "T_pitch": 4.0 * K / (math.sqrt(3.0) * W),
+    }
+
+
+# ---- numeric, units l = m = Omega = 1 ---------------------------------------------------
+
+
+def _direction(q):
+    a, b = q[0], q[1]
+    return np.array([np.cos(a) * np.cos(b), np.sin(a) * np.cos(b), np.sin(b)])
+
+
+def _potential(q):
+    """both masses at +-n in Hill's field (works for complex q: complex-step)."""
+    n = _direction(q)
+    return 2.0 * (-1.5 * n[0] ** 2 + 0.5 * n[2] ** 2)
+
+
+def _jacobian(q):
+    """d n / d q by complex step."""
+    h = 1e-30
+    J = np.empty((3, 2))
+    for j in range(2):
+        dq = np.zeros(2, dtype=complex)
+        dq[j] = 1j * h
+        J[:, j] = _direction(q + dq).imag / h
+    return J
+
+
+def _gyro_vector(q):
+    """g(q) with the velocity-linear Lagrangian term q'.g: sum over masses of Omega (x dy - y dx)."""
+    n = _direction(q)
+    J = _jacobian(q)
+    return 2.0 * (n[0] * J[1] - n[1] * J[0])
+
+
+def _grad(q):
+    h = 1e-30
+    g = np.empty(2)
+    for j in range(2):
+        dq = np.zeros(2, dtype=complex)
+        dq[j] = 1j * h
+        g[j] = _potential(q + dq).imag / h
+    return g
+
+
+def _linear_modes(q0):
+    # mass matrix: T = sum over masses |J q'|^2 / 2 -> M = 2 J^T J
+    J = _jacobian(q0)
+    M = 2.0 * J.T @ J
+
+    def richardson(f, h=1e-3):
+        def central(hh):
+            cols = []
+            for j in range(2):
+                e = np.zeros(2)
+                e[j] = hh
+                cols.append((f(q0 + e) - f(q0 - e)) / (2 * hh))
+            return np.array(cols).T  # [i, j] = d f_i / d q_j
+
+        c1, c2 = central(h), central(h / 2)
+        return c2 + (c2 - c1) / 3.0
+
+    K = richardson(_grad)
+    K = 0.5 * (K + K.T)
+    Dg = richardson(_gyro_vector)
+    G = Dg - Dg.T
+    Minv = np.linalg.inv(M)
+    A = np.block([[np.zeros((2, 2)), np.eye(2)], [-Minv @ K, -Minv @ G]])
+    lam, vecs = np.linalg.eig(A)
+    return lam, vecs, M, K, G
+
+
+@exercise.numeric
+def _(p, run):
+    from scipy.optimize import minimize
+
+    W = _omega(p)
+    # (1) the stable direction: minimum of the effective potential from an arbitrary start
+    res = minimize(lambda q: _potential(q), x0=np.array([1.1, 0.6]), jac=_grad, method="BFGS",
+                   options={"gtol": 1e-14, "maxiter": 500})
+    q0 = res.x
+    for _ in range(8):  # polish by Newton steps on the (complex-step) gradient
+        K0 = _linear_modes(q0)[3]
+        step = np.linalg.solve(K0, _grad(q0))
+        q0 = q0 - step
+        if np.linalg.norm(step) < 1e-15:
+            break
+    if np.linalg.norm(_grad(q0)) > 1e-12:
+        raise NumericFailure(f"the potential's minimum was not reached: |grad U| = {np.linalg.norm(_grad(q0)):.3g}")
+    n0 = _direction(q0)
+    cos_psi = abs(n0[0])
+
+    # (2) linearized rotating-frame equations at the minimum
+    lam, vecs, M, K, G = _linear_modes(q0)
+    if np.max(np.abs(lam.real)) > 1e-8 * np.max(np.abs(lam)):
+        raise NumericFailure(f"the orientation found is not stable: eigenvalues {lam}")
+    freqs = {}
+    for k in range(4):
+        if lam[k].imag <= 0:
+            continue
+        shape = np.abs(vecs[:2, k])
+        # which tilt: the first angle moves the rod within the orbital plane (pitch), the second out of it
+        freqs["pitch" if shape[0] > shape[1] else "roll"] = lam[k].imag
+    if set(freqs) != {"pitch", "roll"}:
+        raise NumericFailure(f"could not tell the pitch and roll modes apart: {lam}")
+    run.info["stable"] = True
+    for name in ("cos_psi_eq", "omega_pitch", "omega_roll"):
+        run.claim(name, rel=1e-9)
+
+    # (3) the finite pitch libration
+    if p.theta_amp == 0.0:
+        T_pitch = 2.0 * math.pi / freqs["pitch"]
+        run.claim("T_pitch", rel=1e-9)
+        run.info["T_pitch_from"] = "small-oscillation frequency (zero amplitude)"
+    else:
+        def rhs(t, y):
+            # a = Coriolis + Hill - lambda r, lambda = (r.a_free + |v|^2)/|r|^2 keeping |r| fixed.
+            # With a_free = (2 vy + 3x, -2 vx), lambda = 3 + mu, mu = (2 (x vy - y vx) - 3 y^2 + |v|^2)/|r|^2;
+            # expanded so that no order-one terms cancel (x ~ 1 in a tiny swing, y ~ 1 near the separatrix):
+            x, yy, vx, vy = y
+            r2 = x * x + yy * yy
+            v2 = vx * vx + vy * vy
+            ax = (2 * vy * yy * yy + 2 * x * yy * vx + 3 * x * yy * yy - x * v2) / r2
+            ay = -(2 * vx * x * x + 3 * x * x * yy + 2 * x * yy * vy + yy * v2) / r2
+            return np.array([vx, vy, ax, ay])
+
+        def rhs_check(y):
+            # the same accelerations from the unexpanded constrained form (shared field code)
+            r = np.array([y[0], y[1], 0.0])
+            v = np.array([y[2], y[3], 0.0])
+            a_free = coriolis(v, 1.0) + hill_acceleration(r, 1.0)
+            lam_t = (r @ a_free + v @ v) / (r @ r)
+            return (a_free - lam_t * r)[:2]
+
+        def pitch_sine(t, y):
+            return y[1]  # the rod crosses the local vertical
+
+        th = p.theta_amp
+        # absolute tolerances scaled to the smallest offset: sin(theta_amp) for tiny swings, and
+        # cos(theta_amp), the distance from the unstable along-track orientation, near the separatrix
+        s = max(math.sin(th), 1e-150)
+        c = max(math.cos(th), 1e-150)
+        y0 = [math.cos(th), math.sin(th), 0.0, 0.0]
+        atol = run.rtol * 1e-3 * np.array([c, s, min(c, s), min(c, s)])
+        t_ev, y_ev, traj = integrate_to_event(
+            rhs, (0.0, 1e4), y0, Event(pitch_sine, direction=-1, name="rod along the vertical"),
+            rtol=run.rtol, atol=atol,
+        )
+        run.record(traj)
+        probe = np.array([math.cos(0.7), math.sin(0.7), 0.3, -0.2])
+        if not np.allclose(rhs(0.0, probe)[2:], rhs_check(probe), rtol=1e-13, atol=1e-13):
+            raise NumericFailure("the expanded accelerations disagree with the constrained form")
+
+        def jacobi(y):
+            return 0.5 * (y[2] ** 2 + y[3] ** 2) + hill_potential([y[0], y[1], 0.0], 1.0)
+
+        j0 = jacobi(y0)
+        # relative to the depth 3/2 of the potential well
+        run.invariant("Jacobi integral", (jacobi(y_ev) - j0) / 1.5)
+        run.invariant("link length", math.hypot(y_ev[0], y_ev[1]) - 1.0)
+        run.info["quarter_period"] = t_ev / W
+        T_pitch = 4.0 * t_ev
+    return {
+        "cos_psi_eq": cos_psi,
+        "omega_pitch": freqs["pitch"] * W,
+        "omega_roll": freqs["roll"] * W,
+        "T_pitch": T_pitch / W,
+    }
