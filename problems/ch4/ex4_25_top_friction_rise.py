@@ -1,0 +1,179 @@
+"""4.25 Fast top with a cylindrical tip and small sliding friction: spin-down and rise.
+
+Analytic (fast-top model, L = I3 omega3 n3, C at rest).  With the spherical unit
+vectors (n3, e_theta, e_phi) of the axis, the contact point is
+P - C = -l n3 + R e_theta, the rim slides along e_phi at omega3 R, and the
+torque of M g z - mu M g e_phi about C is
+    M g [ (l sin theta - R cos theta) e_phi - mu l e_theta - mu R n3 ].
+Its n3 part spins the top down at the constant rate
+    omega_dot = mu M g R / I3,
+its e_theta part tilts the axis, dtheta/dt = -mu M g l / (I3 omega3), so
+theta_dot0 = mu M g l / (I3 omega0), and dividing the two rates,
+dtheta = (l/R) dln omega3:
+    omega_rise = omega0 exp(-(theta0 - theta1) R / l),
+    t_rise = (omega0 - omega_rise)/omega_dot = -omega0 I3 expm1(-(theta0 - theta1) R/l) / (mu M g R).
+The e_phi part is the precession; it does not enter.
+
+Numeric: the vector equation dL/dt = (P - C) x (M g z - mu M g h) integrated
+for the three components of L (scaled by I3 omega0, time by the precession
+time I3 omega0/(M g l)), with n3 = L/|L|, P and the sliding direction h
+rebuilt from n3 at every step.  The forces see the axis only through its angle
+with the vertical, so the integration runs in a frame turning about z with the
+axis's azimuth (the turning rate is read off the torque at every step), which
+removes the precession (hundreds of turns at small mu) from what the step
+size must resolve.  The event is the polar angle of n3 reaching theta1 (atan2
+of the horizontal and vertical parts, well conditioned at small angles).  The
+initial rates are the initial torque projected on dn3/dtheta and, for the spin,
+the friction's power F . (n3 x (P - C)) (no cancellation when R << l).
+Monitored: |L| + mu M g R t, which the friction's axial torque keeps constant
+in this model.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.ode import Event, integrate_to_event
+
+exercise = Exercise(
+    "4.25",
+    formulas=[
+        "torque about C = M g [(l sin θ - R cos θ) e_φ - μ l e_θ - μ R n₃]",
+        "ω̇ = μ M g R / I₃  (constant)",
+        "θ̇₀ = μ M g l / (I₃ ω₀)",
+        "θ - θ₀ = (l/R) ln(ω₃/ω₀)  ⇒  ω_rise = ω₀ exp(-(θ₀ - θ₁) R/l)",
+        "t_rise = -ω₀ I₃ expm1(-(θ₀ - θ₁) R/l) / (μ M g R)",
+    ],
+)
+
+@exercise.constraint
+def _(p):
+    if not p.theta1 < p.theta0:
+        return f"theta1 = {p.theta1:g} rad must be below theta0 = {p.theta0:g} rad (the axis rises from theta0 to theta1)"
+
+
+# the spin may fall by at most e^MAX_SPIN_LOG during the rise: beyond, the top has stopped
+MAX_SPIN_LOG = 25.0
+
+
+@exercise.constraint
+def _(p):
+    x = (p.theta0 - p.theta1) * p.R / p.l
+    if x > MAX_SPIN_LOG:
+        return (
+            f"(theta0 - theta1) R / l = {x:.3g} exceeds {MAX_SPIN_LOG:g}: the spin would fall by a factor "
+            f"e^{x:.3g} during the rise, the top stops and the fast-top model does not apply"
+        )
+
+
+@exercise.analytic
+def _(p):
+    a = p.mu * p.M * p.g * p.R / p.I3
+    x = -(p.theta0 - p.theta1) * p.R / p.l
+    return {
+        "omega_dot": a,
+        "theta_dot0": p.mu * p.M * p.g * p.l / (p.I3 * p.omega0),
+        "t_rise": -p.omega0 * p.I3 * math.expm1(x) / (p.mu * p.M * p.g * p.R),
+        "omega_rise": p.omega0 * math.exp(x),
+    }
+
+
+def _torque(L, rl, mu):
+    """Torque about C in units of M g l, for L in any units (only its direction matters).
+
+    Built as -n3 x F + (R/l) e_P x F, the lever split so that the small rim offset is
+    not rounded away against the axis when R << l.
+    """
+    Lx, Ly, Lz = L[0], L[1], L[2]
+    Ln = math.sqrt(Lx * Lx + Ly * Ly + Lz * Lz)
+    nx, ny, nz = Lx / Ln, Ly / Ln, Lz / Ln
+    # e_P: in the face's plane, most steeply down = -(z - (z.n) n)/|...|
+    wx, wy, wz = -nz * nx, -nz * ny, 1.0 - nz * nz
+    wn = math.sqrt(wx * wx + wy * wy + wz * wz)
+    ex, ey, ez = -wx / wn, -wy / wn, -wz / wn
+    # sliding velocity omega3 n3 x (P - C) = omega3 R n3 x e_P (n3 x n3 = 0), omega3 > 0: direction h
+    hx, hy, hz = ny * ez - nz * ey, nz * ex - nx * ez, nx * ey - ny * ex
+    hn = math.sqrt(hx * hx + hy * hy + hz * hz)
+    fx, fy, fz = -mu * hx / hn, -mu * hy / hn, 1.0 - mu * hz / hn
+    tx = -(ny * fz - nz * fy) + rl * (ey * fz - ez * fy)
+    ty = -(nz * fx - nx * fz) + rl * (ez * fx - ex * fz)
+    tz = -(nx * fy - ny * fx) + rl * (ex * fy - ey * fx)
+    return tx, ty, tz
+
+
+def _axial_torque(n, rl, mu):
+    """n3 . torque (units M g l) as the friction's power over omega3: F . (n3 x (P - C))."""
+    # n3 x (P - C) = (R/l) n3 x e_P exactly; the weight's part is horizontal-free (h is horizontal)
+    nx, ny, nz = n
+    wx, wy, wz = -nz * nx, -nz * ny, 1.0 - nz * nz
+    wn = math.sqrt(wx * wx + wy * wy + wz * wz)
+    ex, ey, ez = -wx / wn, -wy / wn, -wz / wn
+    vx, vy, vz = rl * (ny * ez - nz * ey), rl * (nz * ex - nx * ez), rl * (nx * ey - ny * ex)
+    vn = math.sqrt(vx * vx + vy * vy + vz * vz)
+    return vz - mu * vn  # F = z - mu v/|v|
+
+
+@exercise.numeric
+def _(p, run):
+    L0 = p.I3 * p.omega0
+    Mgl = p.M * p.g * p.l
+    t_unit = L0 / Mgl  # precession time scale
+    rl = p.R / p.l
+    # L in units of L0, time in t_unit: dL/dt = torque / (M g l)
+    n0 = (math.sin(p.theta0), 0.0, math.cos(p.theta0))
+    tau0 = np.array(_torque(n0, rl, p.mu))
+    e_theta0 = np.array([math.cos(p.theta0), 0.0, -math.sin(p.theta0)])
+    omega_dot = -_axial_torque(n0, rl, p.mu) * Mgl / p.I3
+    theta_dot0 = -float(tau0 @ e_theta0) * Mgl / L0  # |L| = L0 at t = 0
+    rate_theta = -float(tau0 @ e_theta0)
+    if rate_theta <= 0.0:
+        raise NumericFailure("the initial torque does not raise the axis")
+
+    # The forces depend on the axis only through its angle with z, so the vector
+    # equation is integrated in a frame turning about z with the axis's azimuth,
+    # dL'/dt = tau(L') - w z x L', with w = tau_y'/L_x' the azimuthal rate that
+    # keeps L' in the x'z plane: the state is (L_x', L_z') and the precession
+    # (hundreds of turns at small mu) needs no resolving.  Its angle phi is
+    # integrated alongside for the record.
+    def rhs(t, y):
+        tx, ty, tz = _torque((y[0], 0.0, y[1]), rl, p.mu)
+        return (tx, tz, ty / y[0])
+
+    def polar_minus_theta1(t, y):
+        return math.atan2(y[0], y[1]) - p.theta1
+
+    # the rise time, in units: about (theta0 - theta1)/rate_theta; the falling spin can only shorten it
+    t_end = 4.0 * (p.theta0 - p.theta1) / rate_theta
+    rtol = run.rtol
+    # both components stay positive (0 < theta < pi/2) and |L| may fall by up to e^25 (constraint):
+    # relative error control, with an absolute floor far below that
+    floor = rtol * 1e-3 * math.exp(-30.0)
+    t_ev, y_ev, traj = integrate_to_event(
+        rhs,
+        (0.0, t_end),
+        [n0[0], n0[2], 0.0],
+        Event(polar_minus_theta1, direction=-1, name="theta = theta1"),
+        rtol=rtol,
+        atol=[floor, floor, math.inf],  # phi is only recorded
+    )
+    run.record(traj)
+    # monitored: |L| + (mu R / l) t is constant (axial torque of the friction) in these units,
+    # and L' stays in the x'z plane
+    Ls = np.hypot(traj.y[0], traj.y[1])
+    run.invariant("|L| + mu M g R t", float(np.max(np.abs(Ls + p.mu * rl * traj.t - 1.0))))
+    run.info["precession_turns"] = float(y_ev[2] / (2 * math.pi))
+    # omega_dot, theta_dot0: projections of one torque, round-off exact
+    run.claim("omega_dot", rel=1e-12)
+    run.claim("theta_dot0", rel=1e-12)
+    # the spin is integrated down from omega0: near a full stop (the constraint allows a fall by
+    # e^25) its round-off is absolute, about 1e-15 omega0 per unit of |L| travelled
+    run.claim("omega_rise", rel=exercise.tol_factor * rtol, abs=1e-12 * p.omega0)
+    return {
+        "omega_dot": omega_dot,
+        "theta_dot0": theta_dot0,
+        "t_rise": t_ev * t_unit,
+        "omega_rise": float(math.hypot(y_ev[0], y_ev[1])) * p.omega0,
+    }
