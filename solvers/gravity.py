@@ -50,7 +50,8 @@ def relative_gravity(r, R: float, GM: float) -> np.ndarray:
     r = np.asarray(r, dtype=float)
     x, rr, p, d = _pieces(r, R)
     # R/|p|^3 - 1/R^2 = (R^3 - |p|^3)/(R^2 |p|^3), R^3 - |p|^3 = -(|p| - R)(R^2 + R|p| + |p|^2)
-    k = -d * (R * R + R * p + p * p) / (R * R * p**3)
+    # written as a sum so that no intermediate overflows for offsets ~1e-90 of R (units of the offset)
+    k = -d * (1.0 / p**3 + 1.0 / (R * p * p) + 1.0 / (R * R * p))
     out = -GM * (r / p**3)
     out[0] -= GM * k
     return out
@@ -62,4 +63,4 @@ def relative_potential(r, R: float, GM: float) -> float:
     x, rr, p, d = _pieces(r, R)
     # = GM [R (|p| - R) - x |p|] / (R^2 |p|); numerator = R (rr - x d)/(|p| + R) - x d, all of order |r|^2
     num = R * (rr - x * d) / (p + R) - x * d
-    return GM * num / (R * R * p)
+    return GM * (num / R) / (R * p)

@@ -1,0 +1,217 @@
+"""4.33 Motion near a satellite on a circular orbit: the relative ellipse.
+
+Analytic.  Leading order (Hill / Clohessy-Wiltshire, the book's answer):
+x'' - 2 Omega y' - 3 Omega^2 x = 0, y'' + 2 Omega x' = 0, z'' = -Omega^2 z;
+the drift-free solution from (x0, 0) is x = x0 cos Omega t, y = -2 x0 sin Omega t:
+an ellipse centred on the satellite, long axis along the track, axis ratio 1/2,
+eccentricity 3^(1/2)/2, v0 = -2 Omega x0, period 2 pi/Omega.
+Exact (two-body): the path closes when the body's period equals the
+satellite's, i.e. its semi-major axis is R; starting at R + x0 with a purely
+tangential velocity it is at an apse of an ellipse of eccentricity e = |x0|/R,
+vis-viva gives v0 = Omega R [(1 - xi)/(1 + xi)]^(1/2) - Omega (R + x0),
+xi = x0/R, evaluated as -Omega R xi [1 + 2/((1 + xi)(1 + s))], s the root.
+In the rotating frame the body is at angle nu - M (true minus mean anomaly)
+from the satellite: x = r cos(nu - M) - R, y = r sin(nu - M).  The radial
+extremes are the apses (for e < 1/4): a_radial = |x0| exactly.  The along-track
+half-extent is the maximum over the eccentric anomaly E of
+y/R = beta sin E cos M + sin(e sin E)(1 - e cos E) + e sin E cos(e sin E),
+beta = -e^2/(1 + (1 - e^2)^(1/2)), M = E - e sin E (no term of order R is
+subtracted), maximized by golden section; 2|x0| (1 + O(e^2)).  T_rel = 2 pi/Omega.
+
+Numeric: the exact relative equations in the satellite's rotating frame
+(solvers/gravity.relative_gravity: the difference of the two gravity terms
+without cancellation, plus centrifugal and Coriolis forces), in units |x0| and
+1/Omega, DOP853.  Shooting on v0 (Illinois regula falsi, bracket [-2.4, -1.7] in
+these units, checked for a sign change): the path closes when it crosses the x
+axis at right angles again, so the residual is y at the next zero of dx/dt
+(time-reversal symmetry), and T_rel is twice that time.  Then one full period
+with events dx/dt = 0 (radial extremes) and dy/dt = 0 (along-track extremes);
+the return to the start state is checked at its end.  The Jacobi integral is monitored.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.gravity import relative_gravity, relative_potential
+from mech.solvers.ode import Event, integrate
+
+exercise = Exercise(
+    "4.33",
+    formulas=[
+        "Hill: x'' - 2Ωy' - 3Ω²x = 0, y'' + 2Ωx' = 0, z'' = -Ω²z",
+        "closed: v₀ ≈ -2Ωx₀; x = x₀ cos Ωt, y = -2x₀ sin Ωt: axes x₀ (radial), 2x₀ (along track)",
+        "axis ratio 1/2, eccentricity √3/2, T = 2π/Ω",
+        "exact: v₀ = ΩR[(1-ξ)/(1+ξ)]^{1/2} - Ω(R + x₀), ξ = x₀/R; a_radial = |x₀|; "
+        "a_along = max_E r sin(ν - M) (e = |ξ|)",
+    ],
+)
+
+MAX_OFFSET = 0.1  # |x0|/R
+
+
+@exercise.constraint
+def _(p):
+    if p.x0 == 0.0:
+        return "x0 must be nonzero: at x0 = 0 the body sits on the satellite and there is no ellipse"
+    xi = abs(p.x0) / p.R
+    if xi > MAX_OFFSET:
+        return f"|x0|/R = {xi:.3g} must be at most {MAX_OFFSET} (the body stays close to the satellite)"
+    if xi < 1e-90:
+        return f"|x0|/R = {xi:.3g} is below 1e-90: offsets that small are below any physical meaning"
+
+
+def _golden_max(f, a, b, iters=200):
+    g = (math.sqrt(5.0) - 1.0) / 2.0
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = f(c), f(d)
+    for _ in range(iters):
+        if fc > fd:
+            b, d, fd = d, c, fc
+            c = b - g * (b - a)
+            fc = f(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + g * (b - a)
+            fd = f(d)
+        if b - a < 1e-15:
+            break
+    return max(fc, fd)
+
+
+@exercise.analytic
+def _(p):
+    W = math.sqrt(p.GM / p.R**3)
+    xi = p.x0 / p.R
+    s = math.sqrt((1.0 - xi) / (1.0 + xi))
+    v0 = -W * p.R * xi * (1.0 + 2.0 / ((1.0 + xi) * (1.0 + s)))
+    e = abs(xi)
+    beta = -e * e / (1.0 + math.sqrt(1.0 - e * e))
+
+    def y_over_R(E):
+        se = e * math.sin(E)
+        M = E - se
+        return beta * math.sin(E) * math.cos(M) + math.sin(se) * (1.0 - e * math.cos(E)) + se * math.cos(se)
+
+    a_along = p.R * _golden_max(y_over_R, 0.0, math.pi)
+    a_radial = abs(p.x0)
+    ratio = a_radial / a_along
+    return {
+        "v0": v0,
+        "a_along": a_along,
+        "a_radial": a_radial,
+        "ecc": math.sqrt((1.0 - ratio) * (1.0 + ratio)),
+        "T_rel": 2.0 * math.pi / W,
+    }
+
+
+def _illinois(f, a, b, fa, fb, xtol, maxiter=100):
+    """Regula falsi with the Illinois modification on a sign-changing bracket."""
+    side = 0
+    for _ in range(maxiter):
+        c = (a * fb - b * fa) / (fb - fa)
+        fc = f(c)
+        if fc == 0.0 or abs(b - a) < xtol:
+            return c
+        if (fc > 0) == (fb > 0):
+            b, fb = c, fc
+            if side == -1:
+                fa *= 0.5
+            side = -1
+        else:
+            a, fa = c, fc
+            if side == +1:
+                fb *= 0.5
+            side = +1
+        if abs(b - a) < xtol:
+            return c
+    raise NumericFailure("the shooting for v0 did not converge")
+
+
+@exercise.numeric
+def _(p, run):
+    W = math.sqrt(p.GM / p.R**3)
+    L = abs(p.x0)
+    sgn = 1.0 if p.x0 > 0 else -1.0
+    Rh = p.R / L  # orbit radius in units of |x0|
+    GMh = Rh**3  # GM in units L^3 Omega^2
+
+    def rhs(t, y):
+        r = np.array([y[0], y[1], 0.0])
+        a = relative_gravity(r, Rh, GMh)
+        # centrifugal (x, y) and Coriolis -2 e_z x v, Omega = 1
+        return np.array([y[2], y[3], a[0] + y[0] + 2.0 * y[3], a[1] + y[1] - 2.0 * y[2]])
+
+    def jacobi(y):
+        r = np.array([y[0], y[1], 0.0])
+        return 0.5 * (y[2] ** 2 + y[3] ** 2) + relative_potential(r, Rh, GMh) - 0.5 * (y[0] ** 2 + y[1] ** 2)
+
+    def xdot(t, y):
+        return y[2]
+
+    def ydot(t, y):
+        return y[3]
+
+    nfev = [0]
+    opts = dict(rtol=run.rtol, atol=run.rtol * 1e-3, method="DOP853")
+
+    def residual(v):
+        """y where the path next crosses dx/dt = 0 (the far radial extreme)."""
+        tr = integrate(rhs, (0.0, 20.0), [sgn, 0.0, 0.0, v], events=[Event(xdot, direction=sgn, terminal=True)],
+                       max_step=0.25, **opts)
+        nfev[0] += tr.nfev
+        if len(tr.t_events[0]) == 0:
+            raise NumericFailure(f"no radial turning point with v0 = {v:.6g} (scaled)")
+        return tr.y_events[0][0][1]
+
+    lo, hi = sgn * -2.4, sgn * -1.7  # (-1.5: the circular orbit through the start, no radial turning)
+    flo, fhi = residual(lo), residual(hi)
+    if not (flo > 0) != (fhi > 0):
+        raise NumericFailure(f"v0 not bracketed: y residuals {flo:.3g}, {fhi:.3g}")
+    t_half = [None]
+
+    def residual_keep(v):
+        tr = integrate(rhs, (0.0, 20.0), [sgn, 0.0, 0.0, v], events=[Event(xdot, direction=sgn, terminal=True)],
+                       max_step=0.25, **opts)
+        nfev[0] += tr.nfev
+        t_half[0] = tr.t_events[0][0]
+        return tr.y_events[0][0][1]
+
+    v0 = _illinois(residual, lo, hi, flo, fhi, xtol=1e-3 * run.rtol)
+    residual_keep(v0)
+
+    # one full period (twice the half period, by the same time-reversal symmetry): radial and
+    # along-track extremes, and the closure of the path checked at its end
+    y0 = [sgn, 0.0, 0.0, v0]
+    T = 2.0 * t_half[0]
+    tr = integrate(
+        rhs, (0.0, T), y0,
+        events=[Event(xdot, terminal=False, name="radial extremes"),
+                Event(ydot, terminal=False, name="along-track extremes")],
+        max_step=0.25, **opts,
+    )
+    run.record(tr)
+    run.nfev += nfev[0]
+    xs = [sgn] + [yy[0] for tt, yy in zip(tr.t_events[0], tr.y_events[0]) if tt > 1e-6]
+    ys = [yy[1] for yy in tr.y_events[1]]
+    if len(xs) < 2 or len(ys) < 2:
+        raise NumericFailure("the extremes of the relative path were not all found")
+    a_radial = 0.5 * (max(xs) - min(xs))
+    a_along = 0.5 * (max(ys) - min(ys))
+    yend = tr.y_end
+    closure = float(np.max(np.abs(yend - np.array(y0))))
+    run.info["closure_error"] = closure
+    if closure > 1e4 * run.rtol:
+        raise NumericFailure(f"the relative path does not close after 2 x the half period: miss {closure:.3g} x0")
+    run.invariant("Jacobi integral", (jacobi(yend) - jacobi(y0)) / 1.0)  # scale: (Omega x0)^2 = 1
+    ratio = a_radial / a_along
+    return {
+        "v0": v0 * L * W,
+        "a_along": a_along * L,
+        "a_radial": a_radial * L,
+        "ecc": math.sqrt((1.0 - ratio) * (1.0 + ratio)),
+        "T_rel": T / W,
+    }
