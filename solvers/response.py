@@ -46,9 +46,13 @@ def _breakpoints(poles, window):
     for z in poles:
         c, w = abs(z.real), abs(z.imag)
         pts.add(c)
-        for k in (0.5, 2.0, 8.0, 32.0):
-            for x in (c - k * w, c + k * w):
+        # offsets growing geometrically from the peak's width to the window: a narrow resonance's
+        # Lorentzian tails are resolved piece by piece
+        k = 0.5 * w
+        while k < window and k > 0:
+            for x in (c - k, c + k):
                 pts.add(x)
+            k *= 4.0
     return sorted(x for x in pts if 0.0 <= x <= window)
 
 
