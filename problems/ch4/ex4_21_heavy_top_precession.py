@@ -1,0 +1,283 @@
+"""4.21 Heavy symmetric top: the slow steady precession, its fast-top ratio, the sleeping-top threshold.
+
+Analytic.  For the axis n3 at fixed theta0 turning about z at Omega, the angular
+velocity is Omega z + psi' n3 with omega3 = Omega cos theta0 + psi'; about the
+support, L = I_A Omega (z - cos theta0 n3) + I3 omega3 n3.  A rigidly precessing L
+changes at Omega z x L = Omega (I3 omega3 - I_A Omega cos theta0) z x n3, and the
+weight's torque is M g l z x n3, so
+    I_A cos theta0 Omega^2 - I3 omega3 Omega + M g l = 0.
+The slow root, rearranged so that cos theta0 -> 0 and cos theta0 < 0 (hanging)
+need no special case:
+    omega_pre = 2 M g l / (I3 omega3 + sqrt((I3 omega3)^2 - 4 I_A M g l cos theta0)),
+    pre_ratio = 2 / (1 + sqrt(1 - 4 I_A M g l cos theta0 / (I3 omega3)^2)).
+It exists when the root is real: omega_min = 2 sqrt(I_A M g l cos theta0)/I3 for
+cos theta0 > 0, else 0.  The upright top is stable above (Eq. 4.85)
+omega_th = 2 sqrt(I_A M g l)/I3.  Near omega_min the discriminant is formed as
+I3^2 (omega3 - omega_min)(omega3 + omega_min) to keep its digits.
+
+Numeric.  The residual of the torque balance, Omega z x L(Omega) - l n3 x (-M g z),
+with L from the inertia tensor diag(I_A, I_A, I3) rotated to the axis, projected
+on z x n3: a bracketing root finder between 0 and the residual's maximum
+(located by a bounded scalar maximizer; the fast root lies beyond it).  The
+steady state is then integrated with the exact vector equations
+dn3/dt = L x n3/I_A, dL/dt = l n3 x (-M g z) for two precession turns (at most
+150 nutation periods): the azimuth's rate is fitted and must match the root
+within the run's accuracy, the tilt must stay at theta0;
+energy, L_z and L3 are monitored.  omega_min: Brent's method on the residual's
+maximum as a function of omega3.  omega_th: the Jacobian of the same equations
+about the upright spinning state, in the coordinates (n_x, n_y, L_x, L_y) with
+L3 fixed (complex-step derivatives, exact to round-off), and a bisection on
+omega3 for the onset of an eigenvalue with positive real part.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mech.problems.spec import Exercise, NumericFailure, Undefined
+from mech.solvers.ode import integrate
+from mech.solvers.tops import axis_rhs, azimuth, fit_rate, polar_angle, top_energy
+
+exercise = Exercise(
+    "4.21",
+    formulas=[
+        "I_A cos θ₀ Ω² - I₃ ω₃ Ω + M g l = 0,  I_A = I₁ + M l²",
+        "ω_pre = 2 M g l / (I₃ ω₃ + [(I₃ ω₃)² - 4 I_A M g l cos θ₀]^(1/2))  (slow root)",
+        "pre_ratio = 2 / (1 + [1 - 4 I_A M g l cos θ₀ / (I₃ ω₃)²]^(1/2))",
+        "ω_th = 2 (I_A M g l)^(1/2) / I₃   (Eq. 4.85)",
+        "ω_min = ω_th (cos θ₀)^(1/2) for cos θ₀ > 0, else 0",
+    ],
+)
+
+
+@exercise.analytic
+def _(p):
+    IA = p.I1 + p.M * p.l**2
+    Mgl = p.M * p.g * p.l
+    c = math.cos(p.theta0)
+    L3 = p.I3 * p.omega3
+    w_th = 2.0 * math.sqrt(IA * Mgl) / p.I3
+    w_min = w_th * math.sqrt(c) if c > 0 else 0.0
+    out = {"omega_th": w_th, "omega_min": w_min}
+    if p.omega3 < w_min:
+        why = f"omega3 = {p.omega3:.6g} rad/s is below omega_min = {w_min:.6g} rad/s: no steady precession at theta0"
+        out.update(omega_pre=Undefined(why), pre_ratio=Undefined(why))
+        return out
+    if c > 0:
+        disc = p.I3**2 * (p.omega3 - w_min) * (p.omega3 + w_min)
+    else:
+        disc = L3**2 + 4.0 * IA * Mgl * (-c)
+    root = math.sqrt(disc)
+    out["omega_pre"] = 2.0 * Mgl / (L3 + root)
+    out["pre_ratio"] = 2.0 * L3 / (L3 + root)
+    return out
+
+
+# --------------------------------------------------------------------------- numeric
+
+
+def _residual_factory(IA, I3, Mgl, theta0):
+    """f(Omega, omega3): the torque balance's residual along z x n3, in units of M g l sin theta0."""
+    s, c = math.sin(theta0), math.cos(theta0)
+    n3 = np.array([s, 0.0, c])
+    z = np.array([0.0, 0.0, 1.0])
+    # inertia tensor about the support: diag(I_A, I_A, I3) in axes with the third along n3
+    Rot = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])  # takes z to n3
+    I_lab = Rot @ np.diag([IA, IA, I3]) @ Rot.T
+    torque = Mgl * np.cross(z, n3)  # l n3 x (-M g z)
+    e = np.array([0.0, 1.0, 0.0])  # z x n3 / sin theta0
+
+    def f(Om, omega3):
+        psidot = omega3 - Om * float(z @ n3)  # spin relative to the precessing frame
+        w = Om * z + psidot * n3
+        L = I_lab @ w
+        r = Om * np.cross(z, L) - torque
+        return float(r @ e) / (Mgl * s)
+
+    return f, I_lab, n3
+
+
+def _slow_root(f, omega3, Om_scale):
+    """The smallest positive zero of f(., omega3), or None when f stays negative; also f's maximum."""
+    from scipy.optimize import brentq, minimize_scalar
+
+    f0 = f(0.0, omega3)
+    if not f0 < 0:
+        raise NumericFailure("the residual at zero precession is not negative")
+    prev2, prev, fprev = 0.0, 0.0, f0
+    Om = Om_scale
+    for _ in range(400):
+        fv = f(Om, omega3)
+        if fv > 0:
+            return brentq(lambda x: f(x, omega3), prev, Om, xtol=1e-300, rtol=1e-15, maxiter=500), None
+        if fv < fprev:
+            # past the maximum without a positive value: locate the maximum in (prev2, Om)
+            res = minimize_scalar(
+                lambda x: -f(x, omega3), bounds=(prev2, Om), method="bounded", options={"xatol": 1e-13 * Om}
+            )
+            fmax, Omv = -res.fun, res.x
+            if fmax >= 0:
+                return brentq(lambda x: f(x, omega3), 0.0, Omv, xtol=1e-300, rtol=1e-15, maxiter=500), fmax
+            return None, fmax
+        prev2, prev, fprev = prev, Om, fv
+        Om *= 2.0
+    raise NumericFailure("no sign change of the precession residual found")
+
+
+def _fmax(f, omega3, Om_scale):
+    """Maximum over Omega > 0 of f(., omega3) (+inf when f grows without bound)."""
+    from scipy.optimize import minimize_scalar
+
+    prev2, prev, fprev = 0.0, 0.0, f(0.0, omega3)
+    Om = Om_scale
+    for _ in range(400):
+        fv = f(Om, omega3)
+        if fv < fprev:
+            res = minimize_scalar(
+                lambda x: -f(x, omega3), bounds=(prev2, Om), method="bounded", options={"xatol": 1e-13 * Om}
+            )
+            return -res.fun
+        prev2, prev, fprev = prev, Om, fv
+        Om *= 2.0
+    return math.inf
+
+
+def _upright_growth(IA, Mgl, L3):
+    """Largest real part of the eigenvalues of the linearized motion about the upright spinning top,
+    relative to the largest modulus."""
+    # coordinates u = (n_x, n_y, L_x / L3, L_y / L3); n_z and L_z follow from |n| = 1, L . n = L3
+    def rhs(u):
+        nx, ny, lx, ly = u
+        nz = np.sqrt(1 - nx * nx - ny * ny)
+        lz = (1.0 - lx * nx - ly * ny) / nz
+        n = [nx, ny, nz]
+        L = [lx, ly, lz]
+        dn = [(L[1] * n[2] - L[2] * n[1]) * L3 / IA, (L[2] * n[0] - L[0] * n[2]) * L3 / IA]
+        # dL/dt = l n x (-M g z) = -M g l (n_y, -n_x, 0)
+        dL = [-Mgl * ny / L3, Mgl * nx / L3]
+        return np.array(dn + dL)
+
+    h = 1e-30
+    J = np.empty((4, 4))
+    for k in range(4):
+        u = np.zeros(4, dtype=complex)
+        u[k] = 1j * h
+        J[:, k] = rhs(u).imag / h
+    lam = np.linalg.eigvals(J)
+    return float(np.max(lam.real) / np.max(np.abs(lam)))
+
+
+ONSET = 1e-7  # real part (relative to |lambda|) that counts as growth: far above round-off near a double eigenvalue
+
+
+def _threshold(IA, I3, Mgl):
+    w_ref = math.sqrt(IA * Mgl) / I3  # the only spin scale of the problem (dimensions)
+    lo, hi = w_ref, w_ref
+    for _ in range(200):
+        if _upright_growth(IA, Mgl, I3 * lo) > ONSET:
+            break
+        lo /= 2
+    else:
+        raise NumericFailure("the upright top is stable at every spin tried")
+    for _ in range(200):
+        if _upright_growth(IA, Mgl, I3 * hi) <= ONSET:
+            break
+        hi *= 2
+    else:
+        raise NumericFailure("the upright top is unstable at every spin tried")
+    while hi - lo > 1e-15 * hi:
+        mid = 0.5 * (lo + hi)
+        if _upright_growth(IA, Mgl, I3 * mid) > ONSET:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+@exercise.numeric
+def _(p, run):
+    from scipy.optimize import brentq
+
+    IA = p.I1 + p.M * p.l**2
+    Mgl = p.M * p.g * p.l
+    f, I_lab, n3 = _residual_factory(IA, p.I3, Mgl, p.theta0)
+    Om_scale = Mgl / (p.I3 * p.omega3)  # a rate scale to start the search from
+
+    omega_th = _threshold(IA, p.I3, Mgl)
+    run.info["omega_th_onset_criterion"] = ONSET
+
+    # omega_min: where the residual's maximum over Omega touches zero
+    def fmax_at(w):
+        return _fmax(f, w, Mgl / (p.I3 * w))
+
+    w_lo = 1e-12 * omega_th
+    if fmax_at(w_lo) >= 0:
+        omega_min = 0.0  # a steady precession exists for every spin (within 1e-12 omega_th)
+        run.claim("omega_min", abs=1e-12 * omega_th)
+    else:
+        w_hi = max(p.omega3, omega_th)
+        for _ in range(200):
+            if fmax_at(w_hi) >= 0:
+                break
+            w_hi *= 2
+        else:
+            raise NumericFailure("no spin found at which a steady precession exists")
+        omega_min = brentq(fmax_at, w_lo, w_hi, xtol=1e-300, rtol=1e-15, maxiter=500)
+
+    Om, fmax = _slow_root(f, p.omega3, Om_scale)
+    out = {"omega_th": omega_th, "omega_min": omega_min}
+    if Om is None:
+        run.info["residual_max"] = fmax
+        why = f"the precession residual stays negative (max {fmax:.3g}): no steady precession at theta0"
+        out.update(omega_pre=Undefined(why), pre_ratio=Undefined(why))
+        return out
+    if fmax is not None:
+        run.info["residual_max"] = fmax
+
+    # confirm: integrate the exact motion from the steady state and measure the azimuth's rate
+    psidot = p.omega3 - Om * n3[2]
+    w = Om * np.array([0.0, 0.0, 1.0]) + psidot * n3
+    L0 = I_lab @ w
+    Ls = float(np.linalg.norm(L0))
+    zhat = np.array([0.0, 0.0, 1.0])
+
+    def torque(t, n):
+        return Mgl * np.array([-n[1], n[0], 0.0])  # l n x (-M g z) = M g l z x n
+
+    rhs = axis_rhs(IA, torque, L_scale=Ls)
+    nu = Ls / IA  # fastest rate of the axis (nutation scale)
+    T_pre = 2 * math.pi / Om
+    T = min(2.0 * T_pre, 150.0 * 2 * math.pi / nu)
+    y0 = np.concatenate([n3, L0 / Ls])
+    traj = integrate(rhs, (0.0, T), y0, rtol=run.rtol, atol=run.rtol * 1e-3 * min(1.0, math.sin(p.theta0)),
+                     dense_output=True)
+    run.record(traj)
+    ts = np.linspace(0.0, T, 401)
+    ys = traj.sol(ts)
+    n_t, L_t = ys[0:3], ys[3:6] * Ls
+    rate, rms = fit_rate(ts, azimuth(n_t))
+    run.info["measured_precession_rate"] = rate
+    run.info["integrated_turns"] = T / T_pre
+    rate_err = abs(rate - Om) / Om
+    run.info["measured_vs_root"] = rate_err
+    theta_dev = float(np.max(np.abs(polar_angle(n_t) - p.theta0)))
+    run.invariant("tilt theta - theta0 (rad)", theta_dev)
+    E = top_energy(IA, p.I3, n_t, L_t) + Mgl * n_t[2]
+    E_scale = top_energy(IA, p.I3, n_t[:, :1], L_t[:, :1])[0] + Mgl
+    run.invariant("energy", float(np.max(np.abs(E - E[0]))) / E_scale)
+    run.invariant("L_z", float(np.max(np.abs(L_t[2] - L_t[2, 0]))) / Ls)
+    L3_t = np.sum(n_t * L_t, axis=0)
+    run.invariant("L3", float(np.max(np.abs(L3_t - L3_t[0]))) / Ls)
+    # The measured rate is a confirmation: its error is the integration's error in the
+    # azimuth (absolute, about 1e3 rtol rad at most) over the angle run through
+    angle_tol = max(1e-6, 1e4 * run.rtol) * Om * T + 1e3 * run.rtol
+    tilt_tol = max(1e-6, 1e4 * run.rtol) * max(p.theta0, 1e-3)
+    if abs(rate - Om) * T > angle_tol or theta_dev > tilt_tol:
+        raise NumericFailure(
+            f"the steady state does not hold: measured rate off by {rate_err:.2g}, tilt drifts by {theta_dev:.2g} rad"
+        )
+    out["omega_pre"] = Om
+    out["pre_ratio"] = Om * p.I3 * p.omega3 / Mgl
+    return out
