@@ -56,7 +56,11 @@ def _(p):
     eps = p.R_E / p.r_S
     if eps > MAX_EPS:
         return f"R_E/r_S = {eps:.3g} must be at most {MAX_EPS} (the body must be far: r_S >> R_E)"
+    if eps < 1e-100:
+        return f"R_E/r_S = {eps:.3g}: below 1e-100 the tidal potential (~(R_E/r_S)^4) is not representable"
     eta = (p.M_S / p.M_E) * eps**3
+    if eta < 1e-250:
+        return f"(M_S/M_E)(R_E/r_S)^3 = {eta:.3g}: a tide below 1e-250 of the radius is not representable"
     if eta > MAX_ETA:
         return (
             f"(M_S/M_E)(R_E/r_S)^3 = {eta:.3g}: the tide would be {eta:.2g} of the Earth's radius; "
