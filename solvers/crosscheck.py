@@ -190,7 +190,8 @@ def cross_check(
         rel_claim, abs_claim = (None, None)
         if run is not None:
             rel_claim, abs_claim = run.claims.get(out.name, (None, None))
-        tol = rel_claim if rel_claim is not None else ex.tol_factor * rtol
+        rel_claim = None if rel_claim is None else float(rel_claim)
+        tol = rel_claim if rel_claim is not None else float(ex.tol_factor * rtol)
         q.tol_abs = float(abs_claim or 0.0)
         if out.theory != "exact":
             q.expected_err = expected.get(out.name)
@@ -216,13 +217,13 @@ def cross_check(
             if not both:
                 q._note("one method finds no finite value where the other does")
         else:
-            q.abs_err = abs(n - a)
+            q.abs_err = float(abs(n - a))
             denom = abs(a) if a != 0 else abs(n)
-            q.rel_err = q.abs_err / denom if denom > 0 else 0.0
-            q.agree = q.abs_err <= tol * abs(a) + q.tol_abs
+            q.rel_err = float(q.abs_err / denom) if denom > 0 else 0.0
+            q.agree = bool(q.abs_err <= tol * abs(a) + q.tol_abs)
 
         if verify_values and _is_number(n) and _is_number(verify_values.get(out.name)):
-            q.verify_diff = abs(verify_values[out.name] - n)
+            q.verify_diff = float(abs(verify_values[out.name] - n))
             scale = abs(a) if _is_number(a) and a != 0 else abs(n)
             claim = (rel_claim if rel_claim is not None else ex.tol_factor * rtol) * scale + q.tol_abs
             if q.verify_diff > claim:

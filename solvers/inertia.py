@@ -35,8 +35,11 @@ def inertia_tensor(r: np.ndarray, w: np.ndarray, about: np.ndarray | None = None
     w = np.asarray(w, dtype=float)
     origin = center_of_mass(r, w) if about is None else np.asarray(about, dtype=float)
     d = r - origin
-    r2 = np.einsum("ni,ni->n", d, d)
-    I = np.eye(3) * np.dot(w, r2) - np.einsum("n,ni,nj->ij", w, d, d)
+    S = np.einsum("n,ni,nj->ij", w, d, d)  # second moments
+    # I_xx = S_yy + S_zz directly: forming sum m r^2 - sum m x^2 would cancel for slender bodies
+    I = -S.copy()
+    for i in range(3):
+        I[i, i] = S[(i + 1) % 3, (i + 1) % 3] + S[(i + 2) % 3, (i + 2) % 3]
     return 0.5 * (I + I.T)
 
 

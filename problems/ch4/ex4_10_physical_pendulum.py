@@ -1,0 +1,203 @@
+"""4.10 Physical pendulum: small-oscillation frequency versus pivot distance.
+
+Analytic: with I' = I + M l^2 about the pivot (parallel axes), Omega^2 = M g l / I'.
+So l_ef = g / Omega^2 = l + I/(M l); Omega is largest where l^2 = I/M, i.e.
+l_opt = (I/M)^(1/2), with Omega_max^2 = g / (2 l_opt); and since
+Omega^2 = g / (l + r^2/l) with r^2 = I/M, the other pivot distance of the same
+frequency is l_conj = r^2 / l = I/(M l).
+
+Numeric: the body is four point masses M/4 on a circle of radius (I/M)^(1/2)
+about its center, at an arbitrary orientation, hung a distance l from the
+pivot.  The inertia about the pivot is sum m |r|^2 from the particle positions
+(the parallel-axis theorem is never used) and the stiffness U''(0) is the first
+Fourier cosine coefficient of U(phi) = sum m g y (a first-degree trigonometric
+polynomial, so a 4-point projection is exact and free of step-size
+cancellation).  Omega is cross-checked by integrating the nonlinear equation at
+amplitude 1e-4 rad and timing its period.  l_opt is the root of dOmega/dl
+(complex-step derivative, bracketed on a geometric grid); l_conj is the root of
+Omega(x) - Omega(l) on the other side of l_opt, bracketed by geometric
+expansion; within 1e-4 of l_opt that difference is lost to round-off, and a
+cubic Taylor model of Omega about l_opt solves it instead.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.ode import Event, integrate
+
+exercise = Exercise(
+    "4.10",
+    formulas=[
+        "Ω = (M g l / (I + M l²))^(1/2)",
+        "l_ef = g / Ω² = l + I / (M l)",
+        "l_opt = (I / M)^(1/2),  Ω_max = (g / (2 l_opt))^(1/2)",
+        "l_conj = I / (M l)   (l · l_conj = l_opt²)",
+    ],
+)
+
+PERIOD_AMPLITUDE = 1e-4
+_ALPHA = 0.4137  # orientation of the four-mass cross relative to the pivot line
+
+
+@exercise.analytic
+def _(p):
+    omega2 = p.M * p.g * p.l / (p.I + p.M * p.l**2)
+    l_opt = np.sqrt(p.I / p.M)
+    return {
+        "Omega": np.sqrt(omega2),
+        "l_ef": p.g / omega2,
+        "l_conj": p.I / (p.M * p.l),
+        "l_opt": l_opt,
+        "Omega_max": np.sqrt(p.g / (2 * l_opt)),
+    }
+
+
+class _Body:
+    """Four equal point masses standing in for the body: same M, same I about the center."""
+
+    def __init__(self, M, I, g):
+        self.M, self.g = M, g
+        self.rho = np.sqrt(I / M)
+        self.m = np.full(4, M / 4)
+        self.alpha = _ALPHA + np.pi / 2 * np.arange(4)
+
+    def positions(self, l, phi):
+        """Particle coordinates (x, y), y up, pivot at the origin, center at angle phi from straight down."""
+        cx, cy = l * np.sin(phi), -l * np.cos(phi)
+        return cx + self.rho * np.cos(phi + self.alpha), cy + self.rho * np.sin(phi + self.alpha)
+
+    def inertia_about_pivot(self, l):
+        x, y = self.positions(l, 0.0)
+        return np.sum(self.m * (x * x + y * y))
+
+    def potential(self, l, phi):
+        _, y = self.positions(l, phi)
+        return np.sum(self.m * self.g * y)
+
+    def stiffness(self, l):
+        """U''(0) = -(cosine coefficient of U), exact by a 4-point discrete Fourier projection."""
+        phis = np.pi / 2 * np.arange(4)
+        u = np.array([self.potential(l, ph) for ph in phis])
+        return -0.5 * np.sum(u * np.cos(phis))
+
+    def torque(self, l, phi):
+        """Gravity's torque about the pivot, sum of x_i * (-m_i g)."""
+        x, _ = self.positions(l, phi)
+        return -np.sum(self.m * self.g * x)
+
+    def omega(self, l):
+        return np.sqrt(self.stiffness(l) / self.inertia_about_pivot(l))
+
+
+def _dlog_omega(body, x):
+    """d Omega / d l by the complex step: exact to round-off, no subtraction."""
+    h = 1e-20 * x
+    return np.imag(body.omega(x + 1j * h)) / h
+
+
+def _period_omega(body, l, rtol, run):
+    """Omega from the period of the nonlinear swing at a tiny amplitude (crossings of phi = 0)."""
+    inertia = body.inertia_about_pivot(l)
+
+    def rhs(t, y):
+        return np.array([y[1], body.torque(l, y[0]) / inertia])
+
+    guess = 2 * np.pi / body.omega(l)  # only bounds the integration time
+    traj = integrate(
+        rhs,
+        (0.0, 1.5 * guess),
+        [PERIOD_AMPLITUDE, 0.0],
+        rtol=rtol,
+        atol=[rtol * PERIOD_AMPLITUDE * 1e-3, rtol * PERIOD_AMPLITUDE * 1e-3 / guess],
+        events=[Event(lambda t, y: y[0], terminal=False, name="phi = 0")],
+        max_step=guess / 16,
+    )
+    run.record(traj)
+    crossings = traj.t_events[0]
+    if len(crossings) < 2:
+        raise NumericFailure("the small swing did not cross the vertical twice")
+    period = 2 * (crossings[1] - crossings[0])
+    # the period of a finite swing exceeds the small-oscillation one by (A^2/16)
+    return 2 * np.pi / period
+
+
+def _bracket_root(f, start, factor, limit=400):
+    """March x = start * factor^k until f changes sign; return the bracket."""
+    a, fa = start, f(start)
+    for _ in range(limit):
+        b = a * factor
+        fb = f(b)
+        if np.sign(fb) != np.sign(fa):
+            return (a, b) if a < b else (b, a)
+        a, fa = b, fb
+    raise NumericFailure("no sign change found while bracketing")
+
+
+@exercise.numeric
+def _(p, run):
+    from scipy.optimize import brentq
+
+    body = _Body(p.M, p.I, p.g)
+    omega = body.omega(p.l)
+    # The torque sums single-particle terms of size rho against a total of size l * amplitude, so
+    # it carries relative round-off ~ eps rho / (l A); asking the integrator for less than that only
+    # collapses its steps.  The period check runs just above that floor.
+    force_noise = 2.2e-16 * body.rho / (p.l * PERIOD_AMPLITUDE)
+    period_rtol = min(max(run.rtol, 100 * force_noise), 1e-6)
+    omega_swing = _period_omega(body, p.l, period_rtol, run)
+    mismatch = abs(omega_swing - omega) / omega
+    run.info["Omega_from_period"] = omega_swing
+    run.info["period_check_rtol"] = period_rtol
+    if mismatch > 100 * period_rtol + PERIOD_AMPLITUDE**2 / 16:
+        raise NumericFailure(f"Omega from the stiffness and from the timed period differ by {mismatch:.2g}")
+
+    # l_opt: root of dOmega/dl; positive below, negative above, so bracket on a geometric grid
+    size = max(p.l, body.rho)
+    grid = np.geomspace(min(p.l, body.rho) * 1e-3, size * 1e3, 61)
+    slopes = np.array([_dlog_omega(body, x) for x in grid])
+    change = np.nonzero(np.diff(np.sign(slopes)) < 0)[0]
+    if change.size != 1:
+        raise NumericFailure("dOmega/dl does not change sign exactly once on the grid")
+    k = int(change[0])
+    l_opt = brentq(lambda x: _dlog_omega(body, x), grid[k], grid[k + 1], xtol=1e-15 * grid[k], rtol=1e-15)
+    omega_max = body.omega(l_opt)
+
+    # l_conj: the same Omega on the other side of l_opt
+    v = p.l - l_opt
+    if abs(v) < 1e-4 * l_opt:
+        h = 1e-3 * l_opt
+        d_minus, d0, d_plus = (_dlog_omega(body, l_opt + s) for s in (-h, 0.0, h))
+        w2 = (d_plus - d_minus) / (2 * h)
+        w3 = (d_plus - 2 * d0 + d_minus) / h**2
+        u = -v
+        for _ in range(5):  # u = -v - (w3 / 3 w2)(u^2 + u v + v^2)
+            u = -v - w3 / (3 * w2) * (u * u + u * v + v * v)
+        l_conj = l_opt + u
+        run.info["l_conj_route"] = "cubic Taylor model about l_opt"
+    else:
+        target = omega
+
+        def f(x):
+            return body.omega(x) - target
+
+        factor = 2.0 if p.l < l_opt else 0.5
+        a, b = _bracket_root(f, l_opt, factor)
+        l_conj = brentq(f, a, b, xtol=1e-15 * a, rtol=1e-15)
+        run.info["l_conj_route"] = "bracketed root"
+
+    run.method = "point-mass model, Fourier stiffness; DOP853 period check"
+    # round-off in U grows as the single-particle terms (size rho) outweigh the pendulum term (size l)
+    cancellation = 1e-14 * max(1.0, body.rho / p.l)
+    for name in ("Omega", "l_ef", "l_conj"):
+        run.claim(name, rel=max(1e-11, cancellation))
+    run.claim("l_opt", rel=1e-10)
+    run.claim("Omega_max", rel=1e-12)
+    return {
+        "Omega": omega,
+        "l_ef": p.g / omega**2,
+        "l_conj": l_conj,
+        "l_opt": l_opt,
+        "Omega_max": omega_max,
+    }
