@@ -18,7 +18,32 @@ import numpy as np
 
 from mech.problems.spec import NumericFailure
 
-__all__ = ["Event", "Trajectory", "integrate", "integrate_to_event", "first_event"]
+__all__ = ["Event", "Trajectory", "integrate", "integrate_to_event", "first_event", "override"]
+
+_OVERRIDE: dict = {}
+
+
+class override:
+    """Force every ``integrate`` call inside the block onto one integrator (for ``mech bench``).
+
+    ``override(method="LSODA")`` replaces the method each exercise chose;
+    ``override(student=True)`` runs plain ``solve_ivp`` defaults (RK45, rtol 1e-3,
+    atol 1e-6, no step bounds), the way a first attempt would.
+    """
+
+    def __init__(self, method: str | None = None, student: bool = False):
+        self.settings = {"method": "RK45" if student else method, "student": student}
+
+    def __enter__(self):
+        self.saved = dict(_OVERRIDE)
+        _OVERRIDE.clear()
+        _OVERRIDE.update({k: v for k, v in self.settings.items() if v})
+        return self
+
+    def __exit__(self, *exc):
+        _OVERRIDE.clear()
+        _OVERRIDE.update(self.saved)
+        return False
 
 
 @dataclass
@@ -87,6 +112,10 @@ def integrate(
     from scipy.integrate import solve_ivp
 
     y0 = np.asarray(y0, dtype=float)
+    if _OVERRIDE.get("method"):
+        method = _OVERRIDE["method"]
+    if _OVERRIDE.get("student"):
+        rtol, atol, max_step, first_step = 1e-3, 1e-6, math.inf, None
     if atol is None:
         atol = rtol * 1e-3
     kwargs = dict(
