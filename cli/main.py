@@ -60,6 +60,36 @@ class MechGroup(click.Group):
     test runner see exactly what users see.
     """
 
+    # commands kept in their own modules, imported only when listed or called
+    LAZY = {
+        "bench": ("mech.cli.bench", "bench_cmd"),
+        "plot": ("mech.cli.plot", "plot_cmd"),
+        "sweep": ("mech.cli.sweep", "sweep_cmd"),
+    }
+
+    def _lazy(self, name):
+        import importlib
+
+        module_name, attr = self.LAZY[name]
+        try:
+            module = importlib.import_module(module_name)
+        except ModuleNotFoundError as exc:
+            if exc.name == module_name:
+                return None
+            raise
+        return getattr(module, attr)
+
+    def list_commands(self, ctx):
+        names = set(super().list_commands(ctx))
+        names.update(n for n in self.LAZY if self._lazy(n) is not None)
+        return sorted(names)
+
+    def get_command(self, ctx, name):
+        cmd = super().get_command(ctx, name)
+        if cmd is None and name in self.LAZY:
+            cmd = self._lazy(name)
+        return cmd
+
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         code = EXIT_OK
         try:
