@@ -1,0 +1,261 @@
+"""5.12 Pendulum pumped by vertical vibration of its pivot: threshold, growth, stationary swing.
+
+Analytic (reduced equations near Omega = 2 omega0): the pivot modulates the
+stiffness, omega0^2 (1 - mu cos Omega t) with mu = a Omega^2/g; for
+theta = Re[A e^{i Omega t/2}] the coupling of A to A* is
+eps = mu omega0^2/(2 Omega) = a Omega/(2 l), and with xi = Omega/2 - omega0
+small swings grow at -delta + sqrt(eps^2 - xi^2); the threshold is
+a_th = (2 l/Omega) sqrt(delta^2 + xi^2).  The cubic term of sin theta lowers the
+swing's own frequency to omega0 (1 - A^2/16), so the detuning seen by a
+swing of amplitude A is xi + omega0 A^2/16; the growth stops where
+(xi + omega0 A^2/16)^2 + delta^2 = eps^2, and the branch a small swing grows
+into (above threshold) is theta_st^2 = 16 (sqrt(eps^2 - delta^2) - xi)/omega0.
+
+Numeric: a_th and growth from the monodromy matrix of the linearized
+equation over one pivot period (q = exp(-delta t) y leaves an even Hill
+equation: half a period of DOP853); a_th is the root in a of det(M + I)
+(bracketed by a geometric scan up from a = 0).  theta_st: the stationary swing
+has period 4 pi/Omega and the symmetry theta(t + 2 pi/Omega) = -theta(t), so
+its start z is a fixed point of the half-map H(z) = -phi_{2 pi/Omega}(z).
+From the bifurcation at a_th (where H has the multiplier +1 with eigenvector e)
+the branch of fixed points is continued with the amplitude s = |z| (in
+the scaled state (theta, theta'/omega0)) as parameter and (z, a) as unknowns (Newton with the variational equations,
+d/da by a difference), until a reaches the given value; there z is refined
+by Newton at fixed a, both multipliers of H are checked to be inside the unit
+circle, and the largest |theta| on the orbit is found by event detection on
+theta' = 0.  Nothing waits for the slow transient.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.floquet import even_hill_half, flow_with_variations
+from mech.solvers.ode import Event, integrate
+
+exercise = Exercise(
+    "5.12",
+    formulas=[
+        "ε = a Ω/(2 l),  ξ = Ω/2 - ω₀,  ω₀ = (g/l)^(1/2)",
+        "a_th = (2 l/Ω) (δ² + ξ²)^(1/2)",
+        "growth = -δ + (ε² - ξ²)^(1/2)  (−δ for |ξ| ≥ ε)",
+        "θ_st² = 16 ((ε² - δ²)^(1/2) - ξ)/ω₀ above threshold, else 0",
+    ],
+    leading_order=("a_th", "growth", "theta_st"),
+    default_rtol=1e-11,
+    min_rtol=1e-12,
+)
+
+MAX_DETUNING = 0.3
+MAX_DAMPING = 0.2
+MAX_AMPLITUDE = 0.1
+
+
+@exercise.constraint
+def _(p):
+    w0 = math.sqrt(p.g / p.l)
+    if abs(p.Omega / 2 - w0) > MAX_DETUNING * w0:
+        return (f"Omega = {p.Omega:g} rad/s is not near 2 omega0 = {2 * w0:.6g} rad/s: the exercise needs "
+                f"|Omega/2 - omega0| <= {MAX_DETUNING:g} omega0")
+    if p.delta > MAX_DAMPING * w0:
+        return f"delta = {p.delta:g} 1/s is not weak damping: the exercise needs delta <= {MAX_DAMPING:g} omega0"
+    if p.a > MAX_AMPLITUDE * p.l:
+        return f"a = {p.a:g} m is not small against l = {p.l:g} m: the exercise needs a <= {MAX_AMPLITUDE:g} l"
+
+
+def _lo(w0, delta, eps, xi, l, Omega):
+    s2 = eps * eps - xi * xi
+    growth = -delta + math.sqrt(s2) if s2 > 0 else -delta
+    theta2 = 16.0 * (math.sqrt(max(eps * eps - delta * delta, 0.0)) - xi) / w0 if growth > 0 else 0.0
+    return {
+        "a_th": 2.0 * l * math.hypot(delta, xi) / Omega,
+        "growth": growth,
+        "theta_st": math.sqrt(max(theta2, 0.0)),
+    }
+
+
+@exercise.analytic
+def _(p):
+    w0 = math.sqrt(p.g / p.l)
+    return _lo(w0, p.delta, p.a * p.Omega / (2 * p.l), p.Omega / 2 - w0, p.l, p.Omega)
+
+
+@exercise.expected_error
+def _(p):
+    """Neglected: in eps, relative O(xi/omega0) and O(mu^2) (mu = a Omega^2/g) and,
+    for a swing, O(theta^2) (the drive couples through sin theta); in the
+    detuning, the zone's shift mu^2 omega0/64 + delta^2/(2 omega0) and O(xi^2/omega0);
+    in the swing's frequency, the next term of omega0 (1 - A^2/16 + O(A^4)).
+    Each output's expected error is its largest change when these move by
+    twice their size (finite changes, honest near threshold)."""
+    w0 = math.sqrt(p.g / p.l)
+    xi = p.Omega / 2 - w0
+    eps = p.a * p.Omega / (2 * p.l)
+    mu = p.a * p.Omega**2 / p.g
+    base = _lo(w0, p.delta, eps, xi, p.l, p.Omega)
+    A2 = base["theta_st"] ** 2
+    worst = {k: 0.0 for k in base}
+    # small swings (a_th, growth) carry no amplitude terms; the stationary swing does
+    for keys, amp in ((("a_th", "growth"), 0.0), (("theta_st",), A2)):
+        r = 2.0 * (abs(xi) / w0 + mu**2 / 16.0 + amp / 8.0)
+        s = 2.0 * (mu**2 * w0 / 64.0 + 0.5 * p.delta**2 / w0 + xi**2 / w0 + w0 * amp**2 / 256.0)
+        for se in (-1.0, 1.0):
+            for sx in (-1.0, 1.0):
+                alt = _lo(w0, p.delta, eps * (1 + se * r), xi + sx * s, p.l, p.Omega)
+                alt["a_th"] = 2.0 * p.l * math.hypot(p.delta, abs(xi) + s) / p.Omega / max(1.0 - r, 1e-3)
+                for k in keys:
+                    worst[k] = max(worst[k], abs(alt[k] - base[k]))
+    return {k: (worst[k] / abs(base[k]) if base[k] != 0 else (0.0 if worst[k] == 0 else math.inf)) for k in base}
+
+
+def _linear(p, a, rtol, run):
+    """(largest |multiplier|, det(M + I), tr M_y) of the linearization about theta = 0 over 2 pi/Omega."""
+    T = 2.0 * math.pi / p.Omega
+    g_l, aW2_l, W, d2 = p.g / p.l, a * p.Omega**2 / p.l, p.Omega, p.delta**2
+    (y1, y1p, y2, y2p), traj = even_hill_half(
+        lambda t: g_l - aW2_l * math.cos(W * t) - d2, T, rtol=rtol, vscale=math.sqrt(g_l)
+    )
+    run.record(traj)
+    run.invariant("Wronskian", y1 * y2p - y1p * y2 - 1.0)
+    tr = 2.0 * (y1 * y2p + y1p * y2)
+    damp = math.exp(-p.delta * T)
+    disc = tr * tr - 4.0
+    lam = 0.5 * (abs(tr) + math.sqrt(disc)) if disc > 0 else 1.0
+    return damp * lam, 1.0 + damp * tr + damp * damp, tr
+
+
+@exercise.numeric
+def _(p, run):
+    from scipy.optimize import brentq
+
+    rtol = run.rtol
+    noise = 10.0 * rtol
+    T = 2.0 * math.pi / p.Omega
+    lam, _, tr = _linear(p, p.a, rtol, run)
+    growth = math.log(lam) / T
+    amplify = 1.0 + abs(tr) / math.sqrt(max(tr * tr - 4.0, noise))
+    run.claim("growth", rel=100 * rtol, abs=noise * amplify / T)
+
+    def P(a):
+        return _linear(p, a, rtol, run)[1]
+
+    lo, hi = 0.0, 1e-4 * p.l
+    while P(hi) > 0.0:
+        lo, hi = hi, 3.0 * hi
+        if hi > 0.5 * p.l:
+            raise NumericFailure("no pivot amplitude below l/2 brings a multiplier to -1")
+    a_th = brentq(P, lo, hi, xtol=1e-16 * p.l, rtol=1e-14)
+    da = 1e-5 * a_th
+    slope = abs(P(a_th + da)) / da
+    run.claim("a_th", rel=max(100 * rtol, noise / (slope * a_th)))
+    out = {"a_th": a_th, "growth": growth}
+    if growth <= 0.0:
+        out["theta_st"] = 0.0
+        run.claim("theta_st", rel=0.0, abs=0.0)
+        return out
+    out["theta_st"] = _stationary_swing(p, a_th, run)
+    return out
+
+
+def _stationary_swing(p, a_th, run):
+    rtol = run.rtol
+    w0 = math.sqrt(p.g / p.l)
+    W, Tp, d2 = p.Omega, 2.0 * math.pi / p.Omega, 2.0 * p.delta
+    scale = [1.0, w0]
+
+    def f_a(a):
+        aW2 = a * W * W
+
+        def f(t, y):
+            return np.array([y[1], -d2 * y[1] - (p.g - aW2 * math.cos(W * t)) / p.l * math.sin(y[0])])
+
+        def jac(t, y):
+            return np.array([[0.0, 1.0], [-(p.g - aW2 * math.cos(W * t)) / p.l * math.cos(y[0]), -d2]])
+
+        return f, jac
+
+    def residual(z, a, with_jac=True):
+        f, jac = f_a(a)
+        y, M, _, traj = flow_with_variations(f, jac, z, (0.0, Tp), rtol=rtol, scale=scale)
+        run.record(traj)
+        return z + y, np.eye(2) + M, M  # z - H(z), its Jacobian, and M
+
+    def d_da(z, a, r0):
+        da = 1e-6 * a
+        r1, _, _ = residual(z, a + da)
+        return (r1 - r0) / da
+
+    # the critical direction at the bifurcation: M's eigenvector for the multiplier -1
+    _, J0, M0 = residual(np.zeros(2), a_th)
+    ev, vec = np.linalg.eig(M0)
+    k = int(np.argmin(np.abs(ev + 1.0)))
+    e = np.real(vec[:, k]) / np.array(scale)
+    e /= np.linalg.norm(e)
+    e_phys = e * np.array(scale)  # the branch leaves z = 0 along e; s = |z / scale| along it
+
+    def corrector(z, a, s):
+        for _ in range(20):
+            r, J, _ = residual(z, a)
+            ra = d_da(z, a, r)
+            zs = z / scale
+            F = np.array([r[0], r[1], 0.5 * (np.dot(zs, zs) - s * s)])
+            Jf = np.array([[J[0, 0], J[0, 1], ra[0]], [J[1, 0], J[1, 1], ra[1]],
+                           [zs[0] / scale[0], zs[1] / scale[1], 0.0]])
+            du = np.linalg.solve(Jf, -F)
+            z, a = z + du[:2], a + du[2]
+            if abs(du[2]) < 1e-3 * rtol * a_th and np.linalg.norm(du[:2] / scale) < 1e-3 * rtol + 1e-14:
+                return z, a
+            if np.linalg.norm(du[:2] / scale) < 10 * rtol and abs(du[2]) < 10 * rtol * a_th:
+                return z, a
+        raise NumericFailure(f"the branch of stationary swings could not be followed at s = {s:.3g}")
+
+    target = p.a
+    s, ds = 0.0, 0.02
+    z_prev, a_prev, s_prev = np.zeros(2), a_th, 0.0
+    z_cur, a_cur, s_cur = np.zeros(2), a_th, 0.0
+    steps = 0
+    while True:
+        s = s_cur + ds
+        # secant predictor along the branch
+        if steps == 0:
+            z_guess, a_guess = s * e_phys, a_th
+        else:
+            t = (s - s_cur) / (s_cur - s_prev)
+            z_guess = z_cur + t * (z_cur - z_prev)
+            a_guess = a_cur + t * (a_cur - a_prev)
+        z_new, a_new = corrector(z_guess, a_guess, s)
+        steps += 1
+        if steps > 80 or s > 3.0:
+            raise NumericFailure("the branch of stationary swings does not reach the given a (swing over the top?)")
+        if (a_new - target) * (a_cur - target) <= 0.0 and steps > 1 or (steps == 1 and a_new >= target > a_th):
+            break
+        z_prev, a_prev, s_prev = z_cur, a_cur, s_cur
+        z_cur, a_cur, s_cur = z_new, a_new, s
+        ds = min(1.5 * ds, 0.1)
+    run.info["continuation_steps"] = steps
+    # interpolate to the target and refine z at fixed a
+    w = (target - a_cur) / (a_new - a_cur) if a_new != a_cur else 1.0
+    z = z_cur + w * (z_new - z_cur)
+    for _ in range(30):
+        r, J, M = residual(z, target)
+        dz = np.linalg.solve(J, -r)
+        z = z + dz
+        if np.linalg.norm(dz / scale) < rtol:
+            break
+    else:
+        raise NumericFailure("Newton's method for the stationary swing did not converge")
+    r, J, M = residual(z, target)
+    mult = np.abs(np.linalg.eigvals(-M))
+    run.info["swing_multipliers_of_half_map"] = [float(m) for m in mult]
+    if np.max(mult) >= 1.0:
+        raise NumericFailure(f"the swing found is unstable (half-map multipliers {mult}): not the one a small swing grows into")
+    # largest |theta| on the orbit: extrema on theta' = 0 over one half-period (the other half mirrors it)
+    f, _ = f_a(target)
+    turn = Event(lambda t, y: y[1], terminal=False, name="theta' = 0")
+    traj = integrate(f, (0.0, Tp), z, rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3 * w0], events=[turn])
+    run.record(traj)
+    ext = [abs(y[0]) for y in traj.y_events[0]] + [abs(z[0])]
+    return float(max(ext))
