@@ -1,0 +1,29 @@
+"""Figures for ``mech plot`` and ``mech sweep --plot``; matplotlib is imported only in here.
+
+``SCENES`` maps an exercise id to the module and function drawing its scene:
+``draw(ex, params, *, n_numeric, rtol) -> Figure``.  Every other exercise (and
+any with ``--generic``) gets ``generic.generic_figure``.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+SCENES: dict[str, tuple[str, str]] = {}
+
+
+def scene_for(ex_id: str):
+    """The scene-drawing function of an exercise, or None."""
+    if ex_id not in SCENES:
+        return None
+    module, attr = SCENES[ex_id]
+    return getattr(importlib.import_module(f"mech.cli.figures.{module}"), attr)
+
+
+def draw(ex, params, *, generic: bool = False, vary: str | None = None, n_numeric: int = 5, rtol=None):
+    from mech.cli.figures.generic import generic_figure
+
+    scene = None if (generic or vary) else scene_for(ex.id)
+    if scene is None:
+        return generic_figure(ex, params, vary=vary, n_numeric=n_numeric, rtol=rtol)
+    return scene(ex, params, n_numeric=n_numeric, rtol=rtol)

@@ -1,0 +1,107 @@
+"""What every figure shares: matplotlib on demand (Agg), the output file's format, the house style."""
+
+from __future__ import annotations
+
+import math
+import os
+
+FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
+INSTALL = "pip install 'mech[plot]' (from a checkout: pip install -e '.[plot]')"
+
+ANALYTIC = dict(color="C0", lw=1.8, label="analytic")
+NUMERIC = dict(color="C3", marker="o", ms=5, ls="none", mfc="none", mew=1.4, label="numeric")
+POINT = dict(color="k", lw=0.8, ls=":", alpha=0.7)
+
+
+def _usage(msg: str):
+    from mech.cli.main import UsageFailure
+
+    return UsageFailure(msg)
+
+
+def need_matplotlib():
+    """matplotlib.pyplot with the non-interactive Agg backend; exit 2 with the install command without it."""
+    try:
+        import matplotlib
+    except ImportError:
+        raise _usage(f"plotting needs matplotlib, which is not installed: {INSTALL}") from None
+    matplotlib.use("Agg", force=True)
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def check_target(path: str) -> str:
+    """The format of the output file, from its suffix; exit 2 for anything else or an unwritable place."""
+    ext = os.path.splitext(path)[1].lower()
+    if ext not in FORMATS:
+        raise _usage(f"cannot write '{path}': the file's suffix chooses the format, one of .png, .svg, .pdf")
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise _usage(f"cannot write '{path}': no folder {folder}")
+    return FORMATS[ext]
+
+
+def save(fig, path: str, dpi: float = 110) -> None:
+    import matplotlib.pyplot as plt
+
+    fmt = check_target(path)
+    meta = {"Software": "mech"} if fmt == "png" else None
+    try:
+        fig.savefig(path, format=fmt, dpi=dpi, metadata=meta)
+    finally:
+        plt.close(fig)
+
+
+def figure(nrows=1, ncols=1, w=4.6, h=3.3, **kw):
+    plt = need_matplotlib()
+    fig, axes = plt.subplots(nrows, ncols, figsize=(w * ncols, h * nrows), squeeze=False, layout="constrained", **kw)
+    return fig, axes
+
+
+def title(fig, ex, params=None, skip=(), extra: str = "") -> None:
+    """The exercise as the figure's title; the parameters held at their values underneath."""
+    text = f"{ex.id}  {ex.title}"
+    if len(text) > 90:
+        cut = text.rfind(" ", 0, 88)
+        text = text[:cut] + "\n" + text[cut + 1:]
+    if params is not None:
+        shown = [f"{p.symbol or p.name} = {p.show(params[p.name])}" for p in ex.params if p.name not in skip]
+        line = ", ".join(shown)
+        if len(line) > 110:
+            half = len(shown) // 2
+            line = ", ".join(shown[:half]) + "\n" + ", ".join(shown[half:])
+        text += "\n" + line
+    if extra:
+        text += "\n" + extra
+    fig.suptitle(text, fontsize=9.5)
+
+
+def label(name: str, unit: str) -> str:
+    return name if unit in ("1", "") else f"{name} [{unit}]"
+
+
+def finite(v) -> float:
+    """A solver's value as a float, NaN for an Undefined or a failure (matplotlib leaves a gap)."""
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        return math.nan
+    return f if math.isfinite(f) else math.nan
+
+
+def numeric_values(ex, params, rtol=None):
+    """The numeric solver's outputs at ``params`` (NaN where it fails or has no value) and its failure, if any."""
+    try:
+        values, _run = ex.solve_numeric(params, rtol)
+    except Exception as exc:  # a figure shows what it can; the failure is told in the legend
+        return {o.name: math.nan for o in ex.outputs}, f"{type(exc).__name__}: {exc}"
+    return {k: finite(v) for k, v in values.items()}, None
+
+
+def analytic_values(ex, params):
+    try:
+        values = ex.solve_analytic(params)
+    except Exception:
+        return {o.name: math.nan for o in ex.outputs}
+    return {k: finite(v) for k, v in values.items()}

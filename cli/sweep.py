@@ -1,0 +1,293 @@
+"""``mech sweep``: one exercise solved over a range (a grid when several parameters sweep), both ways.
+
+A swept parameter is ``--NAME START:STOP:N`` (N evenly spaced values, ends
+included) or ``--NAME START:STOP:N:log`` (geometric spacing); START and STOP
+take the same units and arithmetic as ``mech solve`` (``10deg:80deg:8``).
+Any other ``--NAME VALUE`` is held fixed.  Every point is checked against the
+parameter bounds and the exercise's joint constraints before anything runs.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import sys
+
+import click
+
+from mech.cli.main import EXIT_DISAGREE, EXIT_OK, SolveCommand, UsageFailure, _complete_ids, _get
+from mech.cli.options import _canonical, _convert, parse_rtol
+from mech.cli.values import ValueError_, to_si
+from mech.problems.spec import BadInput, Exercise
+
+MAX_POINTS = 100_000
+MAX_N = 10_000
+
+
+def parse_range(ex: Exercise, name: str, text: str):
+    """``START:STOP:N[:log]`` -> Axis; every value within the parameter's bounds."""
+    from mech.solvers.sweep import Axis
+
+    param = ex.param_map[name]
+    parts = [s.strip() for s in text.split(":")]
+    log = False
+    if len(parts) == 4 and parts[3].lower() in ("log", "geom"):
+        log = True
+        parts = parts[:3]
+    if len(parts) != 3:
+        raise BadInput(f"{name}: a range is START:STOP:N or START:STOP:N:log, got '{text}'")
+    ends = []
+    for part in parts[:2]:
+        try:
+            ends.append(to_si(part, param.unit))
+        except ValueError_ as exc:
+            raise BadInput(f"{name}: cannot use '{part}' in '{text}': {exc}; allowed range {param.range_text()}") from None
+    try:
+        n = int(parts[2])
+        if str(n) != parts[2].lstrip("+"):
+            raise ValueError
+    except ValueError:
+        raise BadInput(f"{name}: N in '{text}' must be a whole number of points, got '{parts[2]}'") from None
+    start, stop = ends
+    if n < 1 or n > MAX_N:
+        raise BadInput(f"{name}: N in '{text}' must be between 1 and {MAX_N}")
+    if n == 1 and start != stop:
+        raise BadInput(f"{name}: one point in '{text}' needs START = STOP (or N >= 2)")
+    if log and (start <= 0 or stop <= 0):
+        raise BadInput(f"{name}: a log range needs positive ends, got '{text}'")
+    for v in (start, stop):
+        param.check(v)
+    if n == 1:
+        values = [start]
+    elif log:
+        r = math.log(stop / start)
+        values = [start * math.exp(r * k / (n - 1)) for k in range(n)]
+        values[-1] = stop
+    else:
+        values = [start + (stop - start) * k / (n - 1) for k in range(n)]
+        values[-1] = stop
+    for v in values:
+        param.check(v)
+    return Axis(name, tuple(values), log)
+
+
+def collect(ex: Exercise, args: list[str], pairs: list[str]):
+    """The ``--NAME VALUE`` arguments and ``-p`` pairs split into axes (ranges) and fixed values."""
+    texts: dict[str, str] = {}
+
+    def put(raw: str, text: str) -> None:
+        name = _canonical(ex, raw)
+        if name in texts:
+            raise BadInput(f"{name}: given more than once; allowed range {ex.param_map[name].range_text()}")
+        texts[name] = text
+
+    i = 0
+    while i < len(args):
+        arg = args[i]
+        if not arg.startswith("--") or len(arg) <= 2:
+            raise BadInput(f"unexpected argument '{arg}'; parameters are given as --NAME START:STOP:N or --NAME VALUE")
+        body = arg[2:]
+        if "=" in body:
+            name, text = body.split("=", 1)
+        else:
+            name = body
+            if i + 1 >= len(args):
+                canon = _canonical(ex, name)
+                raise BadInput(f"{canon}: no value given; allowed range {ex.param_map[canon].range_text()}")
+            i += 1
+            text = args[i]
+        put(name, text)
+        i += 1
+    for pair in pairs:
+        if "=" not in pair:
+            raise BadInput(f"-p takes NAME=VALUE or NAME=START:STOP:N, got '{pair}'")
+        put(*pair.split("=", 1))
+    axes, fixed = [], {}
+    for name, text in texts.items():
+        if ":" in text:
+            axes.append(parse_range(ex, name, text))
+        else:
+            fixed[name] = _convert(ex, name, text)
+    if not axes:
+        names = ", ".join(ex.param_map)
+        raise BadInput(f"nothing to sweep: give at least one --NAME START:STOP:N (parameters of {ex.id}: {names})")
+    return axes, fixed
+
+
+def _describe(ex: Exercise, values: dict, names) -> str:
+    return ", ".join(f"{n} = {ex.param_map[n].show(values[n])}" for n in names)
+
+
+def validate(ex: Exercise, axes, fixed):
+    """Every grid point resolved with the bounds and joint constraints, as solve does; the first bad one is named."""
+    from mech.solvers.sweep import grid_points
+
+    total = math.prod(len(a.values) for a in axes)
+    if total > MAX_POINTS:
+        raise BadInput(f"the grid has {total} points; at most {MAX_POINTS} in one sweep")
+    resolved = []
+    for values in grid_points(axes, fixed):
+        try:
+            resolved.append(ex.resolve(values))
+        except BadInput as exc:
+            raise BadInput(f"sweep point {_describe(ex, values, [a.name for a in axes])}: {exc}") from None
+    return resolved
+
+
+# -- output ----------------------------------------------------------------
+
+def _fmt(v) -> str:
+    return "—" if v is None else f"{v:.10g}"
+
+
+def print_table(result) -> None:
+    from rich import box
+    from rich.markup import escape
+    from rich.table import Table
+    from rich.text import Text
+
+    from mech.cli import render
+
+    ex = result.exercise
+    swept = [a.name for a in result.axes]
+    fixed = ", ".join(f"{p.symbol or p.name} = {p.show(result.fixed[p.name])}" for p in ex.params
+                      if p.name not in swept and p.name in result.fixed)
+    title = escape(f"{ex.id}  {ex.title}" + (f"\n{fixed}" if fixed else ""))
+    t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD)
+    for name in swept:
+        p = ex.param_map[name]
+        t.add_column(escape(f"{name} [{p.display or p.unit}]"), justify="right", no_wrap=True)
+    for o in ex.outputs:
+        unit = "" if o.unit == "1" else f" [{o.unit}]"
+        t.add_column(escape(f"{o.name}{unit}\nanalytic"), justify="right", no_wrap=True)
+        t.add_column(f"{o.name}\nnumeric", justify="right", no_wrap=True)
+    t.add_column("worst\nrel. diff", justify="right", no_wrap=True)
+    t.add_column("agree", justify="center", no_wrap=True)
+    for pt in result.points:
+        row = []
+        for name in swept:
+            p = ex.param_map[name]
+            row.append(f"{p.to_display(pt['params'][name]):.6g}")
+        rels = []
+        for q in pt["quantities"]:
+            row += [_fmt(q["analytic"]), _fmt(q["numeric"])]
+            if q.get("rel_err") is not None:
+                rels.append(q["rel_err"])
+        row.append(f"{max(rels):.2g}" if rels else "—")
+        flag = pt.get("agree")
+        row.append(Text("—", style="dim") if flag is None else
+                   Text("yes", style="green") if flag else Text("NO", style="bold red"))
+        t.add_row(*row)
+    c = render.console()
+    c.print(t)
+    n_bad = sum(pt.get("agree") is False for pt in result.points)
+    c.print(f"{len(result.points)} points, {result.seconds:.2f} s on {result.workers} "
+            f"process{'es' if result.workers > 1 else ''}; "
+            + ("analytic and numeric agree at every point" if n_bad == 0 else f"{n_bad} points FAILED the cross-check"),
+            style="dim" if n_bad == 0 else "bold red")
+    for k, pt in enumerate(result.points):
+        for e in pt.get("errors", []):
+            c.print(Text(f"point {k + 1} ({_describe(ex, pt['params'], swept)}): {e}", style="red"))
+
+
+def csv_text(result) -> str:
+    ex = result.exercise
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    header = [p.name for p in ex.params]
+    for o in ex.outputs:
+        header += [f"{o.name}_analytic", f"{o.name}_numeric", f"{o.name}_rel_err", f"{o.name}_agree"]
+    header.append("agree")
+    w.writerow(header)
+
+    def cell(v):
+        if v is None:
+            return ""
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        return repr(float(v))
+
+    for pt in result.points:
+        row = [cell(pt["params"][p.name]) for p in ex.params]
+        for q in pt["quantities"]:
+            row += [cell(q["analytic"]), cell(q["numeric"]), cell(q["rel_err"]), cell(q["agree"])]
+        row.append(cell(pt.get("agree")))
+        w.writerow(row)
+    return buf.getvalue()
+
+
+@click.command("sweep", cls=SolveCommand)
+@click.argument("ex_id", metavar="ID", shell_complete=_complete_ids)
+@click.option("-p", "pairs", multiple=True, metavar="NAME=RANGE", help="A range or a value (repeatable).")
+@click.option("--rtol", "rtol_text", metavar="R", help="Requested accuracy of the numeric solver [exercise default].")
+@click.option("--no-verify", is_flag=True, help="Skip the rerun at rtol/10 at every point (twice as fast).")
+@click.option("--json", "as_json", is_flag=True, help="One JSON object: the axes and a solve object per point.")
+@click.option("--csv", "as_csv", is_flag=True, help="CSV on stdout: every parameter, then per output "
+              "analytic, numeric, rel_err, agree.")
+@click.option("--plot", "plot_file", type=click.Path(dir_okay=False), metavar="FILE",
+              help="Also draw the outputs against the first swept parameter (PNG, SVG or PDF by suffix).")
+@click.option("-j", "--jobs", type=click.IntRange(1, 256), help="Processes to use [decided from the measured cost].")
+@click.pass_context
+def sweep_cmd(ctx, ex_id, pairs, rtol_text, no_verify, as_json, as_csv, plot_file, jobs):
+    """Solve exercise ID over a range: --NAME START:STOP:N[:log] for each swept parameter.
+
+    \b
+    Several ranges make a grid (the first varies slowest); --NAME VALUE holds a
+    parameter fixed.  Both methods run at every point and are cross-checked as
+    in `mech solve`.  Large sweeps run over the machine's cores.
+    \b
+    Examples:
+      mech sweep 4.15 --theta0 10deg:90deg:9
+      mech sweep 5.6 --theta0 0.1:3:12 --csv > period.csv
+      mech sweep 4.10 --l 1cm:1m:20:log --plot omega.png
+    Exit status: 0 every point agrees, 1 a point failed, 2 bad input.
+    """
+    from mech.solvers.sweep import run_sweep
+
+    if as_json and as_csv:
+        raise UsageFailure("--json and --csv: choose one")
+    ex = _get(ex_id)
+    try:
+        axes, fixed = collect(ex, ctx.meta.get("mech_param_args", []), list(pairs))
+        params = validate(ex, axes, fixed)
+        rtol = parse_rtol(rtol_text, ex)
+    except BadInput as exc:
+        raise UsageFailure(str(exc)) from None
+    if plot_file:
+        from mech.cli.figures.common import check_target, need_matplotlib
+
+        need_matplotlib()
+        check_target(plot_file)
+
+    show = sys.stderr.isatty()
+    if show:
+        from rich.console import Console
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, \
+            TimeRemainingColumn
+
+        with Progress(TextColumn(f"sweep {ex.id}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                      TimeRemainingColumn(), console=Console(stderr=True), transient=True) as bar:
+            task = bar.add_task("sweep", total=len(params))
+            result = run_sweep(ex, axes, fixed, params, rtol=rtol, verify=not no_verify, jobs=jobs,
+                               progress=lambda k: bar.update(task, completed=k))
+    else:
+        result = run_sweep(ex, axes, fixed, params, rtol=rtol, verify=not no_verify, jobs=jobs)
+    # the fixed part of the table's title: every parameter that does not sweep, defaults included
+    result.fixed = {k: v for k, v in result.points[0]["params"].items() if k not in {a.name for a in axes}}
+
+    if plot_file:
+        from mech.cli.figures.common import save
+        from mech.cli.figures.sweepfig import sweep_figure
+
+        save(sweep_figure(result), plot_file)
+    if as_json:
+        click.echo(json.dumps(result.as_json(), indent=2, allow_nan=False))
+    elif as_csv:
+        click.echo(csv_text(result), nl=False)
+    else:
+        print_table(result)
+    if plot_file:
+        click.echo(f"wrote {plot_file}", err=True)
+    ctx.exit(EXIT_DISAGREE if result.agree is False else EXIT_OK)
