@@ -181,6 +181,11 @@ def print_table(result) -> None:
                    Text("yes", style="green") if flag else Text("NO", style="bold red"))
         t.add_row(*row)
     c = render.console()
+    if not c.is_terminal:  # piped: whole numbers in every column, however wide the grid's table
+        from rich.console import Console
+
+        probe = Console(width=100_000)
+        c = Console(highlight=False, soft_wrap=False, width=max(probe.measure(t).maximum, 80))
     c.print(t)
     n_bad = sum(pt.get("agree") is False for pt in result.points)
     c.print(f"{len(result.points)} points, {result.seconds:.2f} s on {result.workers} "

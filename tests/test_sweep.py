@@ -1,0 +1,111 @@
+"""mech sweep: the grid, its numbers against single `mech solve` runs, exit 2 for bad ranges, serial = parallel."""
+
+import csv
+import io
+import json
+import math
+
+import pytest
+from click.testing import CliRunner
+
+from mech.cli.main import cli
+from mech.problems import registry
+from mech.solvers.sweep import Axis, grid_points, plan_workers, run_sweep
+
+
+def run(*args):
+    result = CliRunner().invoke(cli, list(args))
+    return result.exit_code, result.stdout, result.stderr
+
+
+def test_sweep_numbers_are_those_of_single_solves():
+    code, out, err = run("sweep", "4.15", "--theta0", "30deg:90deg:3", "--l", "2", "--json")
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["id"] == "4.15" and d["agree"] is True
+    assert [p["params"]["theta0"] for p in d["points"]] == pytest.approx([math.pi / 6, math.pi / 3, math.pi / 2])
+    for point in d["points"]:
+        # the point's own value, to the last bit: the numeric answer moves with the step choice
+        code, single, err = run("solve", "4.15", "--theta0", repr(point["params"]["theta0"]), "--l", "2", "--json")
+        assert code == 0, err
+        s = json.loads(single)
+        assert point["params"] == s["params"]
+        for qp, qs in zip(point["quantities"], s["quantities"]):
+            assert qp["name"] == qs["name"]
+            assert qp["analytic"] == qs["analytic"]
+            assert qp["numeric"] == qs["numeric"]
+            assert qp["agree"] is qs["agree"] is True
+
+
+def test_grid_order_first_axis_slowest_and_csv():
+    code, out, err = run("sweep", "4.15", "--theta0", "45deg:90deg:2", "-p", "l=1:3:3", "--no-verify", "--csv")
+    assert code == 0, err
+    rows = list(csv.DictReader(io.StringIO(out)))
+    assert len(rows) == 6
+    pairs = [(round(float(r["theta0"]), 6), float(r["l"])) for r in rows]
+    assert pairs == [(round(math.pi / 4, 6), 1.0), (round(math.pi / 4, 6), 2.0), (round(math.pi / 4, 6), 3.0),
+                     (round(math.pi / 2, 6), 1.0), (round(math.pi / 2, 6), 2.0), (round(math.pi / 2, 6), 3.0)]
+    # theta_c does not depend on l; sin theta_c = (2/3) sin theta0
+    for r in rows:
+        assert math.sin(float(r["theta_c_numeric"])) == pytest.approx(2 / 3 * math.sin(float(r["theta0"])), rel=1e-8)
+        assert r["agree"] == "true"
+
+
+def test_log_range_and_table():
+    code, out, err = run("sweep", "4.10", "--l", "1cm:1m:3:log", "--no-verify")
+    assert code == 0, err
+    assert "4.10" in out and "l [m]" in out and "3 points" in out
+
+
+@pytest.mark.parametrize("args, words", [
+    (("--theta0", "30deg:100deg:3"), ["theta0", "out of range"]),
+    (("--theta0", "30deg:60deg:x"), ["theta0", "whole number"]),
+    (("--theta0", "30deg:60deg:0"), ["theta0", "between 1"]),
+    (("--theta0", "30deg:60deg"), ["START:STOP:N"]),
+    (("--theta0", "1s:2s:3"), ["theta0", "a time"]),
+    (("--l", "-1:1:3:log"), ["l", "log"]),
+    (("--l", "2"), ["nothing to sweep"]),
+    (("--nope", "1:2:3"), ["unknown parameter 'nope'"]),
+    (("--l", "1:2:2", "--l", "3:4:2"), ["more than once"]),
+])
+def test_bad_ranges_exit_2_with_one_line(args, words):
+    code, out, err = run("sweep", "4.15", *args)
+    assert code == 2 and out == ""
+    assert err.count("\n") == 1 and err.startswith("mech: error:")
+    for w in words:
+        assert w in err
+
+
+def test_joint_constraint_is_checked_at_every_point():
+    # 4.13: the cylinder (R) must fit in the hollow (R' = 0.2 m)
+    code, out, err = run("sweep", "4.13", "--R", "0.1:0.3:3")
+    assert code == 2 and err.count("\n") == 1
+    assert "sweep point R = 0.2" in err and "must exceed" in err
+
+
+def test_serial_and_parallel_give_the_same_numbers_in_grid_order():
+    ex = registry.get("5.6")
+    axes = [Axis("theta0", (0.3, 1.0, 2.0, 2.8))]
+    params = [ex.resolve(v) for v in grid_points(axes, {})]
+    serial = run_sweep(ex, axes, {}, params, verify=False, jobs=1)
+    parallel = run_sweep(ex, axes, {}, params, verify=False, jobs=2)
+    assert serial.workers == 1 and parallel.workers == 2
+    strip = lambda r: [(p["params"], p["quantities"], p["agree"]) for p in r.points]  # noqa: E731
+    assert strip(serial) == strip(parallel)
+    assert [p["params"]["theta0"] for p in parallel.points] == [0.3, 1.0, 2.0, 2.8]
+
+
+def test_pool_only_when_it_pays():
+    assert plan_workers(10, 0.001, cores=2) == 1  # 10 ms of work: serial
+    assert plan_workers(100, 0.2, cores=2) == 2  # 20 s of work: both cores
+    assert plan_workers(100, 0.2, cores=1) == 1
+    assert plan_workers(1, 10.0, cores=8) == 1
+
+
+def test_sweep_plot_writes_a_png(tmp_path):
+    pytest.importorskip("matplotlib")
+    f = tmp_path / "s.png"
+    code, out, err = run("sweep", "5.6", "--theta0", "0.5:2.5:3", "--no-verify", "--csv", "--plot", str(f))
+    assert code == 0, err
+    assert f.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert len(out.strip().splitlines()) == 4
