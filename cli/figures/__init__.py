@@ -9,7 +9,14 @@ from __future__ import annotations
 
 import importlib
 
-SCENES: dict[str, tuple[str, str]] = {}
+SCENES: dict[str, tuple[str, str]] = {
+    "4.10": ("ch4", "physical_pendulum"),
+    "4.12": ("ch4", "chime"),
+    "4.15": ("ch4", "ladder"),
+    "4.21": ("ch4", "heavy_top"),
+    "4.27": ("ch4", "lagrange"),
+    "4.28": ("ch4", "lagrange"),
+}
 
 
 def scene_for(ex_id: str):
