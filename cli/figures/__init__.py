@@ -16,6 +16,9 @@ SCENES: dict[str, tuple[str, str]] = {
     "4.21": ("ch4", "heavy_top"),
     "4.27": ("ch4", "lagrange"),
     "4.28": ("ch4", "lagrange"),
+    "5.6": ("ch5", "pendulum_phase"),
+    "5.11": ("ch5", "mathieu"),
+    "5.13": ("ch5", "kapitza"),
 }
 
 
