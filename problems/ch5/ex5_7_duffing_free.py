@@ -1,0 +1,246 @@
+"""5.7 Free Duffing oscillator: frequency at finite amplitude and the third harmonic.
+
+Analytic (exact).  With eps = alpha A^2/omega0^2, the motion from rest at q = A is
+q = A cn(Omega t | m), Omega^2 = omega0^2 + alpha A^2, m = alpha A^2/(2 Omega^2)
+(cn'' = (2m - 1) cn - 2m cn^3 matches q'' = -omega0^2 q - alpha q^3).  The period
+4K(m)/Omega and K = pi/(2 AGM(1, sqrt(1 - m))) give, by the homogeneity of the AGM,
+    omega = AGM( sqrt(omega0^2 + alpha A^2), sqrt(omega0^2 + alpha A^2/2) ),
+valid for both signs of alpha; omega - omega0 is computed from the deviations of the
+AGM's two sequences from omega0 (no cancellation for small eps), and
+omega0^2 + alpha A^2 exactly (rational arithmetic) so the barrier approach keeps
+its digits.  c3 from the nome series of cn, with q_n = exp(-pi K'/K):
+    m >= 0:  c3 = A (2 pi/(K sqrt m)) q_n^(3/2)/(1 + q_n^3);
+    m < 0:   cn(u|m) = cd(u sqrt(1-m) | m1), m1 = -m/(1-m), and the cd series gives
+             c3 = -A (2 pi/(K1 sqrt m1)) q1^(3/2)/(1 - q1^3);
+for |m| < 1e-8 the series c3 = A (m/16)(1 + m/2).  Leading order (Lindstedt):
+omega = omega0 + 3 alpha A^2/(8 omega0), c3 = alpha A^3/(32 omega0^2).  For alpha < 0
+the period diverges like ln(1/(1 + eps)) as A approaches the barrier omega0/sqrt(|alpha|).
+
+Numeric (units 1/omega0 and A: x'' = -x - eps x^3 from (1, 0)):
+* eps > -1/2: the quarter period by the event x = 0 (DOP853, energy monitored); for
+  |eps| < 1/2 omega - omega0 instead from a quadrature of T - T0: energy
+  conservation with x = cos th gives T/4 = int_0^{pi/2} dth/sqrt(1 + (eps/2)(1 + cos^2 th)),
+  integrated as the cancellation-free difference from the harmonic pi/2.  c3 from
+  the deviation r = x - cos(omega t), integrated as a state of its own
+  (r'' = -omega^2 r + (omega^2 - 1) x - eps x^3, so a c3 of 1e-8 A keeps its relative
+  digits) together with int r cos 3 omega t dt over a quarter period; the half-wave
+  symmetry gives c3 = (8/T) times that integral (int cos wt cos 3wt vanishes there).
+* eps <= -1/2 (softening, towards the barrier x_b = 1/sqrt(-eps)): the distance from
+  the barrier top s = x_b - x, s'' = 2 s - 3 s^2/x_b - eps s^3, started at
+  s0 = (1 + eps)/((-eps)(x_b + 1)) with 1 + eps exact, to the event s = x_b (x = 0);
+  then c3 from int (x_b - s) cos 3 omega t over that quarter period.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import numpy as np
+
+from mech.problems.spec import Exercise, NumericFailure
+
+exercise = Exercise(
+    "5.7",
+    formulas=[
+        "q = A cn(Ωt | m),  Ω² = ω₀² + αA²,  m = αA²/(2Ω²)",
+        "ω = πΩ/(2K(m)) = AGM((ω₀² + αA²)^½, (ω₀² + αA²/2)^½)",
+        "c₃ = A (2π/(K√m)) q^{3/2}/(1 + q³),  q = exp(−πK(1−m)/K(m))  (m < 0: the cd series with m₁ = −m/(1−m))",
+        "leading order: ω ≈ ω₀ + 3αA²/(8ω₀),  c₃ ≈ αA³/(32ω₀²)",
+        "α < 0, A² → ω₀²/|α|: T ≈ (2√2/ω₀) ln(8ω₀²/(ω₀² + αA²)) → ∞ (logarithmic divergence)",
+    ],
+)
+
+EPS_MAX = 1e200  # alpha A^2/omega0^2 above this the scaled force and energy terms approach overflow
+
+
+def _one_plus_eps(p) -> float:
+    """1 + alpha A^2/omega0^2, computed exactly in rational arithmetic then rounded once."""
+    w0, al, a = Fraction(p.omega0), Fraction(p.alpha), Fraction(p.A)
+    return float((w0 * w0 + al * a * a) / (w0 * w0))
+
+
+def _eps(p) -> float:
+    return (p.alpha / p.omega0) * (p.A / p.omega0) * p.A
+
+
+@exercise.constraint
+def _(p):
+    if p.alpha < 0.0 and _one_plus_eps(p) <= 0.0:
+        qb = p.omega0 / math.sqrt(-p.alpha)
+        return (f"A = {p.A:g} m is at or beyond the barrier top omega0/sqrt(|alpha|) = {qb:.10g} m: "
+                "the motion is not bounded")
+    if _eps(p) > EPS_MAX:
+        return f"alpha A^2/omega0^2 = {_eps(p):.3g} exceeds {EPS_MAX:g}"
+
+
+def _agm_deviation(da, db):
+    """AGM(1 + da, 1 + db) - 1 from the deviations, without forming 1 + small and subtracting."""
+    for _ in range(80):
+        x = da + db + da * db  # a b - 1
+        da, db = 0.5 * (da + db), x / (1.0 + math.sqrt(1.0 + x))
+        if abs(da - db) <= 1e-17 * max(abs(da), 1e-300):
+            break
+    return 0.5 * (da + db)
+
+
+def _agm(a, b):
+    for _ in range(80):
+        a, b = 0.5 * (a + b), math.sqrt(a * b)
+        if abs(a - b) <= 1e-16 * a:
+            break
+    return 0.5 * (a + b)
+
+
+@exercise.analytic
+def _(p):
+    from scipy.special import ellipk, ellipkm1
+
+    w0, A = p.omega0, p.A
+    eps = _eps(p)
+    g = _one_plus_eps(p)  # (omega0^2 + alpha A^2)/omega0^2 = Omega^2/omega0^2
+    h = 0.5 * (1.0 + g)  # (omega0^2 + alpha A^2/2)/omega0^2
+    if abs(eps) < 0.5:
+        # deviations of sqrt(1 + eps), sqrt(1 + eps/2) from 1
+        da = eps / (math.sqrt(g) + 1.0)
+        db = 0.5 * eps / (math.sqrt(h) + 1.0)
+        dw = _agm_deviation(da, db)
+        omega = w0 * (1.0 + dw)
+        domega = w0 * dw
+    else:
+        omega = w0 * _agm(math.sqrt(g), math.sqrt(h))
+        domega = omega - w0
+    # third harmonic
+    m = 0.5 * eps / g  # alpha A^2/(2 Omega^2)
+    if abs(m) < 1e-8:
+        c3 = A * (m / 16.0) * (1.0 + 0.5 * m)
+    elif m > 0.0:
+        K, Kp = float(ellipk(m)), float(ellipkm1(m))
+        qn = math.exp(-math.pi * Kp / K)
+        c3 = A * (2.0 * math.pi / (K * math.sqrt(m))) * qn * math.sqrt(qn) / (1.0 + qn**3)
+    else:
+        # m1 = -m/(1 - m) = -eps/(1 + h); 1 - m1 = 2 g/(1 + g), exact near the barrier
+        m1 = -eps / (2.0 * h)
+        p1 = 2.0 * g / (1.0 + g)
+        K1, K1p = float(ellipkm1(p1)), float(ellipk(p1))
+        x = math.pi * K1p / K1
+        q1 = math.exp(-x)
+        c3 = -A * (2.0 * math.pi / (K1 * math.sqrt(m1))) * q1 * math.sqrt(q1) / (-math.expm1(-3.0 * x))
+    return {"omega": omega, "domega": domega, "c3": c3}
+
+
+# ------------------------------------------------------------------ numeric
+def _quarter_excess(eps):
+    """(T/4 - pi/2) in units 1/omega0 by quadrature of the energy integral, and its error estimate."""
+    from scipy.integrate import quad
+
+    def f(th):
+        c = math.cos(th)
+        s = 0.5 * eps * (1.0 + c * c)
+        g = math.sqrt(1.0 + s)
+        return -s / (g * (g + 1.0))  # 1/g - 1
+
+    val, err = quad(f, 0.0, 0.5 * math.pi, epsabs=0.0, epsrel=1e-13, limit=200)
+    return val, err
+
+
+@exercise.numeric
+def _(p, run):
+    from mech.solvers.ode import Event, integrate, integrate_to_event
+
+    w0, A = p.omega0, p.A
+    eps = _eps(p)
+    rtol = run.rtol
+
+    if eps > -0.5:
+        # time sigma = S tau with S^2 = 1 + eps for a stiff spring (S = 1 below eps = 1/2),
+        # so that one period is of order one however large eps: x'' = -a x - b x^3
+        S = math.sqrt(1.0 + eps) if eps >= 0.5 else 1.0
+        a, b = 1.0 / (S * S), eps / (S * S)
+
+        def rhs(t, y):
+            return np.array([y[1], -a * y[0] - b * y[0] ** 3])
+
+        def energy(x, v):
+            return 0.5 * v * v + 0.5 * a * x * x + 0.25 * b * x**4
+
+        vmax = math.sqrt(a + 0.5 * abs(b))
+        span = 8.0 * math.pi
+        t_q, y_q, tr = integrate_to_event(
+            rhs, (0.0, span), [1.0, 0.0], Event(lambda t, y: y[0], direction=-1, name="x = 0"),
+            rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3 * vmax],
+        )
+        run.record(tr)
+        e0 = energy(1.0, 0.0)
+        run.invariant("energy", (energy(y_q[0], y_q[1]) - e0) / e0)
+        if abs(eps) < 0.5:
+            excess, err = _quarter_excess(eps)
+            dw = -excess / (0.5 * math.pi + excess)  # pi/(2 (pi/2 + excess)) - 1
+            run.claim("domega", rel=max(1e-12, 10.0 * err / max(abs(excess), 1e-300)) if excess != 0.0 else None,
+                      abs=0.0 if excess != 0.0 else 1e-300)
+            run.info["domega_route"] = "quadrature of T - T0"
+            run.invariant("quarter period: event vs quadrature", (t_q - (0.5 * math.pi + excess)) / t_q)
+            ws = 1.0 + dw  # angular frequency in units of S omega0 = omega0
+            ws2ma = dw * (2.0 + dw)  # ws^2 - a without cancellation
+        else:
+            ws = 0.5 * math.pi / t_q
+            ws2ma = ws * ws - a
+            run.info["domega_route"] = "event x = 0"
+        omega1 = S * ws
+        dw = omega1 - 1.0 if abs(eps) >= 0.5 else dw
+
+        # c3 from the deviation r = x - cos(ws sigma)
+        def rhs_r(t, y):
+            c = math.cos(ws * t)
+            x = c + y[0]
+            return np.array([y[1], -ws * ws * y[0] + ws2ma * x - b * x**3, y[0] * math.cos(3.0 * ws * t)])
+
+        rs = min(max(abs(eps), 1e-300), 1.0)  # the size of r (|eps|/32 small, order one large)
+        tq = 0.5 * math.pi / ws
+        tr2 = integrate(rhs_r, (0.0, tq), [0.0, 0.0, 0.0], rtol=rtol,
+                        atol=np.array([rs, rs * ws, rs * tq]) * rtol * 1e-3)
+        run.record(tr2)
+        r_end, v_end, integral = tr2.y_end
+        x_end = r_end + math.cos(ws * tq)
+        run.invariant("energy", (energy(x_end, v_end - ws * math.sin(ws * tq)) - e0) / e0)
+        run.info["x_at_quarter_period"] = x_end
+        c3_over_a = 4.0 * ws / math.pi * integral
+    else:
+        xb = 1.0 / math.sqrt(-eps)
+        g = _one_plus_eps(p)
+        s0 = g / ((-eps) * (xb + 1.0))
+
+        def rhs_s(t, y):
+            s = y[0]
+            return np.array([y[1], 2.0 * s - 3.0 * s * s / xb - eps * s**3])
+
+        def pot(s):
+            return -s * s + s**3 / xb + 0.25 * eps * s**4
+
+        # the quarter period grows like ln(1/s0): bound the search generously
+        span = 8.0 * (math.pi + math.log(1.0 + 1.0 / s0))
+        t_q, y_q, tr = integrate_to_event(
+            rhs_s, (0.0, span), [s0, 0.0], Event(lambda t, y: y[0] - xb, direction=1, name="x = 0"),
+            rtol=rtol, atol=[rtol * 1e-3 * s0, rtol * 1e-3 * s0],
+        )
+        run.record(tr)
+        e0 = pot(s0)
+        # relative to the energy range explored, V(s0) - V(x_b) = (1/2 + eps/4 x_b^4)... ~ 1/4 x_b^2 scale
+        scale = 0.5 * y_q[1] ** 2
+        run.invariant("energy", (0.5 * y_q[1] ** 2 + pot(y_q[0]) - e0) / scale)
+        omega1 = 0.5 * math.pi / t_q
+        dw = omega1 - 1.0
+        run.info["domega_route"] = "event x = 0 in the distance from the barrier top"
+
+        def rhs_c(t, y):
+            s = y[0]
+            return np.array([y[1], 2.0 * s - 3.0 * s * s / xb - eps * s**3, (xb - s) * math.cos(3.0 * omega1 * t)])
+
+        tr2 = integrate(rhs_c, (0.0, t_q), [s0, 0.0, 0.0], rtol=rtol,
+                        atol=np.array([s0, s0, t_q]) * rtol * 1e-3)
+        run.record(tr2)
+        run.info["x_at_quarter_period"] = xb - tr2.y_end[0]
+        c3_over_a = 4.0 * omega1 / math.pi * tr2.y_end[2]
+    if not math.isfinite(omega1) or not math.isfinite(c3_over_a):
+        raise NumericFailure("non-finite frequency or harmonic")
+    return {"omega": w0 * omega1, "domega": w0 * dw, "c3": A * c3_over_a}
