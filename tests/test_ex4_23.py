@@ -1,0 +1,73 @@
+"""4.23 against values worked out by hand.
+
+Hand derivation (axis n3 = cos th e_r + sin th z, omega = Om z - s n3, M = 1):
+rolling: the contact point's velocity Om R e_phi is cancelled by the spin, s = Om R/r.
+About the center, L = (r^2/4) Om (z - sin th n3) + (r^2/2)(Om sin th - s) n3 turns at
+Om: dL/dt = Om^2 cos th r (r sin th/4 - R/2) e_phi.  Contact force: vertical g,
+radial -Om^2 (R - r sin th); its torque about the center:
+r (Om^2 (R - r sin th) cos th - g sin th) e_phi.  Equal:
+Om^2 = 4 g tan th / (6 R - 5 r sin th).  T = 2 pi/Om.
+"""
+
+import math
+
+import pytest
+
+from conftest import solve_both
+
+
+def hand(r, th, R, g):
+    Om = math.sqrt(4 * g * math.tan(th) / (6 * R - 5 * r * math.sin(th)))
+    return 2 * math.pi / Om, Om, Om * R / r
+
+
+@pytest.mark.parametrize(
+    "r, th, R, g",
+    [
+        (0.012, 0.3, 0.1, 9.81),  # defaults
+        (0.01, math.pi / 4, 0.01, 9.81),  # circle as small as the coin: 6R - 5 r sin th = 0.0246447
+        (0.2, 0.3, 0.05, 1.62),  # contact circle smaller than the center's offset: the center orbits on the far side
+        (0.012, 1.5, 0.05, 9.81),  # nearly flat coin
+    ],
+)
+def test_against_hand_values(r, th, R, g):
+    T, Om, spin = hand(r, th, R, g)
+    a, n, run = solve_both("4.23", r=r, theta=th, R=R, g=g)
+    for v in (a, n):
+        assert v["T"] == pytest.approx(T, rel=1e-8)
+        assert v["Omega"] == pytest.approx(Om, rel=1e-8)
+        assert v["omega_spin"] == pytest.approx(spin, rel=1e-8)
+    assert run.info["timed_by"] == "event: one full turn"
+    assert run.invariants["tilt n3.z"] < 1e-7
+    assert run.invariants["energy"] < 1e-8
+
+
+def test_euler_disk_limit():
+    # R = r sin th: center at rest, Om^2 = 4 g/(r cos th) = 4*9.81/(0.012 cos 0.3)
+    th, r = 0.3, 0.012
+    Om = math.sqrt(4 * 9.81 / (r * math.cos(th)))
+    a, n, _ = solve_both("4.23", R=r * math.sin(th))
+    for v in (a, n):
+        assert v["Omega"] == pytest.approx(Om, rel=1e-8)
+        assert v["T"] == pytest.approx(2 * math.pi / Om, rel=1e-8)
+        # spin = Om R / r = Om sin th
+        assert v["omega_spin"] == pytest.approx(Om * math.sin(th), rel=1e-8)
+
+
+def test_large_circle_approaches_2g_tan_over_3R():
+    # R = 1 m >> r: Om^2 = (2 g tan th/(3 R)) / (1 - 5 r sin th/(6 R)); the numeric times the
+    # turn by the fitted azimuth rate (83 spin turns per orbit)
+    th, r, R = 0.05, 0.012, 1.0
+    Om2 = 2 * 9.81 * math.tan(th) / (3 * R) / (1 - 5 * r * math.sin(th) / (6 * R))
+    a, n, run = solve_both("4.23", theta=th, R=R)
+    for v in (a, n):
+        assert v["Omega"] == pytest.approx(math.sqrt(Om2), rel=1e-7)
+    assert "fitted" in run.info["timed_by"]
+
+
+def test_unstable_slow_upright_rolling_is_reported():
+    # th = 0.01, R = r: slow, nearly upright rolling is unstable; the answer is the steady root
+    _, Om, _ = hand(0.012, 0.01, 0.012, 9.81)
+    a, n, run = solve_both("4.23", theta=0.01, R=0.012)
+    assert "unstable" in run.info["steady_motion"]
+    assert n["Omega"] == pytest.approx(Om, rel=1e-10)
