@@ -53,7 +53,7 @@ def ladder(ex, params, *, n_numeric=5, rtol=None):
     ax.plot([tc], [math.degrees(a["theta_c"])], "*", color="k", ms=10, label=f"analytic θc = {math.degrees(a['theta_c']):.4g}°")
     if nv.get("theta_c") == nv.get("theta_c"):
         ax.plot([tc], [math.degrees(nv["theta_c"])], **{**NUMERIC, "label": f"numeric θc = {math.degrees(nv['theta_c']):.4g}°"})
-    ax.set_xlabel("t [s]")
+    ax.set_xlabel("t [s]" + (" (from a 1 mrad nudge)" if start < th0 else ""))
     ax.set_ylabel("θ [deg] (from the floor)")
     ax.legend(fontsize=7, frameon=False)
     ax.grid(alpha=0.3)
@@ -70,9 +70,8 @@ def ladder(ex, params, *, n_numeric=5, rtol=None):
                 arrowprops=dict(arrowstyle="->", lw=0.8))
 
     ax = axes[0][2]
-    for k, frac in enumerate(np.linspace(0, 1, 6)):
-        tt = frac * tc
-        thk = sol.sol(tt)[0]
+    thc = float(sol.sol(tc)[0])
+    for k, thk in enumerate(np.linspace(start, thc, 6)):
         x, y = l * math.cos(thk), l * math.sin(thk)
         last = k == 5
         ax.plot([0, x], [y, 0], "-", color="C3" if last else "0.6", lw=2.2 if last else 1.2)
@@ -81,7 +80,7 @@ def ladder(ex, params, *, n_numeric=5, rtol=None):
     ax.set_aspect("equal")
     ax.set_xlim(-0.05 * l, 1.1 * l)
     ax.set_ylim(-0.05 * l, 1.1 * l)
-    ax.set_title("the ladder at equal times; red: at θc", fontsize=8)
+    ax.set_title("the ladder at equal steps of θ; red: at θc", fontsize=8)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     title(fig, ex, params, extra=f"ω at θc: analytic {a['omega_c']:.6g} rad/s"
