@@ -5,7 +5,7 @@ from __future__ import annotations
 from mech.cli.values import ValueError_, to_si
 from mech.problems.spec import BadInput, Exercise
 
-__all__ = ["collect_params", "parse_rtol"]
+__all__ = ["collect_params", "collect_texts", "parse_rtol"]
 
 
 def _canonical(ex: Exercise, raw: str) -> str:
@@ -26,8 +26,12 @@ def _convert(ex: Exercise, name: str, text: str) -> float:
     return value
 
 
-def collect_params(ex: Exercise, args: list[str], pairs: list[str]) -> dict[str, float]:
-    """Read the extra ``--NAME VALUE`` arguments and the ``-p`` pairs; a name given twice is an error."""
+def collect_texts(ex: Exercise, args: list[str], pairs: list[str],
+                  forms: str = "--NAME VALUE or -p NAME=VALUE") -> dict[str, str]:
+    """The raw text given for each parameter, from ``--NAME VALUE``, ``--NAME=VALUE`` and ``-p NAME=VALUE``.
+
+    A name given twice is an error, not a silent choice.
+    """
     texts: dict[str, str] = {}
 
     def put(raw_name: str, text: str) -> None:
@@ -40,16 +44,15 @@ def collect_params(ex: Exercise, args: list[str], pairs: list[str]) -> dict[str,
     while i < len(args):
         arg = args[i]
         if not arg.startswith("--") or len(arg) <= 2:
-            raise BadInput(f"unexpected argument '{arg}'; parameters are given as --NAME VALUE or -p NAME=VALUE")
+            raise BadInput(f"unexpected argument '{arg}'; parameters are given as {forms}")
         body = arg[2:]
         if "=" in body:
             name, text = body.split("=", 1)
         else:
             name = body
             if i + 1 >= len(args):
-                _canonical(ex, name)
-                raise BadInput(f"{name.replace('-', '_')}: no value given; allowed range "
-                               f"{ex.param_map[name.replace('-', '_')].range_text()}")
+                canon = _canonical(ex, name)
+                raise BadInput(f"{canon}: no value given; allowed range {ex.param_map[canon].range_text()}")
             i += 1
             text = args[i]
         put(name, text)
@@ -57,9 +60,13 @@ def collect_params(ex: Exercise, args: list[str], pairs: list[str]) -> dict[str,
     for pair in pairs:
         if "=" not in pair:
             raise BadInput(f"-p takes NAME=VALUE, got '{pair}'")
-        name, text = pair.split("=", 1)
-        put(name, text)
-    return {name: _convert(ex, name, text) for name, text in texts.items()}
+        put(*pair.split("=", 1))
+    return texts
+
+
+def collect_params(ex: Exercise, args: list[str], pairs: list[str]) -> dict[str, float]:
+    """Every given parameter converted to SI and checked against its bounds."""
+    return {name: _convert(ex, name, text) for name, text in collect_texts(ex, args, pairs).items()}
 
 
 def parse_rtol(text: str | None, ex: Exercise) -> float | None:

@@ -18,7 +18,7 @@ import sys
 import click
 
 from mech.cli.main import EXIT_DISAGREE, EXIT_OK, SolveCommand, UsageFailure, _complete_ids, _get
-from mech.cli.options import _canonical, _convert, parse_rtol
+from mech.cli.options import _convert, collect_texts, parse_rtol
 from mech.cli.values import ValueError_, to_si
 from mech.problems.spec import BadInput, Exercise
 
@@ -75,35 +75,7 @@ def parse_range(ex: Exercise, name: str, text: str):
 
 def collect(ex: Exercise, args: list[str], pairs: list[str]):
     """The ``--NAME VALUE`` arguments and ``-p`` pairs split into axes (ranges) and fixed values."""
-    texts: dict[str, str] = {}
-
-    def put(raw: str, text: str) -> None:
-        name = _canonical(ex, raw)
-        if name in texts:
-            raise BadInput(f"{name}: given more than once; allowed range {ex.param_map[name].range_text()}")
-        texts[name] = text
-
-    i = 0
-    while i < len(args):
-        arg = args[i]
-        if not arg.startswith("--") or len(arg) <= 2:
-            raise BadInput(f"unexpected argument '{arg}'; parameters are given as --NAME START:STOP:N or --NAME VALUE")
-        body = arg[2:]
-        if "=" in body:
-            name, text = body.split("=", 1)
-        else:
-            name = body
-            if i + 1 >= len(args):
-                canon = _canonical(ex, name)
-                raise BadInput(f"{canon}: no value given; allowed range {ex.param_map[canon].range_text()}")
-            i += 1
-            text = args[i]
-        put(name, text)
-        i += 1
-    for pair in pairs:
-        if "=" not in pair:
-            raise BadInput(f"-p takes NAME=VALUE or NAME=START:STOP:N, got '{pair}'")
-        put(*pair.split("=", 1))
+    texts = collect_texts(ex, args, pairs, forms="--NAME START:STOP:N, --NAME VALUE or -p NAME=...")
     axes, fixed = [], {}
     for name, text in texts.items():
         if ":" in text:
