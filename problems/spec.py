@@ -241,6 +241,7 @@ class Exercise:
         self._numeric: Callable | None = None
         self._constraints: list[Callable] = []
         self._expected_error: Callable | None = None
+        self._hamiltonian: Callable | None = None
         self.param_map = {p.name: p for p in self.params}
 
     # -- decorators -------------------------------------------------------
@@ -262,6 +263,13 @@ class Exercise:
     def expected_error(self, fn: Callable[[Params], dict]) -> Callable:
         """For leading-order outputs: ``fn(p) -> {output: relative size of what the theory neglects}``."""
         self._expected_error = fn
+        return fn
+
+    def hamiltonian(self, fn: Callable[[Params], Any]) -> Callable:
+        """Optional: ``fn(p) -> mech.solvers.symplectic.SeparableHamiltonian``, the scene as a separable
+        Hamiltonian with the readout of the outputs, so that a symplectic integrator can solve it too
+        (``mech bench`` adds that row).  It does not replace the numeric solver."""
+        self._hamiltonian = fn
         return fn
 
     # -- use --------------------------------------------------------------

@@ -99,3 +99,32 @@ def _(p, run):
     run.invariant("energy", (_energy(y_ev[0], y_ev[1], M, l, g) - e_start) / (M * g * l / 2))
     run.info["t_c"] = t_ev
     return {"theta_c": y_ev[0], "omega_c": abs(y_ev[1])}
+
+
+@exercise.hamiltonian
+def _(p):
+    """For the symplectic rows of ``mech bench``.  With both ends in contact the center moves on a circle of
+    radius l/2, so T = (1/2)(M l²/4 + M l²/12) θ'² = (M l²/6) θ'² does not depend on θ: H = 3 p²/(2 M l²)
+    + (M g l/2) sin θ is separable.  Units M = l = 1, τ = (g/l)^½ t: θ' = 3p, p' = -(1/2) cos θ.  The wall's
+    force is M x'' with x = (l/2) cos θ: N ∝ -(sin θ θ'' + cos θ θ'²) = cos θ ((3/2) sin θ - θ'²), so the
+    event is (3/2) sin θ - θ'² falling through zero.  Started as the numeric solver starts (the nudge)."""
+    from mech.solvers.symplectic import SeparableHamiltonian
+
+    theta, omega = p.theta0, 0.0
+    if np.pi / 2 - p.theta0 < UPRIGHT_NUDGE:
+        theta = p.theta0 - UPRIGHT_NUDGE
+        omega = -np.sqrt(3.0 * (np.sin(p.theta0) - np.sin(theta)))  # energy, scaled units
+    w_unit = np.sqrt(p.g / p.l)
+    return SeparableHamiltonian(
+        velocity=lambda mom: 3.0 * mom,
+        force=lambda q: -0.5 * np.cos(q),
+        energy=lambda q, mom: 1.5 * mom * mom + 0.5 * np.sin(q),
+        q0=float(theta),
+        p0=float(omega / 3.0),
+        t_max=200.0,
+        readout=lambda t, q, mom: {"theta_c": q, "omega_c": abs(3.0 * mom) * w_unit},
+        event=lambda q, mom: 1.5 * np.sin(q) - 9.0 * mom * mom,
+        direction=-1,
+        time_scale=1.0,
+        name="ladder until the wall lets go",
+    )

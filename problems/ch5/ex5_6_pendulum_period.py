@@ -133,3 +133,30 @@ def _(p, run):
     if not math.isfinite(T):
         raise NumericFailure("no finite quarter period")
     return out
+
+
+@exercise.hamiltonian
+def _(p):
+    """For the symplectic rows of ``mech bench``: H = p²/2 - cos θ in τ = ω₀ t (separable), from rest at θ₀
+    to the first downward passage through θ = 0, a quarter period; T, T/T₀ and δω read from it."""
+    from mech.solvers.symplectic import SeparableHamiltonian
+
+    w0 = math.sqrt(p.g / p.l)
+
+    def readout(t, q, mom):
+        T = 4.0 * t / w0
+        return {"T": T, "T_ratio": T * w0 / (2.0 * math.pi), "domega": 2.0 * math.pi / T - w0}
+
+    return SeparableHamiltonian(
+        velocity=lambda mom: mom,
+        force=lambda q: -math.sin(q),
+        energy=lambda q, mom: 0.5 * mom * mom - math.cos(q),
+        q0=float(p.theta0),
+        p0=0.0,
+        t_max=8.0 * (math.pi + math.log(1.0 + 8.0 / _phi0(p.theta0))),
+        readout=readout,
+        event=lambda q, mom: q,
+        direction=-1,
+        time_scale=1.0,
+        name="pendulum quarter swing",
+    )

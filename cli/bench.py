@@ -1,0 +1,179 @@
+"""``mech bench ID``: speed against error of an exercise's numeric solver (machinery in mech.solvers.bench)."""
+
+from __future__ import annotations
+
+import json
+
+import click
+
+__all__ = ["bench_cmd", "plot_bench"]
+
+
+def _float_list(text: str | None, what: str) -> list[float] | None:
+    if not text:
+        return None
+    out = []
+    for part in text.replace(" ", ",").split(","):
+        if not part:
+            continue
+        try:
+            v = float(part)
+        except ValueError:
+            raise click.BadParameter(f"'{part}' is not a number", param_hint=what) from None
+        if not (0.0 < v < 1.0):
+            raise click.BadParameter(f"{part} is out of range; allowed (0, 1)", param_hint=what)
+        out.append(v)
+    return out
+
+
+@click.command("bench")
+@click.argument("ex_id", metavar="ID")
+@click.option("-p", "pairs", multiple=True, metavar="NAME=VALUE", help="Set a parameter (repeatable).")
+@click.option("--methods", "methods_text", metavar="M1,M2",
+              help="Rows to run: RK45, DOP853, LSODA, Radau, BDF, RK23, Yoshida4, Yoshida6, scipy-default, "
+                   "default [the integrators, the symplectic rows where the exercise has a Hamiltonian, "
+                   "the student row and the default].")
+@click.option("--tols", "tols_text", metavar="T1,T2", help="Requested tolerances [1e-3 to 1e-12, every decade].")
+@click.option("--repeats", default=5, show_default=True, help="Timed runs per point at most (after a warm-up).")
+@click.option("--budget", "budget_s", default=45.0, show_default=True,
+              help="Seconds the timed repeats may take in all; slow points are timed once.")
+@click.option("--json", "as_json", is_flag=True, help="The contract's JSON object on stdout.")
+@click.option("--plot", "plot_file", type=click.Path(dir_okay=False, writable=True),
+              help="Draw error against time and against evaluations (log-log) to this PNG (needs matplotlib).")
+def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, as_json, plot_file):
+    """Speed against error of exercise ID's numeric solver.
+
+    Every point: requested rtol, achieved error against the exact analytic answer
+    (max over outputs of |numeric - analytic|/|analytic|), median wall time after a
+    warm-up with its spread, and right-hand-side evaluations.  Failed runs stay as
+    failures.  Summary: the cheapest setting reaching 1e-6 and 1e-9, and a ranking.
+    """
+    from mech.cli.main import UsageFailure, _get
+    from mech.cli.options import collect_params
+    from mech.problems.spec import BadInput
+    from mech.solvers.bench import bench
+
+    ex = _get(ex_id)
+    if ex._numeric is None or ex._analytic is None:
+        raise UsageFailure(f"{ex.id} has no numeric and analytic solver pair to bench")
+    try:
+        params = ex.resolve(collect_params(ex, [], list(pairs)))
+    except BadInput as exc:
+        raise UsageFailure(str(exc)) from None
+    methods = [m.strip() for m in methods_text.split(",") if m.strip()] if methods_text else None
+    tols = _float_list(tols_text, "--tols")
+    if plot_file:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            raise UsageFailure("--plot needs matplotlib: pip install 'mech[plot]'") from None
+
+    progress = None
+    if not as_json:
+        from mech.cli.render import console
+
+        c = console()
+
+        def progress(pt):
+            if c.is_terminal:
+                c.print(f"  {pt['method']:>13}  rtol {pt['rtol']:.0e}", style="dim", end="\r")
+
+    try:
+        result = bench(ex, params, methods=methods, tols=tols, repeats=repeats, budget_s=budget_s,
+                       progress=progress)
+    except ValueError as exc:
+        raise UsageFailure(str(exc)) from None
+    if plot_file:
+        plot_bench(result, plot_file)
+    if as_json:
+        from mech.solvers.crosscheck import _clean
+
+        click.echo(json.dumps(_clean(result), indent=2, allow_nan=False))
+    else:
+        _print(result, plot_file)
+
+
+def _g(v, fmt=".2g"):
+    return "—" if v is None else format(v, fmt)
+
+
+def _print(r: dict, plot_file: str | None) -> None:
+    from rich import box
+    from rich.table import Table
+    from rich.text import Text
+
+    from mech.cli.render import console
+
+    c = console()
+    c.print(Text(f"{r['id']}  {r['title']}", style="bold"))
+    c.print(f"error: {r['error_measure']} (reference: {r['reference']}; outputs {', '.join(r['measured_outputs'])}"
+            + (f"; skipped {', '.join(r['skipped_outputs'])}: zero or undefined" if r["skipped_outputs"] else "")
+            + (f"; leading-order, left out: {', '.join(r['left_out_outputs'])}" if r["left_out_outputs"] else "")
+            + ")", style="dim")
+    if r["route"] != "ode":
+        c.print(r["route"], style="dim")
+    t = Table(box=box.SIMPLE_HEAD, show_edge=False)
+    for col, just in (("method", "left"), ("rtol", "right"), ("error", "right"), ("time ms", "right"),
+                      ("spread ms", "right"), ("nfev", "right"), ("note", "left")):
+        t.add_column(col, justify=just)
+    last = None
+    for p in r["points"]:
+        if last is not None and p["method"] != last:
+            t.add_section()
+        last = p["method"]
+        if p["ok"]:
+            spread = f"{p['time_min_s'] * 1e3:.3g}–{p['time_max_s'] * 1e3:.3g}"
+            t.add_row(p["method"], f"{p['rtol']:.0e}", _g(p["error"]), f"{p['time_s'] * 1e3:.3g}", spread,
+                      str(p["nfev"]), p.get("note", "") or p.get("integrator", ""))
+        else:
+            t.add_row(p["method"], f"{p['rtol']:.0e}", Text("failed", style="red"), "—", "—", "—",
+                      p.get("note", ""))
+    c.print(t)
+    s = Table(title="Summary (cheapest = least median time)", title_justify="left", box=box.SIMPLE_HEAD,
+              show_edge=False)
+    for col in ("rank", "method", "to 1e-6: rtol", "ms", "nfev", "to 1e-9: rtol", "ms", "nfev", "best error"):
+        s.add_column(col, justify="left" if col == "method" else "right")
+    for e in sorted(r["summary"], key=lambda e: e["rank"]):
+        row = [str(e["rank"]), e["method"]]
+        for key in ("cheapest_for_1e-6", "cheapest_for_1e-9"):
+            ch = e[key]
+            row += [f"{ch['rtol']:.0e}", f"{ch['time_s'] * 1e3:.3g}", str(ch["nfev"])] if ch else ["—", "—", "—"]
+        row.append(_g(e["best_error"]))
+        s.add_row(*row)
+    c.print(s)
+    tm = r["timing"]
+    c.print(f"{tm['seconds']:.1f} s; medians of up to {tm['repeats_max']} runs after a warm-up; "
+            f"load {_g(tm['load_1min'])} on {tm['cpus']} cpus" + (f"; plot: {plot_file}" if plot_file else ""),
+            style="dim")
+
+
+def plot_bench(r: dict, path: str) -> None:
+    """Error against median time and against nfev, log-log, one line per method (students' point a star)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(9.0, 3.8), dpi=80, sharey=True)
+    methods = list(dict.fromkeys(p["method"] for p in r["points"]))
+    for m in methods:
+        pts = [p for p in r["points"] if p["method"] == m and p["ok"] and p["error"]]
+        if not pts:
+            continue
+        single = len(pts) == 1
+        style = dict(marker="*" if m == "scipy-default" else ("D" if m == "default" else "o"),
+                     markersize=10 if single else 4, linestyle="none" if single else "-")
+        for ax, key in zip(axes, ("time_s", "nfev")):
+            ax.plot([p[key] for p in pts], [max(p["error"], 1e-17) for p in pts], label=m, **style)
+    axes[0].set_xlabel("median wall time [s]")
+    axes[1].set_xlabel("right-hand-side evaluations")
+    axes[0].set_ylabel("error (max rel. vs analytic)")
+    for ax in axes:
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.grid(True, which="major", alpha=0.3)
+    axes[1].legend(fontsize=7, loc="best")
+    fig.suptitle(f"{r['id']}  {r['title']}", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)

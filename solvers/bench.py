@@ -1,0 +1,324 @@
+"""Speed against error: sweep the numeric solver of one exercise over integrators and tolerances.
+
+For every (method, requested rtol) point the exercise's own numeric solver runs
+with every ODE integration inside it forced onto that method
+(``ode.override(method=...)``); the error is measured against the exact
+analytic answer and the time is the median of repeated runs after a warm-up.
+
+Error measure: max over outputs of |numeric - analytic| / |analytic|, over the
+outputs whose analytic value is exact (leading-order outputs are left out: their
+difference is the theory's, not the integrator's), and finite and nonzero (a
+zero or undefined analytic value has no relative error; it is skipped and
+named in ``skipped_outputs``).  An exercise whose every output is leading-order
+is measured against its own numeric solver at its tightest rtol instead
+(``reference`` says which).
+
+Rows:
+  * RK45, DOP853 (explicit), LSODA (switches to BDF on stiffness), Radau
+    (implicit, for possible stiffness): the exercise's solver with that method forced;
+  * ``scipy-default``: what a student would write, ``solve_ivp`` with its defaults
+    (RK45, rtol 1e-3, atol 1e-6, no step bounds; ``ode.override(student=True)``),
+    one point, run with ``run.rtol = 1e-3`` so that the exercise's own checks
+    (event confirmation) match what was integrated;
+  * ``Yoshida4`` / ``Yoshida6``: fixed-step symplectic compositions of
+    Stormer-Verlet, for exercises that expose a separable Hamiltonian
+    (``exercise.hamiltonian``); the step is chosen from rtol;
+  * ``default``: the exercise's own settings (its method, step bounds) at its default rtol.
+An exercise whose numeric route integrates no ODE (quadrature, eigenproblems,
+root finding) gets one row, its own route over the rtol sweep; ``route`` says so.
+
+Timing: one warm-up run (it also gives the error and nfev), then repeated runs
+while they fit in the point's share of the time budget (at most ``repeats``);
+a point slower than its share is timed by its single run (``timed_runs`` 1).
+A run longer than ``run_limit_s`` is stopped and is a failed point; after a
+point slower than ``slow_s`` the tighter tolerances of that method are not
+run (failed points with a note), which keeps ``mech bench`` near a minute.
+Failed runs stay in the table with ``ok`` false, ``error`` null and a note.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import signal
+import statistics
+import threading
+import time
+import warnings
+from contextlib import contextmanager
+
+from mech.problems.spec import Exercise, Params, Undefined
+
+__all__ = ["DEFAULT_TOLS", "ODE_METHODS", "STUDENT", "bench", "summarize", "error_against"]
+
+DEFAULT_TOLS = tuple(10.0 ** -k for k in range(3, 13))
+ODE_METHODS = ("RK45", "DOP853", "LSODA", "Radau")
+OTHER_ODE = ("RK23", "BDF")
+SYMPLECTIC = {"Yoshida4": 4, "Yoshida6": 6}
+STUDENT = "scipy-default"
+DEFAULT_ROW = "default"
+TARGETS = (1e-6, 1e-9)
+
+
+class _Timeout(Exception):
+    pass
+
+
+@contextmanager
+def _time_limit(seconds: float):
+    """Stop a run after ``seconds`` (SIGALRM; only in the main thread, elsewhere unlimited)."""
+    if not seconds or threading.current_thread() is not threading.main_thread() or not hasattr(signal, "setitimer"):
+        yield
+        return
+
+    def handler(signum, frame):
+        raise _Timeout(f"stopped after {seconds:g} s")
+
+    old = signal.signal(signal.SIGALRM, handler)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+
+
+def _num(v):
+    return isinstance(v, float) and math.isfinite(v)
+
+
+def error_against(values: dict, reference: dict, names: list[str]) -> tuple[float, str | None]:
+    """Max relative error over ``names`` (reference finite and nonzero); an undefined numeric value is infinite."""
+    worst, which = 0.0, None
+    for n in names:
+        r, v = reference.get(n), values.get(n)
+        if not _num(r) or r == 0.0:
+            continue
+        if v is None:
+            continue  # an output a row does not compute (a symplectic readout may give a subset)
+        if not _num(v):
+            return math.inf, n
+        e = float(abs(v - r) / abs(r))
+        if e >= worst:
+            worst, which = e, n
+    return worst, which
+
+
+class _Runner:
+    """Runs one configuration: returns (values, nfev, integrator name)."""
+
+    def __init__(self, ex: Exercise, params: Params):
+        self.ex, self.params = ex, params
+
+    def __call__(self, method: str, rtol: float):
+        from mech.solvers import ode
+
+        ex, p = self.ex, self.params
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            if method in SYMPLECTIC:
+                from mech.solvers.symplectic import solve_scene
+
+                values, res = solve_scene(ex._hamiltonian(p), rtol, SYMPLECTIC[method])
+                return values, res.nfev, method
+            if method == STUDENT:
+                with ode.override(student=True):
+                    values, run = ex.solve_numeric(p, 1e-3)
+            elif method in ODE_METHODS + OTHER_ODE:
+                with ode.override(method=method):
+                    values, run = ex.solve_numeric(p, rtol)
+            else:  # the exercise's own route / settings
+                values, run = ex.solve_numeric(p, rtol)
+            return values, run.nfev, run.method
+
+
+def probe_route(ex: Exercise, params: Params) -> tuple[bool, str]:
+    """Whether the numeric solver integrates ODEs through mech.solvers.ode (forced LSODA shows up), and its method."""
+    from mech.solvers import ode
+
+    rtol = ex.default_rtol
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        _, own = ex.solve_numeric(params, rtol)
+        try:
+            with ode.override(method="LSODA"):
+                _, forced = ex.solve_numeric(params, rtol)
+            # a forced integrator shows in the recorded method, or at least in a different cost
+            integrates = forced.method == "LSODA" or forced.nfev != own.nfev
+        except Exception:  # noqa: BLE001 - a forced run that fails shows that the override reached an integration
+            integrates = True
+    return integrates, own.method or "own route"
+
+
+def bench(
+    ex: Exercise,
+    params: Params | None = None,
+    *,
+    methods: list[str] | None = None,
+    tols: list[float] | None = None,
+    repeats: int = 5,
+    budget_s: float = 45.0,
+    run_limit_s: float = 10.0,
+    slow_s: float = 3.0,
+    progress=None,
+) -> dict:
+    """The bench of one exercise as the contract's JSON object (see the module docstring)."""
+    import scipy.integrate  # noqa: F401  (imported before any timing)
+
+    started = time.perf_counter()
+    params = params if params is not None else ex.resolve({})
+    tols = sorted({float(t) for t in (tols or DEFAULT_TOLS)}, reverse=True)
+    integrates, own_method = probe_route(ex, params)
+
+    # reference and error measure
+    exact = [o.name for o in ex.outputs if o.theory == "exact"]
+    if exact:
+        ref_values = ex.solve_analytic(params)
+        reference = "analytic"
+        names = exact
+    else:
+        r = max(ex.min_rtol, 1e-13)
+        ref_values, _ = ex.solve_numeric(params, r)
+        reference = f"numeric ({own_method}, rtol {r:g}): every output's analytic value is leading-order"
+        names = [o.name for o in ex.outputs]
+    skipped = [n for n in names if not _num(ref_values.get(n)) or ref_values.get(n) == 0.0]
+    left_out = [o.name for o in ex.outputs if o.name not in names]
+    measure = "max over outputs of |numeric - analytic| / |analytic|"
+    if reference != "analytic":
+        measure = "max over outputs of |numeric - reference| / |reference|"
+
+    # rows
+    if methods:
+        known = ODE_METHODS + OTHER_ODE + tuple(SYMPLECTIC) + (STUDENT, DEFAULT_ROW, own_method)
+        unknown = [m for m in methods if m not in known]
+        if unknown:
+            raise ValueError(f"unknown method {unknown[0]!r}; known: {', '.join(known)}")
+        rows = [m for m in methods if m != STUDENT]
+        extra = [(STUDENT, 1e-3)] if STUDENT in methods else []
+    elif integrates:
+        rows = list(ODE_METHODS) + (list(SYMPLECTIC) if ex._hamiltonian else [])
+    else:
+        rows = [own_method]
+    if not methods:
+        extra = []
+    if integrates and not methods:
+        extra = [(STUDENT, 1e-3), (DEFAULT_ROW, ex.default_rtol)]
+    plan = [(m, t) for m in rows for t in tols] + extra
+    share = budget_s / max(len(plan), 1)
+    runner = _Runner(ex, params)
+
+    points = []
+    too_slow: dict[str, str] = {}
+    for method, rtol in plan:
+        pt = {"method": method, "rtol": rtol, "error": None, "time_s": None, "time_min_s": None,
+              "time_max_s": None, "nfev": None, "ok": False}
+        if method == DEFAULT_ROW:
+            pt["integrator"] = own_method
+        if method in too_slow:
+            pt["note"] = too_slow[method]
+            points.append(pt)
+            continue
+        if rtol < ex.min_rtol and method not in SYMPLECTIC:
+            pt["note"] = f"not run: below the exercise's floor rtol {ex.min_rtol:g}"
+            points.append(pt)
+            continue
+        if method in SYMPLECTIC and ex._hamiltonian is None:
+            pt["note"] = "not run: the exercise exposes no separable Hamiltonian"
+            points.append(pt)
+            continue
+        times = []
+        try:
+            with _time_limit(run_limit_s):
+                t0 = time.perf_counter()
+                values, nfev, used = runner(method, rtol)
+                times.append(time.perf_counter() - t0)
+            err, worst = error_against(values, ref_values, names)
+            while len(times) < repeats + 1 and sum(times) + times[0] <= share:
+                t0 = time.perf_counter()
+                runner(method, rtol)
+                times.append(time.perf_counter() - t0)
+        except _Timeout as exc:
+            pt["note"] = f"failed: {exc}"
+            too_slow[method] = f"not run: a looser tolerance already took over {run_limit_s:g} s"
+            points.append(pt)
+            continue
+        except Exception as exc:  # noqa: BLE001 - a failed run is a point, not a crash
+            pt["note"] = f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:200]}"
+            points.append(pt)
+            continue
+        timed = times[1:] if len(times) > 1 else times
+        pt.update(
+            error=err if math.isfinite(err) else None,
+            time_s=statistics.median(timed),
+            time_min_s=min(timed),
+            time_max_s=max(timed),
+            nfev=int(nfev),
+            ok=math.isfinite(err),
+            timed_runs=len(timed),
+        )
+        if worst:
+            pt["worst_output"] = worst
+        if not math.isfinite(err):
+            pt["note"] = f"failed: numeric {worst} undefined where the analytic value is finite"
+        if used and used != method and method in ODE_METHODS:
+            pt["note"] = f"integrator reported {used}"
+        if timed[0] > slow_s and method not in (STUDENT, DEFAULT_ROW):
+            too_slow[method] = f"not run: a looser tolerance already took {timed[0]:.2g} s"
+        points.append(pt)
+        if progress:
+            progress(pt)
+
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
+    result = {
+        "id": ex.id,
+        "title": ex.title,
+        "params": dict(params),
+        "reference": reference,
+        "error_measure": measure,
+        "measured_outputs": [n for n in names if n not in skipped],
+        "skipped_outputs": skipped,
+        "left_out_outputs": left_out,
+        "route": "ode" if integrates else f"no ODE integration: the sweep is over rtol of the exercise's own route ({own_method})",
+        "default": {"method": own_method, "rtol": ex.default_rtol, "tol_factor": ex.tol_factor},
+        "points": points,
+        "summary": summarize(points),
+        "timing": {"repeats_max": repeats, "budget_s": budget_s, "seconds": time.perf_counter() - started,
+                   "load_1min": load, "cpus": os.cpu_count()},
+    }
+    result["ranking"] = [s["method"] for s in sorted(result["summary"], key=lambda s: s["rank"])]
+    return result
+
+
+def _cheapest(pts, target):
+    good = [p for p in pts if p["ok"] and p["error"] is not None and p["error"] <= target]
+    if not good:
+        return None
+    p = min(good, key=lambda p: p["time_s"])
+    return {"rtol": p["rtol"], "error": p["error"], "time_s": p["time_s"], "nfev": p["nfev"]}
+
+
+def summarize(points: list[dict]) -> list[dict]:
+    """Per method: the cheapest (least median time) point reaching 1e-6 and 1e-9, and the efficiency rank.
+
+    Rank: by the time to reach 1e-9, then the time to reach 1e-6, then the best error reached.
+    """
+    methods = list(dict.fromkeys(p["method"] for p in points))
+    out = []
+    for m in methods:
+        pts = [p for p in points if p["method"] == m]
+        s = {"method": m}
+        for target in TARGETS:
+            s[f"cheapest_for_{target:.0e}".replace("e-0", "e-")] = _cheapest(pts, target)
+        errs = [p["error"] for p in pts if p["ok"] and p["error"] is not None]
+        s["best_error"] = min(errs) if errs else None
+        s["failed_points"] = sum(not p["ok"] for p in pts)
+        out.append(s)
+
+    def key(s):
+        c9, c6 = s["cheapest_for_1e-9"], s["cheapest_for_1e-6"]
+        return (c9["time_s"] if c9 else math.inf, c6["time_s"] if c6 else math.inf,
+                s["best_error"] if s["best_error"] is not None else math.inf)
+
+    for rank, s in enumerate(sorted(out, key=key), 1):
+        s["rank"] = rank
+    return out

@@ -1,0 +1,99 @@
+"""mech bench: the contract's JSON (every point's fields, failures kept, the summary), the plot, the CLI.
+
+Kept fast: two tolerances and a small time budget.
+"""
+
+import json
+import math
+
+import pytest
+from click.testing import CliRunner
+
+from mech.cli.main import cli
+from mech.problems import registry
+from mech.solvers.bench import STUDENT, bench, error_against, summarize
+
+POINT_KEYS = {"method", "rtol", "error", "time_s", "time_min_s", "time_max_s", "nfev", "ok"}
+
+
+def run(*args):
+    result = CliRunner().invoke(cli, list(args))
+    return result.exit_code, result.stdout, result.stderr
+
+
+def test_error_measure_is_max_relative_and_skips_zero_references():
+    ref = {"a": 2.0, "b": 0.0, "c": -4.0}
+    err, worst = error_against({"a": 2.002, "b": 1.0, "c": -4.0}, ref, ["a", "b", "c"])
+    assert err == pytest.approx(1e-3) and worst == "a"
+
+
+def test_summary_cheapest_and_ranking():
+    pts = [
+        {"method": "A", "rtol": 1e-6, "error": 1e-7, "time_s": 0.02, "nfev": 10, "ok": True},
+        {"method": "A", "rtol": 1e-9, "error": 1e-10, "time_s": 0.05, "nfev": 30, "ok": True},
+        {"method": "B", "rtol": 1e-6, "error": 1e-7, "time_s": 0.01, "nfev": 10, "ok": True},
+        {"method": "B", "rtol": 1e-9, "error": None, "time_s": None, "nfev": None, "ok": False},
+    ]
+    s = {e["method"]: e for e in summarize(pts)}
+    assert s["A"]["cheapest_for_1e-6"]["rtol"] == 1e-6 and s["A"]["cheapest_for_1e-9"]["time_s"] == 0.05
+    assert s["B"]["cheapest_for_1e-9"] is None and s["B"]["failed_points"] == 1
+    assert s["A"]["rank"] == 1 and s["B"]["rank"] == 2
+
+
+def test_cli_bench_json_carries_every_point(tmp_path):
+    png = tmp_path / "b.png"
+    code, out, err = run("bench", "5.6", "--tols", "1e-4,1e-7", "--repeats", "1", "--budget", "1", "--json",
+                         "--plot", str(png))
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["id"] == "5.6" and d["reference"] == "analytic" and "error_measure" in d
+    methods = {p["method"] for p in d["points"]}
+    assert {"RK45", "DOP853", "LSODA", "Radau", "Yoshida4", "Yoshida6", STUDENT} <= methods
+    for p in d["points"]:
+        assert POINT_KEYS <= set(p)
+        if p["ok"]:
+            assert p["error"] is not None and p["time_min_s"] <= p["time_s"] <= p["time_max_s"]
+            assert p["nfev"] > 0
+        else:
+            assert p["error"] is None and p["note"]
+    student = [p for p in d["points"] if p["method"] == STUDENT]
+    assert len(student) == 1 and student[0]["rtol"] == 1e-3
+    dop = [p for p in d["points"] if p["method"] == "DOP853" and p["ok"]]
+    assert min(p["error"] for p in dop) < 1e-7  # tighter request, smaller error
+    assert {s["method"] for s in d["summary"]} == methods
+    for s in d["summary"]:
+        assert "cheapest_for_1e-6" in s and "cheapest_for_1e-9" in s and s["rank"] >= 1
+    assert sorted(d["ranking"]) == sorted(methods)
+    assert png.stat().st_size > 1000
+
+
+def test_a_failed_run_stays_in_the_table():
+    ex = registry.get("5.6")
+    # below the exercise's floor: not run, but kept as a failed point
+    r = bench(ex, methods=["DOP853"], tols=[1e-8, 1e-14], repeats=1, budget_s=1.0)
+    pts = {p["rtol"]: p for p in r["points"]}
+    assert pts[1e-8]["ok"] and not pts[1e-14]["ok"] and pts[1e-14]["error"] is None and pts[1e-14]["note"]
+
+
+def test_route_without_ode_is_benched_over_its_own_route():
+    ex = registry.get("4.3")
+    r = bench(ex, tols=[1e-6, 1e-10], repeats=1, budget_s=1.0)
+    assert r["route"].startswith("no ODE")
+    assert {p["method"] for p in r["points"]} == {r["default"]["method"]}
+    assert all(p["ok"] for p in r["points"])
+
+
+def test_bench_usage_errors():
+    code, _, err = run("bench", "9.99")
+    assert code == 2 and "unknown exercise" in err
+    code, _, err = run("bench", "5.6", "--methods", "Euler")
+    assert code == 2 and "unknown method" in err
+    code, _, err = run("bench", "5.6", "--tols", "2")
+    assert code == 2
+
+
+def test_json_is_finite():
+    ex = registry.get("5.6")
+    r = bench(ex, methods=[STUDENT], tols=[1e-6], repeats=1, budget_s=1.0)
+    for p in r["points"]:
+        assert p["error"] is None or math.isfinite(p["error"])
