@@ -1,0 +1,442 @@
+"""Frequency sweeps of a driven one-coordinate oscillator: periodic orbits continued in the drive frequency.
+
+The equation is q'' = a(q, q') + f0 cos(omega t).  A periodic response of the
+drive's period is a fixed point of the one-period map; it is found by Newton's
+method (shooting), with the map's Jacobian from the variational equations
+carried along the orbit, and followed in omega step by step: a slow frequency
+sweep without waiting for any transient.
+
+Units and unknowns.  Time is the drive phase tau = omega t (the period is 2 pi
+for every omega); the state is X = q/Q, Y = q'/(omega_ref Q) for a length unit
+Q and a reference frequency omega_ref; the frequency is omega = omega_ref +
+W w with a frequency unit W.  The unknowns z = (X0, Y0, w) are all of order
+one over the interesting part of a resonance curve.
+
+* ``OrbitMap(...).evaluate(z, rtol)``: the residual phi(X0, Y0) - (X0, Y0), its
+  2 x 3 Jacobian (monodromy matrix M minus I, and the derivative in w), the
+  half peak-to-peak swing of q (extrema by events on q' = 0) and its gradient
+  in z (at an extremum dq/dtau = 0, so only the explicit dependence counts).
+* ``solve_on_plane``: Newton on {residual = 0, n . (z - z_base) = sigma}: a
+  fixed frequency for n = e_w, a pseudo-arclength corrector otherwise.
+* ``sweep``: continuation by pseudo-arclength from a start in one direction of
+  w until the first fold (where the tangent's w-component, det(M - I), changes
+  sign: the branch turns back and a slow sweep jumps), or until w passes a
+  stop.  Steps are controlled by the corrector's size, the turning of the
+  tangent and a secant prediction of where det(M - I) vanishes, so that a
+  small S-shaped piece of the curve is not stepped over.
+* ``refine_root``: a zero of a smooth function along the branch between two
+  of its points (Brent's method on the distance along their chord): the fold
+  itself (det(M - I) = 0), or where the swing is largest (dA/ds = 0).
+
+No physics of one exercise lives here.  scipy is imported inside functions.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from mech.problems.spec import NumericFailure
+from mech.solvers.ode import Event, integrate
+
+__all__ = ["OrbitMap", "BranchPoint", "Sweep", "solve_on_plane", "sweep", "refine_root", "shorten_bracket", "bisect_parameter"]
+
+
+@dataclass
+class BranchPoint:
+    """A periodic orbit: z = (X0, Y0, w), and what the one-period map tells about it."""
+
+    z: np.ndarray
+    J: np.ndarray  # 2 x 3: [M - I | d phi / d w]
+    A: float  # half peak-to-peak swing of q, in units of Q
+    gradA: np.ndarray  # dA/dz
+    res: np.ndarray  # phi(X0, Y0) - (X0, Y0) at the last evaluation
+
+    @property
+    def residual(self) -> float:
+        return float(np.max(np.abs(self.res)))
+
+    @property
+    def M(self) -> np.ndarray:
+        return self.J[:, :2] + np.eye(2)
+
+    @property
+    def tangent(self) -> np.ndarray:
+        """Null vector of J (not normalized, orientation fixed by J): its w-component is det(M - I)."""
+        return np.cross(self.J[0], self.J[1])
+
+    @property
+    def det_m_minus_i(self) -> float:
+        return float(self.J[0, 0] * self.J[1, 1] - self.J[0, 1] * self.J[1, 0])
+
+    @property
+    def dA_ds(self) -> float:
+        """Derivative of the swing along the branch (the tangent's orientation, unnormalized)."""
+        t = self.tangent
+        return float(self.gradA @ t / np.linalg.norm(t))
+
+    @property
+    def w_turn(self) -> float:
+        """det(M - I) / |tangent|: the w-component of the unit tangent, zero at a fold."""
+        t = self.tangent
+        return float(t[2] / np.linalg.norm(t))
+
+
+class OrbitMap:
+    """The one-period map of q'' = a(q, q') + f0 cos(omega t) in the scaled variables of the module doc.
+
+    ``force(q, p)`` returns (a, da/dq, da/dp) as floats.
+    """
+
+    def __init__(
+        self,
+        force: Callable[[float, float], tuple[float, float, float]],
+        f0: float,
+        Q: float,
+        omega_ref: float,
+        W: float,
+        method: str = "DOP853",
+    ):
+        self.force, self.f0, self.Q, self.omega_ref, self.W, self.method = force, f0, Q, omega_ref, W, method
+        self.nfev = 0
+        self.calls = 0
+
+    def omega(self, w: float) -> float:
+        return self.omega_ref + self.W * w
+
+    def _rhs(self, omega: float):
+        Q, ws, W, f0, force = self.Q, self.omega_ref, self.W, self.f0, self.force
+        c_xy = ws / omega  # dX/dtau = (omega_ref/omega) Y
+        c_y = 1.0 / (omega * ws * Q)
+
+        def rhs(tau, s):
+            X, Y = s[0], s[1]
+            a, a_q, a_p = force(Q * X, ws * Q * Y)
+            fx = c_xy * Y
+            fy = (a + f0 * math.cos(tau)) * c_y
+            jyx = a_q / (omega * ws)
+            jyy = a_p / omega
+            gx, gy = -W / omega * fx, -W / omega * fy  # d/dw of (fx, fy)
+            p00, p01, p02, p10, p11, p12 = s[2], s[3], s[4], s[5], s[6], s[7]
+            return [
+                fx,
+                fy,
+                c_xy * p10,
+                c_xy * p11,
+                c_xy * p12 + gx,
+                jyx * p00 + jyy * p10,
+                jyx * p01 + jyy * p11,
+                jyx * p02 + jyy * p12 + gy,
+            ]
+
+        return rhs
+
+    def evaluate(self, z, rtol: float) -> BranchPoint:
+        """Integrate one drive period from (X0, Y0) at w; the point need not be periodic."""
+        z = np.asarray(z, dtype=float)
+        omega = self.omega(z[2])
+        if not omega > 0:
+            raise NumericFailure(f"the sweep reached a non-positive drive frequency ({omega:g} rad/s)")
+        y0 = [z[0], z[1], 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        top = Event(lambda t, s: s[1], terminal=False, direction=-1.0, name="q' = 0, maximum")
+        bottom = Event(lambda t, s: s[1], terminal=False, direction=1.0, name="q' = 0, minimum")
+        scale = max(abs(z[0]), abs(z[1]), 1e-3)
+        atol = [rtol * 1e-3 * scale] * 2 + [rtol * 1e-3] * 6
+        traj = integrate(self._rhs(omega), (0.0, 2.0 * math.pi), y0, rtol=rtol, atol=atol, method=self.method,
+                         events=[top, bottom])
+        self.nfev += traj.nfev
+        self.calls += 1
+        s = traj.y_end
+        J = np.array([[s[2] - 1.0, s[3], s[4]], [s[5], s[6] - 1.0, s[7]]])
+        res = np.array([s[0] - z[0], s[1] - z[1]])
+
+        def extreme(k, sign):
+            # the largest (sign=+1) or smallest q among the events, the ends as a fallback (q' = 0 at tau = 0)
+            cands = [(sign * y[0], y) for y in traj.y_events[k]]
+            cands.append((sign * z[0], np.array(y0)))
+            cands.append((sign * s[0], s))
+            _, y = max(cands, key=lambda c: c[0])
+            return y[0], np.array([y[2], y[3], y[4]])
+
+        qmax, gmax = extreme(0, 1.0)
+        qmin, gmin = extreme(1, -1.0)
+        return BranchPoint(z=z.copy(), J=J, A=0.5 * (qmax - qmin), gradA=0.5 * (gmax - gmin), res=res)
+
+
+def solve_on_plane(
+    omap: OrbitMap,
+    z_guess,
+    n,
+    c: float,
+    *,
+    rtol: float,
+    tol: float,
+    max_iter: int = 8,
+    fresh: bool = True,
+) -> BranchPoint | None:
+    """Newton on {phi(X0, Y0; w) = (X0, Y0), n . z = c}; None when it does not converge.
+
+    ``tol``: the step size (max norm, scaled units) at which it stops.  With
+    ``fresh`` the returned point is evaluated at the converged z (its Jacobian
+    and swing are current); otherwise they belong to the last iterate before it.
+    """
+    z = np.asarray(z_guess, dtype=float).copy()
+    n = np.asarray(n, dtype=float)
+    last = None
+    for _ in range(max_iter):
+        bp = omap.evaluate(z, rtol)
+        K = np.vstack([bp.J, n])
+        rhs = np.concatenate([-bp.res, [c - n @ z]])
+        try:
+            dz = np.linalg.solve(K, rhs)
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(dz)):
+            return None
+        step = float(np.max(np.abs(dz)))
+        # the map is computed to about rtol; Newton cannot resolve z better than that times |K^-1|
+        # (large for a weakly damped orbit, whose multipliers are close to the unit circle)
+        floor = rtol * float(np.max(np.abs(np.linalg.inv(K)).sum(axis=1))) * max(1e-3, float(np.max(np.abs(z[:2]))))
+        tol_eff = max(tol, floor)
+        if last is not None and step > 0.9 * last and step > tol_eff:
+            return None  # not contracting
+        z = z + dz
+        last = step
+        if step < tol_eff:
+            if fresh:
+                return omap.evaluate(z, rtol)
+            bp.A = bp.A + float(bp.gradA @ (z - bp.z))
+            bp.z = z
+            return bp
+    return None
+
+
+@dataclass
+class Sweep:
+    """The points of one continuation run, in order, and the fold that ended it (if any)."""
+
+    points: list = field(default_factory=list)
+    fold: BranchPoint | None = None
+    fold_bracket: tuple | None = None  # (last point before, first point after) the fold
+    reached_stop: bool = False
+    watched: bool = False
+    steps: int = 0
+    rejected: int = 0
+
+
+def sweep(
+    omap: OrbitMap,
+    start: BranchPoint,
+    direction: float,
+    w_stop: float,
+    *,
+    rtol: float,
+    h0: float = 0.3,
+    h_max: float = math.inf,
+    h_min: float = 1e-9,
+    max_steps: int = 400,
+    corrector_max: float = 0.2,
+    angle_max: float = 0.5,
+    newton_tol: float = 1e-3,
+    max_state_move: float = 0.1,
+    toward: np.ndarray | None = None,
+    watch: Callable[[BranchPoint], float] | None = None,
+) -> Sweep:
+    """Follow the branch from ``start`` with w initially moving in ``direction`` (+1 up, -1 down).
+
+    Stops at the first fold (det(M - I) changes sign between two points; the
+    bracket is returned, refine it with ``refine_root``) or when w passes
+    ``w_stop``.  A step is accepted when Newton's corrections fall below
+    ``newton_tol`` (scaled units: the sweep's points are only brackets, the
+    precise values come from the refinements), the corrector moved the point
+    by less than ``corrector_max`` times the step and the tangent turned by
+    less than ``angle_max`` radians.
+
+    ``toward``: start in the direction of this point instead (``direction``
+    is then ignored); ``watch``: also stop where this function of the points
+    changes sign (the bracket is in ``fold_bracket``, ``watched`` is set).
+    """
+    out = Sweep(points=[start])
+    t = _unit(start.tangent)
+    if (t @ (np.asarray(toward) - start.z) if toward is not None else t[2] * direction) < 0:
+        t = -t
+    bp, h = start, h0
+    prev_turn = None  # (s, w_turn) of the previous point, for the secant prediction of a zero
+    s_total = 0.0
+    while out.steps < max_steps:
+        # a secant prediction of where det(M - I) (the tangent's w-component) vanishes caps the step,
+        # so that a narrow fold pair (an S of the curve) is not stepped over
+        h_try = min(h, h_max)
+        wt = abs(bp.w_turn)
+        if prev_turn is not None:
+            s_prev, wt_prev = prev_turn
+            slope = (wt - wt_prev) / max(s_total - s_prev, 1e-300)
+            if slope < 0:
+                d0 = wt / -slope
+                h_try = min(h_try, max(1.3 * d0, 0.05 * h_try))
+        pred = bp.z + h_try * t
+        new = solve_on_plane(omap, pred, t, t @ bp.z + h_try, rtol=rtol, tol=min(newton_tol, 0.05 * corrector_max * h_try),
+                             max_iter=5, fresh=False)
+        ok = new is not None
+        if ok:
+            move = float(np.max(np.abs(new.z - pred)))
+            t_new = _unit(new.tangent)
+            if t_new @ t < 0:
+                t_new = -t_new
+            angle = math.acos(max(-1.0, min(1.0, float(t_new @ t))))
+            # the state's correction is also capped absolutely: a step may not jump to another branch of the
+            # curve however long it is along w
+            move_xy = float(np.max(np.abs((new.z - pred)[:2])))
+            ok = angle <= angle_max and move <= corrector_max * h_try and move_xy <= max_state_move
+        if not ok:
+            out.rejected += 1
+            h = 0.4 * h_try
+            if h < h_min:
+                raise NumericFailure(f"continuation stalled at w = {bp.z[2]:.10g} (step below {h_min:g})")
+            continue
+        out.steps += 1
+        # the cross-product tangent is continuous along the branch: a sign change of its w-component is a fold
+        if np.sign(new.tangent[2]) != np.sign(bp.tangent[2]) and new.tangent[2] != 0.0:
+            # the loosely converged points carry the Jacobian of their last iterate: confirm at the points
+            new, bp_fresh = omap.evaluate(new.z, rtol), omap.evaluate(bp.z, rtol)
+            out.points[-1] = bp_fresh
+            if np.sign(new.tangent[2]) != np.sign(bp_fresh.tangent[2]):
+                out.points.append(new)
+                out.fold_bracket = (bp_fresh, new)
+                return out
+        if watch is not None and np.sign(watch(new)) != np.sign(watch(bp)):
+            out.points.append(new)
+            out.fold_bracket = (bp, new)
+            out.watched = True
+            return out
+        prev_turn = (s_total, wt)
+        s_total += h_try
+        out.points.append(new)
+        bp, t = new, t_new
+        if (bp.z[2] - w_stop) * direction >= 0:
+            out.reached_stop = True
+            return out
+        h = h_try * (1.6 if angle < 0.4 * angle_max else 1.0)
+    raise NumericFailure(f"no fold and w = {bp.z[2]:.6g} short of {w_stop:.6g} after {max_steps} steps")
+
+
+def refine_root(
+    omap: OrbitMap,
+    a: BranchPoint,
+    b: BranchPoint,
+    g: Callable[[BranchPoint], float],
+    *,
+    rtol: float,
+    rtol_search: float,
+    xtol: float,
+    polish: bool,
+) -> BranchPoint:
+    """The point between two branch points a and b where g changes sign.
+
+    Each trial point solves the orbit on the plane through a + sigma n normal
+    to the chord n = (b - a)/|b - a| (a short chord keeps the plane transverse
+    to the branch); Newton starts from the nearest trial already solved, moved
+    onto the new plane.  Brent's method on sigma runs at the cheaper
+    ``rtol_search`` down to a bracket of ``xtol`` times the chord; the point
+    there is then solved at ``rtol``.  That is enough where the reported value
+    is stationary at the root (a fold's frequency: an error d sigma costs
+    d sigma^2).  With ``polish`` (a root whose position is reported) secant
+    steps on values computed at ``rtol`` follow, started a little either side
+    of the search's root.  The ends a
+    and b are solved afresh, so they may be a sweep's loosely converged points.
+    """
+    from scipy.optimize import brentq
+
+    d = b.z - a.z
+    L = float(np.linalg.norm(d))
+    n = d / L
+    base = float(n @ a.z)
+    solved: dict = {}
+
+    def solve(sigma, r):
+        if solved:
+            s0 = min(solved, key=lambda s: abs(s - sigma))
+            guess = solved[s0].z + (sigma - s0) * n
+        else:
+            guess = a.z + sigma * n
+        # not fresh: the last Newton step is below tol, so the Jacobian and the swing of the iterate
+        # before it differ from the converged point's by about that much (the swing is moved along its gradient)
+        bp = solve_on_plane(omap, guess, n, base + sigma, rtol=r, tol=max(10.0 * r, 1e-13), max_iter=12,
+                            fresh=False)
+        if bp is None:
+            raise NumericFailure(f"Newton failed on the branch at chord distance {sigma:g} of {L:g}")
+        if r == rtol_search:
+            solved[sigma] = bp
+        return bp
+
+    values: dict = {}
+
+    def f(sigma):
+        values[sigma] = g(solve(sigma, rtol_search))
+        return values[sigma]
+
+    fa, fb = f(0.0), f(L)
+    if np.sign(fa) == np.sign(fb):
+        raise NumericFailure("refine_root: the function does not change sign between the two branch points")
+    root = brentq(f, 0.0, L, xtol=xtol * L, rtol=1e-15, maxiter=100)
+    if not polish:
+        return solve(root, rtol)
+    # secant steps on precise values, from two points a little either side of the search's root
+    s0, s1 = root - 1e3 * xtol * L, root + 1e3 * xtol * L
+    g0, g1 = g(solve(s0, rtol)), g(solve(s1, rtol))
+    for _ in range(8):
+        if g1 == g0:
+            break
+        s2 = s1 - g1 * (s1 - s0) / (g1 - g0)
+        if not (-0.5 * L <= s2 <= 1.5 * L):
+            raise NumericFailure("refine_root: the precise secant steps left the branch piece")
+        s0, g0 = s1, g1
+        s1 = s2
+        bp = solve(s1, rtol)
+        g1 = g(bp)
+        # converged when the step is below what rtol resolves of the point's size
+        if abs(s1 - s0) <= 10.0 * rtol * max(L, float(np.max(np.abs(a.z)))):
+            return bp
+    raise NumericFailure("refine_root: the precise secant steps did not converge")
+
+
+def shorten_bracket(
+    omap: OrbitMap, a: BranchPoint, b: BranchPoint, g: Callable[[BranchPoint], float], *, rtol: float,
+    max_chord: float, max_rounds: int = 6,
+) -> tuple[BranchPoint, BranchPoint]:
+    """A bracket of a sign change of g along the branch no longer than ``max_chord``: the sweep's steps grow
+    long where the branch is straight, and a long chord is no good plane family for ``refine_root``."""
+    for _ in range(max_rounds):
+        L = float(np.linalg.norm(b.z - a.z))
+        if L <= max_chord:
+            return a, b
+        sw = sweep(omap, a, 1.0, math.inf, rtol=rtol, h0=L / 10.0, h_max=L / 10.0, toward=b.z, watch=g,
+                   max_steps=200)
+        if sw.fold_bracket is None:
+            raise NumericFailure("shorten_bracket: the sign change was not found again on the branch")
+        a, b = sw.fold_bracket
+    raise NumericFailure("shorten_bracket: the bracket did not shrink")
+
+
+def bisect_parameter(pred: Callable[[float], bool], lo: float, hi: float, *, xtol: float, max_iter: int = 200):
+    """Bisection for the switch of a yes/no property: pred(lo) != pred(hi); returns the final (lo, hi)."""
+    p_lo = pred(lo)
+    if pred(hi) == p_lo:
+        raise NumericFailure("bisect_parameter: the property does not switch in the bracket")
+    for _ in range(max_iter):
+        if abs(hi - lo) <= xtol:
+            break
+        mid = 0.5 * (lo + hi)
+        if pred(mid) == p_lo:
+            lo = mid
+        else:
+            hi = mid
+    return lo, hi
+
+
+def _unit(v):
+    v = np.asarray(v, dtype=float)
+    return v / np.linalg.norm(v)
