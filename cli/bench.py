@@ -141,6 +141,11 @@ def _print(r: dict, plot_file: str | None) -> None:
         row.append(_g(e["best_error"]))
         s.add_row(*row)
     c.print(s)
+    sv = r.get("student_vs_default")
+    if sv:
+        c.print(f"student row (solve_ivp defaults): error {sv['student_error']:.2g} in {sv['student_time_s'] * 1e3:.3g} ms; "
+                f"{sv['method']} at rtol {sv['default_rtol']:.0e}: {sv['default_error']:.2g} in "
+                f"{sv['default_time_s'] * 1e3:.3g} ms (error ratio {sv['error_ratio']:.2g})")
     tm = r["timing"]
     c.print(f"{tm['seconds']:.1f} s; medians of up to {tm['repeats_max']} runs after a warm-up; "
             f"load {_g(tm['load_1min'])} on {tm['cpus']} cpus" + (f"; plot: {plot_file}" if plot_file else ""),

@@ -258,6 +258,9 @@ def bench(
         )
         if worst:
             pt["worst_output"] = worst
+        partial = [n for n in names if n not in values and n not in skipped]
+        if partial:
+            pt["note"] = f"this route gives {', '.join(n for n in names if n in values)} only"
         if not math.isfinite(err):
             pt["note"] = f"failed: numeric {worst} undefined where the analytic value is finite"
         if used and used != method and method in ODE_METHODS:
@@ -286,7 +289,25 @@ def bench(
                    "load_1min": load, "cpus": os.cpu_count()},
     }
     result["ranking"] = [s["method"] for s in sorted(result["summary"], key=lambda s: s["rank"])]
+    result["student_vs_default"] = student_vs_default(points, own_method, ex.default_rtol)
     return result
+
+
+def student_vs_default(points: list[dict], own_method: str, default_rtol: float) -> dict | None:
+    """The student row's error over the exercise's own method's error at the nearest wall time (log scale).
+
+    The own method's row is its forced sweep (same integrator, the exercise's step bounds), so its
+    points are what the tuned default gives at other rtols; the default point itself is one of them.
+    """
+    st = [p for p in points if p["method"] == STUDENT and p["ok"] and p["error"]]
+    own = [p for p in points if p["method"] in (own_method, DEFAULT_ROW) and p["ok"] and p["error"] is not None]
+    if not st or not own:
+        return None
+    s = st[0]
+    near = min(own, key=lambda p: abs(math.log(p["time_s"] / s["time_s"])))
+    return {"method": own_method, "student_error": s["error"], "student_time_s": s["time_s"],
+            "default_error": near["error"], "default_rtol": near["rtol"], "default_time_s": near["time_s"],
+            "error_ratio": s["error"] / max(near["error"], 1e-300), "time_ratio": near["time_s"] / s["time_s"]}
 
 
 def _cheapest(pts, target):

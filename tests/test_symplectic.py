@@ -55,7 +55,7 @@ def test_pendulum_energy_bounded_while_dop853_drifts():
     assert rk_last > 10.0 * sym_last
 
 
-@pytest.mark.parametrize("ex_id", ["5.6", "4.15"])
+@pytest.mark.parametrize("ex_id", ["5.6", "4.15", "4.34"])
 def test_exercise_scenes_match_the_analytic_answer(ex_id):
     ex = registry.get(ex_id)
     p = ex.resolve({})

@@ -243,3 +243,28 @@ def _(p, run):
         "omega_roll": freqs["roll"] * W,
         "T_pitch": T_pitch / W,
     }
+
+
+@exercise.hamiltonian
+def _(p):
+    """For the symplectic rows of ``mech bench`` (T_pitch only).  Units l = m = Omega = 1; the rod's masses at
+    +-(cos th, sin th) in the orbital plane.  Per unit mass in the rotating frame L = |r'|²/2 + r'.(Omega x r)
+    - Phi with Hill's Phi = -3x²/2 + z²/2; for the two masses r'.(Omega x r) = th' (a total derivative, dropped),
+    so L = th'² + 3 cos² th and H = p²/4 - 3 cos² th is separable (p = 2 th'); from rest at theta_amp to the
+    first downward passage through th = 0: a quarter libration."""
+    from mech.solvers.symplectic import SeparableHamiltonian
+
+    W = _omega(p)
+    return SeparableHamiltonian(
+        velocity=lambda mom: 0.5 * mom,
+        force=lambda q: -3.0 * math.sin(2.0 * q),
+        energy=lambda q, mom: 0.25 * mom * mom - 3.0 * math.cos(q) ** 2,
+        q0=float(p.theta_amp),
+        p0=0.0,
+        t_max=20.0 + 4.0 * math.log(1.0 + 1.0 / max(math.cos(p.theta_amp), 1e-300)),
+        readout=lambda t, q, mom: {"T_pitch": 4.0 * t / W},
+        event=lambda q, mom: q,
+        direction=-1,
+        time_scale=1.0 / math.sqrt(3.0),
+        name="pitch quarter libration",
+    )
