@@ -45,14 +45,23 @@ def mech_exe() -> list[str]:
     return [str(exe)] if exe.exists() else [sys.executable, "-m", "mech.cli.main"]
 
 
-def timed(args: list[str], repeats: int) -> tuple[float, float, float, int]:
-    """Median, min, max wall seconds of ``mech ARGS`` and the last exit status."""
+TIMEOUT_FACTOR = 10.0  # a run longer than 10x its budget is stopped and counts as infinitely slow
+
+
+def timed(args: list[str], repeats: int, budget: float) -> tuple[float, float, float, int]:
+    """Median, min, max wall seconds of ``mech ARGS`` and the last exit status (-9: stopped, too slow)."""
     times, code = [], 0
     for _ in range(repeats):
         t0 = time.perf_counter()
-        proc = subprocess.run(mech_exe() + args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        times.append(time.perf_counter() - t0)
-        code = proc.returncode
+        try:
+            proc = subprocess.run(mech_exe() + args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                  timeout=TIMEOUT_FACTOR * budget)
+            code = proc.returncode
+            times.append(time.perf_counter() - t0)
+        except subprocess.TimeoutExpired:
+            times.append(float("inf"))
+            code = -9
+            break  # a hang does not need repeating
     return statistics.median(times), min(times), max(times), code
 
 
@@ -122,7 +131,7 @@ def main(argv=None) -> int:
     rows = []  # (command, median, min, max, budget, ok, exit code)
 
     def add(label, args, repeats, budget):
-        med, lo, hi, code = timed(args, repeats)
+        med, lo, hi, code = timed(args, repeats, budget)
         rows.append((label, med, lo, hi, budget, med <= budget, code, repeats))
         print(f"{label:<34} median {med:8.3f} s  [{lo:.3f}-{hi:.3f}] x{repeats}  budget {budget:g} s  "
               f"{'ok' if med <= budget else 'OVER'}  (exit {code})", flush=True)
@@ -131,15 +140,16 @@ def main(argv=None) -> int:
     add("mech list", ["list"], a.startup_repeats, BUDGET["list"])
     solve = []
     for ex_id in exercise_ids():
-        med, lo, hi, code = timed(["solve", ex_id], a.repeats)
+        med, lo, hi, code = timed(["solve", ex_id], a.repeats, BUDGET["solve"])
         solve.append((med, lo, hi, ex_id, code))
         print(f"  mech solve {ex_id:<6} median {med:6.3f} s  [{lo:.3f}-{hi:.3f}]  (exit {code})", flush=True)
     worst = max(solve)
     over = [s for s in solve if s[0] > BUDGET["solve"]]
     rows.append((f"mech solve ID, slowest ({worst[3]})", worst[0], worst[1], worst[2], BUDGET["solve"],
                  not over, worst[4], a.repeats))
-    rows.append(("mech solve ID, median over IDs", statistics.median(s[0] for s in solve), None, None,
-                 BUDGET["solve"], True, 0, a.repeats))
+    med_all = statistics.median(s[0] for s in solve)
+    rows.append(("mech solve ID, median over IDs", med_all, None, None, BUDGET["solve"], med_all <= BUDGET["solve"],
+                 0, a.repeats))
     add("mech check", ["check"], a.repeats, BUDGET["check"])
     if not a.skip_hard:
         add("mech check --hard", ["check", "--hard"], a.hard_repeats, BUDGET["check --hard"])
