@@ -10,18 +10,31 @@ swing's own frequency to omega0 (1 - A^2/16), so the detuning seen by a
 swing of amplitude A is xi + omega0 A^2/16; the growth stops where
 (xi + omega0 A^2/16)^2 + delta^2 = eps^2, and the branch a small swing grows
 into (above threshold) is theta_st^2 = 16 (sqrt(eps^2 - delta^2) - xi)/omega0.
+Where the theory puts a below its threshold, theta_st = 0 has no relative
+error to give (expected error 0): it is compared as a zero, so both methods
+must put a on the same side of the threshold.
 
 Numeric: a_th and growth from the monodromy matrix of the linearized
 equation over one pivot period (q = exp(-delta t) y leaves an even Hill
 equation: half a period of DOP853); a_th is the root in a of det(M + I)
-(bracketed by a geometric scan up from a = 0).  theta_st: the stationary swing
+(bracketed by a scan up from a = 1e-4 l in factors of 2, to 4 l at most).  The
+exact threshold is not small where the detuning is: at |xi| = 0.3 omega0 (the
+largest allowed) it lies at 0.64 l (0.75 l with delta = 0.2 omega0), well above
+the leading-order 0.43 l, so the scan must not stop at l/2; the first zone then
+reaches past 2.3 l, so a factor-2 scan cannot step over it.  theta_st: the stationary swing
 has period 4 pi/Omega and the symmetry theta(t + 2 pi/Omega) = -theta(t), so
 its start z is a fixed point of the half-map H(z) = -phi_{2 pi/Omega}(z).
 From the bifurcation at a_th (where H has the multiplier +1 with eigenvector e)
 the branch of fixed points is continued with the amplitude s = |z| (in
 the scaled state (theta, theta'/omega0)) as parameter and (z, a) as unknowns (Newton with the variational equations,
-d/da by a difference), until a reaches the given value; there z is refined
-by Newton at fixed a, both multipliers of H are checked to be inside the unit
+a carried as a constant third state so that d/da comes with d/dz), until a
+reaches the given value.  For Omega < 2 omega0 the bifurcation is subcritical:
+the branch first runs down in a to a fold near eps = delta, a sharp turn when
+delta is small, then up through the given a; the step in s is halved wherever
+the corrector fails, and the corrector gives up as soon as a leaves (0, 10 max(a, a_th)).
+The branch is only a path to a starting guess, so it is followed at rtol
+1e-8; there z is refined
+by Newton at fixed a (its last steps at the full rtol), both multipliers of H are checked to be inside the unit
 circle, and the largest |theta| on the orbit is found by event detection on
 theta' = 0.  Nothing waits for the slow transient.
 """
@@ -108,7 +121,9 @@ def _(p):
                 alt["a_th"] = 2.0 * p.l * math.hypot(p.delta, abs(xi) + s) / p.Omega / max(1.0 - r, 1e-3)
                 for k in keys:
                     worst[k] = max(worst[k], abs(alt[k] - base[k]))
-    return {k: (worst[k] / abs(base[k]) if base[k] != 0 else (0.0 if worst[k] == 0 else math.inf)) for k in base}
+    # A zero analytic value (theta_st below the theory's threshold) has no relative error to give:
+    # it is compared as a zero, so both methods must put a on the same side of the threshold.
+    return {k: (worst[k] / abs(base[k]) if base[k] != 0 else 0.0) for k in base}
 
 
 def _linear(p, a, rtol, run):
@@ -144,9 +159,9 @@ def _(p, run):
 
     lo, hi = 0.0, 1e-4 * p.l
     while P(hi) > 0.0:
-        lo, hi = hi, 3.0 * hi
-        if hi > 0.5 * p.l:
-            raise NumericFailure("no pivot amplitude below l/2 brings a multiplier to -1")
+        lo, hi = hi, 2.0 * hi
+        if hi > 4.0 * p.l:
+            raise NumericFailure("no pivot amplitude below 4 l brings a multiplier to -1")
     a_th = brentq(P, lo, hi, xtol=1e-16 * p.l, rtol=1e-14)
     da = 1e-5 * a_th
     slope = abs(P(a_th + da)) / da
@@ -177,16 +192,35 @@ def _stationary_swing(p, a_th, run):
 
         return f, jac
 
-    def residual(z, a, with_jac=True):
+    # the branch is only followed to bring Newton close to the swing at the given a: a looser
+    # tolerance is enough for that (the final Newton at fixed a below uses the full rtol)
+    crude = max(rtol, 1e-8)
+
+    def residual(z, a, tol=crude):
         f, jac = f_a(a)
-        y, M, _, traj = flow_with_variations(f, jac, z, (0.0, Tp), rtol=rtol, scale=scale)
+        y, M, _, traj = flow_with_variations(f, jac, z, (0.0, Tp), rtol=tol, scale=scale)
         run.record(traj)
         return z + y, np.eye(2) + M, M  # z - H(z), its Jacobian, and M
 
-    def d_da(z, a, r0):
-        da = 1e-6 * a
-        r1, _, _ = residual(z, a + da)
-        return (r1 - r0) / da
+    # along the branch a is an unknown too: carried as a constant third state, so that one run of
+    # the variational equations gives d/dz and d/da of the half-map together
+    def f3(t, y):
+        c = math.cos(W * t)
+        return np.array([y[1], -d2 * y[1] - (p.g - y[2] * W * W * c) / p.l * math.sin(y[0]), 0.0])
+
+    def jac3(t, y):
+        c = math.cos(W * t)
+        return np.array([[0.0, 1.0, 0.0],
+                         [-(p.g - y[2] * W * W * c) / p.l * math.cos(y[0]), -d2, W * W * c / p.l * math.sin(y[0])],
+                         [0.0, 0.0, 0.0]])
+
+    scale3 = [1.0, w0, a_th]
+
+    def residual_a(z, a):
+        """z - H(z) at a, its Jacobian in z and its derivative in a."""
+        y, M, _, traj = flow_with_variations(f3, jac3, [z[0], z[1], a], (0.0, Tp), rtol=crude, scale=scale3)
+        run.record(traj)
+        return z + y[:2], np.eye(2) + M[:2, :2], M[:2, 2]
 
     # the critical direction at the bifurcation: M's eigenvector for the multiplier -1
     _, J0, M0 = residual(np.zeros(2), a_th)
@@ -196,27 +230,32 @@ def _stationary_swing(p, a_th, run):
     e /= np.linalg.norm(e)
     e_phys = e * np.array(scale)  # the branch leaves z = 0 along e; s = |z / scale| along it
 
+    a_big = 10.0 * max(a_th, p.a)
+
     def corrector(z, a, s):
-        for _ in range(20):
-            r, J, _ = residual(z, a)
-            ra = d_da(z, a, r)
+        """(z, a) on the branch at amplitude s, or None when Newton leaves the neighbourhood."""
+        for _ in range(10):
+            if not (0.0 < a < a_big) or np.linalg.norm(z / scale) > 2.0 * s + 0.5:
+                return None  # heading off (a < 0 past a fold): give up before the integrations get stiff
+            r, J, ra = residual_a(z, a)
             zs = z / scale
             F = np.array([r[0], r[1], 0.5 * (np.dot(zs, zs) - s * s)])
             Jf = np.array([[J[0, 0], J[0, 1], ra[0]], [J[1, 0], J[1, 1], ra[1]],
                            [zs[0] / scale[0], zs[1] / scale[1], 0.0]])
             du = np.linalg.solve(Jf, -F)
             z, a = z + du[:2], a + du[2]
-            if abs(du[2]) < 1e-3 * rtol * a_th and np.linalg.norm(du[:2] / scale) < 1e-3 * rtol + 1e-14:
-                return z, a
-            if np.linalg.norm(du[:2] / scale) < 10 * rtol and abs(du[2]) < 10 * rtol * a_th:
-                return z, a
-        raise NumericFailure(f"the branch of stationary swings could not be followed at s = {s:.3g}")
+            if np.linalg.norm(du[:2] / scale) < 10 * crude and abs(du[2]) < 10 * crude * a_th:
+                return (z, a) if a > 0.0 else None
+        return None
 
+    # For Omega < 2 omega0 the bifurcation is subcritical: the branch first runs down in a to a fold
+    # near eps = delta (a sharp turn when delta is small) and then up through the given a.  The step
+    # in s is halved wherever the corrector fails (the secant predictor overshoots such a turn).
     target = p.a
     s, ds = 0.0, 0.02
     z_prev, a_prev, s_prev = np.zeros(2), a_th, 0.0
     z_cur, a_cur, s_cur = np.zeros(2), a_th, 0.0
-    steps = 0
+    steps = tries = 0
     while True:
         s = s_cur + ds
         # secant predictor along the branch
@@ -225,29 +264,41 @@ def _stationary_swing(p, a_th, run):
         else:
             t = (s - s_cur) / (s_cur - s_prev)
             z_guess = z_cur + t * (z_cur - z_prev)
-            a_guess = a_cur + t * (a_cur - a_prev)
-        z_new, a_new = corrector(z_guess, a_guess, s)
-        steps += 1
-        if steps > 80 or s > 3.0:
+            a_guess = max(a_cur + t * (a_cur - a_prev), 0.5 * a_cur)
+        tries += 1
+        if tries > 200 or s > 3.0:
             raise NumericFailure("the branch of stationary swings does not reach the given a (swing over the top?)")
+        found = corrector(z_guess, a_guess, s)
+        if found is None:
+            ds *= 0.5
+            if ds < 1e-6:
+                raise NumericFailure(f"the branch of stationary swings could not be followed at s = {s:.3g}")
+            continue
+        z_new, a_new = found
+        steps += 1
         if (a_new - target) * (a_cur - target) <= 0.0 and steps > 1 or (steps == 1 and a_new >= target > a_th):
             break
         z_prev, a_prev, s_prev = z_cur, a_cur, s_cur
         z_cur, a_cur, s_cur = z_new, a_new, s
         ds = min(1.5 * ds, 0.1)
+    run.info["continuation_tries"] = tries
     run.info["continuation_steps"] = steps
     # interpolate to the target and refine z at fixed a
     w = (target - a_cur) / (a_new - a_cur) if a_new != a_cur else 1.0
     z = z_cur + w * (z_new - z_cur)
+    tol = crude  # Newton's first steps at the loose tolerance, the last ones at rtol
     for _ in range(30):
-        r, J, M = residual(z, target)
+        r, J, M = residual(z, target, tol)
         dz = np.linalg.solve(J, -r)
         z = z + dz
-        if np.linalg.norm(dz / scale) < rtol:
+        step = np.linalg.norm(dz / scale)
+        if tol == rtol and step < rtol:
             break
+        if step < 1e3 * crude:
+            tol = rtol
     else:
         raise NumericFailure("Newton's method for the stationary swing did not converge")
-    r, J, M = residual(z, target)
+    r, J, M = residual(z, target, rtol)
     mult = np.abs(np.linalg.eigvals(-M))
     run.info["swing_multipliers_of_half_map"] = [float(m) for m in mult]
     if np.max(mult) >= 1.0:
