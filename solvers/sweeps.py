@@ -176,12 +176,15 @@ def solve_on_plane(
     tol: float,
     max_iter: int = 8,
     fresh: bool = True,
+    monotone: bool = True,
 ) -> BranchPoint | None:
     """Newton on {phi(X0, Y0; w) = (X0, Y0), n . z = c}; None when it does not converge.
 
     ``tol``: the step size (max norm, scaled units) at which it stops.  With
     ``fresh`` the returned point is evaluated at the converged z (its Jacobian
     and swing are current); otherwise they belong to the last iterate before it.
+    ``monotone``: give up as soon as a step is not smaller than the one before
+    (continuation); without it, far starts get all ``max_iter`` steps.
     """
     z = np.asarray(z_guess, dtype=float).copy()
     n = np.asarray(n, dtype=float)
@@ -201,7 +204,7 @@ def solve_on_plane(
         # (large for a weakly damped orbit, whose multipliers are close to the unit circle)
         floor = rtol * float(np.max(np.abs(np.linalg.inv(K)).sum(axis=1))) * max(1e-3, float(np.max(np.abs(z[:2]))))
         tol_eff = max(tol, floor)
-        if last is not None and step > 0.9 * last and step > tol_eff:
+        if monotone and last is not None and step > 0.9 * last and step > tol_eff:
             return None  # not contracting
         z = z + dz
         last = step

@@ -1,0 +1,256 @@
+"""5.10 Phase locking of a weakly driven van der Pol oscillator (Adler's equation).
+
+Analytic (reduced equations, leading order): with q = A cos(omega t - phi),
+A and phi slow, averaging over a period gives
+dA/dt = (mu A/2)(1 - beta A^2/4) + (f0/(2 omega)) sin phi and
+A dphi/dt = xi A + (f0/(2 omega)) cos phi, xi = omega - omega0.  With the free
+amplitude A0 = 2/sqrt(beta): dphi/dt = xi + Delta cos phi (Adler), Delta =
+f0/(2 omega0 A0) = f0 sqrt(beta)/(4 omega0).  Locked (dphi/dt = 0 has a root)
+for |xi| <= Delta: xi_lo = -Delta, xi_hi = +Delta, width 2 Delta.  Outside, phi
+slips with the period 2 pi/sqrt(xi^2 - Delta^2), the beat frequency
+sqrt(xi^2 - Delta^2); zero inside.
+
+Numeric (exact, full equation): (1) the locked state is a periodic orbit of
+the drive's period, found by Newton on the one-period map (variational
+equations carried along, DOP853) at omega0 and swept up and down in omega by
+continuation until det(M - I) changes sign (solvers/sweeps.py); each edge,
+a fold of the orbit, refined by Brent's method on det(M - I) along the branch.
+(2) The beat: inside the numeric range the locked orbit exists and attracts:
+beat = 0.  Outside, 96 copies started around the cycle are integrated together
+(one vectorized system) for 16/mu (at most 300 drive periods) so that they
+settle on the invariant torus;
+their oscillator phases theta = atan2(-q'/omega0, q) over the next drive
+period give the circle map theta -> theta + 2 pi + d(theta) on the torus's
+section, fitted by a Fourier series; iterating the fitted map with the smooth
+weight exp(-1/(s(1 - s))) (a weighted Birkhoff average, converging faster than
+any power of the length) gives the mean of d, and beat = omega |<d>|/(2 pi).
+Two consecutive periods give two fits: their difference over 1 - exp(-mu T)
+bounds the transient left, and with the fit's residual makes the claim.
+"""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+
+from mech.problems.spec import Exercise, NumericFailure
+
+exercise = Exercise(
+    "5.10",
+    formulas=[
+        "dφ/dt = ξ + Δ cos φ  (Adler),  Δ = f₀/(2ω₀A₀) = f₀ β^(1/2)/(4ω₀)",
+        "ξ_lo = -Δ,  ξ_hi = +Δ,  width = 2Δ",
+        "beat = (ξ² - Δ²)^(1/2) for |ξ| > Δ, else 0",
+    ],
+    leading_order=("xi_lo", "xi_hi", "width", "beat"),
+)
+
+MAX_EPS = 0.3  # mu/omega0: weakly nonlinear self-oscillator
+MAX_FORCING = 0.25  # Delta/mu: weak drive (the edges stay saddle-node folds of the locked orbit)
+MAX_DETUNING = 0.2  # |xi|/omega0
+EDGE_BAND = 3.0  # refuse |xi| within EDGE_BAND * (the theory's edge uncertainty) of an edge
+
+
+def _delta(p):
+    return p.f0 * math.sqrt(p.beta) / (4.0 * p.omega0)
+
+
+def _edge_uncertainty(p):
+    """Absolute size of what the leading order drops at an edge: the free-frequency shift mu^2/(16 omega0)
+    (which moves both edges), the amplitude change of order (Delta/mu)^2 and the drive's detuning dependence
+    (Delta/omega0), each relative to Delta."""
+    D = _delta(p)
+    return p.mu**2 / (16.0 * p.omega0) + D * ((D / p.mu) ** 2 + D / p.omega0)
+
+
+@exercise.constraint
+def _(p):
+    if p.mu > MAX_EPS * p.omega0:
+        return (f"mu = {p.mu:g} 1/s is not small against omega0 = {p.omega0:g} rad/s: the reduced equations "
+                f"need mu <= {MAX_EPS:g} omega0")
+    D = _delta(p)
+    if D > MAX_FORCING * p.mu:
+        return (f"the drive is not weak: the locking half-width f0 sqrt(beta)/(4 omega0) = {D:.3g} rad/s must be "
+                f"<= {MAX_FORCING:g} mu = {MAX_FORCING * p.mu:.3g} rad/s (lower f0)")
+    xi = p.omega - p.omega0
+    if abs(xi) > MAX_DETUNING * p.omega0:
+        return (f"omega = {p.omega:g} rad/s is too far from omega0 = {p.omega0:g} rad/s: the reduced equations "
+                f"need |omega - omega0| <= {MAX_DETUNING:g} omega0")
+    u = EDGE_BAND * _edge_uncertainty(p)
+    if abs(abs(xi) - D) < u:
+        return (f"omega = {p.omega:g} rad/s is within {u:.3g} rad/s of a locking edge (omega0 -+ {D:.6g}): "
+                "closer than the leading-order theory's own error, it cannot tell locked from slipping")
+
+
+@exercise.analytic
+def _(p):
+    D = _delta(p)
+    xi = p.omega - p.omega0
+    beat = math.sqrt((abs(xi) - D) * (abs(xi) + D)) if abs(xi) > D else 0.0
+    return {"xi_lo": -D, "xi_hi": D, "width": 2.0 * D, "beat": beat}
+
+
+@exercise.expected_error
+def _(p):
+    """Relative sizes: an edge moves by the uncertainty u (_edge_uncertainty) over Delta; the width loses
+    the shift (it moves both edges alike) but keeps the rest; the beat b = sqrt(xi^2 - Delta^2) moves by
+    about (|xi| u + Delta u)/b, large near an edge.  Factor 3 over those sizes."""
+    D = _delta(p)
+    u = _edge_uncertainty(p)
+    rest = D * ((D / p.mu) ** 2 + D / p.omega0 + (p.mu / p.omega0) ** 2)
+    xi = abs(p.omega - p.omega0)
+    b2 = max((xi - D) * (xi + D), 0.0)
+    beat = 3.0 * (xi * u + D * u) / b2 + 3.0 * xi / p.omega0 if b2 > 0 else 0.0
+    return {"xi_lo": 3.0 * u / D, "xi_hi": 3.0 * u / D, "width": 3.0 * rest / D, "beat": beat}
+
+
+# ---------------------------------------------------------------------------------------------------------
+N_COPIES = 96
+N_MODES = 14
+SETTLE_MU_T = 16.0  # e^-16 ~ 1e-7 of the start's distance from the torus (itself ~ Delta/mu)
+MAX_SETTLE = 300  # drive periods at most (very small mu): the claim then carries the transient left over
+
+
+@exercise.numeric
+def _(p, run):
+    from mech.solvers.sweeps import OrbitMap, refine_root, solve_on_plane, sweep
+
+    rtol = run.rtol
+    rs = max(rtol, 1e-8)
+    mu, beta, w0, f0 = p.mu, p.beta, p.omega0, p.f0
+
+    def force(q, v):
+        damp = mu * (1.0 - beta * q * q)
+        return damp * v - w0 * w0 * q, -2.0 * mu * beta * q * v - w0 * w0, damp
+
+    Q = 1.0 / math.sqrt(beta)  # unit of length (the cycle's swing is about 2 Q)
+    W = f0 * math.sqrt(beta) / w0  # unit of detuning: the drive's strength over the swing, by dimensions
+    om = OrbitMap(force, f0, Q, w0, W)
+
+    # a locked orbit at omega = omega0: Newton from a few phases around a swing of 2 Q
+    start = None
+    for ph in (0.5, -0.5, 0.0, 1.0):
+        bp = solve_on_plane(om, [2.0 * math.cos(ph * math.pi), 2.0 * math.sin(ph * math.pi), 0.0], [0.0, 0.0, 1.0],
+                            0.0, rtol=rs, tol=1e-7, max_iter=40, fresh=True, monotone=False)
+        if bp is not None and bp.A > 1.0:  # not the small unstable orbit near rest
+            start = bp
+            break
+    if start is None:
+        raise NumericFailure("no locked orbit found at omega = omega0: Newton did not converge from any phase")
+
+    folds = []
+    for direction in (+1.0, -1.0):
+        sw = sweep(om, start, direction, direction * 10.0, rtol=rs, h0=0.1)
+        if sw.fold_bracket is None:
+            raise NumericFailure(f"the {'upward' if direction > 0 else 'downward'} sweep found no edge of locking")
+        folds.append(refine_root(om, *sw.fold_bracket, lambda b: b.tangent[2], rtol=rtol, rtol_search=rs,
+                                 xtol=1e-7, polish=False))
+        run.info[("up" if direction > 0 else "down") + "_sweep_steps"] = sw.steps
+    xi_hi, xi_lo = folds[0].z[2] * W, folds[1].z[2] * W
+    if not xi_lo < xi_hi:
+        raise NumericFailure("the edges came out in the wrong order")
+    # Liouville: the divergence mu (1 - beta q^2) is not constant, so det M is not known in closed form;
+    # at a fold one multiplier is exactly 1, recorded as a check of the refinement
+    run.info["fold_multipliers"] = [sorted(np.abs(np.linalg.eigvals(f.M)).tolist()) for f in folds]
+    run.info["orbit_maps"] = om.calls
+    run.record(SimpleNamespace(nfev=om.nfev, method="DOP853"))
+
+    xi = p.omega - w0
+    if xi_lo <= xi <= xi_hi:
+        # the locked orbit exists here: the oscillator runs at exactly omega
+        run.claim("beat", rel=0.0, abs=0.0)
+        run.info["locked"] = True
+        beat = 0.0
+    else:
+        near = folds[0] if xi > xi_hi else folds[1]
+        beat, err = _beat(p, run, amplitude=near.A * Q)
+        run.claim("beat", rel=max(10.0 * err, 100.0 * rtol * p.omega / beat))
+        run.info["locked"] = False
+    return {"xi_lo": xi_lo, "xi_hi": xi_hi, "width": xi_hi - xi_lo, "beat": beat}
+
+
+def _beat(p, run, amplitude):
+    """|omega - mean oscillator frequency| from the circle map on the torus (see the module doc)."""
+    from mech.solvers.ode import integrate
+
+    mu, beta, w0, f0, w = p.mu, p.beta, p.omega0, p.f0, p.omega
+    M = N_COPIES
+    T = 2.0 * math.pi / w
+    n_settle = max(2, min(MAX_SETTLE, math.ceil(SETTLE_MU_T / (mu * T))))
+    th = 2.0 * math.pi * np.arange(M) / M
+    y0 = np.concatenate([amplitude * np.cos(th), -w0 * amplitude * np.sin(th)])
+
+    def rhs(t, y):
+        q, v = y[:M], y[M:]
+        return np.concatenate([v, mu * (1.0 - beta * q * q) * v - w0 * w0 * q + f0 * math.cos(w * t)])
+
+    aq = 1e-3 / math.sqrt(beta)
+    # the settling only has to land on the attracting torus: a looser tolerance, then the full one
+    settle = integrate(rhs, (0.0, n_settle * T), y0, rtol=max(run.rtol, 1e-6),
+                       atol=np.concatenate([np.full(M, aq), np.full(M, aq * w0)]) * max(run.rtol, 1e-6))
+    run.record(settle)
+    traj = integrate(rhs, (n_settle * T, (n_settle + 2) * T), settle.y_end, rtol=run.rtol,
+                     atol=np.concatenate([np.full(M, aq), np.full(M, aq * w0)]) * run.rtol,
+                     t_eval=[n_settle * T, (n_settle + 1) * T, (n_settle + 2) * T])
+    run.record(traj)
+    Y = traj.y  # columns: the three section times
+    phases = np.arctan2(-Y[M:, :] / w0, Y[:M, :])
+    means = []
+    fit_err = 0.0
+    for k in (0, 1):
+        th0, th1 = phases[:, k], phases[:, k + 1]
+        d = np.mod(th1 - th0 + math.pi, 2.0 * math.pi) - math.pi  # the advance beyond one full turn
+        coef, resid = _fit(th0, d)
+        fit_err = max(fit_err, resid)
+        means.append(_rotation(coef))
+    mean_d = means[1]
+    if mean_d == 0.0:
+        raise NumericFailure("the fitted circle map has no mean drift: the oscillator looks locked outside the range")
+    beat = w * abs(mean_d) / (2.0 * math.pi)
+    # the transient left decays by exp(-mu T) a period: the difference of the two fits is (1 - exp(-mu T))
+    # times what remains of it
+    left = abs(means[1] - means[0]) / -math.expm1(-mu * T)
+    err = (left + fit_err) / abs(mean_d)
+    run.info["beat_settle_periods"] = n_settle
+    run.info["beat_fit_residual"] = fit_err
+    run.info["beat_two_fits_rel_diff"] = abs(means[1] - means[0]) / abs(mean_d)
+    return beat, err
+
+
+def _basis(theta, K=N_MODES):
+    k = np.arange(1, K + 1)
+    ang = np.outer(np.atleast_1d(theta), k)
+    return np.hstack([np.ones((ang.shape[0], 1)), np.cos(ang), np.sin(ang)])
+
+
+def _fit(theta, d):
+    B = _basis(theta)
+    coef, *_ = np.linalg.lstsq(B, d, rcond=None)
+    resid = float(np.max(np.abs(B @ coef - d)))
+    return coef, resid
+
+
+def _rotation(coef):
+    """Weighted Birkhoff average of d along an orbit of theta -> theta + d(theta) (mod 2 pi)."""
+    K = N_MODES
+    c0, a, b = coef[0], coef[1: K + 1], coef[K + 1:]
+    k = np.arange(1, K + 1)
+
+    def d(theta):
+        ang = k * theta
+        return c0 + float(a @ np.cos(ang) + b @ np.sin(ang))
+
+    # the orbit's quasi-period in iterations is about 2 pi/|c0| (c0 ~ the mean of d); many of them are needed
+    slip = 2.0 * math.pi / max(abs(c0), 1e-12)
+    n = int(min(max(400.0, 25.0 * slip), 200000))
+    theta, num, den = 0.0, 0.0, 0.0
+    for i in range(n):
+        s = (i + 0.5) / n
+        wgt = math.exp(-1.0 / (s * (1.0 - s)))
+        dd = d(theta)
+        num += wgt * dd
+        den += wgt
+        theta = math.fmod(theta + dd, 2.0 * math.pi)
+    return num / den

@@ -1,0 +1,167 @@
+"""5.10 against hand values, harmonic balance, a direct simulation and the free-frequency shift.
+
+Hand derivation (reduced equations): q = A cos(omega t - phi); averaging gives
+dA/dt = (mu A/2)(1 - beta A^2/4) + (f0/2 omega) sin phi and
+A dphi/dt = xi A + (f0/2 omega) cos phi.  At A0 = 2/sqrt(beta):
+dphi/dt = xi + Delta cos phi, Delta = f0 sqrt(beta)/(4 omega0): locked for
+|xi| <= Delta, otherwise phi slips at the mean rate sqrt(xi^2 - Delta^2).
+Defaults (omega0 = 3, mu = 0.15, beta = 4, f0 = 0.09, omega = 3.03):
+Delta = 0.09 * 2/12 = 0.015, width 0.03, beat = sqrt(0.03^2 - 0.015^2) =
+0.015 sqrt(3) = 0.025980762113533.
+
+The exact edges by a different method: harmonic balance (odd harmonics to the
+9th; the equation is odd in q) with the fundamental's phase relative to the
+drive fixed, the frequency an unknown: omega(phase) runs over a closed loop
+whose extremes are the edges (no shooting, no integration).  The exact beat
+by a plain long simulation (LSODA): the times at which the oscillator's phase
+has slipped by whole turns against the drive, fitted by a straight line.
+"""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.optimize import fsolve, minimize_scalar
+
+from conftest import solve_both
+
+DEF = dict(omega0=3.0, mu=0.15, beta=4.0, f0=0.09, omega=3.03)
+
+
+def test_defaults_by_hand():
+    a, n, run = solve_both("5.10")
+    assert a["xi_lo"] == pytest.approx(-0.015, rel=1e-14)
+    assert a["xi_hi"] == pytest.approx(0.015, rel=1e-14)
+    assert a["width"] == pytest.approx(0.03, rel=1e-14)
+    assert a["beat"] == pytest.approx(0.015 * math.sqrt(3.0), rel=1e-14)
+    # at a fold one Floquet multiplier is 1
+    for mults in run.info["fold_multipliers"]:
+        assert max(mults) == pytest.approx(1.0, abs=1e-6)
+
+
+def test_inside_the_range_the_beat_is_zero():
+    a, n, run = solve_both("5.10", omega=3.005)
+    assert a["beat"] == 0.0 and n["beat"] == 0.0
+    assert run.info["locked"] is True
+
+
+@pytest.mark.parametrize("given, delta", [(dict(f0=0.06, omega=3.05), 0.01), (dict(omega0=2.0, beta=1.0, f0=0.08, omega=1.9), 0.01)])
+def test_analytic_other_parameters(given, delta):
+    # Delta = f0 sqrt(beta)/(4 omega0): 0.06*2/12 = 0.01; 0.08*1/8 = 0.01
+    a, _, _ = solve_both("5.10", **given)
+    xi = given["omega"] - given.get("omega0", 3.0)
+    assert a["xi_hi"] == pytest.approx(delta, rel=1e-14)
+    assert a["width"] == pytest.approx(2 * delta, rel=1e-14)
+    assert a["beat"] == pytest.approx(math.sqrt(xi * xi - delta * delta), rel=1e-13)
+
+
+# --- harmonic balance for the exact locked orbits --------------------------------------------------------
+K = np.arange(1, 10, 2)
+TAU = 2 * np.pi * np.arange(64) / 64
+C, S = np.cos(np.outer(TAU, K)), np.sin(np.outer(TAU, K))
+
+
+def hb_residual(c, omega, p):
+    a, b = c[: len(K)], c[len(K):]
+    q = C @ a + S @ b
+    dq = omega * ((-S * K) @ a + (C * K) @ b)
+    d2q = omega**2 * ((-C * K**2) @ a + (-S * K**2) @ b)
+    r = d2q - p["mu"] * (1 - p["beta"] * q * q) * dq + p["omega0"] ** 2 * q - p["f0"] * np.cos(TAU)
+    return np.concatenate([C.T @ r, S.T @ r]) * (2 / 64)
+
+
+def hb_omega_at_phase(phi, p, state):
+    """Unknowns: R and the higher harmonics and omega; the fundamental is R cos(tau - phi)."""
+    n = len(K)
+
+    def unpack(x):
+        R, om = x[0], x[-1]
+        a = np.concatenate([[R * math.cos(phi)], x[1:n]])
+        b = np.concatenate([[R * math.sin(phi)], x[n: 2 * n - 1]])
+        return np.concatenate([a, b]), om
+
+    def eqs(x):
+        c, om = unpack(x)
+        return hb_residual(c, om, p)
+
+    x, info, ier, msg = fsolve(eqs, state, full_output=True, xtol=1e-13)
+    assert np.max(np.abs(eqs(x))) < 1e-12, msg
+    state[:] = x
+    return x[-1]
+
+
+def hb_edges(p):
+    n = len(K)
+    state = np.zeros(2 * n)
+    state[0], state[-1] = 2 / math.sqrt(p["beta"]), p["omega0"]
+    grid = np.linspace(-math.pi, math.pi, 24, endpoint=False)
+    vals = [hb_omega_at_phase(ph, p, state) for ph in grid]  # once around the loop, continuing the guess
+    out = []
+    for sign in (+1, -1):  # the phase at which omega is largest / smallest, refined around the best grid point
+        ph0 = grid[int(np.argmax(sign * np.array(vals)))]
+        h = grid[1] - grid[0]
+        r = minimize_scalar(lambda ph: -sign * hb_omega_at_phase(ph, p, state), bounds=(ph0 - h, ph0 + h),
+                            method="bounded", options={"xatol": 1e-10})
+        assert ph0 - 0.99 * h < r.x < ph0 + 0.99 * h
+        out.append(-sign * r.fun - p["omega0"])
+    return out
+
+
+@pytest.mark.parametrize("given", [{}, dict(mu=0.03, f0=0.018, omega=3.015), dict(omega0=2.0, mu=0.3, beta=1.0, f0=0.15, omega=2.1)])
+def test_numeric_edges_against_harmonic_balance(given):
+    p = {**DEF, **given}
+    _, n, _ = solve_both("5.10", **given)
+    hi, lo = hb_edges(p)
+    assert n["xi_hi"] == pytest.approx(hi, rel=1e-7)
+    assert n["xi_lo"] == pytest.approx(lo, rel=1e-7)
+    assert n["width"] == pytest.approx(hi - lo, rel=1e-7)
+
+
+def test_centre_of_the_range_is_the_free_frequency():
+    # weak drive: the range is centred on the free van der Pol frequency omega0 (1 - eps^2/16 + 17 eps^4/3072)
+    p = dict(f0=0.0225, omega=3.1)
+    _, n, _ = solve_both("5.10", **p)
+    e = 0.15 / 3.0
+    shift = 3.0 * (-e * e / 16 + 17 * e**4 / 3072)
+    assert 0.5 * (n["xi_lo"] + n["xi_hi"]) == pytest.approx(shift, rel=0.01)  # up to O(Delta^2/mu) corrections
+
+
+@pytest.mark.parametrize("given", [dict(omega=3.05), dict(omega=2.95, f0=0.06)])
+def test_numeric_beat_against_slip_times_of_a_long_simulation(given):
+    p = {**DEF, **given}
+    _, n, _ = solve_both("5.10", **given)
+    mu, beta, w0, f0, w = p["mu"], p["beta"], p["omega0"], p["f0"], p["omega"]
+
+    def rhs(t, y):
+        q, v, th = y
+        acc = mu * (1 - beta * q * q) * v - w0 * w0 * q + f0 * math.cos(w * t)
+        # theta = atan2(-v/w0, q): its rate from the equation of motion
+        dth = (-q * acc / w0 + v * v / w0) / (q * q + v * v / (w0 * w0))
+        return [v, acc, dth]
+
+    # settle 20/mu, then record when theta - omega t passes successive multiples of 2 pi
+    T_beat = 2 * math.pi / n["beat"]
+    t_end = 20 / mu + 14 * T_beat
+    sol = solve_ivp(rhs, (0, t_end), [1.0, 0.0, 0.0], method="LSODA", rtol=1e-10, atol=1e-12, dense_output=True)
+    t = np.linspace(20 / mu, t_end, 200001)
+    psi = sol.sol(t)[2] - w * t
+    # the first time each new whole turn of slip is reached (the phase wobbles within a drive period, so
+    # a boundary can be crossed back and forth: only the first crossing counts)
+    progress = np.floor(np.sign(psi[-1] - psi[0]) * (psi - psi[0]) / (2 * math.pi))
+    reached = np.maximum.accumulate(progress)
+    idx = np.nonzero(np.diff(reached) > 0)[0]
+    times = t[idx + 1]
+    assert len(times) >= 10
+    slope = np.polyfit(np.arange(len(times)), times, 1)[0]
+    assert n["beat"] == pytest.approx(2 * math.pi / abs(slope), rel=2e-3)
+
+
+def test_width_error_shrinks_like_the_square_of_the_drive():
+    """The width loses the free-frequency shift (both edges move alike); what is left is O((Delta/mu)^2):
+    halving f0 divides the error by nearly 4 (measured exponent 1.8 over f0 = 0.18 ... 0.0225)."""
+    errs = []
+    for f0 in (0.09, 0.045):
+        a, n, _ = solve_both("5.10", f0=f0, omega=3.1)
+        errs.append(abs(n["width"] / a["width"] - 1))
+    assert 3.0 < errs[0] / errs[1] < 4.5
