@@ -37,10 +37,12 @@ def _float_list(text: str | None, what: str) -> list[float] | None:
 @click.option("--repeats", default=5, show_default=True, help="Timed runs per point at most (after a warm-up).")
 @click.option("--budget", "budget_s", default=45.0, show_default=True,
               help="Seconds the timed repeats may take in all; slow points are timed once.")
+@click.option("--max-seconds", default=55.0, show_default=True,
+              help="Start no new point after this many seconds (the rest are kept as 'not run').")
 @click.option("--json", "as_json", is_flag=True, help="The contract's JSON object on stdout.")
 @click.option("--plot", "plot_file", type=click.Path(dir_okay=False, writable=True),
               help="Draw error against time and against evaluations (log-log) to this PNG (needs matplotlib).")
-def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, as_json, plot_file):
+def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seconds, as_json, plot_file):
     """Speed against error of exercise ID's numeric solver.
 
     Every point: requested rtol, achieved error against the exact analytic answer
@@ -80,7 +82,7 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, as_json,
 
     try:
         result = bench(ex, params, methods=methods, tols=tols, repeats=repeats, budget_s=budget_s,
-                       progress=progress)
+                       max_seconds=max_seconds, progress=progress)
     except ValueError as exc:
         raise UsageFailure(str(exc)) from None
     if plot_file:

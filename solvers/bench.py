@@ -32,7 +32,10 @@ while they fit in the point's share of the time budget (at most ``repeats``);
 a point slower than its share is timed by its single run (``timed_runs`` 1).
 A run longer than ``run_limit_s`` is stopped and is a failed point; after a
 point slower than ``slow_s`` the tighter tolerances of that method are not
-run (failed points with a note), which keeps ``mech bench`` near a minute.
+run (failed points with a note); the sweep goes tolerance by tolerance over
+all methods and starts no new point after ``max_seconds`` (55 s), so
+``mech bench`` stays near a minute and a slow exercise loses its tightest
+points, each kept as a failed point saying why.
 Failed runs stay in the table with ``ok`` false, ``error`` null and a note.
 """
 
@@ -160,6 +163,7 @@ def bench(
     budget_s: float = 45.0,
     run_limit_s: float = 10.0,
     slow_s: float = 3.0,
+    max_seconds: float = 55.0,
     progress=None,
 ) -> dict:
     """The bench of one exercise as the contract's JSON object (see the module docstring)."""
@@ -203,7 +207,8 @@ def bench(
         extra = []
     if integrates and not methods:
         extra = [(STUDENT, 1e-3), (DEFAULT_ROW, ex.default_rtol)]
-    plan = [(m, t) for m in rows for t in tols] + extra
+    # tolerance-major: when the wall-time cap stops the sweep, every method has its looser points
+    plan = [(m, t) for t in tols for m in rows] + extra
     share = budget_s / max(len(plan), 1)
     runner = _Runner(ex, params)
 
@@ -216,6 +221,10 @@ def bench(
             pt["integrator"] = own_method
         if method in too_slow:
             pt["note"] = too_slow[method]
+            points.append(pt)
+            continue
+        if time.perf_counter() - started > max_seconds and method not in (STUDENT, DEFAULT_ROW):
+            pt["note"] = f"not run: the bench's {max_seconds:g} s were spent (--max-seconds)"
             points.append(pt)
             continue
         if rtol < ex.min_rtol and method not in SYMPLECTIC:
@@ -271,6 +280,8 @@ def bench(
         if progress:
             progress(pt)
 
+    order = {m: k for k, m in enumerate(dict.fromkeys([m for m, _ in plan]))}
+    points.sort(key=lambda p: (order[p["method"]], -p["rtol"]))
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
     result = {
         "id": ex.id,
@@ -285,7 +296,7 @@ def bench(
         "default": {"method": own_method, "rtol": ex.default_rtol, "tol_factor": ex.tol_factor},
         "points": points,
         "summary": summarize(points),
-        "timing": {"repeats_max": repeats, "budget_s": budget_s, "seconds": time.perf_counter() - started,
+        "timing": {"repeats_max": repeats, "budget_s": budget_s, "max_seconds": max_seconds, "seconds": time.perf_counter() - started,
                    "load_1min": load, "cpus": os.cpu_count()},
     }
     result["ranking"] = [s["method"] for s in sorted(result["summary"], key=lambda s: s["rank"])]
