@@ -266,6 +266,8 @@ def sweep(
     t = _unit(start.tangent)
     if (t @ (np.asarray(toward) - start.z) if toward is not None else t[2] * direction) < 0:
         t = -t
+    if toward is not None:
+        direction = math.copysign(1.0, t[2])  # the way w goes at the start
     bp, h = start, h0
     prev_turn = None  # (s, w_turn) of the previous point, for the secant prediction of a zero
     s_total = 0.0
@@ -310,6 +312,14 @@ def sweep(
                 out.points.append(new)
                 out.fold_bracket = (bp_fresh, new)
                 return out
+        # the same fold seen geometrically: w moved backward (the det test can miss it when the loosely
+        # converged points carry Jacobians from off the branch); it lies between the point before the last
+        # one and the new one
+        if (new.z[2] - bp.z[2]) * direction < 0 and len(out.points) >= 2:
+            fresh = [omap.evaluate(q.z, rtol) for q in (out.points[-2], new)]
+            out.points.append(new)
+            out.fold_bracket = (fresh[0], fresh[1])
+            return out
         if watch is not None and np.sign(watch(new)) != np.sign(watch(bp)):
             out.points.append(new)
             out.fold_bracket = (bp, new)
@@ -400,8 +410,9 @@ def refine_root(
         s1 = s2
         bp = solve(s1, rtol)
         g1 = g(bp)
-        # converged when the step is below what rtol resolves of the point's size
-        if abs(s1 - s0) <= 10.0 * rtol * max(L, float(np.max(np.abs(a.z)))):
+        # converged when the step is below what rtol (or double precision: the orbit's condition number
+        # amplifies round-off) resolves of the point's size
+        if abs(s1 - s0) <= max(10.0 * rtol, 1e-11) * max(L, float(np.max(np.abs(a.z)))):
             return bp
     raise NumericFailure("refine_root: the precise secant steps did not converge")
 

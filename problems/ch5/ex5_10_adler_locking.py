@@ -50,6 +50,7 @@ exercise = Exercise(
 MAX_EPS = 0.3  # mu/omega0: weakly nonlinear self-oscillator
 MAX_FORCING = 0.25  # Delta/mu: weak drive (the edges stay saddle-node folds of the locked orbit)
 MAX_DETUNING = 0.2  # |xi|/omega0
+MAX_SHIFT = 0.3  # the neglected free-frequency shift mu^2/(16 omega0) over the half-width
 EDGE_BAND = 3.0  # refuse |xi| within EDGE_BAND * (the theory's edge uncertainty) of an edge
 
 
@@ -74,6 +75,11 @@ def _(p):
     if D > MAX_FORCING * p.mu:
         return (f"the drive is not weak: the locking half-width f0 sqrt(beta)/(4 omega0) = {D:.3g} rad/s must be "
                 f"<= {MAX_FORCING:g} mu = {MAX_FORCING * p.mu:.3g} rad/s (lower f0)")
+    shift = p.mu**2 / (16.0 * p.omega0)
+    if shift > MAX_SHIFT * D:
+        return (f"the drive is too weak for this mu: the free oscillator's frequency shift mu^2/(16 omega0) = "
+                f"{shift:.3g} rad/s, which the leading order neglects, exceeds {MAX_SHIFT:g} of the half-width "
+                f"{D:.3g} rad/s (the predicted range would miss the true one; raise f0 or lower mu)")
     xi = p.omega - p.omega0
     if abs(xi) > MAX_DETUNING * p.omega0:
         return (f"omega = {p.omega:g} rad/s is too far from omega0 = {p.omega0:g} rad/s: the reduced equations "
@@ -118,7 +124,7 @@ def _(p, run):
     from mech.solvers.sweeps import OrbitMap, refine_root, solve_on_plane, sweep
 
     rtol = run.rtol
-    rs = max(rtol, 1e-8)
+    rs = max(rtol, 1e-7)
     mu, beta, w0, f0 = p.mu, p.beta, p.omega0, p.f0
 
     def force(q, v):
@@ -128,12 +134,19 @@ def _(p, run):
     Q = 1.0 / math.sqrt(beta)  # unit of length (the cycle's swing is about 2 Q)
     W = f0 * math.sqrt(beta) / w0  # unit of detuning: the drive's strength over the swing, by dimensions
     om = OrbitMap(force, f0, Q, w0, W)
+    # an edge is a detuning, a small difference of frequencies: the orbit's phase error per period, about
+    # the tolerance, is a frequency error of about rtol omega0, so the refinements integrate at rtol W/omega0
+    rr = max(3e-14, rtol * min(1.0, W / w0))
+    run.info["rtol_integration"] = rr
+    edge_claim = max(exercise.tol_factor * rtol, 100.0 * rr * w0 / W)
+    for name in ("xi_lo", "xi_hi", "width"):
+        run.claim(name, rel=edge_claim)
 
     # a locked orbit at omega = omega0: Newton from a few phases around a swing of 2 Q
     start = None
     for ph in (0.5, -0.5, 0.0, 1.0):
         bp = solve_on_plane(om, [2.0 * math.cos(ph * math.pi), 2.0 * math.sin(ph * math.pi), 0.0], [0.0, 0.0, 1.0],
-                            0.0, rtol=rs, tol=1e-7, max_iter=40, fresh=True, monotone=False)
+                            0.0, rtol=rs, tol=1e-7, max_iter=25, fresh=True, monotone=False)
         if bp is not None and bp.A > 1.0:  # not the small unstable orbit near rest
             start = bp
             break
@@ -145,7 +158,7 @@ def _(p, run):
         sw = sweep(om, start, direction, direction * 10.0, rtol=rs, h0=0.1)
         if sw.fold_bracket is None:
             raise NumericFailure(f"the {'upward' if direction > 0 else 'downward'} sweep found no edge of locking")
-        folds.append(refine_root(om, *sw.fold_bracket, lambda b: b.tangent[2], rtol=rtol, rtol_search=rs,
+        folds.append(refine_root(om, *sw.fold_bracket, lambda b: b.tangent[2], rtol=rr, rtol_search=rs,
                                  xtol=1e-7, polish=False))
         run.info[("up" if direction > 0 else "down") + "_sweep_steps"] = sw.steps
     xi_hi, xi_lo = folds[0].z[2] * W, folds[1].z[2] * W

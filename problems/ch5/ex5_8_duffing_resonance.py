@@ -233,6 +233,9 @@ def _(p, run):
     run.record(SimpleNamespace(nfev=om.nfev, method="DOP853"))
     run.info["orbit_maps"] = om.calls
 
+    # the peak's position is a root of dA/ds, whose noise is set by the tolerance relative to the curve's
+    # own scale, the half-width: an absolute claim for a peak shift that may be tiny (weak alpha)
+    run.claim("xi_peak", rel=exercise.tol_factor * rtol, abs=1e3 * rtol * p.delta)
     out = {"A_max": peak.A * Q, "xi_peak": peak.z[2] * W}
     if folds:
         xi = sorted(f.z[2] * W for f in folds)
