@@ -170,7 +170,7 @@ def _(p, run):
     rs = max(rtol, min(1e-7, 1e-6 * damp))
     # the refinements: integration tolerance scaled by the same condition number, so that the orbit (and so
     # the outputs) come out to about rtol
-    rr = max(1e-14, rtol * min(1.0, 10.0 * damp))
+    rr = max(3e-14, rtol * min(1.0, 10.0 * damp))  # scipy floors rtol at 2.2e-14
     run.info["rtol_integration"] = rr
     Q = p.f0 / (2.0 * p.omega0 * p.delta)  # unit of length: the linear resonant swing
     W = p.delta  # unit of detuning: the half-width
