@@ -12,7 +12,6 @@ import sys
 
 import click
 
-from mech.cli import render
 from mech.cli.options import collect_params, parse_rtol
 from mech.problems.spec import BadInput
 
@@ -37,16 +36,7 @@ def _get(ex_id: str):
 
 
 def _complete_ids(ctx, param, incomplete):
-    return [i for i in _registry().all_exercises() if i.startswith(incomplete)]
-
-
-def _version() -> str:
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return version("mech")
-    except PackageNotFoundError:
-        return "unknown"
+    return [e.id for e in _registry().index() if e.id.startswith(incomplete)]
 
 
 def _emit_json(obj) -> None:
@@ -115,7 +105,7 @@ class MechGroup(click.Group):
 
 
 @click.group(cls=MechGroup, context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100})
-@click.version_option(version=_version(), prog_name="mech", message="%(prog)s %(version)s")
+@click.version_option(package_name="mech", prog_name="mech", message="%(prog)s %(version)s")
 def cli():
     """Solve the exercises of Likharev's Classical Mechanics, chapters 4 and 5, two ways.
 
@@ -138,10 +128,12 @@ def cli():
 @click.option("--json", "as_json", is_flag=True, help="A JSON array instead of a table.")
 def list_cmd(chapter, as_json):
     """List the registered exercises: id, title, topic, methods."""
-    exercises = [ex for ex in _registry().all_exercises().values() if not chapter or ex.chapter == int(chapter)]
+    exercises = [e for e in _registry().index() if not chapter or e.chapter == int(chapter)]
     if as_json:
-        _emit_json([{"id": e.id, "title": e.title, "topic": e.topic, "methods": e.methods} for e in exercises])
+        _emit_json([{"id": e.id, "title": e.title, "topic": e.topic, "methods": list(e.methods)} for e in exercises])
     else:
+        from mech.cli import render
+
         render.print_list(exercises)
 
 
@@ -154,6 +146,8 @@ def show_cmd(ex_id, as_json):
     if as_json:
         _emit_json(ex.as_json())
     else:
+        from mech.cli import render
+
         render.print_show(ex)
 
 
@@ -219,6 +213,8 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json):
     if as_json:
         _emit_json(result.as_json())
     else:
+        from mech.cli import render
+
         render.print_solve(result)
     ctx.exit(EXIT_DISAGREE if result.agree is False else EXIT_OK)
 
@@ -243,6 +239,8 @@ def check_cmd(ctx, ids, hard, as_json, junit_file):
     if as_json:
         _emit_json(report.as_json())
     else:
+        from mech.cli import render
+
         render.print_check(report)
     ctx.exit(EXIT_OK if report.ok else EXIT_DISAGREE)
 

@@ -1,18 +1,43 @@
-"""The registry: every exercise module under problems/ch4 and problems/ch5, found by name.
+"""The registry: every exercise module under problems/ch4 and problems/ch5, found by file name.
 
-Discovery imports the modules (numpy only); scipy is imported by the solvers when
-they run, so listing stays fast.
+Two levels, so that the commands that only list stay fast:
+
+* ``index()`` reads the file names (``ex4_15_sliding_ladder.py`` is exercise 4.15), the
+  packaged catalogue (title, topic) and, from each module's text, which solvers it
+  registers.  It imports no exercise module, hence no numpy and no scipy.
+* ``get(id)`` imports the one module asked for; ``all_exercises()`` imports them all.
+
+tests/test_conformance.py holds the index to what the imported modules really register.
 """
 
 from __future__ import annotations
 
 import importlib
+import importlib.util
 import pkgutil
+import re
+import tomllib
+from dataclasses import dataclass
 from functools import lru_cache
+from importlib import resources
 
 from mech.problems.spec import BadInput, Exercise
 
 CHAPTER_PACKAGES = ("mech.problems.ch4", "mech.problems.ch5")
+_MODULE_NAME = re.compile(r"^ex(\d+)_(\d+)_\w+$")
+
+
+@dataclass(frozen=True)
+class Entry:
+    id: str
+    title: str
+    topic: str
+    methods: tuple[str, ...]
+    module: str
+
+    @property
+    def chapter(self) -> int:
+        return int(self.id.split(".")[0])
 
 
 def _id_key(ex_id: str) -> tuple[int, ...]:
@@ -20,26 +45,53 @@ def _id_key(ex_id: str) -> tuple[int, ...]:
 
 
 @lru_cache(maxsize=1)
-def all_exercises() -> dict[str, Exercise]:
-    found: dict[str, Exercise] = {}
+def _modules() -> dict[str, str]:
+    """Exercise id -> module name, from the file names alone."""
+    found: dict[str, str] = {}
     for pkg_name in CHAPTER_PACKAGES:
         pkg = importlib.import_module(pkg_name)
         for info in pkgutil.iter_modules(pkg.__path__):
-            if not info.name.startswith("ex"):
+            m = _MODULE_NAME.match(info.name)
+            if not m:
                 continue
-            module = importlib.import_module(f"{pkg_name}.{info.name}")
-            ex = getattr(module, "exercise", None)
-            if isinstance(ex, Exercise):
-                if ex.id in found:
-                    raise RuntimeError(f"exercise {ex.id} registered twice")
-                found[ex.id] = ex
+            ex_id = f"{m.group(1)}.{m.group(2)}"
+            if ex_id in found:
+                raise RuntimeError(f"exercise {ex_id} has two modules: {found[ex_id]} and {info.name}")
+            found[ex_id] = f"{pkg_name}.{info.name}"
     return dict(sorted(found.items(), key=lambda kv: _id_key(kv[0])))
 
 
+@lru_cache(maxsize=1)
+def index() -> list[Entry]:
+    entries = []
+    catalogue = resources.files("mech.problems").joinpath("catalogue")
+    for ex_id, module in _modules().items():
+        spec = tomllib.loads(catalogue.joinpath(f"{ex_id}.toml").read_text("utf-8"))
+        origin = importlib.util.find_spec(module).origin
+        with open(origin, encoding="utf-8") as fh:
+            text = fh.read()
+        methods = tuple(m for m in ("analytic", "numeric") if f"@exercise.{m}\n" in text)
+        entries.append(Entry(ex_id, spec["title"], spec["topic"], methods, module))
+    return entries
+
+
+def _load(ex_id: str, module_name: str) -> Exercise:
+    module = importlib.import_module(module_name)
+    ex = getattr(module, "exercise", None)
+    if not isinstance(ex, Exercise) or ex.id != ex_id:
+        raise RuntimeError(f"{module_name} does not define exercise {ex_id}")
+    return ex
+
+
+@lru_cache(maxsize=1)
+def all_exercises() -> dict[str, Exercise]:
+    return {ex_id: _load(ex_id, module) for ex_id, module in _modules().items()}
+
+
 def get(ex_id: str) -> Exercise:
-    exercises = all_exercises()
+    modules = _modules()
     key = ex_id.strip()
-    if key not in exercises:
-        known = ", ".join(exercises) or "none"
+    if key not in modules:
+        known = ", ".join(modules) or "none"
         raise BadInput(f"unknown exercise '{ex_id}'; registered: {known}")
-    return exercises[key]
+    return _load(key, modules[key])

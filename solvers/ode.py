@@ -168,7 +168,7 @@ def integrate_to_event(
     event: Event,
     *,
     rtol: float,
-    confirm: bool = True,
+    confirm: bool | str = True,
     steps_per_event: int = 64,
     **kwargs,
 ) -> tuple[float, np.ndarray, Trajectory]:
@@ -176,13 +176,26 @@ def integrate_to_event(
 
     solve_ivp looks for a sign change only between the ends of each step, so an
     event function that crosses zero twice inside one step is missed (scipy
-    issue 9228).  With ``confirm`` the run is repeated with the step bounded to
-    ``t_event / steps_per_event``; a different first event is a failure.
+    issue 9228).  The event is therefore confirmed:
+
+    * ``confirm=True`` (default): the event function is evaluated on the run's
+      own dense output (DOP853's 7th-order interpolant) at ``steps_per_event``
+      even times up to the event and 8 points inside every step; a crossing
+      in the event's direction before the event found is a failure.  It costs
+      no right-hand-side evaluation (a bounded-step rerun was 80-90 % of the
+      evaluations of the event exercises, measured by ``mech bench``).
+    * ``confirm="rerun"``: the run is repeated with the step bounded to a
+      ``steps_per_event``-th of the way; a different first event is a failure.
+    * ``confirm=False``: no confirmation.
     """
     event = Event(event.fn, terminal=True, direction=event.direction, name=event.name)
+    if confirm is True:
+        kwargs["dense_output"] = True
     traj = integrate(rhs, t_span, y0, rtol=rtol, events=[event], **kwargs)
     t_ev, y_ev = first_event(traj)
-    if confirm:
+    if confirm is True and t_ev != t_span[0]:
+        _confirm_on_dense_output(traj, event, t_span[0], t_ev, steps_per_event)
+    elif confirm == "rerun":
         bounded = dict(kwargs)
         span = abs(t_ev - t_span[0])
         bounded["max_step"] = min(kwargs.get("max_step", math.inf), span / steps_per_event) if span > 0 else math.inf
@@ -197,3 +210,27 @@ def integrate_to_event(
         traj.nfev += second.nfev
         traj.extra["confirm_nfev"] = second.nfev
     return t_ev, y_ev, traj
+
+
+def _confirm_on_dense_output(traj: Trajectory, event: Event, t0: float, t_ev: float, n_grid: int) -> None:
+    """Fail when the event function already crossed zero (in its direction) before ``t_ev``."""
+    steps = traj.t[traj.t <= t_ev] if traj.t[-1] >= traj.t[0] else traj.t[traj.t >= t_ev]
+    inner = (steps[:-1, None] + np.diff(steps)[:, None] * (np.arange(1, 9) / 9.0)[None, :]).ravel()
+    grid = np.linspace(t0, t_ev, n_grid + 1)[:-1]
+    ts = np.unique(np.concatenate([grid, inner, steps[:-1]]))
+    ts = ts[(ts - t0) * (t_ev - ts) >= 0.0]
+    ts = ts[ts != t_ev]
+    if t_ev < t0:
+        ts = ts[::-1]
+    ys = traj.sol(ts)
+    g = [float(event.fn(t, ys[:, k])) for k, t in enumerate(ts)]
+    for k in range(len(g) - 1):
+        a, b = g[k], g[k + 1]
+        down = a > 0.0 >= b
+        up = a < 0.0 <= b
+        if (down and event.direction <= 0) or (up and event.direction >= 0):
+            raise NumericFailure(
+                f"event '{event.name}' found at t={t_ev:.10g}, but the solution already crosses it near "
+                f"t={ts[k + 1]:.10g}: a sign change was stepped over"
+            )
+    traj.extra["confirm"] = f"event function sampled at {len(ts)} points of the dense output"

@@ -99,7 +99,7 @@ def test_json_is_finite():
         assert p["error"] is None or math.isfinite(p["error"])
 
 
-# --- solvers/lean.py: the event confirmed on the dense output instead of a bounded rerun ---------------
+# --- ode.integrate_to_event: the event confirmed on the dense output instead of a bounded rerun ----------
 
 def _pendulum():
     import numpy as np
@@ -110,11 +110,11 @@ def _pendulum():
 
 
 def test_lean_event_is_ode_event_at_a_fraction_of_the_cost():
-    from mech.solvers import lean, ode
+    from mech.solvers import ode
 
     rhs, ev = _pendulum()
-    t1, y1, tr1 = ode.integrate_to_event(rhs, (0.0, 50.0), [1.0, 0.0], ev, rtol=1e-10)
-    t2, y2, tr2 = lean.integrate_to_event(rhs, (0.0, 50.0), [1.0, 0.0], ev, rtol=1e-10)
+    t1, y1, tr1 = ode.integrate_to_event(rhs, (0.0, 50.0), [1.0, 0.0], ev, rtol=1e-10, confirm="rerun")
+    t2, y2, tr2 = ode.integrate_to_event(rhs, (0.0, 50.0), [1.0, 0.0], ev, rtol=1e-10)
     assert t2 == t1 and (y2 == y1).all()
     assert tr2.nfev < 0.3 * tr1.nfev  # no 64-step rerun
 
@@ -123,19 +123,20 @@ def test_lean_event_catches_a_stepped_over_crossing():
     import numpy as np
 
     from mech.problems.spec import NumericFailure
-    from mech.solvers import lean
-    from mech.solvers.ode import Event
+    from mech.solvers.ode import Event, integrate_to_event
 
     # y = t; the event crosses upward at 1.9 and 6, the integrator's steps (exact, growing x10) jump to 6
     g = Event(lambda t, y: ((y[0] - 2.0) ** 2 - 0.01) * (y[0] - 6.0), direction=1)
     with pytest.raises(NumericFailure, match="stepped over"):
-        lean.integrate_to_event(lambda t, y: np.array([1.0]), (0.0, 20.0), [0.0], g, rtol=1e-6)
+        integrate_to_event(lambda t, y: np.array([1.0]), (0.0, 20.0), [0.0], g, rtol=1e-6)
+    with pytest.raises(NumericFailure, match="stepped over"):
+        integrate_to_event(lambda t, y: np.array([1.0]), (0.0, 20.0), [0.0], g, rtol=1e-6, confirm="rerun")
 
 
 def test_lean_event_obeys_the_bench_override():
-    from mech.solvers import lean, ode
+    from mech.solvers import ode
 
     rhs, ev = _pendulum()
     with ode.override(method="LSODA"):
-        _, _, tr = lean.integrate_to_event(rhs, (0.0, 50.0), [1.0, 0.0], ev, rtol=1e-8)
+        _, _, tr = ode.integrate_to_event(rhs, (0.0, 50.0), [1.0, 0.0], ev, rtol=1e-8)
     assert tr.method == "LSODA"

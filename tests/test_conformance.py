@@ -62,3 +62,12 @@ def test_every_catalogue_entry_is_registered():
     missing = sorted(set(IDS) - set(REGISTERED), key=lambda s: tuple(map(int, s.split("."))))
     if missing:
         pytest.xfail(f"not yet registered: {', '.join(missing)}")
+
+
+def test_the_light_index_matches_the_imported_modules():
+    entries = registry.index()
+    exercises = registry.all_exercises()
+    assert [e.id for e in entries] == list(exercises)
+    for e in entries:
+        ex = exercises[e.id]
+        assert (e.title, e.topic, list(e.methods)) == (ex.title, ex.topic, ex.methods)

@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise
-from mech.solvers.lean import integrate_to_event  # the event confirmed on the dense output (see lean.py)
+from mech.solvers.ode import integrate_to_event
 from mech.solvers.ode import Event
 
 exercise = Exercise(
