@@ -13,7 +13,7 @@ tests/test_conformance.py holds the index to what the imported modules really re
 from __future__ import annotations
 
 import importlib
-import importlib.util
+import os
 import pkgutil
 import re
 import tomllib
@@ -47,7 +47,13 @@ def _id_key(ex_id: str) -> tuple[int, ...]:
 @lru_cache(maxsize=1)
 def _modules() -> dict[str, str]:
     """Exercise id -> module name, from the file names alone."""
-    found: dict[str, str] = {}
+    return {ex_id: name for ex_id, (name, _) in _files().items()}
+
+
+@lru_cache(maxsize=1)
+def _files() -> dict[str, tuple[str, str]]:
+    """Exercise id -> (module name, source path)."""
+    found: dict[str, tuple[str, str]] = {}
     for pkg_name in CHAPTER_PACKAGES:
         pkg = importlib.import_module(pkg_name)
         for info in pkgutil.iter_modules(pkg.__path__):
@@ -56,18 +62,29 @@ def _modules() -> dict[str, str]:
                 continue
             ex_id = f"{m.group(1)}.{m.group(2)}"
             if ex_id in found:
-                raise RuntimeError(f"exercise {ex_id} has two modules: {found[ex_id]} and {info.name}")
-            found[ex_id] = f"{pkg_name}.{info.name}"
+                raise RuntimeError(f"exercise {ex_id} has two modules: {found[ex_id][0]} and {info.name}")
+            path = os.path.join(info.module_finder.path, info.name + ".py")
+            found[ex_id] = (f"{pkg_name}.{info.name}", path)
     return dict(sorted(found.items(), key=lambda kv: _id_key(kv[0])))
+
+
+def _heading(text: str) -> dict:
+    """The catalogue's leading keys (id, title, topic): the TOML before its statement, parsed alone."""
+    cut = text.find("\nstatement")
+    try:
+        return tomllib.loads(text if cut < 0 else text[:cut])
+    except tomllib.TOMLDecodeError:
+        return tomllib.loads(text)
 
 
 @lru_cache(maxsize=1)
 def index() -> list[Entry]:
     entries = []
     catalogue = resources.files("mech.problems").joinpath("catalogue")
-    for ex_id, module in _modules().items():
-        spec = tomllib.loads(catalogue.joinpath(f"{ex_id}.toml").read_text("utf-8"))
-        origin = importlib.util.find_spec(module).origin
+    for ex_id, (module, origin) in _files().items():
+        spec = _heading(catalogue.joinpath(f"{ex_id}.toml").read_text("utf-8"))
+        if "title" not in spec or "topic" not in spec:
+            spec = tomllib.loads(catalogue.joinpath(f"{ex_id}.toml").read_text("utf-8"))
         with open(origin, encoding="utf-8") as fh:
             text = fh.read()
         methods = tuple(m for m in ("analytic", "numeric") if f"@exercise.{m}\n" in text)
