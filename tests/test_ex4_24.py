@@ -10,7 +10,9 @@ l F = 0.1: t_down = 0.375 pi/0.2 = 5.890486225480862 s.
 
 The exact motion (nutation included) is integrated independently below with
 scipy's adaptive DOP853 on the vector equations dn/dt = L x n/I_A,
-dL/dt = l n x (-M g z + F(t)), at rtol 1e-10.
+dL/dt = l n x (-M g z + F(t)), at rtol 1e-10, at a stronger force (a shorter run);
+the solver's coarse Strang steps of a very fast top are checked against its own
+fine 6th-order splitting, itself checked against DOP853.
 """
 
 import math
@@ -40,11 +42,13 @@ def _dop853(M=0.5, l=0.05, I1=3.125e-4, I3=6.25e-4, w3=600.0, F=2.0, g=9.81):
     IA = I1 + M * l * l
     L3 = I3 * w3
     w = M * g * l / L3
+    k = L3 / IA
 
-    def rhs(t, y):
-        nv, L = y[:3], y[3:]
-        f = np.array([F * math.cos(w * t), F * math.sin(w * t), -M * g])
-        return np.concatenate([np.cross(L, nv) / IA, l * np.cross(nv, f)])
+    def rhs(t, y):  # scaled: L in units of L3; dn/dt = k L x n, dL/dt = (l/L3) n x (F(t) - M g z)
+        nx, ny, nz, Lx, Ly, Lz = y
+        fx, fy, fz = l * F * math.cos(w * t) / L3, l * F * math.sin(w * t) / L3, -M * g * l / L3
+        return [k * (Ly * nz - Lz * ny), k * (Lz * nx - Lx * nz), k * (Lx * ny - Ly * nx),
+                ny * fz - nz * fy, nz * fx - nx * fz, nx * fy - ny * fx]
 
     def down(t, y):
         return y[2]
@@ -56,7 +60,8 @@ def _dop853(M=0.5, l=0.05, I1=3.125e-4, I3=6.25e-4, w3=600.0, F=2.0, g=9.81):
 
     up.direction = 1
     up.terminal = True
-    sol = solve_ivp(rhs, (0, 30.0), [0, 0, 1, 0, 0, L3], method="DOP853", rtol=1e-10, atol=1e-13, events=[down, up])
+    t_end = 6 * math.pi * L3 / (2 * l * F)  # twice the leading-order t_up
+    sol = solve_ivp(rhs, (0, t_end), [0, 0, 1, 0, 0, 1], method="DOP853", rtol=1e-10, atol=1e-13, events=[down, up])
     td, tu = sol.t_events[0][0], sol.t_events[1][0]
     yd = sol.y_events[0][0]
     lead = math.atan2(yd[1], yd[0]) - w * td
@@ -64,13 +69,57 @@ def _dop853(M=0.5, l=0.05, I1=3.125e-4, I3=6.25e-4, w3=600.0, F=2.0, g=9.81):
     return td, tu, lead
 
 
-def test_against_adaptive_runge_kutta_at_defaults():
-    td, tu, lead = _dop853()
-    _, n, run = solve_both("4.24", rtol=1e-7)
+def test_against_adaptive_runge_kutta():
+    # F = 6 N: t_up = 5.9 s, about 230 nutation periods (k = 240 rad/s), eps_F = I_A l F/L3^2 = 3.3e-3, so the
+    # exact motion differs from the leading order by ~1e-2 and the 1e-6 agreement checks the nutation's effect
+    td, tu, lead = _dop853(F=6.0)
+    a, n, run = solve_both("4.24", rtol=1e-7, F=6.0)
+    assert abs(td / a["t_down"] - 1) > 1e-3  # the comparison is not with the leading order
     assert n["t_down"] == pytest.approx(td, rel=1e-6)
     assert n["t_up"] == pytest.approx(tu, rel=1e-6)
     assert n["phi_lead"] == pytest.approx(lead, rel=1e-5)
     assert run.invariants["L3 = L . n3"] < 1e-12
+
+
+def _fine_only(monkeypatch):
+    """Force the solver onto its 6th-order splitting at every step (validated above against DOP853)."""
+    import mech.problems.ch4.ex4_24_driven_fast_top as mod
+
+    monkeypatch.setattr(mod, "_tan_root", lambda j: math.inf)
+    monkeypatch.setattr(mod, "MAX_STEPS", 10**7)
+
+
+def test_coarse_strang_steps_against_fine_splitting(monkeypatch):
+    # omega_rot = 4000, F = 6: eps = I_A l F/L3^2 = 7.5e-5; at rtol 1e-6 the solver takes Strang steps of ~1.6
+    # nutation periods between the events.  Their error ~ (H Om)^2 = rtol; the fine run is an independent
+    # 6th-order integration resolving every nutation period.  The leading order is off by ~1e-4: the
+    # agreement to 1e-5 shows the coarse steps keep the nutation's effect (their forced-nutation factor is 1)
+    a, c, run = solve_both("4.24", rtol=1e-6, omega_rot=4000.0, F=6.0)
+    assert run.info["coarse_steps"] > 1000
+    _fine_only(monkeypatch)
+    _, f, run_f = solve_both("4.24", rtol=1e-7, omega_rot=4000.0, F=6.0)
+    assert "coarse_steps" not in run_f.info
+    for q in ("t_down", "t_up", "phi_lead"):
+        assert c[q] == pytest.approx(f[q], rel=1e-5)
+    assert abs(f["t_down"] / a["t_down"] - 1) > 3e-5
+    assert c["cos_min"] == pytest.approx(f["cos_min"], abs=1e-8)
+
+
+def test_very_fast_top_across_the_bounds():
+    # the draw of tests/test_bounds.py that once exceeded the step budget: eps_F = I_A l F/L3^2 = 3.3e-6,
+    # 2.4e5 nutation periods to t_up.  Leading order: t_down = pi L3/(2 l F) = 540.81 s
+    given = dict(M=0.11133548615087796, l=0.0016932264139467971, I1=0.0039053861223051554,
+                 I3=0.017314891933817397, omega_rot=195.93337946538765, F=5.819498232502652, g=0.32923686169570554)
+    L3 = given["I3"] * given["omega_rot"]
+    IA = given["I1"] + given["M"] * given["l"] ** 2
+    eps_F = IA * given["l"] * given["F"] / L3**2
+    a, n, run = solve_both("4.24", **given)
+    assert a["t_down"] == pytest.approx(math.pi * L3 / (2 * given["l"] * given["F"]), rel=1e-14)
+    assert run.info["steps"] < 20_000
+    for q in ("t_down", "t_up"):
+        assert abs(n[q] / a[q] - 1) < 3 * eps_F
+    assert abs(n["phi_lead"] - math.pi / 2) < 3 * eps_F * math.pi / 2
+    assert n["cos_min"] == pytest.approx(-1.0, abs=1e-8)
 
 
 def test_faster_spin_approaches_the_gyroscopic_answer():

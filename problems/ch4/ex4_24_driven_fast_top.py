@@ -117,6 +117,44 @@ def _stepper(k, a, b, w, h):
     return step
 
 
+def _strang(k, a, b, w):
+    """Kick-rotate-kick (Strang) step of size hh for the same scaled state: the coarse step of a very
+    fast top, whose exact free rotation may turn n by many radians per step."""
+
+    def step(n, L, t, hh):
+        nx, ny, nz = n
+        Lx, Ly, Lz = L
+        c = 0.5 * hh
+        fx, fy = b * math.cos(w * t), b * math.sin(w * t)
+        Lx += c * (-a * ny - nz * fy)
+        Ly += c * (nz * fx + a * nx)
+        Lz += c * (nx * fy - ny * fx)
+        Ln = math.sqrt(Lx * Lx + Ly * Ly + Lz * Lz)
+        ux, uy, uz = Lx / Ln, Ly / Ln, Lz / Ln
+        th = k * Ln * hh
+        ct, st = math.cos(th), math.sin(th)
+        dd = (ux * nx + uy * ny + uz * nz) * (1.0 - ct)
+        cx, cy, cz = uy * nz - uz * ny, uz * nx - ux * nz, ux * ny - uy * nx
+        nx, ny, nz = nx * ct + cx * st + ux * dd, ny * ct + cy * st + uy * dd, nz * ct + cz * st + uz * dd
+        t2 = t + hh
+        fx, fy = b * math.cos(w * t2), b * math.sin(w * t2)
+        Lx += c * (-a * ny - nz * fy)
+        Ly += c * (nz * fx + a * nx)
+        Lz += c * (nx * fy - ny * fx)
+        s = 1.0 / math.sqrt(nx * nx + ny * ny + nz * nz)
+        return (nx * s, ny * s, nz * s), (Lx, Ly, Lz), t2
+
+    return step
+
+
+def _tan_root(j):
+    """j-th positive root of tan x = x (j >= 1): x cot x = 1."""
+    x = (j + 0.5) * math.pi - 1.0 / ((j + 0.5) * math.pi)
+    for _ in range(30):
+        x -= (math.tan(x) - x) / math.tan(x) ** 2
+    return x
+
+
 def _crossing(step, n, L, t, h, sign):
     """Partial step tau in (0, h] where n_z changes sign (sign = +1: from positive to negative)."""
     lo, hi = 0.0, h
@@ -129,73 +167,11 @@ def _crossing(step, n, L, t, h, sign):
     return 0.5 * (lo + hi)
 
 
-@exercise.numeric
-def _(p, run):
+def _lowest(step, low, h):
+    """cos_min near the lowest fine step: the true minimum lies within a step of its end (low = (n_z,
+    state before that step)): scan the two steps around it by partial steps, then refine."""
     from scipy.optimize import minimize_scalar
 
-    IA = p.I1 + p.M * p.l**2
-    L3 = p.I3 * p.omega_rot
-    k = L3 / IA  # nutation rate (rad/s) for |L| = L3
-    a = p.M * p.g * p.l / L3
-    b = p.l * p.F / L3
-    w = p.M * p.g * p.l / (p.I3 * p.omega_rot)  # the drive's turning rate, as given
-    eps = max(a, b) / k
-    # steps per nutation period: calibrated on this scheme's error, ~ eps^1.6 m^-6 per overturn
-    m = max(4, math.ceil(8.0 * (eps / 2.7e-3) ** 0.27 * (1e-6 / run.rtol) ** (1.0 / 6.0)))
-    h = 2 * math.pi / k / m
-    t_max = 12.0 / b  # the force's tipping time 1/b, with a wide margin for the full overturn and back
-    if t_max / h > MAX_STEPS:
-        raise NumericFailure(
-            f"the overturn lasts about {5 / b * k / (2 * math.pi):.3g} nutation periods: beyond this solver's "
-            f"budget of {MAX_STEPS} steps"
-        )
-    run.method = f"6th-order splitting, exact nutation rotation, {m} steps per nutation period"
-    step = _stepper(k, a, b, w, h)
-
-    def jacobi(n, L, t):
-        # energy in the frame turning with F, scaled by L3^2/I_A:  |L|^2/2 + (a n_z - f.n)/k - (w/k) L_z
-        fx, fy = b * math.cos(w * t), b * math.sin(w * t)
-        return 0.5 * (L[0] ** 2 + L[1] ** 2 + L[2] ** 2) + (a * n[2] - fx * n[0] - fy * n[1]) / k - w / k * L[2]
-
-    n, L, t = (0.0, 0.0, 1.0), (0.0, 0.0, 1.0), 0.0
-    J0 = jacobi(n, L, t)
-    J_scale = (a + b) / k
-    drift_J = drift_L3 = 0.0
-    stage = 0
-    t_down = t_up = phi_lead = None
-    low = (2.0, None)
-    nsteps = 0
-    while t < t_max:
-        n2, L2, t2 = step(n, L, t, h)
-        nsteps += 1
-        if nsteps % 64 == 0:
-            drift_J = max(drift_J, abs(jacobi(n2, L2, t2) - J0) / J_scale)
-            drift_L3 = max(drift_L3, abs(n2[0] * L2[0] + n2[1] * L2[1] + n2[2] * L2[2] - 1.0))
-        if stage == 0 and n2[2] <= 0.0 < n[2]:
-            tau = _crossing(step, n, L, t, h, +1)
-            nd, _, t_down = step(n, L, t, tau)
-            lead = math.atan2(nd[1], nd[0]) - w * t_down
-            phi_lead = math.pi - (math.pi - lead) % (2 * math.pi)  # wrapped to (-pi, pi]
-            stage = 1
-        elif stage == 1:
-            if n2[2] < low[0]:
-                low = (n2[2], (n, L, t))
-            if n2[2] >= 0.0 > n[2]:
-                tau = _crossing(step, n, L, t, h, -1)
-                t_up = t + tau
-                break
-        n, L, t = n2, L2, t2
-    run.nfev = nsteps * (len(_W6) + 1)
-    run.info["steps"] = nsteps
-    run.info["steps_per_nutation_period"] = m
-    if t_down is None or t_up is None:
-        raise NumericFailure(f"the axis did not {'reach' if t_down is None else 'come back to'} the horizontal "
-                             f"by t = {t:.4g} s")
-    run.invariant("L3 = L . n3", drift_L3)
-    run.invariant("Jacobi integral (frame turning with F)", drift_J)
-
-    # cos_min: the lowest sampled point ends the step that starts at `low`; the true minimum lies
-    # within a step of it: scan the two steps around it by partial steps, then refine
     s_a = low[1]
     s_b = step(*s_a, h)
     best = (2.0, None, None)
@@ -210,5 +186,115 @@ def _(p, run):
         lambda x: step(*s0, x)[0][2], bounds=(max(0.0, tau0 - h / 16), min(h, tau0 + h / 16)),
         method="bounded", options={"xatol": 1e-10 * h},
     )
-    cos_min = min(float(res.fun), best[0], low[0])
+    return min(float(res.fun), best[0], low[0])
+
+
+@exercise.numeric
+def _(p, run):
+    IA = p.I1 + p.M * p.l**2
+    L3 = p.I3 * p.omega_rot
+    k = L3 / IA  # nutation rate (rad/s) for |L| = L3
+    a = p.M * p.g * p.l / L3
+    b = p.l * p.F / L3
+    w = p.M * p.g * p.l / (p.I3 * p.omega_rot)  # the drive's turning rate, as given
+    Om = math.hypot(a, b)  # the torque's rate: the axis moves at most this fast
+    eps = max(a, b) / k
+    # fine steps per nutation period: calibrated on this scheme's error, ~ eps^1.6 m^-6 per overturn
+    m = max(4, math.ceil(8.0 * (eps / 2.7e-3) ** 0.27 * (1e-6 / run.rtol) ** (1.0 / 6.0)))
+    h = 2 * math.pi / k / m
+    # coarse Strang steps (see the docstring): error ~ (H Om)^2 per overturn, so H Om = sqrt(rtol), with the
+    # step's rotation k H on a root of x cot x = 1 (x = k H/2), where the kicks rebuild the forced nutation
+    j = 0
+    while 2 * _tan_root(j + 1) <= math.sqrt(run.rtol) * k / Om:
+        j += 1
+    H = 2 * _tan_root(j) / k if j else None
+    t_max = 12.0 / b  # the force's tipping time 1/b, with a wide margin for the full overturn and back
+    # the fine steps near the events: windows of +-margin in n_z, crossed at a rate of order b
+    margin = 2.0 * (H or 0.0) * Om + 6.0 * Om / k
+    budget = t_max / H + 8 * (margin + 2 * H * Om) / b / h if H else t_max / h
+    if budget > MAX_STEPS:
+        raise NumericFailure(
+            f"the overturn lasts about {5 / b * k / (2 * math.pi):.3g} nutation periods: beyond this solver's "
+            f"budget of {MAX_STEPS} steps"
+        )
+    step = _stepper(k, a, b, w, h)
+    coarse = _strang(k, a, b, w) if H else None
+    if H:
+        run.method = (f"6th-order splitting, exact nutation rotation, {m} steps per nutation period near the "
+                      f"events; Strang steps of {k * H / (2 * math.pi):.3g} nutation periods between them")
+    else:
+        run.method = f"6th-order splitting, exact nutation rotation, {m} steps per nutation period"
+
+    def jacobi(n, L, t):
+        # energy in the frame turning with F, scaled by L3^2/I_A:  |L|^2/2 + (a n_z - f.n)/k - (w/k) L_z
+        fx, fy = b * math.cos(w * t), b * math.sin(w * t)
+        return 0.5 * (L[0] ** 2 + L[1] ** 2 + L[2] ** 2) + (a * n[2] - fx * n[0] - fy * n[1]) / k - w / k * L[2]
+
+    n, L, t = (0.0, 0.0, 1.0), (0.0, 0.0, 1.0), 0.0
+    J0 = jacobi(n, L, t)
+    J_scale = (a + b) / k
+    drift_J = drift_L3 = 0.0
+    stage = 0
+    t_down = t_up = phi_lead = None
+    low = (2.0, None)  # lowest fine step: (n_z at its end, state at its start)
+    low_c = (2.0, None)  # lowest coarse boundary: (n_z, state one coarse step before it)
+    nsteps = ncoarse = 0
+    fine = H is None
+    while t < t_max:
+        if not fine:
+            n2, L2, t2 = coarse(n, L, t, H)
+            ncoarse += 1
+            if (stage == 0 and n2[2] <= margin) or (stage == 1 and n2[2] >= -margin):
+                fine = True  # the event may lie anywhere past (n, L, t): go on from there in fine steps
+                continue
+            if stage == 1 and n2[2] < low_c[0]:
+                low_c = (n2[2], (n, L, t))
+        else:
+            n2, L2, t2 = step(n, L, t, h)
+            nsteps += 1
+            if stage == 0 and n2[2] <= 0.0 < n[2]:
+                tau = _crossing(step, n, L, t, h, +1)
+                nd, _, t_down = step(n, L, t, tau)
+                lead = math.atan2(nd[1], nd[0]) - w * t_down
+                phi_lead = math.pi - (math.pi - lead) % (2 * math.pi)  # wrapped to (-pi, pi]
+                stage = 1
+            elif stage == 1:
+                if n2[2] < low[0]:
+                    low = (n2[2], (n, L, t))
+                if n2[2] >= 0.0 > n[2]:
+                    tau = _crossing(step, n, L, t, h, -1)
+                    t_up = t + tau
+                    break
+                if H and n2[2] < -margin:
+                    fine = False
+        if (nsteps + ncoarse) % 64 == 0:
+            drift_J = max(drift_J, abs(jacobi(n2, L2, t2) - J0) / J_scale)
+            drift_L3 = max(drift_L3, abs(n2[0] * L2[0] + n2[1] * L2[1] + n2[2] * L2[2] - 1.0))
+        n, L, t = n2, L2, t2
+    run.nfev = nsteps * (len(_W6) + 1) + ncoarse * 2
+    run.info["steps"] = nsteps + ncoarse
+    run.info["steps_per_nutation_period"] = m
+    if H:
+        run.info["coarse_steps"] = ncoarse
+        run.info["coarse_step_nutation_periods"] = k * H / (2 * math.pi)
+    if t_down is None or t_up is None:
+        raise NumericFailure(f"the axis did not {'reach' if t_down is None else 'come back to'} the horizontal "
+                             f"by t = {t:.4g} s")
+    run.invariant("L3 = L . n3", drift_L3)
+    if not H:  # Strang steps conserve a modified integral, off by ~ (k H)^2 eps: not a measure of the error
+        run.invariant("Jacobi integral (frame turning with F)", drift_J)
+
+    cos_min = _lowest(step, low, h) if low[1] is not None else 2.0
+    if low_c[1] is not None:
+        # the lowest coarse boundary: the true minimum lies within a coarse step of it; fine steps over
+        # the two coarse steps around it
+        s = low_c[1]
+        t_end = s[2] + 2 * H
+        low2 = (2.0, None)
+        while s[2] < t_end:
+            s2 = step(*s, h)
+            if s2[0][2] < low2[0]:
+                low2 = (s2[0][2], s)
+            s = s2
+        cos_min = min(cos_min, _lowest(step, low2, h))
     return {"t_down": t_down, "t_up": t_up, "phi_lead": phi_lead, "cos_min": cos_min}
