@@ -204,14 +204,21 @@ def _(p, run):
     h = 2 * math.pi / k / m
     # coarse Strang steps (see the docstring): error ~ (H Om)^2 per overturn, so H Om = sqrt(rtol), with the
     # step's rotation k H on a root of x cot x = 1 (x = k H/2), where the kicks rebuild the forced nutation
-    j = 0
-    while 2 * _tan_root(j + 1) <= math.sqrt(run.rtol) * k / Om:
-        j += 1
-    H = 2 * _tan_root(j) / k if j else None
+    phi_max = math.sqrt(run.rtol) * k / Om  # k H for H Om = sqrt(rtol)
+    j = max(1, int(phi_max / (2 * math.pi)))  # x_j < (j + 1/2) pi
+    while j > 1 and 2 * _tan_root(j) > phi_max:
+        j -= 1
+    ladder = []  # coarse steps: the largest (H Om ~ sqrt(rtol)) far from the events, halved towards them
+    while j >= 1 and 2 * _tan_root(j) <= phi_max:
+        Hj = 2 * _tan_root(j) / k
+        ladder.append((Hj, 2.0 * Hj * Om + 6.0 * Om / k))  # (step, n_z window it may not enter)
+        j //= 2
+    H = ladder[0][0] if ladder else None
     t_max = 12.0 / b  # the force's tipping time 1/b, with a wide margin for the full overturn and back
     # the fine steps near the events: windows of +-margin in n_z, crossed at a rate of order b
-    margin = 2.0 * (H or 0.0) * Om + 6.0 * Om / k
-    budget = t_max / H + 8 * (margin + 2 * H * Om) / b / h if H else t_max / h
+    margin = ladder[-1][1] if ladder else 0.0
+    # cost in fine steps (a coarse step costs ~1/4 of one) to t_up ~ 3 pi/(2 b); the loop stops there
+    budget = 6.0 / b / H / 4 + 2 * len(ladder) * 8 + 8 * (2 * margin) / b / h if H else t_max / h
     if budget > MAX_STEPS:
         raise NumericFailure(
             f"the overturn lasts about {5 / b * k / (2 * math.pi):.3g} nutation periods: beyond this solver's "
@@ -237,18 +244,26 @@ def _(p, run):
     stage = 0
     t_down = t_up = phi_lead = None
     low = (2.0, None)  # lowest fine step: (n_z at its end, state at its start)
-    low_c = (2.0, None)  # lowest coarse boundary: (n_z, state one coarse step before it)
+    low_c = (2.0, None, [])  # lowest coarse boundary: (n_z, state a step before, (t, n_z) around it)
     nsteps = ncoarse = 0
     fine = H is None
     while t < t_max:
         if not fine:
-            n2, L2, t2 = coarse(n, L, t, H)
-            ncoarse += 1
-            if (stage == 0 and n2[2] <= margin) or (stage == 1 and n2[2] >= -margin):
+            dist = n[2] if stage == 0 else -n[2]
+            Hj = next((Hj for Hj, win in ladder if win < dist), None)
+            if Hj is None:
                 fine = True  # the event may lie anywhere past (n, L, t): go on from there in fine steps
                 continue
-            if stage == 1 and n2[2] < low_c[0]:
-                low_c = (n2[2], (n, L, t))
+            n2, L2, t2 = coarse(n, L, t, Hj)
+            ncoarse += 1
+            if (stage == 0 and n2[2] <= margin) or (stage == 1 and n2[2] >= -margin):
+                fine = True
+                continue
+            if stage == 1:
+                if n2[2] < low_c[0]:
+                    low_c = (n2[2], (n, L, t), [(t, n[2]), (t2, n2[2])])
+                elif len(low_c[2]) == 2:
+                    low_c[2].append((t2, n2[2]))
         else:
             n2, L2, t2 = step(n, L, t, h)
             nsteps += 1
@@ -285,7 +300,7 @@ def _(p, run):
         run.invariant("Jacobi integral (frame turning with F)", drift_J)
 
     cos_min = _lowest(step, low, h) if low[1] is not None else 2.0
-    if low_c[1] is not None:
+    if low_c[1] is not None and 2 * H / h <= 4000:
         # the lowest coarse boundary: the true minimum lies within a coarse step of it; fine steps over
         # the two coarse steps around it
         s = low_c[1]
@@ -297,4 +312,16 @@ def _(p, run):
                 low2 = (s2[0][2], s)
             s = s2
         cos_min = min(cos_min, _lowest(step, low2, h))
+    elif low_c[1] is not None and len(low_c[2]) == 3:
+        # too many nutation periods per coarse step for fine steps: the parabola through the lowest
+        # boundary and its neighbours (the slow motion is smooth on 1/b >> H: error ~ (b H)^3 < rtol^1.5;
+        # the nutation, ~ eps < sqrt(rtol)/9 in angle, moves n_z near the bottom by its square at most)
+        (t0, y0), (t1, y1), (t2, y2) = low_c[2]
+        d01, d12 = (y1 - y0) / (t1 - t0), (y2 - y1) / (t2 - t1)
+        c2 = (d12 - d01) / (t2 - t0)
+        tm = 0.5 * (t0 + t1) - d01 / (2 * c2) if c2 > 0 else t1
+        tm = min(max(tm, t0), t2)
+        cos_min = min(cos_min, y0 + d01 * (tm - t0) + c2 * (tm - t0) * (tm - t1))
+    elif low_c[1] is not None:
+        cos_min = min(cos_min, low_c[0])
     return {"t_down": t_down, "t_up": t_up, "phi_lead": phi_lead, "cos_min": cos_min}
