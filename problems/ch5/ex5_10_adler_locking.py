@@ -153,12 +153,22 @@ def _(p, run):
     if start is None:
         raise NumericFailure("no locked orbit found at omega = omega0: Newton did not converge from any phase")
 
+    # the fold is searched for as the zero of det(M - I) along the branch.  Near it the phase multiplier is
+    # 1 + T D s (Adler: per period T = 2 pi/omega0 the phase direction contracts by T D sin phi, D the
+    # half-width ~ W/4, s the angle from the fold, about sigma/2 along the branch of radius ~2): M's error
+    # c rtol_s (c ~ 3 measured) moves the zero by d sigma ~ 8 c rtol_s/(T W), and the edge, stationary there,
+    # by the relative (d sigma)^2/8 (the branch is w ~ (D/W) cos(sigma/2)).  At mu/omega0 ~ 1e-3 the fixed
+    # search tolerance 1e-7 put the edges off by 3e-4 of the width; the search tolerance now keeps this
+    # part below a tenth of the claim (and so tightens with rtol, which the rerun then sees)
+    T = 2.0 * math.pi / w0
+    r_search = min(rs, max(rr, 0.1 * T * W * math.sqrt(0.1 * edge_claim / 8.0)))
+    run.info["rtol_fold_search"] = r_search
     folds = []
     for direction in (+1.0, -1.0):
         sw = sweep(om, start, direction, direction * 10.0, rtol=rs, h0=0.1)
         if sw.fold_bracket is None:
             raise NumericFailure(f"the {'upward' if direction > 0 else 'downward'} sweep found no edge of locking")
-        folds.append(refine_root(om, *sw.fold_bracket, lambda b: b.tangent[2], rtol=rr, rtol_search=rs,
+        folds.append(refine_root(om, *sw.fold_bracket, lambda b: b.tangent[2], rtol=rr, rtol_search=r_search,
                                  xtol=1e-7, polish=False))
         run.info[("up" if direction > 0 else "down") + "_sweep_steps"] = sw.steps
     xi_hi, xi_lo = folds[0].z[2] * W, folds[1].z[2] * W
