@@ -105,3 +105,26 @@ def test_short_time_taylor():
     for vals in (a, n):
         assert vals["q_t"] == pytest.approx(t**2 - 0.1 * t**3 / 3 - 143.98 * t**4 / 24, rel=1e-9)
         assert vals["v_t"] == pytest.approx(2 * t - 0.1 * t**2 - 143.98 * t**3 / 6, rel=1e-9)
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        # bounds draws with omega0/omega ~ 30-80 and ~1000 rad of free oscillation: the error of the numeric
+        # route grows with the number of free periods, which its claim must carry (it once did not)
+        {"m": 1.1839014426606682, "omega0": 46.41936407245705, "delta": 0.012191949478603246,
+         "F0": 4.077145198088855, "omega": 1.4582725463003874, "t1": 20.772459569458764},
+        {"m": 11.861485704583025, "omega0": 64.29413384823822, "delta": 0.2525299158302296,
+         "F0": -1.6202590722658914, "omega": 0.7636592581466932, "t1": 16.178411788307034},
+        {"omega0": 180.0, "delta": 0.01, "omega": 2.0, "t1": 150.0},   # 27000 rad, 47 drive periods
+        {"omega0": 0.2, "delta": 0.0, "omega": 180.0, "t1": 150.0},    # 4300 drive periods, M near a shear
+    ],
+)
+def test_claims_cover_long_runs(params):
+    full = {"m": 0.5, "omega0": 6.0, "delta": 0.05, "F0": 1.0, "omega": 6.0, "t1": 5.0, **params}
+    q, v, amp = textbook(**full)
+    a, n, run = solve_both("5.3", **params)
+    for name, exact in (("q_t", q), ("v_t", v), ("A_ss", amp)):
+        rel, ab = run.claims[name]
+        assert abs(n[name] - exact) <= rel * abs(exact) + (ab or 0.0)
+        assert a[name] == pytest.approx(exact, rel=1e-8, abs=1e-12 * abs(amp))
