@@ -119,7 +119,7 @@ def _stepper(k, a, b, w, h):
 
 def _strang(k, a, b, w):
     """Kick-rotate-kick (Strang) step of size hh for the same scaled state: the coarse step of a very
-    fast top, whose exact free rotation may turn n by many radians per step."""
+    fast top, whose free rotation (at the rate k of |L| = L3) may turn n by many radians per step."""
 
     def step(n, L, t, hh):
         nx, ny, nz = n
@@ -131,7 +131,10 @@ def _strang(k, a, b, w):
         Lz += c * (nx * fy - ny * fx)
         Ln = math.sqrt(Lx * Lx + Ly * Ly + Lz * Lz)
         ux, uy, uz = Lx / Ln, Ly / Ln, Lz / Ln
-        th = k * Ln * hh
+        # the rate k, not k |L|: |L| = 1 + O(eps^2) on the exact motion, but the half kick tilts L off n by
+        # H |torque|/2, so |L| here exceeds 1 by (H Om)^2/8, which would detune the step's rotation
+        # 2 x (x cot x = 1) by 2 x (H Om)^2/8 and, through d(x cot x)/dx = -x, spoil the forced nutation
+        th = k * hh
         ct, st = math.cos(th), math.sin(th)
         dd = (ux * nx + uy * ny + uz * nz) * (1.0 - ct)
         cx, cy, cz = uy * nz - uz * ny, uz * nx - ux * nz, ux * ny - uy * nx
@@ -242,6 +245,10 @@ def _(p, run):
     J_scale = (a + b) / k
     drift_J = drift_L3 = 0.0
     stage = 0
+    # n_z nutates about its slow motion by up to the cone angle of n about L (~ Om/k on the exact motion,
+    # more where round-off in |L| ~ 1e-14 opens it, sqrt(2e-14) >> Om/k for the fastest tops): measured
+    arm = 6.0 * Om / k
+    armed = False
     t_down = t_up = phi_lead = None
     low = (2.0, None)  # lowest fine step: (n_z at its end, state at its start)
     low_c = (2.0, None, [])  # lowest coarse boundary: (n_z, state a step before, (t, n_z) around it)
@@ -250,16 +257,17 @@ def _(p, run):
     while t < t_max:
         if not fine:
             dist = n[2] if stage == 0 else -n[2]
-            Hj = next((Hj for Hj, win in ladder if win < dist), None)
+            Hj = next((Hj for Hj, win in ladder if win + arm < dist), None)
             if Hj is None:
                 fine = True  # the event may lie anywhere past (n, L, t): go on from there in fine steps
                 continue
             n2, L2, t2 = coarse(n, L, t, Hj)
             ncoarse += 1
-            if (stage == 0 and n2[2] <= margin) or (stage == 1 and n2[2] >= -margin):
+            if (stage == 0 and n2[2] <= margin + arm) or (stage == 1 and n2[2] >= -margin - arm):
                 fine = True
                 continue
             if stage == 1:
+                armed = armed or n2[2] < -min(arm, 0.3)
                 if n2[2] < low_c[0]:
                     low_c = (n2[2], (n, L, t), [(t, n[2]), (t2, n2[2])])
                 elif len(low_c[2]) == 2:
@@ -274,15 +282,21 @@ def _(p, run):
                 phi_lead = math.pi - (math.pi - lead) % (2 * math.pi)  # wrapped to (-pi, pi]
                 stage = 1
             elif stage == 1:
+                # n_z nutates by up to ~2 Om/k about its slow motion, faster than that moves when a > b:
+                # the way back up counts only once the axis has gone below the nutation's reach (or below
+                # cos(theta) = -0.3 for a slow top, whose wide nutation is no wiggle about a slow motion)
+                armed = armed or n2[2] < -min(arm, 0.3)
                 if n2[2] < low[0]:
                     low = (n2[2], (n, L, t))
-                if n2[2] >= 0.0 > n[2]:
+                if n2[2] >= 0.0 > n[2] and armed:
                     tau = _crossing(step, n, L, t, h, -1)
                     t_up = t + tau
                     break
-                if H and n2[2] < -margin:
+                if H and n2[2] < -margin - arm:
                     fine = False
         if (nsteps + ncoarse) % 64 == 0:
+            cx, cy, cz = n2[1] * L2[2] - n2[2] * L2[1], n2[2] * L2[0] - n2[0] * L2[2], n2[0] * L2[1] - n2[1] * L2[0]
+            arm = max(arm, 6.0 * math.sqrt(cx * cx + cy * cy + cz * cz))  # 6 sin(cone angle) (|L| ~ 1)
             drift_J = max(drift_J, abs(jacobi(n2, L2, t2) - J0) / J_scale)
             drift_L3 = max(drift_L3, abs(n2[0] * L2[0] + n2[1] * L2[1] + n2[2] * L2[2] - 1.0))
         n, L, t = n2, L2, t2
