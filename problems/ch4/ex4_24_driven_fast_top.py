@@ -62,6 +62,20 @@ def _small(p):
     return eps_g, eps_F, slip
 
 
+@exercise.constraint
+def _(p):
+    """The exercise is about a fast top (spin well above the threshold of Eq. 4.85): where the
+    small parameters are not small, the fast-top picture it asks to analyze has no meaning."""
+    eps_g, eps_F, slip = _small(p)
+    if max(eps_g, eps_F) > 0.05:
+        return (f"not a fast top: I_A M g l/L3^2 = {eps_g:.3g} and I_A l F/L3^2 = {eps_F:.3g} must both be "
+                f"<= 0.05 (spin faster: omega_rot = {p.omega_rot:g} rad/s)")
+    if slip > 0.2:
+        return (f"force too weak for the drive to hold the top: the precession slips {slip:.3g} rad against it "
+                f"by t_down (I_A M g l/L3^2 x M g/F must be <= 0.2; raise F above {p.F * slip / 0.2:.3g} N)")
+    return None
+
+
 @exercise.expected_error
 def _(p):
     eps_g, eps_F, slip = _small(p)
