@@ -124,7 +124,6 @@ def _(p, run):
     from mech.solvers.sweeps import OrbitMap, refine_root, solve_on_plane, sweep
 
     rtol = run.rtol
-    rs = max(rtol, 1e-7)
     mu, beta, w0, f0 = p.mu, p.beta, p.omega0, p.f0
 
     def force(q, v):
@@ -138,6 +137,13 @@ def _(p, run):
     # the tolerance, is a frequency error of about rtol omega0, so the refinements integrate at rtol W/omega0
     rr = max(3e-14, rtol * min(1.0, W / w0))
     run.info["rtol_integration"] = rr
+    # the sweeps' looser tolerance: a unit of w changes the orbit's phase per period by only about T W
+    # (T = 2 pi/omega0), so the map must be good to a small part of that for Newton and the corrector to
+    # resolve w (at mu/omega0 ~ 1e-3, T W ~ 6e-6, a fixed 1e-7 stalled the continuation)
+    T = 2.0 * math.pi / w0
+    rs_start = max(rtol, 1e-7)
+    rs = max(rtol, min(1e-7, max(rr, 1e-3 * T * W)))
+    run.info["rtol_sweep"] = rs
     edge_claim = max(exercise.tol_factor * rtol, 100.0 * rr * w0 / W)
     for name in ("xi_lo", "xi_hi", "width"):
         run.claim(name, rel=edge_claim)
@@ -146,12 +152,19 @@ def _(p, run):
     start = None
     for ph in (0.5, -0.5, 0.0, 1.0):
         bp = solve_on_plane(om, [2.0 * math.cos(ph * math.pi), 2.0 * math.sin(ph * math.pi), 0.0], [0.0, 0.0, 1.0],
-                            0.0, rtol=rs, tol=1e-7, max_iter=25, fresh=True, monotone=False)
+                            0.0, rtol=rs_start, tol=1e-7, max_iter=25, fresh=True, monotone=False)
         if bp is not None and bp.A > 1.0:  # not the small unstable orbit near rest
             start = bp
             break
     if start is None:
         raise NumericFailure("no locked orbit found at omega = omega0: Newton did not converge from any phase")
+    if rs < rs_start:
+        # far starts converge at the loose tolerance (tighter, Newton's first steps along the nearly neutral
+        # phase overshoot); from there, the orbit at the sweeps' tolerance
+        start = solve_on_plane(om, start.z, [0.0, 0.0, 1.0], 0.0, rtol=rs, tol=1e-9, max_iter=25, fresh=True,
+                               monotone=False)
+        if start is None:
+            raise NumericFailure("the locked orbit at omega = omega0 did not converge at the sweeps' tolerance")
 
     # the fold is searched for as the zero of det(M - I) along the branch.  Near it the phase multiplier is
     # 1 + T D s (Adler: per period T = 2 pi/omega0 the phase direction contracts by T D sin phi, D the
@@ -160,7 +173,6 @@ def _(p, run):
     # by the relative (d sigma)^2/8 (the branch is w ~ (D/W) cos(sigma/2)).  At mu/omega0 ~ 1e-3 the fixed
     # search tolerance 1e-7 put the edges off by 3e-4 of the width; the search tolerance now keeps this
     # part below a tenth of the claim (and so tightens with rtol, which the rerun then sees)
-    T = 2.0 * math.pi / w0
     r_search = min(rs, max(rr, 0.1 * T * W * math.sqrt(0.1 * edge_claim / 8.0)))
     run.info["rtol_fold_search"] = r_search
     folds = []
