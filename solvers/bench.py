@@ -56,7 +56,7 @@ __all__ = ["DEFAULT_TOLS", "ODE_METHODS", "STUDENT", "bench", "summarize", "erro
 
 DEFAULT_TOLS = tuple(10.0 ** -k for k in range(3, 13))
 ODE_METHODS = ("RK45", "DOP853", "LSODA", "Radau")
-OTHER_ODE = ("RK23", "BDF")
+OTHER_ODE = ("RK23", "BDF", "scipy-DOP853")
 SYMPLECTIC = {"Yoshida4": 4, "Yoshida6": 6}
 STUDENT = "scipy-default"
 DEFAULT_ROW = "default"

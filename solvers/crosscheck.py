@@ -191,12 +191,15 @@ def cross_check(
     verify_values: dict = {}
     import_s = None
     if "numeric" in methods and ex._numeric is not None:
-        # the one-time import of scipy's integrators is start-up cost, not the solve: timed apart,
-        # and only for exercises that integrate (4.4's 0.4 ms quadrature should not pay 0.3-0.8 s)
+        # the one-time load of the integrator's tableau is start-up cost, not the solve: timed apart,
+        # and only for exercises that integrate.  scipy is no longer imported here: mech's own DOP853
+        # needs none of it, and the 0.6-0.9 s import was most of a `mech solve` (scipy modules an
+        # exercise still uses are imported on first use and counted in its numeric time)
         if _integrates(ex):
             t0 = time.perf_counter()
-            import scipy.integrate  # noqa: F401
+            from mech.solvers import dop853
 
+            dop853.available()
             import_s = time.perf_counter() - t0
         t0 = time.perf_counter()
         try:

@@ -1,0 +1,367 @@
+"""mech's own DOP853: the explicit Runge-Kutta 8(5,3) pair of Dormand and Prince, on numpy alone.
+
+Why it exists: importing ``scipy.integrate`` takes 0.6-0.9 s (it drags in
+scipy.optimize, linalg, sparse and special), which is most of the 1 s budget
+of a ``mech solve``; and for the 2-12 equations of these exercises
+``solve_ivp``'s per-step machinery costs more than the arithmetic
+(scipy#8257).  This module integrates with the same method (Hairer, Norsett
+and Wanner, *Solving ODEs I*, sec. II.10) in one tight loop:
+
+* 12 stages per step plus the first-same-as-last evaluation; the error is the
+  method's blend of its 5th- and 3rd-order estimates,
+  ``|h| e5^2 / sqrt(n (e5^2 + 0.01 e3^2))`` in the weighted RMS norm with
+  weights ``atol + rtol max(|y_old|, |y_new|)``;
+* step control ``h *= clip(0.9 err^(-1/8), 0.2, 10)``, no growth right after
+  a rejected step, a non-finite stage counted as a rejection;
+* the 7th-order continuous extension (three more stages, computed only for
+  the steps that need it: dense output, output times, a sign change of an
+  event function);
+* events found as in ``solve_ivp``: a sign change between the ends of a step
+  in the event's direction, the root located on the continuous extension
+  by Brent's method to 4 ulp; a terminal event ends the run there.
+
+The tableau (the method's published coefficients) is read from the file
+that scipy installs, ``scipy/integrate/_ivp/dop853_coefficients.py``, loaded
+by its path so that the scipy package itself is not imported.  The loaded
+tableau is checked (row sums, the weights, the order conditions up to 8 for
+the quadrature weights) before it is used; when the file is missing or fails
+the check, ``available()`` is false and mech's ODE front end falls back to
+``solve_ivp``.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+import os
+from typing import Callable, Sequence
+
+import numpy as np
+
+__all__ = ["available", "solve", "DenseSolution", "Result"]
+
+_TABLEAU = None
+_TABLEAU_TRIED = False
+SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
+ERR_EXP = -1.0 / 8.0
+_EPS = np.finfo(float).eps
+
+
+def _load_tableau():
+    spec = importlib.util.find_spec("scipy")  # finds the package without importing it
+    if spec is None or not spec.submodule_search_locations:
+        return None
+    path = os.path.join(list(spec.submodule_search_locations)[0], "integrate", "_ivp", "dop853_coefficients.py")
+    if not os.path.exists(path):
+        return None
+    mspec = importlib.util.spec_from_file_location("mech_solvers_dop853_tableau", path)
+    mod = importlib.util.module_from_spec(mspec)
+    mspec.loader.exec_module(mod)
+    tab = {
+        "C": np.asarray(mod.C, float), "A": np.asarray(mod.A, float), "B": np.asarray(mod.B, float),
+        "E3": np.asarray(mod.E3, float), "E5": np.asarray(mod.E5, float), "D": np.asarray(mod.D, float),
+    }
+    if not _tableau_ok(tab):
+        return None
+    return tab
+
+
+def _tableau_ok(tab) -> bool:
+    C, A, B, E3, E5, D = (tab[k] for k in ("C", "A", "B", "E3", "E5", "D"))
+    if A.shape != (16, 16) or C.shape != (16,) or B.shape != (12,) or E3.shape != (13,) or E5.shape != (13,):
+        return False
+    if D.shape != (4, 16):
+        return False
+    if not np.allclose(A.sum(axis=1), C, atol=1e-13, rtol=0):
+        return False
+    # quadrature conditions sum b_i c_i^(k-1) = 1/k for k = 1..8 (an 8th-order method)
+    for k in range(1, 9):
+        if abs(float(B @ C[:12] ** (k - 1)) - 1.0 / k) > 1e-13:
+            return False
+    # the error estimates must vanish for a constant derivative (they are differences of weights)
+    return abs(float(E3.sum())) < 1e-13 and abs(float(E5.sum())) < 1e-13
+
+
+def available() -> bool:
+    global _TABLEAU, _TABLEAU_TRIED
+    if not _TABLEAU_TRIED:
+        _TABLEAU_TRIED = True
+        try:
+            _TABLEAU = _load_tableau()
+        except Exception:  # any trouble reading scipy's file: use solve_ivp instead
+            _TABLEAU = None
+    return _TABLEAU is not None
+
+
+class _Segment:
+    """The continuous extension over one step: ``y(t_old + x h)`` for x in [0, 1]."""
+
+    __slots__ = ("t_old", "h", "y_old", "F")
+
+    def __init__(self, t_old, h, y_old, F):
+        self.t_old, self.h, self.y_old, self.F = t_old, h, y_old, F
+
+    def __call__(self, t):
+        x = (np.asarray(t, float) - self.t_old) / self.h
+        F = self.F
+        if x.ndim == 0:
+            x1 = 1.0 - x
+            acc = F[6] * x
+            for k in (5, 4, 3, 2, 1, 0):
+                acc = (acc + F[k]) * (x1 if k % 2 else x)
+            return self.y_old + acc
+        xs = x[None, :]
+        x1 = 1.0 - xs
+        acc = F[6][:, None] * xs
+        for k in (5, 4, 3, 2, 1, 0):
+            acc = (acc + F[k][:, None]) * (x1 if k % 2 else xs)
+        return self.y_old[:, None] + acc
+
+
+class DenseSolution:
+    """The piecewise continuous extension over the whole run; ``sol(t)`` as scipy's OdeSolution."""
+
+    def __init__(self, segments: list[_Segment], t_ends: Sequence[float], direction: float):
+        self.segments = segments
+        self.ts = np.asarray(t_ends, float)  # step boundaries, in the run's order
+        self.direction = direction
+        self.t_min, self.t_max = (self.ts[0], self.ts[-1]) if direction > 0 else (self.ts[-1], self.ts[0])
+
+    def _index(self, t):
+        key = self.ts if self.direction > 0 else -self.ts
+        tt = t if self.direction > 0 else -t
+        idx = np.searchsorted(key, tt, side="right") - 1
+        return np.clip(idx, 0, len(self.segments) - 1)
+
+    def __call__(self, t):
+        t = np.asarray(t, float)
+        if t.ndim == 0:
+            return self.segments[int(self._index(t))](t)
+        out = np.empty((self.segments[0].y_old.size, t.size))
+        idx = self._index(t)
+        for k in np.unique(idx):
+            sel = idx == k
+            out[:, sel] = self.segments[int(k)](t[sel])
+        return out
+
+
+class Result:
+    __slots__ = ("t", "y", "t_events", "y_events", "nfev", "status", "message", "sol", "njev", "nlu")
+
+
+def _rms(v):
+    return math.sqrt(float(v @ v) / v.size)
+
+
+def solve(
+    fun: Callable,
+    t_span: tuple[float, float],
+    y0,
+    *,
+    rtol: float,
+    atol,
+    max_step: float = math.inf,
+    first_step: float | None = None,
+    events: Sequence[Callable] = (),
+    t_eval=None,
+    dense_output: bool = False,
+) -> Result:
+    """Integrate ``y' = fun(t, y)`` over ``t_span``; the arguments mean what they mean for ``solve_ivp``.
+
+    ``events`` are callables ``g(t, y)`` with the attributes ``terminal`` and
+    ``direction``.  Returns a ``Result`` with ``t, y, t_events, y_events, nfev,
+    status`` (0 reached the end, 1 a terminal event, -1 step size underflow),
+    ``message`` and ``sol`` (a ``DenseSolution`` when ``dense_output``).
+    """
+    if not available():
+        raise RuntimeError("DOP853 tableau unavailable")
+    tab = _TABLEAU
+    C, A, B, E3, E5, D = tab["C"], tab["A"], tab["B"], tab["E3"], tab["E5"], tab["D"]
+    t0, t_end = float(t_span[0]), float(t_span[1])
+    y = np.array(y0, dtype=float).ravel()
+    n = y.size
+    direction = 1.0 if t_end >= t0 else -1.0
+    atol = np.asarray(atol, float)
+    nfev = 0
+
+    def f(t, yy):
+        nonlocal nfev
+        nfev += 1
+        out = np.asarray(fun(t, yy), dtype=float)
+        return out if out.ndim == 1 else out.ravel()
+
+    rows = [A[s, :s] for s in range(16)]  # the tableau's rows, sliced once
+    Cl = C.tolist()
+
+    res = Result()
+    res.t_events = [np.empty(0) for _ in events]
+    res.y_events = [np.empty((0, n)) for _ in events]
+    res.sol = None
+    ts, ys = [t0], [y.copy()]
+    t_eval_arr = None
+    if t_eval is not None:
+        t_eval_arr = np.asarray(t_eval, float)
+        ts, ys = [], []
+        keep = (t_eval_arr - t0) * direction >= 0
+        t_eval_arr = t_eval_arr[keep]
+        i_eval = 0
+    segments, seg_ends = ([], [t0]) if dense_output else (None, None)
+
+    fy = f(t0, y)
+    if t_end == t0:
+        res.t, res.y, res.nfev, res.status = np.array([t0]), y[:, None], nfev, 0
+        res.message = "The solver successfully reached the end of the integration interval."
+        return res
+
+    # the starting step (Hairer's heuristic: a step on which the solution changes by about 1% of its scale)
+    max_step = abs(max_step)
+    if first_step is not None:
+        h_abs = min(abs(float(first_step)), abs(t_end - t0))
+    else:
+        scale = atol + np.abs(y) * rtol
+        d0, d1 = _rms(y / scale), _rms(fy / scale)
+        h0 = 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
+        h0 = min(h0, abs(t_end - t0))
+        y1 = y + direction * h0 * fy
+        f1 = f(t0 + direction * h0, y1)
+        d2 = _rms((f1 - fy) / scale) / h0
+        if d1 <= 1e-15 and d2 <= 1e-15:
+            h1 = max(1e-6, h0 * 1e-3)
+        else:
+            h1 = (0.01 / max(d1, d2)) ** (1.0 / 8.0)
+        h_abs = min(100.0 * h0, h1, abs(t_end - t0))
+    h_abs = min(h_abs, max_step)
+
+    K = np.empty((16, n))
+    g_old = [float(ev(t0, y)) for ev in events]
+    t = t0
+    status, message = 0, "The solver successfully reached the end of the integration interval."
+    rejected_last = False
+    while (t_end - t) * direction > 0:
+        min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
+        if h_abs < min_step:
+            status, message = -1, "Required step size is less than spacing between numbers."
+            break
+        step_rejected = False
+        while True:
+            if h_abs < min_step:
+                status, message = -1, "Required step size is less than spacing between numbers."
+                break
+            h = h_abs * direction
+            t_new = t + h
+            if (t_new - t_end) * direction > 0:
+                t_new = t_end
+            h = t_new - t
+            h_abs = abs(h)
+            K[0] = fy
+            for s in range(1, 12):
+                K[s] = f(t + Cl[s] * h, y + h * (rows[s] @ K[:s]))
+            y_new = y + h * (B @ K[:12])
+            f_new = f(t_new, y_new)
+            K[12] = f_new
+            scale = atol + np.maximum(np.abs(y), np.abs(y_new)) * rtol
+            e5 = (E5 @ K[:13]) / scale
+            e3 = (E3 @ K[:13]) / scale
+            n5, n3 = float(e5 @ e5), float(e3 @ e3)
+            if n5 == 0.0 and n3 == 0.0:
+                err = 0.0
+            else:
+                err = abs(h) * n5 / math.sqrt(n * (n5 + 0.01 * n3))
+            if not math.isfinite(err) or not math.isfinite(float(y_new.sum())):
+                h_abs *= MIN_FACTOR
+                step_rejected = True
+                continue
+            if err < 1.0:
+                if err == 0.0:
+                    factor = MAX_FACTOR
+                else:
+                    factor = min(MAX_FACTOR, SAFETY * err ** ERR_EXP)
+                if step_rejected:
+                    factor = min(1.0, factor)
+                h_next = min(h_abs * factor, max_step)
+                break
+            h_abs *= max(MIN_FACTOR, SAFETY * err ** ERR_EXP)
+            step_rejected = True
+        if status == -1:
+            break
+        rejected_last = step_rejected  # noqa: F841 (kept for clarity of the control's memory)
+
+        seg = None
+
+        def segment():
+            nonlocal seg
+            if seg is None:
+                for s in range(13, 16):
+                    K[s] = f(t + Cl[s] * h, y + h * (rows[s] @ K[:s]))
+                dy = y_new - y
+                F = np.empty((7, n))
+                F[0] = dy
+                F[1] = h * fy - dy
+                F[2] = 2.0 * dy - h * (fy + f_new)
+                F[3:] = h * (D @ K)
+                seg = _Segment(t, h, y.copy(), F)
+            return seg
+
+        stop_at = None
+        if events:
+            g_new = [float(ev(t_new, y_new)) for ev in events]
+            found = []
+            for k, ev in enumerate(events):
+                a, b = g_old[k], g_new[k]
+                up, down = a <= 0.0 <= b, a >= 0.0 >= b
+                dirn = getattr(ev, "direction", 0.0)
+                if (up and dirn > 0) or (down and dirn < 0) or ((up or down) and dirn == 0):
+                    sg = segment()
+                    root = _event_root(lambda tt: float(ev(tt, sg(tt))), t, t_new)
+                    found.append((root, k))
+            found.sort(key=lambda rk: rk[0] * direction)
+            for root, k in found:
+                y_root = segment()(root)
+                res.t_events[k] = np.append(res.t_events[k], root)
+                res.y_events[k] = np.vstack([res.y_events[k], y_root])
+                if getattr(events[k], "terminal", False):
+                    stop_at = (root, y_root)
+                    break
+            g_old = g_new
+        t_stop, y_stop = (stop_at if stop_at is not None else (t_new, y_new))
+
+        if t_eval_arr is not None:
+            lo = i_eval
+            while i_eval < t_eval_arr.size and (t_eval_arr[i_eval] - t_stop) * direction <= 0:
+                i_eval += 1
+            if i_eval > lo:
+                pts = t_eval_arr[lo:i_eval]
+                vals = segment()(pts)
+                ts.extend(pts.tolist())
+                ys.extend(vals.T)
+        else:
+            ts.append(t_stop)
+            ys.append(np.array(y_stop, float))
+        if dense_output:
+            segments.append(segment())
+            seg_ends.append(t_stop)
+        if stop_at is not None:
+            status, message = 1, "A termination event occurred."
+            break
+        t, y, fy, h_abs = t_new, y_new, f_new, h_next
+
+    res.t = np.asarray(ts, float)
+    res.y = np.asarray(ys, float).T if ys else np.empty((n, 0))
+    res.nfev = nfev
+    res.status, res.message = status, message
+    if dense_output and segments:
+        res.sol = DenseSolution(segments, seg_ends, direction)
+    return res
+
+
+def _event_root(g: Callable[[float], float], a: float, b: float) -> float:
+    from mech.solvers.roots import brentq
+
+    ga, gb = g(a), g(b)
+    if ga == 0.0:
+        return a
+    if gb == 0.0:
+        return b
+    if (ga > 0) == (gb > 0):  # the interpolant disagrees with the step ends in the last bits
+        return b if abs(gb) < abs(ga) else a
+    return brentq(g, a, b, xtol=4 * _EPS, rtol=4 * _EPS)

@@ -1,0 +1,99 @@
+"""mech's own DOP853 against exact solutions and against scipy's implementation of the same method."""
+
+import math
+
+import numpy as np
+import pytest
+
+from mech.problems.spec import NumericFailure
+from mech.solvers import dop853, ode
+
+pytestmark = pytest.mark.skipif(not dop853.available(), reason="DOP853 tableau not found")
+
+
+def kepler(t, y):
+    r3 = (y[0] ** 2 + y[1] ** 2) ** 1.5
+    return [y[2], y[3], -y[0] / r3, -y[1] / r3]
+
+
+E = 0.6
+Y0 = [1 - E, 0.0, 0.0, math.sqrt((1 + E) / (1 - E))]  # an orbit of period 2 pi
+
+
+def test_tableau_check_rejects_a_wrong_coefficient():
+    tab = {k: v.copy() for k, v in dop853._TABLEAU.items()}
+    assert dop853._tableau_ok(tab)
+    tab["B"][3] += 1e-9
+    assert not dop853._tableau_ok(tab)
+
+
+@pytest.mark.parametrize("rtol", [1e-6, 1e-9, 1e-12])
+def test_orbit_closes_after_ten_periods(rtol):
+    res = dop853.solve(kepler, (0.0, 20 * math.pi), Y0, rtol=rtol, atol=rtol * 1e-3)
+    assert res.status == 0 and res.t[-1] == 20 * math.pi
+    # the global error of a 10-orbit run of e = 0.6 grows to about 1e3 rtol (measured against scipy below)
+    assert np.abs(res.y[:, -1] - Y0).max() < 1e4 * rtol
+
+
+@pytest.mark.parametrize("rtol", [1e-6, 1e-9, 1e-12])
+def test_same_steps_as_scipy(rtol):
+    """The same method with the same step control: the same evaluations and steps, the same answer."""
+    from scipy.integrate import solve_ivp
+
+    ref = solve_ivp(kepler, (0.0, 20 * math.pi), Y0, method="DOP853", rtol=rtol, atol=rtol * 1e-3)
+    res = dop853.solve(kepler, (0.0, 20 * math.pi), Y0, rtol=rtol, atol=rtol * 1e-3)
+    assert res.nfev == ref.nfev and len(res.t) == len(ref.t)
+    # only the order of floating-point sums differs: far below the global error of either run
+    global_err = np.abs(ref.y[:, -1] - Y0).max()
+    assert np.abs(res.y[:, -1] - ref.y[:, -1]).max() < 1e-2 * global_err
+
+
+def test_dense_output_is_seventh_order_accurate():
+    res = dop853.solve(lambda t, y: [y[1], -y[0]], (0.0, 100.0), [1.0, 0.0], rtol=1e-11, atol=1e-14,
+                       dense_output=True)
+    tt = np.linspace(0.0, 100.0, 1001)
+    assert np.abs(res.sol(tt)[0] - np.cos(tt)).max() < 2e-10
+    assert res.sol(37.5).shape == (2,)
+
+
+def test_events_direction_and_terminal():
+    def ydown(t, y):
+        return y[1]
+
+    ydown.terminal, ydown.direction = False, -1.0
+
+    def x_cross(t, y):
+        return y[0] + 0.5
+
+    x_cross.terminal, x_cross.direction = True, 0.0
+    res = dop853.solve(kepler, (0.0, 20 * math.pi), Y0, rtol=1e-11, atol=1e-14, events=[ydown, x_cross])
+    assert res.status == 1
+    # y goes down through 0 at apocentre only (t = pi); the run stops at x = -0.5 before that
+    assert len(res.t_events[0]) == 0
+    t_hit = res.t_events[1][0]
+    assert res.t[-1] == t_hit and abs(res.y[0, -1] + 0.5) < 1e-12
+    # Kepler's equation: x = cos(Ecc) - e, t = Ecc - e sin(Ecc)
+    ecc = math.acos(-0.5 + E)
+    assert t_hit == pytest.approx(ecc - E * math.sin(ecc), abs=1e-10)
+    res = dop853.solve(kepler, (0.0, 20 * math.pi), Y0, rtol=1e-11, atol=1e-14, events=[ydown])
+    assert np.allclose(res.t_events[0], math.pi * (2 * np.arange(10) + 1), atol=1e-9)
+
+
+def test_backwards_with_t_eval():
+    t_eval = np.linspace(0.0, -3.0, 7)
+    res = dop853.solve(lambda t, y: [y[1], -y[0]], (0.0, -3.0), [1.0, 0.0], rtol=1e-12, atol=1e-15,
+                       t_eval=t_eval)
+    assert np.array_equal(res.t, t_eval)
+    assert np.abs(res.y[0] - np.cos(t_eval)).max() < 1e-11
+
+
+def test_blow_up_fails_loudly():
+    with pytest.raises(NumericFailure):
+        ode.integrate(lambda t, y: [y[0] ** 2], (0.0, 2.0), [1.0], rtol=1e-8)
+
+
+def test_front_end_falls_back_to_scipy(monkeypatch):
+    monkeypatch.setattr(dop853, "_TABLEAU", None)
+    monkeypatch.setattr(dop853, "_TABLEAU_TRIED", True)
+    tr = ode.integrate(lambda t, y: [y[1], -y[0]], (0.0, 10.0), [1.0, 0.0], rtol=1e-10)
+    assert abs(tr.y_end[0] - math.cos(10.0)) < 1e-9
