@@ -361,7 +361,7 @@ def refine_root(
     of the search's root.  The ends a
     and b are solved afresh, so they may be a sweep's loosely converged points.
     """
-    from scipy.optimize import brentq
+    from mech.solvers.roots import brentq
 
     d = b.z - a.z
     L = float(np.linalg.norm(d))

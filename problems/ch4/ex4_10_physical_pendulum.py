@@ -137,7 +137,7 @@ def _bracket_root(f, start, factor, limit=400):
 
 @exercise.numeric
 def _(p, run):
-    from scipy.optimize import brentq
+    from mech.solvers.roots import brentq
 
     body = _Body(p.M, p.I, p.g)
     omega = body.omega(p.l)

@@ -101,7 +101,7 @@ def _residual_factory(IA, I3, Mgl, theta0):
 
 def _slow_root(f, omega3, Om_scale):
     """The smallest positive zero of f(., omega3), or None when f stays negative; also f's maximum."""
-    from scipy.optimize import brentq, minimize_scalar
+    from mech.solvers.roots import brentq, minimize_scalar
 
     f0 = f(0.0, omega3)
     if not f0 < 0:
@@ -128,7 +128,7 @@ def _slow_root(f, omega3, Om_scale):
 
 def _fmax(f, omega3, Om_scale):
     """Maximum over Omega > 0 of f(., omega3) (+inf when f grows without bound)."""
-    from scipy.optimize import minimize_scalar
+    from mech.solvers.roots import minimize_scalar
 
     prev2, prev, fprev = 0.0, 0.0, f(0.0, omega3)
     Om = Om_scale
@@ -198,7 +198,7 @@ def _threshold(IA, I3, Mgl):
 
 @exercise.numeric
 def _(p, run):
-    from scipy.optimize import brentq
+    from mech.solvers.roots import brentq
 
     IA = p.I1 + p.M * p.l**2
     Mgl = p.M * p.g * p.l

@@ -187,7 +187,7 @@ def _crossing(step, n, L, t, h, sign):
 def _lowest(step, low, h):
     """cos_min near the lowest fine step: the true minimum lies within a step of its end (low = (n_z,
     state before that step)): scan the two steps around it by partial steps, then refine."""
-    from scipy.optimize import minimize_scalar
+    from mech.solvers.roots import minimize_scalar
 
     s_a = low[1]
     s_b = step(*s_a, h)

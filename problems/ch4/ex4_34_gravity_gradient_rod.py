@@ -66,7 +66,7 @@ def _omega(p):
 
 @exercise.analytic
 def _(p):
-    from scipy.special import ellipkm1
+    from mech.solvers.special import ellipkm1
 
     W = _omega(p)
     c = math.cos(p.theta_amp)
@@ -150,13 +150,28 @@ def _linear_modes(q0):
 
 @exercise.numeric
 def _(p, run):
-    from scipy.optimize import minimize
-
     W = _omega(p)
-    # (1) the stable direction: minimum of the effective potential from an arbitrary start
-    res = minimize(lambda q: _potential(q), x0=np.array([1.1, 0.6]), jac=_grad, method="BFGS",
-                   options={"gtol": 1e-14, "maxiter": 500})
-    q0 = res.x
+    # (1) the stable direction: minimum of the effective potential from an arbitrary start.  Each step
+    # goes downhill along the Newton direction where the Hessian is positive definite and along -grad U
+    # elsewhere, with a backtracking (Armijo) line search, so it cannot settle on a saddle as a bare
+    # Newton iteration could; the Newton polish below then finishes the minimum it reaches
+    q0 = np.array([1.1, 0.6])
+    U0, g0 = _potential(q0), _grad(q0)
+    for _ in range(200):
+        if np.linalg.norm(g0) < 1e-8:
+            break
+        H = _linear_modes(q0)[3]
+        d = -g0
+        if np.all(np.linalg.eigvalsh(0.5 * (H + H.T)) > 0):
+            d = -np.linalg.solve(H, g0)
+        step_len = 1.0
+        while step_len > 1e-12:
+            trial = q0 + step_len * d
+            U1 = _potential(trial)
+            if U1 <= U0 + 1e-4 * step_len * float(g0 @ d):
+                break
+            step_len *= 0.5
+        q0, U0, g0 = trial, U1, _grad(trial)
     for _ in range(8):  # polish by Newton steps on the (complex-step) gradient
         K0 = _linear_modes(q0)[3]
         step = np.linalg.solve(K0, _grad(q0))

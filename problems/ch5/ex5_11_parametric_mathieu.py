@@ -153,7 +153,7 @@ def _floquet(p, omega, mu, rtol, run):
 
 @exercise.numeric
 def _(p, run):
-    from scipy.optimize import brentq
+    from mech.solvers.roots import brentq
 
     rtol = run.rtol
     noise = 10.0 * rtol  # size of the truncation and round-off in P = det(M + I)

@@ -144,7 +144,7 @@ def _linear(p, a, rtol, run):
 
 @exercise.numeric
 def _(p, run):
-    from scipy.optimize import brentq
+    from mech.solvers.roots import brentq
 
     rtol = run.rtol
     noise = 10.0 * rtol

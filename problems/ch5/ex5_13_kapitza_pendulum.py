@@ -117,7 +117,7 @@ def _slow_frequency(p, a, sign, rtol, run, name):
 
 @exercise.numeric
 def _(p, run):
-    from scipy.optimize import brentq
+    from mech.solvers.roots import brentq
 
     rtol = run.rtol
     out = {

@@ -206,7 +206,7 @@ class _Resonance:
 
 def _bandwidth(z, d_meas, rtol, run):
     """The full width at half maximum of |a|^2 in units of omega0, or Undefined."""
-    from scipy.optimize import brentq, minimize_scalar
+    from mech.solvers.roots import brentq, minimize_scalar
 
     res = _Resonance(z, rtol, run)
     left_edge = -(1.0 - 0.1)

@@ -1,0 +1,182 @@
+"""Bracketed scalar root finding and bounded minimization on numpy alone.
+
+scipy.optimize costs 0.4-0.6 s to import (it pulls in scipy.linalg, sparse
+and special), which is more than most exercises need for the whole solve.
+These two routines are what the exercises and the ODE front end used from
+it, written for mech:
+
+* ``brentq(f, a, b)``: Brent's method (inverse quadratic interpolation,
+  secant, bisection as the safe fallback), for a bracket with a sign change.
+* ``minimize_bounded(f, a, b)``: Brent's minimizer (golden section with
+  parabolic steps) on a closed interval.
+
+Both raise ``NumericFailure`` rather than return a guess: a bracket without
+a sign change or an iteration budget spent is a failed solve.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from types import SimpleNamespace
+from typing import Callable
+
+from mech.problems.spec import NumericFailure
+
+__all__ = ["brentq", "minimize_bounded", "minimize_scalar", "RootResult"]
+
+_EPS = 2.220446049250313e-16
+
+
+@dataclass
+class RootResult:
+    root: float
+    iterations: int
+    function_calls: int
+    converged: bool = True
+
+
+def brentq(
+    f: Callable[[float], float],
+    a: float,
+    b: float,
+    *,
+    xtol: float = 2e-12,
+    rtol: float = 4 * _EPS,
+    maxiter: int = 200,
+    full_output: bool = False,
+):
+    """A root of ``f`` in ``[a, b]``, where ``f(a)`` and ``f(b)`` differ in sign.
+
+    Converged when the bracket is narrower than ``xtol + rtol |x|``
+    (scipy's convention for the same arguments, so callers keep their
+    tolerances).  An exact zero ends the search at once.
+    """
+    a, b = float(a), float(b)
+    fa, fb = float(f(a)), float(f(b))
+    calls = 2
+    if not (math.isfinite(fa) and math.isfinite(fb)):
+        raise NumericFailure(f"root search: f is not finite at the bracket ends ({fa:.3g}, {fb:.3g})")
+    if fa == 0.0:
+        return (a, RootResult(a, 0, calls)) if full_output else a
+    if fb == 0.0:
+        return (b, RootResult(b, 0, calls)) if full_output else b
+    if (fa > 0) == (fb > 0):
+        raise NumericFailure(f"root search: no sign change on [{a:.6g}, {b:.6g}] (f = {fa:.3g}, {fb:.3g})")
+    # b: best estimate; a: previous b; c: the end that keeps the sign change with b
+    c, fc = a, fa
+    d = e = b - a
+    for it in range(1, maxiter + 1):
+        if (fb > 0) == (fc > 0):
+            c, fc = a, fa
+            d = e = b - a
+        if abs(fc) < abs(fb):
+            a, fa = b, fb
+            b, fb = c, fc
+            c, fc = a, fa
+        tol = 0.5 * (xtol + rtol * abs(b))
+        half = 0.5 * (c - b)
+        if abs(half) <= tol or fb == 0.0:
+            return (b, RootResult(b, it, calls)) if full_output else b
+        if abs(e) >= tol and abs(fa) > abs(fb):
+            # interpolate: secant when only two distinct points, else inverse quadratic
+            s = fb / fa
+            if a == c:
+                p, q = 2.0 * half * s, 1.0 - s
+            else:
+                qa, r = fa / fc, fb / fc
+                p = s * (2.0 * half * qa * (qa - r) - (b - a) * (r - 1.0))
+                q = (qa - 1.0) * (r - 1.0) * (s - 1.0)
+            if p > 0:
+                q = -q
+            else:
+                p = -p
+            # accept the interpolation only when it stays well inside and shrinks fast enough
+            if 2.0 * p < min(3.0 * half * q - abs(tol * q), abs(e * q)):
+                e, d = d, p / q
+            else:
+                d = e = half
+        else:
+            d = e = half
+        a, fa = b, fb
+        b += d if abs(d) > tol else math.copysign(tol, half)
+        fb = float(f(b))
+        calls += 1
+        if not math.isfinite(fb):
+            raise NumericFailure(f"root search: f is not finite at x = {b:.17g}")
+    raise NumericFailure(f"root search: no convergence in {maxiter} iterations on [{min(b, c):.17g}, {max(b, c):.17g}]")
+
+
+_GOLD = 0.5 * (3.0 - math.sqrt(5.0))  # 0.381966..., the golden section's smaller part
+
+
+def minimize_bounded(
+    f: Callable[[float], float], a: float, b: float, *, xatol: float = 1e-5, maxiter: int = 500
+) -> tuple[float, float, int]:
+    """Brent's minimizer on ``[a, b]``: returns ``(x, f(x), calls)``.
+
+    Golden-section steps guarantee progress; a parabola through the three best
+    points is used when it falls inside and shrinks the step.  Stops when the
+    point is known to within ``xatol`` (plus a relative round-off floor).
+    """
+    a, b = float(min(a, b)), float(max(a, b))
+    x = w = v = a + _GOLD * (b - a)
+    fx = fw = fv = float(f(x))
+    calls = 1
+    d = e = 0.0
+    for _ in range(maxiter):
+        mid = 0.5 * (a + b)
+        tol1 = math.sqrt(_EPS) * abs(x) + xatol / 3.0
+        tol2 = 2.0 * tol1
+        if abs(x - mid) <= tol2 - 0.5 * (b - a):
+            return x, fx, calls
+        parabolic = False
+        if abs(e) > tol1:
+            r = (x - w) * (fx - fv)
+            q = (x - v) * (fx - fw)
+            p = (x - v) * q - (x - w) * r
+            q = 2.0 * (q - r)
+            if q > 0:
+                p = -p
+            q = abs(q)
+            if abs(p) < abs(0.5 * q * e) and q * (a - x) < p < q * (b - x):
+                e, d = d, p / q
+                u = x + d
+                if u - a < tol2 or b - u < tol2:
+                    d = math.copysign(tol1, mid - x)
+                parabolic = True
+        if not parabolic:
+            e = (b - x) if x < mid else (a - x)
+            d = _GOLD * e
+        u = x + (d if abs(d) >= tol1 else math.copysign(tol1, d))
+        fu = float(f(u))
+        calls += 1
+        if fu <= fx:
+            if u < x:
+                b = x
+            else:
+                a = x
+            v, fv, w, fw, x, fx = w, fw, x, fx, u, fu
+        else:
+            if u < x:
+                a = u
+            else:
+                b = u
+            if fu <= fw or w == x:
+                v, fv, w, fw = w, fw, u, fu
+            elif fu <= fv or v == x or v == w:
+                v, fv = u, fu
+    raise NumericFailure(f"bounded minimization: no convergence in {maxiter} iterations")
+
+
+def minimize_scalar(fun: Callable[[float], float], bounds: tuple[float, float], method: str = "bounded",
+                    options: dict | None = None):
+    """The call shape of ``scipy.optimize.minimize_scalar(..., method="bounded")``, on ``minimize_bounded``.
+
+    Returns an object with ``x``, ``fun`` and ``nfev``; only the bounded method exists.
+    """
+    if method != "bounded":
+        raise ValueError("only the bounded method is provided")
+    opts = {"xatol": 1e-5, "maxiter": 500, **(options or {})}
+    x, fx, calls = minimize_bounded(fun, bounds[0], bounds[1], xatol=opts["xatol"], maxiter=opts["maxiter"])
+    return SimpleNamespace(x=x, fun=fx, nfev=calls, success=True)
