@@ -56,8 +56,8 @@ def _(p):
 
 @exercise.analytic
 def _(p):
-    from scipy.integrate import quad
-    from scipy.special import ellipkm1
+    from mech.solvers.quadrature import quad
+    from mech.solvers.special import ellipkm1
 
     M, R, l, I, g = p.M, p.R, p.l, p.I, p.g
     J0 = I + M * (R - l) ** 2
@@ -77,7 +77,7 @@ def _(p):
     # where f turns from its constant part to its sin u part (a sharp bend when J0 << B)
     bend = np.arcsin(min(1.0, np.sqrt(J0 / B))) if B > 0 else np.pi / 2
     pts = [bend] if 0.0 < bend < np.pi / 2 else None
-    rem, _ = quad(rest, 0.0, np.pi / 2, points=pts, epsabs=0.0, epsrel=1e-13, limit=400)
+    rem, _ = quad(rest, 0.0, np.pi / 2, points=pts, epsabs=0.0, epsrel=1e-13, limit=400, vectorized=True)
     quarter = (f1 * ellipkm1(kc**2) - B * rem) / np.sqrt(Mgl)
     return {"Omega": np.sqrt(Mgl / J0), "period": 4.0 * quarter}
 

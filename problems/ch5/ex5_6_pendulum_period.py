@@ -50,7 +50,7 @@ def _phi0(theta0):
 
 @exercise.analytic
 def _(p):
-    from scipy.special import ellipkm1
+    from mech.solvers.special import ellipkm1
 
     w0 = math.sqrt(p.g / p.l)
     c = math.sin(_phi0(p.theta0) / 2.0)  # cos(theta0/2)
@@ -77,7 +77,7 @@ def _one_minus_sinc(x):
 
 def _period_excess(theta0):
     """(T - T0) omega0 by quadrature of the period integral minus the harmonic one; also its error estimate."""
-    from scipy.integrate import quad
+    from mech.solvers.quadrature import quad
 
     def integrand(u):
         th = theta0 * math.sin(u)

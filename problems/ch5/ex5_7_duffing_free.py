@@ -94,7 +94,7 @@ def _agm(a, b):
 
 @exercise.analytic
 def _(p):
-    from scipy.special import ellipk, ellipkm1
+    from mech.solvers.special import ellipk, ellipkm1
 
     w0, A = p.omega0, p.A
     eps = _eps(p)
@@ -132,7 +132,7 @@ def _(p):
 # ------------------------------------------------------------------ numeric
 def _quarter_excess(eps):
     """(T/4 - pi/2) in units 1/omega0 by quadrature of the energy integral, and its error estimate."""
-    from scipy.integrate import quad
+    from mech.solvers.quadrature import quad
 
     def f(th):
         c = math.cos(th)
