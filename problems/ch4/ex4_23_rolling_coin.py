@@ -107,7 +107,7 @@ def _quat_from_matrix(Rm):
 
 def _solve3(K, b):
     """K^-1 b for a 3 x 3 system by the adjugate (K is symmetric positive definite here)."""
-    (k00, k01, k02), (k10, k11, k12), (k20, k21, k22) = K.tolist()
+    (k00, k01, k02), (k10, k11, k12), (k20, k21, k22) = K.tolist() if hasattr(K, "tolist") else K
     c00 = k11 * k22 - k12 * k21
     c01 = k12 * k20 - k10 * k22
     c02 = k10 * k21 - k11 * k20
@@ -127,6 +127,13 @@ class _Disk:
         pts, w = disk(8, 16)  # unit disk in the body xy plane: the symmetry axis is body z
         self.I_body = inertia_tensor(pts, w)
         self.z = np.array([0.0, 0.0, 1.0])
+        # the disk is a body of revolution about body z: I_lab = I1 1 + (I3 - I1) n n^T, which lets the
+        # right-hand side skip the matrix products (it was 2/3 of the solve); checked on the tensor itself
+        Ib = self.I_body
+        self.I1, self.I3 = 0.5 * (Ib[0, 0] + Ib[1, 1]), Ib[2, 2]
+        off = max(abs(Ib[0, 1]), abs(Ib[0, 2]), abs(Ib[1, 2]), abs(Ib[0, 0] - Ib[1, 1]))
+        if off > 1e-14 * self.I3:
+            raise NumericFailure(f"the disk's inertia tensor is not axisymmetric (off by {off:.3g})")
 
     def geometry(self, Rm, omega):
         """(n3, P - C, d(P - C)/dt) for the lowest rim point, whose place on the rim moves."""
@@ -164,16 +171,13 @@ class _Disk:
         w1, w2, w3, q0, q1, q2, q3 = y[0], y[1], y[2], y[3], y[4], y[5], y[6]
         nq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
         a0, a1, a2, a3 = q0 / nq, q1 / nq, q2 / nq, q3 / nq
-        Rm = np.array(
-            [
-                [1 - 2 * (a2 * a2 + a3 * a3), 2 * (a1 * a2 - a0 * a3), 2 * (a1 * a3 + a0 * a2)],
-                [2 * (a1 * a2 + a0 * a3), 1 - 2 * (a1 * a1 + a3 * a3), 2 * (a2 * a3 - a0 * a1)],
-                [2 * (a1 * a3 - a0 * a2), 2 * (a2 * a3 + a0 * a1), 1 - 2 * (a1 * a1 + a2 * a2)],
-            ]
-        )
-        I_lab = Rm @ self.I_body @ Rm.T
-        ox, oy, oz = Rm @ (w1, w2, w3)
-        nx, ny, nz = Rm[0, 2], Rm[1, 2], Rm[2, 2]
+        r00, r01, r02 = 1 - 2 * (a2 * a2 + a3 * a3), 2 * (a1 * a2 - a0 * a3), 2 * (a1 * a3 + a0 * a2)
+        r10, r11, r12 = 2 * (a1 * a2 + a0 * a3), 1 - 2 * (a1 * a1 + a3 * a3), 2 * (a2 * a3 - a0 * a1)
+        r20, r21, r22 = 2 * (a1 * a3 - a0 * a2), 2 * (a2 * a3 + a0 * a1), 1 - 2 * (a1 * a1 + a2 * a2)
+        ox = r00 * w1 + r01 * w2 + r02 * w3
+        oy = r10 * w1 + r11 * w2 + r12 * w3
+        oz = r20 * w1 + r21 * w2 + r22 * w3
+        nx, ny, nz = r02, r12, r22
         wx, wy, wz = -nz * nx, -nz * ny, nx * nx + ny * ny
         wn = math.sqrt(wx * wx + wy * wy + wz * wz)
         ux, uy, uz = wx / wn, wy / wn, wz / wn
@@ -186,7 +190,10 @@ class _Disk:
         ex_, ey_, ez_ = -(vx - ux * uw) / wn, -(vy - uy * uw) / wn, -(vz - uz * uw) / wn
         # c = omega x d'
         cx, cy, cz = oy * ez_ - oz * ey_, oz * ex_ - ox * ez_, ox * ey_ - oy * ex_
-        Lx, Ly, Lz = I_lab @ (ox, oy, oz)
+        # L = I_lab omega = I1 omega + (I3 - I1)(n.omega) n
+        I1, dI = self.I1, self.I3 - self.I1
+        on = dI * (ox * nx + oy * ny + oz * nz)
+        Lx, Ly, Lz = I1 * ox + on * nx, I1 * oy + on * ny, I1 * oz + on * nz
         # I alpha - d x (d x alpha) = -omega x I omega + d x (z - omega x d')
         gx, gy, gz = -cx, -cy, 1.0 - cz
         b = (
@@ -195,14 +202,24 @@ class _Disk:
             -(ox * Ly - oy * Lx) + (dx * gy - dy * gx),
         )
         dd = dx * dx + dy * dy + dz * dz
-        # -[d]x^2 = |d|^2 1 - d d^T
-        K = I_lab + dd * np.eye(3) - np.outer((dx, dy, dz), (dx, dy, dz))
+        # K = I_lab - [d]x^2 = (I1 + |d|^2) 1 + (I3 - I1) n n^T - d d^T
+        di = I1 + dd
+        K = (
+            (di + dI * nx * nx - dx * dx, dI * nx * ny - dx * dy, dI * nx * nz - dx * dz),
+            (dI * ny * nx - dy * dx, di + dI * ny * ny - dy * dy, dI * ny * nz - dy * dz),
+            (dI * nz * nx - dz * dx, dI * nz * ny - dz * dy, di + dI * nz * nz - dz * dz),
+        )
         al = _solve3(K, b)
         # a = d x alpha - omega x d'
         ax = dy * al[2] - dz * al[1] - cx
         ay = dz * al[0] - dx * al[2] - cy
         az = dx * al[1] - dy * al[0] - cz
-        dwb = Rm.T @ al
+        # body components of alpha: R^T alpha
+        dwb = (
+            r00 * al[0] + r10 * al[1] + r20 * al[2],
+            r01 * al[0] + r11 * al[1] + r21 * al[2],
+            r02 * al[0] + r12 * al[1] + r22 * al[2],
+        )
         k = q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3 - 1.0
         return np.array(
             [
@@ -249,7 +266,7 @@ class _Disk:
 
 @exercise.numeric
 def _(p, run):
-    from scipy.optimize import brentq
+    from mech.solvers.roots import brentq
 
     Rs = p.R / p.r
     theta = p.theta
