@@ -30,7 +30,7 @@ def _float_list(text: str | None, what: str) -> list[float] | None:
 @click.argument("ex_id", metavar="ID")
 @click.option("-p", "pairs", multiple=True, metavar="NAME=VALUE", help="Set a parameter (repeatable).")
 @click.option("--methods", "methods_text", metavar="M1,M2",
-              help="Rows to run: RK45, DOP853, LSODA, Radau, BDF, RK23, Yoshida4, Yoshida6, scipy-default, "
+              help="Rows to run: RK45, DOP853 (mech's own), LSODA, Radau, BDF, RK23, scipy-DOP853, Yoshida4, Yoshida6, scipy-default, "
                    "default [the integrators, the symplectic rows where the exercise has a Hamiltonian, "
                    "the student row and the default].")
 @click.option("--tols", "tols_text", metavar="T1,T2", help="Requested tolerances [1e-3 to 1e-12, every decade].")

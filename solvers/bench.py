@@ -16,6 +16,9 @@ is measured against its own numeric solver at its tightest rtol instead
 Rows:
   * RK45, DOP853 (explicit), LSODA (switches to BDF on stiffness), Radau
     (implicit, for possible stiffness): the exercise's solver with that method forced;
+    DOP853 is mech's own implementation (``mech.solvers.dop853``), every other
+    method scipy's ``solve_ivp``; ``scipy-DOP853`` (on request) is scipy's
+    DOP853, for comparing the two at equal error;
   * ``scipy-default``: what a student would write, ``solve_ivp`` with its defaults
     (RK45, rtol 1e-3, atol 1e-6, no step bounds; ``ode.override(student=True)``),
     one point, run with ``run.rtol = 1e-3`` so that the exercise's own checks
