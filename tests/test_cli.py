@@ -218,3 +218,27 @@ def test_listing_and_help_import_nothing_heavy(argv, heavy):
     )
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
+
+
+# one exercise per numpy-only tool: DOP853 with events (4.15), dense output (4.23), roots (4.21, 5.11),
+# bounded minimization (5.5), elliptic K and quadrature (4.9, 5.7), the generalized eigenproblem (4.11)
+SCIPY_FREE = ["4.9", "4.11", "4.15", "4.21", "4.23", "5.5", "5.7", "5.11"]
+
+
+def test_solves_import_no_scipy():
+    """A fresh `mech solve` of these pays no scipy import (0.3-0.9 s, most of the 1 s budget)."""
+    code = (
+        "import sys\n"
+        "from mech.cli.main import cli\n"
+        f"for ex_id in {SCIPY_FREE!r}:\n"
+        "    try:\n"
+        "        cli.main(['solve', ex_id], standalone_mode=False)\n"
+        "    except SystemExit as exc:\n"
+        "        assert not exc.code, (ex_id, exc.code)\n"
+        "    bad = sorted(m for m in sys.modules if m.split('.')[0] == 'scipy')\n"
+        "    if bad:\n"
+        "        print(ex_id, bad[:5], file=sys.stderr)\n"
+        "        sys.exit(1)\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
