@@ -190,7 +190,7 @@ def solve(
         out = np.asarray(fun(t, yy), dtype=float)
         return out if out.ndim == 1 else out.ravel()
 
-    rows = [A[s, :s] for s in range(16)]  # the tableau's rows, sliced once
+    EE = np.vstack([E5, E3])
     Cl = C.tolist()
 
     res = Result()
@@ -207,7 +207,12 @@ def solve(
         i_eval = 0
     segments, seg_ends = ([], [t0]) if dense_output else (None, None)
 
-    fy = f(t0, y)
+    raw = np.asarray(fun(t0, y), dtype=float)
+    nfev += 1
+    fy = raw.ravel()
+    # the stages write fun's value straight into K when it comes as n numbers in a row; anything else
+    # (a column, say) is flattened on the way
+    call = fun if raw.ndim <= 1 else (lambda tt, yy: np.asarray(fun(tt, yy), dtype=float).ravel())
     if t_end == t0:
         res.t, res.y, res.nfev, res.status = np.array([t0]), y[:, None], nfev, 0
         res.message = "The solver successfully reached the end of the integration interval."
@@ -238,7 +243,7 @@ def solve(
     status, message = 0, "The solver successfully reached the end of the integration interval."
     rejected_last = False
     while (t_end - t) * direction > 0:
-        min_step = 10.0 * abs(np.nextafter(t, direction * np.inf) - t)
+        min_step = 10.0 * abs(math.nextafter(t, direction * math.inf) - t)
         if h_abs < min_step:
             status, message = -1, "Required step size is less than spacing between numbers."
             break
@@ -254,15 +259,18 @@ def solve(
             h = t_new - t
             h_abs = abs(h)
             K[0] = fy
+            hA = h * A  # the step's tableau: one product instead of one per stage
             for s in range(1, 12):
-                K[s] = f(t + Cl[s] * h, y + h * (rows[s] @ K[:s]))
+                # fun's value goes straight into K (numpy converts a list); the count is kept below
+                K[s] = call(t + Cl[s] * h, y + hA[s, :s] @ K[:s])
+            nfev += 11
             y_new = y + h * (B @ K[:12])
             f_new = f(t_new, y_new)
             K[12] = f_new
             scale = atol + np.maximum(np.abs(y), np.abs(y_new)) * rtol
-            e5 = (E5 @ K[:13]) / scale
-            e3 = (E3 @ K[:13]) / scale
-            n5, n3 = float(e5 @ e5), float(e3 @ e3)
+            ee = EE @ K[:13]  # the 5th- and 3rd-order error estimates, in one product
+            ee /= scale
+            n5, n3 = (ee * ee).sum(axis=1).tolist()
             if n5 == 0.0 and n3 == 0.0:
                 err = 0.0
             else:
@@ -289,10 +297,12 @@ def solve(
         seg = None
 
         def segment():
-            nonlocal seg
+            nonlocal seg, nfev
             if seg is None:
+                hA = h * A
                 for s in range(13, 16):
-                    K[s] = f(t + Cl[s] * h, y + h * (rows[s] @ K[:s]))
+                    K[s] = call(t + Cl[s] * h, y + hA[s, :s] @ K[:s])
+                nfev += 3
                 dy = y_new - y
                 F = np.empty((7, n))
                 F[0] = dy
@@ -336,7 +346,7 @@ def solve(
                 ys.extend(vals.T)
         else:
             ts.append(t_stop)
-            ys.append(np.array(y_stop, float))
+            ys.append(y_stop)  # a fresh array every step (never written to afterwards)
         if dense_output:
             segments.append(segment())
             seg_ends.append(t_stop)
