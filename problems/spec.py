@@ -166,6 +166,10 @@ class Run:
     claims: dict = field(default_factory=dict)
     invariants: dict = field(default_factory=dict)
     nfev: int = 0
+    # shared by the runs of one cross-check (the solve and its rerun at rtol/10): a solver may keep there
+    # what it computed at a tolerance that does not depend on rtol, keyed by everything it depends on;
+    # never in the JSON, and new for every cross-check (so bench's timed repeats never share it)
+    shared: dict = field(default_factory=dict, repr=False)
 
     def record(self, result: Any, method: str | None = None) -> Any:
         """Add the cost of an integration (anything with ``nfev`` and ``method``)."""
@@ -303,8 +307,11 @@ class Exercise:
     def solve_analytic(self, p: Params) -> dict:
         return self._finish(self._analytic(p), "analytic")
 
-    def solve_numeric(self, p: Params, rtol: float | None = None, method: str | None = None) -> tuple[dict, Run]:
+    def solve_numeric(self, p: Params, rtol: float | None = None, method: str | None = None,
+                      shared: dict | None = None) -> tuple[dict, Run]:
         run = Run(rtol=float(rtol or self.default_rtol), method=None)
+        if shared is not None:
+            run.shared = shared
         if method:
             run.info["requested_method"] = method
         values = self._numeric(p, run)

@@ -202,15 +202,16 @@ def cross_check(
             dop853.available()
             import_s = time.perf_counter() - t0
         t0 = time.perf_counter()
+        shared: dict = {}  # what the rerun may reuse of the solve (see Run.shared)
         try:
-            numeric, run = ex.solve_numeric(params, rtol)
+            numeric, run = ex.solve_numeric(params, rtol, shared=shared)
         except Exception as exc:
             errors.append(f"numeric solver failed: {_failure_text(exc)}")
         timing["numeric_s"] = time.perf_counter() - t0
         tighter = max(rtol / 10.0, ex.min_rtol)
         if verify and run is not None and tighter < rtol:
             try:
-                verify_values, vrun = ex.solve_numeric(params, tighter)
+                verify_values, vrun = ex.solve_numeric(params, tighter, shared=shared)
                 run.info["verify_rtol"] = tighter
             except Exception as exc:
                 errors.append(f"numeric solver failed at rtol={tighter:g}: {_failure_text(exc)}")

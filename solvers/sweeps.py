@@ -99,10 +99,20 @@ class OrbitMap:
         omega_ref: float,
         W: float,
         method: str = "DOP853",
+        memo: dict | None = None,
+        memo_key: tuple | None = None,
     ):
+        """``memo``/``memo_key``: a dict shared by the runs of one cross-check (``run.shared``) and a key
+        naming everything the force depends on.  The map is a deterministic function of (z, rtol), so an
+        evaluation repeated at the same point and tolerance (the rerun at rtol/10 repeats the sweeps,
+        which run at a tolerance that does not depend on rtol) is taken from there: the same numbers
+        without the integration.  Without both, nothing is kept."""
         self.force, self.f0, self.Q, self.omega_ref, self.W, self.method = force, f0, Q, omega_ref, W, method
         self.nfev = 0
         self.calls = 0
+        self.memo_hits = 0
+        self._memo = memo if memo is not None and memo_key is not None else None
+        self._memo_key = (memo_key, f0, Q, omega_ref, W, method)
 
     def omega(self, w: float) -> float:
         return self.omega_ref + self.W * w
@@ -137,6 +147,20 @@ class OrbitMap:
     def evaluate(self, z, rtol: float) -> BranchPoint:
         """Integrate one drive period from (X0, Y0) at w; the point need not be periodic."""
         z = np.asarray(z, dtype=float)
+        key = None
+        if self._memo is not None:
+            key = (self._memo_key, tuple(z.tolist()), float(rtol))
+            hit = self._memo.get(key)
+            if hit is not None:
+                self.memo_hits += 1
+                # a copy: callers move a point's z and A in place
+                return BranchPoint(z=hit.z.copy(), J=hit.J.copy(), A=hit.A, gradA=hit.gradA.copy(), res=hit.res.copy())
+        bp = self._evaluate(z, rtol)
+        if key is not None:
+            self._memo[key] = BranchPoint(z=bp.z.copy(), J=bp.J.copy(), A=bp.A, gradA=bp.gradA.copy(), res=bp.res.copy())
+        return bp
+
+    def _evaluate(self, z: np.ndarray, rtol: float) -> BranchPoint:
         omega = self.omega(z[2])
         if not omega > 0:
             raise NumericFailure(f"the sweep reached a non-positive drive frequency ({omega:g} rad/s)")

@@ -132,7 +132,8 @@ def _(p, run):
 
     Q = 1.0 / math.sqrt(beta)  # unit of length (the cycle's swing is about 2 Q)
     W = f0 * math.sqrt(beta) / w0  # unit of detuning: the drive's strength over the swing, by dimensions
-    om = OrbitMap(force, f0, Q, w0, W)
+    om = OrbitMap(force, f0, Q, w0, W,
+                  memo=run.shared, memo_key=("5.10", *(float(p[k]) for k in p)))
     # an edge is a detuning, a small difference of frequencies: the orbit's phase error per period, about
     # the tolerance, is a frequency error of about rtol omega0, so the refinements integrate at rtol W/omega0
     rr = max(3e-14, rtol * min(1.0, W / w0))
@@ -190,6 +191,7 @@ def _(p, run):
     # at a fold one multiplier is exactly 1, recorded as a check of the refinement
     run.info["fold_multipliers"] = [sorted(np.abs(np.linalg.eigvals(f.M)).tolist()) for f in folds]
     run.info["orbit_maps"] = om.calls
+    run.info["orbit_maps_reused"] = om.memo_hits  # taken from the solve by its rerun (Run.shared)
     run.record(SimpleNamespace(nfev=om.nfev, method="DOP853"))
 
     xi = p.omega - w0
@@ -215,6 +217,10 @@ def _beat(p, run, amplitude):
     T = 2.0 * math.pi / w
     n_settle = max(2, min(MAX_SETTLE, math.ceil(SETTLE_MU_T / (mu * T))))
     th = 2.0 * math.pi * np.arange(M) / M
+    # the copies start on a circle of about the locked swing, only to be near the torus: 4 digits of it
+    # are plenty, and make the start (and so the settling, at a tolerance that does not depend on rtol)
+    # the same for the solve and its rerun at rtol/10, which then takes it from run.shared
+    amplitude = float(f"{amplitude:.4g}")
     y0 = np.concatenate([amplitude * np.cos(th), -w0 * amplitude * np.sin(th)])
 
     def rhs(t, y):
@@ -223,10 +229,17 @@ def _beat(p, run, amplitude):
 
     aq = 1e-3 / math.sqrt(beta)
     # the settling only has to land on the attracting torus: a looser tolerance, then the full one
-    settle = integrate(rhs, (0.0, n_settle * T), y0, rtol=max(run.rtol, 1e-6),
-                       atol=np.concatenate([np.full(M, aq), np.full(M, aq * w0)]) * max(run.rtol, 1e-6))
-    run.record(settle)
-    traj = integrate(rhs, (n_settle * T, (n_settle + 2) * T), settle.y_end, rtol=run.rtol,
+    r_settle = max(run.rtol, 1e-6)
+    key = ("5.10 settle", mu, beta, w0, f0, w, amplitude, n_settle, r_settle)
+    y_settled = run.shared.get(key)
+    if y_settled is None:
+        settle = integrate(rhs, (0.0, n_settle * T), y0, rtol=r_settle,
+                           atol=np.concatenate([np.full(M, aq), np.full(M, aq * w0)]) * r_settle)
+        run.record(settle)
+        y_settled = run.shared[key] = settle.y_end.copy()
+    else:
+        run.info["beat_settle_reused"] = True
+    traj = integrate(rhs, (n_settle * T, (n_settle + 2) * T), y_settled, rtol=run.rtol,
                      atol=np.concatenate([np.full(M, aq), np.full(M, aq * w0)]) * run.rtol,
                      t_eval=[n_settle * T, (n_settle + 1) * T, (n_settle + 2) * T])
     run.record(traj)

@@ -174,7 +174,8 @@ def _(p, run):
     run.info["rtol_integration"] = rr
     Q = p.f0 / (2.0 * p.omega0 * p.delta)  # unit of length: the linear resonant swing
     W = p.delta  # unit of detuning: the half-width
-    om = OrbitMap(_force(p.omega0, p.delta, p.alpha), p.f0, Q, p.omega0, W)
+    om = OrbitMap(_force(p.omega0, p.delta, p.alpha), p.f0, Q, p.omega0, W,
+                  memo=run.shared, memo_key=("5.8", *(float(p[k]) for k in p)))
     # the sweeps run over +-(4 half-widths + 0.6 times the nonlinear shift scale |alpha| Q^2/omega0)
     w_end = 4.0 + 0.6 * abs(p.alpha) * Q * Q / (p.omega0 * p.delta)
 
@@ -232,6 +233,7 @@ def _(p, run):
         run.invariant("Liouville det M", (float(np.linalg.det(bp.M)) - det_exact) / det_exact)
     run.record(SimpleNamespace(nfev=om.nfev, method="DOP853"))
     run.info["orbit_maps"] = om.calls
+    run.info["orbit_maps_reused"] = om.memo_hits  # taken from the solve by its rerun (Run.shared)
 
     # the peak's position is a root of dA/ds, whose noise is set by the tolerance relative to the curve's
     # own scale, the half-width: an absolute claim for a peak shift that may be tiny (weak alpha)
