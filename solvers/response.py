@@ -5,9 +5,11 @@
   with chi(-w) = conj(chi(w)), folded onto w >= 0:
   G(t) = (1/pi) int_0^inf [Re chi cos(w t) + Im chi sin(w t)] dw.
   The window [0, W] is cut at the poles' real parts and at their widths
-  (|Im| multiples) and integrated piece by piece with QUADPACK's
-  Fourier-weighted rule (QAWO: no sampling of the oscillation), the tail
-  [W, inf) with QAWF.
+  (|Im| multiples) and integrated by a Fourier-weighted rule of our own
+  (``fourier_quad``: Filon's idea on Gauss-Legendre panels, the oscillation
+  integrated exactly, never sampled), the tail [W, inf) cycle by cycle with
+  Wynn's epsilon extrapolation of the alternating partial sums
+  (``fourier_tail``).  Numpy only: scipy.integrate costs 0.6-0.9 s to import.
 * ``impulse_spectrum(A, b, c, w)``: int_0^inf c.y(t) exp(i w t) dt for
   y' = A y, y(0) = b (the transform of the impulse response).  One segment
   [0, D] of the fundamental matrix Phi is integrated together with the
@@ -22,6 +24,8 @@ Both work best in scaled variables (rates of order one).
 
 from __future__ import annotations
 
+import cmath
+import heapq
 import math
 from dataclasses import dataclass
 
@@ -30,15 +34,309 @@ import numpy as np
 from mech.problems.spec import NumericFailure
 from mech.solvers.ode import integrate
 
-__all__ = ["inverse_fourier", "impulse_spectrum", "Spectrum", "FourierIntegral"]
+__all__ = ["inverse_fourier", "impulse_spectrum", "Spectrum", "FourierIntegral", "fourier_quad", "fourier_tail"]
+
+
+# ---------------------------------------------------------------------------------------------
+# Fourier-weighted quadrature on numpy alone
+# ---------------------------------------------------------------------------------------------
+
+_NODES = 16  # Gauss-Legendre nodes per panel: f is interpolated by a polynomial of degree 15
+_FILON: dict = {}
+
+
+def _filon_table(n: int):
+    """Nodes x_i on [-1, 1] and the matrix taking f(x_i) to the Legendre coefficients of its interpolant."""
+    if n not in _FILON:
+        x, w = np.polynomial.legendre.leggauss(n)
+        P = np.polynomial.legendre.legvander(x, n - 1)  # P[i, j] = P_j(x_i)
+        to_coeffs = (np.arange(n) + 0.5)[:, None] * (w[None, :] * P.T)  # exact: p P_j has degree < 2n
+        _FILON[n] = (x, w, to_coeffs, {})
+    return _FILON[n]
+
+
+def _spherical_bessel(n: int, k: float) -> np.ndarray:
+    """j_0(k) .. j_{n-1}(k) for k >= 0: series for small k, upward recurrence where every order is
+    below k (stable there), Miller's downward recurrence otherwise."""
+    out = np.zeros(n)
+    if k == 0.0:
+        out[0] = 1.0
+        return out
+    if k <= 1.0:
+        # j_j(k) = k^j/(2j+1)!! sum_m (-k^2/2)^m / (m! (2j+3)(2j+5)...(2j+2m+1))
+        lead, x = 1.0, -0.5 * k * k
+        for j in range(n):
+            if j:
+                lead *= k / (2 * j + 1)
+            if lead < 1e-300:
+                break
+            term, total, m = 1.0, 1.0, 0
+            while abs(term) > 1e-17 * abs(total):
+                m += 1
+                term *= x / (m * (2 * j + 2 * m + 1))
+                total += term
+            out[j] = lead * total
+        return out
+    s, c = math.sin(k), math.cos(k)
+    j0, j1 = s / k, (s / k - c) / k
+    if k >= n:
+        out[0] = j0
+        if n > 1:
+            out[1] = j1
+        for j in range(1, n - 1):
+            out[j + 1] = (2 * j + 1) / k * out[j] - out[j - 1]
+        return out
+    top = n + 20 + int(k)
+    upper, here = 0.0, 1.0
+    raw = np.zeros(n)
+    for j in range(top, 0, -1):
+        lower = (2 * j + 1) / k * here - upper  # j_{j-1} from j_j and j_{j+1}
+        upper, here = here, lower
+        if abs(here) > 1e100:
+            upper *= 1e-100
+            here *= 1e-100
+            raw *= 1e-100
+        if j - 1 < n:
+            raw[j - 1] = here
+    # j_0 and j_1 never vanish together: scale to both in the least-squares sense
+    scale = (raw[0] * j0 + raw[1] * j1) / (raw[0] ** 2 + raw[1] ** 2)
+    return raw * scale
+
+
+def _filon_weights(n: int, k: float):
+    """Weights w_i with int_{-1}^{1} p(u) exp(i k u) du = sum_i w_i p(x_i), exact for degree < n,
+    and their derivatives in k.
+
+    The interpolant's Legendre series integrates term by term against the exponential:
+    m_j = int P_j(u) exp(i k u) du = 2 i^j j_j(k) (spherical Bessel functions); the derivative
+    needs u P_j = ((j + 1) P_{j+1} + j P_{j-1})/(2j + 1).  (A panel's k = omega h is rounded;
+    the derivative corrects for that rounding, an error of 1e-16 k in the phase otherwise.)"""
+    x, w, to_coeffs, cache = _filon_table(n)
+    found = cache.get(k)
+    if found is None:
+        j = np.arange(n + 1)
+        m = 2.0 * np.array([1.0, 1j, -1.0, -1j])[j % 4] * _spherical_bessel(n + 1, abs(k))
+        if k < 0:
+            m = m.conj()  # j_j(-k) = (-1)^j j_j(k)
+        jj = j[:n]
+        below = np.concatenate([[0.0], m[: n - 1]])
+        dm = 1j * ((jj + 1) * m[1:] + jj * below) / (2 * jj + 1)
+        found = (m[:n] @ to_coeffs, dm @ to_coeffs)
+        if len(cache) < 4096:
+            cache[k] = found
+    return found
+
+
+_SPLIT = 134217729.0  # 2^27 + 1: Dekker's splitting of a double into two 26-bit halves
+_TWO_PI = (float.fromhex("0x1.921fb54000000p+2"), float.fromhex("0x1.10b4611800000p-28"),
+           float.fromhex("0x1.313198a2e0370p-59"))  # 2 pi in three parts, the first two of 30 bits
+
+
+def _two_product(a: float, b: float):
+    """(p, e) with p = fl(a b) and p + e = a b exactly (Dekker's splitting)."""
+    p = a * b
+    t = _SPLIT * a
+    ah = t - (t - a)
+    al = a - ah
+    t = _SPLIT * b
+    bh = t - (t - b)
+    bl = b - bh
+    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
+
+
+def _turn(omega: float, x: float) -> complex:
+    """exp(i omega x) for the exact product of the two doubles.
+
+    fl(omega x) is off by half an ulp of the product, a phase error of 1e-16 |omega x| that would
+    set a noise floor on every panel far out on the w axis; the product is instead formed exactly
+    as a pair of doubles and reduced modulo 2 pi in three parts (Cody and Waite)."""
+    p, e = _two_product(omega, x)
+    turns = round(p / (2.0 * math.pi))
+    if abs(turns) >= 2**22:
+        return complex(math.cos(p), math.sin(p))
+    r = ((p - turns * _TWO_PI[0]) - turns * _TWO_PI[1]) + (e - turns * _TWO_PI[2])
+    return complex(math.cos(r), math.sin(r))
+
+
+class _Panels:
+    """The Filon rule on panels of one integrand f(w) exp(i omega w), with a count of evaluations."""
+
+    def __init__(self, f, omega: float, part: str | None, n: int = _NODES):
+        self.f, self.omega, self.n = f, float(omega), n
+        self.nodes = _filon_table(n)[0]
+        self.project = {"re": lambda z: z.real, "im": lambda z: z.imag, None: lambda z: z}[part]
+        self.evaluations = 0
+
+    def values(self, spans) -> np.ndarray:
+        """f at the nodes of every panel in ``spans``, one call: a row per panel."""
+        lo = np.array([a for a, _ in spans])
+        half = 0.5 * (np.array([b for _, b in spans]) - lo)
+        vals = np.asarray(self.f(((lo + half)[:, None] + half[:, None] * self.nodes).ravel()))
+        self.evaluations += vals.size
+        if not np.all(np.isfinite(vals)):
+            a, b = spans[0][0], spans[-1][1]
+            raise NumericFailure(f"Fourier quadrature: the integrand is not finite on [{a:.6g}, {b:.6g}]")
+        return vals.reshape(len(spans), self.n)
+
+    def rule(self, a: float, b: float, vals=None) -> complex:
+        """The Filon rule on [a, b] in the local variable w = a + h (1 + u): the phases at a and
+        over the half width h are formed from exact products, and b - a is exact for a panel
+        with a <= b <= 2a, so that panels tile the axis without a phase error of 1e-16 |omega w|."""
+        if vals is None:
+            vals = self.values([(a, b)])[0]
+        half = 0.5 * (b - a)
+        k, dk = _two_product(self.omega, half)
+        weights, slope = _filon_weights(self.n, k)
+        return half * _turn(self.omega, a) * _turn(self.omega, half) * complex((weights + dk * slope) @ vals)
+
+    def piece(self, a: float, b: float):
+        """(value, error estimate): the halves' sum, and its difference from the whole panel's rule."""
+        m = a + 0.5 * (b - a)
+        whole, left, right = self.values([(a, b), (a, m), (m, b)])
+        halves = self.rule(a, m, left) + self.rule(m, b, right)
+        return halves, float(abs(self.project(halves - self.rule(a, b, whole))))
+
+
+def _adaptive(panels: _Panels, cuts, epsabs: float, epsrel: float, limit: int):
+    """Global adaptive bisection of the panels between ``cuts``: ``(value, error estimate, panels)``."""
+    heap = []
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        if b > a:
+            v, e = panels.piece(a, b)
+            heap.append((-e, a, b, v))
+    if not heap:
+        return 0.0, 0.0, 0
+    heapq.heapify(heap)
+
+    def sums():
+        # exact re-summation: round-off in the running sums cannot accumulate
+        total = complex(math.fsum(item[3].real for item in heap), math.fsum(item[3].imag for item in heap))
+        return total, math.fsum(-item[0] for item in heap), math.fsum(abs(panels.project(item[3])) for item in heap)
+
+    def tolerance(total, size):
+        # never below the round-off of the panels' sum: an estimate there is noise, not error
+        return max(epsabs, epsrel * abs(panels.project(total)), 50.0 * 2.0**-52 * size)
+
+    total, err, size = sums()
+    while True:
+        if err <= tolerance(total, size):
+            total, err, size = sums()  # confirm on exact sums before stopping
+            if err <= tolerance(total, size):
+                return panels.project(total), err, len(heap)
+        if len(heap) >= limit:
+            raise NumericFailure(
+                f"Fourier quadrature: error estimate {err:.3g} above the tolerance "
+                f"{tolerance(total, size):.3g} after {len(heap)} panels"
+            )
+        neg_e, a, b, v = heapq.heappop(heap)
+        m = a + 0.5 * (b - a)
+        if not (a < m < b):
+            raise NumericFailure(f"Fourier quadrature: panel [{a:.17g}, {b:.17g}] too narrow to refine")
+        total, err, size = total - v, err + neg_e, size - abs(panels.project(v))
+        for lo, hi in ((a, m), (m, b)):
+            v, e = panels.piece(lo, hi)
+            heapq.heappush(heap, (-e, lo, hi, v))
+            total, err, size = total + v, err + e, size + abs(panels.project(v))
+        if len(heap) % 64 == 0:
+            total, err, size = sums()
+
+
+def fourier_quad(f, a: float, b: float, omega: float, *, part: str | None = "re", epsabs: float = 1e-12,
+                 epsrel: float = 1e-12, points=None, limit: int = 4000, n: int = _NODES):
+    """``(value, error estimate, panels)`` of int_a^b f(w) exp(i omega w) dw on a finite interval.
+
+    ``f`` takes an array of w and returns real or complex values; ``part`` "re"/"im" keeps the
+    real/imaginary part (for a real f: the cos/sin weight), None the complex value.  Filon's idea:
+    on every panel f is interpolated at Gauss-Legendre nodes and the product with the exponential
+    is integrated exactly, so a panel needs to resolve f only, not the oscillation.  The panels
+    are bisected where the estimate (the halves' rule against the whole panel's) is largest
+    until the summed estimate is below max(epsabs, epsrel |value|); ``points`` start the
+    partition.  No convergence within ``limit`` panels raises NumericFailure."""
+    a, b = float(a), float(b)
+    if not (math.isfinite(a) and math.isfinite(b)):
+        raise ValueError("fourier_quad: finite limits only (fourier_tail takes [a, inf))")
+    sign = 1.0
+    if b < a:
+        a, b, sign = b, a, -1.0
+    cuts = sorted({a, b, *(float(p) for p in (points or ()) if a < float(p) < b)})
+    panels = _Panels(f, omega, part, n)
+    value, err, count = _adaptive(panels, cuts, epsabs, epsrel, limit)
+    return sign * value, err, count
+
+
+def _wynn_epsilon(table: list, partial: float) -> float:
+    """Append a partial sum to Wynn's epsilon table (kept as its last antidiagonal) and return the
+    newest estimate of the limit (the highest even column)."""
+    new = [partial]
+    for j, prev in enumerate(table):
+        below = table[j - 1] if j else 0.0
+        diff = new[j] - prev
+        if diff == 0 or not cmath.isfinite(diff):
+            break  # the column has converged (or lost all digits): stop the antidiagonal here
+        new.append(below + 1.0 / diff)
+    table[:] = new
+    return new[2 * ((len(new) - 1) // 2)]
+
+
+def fourier_tail(f, a: float, omega: float, *, part: str | None = "re", epsabs: float = 1e-12,
+                 epsrel: float = 1e-12, max_terms: int = 150, n: int = _NODES):
+    """``(value, error estimate, terms)`` of int_a^inf f(w) exp(i omega w) dw for f decaying to zero.
+
+    The range is cut into cycles of an odd number of half periods of the exponential (length
+    about max(pi/|omega|, a/2)), so that the cycles' integrals alternate in sign with an amplitude
+    that varies smoothly from one to the next; each cycle is integrated by the adaptive Filon panels, and
+    the partial sums are extrapolated by Wynn's epsilon algorithm.  The error estimate is the
+    spread of the last three extrapolations plus the cycles' own estimates; no convergence within
+    ``max_terms`` cycles raises NumericFailure."""
+    a, omega = float(a), float(omega)
+    if omega == 0.0:
+        raise ValueError("fourier_tail: omega = 0 is not an oscillatory integral")
+    return _tail(_Panels(f, omega, part, n), a, epsabs, epsrel, max_terms)
+
+
+def _tail(panels: _Panels, a: float, epsabs: float, epsrel: float, max_terms: int = 150):
+    half_period = math.pi / abs(panels.omega)
+    odd = 2 * max(0, int(0.5 * (0.5 * max(a, half_period) / half_period - 1.0))) + 1
+    cycle = odd * half_period
+    table: list = []
+    estimates: list = []
+    partial, quad_err, first = 0.0, 0.0, 0.0
+    for k in range(max_terms):
+        lo = a + k * cycle
+        # the cycles' own errors must sum to a small part of the tolerance: 1/(8 (k+1)) of it each
+        share = 8.0 * (k + 1)
+        if k == 0:
+            v, e, _ = _adaptive(panels, [lo, lo + cycle], epsabs / share, epsrel / share, 400)
+            first = abs(v)
+        else:
+            v, e, _ = _adaptive(panels, [lo, lo + cycle], max(epsabs, epsrel * first) / share, 0.0, 400)
+        partial += v
+        quad_err += e
+        if quad_err > max(epsabs, epsrel * abs(partial)):
+            raise NumericFailure(
+                f"Fourier quadrature: the tail's cycles are not integrable to the tolerance "
+                f"{max(epsabs, epsrel * abs(partial)):.3g} (round-off {quad_err:.3g})"
+            )
+        estimates.append(_wynn_epsilon(table, partial))
+        if len(estimates) >= 6:
+            best = estimates[-1]
+            spread = abs(best - estimates[-2]) + abs(best - estimates[-3])
+            err = spread + quad_err + 50.0 * 2.0**-52 * abs(partial)
+            if err <= max(epsabs, epsrel * abs(best)):
+                return best, err, k + 1
+    raise NumericFailure(
+        f"Fourier quadrature: the tail from {a:.6g} did not converge in {max_terms} cycles "
+        f"(last extrapolations {estimates[-3:]})"
+    )
 
 
 @dataclass
 class FourierIntegral:
     value: float
-    abserr: float  # QUADPACK's summed error estimates
-    pieces: int
-    warnings: int = 0  # QUADPACK's round-off / subdivision warnings (its estimates then bound the error)
+    abserr: float  # the window's summed panel estimates plus the tail's extrapolation estimate
+    panels: int  # panels of the window [0, W]
+    tail_cycles: int  # cycles of the tail [W, inf) summed before the extrapolation settled
+    evaluations: int  # of chi
 
 
 def _breakpoints(poles, window):
@@ -56,44 +354,26 @@ def _breakpoints(poles, window):
     return sorted(x for x in pts if 0.0 <= x <= window)
 
 
-def inverse_fourier(chi, t: float, poles, *, epsrel: float = 1e-12, window_factor: float = 40.0) -> FourierIntegral:
-    """G(t) = (1/pi) int_0^inf [Re chi cos(w t) + Im chi sin(w t)] dw; ``poles``: chi's poles (complex)."""
-    from scipy.integrate import quad
+def inverse_fourier(chi, t: float, poles, *, epsrel: float = 1e-12, window_factor: float = 40.0,
+                    vectorized: bool = False) -> FourierIntegral:
+    """G(t) = (1/pi) int_0^inf [Re chi cos(w t) + Im chi sin(w t)] dw; ``poles``: chi's poles (complex).
 
+    The integrand is Re[chi(w) exp(-i w t)].  The tolerance is ``epsrel`` times the summed sizes of
+    the window pieces' integrals (G(-t) = 0 is all cancellation: a tolerance relative to it would
+    mean nothing).  ``chi`` takes one frequency, or an array of them when ``vectorized``."""
     if t == 0:
         raise ValueError("inverse_fourier: t = 0 is where G jumps; ask for t != 0")
     poles = [complex(z) for z in poles]
     window = window_factor * max(1.0, max(abs(z) for z in poles))
     pts = _breakpoints(poles, window)
-    at = abs(t)
-    sign = 1.0 if t > 0 else -1.0
-    re = lambda w: chi(w).real  # noqa: E731
-    im = lambda w: chi(w).imag  # noqa: E731
-    import warnings
-
-    total, err, pieces, nwarn = 0.0, 0.0, 0, 0
-    peak = max(abs(chi(x)) for x in pts)
-    epsabs = 1e-3 * epsrel * peak / max(at, 1.0 / window)
-    for a, b in zip(pts[:-1], pts[1:]):
-        if b <= a:
-            continue
-        for f, wt, s in ((re, "cos", 1.0), (im, "sin", sign)):
-            with warnings.catch_warnings(record=True) as caught:
-                warnings.simplefilter("always")
-                v, e = quad(f, a, b, weight=wt, wvar=at, epsabs=epsabs, epsrel=epsrel, limit=400)
-            nwarn += len(caught)
-            total += s * v
-            err += e
-            pieces += 1
-    for f, wt, s in ((re, "cos", 1.0), (im, "sin", sign)):
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            v, e = quad(f, window, np.inf, weight=wt, wvar=at, epsabs=epsabs, limlst=200)
-        nwarn += len(caught)
-        total += s * v
-        err += e
-        pieces += 1
-    return FourierIntegral(total / math.pi, err / math.pi, pieces, nwarn)
+    f = chi if vectorized else (lambda ws: np.array([chi(float(x)) for x in ws], dtype=complex))
+    panels = _Panels(f, -float(t), "re")
+    scale = math.fsum(abs(panels.rule(a, b).real) for a, b in zip(pts[:-1], pts[1:]) if b > a)
+    epsabs = epsrel * scale
+    body, body_err, count = _adaptive(panels, pts, 0.5 * epsabs, 0.0, 20000)
+    tail, tail_err, cycles = _tail(panels, window, 0.5 * epsabs, 0.0)
+    return FourierIntegral((body + tail) / math.pi, (body_err + tail_err) / math.pi, count, cycles,
+                           panels.evaluations)
 
 
 @dataclass
