@@ -221,8 +221,9 @@ def test_listing_and_help_import_nothing_heavy(argv, heavy):
 
 
 # one exercise per numpy-only tool: DOP853 with events (4.15), dense output (4.23), roots (4.21, 5.11),
-# bounded minimization (5.5), elliptic K and quadrature (4.9, 5.7), the generalized eigenproblem (4.11)
-SCIPY_FREE = ["4.9", "4.11", "4.15", "4.21", "4.23", "5.5", "5.7", "5.11"]
+# bounded minimization (5.5), elliptic K and quadrature (4.9, 5.7), the generalized eigenproblem (4.11),
+# Fourier-weighted quadrature (5.1)
+SCIPY_FREE = ["4.9", "4.11", "4.15", "4.21", "4.23", "5.1", "5.5", "5.7", "5.11"]
 
 
 def test_solves_import_no_scipy():
