@@ -10,8 +10,6 @@ asks of its verification run.
 """
 
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -138,20 +136,3 @@ def test_failures_are_loud():
         fourier_quad(lambda w: np.where(w > 0.5, np.nan, 1.0), 0.0, 1.0, 3.0)
     with pytest.raises(ValueError):
         inverse_fourier(lambda x: 1.0, 0.0, [1j])
-
-
-def test_solve_5_1_imports_no_scipy():
-    """The Fourier quadrature replaced scipy.integrate.quad: 5.1 at its defaults pays no scipy import."""
-    code = (
-        "import sys\n"
-        "from mech.cli.main import cli\n"
-        "try:\n"
-        "    cli.main(['solve', '5.1'], standalone_mode=False)\n"
-        "except SystemExit as exc:\n"
-        "    assert not exc.code, exc.code\n"
-        "bad = sorted(m for m in sys.modules if m.split('.')[0] == 'scipy')\n"
-        "print(bad[:5], file=sys.stderr)\n"
-        "sys.exit(1 if bad else 0)\n"
-    )
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
-    assert proc.returncode == 0, proc.stderr
