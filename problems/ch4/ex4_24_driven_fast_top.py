@@ -29,27 +29,32 @@ and the Jacobi integral of the frame turning with F.
 Very fast tops: away from the events, coarse kick-rotate-kick (Strang) steps of
 many nutation periods, the rotation k H on a root of x cot x = 1 (x = k H/2),
 where the kicks rebuild the forced nutation.  Scaled rates: k nutation,
-a = M g l/L3 (weight), b = l F/L3 (force), Om = hypot(a, b).  Splitting in the
-frame turning with F (kick by a n_z - b n_x', exact nutation, exact frame
-rotation) gives the same map to round-off (1e-14): the frame rotation commutes
-with the nutation and with a n_z.  So the plain step's error scales with Om H,
-not b H: measured on a weak-force top (a/b = 29, eps = 1.3e-4, 1.8e5 nutation
-periods per overturn) against the fine splitting at rtol 1e-8, relative errors
-~ 0.12 (Om H)^2 (t_down 1.0e-4 at Om H = 0.029, exponent 2.2-2.5), the same at
-4x the force, ten times smaller at a/4.  Three sources, each measured and
-removed: (1) the slow turn of n about g = -a z + b f runs fast by
-(Om H)^2/12 (3 cos^2 - 1) (cos: angle between n and g; measured at tilts 0-3,
-weight only), cancelled to 1% by scaling the torque by
-1 - (H^2/12)(3 (g.n)^2 - Om^2); (2) the force's part of the slow turn runs fast
-by (w H)^2/12 (t_down early by 7e-5 at a H = 0.029), cancelled by b x/tan x,
-x = w H/2; (3) at its kick boundaries a step of size H holds L - n off the exact
-forced nutation by (H^2/4) dtau/dt (tau = n x g), which becomes a free
-nutation at each change of step size: L is moved by that much there
-(_retune; it shrinks the free nutation from 4e-5 to 2e-8 at a H = 0.029).
-Left: t_down, t_up ~ 0.15 (Om H)^3, phi_lead ~ 0.25 Om b H^2 (relative,
-measured on three tops with a/b = 7-29), so the coarse step is sized by
-Om b H^2 = rtol and (Om H)^3 = rtol (the plain step needed (Om H)^2 = rtol):
-5x longer on that top at rtol 1e-6, with errors 2e-8 (t_down), 3e-7 (phi_lead).
+a = M g l/L3 (weight), b = l F/L3 (force), Om = hypot(a, b), w = a the drive's.
+Splitting in the frame turning with F instead (kick by a n_z - b n_x', exact
+nutation, exact frame rotation about z) gives the same map to round-off
+(1e-14 over random states): the frame rotation commutes with the nutation and
+with a n_z.  So the plain step's error scales with Om H, not b H: on a
+weak-force top (the bounds draw: a/b = 29, eps = 1.3e-4, 1.8e5 nutation periods
+per overturn), against the fine splitting at rtol 1e-8, t_down was off by
+1.0e-4 at Om H = 0.029 (exponent of H 2.2-2.5), the same at 4x the force, ten
+times less at a/4.  Measured sources, each cancelled in the coarse kicks:
+(1) the slow turn of n about g = -a z + b f runs fast by
+(Om H)^2/12 (3 cos^2 - 1) (cos: n's angle to g; measured at tilts 0-3 with the
+weight alone): torque scaled by 1 - (H^2/12)(3 (g.n)^2 - Om^2), 100x smaller;
+(2) the force's part runs fast by (w H)^2/12 (t_down early by 7e-5 at
+a H = 0.029): b scaled by x/tan x, x = w H/2 (t_down error 7e-5 -> 3.6e-6 there);
+(3) what stays, a slip of the weight's precession ~ (b H)^2/3 (phi_lead off by
+~0.25 Om b H^2): a scaled by 1 - (b H)^2/3, an empirical coefficient that cuts
+phi_lead's error 4-100x on six tops with a/b = 0.8-233; (4) a step of size H
+holds L - n off the exact forced nutation by (H^2/4) dtau/dt (tau = n x g),
+which becomes a free nutation wherever the step size changes: L is moved by
+that much there (_retune: free nutation 4e-5 -> 2e-8 at a H = 0.029; t_down,
+t_up 10x closer on two tops).  What is left, relative: below 0.5 (Om H)^3 on all
+six tops, so the coarse step is sized by (Om H)^3 = 2 rtol (and by
+0.25 Om b H^2 = rtol, phi_lead's error before (3), kept as a second bound):
+the plain step needed (Om H)^2 = rtol.  On the bounds draw at rtol 1e-6 the
+steps are 13 nutation periods, 1.5e4 steps, 0.11 s, errors <= 3e-7 (rtol 1e-7:
+5e4 steps; the plain step there could not take coarse steps at all: 1e6 fine).
 """
 
 from __future__ import annotations
@@ -162,7 +167,7 @@ def _strang(k, a, b, w):
     Modified kicks (see the module's notes): the force's rate b scaled by x/tan x (x = w hh/2), and the
     torque n x g (g = -a z + b f) by 1 - (hh^2/12)(3 (g.n)^2 - |g|^2); both cancel O(hh^2) errors of the
     slow motion that the plain step makes."""
-    b0 = b
+    a0, b0 = a, b
 
     def step(n, L, t, hh):
         nx, ny, nz = n
@@ -171,6 +176,7 @@ def _strang(k, a, b, w):
         q = hh * hh / 12.0
         x = 0.5 * w * hh
         b = b0 * x / math.tan(x) if x else b0
+        a = a0 * (1.0 - (b0 * hh) ** 2 / 3.0)
         Om2 = a * a + b * b
         fx, fy = b * math.cos(w * t), b * math.sin(w * t)
         cc = c * (1.0 - q * (3.0 * (fx * nx + fy * ny - a * nz) ** 2 - Om2))
@@ -217,10 +223,11 @@ def _retune(a, b, w, n, L, t, dH2):
 
 
 def _coarse_step(a, b, rtol):
-    """The largest coarse step for rtol: the modified Strang step's errors, measured, are about
-    0.25 Om b H^2 (phi_lead) and 0.15 (Om H)^3 (t_down, t_up) relative, Om = hypot(a, b)."""
+    """The largest coarse step for rtol (Om = hypot(a, b)): the modified Strang step's relative errors,
+    measured on six tops (a/b = 0.8-233), stay below 0.5 (Om H)^3; 0.25 Om b H^2, what phi_lead's was before
+    the weight's correction, is kept as a second bound (see the module's notes)."""
     Om = math.hypot(a, b)
-    return min(math.sqrt(rtol / (Om * b)), rtol ** (1.0 / 3.0) / Om)
+    return min((2.0 * rtol) ** (1.0 / 3.0) / Om, 2.0 * math.sqrt(rtol / (Om * b)))
 
 
 def _tan_root(j):
