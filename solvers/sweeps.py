@@ -190,6 +190,11 @@ class OrbitMap:
         return BranchPoint(z=z.copy(), J=J, A=0.5 * (qmax - qmin), gradA=0.5 * (gmax - gmin), res=res)
 
 
+# a fresh point accepted at the noise floor must close to this many times rtol (times its size): 5.10's points
+# stopped there close to < 1 rtol; a far start that passed the floor with a step of the size of z, to 1e4
+FLOOR_RESIDUAL = 100.0
+
+
 def solve_on_plane(
     omap: OrbitMap,
     z_guess,
@@ -204,17 +209,23 @@ def solve_on_plane(
 ) -> BranchPoint | None:
     """Newton on {phi(X0, Y0; w) = (X0, Y0), n . z = c}; None when it does not converge.
 
-    ``tol``: the step size (max norm, scaled units) at which it stops.  With
-    ``fresh`` the returned point is evaluated at the converged z (its Jacobian
-    and swing are current); otherwise they belong to the last iterate before it.
+    ``tol``: the step size (max norm, scaled units) at which it stops, or the
+    noise floor (what the map's error, about rtol, makes of a step through
+    K^-1) if that is larger.  With ``fresh`` the returned point is evaluated at
+    the converged z (its Jacobian and swing are current); otherwise they belong
+    to the last iterate before it.  With ``fresh`` a stop at the floor also
+    needs that point to close to ``FLOOR_RESIDUAL`` times rtol (else Newton
+    goes on from it).
     ``monotone``: give up as soon as a step is not smaller than the one before
     (continuation); without it, far starts get all ``max_iter`` steps.
     """
     z = np.asarray(z_guess, dtype=float).copy()
     n = np.asarray(n, dtype=float)
     last = None
+    checked = None  # the fresh evaluation at z that did not confirm a floor-limited step: Newton goes on from it
     for _ in range(max_iter):
-        bp = omap.evaluate(z, rtol)
+        bp = checked if checked is not None else omap.evaluate(z, rtol)
+        checked = None
         K = np.vstack([bp.J, n])
         rhs = np.concatenate([-bp.res, [c - n @ z]])
         try:
@@ -226,7 +237,8 @@ def solve_on_plane(
         step = float(np.max(np.abs(dz)))
         # the map is computed to about rtol; Newton cannot resolve z better than that times |K^-1|
         # (large for a weakly damped orbit, whose multipliers are close to the unit circle)
-        floor = rtol * float(np.max(np.abs(np.linalg.inv(K)).sum(axis=1))) * max(1e-3, float(np.max(np.abs(z[:2]))))
+        scale = max(1e-3, float(np.max(np.abs(z[:2]))))
+        floor = rtol * float(np.max(np.abs(np.linalg.inv(K)).sum(axis=1))) * scale
         tol_eff = max(tol, floor)
         if monotone and last is not None and step > 0.9 * last and step > tol_eff:
             return None  # not contracting
@@ -234,7 +246,15 @@ def solve_on_plane(
         last = step
         if step < tol_eff:
             if fresh:
-                return omap.evaluate(z, rtol)
+                new = omap.evaluate(z, rtol)
+                # the floor bounds the step that the map's error could cause; it says the point is converged
+                # only where the residual is down to that error.  Far from the orbit, where K is nearly
+                # singular (a self-oscillator's neutral phase), the floor can exceed a real step of the size
+                # of z itself: the fresh residual tells, and Newton goes on from the new point
+                if step < tol or new.residual <= FLOOR_RESIDUAL * rtol * scale:
+                    return new
+                checked = new
+                continue
             bp.A = bp.A + float(bp.gradA @ (z - bp.z))
             bp.z = z
             return bp
