@@ -116,7 +116,12 @@ def hb_edges(p):
                                    # mu/omega0 ~ 1e-3 (a bounds draw): the fold's det(M - I) is flat along the
                                    # branch, a loose search misplaced the edges by 3e-4 of the width
                                    dict(omega0=54.68210827532042, mu=0.06150285833519185, beta=1.08473317936311,
-                                        f0=0.018089921884877784, omega=53.54461744694371)])
+                                        f0=0.018089921884877784, omega=53.54461744694371),
+                                   # mu/omega0 ~ 1.3e-4 (a bounds draw): the phase is nearly neutral, so the start
+                                   # search's Newton floor rtol |K^-1| |z| exceeded its first step and a point
+                                   # that was no orbit (residual 1e4 times the map's error) started the sweeps
+                                   dict(omega0=50.17522186159344, mu=0.006598877855552745, beta=0.7210478816256626,
+                                        f0=0.16420444125877223, omega=43.44786748800255)])
 def test_numeric_edges_against_harmonic_balance(given):
     p = {**DEF, **given}
     _, n, _ = solve_both("5.10", **given)
