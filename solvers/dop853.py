@@ -275,7 +275,7 @@ def solve(
                 err = 0.0
             else:
                 err = abs(h) * n5 / math.sqrt(n * (n5 + 0.01 * n3))
-            if not math.isfinite(err) or not math.isfinite(float(y_new.sum())):
+            if not math.isfinite(err) or not math.isfinite(float(np.add.reduce(y_new))):
                 h_abs *= MIN_FACTOR
                 step_rejected = True
                 continue

@@ -283,12 +283,18 @@ def _fit(theta, d):
 def _rotation(coef):
     """Weighted Birkhoff average of d along an orbit of theta -> theta + d(theta) (mod 2 pi)."""
     K = N_MODES
-    c0, a, b = coef[0], coef[1: K + 1], coef[K + 1:]
-    k = np.arange(1, K + 1)
+    c0 = float(coef[0])
+    # sum_k a_k cos k theta + b_k sin k theta = Re sum_k (a_k - i b_k) e^(i k theta): Horner in e^(i theta),
+    # a few complex products per iterate instead of numpy calls on K-vectors (the loop below runs
+    # thousands of times)
+    c = [complex(float(coef[k]), -float(coef[K + k])) for k in range(1, K + 1)]
 
     def d(theta):
-        ang = k * theta
-        return c0 + float(a @ np.cos(ang) + b @ np.sin(ang))
+        z = complex(math.cos(theta), math.sin(theta))
+        acc = 0j
+        for ck in reversed(c):
+            acc = (acc + ck) * z
+        return c0 + acc.real
 
     # the orbit's quasi-period in iterations is about 2 pi/|c0| (c0 ~ the mean of d); many of them are needed
     slip = 2.0 * math.pi / max(abs(c0), 1e-12)
