@@ -75,6 +75,10 @@ def print_show(ex) -> None:
     c.print()
     c.print(Text("Numeric route", style="bold"))
     c.print(ex.numeric_route)
+    if ex.route_note:
+        c.print()
+        c.print(Text("As implemented here", style="bold"))
+        c.print(ex.route_note)
     if ex.hard_cases:
         c.print()
         c.print(Text("Hard cases", style="bold"))

@@ -221,7 +221,10 @@ class Exercise:
         tol_factor: float = 100.0,
         default_rtol: float = 1e-10,
         min_rtol: float = 1e-13,
+        route_note: str = "",
     ):
+        """``route_note``: where the implementation departs from the catalogue's numeric route (a
+        named library routine replaced, say), shown by ``mech show`` under the route."""
         spec = _load_catalogue(id)
         self.id = spec["id"]
         self.title = spec["title"]
@@ -241,6 +244,7 @@ class Exercise:
         self.tol_factor = tol_factor
         self.default_rtol = default_rtol
         self.min_rtol = min_rtol
+        self.route_note = route_note.strip()
         self._analytic: Callable | None = None
         self._numeric: Callable | None = None
         self._constraints: list[Callable] = []

@@ -49,6 +49,15 @@ exercise = Exercise(
         "G(τ) = e^{-δτ} sinh(ω'τ)/(m ω'), ω' = (δ² - ω₀²)^{1/2}   (δ > ω₀)",
         "G(τ) = 0 for τ < 0: the poles -iδ ± ω₁ lie in the lower half plane",
     ],
+    route_note=(
+        "(1) The Fourier-weighted quadrature is mech's own, on numpy, in place of QUADPACK's QAWO/QAWF "
+        "(scipy.integrate alone cost more than the 1 s budget of a solve): Filon-type panels (f interpolated, "
+        "its product with cos/sin integrated exactly) on the window, and the tail cycle by cycle with Wynn's "
+        "epsilon extrapolation, as QAWF does.  (2) The impulse response is integrated over one segment and "
+        "the decaying rest summed exactly as a geometric series of that segment's map, instead of integrating "
+        "until the motion has decayed by exp(-40); LSODA (BDF) only where the decay rates differ by more "
+        "than 50."
+    ),
 )
 
 
