@@ -77,6 +77,13 @@ def grid_points(axes: Sequence[Axis], fixed: dict[str, float]) -> list[dict[str,
     return [{**fixed, **dict(zip(names, combo))} for combo in itertools.product(*(a.values for a in axes))]
 
 
+def _serial_verify() -> None:
+    """In a pool worker: the cores are the pool's, so each cross-check's rerun runs after its solve."""
+    from mech.solvers import crosscheck
+
+    crosscheck.PARALLEL_VERIFY = False
+
+
 def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool) -> dict:
     """One grid point's cross-check as the contract's solve object (without id and title); picklable."""
     from mech.problems import registry
@@ -143,7 +150,7 @@ def run_sweep(
             points[i] = solve_point(ex.id, dict(params[i]), rtol, verify)
             tick()
     else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
+        with ProcessPoolExecutor(max_workers=workers, initializer=_serial_verify) as pool:
             futures = {pool.submit(solve_point, ex.id, dict(params[i]), rtol, verify): i for i in rest}
             from concurrent.futures import as_completed
 

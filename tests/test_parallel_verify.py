@@ -1,0 +1,83 @@
+"""The rerun at rtol/10 in a forked child (two cores) gives what the serial rerun gives, and fails as loudly."""
+
+import os
+
+import pytest
+
+from mech.problems import registry
+from mech.solvers import crosscheck
+
+pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="the parallel rerun needs fork")
+
+
+def _both(ex, params, monkeypatch):
+    monkeypatch.setattr(crosscheck, "_parallel_ok", lambda: True)
+    par = crosscheck.cross_check(ex, params).as_json()
+    monkeypatch.setattr(crosscheck, "_parallel_ok", lambda: False)
+    ser = crosscheck.cross_check(ex, params).as_json()
+    return par, ser
+
+
+def _no_children_left():
+    """True when this process has no child at all (running or unreaped)."""
+    try:
+        os.waitpid(-1, os.WNOHANG)
+    except ChildProcessError:
+        return True
+    return False
+
+
+@pytest.mark.parametrize("ex_id", ["4.15", "4.23", "5.1", "5.10"])
+def test_parallel_and_serial_reruns_agree_to_the_bit(ex_id, monkeypatch):
+    ex = registry.get(ex_id)
+    par, ser = _both(ex, ex.resolve({}), monkeypatch)
+    keys = ("name", "numeric", "verify_diff", "agree", "tol")
+    assert [{k: q.get(k) for k in keys} for q in par["quantities"]] == \
+           [{k: q.get(k) for k in keys} for q in ser["quantities"]]
+    assert par["agree"] is True and par["numeric_info"]["verify_rtol"] == ser["numeric_info"]["verify_rtol"]
+    assert _no_children_left()
+
+
+def test_a_rerun_that_fails_is_reported_in_both_modes(monkeypatch):
+    ex = registry.get("4.15")
+    good = ex._numeric
+
+    def fails_when_tighter(p, run):
+        if run.rtol < ex.default_rtol:
+            raise ZeroDivisionError("only at the tighter tolerance")
+        return good(p, run)
+
+    monkeypatch.setattr(ex, "_numeric", fails_when_tighter)
+    par, ser = _both(ex, ex.resolve({}), monkeypatch)
+    for d in (par, ser):
+        assert d["agree"] is False
+        assert any("failed at rtol=1e-11" in e and "only at the tighter tolerance" in e for e in d["errors"])
+    assert _no_children_left()
+
+
+def test_a_claim_the_rerun_does_not_earn_fails_in_both_modes(monkeypatch):
+    ex = registry.get("4.15")
+    good = ex._numeric
+
+    def drifts_with_rtol(p, run):
+        values = good(p, run)
+        return {**values, "theta_c": values["theta_c"] * (1 + 1e4 * run.rtol)}  # 100x its claim of 100 rtol
+
+    monkeypatch.setattr(ex, "_numeric", drifts_with_rtol)
+    par, ser = _both(ex, ex.resolve({}), monkeypatch)
+    for d in (par, ser):
+        q = next(q for q in d["quantities"] if q["name"] == "theta_c")
+        assert d["agree"] is False and q["agree"] is False and "unreliable" in q.get("note", "")
+
+
+def test_a_failed_solve_leaves_no_rerun_running(monkeypatch):
+    ex = registry.get("4.15")
+
+    def broken(p, run):
+        raise RuntimeError("the solve itself fails")
+
+    monkeypatch.setattr(ex, "_numeric", broken)
+    monkeypatch.setattr(crosscheck, "_parallel_ok", lambda: True)
+    d = crosscheck.cross_check(ex, ex.resolve({})).as_json()
+    assert d["agree"] is False and "the solve itself fails" in d["errors"][0]
+    assert _no_children_left()
