@@ -132,9 +132,9 @@ def list_cmd(chapter, as_json):
     if as_json:
         _emit_json([{"id": e.id, "title": e.title, "topic": e.topic, "methods": list(e.methods)} for e in exercises])
     else:
-        from mech.cli import render
+        from mech.cli import listing
 
-        render.print_list(exercises)
+        listing.print_list(exercises)
 
 
 @cli.command("show")

@@ -34,18 +34,6 @@ def _small(v) -> str:
     return "—" if v is None else f"{v:.2g}"
 
 
-def print_list(exercises) -> None:
-    t = Table(box=box.SIMPLE_HEAD, show_edge=False)
-    t.add_column("id", style="bold")
-    t.add_column("title")
-    t.add_column("topic", style="dim")
-    t.add_column("methods")
-    for ex in exercises:
-        t.add_row(ex.id, ex.title, ex.topic, ", ".join(ex.methods))
-    console().print(t)
-    console().print(f"{len(exercises)} exercises", style="dim")
-
-
 def print_show(ex) -> None:
     c = console()
     c.print(Text(f"{ex.id}  {ex.title}", style="bold"))

@@ -203,7 +203,7 @@ def test_version():
     assert code == 0 and out.startswith("mech ")
 
 
-@pytest.mark.parametrize("argv, heavy", [(["list"], ("scipy", "numpy", "matplotlib")),
+@pytest.mark.parametrize("argv, heavy", [(["list"], ("scipy", "numpy", "matplotlib", "rich")),
                                          (["list", "--json"], ("scipy", "numpy", "matplotlib")),
                                          (["--help"], ("scipy", "numpy", "matplotlib", "rich")),
                                          (["show", "4.15"], ("scipy", "matplotlib"))])
@@ -243,3 +243,18 @@ def test_solves_import_no_scipy():
     )
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
+
+
+def test_list_table_has_every_exercise_and_wraps_to_the_width():
+    from mech.cli.listing import table_lines
+    from mech.problems import registry
+
+    entries = registry.index()
+    for width in (80, 160):
+        lines = table_lines(entries, width)
+        assert lines[-1] == f"{len(entries)} exercises"
+        assert max(len(line) for line in lines) <= width
+        starts = [line.split()[0] for line in lines[2:-1] if line[:6].strip()]
+        assert starts == [e.id for e in entries]
+    code, out, _ = run("list")
+    assert code == 0 and out.rstrip().endswith(f"{len(entries)} exercises") and " 4.15 " in out
