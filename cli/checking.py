@@ -106,13 +106,16 @@ def run_check(exercises, hard: bool = False, progress: bool = True) -> Report:
         from rich.console import Console
         from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
+        # no refresh thread (auto_refresh off, redrawn by hand around each case): the cross-check forks its
+        # rerun only from a single-threaded process
         with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                      console=Console(stderr=True), transient=True) as bar:
+                      console=Console(stderr=True), transient=True, auto_refresh=False) as bar:
             task = bar.add_task("checking", total=len(cases))
             for case in cases:
-                bar.update(task, description=f"{case.exercise.id} {case.label}")
+                bar.update(task, description=f"{case.exercise.id} {case.label}", refresh=True)
                 report.cases.append(run_case(case))
                 bar.advance(task)
+                bar.refresh()
     else:
         report.cases = [run_case(c) for c in cases]
     report.seconds = time.perf_counter() - t0

@@ -19,7 +19,11 @@ pipe: a solve then takes the longer of the two instead of their sum (the
 budget of ``mech solve`` is for 2 cores).  Set ``MECH_SERIAL_VERIFY=1`` (or
 ``crosscheck.PARALLEL_VERIFY = False``, as ``mech sweep``'s worker processes
 do) to run it after the solve instead, sharing ``Run.shared`` with it.  The
-numbers are the same either way: the solvers are deterministic.
+numbers are the same either way: the solvers are deterministic.  Only a
+single-threaded process forks (a lock held by another thread would stay held
+in the child; ``mech check``'s progress bar is redrawn by hand for that), and
+a child that has not answered within ``RERUN_WAIT_S`` + 20 times the solve's
+time is stopped and the rerun done serially: the command never hangs on it.
 """
 
 from __future__ import annotations
@@ -37,10 +41,17 @@ from mech.problems.spec import BadInput, Exercise, NumericFailure, Params, Undef
 __all__ = ["Quantity", "CrossCheck", "cross_check", "PARALLEL_VERIFY"]
 
 PARALLEL_VERIFY = True  # the rerun at rtol/10 in a forked child where there is a second core (see above)
+RERUN_WAIT_S = 30.0  # after the solve, the child gets this plus 20 times the solve's time to answer
 
 
 def _parallel_ok() -> bool:
     if not PARALLEL_VERIFY or os.environ.get("MECH_SERIAL_VERIFY") or not hasattr(os, "fork"):
+        return False
+    import threading
+
+    if threading.active_count() > 1:
+        # a lock another thread holds at the fork (a progress bar's console, a stream's buffer) would stay
+        # held forever in the child: fork only a single-threaded process
         return False
     try:
         cores = len(os.sched_getaffinity(0))
@@ -60,6 +71,12 @@ def _start_rerun(ex: Exercise, params: Params, rtol: float):
             devnull = os.open(os.devnull, os.O_WRONLY)
             os.dup2(devnull, 1)  # nothing the solver might print reaches the parent's output twice
             os.dup2(devnull, 2)
+            import sys
+            import warnings
+
+            # fresh stream objects (fresh locks) on the null device, and no warnings to write at all
+            sys.stdout = sys.stderr = open(os.devnull, "w")
+            warnings.simplefilter("ignore")
             try:
                 values, _ = ex.solve_numeric(params, rtol)
                 payload = ("ok", values)
@@ -77,10 +94,18 @@ def _start_rerun(ex: Exercise, params: Params, rtol: float):
     return pid, r
 
 
-def _finish_rerun(handle) -> tuple[str, Any]:
+def _finish_rerun(handle, wait_s: float) -> tuple[str, Any] | None:
+    """The child's answer; None when it has not answered within ``wait_s`` (it is then stopped)."""
+    import select
+
     pid, r = handle
     chunks = []
+    deadline = time.monotonic() + wait_s
     while True:
+        left = deadline - time.monotonic()
+        if left <= 0 or not select.select([r], [], [], left)[0]:
+            _abandon_rerun(handle)
+            return None
         chunk = os.read(r, 1 << 16)
         if not chunk:
             break
@@ -294,8 +319,15 @@ def cross_check(
                 raise
             errors.append(f"numeric solver failed: {_failure_text(exc)}")
         timing["numeric_s"] = time.perf_counter() - t0
+        answer = None
         if rerun is not None:
-            status, payload = _finish_rerun(rerun)
+            # a rerun takes about as long as the solve; one that has not answered long after is stopped
+            # (a child can never hang the command) and the rerun is done here instead
+            answer = _finish_rerun(rerun, wait_s=RERUN_WAIT_S + 20.0 * timing["numeric_s"])
+            if answer is None:
+                run.info["verify_parallel_timeout"] = True
+        if answer is not None:
+            status, payload = answer
             if status == "ok":
                 verify_values = payload
                 run.info["verify_rtol"] = tighter

@@ -81,3 +81,38 @@ def test_a_failed_solve_leaves_no_rerun_running(monkeypatch):
     d = crosscheck.cross_check(ex, ex.resolve({})).as_json()
     assert d["agree"] is False and "the solve itself fails" in d["errors"][0]
     assert _no_children_left()
+
+
+def test_a_rerun_that_never_answers_is_stopped_and_done_serially(monkeypatch):
+    ex = registry.get("4.15")
+    good = ex._numeric
+    parent = os.getpid()
+
+    def hangs_in_the_child(p, run):
+        if os.getpid() != parent:
+            import time
+
+            time.sleep(600)
+        return good(p, run)
+
+    monkeypatch.setattr(ex, "_numeric", hangs_in_the_child)
+    monkeypatch.setattr(crosscheck, "_parallel_ok", lambda: True)
+    monkeypatch.setattr(crosscheck, "RERUN_WAIT_S", 0.5)
+    d = crosscheck.cross_check(ex, ex.resolve({})).as_json()
+    assert d["agree"] is True and d["numeric_info"]["verify_parallel_timeout"] is True
+    assert d["numeric_info"]["verify_rtol"] == pytest.approx(1e-11)
+    assert _no_children_left()
+
+
+def test_no_fork_beside_another_thread(monkeypatch):
+    import threading
+
+    monkeypatch.delenv("MECH_SERIAL_VERIFY", raising=False)
+    stop = threading.Event()
+    t = threading.Thread(target=stop.wait)
+    t.start()
+    try:
+        assert crosscheck._parallel_ok() is False
+    finally:
+        stop.set()
+        t.join()
