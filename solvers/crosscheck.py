@@ -23,7 +23,8 @@ numbers are the same either way: the solvers are deterministic.  Only a
 single-threaded process forks (a lock held by another thread would stay held
 in the child; ``mech check``'s progress bar is redrawn by hand for that), and
 a child that has not answered within ``RERUN_WAIT_S`` + 20 times the solve's
-time is stopped and the rerun done serially: the command never hangs on it.
+time is stopped (one that died without answering is gone) and the rerun is
+done serially: the command never hangs on it, nor fails for it.  Linux only.
 """
 
 from __future__ import annotations
@@ -47,6 +48,10 @@ RERUN_WAIT_S = 30.0  # after the solve, the child gets this plus 20 times the so
 def _parallel_ok() -> bool:
     if not PARALLEL_VERIFY or os.environ.get("MECH_SERIAL_VERIFY") or not hasattr(os, "fork"):
         return False
+    import sys
+
+    if not sys.platform.startswith("linux"):
+        return False  # elsewhere fork after numpy's libraries are loaded is not known to be safe (macOS)
     import threading
 
     if threading.active_count() > 1:
@@ -95,7 +100,8 @@ def _start_rerun(ex: Exercise, params: Params, rtol: float):
 
 
 def _finish_rerun(handle, wait_s: float) -> tuple[str, Any] | None:
-    """The child's answer; None when it has not answered within ``wait_s`` (it is then stopped)."""
+    """The child's answer; None when it has not answered within ``wait_s`` (it is then stopped) or died
+    without one."""
     import select
 
     pid, r = handle
@@ -113,7 +119,7 @@ def _finish_rerun(handle, wait_s: float) -> tuple[str, Any] | None:
     os.close(r)
     os.waitpid(pid, 0)
     if not chunks:
-        return "error", "the rerun's process ended without an answer"
+        return None  # the child died without answering (a crash, not the solver's error): rerun here
     return pickle.loads(b"".join(chunks))
 
 
@@ -325,7 +331,7 @@ def cross_check(
             # (a child can never hang the command) and the rerun is done here instead
             answer = _finish_rerun(rerun, wait_s=RERUN_WAIT_S + 20.0 * timing["numeric_s"])
             if answer is None:
-                run.info["verify_parallel_timeout"] = True
+                run.info["verify_parallel_fallback"] = "the forked rerun did not answer: rerun after the solve"
         if answer is not None:
             status, payload = answer
             if status == "ok":
