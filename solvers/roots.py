@@ -45,16 +45,22 @@ def brentq(
     rtol: float = 4 * _EPS,
     maxiter: int = 200,
     full_output: bool = False,
+    fa: float | None = None,
+    fb: float | None = None,
 ):
     """A root of ``f`` in ``[a, b]``, where ``f(a)`` and ``f(b)`` differ in sign.
+
+    ``fa``, ``fb``: the values at the ends when the caller has them already (each
+    call of ``f`` may be an integration).
 
     Converged when the bracket is narrower than ``xtol + rtol |x|``
     (scipy's convention for the same arguments, so callers keep their
     tolerances).  An exact zero ends the search at once.
     """
     a, b = float(a), float(b)
-    fa, fb = float(f(a)), float(f(b))
-    calls = 2
+    calls = (fa is None) + (fb is None)
+    fa = float(f(a)) if fa is None else float(fa)
+    fb = float(f(b)) if fb is None else float(fb)
     if not (math.isfinite(fa) and math.isfinite(fb)):
         raise NumericFailure(f"root search: f is not finite at the bracket ends ({fa:.3g}, {fb:.3g})")
     if fa == 0.0:

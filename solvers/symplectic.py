@@ -153,29 +153,14 @@ def integrate_fixed(
 
 
 def _event_in_step(st, event, q, p, f, g0, g1, h):
-    """The partial step s in (0, h] with event(step(q, p, s)) = 0: Illinois regula falsi."""
-    a, b, ga, gb = 0.0, h, g0, g1
-    side = 0
-    s = b
-    for _ in range(100):
-        s = (a * gb - b * ga) / (gb - ga)
+    """The partial step s in (0, h] with event(step(q, p, s)) = 0 (Brent's method on the partial step)."""
+    from mech.solvers.roots import brentq
+
+    def g(s):
         qs, ps, _ = st.step(q, p, f, s)
-        gs = event(qs, ps)
-        if gs == 0.0 or abs(b - a) <= 4e-16 * h:
-            break
-        if (gs > 0) == (gb > 0):
-            b, gb = s, gs
-            if side == -1:
-                ga *= 0.5
-            side = -1
-        else:
-            a, ga = s, gs
-            if side == 1:
-                gb *= 0.5
-            side = 1
-        if abs(b - a) <= 1e-15 * h:
-            break
-    return s
+        return event(qs, ps)
+
+    return brentq(g, 0.0, h, fa=g0, fb=g1, xtol=4e-16 * h, rtol=4e-16, maxiter=100)
 
 
 def step_for(scene: SeparableHamiltonian, rtol: float, order: int) -> float:

@@ -83,19 +83,25 @@ def test_a_failed_solve_leaves_no_rerun_running(monkeypatch):
     assert _no_children_left()
 
 
-def test_a_rerun_that_never_answers_is_stopped_and_done_serially(monkeypatch):
+def _hang():
+    import time
+
+    time.sleep(600)
+
+
+@pytest.mark.parametrize("misbehave", [_hang, lambda: os._exit(3)], ids=["hangs", "dies"])
+def test_a_rerun_that_hangs_or_dies_is_done_serially(misbehave, monkeypatch):
+    """A child that never answers is stopped; one that dies (as a crash would) is gone: both rerun here."""
     ex = registry.get("4.15")
     good = ex._numeric
     parent = os.getpid()
 
-    def hangs_in_the_child(p, run):
+    def misbehaves_in_the_child(p, run):
         if os.getpid() != parent:
-            import time
-
-            time.sleep(600)
+            misbehave()
         return good(p, run)
 
-    monkeypatch.setattr(ex, "_numeric", hangs_in_the_child)
+    monkeypatch.setattr(ex, "_numeric", misbehaves_in_the_child)
     monkeypatch.setattr(crosscheck, "_parallel_ok", lambda: True)
     monkeypatch.setattr(crosscheck, "RERUN_WAIT_S", 0.5)
     d = crosscheck.cross_check(ex, ex.resolve({})).as_json()
@@ -116,21 +122,3 @@ def test_no_fork_beside_another_thread(monkeypatch):
     finally:
         stop.set()
         t.join()
-
-
-def test_a_rerun_that_dies_is_done_serially(monkeypatch):
-    ex = registry.get("4.15")
-    good = ex._numeric
-    parent = os.getpid()
-
-    def dies_in_the_child(p, run):
-        if os.getpid() != parent:
-            os._exit(3)  # as a crash would: no answer at all
-        return good(p, run)
-
-    monkeypatch.setattr(ex, "_numeric", dies_in_the_child)
-    monkeypatch.setattr(crosscheck, "_parallel_ok", lambda: True)
-    d = crosscheck.cross_check(ex, ex.resolve({})).as_json()
-    assert d["agree"] is True and "did not answer" in d["numeric_info"]["verify_parallel_fallback"]
-    assert d["numeric_info"]["verify_rtol"] == pytest.approx(1e-11)
-    assert _no_children_left()

@@ -108,29 +108,6 @@ def _(p):
     }
 
 
-def _illinois(f, a, b, fa, fb, xtol, maxiter=100):
-    """Regula falsi with the Illinois modification on a sign-changing bracket."""
-    side = 0
-    for _ in range(maxiter):
-        c = (a * fb - b * fa) / (fb - fa)
-        fc = f(c)
-        if fc == 0.0 or abs(b - a) < xtol:
-            return c
-        if (fc > 0) == (fb > 0):
-            b, fb = c, fc
-            if side == -1:
-                fa *= 0.5
-            side = -1
-        else:
-            a, fa = c, fc
-            if side == +1:
-                fb *= 0.5
-            side = +1
-        if abs(b - a) < xtol:
-            return c
-    raise NumericFailure("the shooting for v0 did not converge")
-
-
 @exercise.numeric
 def _(p, run):
     W = math.sqrt(p.GM / p.R**3)
@@ -180,7 +157,9 @@ def _(p, run):
         t_half[0] = tr.t_events[0][0]
         return tr.y_events[0][0][1]
 
-    v0 = _illinois(residual, lo, hi, flo, fhi, xtol=1e-3 * run.rtol)
+    from mech.solvers.roots import brentq
+
+    v0 = brentq(residual, lo, hi, fa=flo, fb=fhi, xtol=1e-3 * run.rtol, maxiter=100)
     residual_keep(v0)
 
     # one full period (twice the half period, by the same time-reversal symmetry): radial and
