@@ -42,7 +42,7 @@ _ALPHA = 0.4137  # orientation of the four-mass cross relative to the pivot line
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     omega2 = p.M * p.g * p.l / (p.I + p.M * p.l**2)
     l_opt = np.sqrt(p.I / p.M)
     return {
@@ -136,7 +136,7 @@ def _bracket_root(f, start, factor, limit=400):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     from mech.solvers.roots import brentq
 
     body = _Body(p.M, p.I, p.g)

@@ -35,7 +35,7 @@ exercise = Exercise(
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     return {
         "omega": np.sqrt(p.kappa / (p.M_prime + p.M / 3.0)),
         "x_over_X": 1.0 / 3.0,
@@ -44,7 +44,7 @@ def _(p):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     M, R, Mb, kappa = p.M, p.R, p.M_prime, p.kappa
     pts3, w = disk(6, 12)
     r_rel = R * pts3[:, :2]  # the cross-section in the plane of motion, about the axis

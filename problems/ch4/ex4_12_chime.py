@@ -41,7 +41,7 @@ exercise = Exercise(
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     a, l, g = p.l_prime, p.l, p.g
     sD = np.sqrt(4 * l**2 + 6 * a * l + 9 * a**2)
     S = 2 * l + 3 * a
@@ -53,7 +53,7 @@ def _(p):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     a, l, g, M = p.l_prime, p.l, p.g, p.M
     s, ws = gauss_legendre(8, 0.0, l)
     w = M * ws / l  # mass of each point

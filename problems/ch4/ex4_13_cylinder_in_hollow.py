@@ -41,13 +41,13 @@ exercise = Exercise(
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     if not p.R_prime > p.R:
         return f"R' = {p.R_prime:g} m must exceed R = {p.R:g} m (the cylinder must fit in the hollow)"
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     M, Mb, R = p.M, p.M_prime, p.R
     rho = p.R_prime - p.R
     return {
@@ -59,7 +59,7 @@ def _(p):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     M, Mb, R, g = p.M, p.M_prime, p.R, p.g
     rho = p.R_prime - p.R
     pts3, w = disk(6, 12)

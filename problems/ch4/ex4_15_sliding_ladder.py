@@ -38,7 +38,7 @@ UPRIGHT_NUDGE = 1e-6
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     s0 = np.sin(p.theta0)
     return {"theta_c": np.arcsin(2.0 * s0 / 3.0), "omega_c": np.sqrt(p.g * s0 / p.l)}
 
@@ -70,7 +70,7 @@ def _energy(theta, omega, M, l, g):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     M, l, g = 1.0, p.l, p.g  # the mass cancels from every output
     theta_start, omega_start = p.theta0, 0.0
     if np.pi / 2 - p.theta0 < UPRIGHT_NUDGE:
@@ -108,7 +108,7 @@ def _(p, run):
 
 
 @exercise.hamiltonian
-def _(p):
+def hamiltonian(p):
     """For the symplectic rows of ``mech bench``.  With both ends in contact the center moves on a circle of
     radius l/2, so T = (1/2)(M l²/4 + M l²/12) θ'² = (M l²/6) θ'² does not depend on θ: H = 3 p²/(2 M l²)
     + (M g l/2) sin θ is separable.  Units M = l = 1, τ = (g/l)^½ t: θ' = 3p, p' = -(1/2) cos θ.  The wall's

@@ -40,7 +40,7 @@ TILT = 0.37
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     return {
         "a": 10.0 * p.F / (33.0 * p.m),
         "a_prime": p.F / (33.0 * p.m),
@@ -88,7 +88,7 @@ def _saddle_point_accelerations():
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     acc, fdir, residual = _saddle_point_accelerations()
     scale_a = p.F / p.m
     a = acc[0, :2] @ fdir

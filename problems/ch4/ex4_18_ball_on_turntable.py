@@ -50,7 +50,7 @@ N_SAMPLES = 1200
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     w = 2.0 * p.Omega / 7.0
     return {
         "omega_orbit": w,
@@ -138,7 +138,7 @@ def _fit_circle(x, y):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     M, R_scaled = 1.0, 1.0  # mass and radius drop out of the friction balance; kept as symbols in rhs
     I = _ball_moment(M, R_scaled)
     rhs, friction = _make_rhs(M, R_scaled, I, 1.0)

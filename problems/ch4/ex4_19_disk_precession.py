@@ -45,7 +45,7 @@ SAMPLES_PER_SPIN = 100
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     ca, sa = np.cos(p.alpha), np.sin(p.alpha)
     return {
         "Omega_body": p.omega * ca,
@@ -98,7 +98,7 @@ def _follow(I, alpha, rtol, run):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     I = _disk_moments()
     run.info["I3_over_I1"] = I[2] / I[0]
     if p.alpha == 0.0:

@@ -37,7 +37,7 @@ _TURN = inertia.rotation([0.3, -0.7, 0.65], 1.234)
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     mr2 = p.M * p.R**2
     return {
         "I_hoop_diam": mr2 / 2,
@@ -71,7 +71,7 @@ def _triple(name: str, moments: np.ndarray) -> float:
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     scale = p.M * p.R**2
     hoop_diam, hoop_axis = _split("hoop", _moments(*inertia.hoop(16)))
     disk_diam, disk_axis = _split("disk", _moments(*inertia.disk(6, 16)))

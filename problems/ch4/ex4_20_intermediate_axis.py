@@ -57,7 +57,7 @@ SEPARATRIX_DRIFT_LIMIT = 10.0
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     if not (p.I1 < p.I2 < p.I3):
         return f"the moments must satisfy I1 < I2 < I3 strictly (got {p.I1:g}, {p.I2:g}, {p.I3:g} kg m^2)"
     if p.I3 > p.I1 + p.I2:
@@ -75,7 +75,7 @@ def _complete_K(kp: float) -> float:
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     I1, I2, I3, w = p.I1, p.I2, p.I3, p.omega0
     s, c = np.sin(p.delta), np.cos(p.delta)
     D = I1 * (I3 - I1) * s * s + I2 * (I3 - I2) * c * c
@@ -221,7 +221,7 @@ def _quarter_quadrature(I, w0, n):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     # moments as given: rescaling them would round I2 and spoil I3 - I2 for a near-symmetric body
     I = np.array([p.I1, p.I2, p.I3])
     out = _rates(I, 1.0, run)

@@ -53,7 +53,7 @@ exercise = Exercise(
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     IA = p.I1 + p.M * p.l**2
     Mgl = p.M * p.g * p.l
     c = math.cos(p.theta0)
@@ -197,7 +197,7 @@ def _threshold(IA, I3, Mgl):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     from mech.solvers.roots import brentq
 
     IA = p.I1 + p.M * p.l**2

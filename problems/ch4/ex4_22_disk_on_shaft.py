@@ -41,7 +41,7 @@ exercise = Exercise(
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     dN = 0.5 * p.M * p.R * p.Omega**2
     return {"N": p.M * p.g + dN, "delta_N": dN, "omega_spin": p.Omega * p.l / p.R}
 
@@ -51,7 +51,7 @@ def _skew(v):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     M, R, l, Om = p.M, p.R, p.l, p.Omega
     pts, w = disk(8, 16)  # unit disk in the xy plane, unit mass
     # the disk's plane is perpendicular to the shaft (x): body positions in the yz plane

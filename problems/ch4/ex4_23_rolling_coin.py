@@ -61,7 +61,7 @@ MAX_SPIN_TURNS = 60.0
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     Rmin = 5.0 * p.r * math.sin(p.theta) / 6.0
     if not p.R > Rmin * (1 + MARGIN):
         return (
@@ -71,7 +71,7 @@ def _(p):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     s, c = math.sin(p.theta), math.cos(p.theta)
     Om = math.sqrt(4.0 * p.g * s / (c * (6.0 * p.R - 5.0 * p.r * s)))
     return {"T": 2 * math.pi / Om, "Omega": Om, "omega_spin": Om * p.R / p.r}
@@ -265,7 +265,7 @@ class _Disk:
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     from mech.solvers.roots import brentq
 
     Rs = p.R / p.r

@@ -78,7 +78,7 @@ exercise = Exercise(
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     t_down = math.pi * p.I3 * p.omega_rot / (2 * p.l * p.F)
     return {"t_down": t_down, "t_up": 3 * t_down, "phi_lead": math.pi / 2, "cos_min": -1.0}
 
@@ -93,7 +93,7 @@ def _small(p):
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     """The exercise is about a fast top (spin well above the threshold of Eq. 4.85): where the
     small parameters are not small, the fast-top picture it asks to analyze has no meaning."""
     eps_g, eps_F, slip = _small(p)
@@ -107,7 +107,7 @@ def _(p):
 
 
 @exercise.expected_error
-def _(p):
+def expected_error(p):
     eps_g, eps_F, slip = _small(p)
     first = 2.0 * (eps_g + eps_F)
     return {
@@ -273,7 +273,7 @@ def _lowest(step, low, h):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     IA = p.I1 + p.M * p.l**2
     L3 = p.I3 * p.omega_rot
     k = L3 / IA  # nutation rate (rad/s) for |L| = L3

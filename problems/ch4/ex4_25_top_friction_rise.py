@@ -50,7 +50,7 @@ exercise = Exercise(
 )
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     if not p.theta1 < p.theta0:
         return f"theta1 = {p.theta1:g} rad must be below theta0 = {p.theta0:g} rad (the axis rises from theta0 to theta1)"
 
@@ -60,7 +60,7 @@ MAX_SPIN_LOG = 25.0
 
 
 @exercise.constraint
-def _(p):
+def constraint_2(p):
     x = (p.theta0 - p.theta1) * p.R / p.l
     if x > MAX_SPIN_LOG:
         return (
@@ -70,7 +70,7 @@ def _(p):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     a = p.mu * p.M * p.g * p.R / p.I3
     x = -(p.theta0 - p.theta1) * p.R / p.l
     return {
@@ -117,7 +117,7 @@ def _axial_torque(n, rl, mu):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     L0 = p.I3 * p.omega0
     Mgl = p.M * p.g * p.l
     t_unit = L0 / Mgl  # precession time scale

@@ -51,7 +51,7 @@ exercise = Exercise(
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     if p.a >= p.b:
         return f"the balloon's radius a = {p.a:g} m must be below the container's b = {p.b:g} m"
 
@@ -62,7 +62,7 @@ def _cube_diff(b, a):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     b3, a3 = p.b**3, p.a**3
     gap = _cube_diff(p.b, p.a)
     ratio = 2.0 * gap / (b3 + 2.0 * a3)
@@ -85,7 +85,7 @@ def _rhs(s, y):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     # lengths in units of b: the balloon at x = a/b, the wall at 1; s = ln x
     x_a = p.a / p.b
     # s_a < 0; for a thin layer from a - b (exact), so the layer keeps its width

@@ -39,7 +39,7 @@ exercise = Exercise(
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     if p.M2 > p.M1:
         return f"M2 = {p.M2:g} kg must not exceed M1 = {p.M1:g} kg (L3 lies beyond the heavier body M1)"
     if p.M2 / (p.M1 + p.M2) < 1e-290:
@@ -75,7 +75,7 @@ def _quintic_root(coeffs, lo, hi, x0):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     nu, mu = mass_fractions(p.M1, p.M2)
     hill = (mu / 3.0) ** (1.0 / 3.0)
     c1 = [1.0, -(3.0 - mu), 3.0 - 2.0 * mu, -mu, 2.0 * mu, -mu]
@@ -88,7 +88,7 @@ def _(p):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     nu, mu = mass_fractions(p.M1, p.M2)  # M1 at x = -mu, M2 at x = nu (units of d)
 
     # Force per unit mass along +x, F = -dU/dx = -nu (x+mu)/|x+mu|^3 - mu (x-nu)/|x-nu|^3 + x.

@@ -51,7 +51,7 @@ exercise = Exercise(
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     if min(p.M1, p.M2) / (p.M1 + p.M2) < 1e-290:
         return "the mass ratio is below 1e-290: the smaller mass fraction leaves the floating-point range"
 
@@ -61,7 +61,7 @@ def _omega(p):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     nu, mu = mass_fractions(p.M1, p.M2)
     W = _omega(p)
     q = 27.0 * mu * nu
@@ -85,7 +85,7 @@ def _(p):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     nu, mu = mass_fractions(p.M1, p.M2)
     W = _omega(p)
     r, iters = newton_equilibrium([0.0, 1.0], mu, nu)

@@ -44,7 +44,7 @@ MAX_OMEGA_T = 100.0
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     if p.omega * p.t > MAX_OMEGA_T:
         return (
             f"omega t = {p.omega * p.t:.4g} exceeds {MAX_OMEGA_T:g}: the bead would run e^{p.omega * p.t:.0f} "
@@ -53,7 +53,7 @@ def _(p):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     w, t = p.omega, p.t
     A = 0.5 * (p.r0 + p.v0 / w)
     B = 0.5 * (p.r0 - p.v0 / w)
@@ -77,7 +77,7 @@ def _forces(y):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     w, tau_end = p.omega, p.omega * p.t
     L = max(abs(p.r0), abs(p.v0) / w)
     if L == 0.0:  # at rest on the axis: an equilibrium

@@ -39,7 +39,7 @@ exercise = Exercise(
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     Ma2 = p.M * p.a**2
     return {
         "I_rods_inplane": Ma2 / 12.0,
@@ -74,7 +74,7 @@ def _grouped(points, masses, expected_sizes):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     a, M = p.a, p.M
     tri = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, np.sqrt(3.0) / 2.0, 0.0]]
     apex = [0.5, np.sqrt(3.0) / 6.0, np.sqrt(2.0 / 3.0)]

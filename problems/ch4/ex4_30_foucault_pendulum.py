@@ -53,7 +53,7 @@ def _omega_z(p):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     wz = _omega_z(p)
     w0sq = p.g / p.l
     return {
@@ -76,7 +76,7 @@ def _line_angle(x, y):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     w0 = math.sqrt(p.g / p.l)
     wz = _omega_z(p)
     rate = w0 + abs(wz)  # time unit 1/rate: the faster of the two rates sets the steps

@@ -45,7 +45,7 @@ MAX_EPS = 0.5
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     eps = p.omega_E * math.sqrt(2.0 * p.h / p.g)
     if eps > MAX_EPS:
         return (
@@ -88,7 +88,7 @@ def _bisect(f, lo: float, hi: float) -> float:
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     s, c = math.sin(p.theta), math.cos(p.theta)
     T0 = math.sqrt(2.0 * p.h / p.g)
     eps = p.omega_E * T0
@@ -120,7 +120,7 @@ METHOD = "DOP853"
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     s, c = math.sin(p.theta), math.cos(p.theta)
     T0 = math.sqrt(2.0 * p.h / p.g)
     eps = p.omega_E * T0

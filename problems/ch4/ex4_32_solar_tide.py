@@ -52,7 +52,7 @@ MAX_ETA = 1e-5  # leading tide / R_E
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     eps = p.R_E / p.r_S
     if eps > MAX_EPS:
         return f"R_E/r_S = {eps:.3g} must be at most {MAX_EPS} (the body must be far: r_S >> R_E)"
@@ -98,7 +98,7 @@ def _series(p):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     u, eps = _series(p)
     du, d2u = u.deriv(), u.deriv(2)
     x = 0.0
@@ -127,7 +127,7 @@ def _tidal_slope(rho, x):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     eps = p.R_E / p.r_S
     k = (p.M_S / p.M_E) * eps  # (G M_S / r_S) / (G M_E / R_E)
     x, wts = L.leggauss(64)

@@ -54,7 +54,7 @@ MAX_OFFSET = 0.1  # |x0|/R
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     if p.x0 == 0.0:
         return "x0 must be nonzero: at x0 = 0 the body sits on the satellite and there is no ellipse"
     xi = abs(p.x0) / p.R
@@ -83,7 +83,7 @@ def _golden_max(f, a, b, iters=200):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     W = math.sqrt(p.GM / p.R**3)
     xi = p.x0 / p.R
     s = math.sqrt((1.0 - xi) / (1.0 + xi))
@@ -109,7 +109,7 @@ def _(p):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     W = math.sqrt(p.GM / p.R**3)
     L = abs(p.x0)
     sgn = 1.0 if p.x0 > 0 else -1.0

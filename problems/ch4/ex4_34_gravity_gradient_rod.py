@@ -65,7 +65,7 @@ def _omega(p):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     from mech.solvers.special import ellipkm1
 
     W = _omega(p)
@@ -149,7 +149,7 @@ def _linear_modes(q0):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     W = _omega(p)
     # (1) the stable direction: minimum of the effective potential from an arbitrary start.  Each step
     # goes downhill along the Newton direction where the Hessian is positive definite and along -grad U
@@ -264,7 +264,7 @@ def _(p, run):
 
 
 @exercise.hamiltonian
-def _(p):
+def hamiltonian(p):
     """For the symplectic rows of ``mech bench`` (T_pitch only).  Units l = m = Omega = 1; the rod's masses at
     +-(cos th, sin th) in the orbital plane.  Per unit mass in the rotating frame L = |r'|²/2 + r'.(Omega x r)
     - Phi with Hill's Phi = -3x²/2 + z²/2; for the two masses r'.(Omega x r) = th' (a total derivative, dropped),

@@ -37,7 +37,7 @@ exercise = Exercise(
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     base = p.m * p.g * p.l * np.sin(p.theta)
     return {
         "tau": 0.25 * base * p.xi * (1.0 - p.xi) ** 2,
@@ -52,7 +52,7 @@ _W = 0.5 * _WEIGHTS
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     m, l, g, th = p.m, p.l, p.g, p.theta
     lam = m / l  # uniform linear density
     sin_t = np.sin(th)

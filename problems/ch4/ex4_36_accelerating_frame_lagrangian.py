@@ -33,7 +33,7 @@ exercise = Exercise(
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     return {
         "p": p.m * (p.v + p.v0),
         "H": 0.5 * p.m * (p.v - p.v0) * (p.v + p.v0) + 0.5 * p.k * p.x**2,
@@ -93,7 +93,7 @@ def _lagrangian(m, k, v0, a0):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     L = _lagrangian(p.m, p.k, p.v0, p.a0)
     x, v, t = p.x, p.v, 0.0
     # v seeded in both directions: L, L_v, L_vv

@@ -50,7 +50,7 @@ def _reduce_axis_angle(theta):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     s = max(p.a, p.b)
     al, be = p.a / s, p.b / s  # the largest is 1: no overflow or underflow in the fourth powers
     q = math.hypot(al**2 - be**2, al * be)  # sqrt(a^4 - a^2 b^2 + b^4), without cancellation
@@ -62,7 +62,7 @@ def _(p):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     # lengths in units of the longer leg and mass fractions (no overflow in the products below)
     L = max(p.a, p.b)
     pts2, w = triangle([0.0, 0.0], [p.a / L, 0.0], [0.0, p.b / L], n=4)

@@ -38,7 +38,7 @@ exercise = Exercise(
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     sb = math.sin(p.beta)
     cb = math.sin(math.pi / 2 - p.beta)  # cos(beta), exactly 0 at beta = pi/2 (the float)
     I = p.M * (p.d**2 + p.l**2 * sb**2 / 12.0)
@@ -56,7 +56,7 @@ _ZC = 0.37
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     radial = np.array([math.cos(_PHI0), math.sin(_PHI0), 0.0])
     zhat = np.array([0.0, 0.0, 1.0])
     center = p.d * radial + _ZC * p.l * zhat

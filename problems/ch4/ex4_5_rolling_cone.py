@@ -39,7 +39,7 @@ exercise = Exercise(
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     Om = 2.0 * math.pi * p.f
     M = math.pi * p.rho * p.R**2 * p.H / 3.0
     h, r = p.H / max(p.H, p.R), p.R / max(p.H, p.R)  # ratios: no overflow in the fourth powers
@@ -48,7 +48,7 @@ def _(p):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     H, R = p.H, p.R
     pts_b, w, volume = cone(H, R, n_axis=5, n_r=4, n_phi=8, volume=True)
     M = p.rho * volume

@@ -37,7 +37,7 @@ exercise = Exercise(
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     return {
         "omega_c": 0.5 * (p.omega1 + p.omega2),
         "tau1": 0.5 * p.tau,
@@ -56,7 +56,7 @@ def _skew(a):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     x = np.array([1.0, 0.0, 0.0])
     radial = np.array([0.0, np.cos(_PIN_AZIMUTH), np.sin(_PIN_AZIMUTH)])  # the pin's direction
     C = _R_SIDE * radial  # satellite center, on the pin

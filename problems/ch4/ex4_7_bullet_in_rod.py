@@ -47,7 +47,7 @@ exercise = Exercise(
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     den = p.m + 4.0 * p.m_b
     return {
         "v_end": -2.0 * p.m_b * p.v0 / den,
@@ -160,7 +160,7 @@ def _impact(mu, tp, rtol):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     mu = p.m_b / p.m
 
     def at(tp):

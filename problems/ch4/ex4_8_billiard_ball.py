@@ -42,14 +42,14 @@ exercise = Exercise(
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     if (p.h_over_R - 1.0) ** 2 + p.b_over_R**2 > 1.0 + 1e-12:
         return (f"the hit point (h/R = {p.h_over_R:g}, b/R = {p.b_over_R:g}) is off the ball: "
                 "(h/R - 1)^2 + (b/R)^2 must not exceed 1")
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     V0 = p.P / p.M
     V_f = 5.0 * V0 * p.h_over_R / 7.0
     t_roll = V0 * abs(7.0 - 5.0 * p.h_over_R) / (7.0 * p.mu * p.g)
@@ -74,7 +74,7 @@ def _hit_point(h_over_R, b_over_R):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     M, R, P, mu, g = p.M, p.R, p.P, p.mu, p.g
     V0 = P / M  # velocity unit (not an answer: the pulse's integral is checked below)
     pts, w = ball(6, 6, 12)

@@ -46,7 +46,7 @@ exercise = Exercise(
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     if not p.l < p.R:
         return f"l = {p.l:g} m must be below R = {p.R:g} m (the center of mass lies inside the cylinder)"
     if p.I > p.M * (p.R - p.l) * (p.R + p.l) * (1 + 1e-12):
@@ -55,7 +55,7 @@ def _(p):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     from mech.solvers.quadrature import quad
     from mech.solvers.special import ellipkm1
 
@@ -123,7 +123,7 @@ def _energy(trig, w, M, R, l, I, g):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     M, R, l, I, g = p.M, p.R, p.l, p.I, p.g
     phi0 = p.phi0
 

@@ -67,7 +67,7 @@ def _edge_uncertainty(p):
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     if p.mu > MAX_EPS * p.omega0:
         return (f"mu = {p.mu:g} 1/s is not small against omega0 = {p.omega0:g} rad/s: the reduced equations "
                 f"need mu <= {MAX_EPS:g} omega0")
@@ -91,7 +91,7 @@ def _(p):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     D = _delta(p)
     xi = p.omega - p.omega0
     beat = math.sqrt((abs(xi) - D) * (abs(xi) + D)) if abs(xi) > D else 0.0
@@ -99,7 +99,7 @@ def _(p):
 
 
 @exercise.expected_error
-def _(p):
+def expected_error(p):
     """Relative sizes: an edge moves by the uncertainty u (_edge_uncertainty) over Delta; the width loses
     the shift (it moves both edges alike) but keeps the rest; the beat b = sqrt(xi^2 - Delta^2) moves by
     about (|xi| u + Delta u)/b, large near an edge.  Factor 3 over those sizes."""
@@ -120,7 +120,7 @@ MAX_SETTLE = 300  # drive periods at most (very small mu): the claim then carrie
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     from mech.solvers.sweeps import OrbitMap, refine_root, solve_on_plane, sweep
 
     rtol = run.rtol

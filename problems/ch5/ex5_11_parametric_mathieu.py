@@ -47,7 +47,7 @@ MAX_DAMPING = 0.2  # delta / omega0
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     if abs(p.omega - p.omega0) > MAX_DETUNING * p.omega0:
         return (f"omega = {p.omega:g} rad/s is too far from omega0 = {p.omega0:g} rad/s: the first parametric "
                 f"zone needs |omega - omega0| <= {MAX_DETUNING:g} omega0")
@@ -73,7 +73,7 @@ def _lo(omega0, delta, mu, xi):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     return _lo(p.omega0, p.delta, p.mu, p.omega - p.omega0)
 
 
@@ -91,7 +91,7 @@ def _centre_err(mu, xi, delta, omega0):
 
 
 @exercise.expected_error
-def _(p):
+def expected_error(p):
     """What the reduced equations neglect, propagated through each answer.
 
     The theory's two ingredients are the coupling eps and the detuning from
@@ -152,7 +152,7 @@ def _floquet(p, omega, mu, rtol, run):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     from mech.solvers.roots import brentq
 
     rtol = run.rtol

@@ -68,7 +68,7 @@ MAX_AMPLITUDE = 0.1
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     w0 = math.sqrt(p.g / p.l)
     if abs(p.Omega / 2 - w0) > MAX_DETUNING * w0:
         return (f"Omega = {p.Omega:g} rad/s is not near 2 omega0 = {2 * w0:.6g} rad/s: the exercise needs "
@@ -91,13 +91,13 @@ def _lo(w0, delta, eps, xi, l, Omega):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     w0 = math.sqrt(p.g / p.l)
     return _lo(w0, p.delta, p.a * p.Omega / (2 * p.l), p.Omega / 2 - w0, p.l, p.Omega)
 
 
 @exercise.expected_error
-def _(p):
+def expected_error(p):
     """Neglected: in eps, relative O(xi/omega0) and O(mu^2) (mu = a Omega^2/g) and,
     for a swing, O(theta^2) (the drive couples through sin theta); in the
     detuning, the zone's shift mu^2 omega0/64 + delta^2/(2 omega0) and O(xi^2/omega0);
@@ -143,7 +143,7 @@ def _linear(p, a, rtol, run):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     from mech.solvers.roots import brentq
 
     rtol = run.rtol

@@ -44,7 +44,7 @@ MAX_AMPLITUDE = 0.35  # a / l
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     w0 = math.sqrt(p.g / p.l)
     if p.Omega < MIN_RATIO * w0:
         return (f"Omega = {p.Omega:g} rad/s is not fast against omega0 = sqrt(g/l) = {w0:.6g} rad/s: "
@@ -54,7 +54,7 @@ def _(p):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     w0sq = p.g / p.l
     kick = (p.a * p.Omega / p.l) ** 2 / 2.0
     out = {"a_min": math.sqrt(2.0 * p.g * p.l) / p.Omega, "omega_down": math.sqrt(w0sq + kick)}
@@ -66,7 +66,7 @@ def _(p):
 
 
 @exercise.expected_error
-def _(p):
+def expected_error(p):
     """The averaging is the start of an expansion in the Mathieu parameters of
     the linearized equation (in the time Omega t/2): a_M = 4 omega0^2/Omega^2
     and q = 2a/l; it neglects relative O(a_M) and O(q^2) in the effective
@@ -116,7 +116,7 @@ def _slow_frequency(p, a, sign, rtol, run, name):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     from mech.solvers.roots import brentq
 
     rtol = run.rtol

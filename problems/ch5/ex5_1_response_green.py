@@ -62,7 +62,7 @@ exercise = Exercise(
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     m, w0, d, t, w = p.m, p.omega0, p.delta, p.tau, p.omega
     if d < w0:
         w1 = math.sqrt((w0 - d) * (w0 + d))
@@ -78,7 +78,7 @@ def _(p):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     m, w0 = p.m, p.omega0
     d = p.delta / w0  # scaled damping
     t = p.tau * w0

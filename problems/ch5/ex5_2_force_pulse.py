@@ -41,7 +41,7 @@ exercise = Exercise(
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     qst = p.F0 / (p.m * p.omega0**2)
     phi = p.omega0 * p.T
     s = math.sin(phi / 2.0)
@@ -68,7 +68,7 @@ def _free_stack(t, y):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     qst = p.F0 / (p.m * p.omega0**2)
     tau_T = p.omega0 * p.T
     tau_1 = p.omega0 * p.t1

@@ -107,7 +107,7 @@ def _response(w0, d, w, t):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     f = p.F0 / p.m
     q, v = _response(p.omega0, p.delta, p.omega, p.t1)
     den = abs(complex((p.omega0 - p.omega) * (p.omega0 + p.omega), 2.0 * p.delta * p.omega))
@@ -176,7 +176,7 @@ class _Direct:
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     f = p.F0 / p.m
     w0, d, w = p.omega0, p.delta, p.omega
     period = 2.0 * math.pi / w

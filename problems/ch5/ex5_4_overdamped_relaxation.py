@@ -50,7 +50,7 @@ def _g(x):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     w0, z = p.omega0, p.zeta
     s = math.sqrt((z - 1.0) * (z + 1.0))
     lam = w0 / (z + s)
@@ -74,7 +74,7 @@ def _(p):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     z, w0, eps = p.zeta, p.omega0, p.eps
     rtol = run.rtol
 

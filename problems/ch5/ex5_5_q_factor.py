@@ -62,7 +62,7 @@ LOW_FLOOR = 0.02  # lowest drive frequency (in omega0) shot for the lower half-p
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     if p.delta >= p.omega0:
         return f"delta = {p.delta:g} 1/s must be below omega0 = {p.omega0:g} rad/s (damped oscillations)"
     if p.delta < ZETA_MIN * p.omega0:
@@ -73,7 +73,7 @@ def _(p):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     w0, d = p.omega0, p.delta
     z = d / w0
     wd = math.sqrt((1.0 - z) * (1.0 + z))  # omega_d/omega0 (scaled: no overflow of omega0^2)
@@ -263,7 +263,7 @@ def _bandwidth(z, d_meas, rtol, run):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     w0, d = p.omega0, p.delta
     z = d / w0
     om = (w0 - d) / w0

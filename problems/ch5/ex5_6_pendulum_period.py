@@ -49,7 +49,7 @@ def _phi0(theta0):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     from mech.solvers.special import ellipkm1
 
     w0 = math.sqrt(p.g / p.l)
@@ -93,7 +93,7 @@ def _period_excess(theta0):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     w0 = math.sqrt(p.g / p.l)
     rtol = run.rtol
     th0 = p.theta0
@@ -140,7 +140,7 @@ def _(p, run):
 
 
 @exercise.hamiltonian
-def _(p):
+def hamiltonian(p):
     """For the symplectic rows of ``mech bench``: H = p²/2 - cos θ in τ = ω₀ t (separable), from rest at θ₀
     to the first downward passage through θ = 0, a quarter period; T, T/T₀ and δω read from it."""
     from mech.solvers.symplectic import SeparableHamiltonian

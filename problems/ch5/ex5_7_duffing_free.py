@@ -65,7 +65,7 @@ def _eps(p) -> float:
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     if p.alpha < 0.0 and _one_plus_eps(p) <= 0.0:
         qb = p.omega0 / math.sqrt(-p.alpha)
         return (f"A = {p.A:g} m is at or beyond the barrier top omega0/sqrt(|alpha|) = {qb:.10g} m: "
@@ -93,7 +93,7 @@ def _agm(a, b):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     from mech.solvers.special import ellipk, ellipkm1
 
     w0, A = p.omega0, p.A
@@ -145,7 +145,7 @@ def _quarter_excess(eps):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     from mech.solvers.ode import Event, integrate, integrate_to_event
 
     w0, A = p.omega0, p.A

@@ -65,7 +65,7 @@ def _g(p):
 
 
 @exercise.constraint
-def _(p):
+def constraint(p):
     e_d, e_n = _small(p)
     if e_d > MAX_DAMPING:
         return (f"delta = {p.delta:g} 1/s is not weak damping for omega0 = {p.omega0:g} rad/s: "
@@ -107,7 +107,7 @@ def _folds(g):
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     am = p.f0 / (2.0 * p.omega0 * p.delta)
     kappa = 3.0 * p.alpha / (8.0 * p.omega0)
     out = {"A_max": am, "xi_peak": kappa * am**2}
@@ -123,7 +123,7 @@ def _(p):
 
 
 @exercise.expected_error
-def _(p):
+def expected_error(p):
     """The reduced equations drop relative O(eps) with eps = |alpha| A_max^2/omega0^2
     (the third harmonic, the backbone's curvature, omega vs omega0 in the drag
     term) and O(delta/omega0), and the peak's detuning also the absolute
@@ -160,7 +160,7 @@ def _swing_slope(bp):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     from mech.solvers.sweeps import OrbitMap, refine_root, shorten_bracket, solve_on_plane, sweep
 
     rtol = run.rtol

@@ -48,12 +48,12 @@ IMPLICIT_EPS = 30.0
 
 
 @exercise.analytic
-def _(p):
+def analytic(p):
     return {"A": 2.0 / math.sqrt(p.beta), "omega": p.omega0, "lambda_lc": -p.mu}
 
 
 @exercise.expected_error
-def _(p):
+def expected_error(p):
     """The reduced equation neglects relative O(eps^2), eps = mu/omega0: the
     second order of the averaging shifts the frequency by -eps^2/16, and the
     amplitude and the exponent by amounts of the same order (measured:
@@ -73,7 +73,7 @@ def _jac(t, y, eps):
 
 
 @exercise.numeric
-def _(p, run):
+def numeric(p, run):
     eps = p.mu / p.omega0
     rtol = run.rtol
     stiff = eps > STIFF_EPS
