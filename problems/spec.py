@@ -165,6 +165,9 @@ class Run:
     info: dict = field(default_factory=dict)
     claims: dict = field(default_factory=dict)
     invariants: dict = field(default_factory=dict)
+    # name -> the drift the method allows for that invariant (None: the exercise's default claim,
+    # tol_factor * rtol); a drift beyond it fails the cross-check
+    invariant_allowed: dict = field(default_factory=dict)
     nfev: int = 0
     # shared by the runs of one cross-check (the solve and its rerun at rtol/10): a solver may keep there
     # what it computed at a tolerance that does not depend on rtol, keyed by everything it depends on;
@@ -183,10 +186,15 @@ class Run:
         """Declare the accuracy of one output: relative and/or absolute."""
         self.claims[name] = (rel, abs)
 
-    def invariant(self, name: str, drift: float) -> None:
-        """Record the relative drift of a conserved quantity (the worst over the run)."""
+    def invariant(self, name: str, drift: float, allowed: float | None = None) -> None:
+        """Record the relative drift of a conserved quantity (the worst over the run).
+
+        ``allowed`` is the drift the method can have and still be right (by default the exercise's
+        claim ``tol_factor * rtol``); a larger drift fails the cross-check: the integration is wrong."""
         drift = float(abs(drift))
         self.invariants[name] = max(drift, self.invariants.get(name, 0.0))
+        if allowed is not None:
+            self.invariant_allowed[name] = float(allowed)
 
     def as_json(self) -> dict:
         d = {"method": self.method, "rtol": self.rtol, "nfev": self.nfev}
@@ -249,6 +257,7 @@ class Exercise:
         self._numeric: Callable | None = None
         self._constraints: list[Callable] = []
         self._expected_error: Callable | None = None
+        self._analytic_error: Callable | None = None
         self._hamiltonian: Callable | None = None
         self.param_map = {p.name: p for p in self.params}
 
@@ -271,6 +280,13 @@ class Exercise:
     def expected_error(self, fn: Callable[[Params], dict]) -> Callable:
         """For leading-order outputs: ``fn(p) -> {output: relative size of what the theory neglects}``."""
         self._expected_error = fn
+        return fn
+
+    def analytic_error(self, fn: Callable[[Params], dict]) -> Callable:
+        """For outputs whose analytic value is ill-conditioned in its inputs (a phase of 1e6 rad, a
+        cancellation): ``fn(p) -> {output: absolute round-off error of the analytic value, SI}``.
+        Agreement is then judged against the numeric and analytic errors combined."""
+        self._analytic_error = fn
         return fn
 
     def hamiltonian(self, fn: Callable[[Params], Any]) -> Callable:
@@ -323,6 +339,9 @@ class Exercise:
 
     def expected_errors(self, p: Params) -> dict:
         return dict(self._expected_error(p)) if self._expected_error else {}
+
+    def analytic_errors(self, p: Params) -> dict:
+        return dict(self._analytic_error(p)) if self._analytic_error else {}
 
     def _finish(self, values: dict, which: str) -> dict:
         names = [o.name for o in self.outputs]

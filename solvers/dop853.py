@@ -34,9 +34,12 @@ from __future__ import annotations
 import importlib.util
 import math
 import os
+import time
 from typing import Callable, Sequence
 
 import numpy as np
+
+from mech.solvers import budget
 
 __all__ = ["available", "solve", "DenseSolution", "Result"]
 
@@ -243,6 +246,8 @@ def solve(
     status, message = 0, "The solver successfully reached the end of the integration interval."
     rejected_last = False
     while (t_end - t) * direction > 0:
+        if time.monotonic() > budget._deadline:
+            budget.check("DOP853 step")
         min_step = 10.0 * abs(math.nextafter(t, direction * math.inf) - t)
         if h_abs < min_step:
             status, message = -1, "Required step size is less than spacing between numbers."
