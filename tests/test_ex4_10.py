@@ -45,3 +45,17 @@ def test_pivot_at_the_maximum_is_its_own_conjugate():
 def test_period_of_the_tiny_swing_confirms_omega():
     _, n, run = solve_both("4.10", M=3.0, I=0.1, l=0.05)
     assert run.info["Omega_from_period"] == pytest.approx(math.sqrt(9.81 * 0.05 / (0.1 / 3 + 0.05**2)), rel=1e-7)
+
+
+# Issue 14 draws: a long pendulum of a small body puts l_conj = I/(M l) at 1e-6 of r = (I/M)^(1/2) or
+# far less; the point-mass model's own first moment (eps r in a plain float sum) used to swamp the
+# pendulum term M g x there and l_conj missed by 1e-10 relative.  l_conj = I / (M l) by hand.
+@pytest.mark.parametrize("given", [
+    dict(M=0.244247, I=7.26439e-05, l=15301.4, g=4.32738),  # l_conj 1.94e-8 m, r 0.017 m
+    dict(M=1e6, I=2e-8, l=2e5),  # l_conj = 2e-8 / (1e6 * 2e5) = 1e-19 m
+    dict(M=1e-6, I=2e4, l=2e-7),  # the mirror: l_conj = 2e4 / (1e-6 * 2e-7) = 1e17 m
+])
+def test_conjugate_pivot_far_from_the_optimum(given):
+    _, n, _ = solve_both("4.10", **given)
+    assert n["l_conj"] == pytest.approx(given["I"] / (given["M"] * given["l"]), rel=1e-12)
+    assert n["l_opt"] == pytest.approx(math.sqrt(given["I"] / given["M"]), rel=1e-12)

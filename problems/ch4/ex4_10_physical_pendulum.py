@@ -8,8 +8,10 @@ frequency is l_conj = r^2 / l = I/(M l).
 
 Numeric: the body is four point masses M/4 on a circle of radius (I/M)^(1/2)
 about its center, at an arbitrary orientation, hung a distance l from the
-pivot.  The inertia about the pivot is sum m |r|^2 from the particle positions
-(the parallel-axis theorem is never used) and the stiffness U''(0) is the first
+pivot; they form two exactly opposite pairs and every sum over them is taken
+without rounding, so the body's own first moment cancels exactly.  The inertia
+about the pivot is sum m |r|^2 from the particle positions (the parallel-axis
+theorem is never used) and the stiffness U''(0) is the first
 Fourier cosine coefficient of U(phi) = sum m g y (a first-degree trigonometric
 polynomial, so a 4-point projection is exact and free of step-size
 cancellation).  Omega is cross-checked by integrating the nonlinear equation at
@@ -21,6 +23,8 @@ cubic Taylor model of Omega about l_opt solves it instead.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -54,38 +58,61 @@ def analytic(p):
     }
 
 
+def _exact_sum(terms):
+    """Sum of real or complex terms without rounding in the additions (math.fsum per part)."""
+    terms = list(terms)
+    real = math.fsum(float(np.real(t)) for t in terms)
+    if any(np.iscomplexobj(t) for t in terms):
+        return complex(real, math.fsum(float(np.imag(t)) for t in terms))
+    return real
+
+
 class _Body:
-    """Four equal point masses standing in for the body: same M, same I about the center."""
+    """Four equal point masses standing in for the body: same M, same I about the center.
+
+    The masses sit in two exactly opposite pairs (offsets d and -d, built by negation,
+    not by a rotation of pi), and every sum over them is taken term by term without
+    rounding: a particle's height is the center's height plus its own offset, so the
+    potential is sum m g y_c + sum m g d_y, whose second sum is exactly zero.  A plain
+    float sum would leave the body's own first moment at eps * rho, which swamps the
+    pendulum term M g l once l is 1e-6 of rho (the conjugate pivot of a long pendulum).
+    """
 
     def __init__(self, M, I, g):
         self.M, self.g = M, g
         self.rho = np.sqrt(I / M)
-        self.m = np.full(4, M / 4)
-        self.alpha = _ALPHA + np.pi / 2 * np.arange(4)
+        self.m = M / 4
 
-    def positions(self, l, phi):
-        """Particle coordinates (x, y), y up, pivot at the origin, center at angle phi from straight down."""
-        cx, cy = l * np.sin(phi), -l * np.cos(phi)
-        return cx + self.rho * np.cos(phi + self.alpha), cy + self.rho * np.sin(phi + self.alpha)
+    def offsets(self, phi):
+        """Particle offsets from the center, ((dx...), (dy...)), as exact opposite pairs."""
+        c, s = self.rho * np.cos(phi + _ALPHA), self.rho * np.sin(phi + _ALPHA)
+        return (c, -s, -c, s), (s, c, -s, -c)
+
+    def center(self, l, phi):
+        """The center, at angle phi from straight down below the pivot (origin), y up."""
+        return l * np.sin(phi), -l * np.cos(phi)
 
     def inertia_about_pivot(self, l):
-        x, y = self.positions(l, 0.0)
-        return np.sum(self.m * (x * x + y * y))
+        cx, cy = self.center(l, 0.0)
+        dx, dy = self.offsets(0.0)
+        return _exact_sum(self.m * ((cx + ex) * (cx + ex) + (cy + ey) * (cy + ey)) for ex, ey in zip(dx, dy))
 
     def potential(self, l, phi):
-        _, y = self.positions(l, phi)
-        return np.sum(self.m * self.g * y)
+        _, cy = self.center(l, phi)
+        _, dy = self.offsets(phi)
+        return self.g * _exact_sum([self.m * cy] * 4 + [self.m * ey for ey in dy])
 
     def stiffness(self, l):
         """U''(0) = -(cosine coefficient of U), exact by a 4-point discrete Fourier projection."""
         phis = np.pi / 2 * np.arange(4)
-        u = np.array([self.potential(l, ph) for ph in phis])
-        return -0.5 * np.sum(u * np.cos(phis))
+        u = [self.potential(l, ph) for ph in phis]
+        return -0.5 * _exact_sum(uk * np.cos(ph) for uk, ph in zip(u, phis))
 
     def torque(self, l, phi):
         """Gravity's torque about the pivot, sum of x_i * (-m_i g)."""
-        x, _ = self.positions(l, phi)
-        return -np.sum(self.m * self.g * x)
+        cx, _ = self.center(l, phi)
+        dx, _ = self.offsets(phi)
+        return -self.g * _exact_sum([self.m * cx] * 4 + [self.m * ex for ex in dx])
 
     def omega(self, l):
         return np.sqrt(self.stiffness(l) / self.inertia_about_pivot(l))
@@ -141,11 +168,8 @@ def numeric(p, run):
 
     body = _Body(p.M, p.I, p.g)
     omega = body.omega(p.l)
-    # The torque sums single-particle terms of size rho against a total of size l * amplitude, so
-    # it carries relative round-off ~ eps rho / (l A); asking the integrator for less than that only
-    # collapses its steps.  The period check runs just above that floor.
-    force_noise = 2.2e-16 * body.rho / (p.l * PERIOD_AMPLITUDE)
-    period_rtol = min(max(run.rtol, 100 * force_noise), 1e-6)
+    # the torque's sums are exact (see _Body), so the period check can run at the solve's own tolerance
+    period_rtol = min(max(run.rtol, 1e-12), 1e-6)
     omega_swing = _period_omega(body, p.l, period_rtol, run)
     mismatch = abs(omega_swing - omega) / omega
     run.info["Omega_from_period"] = omega_swing
@@ -188,10 +212,10 @@ def numeric(p, run):
         run.info["l_conj_route"] = "bracketed root"
 
     run.method = "point-mass model, Fourier stiffness; DOP853 period check"
-    # round-off in U grows as the single-particle terms (size rho) outweigh the pendulum term (size l)
-    cancellation = 1e-14 * max(1.0, body.rho / p.l)
+    # U, T and the torque are exact sums (no eps * rho / l round-off): Omega and l_ef carry a few ulps,
+    # l_conj the root's tolerance (1e-15) over the slope d ln Omega / d ln l >= 1e-4 away from l_opt
     for name in ("Omega", "l_ef", "l_conj"):
-        run.claim(name, rel=max(1e-11, cancellation))
+        run.claim(name, rel=1e-11)
     run.claim("l_opt", rel=1e-10)
     run.claim("Omega_max", rel=1e-12)
     return {
