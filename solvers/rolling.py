@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mech.problems.spec import NumericFailure
 from mech.solvers.smallosc import Modes, mass_matrix, normal_modes
 
 __all__ = ["cross_z", "rolling_spin", "plane_kinetic_energy", "balanced_modes", "rotate2", "scaled_mass_matrix"]
@@ -78,9 +79,30 @@ def balanced_modes(M: np.ndarray, K: np.ndarray) -> Modes:
     With D = diag(M_ii^-1/2) the problem (D K D) b = omega^2 (D M D) b has the same
     eigenvalues and a = D b; the shapes are returned in the original coordinates,
     each scaled to its largest component (in the balanced units) equal to +1.
+
+    A symmetric eigensolver errs by eps times the largest eigenvalue, so with
+    widely separated frequencies (omega_max^2 / omega_min^2 = 1e7) the low modes
+    would lose seven digits.  When K is positive definite the problem is solved a
+    second time the other way round, M b = omega^-2 K b, where the low modes are the
+    large eigenvalues and keep their digits: each mode is taken from the solve in
+    which it lies in the upper half of the spectrum.
     """
     M = np.atleast_2d(np.asarray(M, dtype=float))
     K = np.atleast_2d(np.asarray(K, dtype=float))
     d = 1.0 / np.sqrt(np.diag(M))
-    modes = normal_modes(M * np.outer(d, d), K * np.outer(d, d))
-    return Modes(omega2=modes.omega2, shapes=modes.shapes * d[:, None])
+    Mb, Kb = M * np.outer(d, d), K * np.outer(d, d)
+    modes = normal_modes(Mb, Kb)
+    omega2, shapes = modes.omega2.copy(), modes.shapes.copy()
+    n = omega2.size
+    if n > 1 and omega2[0] > 0 and omega2[-1] > 1e3 * omega2[0]:
+        try:
+            inverse = normal_modes(Kb, Mb)  # eigenvalues omega^-2, ascending: the highest mode first
+        except NumericFailure:
+            inverse = None
+        if inverse is not None and np.all(inverse.omega2 > 0):
+            middle = np.sqrt(omega2[0] * omega2[-1])
+            for k in range(n):
+                if omega2[k] < middle:
+                    omega2[k] = 1.0 / inverse.omega2[n - 1 - k]
+                    shapes[:, k] = inverse.shapes[:, n - 1 - k]
+    return Modes(omega2=omega2, shapes=shapes * d[:, None])

@@ -74,3 +74,32 @@ def test_modes_are_orthogonal_in_the_mass_metric():
     r1, r2 = n["r1"], n["r2"]
     # (1, r1) . Mhand . (1, r2) = 0
     assert a_**2 + a_ * l / 2 * (r1 + r2) + l**2 / 3 * r1 * r2 == pytest.approx(0.0, abs=1e-12)
+
+
+def hand_separated(a, l, g):
+    """The same quadratic in w^2, solved without cancellation for widely separated roots:
+    the larger root by the usual formula (B and the square root add), the smaller one from
+    the product of the roots, C/A.  The ratio from the first row, or for a long thread from
+    the second, -w^2 (a l/2) phi + (g l/2 - w^2 l^2/3) psi = 0, where the first row's
+    g - w^2 a cancels (w1^2 -> g/a)."""
+    A, B, C = a * l / 12.0, g * (l / 3.0 + a / 2.0), g**2 / 2.0
+    big = (B + math.sqrt(B * B - 4 * A * C)) / (2 * A)
+    small = C / (A * big)
+    if a < l:
+        r = [(g * a - x * a**2) / (x * a * l / 2.0) for x in (small, big)]
+    else:
+        r = [x * a / (g - 2.0 * x * l / 3.0) for x in (small, big)]
+    return math.sqrt(small), math.sqrt(big), r[0], r[1]
+
+
+# Issue 14 draws: l'/l of 1e-7 (or 1e7) separates omega^2 by 1e7; the polarized cross term of the
+# mass matrix and the lower eigenvalue of a one-way eigen-solve each lost seven digits (1e-9 misses)
+@pytest.mark.parametrize("l_prime", [3e-8, 3e6])
+def test_widely_separated_modes(l_prime):
+    w1, w2, r1, r2 = hand_separated(l_prime, 0.4, 9.81)
+    a, n, _ = solve_both("4.12", l_prime=l_prime)
+    for values in (a, n):
+        assert values["omega1"] == pytest.approx(w1, rel=1e-12)
+        assert values["omega2"] == pytest.approx(w2, rel=1e-12)
+        assert values["r1"] == pytest.approx(r1, rel=1e-12)
+        assert values["r2"] == pytest.approx(r2, rel=1e-12)

@@ -14,9 +14,11 @@ r2 = -[3a + (6al + 9a^2)/(2l + sqrt D)]/(3l), each free of cancellation.
 Numeric: Gauss-Legendre points along the bar; T(q, q') = sum w |v|^2/2 and
 U(q) = sum w g (y - y_eq) straight from the points' positions (heights measured
 from equilibrium as 2 sin^2 of the half-angles, so U carries no large constant).
-The mass matrix by polarization, the stiffness by Richardson central
+The mass matrix by polarization (probe rates 1/l' and 1/l, so the cross term
+is not lost beside the diagonal), the stiffness by Richardson central
 differences (smallosc), the generalized symmetric eigenproblem solved with M
-scaled to unit diagonal, mode ratios from the eigenvectors.
+scaled to unit diagonal (each mode from the forward or the inverse problem,
+whichever has it as a large eigenvalue), mode ratios from the eigenvectors.
 """
 
 from __future__ import annotations
@@ -25,8 +27,8 @@ import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.inertia import gauss_legendre
-from mech.solvers.rolling import balanced_modes
-from mech.solvers.smallosc import hessian, mass_matrix
+from mech.solvers.rolling import balanced_modes, scaled_mass_matrix
+from mech.solvers.smallosc import hessian
 
 exercise = Exercise(
     "4.12",
@@ -71,7 +73,9 @@ def numeric(p, run):
         return g * float(np.sum(w * dy))
 
     q0 = np.zeros(2)
-    Mm = mass_matrix(T, q0)
+    # probe rates 1/a and 1/l move thread and bar at comparable speeds: with l' = 1e-7 l, unit rates
+    # would leave the cross term M a l/2 at 1e-7 of T and polarization would lose seven digits of it
+    Mm = scaled_mass_matrix(T, q0, [1.0 / a, 1.0 / l])
     K = hessian(U, q0, scale=1.0)
     modes = balanced_modes(Mm, K)
     if not modes.stable:
@@ -79,9 +83,10 @@ def numeric(p, run):
     ratios = modes.shapes[1, :] / modes.shapes[0, :]
     run.info["mass_matrix"] = Mm.tolist()
     run.info["stiffness"] = K.tolist()
-    # polarization is exact; the Hessian's truncation (h^4/1440, h = 1e-3) and round-off
-    # (U has no large constant) stay near 1e-13; eigh of the balanced problem loses
-    # at most eps * omega2^2/omega1^2 on the lower root (1e-12 for the hard cases)
+    # polarization with balanced probe rates is exact to a few ulps; the Hessian's truncation (h^4/1440,
+    # h = 1e-3) and round-off (U has no large constant) stay near 1e-13; each mode comes from the
+    # eigen-solve in which it is the larger eigenvalue (balanced_modes), so a 1e7 spread of omega^2
+    # costs no digits (measured 1e-15 at l'/l = 1e-7 and 1e7)
     for name in ("omega1", "omega2", "r1", "r2"):
         run.claim(name, rel=1e-10)
     return {"omega1": modes.omega[0], "omega2": modes.omega[1], "r1": ratios[0], "r2": ratios[1]}
