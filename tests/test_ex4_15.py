@@ -37,3 +37,30 @@ def test_nearly_upright_start_at_rest_matches_upright_limit():
     # 1e-9 rad below vertical, started at rest: leaves the unstable equilibrium by itself
     a, n, _ = solve_both("4.15", theta0=math.pi / 2 - 1e-9)
     assert n["theta_c"] == pytest.approx(0.7297276562269663, rel=1e-8)
+
+
+# Issue 14: `mech solve 4.15 --l 1e-15` (down to 1e-300) printed numpy warnings and spun forever.
+# The run is now in units l = g = 1 and theta/theta0, so only theta0 shapes it.  Hand values:
+# sin tc = (2/3) sin t0, omega_c = (g sin t0 / l)^(1/2), written out with math here.
+@pytest.mark.parametrize("given", [
+    dict(l=1e-15), dict(l=1e-300), dict(l=1e300), dict(g=1e-300),
+    dict(theta0=1e-300), dict(theta0=1e-9, l=1e300),
+])
+def test_extreme_scales_answer_quickly(given):
+    from mech.solvers import budget
+
+    p = dict(theta0=math.pi / 2, l=1.0, g=9.81) | given
+    with budget.limit(5.0):
+        _, n, _ = solve_both("4.15", **given)
+    s0 = math.sin(p["theta0"])
+    assert n["theta_c"] == pytest.approx(math.asin(2 * s0 / 3), rel=1e-8)
+    assert n["omega_c"] == pytest.approx(math.sqrt(s0) * math.sqrt(p["g"]) / math.sqrt(p["l"]), rel=1e-8)
+
+
+def test_subnormal_start_angle_is_refused():
+    from mech.problems import registry
+    from mech.problems.spec import BadInput
+
+    ex = registry.get("4.15")
+    with pytest.raises(BadInput, match="theta0 = .* below 1e-300"):
+        ex.resolve(dict(theta0=5e-324))

@@ -9,8 +9,8 @@ sin theta_c = (2/3) sin theta0, where omega_c^2 = (g/l) sin theta0.
 Numeric: Newton-Euler for the rigid rod, not the Lagrangian: at each instant the
 three unknowns (the angular acceleration and the two normal forces) solve the
 linear system of the center's two equations of motion and the torque about the
-center, with the center's acceleration tied to theta by the contacts.  The
-integration stops at the event N_wall = 0 (confirmed with a bounded step).
+center, with the center's acceleration tied to theta by the contacts, in units
+M = l = g = 1 (the run does not depend on l or g).  The integration stops at the event N_wall = 0 (confirmed with a bounded step).
 """
 
 from __future__ import annotations
@@ -37,10 +37,27 @@ exercise = Exercise(
 UPRIGHT_NUDGE = 1e-6
 
 
+def _log10_rates(p):
+    """log10 of (g/l)^(1/2) and of omega_c = (g sin theta0 / l)^(1/2), summed in logs: no overflow."""
+    unit = 0.5 * (math.log10(p.g) - math.log10(p.l))
+    return unit, unit + 0.5 * math.log10(math.sin(p.theta0))
+
+
+@exercise.constraint
+def constraint(p):
+    if p.theta0 < 1e-300:
+        return f"theta0 = {p.theta0:.3g} rad is below 1e-300: the angles leave the floating-point range"
+    unit, omega_c = _log10_rates(p)
+    if abs(unit) > 300 or abs(omega_c) > 300:
+        return (f"(g/l)^(1/2) = 10^{unit:.0f} 1/s, omega_c = 10^{omega_c:.0f} rad/s: "
+                "the rates leave the floating-point range")
+
+
 @exercise.analytic
 def analytic(p):
-    s0 = np.sin(p.theta0)
-    return {"theta_c": np.arcsin(2.0 * s0 / 3.0), "omega_c": np.sqrt(p.g * s0 / p.l)}
+    s0 = math.sin(p.theta0)
+    return {"theta_c": math.asin(2.0 * s0 / 3.0),
+            "omega_c": math.sqrt(s0) * math.sqrt(p.g) / math.sqrt(p.l)}
 
 
 def _accelerations(theta, omega, M, l, g):
@@ -71,7 +88,14 @@ def _energy(theta, omega, M, l, g):
 
 @exercise.numeric
 def numeric(p, run):
-    M, l, g = 1.0, p.l, p.g  # the mass cancels from every output
+    # Units M = l = g = 1: the mass cancels from every output and l, g only set the time unit
+    # (l/g)^(1/2), so the run is the same for every l and g (l = 1e-300 m included).  A small start
+    # angle falls for a time of order theta0^(1/2) and reaches speeds of that order: the state is
+    # integrated as (theta/theta0, omega/theta0^(1/2)) in time t/theta0^(1/2), each of order one
+    # for any theta0 (1e-300 rad included).
+    M, l, g = 1.0, 1.0, 1.0
+    a_s = p.theta0
+    w_s = math.sqrt(p.theta0)
     theta_start, omega_start = p.theta0, 0.0
     if np.pi / 2 - p.theta0 < UPRIGHT_NUDGE:
         theta_start = p.theta0 - UPRIGHT_NUDGE
@@ -82,29 +106,33 @@ def numeric(p, run):
         omega_start = -np.sqrt((e0 - u_start) / t_per_unit_omega2)
 
     def rhs(t, y):
-        th_dd = _accelerations(y[0], y[1], M, l, g)[0]
-        return np.array([y[1], th_dd])
+        # d(theta/a_s)/d(t/w_s) = omega/w_s, d(omega/w_s)/d(t/w_s) = theta'' (a_s = w_s^2)
+        return np.array([y[1], _accelerations(a_s * y[0], w_s * y[1], M, l, g)[0]])
 
     def wall_force(t, y):
-        return _accelerations(y[0], y[1], M, l, g)[1]
+        return _accelerations(a_s * y[0], w_s * y[1], M, l, g)[1] / a_s
 
-    t_unit = np.sqrt(l / g)
     # Integrator: DOP853 at rtol 1e-10 (tolerance 1e-8), kept after `mech bench 4.15`: 533 evaluations
     # for 8.5e-12; LSODA needs 295 but reaches only 1.3e-10 (a margin of 80 under the tolerance, and its
     # error stalls at 1e-11 below rtol 1e-11) and is no faster per step; RK45 needs 1484, Radau 5605.
     t_ev, y_ev, traj = integrate_to_event(
         rhs,
-        (0.0, 200.0 * t_unit),
-        [theta_start, omega_start],
+        (0.0, 200.0),
+        [theta_start / a_s, omega_start / w_s],
         Event(wall_force, direction=-1, name="N_wall = 0"),
         rtol=run.rtol,
-        atol=[run.rtol * 1e-3 * max(p.theta0, 1e-300), run.rtol * 1e-3 * max(p.theta0, 1e-300) / t_unit],
     )
     run.record(traj)
-    e_start = _energy(theta_start, omega_start, M, l, g)
-    run.invariant("energy", (_energy(y_ev[0], y_ev[1], M, l, g) - e_start) / (M * g * l / 2))
-    run.info["t_c"] = t_ev
-    return {"theta_c": y_ev[0], "omega_c": abs(y_ev[1])}
+
+    def energy_over_scale(y):
+        """(T + U) / a_s from the center's motion and the rotation about it, in the scaled state."""
+        v2 = (l / 2 * y[1]) ** 2
+        return 0.5 * M * v2 + 0.5 * (M * l**2 / 12.0) * y[1] ** 2 + M * g * l / 2 * math.sin(a_s * y[0]) / a_s
+
+    e_start = energy_over_scale([theta_start / a_s, omega_start / w_s])
+    run.invariant("energy", (energy_over_scale(y_ev) - e_start) / (M * g * l / 2))
+    run.info["t_c"] = t_ev * w_s * math.sqrt(p.l) / math.sqrt(p.g)
+    return {"theta_c": a_s * y_ev[0], "omega_c": w_s * abs(y_ev[1]) * math.sqrt(p.g) / math.sqrt(p.l)}
 
 
 @exercise.hamiltonian
@@ -120,7 +148,7 @@ def hamiltonian(p):
     if np.pi / 2 - p.theta0 < UPRIGHT_NUDGE:
         theta = p.theta0 - UPRIGHT_NUDGE
         omega = -np.sqrt(3.0 * (np.sin(p.theta0) - np.sin(theta)))  # energy, scaled units
-    w_unit = np.sqrt(p.g / p.l)
+    w_unit = math.sqrt(p.g) / math.sqrt(p.l)
     return SeparableHamiltonian(
         velocity=lambda mom: 3.0 * mom,
         force=lambda q: -0.5 * np.cos(q),
