@@ -62,3 +62,25 @@ def test_swapping_two_edges_reverses_the_torque_pattern():
     assert a["tau3"] == pytest.approx(-b["tau1"], rel=1e-13)
     assert a["tau2"] == pytest.approx(-b["tau2"], rel=1e-13)
     assert nu["tau"] == pytest.approx(b["tau"], rel=1e-12)
+
+
+def test_huge_box_scales_without_overflow():
+    """Edges (1, 1, 2) x 1e100 m, rho 1e-250, w 20: the (1, 1, 2) box above with lengths times 1e100
+    (tau ~ rho w^2 L^5: 1e500 times the unit box's -1/6 at rho 1e-250, w^2 400) gives
+    tau1 = -(1/6) * 1e-250 * 400 * 1e500 = -(2/3) 1e252 N m, tau2 = +(2/3) 1e252, tau3 = 0.
+    Every SI intermediate (a^5 = 1e500) would overflow."""
+    a, n, _ = solve_both("4.17", a1=1e100, a2=1e100, a3=2e100, rho=1e-250, omega=20.0)
+    for values in (a, n):
+        assert values["tau1"] == pytest.approx(-2 / 3 * 1e252, rel=1e-12)
+        assert values["tau2"] == pytest.approx(2 / 3 * 1e252, rel=1e-12)
+        assert abs(values["tau3"]) <= 1e-13 * 1e252
+
+
+def test_torque_beyond_the_float_range_is_refused():
+    """Issue 14: a1 = 2^1000, a2 = pi ended in 'internal error: ... inf'; the torque scale
+    rho a1 a2 a3 d^2 w^2 ~ 2700 * 2^3000 * ... is 1e909 N m: refused with the reason."""
+    from mech.problems import registry
+    from mech.problems.spec import BadInput
+
+    with pytest.raises(BadInput, match="floating-point range"):
+        registry.get("4.17").resolve(dict(a1=2.0**1000, a2=math.pi))

@@ -17,9 +17,14 @@ turned about the fixed axis, L(t) = R(t) I R(t)^T omega, differentiated at t = 0
 by a complex step (no subtraction error); the two torques must agree.
 The quadrature sums terms of the natural size rho V d^2 omega^2 that cancel
 for a near-cube, so the accuracy claimed is absolute, a few ulps of that size.
+Both sides work with the edges in units of the longest one and give the torque
+in units rho omega^2 A^5, scaled back at the end; a torque scale beyond
+1e+-290 N m is refused (it leaves the floating-point range).
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -37,14 +42,48 @@ exercise = Exercise(
 )
 
 
+def _log10_torque_scale(p):
+    """log10 of rho a1 a2 a3 (a1^2 + a2^2 + a3^2) omega^2, the natural size of the torque, in logs."""
+    a = sorted((p.a1, p.a2, p.a3))
+    d2_over_max2 = 1.0 + (a[0] / a[2]) ** 2 + (a[1] / a[2]) ** 2
+    return (math.log10(p.rho) + math.log10(p.a1) + math.log10(p.a2) + math.log10(p.a3)
+            + 2 * math.log10(a[2]) + math.log10(d2_over_max2) + 2 * math.log10(p.omega))
+
+
+@exercise.constraint
+def constraint(p):
+    k = _log10_torque_scale(p)
+    if abs(k) > 290:
+        return (f"the torque scale rho a1 a2 a3 (a1^2 + a2^2 + a3^2) omega^2 = 10^{k:.0f} N m "
+                "lies outside the floating-point range")
+
+
+def _unit(p):
+    """rho omega^2 A^5 (A the longest edge), the torque unit of the scaled box, multiplied in an order
+    that keeps every partial product in range (the constraint keeps the result itself in range)."""
+    A = max(p.a1, p.a2, p.a3)
+    factors = [p.rho, p.omega, p.omega, A, A, A, A, A]
+    product, log_product = 1.0, 0.0
+    while factors:
+        k = min(range(len(factors)), key=lambda i: abs(log_product + math.log(factors[i])))
+        f = factors.pop(k)
+        product *= f
+        log_product += math.log(f)
+    return product
+
+
 @exercise.analytic
 def analytic(p):
-    a1, a2, a3 = p.a1, p.a2, p.a3
-    K = p.rho * a1 * a2 * a3 * p.omega**2 / (12.0 * (a1 * a1 + a2 * a2 + a3 * a3))
+    # edges in units of the longest one, the torque in units rho omega^2 A^5: nothing overflows
+    A = max(p.a1, p.a2, p.a3)
+    a1, a2, a3 = p.a1 / A, p.a2 / A, p.a3 / A
+    K = a1 * a2 * a3 / (12.0 * (a1 * a1 + a2 * a2 + a3 * a3))
     t1 = K * a2 * a3 * (a2 - a3) * (a2 + a3)
     t2 = K * a3 * a1 * (a3 - a1) * (a3 + a1)
     t3 = K * a1 * a2 * (a1 - a2) * (a1 + a2)
-    return {"tau": float(np.sqrt(t1 * t1 + t2 * t2 + t3 * t3)), "tau1": t1, "tau2": t2, "tau3": t3}
+    unit = _unit(p)
+    return {"tau": math.sqrt(t1 * t1 + t2 * t2 + t3 * t3) * unit, "tau1": t1 * unit, "tau2": t2 * unit,
+            "tau3": t3 * unit}
 
 
 def _box_points(a, n=3):
@@ -63,32 +102,37 @@ def _rodrigues(axis, angle):
 
 @exercise.numeric
 def numeric(p, run):
-    a = np.array([p.a1, p.a2, p.a3])
+    # lengths in units of the longest edge A, masses in rho A^3, time in 1/omega: the torque comes out
+    # in units rho omega^2 A^5 and is scaled back at the end (no overflow for a kilometre box)
+    A = max(p.a1, p.a2, p.a3)
+    a = np.array([p.a1, p.a2, p.a3]) / A
     d = np.linalg.norm(a)
-    omega = p.omega * a / d
+    omega = a / d
     r, vol = _box_points(a)
-    dm = p.rho * vol
+    dm = vol
     # Newton for each element: force dm * omega x (omega x r); its torque about the center
     acc = np.cross(omega, np.cross(omega, r))
     tau = (dm[:, None] * np.cross(r, acc)).sum(axis=0)
 
     # check through the angular momentum of the turning body, d/dt by a complex step
     I = inertia_tensor(r, dm, about=np.zeros(3))
-    h = 1e-20 / p.omega
-    R = _rodrigues(omega / p.omega, p.omega * 1j * h)
+    h = 1e-20
+    R = _rodrigues(omega, 1j * h)
     L = R @ I @ R.T @ omega
     tau_check = L.imag / h
 
-    scale = p.rho * np.prod(a) * d * d * p.omega**2
+    scale = np.prod(a) * d * d
     abs_claim = 1e-15 * scale
     mismatch = np.max(np.abs(tau - tau_check))
-    run.info["mass"] = dm.sum()
+    unit = _unit(p)
+    run.info["mass"] = float(np.sum(dm)) * p.rho * A * A * A
     run.info["torque_routes_mismatch_over_scale"] = mismatch / scale
     if mismatch > abs_claim:
         raise NumericFailure(
-            f"element-by-element torque and dL/dt disagree by {mismatch:.3g} N m (scale {scale:.3g})"
+            f"element-by-element torque and dL/dt disagree by {mismatch / scale:.3g} of the torque scale"
         )
     run.method = "Gauss-Legendre 3x3x3 volume sum"
     for name in ("tau", "tau1", "tau2", "tau3"):
-        run.claim(name, rel=1e-12, abs=abs_claim)
-    return {"tau": float(np.linalg.norm(tau)), "tau1": tau[0], "tau2": tau[1], "tau3": tau[2]}
+        run.claim(name, rel=1e-12, abs=abs_claim * unit)
+    return {"tau": float(np.linalg.norm(tau)) * unit, "tau1": float(tau[0]) * unit,
+            "tau2": float(tau[1]) * unit, "tau3": float(tau[2]) * unit}
