@@ -15,12 +15,15 @@ needed; d is its first moment.  T(q, q') with q = (x_O, theta) is the quadrature
 sum of w |v|^2/2 over the rigid field v = (x_O', 0) + theta' z x (r - r_O), U the
 sum of w g y (heights taken from their equilibrium values, so the differences
 stay free of cancellation).  The mass matrix follows by polarization, the
-stiffness by Richardson central differences (steps in x_O scaled by R).  Case
+stiffness by Richardson central differences, all in units M = R = g = 1
+(scaled back at the end, so the run is the same for every R and g).  Case
 (i): the 2x2 problem, the zero (free-sliding) root discarded.  Case (ii): the
 rolling constraint x_O' = -R theta' projects both matrices onto one coordinate.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -39,11 +42,19 @@ exercise = Exercise(
 )
 
 
+@exercise.constraint
+def constraint(p):
+    k = 0.5 * (math.log10(p.g) - math.log10(p.R))
+    if abs(k) > 300:
+        return f"(g/R)^(1/2) = 10^{k:.0f} rad/s: the frequencies leave the floating-point range"
+
+
 @exercise.analytic
 def analytic(p):
+    rate = math.sqrt(p.g) / math.sqrt(p.R)
     return {
-        "omega_frictionless": np.sqrt(120.0 * p.g / (83.0 * p.R)),
-        "omega_rolling": np.sqrt(15.0 * p.g / (26.0 * p.R)),
+        "omega_frictionless": math.sqrt(120.0 / 83.0) * rate,
+        "omega_rolling": math.sqrt(15.0 / 26.0) * rate,
         "d_cm": 3.0 * p.R / 8.0,
     }
 
@@ -62,7 +73,10 @@ def _hemisphere_points(R, n_r=6, n_u=6, n_phi=8):
 
 @exercise.numeric
 def numeric(p, run):
-    R, g, M = p.R, p.g, 1.0  # the mass cancels
+    # units M = R = g = 1: the mass cancels, R and g only set the length and time units, and a unit
+    # rate of x_O moves the body as fast as a unit rate of theta (in SI the polarization's cross
+    # terms drowned in round-off once R was far from 1 m: 4e-4 off at R = 1e-13 m)
+    R, g, M = 1.0, 1.0, 1.0
     pts, w = _hemisphere_points(R)
     w = M * w
     cm = w @ pts
@@ -88,9 +102,11 @@ def numeric(p, run):
     # rolling: x_O = -R theta
     c = np.array([-R, 1.0])
     w2_roll = (c @ K @ c) / (c @ Mm @ c)
-    run.info["free_mode_xO_per_theta"] = float(free.shapes[0, 1] / free.shapes[1, 1])
+    run.info["free_mode_xO_per_theta"] = float(free.shapes[0, 1] / free.shapes[1, 1]) * p.R
     # Hessian: truncation h^4/1440 ~ 1e-15 and round-off ~ 1e-12 at h = 1e-3; quadrature is exact
     run.claim("omega_frictionless", rel=1e-10)
     run.claim("omega_rolling", rel=1e-10)
     run.claim("d_cm", rel=1e-13)
-    return {"omega_frictionless": np.sqrt(w2[-1]), "omega_rolling": np.sqrt(w2_roll), "d_cm": d}
+    rate = math.sqrt(p.g) / math.sqrt(p.R)
+    return {"omega_frictionless": math.sqrt(w2[-1]) * rate, "omega_rolling": math.sqrt(w2_roll) * rate,
+            "d_cm": d * p.R}
