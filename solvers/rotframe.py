@@ -15,7 +15,7 @@ The Hessian likewise: H = sum_k m_k [(r_k^-3 - 1) I - 3 d_k d_k^T / r_k^5]
 
 Also here: a bracket search that walks from a start toward a geometric limit
 until the sign changes, a bracketed root (brentq to the last bits), Newton's
-method on the gradient for an off-axis equilibrium, and the characteristic
+method in polar coordinates for an off-axis equilibrium, and the characteristic
 exponents of the linearized rotating-frame motion with an error estimate that
 stays honest near a defective (merging) pair.
 """
@@ -37,7 +37,8 @@ __all__ = [
     "bracketed_root",
     "grad_eff",
     "hess_eff",
-    "hess_eigen",
+    "polar_derivatives",
+    "polar_hessian_at",
     "newton_equilibrium",
     "linearized_matrix",
     "Exponents",
@@ -140,62 +141,87 @@ def hess_eff(r, mu: float, nu: float) -> np.ndarray:
     return H
 
 
-def hess_eigen(r, mu: float, nu: float) -> tuple[np.ndarray, np.ndarray]:
-    """Eigenvalues and eigenvectors of the Hessian, each eigenvalue to its own relative precision.
+def polar_derivatives(rho: float, theta: float, mu: float, nu: float):
+    """Gradient and Hessian of U_eff in polar coordinates (rho, theta) about body 1, cancellation-free.
 
-    In the frame (n1, t1) of the direction from body 1 the first body's part is
-    diagonal, nu [(r1^-3 - 1 - 3 r1^-3), (r1^-3 - 1)], so the weak curvature along
-    t1 (of order mu near L4) is not the difference of O(1) numbers; the 2x2 is then
-    diagonalized with the small eigenvalue taken as det / large one."""
-    d1, d2, r1, r2 = _offsets(np.asarray(r, float), mu, nu)
-    n1 = d1 / r1
-    t1 = np.array([-n1[1], n1[0]])
-    R = np.column_stack([n1, t1])
+    With n1 = (cos theta, sin theta), t1 its normal, d2 = rho n1 - (1, 0) and
+    a2 = mu (r2^-3 - 1): body 1's part of the gradient is radial, so
+      U_rho = nu (rho^-3 - 1) rho + a2 (d2 . n1),   U_theta = rho a2 (d2 . t1),
+    and body 1's radial force drops out of the angular curvature too:
+      U_rho,rho = nu (-2 rho^-3 - 1) + B_nn,  U_rho,theta = rho B_nt + a2 (d2 . t1),
+      U_theta,theta = rho^2 B_tt - rho a2 (d2 . n1),
+    B = mu (n1, t1)^T [(r2^-3 - 1) I - 3 d2 d2^T / r2^5] (n1, t1).  Every angular
+    entry carries the factor mu, to its own relative precision."""
+    c, s = math.cos(theta), math.sin(theta)
+    n1, t1 = np.array([c, s]), np.array([-s, c])
+    d2 = np.array([rho * c - 1.0, rho * s])
+    r2 = math.hypot(*d2)
+    a2 = mu * (r2**-3 - 1.0)
+    d2n, d2t = float(d2 @ n1), float(d2 @ t1)
     A2 = (r2**-3 - 1.0) * np.eye(2) - 3.0 * np.outer(d2, d2) / r2**5
-    B = mu * (R.T @ A2 @ R)
-    a = nu * (r1**-3 - 1.0 - 3.0 * r1**-3) + B[0, 0]
-    c = nu * (r1**-3 - 1.0) + B[1, 1]
-    b = B[0, 1]
-    half = 0.5 * (a - c)
-    rad = math.hypot(half, b)
-    det = a * c - b * b
-    if a + c >= 0.0:
-        plus = 0.5 * (a + c) + rad
-        minus = det / plus if plus != 0.0 else 0.0
-    else:
-        minus = 0.5 * (a + c) - rad
-        plus = det / minus
-    ang = 0.5 * math.atan2(2.0 * b, a - c)  # (cos, sin) of ang in (n1, t1) belongs to `plus`
-    cs, sn = math.cos(ang), math.sin(ang)
-    Q = R @ np.array([[cs, -sn], [sn, cs]])
-    lam0, lam1 = plus, minus
-    return np.array([lam0, lam1]), Q
+    Rm = np.column_stack([n1, t1])
+    B = mu * (Rm.T @ A2 @ Rm)
+    g = np.array([nu * (rho**-3 - 1.0) * rho + a2 * d2n, rho * a2 * d2t])
+    H = np.array([
+        [nu * (-2.0 * rho**-3 - 1.0) + B[0, 0], rho * B[0, 1] + a2 * d2t],
+        [rho * B[0, 1] + a2 * d2t, rho * rho * B[1, 1] - rho * a2 * d2n],
+    ])
+    return g, H
+
+
+def polar_hessian_at(r, mu: float, nu: float) -> tuple[float, np.ndarray]:
+    """(rho, Hessian of U_eff in (rho, theta) about body 1) at the point r of the scaled plane.
+
+    At a stationary point det H_polar = rho^2 det H (the gradient term of the change
+    of coordinates vanishes), and here the angular entries keep their relative
+    precision where the Cartesian ones carry eps next to a curvature of order mu."""
+    r = np.asarray(r, float)
+    rho, theta = math.hypot(r[0] + mu, r[1]), math.atan2(r[1], r[0] + mu)
+    return rho, polar_derivatives(rho, theta, mu, nu)[1]
 
 
 def newton_equilibrium(r0, mu: float, nu: float, max_iter: int = 200, max_step: float = 0.1) -> tuple[np.ndarray, int]:
-    """A maximum of U_eff by Newton's method on its gradient (exact Hessian).
+    """A maximum of U_eff off the line of the bodies, by Newton's method (exact derivatives).
 
-    Far from the maximum the Hessian need not be negative definite, and a plain
-    Newton step would head for a saddle: each step uses the Hessian with its
-    eigenvalues made negative (|lambda| flipped) and is capped at ``max_step``
-    (units of d).  Converged when the step stops
-    shrinking at the round-off level; returns (point, iterations)."""
-    r = np.asarray(r0, float).copy()
-    g = grad_eff(r, mu, nu)
+    The iteration runs in polar coordinates (rho, theta) about body 1: for a small
+    mass ratio U_eff is nearly flat along the circle rho = d, and in Cartesian
+    coordinates the weak angular curvature (of order mu) is swamped by body 1's
+    radial force times the circle's curvature (a radial offset of 1e-5 outweighs
+    mu = 1e-5; at mu < 1e-25 the iteration stopped at a point that was no
+    equilibrium, and at mu = 4.4e-5 capped steps cycled).  In polar form every
+    angular entry is proportional to mu (polar_derivatives), so the angular
+    Newton step is of order one for any mu.  The angular curvature is the Schur
+    complement U_tt - U_rt^2 / U_rr; a non-negative one (or U_rr) is flipped
+    so every step climbs.  Steps are capped at ``max_step`` in rho (units of d)
+    and 2 max_step in theta, and the angular cap halves whenever the angular
+    gradient changes sign (the maximum was stepped over).  Converged when the
+    step stops shrinking at the round-off level; returns (point, iterations)."""
+    from mech.solvers import budget
+
+    r0 = np.asarray(r0, float)
+    rho, theta = math.hypot(r0[0] + mu, r0[1]), math.atan2(r0[1], r0[0] + mu)
+    cap_theta = 2.0 * max_step
     last = math.inf
+    g_theta_last = None
     for it in range(1, max_iter + 1):
-        w, V = hess_eigen(r, mu, nu)
-        w = -np.maximum(np.abs(w), 1e-300)
-        step = -(V @ ((V.T @ g) / w))
-        size = float(np.linalg.norm(step))
-        if size > max_step:
-            step *= max_step / size
-        trial = r + step
-        gt = grad_eff(trial, mu, nu)
-        size = float(np.linalg.norm(trial - r))
-        r, g = trial, gt
-        if size <= 4 * EPS * max(1.0, float(np.linalg.norm(r))) or (size >= last and size < 1e-12):
-            return r, it
+        budget.check("Newton's method for an equilibrium")
+        g, H = polar_derivatives(rho, theta, mu, nu)
+        h_rr = -abs(H[0, 0])
+        schur = H[1, 1] - H[0, 1] * H[0, 1] / h_rr
+        schur = -max(abs(schur), 1e-300)
+        d_theta = -(g[1] - H[0, 1] * g[0] / h_rr) / schur
+        if g_theta_last is not None and g[1] * g_theta_last < 0.0:
+            cap_theta *= 0.5
+        g_theta_last = g[1]
+        if abs(d_theta) > cap_theta:
+            d_theta = math.copysign(cap_theta, d_theta)
+        d_rho = -(g[0] + H[0, 1] * d_theta) / h_rr
+        if abs(d_rho) > max_step:
+            d_rho = math.copysign(max_step, d_rho)
+        rho, theta = rho + d_rho, theta + d_theta
+        size = math.hypot(d_rho, rho * d_theta)
+        if size <= 4 * EPS * max(1.0, rho) or (size >= last and size < 1e-12):
+            return np.array([rho * math.cos(theta) - mu, rho * math.sin(theta)]), it
         last = size
     raise NumericFailure(f"Newton's method on grad U_eff did not converge in {max_iter} iterations")
 

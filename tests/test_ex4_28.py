@@ -73,3 +73,41 @@ def test_routh_limit_merges_the_frequencies():
         assert values["omega_slow"] == pytest.approx(W / math.sqrt(2), abs=3e-7 * W)
         assert values["omega_fast"] == pytest.approx(W / math.sqrt(2), abs=3e-7 * W)
         assert values["growth_rate"] < 3e-7 * W
+
+
+def test_newton_finds_l4_for_every_mass_ratio():
+    """L4 is at r1 = r2 = d for any mu: (1/2 - mu, sqrt3/2) in units of d.  Cartesian Newton stopped
+    short of it for mu < 1e-25 (at x = 0.198) and cycled at mu = 4.4e-5 (issue 14 draw)."""
+    import numpy as np
+
+    from mech.solvers.rotframe import mass_fractions, newton_equilibrium
+
+    for ratio in np.geomspace(1e-290, 1.0, 120):
+        nu, mu = mass_fractions(1.0, float(ratio))
+        r, iters = newton_equilibrium([0.0, 1.0], mu, nu)
+        assert r[0] == pytest.approx(0.5 - mu, abs=1e-14), ratio
+        assert r[1] == pytest.approx(math.sqrt(3) / 2, rel=1e-14), ratio
+        assert iters <= 20
+
+
+@pytest.mark.parametrize(
+    "M1, M2, d",
+    [
+        (4.99008e28, 2.19363e24, 1.22544e8),  # issue 14 draw: Newton cycled, a loud failure
+        (5.9722e24, 5.9722e12, 3.844e8),  # mu = 1e-12: the 4x4 eigen-solve could not resolve the slow pair
+        (5.9722e24, 5.9722e4, 3.844e8),  # mu = 1e-20
+    ],
+)
+def test_small_mass_ratios(M1, M2, d):
+    """Stable: Vieta on l^4 + W^2 l^2 + (27/4) mu nu W^4 with q = 27 mu nu, s = (1 - q)^(1/2):
+    fast^2 = W^2 (1 + s)/2 and slow^2 = (27/4) mu nu W^4 / fast^2 = W^2 q / (2 (1 + s)),
+    the product over the larger root (no 1 - s cancellation)."""
+    mu = M2 / (M1 + M2)
+    W = math.sqrt(G * (M1 + M2) / d**3)
+    q = 27 * mu * (1 - mu)
+    s = math.sqrt(1 - q)
+    a, n, _ = solve_both("4.28", M1=M1, M2=M2, d=d)
+    for values in (a, n):
+        assert values["omega_slow"] == pytest.approx(W * math.sqrt(q / (2 * (1 + s))), rel=1e-12)
+        assert values["omega_fast"] == pytest.approx(W * math.sqrt((1 + s) / 2), rel=1e-12)
+        assert values["x_L4"] == pytest.approx(d * (0.5 - mu), rel=1e-13)
