@@ -93,3 +93,25 @@ def test_pole_miss_distance_is_tiny_fraction_of_amplitude():
     expect = 0.01 * WE / math.sqrt(9.81 / 0.25 + WE**2)
     for values in (A, N):
         assert values["b_miss"] == pytest.approx(expect, rel=1e-7)
+
+
+def test_fast_rotation_issue_draw():
+    """Issue 14 draw: |w_z|/w0 = 1470, so the Earth-frame speeds are w0^2/w' ~ 1e-7 of the
+    positions' scale; with the absolute tolerance sized for positions the turning points moved
+    by 3e-7 at rtol/10.  Omega_F = -w_E cos(theta), b_miss = a w_z / (g/l + w_z^2)^(1/2)."""
+    p = dict(theta=0.000317957, l=599.561, g=0.0129606, a=157824.0, omega_E=6.84992)
+    wz = p["omega_E"] * math.cos(p["theta"])
+    _, n, _ = solve_both("4.30", **p)
+    _, n_fine, _ = solve_both("4.30", rtol=1e-11, **p)
+    assert n["Omega_F"] == pytest.approx(-wz, rel=1e-10)
+    assert n_fine["Omega_F"] == pytest.approx(n["Omega_F"], rel=1e-10)
+    assert n["b_miss"] == pytest.approx(p["a"] * wz / math.sqrt(p["g"] / p["l"] + wz * wz), rel=1e-12)
+
+
+def test_loops_below_round_off_fail_loudly():
+    """|w_z|/w0 = 73 / (9.81 / 6.7e12)^(1/2) ~ 6e7 (times cos theta): the path's loops, of relative
+    size w0^2 / (4 w_z^2) ~ 1e-16, are below round-off; the turning points are noise."""
+    from mech.problems.spec import NumericFailure
+
+    with pytest.raises(NumericFailure, match="too small to resolve"):
+        solve_both("4.30", omega_E=73.0, l=6.7e12)
