@@ -23,8 +23,11 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.floquet import even_hill_half
+from mech.solvers import budget
+from mech.solvers.ode import integrate
 
 exercise = Exercise(
     "5.13",
@@ -89,27 +92,43 @@ def expected_error(p):
     return out
 
 
-def _half(p, a, sign, rtol, run):
-    """y1, y1', y2, y2' at half a fast period for the linearization about theta = 0 (sign +1) or pi (-1)."""
-    g_l, aW2_l, W = p.g / p.l, a * p.Omega**2 / p.l, p.Omega
-    vals, traj = even_hill_half(
-        lambda t: sign * (g_l - aW2_l * math.cos(W * t)), 2.0 * math.pi / W, rtol=rtol, vscale=W
-    )
+def _half(p, eps, sign, rtol, run):
+    """(y1, y1', y2, y2') at tau = pi (half a fast period) for y'' = sign (kappa - eps cos tau) y.
+
+    Time tau = Omega t, kappa = g/(l Omega^2), eps = a/l: the linearization about theta = pi (sign +1)
+    or theta = 0 (sign -1).  The fast jitter is taken out exactly by p = y' + e sin(tau) y (e = sign eps):
+        y' = p - e sin(tau) y,   p' = (c - e^2 sin^2 tau) y + e sin(tau) p   (c = sign kappa),
+    so p carries only the slow drift, of order kappa + eps^2, and is integrated to rtol of that size
+    (y' itself swings by eps each fast period: its error, rtol eps, would swamp a drift of eps^2 when
+    eps is small).  At tau = 0 and pi, sin tau = 0 and p = y'.
+    """
+    kappa = p.g / (p.l * p.Omega**2)
+    c, e = sign * kappa, sign * eps
+
+    def rhs(tau, y):
+        sn = math.sin(tau)
+        es = e * sn
+        return np.array([y[1] - es * y[0], (c - es * es) * y[0] + es * y[1],
+                         y[3] - es * y[2], (c - es * es) * y[2] + es * y[3]])
+
+    drift = abs(c) + e * e  # the size of the slow drift of p per unit tau
+    atol = 1e-3 * rtol * np.array([1.0, drift, 1.0, 1.0])
+    traj = integrate(rhs, (0.0, math.pi), [1.0, 0.0, 0.0, 1.0], rtol=rtol, atol=atol)
     run.record(traj)
-    y1, y1p, y2, y2p = vals
+    y1, y1p, y2, y2p = traj.y_end
     run.invariant("Wronskian", y1 * y2p - y1p * y2 - 1.0)
-    return vals
+    return y1, y1p, y2, y2p, drift
 
 
-def _slow_frequency(p, a, sign, rtol, run, name):
-    y1, y1p, y2, y2p = _half(p, a, sign, rtol, run)
+def _slow_frequency(p, sign, rtol, run, name):
+    y1, y1p, y2, y2p, drift = _half(p, p.a / p.l, sign, rtol, run)
     s = -y1p * y2  # sin^2(nu pi / Omega)
     if not 0.0 < s < 1.0:
-        where = "inverted" if sign < 0 else "lower"
+        where = "inverted" if sign > 0 else "lower"
         return Undefined(f"|tr M| >= 2 about the {where} position (sin^2(nu pi/Omega) = {s:.6g}): unstable")
     nu = (p.Omega / math.pi) * math.asin(math.sqrt(s))
-    # the error of s is ~rtol relative to the size of its factors (|y1'| ~ Omega, |y2| ~ 1/Omega)
-    ds = 10.0 * rtol * abs(y1p * y2) + 10.0 * rtol * 1e-3
+    # y1' is resolved to about rtol of the drift scale times pi (its size over half a period)
+    ds = 10.0 * rtol * (abs(s) + math.pi * drift * abs(y2))
     dnu = (p.Omega / math.pi) * ds / (2.0 * math.sqrt(s * (1.0 - s)))
     run.claim(name, rel=max(100.0 * rtol, dnu / nu))
     return nu
@@ -121,25 +140,29 @@ def numeric(p, run):
 
     rtol = run.rtol
     out = {
-        "omega_down": _slow_frequency(p, p.a, +1.0, rtol, run, "omega_down"),
-        "omega_inv": _slow_frequency(p, p.a, -1.0, rtol, run, "omega_inv"),
+        "omega_down": _slow_frequency(p, -1.0, rtol, run, "omega_down"),
+        "omega_inv": _slow_frequency(p, +1.0, rtol, run, "omega_inv"),
     }
 
-    def f(a):  # y1' y2 = (tr M - 2)/4 about the inverted position: > 0 unstable, < 0 stable
-        y1, y1p, y2, y2p = _half(p, a, -1.0, rtol, run)
-        return y1p * y2
+    def f(eps):  # y1' y2 = (tr M - 2)/4 about the inverted position, over its drift scale: > 0 unstable
+        y1, y1p, y2, y2p, drift = _half(p, eps, +1.0, rtol, run)
+        return y1p * y2 / drift
 
-    w0 = math.sqrt(p.g / p.l)
-    a_lo = 0.05 * p.l * w0 / p.Omega  # a fraction of the length where a Omega/l ~ omega0
-    if f(a_lo) <= 0:
-        raise NumericFailure(f"the inverted position is already stable at a = {a_lo:.3g} m: no bracket")
-    a_hi = a_lo
-    while True:
-        a_hi *= 1.3
-        if f(a_hi) < 0:
+    kappa = p.g / (p.l * p.Omega**2)
+    e_lo = 0.05 * math.sqrt(kappa)  # a fraction of the amplitude where a Omega/l ~ omega0
+    f_lo = f(e_lo)
+    if f_lo <= 0:
+        raise NumericFailure(f"the inverted position is already stable at a = {e_lo * p.l:.3g} m: no bracket")
+    e_hi = e_lo
+    for _ in range(200):  # 1.3^200: far past l/2 from any start
+        budget.check("5.13: bracketing a_min")
+        e_hi *= 1.3
+        f_hi = f(e_hi)
+        if f_hi < 0:
             break
-        a_lo = a_hi
-        if a_hi > 0.5 * p.l:
+        e_lo, f_lo = e_hi, f_hi
+        if e_hi > 0.5:
             raise NumericFailure("no pivot amplitude below l/2 stabilizes the inverted position")
-    out["a_min"] = brentq(f, a_lo, a_hi, xtol=1e-16 * p.l, rtol=1e-14)
+    # f is smooth in eps and resolved to ~rtol of its scale: the root to ~rtol relative
+    out["a_min"] = p.l * brentq(f, e_lo, e_hi, xtol=1e-3 * rtol * e_lo, rtol=1e-15, fa=f_lo, fb=f_hi)
     return out
