@@ -22,7 +22,7 @@ def _convert(ex: Exercise, name: str, text: str) -> float:
         value = to_si(text, param.unit)
     except ValueError_ as exc:
         raise BadInput(f"{name}: cannot use '{text}': {exc}; allowed range {param.range_text()}") from None
-    param.check(value)
+    param.check(value, typed=text)
     return value
 
 
@@ -37,7 +37,7 @@ def collect_texts(ex: Exercise, args: list[str], pairs: list[str],
     def put(raw_name: str, text: str) -> None:
         name = _canonical(ex, raw_name)
         if name in texts:
-            raise BadInput(f"{name}: given more than once; allowed range {ex.param_map[name].range_text()}")
+            raise BadInput(f"{name}: given more than once ('{texts[name]}' and '{text}'); give it once")
         texts[name] = text
 
     i = 0

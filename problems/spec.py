@@ -74,24 +74,33 @@ class Param:
         return f"{_fmt(value)}{unit}"
 
     def range_text(self) -> str:
-        """The allowed range in interval notation, in SI and (where set) the display unit."""
-        lo = "(-inf" if self.min is None else ("(" if self.min_open else "[") + _fmt(self.min)
-        hi = "+inf)" if self.max is None else _fmt(self.max) + (")" if self.max_open else "]")
+        """The allowed range in interval notation: in the display unit first where there is one, then in SI."""
         unit = "" if self.unit == "1" else f" {self.unit}"
-        text = f"{lo}, {hi}{unit}"
+        text = self._interval(lambda v: v) + unit
         if self.display and (self.min is not None or self.max is not None):
-            dlo = "(-inf" if self.min is None else ("(" if self.min_open else "[") + _fmt(self.to_display(self.min))
-            dhi = "+inf)" if self.max is None else _fmt(self.to_display(self.max)) + (")" if self.max_open else "]")
-            text += f" = {dlo}, {dhi} {self.display}"
+            text = f"{self._interval(self.to_display)} {self.display} = {text}"
         return text
 
-    def check(self, value: float) -> None:
+    def _interval(self, conv) -> str:
+        lo = "(-inf" if self.min is None else ("(" if self.min_open else "[") + _fmt(conv(self.min))
+        hi = "+inf)" if self.max is None else _fmt(conv(self.max)) + (")" if self.max_open else "]")
+        return f"{lo}, {hi}"
+
+    def check(self, value: float, typed: str | None = None) -> None:
+        """Refuse a value outside the bounds, echoing ``typed`` (what the user wrote) where given, else the
+        value in the display unit."""
+        if typed is None:
+            said = self.show(value)
+        else:
+            said = typed.strip()
+            if self.display and self.display not in said and math.isfinite(value):
+                said += f" (= {self.show(value)})"
         if not math.isfinite(value):
-            raise BadInput(f"{self.name}: {value} is not a finite number; allowed range {self.range_text()}")
+            raise BadInput(f"{self.name}: {said} is not a finite number; allowed range {self.range_text()}")
         below = self.min is not None and (value < self.min or (self.min_open and value == self.min))
         above = self.max is not None and (value > self.max or (self.max_open and value == self.max))
         if below or above:
-            raise BadInput(f"{self.name}: {_fmt(value)} is out of range; allowed {self.range_text()}")
+            raise BadInput(f"{self.name}: {said} is out of range; allowed {self.range_text()}")
 
     def as_json(self) -> dict:
         d: dict[str, Any] = {"name": self.name, "symbol": self.symbol, "unit": self.unit, "default": self.default}
