@@ -11,9 +11,20 @@ __all__ = ["collect_params", "collect_texts", "parse_rtol"]
 def _canonical(ex: Exercise, raw: str) -> str:
     name = raw.strip().replace("-", "_")
     if name not in ex.param_map:
-        names = ", ".join(ex.param_map)
-        raise BadInput(f"unknown parameter '{raw}' for {ex.id}; its parameters are: {names}")
+        raise BadInput(unknown_param_message(ex, raw))
     return name
+
+
+def unknown_param_message(ex: Exercise, raw: str) -> str:
+    """One line for a parameter name the exercise does not have: the nearest name where one is close."""
+    import difflib
+
+    name = raw.strip().lstrip("-").replace("-", "_")
+    names = list(ex.param_map)
+    by_lower = {n.lower(): n for n in names}
+    close = difflib.get_close_matches(name.lower(), list(by_lower), n=1, cutoff=0.6)
+    hint = f"; did you mean {by_lower[close[0]]}?" if close else ""
+    return f"unknown parameter '{raw}' for {ex.id}{hint} (its parameters: {', '.join(names)})"
 
 
 def _convert(ex: Exercise, name: str, text: str) -> float:

@@ -27,6 +27,17 @@ CHAPTER_PACKAGES = ("mech.problems.ch4", "mech.problems.ch5")
 _MODULE_NAME = re.compile(r"^ex(\d+)_(\d+)_\w+$")
 
 
+# The book's own exercises: all of chapter 4 and the first three of chapter 5; 5.4-5.13 were set for mech
+# on chapter 5's topics.
+BOOK_EXERCISES = {4: range(1, 37), 5: range(1, 4)}
+
+
+def from_book(ex_id: str) -> bool:
+    """True for an exercise that is the book's own, False for one set for mech on the chapter's topics."""
+    chapter, number = _id_key(ex_id)
+    return number in BOOK_EXERCISES.get(chapter, ())
+
+
 @dataclass(frozen=True)
 class Entry:
     id: str
@@ -38,6 +49,10 @@ class Entry:
     @property
     def chapter(self) -> int:
         return int(self.id.split(".")[0])
+
+    @property
+    def from_book(self) -> bool:
+        return from_book(self.id)
 
 
 def _id_key(ex_id: str) -> tuple[int, ...]:
@@ -109,6 +124,37 @@ def get(ex_id: str) -> Exercise:
     modules = _modules()
     key = ex_id.strip()
     if key not in modules:
-        known = ", ".join(modules) or "none"
-        raise BadInput(f"unknown exercise '{ex_id}'; registered: {known}")
+        raise BadInput(unknown_id_message(ex_id, list(modules)))
     return _load(key, modules[key])
+
+
+def _spans(ids: list[str]) -> str:
+    """``4.1-4.36, 5.1-5.13``: the registered ids by chapter, first and last."""
+    chapters: dict[int, list[str]] = {}
+    for i in ids:
+        chapters.setdefault(_id_key(i)[0], []).append(i)
+    return ", ".join(f"{v[0]}-{v[-1]}" if len(v) > 1 else v[0] for v in chapters.values()) or "none"
+
+
+def unknown_id_message(ex_id: str, ids: list[str]) -> str:
+    """One line for an id that is not registered: the nearest id where one is close, else the ranges."""
+    import difflib
+
+    text = ex_id.strip()
+    norm = re.sub(r"^(?:ex(?:ercise)?)\s*", "", text.lower()).replace(",", ".").replace("-", ".").replace("_", ".")
+    m = re.fullmatch(r"(\d+)\.(\d+)", norm)
+    close: list[str] = []
+    if norm in ids:
+        close = [norm]
+    elif m:
+        # a well-formed id: only a leading zero (4.015) or an extra digit (4.150) is a near miss; a number
+        # just past a chapter's end (4.37) or an unknown chapter is not
+        chapter, number = m.groups()
+        tries = [number.lstrip("0")]
+        if len(number) >= 3:
+            tries += [number[:-1]] + [number[:k] + number[k + 1:] for k in range(len(number) - 1)]
+        close = [f"{chapter}.{n}" for n in tries if f"{chapter}.{n}" in ids][:1]
+    elif len(norm) >= 3:
+        close = difflib.get_close_matches(norm, ids, n=1, cutoff=0.7)
+    hint = f"; did you mean {close[0]}?" if close else ""
+    return f"unknown exercise '{text}'{hint} (registered: {_spans(ids)})"
