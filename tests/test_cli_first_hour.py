@@ -275,3 +275,17 @@ def test_from_book_in_list_and_show_text():
     assert "set for mech" in out
     code, out, _ = run("show", "5.3")
     assert "from the book" in out
+
+
+# -- item 11: bench's method names -----------------------------------------------------------------
+
+def test_bench_takes_method_names_without_case():
+    code, out, err = run("bench", "4.15", "--methods", "dop853", "--tols", "1e-6", "--repeats", "1", "--json")
+    assert code == 0, err
+    assert {p["method"] for p in json.loads(out)["points"]} == {"DOP853"}
+
+
+def test_bench_unknown_method_lists_each_name_once():
+    line = one_line_exit_2("bench", "4.15", "--methods", "rk44")
+    known = line.split("known: ")[1].rstrip(")").split(", ")
+    assert len(known) == len(set(known)) and "RK45" in known and "did you mean RK45?" in line
