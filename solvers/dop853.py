@@ -40,6 +40,7 @@ __all__ = ["available", "solve", "DenseSolution", "Result"]
 
 _TABLEAU = None
 _TABLEAU_TRIED = False
+LOAD_S = 0.0  # the one-time cost of loading the tableau (start-up, kept out of a solve's time)
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
 ERR_EXP = -1.0 / 8.0
 _EPS = np.finfo(float).eps
@@ -77,10 +78,12 @@ def _tableau_ok(tab) -> bool:
 
 def available() -> bool:
     """Whether the tableau is loaded (it always is: it is data in this package, checked on loading)."""
-    global _TABLEAU, _TABLEAU_TRIED
+    global _TABLEAU, _TABLEAU_TRIED, LOAD_S
     if not _TABLEAU_TRIED:
         _TABLEAU_TRIED = True
+        t0 = time.perf_counter()
         _TABLEAU = _load_tableau()
+        LOAD_S = time.perf_counter() - t0
     return _TABLEAU is not None
 
 
