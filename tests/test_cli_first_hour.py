@@ -289,3 +289,15 @@ def test_bench_unknown_method_lists_each_name_once():
     line = one_line_exit_2("bench", "4.15", "--methods", "rk44")
     known = line.split("known: ")[1].rstrip(")").split(", ")
     assert len(known) == len(set(known)) and "RK45" in known and "did you mean RK45?" in line
+
+
+def test_readme_exercise_table_marks_the_exercises_set_for_mech():
+    from pathlib import Path
+
+    from mech.problems import registry
+
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text("utf-8").split("## Exercises", 1)[1]
+    for e in registry.index():
+        row = next(line for line in text.splitlines() if line.startswith(f"| {e.id} |"))
+        title_cell = row.split("|")[2]
+        assert title_cell.rstrip().endswith("†") is (not e.from_book), e.id
