@@ -249,9 +249,10 @@ class SolveCommand(click.Command):
                 formatter.write_text(str(exc))
             return
         rows = []
+        metavar = "RANGE" if self.name == "sweep" else "VALUE"  # mech sweep shares this parsing
         for p in ex.params:
             unit = "" if p.unit == "1" else f" [{p.unit}]"
-            rows.append((f"--{p.name} VALUE",
+            rows.append((f"--{p.name} {metavar}",
                          f"{p.symbol or p.name}{unit}: {p.doc}; default {p.show(p.default)}, "
                          f"allowed {p.range_text()}"))
         with formatter.section(f"Parameters of {ex.id} ({ex.title})"):
