@@ -181,6 +181,8 @@ class SolveCommand(click.Command):
         known = {opt for p in params for opt in getattr(p, "opts", []) + getattr(p, "secondary_opts", [])}
         valued = {opt for p in params if _takes_value(p) for opt in p.opts + p.secondary_opts}
         short_valued = {o for o in valued if len(o) == 2 and o[0] == "-" and o[1] != "-"}
+        # options that take NAME=VALUE (-p, and any other whose metavar says so)
+        pairs = {opt: p.metavar for p in params if _takes_value(p) and "=" in (p.metavar or "") for opt in p.opts}
         lenient = ctx.resilient_parsing
         own, rest = [], []
         positionals = 0
@@ -208,9 +210,9 @@ class SolveCommand(click.Command):
                 rest.append(arg)
                 if arg in valued and i + 1 < len(args):
                     value = args[i + 1]
-                    if arg == "-p" and "=" not in value and not lenient:
+                    if arg in pairs and "=" not in value and not lenient:
                         after = args[i + 2] if i + 2 < len(args) and not args[i + 2].startswith("-") else "VALUE"
-                        raise click.UsageError(f"-p takes NAME=VALUE: write -p {value}={after}")
+                        raise click.UsageError(f"{arg} takes {pairs[arg]}: write {arg} {value}={after}")
                     rest.append(value)
                     last = (arg, value)
                     i += 1
