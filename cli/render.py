@@ -129,8 +129,9 @@ def print_show(ex, from_book: bool | None = None) -> None:
     c = console()
     parts: list = [Text(f"{ex.id}  {ex.title}", style="bold"), Text(ex.topic, style="italic")]
     if from_book is not None:
-        parts.append(Text("from the book: one of its own exercises" if from_book else
-                          "set for mech on the chapter's topics (not one of the book's exercises)", style="dim"))
+        parts.append(Text("source: the book's own exercise" if from_book else
+                          "source: set for mech on the chapter's topics, not one of the book's exercises",
+                          style="dim"))
     parts += [Text(), prose(ex.statement), Text(), Text("Model", style="bold"), prose(ex.model), Text()]
 
     pt = Table(title="Parameters", title_justify="left", box=box.SIMPLE_HEAD)

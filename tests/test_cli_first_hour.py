@@ -207,6 +207,19 @@ def test_analytic_only_has_no_tol_or_agree_column_and_says_so():
     assert "nothing was cross-checked" in out
 
 
+def test_numeric_only_has_no_analytic_column_and_says_so():
+    code, out, _ = run("solve", "4.15", "--method", "numeric")
+    assert code == 0
+    header = next(line for line in out.splitlines() if "quantity" in line)
+    assert "numeric" in header and "analytic" not in header and "tol" not in header
+    assert "numeric solver only" in out and "nothing was cross-checked" in out
+
+
+def test_solve_help_without_an_id_says_how_to_list_parameters():
+    code, out, _ = run("solve", "--help")
+    assert code == 0 and "mech solve ID --help" in out
+
+
 def test_a_note_shared_by_outputs_is_said_once(monkeypatch):
     from mech.cli import render
     from mech.problems import registry
@@ -274,7 +287,7 @@ def test_from_book_in_list_and_show_text():
     code, out, _ = run("show", "5.4")
     assert "set for mech" in out
     code, out, _ = run("show", "5.3")
-    assert "from the book" in out
+    assert "source: the book's own exercise" in out
 
 
 # -- item 11: bench's method names -----------------------------------------------------------------
