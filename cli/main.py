@@ -192,8 +192,11 @@ class SolveCommand(click.Command):
 @click.option("--rtol", "rtol_text", metavar="R", help="Requested accuracy of the numeric solver [exercise default].")
 @click.option("--no-verify", is_flag=True, help="Skip the rerun at rtol/10 that tests the numeric accuracy claim.")
 @click.option("--json", "as_json", is_flag=True, help="The contract's JSON object on stdout.")
+@click.option("--expect", "expects", multiple=True, metavar="NAME=VALUE",
+              help="Your answer for an output, judged to the digits written (repeatable): --expect theta_c=35.26deg.")
+@click.option("--expect-rtol", "expect_rtol", metavar="R", help="Judge --expect values to this relative tolerance.")
 @click.pass_context
-def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json):
+def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects, expect_rtol):
     """Solve exercise ID; parameters as --NAME VALUE or -p NAME=VALUE.
 
     Values are SI unless a unit is given: 90deg, 15 cm, 2Hz, 100 rpm, pi/3.
@@ -206,17 +209,23 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json):
         given = collect_params(ex, ctx.meta.get("mech_param_args", []), list(pairs))
         params = ex.resolve(given)
         rtol = parse_rtol(rtol_text, ex)
+        grading = None
+        if expects or expect_rtol is not None:
+            from mech.cli import grading
+
+            expectations = grading.parse_expect_options(ex, list(expects), expect_rtol)
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     methods = ("analytic", "numeric") if method == "both" else (method,)
     result = cross_check(ex, params, methods=methods, rtol=rtol, verify=not no_verify and method != "analytic")
+    expect_ok = grading.attach(result, expectations) if grading else True
     if as_json:
-        _emit_json(result.as_json())
+        _emit_json(grading.solve_json(result) if grading else result.as_json())
     else:
         from mech.cli import render
 
         render.print_solve(result)
-    ctx.exit(EXIT_DISAGREE if result.agree is False else EXIT_OK)
+    ctx.exit(EXIT_DISAGREE if result.agree is False or not expect_ok else EXIT_OK)
 
 
 @cli.command("check")
