@@ -129,3 +129,225 @@ def solve_json(result) -> dict:
                 q["expected"] = expected[q["name"]].as_json()
         d["expect_ok"] = all(j.match for j in expected.values())
     return d
+
+
+# -- mech grade FILE ------------------------------------------------------------------------------------
+
+_ENTRY_KEYS = ("exercise", "params", "expect", "rtol")
+
+
+@dataclass
+class Entry:
+    number: int  # 1-based, in file order
+    line: int | None
+    exercise: Exercise
+    given: dict  # SI
+    written: dict  # the parameters as written, for labels
+    expectations: list
+    result: object = None
+    judgements: list = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        return bool(self.judgements) and all(j.match for j in self.judgements)
+
+    def label(self) -> str:
+        given = ", ".join(f"{k}={v}" for k, v in self.written.items())
+        return f"answer {self.number}" + (f": {given}" if given else "")
+
+
+class BadFile(BadInput):
+    """A grading file mech cannot use; the message names the file, the entry and the field."""
+
+
+def _entry_lines(text: str) -> list[int]:
+    return [i for i, line in enumerate(text.splitlines(), 1) if re.match(r"\s*\[\[\s*answer\s*\]\]", line)]
+
+
+def load_answers(path: str) -> list[Entry]:
+    """Read and check a whole grading file before anything is solved; BadFile on the first problem."""
+    from mech.problems import registry
+
+    try:
+        with open(path, "rb") as fh:
+            raw = fh.read()
+        text = raw.decode("utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise BadFile(f"{path}: cannot read: {getattr(exc, 'strerror', None) or exc}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise BadFile(f"{path}: malformed TOML: {exc}") from None
+    for key in data:
+        if key != "answer":
+            raise BadFile(f"{path}: '{key}': unknown top-level key; answers go in [[answer]] tables")
+    answers = data.get("answer")
+    if not isinstance(answers, list) or not answers or not all(isinstance(a, dict) for a in answers):
+        raise BadFile(f"{path}: no [[answer]] tables")
+    lines = _entry_lines(text)
+    entries = []
+    for k, item in enumerate(answers, 1):
+        line = lines[k - 1] if len(lines) == len(answers) else None
+        where = f"{path}: answer {k}" + (f" (line {line})" if line else "")
+
+        def bad(fld: str, why: str):
+            return BadFile(f"{where}: {fld}: {why}")
+
+        for key in item:
+            if key not in _ENTRY_KEYS:
+                raise bad(key, f"unknown field; an answer has {', '.join(_ENTRY_KEYS)}")
+        ex_id = item.get("exercise")
+        if not isinstance(ex_id, str):
+            raise bad("exercise", "missing, or not a string such as \"4.15\"")
+        try:
+            ex = registry.get(ex_id)
+        except BadInput as exc:
+            raise bad("exercise", str(exc)) from None
+        params = item.get("params", {})
+        if not isinstance(params, dict):
+            raise bad("params", "not a table such as { theta0 = \"60deg\" }")
+        given, written = {}, {}
+        for raw_name, value in params.items():
+            name = raw_name.strip().replace("-", "_")
+            if name not in ex.param_map:
+                raise bad(f"params.{raw_name}", f"not a parameter of {ex.id}; its parameters are: "
+                          f"{', '.join(ex.param_map)}")
+            param = ex.param_map[name]
+            if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+                raise bad(f"params.{raw_name}", "not a number or a string such as \"60deg\"")
+            try:
+                given[name] = to_si(str(value), param.unit)
+                param.check(given[name])
+            except (ValueError_, BadInput) as exc:
+                why = str(exc).removeprefix(f"{name}: ")
+                raise bad(f"params.{raw_name}", f"cannot use '{value}': {why}") from None
+            written[name] = value
+        try:
+            ex.resolve(given)
+        except BadInput as exc:
+            raise bad("params", str(exc)) from None
+        rtol = None
+        if "rtol" in item:
+            try:
+                rtol = parse_rtol_value(item["rtol"], "rtol")
+            except BadInput as exc:
+                raise BadFile(f"{where}: {exc}") from None
+        expect = item.get("expect")
+        if not isinstance(expect, dict) or not expect:
+            raise bad("expect", "missing or empty; give a table such as { theta_c = \"35.26deg\" }")
+        expectations = []
+        for raw_name, value in expect.items():
+            try:
+                expectations.append(parse_expectation(ex, raw_name, value, rtol))
+            except BadInput as exc:
+                raise bad(f"expect.{raw_name}", str(exc).split(": ", 1)[1]) from None
+            if [e.name for e in expectations].count(expectations[-1].name) > 1:
+                raise bad(f"expect.{raw_name}", "given more than once")
+        entries.append(Entry(k, line, ex, given, written, expectations))
+    return entries
+
+
+def grade(entries: list[Entry]) -> None:
+    from mech.solvers.crosscheck import cross_check
+
+    for entry in entries:
+        entry.result = cross_check(entry.exercise, entry.exercise.resolve(entry.given))
+        entry.judgements = judge(entry.result, entry.expectations)
+        entry.result.expected = {j.name: j for j in entry.judgements}
+
+
+def grade_json(path: str, entries: list[Entry], seconds: float) -> dict:
+    judgements = [j for e in entries for j in e.judgements]
+    passed = sum(j.match for j in judgements)
+    return {
+        "file": path,
+        "entries": [{"exercise": e.exercise.id, "answer": e.number, "params": dict(e.result.params),
+                     "quantities": solve_json(e.result)["quantities"], "agree": e.result.agree, "ok": e.ok}
+                    for e in entries],
+        "ok": passed == len(judgements),
+        "passed": passed,
+        "failed": len(judgements) - passed,
+        "seconds": seconds,
+    }
+
+
+def write_grade_junit(path: str, entries: list[Entry], seconds: float, out_file: str) -> None:
+    """One test case per expected value; the classname ``mech.ex4_15`` has no dot inside the id, so CI
+    viewers do not split "4.15" into a package 4 and a class 15."""
+    judgements = [(e, j) for e in entries for j in e.judgements]
+    failed = sum(not j.match for _, j in judgements)
+    suite = ET.Element("testsuite", name=f"mech grade {path}", tests=str(len(judgements)), failures=str(failed),
+                       errors="0", time=f"{seconds:.3f}")
+    for e, j in judgements:
+        tc = ET.SubElement(suite, "testcase", classname=f"mech.ex{e.exercise.id.replace('.', '_')}",
+                           name=f"{j.name} = {j.text} ({e.label()})")
+        if not j.match:
+            fail = ET.SubElement(tc, "failure", message=j.verdict)
+            fail.text = (f"{e.exercise.id} {j.name}: yours {j.text}, mech {j.shown_reference or '—'}"
+                         f" ({j.reference or 'no reference'}): {j.verdict}")
+    root = ET.Element("testsuites", name="mech", tests=str(len(judgements)), failures=str(failed))
+    root.append(suite)
+    ET.indent(root)
+    ET.ElementTree(root).write(out_file, encoding="utf-8", xml_declaration=True)
+
+
+def print_grade(entries: list[Entry], seconds: float) -> None:
+    from rich import box
+    from rich.table import Table
+    from rich.text import Text
+
+    from mech.cli import render
+
+    t = Table(box=box.SIMPLE_HEAD, show_edge=False)
+    for col, just in (("#", "right"), ("exercise", "left"), ("quantity", "left"), ("yours", "right"),
+                      ("mech", "right"), ("verdict", "left")):
+        t.add_column(col, justify=just)
+    for e in entries:
+        given = ", ".join(f"{k}={v}" for k, v in e.written.items())
+        for i, j in enumerate(e.judgements):
+            t.add_row(str(e.number) if i == 0 else "", (f"{e.exercise.id}" + (f" ({given})" if given else ""))
+                      if i == 0 else "", j.name, j.text, j.shown_reference or "—",
+                      Text(j.verdict, style="green" if j.match else "bold red"))
+    c = render.console()
+    c.print(t)
+    judgements = [j for e in entries for j in e.judgements]
+    right = sum(j.match for j in judgements)
+    c.print(Text(f"{right} of {len(judgements)} answers right, {len(judgements) - right} wrong"
+                 f" ({len(entries)} entr{'y' if len(entries) == 1 else 'ies'}) in {seconds:.1f} s",
+                 style="green" if right == len(judgements) else "bold red"))
+
+
+@click.command("grade")
+@click.argument("file", metavar="FILE")
+@click.option("--json", "as_json", is_flag=True, help="A JSON report on stdout.")
+@click.option("--junit", "junit_file", type=click.Path(dir_okay=False, writable=True),
+              help="Write a JUnit XML report: one test case per expected value.")
+def grade_cmd(file, as_json, junit_file):
+    """Hold a TOML file of answers against mech (each [[answer]]: exercise, params, expect, rtol).
+
+    \b
+    [[answer]]
+    exercise = "4.15"
+    params = { theta0 = "60deg" }
+    expect = { theta_c = "35.26deg", omega_c = "2.91 rad/s" }
+
+    Values are judged to the digits written (or to rtol). Exit status: 0 all right,
+    1 any wrong, 2 a bad file (one line naming the file, the answer and the field).
+    """
+    from mech.cli.main import EXIT_DISAGREE, EXIT_OK, UsageFailure
+
+    try:
+        entries = load_answers(file)
+    except BadInput as exc:
+        raise UsageFailure(str(exc)) from None
+    t0 = time.perf_counter()
+    grade(entries)
+    seconds = time.perf_counter() - t0
+    if junit_file:
+        write_grade_junit(file, entries, seconds, junit_file)
+    if as_json:
+        click.echo(json.dumps(grade_json(file, entries, seconds), indent=2, allow_nan=False))
+    else:
+        print_grade(entries, seconds)
+    ok = all(e.ok for e in entries)
+    click.get_current_context().exit(EXIT_OK if ok else EXIT_DISAGREE)

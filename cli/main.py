@@ -53,6 +53,7 @@ class MechGroup(click.Group):
     # commands kept in their own modules, imported only when listed or called
     LAZY = {
         "bench": ("mech.cli.bench", "bench_cmd"),
+        "grade": ("mech.cli.grading", "grade_cmd"),
         "plot": ("mech.cli.plot", "plot_cmd"),
         "sweep": ("mech.cli.sweep", "sweep_cmd"),
     }
