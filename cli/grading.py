@@ -351,3 +351,69 @@ def grade_cmd(file, as_json, junit_file):
         print_grade(entries, seconds)
     ok = all(e.ok for e in entries)
     click.get_current_context().exit(EXIT_OK if ok else EXIT_DISAGREE)
+
+
+# -- mech check --save-baseline / --baseline ------------------------------------------------------------
+
+def open_baseline(path: str) -> dict:
+    """A baseline file, read and checked before the run (BadInput: one line naming the file and field)."""
+    from mech.solvers import baseline
+
+    try:
+        with open(path, encoding="utf-8") as fh:
+            data = json.load(fh)
+    except (OSError, UnicodeDecodeError) as exc:
+        raise BadInput(f"{path}: cannot read: {getattr(exc, 'strerror', None) or exc}") from None
+    except json.JSONDecodeError as exc:
+        raise BadInput(f"{path}: malformed JSON: {exc}") from None
+    problem = baseline.validate(data)
+    if problem:
+        raise BadInput(f"{path}: {problem}")
+    return data
+
+
+def check_records(report) -> list[dict]:
+    from mech.solvers import baseline
+
+    return [baseline.record_case(c.exercise.id, c.label, getattr(c.result, "params", None) or c.given, c.ok,
+                                 getattr(c.result, "quantities", None)) for c in report.cases]
+
+
+def baselines(report, hard: bool, old: dict | None, old_path: str | None, save_path: str | None):
+    """Compare this check with a loaded baseline and/or save it as one; the Comparison or None."""
+    from mech.solvers import baseline
+
+    records = check_records(report)
+    cmp = baseline.compare(old, records, old_path or "") if old is not None else None
+    if save_path:
+        try:
+            with open(save_path, "w", encoding="utf-8") as fh:
+                json.dump(baseline.make(records, hard), fh, indent=1, allow_nan=False)
+                fh.write("\n")
+        except OSError as exc:
+            raise BadInput(f"{save_path}: cannot write the baseline: {exc.strerror or exc}") from None
+    return cmp
+
+
+def print_baseline(cmp, saved: str | None) -> None:
+    from rich.text import Text
+
+    from mech.cli import render
+
+    c = render.console()
+    if cmp is not None:
+        then = cmp.versions_then
+        changed = [f"{k} {then.get(k)} -> {v}" for k, v in cmp.versions_now.items() if then.get(k) != v]
+        since = f" (since: {', '.join(changed)})" if changed else ""
+        if cmp.ok:
+            c.print(Text(f"baseline {cmp.path}: {cmp.compared} values, none moved beyond its error bars{since}",
+                         style="green"))
+        else:
+            c.print(Text(f"baseline {cmp.path}: {len(cmp.moved)} of {cmp.compared} values moved beyond their "
+                         f"error bars{since}:", style="bold red"))
+            for m in cmp.moved:
+                c.print(Text(f"  {m.text()}", style="red"))
+        if cmp.not_in_baseline:
+            c.print(Text(f"not in the baseline: {', '.join(cmp.not_in_baseline)}", style="yellow"))
+    if saved:
+        c.print(Text(f"baseline saved to {saved}", style="dim"))

@@ -234,8 +234,10 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
 @click.option("--hard", is_flag=True, help="Also run every exercise's hard cases.")
 @click.option("--json", "as_json", is_flag=True, help="A JSON report on stdout.")
 @click.option("--junit", "junit_file", type=click.Path(dir_okay=False, writable=True), help="Write a JUnit XML report.")
+@click.option("--save-baseline", "save_baseline", metavar="FILE", help="Record every checked value with its error bar.")
+@click.option("--baseline", "baseline_file", metavar="FILE", help="Fail when a value moved beyond its error bars since FILE.")
 @click.pass_context
-def check_cmd(ctx, ids, hard, as_json, junit_file):
+def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file):
     """Cross-check every (or the named) exercise at its defaults, and with --hard its hard cases.
 
     Exit status 1 when any case fails: the CI regression command.
@@ -243,16 +245,30 @@ def check_cmd(ctx, ids, hard, as_json, junit_file):
     from mech.cli.checking import run_check, write_junit
 
     exercises = [_get(i) for i in ids] if ids else list(_registry().all_exercises().values())
+    grading = old = None
+    if save_baseline or baseline_file:
+        from mech.cli import grading
+
+        try:
+            old = grading.open_baseline(baseline_file) if baseline_file else None  # a bad file fails first
+        except BadInput as exc:
+            raise UsageFailure(str(exc)) from None
     report = run_check(exercises, hard=hard, progress=not as_json)
     if junit_file:
         write_junit(report, junit_file)
+    try:
+        moved = grading.baselines(report, hard, old, baseline_file, save_baseline) if grading else None
+    except BadInput as exc:
+        raise UsageFailure(str(exc)) from None
     if as_json:
-        _emit_json(report.as_json())
+        _emit_json({**report.as_json(), **({"baseline": moved.as_json()} if moved else {})})
     else:
         from mech.cli import render
 
         render.print_check(report)
-    ctx.exit(EXIT_OK if report.ok else EXIT_DISAGREE)
+        if grading:
+            grading.print_baseline(moved, save_baseline)
+    ctx.exit(EXIT_OK if report.ok and (moved is None or moved.ok) else EXIT_DISAGREE)
 
 
 def main(argv=None) -> None:

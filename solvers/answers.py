@@ -115,7 +115,7 @@ def reference(q, errors: list[str]) -> _Reference:
     """What an answer to output ``q`` (a crosscheck Quantity) is held against."""
     a, n = q.analytic, q.numeric
     if errors or q.agree is False:
-        why = "analytic and numeric disagree" if q.agree is False else "a solver failed"
+        why = "analytic and numeric disagree" if q.agree is False else errors[0]
         return _Reference(None, why=f"no trusted value: {why}")
     for v in (a, n):
         if isinstance(v, Undefined):
