@@ -222,7 +222,8 @@ def _verdict_right(e: Expectation, ref: _Reference) -> str:
 
 
 def _percent(rel: float) -> str:
-    return f"{100 * rel:.2g} %"
+    pct = 100 * rel
+    return f"{pct:.0f} %" if pct >= 10 else f"{pct:.2g} %"
 
 
 def _verdict_off(e: Expectation, ref: _Reference, rel: float) -> str:
