@@ -72,7 +72,10 @@ def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = No
     exact = len(literals) != 1 or any(k == "name" and v in CONSTANTS for k, v in toks)
     if exact:
         return Expectation(name, text, value, 0.0, None, rtol)
-    half_unit, digits = _literal_precision(toks[literals[0]][1])
+    try:
+        half_unit, digits = _literal_precision(toks[literals[0]][1])
+    except OverflowError:
+        raise BadInput(f"{name}: cannot use '{text}': an exponent too large") from None
     factor, unit_text = _unit_factor(text, toks, literals[0], unit)
     return Expectation(name, text, value, half_unit * abs(factor), digits, rtol, unit_text, abs(factor))
 

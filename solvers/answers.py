@@ -207,13 +207,15 @@ def _digits_phrase(n: int | None) -> str:
     return "the digits written" if not n else f"{n} digit{'s' if n != 1 else ''}"
 
 
-def _verdict_right(e: Expectation, ref: _Reference) -> str:
+def _verdict_right(e: Expectation, ref: _Reference, diff: float) -> str:
+    """Say what the match needed: the digits written, mech's own error bar, or the theory's neglect."""
     own = e.own_tol(ref.value)
-    if ref.theory_err > max(own, ref.err):
+    slack = ROUND_OFF * abs(ref.value)
+    if diff > own + ref.err + slack:
         rel = ref.theory_err / abs(ref.value) if ref.value else 0.0
         return f"right within the {_percent(rel)} the leading-order theory neglects"
-    if ref.err > own:
-        return f"right within mech's error bar ({ref.err:.2g} SI)"
+    if ref.err > own:  # mech cannot vouch for more digits than its error bar
+        return f"right within mech's error bar ({ref.err:.2g})"
     if e.rtol is not None:
         return f"right within rtol {e.rtol:g}"
     if e.digits is None:
@@ -266,7 +268,7 @@ def judge(result, expectations: list[Expectation]) -> list[Judgement]:
         j.rel_err = diff / abs(ref.value) if ref.value != 0 else diff
         j.match = bool(diff <= j.tol)
         if j.match:
-            j.verdict = _verdict_right(e, ref)
+            j.verdict = _verdict_right(e, ref, diff)
         else:
             j.hint = _hint(e, q, ref, refs, by_name, gslips)
             j.verdict = f"{j.hint or _verdict_off(e, ref, j.rel_err)} (mech: {j.shown_reference})"

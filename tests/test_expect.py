@@ -221,3 +221,26 @@ def test_mechs_error_bar_widens_the_tolerance():
     q = _q("x", "m", None, 1.0, agree=None, numeric_err=1e-3)
     (j,) = _judge(q, ("x", "1.0008"))
     assert j.match and "error bar" in j.verdict
+
+
+def test_judging_imports_no_scipy(tmp_path):
+    """--expect and mech grade add no scipy import to a solve that needs none."""
+    import subprocess
+    import sys
+
+    answers = tmp_path / "a.toml"
+    answers.write_text('[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "0.7297" }\n', encoding="utf-8")
+    code = (
+        "import sys\n"
+        "from mech.cli.main import cli\n"
+        f"for argv in (['solve', '4.15', '--expect', 'theta_c=35.26deg'], ['grade', {str(answers)!r}]):\n"
+        "    try:\n"
+        "        cli.main(argv, standalone_mode=False)\n"
+        "    except SystemExit:\n"
+        "        pass\n"
+        "bad = sorted(m for m in sys.modules if m.split('.')[0] == 'scipy')\n"
+        "print(bad[:5], file=sys.stderr)\n"
+        "sys.exit(1 if bad else 0)\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
