@@ -261,6 +261,7 @@ class CrossCheck:
     timing: dict
     numeric_info: dict | None
     errors: list[str] = field(default_factory=list)
+    run: Any = field(default=None, repr=False)  # the numeric solve's Run (its recorded integrations)
 
     @property
     def agree(self) -> bool | None:
@@ -323,6 +324,7 @@ def cross_check(
     rtol: float | None = None,
     verify: bool = True,
     budget_s: float | None = None,
+    keep_trajectories: bool = False,
 ) -> CrossCheck:
     """Run the asked-for solvers and compare; solver failures become loud entries, never numbers.
 
@@ -361,7 +363,7 @@ def cross_check(
         shared: dict = {}  # what a serial rerun may reuse of the solve (see Run.shared)
         with budget.limit(budget_s, what=f"the numeric solve of {ex.id}"):
             try:
-                numeric, run = ex.solve_numeric(params, rtol, shared=shared)
+                numeric, run = ex.solve_numeric(params, rtol, shared=shared, keep_trajectories=keep_trajectories)
             except BaseException as exc:
                 if rerun is not None:
                     _abandon_rerun(rerun)
@@ -484,4 +486,5 @@ def cross_check(
         timing=timing,
         numeric_info={**run.as_json(), "import_s": import_s} if run is not None else None,
         errors=errors,
+        run=run,
     )
