@@ -398,6 +398,27 @@ def baselines(report, hard: bool, old: dict | None, old_path: str | None, save_p
     return cmp
 
 
+def junit_baseline(junit_file: str, cmp) -> None:
+    """Add to ``mech check``'s JUnit report a suite with one test case per point compared with the
+    baseline, failed when any of its values moved: CI shows what moved, not only the exit status."""
+    tree = ET.parse(junit_file)
+    root = tree.getroot()
+    moved: dict[tuple[str, str], list[str]] = {}
+    for m in cmp.moved:
+        moved.setdefault((m.id, m.case), []).append(m.text())
+    suite = ET.SubElement(root, "testsuite", name=f"mech baseline {cmp.path}", tests=str(len(cmp.points)),
+                          failures=str(len(moved)), errors="0")
+    for ex_id, case in cmp.points:
+        tc = ET.SubElement(suite, "testcase", classname=f"mech.baseline.ex{ex_id.replace('.', '_')}", name=case)
+        if (ex_id, case) in moved:
+            fail = ET.SubElement(tc, "failure", message="moved beyond its error bars since the baseline")
+            fail.text = "\n".join(moved[(ex_id, case)])
+    root.set("tests", str(int(root.get("tests", "0")) + len(cmp.points)))
+    root.set("failures", str(int(root.get("failures", "0")) + len(moved)))
+    ET.indent(root)
+    tree.write(junit_file, encoding="utf-8", xml_declaration=True)
+
+
 def print_baseline(cmp, saved: str | None) -> None:
     from rich.text import Text
 

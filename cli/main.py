@@ -254,12 +254,14 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file)
         except BadInput as exc:
             raise UsageFailure(str(exc)) from None
     report = run_check(exercises, hard=hard, progress=not as_json)
-    if junit_file:
-        write_junit(report, junit_file)
     try:
         moved = grading.baselines(report, hard, old, baseline_file, save_baseline) if grading else None
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
+    if junit_file:
+        write_junit(report, junit_file)
+        if moved:
+            grading.junit_baseline(junit_file, moved)
     if as_json:
         _emit_json({**report.as_json(), **({"baseline": moved.as_json()} if moved else {})})
     else:

@@ -119,6 +119,7 @@ class Comparison:
     moved: list[Move] = field(default_factory=list)
     compared: int = 0  # values compared
     not_in_baseline: list[str] = field(default_factory=list)  # points checked now that the baseline lacks
+    points: list[tuple[str, str]] = field(default_factory=list)  # (id, case) of every point compared
     versions_then: dict = field(default_factory=dict)
     versions_now: dict = field(default_factory=dict)
 
@@ -145,6 +146,7 @@ def compare(baseline: dict, records: list[dict], path: str = "") -> Comparison:
         if old_case is None:
             cmp.not_in_baseline.append(f"{rec['id']} {rec['case']}")
             continue
+        cmp.points.append((rec["id"], rec["case"]))
         if old_case["params"] != rec["params"]:
             changed = sorted(k for k in set(old_case["params"]) | set(rec["params"])
                              if old_case["params"].get(k) != rec["params"].get(k))

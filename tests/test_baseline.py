@@ -121,3 +121,21 @@ def test_compare_a_value_that_became_undefined():
     new = _rec(None, None)
     cmp = baseline.compare(old, [new])
     assert not cmp.ok and "no longer has a finite value" in cmp.moved[0].why
+
+
+def test_junit_gains_one_case_per_point_compared(saved, tmp_path):
+    import xml.etree.ElementTree as ET
+
+    moved = copy.deepcopy(saved)
+    o = moved["cases"][1]["outputs"]["theta_c"]
+    o["numeric"] -= 3 * o["numeric_err"]
+    junit = tmp_path / "check.xml"
+    code, _, _ = run("check", "4.15", "--hard", "--baseline", _write(tmp_path, moved), "--junit", str(junit))
+    assert code == 1
+    root = ET.parse(junit).getroot()
+    suites = root.findall("testsuite")
+    assert len(suites) == 2 and suites[1].get("name").startswith("mech baseline")
+    cases = suites[1].findall("testcase")
+    assert [c.get("name") for c in cases] == ["defaults", "hard 1", "hard 2"]
+    assert [c.find("failure") is not None for c in cases] == [False, True, False]
+    assert root.get("tests") == "6" and root.get("failures") == "1"
