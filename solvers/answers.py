@@ -156,7 +156,8 @@ class _GSlips:
         if self._values is None:
             self._values = []
             ex, params = self.result.exercise, self.result.params
-            if "g" in params and ex._analytic is not None:
+            g_param = getattr(ex, "param_map", {}).get("g")
+            if g_param is not None and g_param.unit == "m/s^2" and ex._analytic is not None:
                 g = float(params["g"])
                 for phrase, g_slip in (("g left out (taken as 1)", 1.0), ("g doubled", 2.0 * g)):
                     if g_slip == g:
