@@ -201,7 +201,7 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
     """Solve exercise ID; parameters as --NAME VALUE or -p NAME=VALUE.
 
     Values are SI unless a unit is given: 90deg, 15 cm, 2Hz, 100 rpm, pi/3.
-    Exit status: 0 agree, 1 a cross-check failed, 2 bad input.
+    Exit status: 0 agree, 1 a cross-check failed (or an --expect value is off), 2 bad input.
     """
     from mech.solvers.crosscheck import cross_check
 
