@@ -244,3 +244,24 @@ def test_judging_imports_no_scipy(tmp_path):
     )
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+_PIECES = ["theta_c", "omega_c", "=", "35.26", "deg", "rad", "/s", "pi", "-", "1e", "999", "0", ".", " ", "Hz",
+           "m", "(", "^2", "e-3", "x"]
+
+
+@settings(max_examples=150, deadline=None)
+@given(pieces=st.lists(st.one_of(st.sampled_from(_PIECES), st.text(max_size=4)), min_size=1, max_size=6),
+       rtol=st.one_of(st.none(), st.sampled_from(["1e-3", "0", "2", "abc", "0.5"])))
+def test_fuzz_expect_never_crashes(pieces, rtol):
+    args = ["solve", "4.15", "--method", "analytic", "--expect", "".join(pieces)]
+    if rtol is not None:
+        args += ["--expect-rtol", rtol]
+    code, out, err = run(*args)
+    assert code in (0, 1, 2), err
+    assert "Traceback" not in err and "internal error" not in err
+    if code == 2:
+        assert out == "" and len(err.strip().splitlines()) == 1

@@ -130,3 +130,28 @@ def test_a_missing_file_exits_2(tmp_path):
 def test_grade_is_listed_in_help():
     code, out, _ = run("--help")
     assert code == 0 and "grade" in out
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+_VALUES = ['"4.15"', '4.15', '"4.99"', '[1, 2]', '{ a = 1 }', '"60deg"', 'true', '"abc"', 'inf', 'nan', '-0.0',
+           '"35.26deg"', '0.7297', '"2 m"', '""', '1e-3', '"1e999"']
+_NAMES = ["theta0", "theta_c", "omega_c", "l", "x", "g", "theta-c"]
+
+
+@settings(max_examples=120, deadline=None)
+@given(exercise=st.sampled_from(_VALUES), pname=st.sampled_from(_NAMES), pval=st.sampled_from(_VALUES),
+       ename=st.sampled_from(_NAMES), evalue=st.sampled_from(_VALUES),
+       extra=st.sampled_from(["", "rtol = 1e-3", "rtol = 0", "rtol = \"x\"", "foo = 1", "[other]"]))
+def test_fuzz_grading_files_never_crash(tmp_path_factory, exercise, pname, pval, ename, evalue, extra):
+    path = tmp_path_factory.mktemp("fuzz") / "f.toml"
+    path.write_text(f"[[answer]]\nexercise = {exercise}\nparams = {{ {pname} = {pval} }}\n"
+                    f"expect = {{ {ename} = {evalue} }}\n{extra}\n", encoding="utf-8")
+    result = CliRunner().invoke(cli, ["grade", str(path), "--json"])
+    assert result.exit_code in (0, 1, 2), result.stderr
+    assert "Traceback" not in result.stderr and "internal error" not in result.stderr
+    if result.exit_code == 2:
+        assert result.stdout == "" and len(result.stderr.strip().splitlines()) == 1
+    else:
+        json.loads(result.stdout)
