@@ -20,10 +20,22 @@ class Case:
     worst_ratio: float | None = None
     detail: str = ""
     result: object = None
+    same_as: list = field(default_factory=list)  # hard cases (numbers) that resolve to this case's parameters
+
+    @property
+    def description(self) -> str:
+        """The label as shown: ``hard 2: theta0 = 1 deg``, ``defaults (= hard 1)``; ``label`` stays the key
+        (``hard 2``) that baselines and scripts match on."""
+        text = self.label
+        if self.given and self.label != "defaults":
+            text += f": {case_text(self.exercise, self.given)}"
+        if self.same_as:
+            text += f" (= hard {', '.join(map(str, self.same_as))})"
+        return text
 
     def as_json(self) -> dict:
-        d = {"id": self.exercise.id, "case": self.label, "params": self.given, "ok": self.ok,
-             "seconds": self.seconds, "worst_err_over_tol": self.worst_ratio, "detail": self.detail}
+        d = {"id": self.exercise.id, "case": self.label, "description": self.description, "params": self.given,
+             "ok": self.ok, "seconds": self.seconds, "worst_err_over_tol": self.worst_ratio, "detail": self.detail}
         if self.result is not None:
             d["quantities"] = [q.as_json() for q in self.result.quantities]
         return d
@@ -53,8 +65,8 @@ class Report:
 
 def plan(exercises, hard: bool) -> list[Case]:
     """The cases to run: each exercise once (a repeated id is run once), its defaults first, then its hard
-    cases labelled with their parameters; a hard case that resolves to the defaults is not run twice, its
-    number is added to the defaults' label instead."""
+    cases; a hard case that resolves to the defaults is not run twice (the defaults' description names
+    it)."""
     cases: list[Case] = []
     seen: set[str] = set()
     for ex in exercises:
@@ -79,9 +91,8 @@ def plan(exercises, hard: bool) -> list[Case]:
             if is_default:
                 same.append(k)
                 continue
-            cases.append(Case(ex, f"hard {k}: {case_text(ex, given)}", given))
-        if same:
-            defaults.label = f"defaults (= hard {', '.join(map(str, same))})"
+            cases.append(Case(ex, f"hard {k}", given))
+        defaults.same_as = same
     return cases
 
 
@@ -158,7 +169,7 @@ def write_junit(report: Report, path: str) -> None:
     for case in report.cases:
         # "mech.4.15" reads as package mech.4, class 15 in CI viewers: the id's dot becomes an underscore
         tc = ET.SubElement(suite, "testcase", classname=f"mech.ex{case.exercise.id.replace('.', '_')}",
-                           name=f"{case.exercise.id} {case.label}", time=f"{case.seconds:.3f}")
+                           name=f"{case.exercise.id} {case.description}", time=f"{case.seconds:.3f}")
         if not case.ok:
             fail = ET.SubElement(tc, "failure", message=case.detail or "cross-check failed")
             fail.text = case.detail

@@ -200,12 +200,17 @@ def _columns(result) -> list[str]:
         cols += ["rel. diff", "tol", "agree"]
     elif has_n and any(q.agree is False for q in qs):
         cols += ["agree"]
+    if getattr(result, "expected", None):  # your own answers (mech solve --expect)
+        cols += ["yours", "verdict"]
     return cols
 
 
-def _cells(q) -> dict:
+def _cells(q, expected: dict | None = None) -> dict:
     name = q.name if q.theory == "exact" else q.name + " *"
+    j = (expected or {}).get(q.name)
     return {
+        "yours": Text(j.text if j else ""),
+        "verdict": Text(j.verdict, style="green" if j.match else "bold red") if j else Text(""),
         "quantity": Text(name),
         "unit": Text(q.unit),
         "analytic": Text(with_error(q.analytic, getattr(q, "analytic_err", None))),
@@ -230,14 +235,15 @@ def solve_table(result, width: int | None = None) -> Table | Group:
     """The results, one row per output; where that is wider than ``width``, the unit joins the name, and
     where it still is, one block of lines per output: never a cut number."""
     cols = _columns(result)
+    expected = getattr(result, "expected", None) or {}
     for merged in (False, True):
         t = Table(box=box.SIMPLE_HEAD, show_edge=False, pad_edge=False)
         shown = [c for c in cols if not (merged and c == "unit")]
         for col in shown:
-            t.add_column(col, justify="left" if col in ("quantity", "unit") else
+            t.add_column(col, justify="left" if col in ("quantity", "unit", "verdict") else
                          "center" if col == "agree" else "right", no_wrap=True)
         for q in result.quantities:
-            cells = _cells(q)
+            cells = _cells(q, expected)
             if merged and q.unit != "1":
                 cells["quantity"] = Text(f"{cells['quantity'].plain} [{q.unit}]")
             t.add_row(*(cells[col] for col in shown))
@@ -245,7 +251,7 @@ def solve_table(result, width: int | None = None) -> Table | Group:
             return t
     blocks = []
     for q in result.quantities:
-        cells = _cells(q)
+        cells = _cells(q, expected)
         unit = "" if q.unit == "1" else f" [{q.unit}]"
         fields = [(col, cells[col]) for col in ("analytic", "numeric") if col in cols]
         if "agree" in cols:
@@ -253,6 +259,8 @@ def solve_table(result, width: int | None = None) -> Table | Group:
             if "tol" in cols:
                 check.append(f" (rel. diff {cells['rel. diff'].plain}, tol {cells['tol'].plain})")
             fields.append(("agree", check))
+        if expected.get(q.name):
+            fields += [("yours", cells["yours"]), ("verdict", cells["verdict"])]
         blocks.append((cells["quantity"].plain + unit, fields))
     return _stacked("", blocks)
 
@@ -314,6 +322,9 @@ def print_solve(result) -> None:
     verdict = _verdict(result)
     if verdict is not None:
         parts.append(verdict)
+    if getattr(result, "expect_summary", None):
+        ok = all(j.match for j in result.expected.values())
+        parts.append(Text(result.expect_summary, style="green" if ok else "bold red"))
     emit(c, Group(*parts))
 
 
@@ -329,8 +340,8 @@ def print_check(report) -> None:
     for case in report.cases:
         res = Text("pass", style="green") if case.ok else Text("FAIL", style="bold red")
         ratio = "—" if case.worst_ratio is None else f"{case.worst_ratio:.2g}"
-        rows.append((case.exercise.id, case.label, res, ratio, f"{case.seconds:.2f} s", case.detail))
-        t.add_row(Text(case.exercise.id), Text(case.label), res, Text(ratio), Text(f"{case.seconds:.2f} s"),
+        rows.append((case.exercise.id, case.description, res, ratio, f"{case.seconds:.2f} s", case.detail))
+        t.add_row(Text(case.exercise.id), Text(case.description), res, Text(ratio), Text(f"{case.seconds:.2f} s"),
                   Text(case.detail))
     if not fits(c, t):
         t = _stacked("", [(f"{i}  {label}", [("result", res), ("worst err/tol", ratio), ("time", secs)]

@@ -240,11 +240,12 @@ def test_check_names_hard_cases_by_their_parameters_and_runs_an_id_once(tmp_path
     junit = tmp_path / "r.xml"
     code, out, _ = run("check", "4.15", "4.15", "--hard", "--junit", str(junit), "--json")
     d = json.loads(out)
-    labels = [c["case"] for c in d["cases"]]
-    # 4.15's hard case 1 is theta0 = 90 deg, its default: run once, under the defaults' label
-    assert labels == ["defaults (= hard 1)", "hard 2: theta0 = 1 deg"]
-    names = [tc.get("classname") for tc in ET.parse(junit).getroot().iter("testcase")]
-    assert names == ["mech.ex4_15", "mech.ex4_15"]
+    # 4.15's hard case 1 is theta0 = 90 deg, its default: run once, the defaults' description says so
+    assert [c["case"] for c in d["cases"]] == ["defaults", "hard 2"]
+    assert [c["description"] for c in d["cases"]] == ["defaults (= hard 1)", "hard 2: theta0 = 1 deg"]
+    cases = list(ET.parse(junit).getroot().iter("testcase"))
+    assert [tc.get("classname") for tc in cases] == ["mech.ex4_15", "mech.ex4_15"]
+    assert [tc.get("name") for tc in cases] == ["4.15 defaults (= hard 1)", "4.15 hard 2: theta0 = 1 deg"]
 
 
 # -- item 16, 18: help ------------------------------------------------------------------------------
