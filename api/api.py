@@ -161,6 +161,7 @@ class Solution:
         self._data = data
         self.trajectory = trajectory
         self._result = result
+        self.result = result  # the cross-check behind it (None for a sweep's points)
         self.quantities = [Quantity.from_dict(q) for q in data["quantities"]]
         self._by_name = {q.name: q for q in self.quantities}
 
@@ -257,20 +258,27 @@ def _fmt(v, digits: int = 12) -> str:
 def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, raise_on_failure: bool = True,
           params: dict | None = None, keep_trajectory: bool = True) -> Solution:
     from mech.problems import registry
-    from mech.solvers.crosscheck import cross_check
 
     ex = registry.get(str(ex_id))
     resolved = resolve_params(ex, dict(params or {}))
-    rtol_value = _rtol(ex, rtol)
-    methods = _methods(method)
-    result = cross_check(ex, resolved, methods=methods, rtol=rtol_value,
-                         verify=verify and "numeric" in methods, keep_trajectories=keep_trajectory)
-    sol = Solution(ex, result.as_json(), _trajectory(ex, result.run) if keep_trajectory else None, result)
-    if raise_on_failure and result.errors and any("solver failed" in e for e in result.errors):
-        exc = NumericFailure(f"{ex.id}: " + "; ".join(result.errors))
+    sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify,
+                         keep_trajectory=keep_trajectory)
+    if raise_on_failure and any("solver failed" in e for e in sol.errors):
+        exc = NumericFailure(f"{ex.id}: " + "; ".join(sol.errors))
         exc.solution = sol
         raise exc
     return sol
+
+
+def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None, verify: bool = True,
+                   keep_trajectory: bool = True) -> Solution:
+    """The cross-check at checked parameters: what ``mech.solve`` and ``mech solve`` both run."""
+    from mech.solvers.crosscheck import cross_check
+
+    result = cross_check(ex, params, methods=tuple(methods), rtol=rtol,
+                         verify=verify and "numeric" in methods, keep_trajectories=keep_trajectory)
+    trajectory = _trajectory(ex, result.run) if keep_trajectory else None
+    return Solution(ex, result.as_json(), trajectory, result)
 
 
 # -- sweep -----------------------------------------------------------------------

@@ -295,16 +295,23 @@ class SolveCommand(click.Command):
 @click.option("--expect", "expects", multiple=True, metavar="NAME=VALUE",
               help="Your answer for an output, judged to the digits written (repeatable): --expect theta_c=35.26deg.")
 @click.option("--expect-rtol", "expect_rtol", metavar="R", help="Judge --expect values to this relative tolerance.")
+@click.option("--trajectory", "trajectory_file", metavar="FILE.csv",
+              help="Write the integrated motion: t [s] and each state [unit], one row per time.")
 @click.pass_context
-def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects, expect_rtol):
+def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects, expect_rtol, trajectory_file):
     """Solve exercise ID; parameters as --NAME VALUE or -p NAME=VALUE.
 
     Values are SI unless a unit is given: 90deg, 15 cm, 2Hz, 100 rpm, pi/3.
     Exit status: 0 agree, 1 a cross-check failed (or an --expect value is off), 2 bad input.
     """
-    from mech.solvers.crosscheck import cross_check
+    from mech.api import solve_resolved
 
     ex = _get(ex_id)
+    if trajectory_file and not ex.states:
+        raise UsageFailure(f"--trajectory: the numeric route of {ex.id} integrates no equations of motion "
+                           "(it is a quadrature, an eigenproblem or a root search): there is no trajectory")
+    if trajectory_file and method == "analytic":
+        raise UsageFailure("--trajectory needs the numeric method: drop --method analytic")
     try:
         given = collect_params(ex, ctx.meta.get("mech_param_args", []), list(pairs))
         params = ex.resolve(given)
@@ -317,7 +324,14 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     methods = ("analytic", "numeric") if method == "both" else (method,)
-    result = cross_check(ex, params, methods=methods, rtol=rtol, verify=not no_verify and method != "analytic")
+    sol = solve_resolved(ex, params, methods=methods, rtol=rtol, verify=not no_verify and method != "analytic",
+                         keep_trajectory=bool(trajectory_file))
+    result = sol.result
+    if trajectory_file:
+        if sol.trajectory is None:
+            click.echo(f"mech: no trajectory written: the numeric solve of {ex.id} did not finish", err=True)
+        else:
+            sol.trajectory.to_csv(trajectory_file)
     expect_ok = grading.attach(result, expectations) if grading else True
     if as_json:
         _emit_json(grading.solve_json(result) if grading else result.as_json())
