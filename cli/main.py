@@ -53,6 +53,7 @@ class MechGroup(click.Group):
     # commands kept in their own modules, imported only when listed or called
     LAZY = {
         "bench": ("mech.cli.bench", "bench_cmd"),
+        "grade": ("mech.cli.grading", "grade_cmd"),
         "plot": ("mech.cli.plot", "plot_cmd"),
         "sweep": ("mech.cli.sweep", "sweep_cmd"),
     }
@@ -192,12 +193,15 @@ class SolveCommand(click.Command):
 @click.option("--rtol", "rtol_text", metavar="R", help="Requested accuracy of the numeric solver [exercise default].")
 @click.option("--no-verify", is_flag=True, help="Skip the rerun at rtol/10 that tests the numeric accuracy claim.")
 @click.option("--json", "as_json", is_flag=True, help="The contract's JSON object on stdout.")
+@click.option("--expect", "expects", multiple=True, metavar="NAME=VALUE",
+              help="Your answer for an output, judged to the digits written (repeatable): --expect theta_c=35.26deg.")
+@click.option("--expect-rtol", "expect_rtol", metavar="R", help="Judge --expect values to this relative tolerance.")
 @click.pass_context
-def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json):
+def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects, expect_rtol):
     """Solve exercise ID; parameters as --NAME VALUE or -p NAME=VALUE.
 
     Values are SI unless a unit is given: 90deg, 15 cm, 2Hz, 100 rpm, pi/3.
-    Exit status: 0 agree, 1 a cross-check failed, 2 bad input.
+    Exit status: 0 agree, 1 a cross-check failed (or an --expect value is off), 2 bad input.
     """
     from mech.solvers.crosscheck import cross_check
 
@@ -206,17 +210,23 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json):
         given = collect_params(ex, ctx.meta.get("mech_param_args", []), list(pairs))
         params = ex.resolve(given)
         rtol = parse_rtol(rtol_text, ex)
+        grading = None
+        if expects or expect_rtol is not None:
+            from mech.cli import grading
+
+            expectations = grading.parse_expect_options(ex, list(expects), expect_rtol)
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     methods = ("analytic", "numeric") if method == "both" else (method,)
     result = cross_check(ex, params, methods=methods, rtol=rtol, verify=not no_verify and method != "analytic")
+    expect_ok = grading.attach(result, expectations) if grading else True
     if as_json:
-        _emit_json(result.as_json())
+        _emit_json(grading.solve_json(result) if grading else result.as_json())
     else:
         from mech.cli import render
 
         render.print_solve(result)
-    ctx.exit(EXIT_DISAGREE if result.agree is False else EXIT_OK)
+    ctx.exit(EXIT_DISAGREE if result.agree is False or not expect_ok else EXIT_OK)
 
 
 @cli.command("check")
@@ -224,8 +234,10 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json):
 @click.option("--hard", is_flag=True, help="Also run every exercise's hard cases.")
 @click.option("--json", "as_json", is_flag=True, help="A JSON report on stdout.")
 @click.option("--junit", "junit_file", type=click.Path(dir_okay=False, writable=True), help="Write a JUnit XML report.")
+@click.option("--save-baseline", "save_baseline", metavar="FILE", help="Record every checked value with its error bar.")
+@click.option("--baseline", "baseline_file", metavar="FILE", help="Fail when a value moved beyond its error bars since FILE.")
 @click.pass_context
-def check_cmd(ctx, ids, hard, as_json, junit_file):
+def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file):
     """Cross-check every (or the named) exercise at its defaults, and with --hard its hard cases.
 
     Exit status 1 when any case fails: the CI regression command.
@@ -233,16 +245,32 @@ def check_cmd(ctx, ids, hard, as_json, junit_file):
     from mech.cli.checking import run_check, write_junit
 
     exercises = [_get(i) for i in ids] if ids else list(_registry().all_exercises().values())
+    grading = old = None
+    if save_baseline or baseline_file:
+        from mech.cli import grading
+
+        try:
+            old = grading.open_baseline(baseline_file) if baseline_file else None  # a bad file fails first
+        except BadInput as exc:
+            raise UsageFailure(str(exc)) from None
     report = run_check(exercises, hard=hard, progress=not as_json)
+    try:
+        moved = grading.baselines(report, hard, old, baseline_file, save_baseline) if grading else None
+    except BadInput as exc:
+        raise UsageFailure(str(exc)) from None
     if junit_file:
         write_junit(report, junit_file)
+        if moved:
+            grading.junit_baseline(junit_file, moved)
     if as_json:
-        _emit_json(report.as_json())
+        _emit_json({**report.as_json(), **({"baseline": moved.as_json()} if moved else {})})
     else:
         from mech.cli import render
 
         render.print_check(report)
-    ctx.exit(EXIT_OK if report.ok else EXIT_DISAGREE)
+        if grading:
+            grading.print_baseline(moved, save_baseline)
+    ctx.exit(EXIT_OK if report.ok and (moved is None or moved.ok) else EXIT_DISAGREE)
 
 
 def main(argv=None) -> None:

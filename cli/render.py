@@ -89,13 +89,21 @@ def solve_table(result) -> Table:
     ex = result.exercise
     params = ", ".join(f"{p.symbol or p.name} = {p.show(result.params[p.name])}" for p in ex.params)
     t = Table(title=f"{ex.id}  {ex.title}\n{params}", title_justify="left", box=box.SIMPLE_HEAD)
+    expected = getattr(result, "expected", None) or {}  # your own answers (mech solve --expect)
     for col, just in (("quantity", "left"), ("unit", "left"), ("analytic", "right"), ("numeric", "right"),
                       ("rel. diff", "right"), ("tol", "right"), ("agree", "center")):
         t.add_column(col, justify=just, no_wrap=True)
+    if expected:
+        t.add_column("yours", justify="right", no_wrap=True)
+        t.add_column("verdict", justify="left")
     for q in result.quantities:
         name = q.name + (" *" if q.theory != "exact" else "")
-        t.add_row(q.name if q.theory == "exact" else name, q.unit, _num(q.analytic), _num(q.numeric),
-                  _small(q.rel_err), _small(q.tol), _agree_text(q.agree))
+        row = [q.name if q.theory == "exact" else name, q.unit, _num(q.analytic), _num(q.numeric),
+               _small(q.rel_err), _small(q.tol), _agree_text(q.agree)]
+        if expected:
+            j = expected.get(q.name)
+            row += [j.text, Text(j.verdict, style="green" if j.match else "bold red")] if j else ["", ""]
+        t.add_row(*row)
     return t
 
 
@@ -125,6 +133,9 @@ def print_solve(result) -> None:
         parts.append(Text(n, style="yellow"))
     for e in result.errors:
         parts.append(Text(e, style="bold red"))
+    if getattr(result, "expect_summary", None):
+        ok = all(j.match for j in result.expected.values())
+        parts.append(Text(result.expect_summary, style="green" if ok else "bold red"))
     verdict = result.agree
     if verdict is True:
         parts.append(Text("analytic and numeric agree", style="green"))

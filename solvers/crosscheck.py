@@ -34,6 +34,7 @@ from __future__ import annotations
 import math
 import os
 import pickle
+import sys
 import time
 import traceback
 from dataclasses import dataclass, field
@@ -260,6 +261,7 @@ class CrossCheck:
     timing: dict
     numeric_info: dict | None
     errors: list[str] = field(default_factory=list)
+    run: Any = field(default=None, repr=False)  # the numeric solve's Run (its recorded integrations)
 
     @property
     def agree(self) -> bool | None:
@@ -314,29 +316,6 @@ def _failure_text(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {exc}{where}"
 
 
-def _integrates(ex: Exercise) -> bool:
-    """Whether the numeric solver's module, or a mech.solvers module it uses, integrates ODEs."""
-    import sys
-
-    module = sys.modules.get(getattr(ex._numeric, "__module__", ""), None)
-    if module is None:
-        return False
-    sources = {getattr(module, "__file__", None)}
-    for value in vars(module).values():
-        owner = getattr(value, "__module__", None) or getattr(value, "__name__", "")
-        if isinstance(owner, str) and owner.startswith("mech.solvers."):
-            sources.add(getattr(sys.modules.get(owner), "__file__", None))
-    for path in filter(None, sources):
-        try:
-            with open(path, encoding="utf-8") as fh:
-                text = fh.read()
-        except OSError:
-            continue
-        if "solve_ivp" in text or "integrate(" in text or "integrate_to_event(" in text:
-            return True
-    return False
-
-
 def cross_check(
     ex: Exercise,
     params: Params,
@@ -345,6 +324,7 @@ def cross_check(
     rtol: float | None = None,
     verify: bool = True,
     budget_s: float | None = None,
+    keep_trajectories: bool = False,
 ) -> CrossCheck:
     """Run the asked-for solvers and compare; solver failures become loud entries, never numbers.
 
@@ -372,14 +352,9 @@ def cross_check(
     verify_values: dict = {}
     import_s = None
     if "numeric" in methods and ex._numeric is not None:
-        # the one-time load of the integrator's tableau is start-up cost, not the solve: timed apart,
-        # and only for exercises that integrate
-        if _integrates(ex):
-            t0 = time.perf_counter()
-            from mech.solvers import dop853
-
-            dop853.available()
-            import_s = time.perf_counter() - t0
+        # the one-time load of the integrator and its tableau is start-up cost, not the solve: timed
+        # apart (when this solve is the one that loads it) and taken out of the numeric time
+        loaded_before = "mech.solvers.dop853" in sys.modules and sys.modules["mech.solvers.dop853"]._TABLEAU_TRIED
         tighter = max(rtol / 10.0, ex.min_rtol)
         rerun = None
         if verify and tighter < rtol and _parallel_ok():
@@ -388,7 +363,7 @@ def cross_check(
         shared: dict = {}  # what a serial rerun may reuse of the solve (see Run.shared)
         with budget.limit(budget_s, what=f"the numeric solve of {ex.id}"):
             try:
-                numeric, run = ex.solve_numeric(params, rtol, shared=shared)
+                numeric, run = ex.solve_numeric(params, rtol, shared=shared, keep_trajectories=keep_trajectories)
             except BaseException as exc:
                 if rerun is not None:
                     _abandon_rerun(rerun)
@@ -397,6 +372,10 @@ def cross_check(
                     raise
                 errors.append(f"numeric solver failed: {_failure_text(exc)}")
             timing["numeric_s"] = time.perf_counter() - t0
+            dop = sys.modules.get("mech.solvers.dop853")
+            if not loaded_before and dop is not None and dop._TABLEAU_TRIED:
+                import_s = dop.LOAD_S
+                timing["numeric_s"] = max(0.0, timing["numeric_s"] - import_s)
             answer = None
             if rerun is not None:
                 # the child runs under the same budget; one that has not answered by then is stopped
@@ -507,4 +486,5 @@ def cross_check(
         timing=timing,
         numeric_info={**run.as_json(), "import_s": import_s} if run is not None else None,
         errors=errors,
+        run=run,
     )
