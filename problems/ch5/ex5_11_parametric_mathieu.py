@@ -251,6 +251,12 @@ def numeric(p, run):
                 fd = P_w(d)
         if w_in is None:
             pmin = min(fc, fd)
+            if pmin <= noise:
+                # the minimum is within the noise of P: a zone narrower than the search can resolve may be
+                # there (a draw: half-width 3e-8 omega0), so "no zone" would be a guess
+                raise NumericFailure(
+                    f"min over omega of det(M + I) = {pmin:.3g} is within its accuracy {noise:.1g}: whether a "
+                    "zone exists at this mu is not resolved")
             why = Undefined(f"min over omega of det(M + I) = {pmin:.3g} >= 0: no multiplier passes -1 at mu = {p.mu:g}")
             out["xi_lo"] = out["xi_hi"] = why
             return out
