@@ -113,6 +113,14 @@ def with_error(v, err) -> str:
     return f"{mant:.{nsig - 1}f}({digit})e{e_v:+03d}"
 
 
+def _tol_text(q) -> str:
+    """The relative tolerance, with the absolute allowance where an output can be zero."""
+    abs_part = max(getattr(q, "tol_abs", 0.0) or 0.0, getattr(q, "expected_err_abs", None) or 0.0)
+    if abs_part and (q.analytic == 0 or isinstance(q.analytic, Undefined) or q.tol == 0):
+        return f"±{abs_part:.2g}"
+    return _small(q.tol)
+
+
 def _small(v) -> str:
     return "—" if v is None else f"{v:.2g}"
 
@@ -216,7 +224,7 @@ def _cells(q, expected: dict | None = None) -> dict:
         "analytic": Text(with_error(q.analytic, getattr(q, "analytic_err", None))),
         "numeric": Text(with_error(q.numeric, getattr(q, "numeric_err", None))),
         "rel. diff": Text(_small(q.rel_err)),
-        "tol": Text(_small(q.tol)),
+        "tol": Text(_tol_text(q)),
         "agree": _agree_text(q.agree),
     }
 

@@ -296,7 +296,8 @@ class Exercise:
         return fn
 
     def expected_error(self, fn: Callable[[Params], dict]) -> Callable:
-        """For leading-order outputs: ``fn(p) -> {output: relative size of what the theory neglects}``."""
+        """For leading-order outputs: ``fn(p) -> {output: relative size of what the theory neglects}``; an
+        output whose leading-order value can be zero gives ``(relative, absolute)`` instead (absolute in SI)."""
         self._expected_error = fn
         return fn
 

@@ -120,7 +120,8 @@ def expected_error(p):
         for sx in (-1.0, 1.0):
             g = _lo(p.omega0, p.delta, p.mu * (1 + se * r), xi + sx * s)["growth"]
             worst = max(worst, abs(g - g0))
-    out["growth"] = worst / abs(g0) if g0 != 0 else math.inf
+    # at threshold the leading-order growth is exactly 0: what the theory neglects is then absolute
+    out["growth"] = worst / abs(g0) if g0 != 0 else (0.0, worst)
     # edges: the half-width through eps, plus the centre's shift
     if not isinstance(base["xi_hi"], Undefined):
         h = base["xi_hi"]
@@ -130,6 +131,13 @@ def expected_error(p):
             alt = _lo(p.omega0, p.delta, p.mu * (1 + se * r), 0.0)["xi_hi"]
             worst = max(worst, h if isinstance(alt, Undefined) else abs(alt - h))
         out["xi_lo"] = out["xi_hi"] = (worst + s) / h
+    else:
+        # the theory finds no zone (eps <= delta); within what it neglects a zone may still open, no wider
+        # than the one the larger coupling eps (1 + r) gives, around a centre uncertain by s
+        r, s = _eps_rel_err(p.mu, 0.0, p.omega0), _centre_err(p.mu, 0.0, p.delta, p.omega0)
+        widest = _lo(p.omega0, p.delta, p.mu * (1 + r), 0.0)["xi_hi"]
+        if not isinstance(widest, Undefined):
+            out["xi_lo"] = out["xi_hi"] = (None, widest + s)
     return out
 
 
