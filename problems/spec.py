@@ -182,19 +182,26 @@ class Run:
     # what it computed at a tolerance that does not depend on rtol, keyed by everything it depends on;
     # never in the JSON, and new for every cross-check (so bench's timed repeats never share it)
     shared: dict = field(default_factory=dict, repr=False)
-    # every integration recorded (``record``), kept when the caller asks for the motion (a trajectory)
+    # the scene's motion (``motion``), kept when the caller asks for it (a trajectory)
     keep_trajectories: bool = False
-    trajectories: list = field(default_factory=list, repr=False)
+    motion_parts: list = field(default_factory=list, repr=False)
 
     def record(self, result: Any, method: str | None = None) -> Any:
         """Add the cost of an integration (anything with ``nfev`` and ``method``)."""
         self.nfev += int(getattr(result, "nfev", 0) or 0)
-        if self.keep_trajectories and getattr(result, "t", None) is not None and getattr(result, "y", None) is not None:
-            self.trajectories.append(result)
         m = method or getattr(result, "method", None)
         if m and not self.method:
             self.method = m
         return result
+
+    def motion(self, traj: Any, *, t_scale: float = 1.0, t_offset: float = 0.0, y_scale=None,
+               rows=None) -> None:
+        """Mark an integration (anything with ``t``, ``y`` and optionally a continuous extension ``sol``) as
+        (a leg of) the scene's motion: its ``rows`` (all by default) are the exercise's declared ``states``.
+        Scaled variables are brought to SI: time ``t_offset + t_scale * t``, state ``y_scale * y`` (a number
+        or one per state).  Legs marked one after another are joined in time order."""
+        if self.keep_trajectories:
+            self.motion_parts.append((traj, float(t_scale), float(t_offset), y_scale, rows))
 
     def claim(self, name: str, rel: float | None = None, abs: float | None = None) -> None:
         """Declare the accuracy of one output: relative and/or absolute."""
