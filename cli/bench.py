@@ -160,7 +160,7 @@ def _print(r: dict, plot_file: str | None) -> None:
             t.add_row(p["method"], f"{p['rtol']:.0e}", _g(p["error"]), f"{p['time_s'] * 1e3:.3g}", spread,
                       str(p["nfev"]), p.get("note", "") or p.get("integrator", ""))
         else:
-            t.add_row(p["method"], f"{p['rtol']:.0e}", Text("failed", style="red"), "—", "—", "—",
+            t.add_row(p["method"], f"{p['rtol']:.0e}", (Text("n/a", style="dim") if p.get("applies") is False else Text("failed", style="red")), "—", "—", "—",
                       p.get("note", ""))
     parts.append(t)
     s = Table(title="Summary (cheapest = least median time)", title_justify="left", box=box.SIMPLE_HEAD,
