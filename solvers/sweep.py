@@ -24,7 +24,8 @@ from typing import Callable, Sequence
 
 from mech.problems.spec import Exercise, Params
 
-__all__ = ["Axis", "SweepResult", "grid_points", "run_sweep", "plan_workers", "POOL_OVERHEAD_S", "MIN_PARALLEL_S"]
+__all__ = ["Axis", "SweepResult", "grid_points", "run_sweep", "plan_workers", "POOL_OVERHEAD_S", "MIN_PARALLEL_S",
+           "run_batched", "batched_outputs", "batched_points", "grid_arrays", "CHUNK"]
 
 POOL_OVERHEAD_S = 0.15  # start-up of one worker process and its first imports (fork), measured
 MIN_PARALLEL_S = 1.5  # below this much serial work left a pool is not worth its start-up
@@ -37,6 +38,8 @@ class Axis:
     name: str
     values: tuple[float, ...]
     log: bool = False
+    unit: str | None = None  # the unit the values are shown in (the one typed, else the display unit)
+    factor: float = 1.0  # SI value of one ``unit``
 
 
 @dataclass
@@ -44,13 +47,40 @@ class SweepResult:
     exercise: Exercise
     axes: list[Axis]
     fixed: dict[str, float]
-    points: list[dict]  # one cross-check JSON object per grid point (without id and title), grid order
+    points: list[dict] | None  # one cross-check JSON object per grid point (without id and title), grid order;
+    # None for a batched sweep until ``point_list()`` builds them from its arrays
     workers: int = 1
     seconds: float = 0.0
     extra: dict = field(default_factory=dict)
+    only: tuple[str, ...] | None = None  # the outputs asked for (None: all)
+
+    @property
+    def output_names(self) -> list[str]:
+        if self.extra.get("route") == "batched":
+            return list(self.extra["outputs"])
+        return list(self.only) if self.only else [o.name for o in self.exercise.outputs]
+
+    def point_list(self) -> list[dict]:
+        if self.points is None:
+            self.points = batched_points(self)
+        return self.points
+
+    def __len__(self) -> int:
+        if self.points is None:
+            return int(next(iter(self.extra["grid"].values())).size)
+        return len(self.points)
 
     @property
     def agree(self) -> bool | None:
+        if self.points is None:
+            import numpy as np
+
+            judged = self.extra["judged"].values()
+            if any((J["agree"] == 0).any() or J["n_fail"].any() or J["ver_fail"].any() for J in judged):
+                return False
+            if all((J["agree"] < 0).all() for J in judged):
+                return None
+            return True
         flags = [pt.get("agree") for pt in self.points]
         if any(f is False for f in flags):
             return False
@@ -59,16 +89,21 @@ class SweepResult:
         return True
 
     def as_json(self) -> dict:
-        return {
+        d = {
             "id": self.exercise.id,
             "title": self.exercise.title,
             "swept": [{"name": a.name, "values": list(a.values), "log": a.log} for a in self.axes],
             "fixed": self.fixed,
-            "points": self.points,
+            "outputs": self.output_names,
+            "points": self.point_list(),
             "agree": self.agree,
             "workers": self.workers,
             "seconds": self.seconds,
         }
+        if self.extra.get("route") == "batched":
+            d["route"] = "batched"
+            d["numeric_info"] = self.extra["info"]
+        return d
 
 
 def grid_points(axes: Sequence[Axis], fixed: dict[str, float]) -> list[dict[str, float]]:
@@ -84,8 +119,10 @@ def _serial_verify() -> None:
     crosscheck.PARALLEL_VERIFY = False
 
 
-def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool) -> dict:
-    """One grid point's cross-check as the contract's solve object (without id and title); picklable."""
+def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only=None) -> dict:
+    """One grid point's cross-check as the contract's solve object (without id and title); picklable.
+
+    ``only``: the output names to keep (the solvers still compute all of them on this route)."""
     from mech.problems import registry
     from mech.solvers.crosscheck import cross_check
 
@@ -98,6 +135,11 @@ def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool) -> d
     d.pop("title", None)
     import_s = (d.get("numeric_info") or {}).get("import_s") or 0.0
     d["wall_s"] = time.perf_counter() - t0 - import_s
+    if only:
+        d["quantities"] = [q for q in d["quantities"] if q["name"] in only]
+        flags = [q["agree"] for q in d["quantities"]]
+        d["agree"] = (False if d.get("errors") or any(f is False for f in flags)
+                      else None if all(f is None for f in flags) else True)
     return d
 
 
@@ -122,6 +164,7 @@ def run_sweep(
     verify: bool = True,
     jobs: int | None = None,
     progress: Callable[[int], None] | None = None,
+    only: Sequence[str] | None = None,
 ) -> SweepResult:
     """Cross-check at every (already validated) point; ``jobs`` forces the number of processes (None: decide).
 
@@ -138,23 +181,287 @@ def run_sweep(
             progress(done)
 
     if not params:
-        return SweepResult(ex, list(axes), dict(fixed), [], 1, 0.0)
+        return SweepResult(ex, list(axes), dict(fixed), [], 1, 0.0, only=only)
+    only = tuple(only) if only else None
     # the first point here: it measures the cost per point
-    points[0] = solve_point(ex.id, dict(params[0]), rtol, verify)
+    points[0] = solve_point(ex.id, dict(params[0]), rtol, verify, only)
     tick()
     rest = list(range(1, len(params)))
     workers = jobs if jobs is not None else plan_workers(len(rest), points[0]["wall_s"])
     workers = max(1, min(workers, len(rest))) if rest else 1
     if workers == 1:
         for i in rest:
-            points[i] = solve_point(ex.id, dict(params[i]), rtol, verify)
+            points[i] = solve_point(ex.id, dict(params[i]), rtol, verify, only)
             tick()
     else:
         with ProcessPoolExecutor(max_workers=workers, initializer=_serial_verify) as pool:
-            futures = {pool.submit(solve_point, ex.id, dict(params[i]), rtol, verify): i for i in rest}
+            futures = {pool.submit(solve_point, ex.id, dict(params[i]), rtol, verify, only): i for i in rest}
             from concurrent.futures import as_completed
 
             for fut in as_completed(futures):
                 points[futures[fut]] = fut.result()
                 tick()
-    return SweepResult(ex, list(axes), dict(fixed), points, workers, time.perf_counter() - t0)
+    return SweepResult(ex, list(axes), dict(fixed), points, workers, time.perf_counter() - t0, only=only)
+
+
+# -- charts: the batched route -----------------------------------------------------------------------
+
+CHUNK = 8192  # points integrated together: the stages take 16 * 4 * CHUNK numbers (4 MB)
+
+
+def batched_outputs(ex: Exercise, only: Sequence[str] | None) -> tuple[str, ...] | None:
+    """The outputs a batched sweep computes, or None when the exercise has no batched route for them all."""
+    route = getattr(ex, "_batched", None)
+    if route is None:
+        return None
+    wanted = tuple(only) if only else tuple(o.name for o in ex.outputs)
+    return wanted if set(wanted) <= set(route.outputs) else None
+
+
+def grid_arrays(ex: Exercise, axes: Sequence[Axis], fixed: dict[str, float]) -> dict:
+    """Every parameter as an array over the grid (the first axis varies slowest), defaults filled in."""
+    import numpy as np
+
+    mesh = np.meshgrid(*[np.asarray(a.values, dtype=float) for a in axes], indexing="ij")
+    n = mesh[0].size
+    P = {}
+    for p in ex.params:
+        P[p.name] = np.full(n, float(fixed.get(p.name, p.default)))
+    for a, m in zip(axes, mesh):
+        P[a.name] = m.ravel()
+    return P
+
+
+def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter):
+    """The cross-check's rule over arrays: one output at every point -> dict of arrays and reasons.
+
+    The same rule as ``crosscheck.cross_check``: tolerance = the numeric claim,
+    at least the expected error for a leading-order output; both undefined
+    agree, one undefined disagrees; a rerun at rtol/10 that moves the value by
+    more than the claim makes it unreliable (disagree).
+    """
+    import numpy as np
+
+    out = ex.param_map and next(o for o in ex.outputs if o.name == name)
+    a = a_col.value
+    a_und = a_col.mask("undefined")
+    n = num.value
+    n_und = num.mask("undefined")
+    n_fail = num.mask("failed")
+    N = n.size
+    rel = np.broadcast_to(np.asarray(num.rel, dtype=float), (N,))
+    rel = np.where(np.isfinite(rel), rel, ex.tol_factor * rtol)
+    tol_abs = np.broadcast_to(np.asarray(num.abs, dtype=float), (N,))
+    tol = rel.copy()
+    expected = None
+    if out.theory != "exact" and e_rel is not None:
+        expected = np.asarray(e_rel, dtype=float)
+        tol = np.where(np.isnan(expected), tol, np.fmax(tol, expected))
+    a_num = ~a_und & np.isfinite(a)
+    n_num = ~n_und & ~n_fail & np.isfinite(n)
+    both = a_num & n_num
+    abs_err = np.where(both, np.abs(n - a), np.nan)
+    denom = np.where(a != 0, np.abs(a), np.abs(n))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel_err = np.where(both, np.where(denom > 0, abs_err / denom, 0.0), np.nan)
+        agree_num = abs_err <= tol * np.abs(a) + tol_abs
+    # 1 agree, 0 disagree, -1 no verdict (the numeric value failed: the point's error says why)
+    agree = np.full(N, -1, dtype=np.int8)
+    agree[both] = agree_num[both]
+    one = (a_und | n_und) & ~n_fail
+    agree[one] = (a_und & n_und)[one]
+    verify_diff = np.full(N, np.nan)
+    unreliable = np.zeros(N, dtype=bool)
+    ver_fail = np.zeros(N, dtype=bool)
+    if ver is not None:
+        v = ver.value
+        v_num = ~ver.mask("undefined") & ~ver.mask("failed") & np.isfinite(v)
+        ver_fail = ver.mask("failed") & ~n_fail
+        chk = n_num & v_num
+        verify_diff = np.where(chk, np.abs(v - n), np.nan)
+        scale = np.where(a_num & (a != 0), np.abs(a), np.abs(n))
+        claim = rel * scale + tol_abs
+        unreliable = chk & (verify_diff > claim)
+        agree[unreliable] = 0
+    numeric_err = np.where(n_num, rel * np.abs(n) + tol_abs, np.nan)
+    return {
+        "analytic": np.where(a_num, a, np.nan), "numeric": np.where(n_num, n, np.nan),
+        "a_und": a_und, "n_und": n_und, "n_fail": n_fail, "ver_fail": ver_fail,
+        "abs_err": abs_err, "rel_err": rel_err, "tol": tol, "tol_abs": tol_abs, "agree": agree,
+        "expected_err": expected, "verify_diff": verify_diff, "unreliable": unreliable,
+        "numeric_err": numeric_err, "a_col": a_col, "num": num, "ver": ver,
+        "tighter": tighter,
+    }
+
+
+def _concat_columns(cols):
+    """One Column from the chunks' Columns (values, claims and masks laid end to end)."""
+    import numpy as np
+
+    from mech.solvers.batch import Column
+
+    sizes = [c.value.size for c in cols]
+
+    def full(x, k):
+        return np.broadcast_to(np.asarray(x, dtype=float), (sizes[k],))
+
+    value = np.concatenate([c.value for c in cols])
+    rel = np.concatenate([full(c.rel, k) for k, c in enumerate(cols)])
+    ab = np.concatenate([full(c.abs, k) for k, c in enumerate(cols)])
+    out = Column(value, rel=rel, abs=ab)
+    for which in ("undefined", "failed"):
+        reasons = {}
+        for c in cols:
+            for _, why in getattr(c, which):
+                reasons.setdefault(why, None)
+        for why in reasons:
+            parts = []
+            for k, c in enumerate(cols):
+                m = np.zeros(sizes[k], dtype=bool)
+                for mm, w in getattr(c, which):
+                    if w == why:
+                        m |= np.asarray(mm, dtype=bool)
+                parts.append(m)
+            getattr(out, which).append((np.concatenate(parts), why))
+    return out
+
+
+def _failed_column(n, why):
+    import numpy as np
+
+    from mech.solvers.batch import Column
+
+    return Column(np.full(n, np.nan), rel=np.nan, abs=0.0, failed=[(np.ones(n, dtype=bool), why)])
+
+
+def run_batched(
+    ex: Exercise,
+    axes: Sequence[Axis],
+    fixed: dict[str, float],
+    outputs: Sequence[str],
+    *,
+    rtol: float | None = None,
+    verify: bool = True,
+    chunk: int = CHUNK,
+    progress: Callable[[int], None] | None = None,
+) -> SweepResult:
+    """The chart route: every (validated) grid point through the exercise's batched route, chunk by chunk.
+
+    Both solves (at rtol and at rtol/10) and the analytic side run over the
+    chunk's arrays; each point gets its own verdict by the cross-check's rule.
+    A chunk whose integration fails (step underflow, the time budget) fails
+    its points loudly with the reason; the others stand.
+    """
+    import numpy as np
+
+    from mech.problems.spec import NumericFailure
+
+    route = ex._batched
+    rtol = float(rtol or ex.default_rtol)
+    tighter = max(rtol / 10.0, ex.min_rtol)
+    verify = verify and tighter < rtol
+    t0 = time.perf_counter()
+    P = grid_arrays(ex, axes, fixed)
+    N = next(iter(P.values())).size
+    nums = {o: [] for o in outputs}
+    vers = {o: [] for o in outputs}
+    analytic = {o: [] for o in outputs}
+    expected = {o: [] for o in outputs}
+    stats = {"steps": 0, "chunks": 0}
+    for start in range(0, N, chunk):
+        sl = slice(start, min(start + chunk, N))
+        Pc = {k: v[sl] for k, v in P.items()}
+        m = sl.stop - sl.start
+        for tol, store in ((rtol, nums), (tighter, vers)) if verify else ((rtol, nums),):
+            try:
+                got = route.numeric(Pc, tol, tuple(outputs))
+            except NumericFailure as exc:
+                why = f"numeric solver failed{'' if tol == rtol else f' at rtol={tol:g}'}: {exc}"
+                got = {o: _failed_column(m, why) for o in outputs}
+            for o in outputs:
+                store[o].append(got[o])
+        a = route.analytic(Pc)
+        e = route.expected_error(Pc) if route.expected_error else {}
+        for o in outputs:
+            analytic[o].append(a[o])
+            expected[o].append(np.asarray(e[o], dtype=float) if o in e else np.full(m, np.nan))
+        stats["chunks"] += 1
+        if progress:
+            progress(sl.stop)
+    judged = {}
+    for o in outputs:
+        judged[o] = _judge(ex, o, _concat_columns(analytic[o]), np.concatenate(expected[o]),
+                           _concat_columns(nums[o]), _concat_columns(vers[o]) if verify else None, rtol, tighter)
+    info = {"method": "DOP853 (batched)", "rtol": rtol, "verify_rtol": tighter if verify else None,
+            "chunk": chunk, "chunks": stats["chunks"]}
+    result = SweepResult(ex, list(axes), dict(fixed), None, 1, time.perf_counter() - t0)
+    result.extra = {"route": "batched", "outputs": list(outputs), "grid": P, "judged": judged, "info": info}
+    return result
+
+
+def _num(x):
+    import math as _m
+
+    x = float(x)
+    return x if _m.isfinite(x) else None
+
+
+def batched_points(result: SweepResult) -> list[dict]:
+    """The chart's per-point solve objects (as ``mech solve --json`` gives them, the asked outputs only)."""
+    ex = result.exercise
+    P = result.extra["grid"]
+    judged = result.extra["judged"]
+    info = result.extra["info"]
+    units = {o.name: o for o in ex.outputs}
+    names = [p.name for p in ex.params]
+    N = next(iter(P.values())).size
+    cols = {k: P[k].tolist() for k in names}
+    points = []
+    for k in range(N):
+        quantities, errors = [], []
+        for name, J in judged.items():
+            o = units[name]
+            q = {"name": name, "unit": o.unit, "analytic": _num(J["analytic"][k]), "numeric": _num(J["numeric"][k])}
+            notes = []
+            if J["a_und"][k]:
+                notes.append(f"analytic: {J['a_col'].reason('undefined', k)}")
+            if J["n_und"][k]:
+                notes.append(f"numeric: {J['num'].reason('undefined', k)}")
+            if J["n_fail"][k]:
+                errors.append(J["num"].reason("failed", k) if J["num"].reason("failed", k).startswith("numeric")
+                              else f"numeric solver failed: {name}: {J['num'].reason('failed', k)}")
+            if J["ver_fail"][k]:
+                why = J["ver"].reason("failed", k)
+                errors.append(why if why.startswith("numeric") else
+                              f"numeric solver failed at rtol={J['tighter']:g}: {name}: {why}")
+            q["abs_err"] = _num(J["abs_err"][k])
+            q["rel_err"] = _num(J["rel_err"][k])
+            q["tol"] = _num(J["tol"][k])
+            if J["tol_abs"][k]:
+                q["tol_abs"] = float(J["tol_abs"][k])
+            ag = int(J["agree"][k])
+            q["agree"] = None if ag < 0 else bool(ag)
+            if o.theory != "exact":
+                q["theory"] = o.theory
+                q["expected_err"] = None if J["expected_err"] is None else _num(J["expected_err"][k])
+            if q["numeric"] is not None:
+                q["numeric_err"] = _num(J["numeric_err"][k])
+            if not (J["verify_diff"][k] != J["verify_diff"][k]):  # not NaN
+                q["verify_diff"] = float(J["verify_diff"][k])
+            if (J["a_und"][k]) != (J["n_und"][k]) and not J["n_fail"][k]:
+                notes.append("one method finds no finite value where the other does")
+            if J["unreliable"][k]:
+                notes.append(f"unreliable: the numeric value moves by {J['verify_diff'][k]:.3g} at rtol/10, "
+                             f"more than its claimed accuracy")
+            if notes:
+                q["note"] = "; ".join(dict.fromkeys(notes))
+            quantities.append(q)
+        flags = [q["agree"] for q in quantities]
+        agree = False if errors or any(f is False for f in flags) else (None if all(f is None for f in flags)
+                                                                          else True)
+        pt = {"params": {n: cols[n][k] for n in names}, "quantities": quantities, "agree": agree,
+              "numeric_info": dict(info)}
+        if errors:
+            pt["errors"] = list(dict.fromkeys(errors))
+        points.append(pt)
+    return points

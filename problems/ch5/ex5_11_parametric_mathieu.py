@@ -232,3 +232,80 @@ def numeric(p, run):
         out[name] = w - p.omega0
         run.claim(name, rel=100 * rtol, abs=noise / slope)
     return out
+
+
+# -- charts: the same two routes over many points at once ----------------------------------------------
+
+_NO_ZONE = "eps = mu omega0/4 does not exceed delta: the rest state is stable at every detuning"
+
+
+def _lo_batch(omega0, delta, mu, xi):
+    """``_lo`` over arrays (NaN marks an undefined edge)."""
+    eps = mu * omega0 / 4.0
+    s2 = eps * eps - xi * xi
+    growth = np.where(s2 > 0, -delta + np.sqrt(np.maximum(s2, 0.0)), -delta)
+    h2 = eps * eps - delta * delta
+    h = np.where(h2 > 0, np.sqrt(np.maximum(h2, 0.0)), np.nan)
+    return {"mu_th": 4.0 * np.hypot(delta, xi) / omega0, "growth": growth, "xi_lo": -h, "xi_hi": h}
+
+
+def analytic_batch(P):
+    """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
+    from mech.solvers.batch import Column
+
+    omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
+    lo = _lo_batch(omega0, delta, mu, omega - omega0)
+    out = {k: Column(v) for k, v in lo.items()}
+    for k in ("xi_lo", "xi_hi"):
+        out[k].undefined.append((np.isnan(lo[k]), _NO_ZONE))
+    return out
+
+
+def expected_error_batch(P):
+    """``expected_error`` of the growth rate over arrays of points."""
+    omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
+    xi = omega - omega0
+    g0 = _lo_batch(omega0, delta, mu, xi)["growth"]
+    r = 2.0 * (np.abs(xi) / omega0 + mu**2 / 16.0)
+    s = 2.0 * (mu**2 * omega0 / 64.0 + 0.5 * delta**2 / omega0 + xi**2 / omega0)
+    worst = np.zeros_like(g0)
+    for se in (-1.0, 1.0):
+        for sx in (-1.0, 1.0):
+            g = _lo_batch(omega0, delta, mu * (1 + se * r), xi + sx * s)["growth"]
+            worst = np.maximum(worst, np.abs(g - g0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return {"growth": np.where(g0 != 0, worst / np.abs(g0), np.inf)}
+
+
+@exercise.batched(("growth",), analytic=analytic_batch, expected_error=expected_error_batch,
+                  boundaries={"mu": ("mu_th", "leading-order zone edge μ = μ_th(ω)")})
+def numeric_batch(P, rtol, outputs):
+    """The growth rate at N points at once, from the same equation of motion as ``numeric``.
+
+    q = exp(-delta t) y leaves y'' + (omega0^2 (1 + mu cos 2 omega t) - delta^2) y = 0;
+    in the time s = omega t every point's modulation period pi/omega becomes
+    pi, so all points integrate the even Hill equation
+    y'' + ((omega0/omega)^2 (1 + mu cos 2s) - (delta/omega)^2) y = 0 over the
+    same half period [0, pi/2] (tr M does not depend on the time's unit).
+    The claims and the Wronskian check are those of the one-point route.
+    """
+    from mech.solvers.batch import Column
+    from mech.solvers.floquet import even_hill_half_batch
+
+    omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
+    n = omega.size
+    r2 = (omega0 / omega) ** 2
+    c0, c1 = r2 - (delta / omega) ** 2, r2 * mu
+    (y1, y1p, y2, y2p), res = even_hill_half_batch(lambda s: c0 + c1 * math.cos(2.0 * s), 0.5 * math.pi, n,
+                                                    rtol=rtol, vscale=omega0 / omega)
+    tr = 2.0 * (y1 * y2p + y1p * y2)
+    wronski = np.abs(y1 * y2p - y1p * y2 - 1.0)
+    T = math.pi / omega
+    disc = tr * tr - 4.0
+    lam = np.where(disc > 0, 0.5 * (np.abs(tr) + np.sqrt(np.maximum(disc, 0.0))), 1.0)
+    noise = 10.0 * rtol
+    amplify = 1.0 + np.abs(tr) / np.sqrt(np.maximum(disc, noise))
+    allowed = exercise.tol_factor * rtol
+    growth = Column(np.log(np.exp(-delta * T) * lam) / T, rel=100 * rtol, abs=noise * amplify / T,
+                    failed=[(wronski > allowed, f"the Wronskian drifted by more than {allowed:.3g}")])
+    return {"growth": growth}

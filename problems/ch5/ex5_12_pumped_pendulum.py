@@ -310,3 +310,81 @@ def _stationary_swing(p, a_th, run):
     run.record(traj)
     ext = [abs(y[0]) for y in traj.y_events[0]] + [abs(z[0])]
     return float(max(ext))
+
+
+# -- charts: the small-swing growth rate over many points at once ----------------------------------------
+
+def _lo_batch(w0, delta, eps, xi, l, Omega):
+    """``_lo`` over arrays."""
+    s2 = eps * eps - xi * xi
+    growth = np.where(s2 > 0, -delta + np.sqrt(np.maximum(s2, 0.0)), -delta)
+    theta2 = np.where(growth > 0, 16.0 * (np.sqrt(np.maximum(eps * eps - delta * delta, 0.0)) - xi) / w0, 0.0)
+    return {"a_th": 2.0 * l * np.hypot(delta, xi) / Omega, "growth": growth,
+            "theta_st": np.sqrt(np.maximum(theta2, 0.0))}
+
+
+def _arrays(P):
+    return (np.asarray(P[k], dtype=float) for k in ("l", "g", "delta", "a", "Omega"))
+
+
+def analytic_batch(P):
+    """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
+    from mech.solvers.batch import Column
+
+    l, g, delta, a, Omega = _arrays(P)
+    w0 = np.sqrt(g / l)
+    lo = _lo_batch(w0, delta, a * Omega / (2 * l), Omega / 2 - w0, l, Omega)
+    return {k: Column(v) for k, v in lo.items()}
+
+
+def expected_error_batch(P):
+    """``expected_error`` of the small-swing outputs over arrays of points."""
+    l, g, delta, a, Omega = _arrays(P)
+    w0 = np.sqrt(g / l)
+    xi = Omega / 2 - w0
+    eps = a * Omega / (2 * l)
+    mu = a * Omega**2 / g
+    base = _lo_batch(w0, delta, eps, xi, l, Omega)
+    r = 2.0 * (np.abs(xi) / w0 + mu**2 / 16.0)
+    s = 2.0 * (mu**2 * w0 / 64.0 + 0.5 * delta**2 / w0 + xi**2 / w0)
+    worst = {"a_th": np.zeros_like(w0), "growth": np.zeros_like(w0)}
+    for se in (-1.0, 1.0):
+        for sx in (-1.0, 1.0):
+            alt = _lo_batch(w0, delta, eps * (1 + se * r), xi + sx * s, l, Omega)
+            alt["a_th"] = 2.0 * l * np.hypot(delta, np.abs(xi) + s) / Omega / np.maximum(1.0 - r, 1e-3)
+            for k in worst:
+                worst[k] = np.maximum(worst[k], np.abs(alt[k] - base[k]))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return {k: np.where(base[k] != 0, worst[k] / np.abs(base[k]), 0.0) for k in worst}
+
+
+@exercise.batched(("growth",), analytic=analytic_batch, expected_error=expected_error_batch,
+                  boundaries={"a": ("a_th", "leading-order threshold a = a_th(Ω)")})
+def numeric_batch(P, rtol, outputs):
+    """The small-swing growth rate at N points at once, from the linearized equation of motion.
+
+    theta'' + 2 delta theta' + (g - a Omega^2 cos Omega t)/l theta = 0 with
+    theta = exp(-delta t) y is the even Hill equation of ``_linear``; in the
+    time s = Omega t every point's pivot period becomes 2 pi, so all points
+    integrate y'' + ((g/l - delta^2)/Omega^2 - (a/l) cos s) y = 0 over the same
+    half period [0, pi].  Claims and the Wronskian check as in ``numeric``.
+    """
+    from mech.solvers.batch import Column
+    from mech.solvers.floquet import even_hill_half_batch
+
+    l, g, delta, a, Omega = _arrays(P)
+    n = Omega.size
+    c0, c1 = (g / l - delta**2) / Omega**2, a / l
+    (y1, y1p, y2, y2p), res = even_hill_half_batch(lambda s: c0 - c1 * math.cos(s), math.pi, n, rtol=rtol,
+                                                    vscale=np.sqrt(g / l) / Omega)
+    tr = 2.0 * (y1 * y2p + y1p * y2)
+    wronski = np.abs(y1 * y2p - y1p * y2 - 1.0)
+    T = 2.0 * math.pi / Omega
+    disc = tr * tr - 4.0
+    lam = np.where(disc > 0, 0.5 * (np.abs(tr) + np.sqrt(np.maximum(disc, 0.0))), 1.0)
+    noise = 10.0 * rtol
+    amplify = 1.0 + np.abs(tr) / np.sqrt(np.maximum(disc, noise))
+    allowed = exercise.tol_factor * rtol
+    growth = Column(np.log(np.exp(-delta * T) * lam) / T, rel=100 * rtol, abs=noise * amplify / T,
+                    failed=[(wronski > allowed, f"the Wronskian drifted by more than {allowed:.3g}")])
+    return {"growth": growth}

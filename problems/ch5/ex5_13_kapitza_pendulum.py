@@ -143,3 +143,85 @@ def numeric(p, run):
             raise NumericFailure("no pivot amplitude below l/2 stabilizes the inverted position")
     out["a_min"] = brentq(f, a_lo, a_hi, xtol=1e-16 * p.l, rtol=1e-14)
     return out
+
+
+# -- charts: stability of both positions and their slow frequencies over many points at once ----------
+
+_BELOW_A_MIN = "a is below a_min: the effective potential has a maximum at theta = pi"
+
+
+def _arrays(P):
+    import numpy as np
+
+    return (np.asarray(P[k], dtype=float) for k in ("l", "g", "a", "Omega"))
+
+
+def analytic_batch(P):
+    """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
+    import numpy as np
+
+    from mech.solvers.batch import Column
+
+    l, g, a, Omega = _arrays(P)
+    w0sq = g / l
+    kick = (a * Omega / l) ** 2 / 2.0
+    inv = np.where(kick > w0sq, np.sqrt(np.maximum(kick - w0sq, 0.0)), np.nan)
+    return {"a_min": Column(np.sqrt(2.0 * g * l) / Omega), "omega_down": Column(np.sqrt(w0sq + kick)),
+            "omega_inv": Column(inv, undefined=[(~(kick > w0sq), _BELOW_A_MIN)])}
+
+
+def expected_error_batch(P):
+    """``expected_error`` of the slow frequencies over arrays of points (NaN where omega_inv has none)."""
+    import numpy as np
+
+    l, g, a, Omega = _arrays(P)
+    w0sq = g / l
+    eta = 4.0 * w0sq / Omega**2 + (2.0 * a / l) ** 2
+    kick = (a * Omega / l) ** 2 / 2.0
+    abs_nu2 = eta * (w0sq + kick)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = np.where(kick > w0sq, np.minimum(0.5 * abs_nu2 / (kick - w0sq), 1e6), np.nan)
+    return {"omega_down": 0.5 * abs_nu2 / (w0sq + kick), "omega_inv": inv}
+
+
+@exercise.batched(("omega_inv", "omega_down"), analytic=analytic_batch, expected_error=expected_error_batch,
+                  boundaries={"a": ("a_min", "leading-order stability edge a = a_min(Ω)")})
+def numeric_batch(P, rtol, outputs):
+    """The slow frequencies about both positions at N points at once, from the linearized equation.
+
+    theta'' + (g - a Omega^2 cos Omega t)/l sin theta = 0 linearized about
+    theta = 0 (sign +1) or pi (sign -1) is the even Hill equation of ``_half``;
+    in the time s = Omega t every point's fast period becomes 2 pi, so all
+    points integrate y'' + sign ((g/l)/Omega^2 - (a/l) cos s) y = 0 over the
+    same half period [0, pi].  sin^2(nu pi/Omega) = -y1' y2 (invariant under
+    the change of time unit); stable iff it lies in (0, 1).  Claims and the
+    Wronskian check as in ``numeric``.
+    """
+    import numpy as np
+
+    from mech.solvers.batch import Column
+    from mech.solvers.floquet import even_hill_half_batch
+
+    l, g, a, Omega = _arrays(P)
+    n = Omega.size
+    c0, c1 = (g / l) / Omega**2, a / l
+    allowed = exercise.tol_factor * rtol
+    out = {}
+    for name, sign in (("omega_down", 1.0), ("omega_inv", -1.0)):
+        if name not in outputs:
+            continue
+        (y1, y1p, y2, y2p), res = even_hill_half_batch(lambda s: sign * (c0 - c1 * math.cos(s)), math.pi, n,
+                                                        rtol=rtol)
+        wronski = np.abs(y1 * y2p - y1p * y2 - 1.0)
+        s = -y1p * y2
+        stable = (s > 0.0) & (s < 1.0)
+        sc = np.clip(s, 1e-300, 1.0 - 1e-16)
+        nu = np.where(stable, (Omega / math.pi) * np.arcsin(np.sqrt(sc)), np.nan)
+        ds = 10.0 * rtol * np.abs(y1p * y2) + 10.0 * rtol * 1e-3
+        dnu = (Omega / math.pi) * ds / (2.0 * np.sqrt(sc * (1.0 - sc)))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rel = np.where(stable, np.maximum(100.0 * rtol, dnu / nu), 100.0 * rtol)
+        where = "inverted" if sign < 0 else "lower"
+        out[name] = Column(nu, rel=rel, undefined=[(~stable, f"|tr M| >= 2 about the {where} position: unstable")],
+                           failed=[(wronski > allowed, f"the Wronskian drifted by more than {allowed:.3g}")])
+    return out
