@@ -71,6 +71,18 @@ class SweepResult:
         return len(self.points)
 
     @property
+    def n_failed(self) -> int:
+        """How many points failed the cross-check."""
+        if self.points is None:
+            import numpy as np
+
+            bad = np.zeros(len(self), dtype=bool)
+            for J in self.extra["judged"].values():
+                bad |= (J["agree"] == 0) | J["n_fail"] | J["ver_fail"]
+            return int(bad.sum())
+        return sum(pt.get("agree") is False for pt in self.points)
+
+    @property
     def agree(self) -> bool | None:
         if self.points is None:
             import numpy as np
@@ -465,3 +477,98 @@ def batched_points(result: SweepResult) -> list[dict]:
             pt["errors"] = list(dict.fromkeys(errors))
         points.append(pt)
     return points
+
+
+def output_arrays(result: SweepResult, name: str) -> dict:
+    """One output over the grid as arrays in grid order: numeric, analytic (NaN where none), agree
+    (1, 0, -1 for no verdict), failed (the point's verdict is a failure) and the reason of each failure."""
+    import numpy as np
+
+    if result.points is None:
+        J = result.extra["judged"][name]
+        pts_failed = np.zeros(J["agree"].size, dtype=bool)
+        for other in result.extra["judged"].values():
+            pts_failed |= (other["agree"] == 0) | other["n_fail"] | other["ver_fail"]
+        reasons = np.full(J["agree"].size, "", dtype=object)
+        for k in np.flatnonzero(pts_failed):
+            reasons[k] = _reason_batched(result, int(k))
+        return {"numeric": J["numeric"], "analytic": J["analytic"], "agree": J["agree"], "failed": pts_failed,
+                "reasons": reasons}
+    pts = result.points
+    num = np.array([_nan(q["numeric"]) for pt in pts for q in pt["quantities"] if q["name"] == name])
+    ana = np.array([_nan(q["analytic"]) for pt in pts for q in pt["quantities"] if q["name"] == name])
+    agree = np.array([-1 if q["agree"] is None else int(q["agree"])
+                      for pt in pts for q in pt["quantities"] if q["name"] == name], dtype=np.int8)
+    failed = np.array([pt.get("agree") is False for pt in pts])
+    reasons = np.array([_reason_point(pt) if pt.get("agree") is False else "" for pt in pts], dtype=object)
+    return {"numeric": num, "analytic": ana, "agree": agree, "failed": failed, "reasons": reasons}
+
+
+def _nan(v):
+    return float("nan") if v is None else float(v)
+
+
+def failure_kind(text: str) -> str:
+    """A failure's reason shortened to its kind, for a legend: the words before any number."""
+    import re
+
+    head = re.split(r"[-+]?\d", text, maxsplit=1)[0].rstrip(" =:(,")
+    return head or text
+
+
+def _reason_point(pt: dict) -> str:
+    if pt.get("errors"):
+        return pt["errors"][0]
+    for q in pt["quantities"]:
+        if q["agree"] is False:
+            note = q.get("note") or ""
+            if "unreliable" in note:
+                return f"{q['name']}: unreliable (the rerun at rtol/10 moved it beyond its claim)"
+            if "no finite value" in note:
+                return f"{q['name']}: one method finds no finite value where the other does"
+            return f"{q['name']}: analytic and numeric differ beyond the error bars"
+    return "failed"
+
+
+def _reason_batched(result: SweepResult, k: int) -> str:
+    for name, J in result.extra["judged"].items():
+        if J["n_fail"][k]:
+            return f"{name}: {J['num'].reason('failed', k)}"
+        if J["ver_fail"][k]:
+            return f"{name}: at rtol/10: {J['ver'].reason('failed', k)}"
+    for name, J in result.extra["judged"].items():
+        if J["agree"][k] == 0:
+            if J["unreliable"][k]:
+                return f"{name}: unreliable (the rerun at rtol/10 moved it beyond its claim)"
+            if J["a_und"][k] != J["n_und"][k]:
+                return f"{name}: one method finds no finite value where the other does"
+            return f"{name}: analytic and numeric differ beyond the error bars"
+    return "failed"
+
+
+def boundary_curves(result: SweepResult) -> list[tuple[str, "object", "object", str]]:
+    """The leading-order boundaries the exercise declares for a map over its two swept parameters.
+
+    Returns (axis name the curve gives, values along the other axis, boundary values, label): the
+    exercise's own analytic value of the declared output along the other axis (the others fixed)."""
+    import numpy as np
+
+    route = getattr(result.exercise, "_batched", None)
+    if route is None or len(result.axes) != 2:
+        return []
+    curves = []
+    for k, axis in enumerate(result.axes):
+        if axis.name not in route.boundaries:
+            continue
+        output, text = route.boundaries[axis.name]
+        other = result.axes[1 - k]
+        xs = np.linspace(min(other.values), max(other.values), 400)
+        if other.log:
+            xs = np.geomspace(min(other.values), max(other.values), 400)
+        P = {p.name: np.full(xs.size, float(result.fixed.get(p.name, p.default))) for p in result.exercise.params}
+        P[other.name] = xs
+        P[axis.name] = np.full(xs.size, float(axis.values[0]))
+        col = route.analytic(P)[output]
+        ys = np.where(col.mask("undefined"), np.nan, col.value)
+        curves.append((axis.name, xs, ys, text))
+    return curves
