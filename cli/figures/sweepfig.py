@@ -119,7 +119,7 @@ def map_figure(result):
     k = len(outs)
     ncols = 1 if k == 1 else 2
     nrows = math.ceil(k / ncols)
-    fig, axes = figure(nrows, ncols, w=6.4 if k == 1 else 5.0, h=4.9 if k == 1 else 3.9)
+    fig, axes = figure(nrows, ncols, w=6.4 if k == 1 else 5.0, h=5.6 if k == 1 else 4.6)
     curves = boundary_curves(result)
     for j, o in enumerate(outs):
         ax = axes[j // ncols][j % ncols]
@@ -141,6 +141,12 @@ def map_figure(result):
         mesh = ax.pcolormesh(_edges(x, ax_x.log), _edges(y, ax_y.log), np.ma.masked_invalid(Z), cmap=cmap,
                              norm=norm, shading="flat", rasterized=True)
         cb = fig.colorbar(mesh, ax=ax, shrink=0.92, pad=0.02)
+        if norm is not None:  # both ends labelled: the scale is not the same on both sides of zero
+            from matplotlib.ticker import MaxNLocator
+
+            up = [t for t in MaxNLocator(6).tick_values(0.0, norm.vmax) if 0.0 <= t <= norm.vmax]
+            down = [t for t in MaxNLocator(3).tick_values(norm.vmin, 0.0) if norm.vmin <= t < 0.0]
+            cb.set_ticks(sorted(set(down + up + [norm.vmin])))
         cb.set_label(label(f"{o.name} (numeric)", o.unit), fontsize=9)
         cb.ax.tick_params(labelsize=8)
         handles = []
@@ -180,8 +186,9 @@ def map_figure(result):
         ax.set_xlabel(label(px.symbol or px.name, ux))
         ax.set_ylabel(label(py.symbol or py.name, uy))
         ax.tick_params(labelsize=8)
-        if handles:
-            ax.legend(handles=handles, fontsize=7, loc="upper left", framealpha=0.85)
+        if handles:  # under the map, where it hides nothing
+            ax.legend(handles=handles, fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.13),
+                      ncol=1 if k == 1 else 1, frameon=False)
     for j in range(k, nrows * ncols):
         axes[j // ncols][j % ncols].set_visible(False)
     n = len(result)
