@@ -262,7 +262,7 @@ def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter):
     n_fail = num.mask("failed")
     N = n.size
     rel = np.broadcast_to(np.asarray(num.rel, dtype=float), (N,))
-    rel = np.where(np.isfinite(rel), rel, ex.tol_factor * rtol)
+    rel = np.where(np.isnan(rel), ex.tol_factor * rtol, rel)  # no claim: the exercise's default one
     tol_abs = np.broadcast_to(np.asarray(num.abs, dtype=float), (N,))
     tol = rel.copy()
     expected = None
@@ -274,14 +274,19 @@ def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter):
     both = a_num & n_num
     abs_err = np.where(both, np.abs(n - a), np.nan)
     denom = np.where(a != 0, np.abs(a), np.abs(n))
+    # the analytic value's own round-off (``Exercise.analytic_error``), where the batched analytic gives it
+    a_err = np.broadcast_to(np.asarray(a_col.abs, dtype=float), (N,))
     with np.errstate(divide="ignore", invalid="ignore"):
         rel_err = np.where(both, np.where(denom > 0, abs_err / denom, 0.0), np.nan)
-        agree_num = abs_err <= tol * np.abs(a) + tol_abs
+        agree_num = abs_err <= tol * np.abs(a) + tol_abs + a_err
     # 1 agree, 0 disagree, -1 no verdict (the numeric value failed: the point's error says why)
     agree = np.full(N, -1, dtype=np.int8)
     agree[both] = agree_num[both]
     one = (a_und | n_und) & ~n_fail
     agree[one] = (a_und & n_und)[one]
+    # an error bar of infinity would agree with anything: no verdict but a failure
+    no_claim = n_num & ~(np.isfinite(rel) & np.isfinite(tol_abs))
+    agree[no_claim] = 0
     verify_diff = np.full(N, np.nan)
     unreliable = np.zeros(N, dtype=bool)
     ver_fail = np.zeros(N, dtype=bool)
@@ -301,7 +306,7 @@ def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter):
         "a_und": a_und, "n_und": n_und, "n_fail": n_fail, "ver_fail": ver_fail,
         "abs_err": abs_err, "rel_err": rel_err, "tol": tol, "tol_abs": tol_abs, "agree": agree,
         "expected_err": expected, "verify_diff": verify_diff, "unreliable": unreliable,
-        "numeric_err": numeric_err, "a_col": a_col, "num": num, "ver": ver,
+        "numeric_err": numeric_err, "a_col": a_col, "num": num, "ver": ver, "no_claim": no_claim,
         "tighter": tighter,
     }
 
@@ -462,6 +467,8 @@ def batched_points(result: SweepResult) -> list[dict]:
                 q["verify_diff"] = float(J["verify_diff"][k])
             if (J["a_und"][k]) != (J["n_und"][k]) and not J["n_fail"][k]:
                 notes.append("one method finds no finite value where the other does")
+            if J["no_claim"][k]:
+                notes.append("the numeric solver claims no finite accuracy for this value")
             if J["unreliable"][k]:
                 notes.append(f"unreliable: the numeric value moves by {J['verify_diff'][k]:.3g} at rtol/10, "
                              f"more than its claimed accuracy")
