@@ -124,11 +124,14 @@ def grid_points(axes: Sequence[Axis], fixed: dict[str, float]) -> list[dict[str,
     return [{**fixed, **dict(zip(names, combo))} for combo in itertools.product(*(a.values for a in axes))]
 
 
-def _serial_verify() -> None:
-    """In a pool worker: the cores are the pool's, so each cross-check's rerun runs after its solve."""
+def _serial_verify(parent: int | None = None) -> None:
+    """In a pool worker: the cores are the pool's, so each cross-check's rerun runs after its solve; and
+    the worker dies with the sweep (a sweep killed by a signal leaves no workers behind)."""
     from mech.solvers import crosscheck
 
     crosscheck.PARALLEL_VERIFY = False
+    if parent is not None and hasattr(crosscheck, "_die_with_parent"):
+        crosscheck._die_with_parent(parent)
 
 
 def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only=None) -> dict:
@@ -206,7 +209,8 @@ def run_sweep(
             points[i] = solve_point(ex.id, dict(params[i]), rtol, verify, only)
             tick()
     else:
-        with ProcessPoolExecutor(max_workers=workers, initializer=_serial_verify) as pool:
+        with ProcessPoolExecutor(max_workers=workers, initializer=_serial_verify,
+                                 initargs=(os.getpid(),)) as pool:
             futures = {pool.submit(solve_point, ex.id, dict(params[i]), rtol, verify, only): i for i in rest}
             from concurrent.futures import as_completed
 

@@ -258,3 +258,27 @@ def test_map_plot(tmp_path):
                          "--plot", str(f))
     assert code in (0, 1), err
     assert f.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_ctrl_c_ends_with_one_line_and_130(monkeypatch):
+    """The second chunk is interrupted: exit 130, one line on stderr saying how far it got, nothing on stdout."""
+    import dataclasses
+
+    import mech.solvers.sweep as sweep
+
+    ex = registry.get("5.11")
+    calls = []
+    real = ex._batched.numeric
+
+    def interrupted(P, rtol, outputs):
+        calls.append(1)
+        if len(calls) > 2:  # the first chunk's solve and rerun, then Ctrl-C
+            raise KeyboardInterrupt
+        return real(P, rtol, outputs)
+
+    monkeypatch.setattr(ex, "_batched", dataclasses.replace(ex._batched, numeric=interrupted))
+    monkeypatch.setattr(sweep, "CHUNK", 4)
+    monkeypatch.setattr(sweep.run_batched, "__kwdefaults__", {**sweep.run_batched.__kwdefaults__, "chunk": 4})
+    code, out, err = run("sweep", "5.11", "--omega", "9.8:10.2:3", "--mu", "0.01:0.1:3", "--only", "growth")
+    assert code == 130 and out == ""
+    assert err == "mech: interrupted after 4 of 9 points; nothing written\n"
