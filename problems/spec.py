@@ -319,7 +319,7 @@ class Exercise:
 
     def batched(self, outputs: tuple[str, ...], *, analytic: Callable, expected_error: Callable | None = None,
                 boundaries: Mapping[str, tuple[str, str]] | None = None) -> Callable:
-        """Register a batched numeric route for charts: ``fn(P, rtol, outputs) -> {output: Column}``.
+        """Register a batched numeric route for charts: ``fn(P, rtol, outputs[, memo]) -> {output: Column}``.
 
         ``P`` maps every parameter name to an array of N values (one per grid
         point, already validated); ``fn`` computes only the ``outputs`` asked
@@ -330,7 +330,8 @@ class Exercise:
         ({output: Column} and {output: array}); tests hold them equal to the
         scalar ones.  ``boundaries`` maps a parameter to (output, label): the
         analytic value of that output is a boundary in that parameter (5.11's
-        mu = mu_th(omega)), drawn on maps over that parameter.
+        mu = mu_th(omega)), drawn on maps over that parameter.  A ``memo`` keyword,
+        if ``fn`` takes one, is a dict shared by all chunks of one sweep.
         """
         unknown = set(outputs) - {o.name for o in self.outputs}
         if unknown:

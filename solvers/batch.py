@@ -203,3 +203,44 @@ class Column:
 
 
 __all__ += ["Column"]
+
+
+def illinois(f, a, b, fa, fb, *, xtol, rtol, max_iter: int = 200):
+    """Roots of N functions at once, each bracketed by its own [a, b] with fa, fb of opposite signs.
+
+    ``f(x, idx)`` evaluates the functions of the points ``idx`` (indices into the N) at ``x`` (one
+    value each).  The Illinois variant of false position: superlinear, and the bracket shrinks from
+    both sides.  A point is done when its bracket is within ``xtol + rtol |x|`` (arrays or numbers) or
+    f is exactly zero.  Returns (x, converged); a point not converged in ``max_iter`` passes is left
+    unconverged for the caller to fail loudly.
+    """
+    a, b = np.array(a, dtype=float), np.array(b, dtype=float)
+    fa, fb = np.array(fa, dtype=float), np.array(fb, dtype=float)
+    n = a.size
+    xtol = np.broadcast_to(np.asarray(xtol, dtype=float), (n,))
+    rtol = np.broadcast_to(np.asarray(rtol, dtype=float), (n,))
+    if np.any(np.sign(fa) * np.sign(fb) > 0):
+        raise ValueError("illinois: a root is not bracketed")
+    x = np.where(fa == 0, a, b)
+    done = (fa == 0) | (fb == 0) | (np.abs(b - a) <= xtol + rtol * np.abs(b))
+    for _ in range(max_iter):
+        idx = np.flatnonzero(~done)
+        if idx.size == 0:
+            break
+        budget.check("batched root search")
+        A, B, FA, FB = a[idx], b[idx], fa[idx], fb[idx]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            c = B - FB * (B - A) / (FB - FA)
+        lo, hi = np.minimum(A, B), np.maximum(A, B)
+        off = ~np.isfinite(c) | (c <= lo) | (c >= hi)
+        c[off] = 0.5 * (A + B)[off]
+        fc = np.asarray(f(c, idx), dtype=float)
+        cross = np.sign(fc) * np.sign(FB) < 0  # the root lies between b and c: b becomes the other end
+        A = np.where(cross, B, A)
+        FA = np.where(cross, FB, 0.5 * FA)  # Illinois: the end kept twice has its value halved
+        a[idx], fa[idx], b[idx], fb[idx], x[idx] = A, FA, c, fc, c
+        done[idx] = (fc == 0) | (np.abs(c - A) <= xtol[idx] + rtol[idx] * np.abs(c))
+    return x, done
+
+
+__all__ += ["illinois"]

@@ -389,13 +389,20 @@ def run_batched(
     analytic = {o: [] for o in outputs}
     expected = {o: [] for o in outputs}
     stats = {"steps": 0, "chunks": 0}
+    # what a route computes once per distinct value of the parameters an output depends on, shared by the
+    # sweep's chunks (a route that takes a ``memo`` keyword)
+    import inspect
+
+    memo: dict = {}
+    takes_memo = "memo" in inspect.signature(route.numeric).parameters
     for start in range(0, N, chunk):
         sl = slice(start, min(start + chunk, N))
         Pc = {k: v[sl] for k, v in P.items()}
         m = sl.stop - sl.start
         for tol, store in ((rtol, nums), (tighter, vers)) if verify else ((rtol, nums),):
             try:
-                got = route.numeric(Pc, tol, tuple(outputs))
+                got = (route.numeric(Pc, tol, tuple(outputs), memo=memo) if takes_memo
+                       else route.numeric(Pc, tol, tuple(outputs)))
             except NumericFailure as exc:
                 why = f"numeric solver failed{'' if tol == rtol else f' at rtol={tol:g}'}: {exc}"
                 got = {o: _failed_column(m, why) for o in outputs}

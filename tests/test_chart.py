@@ -282,3 +282,39 @@ def test_ctrl_c_ends_with_one_line_and_130(monkeypatch):
     code, out, err = run("sweep", "5.11", "--omega", "9.8:10.2:3", "--mu", "0.01:0.1:3", "--only", "growth")
     assert code == 130 and out == ""
     assert err == "mech: interrupted after 4 of 9 points; nothing written\n"
+
+
+def test_illinois_finds_every_root():
+    """x^3 = k for k over 1e-3..1e3 (roots k^(1/3)), and cos x = 0 on [1, 2] (pi/2): each to its tolerance."""
+    from mech.solvers.batch import illinois
+
+    k = np.geomspace(1e-3, 1e3, 40)
+    a, b = np.zeros_like(k), np.full_like(k, 11.0)
+    x, ok = illinois(lambda x, i: x**3 - k[i], a, b, -k, 11.0**3 - k, xtol=1e-15, rtol=1e-13)
+    assert ok.all()
+    assert x == pytest.approx(np.cbrt(k), rel=1e-12)
+    x, ok = illinois(lambda x, i: np.cos(x), np.array([1.0]), np.array([2.0]), np.cos([1.0]), np.cos([2.0]),
+                     xtol=1e-15, rtol=1e-14)
+    assert ok.all() and x[0] == pytest.approx(math.pi / 2, abs=1e-14)
+
+
+@pytest.mark.parametrize("ex_id", ["5.11", "5.12", "5.13"])
+def test_hard_cases_through_the_batched_route(ex_id):
+    """The catalogue's hard cases, all in one batch: each within its error bar of `mech solve`, same verdict."""
+    ex = registry.get(ex_id)
+    cases = [ex.resolve(h["params"]) for h in ex.hard_cases] + [ex.resolve({})]
+    P = {p.name: np.array([c[p.name] for c in cases]) for p in ex.params}
+    outs = ex._batched.outputs
+    num = ex._batched.numeric(P, ex.default_rtol, outs)
+    for j, c in enumerate(cases):
+        single = cross_check(ex, c).as_json()
+        for name in outs:
+            s = next(x for x in single["quantities"] if x["name"] == name)
+            col = num[name]
+            assert not col.mask("failed")[j], (dict(c), name, col.reason("failed", j))
+            if s["numeric"] is None:
+                assert col.mask("undefined")[j]
+            else:
+                err = np.broadcast_to(col.rel, col.value.shape)[j] * abs(col.value[j]) + \
+                    np.broadcast_to(col.abs, col.value.shape)[j]
+                assert abs(col.value[j] - s["numeric"]) <= err + s["numeric_err"], (dict(c), name)

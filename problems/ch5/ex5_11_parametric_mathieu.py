@@ -262,7 +262,7 @@ def analytic_batch(P):
 
 
 def expected_error_batch(P):
-    """``expected_error`` of the growth rate over arrays of points."""
+    """``expected_error`` over arrays of points (NaN where the scalar one gives none)."""
     omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
     xi = omega - omega0
     g0 = _lo_batch(omega0, delta, mu, xi)["growth"]
@@ -274,38 +274,253 @@ def expected_error_batch(P):
             g = _lo_batch(omega0, delta, mu * (1 + se * r), xi + sx * s)["growth"]
             worst = np.maximum(worst, np.abs(g - g0))
     with np.errstate(divide="ignore", invalid="ignore"):
-        return {"growth": np.where(g0 != 0, worst / np.abs(g0), np.inf)}
+        out = {"growth": np.where(g0 != 0, worst / np.abs(g0), np.inf)}
+        # threshold: its own mu sets the neglected terms (none given where it is 0)
+        mt = 4.0 * np.hypot(delta, xi) / omega0
+        r = 2.0 * (np.abs(xi) / omega0 + mt**2 / 16.0)
+        s = 2.0 * (mt**2 * omega0 / 64.0 + 0.5 * delta**2 / omega0 + xi**2 / omega0)
+        alt = 4.0 * np.hypot(delta, np.abs(xi) + s) / omega0 / np.maximum(1.0 - r, 1e-3)
+        out["mu_th"] = np.where(mt > 0, alt / mt - 1.0, np.nan)
+        # edges: the half-width through eps, plus the centre's shift (none given where there is no zone)
+        h = _lo_batch(omega0, delta, mu, np.zeros_like(mu))["xi_hi"]
+        r = 2.0 * (np.abs(h) / omega0 + mu**2 / 16.0)
+        s = 2.0 * (mu**2 * omega0 / 64.0 + 0.5 * delta**2 / omega0 + h**2 / omega0)
+        worst = np.zeros_like(h)
+        for se in (-1.0, 1.0):
+            alt = _lo_batch(omega0, delta, mu * (1 + se * r), np.zeros_like(mu))["xi_hi"]
+            worst = np.maximum(worst, np.where(np.isnan(alt), h, np.abs(alt - h)))
+        out["xi_lo"] = out["xi_hi"] = (worst + s) / h
+    return out
 
 
-@exercise.batched(("growth",), analytic=analytic_batch, expected_error=expected_error_batch,
-                  boundaries={"mu": ("mu_th", "leading-order zone edge μ = μ_th(ω)")})
-def numeric_batch(P, rtol, outputs):
-    """The growth rate at N points at once, from the same equation of motion as ``numeric``.
+def _trace_batch(omega0, delta, mu, omega, rtol):
+    """(tr M_y, |Wronskian drift|) of ``_floquet``'s Hill equation at N points at once.
 
     q = exp(-delta t) y leaves y'' + (omega0^2 (1 + mu cos 2 omega t) - delta^2) y = 0;
     in the time s = omega t every point's modulation period pi/omega becomes
     pi, so all points integrate the even Hill equation
     y'' + ((omega0/omega)^2 (1 + mu cos 2s) - (delta/omega)^2) y = 0 over the
     same half period [0, pi/2] (tr M does not depend on the time's unit).
-    The claims and the Wronskian check are those of the one-point route.
     """
-    from mech.solvers.batch import Column
     from mech.solvers.floquet import even_hill_half_batch
 
-    omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
-    n = omega.size
     r2 = (omega0 / omega) ** 2
     c0, c1 = r2 - (delta / omega) ** 2, r2 * mu
-    (y1, y1p, y2, y2p), res = even_hill_half_batch(lambda s: c0 + c1 * math.cos(2.0 * s), 0.5 * math.pi, n,
-                                                    rtol=rtol, vscale=omega0 / omega)
-    tr = 2.0 * (y1 * y2p + y1p * y2)
-    wronski = np.abs(y1 * y2p - y1p * y2 - 1.0)
-    T = math.pi / omega
-    disc = tr * tr - 4.0
-    lam = np.where(disc > 0, 0.5 * (np.abs(tr) + np.sqrt(np.maximum(disc, 0.0))), 1.0)
+    (y1, y1p, y2, y2p), _ = even_hill_half_batch(lambda s: c0 + c1 * math.cos(2.0 * s), 0.5 * math.pi, omega.size,
+                                                  rtol=rtol, vscale=omega0 / omega)
+    return 2.0 * (y1 * y2p + y1p * y2), np.abs(y1 * y2p - y1p * y2 - 1.0)
+
+
+class _MinusOne:
+    """P = det(M + I) of points (omega0, delta, mu, omega), any one of mu or omega varied; the largest
+    Wronskian drift of each point kept."""
+
+    def __init__(self, omega0, delta, mu, omega, rtol):
+        self.omega0, self.delta, self.mu, self.omega, self.rtol = omega0, delta, mu, omega, rtol
+        self.drift = np.zeros(omega0.size)
+
+    def __call__(self, idx, mu=None, omega=None):
+        mu = self.mu[idx] if mu is None else mu
+        omega = self.omega[idx] if omega is None else omega
+        tr, w = _trace_batch(self.omega0[idx], self.delta[idx], mu, omega, self.rtol)
+        self.drift[idx] = np.maximum(self.drift[idx], w)
+        damp = np.exp(-self.delta[idx] * math.pi / omega)
+        return 1.0 + damp * tr + damp * damp
+
+
+def _by_rows(memo, key, arrays, compute):
+    """``compute`` once for each distinct row of ``arrays`` (the parameters an output depends on), its
+    results kept in ``memo`` under ``key`` for the sweep's later chunks; returns them for every point.
+
+    ``compute(*columns)`` takes the rows' columns and returns a tuple of arrays, one entry per row."""
+    rows = np.stack(arrays, axis=1)
+    uniq, inverse = np.unique(rows, axis=0, return_inverse=True)
+    store = memo.setdefault(key, {})
+    keys = [tuple(r) for r in uniq.tolist()]
+    todo = [j for j, k in enumerate(keys) if k not in store]
+    if todo:
+        got = compute(*(uniq[todo, c] for c in range(uniq.shape[1])))
+        for n, j in enumerate(todo):
+            store[keys[j]] = tuple(g[n] for g in got)
+    per_row = [store[k] for k in keys]
+    inv = inverse.ravel()
+    return tuple(np.array([r[m] for r in per_row])[inv] for m in range(len(per_row[0])))
+
+
+def _threshold_batch(omega0, delta, omega, rtol):
+    """``numeric``'s mu_th at N points: the first sign change of P(mu) scanning upward, then the root."""
+    from mech.solvers.batch import illinois
+
+    n = omega.size
+    P = _MinusOne(omega0, delta, np.zeros(n), omega, rtol)
     noise = 10.0 * rtol
-    amplify = 1.0 + np.abs(tr) / np.sqrt(np.maximum(disc, noise))
+    allp = np.arange(n)
+    p0 = P(allp, mu=np.zeros(n))
+    zero = p0 <= noise  # exact resonance without damping: any modulation excites
+    lo, hi = np.zeros(n), np.full(n, 1e-3)
+    flo, fhi = p0.copy(), np.full(n, np.nan)
+    scan = ~zero
+    no_root = np.zeros(n, dtype=bool)
+    while scan.any():
+        idx = np.flatnonzero(scan)
+        fhi[idx] = P(idx, mu=hi[idx])
+        up = fhi[idx] > 0.0
+        grow = idx[up]
+        lo[grow], flo[grow], hi[grow] = hi[grow], fhi[grow], 4.0 * hi[grow]
+        over = grow[hi[grow] > 10.0]
+        no_root[over] = True
+        scan[idx[~up]] = False
+        scan[over] = False
+    go = np.flatnonzero(~zero & ~no_root)
+    mu_th = np.zeros(n)
+    conv = np.ones(n, dtype=bool)
+    if go.size:
+        x, ok = illinois(lambda x, i: P(go[i], mu=x), lo[go], hi[go], flo[go], fhi[go], xtol=1e-15, rtol=1e-13)
+        mu_th[go], conv[go] = x, ok
+    rel = np.full(n, 100.0 * rtol)
+    ab = np.zeros(n)
+    ab[zero] = math.sqrt(noise)
+    if go.size:
+        dmu = 1e-4 * mu_th[go]
+        slope = np.abs(P(go, mu=mu_th[go] + dmu)) / dmu
+        with np.errstate(divide="ignore"):
+            rel[go] = np.maximum(100.0 * rtol, noise / (slope * mu_th[go]))
+    mu_th[no_root | ~conv] = np.nan
+    return mu_th, rel, ab, no_root, ~conv, P.drift
+
+
+def _edges_batch(omega0, delta, mu, rtol):
+    """``numeric``'s zone edges at N points: P(omega) on a grid, its minimum by golden section until P < 0,
+    the roots on both sides."""
+    from mech.solvers.batch import illinois
+
+    n = mu.size
+    P = _MinusOne(omega0, delta, mu, np.ones(n), rtol)
+    noise = 10.0 * rtol
+    allp = np.arange(n)
+    grid = np.linspace(0.55, 1.6, 9)[None, :] * omega0[:, None]
+    vals = np.stack([P(allp, omega=grid[:, j]) for j in range(9)], axis=1)
+    window = (vals[:, 0] <= 0) | (vals[:, -1] <= 0)
+    k = np.argmin(vals, axis=1)
+    w_in = grid[allp, k]
+    p_in = vals[allp, k]
+    found = (p_in < 0) & ~window
+    none = np.zeros(n, dtype=bool)
+    # golden-section search for the minimum, stopped as soon as P < 0 is seen
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    a = grid[allp, np.maximum(k - 1, 0)]
+    b = grid[allp, np.minimum(k + 1, 8)]
+    c, d = b - g * (b - a), a + g * (b - a)
+    active = ~found & ~window
+    fc, fd = np.full(n, np.inf), np.full(n, np.inf)
+    idx = np.flatnonzero(active)
+    if idx.size:
+        fc[idx] = P(idx, omega=c[idx])
+        fd[idx] = P(idx, omega=d[idx])
+    while active.any():
+        idx = np.flatnonzero(active)
+        hit = np.minimum(fc[idx], fd[idx]) < 0
+        h = idx[hit]
+        use_c = fc[h] < fd[h]
+        w_in[h] = np.where(use_c, c[h], d[h])
+        p_in[h] = np.where(use_c, fc[h], fd[h])
+        found[h] = True
+        active[h] = False
+        idx = idx[~hit]
+        narrow = b[idx] - a[idx] <= 1e-11 * omega0[idx]
+        none[idx[narrow]] = True
+        active[idx[narrow]] = False
+        idx = idx[~narrow]
+        if not idx.size:
+            break
+        left = fc[idx] < fd[idx]
+        L, R = idx[left], idx[~left]
+        b[L], d[L], fd[L] = d[L], c[L], fc[L]
+        c[L] = b[L] - g * (b[L] - a[L])
+        a[R], c[R], fc[R] = c[R], d[R], fd[R]
+        d[R] = a[R] + g * (b[R] - a[R])
+        x = np.where(left, c[idx], d[idx])
+        fx = P(idx, omega=x)
+        fc[L], fd[R] = fx[left], fx[~left]
+    out = {}
+    go = np.flatnonzero(found)
+    for name, sgn in (("xi_lo", -1.0), ("xi_hi", 1.0)):
+        value, rel, ab = np.full(n, np.nan), np.full(n, 100.0 * rtol), np.zeros(n)
+        conv = np.ones(n, dtype=bool)
+        if go.size:
+            gg, vv, wi = grid[go], vals[go], w_in[go]
+            if sgn < 0:  # the last grid point below w_in where P > 0
+                m = (gg < wi[:, None]) & (vv > 0)
+                j = 8 - np.argmax(m[:, ::-1], axis=1)
+                end, fend = gg[np.arange(go.size), j], vv[np.arange(go.size), j]
+                lo_, hi_, flo, fhi = end, wi, fend, p_in[go]
+            else:  # the first grid point above w_in where P > 0
+                m = (gg > wi[:, None]) & (vv > 0)
+                j = np.argmax(m, axis=1)
+                end, fend = gg[np.arange(go.size), j], vv[np.arange(go.size), j]
+                lo_, hi_, flo, fhi = wi, end, p_in[go], fend
+            w, ok = illinois(lambda x, i: P(go[i], omega=x), lo_, hi_, flo, fhi, xtol=1e-15 * omega0[go],
+                             rtol=1e-14)
+            dw = 1e-7 * omega0[go]
+            slope = np.abs(P(go, omega=w + sgn * dw)) / dw
+            value[go] = w - omega0[go]
+            with np.errstate(divide="ignore"):
+                ab[go] = noise / slope
+            conv[go] = ok
+        out[name] = (value, rel, ab, ~conv)
+    return out, window, none, P.drift
+
+
+_CHART_OUTPUTS = ("growth", "mu_th", "xi_lo", "xi_hi")
+
+
+@exercise.batched(_CHART_OUTPUTS, analytic=analytic_batch, expected_error=expected_error_batch,
+                  boundaries={"mu": ("mu_th", "leading-order zone edge μ = μ_th(ω)")})
+def numeric_batch(P, rtol, outputs, memo=None):
+    """``numeric`` at N points at once, from the same equation of motion (see ``_trace_batch``).
+
+    growth at every point; mu_th once for each distinct (omega0, delta, omega)
+    and the edges once for each distinct (omega0, delta, mu), the parameters
+    they depend on (a grid over omega and mu needs 200 thresholds, not 40 000),
+    kept in ``memo`` (one dict for the whole sweep) across its chunks.
+    The same scans, roots, claims and Wronskian check as the one-point route.
+    """
+    from mech.solvers.batch import Column
+
+    omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
+    memo = {} if memo is None else memo
     allowed = exercise.tol_factor * rtol
-    growth = Column(np.log(np.exp(-delta * T) * lam) / T, rel=100 * rtol, abs=noise * amplify / T,
-                    failed=[(wronski > allowed, f"the Wronskian drifted by more than {allowed:.3g}")])
-    return {"growth": growth}
+    drifted = f"the Wronskian drifted by more than {allowed:.3g}"
+    out = {}
+    if "growth" in outputs:
+        tr, wronski = _trace_batch(omega0, delta, mu, omega, rtol)
+        T = math.pi / omega
+        disc = tr * tr - 4.0
+        lam = np.where(disc > 0, 0.5 * (np.abs(tr) + np.sqrt(np.maximum(disc, 0.0))), 1.0)
+        noise = 10.0 * rtol
+        amplify = 1.0 + np.abs(tr) / np.sqrt(np.maximum(disc, noise))
+        out["growth"] = Column(np.log(np.exp(-delta * T) * lam) / T, rel=100 * rtol, abs=noise * amplify / T,
+                               failed=[(wronski > allowed, drifted)])
+    if "mu_th" in outputs:
+        v, rel, ab, no_root, unconv, drift = _by_rows(memo, ("mu_th", rtol), (omega0, delta, omega),
+                                                      lambda a, b, c: _threshold_batch(a, b, c, rtol))
+        out["mu_th"] = Column(v, rel=rel, abs=ab, failed=[
+            (no_root, "no multiplier reaches -1 for mu < 10: no first-zone threshold found"),
+            (unconv, "the root search for the threshold did not converge"),
+            (drift > allowed, drifted)])
+    if {"xi_lo", "xi_hi"} & set(outputs):
+        def edges(a, b, c):
+            e, window, none, drift = _edges_batch(a, b, c, rtol)
+            return (*e["xi_lo"], *e["xi_hi"], window, none, drift)
+
+        got = _by_rows(memo, ("edges", rtol), (omega0, delta, mu), edges)
+        window, none, drift = got[8], got[9], got[10]
+        for k, name in enumerate(("xi_lo", "xi_hi")):
+            if name in outputs:
+                v, rel, ab, unconv = got[4 * k: 4 * k + 4]
+                out[name] = Column(v, rel=rel, abs=ab, undefined=[
+                    (none, "min over omega of det(M + I) >= 0: no multiplier passes -1 at this mu")],
+                    failed=[(window, "the first zone reaches the end of the omega search window"),
+                            (unconv, "the root search for the zone's edge did not converge"),
+                            (drift > allowed, drifted)])
+    return out
