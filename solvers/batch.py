@@ -244,3 +244,26 @@ def illinois(f, a, b, fa, fb, *, xtol, rtol, max_iter: int = 200):
 
 
 __all__ += ["illinois"]
+
+
+def by_rows(memo: dict, key, arrays, compute):
+    """``compute`` once for each distinct row of ``arrays`` (the parameters an output depends on), the
+    results kept in ``memo[key]`` for later calls (a sweep's later chunks); returns them for every point.
+
+    ``compute(*columns)`` takes the distinct rows' columns and returns a tuple of arrays, one entry per
+    row; the result is that tuple spread back over all N points."""
+    rows = np.stack([np.asarray(a, dtype=float) for a in arrays], axis=1)
+    uniq, inverse = np.unique(rows, axis=0, return_inverse=True)
+    store = memo.setdefault(key, {})
+    keys = [tuple(r) for r in uniq.tolist()]
+    todo = [j for j, k in enumerate(keys) if k not in store]
+    if todo:
+        got = compute(*(uniq[todo, c] for c in range(uniq.shape[1])))
+        for n, j in enumerate(todo):
+            store[keys[j]] = tuple(g[n] for g in got)
+    per_row = [store[k] for k in keys]
+    inv = inverse.ravel()
+    return tuple(np.array([r[m] for r in per_row])[inv] for m in range(len(per_row[0])))
+
+
+__all__ += ["by_rows"]

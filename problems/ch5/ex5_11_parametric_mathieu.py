@@ -328,25 +328,6 @@ class _MinusOne:
         return 1.0 + damp * tr + damp * damp
 
 
-def _by_rows(memo, key, arrays, compute):
-    """``compute`` once for each distinct row of ``arrays`` (the parameters an output depends on), its
-    results kept in ``memo`` under ``key`` for the sweep's later chunks; returns them for every point.
-
-    ``compute(*columns)`` takes the rows' columns and returns a tuple of arrays, one entry per row."""
-    rows = np.stack(arrays, axis=1)
-    uniq, inverse = np.unique(rows, axis=0, return_inverse=True)
-    store = memo.setdefault(key, {})
-    keys = [tuple(r) for r in uniq.tolist()]
-    todo = [j for j, k in enumerate(keys) if k not in store]
-    if todo:
-        got = compute(*(uniq[todo, c] for c in range(uniq.shape[1])))
-        for n, j in enumerate(todo):
-            store[keys[j]] = tuple(g[n] for g in got)
-    per_row = [store[k] for k in keys]
-    inv = inverse.ravel()
-    return tuple(np.array([r[m] for r in per_row])[inv] for m in range(len(per_row[0])))
-
-
 def _threshold_batch(omega0, delta, omega, rtol):
     """``numeric``'s mu_th at N points: the first sign change of P(mu) scanning upward, then the root."""
     from mech.solvers.batch import illinois
@@ -485,7 +466,7 @@ def numeric_batch(P, rtol, outputs, memo=None):
     kept in ``memo`` (one dict for the whole sweep) across its chunks.
     The same scans, roots, claims and Wronskian check as the one-point route.
     """
-    from mech.solvers.batch import Column
+    from mech.solvers.batch import Column, by_rows
 
     omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
     memo = {} if memo is None else memo
@@ -502,7 +483,7 @@ def numeric_batch(P, rtol, outputs, memo=None):
         out["growth"] = Column(np.log(np.exp(-delta * T) * lam) / T, rel=100 * rtol, abs=noise * amplify / T,
                                failed=[(wronski > allowed, drifted)])
     if "mu_th" in outputs:
-        v, rel, ab, no_root, unconv, drift = _by_rows(memo, ("mu_th", rtol), (omega0, delta, omega),
+        v, rel, ab, no_root, unconv, drift = by_rows(memo, ("mu_th", rtol), (omega0, delta, omega),
                                                       lambda a, b, c: _threshold_batch(a, b, c, rtol))
         out["mu_th"] = Column(v, rel=rel, abs=ab, failed=[
             (no_root, "no multiplier reaches -1 for mu < 10: no first-zone threshold found"),
@@ -513,7 +494,7 @@ def numeric_batch(P, rtol, outputs, memo=None):
             e, window, none, drift = _edges_batch(a, b, c, rtol)
             return (*e["xi_lo"], *e["xi_hi"], window, none, drift)
 
-        got = _by_rows(memo, ("edges", rtol), (omega0, delta, mu), edges)
+        got = by_rows(memo, ("edges", rtol), (omega0, delta, mu), edges)
         window, none, drift = got[8], got[9], got[10]
         for k, name in enumerate(("xi_lo", "xi_hi")):
             if name in outputs:
