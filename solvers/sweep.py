@@ -269,10 +269,14 @@ def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter):
     rel = np.where(np.isnan(rel), ex.tol_factor * rtol, rel)  # no claim: the exercise's default one
     tol_abs = np.broadcast_to(np.asarray(num.abs, dtype=float), (N,))
     tol = rel.copy()
-    expected = None
+    expected = expected_abs = None
+    allowed_abs = tol_abs
     if out.theory != "exact" and e_rel is not None:
-        expected = np.asarray(e_rel, dtype=float)
+        expected, expected_abs = (np.asarray(x, dtype=float) for x in e_rel)
+        # an absolute part alone: the relative one is 0
+        expected = np.where(np.isnan(expected) & ~np.isnan(expected_abs), 0.0, expected)
         tol = np.where(np.isnan(expected), tol, np.fmax(tol, expected))
+        allowed_abs = np.fmax(tol_abs, np.nan_to_num(expected_abs, nan=0.0))
     a_num = ~a_und & np.isfinite(a)
     n_num = ~n_und & ~n_fail & np.isfinite(n)
     both = a_num & n_num
@@ -282,12 +286,18 @@ def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter):
     a_err = np.broadcast_to(np.asarray(a_col.abs, dtype=float), (N,))
     with np.errstate(divide="ignore", invalid="ignore"):
         rel_err = np.where(both, np.where(denom > 0, abs_err / denom, 0.0), np.nan)
-        agree_num = abs_err <= tol * np.abs(a) + tol_abs + a_err
+        agree_num = abs_err <= tol * np.abs(a) + allowed_abs + a_err
     # 1 agree, 0 disagree, -1 no verdict (the numeric value failed: the point's error says why)
     agree = np.full(N, -1, dtype=np.int8)
     agree[both] = agree_num[both]
     one = (a_und | n_und) & ~n_fail
     agree[one] = (a_und & n_und)[one]
+    # the leading-order theory finds no value, but what it neglects allows one this large
+    numeric_err = np.where(n_num, rel * np.abs(n) + tol_abs, np.nan)
+    small = np.zeros(N, dtype=bool)
+    if expected_abs is not None:
+        small = a_und & n_num & (np.nan_to_num(expected_abs, nan=0.0) > 0)
+        agree[small] = (np.abs(n) <= expected_abs + numeric_err)[small]
     # an error bar of infinity would agree with anything: no verdict but a failure
     no_claim = n_num & ~(np.isfinite(rel) & np.isfinite(tol_abs))
     agree[no_claim] = 0
@@ -304,12 +314,11 @@ def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter):
         claim = rel * scale + tol_abs
         unreliable = chk & (verify_diff > claim)
         agree[unreliable] = 0
-    numeric_err = np.where(n_num, rel * np.abs(n) + tol_abs, np.nan)
     return {
         "analytic": np.where(a_num, a, np.nan), "numeric": np.where(n_num, n, np.nan),
         "a_und": a_und, "n_und": n_und, "n_fail": n_fail, "ver_fail": ver_fail,
         "abs_err": abs_err, "rel_err": rel_err, "tol": tol, "tol_abs": tol_abs, "agree": agree,
-        "expected_err": expected, "verify_diff": verify_diff, "unreliable": unreliable,
+        "expected_err": expected, "expected_err_abs": expected_abs, "small": small, "verify_diff": verify_diff, "unreliable": unreliable,
         "numeric_err": numeric_err, "a_col": a_col, "num": num, "ver": ver, "no_claim": no_claim,
         "tighter": tighter,
     }
@@ -412,13 +421,17 @@ def run_batched(
         e = route.expected_error(Pc) if route.expected_error else {}
         for o in outputs:
             analytic[o].append(a[o])
-            expected[o].append(np.asarray(e[o], dtype=float) if o in e else np.full(m, np.nan))
+            # relative, or (relative, absolute) where the leading-order value can be zero; NaN: none given
+            rel_abs = e.get(o, np.nan)
+            if not isinstance(rel_abs, tuple):
+                rel_abs = (rel_abs, np.nan)
+            expected[o].append(np.stack([np.broadcast_to(np.asarray(x, dtype=float), (m,)) for x in rel_abs]))
         stats["chunks"] += 1
         if progress:
             progress(sl.stop)
     judged = {}
     for o in outputs:
-        judged[o] = _judge(ex, o, _concat_columns(analytic[o]), np.concatenate(expected[o]),
+        judged[o] = _judge(ex, o, _concat_columns(analytic[o]), np.concatenate(expected[o], axis=1),
                            _concat_columns(nums[o]), _concat_columns(vers[o]) if verify else None, rtol, tighter)
     info = {"method": "DOP853 (batched)", "rtol": rtol, "verify_rtol": tighter if verify else None,
             "chunk": chunk, "chunks": stats["chunks"]}
@@ -472,11 +485,16 @@ def batched_points(result: SweepResult) -> list[dict]:
             if o.theory != "exact":
                 q["theory"] = o.theory
                 q["expected_err"] = None if J["expected_err"] is None else _num(J["expected_err"][k])
+                if J["expected_err_abs"] is not None and J["expected_err_abs"][k] == J["expected_err_abs"][k]:
+                    q["expected_err_abs"] = float(J["expected_err_abs"][k])
             if q["numeric"] is not None:
                 q["numeric_err"] = _num(J["numeric_err"][k])
             if not (J["verify_diff"][k] != J["verify_diff"][k]):  # not NaN
                 q["verify_diff"] = float(J["verify_diff"][k])
-            if (J["a_und"][k]) != (J["n_und"][k]) and not J["n_fail"][k]:
+            if J["small"][k]:
+                notes.append("the leading-order theory finds no value; within what it neglects one up to "
+                             f"{J['expected_err_abs'][k]:.3g} may exist" + ("" if ag else ", and this one is larger"))
+            elif (J["a_und"][k]) != (J["n_und"][k]) and not J["n_fail"][k]:
                 notes.append("one method finds no finite value where the other does")
             if J["no_claim"][k]:
                 notes.append("the numeric solver claims no finite accuracy for this value")

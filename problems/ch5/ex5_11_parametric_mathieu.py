@@ -321,7 +321,8 @@ def expected_error_batch(P):
             g = _lo_batch(omega0, delta, mu * (1 + se * r), xi + sx * s)["growth"]
             worst = np.maximum(worst, np.abs(g - g0))
     with np.errstate(divide="ignore", invalid="ignore"):
-        out = {"growth": np.where(g0 != 0, worst / np.abs(g0), np.inf)}
+        # at threshold the leading-order growth is exactly 0: what the theory neglects is then absolute
+        out = {"growth": (np.where(g0 != 0, worst / np.abs(g0), 0.0), np.where(g0 != 0, np.nan, worst))}
         # threshold: its own mu sets the neglected terms (none given where it is 0)
         mt = 4.0 * np.hypot(delta, xi) / omega0
         r = 2.0 * (np.abs(xi) / omega0 + mt**2 / 16.0)
@@ -336,7 +337,13 @@ def expected_error_batch(P):
         for se in (-1.0, 1.0):
             alt = _lo_batch(omega0, delta, mu * (1 + se * r), np.zeros_like(mu))["xi_hi"]
             worst = np.maximum(worst, np.where(np.isnan(alt), h, np.abs(alt - h)))
-        out["xi_lo"] = out["xi_hi"] = (worst + s) / h
+        rel = (worst + s) / h
+        # no zone in the theory: one may still open, no wider than the larger coupling eps (1 + r) gives
+        r = 2.0 * (mu**2 / 16.0)
+        s = 2.0 * (mu**2 * omega0 / 64.0 + 0.5 * delta**2 / omega0)
+        widest = _lo_batch(omega0, delta, mu * (1 + r), np.zeros_like(mu))["xi_hi"]
+        ab = np.where(np.isnan(h), widest + s, np.nan)
+        out["xi_lo"] = out["xi_hi"] = (rel, ab)
     return out
 
 
@@ -349,13 +356,42 @@ def _trace_batch(omega0, delta, mu, omega, rtol):
     y'' + ((omega0/omega)^2 (1 + mu cos 2s) - (delta/omega)^2) y = 0 over the
     same half period [0, pi/2] (tr M does not depend on the time's unit).
     """
+    (y1, y1p, y2, y2p), drift = _half_batch(omega0, delta, mu, omega, rtol)
+    return 2.0 * (y1 * y2p + y1p * y2), drift
+
+
+def _half_batch(omega0, delta, mu, omega, rtol):
+    """(y1, y1', y2, y2') at half the period, in the time t as ``even_hill_half`` gives them, and the
+    |Wronskian drift|, at N points at once (see ``_trace_batch`` for the scaled time)."""
     from mech.solvers.floquet import even_hill_half_batch
 
     r2 = (omega0 / omega) ** 2
     c0, c1 = r2 - (delta / omega) ** 2, r2 * mu
     (y1, y1p, y2, y2p), _ = even_hill_half_batch(lambda s: c0 + c1 * math.cos(2.0 * s), 0.5 * math.pi, omega.size,
                                                   rtol=rtol, vscale=omega0 / omega)
-    return 2.0 * (y1 * y2p + y1p * y2), np.abs(y1 * y2p - y1p * y2 - 1.0)
+    # back to the time t: d/dt = omega d/ds, and y2 (y2'(0) = 1) is 1/omega of its scaled self
+    return (y1, omega * y1p, y2 / omega, y2p), np.abs(y1 * y2p - y1p * y2 - 1.0)
+
+
+def _growth_batch(omega0, delta, mu, omega, rtol):
+    """``_growth`` at N points at once: (growth, its absolute error, |Wronskian drift|), by the same
+    cancellation-free logarithm and the same error propagation."""
+    (y1, y1p, y2, y2p), drift = _half_batch(omega0, delta, mu, omega, rtol)
+    T = math.pi / omega
+    tr = 2.0 * (y1 * y2p + y1p * y2)
+    neg = tr < 0
+    h = np.where(neg, -2.0 * y1 * y2p, 2.0 * y1p * y2)
+    e = rtol * (2.0 + 0.2 * omega0 * 0.5 * T)
+    dh = 2.0 * e * np.where(neg, np.abs(y1) + np.abs(y2p), np.abs(y1p) / omega0 + np.abs(y2) * omega0)
+    hp = np.maximum(h, 0.0)
+    root = np.sqrt(hp * (hp + 2.0))
+    ln_lam = np.where(h > 0, np.log1p(hp + root), 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d_pos = np.where(h > dh, dh / np.where(root > 0, root, 1.0), np.sqrt(2.0 * np.maximum(h + dh, 0.0)))
+    d_neg = np.where(-h < dh, np.sqrt(2.0 * dh), 0.0)
+    d_ln = np.where(h > 0, d_pos, d_neg)
+    growth = ln_lam / T - delta
+    return growth, d_ln / T + 4.0 * 2.0**-53 * (ln_lam / T + delta), drift
 
 
 class _MinusOne:
@@ -434,6 +470,7 @@ def _edges_batch(omega0, delta, mu, rtol):
     p_in = vals[allp, k]
     found = (p_in < 0) & ~window
     none = np.zeros(n, dtype=bool)
+    unresolved = np.zeros(n, dtype=bool)  # the minimum is within the noise of P: whether a zone exists is open
     # golden-section search for the minimum, stopped as soon as P < 0 is seen
     g = 0.5 * (math.sqrt(5.0) - 1.0)
     a = grid[allp, np.maximum(k - 1, 0)]
@@ -456,7 +493,10 @@ def _edges_batch(omega0, delta, mu, rtol):
         active[h] = False
         idx = idx[~hit]
         narrow = b[idx] - a[idx] <= 1e-11 * omega0[idx]
-        none[idx[narrow]] = True
+        nn = idx[narrow]
+        resolved = np.minimum(fc[nn], fd[nn]) > noise
+        none[nn[resolved]] = True
+        unresolved[nn[~resolved]] = True
         active[idx[narrow]] = False
         idx = idx[~narrow]
         if not idx.size:
@@ -496,7 +536,7 @@ def _edges_batch(omega0, delta, mu, rtol):
                 ab[go] = noise / slope
             conv[go] = ok
         out[name] = (value, rel, ab, ~conv)
-    return out, window, none, P.drift
+    return out, window, none, unresolved, P.drift
 
 
 _CHART_OUTPUTS = ("growth", "mu_th", "xi_lo", "xi_hi")
@@ -521,14 +561,8 @@ def numeric_batch(P, rtol, outputs, memo=None):
     drifted = f"the Wronskian drifted by more than {allowed:.3g}"
     out = {}
     if "growth" in outputs:
-        tr, wronski = _trace_batch(omega0, delta, mu, omega, rtol)
-        T = math.pi / omega
-        disc = tr * tr - 4.0
-        lam = np.where(disc > 0, 0.5 * (np.abs(tr) + np.sqrt(np.maximum(disc, 0.0))), 1.0)
-        noise = 10.0 * rtol
-        amplify = 1.0 + np.abs(tr) / np.sqrt(np.maximum(disc, noise))
-        out["growth"] = Column(np.log(np.exp(-delta * T) * lam) / T, rel=100 * rtol, abs=noise * amplify / T,
-                               failed=[(wronski > allowed, drifted)])
+        growth, err, wronski = _growth_batch(omega0, delta, mu, omega, rtol)
+        out["growth"] = Column(growth, rel=100 * rtol, abs=err, failed=[(wronski > allowed, drifted)])
     if "mu_th" in outputs:
         v, rel, ab, no_root, unconv, drift = by_rows(memo, ("mu_th", rtol), (omega0, delta, omega),
                                                       lambda a, b, c: _threshold_batch(a, b, c, rtol))
@@ -538,17 +572,20 @@ def numeric_batch(P, rtol, outputs, memo=None):
             (drift > allowed, drifted)])
     if {"xi_lo", "xi_hi"} & set(outputs):
         def edges(a, b, c):
-            e, window, none, drift = _edges_batch(a, b, c, rtol)
-            return (*e["xi_lo"], *e["xi_hi"], window, none, drift)
+            e, window, none, unresolved, drift = _edges_batch(a, b, c, rtol)
+            return (*e["xi_lo"], *e["xi_hi"], window, none, unresolved, drift)
 
         got = by_rows(memo, ("edges", rtol), (omega0, delta, mu), edges)
-        window, none, drift = got[8], got[9], got[10]
+        window, none, unresolved, drift = got[8], got[9].astype(bool), got[10].astype(bool), got[11]
+        window = window.astype(bool)
         for k, name in enumerate(("xi_lo", "xi_hi")):
             if name in outputs:
                 v, rel, ab, unconv = got[4 * k: 4 * k + 4]
                 out[name] = Column(v, rel=rel, abs=ab, undefined=[
                     (none, "min over omega of det(M + I) >= 0: no multiplier passes -1 at this mu")],
                     failed=[(window, "the first zone reaches the end of the omega search window"),
+                            (unresolved, "min over omega of det(M + I) is within its accuracy: whether a "
+                                         "zone exists at this mu is not resolved"),
                             (unconv, "the root search for the zone's edge did not converge"),
                             (drift > allowed, drifted)])
     return out
