@@ -486,7 +486,7 @@ def batched_points(result: SweepResult) -> list[dict]:
                 q["theory"] = o.theory
                 q["expected_err"] = None if J["expected_err"] is None else _num(J["expected_err"][k])
                 if J["expected_err_abs"] is not None and J["expected_err_abs"][k] == J["expected_err_abs"][k]:
-                    q["expected_err_abs"] = float(J["expected_err_abs"][k])
+                    q["expected_err_abs"] = _num(J["expected_err_abs"][k])
             if q["numeric"] is not None:
                 q["numeric_err"] = _num(J["numeric_err"][k])
             if not (J["verify_diff"][k] != J["verify_diff"][k]):  # not NaN

@@ -323,3 +323,36 @@ def test_hard_cases_through_the_batched_route(ex_id):
                 err = np.broadcast_to(col.rel, col.value.shape)[j] * abs(col.value[j]) + \
                     np.broadcast_to(col.abs, col.value.shape)[j]
                 assert abs(col.value[j] - s["numeric"]) <= err + s["numeric_err"], (dict(c), name)
+
+
+def test_map_marks_failed_points_with_their_reason(monkeypatch):
+    """Points the route fails are crossed and counted in the legend, with the reason's words; the boundary
+    the exercise declares is drawn; the colour bar carries the unit."""
+    pytest.importorskip("matplotlib")
+    import dataclasses
+
+    from mech.cli.figures.sweepfig import sweep_figure
+    from mech.solvers.batch import Column
+
+    ex = registry.get("5.11")
+    real = ex._batched.numeric
+
+    def half_broken(P, rtol, outputs, memo=None):
+        got = real(P, rtol, outputs, memo=memo)
+        col = got["growth"]
+        bad = np.asarray(P["omega"]) > 10.1
+        got["growth"] = Column(np.where(bad, np.nan, col.value), rel=col.rel, abs=col.abs,
+                               failed=col.failed + [(bad, "step size underflow at t = 0.3 (test)")])
+        return got
+
+    monkeypatch.setattr(ex, "_batched", dataclasses.replace(ex._batched, numeric=half_broken))
+    axes = [Axis("omega", (9.8, 10.0, 10.2, 10.4)), Axis("mu", (0.02, 0.06, 0.1))]
+    res = run_batched(ex, axes, {}, ("growth",))
+    res.fixed = {"omega0": 10.0, "delta": 0.05}
+    assert res.n_failed == 6 and res.agree is False
+    fig = sweep_figure(res)
+    ax = fig.axes[0]
+    texts = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any(t.startswith("FAILED (6 points)") and "step size underflow at t" in t for t in texts), texts
+    assert any("μ_th" in t for t in texts)
+    assert "growth (numeric) [1/s]" in fig.axes[1].get_ylabel()
