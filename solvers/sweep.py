@@ -11,6 +11,13 @@ is the serial estimate.  A pool costs a start-up of its own (about
 the estimate is several times that, so small or cheap sweeps stay serial.
 Results come back in grid order whatever the schedule; every solver is
 deterministic, so serial and parallel sweeps give the same numbers.
+
+Charts (``run_batched``): where the exercise registers a batched route
+(``Exercise.batched``) for every output asked, the grid goes through it in
+chunks instead: both solves (rtol and rtol/10) and the analytic side over
+arrays, and each point judged by the cross-check's rule over arrays
+(``_judge``).  The result keeps arrays; ``point_list()`` builds the
+per-point solve objects only when they are printed.
 """
 
 from __future__ import annotations
@@ -258,7 +265,7 @@ def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter):
     """
     import numpy as np
 
-    out = ex.param_map and next(o for o in ex.outputs if o.name == name)
+    out = next(o for o in ex.outputs if o.name == name)
     a = a_col.value
     a_und = a_col.mask("undefined")
     n = num.value
@@ -318,7 +325,8 @@ def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter):
         "analytic": np.where(a_num, a, np.nan), "numeric": np.where(n_num, n, np.nan),
         "a_und": a_und, "n_und": n_und, "n_fail": n_fail, "ver_fail": ver_fail,
         "abs_err": abs_err, "rel_err": rel_err, "tol": tol, "tol_abs": tol_abs, "agree": agree,
-        "expected_err": expected, "expected_err_abs": expected_abs, "small": small, "verify_diff": verify_diff, "unreliable": unreliable,
+        "expected_err": expected, "expected_err_abs": expected_abs, "small": small,
+        "verify_diff": verify_diff, "unreliable": unreliable,
         "numeric_err": numeric_err, "a_col": a_col, "num": num, "ver": ver, "no_claim": no_claim,
         "tighter": tighter,
     }
