@@ -225,6 +225,17 @@ class Run:
         return d
 
 
+@dataclass(frozen=True)
+class BatchedRoute:
+    """What ``Exercise.batched`` registers: the chart's numeric route and its analytic counterpart."""
+
+    numeric: Callable
+    outputs: tuple[str, ...]
+    analytic: Callable
+    expected_error: Callable | None = None
+    boundaries: dict = field(default_factory=dict)
+
+
 def _load_catalogue(ex_id: str) -> dict:
     text = resources.files("mech.problems").joinpath("catalogue", f"{ex_id}.toml").read_text("utf-8")
     return tomllib.loads(text)
@@ -284,6 +295,7 @@ class Exercise:
         self._expected_error: Callable | None = None
         self._analytic_error: Callable | None = None
         self._hamiltonian: Callable | None = None
+        self._batched: "BatchedRoute | None" = None
         self.param_map = {p.name: p for p in self.params}
 
     # -- decorators -------------------------------------------------------
@@ -321,6 +333,32 @@ class Exercise:
         (``mech bench`` adds that row).  It does not replace the numeric solver."""
         self._hamiltonian = fn
         return fn
+
+    def batched(self, outputs: tuple[str, ...], *, analytic: Callable, expected_error: Callable | None = None,
+                boundaries: Mapping[str, tuple[str, str]] | None = None) -> Callable:
+        """Register a batched numeric route for charts: ``fn(P, rtol, outputs[, memo]) -> {output: Column}``.
+
+        ``P`` maps every parameter name to an array of N values (one per grid
+        point, already validated); ``fn`` computes only the ``outputs`` asked
+        (a subset of ``outputs`` given here) from the equations of motion, as
+        the numeric solver does, for all N points at once (see
+        ``mech.solvers.batch``).  ``analytic(P)`` and ``expected_error(P)`` are
+        the analytic solver and its expected error over the same arrays
+        ({output: Column} and {output: array}); tests hold them equal to the
+        scalar ones.  ``boundaries`` maps a parameter to (output, label): the
+        analytic value of that output is a boundary in that parameter (5.11's
+        mu = mu_th(omega)), drawn on maps over that parameter.  A ``memo`` keyword,
+        if ``fn`` takes one, is a dict shared by all chunks of one sweep.
+        """
+        unknown = set(outputs) - {o.name for o in self.outputs}
+        if unknown:
+            raise ValueError(f"{self.id}: batched route names unknown outputs {sorted(unknown)}")
+
+        def register(fn: Callable) -> Callable:
+            self._batched = BatchedRoute(fn, tuple(outputs), analytic, expected_error, dict(boundaries or {}))
+            return fn
+
+        return register
 
     # -- use --------------------------------------------------------------
     @property

@@ -166,3 +166,151 @@ def numeric(p, run):
     # f is smooth in eps and resolved to ~rtol of its scale: the root to ~rtol relative
     out["a_min"] = p.l * brentq(f, e_lo, e_hi, xtol=1e-3 * rtol * e_lo, rtol=1e-15, fa=f_lo, fb=f_hi)
     return out
+
+
+# -- charts: stability of both positions and their slow frequencies over many points at once ----------
+
+_BELOW_A_MIN = "a is below a_min: the effective potential has a maximum at theta = pi"
+
+
+def _arrays(P):
+    import numpy as np
+
+    return (np.asarray(P[k], dtype=float) for k in ("l", "g", "a", "Omega"))
+
+
+def analytic_batch(P):
+    """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
+    import numpy as np
+
+    from mech.solvers.batch import Column
+
+    l, g, a, Omega = _arrays(P)
+    w0sq = g / l
+    kick = (a * Omega / l) ** 2 / 2.0
+    inv = np.where(kick > w0sq, np.sqrt(np.maximum(kick - w0sq, 0.0)), np.nan)
+    return {"a_min": Column(np.sqrt(2.0 * g * l) / Omega), "omega_down": Column(np.sqrt(w0sq + kick)),
+            "omega_inv": Column(inv, undefined=[(~(kick > w0sq), _BELOW_A_MIN)])}
+
+
+def expected_error_batch(P):
+    """``expected_error`` of the slow frequencies over arrays of points (NaN where omega_inv has none)."""
+    import numpy as np
+
+    l, g, a, Omega = _arrays(P)
+    w0sq = g / l
+    eta = 4.0 * w0sq / Omega**2 + (2.0 * a / l) ** 2
+    kick = (a * Omega / l) ** 2 / 2.0
+    abs_nu2 = eta * (w0sq + kick)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = np.where(kick > w0sq, np.minimum(0.5 * abs_nu2 / (kick - w0sq), 1e6), np.nan)
+    a_min = np.sqrt(2.0 * g * l) / Omega
+    return {"omega_down": 0.5 * abs_nu2 / (w0sq + kick), "omega_inv": inv,
+            "a_min": 4.0 * w0sq / Omega**2 + (2.0 * a_min / l) ** 2}
+
+
+def _half_batch(l, g, a, Omega, sign, rtol):
+    """``_half`` at N points at once: (y1, y1', y2, y2'), |Wronskian drift|.
+
+    theta'' + (g - a Omega^2 cos Omega t)/l sin theta = 0 linearized about
+    theta = 0 (sign +1) or pi (sign -1) is an even Hill equation; in the time
+    s = Omega t every point's fast period becomes 2 pi, so all points
+    integrate y'' + sign ((g/l)/Omega^2 - (a/l) cos s) y = 0 over the same half
+    period [0, pi].  The products y1' y2 and y1 y2' do not depend on the time's unit.
+    """
+    import numpy as np
+
+    from mech.solvers.floquet import even_hill_half_batch
+
+    c0, c1 = (g / l) / Omega**2, a / l
+    (y1, y1p, y2, y2p), _ = even_hill_half_batch(lambda s: sign * (c0 - c1 * math.cos(s)), math.pi, Omega.size,
+                                                  rtol=rtol)
+    return (y1, y1p, y2, y2p), np.abs(y1 * y2p - y1p * y2 - 1.0)
+
+
+def _a_min_batch(l, g, Omega, rtol):
+    """``numeric``'s a_min at N points: the scan up from 0.05 l omega0/Omega in factors of 1.3, then the root
+    of y1' y2 about the inverted position."""
+    import numpy as np
+
+    from mech.solvers.batch import illinois
+
+    n = Omega.size
+    drift = np.zeros(n)
+
+    def f(idx, a):
+        (y1, y1p, y2, y2p), w = _half_batch(l[idx], g[idx], a, Omega[idx], -1.0, rtol)
+        drift[idx] = np.maximum(drift[idx], w)
+        return y1p * y2
+
+    allp = np.arange(n)
+    a_lo = 0.05 * l * np.sqrt(g / l) / Omega
+    f_lo = f(allp, a_lo)
+    stable_start = f_lo <= 0
+    a_hi, f_hi = a_lo.copy(), np.full(n, np.nan)
+    scan = ~stable_start
+    no_root = np.zeros(n, dtype=bool)
+    while scan.any():
+        idx = np.flatnonzero(scan)
+        a_hi[idx] *= 1.3
+        f_hi[idx] = f(idx, a_hi[idx])
+        done = f_hi[idx] < 0
+        scan[idx[done]] = False
+        rest = idx[~done]
+        a_lo[rest], f_lo[rest] = a_hi[rest], f_hi[rest]
+        over = rest[a_hi[rest] > 0.5 * l[rest]]
+        no_root[over] = True
+        scan[over] = False
+    go = np.flatnonzero(~stable_start & ~no_root)
+    a_min, conv = np.full(n, np.nan), np.ones(n, dtype=bool)
+    if go.size:
+        x, ok = illinois(lambda x, i: f(go[i], x), a_lo[go], a_hi[go], f_lo[go], f_hi[go], xtol=1e-16 * l[go],
+                         rtol=1e-14)
+        a_min[go], conv[go] = x, ok
+    a_min[~conv] = np.nan
+    return a_min, stable_start, no_root, ~conv, drift
+
+
+@exercise.batched(("omega_inv", "omega_down", "a_min"), analytic=analytic_batch,
+                  expected_error=expected_error_batch,
+                  boundaries={"a": ("a_min", "leading-order stability edge a = a_min(Ω)")})
+def numeric_batch(P, rtol, outputs, memo=None):
+    """The slow frequencies about both positions and a_min at N points at once (see ``_half_batch``).
+
+    sin^2(nu pi/Omega) = -y1' y2; stable iff it lies in (0, 1).  a_min once
+    for each distinct (l, g, Omega), kept in ``memo`` across a sweep's chunks.
+    Claims and the Wronskian check as in ``numeric``.
+    """
+    import numpy as np
+
+    from mech.solvers.batch import Column, by_rows
+
+    l, g, a, Omega = _arrays(P)
+    memo = {} if memo is None else memo
+    allowed = exercise.tol_factor * rtol
+    drifted = f"the Wronskian drifted by more than {allowed:.3g}"
+    out = {}
+    for name, sign in (("omega_down", 1.0), ("omega_inv", -1.0)):
+        if name not in outputs:
+            continue
+        (y1, y1p, y2, y2p), wronski = _half_batch(l, g, a, Omega, sign, rtol)
+        s = -y1p * y2
+        stable = (s > 0.0) & (s < 1.0)
+        sc = np.clip(s, 1e-300, 1.0 - 1e-16)
+        nu = np.where(stable, (Omega / math.pi) * np.arcsin(np.sqrt(sc)), np.nan)
+        ds = 10.0 * rtol * np.abs(y1p * y2) + 10.0 * rtol * 1e-3
+        dnu = (Omega / math.pi) * ds / (2.0 * np.sqrt(sc * (1.0 - sc)))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rel = np.where(stable, np.maximum(100.0 * rtol, dnu / nu), 100.0 * rtol)
+        where = "inverted" if sign < 0 else "lower"
+        out[name] = Column(nu, rel=rel, undefined=[(~stable, f"|tr M| >= 2 about the {where} position: unstable")],
+                           failed=[(wronski > allowed, drifted)])
+    if "a_min" in outputs:
+        v, early, no_root, unconv, drift = by_rows(memo, ("a_min", rtol), (l, g, Omega),
+                                                   lambda *c: _a_min_batch(*c, rtol))
+        out["a_min"] = Column(v, rel=100.0 * rtol, failed=[
+            (early, "the inverted position is already stable at the scan's start: no bracket"),
+            (no_root, "no pivot amplitude below l/2 stabilizes the inverted position"),
+            (unconv, "the root search for a_min did not converge"),
+            (drift > allowed, drifted)])
+    return out
