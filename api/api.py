@@ -411,7 +411,7 @@ def _nan(v) -> float:
 def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, only=None, jobs=None,
           ranges: dict | None = None) -> Sweep:
     from mech.problems import registry
-    from mech.solvers.sweep import Axis, grid_points, run_sweep
+    from mech.solvers.sweep import Axis, batched_outputs, batched_points, grid_points, run_batched, run_sweep
 
     ex = registry.get(str(ex_id))
     axes, fixed = [], {}
@@ -435,13 +435,20 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     methods = _methods(method)
     if methods != ("analytic", "numeric"):
         raise BadInput("sweep runs both methods, cross-checked: method='both'")
-    points = [ex.resolve(values) for values in grid_points(axes, fixed)]
     rtol_value = _rtol(ex, rtol)
-    result = run_sweep(ex, axes, fixed, points, rtol=rtol_value, verify=verify, jobs=jobs)
-    solutions = []
-    for data in result.points:
-        full = {"id": ex.id, "title": ex.title, **data}
-        solutions.append(Solution(ex, full))
+    batched = batched_outputs(ex, wanted)
+    if batched:
+        # the chart route: every point integrated at once, each with its own verdict and error bar
+        from mech.cli.sweep import validate_grid
+
+        validate_grid(ex, axes, fixed)
+        result = run_batched(ex, axes, fixed, batched, rtol=rtol_value, verify=verify)
+        data_points = batched_points(result)
+    else:
+        points = [ex.resolve(values) for values in grid_points(axes, fixed)]
+        result = run_sweep(ex, axes, fixed, points, rtol=rtol_value, verify=verify, jobs=jobs, only=wanted)
+        data_points = result.points
+    solutions = [Solution(ex, {"id": ex.id, "title": ex.title, **data}) for data in data_points]
     return Sweep(ex, axes, fixed, solutions, result.seconds, wanted)
 
 

@@ -169,3 +169,12 @@ def test_no_trajectory_where_nothing_is_integrated(tmp_path):
     res = CliRunner().invoke(cli, ["solve", "4.1", "--trajectory", str(tmp_path / "x.csv")])
     assert res.exit_code == 2 and "no trajectory" in res.output
     assert not (tmp_path / "x.csv").exists()
+
+
+def test_a_chart_sweep_takes_the_batched_route_and_matches_single_solves():
+    """5.11 has a batched route: its points must agree with mech.solve within the two error bars."""
+    sw = mech.sweep("5.11", omega=(9.9, 10.1, 3), mu=[0.05], only="growth")
+    a = sw.to_arrays()
+    assert all(a["growth_agree"])
+    one = mech.solve("5.11", omega=10.1, mu=0.05)["growth"]
+    assert abs(a["growth_numeric"][2] - one.numeric) <= a["growth_numeric_err"][2] + one.numeric_err
