@@ -30,6 +30,7 @@ exercise = Exercise(
         "ω_c = (g sin θ₀ / l)^(1/2)",
         "(from θ'² = (3g/l)(sin θ₀ - sin θ) and N_wall ∝ cos θ (3/2 sin θ - sin θ₀))",
     ],
+    states=[("theta", "rad"), ("omega", "rad/s")],
 )
 
 # Start this close below the upright position on the energy-conserving path:
@@ -131,7 +132,9 @@ def numeric(p, run):
 
     e_start = energy_over_scale([theta_start / a_s, omega_start / w_s])
     run.invariant("energy", (energy_over_scale(y_ev) - e_start) / (M * g * l / 2))
-    run.info["t_c"] = t_ev * w_s * math.sqrt(p.l) / math.sqrt(p.g)
+    t_unit = w_s * math.sqrt(p.l) / math.sqrt(p.g)
+    run.motion(traj, t_scale=t_unit, y_scale=[a_s, w_s * math.sqrt(p.g) / math.sqrt(p.l)])
+    run.info["t_c"] = t_ev * t_unit
     return {"theta_c": a_s * y_ev[0], "omega_c": w_s * abs(y_ev[1]) * math.sqrt(p.g) / math.sqrt(p.l)}
 
 
