@@ -170,12 +170,15 @@ def polar_derivatives(rho: float, theta: float, mu: float, nu: float):
 
 
 def polar_hessian_at(r, mu: float, nu: float) -> tuple[float, np.ndarray]:
-    """(rho, Hessian of U_eff in (rho, theta) about body 1) at the point r of the scaled plane.
+    """(rho, Hessian of U_eff in (rho, theta) about the heavier body) at the point r of the scaled plane.
 
     At a stationary point det H_polar = rho^2 det H (the gradient term of the change
     of coordinates vanishes), and here the angular entries keep their relative
-    precision where the Cartesian ones carry eps next to a curvature of order mu."""
+    precision where the Cartesian ones carry eps next to a curvature of order mu.
+    With body 2 the heavier the mirror image x -> -x is used (it swaps the bodies)."""
     r = np.asarray(r, float)
+    if mu > nu:
+        r, mu, nu = np.array([-r[0], r[1]]), nu, mu
     rho, theta = math.hypot(r[0] + mu, r[1]), math.atan2(r[1], r[0] + mu)
     return rho, polar_derivatives(rho, theta, mu, nu)[1]
 
@@ -195,10 +198,19 @@ def newton_equilibrium(r0, mu: float, nu: float, max_iter: int = 200, max_step: 
     so every step climbs.  Steps are capped at ``max_step`` in rho (units of d)
     and 2 max_step in theta, and the angular cap halves whenever the angular
     gradient changes sign (the maximum was stepped over).  Converged when the
-    step stops shrinking at the round-off level; returns (point, iterations)."""
+    step stops shrinking at the round-off level; returns (point, iterations).
+    With body 2 the heavier, the flat circle is about body 2: the iteration runs on
+    the mirror image x -> -x, which swaps the bodies and keeps y."""
+    r0 = np.asarray(r0, float)
+    if mu > nu:
+        r, it = _newton_polar(np.array([-r0[0], r0[1]]), nu, mu, max_iter, max_step)
+        return np.array([-r[0], r[1]]), it
+    return _newton_polar(r0, mu, nu, max_iter, max_step)
+
+
+def _newton_polar(r0, mu, nu, max_iter, max_step):
     from mech.solvers import budget
 
-    r0 = np.asarray(r0, float)
     rho, theta = math.hypot(r0[0] + mu, r0[1]), math.atan2(r0[1], r0[0] + mu)
     cap_theta = 2.0 * max_step
     last = math.inf

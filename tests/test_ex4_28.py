@@ -76,13 +76,14 @@ def test_routh_limit_merges_the_frequencies():
 
 
 def test_newton_finds_l4_for_every_mass_ratio():
-    """L4 is at r1 = r2 = d for any mu: (1/2 - mu, sqrt3/2) in units of d.  Cartesian Newton stopped
+    """L4 is at r1 = r2 = d for any mu: (1/2 - mu, sqrt3/2) in units of d (M2/M1 from 1e-290 to 1e290:
+    the flat circle is about the heavier body, either one).  Cartesian Newton stopped
     short of it for mu < 1e-25 (at x = 0.198) and cycled at mu = 4.4e-5 (issue 14 draw)."""
     import numpy as np
 
     from mech.solvers.rotframe import mass_fractions, newton_equilibrium
 
-    for ratio in np.geomspace(1e-290, 1.0, 120):
+    for ratio in np.concatenate([np.geomspace(1e-290, 1.0, 120), np.geomspace(1.0, 1e290, 60)]):
         nu, mu = mass_fractions(1.0, float(ratio))
         r, iters = newton_equilibrium([0.0, 1.0], mu, nu)
         assert r[0] == pytest.approx(0.5 - mu, abs=1e-14), ratio
