@@ -33,7 +33,9 @@ def T_hand(theta_amp, Omega):
 @pytest.mark.parametrize(
     "R, theta_amp",
     [(7.0e6, math.radians(10.0)), (7.0e6, 1.5706217938696971), (7.0e6, 0.0), (4.2164e7, math.radians(45.0)),
-     (6.6e6, 1e-9)],
+     (6.6e6, 1e-9),
+     # a swing of 1e-200 rad: integrated with a 1e-150 floor on the tolerances it came out 6e-5 off
+     (7.0e6, 1.74533e-201), (7.0e6, 1e-12)],
 )
 def test_hand_values(R, theta_amp):
     Omega = math.sqrt(GM / R**3)

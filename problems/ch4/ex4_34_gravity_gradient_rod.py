@@ -148,6 +148,9 @@ def _linear_modes(q0):
     return lam, vecs, M, K, G
 
 
+SMALL_SWING = 1e-9  # rad: below it the pitch period is the linear one to round-off
+
+
 @exercise.numeric
 def numeric(p, run):
     W = _omega(p)
@@ -201,10 +204,14 @@ def numeric(p, run):
         run.claim(name, rel=1e-9)
 
     # (3) the finite pitch libration
-    if p.theta_amp == 0.0:
+    if p.theta_amp < SMALL_SWING:
+        # the libration's nonlinearity enters the period at relative order theta_amp^2 (the period is
+        # an even, smooth function of the amplitude), below 1e-18 here: the linear mode's period is the
+        # finite swing's to round-off, and it avoids integrating offsets of 1e-200 (whose absolute
+        # tolerances underflow)
         T_pitch = 2.0 * math.pi / freqs["pitch"]
         run.claim("T_pitch", rel=1e-9)
-        run.info["T_pitch_from"] = "small-oscillation frequency (zero amplitude)"
+        run.info["T_pitch_from"] = "small-oscillation frequency (amplitude below 1e-9 rad)"
     else:
         def rhs(t, y):
             # a = Coriolis + Hill - lambda r, lambda = (r.a_free + |v|^2)/|r|^2 keeping |r| fixed.
