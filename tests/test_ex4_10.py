@@ -59,3 +59,23 @@ def test_conjugate_pivot_far_from_the_optimum(given):
     _, n, _ = solve_both("4.10", **given)
     assert n["l_conj"] == pytest.approx(given["I"] / (given["M"] * given["l"]), rel=1e-12)
     assert n["l_opt"] == pytest.approx(math.sqrt(given["I"] / given["M"]), rel=1e-12)
+
+
+@pytest.mark.parametrize("given", [dict(M=1e-200), dict(I=2e198), dict(l=2e-140, g=9.81e200)])
+def test_only_l_over_rho_matters(given):
+    """The solve runs in units M = g = rho = 1.  At M = 1e-200 (rho = 1.4e99 m) l_conj = I/(M l)
+    = 1e199 m, whose inertia M l_conj^2 overflowed in SI (the root came out at 1.3e154 m)."""
+    p = dict(M=1.0, I=0.02, l=0.2, g=9.81) | given
+    r = math.sqrt(p["I"] / p["M"])
+    _, n, _ = solve_both("4.10", **given)
+    assert n["l_conj"] == pytest.approx(r * (r / p["l"]), rel=1e-12)
+    assert n["l_opt"] == pytest.approx(r, rel=1e-12)
+    assert n["Omega_max"] == pytest.approx(math.sqrt(p["g"] / (2 * r)), rel=1e-12)
+
+
+def test_pivot_distances_beyond_float_range_are_refused():
+    from mech.problems import registry
+    from mech.problems.spec import BadInput
+
+    with pytest.raises(BadInput, match="floating-point range"):
+        registry.get("4.10").resolve(dict(l=2e-201))

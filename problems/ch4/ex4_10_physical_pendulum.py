@@ -8,7 +8,8 @@ frequency is l_conj = r^2 / l = I/(M l).
 
 Numeric: the body is four point masses M/4 on a circle of radius (I/M)^(1/2)
 about its center, at an arbitrary orientation, hung a distance l from the
-pivot; they form two exactly opposite pairs and every sum over them is taken
+pivot (in units M = g = 1 and lengths in rho, so that only l/rho matters); they
+form two exactly opposite pairs and every sum over them is taken
 without rounding, so the body's own first moment cancels exactly.  The inertia
 about the pivot is sum m |r|^2 from the particle positions (the parallel-axis
 theorem is never used) and the stiffness U''(0) is the first
@@ -45,16 +46,30 @@ PERIOD_AMPLITUDE = 1e-4
 _ALPHA = 0.4137  # orientation of the four-mass cross relative to the pivot line
 
 
+def _log10_l_over_rho(p):
+    return math.log10(p.l) - 0.5 * (math.log10(p.I) - math.log10(p.M))
+
+
+@exercise.constraint
+def constraint(p):
+    k = _log10_l_over_rho(p)
+    if abs(k) > 150:
+        return (f"l / (I/M)^(1/2) = 10^{k:.0f}: the pivot distances l and l_conj differ by 10^{2 * abs(k):.0f}, "
+                "and the inertia about the farther one, M (l^2 + I/M), leaves the floating-point range")
+
+
 @exercise.analytic
 def analytic(p):
-    omega2 = p.M * p.g * p.l / (p.I + p.M * p.l**2)
-    l_opt = np.sqrt(p.I / p.M)
+    # in terms of the radius of gyration r = (I/M)^(1/2) and x = l/r, so no l^2 or I/M can overflow:
+    # Omega^2 = (g/r) x/(1 + x^2), l_ef = r (x + 1/x), l_conj = r/x, l_opt = r, Omega_max^2 = g/(2r)
+    r = math.sqrt(p.I) / math.sqrt(p.M)
+    x = p.l / r
     return {
-        "Omega": np.sqrt(omega2),
-        "l_ef": p.g / omega2,
-        "l_conj": p.I / (p.M * p.l),
-        "l_opt": l_opt,
-        "Omega_max": np.sqrt(p.g / (2 * l_opt)),
+        "Omega": math.sqrt(p.g) / math.sqrt(r) * math.sqrt(x / (1.0 + x * x)),
+        "l_ef": r * (x + 1.0 / x),
+        "l_conj": r / x,
+        "l_opt": r,
+        "Omega_max": math.sqrt(p.g) / math.sqrt(2.0 * r),
     }
 
 
@@ -150,7 +165,7 @@ def _period_omega(body, l, rtol, run):
     return 2 * np.pi / period
 
 
-def _bracket_root(f, start, factor, limit=400):
+def _bracket_root(f, start, factor, limit=1100):
     """March x = start * factor^k until f changes sign; return the bracket."""
     a, fa = start, f(start)
     for _ in range(limit):
@@ -166,20 +181,26 @@ def _bracket_root(f, start, factor, limit=400):
 def numeric(p, run):
     from mech.solvers.roots import brentq
 
-    body = _Body(p.M, p.I, p.g)
-    omega = body.omega(p.l)
+    # units: M, the radius of gyration rho = (I/M)^(1/2) and g are 1 (Omega in (g/rho)^(1/2)); the body
+    # is the same for every M, I, g, and only l/rho shapes the problem (1e-200 or 1e200 included)
+    rho = math.sqrt(p.I) / math.sqrt(p.M)
+    lam = p.l / rho
+    body = _Body(1.0, 1.0, 1.0)
+    omega = body.omega(lam)
     # the torque's sums are exact (see _Body), so the period check can run at the solve's own tolerance
     period_rtol = min(max(run.rtol, 1e-12), 1e-6)
-    omega_swing = _period_omega(body, p.l, period_rtol, run)
+    omega_swing = _period_omega(body, lam, period_rtol, run)
     mismatch = abs(omega_swing - omega) / omega
-    run.info["Omega_from_period"] = omega_swing
+    rate = math.sqrt(p.g) / math.sqrt(rho)
+    run.info["Omega_from_period"] = omega_swing * rate
     run.info["period_check_rtol"] = period_rtol
     if mismatch > 100 * period_rtol + PERIOD_AMPLITUDE**2 / 16:
         raise NumericFailure(f"Omega from the stiffness and from the timed period differ by {mismatch:.2g}")
 
     # l_opt: root of dOmega/dl; positive below, negative above, so bracket on a geometric grid
-    size = max(p.l, body.rho)
-    grid = np.geomspace(min(p.l, body.rho) * 1e-3, size * 1e3, 61)
+    size = max(lam, body.rho)
+    # ends off round numbers: no grid point lands exactly on the maximum (lam = 1 is a hard case)
+    grid = np.geomspace(min(lam, body.rho) * 0.9173e-3, size * 1.0781e3, 61)
     slopes = np.array([_dlog_omega(body, x) for x in grid])
     change = np.nonzero(np.diff(np.sign(slopes)) < 0)[0]
     if change.size != 1:
@@ -189,7 +210,7 @@ def numeric(p, run):
     omega_max = body.omega(l_opt)
 
     # l_conj: the same Omega on the other side of l_opt
-    v = p.l - l_opt
+    v = lam - l_opt
     if abs(v) < 1e-4 * l_opt:
         h = 1e-3 * l_opt
         d_minus, d0, d_plus = (_dlog_omega(body, l_opt + s) for s in (-h, 0.0, h))
@@ -206,7 +227,7 @@ def numeric(p, run):
         def f(x):
             return body.omega(x) - target
 
-        factor = 2.0 if p.l < l_opt else 0.5
+        factor = 2.0 if lam < l_opt else 0.5
         a, b = _bracket_root(f, l_opt, factor)
         l_conj = brentq(f, a, b, xtol=1e-15 * a, rtol=1e-15)
         run.info["l_conj_route"] = "bracketed root"
@@ -219,9 +240,9 @@ def numeric(p, run):
     run.claim("l_opt", rel=1e-10)
     run.claim("Omega_max", rel=1e-12)
     return {
-        "Omega": omega,
-        "l_ef": p.g / omega**2,
-        "l_conj": l_conj,
-        "l_opt": l_opt,
-        "Omega_max": omega_max,
+        "Omega": omega * rate,
+        "l_ef": rho / omega**2,
+        "l_conj": l_conj * rho,
+        "l_opt": l_opt * rho,
+        "Omega_max": omega_max * rate,
     }
