@@ -77,3 +77,14 @@ def test_balloon_must_fit():
 
     with pytest.raises(BadInput):
         registry.get("4.26").resolve({"a": 0.2})
+
+
+def test_a_point_balloon_is_refused_not_hung():
+    """a/b = 2e-201 ran 9 s into the budget (the shot's dipole mode grows by (b/a)^3); below
+    a/b = 1e-40 every result is its a -> 0 limit to (a/b)^3 < 1e-120: refused, saying so."""
+    from mech.problems import registry
+    from mech.problems.spec import BadInput
+
+    with pytest.raises(BadInput, match="below 1e-40"):
+        registry.get("4.26").resolve(dict(a=2e-202))
+    registry.get("4.26").resolve(dict(a=1e-40 * 0.1 * 1.01))  # just above: accepted
