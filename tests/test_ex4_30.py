@@ -115,3 +115,16 @@ def test_loops_below_round_off_fail_loudly():
 
     with pytest.raises(NumericFailure, match="too small to resolve"):
         solve_both("4.30", omega_E=73.0, l=6.7e12)
+
+
+def test_absurdly_fast_rotation_fails_at_once():
+    """omega_E = 7e195 rad/s: (w0/rate)^2 underflowed to 0 and the run spun into the 8 s budget;
+    past |w_z|/w0 = 1e8 the loops are below round-off and the solver says so before integrating."""
+    import time
+
+    from mech.problems.spec import NumericFailure
+
+    t0 = time.perf_counter()
+    with pytest.raises(NumericFailure, match="below round-off"):
+        solve_both("4.30", omega_E=7.29212e195)
+    assert time.perf_counter() - t0 < 2.0

@@ -79,6 +79,13 @@ def _line_angle(x, y):
 def numeric(p, run):
     w0 = math.sqrt(p.g / p.l)
     wz = _omega_z(p)
+    if abs(wz) > 1e8 * w0:
+        # the Earth-frame path is a slow drift with loops of relative size w0^2 / (4 w_z^2) < 2.5e-17:
+        # below round-off, the turning points are noise (the scatter check below fails from ~1e7 on)
+        raise NumericFailure(
+            f"|w_z|/w0 = {abs(wz) / w0:.3g}: the loops of the path (relative size w0^2/(4 w_z^2)) are "
+            "below round-off, too small to resolve"
+        )
     rate = w0 + abs(wz)  # time unit 1/rate: the faster of the two rates sets the steps
     c2 = (w0 / rate) ** 2  # scaled restoring coefficient
     k = wz / rate  # scaled vertical rotation rate
