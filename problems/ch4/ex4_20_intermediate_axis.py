@@ -144,6 +144,7 @@ def _period_by_integration(I, w0, rtol, run, slowest_rate, omega0=1.0):
     def leg(t0, y0, direction, name, max_step=np.inf):
         traj = integrate(
             rhs, (t0, t0 + t_max), y0, rtol=rtol, atol=atol, max_step=max_step,
+            dense_output=run.keep_trajectories and max_step == np.inf,  # a smooth trajectory, the same steps
             events=[Event(w3, direction=direction, name=name), Event(drift, direction=+1, name="drift")],
         )
         run.record(traj)
