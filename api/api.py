@@ -169,7 +169,8 @@ class Solution:
     def __init__(self, exercise, data: dict, trajectory: Trajectory | None = None, result=None):
         self.exercise = exercise
         self._data = data
-        self.trajectory = trajectory
+        self._trajectory = trajectory
+        self._trajectory_done = trajectory is not None
         self._result = result
         self.result = result  # the cross-check behind it (None for a sweep's points)
         self.quantities = [Quantity.from_dict(q) for q in data["quantities"]]
@@ -178,6 +179,32 @@ class Solution:
     @property
     def id(self) -> str:
         return self.exercise.id
+
+    @property
+    def trajectory(self) -> Trajectory | None:
+        """The motion the numeric route integrates, in SI (None where it integrates none).
+
+        Computed on first use by the same numeric solve, run again with its motion kept (dense output
+        between steps may cost evaluations the answer does not need, so the answer's solve keeps none:
+        ``to_dict()`` stays what ``mech solve --json`` prints)."""
+        if not self._trajectory_done:
+            self._trajectory_done = True
+            self._trajectory = self._motion()
+        return self._trajectory
+
+    def _motion(self) -> Trajectory | None:
+        ex = self.exercise
+        if not ex.states or self._result is None or self._result.run is None:
+            return None
+        if any("solver failed" in e for e in self.errors):
+            return None  # the numeric solve itself did not finish: no motion to hand over
+        from mech.problems.spec import Params
+        from mech.solvers import budget
+
+        info = self._data.get("numeric_info") or {}
+        with budget.limit(None, what=f"the trajectory of {ex.id}"):
+            _, run = ex.solve_numeric(Params(self._data["params"]), info.get("rtol"), keep_trajectories=True)
+        return _trajectory(ex, run)
 
     @property
     def params(self) -> dict[str, float]:
@@ -266,13 +293,12 @@ def _fmt(v, digits: int = 12) -> str:
 # -- solve -----------------------------------------------------------------------
 
 def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, raise_on_failure: bool = True,
-          params: dict | None = None, keep_trajectory: bool = True) -> Solution:
+          params: dict | None = None) -> Solution:
     from mech.problems import registry
 
     ex = registry.get(str(ex_id))
     resolved = resolve_params(ex, dict(params or {}))
-    sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify,
-                         keep_trajectory=keep_trajectory)
+    sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify)
     if raise_on_failure and any("solver failed" in e for e in sol.errors):
         exc = NumericFailure(f"{ex.id}: " + "; ".join(sol.errors))
         exc.solution = sol
@@ -280,15 +306,13 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
     return sol
 
 
-def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None, verify: bool = True,
-                   keep_trajectory: bool = True) -> Solution:
+def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None,
+                   verify: bool = True) -> Solution:
     """The cross-check at checked parameters: what ``mech.solve`` and ``mech solve`` both run."""
     from mech.solvers.crosscheck import cross_check
 
-    result = cross_check(ex, params, methods=tuple(methods), rtol=rtol,
-                         verify=verify and "numeric" in methods, keep_trajectories=keep_trajectory)
-    trajectory = _trajectory(ex, result.run) if keep_trajectory else None
-    return Solution(ex, result.as_json(), trajectory, result)
+    result = cross_check(ex, params, methods=tuple(methods), rtol=rtol, verify=verify and "numeric" in methods)
+    return Solution(ex, result.as_json(), None, result)
 
 
 # -- sweep -----------------------------------------------------------------------

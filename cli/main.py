@@ -325,17 +325,21 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     methods = ("analytic", "numeric") if method == "both" else (method,)
-    sol = solve_resolved(ex, params, methods=methods, rtol=rtol, verify=not no_verify and method != "analytic",
-                         keep_trajectory=bool(trajectory_file))
+    sol = solve_resolved(ex, params, methods=methods, rtol=rtol, verify=not no_verify and method != "analytic")
     result = sol.result
     if trajectory_file:
-        if sol.trajectory is None:
-            failed = any("solver failed" in e for e in sol.errors)
+        failed = any("solver failed" in e for e in sol.errors)
+        try:
+            trajectory = None if failed else sol.trajectory
+        except Exception as exc:  # the motion's own solve ran out: said, never a traceback
+            trajectory, failed = None, True
+            click.echo(f"mech: trajectory: {' '.join(str(exc).split())}", err=True)
+        if trajectory is None:
             why = "did not finish" if failed else "followed no motion at these parameters (nothing moves, or the " \
                 "motion it integrates does not exist here)"
             click.echo(f"mech: no trajectory written: the numeric solve of {ex.id} {why}", err=True)
         else:
-            sol.trajectory.to_csv(trajectory_file)
+            trajectory.to_csv(trajectory_file)
     expect_ok = grading.attach(result, expectations) if grading else True
     if as_json:
         _emit_json(grading.solve_json(result) if grading else result.as_json())

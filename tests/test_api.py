@@ -69,9 +69,13 @@ def test_bad_input_raises_with_the_command_lines_message():
         mech.solve("9.99")
 
 
-def test_to_dict_is_what_the_command_line_prints():
-    sol = mech.solve("4.15", theta0="60deg")
-    res = CliRunner().invoke(cli, ["solve", "4.15", "--theta0", "60deg", "--json"])
+@pytest.mark.parametrize("ex_id", ["4.15", "4.29"])
+def test_to_dict_is_what_the_command_line_prints(ex_id):
+    """Also after the trajectory was asked for (4.29 integrates with dense output only then)."""
+    sol = mech.solve(ex_id, theta0="60deg") if ex_id == "4.15" else mech.solve(ex_id)
+    assert sol.trajectory is not None
+    args = ["solve", ex_id, "--theta0", "60deg", "--json"] if ex_id == "4.15" else ["solve", ex_id, "--json"]
+    res = CliRunner().invoke(cli, args)
     assert res.exit_code == 0
     cli_json = json.loads(res.output)
     api_json = sol.to_dict()
