@@ -6,7 +6,11 @@ import math
 import os
 
 FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
-INSTALL = "pip install 'mech[plot]' (from a checkout: pip install -e '.[plot]')"
+# the install command as it works today, from a checkout (on the package index the name "mech" is somebody
+# else's project; this one is published as mech-likharev)
+INSTALL = "pip install -e '.[plot]' in mech's checkout"
+# the house style: sizes that stay readable when a figure is shown at half its width
+FONT = dict(title=10, label=10, tick=9, legend=8.5, note=9, suptitle=11)
 
 ANALYTIC = dict(color="C0", lw=1.8, label="analytic")
 NUMERIC = dict(color="C3", marker="o", ms=5, ls="none", mfc="none", mew=1.4, label="numeric")
@@ -74,7 +78,7 @@ def title(fig, ex, params=None, skip=(), extra: str = "") -> None:
         text += "\n" + line
     if extra:
         text += "\n" + extra
-    fig.suptitle(text, fontsize=9.5)
+    fig.suptitle(text, fontsize=FONT["suptitle"])
 
 
 def label(name: str, unit: str) -> str:
