@@ -109,38 +109,3 @@ def analytic_values(ex, params):
     except Exception:
         return {o.name: math.nan for o in ex.outputs}
     return {k: finite(v) for k, v in values.items()}
-
-
-def series(ex, params, name, xs, *, numeric: bool = True, rtol=None):
-    """Analytic (and, if asked, numeric) outputs of ``ex`` with parameter ``name`` at each of ``xs``.
-
-    Returns ``(analytic, numeric)``: dicts output -> array (NaN where a value is
-    missing or the point is not allowed); ``numeric`` is None when not asked for.
-    """
-    import numpy as np
-
-    from mech.problems.spec import BadInput
-
-    a = {o.name: np.full(len(xs), math.nan) for o in ex.outputs}
-    n = {o.name: np.full(len(xs), math.nan) for o in ex.outputs} if numeric else None
-    for i, x in enumerate(xs):
-        try:
-            p = ex.resolve({**params, name: float(x)})
-        except BadInput:
-            continue
-        for k, v in analytic_values(ex, p).items():
-            a[k][i] = v
-        if numeric:
-            for k, v in numeric_values(ex, p, rtol)[0].items():
-                n[k][i] = v
-    return a, n
-
-
-def spread(lo: float, hi: float, k: int, log: bool = False):
-    """k points from lo to hi, not hitting an end exactly (the ends are often where a formula is singular)."""
-    import numpy as np
-
-    if k <= 0:
-        return np.array([])
-    f = (np.arange(k) + 0.5) / k
-    return lo * (hi / lo) ** f if log else lo + (hi - lo) * f

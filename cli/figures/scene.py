@@ -70,7 +70,7 @@ def _map(fig, ax, it: Map):
     levels = np.linspace(lo, hi, it.levels)
     cs = ax.contourf(it.x, it.y, z, levels=levels, cmap="viridis")
     ax.contour(it.x, it.y, z, levels=levels, colors="w", linewidths=0.3, alpha=0.6)
-    bar = fig.colorbar(cs, ax=ax, shrink=0.9)
+    bar = fig.colorbar(cs, ax=ax, shrink=0.9, format="%.3g")
     bar.set_label(label(it.label, it.unit), fontsize=FONT["label"])
     bar.ax.tick_params(labelsize=FONT["tick"])
 
@@ -107,7 +107,7 @@ def _plain_log_ticks(axis):
     def plain(v, _pos):
         if v <= 0 or not math.isfinite(v):
             return ""
-        return f"{v:.3g}"
+        return f"{v:g}"
 
     lo, hi = axis.get_view_interval()
     if lo > 0 and hi / lo < 1e3:
@@ -118,7 +118,6 @@ def _plain_log_ticks(axis):
 
 def draw_scene(ex, params, scene, run):
     n = len(scene.panels)
-    wide = any(isinstance(i, Map) for pn in scene.panels for i in pn.items)
     fig, axes = figure(1, n, w=5.2 if n > 1 else 6.4, h=4.3)
     for k, panel in enumerate(scene.panels):
         ax = axes[0][k]
@@ -155,7 +154,6 @@ def draw_scene(ex, params, scene, run):
                           bbox_to_anchor=(0.5, -0.16), ncol=2)
             else:
                 ax.legend(fontsize=FONT["legend"], framealpha=0.85, loc=panel.legend)
-    del wide
     extra = scene.caption
     if run is not None and run.failures:
         told = f"the numeric solver failed at {len(run.failures)} point(s): {run.failures[0][1]}"
