@@ -68,7 +68,7 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
         try:
             import matplotlib  # noqa: F401
         except ImportError:
-            raise UsageFailure("--plot needs matplotlib: pip install 'mech[plot]'") from None
+            raise UsageFailure("--plot needs matplotlib: pip install -e '.[plot]' in mech's checkout") from None
 
     progress = None
     if not as_json:
