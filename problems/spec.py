@@ -173,10 +173,15 @@ class Run:
     # what it computed at a tolerance that does not depend on rtol, keyed by everything it depends on;
     # never in the JSON, and new for every cross-check (so bench's timed repeats never share it)
     shared: dict = field(default_factory=dict, repr=False)
+    # every integration recorded (``record``), kept when the caller asks for the motion (a trajectory)
+    keep_trajectories: bool = False
+    trajectories: list = field(default_factory=list, repr=False)
 
     def record(self, result: Any, method: str | None = None) -> Any:
         """Add the cost of an integration (anything with ``nfev`` and ``method``)."""
         self.nfev += int(getattr(result, "nfev", 0) or 0)
+        if self.keep_trajectories and getattr(result, "t", None) is not None and getattr(result, "y", None) is not None:
+            self.trajectories.append(result)
         m = method or getattr(result, "method", None)
         if m and not self.method:
             self.method = m
@@ -230,6 +235,7 @@ class Exercise:
         default_rtol: float = 1e-10,
         min_rtol: float = 1e-13,
         route_note: str = "",
+        states: tuple[tuple[str, str], ...] | list = (),
     ):
         """``route_note``: where the implementation departs from the catalogue's numeric route (a
         named library routine replaced, say), shown by ``mech show`` under the route."""
@@ -253,6 +259,9 @@ class Exercise:
         self.default_rtol = default_rtol
         self.min_rtol = min_rtol
         self.route_note = route_note.strip()
+        # (name, unit) of each component of the state vector its numeric route integrates, in order:
+        # what a trajectory's rows are (``mech solve --trajectory``, ``Solution.trajectory``)
+        self.states = tuple((str(n), str(u)) for n, u in states)
         self._analytic: Callable | None = None
         self._numeric: Callable | None = None
         self._constraints: list[Callable] = []
@@ -344,8 +353,8 @@ class Exercise:
         return self._finish(self._analytic(p), "analytic")
 
     def solve_numeric(self, p: Params, rtol: float | None = None, method: str | None = None,
-                      shared: dict | None = None) -> tuple[dict, Run]:
-        run = Run(rtol=float(rtol or self.default_rtol), method=None)
+                      shared: dict | None = None, keep_trajectories: bool = False) -> tuple[dict, Run]:
+        run = Run(rtol=float(rtol or self.default_rtol), method=None, keep_trajectories=keep_trajectories)
         if shared is not None:
             run.shared = shared
         if method:

@@ -22,9 +22,11 @@ do) to run it after the solve instead, sharing ``Run.shared`` with it.  The
 numbers are the same either way: the solvers are deterministic.  Only a
 single-threaded process forks (a lock held by another thread would stay held
 in the child; ``mech check``'s progress bar is redrawn by hand for that), and
-a child that has not answered within ``RERUN_WAIT_S`` + 20 times the solve's
-time is stopped (one that died without answering is gone) and the rerun is
-done serially: the command never hangs on it, nor fails for it.  Linux only.
+the child runs under the solve's time budget and a memory limit, and dies with
+its parent whatever kills the parent (prctl PR_SET_PDEATHSIG).  A child that
+dies without answering (a crash of the fork, not the solver's failure) is
+replaced by the serial rerun; one that runs out of time is a loud failure,
+like a serial rerun that runs out of time.  Linux only.
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ from __future__ import annotations
 import math
 import os
 import pickle
+import sys
 import time
 import traceback
 from dataclasses import dataclass, field
@@ -42,7 +45,6 @@ from mech.problems.spec import BadInput, Exercise, NumericFailure, Params, Undef
 __all__ = ["Quantity", "CrossCheck", "cross_check", "PARALLEL_VERIFY"]
 
 PARALLEL_VERIFY = True  # the rerun at rtol/10 in a forked child where there is a second core (see above)
-RERUN_WAIT_S = 30.0  # after the solve, the child gets this plus 20 times the solve's time to answer
 
 
 def _parallel_ok() -> bool:
@@ -65,13 +67,19 @@ def _parallel_ok() -> bool:
     return cores >= 2
 
 
-def _start_rerun(ex: Exercise, params: Params, rtol: float):
-    """Fork a child that solves at ``rtol`` and writes ``("ok", values)`` or ``("error", text)`` to a pipe."""
+def _start_rerun(ex: Exercise, params: Params, rtol: float, budget_s: float):
+    """Fork a child that solves at ``rtol`` and writes ``("ok", values)`` or ``("error", text)`` to a pipe.
+
+    The child never outlives mech: the kernel kills it when its parent dies, whatever killed the parent
+    (SIGKILL included), it stops itself if it finds its parent gone, it runs under the solve's time
+    budget and under a memory limit."""
+    parent = os.getpid()
     r, w = os.pipe()
     pid = os.fork()
     if pid == 0:  # the child: answer, then leave without running any of the parent's exit handlers
         code = 0
         try:
+            _die_with_parent(parent)
             os.close(r)
             devnull = os.open(os.devnull, os.O_WRONLY)
             os.dup2(devnull, 1)  # nothing the solver might print reaches the parent's output twice
@@ -82,9 +90,15 @@ def _start_rerun(ex: Exercise, params: Params, rtol: float):
             # fresh stream objects (fresh locks) on the null device, and no warnings to write at all
             sys.stdout = sys.stderr = open(os.devnull, "w")
             warnings.simplefilter("ignore")
+            _limit_memory(CHILD_MEMORY_BYTES)
+            from mech.solvers import budget
+
             try:
-                values, _ = ex.solve_numeric(params, rtol)
+                with budget.limit(budget_s, what=f"the rerun of {ex.id} at rtol={rtol:g}"):
+                    values, _ = ex.solve_numeric(params, rtol)
                 payload = ("ok", values)
+            except MemoryError:
+                payload = ("error", f"the rerun needed more than {CHILD_MEMORY_BYTES / 2**30:g} GiB of memory")
             except Exception as exc:
                 payload = ("error", _failure_text(exc))
             data = pickle.dumps(payload)
@@ -97,6 +111,46 @@ def _start_rerun(ex: Exercise, params: Params, rtol: float):
             os._exit(code)
     os.close(w)
     return pid, r
+
+
+CHILD_MEMORY_BYTES = 2 << 30  # address space the forked rerun may add to what it inherits
+
+
+def _die_with_parent(parent: int) -> None:
+    """Ask Linux to SIGKILL this process when its parent dies (prctl PR_SET_PDEATHSIG); then make sure
+    the parent did not die before the request took effect."""
+    import signal
+
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        PR_SET_PDEATHSIG = 1
+        libc.prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+    except (OSError, AttributeError):
+        pass
+    if os.getppid() != parent:
+        os._exit(1)
+    # the parent's handlers and timers are not the child's: a SIGTERM or SIGINT sent to the whole
+    # process group ends the child at once
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+def _limit_memory(extra: int) -> None:
+    try:
+        import resource
+
+        with open("/proc/self/statm") as fh:
+            pages = int(fh.read().split()[0])
+        used = pages * os.sysconf("SC_PAGE_SIZE")
+        soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+        want = used + extra
+        if hard != resource.RLIM_INFINITY:
+            want = min(want, hard)
+        resource.setrlimit(resource.RLIMIT_AS, (want, hard))
+    except (OSError, ValueError, ImportError):
+        pass
 
 
 def _finish_rerun(handle, wait_s: float) -> tuple[str, Any] | None:
@@ -131,8 +185,14 @@ def _abandon_rerun(handle) -> None:
         os.kill(pid, signal.SIGKILL)
     except OSError:
         pass
-    os.close(r)
-    os.waitpid(pid, 0)
+    try:
+        os.close(r)
+    except OSError:
+        pass
+    try:
+        os.waitpid(pid, 0)
+    except ChildProcessError:
+        pass
 
 
 @dataclass
@@ -149,6 +209,8 @@ class Quantity:
     theory: str = "exact"
     expected_err: float | None = None
     verify_diff: float | None = None
+    numeric_err: float | None = None  # the numeric value's earned error, absolute, SI
+    analytic_err: float | None = None  # the analytic value's round-off from its conditioning, absolute, SI
     notes: list[str] = field(default_factory=list)
 
     def as_json(self) -> dict:
@@ -160,11 +222,15 @@ class Quantity:
                 self._note(f"{key}: {v.why}")
             else:
                 d[key] = _finite_or_none(v)
+        if _is_number(self.numeric):
+            d["numeric_err"] = _finite_or_none(self.numeric_err)
+        if self.analytic_err is not None and _is_number(self.analytic):
+            d["analytic_err"] = _finite_or_none(self.analytic_err)
         d["abs_err"] = _finite_or_none(self.abs_err)
         d["rel_err"] = _finite_or_none(self.rel_err)
         d["tol"] = _finite_or_none(self.tol)
         if self.tol_abs:
-            d["tol_abs"] = self.tol_abs
+            d["tol_abs"] = _finite_or_none(self.tol_abs)
         d["agree"] = self.agree
         if self.theory != "exact":
             d["theory"] = self.theory
@@ -195,6 +261,7 @@ class CrossCheck:
     timing: dict
     numeric_info: dict | None
     errors: list[str] = field(default_factory=list)
+    run: Any = field(default=None, repr=False)  # the numeric solve's Run (its recorded integrations)
 
     @property
     def agree(self) -> bool | None:
@@ -209,10 +276,10 @@ class CrossCheck:
         d = {
             "id": self.exercise.id,
             "title": self.exercise.title,
-            "params": dict(self.params),
+            "params": _clean(dict(self.params)),
             "quantities": [q.as_json() for q in self.quantities],
             "agree": self.agree,
-            "timing": self.timing,
+            "timing": _clean(self.timing),
             "numeric_info": _clean(self.numeric_info),
         }
         if self.errors:
@@ -249,29 +316,6 @@ def _failure_text(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {exc}{where}"
 
 
-def _integrates(ex: Exercise) -> bool:
-    """Whether the numeric solver's module, or a mech.solvers module it uses, integrates ODEs."""
-    import sys
-
-    module = sys.modules.get(getattr(ex._numeric, "__module__", ""), None)
-    if module is None:
-        return False
-    sources = {getattr(module, "__file__", None)}
-    for value in vars(module).values():
-        owner = getattr(value, "__module__", None) or getattr(value, "__name__", "")
-        if isinstance(owner, str) and owner.startswith("mech.solvers."):
-            sources.add(getattr(sys.modules.get(owner), "__file__", None))
-    for path in filter(None, sources):
-        try:
-            with open(path, encoding="utf-8") as fh:
-                text = fh.read()
-        except OSError:
-            continue
-        if "solve_ivp" in text or "integrate(" in text or "integrate_to_event(" in text:
-            return True
-    return False
-
-
 def cross_check(
     ex: Exercise,
     params: Params,
@@ -279,9 +323,18 @@ def cross_check(
     methods: tuple[str, ...] = ("analytic", "numeric"),
     rtol: float | None = None,
     verify: bool = True,
+    budget_s: float | None = None,
+    keep_trajectories: bool = False,
 ) -> CrossCheck:
-    """Run the asked-for solvers and compare; solver failures become loud entries, never numbers."""
+    """Run the asked-for solvers and compare; solver failures become loud entries, never numbers.
+
+    The numeric solve and its rerun share one wall-clock budget (``budget_s``, by default
+    ``budget.default_seconds()``): past it the solve fails loudly instead of running on.
+    """
+    from mech.solvers import budget
+
     rtol = float(rtol or ex.default_rtol)
+    budget_s = budget.default_seconds() if budget_s is None else float(budget_s)
     timing: dict[str, float | None] = {"analytic_s": None, "numeric_s": None}
     errors: list[str] = []
     analytic: dict = {}
@@ -299,54 +352,71 @@ def cross_check(
     verify_values: dict = {}
     import_s = None
     if "numeric" in methods and ex._numeric is not None:
-        # the one-time load of the integrator's tableau is start-up cost, not the solve: timed apart,
-        # and only for exercises that integrate.  scipy is no longer imported here: mech's own DOP853
-        # needs none of it, and the 0.6-0.9 s import was most of a `mech solve` (scipy modules an
-        # exercise still uses are imported on first use and counted in its numeric time)
-        if _integrates(ex):
-            t0 = time.perf_counter()
-            from mech.solvers import dop853
-
-            dop853.available()
-            import_s = time.perf_counter() - t0
+        # the one-time load of the integrator and its tableau is start-up cost, not the solve: timed
+        # apart (when this solve is the one that loads it) and taken out of the numeric time
+        loaded_before = "mech.solvers.dop853" in sys.modules and sys.modules["mech.solvers.dop853"]._TABLEAU_TRIED
         tighter = max(rtol / 10.0, ex.min_rtol)
         rerun = None
         if verify and tighter < rtol and _parallel_ok():
-            rerun = _start_rerun(ex, params, tighter)  # on the second core, while the solve runs here
+            rerun = _start_rerun(ex, params, tighter, budget_s)  # on the second core, while the solve runs here
         t0 = time.perf_counter()
         shared: dict = {}  # what a serial rerun may reuse of the solve (see Run.shared)
-        try:
-            numeric, run = ex.solve_numeric(params, rtol, shared=shared)
-        except BaseException as exc:
-            if rerun is not None:
-                _abandon_rerun(rerun)
-                rerun = None
-            if not isinstance(exc, Exception):
-                raise
-            errors.append(f"numeric solver failed: {_failure_text(exc)}")
-        timing["numeric_s"] = time.perf_counter() - t0
-        answer = None
-        if rerun is not None:
-            # a rerun takes about as long as the solve; one that has not answered long after is stopped
-            # (a child can never hang the command) and the rerun is done here instead
-            answer = _finish_rerun(rerun, wait_s=RERUN_WAIT_S + 20.0 * timing["numeric_s"])
-            if answer is None:
-                run.info["verify_parallel_fallback"] = "the forked rerun did not answer: rerun after the solve"
-        if answer is not None:
-            status, payload = answer
-            if status == "ok":
-                verify_values = payload
-                run.info["verify_rtol"] = tighter
-            else:
-                errors.append(f"numeric solver failed at rtol={tighter:g}: {payload}")
-        elif verify and run is not None and tighter < rtol:
+        with budget.limit(budget_s, what=f"the numeric solve of {ex.id}"):
             try:
-                verify_values, vrun = ex.solve_numeric(params, tighter, shared=shared)
-                run.info["verify_rtol"] = tighter
-            except Exception as exc:
-                errors.append(f"numeric solver failed at rtol={tighter:g}: {_failure_text(exc)}")
+                numeric, run = ex.solve_numeric(params, rtol, shared=shared, keep_trajectories=keep_trajectories)
+            except BaseException as exc:
+                if rerun is not None:
+                    _abandon_rerun(rerun)
+                    rerun = None
+                if not isinstance(exc, Exception):
+                    raise
+                errors.append(f"numeric solver failed: {_failure_text(exc)}")
+            timing["numeric_s"] = time.perf_counter() - t0
+            dop = sys.modules.get("mech.solvers.dop853")
+            if not loaded_before and dop is not None and dop._TABLEAU_TRIED:
+                import_s = dop.LOAD_S
+                timing["numeric_s"] = max(0.0, timing["numeric_s"] - import_s)
+            answer = None
+            if rerun is not None:
+                # the child runs under the same budget; one that has not answered by then is stopped
+                # (a child can never hang the command) and the rerun is done here with what is left
+                try:
+                    answer = _finish_rerun(rerun, wait_s=max(0.5, budget_s - timing["numeric_s"]) + 2.0)
+                except budget.OutOfBudget as exc:
+                    _abandon_rerun(rerun)
+                    answer = ("error", str(exc))
+                if answer is None:
+                    run.info["verify_parallel_fallback"] = "the forked rerun did not answer: rerun after the solve"
+            if answer is not None:
+                status, payload = answer
+                if status == "ok":
+                    verify_values = payload
+                    run.info["verify_rtol"] = tighter
+                else:
+                    errors.append(f"numeric solver failed at rtol={tighter:g}: {payload}")
+            elif verify and run is not None and tighter < rtol:
+                try:
+                    verify_values, vrun = ex.solve_numeric(params, tighter, shared=shared)
+                    run.info["verify_rtol"] = tighter
+                except Exception as exc:
+                    errors.append(f"numeric solver failed at rtol={tighter:g}: {_failure_text(exc)}")
+
+    if run is not None:
+        default_allowed = float(ex.tol_factor * rtol)
+        for name, drift in run.invariants.items():
+            allowed = run.invariant_allowed.get(name, default_allowed)
+            if not (drift <= allowed):
+                errors.append(
+                    f"the invariant '{name}' drifts by {drift:.2g}, more than the {allowed:.2g} the method "
+                    "allows: the integration is not to be trusted"
+                )
 
     expected = ex.expected_errors(params) if analytic and numeric else {}
+    try:
+        analytic_errs = ex.analytic_errors(params) if analytic else {}
+    except Exception as exc:
+        analytic_errs = {}
+        errors.append(f"analytic error estimate failed: {_failure_text(exc)}")
     quantities = []
     for out in ex.outputs:
         q = Quantity(out.name, out.unit, theory=out.theory)
@@ -355,8 +425,8 @@ def cross_check(
         rel_claim, abs_claim = (None, None)
         if run is not None:
             rel_claim, abs_claim = run.claims.get(out.name, (None, None))
-        rel_claim = None if rel_claim is None else float(rel_claim)
-        tol = rel_claim if rel_claim is not None else float(ex.tol_factor * rtol)
+        rel_claim = float(ex.tol_factor * rtol) if rel_claim is None else float(rel_claim)
+        tol = rel_claim
         q.tol_abs = float(abs_claim or 0.0)
         if out.theory != "exact":
             q.expected_err = expected.get(out.name)
@@ -374,6 +444,12 @@ def cross_check(
                 errors.append(f"{out.name}: {key} value is not finite")
 
         a, n = q.analytic, q.numeric
+        claim_finite = math.isfinite(rel_claim) and math.isfinite(q.tol_abs)
+        if _is_number(n):
+            # the claim, tested by the rerun below: relative to the value, plus the absolute part
+            q.numeric_err = rel_claim * abs(n) + q.tol_abs
+        if _is_number(a) and out.name in analytic_errs:
+            q.analytic_err = abs(float(analytic_errs[out.name]))
         if a is None or n is None:
             q.agree = None
         elif isinstance(a, Undefined) or isinstance(n, Undefined):
@@ -385,12 +461,16 @@ def cross_check(
             q.abs_err = float(abs(n - a))
             denom = abs(a) if a != 0 else abs(n)
             q.rel_err = float(q.abs_err / denom) if denom > 0 else 0.0
-            q.agree = bool(q.abs_err <= tol * abs(a) + q.tol_abs)
+            q.agree = bool(q.abs_err <= tol * abs(a) + q.tol_abs + (q.analytic_err or 0.0))
+        if _is_number(n) and not claim_finite:
+            # an error bar of infinity would agree with anything: no number at all is better
+            q._note("the numeric solver claims no finite accuracy for this value")
+            q.agree = False
 
         if verify_values and _is_number(n) and _is_number(verify_values.get(out.name)):
             q.verify_diff = float(abs(verify_values[out.name] - n))
             scale = abs(a) if _is_number(a) and a != 0 else abs(n)
-            claim = (rel_claim if rel_claim is not None else ex.tol_factor * rtol) * scale + q.tol_abs
+            claim = rel_claim * scale + q.tol_abs
             if q.verify_diff > claim:
                 q._note(
                     f"unreliable: the numeric value moves by {q.verify_diff:.3g} at rtol/10, "
@@ -406,4 +486,5 @@ def cross_check(
         timing=timing,
         numeric_info={**run.as_json(), "import_s": import_s} if run is not None else None,
         errors=errors,
+        run=run,
     )

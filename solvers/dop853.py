@@ -20,20 +20,15 @@ and Wanner, *Solving ODEs I*, sec. II.10) in one tight loop:
   in the event's direction, the root located on the continuous extension
   by Brent's method to 4 ulp; a terminal event ends the run there.
 
-The tableau (the method's published coefficients) is read from the file
-that scipy installs, ``scipy/integrate/_ivp/dop853_coefficients.py``, loaded
-by its path so that the scipy package itself is not imported.  The loaded
-tableau is checked (row sums, the weights, the order conditions up to 8 for
-the quadrature weights) before it is used; when the file is missing or fails
-the check, ``available()`` is false and mech's ODE front end falls back to
-``solve_ivp``.
+The tableau (the method's published coefficients) is data in this package,
+``mech.solvers.dop853_tableau``; it is checked on loading (row sums, the
+quadrature order conditions up to 8, error weights summing to zero), and
+tests/test_dop853.py compares it entry by entry with scipy's copy.
 """
 
 from __future__ import annotations
 
-import importlib.util
 import math
-import os
 import time
 from typing import Callable, Sequence
 
@@ -45,27 +40,23 @@ __all__ = ["available", "solve", "DenseSolution", "Result"]
 
 _TABLEAU = None
 _TABLEAU_TRIED = False
+LOAD_S = 0.0  # the one-time cost of loading the tableau (start-up, kept out of a solve's time)
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
 ERR_EXP = -1.0 / 8.0
 _EPS = np.finfo(float).eps
 
 
 def _load_tableau():
-    spec = importlib.util.find_spec("scipy")  # finds the package without importing it
-    if spec is None or not spec.submodule_search_locations:
-        return None
-    path = os.path.join(list(spec.submodule_search_locations)[0], "integrate", "_ivp", "dop853_coefficients.py")
-    if not os.path.exists(path):
-        return None
-    mspec = importlib.util.spec_from_file_location("mech_solvers_dop853_tableau", path)
-    mod = importlib.util.module_from_spec(mspec)
-    mspec.loader.exec_module(mod)
-    tab = {
-        "C": np.asarray(mod.C, float), "A": np.asarray(mod.A, float), "B": np.asarray(mod.B, float),
-        "E3": np.asarray(mod.E3, float), "E5": np.asarray(mod.E5, float), "D": np.asarray(mod.D, float),
-    }
+    from mech.solvers import dop853_tableau as data
+
+    tab = {}
+    for name, shape in data.SHAPES.items():
+        arr = np.zeros(shape)
+        for index, value in getattr(data, name).items():
+            arr[index] = value
+        tab[name] = arr
     if not _tableau_ok(tab):
-        return None
+        raise RuntimeError("mech.solvers.dop853_tableau fails its order conditions: the data file is damaged")
     return tab
 
 
@@ -86,13 +77,13 @@ def _tableau_ok(tab) -> bool:
 
 
 def available() -> bool:
-    global _TABLEAU, _TABLEAU_TRIED
+    """Whether the tableau is loaded (it always is: it is data in this package, checked on loading)."""
+    global _TABLEAU, _TABLEAU_TRIED, LOAD_S
     if not _TABLEAU_TRIED:
         _TABLEAU_TRIED = True
-        try:
-            _TABLEAU = _load_tableau()
-        except Exception:  # any trouble reading scipy's file: use solve_ivp instead
-            _TABLEAU = None
+        t0 = time.perf_counter()
+        _TABLEAU = _load_tableau()
+        LOAD_S = time.perf_counter() - t0
     return _TABLEAU is not None
 
 

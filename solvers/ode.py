@@ -136,7 +136,7 @@ def integrate(
         kwargs["first_step"] = first_step
     if jac is not None and method in ("Radau", "BDF", "LSODA"):
         kwargs["jac"] = jac
-    if method == "DOP853" and _own_dop853():
+    if method == "DOP853":
         from mech.solvers import dop853
 
         start = time.perf_counter()
@@ -170,12 +170,6 @@ def integrate(
         message=res.message,
         sol=res.sol,
     )
-
-
-def _own_dop853() -> bool:
-    from mech.solvers import dop853
-
-    return dop853.available()
 
 
 def first_event(traj: Trajectory, index: int = 0) -> tuple[float, np.ndarray]:

@@ -1,4 +1,9 @@
 import pytest
+from hypothesis import settings
+
+# property tests are deterministic: the same examples on every run and every machine
+settings.register_profile("mech", derandomize=True, database=None)
+settings.load_profile("mech")
 
 from mech.problems import registry
 

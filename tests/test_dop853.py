@@ -8,7 +8,24 @@ import pytest
 from mech.problems.spec import NumericFailure
 from mech.solvers import dop853, ode
 
-pytestmark = pytest.mark.skipif(not dop853.available(), reason="DOP853 tableau not found")
+
+def test_the_tableau_is_mechs_own_data():
+    """Loaded from mech.solvers.dop853_tableau, never from a file of scipy's."""
+    assert dop853.available()
+    import inspect
+
+    source = inspect.getsource(dop853)
+    assert "dop853_coefficients" not in source and "find_spec" not in source
+
+
+def test_the_tableau_equals_scipys_copy_of_the_published_numbers():
+    coefficients = pytest.importorskip("scipy.integrate._ivp.dop853_coefficients")
+    dop853.available()
+    for name in ("C", "A", "B", "E3", "E5", "D"):
+        theirs = np.asarray(getattr(coefficients, name), float)
+        ours = dop853._TABLEAU[name]
+        assert ours.shape == theirs.shape, name
+        assert np.array_equal(ours, theirs), name
 
 
 def kepler(t, y):
@@ -21,6 +38,7 @@ Y0 = [1 - E, 0.0, 0.0, math.sqrt((1 + E) / (1 - E))]  # an orbit of period 2 pi
 
 
 def test_tableau_check_rejects_a_wrong_coefficient():
+    dop853.available()
     tab = {k: v.copy() for k, v in dop853._TABLEAU.items()}
     assert dop853._tableau_ok(tab)
     tab["B"][3] += 1e-9
@@ -98,8 +116,13 @@ def test_blow_up_fails_loudly():
         ode.integrate(lambda t, y: [y[0] ** 2], (0.0, 2.0), [1.0], rtol=1e-8)
 
 
-def test_front_end_falls_back_to_scipy(monkeypatch):
+def test_a_damaged_tableau_is_refused_loudly(monkeypatch):
+    """No silent fallback: a tableau that fails its order conditions stops the integrator."""
+    from mech.solvers import dop853_tableau
+
+    monkeypatch.setattr(dop853_tableau, "B", {**dop853_tableau.B, 3: dop853_tableau.B.get(3, 0.0) + 1e-9})
+    monkeypatch.setattr(dop853, "_TABLEAU_TRIED", False)
     monkeypatch.setattr(dop853, "_TABLEAU", None)
-    monkeypatch.setattr(dop853, "_TABLEAU_TRIED", True)
-    tr = ode.integrate(lambda t, y: [y[1], -y[0]], (0.0, 10.0), [1.0, 0.0], rtol=1e-10)
-    assert abs(tr.y_end[0] - math.cos(10.0)) < 1e-9
+    with pytest.raises(RuntimeError, match="order conditions"):
+        dop853.available()
+    monkeypatch.setattr(dop853, "_TABLEAU_TRIED", False)

@@ -89,10 +89,7 @@ def _hang():
     time.sleep(600)
 
 
-@pytest.mark.parametrize("misbehave", [_hang, lambda: os._exit(3)], ids=["hangs", "dies"])
-def test_a_rerun_that_hangs_or_dies_is_done_serially(misbehave, monkeypatch):
-    """A child that never answers is stopped; one that dies (as a crash would) is gone: both rerun here."""
-    ex = registry.get("4.15")
+def _misbehaving_in_the_child(ex, misbehave):
     good = ex._numeric
     parent = os.getpid()
 
@@ -101,12 +98,33 @@ def test_a_rerun_that_hangs_or_dies_is_done_serially(misbehave, monkeypatch):
             misbehave()
         return good(p, run)
 
-    monkeypatch.setattr(ex, "_numeric", misbehaves_in_the_child)
+    return misbehaves_in_the_child
+
+
+def test_a_rerun_that_dies_is_done_serially(monkeypatch):
+    """A child that dies without answering (as a crash would) is gone: the rerun is done here."""
+    ex = registry.get("4.15")
+    monkeypatch.setattr(ex, "_numeric", _misbehaving_in_the_child(ex, lambda: os._exit(3)))
     monkeypatch.setattr(crosscheck, "_parallel_ok", lambda: True)
-    monkeypatch.setattr(crosscheck, "RERUN_WAIT_S", 0.5)
     d = crosscheck.cross_check(ex, ex.resolve({})).as_json()
     assert d["agree"] is True and "did not answer" in d["numeric_info"]["verify_parallel_fallback"]
     assert d["numeric_info"]["verify_rtol"] == pytest.approx(1e-11)
+    assert _no_children_left()
+
+
+def test_a_rerun_that_hangs_fails_loudly_within_the_budget(monkeypatch):
+    """A child that never answers is stopped by its own time budget: a loud failure, no child left."""
+    import time
+
+    ex = registry.get("4.15")
+    monkeypatch.setattr(ex, "_numeric", _misbehaving_in_the_child(ex, _hang))
+    monkeypatch.setattr(crosscheck, "_parallel_ok", lambda: True)
+    t0 = time.monotonic()
+    d = crosscheck.cross_check(ex, ex.resolve({}), budget_s=1.0).as_json()
+    assert time.monotonic() - t0 < 6.0
+    assert d["agree"] is False
+    assert any("time budget" in e or "did not answer" in e for e in d.get("errors", []) + [
+        d["numeric_info"].get("verify_parallel_fallback", "")])
     assert _no_children_left()
 
 
@@ -122,3 +140,64 @@ def test_no_fork_beside_another_thread(monkeypatch):
     finally:
         stop.set()
         t.join()
+
+
+_SLOW_IN_CHILD = """
+import os, sys, time
+from mech.problems import registry
+from mech.solvers import crosscheck
+ex = registry.get("4.15")
+good = ex._numeric
+parent = os.getpid()
+def slow(p, run):
+    if os.getpid() != parent:
+        time.sleep(60)
+    return good(p, run)
+ex._numeric = slow
+crosscheck._parallel_ok = lambda: True
+print("ready", flush=True)
+crosscheck.cross_check(ex, ex.resolve({}))
+"""
+
+
+def _processes_with(marker: str) -> list[int]:
+    found = []
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/cmdline", "rb") as fh:
+                if marker.encode() in fh.read():
+                    found.append(int(entry))
+        except OSError:
+            continue
+    return found
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc"), reason="needs /proc (Linux)")
+@pytest.mark.parametrize("sig", ["SIGKILL", "SIGTERM"])
+def test_the_rerun_dies_with_a_killed_parent(sig):
+    """A CI timeout kills mech (SIGKILL or SIGTERM to its process): its forked rerun must not outlive it."""
+    import signal
+    import subprocess
+    import sys
+    import time
+    import uuid
+
+    marker = f"mech-orphan-probe-{uuid.uuid4().hex}"
+    proc = subprocess.Popen([sys.executable, "-c", _SLOW_IN_CHILD, marker], stdout=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout.readline().strip() == "ready"
+        deadline = time.monotonic() + 20
+        while len(_processes_with(marker)) < 2 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert len(_processes_with(marker)) >= 2, "the rerun was never forked"
+        proc.send_signal(getattr(signal, sig))
+        proc.wait(timeout=10)
+        time.sleep(2.0)
+        assert _processes_with(marker) == []
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        for pid in _processes_with(marker):
+            os.kill(pid, signal.SIGKILL)

@@ -30,6 +30,7 @@ exercise = Exercise(
         "ω_c = (g sin θ₀ / l)^(1/2)",
         "(from θ'² = (3g/l)(sin θ₀ - sin θ) and N_wall ∝ cos θ (3/2 sin θ - sin θ₀))",
     ],
+    states=[("theta", "rad"), ("omega", "rad/s")],
 )
 
 # Start this close below the upright position on the energy-conserving path:

@@ -1,0 +1,100 @@
+"""mech from Python: the exercises of Likharev's Classical Mechanics (ch. 4 and 5), solved two ways.
+
+    >>> import mech
+    >>> sol = mech.solve("4.15", theta0="60deg")
+    >>> sol["theta_c"].numeric, sol["theta_c"].numeric_err, sol.agree
+    >>> sol.trajectory.t, sol.trajectory.y          # the ladder's motion up to the loss of contact
+    >>> sw = mech.sweep("4.15", theta0=("10deg", "90deg", 9))
+    >>> sw.to_arrays()["theta_c_numeric"]
+
+Parameters take SI numbers or strings with units, exactly as on the command line
+(``theta0="60deg"``, ``l=2.0``, ``l="15 cm"``).  A bad value raises ``BadInput``
+with the command line's one-line message; a numeric solver that cannot give a
+trustworthy number raises ``NumericFailure`` (its ``.solution`` holds the rest).
+
+``import mech`` imports neither numpy nor scipy: everything heavy loads on first use.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from mech.problems.spec import BadInput, NumericFailure
+
+if TYPE_CHECKING:  # pragma: no cover
+    from mech.api import Solution, Sweep, Trajectory
+
+__all__ = [
+    "BadInput",
+    "NumericFailure",
+    "Solution",
+    "Sweep",
+    "Trajectory",
+    "check",
+    "exercise",
+    "exercises",
+    "solve",
+    "sweep",
+]
+
+
+def exercises(chapter: int | None = None) -> list:
+    """Every registered exercise (id, title, topic, methods, from_book), without importing any."""
+    from mech.problems import registry
+
+    return [e for e in registry.index() if chapter is None or e.chapter == int(chapter)]
+
+
+def exercise(ex_id: str):
+    """One exercise: ``.id .title .statement .model .params .outputs .formulas .hard_cases``."""
+    from mech.problems import registry
+
+    return registry.get(str(ex_id))
+
+
+def solve(ex_id: str, method: str = "both", rtol: float | str | None = None, verify: bool = True,
+          *, raise_on_failure: bool = True, **params: Any) -> "Solution":
+    """Solve exercise ``ex_id`` at ``params`` (the rest at their defaults), as ``mech solve`` does.
+
+    ``method``: "both" (default, cross-checked), "analytic" or "numeric".  ``rtol``: the numeric
+    solver's requested accuracy (default: the exercise's).  ``verify``: rerun at rtol/10 to test the
+    numeric claim.  Raises ``BadInput`` for a bad parameter and, unless ``raise_on_failure=False``,
+    ``NumericFailure`` when a solver could not answer.  A disagreement is not an exception: look at
+    ``sol.agree``.
+    """
+    from mech import api
+
+    return api.solve(ex_id, method=method, rtol=rtol, verify=verify, raise_on_failure=raise_on_failure,
+                          params=params)
+
+
+def sweep(ex_id: str, method: str = "both", rtol: float | str | None = None, verify: bool = True,
+          *, only: list[str] | str | None = None, jobs: int | None = None, **ranges: Any) -> "Sweep":
+    """Solve over a range or a grid, as ``mech sweep`` does.
+
+    Each keyword is a parameter: a tuple ``(start, stop, n)`` or ``(start, stop, n, "log")`` sweeps it
+    (ends in SI numbers or strings with units), a list or array gives its values, a single value holds
+    it fixed.  Several swept parameters make a grid (the first varies slowest).  ``only`` names the
+    outputs wanted (all by default); ``jobs`` the number of processes (default: decided by the cost).
+    """
+    from mech import api
+
+    return api.sweep(ex_id, method=method, rtol=rtol, verify=verify, only=only, jobs=jobs, ranges=ranges)
+
+
+def check(ids: list[str] | str | None = None, hard: bool = False):
+    """Cross-check every (or the named) exercise at its defaults and, with ``hard``, its hard cases.
+
+    Returns the report of ``mech check``: ``.ok``, ``.passed``, ``.failed``, ``.cases``, ``.as_json()``.
+    """
+    from mech import api
+
+    return api.check(ids, hard=hard)
+
+
+def __getattr__(name: str):
+    if name in ("Solution", "Sweep", "Trajectory", "Quantity"):
+        from mech import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'mech' has no attribute '{name}'")

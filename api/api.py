@@ -1,0 +1,439 @@
+"""What ``mech.solve``, ``mech.sweep`` and ``mech.check`` return, and how they get it.
+
+A ``Solution`` is the cross-check of one exercise at one set of parameters: the same
+object ``mech solve --json`` prints (``to_dict``), with each output readable as a
+``Quantity`` and, where the numeric route integrates equations of motion, the motion
+as a ``Trajectory``.  A ``Sweep`` is many of them over a range or a grid.
+"""
+
+from __future__ import annotations
+
+import html
+import math
+from dataclasses import dataclass, field
+from typing import Any, Iterator, Sequence
+
+import numpy as np
+
+from mech.problems.spec import BadInput, NumericFailure
+
+__all__ = ["Quantity", "Solution", "Sweep", "Trajectory", "solve", "sweep", "check", "resolve_params"]
+
+
+# -- parameters ----------------------------------------------------------------
+
+def _value_text(value: Any) -> str:
+    """A parameter value as the command line would have received it."""
+    if isinstance(value, str):
+        return value
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise BadInput(f"cannot use {value!r}: give a number (SI) or a string with a unit, e.g. '60deg'")
+    return repr(float(value))
+
+
+def _convert(ex, name: str, value: Any) -> float:
+    from mech.cli.options import _canonical, _convert as convert_text
+
+    canon = _canonical(ex, name)
+    return convert_text(ex, canon, _value_text(value))
+
+
+def resolve_params(ex, given: dict[str, Any]):
+    """Numbers (SI) or strings with units -> checked ``Params``, with the command line's messages."""
+    values = {}
+    for name, value in given.items():
+        canon = name.replace("-", "_")
+        if canon in values:
+            raise BadInput(f"{canon}: given more than once")
+        values[canon] = _convert(ex, name, value)
+    return ex.resolve(values)
+
+
+def _rtol(ex, rtol):
+    if rtol is None:
+        return None
+    from mech.cli.options import parse_rtol
+
+    return parse_rtol(_value_text(rtol), ex)
+
+
+_METHODS = {"both": ("analytic", "numeric"), "analytic": ("analytic",), "numeric": ("numeric",)}
+
+
+def _methods(method: str) -> tuple[str, ...]:
+    try:
+        return _METHODS[str(method).lower()]
+    except KeyError:
+        raise BadInput(f"method: '{method}' is not one of both, analytic, numeric") from None
+
+
+# -- results ---------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Quantity:
+    """One output of a solution: both values, the numeric error bar, the tolerance, the verdict."""
+
+    name: str
+    unit: str
+    analytic: float | None
+    numeric: float | None
+    numeric_err: float | None
+    analytic_err: float | None
+    abs_err: float | None
+    rel_err: float | None
+    tol: float | None
+    agree: bool | None
+    theory: str = "exact"
+    note: str | None = None
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Quantity":
+        return cls(d["name"], d["unit"], d.get("analytic"), d.get("numeric"), d.get("numeric_err"),
+                   d.get("analytic_err"), d.get("abs_err"), d.get("rel_err"), d.get("tol"), d.get("agree"),
+                   d.get("theory", "exact"), d.get("note"))
+
+    @property
+    def value(self) -> float | None:
+        """The numeric value where there is one, else the analytic one."""
+        return self.numeric if self.numeric is not None else self.analytic
+
+
+@dataclass
+class Trajectory:
+    """The motion the numeric route integrated: ``y[i]`` is state ``names[i]`` (in ``units[i]``) at times ``t``.
+
+    ``y`` has shape (n_states, n_times), as scipy's ``OdeResult``; ``t`` is increasing.
+    """
+
+    t: np.ndarray
+    y: np.ndarray
+    names: list[str]
+    units: list[str]
+
+    def to_csv(self, path) -> None:
+        """A header row ``t [s]`` then ``name [unit]`` per state, one row per time."""
+        import csv
+
+        with open(path, "w", newline="", encoding="utf-8") as fh:
+            out = csv.writer(fh)
+            out.writerow(["t [s]"] + [f"{n} [{u}]" for n, u in zip(self.names, self.units)])
+            for k in range(self.t.size):
+                out.writerow([repr(float(self.t[k]))] + [repr(float(v)) for v in self.y[:, k]])
+
+    def __repr__(self) -> str:
+        return f"Trajectory({', '.join(self.names)}; {self.t.size} times from {self.t[0]:g} to {self.t[-1]:g} s)"
+
+
+SAMPLES = 201  # a trajectory with a continuous extension is sampled at least this densely
+
+
+def _trajectory(ex, run) -> Trajectory | None:
+    """The exercise's motion: the longest recorded integration of its declared state vector."""
+    if run is None or not ex.states or not run.trajectories:
+        return None
+    n = len(ex.states)
+    fitting = [tr for tr in run.trajectories if np.ndim(tr.y) == 2 and np.shape(tr.y)[0] == n and np.size(tr.t) > 1]
+    if not fitting:
+        return None
+    tr = max(fitting, key=lambda tr: np.size(tr.t))
+    t = np.asarray(tr.t, float)
+    y = np.asarray(tr.y, float)
+    sol = getattr(tr, "sol", None)
+    if sol is not None and t.size < SAMPLES:
+        # the integrator's own continuous extension, between its steps: a smooth curve to plot
+        fine = np.union1d(np.linspace(t.min(), t.max(), SAMPLES), t)
+        t, y = fine, np.asarray(sol(fine), float).reshape(n, -1)
+    if t[-1] < t[0]:
+        t, y = t[::-1], y[:, ::-1]
+    return Trajectory(t=t, y=y, names=[s[0] for s in ex.states], units=[s[1] for s in ex.states])
+
+
+class Solution:
+    """The cross-check of one exercise at one set of parameters.
+
+    ``sol["theta_c"]`` is a ``Quantity``; ``sol.agree`` the verdict (None where only one method ran);
+    ``sol.to_dict()`` the object ``mech solve --json`` prints; ``sol.trajectory`` the integrated motion
+    (None where the numeric route integrates no equations of motion).
+    """
+
+    def __init__(self, exercise, data: dict, trajectory: Trajectory | None = None, result=None):
+        self.exercise = exercise
+        self._data = data
+        self.trajectory = trajectory
+        self._result = result
+        self.quantities = [Quantity.from_dict(q) for q in data["quantities"]]
+        self._by_name = {q.name: q for q in self.quantities}
+
+    @property
+    def id(self) -> str:
+        return self.exercise.id
+
+    @property
+    def params(self) -> dict[str, float]:
+        return dict(self._data["params"])
+
+    @property
+    def agree(self) -> bool | None:
+        return self._data["agree"]
+
+    @property
+    def errors(self) -> list[str]:
+        return list(self._data.get("errors", []))
+
+    @property
+    def timing(self) -> dict:
+        return dict(self._data.get("timing") or {})
+
+    @property
+    def numeric_info(self) -> dict | None:
+        return self._data.get("numeric_info")
+
+    def __getitem__(self, name: str) -> Quantity:
+        try:
+            return self._by_name[name]
+        except KeyError:
+            names = ", ".join(self._by_name)
+            raise KeyError(f"{self.exercise.id} has no output '{name}'; its outputs are: {names}") from None
+
+    def __iter__(self) -> Iterator[Quantity]:
+        return iter(self.quantities)
+
+    def __len__(self) -> int:
+        return len(self.quantities)
+
+    def keys(self) -> list[str]:
+        return list(self._by_name)
+
+    def to_dict(self) -> dict:
+        """Exactly what ``mech solve --json`` prints for the same exercise and parameters."""
+        import copy
+
+        return copy.deepcopy(self._data)
+
+    def __repr__(self) -> str:
+        parts = ", ".join(f"{q.name}={q.value:.6g}" if isinstance(q.value, float) else f"{q.name}=None"
+                          for q in self.quantities)
+        return f"<Solution {self.exercise.id}: {parts}; agree={self.agree}>"
+
+    def __rich__(self):
+        from mech.cli import render
+
+        if self._result is not None:
+            return render.solve_table(self._result)
+        from rich.text import Text
+
+        return Text(repr(self))
+
+    def _repr_html_(self) -> str:
+        esc = html.escape
+        ex = self.exercise
+        params = ", ".join(f"{esc(p.symbol or p.name)} = {esc(p.show(self._data['params'][p.name]))}"
+                           for p in ex.params)
+        head = "".join(f"<th>{c}</th>" for c in ("quantity", "unit", "analytic", "numeric", "± numeric",
+                                                 "rel. diff", "tol", "agree"))
+        rows = []
+        for q in self.quantities:
+            cells = [q.name + (" *" if q.theory != "exact" else ""), q.unit, _fmt(q.analytic), _fmt(q.numeric),
+                     _fmt(q.numeric_err, 2), _fmt(q.rel_err, 2), _fmt(q.tol, 2),
+                     "—" if q.agree is None else ("yes" if q.agree else "NO")]
+            rows.append("<tr>" + "".join(f"<td>{esc(str(c))}</td>" for c in cells) + "</tr>")
+        verdict = {True: "analytic and numeric agree", False: "CROSS-CHECK FAILED", None: ""}[self.agree]
+        errors = "".join(f"<p style='color:#b00'>{esc(e)}</p>" for e in self.errors)
+        return (f"<div><b>{esc(ex.id)}  {esc(ex.title)}</b><br><span>{params}</span>"
+                f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(rows)}</tbody></table>"
+                f"{errors}<p>{verdict}</p></div>")
+
+
+def _fmt(v, digits: int = 12) -> str:
+    if v is None:
+        return "—"
+    if isinstance(v, bool):
+        return str(v)
+    return f"{v:.{digits}g}"
+
+
+# -- solve -----------------------------------------------------------------------
+
+def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, raise_on_failure: bool = True,
+          params: dict | None = None, keep_trajectory: bool = True) -> Solution:
+    from mech.problems import registry
+    from mech.solvers.crosscheck import cross_check
+
+    ex = registry.get(str(ex_id))
+    resolved = resolve_params(ex, dict(params or {}))
+    rtol_value = _rtol(ex, rtol)
+    methods = _methods(method)
+    result = cross_check(ex, resolved, methods=methods, rtol=rtol_value,
+                         verify=verify and "numeric" in methods, keep_trajectories=keep_trajectory)
+    sol = Solution(ex, result.as_json(), _trajectory(ex, result.run) if keep_trajectory else None, result)
+    if raise_on_failure and result.errors and any("solver failed" in e for e in result.errors):
+        exc = NumericFailure(f"{ex.id}: " + "; ".join(result.errors))
+        exc.solution = sol
+        raise exc
+    return sol
+
+
+# -- sweep -----------------------------------------------------------------------
+
+def _axis_values(ex, name: str, spec) -> tuple[list[float], bool]:
+    """A range tuple (start, stop, n[, "log"]) or a list of values -> SI values."""
+    if isinstance(spec, tuple) and len(spec) in (3, 4) and isinstance(spec[2], (int, np.integer)) \
+            and not isinstance(spec[2], bool):
+        log = len(spec) == 4 and str(spec[3]).lower() in ("log", "geom")
+        if len(spec) == 4 and not log:
+            raise BadInput(f"{name}: a range is (start, stop, n) or (start, stop, n, 'log'), got {spec!r}")
+        start, stop = _convert(ex, name, spec[0]), _convert(ex, name, spec[1])
+        n = int(spec[2])
+        if n < 1:
+            raise BadInput(f"{name}: n in {spec!r} must be at least 1")
+        if log:
+            if start <= 0 or stop <= 0:
+                raise BadInput(f"{name}: a log range needs positive ends, got {spec!r}")
+            values = list(np.geomspace(start, stop, n))
+        else:
+            values = list(np.linspace(start, stop, n))
+        values[0], values[-1] = start, stop
+        return [float(v) for v in values], log
+    return [_convert(ex, name, v) for v in spec], False
+
+
+def _is_swept(spec) -> bool:
+    return isinstance(spec, (tuple, list, np.ndarray))
+
+
+class Sweep:
+    """Solutions over a range or a grid: ``.points``, ``.to_arrays()``, ``.to_csv(path)``, ``.to_pandas()``."""
+
+    def __init__(self, exercise, axes: list, fixed: dict, points: list[Solution], seconds: float = 0.0,
+                 only: Sequence[str] | None = None):
+        self.exercise = exercise
+        self.axes = axes
+        self.fixed = fixed
+        self.points = points
+        self.seconds = seconds
+        self.outputs = list(only) if only else [o.name for o in exercise.outputs]
+
+    @property
+    def agree(self) -> bool | None:
+        flags = [p.agree for p in self.points]
+        if any(f is False for f in flags):
+            return False
+        if all(f is None for f in flags):
+            return None
+        return True
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(len(a.values) for a in self.axes)
+
+    def __len__(self) -> int:
+        return len(self.points)
+
+    def __iter__(self) -> Iterator[Solution]:
+        return iter(self.points)
+
+    def to_arrays(self) -> dict[str, np.ndarray]:
+        """Flat arrays in grid order (the first swept parameter varies slowest; ``.reshape(sweep.shape)``
+        gives the grid): each swept parameter, then per output ``_analytic``, ``_numeric``,
+        ``_numeric_err`` and ``_agree`` (NaN or None where a value is missing)."""
+        out: dict[str, np.ndarray] = {}
+        for axis in self.axes:
+            out[axis.name] = np.array([p.params[axis.name] for p in self.points], float)
+        for name in self.outputs:
+            qs = [p[name] for p in self.points]
+            out[f"{name}_analytic"] = np.array([_nan(q.analytic) for q in qs], float)
+            out[f"{name}_numeric"] = np.array([_nan(q.numeric) for q in qs], float)
+            out[f"{name}_numeric_err"] = np.array([_nan(q.numeric_err) for q in qs], float)
+            out[f"{name}_agree"] = np.array([q.agree for q in qs], object)
+        return out
+
+    def _columns(self) -> list[tuple[str, str]]:
+        cols = [(a.name, self.exercise.param_map[a.name].unit) for a in self.axes]
+        units = {o.name: o.unit for o in self.exercise.outputs}
+        for name in self.outputs:
+            cols += [(f"{name}_analytic", units[name]), (f"{name}_numeric", units[name]),
+                     (f"{name}_numeric_err", units[name]), (f"{name}_agree", "")]
+        return cols
+
+    def to_csv(self, path) -> None:
+        """One row per point; the header gives each column's unit as ``name [unit]``."""
+        import csv
+
+        arrays = self.to_arrays()
+        cols = self._columns()
+        with open(path, "w", newline="", encoding="utf-8") as fh:
+            out = csv.writer(fh)
+            out.writerow([f"{n} [{u}]" if u and u != "1" else n for n, u in cols])
+            for k in range(len(self.points)):
+                row = []
+                for n, _ in cols:
+                    v = arrays[n][k]
+                    row.append("" if v is None or (isinstance(v, float) and math.isnan(v)) else
+                               (str(v).lower() if isinstance(v, (bool, np.bool_)) else repr(float(v))))
+                out.writerow(row)
+
+    def to_pandas(self):
+        """A pandas DataFrame of ``to_arrays()`` (pandas is optional: ``pip install pandas``)."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Sweep.to_pandas needs pandas, which mech does not install: pip install pandas") \
+                from None
+        return pd.DataFrame(self.to_arrays())
+
+    def __repr__(self) -> str:
+        swept = ", ".join(f"{a.name}: {len(a.values)}" for a in self.axes)
+        return f"<Sweep {self.exercise.id} over {swept}; {len(self.points)} points; agree={self.agree}>"
+
+
+def _nan(v) -> float:
+    return math.nan if v is None else float(v)
+
+
+def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, only=None, jobs=None,
+          ranges: dict | None = None) -> Sweep:
+    from mech.problems import registry
+    from mech.solvers.sweep import Axis, grid_points, run_sweep
+
+    ex = registry.get(str(ex_id))
+    axes, fixed = [], {}
+    for name, spec in dict(ranges or {}).items():
+        canon = name.replace("-", "_")
+        if _is_swept(spec):
+            values, log = _axis_values(ex, name, spec)
+            axes.append(Axis(canon, tuple(values), log))
+        else:
+            fixed[canon] = _convert(ex, name, spec)
+    if not axes:
+        raise BadInput(f"nothing to sweep: give a parameter of {ex.id} a range (start, stop, n) or a list")
+    if only is not None:
+        wanted = [only] if isinstance(only, str) else list(only)
+        known = {o.name for o in ex.outputs}
+        for name in wanted:
+            if name not in known:
+                raise BadInput(f"only: '{name}' is not an output of {ex.id}; its outputs are: {', '.join(known)}")
+    else:
+        wanted = None
+    methods = _methods(method)
+    if methods != ("analytic", "numeric"):
+        raise BadInput("sweep runs both methods, cross-checked: method='both'")
+    points = [ex.resolve(values) for values in grid_points(axes, fixed)]
+    rtol_value = _rtol(ex, rtol)
+    result = run_sweep(ex, axes, fixed, points, rtol=rtol_value, verify=verify, jobs=jobs)
+    solutions = []
+    for data in result.points:
+        full = {"id": ex.id, "title": ex.title, **data}
+        solutions.append(Solution(ex, full))
+    return Sweep(ex, axes, fixed, solutions, result.seconds, wanted)
+
+
+# -- check -------------------------------------------------------------------------
+
+def check(ids=None, hard: bool = False):
+    from mech.cli.checking import run_check
+    from mech.problems import registry
+
+    if isinstance(ids, str):
+        ids = [ids]
+    exercises = [registry.get(i) for i in ids] if ids else list(registry.all_exercises().values())
+    return run_check(exercises, hard=hard, progress=False)

@@ -1,0 +1,154 @@
+"""The Python API (CONTRACT.md, "Python API"), tried as a notebook user would.
+
+Expected values by hand: for the ladder (4.15) sin θc = (2/3) sin θ0, so θ0 = 60° gives
+θc = asin(1/√3) = 0.61547970867038..., and ω_c² = (g/l) sin θ0.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import mech
+from mech.cli.main import cli
+
+THETA_C_60 = math.asin(1 / math.sqrt(3))
+
+
+def test_import_mech_loads_neither_numpy_nor_scipy():
+    code = "import sys, mech; print('numpy' in sys.modules, 'scipy' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["False", "False"]
+
+
+def test_solve_with_units_and_si_numbers():
+    sol = mech.solve("4.15", theta0="60deg", l=2.0)
+    q = sol["theta_c"]
+    assert q.numeric == pytest.approx(THETA_C_60, rel=1e-9)
+    assert q.analytic == pytest.approx(THETA_C_60, rel=1e-14)
+    assert q.unit == "rad" and q.agree is True and sol.agree is True
+    assert 0 < q.numeric_err <= q.tol * abs(q.numeric) * 1.0000001
+    assert abs(q.numeric - THETA_C_60) <= q.numeric_err
+    omega = sol["omega_c"]
+    assert omega.analytic == pytest.approx(math.sqrt(9.81 * math.sin(math.pi / 3) / 2.0), rel=1e-14)
+    assert sol.params["l"] == 2.0 and sol.params["theta0"] == pytest.approx(math.pi / 3, rel=1e-15)
+    assert mech.solve("4.15", l="15 cm").params["l"] == pytest.approx(0.15, rel=1e-15)
+
+
+def test_the_ladder_trajectory_ends_where_it_leaves_the_wall():
+    sol = mech.solve("4.15", theta0="60deg")
+    tr = sol.trajectory
+    assert tr.names == ["theta", "omega"] and tr.units == ["rad", "rad/s"]
+    assert tr.y.shape == (len(tr.names), len(tr.t))
+    assert np.all(np.diff(tr.t) > 0)
+    # energy along the way: θ'² = (3g/l)(sin θ0 - sin θ), by hand from the rod's energy
+    theta, omega = tr.y
+    assert np.allclose(omega**2, 3 * 9.81 * (math.sin(math.pi / 3) - np.sin(theta)), rtol=1e-6, atol=1e-9)
+    assert theta[-1] == pytest.approx(THETA_C_60, rel=1e-9)
+
+
+def test_an_exercise_that_integrates_nothing_has_no_trajectory():
+    assert mech.solve("4.1").trajectory is None  # moments of inertia: quadrature, no motion
+
+
+def test_bad_input_raises_with_the_command_lines_message():
+    with pytest.raises(mech.BadInput) as api_err:
+        mech.solve("4.15", theta0="100deg")
+    res = CliRunner().invoke(cli, ["solve", "4.15", "--theta0", "100deg"])
+    assert res.exit_code == 2
+    assert str(api_err.value) in res.output
+    with pytest.raises(mech.BadInput):
+        mech.solve("4.15", nonsense=1.0)
+    with pytest.raises(mech.BadInput):
+        mech.solve("9.99")
+
+
+def test_to_dict_is_what_the_command_line_prints():
+    sol = mech.solve("4.15", theta0="60deg")
+    res = CliRunner().invoke(cli, ["solve", "4.15", "--theta0", "60deg", "--json"])
+    assert res.exit_code == 0
+    cli_json = json.loads(res.output)
+    api_json = sol.to_dict()
+    for d in (cli_json, api_json):
+        d.pop("timing")
+        d["numeric_info"].pop("import_s", None)
+    assert api_json == cli_json
+
+
+def test_a_numeric_failure_raises_with_the_solution_attached(monkeypatch):
+    ex = mech.exercise("4.15")
+
+    def fails(p, run):
+        raise mech.NumericFailure("an event was not reached")
+
+    monkeypatch.setattr(ex, "_numeric", fails)
+    with pytest.raises(mech.NumericFailure, match="not reached") as err:
+        mech.solve("4.15")
+    assert err.value.solution.agree is False
+    sol = mech.solve("4.15", raise_on_failure=False)
+    assert sol.agree is False and sol["theta_c"].numeric is None
+
+
+def test_analytic_only():
+    sol = mech.solve("4.15", method="analytic", theta0="60deg")
+    assert sol["theta_c"].analytic == pytest.approx(THETA_C_60, rel=1e-14)
+    assert sol["theta_c"].numeric is None and sol.agree is None
+
+
+def test_sweep_arrays_csv_and_grid(tmp_path):
+    sw = mech.sweep("4.15", theta0=("10deg", "90deg", 9))
+    arrays = sw.to_arrays()
+    assert len(arrays["theta_c_numeric"]) == 9
+    expected = np.arcsin(2 / 3 * np.sin(np.radians(np.linspace(10, 90, 9))))
+    assert np.allclose(arrays["theta_c_numeric"], expected, rtol=1e-8)
+    assert np.allclose(arrays["theta0"], np.radians(np.linspace(10, 90, 9)), rtol=1e-14)
+    assert all(arrays["theta_c_agree"])
+    path = tmp_path / "sweep.csv"
+    sw.to_csv(path)
+    lines = path.read_text().splitlines()
+    assert lines[0].startswith("theta0 [rad],theta_c_analytic [rad],theta_c_numeric [rad]")
+    assert len(lines) == 10
+    grid = mech.sweep("4.15", theta0=["30deg", "60deg"], l=(1.0, 2.0, 3), only="theta_c")
+    assert grid.shape == (2, 3) and len(grid.points) == 6
+    assert set(grid.to_arrays()) == {"theta0", "l", "theta_c_analytic", "theta_c_numeric", "theta_c_numeric_err",
+                                     "theta_c_agree"}
+
+
+def test_sweep_refuses_nothing_to_sweep_and_unknown_outputs():
+    with pytest.raises(mech.BadInput):
+        mech.sweep("4.15", theta0="60deg")
+    with pytest.raises(mech.BadInput):
+        mech.sweep("4.15", theta0=("10deg", "90deg", 3), only="nope")
+
+
+def test_to_pandas_when_pandas_is_there():
+    pd = pytest.importorskip("pandas")
+    df = mech.sweep("4.15", theta0=("10deg", "90deg", 3)).to_pandas()
+    assert isinstance(df, pd.DataFrame) and len(df) == 3
+
+
+def test_exercises_exercise_and_check():
+    ids = [e.id for e in mech.exercises()]
+    assert "4.15" in ids and "5.13" in ids and len(ids) == 49
+    ex = mech.exercise("4.15")
+    assert ex.title.startswith("Sliding ladder") and [o.name for o in ex.outputs] == ["theta_c", "omega_c"]
+    report = mech.check(["4.15"])
+    assert report.ok and report.passed >= 1
+
+
+def test_a_solution_renders_in_a_terminal_and_in_jupyter():
+    from rich.console import Console
+
+    sol = mech.solve("4.15", theta0="60deg")
+    console = Console(record=True, width=120)
+    console.print(sol)
+    text = console.export_text()
+    assert "theta_c" in text and "0.6154797" in text
+    html = sol._repr_html_()
+    assert "<table>" in html and "theta_c" in html and "agree" in html
