@@ -8,6 +8,8 @@ from mech.cli.main import SolveCommand, UsageFailure, _complete_ids, _get
 from mech.cli.options import _canonical, collect_params, parse_rtol
 from mech.problems.spec import BadInput
 
+FIGURE_BUDGETS = 2
+
 
 @click.command("plot", cls=SolveCommand)
 @click.argument("ex_id", metavar="ID", shell_complete=_complete_ids)
@@ -54,7 +56,15 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
     check_target(out)
     need_matplotlib()
     from mech.cli.figures import draw
+    from mech.problems.spec import NumericFailure
+    from mech.solvers import budget
 
-    fig = draw(ex, params, generic=generic, vary=vary, n_numeric=n_numeric, rtol=rtol)
+    # every numeric solve has its own budget (a failed one is shown in the figure); the whole figure,
+    # the scene's own integrations included, ends within FIGURE_BUDGETS solve budgets or fails in one line
+    try:
+        with budget.limit(FIGURE_BUDGETS * budget.default_seconds(), what=f"the figure of {ex.id}"):
+            fig = draw(ex, params, generic=generic, vary=vary, n_numeric=n_numeric, rtol=rtol)
+    except NumericFailure as exc:
+        raise click.ClickException(f"cannot draw {ex.id}: {exc}") from None
     save(fig, out, dpi=dpi)
     click.echo(f"wrote {out}", err=True)

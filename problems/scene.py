@@ -164,6 +164,7 @@ class SceneRun:
         self.points = int(points)
         self.failures: list[tuple[dict, str]] = []
         self.failed_x: dict[str, list[float]] = {}  # parameter -> values where ``series`` saw a numeric failure
+        self.out_of_budget = False
 
     def analytic(self, p) -> dict:
         try:
@@ -173,14 +174,29 @@ class SceneRun:
         return {k: _finite(v) for k, v in values.items()}
 
     def numeric(self, p) -> dict | None:
-        """The numeric solver's outputs at ``p``; None when the figure spends no numeric solves."""
+        """The numeric solver's outputs at ``p``; None when the figure spends no numeric solves.
+
+        Each solve runs under the wall-clock budget of a solve (``mech.solvers.budget``, as in the
+        cross-check); once one has run out of it the figure's remaining numeric solves are skipped
+        (recorded as failures), so that a figure never waits on several slow solves in a row."""
+        from mech.solvers import budget
+
         if self.points <= 0:
             return None
+        nan = {o.name: math.nan for o in self.exercise.outputs}
+        if self.out_of_budget:
+            self.failures.append((dict(p), "skipped: an earlier numeric solve ran out of its time budget"))
+            return nan
         try:
-            values, _ = self.exercise.solve_numeric(p, self.rtol)
+            with budget.limit(what=f"the numeric solve of {self.exercise.id} for the figure"):
+                values, _ = self.exercise.solve_numeric(p, self.rtol)
+        except budget.OutOfBudget as exc:
+            self.out_of_budget = True
+            self.failures.append((dict(p), str(exc)))
+            return nan
         except Exception as exc:  # told in the figure, never drawn as a number
             self.failures.append((dict(p), f"{type(exc).__name__}: {exc}"))
-            return {o.name: math.nan for o in self.exercise.outputs}
+            return nan
         return {k: _finite(v) for k, v in values.items()}
 
     def series(self, p, name: str, xs, numeric: bool = False) -> dict:

@@ -246,3 +246,43 @@ def test_bench_figure_is_large_enough_to_read(tmp_path):
     plot_bench({"id": "4.15", "title": "ladder", "points": points}, str(out))
     w, h = png_size(out.read_bytes())
     assert w >= 1100 and h >= 450
+
+
+def _endless(*args):
+    from mech.solvers import budget
+
+    while True:
+        budget.check("a test's endless loop")
+
+
+def test_a_slow_numeric_solve_is_cut_by_its_budget_and_the_rest_skipped(monkeypatch):
+    from mech.problems.scene import SceneRun
+
+    ex = registry.get("4.15")
+    monkeypatch.setattr(ex, "_numeric", _endless)
+    monkeypatch.setenv("MECH_BUDGET_S", "0.2")
+    run_ = SceneRun(ex, None, points=3)
+    p = ex.resolve({})
+    assert all(math.isnan(v) for v in run_.numeric(p).values())
+    assert run_.out_of_budget and "time budget" in run_.failures[0][1]
+    assert all(math.isnan(v) for v in run_.numeric(p).values())
+    assert "skipped" in run_.failures[1][1]
+
+
+def test_plot_with_a_slow_solver_still_draws_and_says_so(monkeypatch, tmp_path):
+    import time
+
+    monkeypatch.setattr(registry.get("4.15"), "_numeric", _endless)
+    monkeypatch.setenv("MECH_BUDGET_S", "0.3")
+    t0 = time.perf_counter()
+    code, _, err = run("plot", "4.15", "--points", "4", "--dpi", "40", "-o", str(tmp_path / "s.png"))
+    assert code == 0, err
+    assert time.perf_counter() - t0 < 0.3 + 10  # one budget, then the rest skipped; the drawing itself
+
+
+def test_a_scene_that_never_ends_fails_in_one_line(monkeypatch, tmp_path):
+    monkeypatch.setattr(registry.get("4.15"), "_scene", _endless)
+    monkeypatch.setenv("MECH_BUDGET_S", "0.2")
+    code, _, err = run("plot", "4.15", "-o", str(tmp_path / "s.png"))
+    assert code == 1 and err.count("\n") == 1
+    assert "cannot draw 4.15" in err and "time budget" in err

@@ -77,7 +77,9 @@ def title(fig, ex, params=None, skip=(), extra: str = "") -> None:
             line = ", ".join(shown[:half]) + "\n" + ", ".join(shown[half:])
         text += "\n" + line
     if extra:
-        text += "\n" + extra
+        import textwrap
+
+        text += "\n" + "\n".join(textwrap.fill(line, 100) for line in extra.splitlines())
     fig.suptitle(text, fontsize=FONT["suptitle"])
 
 
@@ -92,15 +94,6 @@ def finite(v) -> float:
     except (TypeError, ValueError):
         return math.nan
     return f if math.isfinite(f) else math.nan
-
-
-def numeric_values(ex, params, rtol=None):
-    """The numeric solver's outputs at ``params`` (NaN where it fails or has no value) and its failure, if any."""
-    try:
-        values, _run = ex.solve_numeric(params, rtol)
-    except Exception as exc:  # a figure shows what it can; the failure is told in the legend
-        return {o.name: math.nan for o in ex.outputs}, f"{type(exc).__name__}: {exc}"
-    return {k: finite(v) for k, v in values.items()}, None
 
 
 def analytic_values(ex, params):

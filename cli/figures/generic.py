@@ -17,7 +17,8 @@ import time
 
 import numpy as np
 
-from mech.cli.figures.common import ANALYTIC, FONT, NUMERIC, POINT, analytic_values, figure, label, numeric_values, title
+from mech.cli.figures.common import ANALYTIC, FONT, NUMERIC, POINT, analytic_values, figure, label, title
+from mech.problems.scene import SceneRun
 from mech.problems.spec import BadInput
 
 N_LINE = 121
@@ -146,16 +147,12 @@ def generic_figure(ex, params, *, vary: str | None = None, n_numeric: int = 5, r
 
     # numeric: a handful spread over the range, and the point itself
     picks = sorted(set(np.linspace(0, len(xs) - 1, max(n_numeric - 1, 1)).round().astype(int).tolist()))
-    num_x = [float(xs[i]) for i in picks] + [x0]
-    num_p = [resolved[i] for i in picks] + [params]
+    num_x = [x0] + [float(xs[i]) for i in picks]
+    num_p = [params] + [resolved[i] for i in picks]
     has_numeric = "numeric" in ex.methods and n_numeric > 0
-    num_rows, failures = [], []
-    if has_numeric:
-        for r in num_p:
-            vals, fail = numeric_values(ex, r, rtol)
-            num_rows.append(vals)
-            if fail:
-                failures.append(fail)
+    solves = SceneRun(ex, rtol, n_numeric)  # each numeric solve under its time budget, failures kept
+    num_rows = [solves.numeric(r) for r in num_p] if has_numeric else []
+    failures = solves.failures
     at_point = analytic_values(ex, params)
 
     groups = _panels(ex, at_point)

@@ -156,7 +156,7 @@ def draw_scene(ex, params, scene, run):
                 ax.legend(fontsize=FONT["legend"], framealpha=0.85, loc=panel.legend)
     extra = scene.caption
     if run is not None and run.failures:
-        told = f"the numeric solver failed at {len(run.failures)} point(s): {run.failures[0][1]}"
-        extra = (extra + "\n" if extra else "") + (told if len(told) < 140 else told[:137] + "...")
+        told = f"the numeric solver failed at {len(run.failures)} point(s) (no marker there): {run.failures[0][1]}"
+        extra = (extra + "\n" if extra else "") + (told if len(told) < 200 else told[:197] + "...")
     title(fig, ex, params, skip=tuple(scene.on_axis), extra=extra)
     return fig
