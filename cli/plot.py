@@ -55,6 +55,8 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
     out = out or f"mech-{ex.id}.png"
     check_target(out)
     need_matplotlib()
+    import warnings
+
     from mech.cli.figures import draw
     from mech.problems.spec import NumericFailure
     from mech.solvers import budget
@@ -62,7 +64,11 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
     # every numeric solve has its own budget (a failed one is shown in the figure); the whole figure,
     # the scene's own integrations included, ends within FIGURE_BUDGETS solve budgets or fails in one line
     try:
-        with budget.limit(FIGURE_BUDGETS * budget.default_seconds(), what=f"the figure of {ex.id}"):
+        with budget.limit(FIGURE_BUDGETS * budget.default_seconds(), what=f"the figure of {ex.id}"), \
+                warnings.catch_warnings():
+            # numpy's overflow and division warnings are no message of the figure: a value that is not
+            # finite leaves a gap, and a numeric solver's failure is told in the caption
+            warnings.simplefilter("ignore", RuntimeWarning)
             fig = draw(ex, params, generic=generic, vary=vary, n_numeric=n_numeric, rtol=rtol)
     except NumericFailure as exc:
         raise click.ClickException(f"cannot draw {ex.id}: {exc}") from None

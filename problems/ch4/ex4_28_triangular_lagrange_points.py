@@ -150,8 +150,10 @@ def scene(p, run):
     cut.add(Line(x, potential_eff(x, ya + 0 * x, mu, nu), "φ_ef(x, y_L4)"),
             Guide(xa, label="L4"), Markers([xa], [top], kind="analytic"))
     cut.y.lim = (top - 1.2, top + 0.15)
+    small = min(mu, nu)  # Routh's criterion is symmetric in the two mass fractions
     if a["growth_rate"] == 0:
-        cut.title = f"L4 is a maximum of φ_ef, yet stable\n(the Coriolis force; μ = {mu:.4g} ≤ 0.0385)"
+        cut.title = f"L4 is a maximum of φ_ef, yet stable\n(the Coriolis force; smaller mass fraction {small:.4g} ≤ 0.0385)"
     else:
-        cut.title = f"L4 is a maximum of φ_ef, and unstable\n(μ = {mu:.4g} > 0.0385: growth {a['growth_rate']:.3g} 1/s)"
+        cut.title = (f"L4 is a maximum of φ_ef, and unstable\n(smaller mass fraction {small:.4g} > 0.0385: "
+                     f"growth {a['growth_rate']:.3g} 1/s)")
     return Scene([plane, cut])
