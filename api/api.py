@@ -128,24 +128,34 @@ SAMPLES = 201  # a trajectory with a continuous extension is sampled at least th
 
 
 def _trajectory(ex, run) -> Trajectory | None:
-    """The exercise's motion: the longest recorded integration of its declared state vector."""
-    if run is None or not ex.states or not run.trajectories:
+    """The scene's motion as the numeric route marked it (``run.motion``), in SI, legs joined in time."""
+    if run is None or not ex.states or not run.motion_parts:
         return None
     n = len(ex.states)
-    fitting = [tr for tr in run.trajectories if np.ndim(tr.y) == 2 and np.shape(tr.y)[0] == n and np.size(tr.t) > 1]
-    if not fitting:
-        return None
-    tr = max(fitting, key=lambda tr: np.size(tr.t))
-    t = np.asarray(tr.t, float)
-    y = np.asarray(tr.y, float)
-    sol = getattr(tr, "sol", None)
-    if sol is not None and t.size < SAMPLES:
-        # the integrator's own continuous extension, between its steps: a smooth curve to plot
-        fine = np.union1d(np.linspace(t.min(), t.max(), SAMPLES), t)
-        t, y = fine, np.asarray(sol(fine), float).reshape(n, -1)
-    if t[-1] < t[0]:
-        t, y = t[::-1], y[:, ::-1]
-    return Trajectory(t=t, y=y, names=[s[0] for s in ex.states], units=[s[1] for s in ex.states])
+    ts, ys = [], []
+    for traj, t_scale, t_offset, y_scale, rows in run.motion_parts:
+        t = np.asarray(traj.t, float)
+        sol = getattr(traj, "sol", None)
+        if sol is not None and t.size < SAMPLES:
+            # the integrator's own continuous extension between its steps: a smooth curve to plot
+            t = np.union1d(np.linspace(t.min(), t.max(), SAMPLES), t)
+            y = np.asarray(sol(t), float)
+        else:
+            y = np.asarray(traj.y, float)
+        y = y.reshape(-1, t.size)
+        if rows is not None:
+            y = y[rows]
+        if y.shape[0] != n:
+            raise RuntimeError(f"{ex.id}: the motion has {y.shape[0]} states, the exercise declares {n}")
+        scale = np.ones(n) if y_scale is None else np.broadcast_to(np.asarray(y_scale, float), (n,))
+        ts.append(t_offset + t_scale * t)
+        ys.append(y * scale[:, None])
+    t = np.concatenate(ts)
+    y = np.concatenate(ys, axis=1)
+    order = np.argsort(t, kind="stable")
+    t, y = t[order], y[:, order]
+    keep = np.concatenate(([True], np.diff(t) > 0))  # a time shared by two legs once
+    return Trajectory(t=t[keep], y=y[:, keep], names=[s[0] for s in ex.states], units=[s[1] for s in ex.states])
 
 
 class Solution:
@@ -161,6 +171,7 @@ class Solution:
         self._data = data
         self.trajectory = trajectory
         self._result = result
+        self.result = result  # the cross-check behind it (None for a sweep's points)
         self.quantities = [Quantity.from_dict(q) for q in data["quantities"]]
         self._by_name = {q.name: q for q in self.quantities}
 
@@ -257,20 +268,27 @@ def _fmt(v, digits: int = 12) -> str:
 def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, raise_on_failure: bool = True,
           params: dict | None = None, keep_trajectory: bool = True) -> Solution:
     from mech.problems import registry
-    from mech.solvers.crosscheck import cross_check
 
     ex = registry.get(str(ex_id))
     resolved = resolve_params(ex, dict(params or {}))
-    rtol_value = _rtol(ex, rtol)
-    methods = _methods(method)
-    result = cross_check(ex, resolved, methods=methods, rtol=rtol_value,
-                         verify=verify and "numeric" in methods, keep_trajectories=keep_trajectory)
-    sol = Solution(ex, result.as_json(), _trajectory(ex, result.run) if keep_trajectory else None, result)
-    if raise_on_failure and result.errors and any("solver failed" in e for e in result.errors):
-        exc = NumericFailure(f"{ex.id}: " + "; ".join(result.errors))
+    sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify,
+                         keep_trajectory=keep_trajectory)
+    if raise_on_failure and any("solver failed" in e for e in sol.errors):
+        exc = NumericFailure(f"{ex.id}: " + "; ".join(sol.errors))
         exc.solution = sol
         raise exc
     return sol
+
+
+def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None, verify: bool = True,
+                   keep_trajectory: bool = True) -> Solution:
+    """The cross-check at checked parameters: what ``mech.solve`` and ``mech solve`` both run."""
+    from mech.solvers.crosscheck import cross_check
+
+    result = cross_check(ex, params, methods=tuple(methods), rtol=rtol,
+                         verify=verify and "numeric" in methods, keep_trajectories=keep_trajectory)
+    trajectory = _trajectory(ex, result.run) if keep_trajectory else None
+    return Solution(ex, result.as_json(), trajectory, result)
 
 
 # -- sweep -----------------------------------------------------------------------
@@ -393,7 +411,7 @@ def _nan(v) -> float:
 def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, only=None, jobs=None,
           ranges: dict | None = None) -> Sweep:
     from mech.problems import registry
-    from mech.solvers.sweep import Axis, grid_points, run_sweep
+    from mech.solvers.sweep import Axis, batched_outputs, batched_points, grid_points, run_batched, run_sweep
 
     ex = registry.get(str(ex_id))
     axes, fixed = [], {}
@@ -417,13 +435,20 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     methods = _methods(method)
     if methods != ("analytic", "numeric"):
         raise BadInput("sweep runs both methods, cross-checked: method='both'")
-    points = [ex.resolve(values) for values in grid_points(axes, fixed)]
     rtol_value = _rtol(ex, rtol)
-    result = run_sweep(ex, axes, fixed, points, rtol=rtol_value, verify=verify, jobs=jobs)
-    solutions = []
-    for data in result.points:
-        full = {"id": ex.id, "title": ex.title, **data}
-        solutions.append(Solution(ex, full))
+    batched = batched_outputs(ex, wanted)
+    if batched:
+        # the chart route: every point integrated at once, each with its own verdict and error bar
+        from mech.cli.sweep import validate_grid
+
+        validate_grid(ex, axes, fixed)
+        result = run_batched(ex, axes, fixed, batched, rtol=rtol_value, verify=verify)
+        data_points = batched_points(result)
+    else:
+        points = [ex.resolve(values) for values in grid_points(axes, fixed)]
+        result = run_sweep(ex, axes, fixed, points, rtol=rtol_value, verify=verify, jobs=jobs, only=wanted)
+        data_points = result.points
+    solutions = [Solution(ex, {"id": ex.id, "title": ex.title, **data}) for data in data_points]
     return Sweep(ex, axes, fixed, solutions, result.seconds, wanted)
 
 

@@ -39,7 +39,8 @@ def _float_list(text: str | None, what: str) -> list[float] | None:
               help="Seconds the timed repeats may take in all; slow points are timed once.")
 @click.option("--max-seconds", default=55.0, show_default=True,
               help="Start no new point after this many seconds (the rest are kept as 'not run').")
-@click.option("--json", "as_json", is_flag=True, help="The contract's JSON object on stdout.")
+@click.option("--json", "as_json", is_flag=True,
+              help="Print the result as one JSON object on stdout (fields: the README's bench section).")
 @click.option("--plot", "plot_file", type=click.Path(dir_okay=False, writable=True),
               help="Draw error against time and against evaluations (log-log) to this PNG (needs matplotlib).")
 def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seconds, as_json, plot_file):
@@ -62,7 +63,7 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
         params = ex.resolve(collect_params(ex, [], list(pairs)))
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
-    methods = [m.strip() for m in methods_text.split(",") if m.strip()] if methods_text else None
+    methods = _canonical_methods(ex, params, methods_text) if methods_text else None
     tols = _float_list(tols_text, "--tols")
     if plot_file:
         try:
@@ -95,6 +96,34 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
         _print(result, plot_file)
 
 
+def _canonical_methods(ex, params, text: str) -> list[str]:
+    """The rows asked for, by their canonical names: ``rk45`` is RK45 (names are matched without case)."""
+    from mech.cli.main import UsageFailure
+    from mech.solvers import bench as machinery
+
+    names = list(dict.fromkeys(machinery.ODE_METHODS + machinery.OTHER_ODE + tuple(machinery.SYMPLECTIC)
+                               + (machinery.STUDENT, machinery.DEFAULT_ROW)))
+    by_lower = {n.lower(): n for n in names}
+    out = []
+    for raw in (m.strip() for m in text.split(",")):
+        if not raw:
+            continue
+        name = by_lower.get(raw.lower())
+        if name is None:
+            _, own = machinery.probe_route(ex, params)  # a route of the exercise's own (not an integrator)
+            if own and own.lower() == raw.lower():
+                name = own
+            else:
+                import difflib
+
+                known = names + ([own] if own and own not in names else [])
+                close = difflib.get_close_matches(raw.lower(), [k.lower() for k in known], n=1, cutoff=0.6)
+                hint = f"; did you mean {by_lower.get(close[0], close[0])}?" if close else ""
+                raise UsageFailure(f"--methods: unknown method '{raw}'{hint} (known: {', '.join(known)})")
+        out.append(name)
+    return out
+
+
 def _g(v, fmt=".2g"):
     return "—" if v is None else format(v, fmt)
 
@@ -104,16 +133,19 @@ def _print(r: dict, plot_file: str | None) -> None:
     from rich.table import Table
     from rich.text import Text
 
-    from mech.cli.render import console
+    from rich.console import Group
+
+    from mech.cli.render import console, emit
 
     c = console()
-    c.print(Text(f"{r['id']}  {r['title']}", style="bold"))
-    c.print(f"error: {r['error_measure']} (reference: {r['reference']}; outputs {', '.join(r['measured_outputs'])}"
+    parts: list = []
+    parts.append(Text(f"{r['id']}  {r['title']}", style="bold"))
+    parts.append(Text(f"error: {r['error_measure']} (reference: {r['reference']}; outputs {', '.join(r['measured_outputs'])}"
             + (f"; skipped {', '.join(r['skipped_outputs'])}: zero or undefined" if r["skipped_outputs"] else "")
             + (f"; leading-order, left out: {', '.join(r['left_out_outputs'])}" if r["left_out_outputs"] else "")
-            + ")", style="dim")
+            + ")", style="dim"))
     if r["route"] != "ode":
-        c.print(r["route"], style="dim")
+        parts.append(Text(r["route"], style="dim"))
     t = Table(box=box.SIMPLE_HEAD, show_edge=False)
     for col, just in (("method", "left"), ("rtol", "right"), ("error", "right"), ("time ms", "right"),
                       ("spread ms", "right"), ("nfev", "right"), ("note", "left")):
@@ -128,9 +160,9 @@ def _print(r: dict, plot_file: str | None) -> None:
             t.add_row(p["method"], f"{p['rtol']:.0e}", _g(p["error"]), f"{p['time_s'] * 1e3:.3g}", spread,
                       str(p["nfev"]), p.get("note", "") or p.get("integrator", ""))
         else:
-            t.add_row(p["method"], f"{p['rtol']:.0e}", Text("failed", style="red"), "—", "—", "—",
+            t.add_row(p["method"], f"{p['rtol']:.0e}", (Text("n/a", style="dim") if p.get("applies") is False else Text("failed", style="red")), "—", "—", "—",
                       p.get("note", ""))
-    c.print(t)
+    parts.append(t)
     s = Table(title="Summary (cheapest = least median time)", title_justify="left", box=box.SIMPLE_HEAD,
               show_edge=False)
     for col in ("rank", "method", "to 1e-6: rtol", "ms", "nfev", "to 1e-9: rtol", "ms", "nfev", "best error"):
@@ -142,16 +174,17 @@ def _print(r: dict, plot_file: str | None) -> None:
             row += [f"{ch['rtol']:.0e}", f"{ch['time_s'] * 1e3:.3g}", str(ch["nfev"])] if ch else ["—", "—", "—"]
         row.append(_g(e["best_error"]))
         s.add_row(*row)
-    c.print(s)
+    parts.append(s)
     sv = r.get("student_vs_default")
     if sv:
-        c.print(f"student row (solve_ivp defaults): error {sv['student_error']:.2g} in {sv['student_time_s'] * 1e3:.3g} ms; "
+        parts.append(Text(f"student row (solve_ivp defaults): error {sv['student_error']:.2g} in {sv['student_time_s'] * 1e3:.3g} ms; "
                 f"{sv['method']} at rtol {sv['default_rtol']:.0e}: {sv['default_error']:.2g} in "
-                f"{sv['default_time_s'] * 1e3:.3g} ms (error ratio {sv['error_ratio']:.2g})")
+                f"{sv['default_time_s'] * 1e3:.3g} ms (error ratio {sv['error_ratio']:.2g})"))
     tm = r["timing"]
-    c.print(f"{tm['seconds']:.1f} s; medians of up to {tm['repeats_max']} runs after a warm-up; "
+    parts.append(Text(f"{tm['seconds']:.1f} s; medians of up to {tm['repeats_max']} runs after a warm-up; "
             f"load {_g(tm['load_1min'])} on {tm['cpus']} cpus" + (f"; plot: {plot_file}" if plot_file else ""),
-            style="dim")
+            style="dim"))
+    emit(c, Group(*parts))
 
 
 def plot_bench(r: dict, path: str) -> None:

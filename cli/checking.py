@@ -20,10 +20,22 @@ class Case:
     worst_ratio: float | None = None
     detail: str = ""
     result: object = None
+    same_as: list = field(default_factory=list)  # hard cases (numbers) that resolve to this case's parameters
+
+    @property
+    def description(self) -> str:
+        """The label as shown: ``hard 2: theta0 = 1 deg``, ``defaults (= hard 1)``; ``label`` stays the key
+        (``hard 2``) that baselines and scripts match on."""
+        text = self.label
+        if self.given and self.label != "defaults":
+            text += f": {case_text(self.exercise, self.given)}"
+        if self.same_as:
+            text += f" (= hard {', '.join(map(str, self.same_as))})"
+        return text
 
     def as_json(self) -> dict:
-        d = {"id": self.exercise.id, "case": self.label, "params": self.given, "ok": self.ok,
-             "seconds": self.seconds, "worst_err_over_tol": self.worst_ratio, "detail": self.detail}
+        d = {"id": self.exercise.id, "case": self.label, "description": self.description, "params": self.given,
+             "ok": self.ok, "seconds": self.seconds, "worst_err_over_tol": self.worst_ratio, "detail": self.detail}
         if self.result is not None:
             d["quantities"] = [q.as_json() for q in self.result.quantities]
         return d
@@ -52,13 +64,42 @@ class Report:
 
 
 def plan(exercises, hard: bool) -> list[Case]:
-    cases = []
+    """The cases to run: each exercise once (a repeated id is run once), its defaults first, then its hard
+    cases; a hard case that resolves to the defaults is not run twice (the defaults' description names
+    it)."""
+    cases: list[Case] = []
+    seen: set[str] = set()
     for ex in exercises:
-        cases.append(Case(ex, "defaults", {}))
-        if hard:
-            for k, h in enumerate(ex.hard_cases, 1):
-                cases.append(Case(ex, f"hard {k}", dict(h["params"])))
+        if ex.id in seen:
+            continue
+        seen.add(ex.id)
+        defaults = Case(ex, "defaults", {})
+        cases.append(defaults)
+        if not hard:
+            continue
+        try:
+            default_values = dict(ex.resolve({}))
+        except BadInput:
+            default_values = None
+        same = []
+        for k, h in enumerate(ex.hard_cases, 1):
+            given = dict(h["params"])
+            try:
+                is_default = default_values is not None and dict(ex.resolve(given)) == default_values
+            except BadInput:
+                is_default = False
+            if is_default:
+                same.append(k)
+                continue
+            cases.append(Case(ex, f"hard {k}", given))
+        defaults.same_as = same
     return cases
+
+
+def case_text(ex: Exercise, values: dict) -> str:
+    """``theta0 = 1 deg, l = 2 m``: a hard case's parameters as people read them."""
+    return ", ".join(f"{k} = {ex.param_map[k].show(v)}" if k in ex.param_map else f"{k} = {v}"
+                     for k, v in values.items())
 
 
 def run_case(case: Case) -> Case:
@@ -126,8 +167,9 @@ def write_junit(report: Report, path: str) -> None:
     suite = ET.Element("testsuite", name="mech check", tests=str(len(report.cases)), failures=str(report.failed),
                        errors="0", time=f"{report.seconds:.3f}")
     for case in report.cases:
-        tc = ET.SubElement(suite, "testcase", classname=f"mech.{case.exercise.id}", name=case.label,
-                           time=f"{case.seconds:.3f}")
+        # "mech.4.15" reads as package mech.4, class 15 in CI viewers: the id's dot becomes an underscore
+        tc = ET.SubElement(suite, "testcase", classname=f"mech.ex{case.exercise.id.replace('.', '_')}",
+                           name=f"{case.exercise.id} {case.description}", time=f"{case.seconds:.3f}")
         if not case.ok:
             fail = ET.SubElement(tc, "failure", message=case.detail or "cross-check failed")
             fail.text = case.detail

@@ -8,6 +8,7 @@ rich renderings use).
 
 from __future__ import annotations
 
+import os
 import shutil
 import sys
 import textwrap
@@ -16,7 +17,8 @@ METHODS_W = 17  # "analytic, numeric"
 
 
 def table_lines(exercises, width: int) -> list[str]:
-    rows = [(e.id, e.title, e.topic, ", ".join(e.methods)) for e in exercises]
+    mark = _mark()
+    rows = [(e.id + ("" if e.from_book else mark), e.title, e.topic, ", ".join(e.methods)) for e in exercises]
     id_w = max([2] + [len(r[0]) for r in rows])
     meth_w = max([len("methods")] + [len(r[3]) for r in rows])
     free = max(30, width - id_w - meth_w - 8)  # 2 spaces between 4 columns, 1 at each edge
@@ -31,8 +33,20 @@ def table_lines(exercises, width: int) -> list[str]:
             cells = (ex_id if k == 0 else "", t[k] if k < len(t) else "", p[k] if k < len(p) else "",
                      methods if k == 0 else "")
             out.append(f" {cells[0]:<{id_w}}  {cells[1]:<{title_w}}  {cells[2]:<{topic_w}}  {cells[3]:<{meth_w}}".rstrip())
+    if any(not e.from_book for e in exercises):
+        out += textwrap.wrap(f"{mark} set for mech on the chapter's topics; the others are the book's own "
+                             "exercises", max(width, 30))
     out.append(f"{len(rows)} exercises")
     return out
+
+
+def _mark() -> str:
+    """The dagger that flags an exercise not from the book, or '+' where the output cannot encode it."""
+    try:
+        "†".encode(sys.stdout.encoding or "ascii")
+        return "†"
+    except (UnicodeEncodeError, LookupError):
+        return "+"
 
 
 def _rule() -> str:
@@ -45,5 +59,9 @@ def _rule() -> str:
 
 
 def print_list(exercises) -> None:
-    width = shutil.get_terminal_size((160, 24)).columns if sys.stdout.isatty() else 160
+    columns = os.environ.get("COLUMNS", "")
+    if columns.isdigit() and int(columns) > 0:
+        width = int(columns)
+    else:
+        width = shutil.get_terminal_size((160, 24)).columns if sys.stdout.isatty() else 160
     sys.stdout.write("\n".join(table_lines(exercises, width)) + "\n")

@@ -8,6 +8,7 @@ exit status 2.
 from __future__ import annotations
 
 import json
+import re
 import sys
 
 import click
@@ -53,6 +54,7 @@ class MechGroup(click.Group):
     # commands kept in their own modules, imported only when listed or called
     LAZY = {
         "bench": ("mech.cli.bench", "bench_cmd"),
+        "grade": ("mech.cli.grading", "grade_cmd"),
         "plot": ("mech.cli.plot", "plot_cmd"),
         "sweep": ("mech.cli.sweep", "sweep_cmd"),
     }
@@ -125,12 +127,17 @@ def cli():
 
 @cli.command("list")
 @click.option("--chapter", type=click.Choice(["4", "5"]), help="Only this chapter's exercises.")
-@click.option("--json", "as_json", is_flag=True, help="A JSON array instead of a table.")
+@click.option("--json", "as_json", is_flag=True, help="Print a JSON array instead of a table.")
 def list_cmd(chapter, as_json):
-    """List the registered exercises: id, title, topic, methods."""
+    """List the registered exercises: id, title, topic, methods.
+
+    A mark (†) flags the exercises set for mech on the chapter's topics (5.4-5.13); the others are the
+    book's own.
+    """
     exercises = [e for e in _registry().index() if not chapter or e.chapter == int(chapter)]
     if as_json:
-        _emit_json([{"id": e.id, "title": e.title, "topic": e.topic, "methods": list(e.methods)} for e in exercises])
+        _emit_json([{"id": e.id, "title": e.title, "topic": e.topic, "methods": list(e.methods),
+                     "from_book": e.from_book} for e in exercises])
     else:
         from mech.cli import listing
 
@@ -139,27 +146,48 @@ def list_cmd(chapter, as_json):
 
 @cli.command("show")
 @click.argument("ex_id", metavar="ID", shell_complete=_complete_ids)
-@click.option("--json", "as_json", is_flag=True, help="One JSON object with the catalogue's fields.")
+@click.option("--json", "as_json", is_flag=True,
+              help="Print one JSON object with the exercise's fields instead (see the README's JSON section).")
 def show_cmd(ex_id, as_json):
     """Show an exercise: statement, parameters, outputs, formulas, numeric route, hard cases."""
     ex = _get(ex_id)
     if as_json:
-        _emit_json(ex.as_json())
+        _emit_json({**ex.as_json(), "from_book": _registry().from_book(ex.id)})
     else:
         from mech.cli import render
 
-        render.print_show(ex)
+        render.print_show(ex, from_book=_registry().from_book(ex.id))
+
+
+def _takes_value(param) -> bool:
+    return isinstance(param, click.Option) and not param.is_flag and not param.count
+
+
+def _quote_hint(flag: str, value: str, extra: str) -> str:
+    return (f"unexpected '{extra}' after {flag} {value}: a value with a space needs quotes "
+            f"({flag} '{value} {extra}') or none ({flag} {value}{extra})")
 
 
 class SolveCommand(click.Command):
     """Takes ``--NAME VALUE`` for the exercise's own parameters before click parses the rest.
 
-    The value is taken whole, so ``--phi0 -pi/3`` is not mistaken for the ``-p`` option.
+    The value is taken whole, so ``--phi0 -pi/3`` is not mistaken for the ``-p`` option.  The slips a
+    new user makes with it (``--l 67 m`` unquoted, ``-p theta0 60deg``, ``--theta0 --l 2``) get a
+    one-line hint instead of click's "unexpected extra argument".  ``mech solve ID --help`` lists the
+    parameters of exercise ID, and ``mech solve ID --<TAB>`` completes them.
     """
 
     def parse_args(self, ctx, args):
-        known = {opt for p in self.get_params(ctx) for opt in getattr(p, "opts", []) + getattr(p, "secondary_opts", [])}
+        params = self.get_params(ctx)
+        known = {opt for p in params for opt in getattr(p, "opts", []) + getattr(p, "secondary_opts", [])}
+        valued = {opt for p in params if _takes_value(p) for opt in p.opts + p.secondary_opts}
+        short_valued = {o for o in valued if len(o) == 2 and o[0] == "-" and o[1] != "-"}
+        # options that take NAME=VALUE (-p, and any other whose metavar says so)
+        pairs = {opt: p.metavar for p in params if _takes_value(p) and "=" in (p.metavar or "") for opt in p.opts}
+        lenient = ctx.resilient_parsing
         own, rest = [], []
+        positionals = 0
+        last = None  # (flag, value) of the last option that took a value, for the hint on a stray word
         i = 0
         while i < len(args):
             arg = args[i]
@@ -169,14 +197,85 @@ class SolveCommand(click.Command):
             name = arg.split("=", 1)[0]
             if arg.startswith("--") and len(arg) > 2 and name not in known:
                 own.append(arg)
-                if "=" not in arg and i + 1 < len(args):
-                    own.append(args[i + 1])
+                if "=" in arg:
+                    last = tuple(arg.split("=", 1))
+                elif i + 1 < len(args):
+                    value = args[i + 1]
+                    if re.match(r"--[A-Za-z]", value) and not lenient:
+                        raise click.UsageError(f"{arg[2:].replace('-', '_')}: no value given before '{value}'; "
+                                               f"write {arg} VALUE")
+                    own.append(value)
+                    last = (arg, value)
                     i += 1
+            elif name in valued or (arg[:2] in short_valued and len(arg) > 2):
+                rest.append(arg)
+                if arg in valued and i + 1 < len(args):
+                    value = args[i + 1]
+                    if arg in pairs and "=" not in value and not lenient:
+                        after = args[i + 2] if i + 2 < len(args) and not args[i + 2].startswith("-") else "VALUE"
+                        raise click.UsageError(f"{arg} takes {pairs[arg]}: write {arg} {value}={after}")
+                    rest.append(value)
+                    last = (arg, value)
+                    i += 1
+                else:
+                    last = tuple(arg.split("=", 1)) if "=" in arg else (arg[:2], arg[2:])
+            elif arg.startswith("-") and len(arg) > 1:
+                rest.append(arg)
             else:
+                positionals += 1
+                if positionals == 1:
+                    ctx.meta["mech_exercise_id"] = arg
+                elif not lenient and self._too_many(positionals):
+                    if last is not None:
+                        raise click.UsageError(_quote_hint(last[0], last[1], arg))
+                    raise click.UsageError(f"unexpected '{arg}': give one exercise id, then --NAME VALUE pairs")
                 rest.append(arg)
             i += 1
         ctx.meta["mech_param_args"] = own
         return super().parse_args(ctx, rest)
+
+    def _too_many(self, positionals: int) -> bool:
+        slots = sum(p.nargs if p.nargs > 0 else 10**9 for p in self.params if isinstance(p, click.Argument))
+        return positionals > slots
+
+    def format_help(self, ctx, formatter):
+        super().format_help(ctx, formatter)
+        ex_id = ctx.meta.get("mech_exercise_id")
+        if ex_id is None:
+            with formatter.section("Parameters"):
+                formatter.write_text(f"mech {self.name} ID --help lists the parameters of exercise ID.")
+            return
+        try:
+            ex = _registry().get(ex_id)
+        except BadInput as exc:
+            with formatter.section("Parameters"):
+                formatter.write_text(str(exc))
+            return
+        rows = []
+        metavar = "RANGE" if self.name == "sweep" else "VALUE"  # mech sweep shares this parsing
+        for p in ex.params:
+            unit = "" if p.unit == "1" else f" [{p.unit}]"
+            rows.append((f"--{p.name} {metavar}",
+                         f"{p.symbol or p.name}{unit}: {p.doc}; default {p.show(p.default)}, "
+                         f"allowed {p.range_text()}"))
+        with formatter.section(f"Parameters of {ex.id} ({ex.title})"):
+            formatter.write_dl(rows)
+
+    def shell_complete(self, ctx, incomplete):
+        from click.shell_completion import CompletionItem
+
+        items = super().shell_complete(ctx, incomplete)
+        ex_id = ctx.params.get("ex_id") or ctx.meta.get("mech_exercise_id")
+        if ex_id and incomplete.startswith("-"):
+            try:
+                ex = _registry().get(ex_id)
+            except BadInput:
+                return items
+            given = {a[2:].split("=", 1)[0].replace("-", "_") for a in ctx.meta.get("mech_param_args", [])}
+            own = [CompletionItem(f"--{p.name}", help=f"{p.doc}; default {p.show(p.default)}")
+                   for p in ex.params if f"--{p.name}".startswith(incomplete) and p.name not in given]
+            items = own + items
+        return items
 
 
 @cli.command("solve", cls=SolveCommand)
@@ -191,41 +290,67 @@ class SolveCommand(click.Command):
 )
 @click.option("--rtol", "rtol_text", metavar="R", help="Requested accuracy of the numeric solver [exercise default].")
 @click.option("--no-verify", is_flag=True, help="Skip the rerun at rtol/10 that tests the numeric accuracy claim.")
-@click.option("--json", "as_json", is_flag=True, help="The contract's JSON object on stdout.")
+@click.option("--json", "as_json", is_flag=True,
+              help="Print the result as one JSON object on stdout (fields: the README's JSON section).")
+@click.option("--expect", "expects", multiple=True, metavar="NAME=VALUE",
+              help="Your answer for an output, judged to the digits written (repeatable): --expect theta_c=35.26deg.")
+@click.option("--expect-rtol", "expect_rtol", metavar="R", help="Judge --expect values to this relative tolerance.")
+@click.option("--trajectory", "trajectory_file", metavar="FILE.csv",
+              help="Write the integrated motion: t [s] and each state [unit], one row per time.")
 @click.pass_context
-def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json):
+def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects, expect_rtol, trajectory_file):
     """Solve exercise ID; parameters as --NAME VALUE or -p NAME=VALUE.
 
     Values are SI unless a unit is given: 90deg, 15 cm, 2Hz, 100 rpm, pi/3.
-    Exit status: 0 agree, 1 a cross-check failed, 2 bad input.
+    Exit status: 0 agree, 1 a cross-check failed (or an --expect value is off), 2 bad input.
     """
-    from mech.solvers.crosscheck import cross_check
+    from mech.api import solve_resolved
 
     ex = _get(ex_id)
+    if trajectory_file and not ex.states:
+        raise UsageFailure(f"--trajectory: the numeric route of {ex.id} integrates no equations of motion "
+                           "(it is a quadrature, an eigenproblem or a root search): there is no trajectory")
+    if trajectory_file and method == "analytic":
+        raise UsageFailure("--trajectory needs the numeric method: drop --method analytic")
     try:
         given = collect_params(ex, ctx.meta.get("mech_param_args", []), list(pairs))
         params = ex.resolve(given)
         rtol = parse_rtol(rtol_text, ex)
+        grading = None
+        if expects or expect_rtol is not None:
+            from mech.cli import grading
+
+            expectations = grading.parse_expect_options(ex, list(expects), expect_rtol)
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     methods = ("analytic", "numeric") if method == "both" else (method,)
-    result = cross_check(ex, params, methods=methods, rtol=rtol, verify=not no_verify and method != "analytic")
+    sol = solve_resolved(ex, params, methods=methods, rtol=rtol, verify=not no_verify and method != "analytic",
+                         keep_trajectory=bool(trajectory_file))
+    result = sol.result
+    if trajectory_file:
+        if sol.trajectory is None:
+            click.echo(f"mech: no trajectory written: the numeric solve of {ex.id} did not finish", err=True)
+        else:
+            sol.trajectory.to_csv(trajectory_file)
+    expect_ok = grading.attach(result, expectations) if grading else True
     if as_json:
-        _emit_json(result.as_json())
+        _emit_json(grading.solve_json(result) if grading else result.as_json())
     else:
         from mech.cli import render
 
         render.print_solve(result)
-    ctx.exit(EXIT_DISAGREE if result.agree is False else EXIT_OK)
+    ctx.exit(EXIT_DISAGREE if result.agree is False or not expect_ok else EXIT_OK)
 
 
 @cli.command("check")
 @click.argument("ids", nargs=-1, metavar="[ID]...", shell_complete=_complete_ids)
 @click.option("--hard", is_flag=True, help="Also run every exercise's hard cases.")
-@click.option("--json", "as_json", is_flag=True, help="A JSON report on stdout.")
+@click.option("--json", "as_json", is_flag=True, help="Print a JSON report on stdout instead of the table.")
 @click.option("--junit", "junit_file", type=click.Path(dir_okay=False, writable=True), help="Write a JUnit XML report.")
+@click.option("--save-baseline", "save_baseline", metavar="FILE", help="Record every checked value with its error bar.")
+@click.option("--baseline", "baseline_file", metavar="FILE", help="Fail when a value moved beyond its error bars since FILE.")
 @click.pass_context
-def check_cmd(ctx, ids, hard, as_json, junit_file):
+def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file):
     """Cross-check every (or the named) exercise at its defaults, and with --hard its hard cases.
 
     Exit status 1 when any case fails: the CI regression command.
@@ -233,16 +358,32 @@ def check_cmd(ctx, ids, hard, as_json, junit_file):
     from mech.cli.checking import run_check, write_junit
 
     exercises = [_get(i) for i in ids] if ids else list(_registry().all_exercises().values())
+    grading = old = None
+    if save_baseline or baseline_file:
+        from mech.cli import grading
+
+        try:
+            old = grading.open_baseline(baseline_file) if baseline_file else None  # a bad file fails first
+        except BadInput as exc:
+            raise UsageFailure(str(exc)) from None
     report = run_check(exercises, hard=hard, progress=not as_json)
+    try:
+        moved = grading.baselines(report, hard, old, baseline_file, save_baseline) if grading else None
+    except BadInput as exc:
+        raise UsageFailure(str(exc)) from None
     if junit_file:
         write_junit(report, junit_file)
+        if moved:
+            grading.junit_baseline(junit_file, moved)
     if as_json:
-        _emit_json(report.as_json())
+        _emit_json({**report.as_json(), **({"baseline": moved.as_json()} if moved else {})})
     else:
         from mech.cli import render
 
         render.print_check(report)
-    ctx.exit(EXIT_OK if report.ok else EXIT_DISAGREE)
+        if grading:
+            grading.print_baseline(moved, save_baseline)
+    ctx.exit(EXIT_OK if report.ok and (moved is None or moved.ok) else EXIT_DISAGREE)
 
 
 def main(argv=None) -> None:

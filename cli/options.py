@@ -11,9 +11,20 @@ __all__ = ["collect_params", "collect_texts", "parse_rtol"]
 def _canonical(ex: Exercise, raw: str) -> str:
     name = raw.strip().replace("-", "_")
     if name not in ex.param_map:
-        names = ", ".join(ex.param_map)
-        raise BadInput(f"unknown parameter '{raw}' for {ex.id}; its parameters are: {names}")
+        raise BadInput(unknown_param_message(ex, raw))
     return name
+
+
+def unknown_param_message(ex: Exercise, raw: str) -> str:
+    """One line for a parameter name the exercise does not have: the nearest name where one is close."""
+    import difflib
+
+    name = raw.strip().lstrip("-").replace("-", "_")
+    names = list(ex.param_map)
+    by_lower = {n.lower(): n for n in names}
+    close = difflib.get_close_matches(name.lower(), list(by_lower), n=1, cutoff=0.6)
+    hint = f"; did you mean {by_lower[close[0]]}?" if close else ""
+    return f"unknown parameter '{raw}' for {ex.id}{hint} (its parameters: {', '.join(names)})"
 
 
 def _convert(ex: Exercise, name: str, text: str) -> float:
@@ -22,7 +33,7 @@ def _convert(ex: Exercise, name: str, text: str) -> float:
         value = to_si(text, param.unit)
     except ValueError_ as exc:
         raise BadInput(f"{name}: cannot use '{text}': {exc}; allowed range {param.range_text()}") from None
-    param.check(value)
+    param.check(value, typed=text)
     return value
 
 
@@ -37,7 +48,7 @@ def collect_texts(ex: Exercise, args: list[str], pairs: list[str],
     def put(raw_name: str, text: str) -> None:
         name = _canonical(ex, raw_name)
         if name in texts:
-            raise BadInput(f"{name}: given more than once; allowed range {ex.param_map[name].range_text()}")
+            raise BadInput(f"{name}: given more than once ('{texts[name]}' and '{text}'); give it once")
         texts[name] = text
 
     i = 0

@@ -1,25 +1,77 @@
-"""Rich renderings of exercises and results; the data they show is built elsewhere."""
+"""Rich renderings of exercises and results; the data they show is built elsewhere.
+
+Three rules every rendering here keeps:
+
+* catalogue text (statement, model, formulas, notes, errors) is shown as plain
+  text, never read as rich markup: ``(M/36)[a² + b² ∓ q]`` keeps its bracket;
+* a number is never cut: a table that does not fit the width is stacked (one
+  block of lines per row) rather than truncated with an ellipsis;
+* piped output has no trailing spaces, and follows ``COLUMNS`` where it is set
+  (160 columns otherwise, wider than the 80 rich assumes).
+"""
 
 from __future__ import annotations
 
+import math
+import os
+import sys
+
 from rich import box
 from rich.console import Console, Group
-from rich.panel import Panel
 from rich.table import Table
 from rich.text import Text
 
 from mech.problems.spec import Undefined
 
-_out: Console | None = None
+PIPED_WIDTH = 160
 
 
 def console() -> Console:
-    global _out
-    if _out is None:
-        probe = Console()
-        # piped output keeps whole numbers and whole rows: wider than the 80 columns rich assumes
-        _out = Console(highlight=False, soft_wrap=False, width=None if probe.is_terminal else 160)
-    return _out
+    """A console for this command's output: the terminal's width, else ``COLUMNS``, else 160 columns."""
+    probe = Console()
+    width = None if probe.is_terminal or os.environ.get("COLUMNS", "").isdigit() else PIPED_WIDTH
+    return Console(highlight=False, soft_wrap=False, width=width)
+
+
+def emit(c: Console, *renderables) -> None:
+    """Print; when piped, without the spaces rich pads every table line with."""
+    if c.is_terminal:
+        c.print(*renderables)
+        return
+    with c.capture() as cap:
+        c.print(*renderables)
+    text = "\n".join(line.rstrip() for line in cap.get().split("\n"))
+    sys.stdout.write(text)
+    sys.stdout.flush()
+
+
+def plain(text) -> Text:
+    """Catalogue text as it is written: brackets are text, not rich markup."""
+    return text if isinstance(text, Text) else Text(str(text))
+
+
+def prose(text: str) -> Text:
+    """A catalogue paragraph reflowed to the width: its line breaks are the file's, not the reader's."""
+    paragraphs = [" ".join(line.strip() for line in para.splitlines()) for para in str(text).split("\n\n")]
+    return Text("\n\n".join(paragraphs))
+
+
+def _ellipses(table: Table, width: int) -> int:
+    probe = Console(width=width, color_system=None, highlight=False, soft_wrap=False)
+    with probe.capture() as cap:
+        probe.print(table)
+    return cap.get().count("…")
+
+
+def fits(c: Console, table: Table) -> bool:
+    """Whether the table renders at the console's width without cutting a word (rich marks a cut with an
+    ellipsis: columns wrap at spaces, and a word too long for its column is cut)."""
+    return _ellipses(table, c.width) == _ellipses(table, 10_000)
+
+
+# -- numbers ---------------------------------------------------------------------------------------------
+
+MAX_SIG = 12  # digits shown for a value whose error is not known (a double's round-off aside)
 
 
 def _num(v) -> str:
@@ -27,56 +79,50 @@ def _num(v) -> str:
         return "—"
     if isinstance(v, Undefined):
         return "undefined"
-    return f"{v:.12g}"
+    return f"{v:.{MAX_SIG}g}"
+
+
+def with_error(v, err) -> str:
+    """``v`` to the digits its absolute error ``err`` earns, that error on the last digit in parentheses.
+
+    ``0.729727656(8)`` means 0.729727656 ± 8e-9 (the error rounded up to one digit); ``9.99993(7)e-06``
+    likewise.  Without an error (None, zero, not finite) the value gets ``MAX_SIG`` digits; an error
+    larger than the value gives ``v ± err``.
+    """
+    if v is None or isinstance(v, Undefined):
+        return _num(v)
+    v = float(v)
+    if err is None or not math.isfinite(err) or err <= 0 or not math.isfinite(v):
+        return _num(v)
+    e_err = math.floor(math.log10(err))
+    digit = math.ceil(err / 10.0**e_err * (1 - 1e-12))  # 1..10: the error rounded up to one digit
+    if digit >= 10:
+        digit, e_err = 1, e_err + 1
+    if v == 0 or abs(v) < digit * 10.0**e_err:
+        return f"{v:.2g} ± {digit * 10.0**e_err:.1g}"
+    e_v = math.floor(math.log10(abs(v)))
+    rounded = round(v / 10.0**e_err) * 10.0**e_err
+    if rounded != 0:
+        e_v = math.floor(math.log10(abs(rounded)))
+    nsig = e_v - e_err + 1
+    if nsig > MAX_SIG:
+        return _num(v)
+    if -4 <= e_v < MAX_SIG and e_err <= 0:
+        return f"{rounded:.{-e_err}f}({digit})"
+    mant = rounded / 10.0**e_v
+    return f"{mant:.{nsig - 1}f}({digit})e{e_v:+03d}"
+
+
+def _tol_text(q) -> str:
+    """The relative tolerance, with the absolute allowance where an output can be zero."""
+    abs_part = max(getattr(q, "tol_abs", 0.0) or 0.0, getattr(q, "expected_err_abs", None) or 0.0)
+    if abs_part and (q.analytic == 0 or isinstance(q.analytic, Undefined) or q.tol == 0):
+        return f"±{abs_part:.2g}"
+    return _small(q.tol)
 
 
 def _small(v) -> str:
     return "—" if v is None else f"{v:.2g}"
-
-
-def print_show(ex) -> None:
-    c = console()
-    c.print(Text(f"{ex.id}  {ex.title}", style="bold"))
-    c.print(Text(ex.topic, style="italic"))
-    c.print()
-    c.print(ex.statement)
-    c.print()
-    c.print(Text("Model", style="bold"))
-    c.print(ex.model)
-    c.print()
-    pt = Table(title="Parameters", title_justify="left", box=box.SIMPLE_HEAD)
-    for col in ("name", "symbol", "unit", "default", "allowed", "meaning"):
-        pt.add_column(col)
-    for p in ex.params:
-        pt.add_row(p.name, p.symbol, p.unit, p.show(p.default), p.range_text(), p.doc)
-    c.print(pt)
-    ot = Table(title="Outputs", title_justify="left", box=box.SIMPLE_HEAD)
-    for col in ("name", "unit", "meaning"):
-        ot.add_column(col)
-    for o in ex.outputs:
-        doc = o.doc + (" [leading-order theory]" if o.theory != "exact" else "")
-        ot.add_row(o.name, o.unit, doc)
-    c.print(ot)
-    c.print(Text("Analytic results", style="bold"))
-    for f in ex.formulas:
-        c.print(f"  {f}")
-    c.print()
-    c.print(Text("Numeric route", style="bold"))
-    c.print(ex.numeric_route)
-    if ex.route_note:
-        c.print()
-        c.print(Text("As implemented here", style="bold"))
-        c.print(ex.route_note)
-    if ex.hard_cases:
-        c.print()
-        c.print(Text("Hard cases", style="bold"))
-        for h in ex.hard_cases:
-            values = ", ".join(
-                f"{k} = {ex.param_map[k].show(v)}" if k in ex.param_map else f"{k} = {v}" for k, v in h["params"].items()
-            )
-            c.print(f"  {values}: {h['why']}")
-    c.print()
-    c.print(f"methods: {', '.join(ex.methods)}", style="dim")
 
 
 def _agree_text(flag) -> Text:
@@ -85,24 +131,180 @@ def _agree_text(flag) -> Text:
     return Text("yes", style="green") if flag else Text("NO", style="bold red")
 
 
-def solve_table(result) -> Table:
+# -- mech show -------------------------------------------------------------------------------------------
+
+def print_show(ex, from_book: bool | None = None) -> None:
+    c = console()
+    parts: list = [Text(f"{ex.id}  {ex.title}", style="bold"), Text(ex.topic, style="italic")]
+    if from_book is not None:
+        parts.append(Text("source: the book's own exercise" if from_book else
+                          "source: set for mech on the chapter's topics, not one of the book's exercises",
+                          style="dim"))
+    parts += [Text(), prose(ex.statement), Text(), Text("Model", style="bold"), prose(ex.model), Text()]
+
+    pt = Table(title="Parameters", title_justify="left", box=box.SIMPLE_HEAD)
+    for col in ("name", "symbol", "unit", "default", "allowed", "meaning"):
+        pt.add_column(col)
+    for p in ex.params:
+        pt.add_row(*(plain(x) for x in (p.name, p.symbol, p.unit, p.show(p.default), p.range_text(), p.doc)))
+    if not fits(c, pt):
+        pt = _stacked("Parameters", [(p.name, [("symbol", p.symbol), ("unit", p.unit), ("default", p.show(p.default)),
+                                                ("allowed", p.range_text()), ("meaning", p.doc)]) for p in ex.params])
+    ot = Table(title="Outputs", title_justify="left", box=box.SIMPLE_HEAD)
+    for col in ("name", "unit", "meaning"):
+        ot.add_column(col)
+    for o in ex.outputs:
+        doc = o.doc + (" [leading-order theory]" if o.theory != "exact" else "")
+        ot.add_row(plain(o.name), plain(o.unit), plain(doc))
+    if not fits(c, ot):
+        ot = _stacked("Outputs", [(o.name, [("unit", o.unit), ("meaning", o.doc + (
+            " [leading-order theory]" if o.theory != "exact" else ""))]) for o in ex.outputs])
+    parts += [pt, ot, Text("Analytic results", style="bold")]
+    parts += [plain("  " + f) for f in ex.formulas]
+    parts += [Text(), Text("Numeric route", style="bold"), prose(ex.numeric_route)]
+    if ex.route_note:
+        parts += [Text(), Text("As implemented here", style="bold"), prose(ex.route_note)]
+    if ex.hard_cases:
+        parts += [Text(), Text("Hard cases", style="bold")]
+        for h in ex.hard_cases:
+            parts.append(plain(f"  {case_params_text(ex, h['params'])}: {h['why']}"))
+    parts += [Text(), Text(f"methods: {', '.join(ex.methods)}", style="dim")]
+    emit(c, Group(*parts))
+
+
+def case_params_text(ex, values: dict) -> str:
+    """``theta0 = 1 deg, l = 2 m``: parameter values as people read them."""
+    from mech.cli.checking import case_text
+
+    return case_text(ex, values)
+
+
+def _stacked(title: str, blocks: list[tuple[str, list[tuple[str, object]]]]) -> Group:
+    """The narrow form of a table: for each row a heading line, then one ``label  value`` line per field."""
+    parts: list = [Text(title, style="bold")] if title else []
+    for k, (head, fields) in enumerate(blocks):
+        if k:
+            parts.append(Text())
+        parts.append(Text(head, style="bold"))
+        t = Table(box=None, show_header=False, padding=(0, 1), pad_edge=False)
+        t.add_column("label", no_wrap=True)
+        t.add_column("value")
+        for label, value in fields:
+            t.add_row(Text("  " + label), plain(value))
+        parts.append(t)
+    return Group(*parts)
+
+
+# -- mech solve ------------------------------------------------------------------------------------------
+
+def _columns(result) -> list[str]:
+    """The columns a result has something for: no numeric, diff, tol or agree column for an analytic-only
+    solve, no analytic one for a numeric-only solve."""
+    qs = result.quantities
+    has_a = any(q.analytic is not None for q in qs)
+    has_n = any(q.numeric is not None for q in qs)
+    cols = ["quantity", "unit"] + (["analytic"] if has_a else []) + (["numeric"] if has_n else [])
+    if has_a and has_n:
+        cols += ["rel. diff", "tol", "agree"]
+    elif has_n and any(q.agree is False for q in qs):
+        cols += ["agree"]
+    if getattr(result, "expected", None):  # your own answers (mech solve --expect)
+        cols += ["yours", "verdict"]
+    return cols
+
+
+def _cells(q, expected: dict | None = None) -> dict:
+    name = q.name if q.theory == "exact" else q.name + " *"
+    j = (expected or {}).get(q.name)
+    return {
+        "yours": Text(j.text if j else ""),
+        "verdict": Text(j.verdict, style="green" if j.match else "bold red") if j else Text(""),
+        "quantity": Text(name),
+        "unit": Text(q.unit),
+        "analytic": Text(with_error(q.analytic, getattr(q, "analytic_err", None))),
+        "numeric": Text(with_error(q.numeric, getattr(q, "numeric_err", None))),
+        "rel. diff": Text(_small(q.rel_err)),
+        "tol": Text(_tol_text(q)),
+        "agree": _agree_text(q.agree),
+    }
+
+
+def _params_line(result) -> str:
     ex = result.exercise
-    params = ", ".join(f"{p.symbol or p.name} = {p.show(result.params[p.name])}" for p in ex.params)
-    t = Table(title=f"{ex.id}  {ex.title}\n{params}", title_justify="left", box=box.SIMPLE_HEAD)
-    for col, just in (("quantity", "left"), ("unit", "left"), ("analytic", "right"), ("numeric", "right"),
-                      ("rel. diff", "right"), ("tol", "right"), ("agree", "center")):
-        t.add_column(col, justify=just, no_wrap=True)
+    return ", ".join(f"{p.symbol or p.name} = {p.show(result.params[p.name])}" for p in ex.params)
+
+
+def solve_title(result) -> Text:
+    ex = result.exercise
+    return Text(f"{ex.id}  {ex.title}\n{_params_line(result)}")
+
+
+def solve_table(result, width: int | None = None) -> Table | Group:
+    """The results, one row per output; where that is wider than ``width``, the unit joins the name, and
+    where it still is, one block of lines per output: never a cut number."""
+    cols = _columns(result)
+    expected = getattr(result, "expected", None) or {}
+    for merged in (False, True):
+        t = Table(box=box.SIMPLE_HEAD, show_edge=False, pad_edge=False)
+        shown = [c for c in cols if not (merged and c == "unit")]
+        for col in shown:
+            t.add_column(col, justify="left" if col in ("quantity", "unit", "verdict") else
+                         "center" if col == "agree" else "right", no_wrap=True)
+        for q in result.quantities:
+            cells = _cells(q, expected)
+            if merged and q.unit != "1":
+                cells["quantity"] = Text(f"{cells['quantity'].plain} [{q.unit}]")
+            t.add_row(*(cells[col] for col in shown))
+        if width is None or _ellipses(t, width) == 0:
+            return t
+    blocks = []
     for q in result.quantities:
-        name = q.name + (" *" if q.theory != "exact" else "")
-        t.add_row(q.name if q.theory == "exact" else name, q.unit, _num(q.analytic), _num(q.numeric),
-                  _small(q.rel_err), _small(q.tol), _agree_text(q.agree))
-    return t
+        cells = _cells(q, expected)
+        unit = "" if q.unit == "1" else f" [{q.unit}]"
+        fields = [(col, cells[col]) for col in ("analytic", "numeric") if col in cols]
+        if "agree" in cols:
+            check = Text.assemble(cells["agree"])
+            if "tol" in cols:
+                check.append(f" (rel. diff {cells['rel. diff'].plain}, tol {cells['tol'].plain})")
+            fields.append(("agree", check))
+        if expected.get(q.name):
+            fields += [("yours", cells["yours"]), ("verdict", cells["verdict"])]
+        blocks.append((cells["quantity"].plain + unit, fields))
+    return _stacked("", blocks)
+
+
+def _notes(result) -> list[str]:
+    """Each note once, with the outputs it is about: ``xi_lo, xi_hi: ...``."""
+    by_text: dict[str, list[str]] = {}
+    for q in result.quantities:
+        for n in dict.fromkeys(q.notes):
+            by_text.setdefault(n, []).append(q.name)
+    return [f"{', '.join(names)}: {text}" for text, names in by_text.items()]
+
+
+def _verdict(result) -> Text | None:
+    qs = result.quantities
+    has_a = any(q.analytic is not None for q in qs)
+    has_n = any(q.numeric is not None for q in qs)
+    if result.agree is False:
+        return Text("CROSS-CHECK FAILED" if has_a and has_n else "FAILED", style="bold red")
+    if has_a and has_n:
+        return Text("analytic and numeric agree", style="green") if result.agree else None
+    if has_a:
+        return Text("analytic solver only: nothing was cross-checked (leave out --method to compare)",
+                    style="yellow")
+    if has_n:
+        verified = (result.numeric_info or {}).get("verify_rtol")
+        how = f"its accuracy claim held at rtol {verified:g}" if verified else "its accuracy claim was not re-tested"
+        return Text(f"numeric solver only: {how}; nothing was cross-checked (leave out --method to compare)",
+                    style="yellow")
+    return None
 
 
 def print_solve(result) -> None:
     c = console()
-    parts = [solve_table(result)]
-    notes = [f"{q.name}: {'; '.join(q.notes)}" for q in result.quantities if q.notes]
+    parts = [solve_title(result), Text(), solve_table(result, width=c.width), Text()]
+    notes = _notes(result)
     if any(q.theory != "exact" for q in result.quantities):
         notes.insert(0, "* leading-order theory: tol is the size of what it neglects")
     timing = result.timing
@@ -125,24 +327,33 @@ def print_solve(result) -> None:
         parts.append(Text(n, style="yellow"))
     for e in result.errors:
         parts.append(Text(e, style="bold red"))
-    verdict = result.agree
-    if verdict is True:
-        parts.append(Text("analytic and numeric agree", style="green"))
-    elif verdict is False:
-        parts.append(Text("CROSS-CHECK FAILED", style="bold red"))
-    c.print(Group(*parts))
+    verdict = _verdict(result)
+    if verdict is not None:
+        parts.append(verdict)
+    if getattr(result, "expect_summary", None):
+        ok = all(j.match for j in result.expected.values())
+        parts.append(Text(result.expect_summary, style="green" if ok else "bold red"))
+    emit(c, Group(*parts))
 
+
+# -- mech check ------------------------------------------------------------------------------------------
 
 def print_check(report) -> None:
     c = console()
     t = Table(box=box.SIMPLE_HEAD, show_edge=False)
     for col, just in (("id", "left"), ("case", "left"), ("result", "center"), ("worst err/tol", "right"),
                       ("time", "right"), ("detail", "left")):
-        t.add_column(col, justify=just)
+        t.add_column(col, justify=just, no_wrap=col != "detail")
+    rows = []
     for case in report.cases:
         res = Text("pass", style="green") if case.ok else Text("FAIL", style="bold red")
         ratio = "—" if case.worst_ratio is None else f"{case.worst_ratio:.2g}"
-        t.add_row(case.exercise.id, case.label, res, ratio, f"{case.seconds:.2f} s", case.detail)
-    c.print(t)
+        rows.append((case.exercise.id, case.description, res, ratio, f"{case.seconds:.2f} s", case.detail))
+        t.add_row(Text(case.exercise.id), Text(case.description), res, Text(ratio), Text(f"{case.seconds:.2f} s"),
+                  Text(case.detail))
+    if not fits(c, t):
+        t = _stacked("", [(f"{i}  {label}", [("result", res), ("worst err/tol", ratio), ("time", secs)]
+                           + ([("detail", detail)] if detail else []))
+                          for i, label, res, ratio, secs, detail in rows])
     style = "green" if report.ok else "bold red"
-    c.print(Text(f"{report.passed} passed, {report.failed} failed in {report.seconds:.1f} s", style=style))
+    emit(c, Group(t, Text(f"{report.passed} passed, {report.failed} failed in {report.seconds:.1f} s", style=style)))

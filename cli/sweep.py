@@ -13,6 +13,7 @@ import csv
 import io
 import json
 import math
+import os
 import sys
 
 import click
@@ -70,7 +71,38 @@ def parse_range(ex: Exercise, name: str, text: str):
         values[-1] = stop
     for v in values:
         param.check(v)
-    return Axis(name, tuple(values), log)
+    unit, factor = shown_unit(param, parts[0])
+    return Axis(name, tuple(values), log, unit, factor)
+
+
+def shown_unit(param, text: str = "") -> tuple[str, float]:
+    """(unit, SI value of one unit) to show a parameter in: the unit typed in ``text`` if it has one
+    (``10deg`` -> deg, ``2Hz`` -> Hz), else the parameter's display unit, else its SI unit."""
+    import re
+
+    from mech.cli.values import UNITS
+
+    m = re.fullmatch(r"\s*[-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?\s*([A-Za-z]+)\s*", text or "")
+    if m and m.group(1) in UNITS:
+        try:
+            return m.group(1), to_si("1" + m.group(1), param.unit)
+        except ValueError_:
+            pass
+    if param.display:
+        return param.display, 1.0 / param.to_display(1.0)
+    return param.unit, 1.0
+
+
+def parse_only(ex: Exercise, text: str | None) -> tuple[str, ...] | None:
+    """``--only a,b``: output names, each one of the exercise's."""
+    if not text:
+        return None
+    names = [t.strip() for t in text.split(",") if t.strip()]
+    known = [o.name for o in ex.outputs]
+    for n in names:
+        if n not in known:
+            raise BadInput(f"--only: '{n}' is not an output of {ex.id}; its outputs are: {', '.join(known)}")
+    return tuple(dict.fromkeys(names))
 
 
 def collect(ex: Exercise, args: list[str], pairs: list[str]):
@@ -92,6 +124,45 @@ def _describe(ex: Exercise, values: dict, names) -> str:
     return ", ".join(f"{n} = {ex.param_map[n].show(values[n])}" for n in names)
 
 
+def validate_grid(ex: Exercise, axes, fixed) -> None:
+    """The batched route's check of every grid point: the same bounds and joint constraints as ``validate``.
+
+    The axes' values were checked against their bounds when parsed and the
+    fixed values when converted, so each point only needs the joint checks."""
+    from mech.problems.spec import Params
+
+    total = math.prod(len(a.values) for a in axes)
+    if total > MAX_POINTS:
+        raise BadInput(f"the grid has {total} points; at most {MAX_POINTS} in one sweep")
+    base = {p.name: float(fixed.get(p.name, p.default)) for p in ex.params}
+    if not ex._constraints:
+        return
+    import itertools
+
+    names = [a.name for a in axes]
+    view = _PointView(base)
+    for combo in itertools.product(*(a.values for a in axes)):
+        view.__dict__.update(zip(names, combo))
+        for check in ex._constraints:
+            try:
+                msg = check(view)
+            except Exception:  # a check that needs more than attribute access: the real Params
+                msg = check(Params(dict(view.__dict__)))
+            if msg:
+                raise BadInput(f"sweep point {_describe(ex, view.__dict__, names)}: {msg}")
+
+
+class _PointView:
+    """A grid point's values read as ``p.name`` or ``p["name"]``, refilled in place for every point (the
+    joint checks of 40 000 points then cost milliseconds, not the half second of building Params)."""
+
+    def __init__(self, values):
+        self.__dict__.update(values)
+
+    def __getitem__(self, key):
+        return self.__dict__[key]
+
+
 def validate(ex: Exercise, axes, fixed):
     """Every grid point resolved with the bounds and joint constraints, as solve does; the first bad one is named."""
     from mech.solvers.sweep import grid_points
@@ -110,8 +181,30 @@ def validate(ex: Exercise, axes, fixed):
 
 # -- output ----------------------------------------------------------------
 
+TABLE_MAX = 400  # above this many points the table is left out (the summary, --csv, --json and --plot stay)
+SHOW_ERRORS = 20
+
+
 def _fmt(v) -> str:
     return "—" if v is None else f"{v:.10g}"
+
+
+def _unit_of(result, name):
+    """(unit, SI value of one unit) a parameter is shown in: its axis's unit if it sweeps, else its display unit."""
+    for a in result.axes:
+        if a.name == name and a.unit:
+            return a.unit, a.factor
+    return shown_unit(result.exercise.param_map[name])
+
+
+def _summary(result) -> tuple[str, bool]:
+    n = len(result)
+    n_bad = result.n_failed
+    route = " (batched)" if result.extra.get("route") == "batched" else ""
+    text = (f"{n} points, {result.seconds:.2f} s{route} on {result.workers} "
+            f"process{'es' if result.workers > 1 else ''}; "
+            + ("analytic and numeric agree at every point" if n_bad == 0 else f"{n_bad} points FAILED the cross-check"))
+    return text, n_bad == 0
 
 
 def print_table(result) -> None:
@@ -126,56 +219,82 @@ def print_table(result) -> None:
     swept = [a.name for a in result.axes]
     fixed = ", ".join(f"{p.symbol or p.name} = {p.show(result.fixed[p.name])}" for p in ex.params
                       if p.name not in swept and p.name in result.fixed)
-    title = escape(f"{ex.id}  {ex.title}" + (f"\n{fixed}" if fixed else ""))
-    t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD)
-    for name in swept:
-        p = ex.param_map[name]
-        t.add_column(escape(f"{name} [{p.display or p.unit}]"), justify="right", no_wrap=True)
-    for o in ex.outputs:
-        unit = "" if o.unit == "1" else f" [{o.unit}]"
-        t.add_column(escape(f"{o.name}{unit}\nanalytic"), justify="right", no_wrap=True)
-        t.add_column(f"{o.name}\nnumeric", justify="right", no_wrap=True)
-    t.add_column("worst\nrel. diff", justify="right", no_wrap=True)
-    t.add_column("agree", justify="center", no_wrap=True)
-    for pt in result.points:
-        row = []
-        for name in swept:
-            p = ex.param_map[name]
-            row.append(f"{p.to_display(pt['params'][name]):.6g}")
-        rels = []
-        for q in pt["quantities"]:
-            row += [_fmt(q["analytic"]), _fmt(q["numeric"])]
-            if q.get("rel_err") is not None:
-                rels.append(q["rel_err"])
-        row.append(f"{max(rels):.2g}" if rels else "—")
-        flag = pt.get("agree")
-        row.append(Text("—", style="dim") if flag is None else
-                   Text("yes", style="green") if flag else Text("NO", style="bold red"))
-        t.add_row(*row)
     c = render.console()
-    if not c.is_terminal:  # piped: whole numbers in every column, however wide the grid's table
-        from rich.console import Console
+    names = result.output_names
+    outs = [o for o in ex.outputs if o.name in names]
+    if len(result) <= TABLE_MAX:
+        title = escape(f"{ex.id}  {ex.title}" + (f"\n{fixed}" if fixed else ""))
+        t = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD)
+        for name in swept:
+            unit, _ = _unit_of(result, name)
+            t.add_column(escape(f"{name} [{unit}]"), justify="right", no_wrap=True)
+        for o in outs:
+            unit = "" if o.unit == "1" else f" [{o.unit}]"
+            t.add_column(escape(f"{o.name}{unit}\nanalytic"), justify="right", no_wrap=True)
+            t.add_column(f"{o.name}\nnumeric", justify="right", no_wrap=True)
+        t.add_column("worst\nrel. diff", justify="right", no_wrap=True)
+        t.add_column("agree", justify="center", no_wrap=True)
+        blocks = []
+        for pt in result.point_list():
+            row = []
+            for name in swept:
+                _, factor = _unit_of(result, name)
+                row.append(f"{pt['params'][name] / factor:.6g}")
+            rels = []
+            for q in pt["quantities"]:
+                row += [_fmt(q["analytic"]), _fmt(q["numeric"])]
+                if q.get("rel_err") is not None:
+                    rels.append(q["rel_err"])
+            row.append(f"{max(rels):.2g}" if rels else "—")
+            flag = pt.get("agree")
+            row.append(Text("—", style="dim") if flag is None else
+                       Text("yes", style="green") if flag else Text("NO", style="bold red"))
+            t.add_row(*row)
+            head = ", ".join(f"{name} = {val} {_unit_of(result, name)[0]}" for name, val in zip(swept, row))
+            labels = [f"{o.name} {kind}" + ("" if o.unit == "1" else f" [{o.unit}]")
+                      for o in outs for kind in ("analytic", "numeric")] + ["worst rel. diff", "agree"]
+            blocks.append((head, list(zip(labels, row[len(swept):]))))
+        if not c.is_terminal and not os.environ.get("COLUMNS", "").isdigit():
+            # piped with no width asked for: one row per point, as wide as the grid's table needs
+            from rich.console import Console
 
-        probe = Console(width=100_000)
-        c = Console(highlight=False, soft_wrap=False, width=max(probe.measure(t).maximum, 80))
-    c.print(t)
-    n_bad = sum(pt.get("agree") is False for pt in result.points)
-    c.print(f"{len(result.points)} points, {result.seconds:.2f} s on {result.workers} "
-            f"process{'es' if result.workers > 1 else ''}; "
-            + ("analytic and numeric agree at every point" if n_bad == 0 else f"{n_bad} points FAILED the cross-check"),
-            style="dim" if n_bad == 0 else "bold red")
-    for k, pt in enumerate(result.points):
-        for e in pt.get("errors", []):
-            c.print(Text(f"point {k + 1} ({_describe(ex, pt['params'], swept)}): {e}", style="red"))
+            probe = Console(width=100_000)
+            c = Console(highlight=False, soft_wrap=False, width=max(probe.measure(t).maximum, 80))
+            render.emit(c, t)
+        elif render.fits(c, t):
+            render.emit(c, t)
+        else:  # too narrow for the grid's table: one block per point, every number whole
+            render.emit(c, render._stacked(f"{ex.id}  {ex.title}" + (f"\n{fixed}" if fixed else ""), blocks))
+    else:
+        c.print(escape(f"{ex.id}  {ex.title}" + (f"; {fixed}" if fixed else "")))
+        c.print(f"(no table above {TABLE_MAX} points: --csv, --json or --plot FILE show them all)", style="dim")
+    text, ok = _summary(result)
+    c.print(text, style="dim" if ok else "bold red")
+    shown = 0
+    pts = result.point_list() if len(result) <= TABLE_MAX or not ok else []
+    for k, pt in enumerate(pts):
+        msgs = list(pt.get("errors", []))
+        if pt.get("agree") is False and not msgs:
+            msgs = [f"{q['name']}: {q.get('note') or 'disagree'}" for q in pt["quantities"] if q["agree"] is False]
+        for e in msgs:
+            if shown < SHOW_ERRORS:
+                c.print(Text(f"point {k + 1} ({_describe(ex, pt['params'], swept)}): {e}", style="red"))
+            shown += 1
+    if shown > SHOW_ERRORS:
+        c.print(Text(f"... and {shown - SHOW_ERRORS} more (--json lists every point)", style="red"))
 
 
 def csv_text(result) -> str:
+    """Every parameter as ``name [unit]`` (swept ones in the unit typed), then per output its columns."""
     ex = result.exercise
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    header = [p.name for p in ex.params]
-    for o in ex.outputs:
-        header += [f"{o.name}_analytic", f"{o.name}_numeric", f"{o.name}_rel_err", f"{o.name}_agree"]
+    units = {p.name: _unit_of(result, p.name) for p in ex.params}
+    header = [f"{p.name} [{units[p.name][0]}]" for p in ex.params]
+    outs = [o for o in ex.outputs if o.name in result.output_names]
+    for o in outs:
+        header += [f"{o.name}_analytic [{o.unit}]", f"{o.name}_numeric [{o.unit}]",
+                   f"{o.name}_numeric_err [{o.unit}]", f"{o.name}_rel_err [1]", f"{o.name}_agree"]
     header.append("agree")
     w.writerow(header)
 
@@ -186,10 +305,11 @@ def csv_text(result) -> str:
             return "true" if v else "false"
         return repr(float(v))
 
-    for pt in result.points:
-        row = [cell(pt["params"][p.name]) for p in ex.params]
+    for pt in result.point_list():
+        row = [cell(pt["params"][p.name] / units[p.name][1]) for p in ex.params]
         for q in pt["quantities"]:
-            row += [cell(q["analytic"]), cell(q["numeric"]), cell(q["rel_err"]), cell(q["agree"])]
+            row += [cell(q["analytic"]), cell(q["numeric"]), cell(q.get("numeric_err")), cell(q["rel_err"]),
+                    cell(q["agree"])]
         row.append(cell(pt.get("agree")))
         w.writerow(row)
     return buf.getvalue()
@@ -198,37 +318,49 @@ def csv_text(result) -> str:
 @click.command("sweep", cls=SolveCommand)
 @click.argument("ex_id", metavar="ID", shell_complete=_complete_ids)
 @click.option("-p", "pairs", multiple=True, metavar="NAME=RANGE", help="A range or a value (repeatable).")
+@click.option("--only", "only_text", metavar="OUT,...", help="Compute only these outputs at each point [all].")
 @click.option("--rtol", "rtol_text", metavar="R", help="Requested accuracy of the numeric solver [exercise default].")
 @click.option("--no-verify", is_flag=True, help="Skip the rerun at rtol/10 at every point (twice as fast).")
 @click.option("--json", "as_json", is_flag=True, help="One JSON object: the axes and a solve object per point.")
-@click.option("--csv", "as_csv", is_flag=True, help="CSV on stdout: every parameter, then per output "
-              "analytic, numeric, rel_err, agree.")
+@click.option("--csv", "as_csv", is_flag=True, help="CSV on stdout: every parameter as 'name [unit]', then per "
+              "output analytic, numeric, numeric_err, rel_err, agree.")
 @click.option("--plot", "plot_file", type=click.Path(dir_okay=False), metavar="FILE",
-              help="Also draw the outputs against the first swept parameter (PNG, SVG or PDF by suffix).")
+              help="Also draw the outputs: against the first swept parameter, or as a map over two "
+                   "(PNG, SVG or PDF by suffix).")
 @click.option("-j", "--jobs", type=click.IntRange(1, 256), help="Processes to use [decided from the measured cost].")
 @click.pass_context
-def sweep_cmd(ctx, ex_id, pairs, rtol_text, no_verify, as_json, as_csv, plot_file, jobs):
+def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_csv, plot_file, jobs):
     """Solve exercise ID over a range: --NAME START:STOP:N[:log] for each swept parameter.
 
     \b
     Several ranges make a grid (the first varies slowest); --NAME VALUE holds a
     parameter fixed.  Both methods run at every point and are cross-checked as
-    in `mech solve`.  Large sweeps run over the machine's cores.
+    in `mech solve`.  Where the exercise has a batched route for the outputs
+    asked (--only), all points are integrated together as one vectorised
+    system (5.11, 5.12, 5.13); otherwise point by point, over the machine's cores.
     \b
     Examples:
       mech sweep 4.15 --theta0 10deg:90deg:9
       mech sweep 5.6 --theta0 0.1:3:12 --csv > period.csv
       mech sweep 4.10 --l 1cm:1m:20:log --plot omega.png
-    Exit status: 0 every point agrees, 1 a point failed, 2 bad input.
+      mech sweep 5.11 --omega 7:13:200 --mu 0.005:0.5:200 --only growth --plot chart.png
+    Exit status: 0 every point agrees, 1 a point failed, 2 bad input, 130 interrupted.
     """
-    from mech.solvers.sweep import run_sweep
+    from mech.solvers.sweep import batched_outputs, run_batched, run_sweep
 
     if as_json and as_csv:
         raise UsageFailure("--json and --csv: choose one")
     ex = _get(ex_id)
     try:
         axes, fixed = collect(ex, ctx.meta.get("mech_param_args", []), list(pairs))
-        params = validate(ex, axes, fixed)
+        only = parse_only(ex, only_text)
+        batched = batched_outputs(ex, only)
+        if batched:
+            validate_grid(ex, axes, fixed)
+            n_points = math.prod(len(a.values) for a in axes)
+        else:
+            params = validate(ex, axes, fixed)
+            n_points = len(params)
         rtol = parse_rtol(rtol_text, ex)
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
@@ -238,21 +370,37 @@ def sweep_cmd(ctx, ex_id, pairs, rtol_text, no_verify, as_json, as_csv, plot_fil
         need_matplotlib()
         check_target(plot_file)
 
-    show = sys.stderr.isatty()
-    if show:
-        from rich.console import Console
-        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, \
-            TimeRemainingColumn
+    done = [0]
 
-        with Progress(TextColumn(f"sweep {ex.id}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                      TimeRemainingColumn(), console=Console(stderr=True), transient=True) as bar:
-            task = bar.add_task("sweep", total=len(params))
-            result = run_sweep(ex, axes, fixed, params, rtol=rtol, verify=not no_verify, jobs=jobs,
-                               progress=lambda k: bar.update(task, completed=k))
-    else:
-        result = run_sweep(ex, axes, fixed, params, rtol=rtol, verify=not no_verify, jobs=jobs)
+    def run(progress=None):
+        def tick(k):
+            done[0] = k
+            if progress:
+                progress(k)
+
+        if batched:
+            return run_batched(ex, axes, fixed, batched, rtol=rtol, verify=not no_verify, progress=tick)
+        return run_sweep(ex, axes, fixed, params, rtol=rtol, verify=not no_verify, jobs=jobs, progress=tick,
+                         only=only)
+
+    try:
+        if sys.stderr.isatty():
+            from rich.console import Console
+            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, \
+                TimeRemainingColumn
+
+            with Progress(TextColumn(f"sweep {ex.id}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                          TimeRemainingColumn(), console=Console(stderr=True), transient=True) as bar:
+                task = bar.add_task("sweep", total=n_points)
+                result = run(lambda k: bar.update(task, completed=k))
+        else:
+            result = run()
+    except KeyboardInterrupt:
+        click.echo(f"mech: interrupted after {done[0]} of {n_points} points; nothing written", err=True)
+        ctx.exit(130)
     # the fixed part of the table's title: every parameter that does not sweep, defaults included
-    result.fixed = {k: v for k, v in result.points[0]["params"].items() if k not in {a.name for a in axes}}
+    swept = {a.name for a in axes}
+    result.fixed = {p.name: float(fixed.get(p.name, p.default)) for p in ex.params if p.name not in swept}
 
     if plot_file:
         from mech.cli.figures.common import save

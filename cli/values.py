@@ -1,7 +1,10 @@
 """Parse the values people type: ``90deg``, ``90 deg``, ``pi/3``, ``2.5 km``, ``3 m/s^2``, ``100 rpm``.
 
 A value is arithmetic (``+ - * / ^ **``, parentheses, ``pi``) over numbers and
-units; adjacent factors multiply (``2pi``, ``1/(m^2 s^2)``).  It is converted to
+units; a factor written next to a name or a parenthesis multiplies (``2pi``,
+``15 cm``, ``1/(m^2 s^2)``), but two numbers side by side are an error, not a
+product: ``1.2.3`` (read 1.2 .3), ``2 3`` and ``15cm 2`` are typing slips more
+often than products, and need an explicit ``*``.  It is converted to
 the SI unit of the parameter it is given for:
 
 * a plain number is taken to be SI already (angles in radians);
@@ -142,8 +145,13 @@ class _Parser:
                 self.take()
                 r = self.factor()
                 q = _mul(q, r) if val == "*" else _div(q, r)
-            elif kind in ("num", "name") or val == "(":
+            elif kind == "name" or val == "(":
                 q = _mul(q, self.factor())
+            elif kind == "num":
+                prev_kind, prev = self.toks[self.i - 1]
+                what = "two numbers side by side" if prev_kind == "num" else "a number right after a factor"
+                raise ValueError_(f"{what} ('{prev}' then '{val}'), not one number; "
+                                  f"write an operator between them, such as '*'")
             else:
                 return q
 

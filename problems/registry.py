@@ -3,11 +3,13 @@
 Two levels, so that the commands that only list stay fast:
 
 * ``index()`` reads the file names (``ex4_15_sliding_ladder.py`` is exercise 4.15), the
-  packaged catalogue (title, topic) and, from each module's text, which solvers it
-  registers.  It imports no exercise module, hence no numpy and no scipy.
+  packaged catalogue (title, topic) and ``problems/index.toml``: what each exercise
+  registers (its methods, the states it integrates), written from the registrations
+  themselves by ``python -m mech.problems.registry --write-index``.  It imports no
+  exercise module, hence no numpy and no scipy.
 * ``get(id)`` imports the one module asked for; ``all_exercises()`` imports them all.
 
-tests/test_conformance.py holds the index to what the imported modules really register.
+tests/test_conformance.py holds index.toml to what the imported modules really register.
 """
 
 from __future__ import annotations
@@ -27,6 +29,17 @@ CHAPTER_PACKAGES = ("mech.problems.ch4", "mech.problems.ch5")
 _MODULE_NAME = re.compile(r"^ex(\d+)_(\d+)_\w+$")
 
 
+# The book's own exercises: all of chapter 4 and the first three of chapter 5; 5.4-5.13 were set for mech
+# on chapter 5's topics.
+BOOK_EXERCISES = {4: range(1, 37), 5: range(1, 4)}
+
+
+def from_book(ex_id: str) -> bool:
+    """True for an exercise that is the book's own, False for one set for mech on the chapter's topics."""
+    chapter, number = _id_key(ex_id)
+    return number in BOOK_EXERCISES.get(chapter, ())
+
+
 @dataclass(frozen=True)
 class Entry:
     id: str
@@ -34,10 +47,15 @@ class Entry:
     topic: str
     methods: tuple[str, ...]
     module: str
+    integrates: bool = False  # its numeric route integrates declared equations of motion (a trajectory)
 
     @property
     def chapter(self) -> int:
         return int(self.id.split(".")[0])
+
+    @property
+    def from_book(self) -> bool:
+        return from_book(self.id)
 
 
 def _id_key(ex_id: str) -> tuple[int, ...]:
@@ -78,18 +96,48 @@ def _heading(text: str) -> dict:
 
 
 @lru_cache(maxsize=1)
+def _declared() -> dict:
+    """problems/index.toml: per exercise, what its registration declares (see ``declarations``)."""
+    path = resources.files("mech.problems").joinpath("index.toml")
+    try:
+        return tomllib.loads(path.read_text("utf-8")).get("exercise", {})
+    except FileNotFoundError:
+        return {}
+
+
+@lru_cache(maxsize=1)
 def index() -> list[Entry]:
     entries = []
     catalogue = resources.files("mech.problems").joinpath("catalogue")
-    for ex_id, (module, origin) in _files().items():
+    declared = _declared()
+    for ex_id, (module, _origin) in _files().items():
         spec = _heading(catalogue.joinpath(f"{ex_id}.toml").read_text("utf-8"))
         if "title" not in spec or "topic" not in spec:
             spec = tomllib.loads(catalogue.joinpath(f"{ex_id}.toml").read_text("utf-8"))
-        with open(origin, encoding="utf-8") as fh:
-            text = fh.read()
-        methods = tuple(m for m in ("analytic", "numeric") if f"@exercise.{m}\n" in text)
-        entries.append(Entry(ex_id, spec["title"], spec["topic"], methods, module))
+        facts = declared.get(ex_id)
+        if facts is None:  # a module index.toml does not know yet: ask the registration itself
+            facts = declarations(_load(ex_id, module))
+        entries.append(Entry(ex_id, spec["title"], spec["topic"], tuple(facts["methods"]), module,
+                             bool(facts.get("integrates", False))))
     return entries
+
+
+def declarations(ex: Exercise) -> dict:
+    """What an exercise's registration declares, as index.toml records it."""
+    return {"methods": list(ex.methods), "integrates": bool(ex.states)}
+
+
+def index_text() -> str:
+    """index.toml as the registrations give it (``python -m mech.problems.registry --write-index``)."""
+    lines = ["# What each exercise's registration declares, for `mech list` (which imports no exercise).",
+             "# Written by `python -m mech.problems.registry --write-index`; tests/test_conformance.py",
+             "# fails when it no longer matches the registrations.", ""]
+    for ex_id, ex in all_exercises().items():
+        facts = declarations(ex)
+        methods = ", ".join(f'"{m}"' for m in facts["methods"])
+        lines += [f'[exercise."{ex_id}"]', f"methods = [{methods}]",
+                  f"integrates = {'true' if facts['integrates'] else 'false'}", ""]
+    return "\n".join(lines)
 
 
 def _load(ex_id: str, module_name: str) -> Exercise:
@@ -109,6 +157,49 @@ def get(ex_id: str) -> Exercise:
     modules = _modules()
     key = ex_id.strip()
     if key not in modules:
-        known = ", ".join(modules) or "none"
-        raise BadInput(f"unknown exercise '{ex_id}'; registered: {known}")
+        raise BadInput(unknown_id_message(ex_id, list(modules)))
     return _load(key, modules[key])
+
+
+def _spans(ids: list[str]) -> str:
+    """``4.1-4.36, 5.1-5.13``: the registered ids by chapter, first and last."""
+    chapters: dict[int, list[str]] = {}
+    for i in ids:
+        chapters.setdefault(_id_key(i)[0], []).append(i)
+    return ", ".join(f"{v[0]}-{v[-1]}" if len(v) > 1 else v[0] for v in chapters.values()) or "none"
+
+
+def unknown_id_message(ex_id: str, ids: list[str]) -> str:
+    """One line for an id that is not registered: the nearest id where one is close, else the ranges."""
+    import difflib
+
+    text = ex_id.strip()
+    norm = re.sub(r"^(?:ex(?:ercise)?)\s*", "", text.lower()).replace(",", ".").replace("-", ".").replace("_", ".")
+    m = re.fullmatch(r"(\d+)\.(\d+)", norm)
+    close: list[str] = []
+    if norm in ids:
+        close = [norm]
+    elif m:
+        # a well-formed id: only a leading zero (4.015) or an extra digit (4.150) is a near miss; a number
+        # just past a chapter's end (4.37) or an unknown chapter is not
+        chapter, number = m.groups()
+        tries = [number.lstrip("0")]
+        if len(number) >= 3:
+            tries += [number[:-1]] + [number[:k] + number[k + 1:] for k in range(len(number) - 1)]
+        close = [f"{chapter}.{n}" for n in tries if f"{chapter}.{n}" in ids][:1]
+    elif len(norm) >= 3:
+        close = difflib.get_close_matches(norm, ids, n=1, cutoff=0.7)
+    hint = f"; did you mean {close[0]}?" if close else ""
+    return f"unknown exercise '{text}'{hint} (registered: {_spans(ids)})"
+
+
+if __name__ == "__main__":  # pragma: no cover
+    import sys
+
+    if sys.argv[1:] == ["--write-index"]:
+        target = os.path.join(os.path.dirname(os.path.abspath(__file__)), "index.toml")
+        with open(target, "w", encoding="utf-8") as fh:
+            fh.write(index_text())
+        print(f"wrote {target}")
+    else:
+        print("usage: python -m mech.problems.registry --write-index")

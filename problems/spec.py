@@ -74,24 +74,33 @@ class Param:
         return f"{_fmt(value)}{unit}"
 
     def range_text(self) -> str:
-        """The allowed range in interval notation, in SI and (where set) the display unit."""
-        lo = "(-inf" if self.min is None else ("(" if self.min_open else "[") + _fmt(self.min)
-        hi = "+inf)" if self.max is None else _fmt(self.max) + (")" if self.max_open else "]")
+        """The allowed range in interval notation: in the display unit first where there is one, then in SI."""
         unit = "" if self.unit == "1" else f" {self.unit}"
-        text = f"{lo}, {hi}{unit}"
+        text = self._interval(lambda v: v) + unit
         if self.display and (self.min is not None or self.max is not None):
-            dlo = "(-inf" if self.min is None else ("(" if self.min_open else "[") + _fmt(self.to_display(self.min))
-            dhi = "+inf)" if self.max is None else _fmt(self.to_display(self.max)) + (")" if self.max_open else "]")
-            text += f" = {dlo}, {dhi} {self.display}"
+            text = f"{self._interval(self.to_display)} {self.display} = {text}"
         return text
 
-    def check(self, value: float) -> None:
+    def _interval(self, conv) -> str:
+        lo = "(-inf" if self.min is None else ("(" if self.min_open else "[") + _fmt(conv(self.min))
+        hi = "+inf)" if self.max is None else _fmt(conv(self.max)) + (")" if self.max_open else "]")
+        return f"{lo}, {hi}"
+
+    def check(self, value: float, typed: str | None = None) -> None:
+        """Refuse a value outside the bounds, echoing ``typed`` (what the user wrote) where given, else the
+        value in the display unit."""
+        if typed is None:
+            said = self.show(value)
+        else:
+            said = typed.strip()
+            if self.display and self.display not in said and math.isfinite(value):
+                said += f" (= {self.show(value)})"
         if not math.isfinite(value):
-            raise BadInput(f"{self.name}: {value} is not a finite number; allowed range {self.range_text()}")
+            raise BadInput(f"{self.name}: {said} is not a finite number; allowed range {self.range_text()}")
         below = self.min is not None and (value < self.min or (self.min_open and value == self.min))
         above = self.max is not None and (value > self.max or (self.max_open and value == self.max))
         if below or above:
-            raise BadInput(f"{self.name}: {_fmt(value)} is out of range; allowed {self.range_text()}")
+            raise BadInput(f"{self.name}: {said} is out of range; allowed {self.range_text()}")
 
     def as_json(self) -> dict:
         d: dict[str, Any] = {"name": self.name, "symbol": self.symbol, "unit": self.unit, "default": self.default}
@@ -173,19 +182,26 @@ class Run:
     # what it computed at a tolerance that does not depend on rtol, keyed by everything it depends on;
     # never in the JSON, and new for every cross-check (so bench's timed repeats never share it)
     shared: dict = field(default_factory=dict, repr=False)
-    # every integration recorded (``record``), kept when the caller asks for the motion (a trajectory)
+    # the scene's motion (``motion``), kept when the caller asks for it (a trajectory)
     keep_trajectories: bool = False
-    trajectories: list = field(default_factory=list, repr=False)
+    motion_parts: list = field(default_factory=list, repr=False)
 
     def record(self, result: Any, method: str | None = None) -> Any:
         """Add the cost of an integration (anything with ``nfev`` and ``method``)."""
         self.nfev += int(getattr(result, "nfev", 0) or 0)
-        if self.keep_trajectories and getattr(result, "t", None) is not None and getattr(result, "y", None) is not None:
-            self.trajectories.append(result)
         m = method or getattr(result, "method", None)
         if m and not self.method:
             self.method = m
         return result
+
+    def motion(self, traj: Any, *, t_scale: float = 1.0, t_offset: float = 0.0, y_scale=None,
+               rows=None) -> None:
+        """Mark an integration (anything with ``t``, ``y`` and optionally a continuous extension ``sol``) as
+        (a leg of) the scene's motion: its ``rows`` (all by default) are the exercise's declared ``states``.
+        Scaled variables are brought to SI: time ``t_offset + t_scale * t``, state ``y_scale * y`` (a number
+        or one per state).  Legs marked one after another are joined in time order."""
+        if self.keep_trajectories:
+            self.motion_parts.append((traj, float(t_scale), float(t_offset), y_scale, rows))
 
     def claim(self, name: str, rel: float | None = None, abs: float | None = None) -> None:
         """Declare the accuracy of one output: relative and/or absolute."""
@@ -207,6 +223,17 @@ class Run:
             d["invariants"] = {k: v for k, v in self.invariants.items()}
         d.update(self.info)
         return d
+
+
+@dataclass(frozen=True)
+class BatchedRoute:
+    """What ``Exercise.batched`` registers: the chart's numeric route and its analytic counterpart."""
+
+    numeric: Callable
+    outputs: tuple[str, ...]
+    analytic: Callable
+    expected_error: Callable | None = None
+    boundaries: dict = field(default_factory=dict)
 
 
 def _load_catalogue(ex_id: str) -> dict:
@@ -269,6 +296,7 @@ class Exercise:
         self._analytic_error: Callable | None = None
         self._hamiltonian: Callable | None = None
         self._scene: Callable | None = None
+        self._batched: "BatchedRoute | None" = None
         self.param_map = {p.name: p for p in self.params}
 
     # -- decorators -------------------------------------------------------
@@ -288,7 +316,8 @@ class Exercise:
         return fn
 
     def expected_error(self, fn: Callable[[Params], dict]) -> Callable:
-        """For leading-order outputs: ``fn(p) -> {output: relative size of what the theory neglects}``."""
+        """For leading-order outputs: ``fn(p) -> {output: relative size of what the theory neglects}``; an
+        output whose leading-order value can be zero gives ``(relative, absolute)`` instead (absolute in SI)."""
         self._expected_error = fn
         return fn
 
@@ -320,6 +349,32 @@ class Exercise:
 
         run = SceneRun(self, rtol, points)
         return self._scene(p, run), run
+
+    def batched(self, outputs: tuple[str, ...], *, analytic: Callable, expected_error: Callable | None = None,
+                boundaries: Mapping[str, tuple[str, str]] | None = None) -> Callable:
+        """Register a batched numeric route for charts: ``fn(P, rtol, outputs[, memo]) -> {output: Column}``.
+
+        ``P`` maps every parameter name to an array of N values (one per grid
+        point, already validated); ``fn`` computes only the ``outputs`` asked
+        (a subset of ``outputs`` given here) from the equations of motion, as
+        the numeric solver does, for all N points at once (see
+        ``mech.solvers.batch``).  ``analytic(P)`` and ``expected_error(P)`` are
+        the analytic solver and its expected error over the same arrays
+        ({output: Column} and {output: array}); tests hold them equal to the
+        scalar ones.  ``boundaries`` maps a parameter to (output, label): the
+        analytic value of that output is a boundary in that parameter (5.11's
+        mu = mu_th(omega)), drawn on maps over that parameter.  A ``memo`` keyword,
+        if ``fn`` takes one, is a dict shared by all chunks of one sweep.
+        """
+        unknown = set(outputs) - {o.name for o in self.outputs}
+        if unknown:
+            raise ValueError(f"{self.id}: batched route names unknown outputs {sorted(unknown)}")
+
+        def register(fn: Callable) -> Callable:
+            self._batched = BatchedRoute(fn, tuple(outputs), analytic, expected_error, dict(boundaries or {}))
+            return fn
+
+        return register
 
     # -- use --------------------------------------------------------------
     @property

@@ -208,6 +208,7 @@ class Quantity:
     agree: bool | None = None
     theory: str = "exact"
     expected_err: float | None = None
+    expected_err_abs: float | None = None  # an absolute part, for a leading-order value that can be zero
     verify_diff: float | None = None
     numeric_err: float | None = None  # the numeric value's earned error, absolute, SI
     analytic_err: float | None = None  # the analytic value's round-off from its conditioning, absolute, SI
@@ -235,6 +236,8 @@ class Quantity:
         if self.theory != "exact":
             d["theory"] = self.theory
             d["expected_err"] = _finite_or_none(self.expected_err)
+            if self.expected_err_abs is not None:
+                d["expected_err_abs"] = _finite_or_none(self.expected_err_abs)
         if self.verify_diff is not None:
             d["verify_diff"] = _finite_or_none(self.verify_diff)
         if self.notes:
@@ -430,6 +433,13 @@ def cross_check(
         q.tol_abs = float(abs_claim or 0.0)
         if out.theory != "exact":
             q.expected_err = expected.get(out.name)
+            if isinstance(q.expected_err, (tuple, list)):
+                # (relative, absolute): what the theory neglects where its value can be zero
+                rel_part, abs_part = q.expected_err
+                q.expected_err = None if rel_part is None else float(rel_part)
+                q.expected_err_abs = None if abs_part is None else abs(float(abs_part))
+                if q.expected_err is None and q.expected_err_abs is not None:
+                    q.expected_err = 0.0
             if q.expected_err is None and analytic and numeric:
                 q._note("the exercise gives no size for what its leading-order theory neglects")
             elif q.expected_err is not None:
@@ -452,6 +462,11 @@ def cross_check(
             q.analytic_err = abs(float(analytic_errs[out.name]))
         if a is None or n is None:
             q.agree = None
+        elif isinstance(a, Undefined) and _is_number(n) and out.theory != "exact" and q.expected_err_abs:
+            # the leading-order theory finds no value, but what it neglects allows one this large
+            q.agree = bool(abs(n) <= q.expected_err_abs + (q.numeric_err or 0.0))
+            q._note(f"the leading-order theory finds no value; within what it neglects one up to "
+                    f"{q.expected_err_abs:.3g} may exist" + ("" if q.agree else ", and this one is larger"))
         elif isinstance(a, Undefined) or isinstance(n, Undefined):
             both = isinstance(a, Undefined) and isinstance(n, Undefined)
             q.agree = both
@@ -461,7 +476,8 @@ def cross_check(
             q.abs_err = float(abs(n - a))
             denom = abs(a) if a != 0 else abs(n)
             q.rel_err = float(q.abs_err / denom) if denom > 0 else 0.0
-            q.agree = bool(q.abs_err <= tol * abs(a) + q.tol_abs + (q.analytic_err or 0.0))
+            allowed_abs = max(q.tol_abs, q.expected_err_abs or 0.0)
+            q.agree = bool(q.abs_err <= tol * abs(a) + allowed_abs + (q.analytic_err or 0.0))
         if _is_number(n) and not claim_finite:
             # an error bar of infinity would agree with anything: no number at all is better
             q._note("the numeric solver claims no finite accuracy for this value")

@@ -267,8 +267,8 @@ def solve(
             ee = EE @ K[:13]  # the 5th- and 3rd-order error estimates, in one product
             ee /= scale
             n5, n3 = (ee * ee).sum(axis=1).tolist()
-            if n5 == 0.0 and n3 == 0.0:
-                err = 0.0
+            if n5 == 0.0:
+                err = 0.0  # err is proportional to n5 (and 0.01 n3 can underflow to 0: a division by zero)
             else:
                 err = abs(h) * n5 / math.sqrt(n * (n5 + 0.01 * n3))
             if not math.isfinite(err) or not math.isfinite(float(np.add.reduce(y_new))):

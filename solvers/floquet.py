@@ -161,3 +161,44 @@ def even_hill_discriminant(
     """
     (y1, y1p, y2, y2p), traj = even_hill_half(stiff, T, rtol=rtol, vscale=vscale, method=method)
     return 2.0 * (y1 * y2p + y1p * y2), y1 * y2p - y1p * y2 - 1.0, traj
+
+
+def even_hill_half_batch(
+    stiff: Callable[[float], np.ndarray],
+    t_half: float,
+    n_points: int,
+    *,
+    rtol: float,
+    vscale=1.0,
+):
+    """``even_hill_half`` for N Hill equations y'' + stiff(t) y = 0 at once, all on [0, t_half].
+
+    ``stiff(t)`` returns the N coefficients at the time t (an array of N, or a
+    number shared by all); each must be even in t with period 2 t_half (scale
+    each point's time so that its half period is ``t_half``).  Integrated by
+    ``mech.solvers.batch.integrate_batch``, with each point's error controlled
+    to ``rtol`` as a single run would.  Returns ((y1, y1', y2, y2') as arrays
+    of N at t_half, with y2, y2' divided by ``vscale`` as in ``even_hill_half``,
+    the ``BatchResult``).
+    """
+    from mech.solvers.batch import integrate_batch
+
+    vs = np.broadcast_to(np.asarray(vscale, dtype=float), (n_points,))
+
+    def rhs(t, y):
+        k = stiff(t)
+        out = np.empty_like(y)
+        out[0] = y[1]
+        out[1] = -k * y[0]
+        out[2] = y[3]
+        out[3] = -k * y[2]
+        return out
+
+    y0 = np.zeros((4, n_points))
+    y0[0] = 1.0
+    y0[3] = vs
+    atol_q = rtol * 1e-3
+    atol = np.stack([np.full(n_points, atol_q), atol_q * vs, np.full(n_points, atol_q), atol_q * vs])
+    res = integrate_batch(rhs, (0.0, t_half), y0, rtol=rtol, atol=atol)
+    y1, y1p, y2, y2p = res.y_end
+    return (y1, y1p, y2 / vs, y2p / vs), res

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mech.problems.spec import NumericFailure
+from mech.solvers import budget
 from mech.solvers.ode import integrate
 
 __all__ = ["inverse_fourier", "impulse_spectrum", "Spectrum", "FourierIntegral", "fourier_quad", "fourier_tail"]
@@ -161,8 +162,8 @@ def _turn(omega: float, x: float) -> complex:
 class _Panels:
     """The Filon rule on panels of one integrand f(w) exp(i omega w), with a count of evaluations."""
 
-    def __init__(self, f, omega: float, part: str | None, n: int = _NODES):
-        self.f, self.omega, self.n = f, float(omega), n
+    def __init__(self, f, omega: float, part: str | None, n: int = _NODES, local: bool = False):
+        self.f, self.omega, self.n, self.local = f, float(omega), n, local
         self.nodes = _filon_table(n)[0]
         self.project = {"re": lambda z: z.real, "im": lambda z: z.imag, None: lambda z: z}[part]
         self.evaluations = 0
@@ -171,7 +172,13 @@ class _Panels:
         """f at the nodes of every panel in ``spans``, one call: a row per panel."""
         lo = np.array([a for a, _ in spans])
         half = 0.5 * (np.array([b for _, b in spans]) - lo)
-        vals = np.asarray(self.f(((lo + half)[:, None] + half[:, None] * self.nodes).ravel()))
+        if self.local:
+            # f(a, y) at w = a + y, y = h (1 + u) exact to its own rounding: near a pole of width 1e-10
+            # at w ~ 1 the rounding of w itself (1e-16) would move f by a part in 1e6
+            offs = half[:, None] * (1.0 + self.nodes)
+            vals = np.asarray(self.f(np.repeat(lo, self.n), offs.ravel()))
+        else:
+            vals = np.asarray(self.f(((lo + half)[:, None] + half[:, None] * self.nodes).ravel()))
         self.evaluations += vals.size
         if not np.all(np.isfinite(vals)):
             a, b = spans[0][0], spans[-1][1]
@@ -228,6 +235,7 @@ def _adaptive(panels: _Panels, cuts, epsabs: float, epsrel: float, limit: int):
                 f"Fourier quadrature: error estimate {err:.3g} above the tolerance "
                 f"{tolerance(total, size):.3g} after {len(heap)} panels"
             )
+        budget.check("Fourier quadrature")
         neg_e, a, b, v = heapq.heappop(heap)
         m = a + 0.5 * (b - a)
         if not (a < m < b):
@@ -302,6 +310,7 @@ def _tail(panels: _Panels, a: float, epsabs: float, epsrel: float, max_terms: in
     estimates: list = []
     partial, quad_err, first = 0.0, 0.0, 0.0
     for k in range(max_terms):
+        budget.check("Fourier quadrature, tail")
         lo = a + k * cycle
         # the cycles' own errors must sum to a small part of the tolerance: 1/(8 (k+1)) of it each
         share = 8.0 * (k + 1)
@@ -355,21 +364,29 @@ def _breakpoints(poles, window):
 
 
 def inverse_fourier(chi, t: float, poles, *, epsrel: float = 1e-12, window_factor: float = 40.0,
-                    vectorized: bool = False) -> FourierIntegral:
+                    vectorized: bool = False, local: bool = False) -> FourierIntegral:
     """G(t) = (1/pi) int_0^inf [Re chi cos(w t) + Im chi sin(w t)] dw; ``poles``: chi's poles (complex).
 
     The integrand is Re[chi(w) exp(-i w t)].  The tolerance is ``epsrel`` times the summed sizes of
     the window pieces' integrals (G(-t) = 0 is all cancellation: a tolerance relative to it would
-    mean nothing).  ``chi`` takes one frequency, or an array of them when ``vectorized``."""
+    mean nothing).  ``chi`` takes one frequency, or an array of them when ``vectorized``; with ``local``
+    (vectorized only) it takes two arrays (a, y) for the frequency a + y, a a breakpoint and y the
+    offset from it, so that it can form its differences from the poles without the rounding of a + y."""
     if t == 0:
         raise ValueError("inverse_fourier: t = 0 is where G jumps; ask for t != 0")
     poles = [complex(z) for z in poles]
     window = window_factor * max(1.0, max(abs(z) for z in poles))
     pts = _breakpoints(poles, window)
     f = chi if vectorized else (lambda ws: np.array([chi(float(x)) for x in ws], dtype=complex))
-    panels = _Panels(f, -float(t), "re")
-    scale = math.fsum(abs(panels.rule(a, b).real) for a, b in zip(pts[:-1], pts[1:]) if b > a)
-    epsabs = epsrel * scale
+    panels = _Panels(f, -float(t), "re", local=local and vectorized)
+    pieces = [(a, b) for a, b in zip(pts[:-1], pts[1:]) if b > a]
+    scale = math.fsum(abs(panels.rule(a, b).real) for a, b in pieces)
+    # the rule's round-off is relative to the integral of |f|, not to the oscillation's cancelled pieces:
+    # at a late time (t 1e7 over a peak of width 1e-5) the pieces cancel far below it, and a tolerance
+    # under that floor is never met (it once ran 20000 panels and gave up)
+    weights = _filon_table(panels.n)[1]
+    l1 = math.fsum(0.5 * (b - a) * float(weights @ np.abs(v)) for (a, b), v in zip(pieces, panels.values(pieces)))
+    epsabs = max(epsrel * scale, 64.0 * 2.0**-52 * l1)
     body, body_err, count = _adaptive(panels, pts, 0.5 * epsabs, 0.0, 20000)
     tail, tail_err, cycles = _tail(panels, window, 0.5 * epsabs, 0.0)
     return FourierIntegral((body + tail) / math.pi, (body_err + tail_err) / math.pi, count, cycles,

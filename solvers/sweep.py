@@ -11,6 +11,13 @@ is the serial estimate.  A pool costs a start-up of its own (about
 the estimate is several times that, so small or cheap sweeps stay serial.
 Results come back in grid order whatever the schedule; every solver is
 deterministic, so serial and parallel sweeps give the same numbers.
+
+Charts (``run_batched``): where the exercise registers a batched route
+(``Exercise.batched``) for every output asked, the grid goes through it in
+chunks instead: both solves (rtol and rtol/10) and the analytic side over
+arrays, and each point judged by the cross-check's rule over arrays
+(``_judge``).  The result keeps arrays; ``point_list()`` builds the
+per-point solve objects only when they are printed.
 """
 
 from __future__ import annotations
@@ -24,7 +31,8 @@ from typing import Callable, Sequence
 
 from mech.problems.spec import Exercise, Params
 
-__all__ = ["Axis", "SweepResult", "grid_points", "run_sweep", "plan_workers", "POOL_OVERHEAD_S", "MIN_PARALLEL_S"]
+__all__ = ["Axis", "SweepResult", "grid_points", "run_sweep", "plan_workers", "POOL_OVERHEAD_S", "MIN_PARALLEL_S",
+           "run_batched", "batched_outputs", "batched_points", "grid_arrays", "CHUNK"]
 
 POOL_OVERHEAD_S = 0.15  # start-up of one worker process and its first imports (fork), measured
 MIN_PARALLEL_S = 1.5  # below this much serial work left a pool is not worth its start-up
@@ -37,6 +45,8 @@ class Axis:
     name: str
     values: tuple[float, ...]
     log: bool = False
+    unit: str | None = None  # the unit the values are shown in (the one typed, else the display unit)
+    factor: float = 1.0  # SI value of one ``unit``
 
 
 @dataclass
@@ -44,13 +54,52 @@ class SweepResult:
     exercise: Exercise
     axes: list[Axis]
     fixed: dict[str, float]
-    points: list[dict]  # one cross-check JSON object per grid point (without id and title), grid order
+    points: list[dict] | None  # one cross-check JSON object per grid point (without id and title), grid order;
+    # None for a batched sweep until ``point_list()`` builds them from its arrays
     workers: int = 1
     seconds: float = 0.0
     extra: dict = field(default_factory=dict)
+    only: tuple[str, ...] | None = None  # the outputs asked for (None: all)
+
+    @property
+    def output_names(self) -> list[str]:
+        if self.extra.get("route") == "batched":
+            return list(self.extra["outputs"])
+        return list(self.only) if self.only else [o.name for o in self.exercise.outputs]
+
+    def point_list(self) -> list[dict]:
+        if self.points is None:
+            self.points = batched_points(self)
+        return self.points
+
+    def __len__(self) -> int:
+        if self.points is None:
+            return int(next(iter(self.extra["grid"].values())).size)
+        return len(self.points)
+
+    @property
+    def n_failed(self) -> int:
+        """How many points failed the cross-check."""
+        if self.points is None:
+            import numpy as np
+
+            bad = np.zeros(len(self), dtype=bool)
+            for J in self.extra["judged"].values():
+                bad |= (J["agree"] == 0) | J["n_fail"] | J["ver_fail"]
+            return int(bad.sum())
+        return sum(pt.get("agree") is False for pt in self.points)
 
     @property
     def agree(self) -> bool | None:
+        if self.points is None:
+            import numpy as np
+
+            judged = self.extra["judged"].values()
+            if any((J["agree"] == 0).any() or J["n_fail"].any() or J["ver_fail"].any() for J in judged):
+                return False
+            if all((J["agree"] < 0).all() for J in judged):
+                return None
+            return True
         flags = [pt.get("agree") for pt in self.points]
         if any(f is False for f in flags):
             return False
@@ -59,16 +108,21 @@ class SweepResult:
         return True
 
     def as_json(self) -> dict:
-        return {
+        d = {
             "id": self.exercise.id,
             "title": self.exercise.title,
             "swept": [{"name": a.name, "values": list(a.values), "log": a.log} for a in self.axes],
             "fixed": self.fixed,
-            "points": self.points,
+            "outputs": self.output_names,
+            "points": self.point_list(),
             "agree": self.agree,
             "workers": self.workers,
             "seconds": self.seconds,
         }
+        if self.extra.get("route") == "batched":
+            d["route"] = "batched"
+            d["numeric_info"] = self.extra["info"]
+        return d
 
 
 def grid_points(axes: Sequence[Axis], fixed: dict[str, float]) -> list[dict[str, float]]:
@@ -77,15 +131,20 @@ def grid_points(axes: Sequence[Axis], fixed: dict[str, float]) -> list[dict[str,
     return [{**fixed, **dict(zip(names, combo))} for combo in itertools.product(*(a.values for a in axes))]
 
 
-def _serial_verify() -> None:
-    """In a pool worker: the cores are the pool's, so each cross-check's rerun runs after its solve."""
+def _serial_verify(parent: int | None = None) -> None:
+    """In a pool worker: the cores are the pool's, so each cross-check's rerun runs after its solve; and
+    the worker dies with the sweep (a sweep killed by a signal leaves no workers behind)."""
     from mech.solvers import crosscheck
 
     crosscheck.PARALLEL_VERIFY = False
+    if parent is not None and hasattr(crosscheck, "_die_with_parent"):
+        crosscheck._die_with_parent(parent)
 
 
-def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool) -> dict:
-    """One grid point's cross-check as the contract's solve object (without id and title); picklable."""
+def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only=None) -> dict:
+    """One grid point's cross-check as the contract's solve object (without id and title); picklable.
+
+    ``only``: the output names to keep (the solvers still compute all of them on this route)."""
     from mech.problems import registry
     from mech.solvers.crosscheck import cross_check
 
@@ -98,6 +157,11 @@ def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool) -> d
     d.pop("title", None)
     import_s = (d.get("numeric_info") or {}).get("import_s") or 0.0
     d["wall_s"] = time.perf_counter() - t0 - import_s
+    if only:
+        d["quantities"] = [q for q in d["quantities"] if q["name"] in only]
+        flags = [q["agree"] for q in d["quantities"]]
+        d["agree"] = (False if d.get("errors") or any(f is False for f in flags)
+                      else None if all(f is None for f in flags) else True)
     return d
 
 
@@ -122,6 +186,7 @@ def run_sweep(
     verify: bool = True,
     jobs: int | None = None,
     progress: Callable[[int], None] | None = None,
+    only: Sequence[str] | None = None,
 ) -> SweepResult:
     """Cross-check at every (already validated) point; ``jobs`` forces the number of processes (None: decide).
 
@@ -138,23 +203,416 @@ def run_sweep(
             progress(done)
 
     if not params:
-        return SweepResult(ex, list(axes), dict(fixed), [], 1, 0.0)
+        return SweepResult(ex, list(axes), dict(fixed), [], 1, 0.0, only=only)
+    only = tuple(only) if only else None
     # the first point here: it measures the cost per point
-    points[0] = solve_point(ex.id, dict(params[0]), rtol, verify)
+    points[0] = solve_point(ex.id, dict(params[0]), rtol, verify, only)
     tick()
     rest = list(range(1, len(params)))
     workers = jobs if jobs is not None else plan_workers(len(rest), points[0]["wall_s"])
     workers = max(1, min(workers, len(rest))) if rest else 1
     if workers == 1:
         for i in rest:
-            points[i] = solve_point(ex.id, dict(params[i]), rtol, verify)
+            points[i] = solve_point(ex.id, dict(params[i]), rtol, verify, only)
             tick()
     else:
-        with ProcessPoolExecutor(max_workers=workers, initializer=_serial_verify) as pool:
-            futures = {pool.submit(solve_point, ex.id, dict(params[i]), rtol, verify): i for i in rest}
+        with ProcessPoolExecutor(max_workers=workers, initializer=_serial_verify,
+                                 initargs=(os.getpid(),)) as pool:
+            futures = {pool.submit(solve_point, ex.id, dict(params[i]), rtol, verify, only): i for i in rest}
             from concurrent.futures import as_completed
 
             for fut in as_completed(futures):
                 points[futures[fut]] = fut.result()
                 tick()
-    return SweepResult(ex, list(axes), dict(fixed), points, workers, time.perf_counter() - t0)
+    return SweepResult(ex, list(axes), dict(fixed), points, workers, time.perf_counter() - t0, only=only)
+
+
+# -- charts: the batched route -----------------------------------------------------------------------
+
+CHUNK = 8192  # points integrated together: the stages take 16 * 4 * CHUNK numbers (4 MB)
+
+
+def batched_outputs(ex: Exercise, only: Sequence[str] | None) -> tuple[str, ...] | None:
+    """The outputs a batched sweep computes, or None when the exercise has no batched route for them all."""
+    route = getattr(ex, "_batched", None)
+    if route is None:
+        return None
+    wanted = tuple(only) if only else tuple(o.name for o in ex.outputs)
+    return wanted if set(wanted) <= set(route.outputs) else None
+
+
+def grid_arrays(ex: Exercise, axes: Sequence[Axis], fixed: dict[str, float]) -> dict:
+    """Every parameter as an array over the grid (the first axis varies slowest), defaults filled in."""
+    import numpy as np
+
+    mesh = np.meshgrid(*[np.asarray(a.values, dtype=float) for a in axes], indexing="ij")
+    n = mesh[0].size
+    P = {}
+    for p in ex.params:
+        P[p.name] = np.full(n, float(fixed.get(p.name, p.default)))
+    for a, m in zip(axes, mesh):
+        P[a.name] = m.ravel()
+    return P
+
+
+def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter):
+    """The cross-check's rule over arrays: one output at every point -> dict of arrays and reasons.
+
+    The same rule as ``crosscheck.cross_check``: tolerance = the numeric claim,
+    at least the expected error for a leading-order output; both undefined
+    agree, one undefined disagrees; a rerun at rtol/10 that moves the value by
+    more than the claim makes it unreliable (disagree).
+    """
+    import numpy as np
+
+    out = next(o for o in ex.outputs if o.name == name)
+    a = a_col.value
+    a_und = a_col.mask("undefined")
+    n = num.value
+    n_und = num.mask("undefined")
+    n_fail = num.mask("failed")
+    N = n.size
+    rel = np.broadcast_to(np.asarray(num.rel, dtype=float), (N,))
+    rel = np.where(np.isnan(rel), ex.tol_factor * rtol, rel)  # no claim: the exercise's default one
+    tol_abs = np.broadcast_to(np.asarray(num.abs, dtype=float), (N,))
+    tol = rel.copy()
+    expected = expected_abs = None
+    allowed_abs = tol_abs
+    if out.theory != "exact" and e_rel is not None:
+        expected, expected_abs = (np.asarray(x, dtype=float) for x in e_rel)
+        # an absolute part alone: the relative one is 0
+        expected = np.where(np.isnan(expected) & ~np.isnan(expected_abs), 0.0, expected)
+        tol = np.where(np.isnan(expected), tol, np.fmax(tol, expected))
+        allowed_abs = np.fmax(tol_abs, np.nan_to_num(expected_abs, nan=0.0))
+    a_num = ~a_und & np.isfinite(a)
+    n_num = ~n_und & ~n_fail & np.isfinite(n)
+    both = a_num & n_num
+    abs_err = np.where(both, np.abs(n - a), np.nan)
+    denom = np.where(a != 0, np.abs(a), np.abs(n))
+    # the analytic value's own round-off (``Exercise.analytic_error``), where the batched analytic gives it
+    a_err = np.broadcast_to(np.asarray(a_col.abs, dtype=float), (N,))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel_err = np.where(both, np.where(denom > 0, abs_err / denom, 0.0), np.nan)
+        agree_num = abs_err <= tol * np.abs(a) + allowed_abs + a_err
+    # 1 agree, 0 disagree, -1 no verdict (the numeric value failed: the point's error says why)
+    agree = np.full(N, -1, dtype=np.int8)
+    agree[both] = agree_num[both]
+    one = (a_und | n_und) & ~n_fail
+    agree[one] = (a_und & n_und)[one]
+    # the leading-order theory finds no value, but what it neglects allows one this large
+    numeric_err = np.where(n_num, rel * np.abs(n) + tol_abs, np.nan)
+    small = np.zeros(N, dtype=bool)
+    if expected_abs is not None:
+        small = a_und & n_num & (np.nan_to_num(expected_abs, nan=0.0) > 0)
+        agree[small] = (np.abs(n) <= expected_abs + numeric_err)[small]
+    # an error bar of infinity would agree with anything: no verdict but a failure
+    no_claim = n_num & ~(np.isfinite(rel) & np.isfinite(tol_abs))
+    agree[no_claim] = 0
+    verify_diff = np.full(N, np.nan)
+    unreliable = np.zeros(N, dtype=bool)
+    ver_fail = np.zeros(N, dtype=bool)
+    if ver is not None:
+        v = ver.value
+        v_num = ~ver.mask("undefined") & ~ver.mask("failed") & np.isfinite(v)
+        ver_fail = ver.mask("failed") & ~n_fail
+        chk = n_num & v_num
+        verify_diff = np.where(chk, np.abs(v - n), np.nan)
+        scale = np.where(a_num & (a != 0), np.abs(a), np.abs(n))
+        claim = rel * scale + tol_abs
+        unreliable = chk & (verify_diff > claim)
+        agree[unreliable] = 0
+    return {
+        "analytic": np.where(a_num, a, np.nan), "numeric": np.where(n_num, n, np.nan),
+        "a_und": a_und, "n_und": n_und, "n_fail": n_fail, "ver_fail": ver_fail,
+        "abs_err": abs_err, "rel_err": rel_err, "tol": tol, "tol_abs": tol_abs, "agree": agree,
+        "expected_err": expected, "expected_err_abs": expected_abs, "small": small,
+        "verify_diff": verify_diff, "unreliable": unreliable,
+        "numeric_err": numeric_err, "a_col": a_col, "num": num, "ver": ver, "no_claim": no_claim,
+        "tighter": tighter,
+    }
+
+
+def _concat_columns(cols):
+    """One Column from the chunks' Columns (values, claims and masks laid end to end)."""
+    import numpy as np
+
+    from mech.solvers.batch import Column
+
+    sizes = [c.value.size for c in cols]
+
+    def full(x, k):
+        return np.broadcast_to(np.asarray(x, dtype=float), (sizes[k],))
+
+    value = np.concatenate([c.value for c in cols])
+    rel = np.concatenate([full(c.rel, k) for k, c in enumerate(cols)])
+    ab = np.concatenate([full(c.abs, k) for k, c in enumerate(cols)])
+    out = Column(value, rel=rel, abs=ab)
+    for which in ("undefined", "failed"):
+        reasons = {}
+        for c in cols:
+            for _, why in getattr(c, which):
+                reasons.setdefault(why, None)
+        for why in reasons:
+            parts = []
+            for k, c in enumerate(cols):
+                m = np.zeros(sizes[k], dtype=bool)
+                for mm, w in getattr(c, which):
+                    if w == why:
+                        m |= np.asarray(mm, dtype=bool)
+                parts.append(m)
+            getattr(out, which).append((np.concatenate(parts), why))
+    return out
+
+
+def _failed_column(n, why):
+    import numpy as np
+
+    from mech.solvers.batch import Column
+
+    return Column(np.full(n, np.nan), rel=np.nan, abs=0.0, failed=[(np.ones(n, dtype=bool), why)])
+
+
+def run_batched(
+    ex: Exercise,
+    axes: Sequence[Axis],
+    fixed: dict[str, float],
+    outputs: Sequence[str],
+    *,
+    rtol: float | None = None,
+    verify: bool = True,
+    chunk: int = CHUNK,
+    progress: Callable[[int], None] | None = None,
+) -> SweepResult:
+    """The chart route: every (validated) grid point through the exercise's batched route, chunk by chunk.
+
+    Both solves (at rtol and at rtol/10) and the analytic side run over the
+    chunk's arrays; each point gets its own verdict by the cross-check's rule.
+    A chunk whose integration fails (step underflow, the time budget) fails
+    its points loudly with the reason; the others stand.
+    """
+    import numpy as np
+
+    from mech.problems.spec import NumericFailure
+
+    route = ex._batched
+    rtol = float(rtol or ex.default_rtol)
+    tighter = max(rtol / 10.0, ex.min_rtol)
+    verify = verify and tighter < rtol
+    t0 = time.perf_counter()
+    P = grid_arrays(ex, axes, fixed)
+    N = next(iter(P.values())).size
+    nums = {o: [] for o in outputs}
+    vers = {o: [] for o in outputs}
+    analytic = {o: [] for o in outputs}
+    expected = {o: [] for o in outputs}
+    stats = {"steps": 0, "chunks": 0}
+    # what a route computes once per distinct value of the parameters an output depends on, shared by the
+    # sweep's chunks (a route that takes a ``memo`` keyword)
+    import inspect
+
+    memo: dict = {}
+    takes_memo = "memo" in inspect.signature(route.numeric).parameters
+    for start in range(0, N, chunk):
+        sl = slice(start, min(start + chunk, N))
+        Pc = {k: v[sl] for k, v in P.items()}
+        m = sl.stop - sl.start
+        for tol, store in ((rtol, nums), (tighter, vers)) if verify else ((rtol, nums),):
+            try:
+                got = (route.numeric(Pc, tol, tuple(outputs), memo=memo) if takes_memo
+                       else route.numeric(Pc, tol, tuple(outputs)))
+            except NumericFailure as exc:
+                why = f"numeric solver failed{'' if tol == rtol else f' at rtol={tol:g}'}: {exc}"
+                got = {o: _failed_column(m, why) for o in outputs}
+            for o in outputs:
+                store[o].append(got[o])
+        a = route.analytic(Pc)
+        e = route.expected_error(Pc) if route.expected_error else {}
+        for o in outputs:
+            analytic[o].append(a[o])
+            # relative, or (relative, absolute) where the leading-order value can be zero; NaN: none given
+            rel_abs = e.get(o, np.nan)
+            if not isinstance(rel_abs, tuple):
+                rel_abs = (rel_abs, np.nan)
+            expected[o].append(np.stack([np.broadcast_to(np.asarray(x, dtype=float), (m,)) for x in rel_abs]))
+        stats["chunks"] += 1
+        if progress:
+            progress(sl.stop)
+    judged = {}
+    for o in outputs:
+        judged[o] = _judge(ex, o, _concat_columns(analytic[o]), np.concatenate(expected[o], axis=1),
+                           _concat_columns(nums[o]), _concat_columns(vers[o]) if verify else None, rtol, tighter)
+    info = {"method": "DOP853 (batched)", "rtol": rtol, "verify_rtol": tighter if verify else None,
+            "chunk": chunk, "chunks": stats["chunks"]}
+    result = SweepResult(ex, list(axes), dict(fixed), None, 1, time.perf_counter() - t0)
+    result.extra = {"route": "batched", "outputs": list(outputs), "grid": P, "judged": judged, "info": info}
+    return result
+
+
+def _num(x):
+    import math as _m
+
+    x = float(x)
+    return x if _m.isfinite(x) else None
+
+
+def batched_points(result: SweepResult) -> list[dict]:
+    """The chart's per-point solve objects (as ``mech solve --json`` gives them, the asked outputs only)."""
+    ex = result.exercise
+    P = result.extra["grid"]
+    judged = result.extra["judged"]
+    info = result.extra["info"]
+    units = {o.name: o for o in ex.outputs}
+    names = [p.name for p in ex.params]
+    N = next(iter(P.values())).size
+    cols = {k: P[k].tolist() for k in names}
+    points = []
+    for k in range(N):
+        quantities, errors = [], []
+        for name, J in judged.items():
+            o = units[name]
+            q = {"name": name, "unit": o.unit, "analytic": _num(J["analytic"][k]), "numeric": _num(J["numeric"][k])}
+            notes = []
+            if J["a_und"][k]:
+                notes.append(f"analytic: {J['a_col'].reason('undefined', k)}")
+            if J["n_und"][k]:
+                notes.append(f"numeric: {J['num'].reason('undefined', k)}")
+            if J["n_fail"][k]:
+                errors.append(J["num"].reason("failed", k) if J["num"].reason("failed", k).startswith("numeric")
+                              else f"numeric solver failed: {name}: {J['num'].reason('failed', k)}")
+            if J["ver_fail"][k]:
+                why = J["ver"].reason("failed", k)
+                errors.append(why if why.startswith("numeric") else
+                              f"numeric solver failed at rtol={J['tighter']:g}: {name}: {why}")
+            q["abs_err"] = _num(J["abs_err"][k])
+            q["rel_err"] = _num(J["rel_err"][k])
+            q["tol"] = _num(J["tol"][k])
+            if J["tol_abs"][k]:
+                q["tol_abs"] = float(J["tol_abs"][k])
+            ag = int(J["agree"][k])
+            q["agree"] = None if ag < 0 else bool(ag)
+            if o.theory != "exact":
+                q["theory"] = o.theory
+                q["expected_err"] = None if J["expected_err"] is None else _num(J["expected_err"][k])
+                if J["expected_err_abs"] is not None and J["expected_err_abs"][k] == J["expected_err_abs"][k]:
+                    q["expected_err_abs"] = _num(J["expected_err_abs"][k])
+            if q["numeric"] is not None:
+                q["numeric_err"] = _num(J["numeric_err"][k])
+            if not (J["verify_diff"][k] != J["verify_diff"][k]):  # not NaN
+                q["verify_diff"] = float(J["verify_diff"][k])
+            if J["small"][k]:
+                notes.append("the leading-order theory finds no value; within what it neglects one up to "
+                             f"{J['expected_err_abs'][k]:.3g} may exist" + ("" if ag else ", and this one is larger"))
+            elif (J["a_und"][k]) != (J["n_und"][k]) and not J["n_fail"][k]:
+                notes.append("one method finds no finite value where the other does")
+            if J["no_claim"][k]:
+                notes.append("the numeric solver claims no finite accuracy for this value")
+            if J["unreliable"][k]:
+                notes.append(f"unreliable: the numeric value moves by {J['verify_diff'][k]:.3g} at rtol/10, "
+                             f"more than its claimed accuracy")
+            if notes:
+                q["note"] = "; ".join(dict.fromkeys(notes))
+            quantities.append(q)
+        flags = [q["agree"] for q in quantities]
+        agree = False if errors or any(f is False for f in flags) else (None if all(f is None for f in flags)
+                                                                          else True)
+        pt = {"params": {n: cols[n][k] for n in names}, "quantities": quantities, "agree": agree,
+              "numeric_info": dict(info)}
+        if errors:
+            pt["errors"] = list(dict.fromkeys(errors))
+        points.append(pt)
+    return points
+
+
+def output_arrays(result: SweepResult, name: str) -> dict:
+    """One output over the grid as arrays in grid order: numeric, analytic (NaN where none), agree
+    (1, 0, -1 for no verdict), failed (the point's verdict is a failure) and the reason of each failure."""
+    import numpy as np
+
+    if result.points is None:
+        J = result.extra["judged"][name]
+        pts_failed = np.zeros(J["agree"].size, dtype=bool)
+        for other in result.extra["judged"].values():
+            pts_failed |= (other["agree"] == 0) | other["n_fail"] | other["ver_fail"]
+        reasons = np.full(J["agree"].size, "", dtype=object)
+        for k in np.flatnonzero(pts_failed):
+            reasons[k] = _reason_batched(result, int(k))
+        return {"numeric": J["numeric"], "analytic": J["analytic"], "agree": J["agree"], "failed": pts_failed,
+                "reasons": reasons}
+    pts = result.points
+    num = np.array([_nan(q["numeric"]) for pt in pts for q in pt["quantities"] if q["name"] == name])
+    ana = np.array([_nan(q["analytic"]) for pt in pts for q in pt["quantities"] if q["name"] == name])
+    agree = np.array([-1 if q["agree"] is None else int(q["agree"])
+                      for pt in pts for q in pt["quantities"] if q["name"] == name], dtype=np.int8)
+    failed = np.array([pt.get("agree") is False for pt in pts])
+    reasons = np.array([_reason_point(pt) if pt.get("agree") is False else "" for pt in pts], dtype=object)
+    return {"numeric": num, "analytic": ana, "agree": agree, "failed": failed, "reasons": reasons}
+
+
+def _nan(v):
+    return float("nan") if v is None else float(v)
+
+
+def failure_kind(text: str) -> str:
+    """A failure's reason shortened to its kind, for a legend: the words before any number."""
+    import re
+
+    head = re.split(r"[-+]?\d", text, maxsplit=1)[0].rstrip(" =:(,")
+    return head or text
+
+
+def _reason_point(pt: dict) -> str:
+    if pt.get("errors"):
+        return pt["errors"][0]
+    for q in pt["quantities"]:
+        if q["agree"] is False:
+            note = q.get("note") or ""
+            if "unreliable" in note:
+                return f"{q['name']}: unreliable (the rerun at rtol/10 moved it beyond its claim)"
+            if "no finite value" in note:
+                return f"{q['name']}: one method finds no finite value where the other does"
+            return f"{q['name']}: analytic and numeric differ beyond the error bars"
+    return "failed"
+
+
+def _reason_batched(result: SweepResult, k: int) -> str:
+    for name, J in result.extra["judged"].items():
+        if J["n_fail"][k]:
+            return f"{name}: {J['num'].reason('failed', k)}"
+        if J["ver_fail"][k]:
+            return f"{name}: at rtol/10: {J['ver'].reason('failed', k)}"
+    for name, J in result.extra["judged"].items():
+        if J["agree"][k] == 0:
+            if J["unreliable"][k]:
+                return f"{name}: unreliable (the rerun at rtol/10 moved it beyond its claim)"
+            if J["a_und"][k] != J["n_und"][k]:
+                return f"{name}: one method finds no finite value where the other does"
+            return f"{name}: analytic and numeric differ beyond the error bars"
+    return "failed"
+
+
+def boundary_curves(result: SweepResult) -> list[tuple[str, "object", "object", str]]:
+    """The leading-order boundaries the exercise declares for a map over its two swept parameters.
+
+    Returns (axis name the curve gives, values along the other axis, boundary values, label): the
+    exercise's own analytic value of the declared output along the other axis (the others fixed)."""
+    import numpy as np
+
+    route = getattr(result.exercise, "_batched", None)
+    if route is None or len(result.axes) != 2:
+        return []
+    curves = []
+    for k, axis in enumerate(result.axes):
+        if axis.name not in route.boundaries:
+            continue
+        output, text = route.boundaries[axis.name]
+        other = result.axes[1 - k]
+        xs = np.linspace(min(other.values), max(other.values), 400)
+        if other.log:
+            xs = np.geomspace(min(other.values), max(other.values), 400)
+        P = {p.name: np.full(xs.size, float(result.fixed.get(p.name, p.default))) for p in result.exercise.params}
+        P[other.name] = xs
+        P[axis.name] = np.full(xs.size, float(axis.values[0]))
+        col = route.analytic(P)[output]
+        ys = np.where(col.mask("undefined"), np.nan, col.value)
+        curves.append((axis.name, xs, ys, text))
+    return curves

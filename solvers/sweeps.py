@@ -40,9 +40,10 @@ from typing import Callable
 import numpy as np
 
 from mech.problems.spec import NumericFailure
+from mech.solvers import budget
 from mech.solvers.ode import Event, integrate
 
-__all__ = ["OrbitMap", "BranchPoint", "Sweep", "solve_on_plane", "sweep", "refine_root", "shorten_bracket", "bisect_parameter"]
+__all__ = ["OrbitMap", "RotatingOrbitMap", "BranchPoint", "Sweep", "solve_on_plane", "sweep", "refine_root", "shorten_bracket", "bisect_parameter"]
 
 
 @dataclass
@@ -53,7 +54,8 @@ class BranchPoint:
     J: np.ndarray  # 2 x 3: [M - I | d phi / d w]
     A: float  # half peak-to-peak swing of q, in units of Q
     gradA: np.ndarray  # dA/dz
-    res: np.ndarray  # phi(X0, Y0) - (X0, Y0) at the last evaluation
+    res: np.ndarray  # phi(X0, Y0) - (X0, Y0) at the last evaluation (over eps)
+    eps: float = 1.0  # res and J are the map's increments divided by eps (RotatingOrbitMap)
 
     @property
     def residual(self) -> float:
@@ -61,7 +63,7 @@ class BranchPoint:
 
     @property
     def M(self) -> np.ndarray:
-        return self.J[:, :2] + np.eye(2)
+        return self.eps * self.J[:, :2] + np.eye(2)
 
     @property
     def tangent(self) -> np.ndarray:
@@ -112,7 +114,7 @@ class OrbitMap:
         self.calls = 0
         self.memo_hits = 0
         self._memo = memo if memo is not None and memo_key is not None else None
-        self._memo_key = (memo_key, f0, Q, omega_ref, W, method)
+        self._memo_key = (type(self).__name__, memo_key, f0, Q, omega_ref, W, method)
 
     def omega(self, w: float) -> float:
         return self.omega_ref + self.W * w
@@ -154,10 +156,11 @@ class OrbitMap:
             if hit is not None:
                 self.memo_hits += 1
                 # a copy: callers move a point's z and A in place
-                return BranchPoint(z=hit.z.copy(), J=hit.J.copy(), A=hit.A, gradA=hit.gradA.copy(), res=hit.res.copy())
+                return _copy(hit)
+        budget.check("a periodic orbit's one-period map")
         bp = self._evaluate(z, rtol)
         if key is not None:
-            self._memo[key] = BranchPoint(z=bp.z.copy(), J=bp.J.copy(), A=bp.A, gradA=bp.gradA.copy(), res=bp.res.copy())
+            self._memo[key] = _copy(bp)
         return bp
 
     def _evaluate(self, z: np.ndarray, rtol: float) -> BranchPoint:
@@ -188,6 +191,96 @@ class OrbitMap:
         qmax, gmax = extreme(0, 1.0)
         qmin, gmin = extreme(1, -1.0)
         return BranchPoint(z=z.copy(), J=J, A=0.5 * (qmax - qmin), gradA=0.5 * (gmax - gmin), res=res)
+
+
+def _copy(bp: BranchPoint) -> BranchPoint:
+    # a copy: callers move a point's z and A in place
+    return BranchPoint(z=bp.z.copy(), J=bp.J.copy(), A=bp.A, gradA=bp.gradA.copy(), res=bp.res.copy(), eps=bp.eps)
+
+
+class RotatingOrbitMap(OrbitMap):
+    """The one-period map of q'' + omega0^2 q = r(q, q') + f0 cos(omega t) for a small remainder r, in
+    the rotating frame: q/Q = a cos tau + b sin tau, q'/(omega Q) = -a sin tau + b cos tau (tau = omega t,
+    an exact change of variables: a, b vary slowly when r, f0 and omega - omega0 are small).
+
+    With x = q/Q, x'' + x = F = (r + f0 cos tau)/(omega^2 Q) + (1 - omega0^2/omega^2) x and
+    a' = -F sin tau, b' = F cos tau.  What is integrated is the increment over ``eps`` (the size of
+    F, e.g. the damping 2 delta/omega0): A1 = (a - a0)/eps, B1 = (b - b0)/eps, and their derivatives
+    in (a0, b0, w) likewise.  So the map's residual and Jacobian come out to rtol of their own size
+    however weak the damping: the plain map, x -> x + O(eps), resolves its fixed point only to
+    rtol/eps (Q = omega0/(2 delta) = 1e8 left it at 1e-6 at best).  z = (a0, b0, w); the residual
+    and J are those increments (BranchPoint.eps scales J back to M).
+
+    ``remainder(q, p)`` returns (r, dr/dq, dr/dp) as floats; ``omega_ref`` is omega0.
+    """
+
+    def __init__(self, remainder, f0, Q, omega0, W, eps, *, memo=None, memo_key=None):
+        super().__init__(remainder, f0, Q, omega0, W, memo=memo, memo_key=memo_key)
+        self.eps = float(eps)
+        self._memo_key = (*self._memo_key, self.eps)
+
+    def _evaluate(self, z: np.ndarray, rtol: float) -> BranchPoint:
+        omega = self.omega(z[2])
+        if not omega > 0:
+            raise NumericFailure(f"the sweep reached a non-positive drive frequency ({omega:g} rad/s)")
+        Q, w0, W, f0, rem, eps = self.Q, self.omega_ref, self.W, self.f0, self.force, self.eps
+        a0, b0 = float(z[0]), float(z[1])
+        om2 = omega * omega
+        k = W * z[2] * (2.0 * w0 + W * z[2]) / om2  # 1 - omega0^2/omega^2, without cancellation
+        inv_om2Q = 1.0 / (om2 * Q)
+        dk = 2.0 * w0 * w0 / (om2 * omega)  # d k / d omega
+
+        def state(tau, s):
+            c, sn = math.cos(tau), math.sin(tau)
+            a, b = a0 + eps * s[0], b0 + eps * s[1]
+            return c, sn, a * c + b * sn, -a * sn + b * c
+
+        def rhs(tau, s):
+            c, sn, x, v = state(tau, s)
+            r, r_q, r_p = rem(Q * x, omega * Q * v)
+            drive = (r + f0 * c) * inv_om2Q
+            G = (drive + k * x) / eps
+            Fx = (r_q / om2 + k) / eps
+            Fv = r_p / omega / eps
+            Fw = W * (r_p * v / om2 - 2.0 * drive / omega + dk * x) / eps
+            out = [-G * sn, G * c, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+            for j in range(3):
+                P0 = (1.0 if j == 0 else 0.0) + eps * s[2 + j]
+                P1 = (1.0 if j == 1 else 0.0) + eps * s[5 + j]
+                dF = Fx * (c * P0 + sn * P1) + Fv * (-sn * P0 + c * P1) + (Fw if j == 2 else 0.0)
+                out[2 + j] = -sn * dF
+                out[5 + j] = c * dF
+            return out
+
+        def velocity(tau, s):
+            return state(tau, s)[3]
+
+        top = Event(velocity, terminal=False, direction=-1.0, name="q' = 0, maximum")
+        bottom = Event(velocity, terminal=False, direction=1.0, name="q' = 0, minimum")
+        scale = max(abs(a0), abs(b0), 1.0)
+        traj = integrate(rhs, (0.0, 2.0 * math.pi), [0.0] * 8, rtol=rtol, atol=1e-3 * rtol * scale,
+                         method=self.method, events=[top, bottom])
+        self.nfev += traj.nfev
+        self.calls += 1
+        s = traj.y_end
+
+        def extreme(k_ev, sign):
+            cands = [(tau, y) for tau, y in zip(traj.t_events[k_ev], traj.y_events[k_ev])]
+            cands += [(0.0, np.zeros(8)), (2.0 * math.pi, s)]  # the ends as a fallback
+            best = None
+            for tau, y in cands:
+                c, sn, x, _ = state(tau, y)
+                if best is None or sign * x > sign * best[0]:
+                    P0 = np.array([1.0, 0.0, 0.0]) + eps * np.asarray(y[2:5])
+                    P1 = np.array([0.0, 1.0, 0.0]) + eps * np.asarray(y[5:8])
+                    best = (x, c * P0 + sn * P1)
+            return best
+
+        xmax, gmax = extreme(0, 1.0)
+        xmin, gmin = extreme(1, -1.0)
+        J = np.array([s[2:5], s[5:8]], dtype=float)
+        return BranchPoint(z=z.copy(), J=J, A=0.5 * (xmax - xmin), gradA=0.5 * (gmax - gmin),
+                           res=np.array([s[0], s[1]], dtype=float), eps=eps)
 
 
 # a fresh point accepted at the noise floor must close to this many times rtol (times its size): 5.10's points
@@ -316,6 +409,7 @@ def sweep(
     prev_turn = None  # (s, w_turn) of the previous point, for the secant prediction of a zero
     s_total = 0.0
     while out.steps < max_steps:
+        budget.check("continuation of a periodic orbit")
         # a secant prediction of where det(M - I) (the tangent's w-component) vanishes caps the step,
         # so that a narrow fold pair (an S of the curve) is not stepped over
         h_try = min(h, h_max)
@@ -485,6 +579,7 @@ def bisect_parameter(pred: Callable[[float], bool], lo: float, hi: float, *, xto
     if pred(hi) == p_lo:
         raise NumericFailure("bisect_parameter: the property does not switch in the bracket")
     for _ in range(max_iter):
+        budget.check("bisection of a parameter")
         if abs(hi - lo) <= xtol:
             break
         mid = 0.5 * (lo + hi)

@@ -152,3 +152,29 @@ def test_a_solution_renders_in_a_terminal_and_in_jupyter():
     assert "theta_c" in text and "0.6154797" in text
     html = sol._repr_html_()
     assert "<table>" in html and "theta_c" in html and "agree" in html
+
+
+def test_the_command_line_writes_the_trajectory(tmp_path):
+    path = tmp_path / "ladder.csv"
+    res = CliRunner().invoke(cli, ["solve", "4.15", "--theta0", "60deg", "--trajectory", str(path)])
+    assert res.exit_code == 0
+    rows = path.read_text().splitlines()
+    assert rows[0] == "t [s],theta [rad],omega [rad/s]"
+    t, theta, omega = np.loadtxt(path, delimiter=",", skiprows=1).T
+    assert np.all(np.diff(t) > 0) and theta[0] == pytest.approx(math.pi / 3, rel=1e-12)
+    assert theta[-1] == pytest.approx(THETA_C_60, rel=1e-9)
+
+
+def test_no_trajectory_where_nothing_is_integrated(tmp_path):
+    res = CliRunner().invoke(cli, ["solve", "4.1", "--trajectory", str(tmp_path / "x.csv")])
+    assert res.exit_code == 2 and "no trajectory" in res.output
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_a_chart_sweep_takes_the_batched_route_and_matches_single_solves():
+    """5.11 has a batched route: its points must agree with mech.solve within the two error bars."""
+    sw = mech.sweep("5.11", omega=(9.9, 10.1, 3), mu=[0.05], only="growth")
+    a = sw.to_arrays()
+    assert all(a["growth_agree"])
+    one = mech.solve("5.11", omega=10.1, mu=0.05)["growth"]
+    assert abs(a["growth_numeric"][2] - one.numeric) <= a["growth_numeric_err"][2] + one.numeric_err

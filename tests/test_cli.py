@@ -145,9 +145,10 @@ def test_check_passes_and_writes_junit(tmp_path):
     junit = tmp_path / "report.xml"
     code, out, _ = run("check", "4.15", "--hard", "--junit", str(junit))
     assert code == 0
-    assert "3 passed, 0 failed" in out
+    # the defaults and 4.15's two hard cases, the first of which (theta0 = 90 deg) is the defaults: 2 runs
+    assert "2 passed, 0 failed" in out
     suite = ET.parse(junit).getroot().find("testsuite")
-    assert suite.get("tests") == "3" and suite.get("failures") == "0"
+    assert suite.get("tests") == "2" and suite.get("failures") == "0"
 
 
 def test_check_json():
@@ -254,7 +255,8 @@ def test_list_table_has_every_exercise_and_wraps_to_the_width():
         lines = table_lines(entries, width)
         assert lines[-1] == f"{len(entries)} exercises"
         assert max(len(line) for line in lines) <= width
-        starts = [line.split()[0] for line in lines[2:-1] if line[:6].strip()]
-        assert starts == [e.id for e in entries]
+        starts = [line.split()[0] for line in lines[2:-1] if line[:6].strip() and not line.startswith(("†", "+"))]
+        # the exercises set for mech (5.4-5.13) carry the mark
+        assert starts == [e.id + ("" if e.from_book else "†") for e in entries]
     code, out, _ = run("list")
     assert code == 0 and out.rstrip().endswith(f"{len(entries)} exercises") and " 4.15 " in out

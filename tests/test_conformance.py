@@ -71,3 +71,9 @@ def test_the_light_index_matches_the_imported_modules():
     for e in entries:
         ex = exercises[e.id]
         assert (e.title, e.topic, list(e.methods)) == (ex.title, ex.topic, ex.methods)
+        assert e.integrates == bool(ex.states)
+    from importlib import resources
+
+    written = resources.files("mech.problems").joinpath("index.toml").read_text("utf-8")
+    assert written == registry.index_text(), (
+        "problems/index.toml is stale: run python -m mech.problems.registry --write-index")

@@ -155,3 +155,21 @@ def test_a_solve_that_never_checks_its_budget_is_stopped_by_the_timer(monkeypatc
     res = _check(ex, verify=False, budget_s=0.2)
     assert time.monotonic() - t0 < 3.0
     assert res.agree is False and "time budget" in res.errors[0]
+
+
+@pytest.mark.parametrize("k, agree", [(0.5, True), (3.0, False)])
+def test_a_leading_order_output_that_can_be_zero_has_an_absolute_allowance(monkeypatch, k, agree):
+    """expected_error may give (relative, absolute): a value of 0 then agrees within the absolute part."""
+    ex = registry.get("5.9")
+    monkeypatch.setattr(ex, "_expected_error", lambda p: {o.name: (1e-3, 2e-4) for o in ex.outputs})
+
+    def numeric(p, run):
+        values = ex.solve_analytic(p)
+        values["lambda_lc"] = values["lambda_lc"] + 0.999e-3 * abs(values["lambda_lc"]) + k * 2e-4
+        return values
+
+    monkeypatch.setattr(ex, "_numeric", numeric)
+    res = _check(ex, verify=False)
+    q = next(q for q in res.quantities if q.name == "lambda_lc")
+    assert q.as_json()["expected_err_abs"] == pytest.approx(2e-4)
+    assert q.agree is agree

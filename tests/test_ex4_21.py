@@ -95,3 +95,35 @@ def test_below_omega_min_no_steady_precession():
         assert isinstance(v["omega_pre"], Undefined)
         assert isinstance(v["pre_ratio"], Undefined)
         assert v["omega_th"] == pytest.approx(W_TH, rel=1e-12)
+
+
+def test_sweep_point_with_a_slow_steady_state_holds_its_tilt():
+    """mech sweep 4.21 --omega3 200:2000:200 failed at omega3 = 453.266 (issue 14): unbounded
+    steps grew to radians of the nutation, a round-off nutation grew to a 1.3e-6 rad tilt
+    drift at any rtol.  The steady state is exact, so the integrated tilt must stay at
+    theta0 to round-off, and the rate is the numpy root of the hand quadratic."""
+    w3 = 453.266
+    a, n, run = solve_both("4.21", omega3=w3)
+    Om = slow_root_by_numpy(IA, I3, w3, MGL, math.pi / 6)
+    assert n["omega_pre"] == pytest.approx(Om, rel=1e-9)
+    assert run.invariants["tilt theta - theta0 (rad)"] < 1e-11
+
+
+@pytest.mark.parametrize(
+    "M, l, I1, I3_, w3, th, g",
+    [
+        # seeded draws (draws.py --seed 101) where omega_min missed by 0.3 % and 3 %: I_A/I3 ~ 1e10..1e14
+        (24132.1, 2406.95, 0.0249653, 0.00139018, 27.517, 0.103769, 0.0643615),
+        (4535.96, 1997.06, 1.00106, 4.36196e-05, 2.26233e07, 0.00310503, 517999.0),
+        (969.172, 17317.7, 1.88843e-08, 7.64458, 1138.95, 0.00451451, 140.086),
+    ],
+)
+def test_omega_min_at_extreme_inertias(M, l, I1, I3_, w3, th, g):
+    """omega_min = 2 sqrt(I_A M g l cos th)/I3 (the discriminant of the hand quadratic
+    vanishes); rotating the inertia tensor into lab axes lost its digits to a part in I_A/I3."""
+    IA_, Mgl = I1 + M * l * l, M * g * l
+    wmin = 2 * math.sqrt(IA_ * Mgl * math.cos(th)) / I3_
+    a, n, _ = solve_both("4.21", M=M, l=l, I1=I1, I3=I3_, omega3=w3, theta0=th, g=g)
+    assert n["omega_min"] == pytest.approx(wmin, rel=1e-9)
+    if w3 > wmin:
+        assert n["omega_pre"] == pytest.approx(slow_root_by_numpy(IA_, I3_, w3, Mgl, th), rel=1e-8)

@@ -71,3 +71,28 @@ def test_unstable_slow_upright_rolling_is_reported():
     a, n, run = solve_both("4.23", theta=0.01, R=0.012)
     assert "unstable" in run.info["steady_motion"]
     assert n["Omega"] == pytest.approx(Om, rel=1e-10)
+
+
+@pytest.mark.parametrize("draw", [
+    # issue 14: the spin read off the end of the turn moved by 1.1e-7 at rtol/10 (tilt drift 4.4e-6)
+    dict(r=1.14909, theta=0.0316499, R=0.217731, g=9.54348),
+    # draws.py --seed 401/402: R/r = 3.8e-5 (spin a part in 2.6e4 of |omega|), a timed turn off by
+    # 2.4 rtol (theta = 0.068, R/r = 17), a contact height drifting 5e-8 over 50 spin turns
+    dict(r=8.20871, theta=1.02145e-05, R=0.000315268, g=0.922707),
+    dict(r=0.00111209, theta=0.0679484, R=0.0187511, g=76001.6),
+    dict(r=1158.62, theta=0.535458, R=58113.7, g=2.05658),
+])
+def test_issue_draws_earn_their_claims(draw):
+    """Omega^2 = 4 g tan(theta)/(6 R - 5 r sin(theta)) and omega_spin = Omega R/r (the module
+    docstring's torque balance, by hand); the cross-check with its rerun at rtol/10 must pass."""
+    from mech.cli.checking import Case, run_case
+    from mech.problems import registry
+
+    d = draw
+    Om = math.sqrt(4 * d["g"] * math.tan(d["theta"]) / (6 * d["R"] - 5 * d["r"] * math.sin(d["theta"])))
+    _, n, _ = solve_both("4.23", **d)
+    assert n["Omega"] == pytest.approx(Om, rel=1e-8)
+    assert n["omega_spin"] == pytest.approx(Om * d["R"] / d["r"], rel=1e-8)
+    assert n["T"] == pytest.approx(2 * math.pi / Om, rel=1e-7)
+    case = run_case(Case(registry.all_exercises()["4.23"], "draw", d))
+    assert case.ok, case.detail

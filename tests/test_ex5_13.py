@@ -94,3 +94,20 @@ def test_leading_order_error_falls_as_the_square_of_omega0_over_Omega():
         errs.append(abs(n["omega_down"] / an["omega_down"] - 1))
     slope = math.log(errs[0] / errs[2]) / math.log(4.0)
     assert 1.8 < slope < 2.2
+
+
+@pytest.mark.parametrize(
+    "l, g, Omega",
+    [(118038.0, 129.932, 119466.0), (12359.0, 526.458, 12187.7), (52.6563, 329169.0, 2.17765e7)],
+)
+def test_a_min_at_extreme_scales_keeps_its_accuracy(l, g, Omega):
+    """Draws that failed their rerun (the fast jitter of y', of size a/l, swamped the slow drift of
+    order (a/l)^2).  Here omega0/Omega <= 4e-3 and a_min/l <= 3e-5, so the leading-order
+    a_min = sqrt(2 g l)/Omega is off by relative O(4 omega0^2/Omega^2 + (2 a_min/l)^2) <= 7e-5, the
+    first case 1e-12; and the numeric value must not move at rtol/10 by more than its claim."""
+    lead = math.sqrt(2.0 * g * l) / Omega
+    eta = 4.0 * g / (l * Omega**2) + (2.0 * lead / l) ** 2
+    _, n, _ = solve_both("5.13", l=l, g=g, a=0.01 * l, Omega=Omega)
+    _, n10, _ = solve_both("5.13", rtol=1e-13, l=l, g=g, a=0.01 * l, Omega=Omega)
+    assert n["a_min"] == pytest.approx(lead, rel=max(eta, 1e-11))
+    assert n10["a_min"] == pytest.approx(n["a_min"], rel=1e-10)

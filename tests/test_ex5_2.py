@@ -62,3 +62,71 @@ def test_whole_period_pulse_leaves_oscillator_at_rest():
         assert abs(v["A_after"]) < 1e-10
         assert abs(v["q_t"]) < 1e-10
         assert v["q_max"] == pytest.approx(0.12, rel=1e-8)
+
+
+# ---- long phases (issue 14): draws that stepped through 1e9 rad or lost the phase -----------------
+#
+# Reference: the closed forms above evaluated to 100 digits on the exact given doubles (tests/hiprec.py):
+# the phases omega0 T, omega0 t1 are products of doubles, exact in Decimal, so the reference has no
+# phase round-off; the solvers have ~u * phase and must say so in their error bars.
+
+LONG = [
+    dict(m=1070.13, omega0=1.53e06, F0=-45926.8, T=577.257, t1=0.00649705),  # pulse of 8.8e8 rad: timed out
+    dict(m=0.637639, omega0=1693.15, F0=102686.0, T=0.00979201, t1=1.91928e06),  # t1 at 3.2e9 rad: disagreed
+    dict(m=28.2706, omega0=1358.28, F0=-224248.0, T=62658.0, t1=809412.0),  # both long: timed out
+    dict(m=0.281735, omega0=870509.0, F0=-274083.0, T=0.00121425, t1=26.0453),  # 2.3e7 rad: disagreed
+]
+
+
+def _exact(m, omega0, F0, T, t1):
+    import hiprec
+    from decimal import localcontext
+
+    D = hiprec.D
+    with localcontext() as ctx:
+        ctx.prec = hiprec.PREC
+        qst = D(F0) / (D(m) * D(omega0) ** 2)
+        phi = D(omega0) * D(T)
+        s = hiprec.sin(phi / 2)
+        a_after = 2 * abs(qst) * abs(s)
+        if D(t1) <= D(T):
+            q_t = 2 * qst * hiprec.sin(D(omega0) * D(t1) / 2) ** 2
+        else:
+            q_t = 2 * qst * s * hiprec.sin(D(omega0) * (D(t1) - D(T) / 2))
+        q_max = 2 * abs(qst) if phi >= hiprec.PI else a_after
+        return {"A_after": float(a_after), "q_max": float(q_max), "q_t": float(q_t)}
+
+
+def _numeric_err(ex, run, name, value):
+    rel, abs_ = run.claims.get(name, (None, None))
+    rel = ex.tol_factor * run.rtol if rel is None else rel
+    return rel * abs(value) + (abs_ or 0.0)
+
+
+@pytest.mark.parametrize("given", LONG)
+def test_long_phases_within_the_stated_errors(given):
+    import time
+
+    from mech.problems import registry
+
+    ex = registry.get("5.2")
+    p = ex.resolve(given)
+    t0 = time.monotonic()
+    n, run = ex.solve_numeric(p)
+    assert time.monotonic() - t0 < 3.0  # the flow is a matrix exponential, not 1e9 rad of steps
+    a = ex.solve_analytic(p)
+    a_err = ex.analytic_errors(p)
+    ref = _exact(**given)
+    for name, exact in ref.items():
+        assert abs(n[name] - exact) <= _numeric_err(ex, run, name, n[name]), name
+        assert abs(a[name] - exact) <= a_err[name] + 4 * 2.0**-53 * abs(exact), name
+        # and the error bars are not vacuous: below a part in 1e4 of the oscillation's size
+        assert _numeric_err(ex, run, name, n[name]) < 1e-4 * 2 * abs(given["F0"] / (given["m"] * given["omega0"] ** 2))
+
+
+def test_a_phase_without_significant_digits_is_refused():
+    from mech.problems import registry
+    from mech.problems.spec import BadInput
+
+    with pytest.raises(BadInput, match="carries no significant digit"):
+        registry.get("5.2").resolve(dict(omega0=5e6, t1=3e9))

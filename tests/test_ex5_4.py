@@ -81,3 +81,19 @@ def test_strong_damping_asymptotics():
 def test_critical_damping_relaxes_fastest():
     rates = [solve_both("5.4", zeta=z)[0]["lambda_slow"] for z in (1.0, 1.01, 1.5, 3.0)]
     assert rates == sorted(rates, reverse=True)
+
+
+def test_a_reading_after_1e5_decay_times_is_zero_within_its_claim_and_fast():
+    """Issue 14 draw: omega0 0.484781, zeta 3.69078, t1 = 521341 s: the slow rate is
+    omega0/(zeta + (zeta^2 - 1)^(1/2)) = 0.0664 1/s, so q(t1)/q0 ~ e^-34600, zero in doubles; the leg
+    once took 6e5 steps (and divided by zero in the step control).  t_eps: the root of
+    q/q0 = eps = 1.74208e-5 is about ln(1/eps)/lambda_s (within the prefactor's log)."""
+    import time
+
+    t0 = time.monotonic()
+    a, n, run = solve_both("5.4", omega0=0.484781, zeta=3.69078, q0=5095.95, t1=521341.0, eps=1.74208e-05)
+    assert time.monotonic() - t0 < 4.0
+    rel, ab = run.claims["q_t"]
+    assert abs(n["q_t"]) <= ab and 0.0 < ab < 1e-12 * 5095.95
+    lam = 0.484781 / (3.69078 + math.sqrt(3.69078**2 - 1.0))
+    assert n["t_eps"] == pytest.approx(math.log(1 / 1.74208e-05) / lam, rel=0.1)

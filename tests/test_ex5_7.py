@@ -116,3 +116,28 @@ def test_harmonic_limit_and_barrier_rejected():
         assert v["omega"] == 2.0 and v["domega"] == 0.0 and v["c3"] == 0.0
     with pytest.raises(BadInput):
         registry.get("5.7").resolve({"alpha": -1.0, "A": 2.0})
+
+
+@pytest.mark.parametrize("given", [{}, {"alpha": -15.0, "omega0": 2.0, "A": 0.5}])
+def test_a_flipped_cubic_term_fails_the_energy_check(monkeypatch, given):
+    """The energy is the statement's potential omega0^2 q^2/2 + alpha q^4/4 in SI, written apart from the
+    equation of motion: flipping the sign of the cubic force (a defect in the equation) must make the
+    monitored energy drift and the cross-check fail.  (Given {alpha -15, omega0 2, A 0.5}: eps = -0.94,
+    the barrier branch, which has its own equation; the defect there is flipped in that equation.)"""
+    import importlib
+
+    from mech.problems import registry
+    from mech.solvers.crosscheck import cross_check
+
+    mod = importlib.import_module("mech.problems.ch5.ex5_7_duffing_free")
+    ex = registry.get("5.7")
+    p = ex.resolve(given)
+    assert cross_check(ex, p).agree  # sound equations pass
+    monkeypatch.setattr(mod, "cubic_force", lambda x, b: b * x**3)
+    sound_barrier = mod.barrier_equation_of_motion
+    # x'' = -x - eps x^3 flipped to -x + eps x^3 is, in s = x_b - x, s'' = x - eps x^3 (no longer zero at s = 0)
+    monkeypatch.setattr(mod, "barrier_equation_of_motion",
+                        lambda s, xb, eps: sound_barrier(s, xb, eps) - 2.0 * eps * (xb - s) ** 3)
+    result = cross_check(ex, p)
+    assert not result.agree
+    assert any("energy" in e for e in result.errors)

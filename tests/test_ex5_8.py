@@ -223,3 +223,34 @@ def test_leading_order_error_scales_linearly():
         errs.append({k: abs(n[k] / a[k] - 1) for k in a})
     for k in errs[0]:
         assert errs[0][k] / errs[1][k] == pytest.approx(4.0, rel=0.1)
+
+
+def test_very_weak_damping_draw_agrees_with_the_reduced_equations():
+    """A draw at delta/omega0 = 4e-9 where the plain one-period map (fixed point resolved to rtol/damp)
+    stalled.  Its small parameters are delta/omega0 = 4e-9 and |alpha| A_max^2/omega0^2 = 5e-7, so the
+    reduced equations hold to ~1e-6 relative: the hand formulas and the folds of rwa_folds."""
+    p = dict(omega0=865531.0, delta=0.00342526, alpha=-3.91372e8, f0=183.589)
+    _, n, run = solve_both("5.8", **p)
+    am = p["f0"] / (2 * p["omega0"] * p["delta"])
+    assert n["A_max"] == pytest.approx(am, rel=3e-6)
+    assert n["xi_peak"] == pytest.approx(3 * p["alpha"] / (8 * p["omega0"]) * am**2, rel=3e-6)
+    lo, hi = rwa_folds(**p)
+    assert n["xi_lo"] == pytest.approx(lo, rel=1e-5)
+    assert n["xi_hi"] == pytest.approx(hi, rel=1e-5)
+    assert run.info["orbit_map"] == "RotatingOrbitMap"
+
+
+def test_rotating_and_plain_maps_agree(monkeypatch):
+    """The same Q = 7100 resonance (g = 3, damping per period 8.8e-4) by the one-period map in the
+    rotating frame and by the plain one: two formulations of the same orbits, which must agree to
+    their claims (1e-8)."""
+    import mech.problems.ch5.ex5_8_duffing_resonance as ex58
+
+    p = dict(omega0=10.0, delta=0.0007, alpha=1000.0, f0=1.0475e-4)
+    _, rot, run_rot = solve_both("5.8", **p)
+    monkeypatch.setattr(ex58, "ROTATING_BELOW", 0.0)
+    _, plain, run_plain = solve_both("5.8", **p)
+    assert run_rot.info["orbit_map"] == "RotatingOrbitMap" and run_plain.info["orbit_map"] == "OrbitMap"
+    assert isinstance(rot["xi_lo"], float)
+    for k in rot:
+        assert rot[k] == pytest.approx(plain[k], rel=1e-8, abs=1e-9 * p["delta"])

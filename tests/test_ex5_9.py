@@ -82,3 +82,40 @@ def test_leading_order_errors_scale_as_eps_squared():
     errs = np.array(errs)
     slopes = np.log(errs[0] / errs[2]) / np.log(4.0)
     assert np.all(slopes > 1.9) and np.all(slopes < 2.1)
+
+
+def test_tiny_eps_keeps_the_amplitude_to_rtol():
+    """A draw whose Newton step on the return map moved A by 1e-7 at rtol/10: with eps = 8.9e-6 the
+    map is X -> X + O(eps (X - 2)).  The cycle here is the eps -> 0 one to O(eps^2) = 8e-11:
+    A = 2/sqrt(beta), omega = omega0 (1 - eps^2/16), lambda = -mu."""
+    omega0, mu, beta = 427.624, 0.00379074, 0.370395
+    _, n, _ = solve_both("5.9", omega0=omega0, mu=mu, beta=beta)
+    _, n10, _ = solve_both("5.9", rtol=1e-11, omega0=omega0, mu=mu, beta=beta)
+    assert n["A"] == pytest.approx(2.0 / math.sqrt(beta), rel=1e-9)
+    assert n["omega"] == pytest.approx(omega0, rel=1e-10)
+    assert n["lambda_lc"] == pytest.approx(-mu, rel=1e-8)
+    for k in n:
+        assert n10[k] == pytest.approx(n[k], rel=1e-9)
+
+
+def test_strong_relaxation_against_its_asymptotic_period():
+    """eps = mu/omega0 = 1e4 (the draws timed out for eps ~ 1e4).  The relaxation oscillation's period
+    is T omega0 = (3 - 2 ln 2) eps + 3 a1 eps^(-1/3) + O(ln eps/eps), a1 = 2.33811 the Airy zero
+    (Dorodnitsyn): 16137.0564 + 0.3256; the O(ln eps/eps) rest is ~2e-3, 1.5e-7 relative.  Its
+    exponent: the divergence eps (1 - x^2) averaged along the slow branches (x from 2 to 1 on
+    y = x - x^3/3, ds = (1 - x^2)/x dx in the slow time), lambda/mu = -2 (3/4 + ln 2)/(3 - 2 ln 2)
+    = -1.788612, up to O(eps^(-2/3)) = 2e-3 relative at most; A sqrt(beta) = 2 + O(eps^(-4/3))."""
+    omega0, mu = 1.0, 1e4
+    _, n, _ = solve_both("5.9", omega0=omega0, mu=mu, beta=4.0)
+    T = (3 - 2 * math.log(2)) * mu + 3 * 2.338107 * mu ** (-1 / 3)
+    assert 2 * math.pi / n["omega"] == pytest.approx(T, rel=1e-6)
+    assert n["lambda_lc"] / mu == pytest.approx(-2 * (0.75 + math.log(2)) / (3 - 2 * math.log(2)), rel=2e-3)
+    assert n["A"] == pytest.approx(1.0, rel=1e-4)
+
+
+def test_beyond_double_precision_relaxation_is_refused():
+    from mech.problems import registry
+    from mech.problems.spec import BadInput
+
+    with pytest.raises(BadInput, match="mu/omega0"):
+        registry.get("5.9").resolve({"mu": 3e6, "omega0": 3.0})

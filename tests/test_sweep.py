@@ -42,19 +42,36 @@ def test_grid_order_first_axis_slowest_and_csv():
     assert code == 0, err
     rows = list(csv.DictReader(io.StringIO(out)))
     assert len(rows) == 6
-    pairs = [(round(float(r["theta0"]), 6), float(r["l"])) for r in rows]
-    assert pairs == [(round(math.pi / 4, 6), 1.0), (round(math.pi / 4, 6), 2.0), (round(math.pi / 4, 6), 3.0),
-                     (round(math.pi / 2, 6), 1.0), (round(math.pi / 2, 6), 2.0), (round(math.pi / 2, 6), 3.0)]
+    # units in the header; theta0 was typed in degrees, so it is shown in degrees
+    assert "theta0 [deg]" in rows[0] and "l [m]" in rows[0] and "theta_c_numeric [rad]" in rows[0]
+    pairs = [(float(r["theta0 [deg]"]), float(r["l [m]"])) for r in rows]
+    assert pairs == [(45.0, 1.0), (45.0, 2.0), (45.0, 3.0), (90.0, 1.0), (90.0, 2.0), (90.0, 3.0)]
     # theta_c does not depend on l; sin theta_c = (2/3) sin theta0
     for r in rows:
-        assert math.sin(float(r["theta_c_numeric"])) == pytest.approx(2 / 3 * math.sin(float(r["theta0"])), rel=1e-8)
+        theta0 = math.radians(float(r["theta0 [deg]"]))
+        assert math.sin(float(r["theta_c_numeric [rad]"])) == pytest.approx(2 / 3 * math.sin(theta0), rel=1e-8)
         assert r["agree"] == "true"
+
+
+def test_csv_units_typed_and_si():
+    # typed in Hz: shown in Hz; a parameter given in SI stays in SI
+    code, out, err = run("sweep", "4.15", "--l", "50cm:150cm:3", "--no-verify", "--csv")
+    assert code == 0, err
+    rows = list(csv.DictReader(io.StringIO(out)))
+    assert [float(r["l [cm]"]) for r in rows] == pytest.approx([50.0, 100.0, 150.0])
+    code, out, err = run("sweep", "4.15", "--l", "0.5:1.5:3", "--no-verify", "--csv")
+    rows = list(csv.DictReader(io.StringIO(out)))
+    assert [float(r["l [m]"]) for r in rows] == pytest.approx([0.5, 1.0, 1.5])
+    # a display unit (deg) is used when nothing was typed
+    code, out, err = run("sweep", "4.15", "--theta0", "0.5:1.5:3", "--no-verify", "--csv")
+    rows = list(csv.DictReader(io.StringIO(out)))
+    assert float(rows[0]["theta0 [deg]"]) == pytest.approx(math.degrees(0.5))
 
 
 def test_log_range_and_table():
     code, out, err = run("sweep", "4.10", "--l", "1cm:1m:3:log", "--no-verify")
     assert code == 0, err
-    assert "4.10" in out and "l [m]" in out and "3 points" in out
+    assert "4.10" in out and "l [cm]" in out and "3 points" in out  # shown in the unit typed
 
 
 @pytest.mark.parametrize("args, words", [
@@ -109,3 +126,20 @@ def test_sweep_plot_writes_a_png(tmp_path):
     assert code == 0, err
     assert f.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert len(out.strip().splitlines()) == 4
+
+
+def test_the_sweep_table_never_cuts_a_number_at_60_or_80_columns(monkeypatch):
+    """At a narrow width the table stacks into one block per point; every value printed whole."""
+    from click.testing import CliRunner
+
+    from mech.cli.main import cli
+
+    for width in ("60", "80", "200"):
+        monkeypatch.setenv("COLUMNS", width)
+        res = CliRunner().invoke(cli, ["sweep", "4.15", "--theta0", "10deg:90deg:3"])
+        assert res.exit_code == 0
+        assert "…" not in res.output
+        lines = res.output.splitlines()
+        assert all(len(line) <= int(width) for line in lines), width
+        assert all(line == line.rstrip() for line in lines)
+        assert "0.7297276562" in res.output  # theta_c at 90 deg: asin(2/3), by hand

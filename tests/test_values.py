@@ -58,3 +58,17 @@ def test_conversions(text, unit, expected):
 def test_errors(text, unit):
     with pytest.raises(ValueError_):
         to_si(text, unit)
+
+
+@pytest.mark.parametrize("text, unit", [("1.2.3", "m"), ("1.5.5cm", "m"), ("2 3", "m"), ("15cm 2", "m"),
+                                        ("1.2.3", "rad"), ("(1+1)3", "1"), ("pi 2", "1")])
+def test_two_numbers_side_by_side_are_refused_not_multiplied(text, unit):
+    """`1.2.3` once became 1.2 * 0.3 = 0.36: a number next to a number needs an operator."""
+    with pytest.raises(ValueError_, match="side by side|right after"):
+        to_si(text, unit)
+
+
+@pytest.mark.parametrize("text, unit, expected", [("2 * 3", "m", 6.0), ("15cm*2", "m", 0.3), ("2(3)", "1", 6.0),
+                                                  ("3 pi", "1", 3 * math.pi)])
+def test_products_with_an_operator_or_a_name_still_work(text, unit, expected):
+    assert to_si(text, unit) == pytest.approx(expected, rel=1e-15)

@@ -1,8 +1,18 @@
-"""``mech sweep --plot``: each output against the first swept parameter; other swept parameters as separate curves."""
+"""``mech sweep --plot``: outputs against one swept parameter, or maps over two.
+
+One swept parameter (or more than two): each output against the first, the
+others as separate curves.  Two: a map per output, the numeric value coloured
+over the grid with a colorbar in the output's unit; where the output changes
+sign its exact zero (the numeric one) is a solid line; the leading-order
+boundary the exercise declares is a dashed line; points with no value are
+grey; failed points are crossed and their reason is in the legend.  No physics
+here: the values and the boundary come from the sweep.
+"""
 
 from __future__ import annotations
 
 import math
+from collections import Counter
 
 import numpy as np
 
@@ -11,32 +21,49 @@ from mech.cli.figures.common import ANALYTIC, NUMERIC, figure, finite, label, ti
 MAX_CURVES = 8
 
 
+def _shown(result, name):
+    for a in result.axes:
+        if a.name == name and a.unit:
+            return a.unit, a.factor
+    p = result.exercise.param_map[name]
+    return (p.display, 1.0 / p.to_display(1.0)) if p.display else (p.unit, 1.0)
+
+
 def sweep_figure(result):
+    if len(result.axes) == 2:
+        return map_figure(result)
+    return curve_figure(result)
+
+
+def curve_figure(result):
     ex = result.exercise
     first = result.axes[0]
     others = result.axes[1:]
     p = ex.param_map[first.name]
-    scale = p.to_display(1.0)
+    unit, factor = _shown(result, first.name)
+    names = result.output_names
+    outs = [o for o in ex.outputs if o.name in names]
     # group the points by the values of the other axes (grid order: the first axis varies slowest)
     groups: dict[tuple, list[dict]] = {}
-    for pt in result.points:
+    for pt in result.point_list():
         key = tuple(pt["params"][a.name] for a in others)
         groups.setdefault(key, []).append(pt)
     keys = list(groups)
     if len(keys) > MAX_CURVES:
         keys = [keys[i] for i in np.linspace(0, len(keys) - 1, MAX_CURVES).round().astype(int)]
-    k = len(ex.outputs)
+    k = len(outs)
     ncols = 1 if k == 1 else 2 if k in (2, 4) else 3
     nrows = math.ceil(k / ncols)
     fig, axes = figure(nrows, ncols, w=4.0, h=2.9)
-    for j, o in enumerate(ex.outputs):
+    for j, o in enumerate(outs):
         ax = axes[j // ncols][j % ncols]
         for c, key in enumerate(keys):
             pts = groups[key]
-            x = np.array([pt["params"][first.name] for pt in pts]) * scale
-            qa = np.array([finite(pt["quantities"][j]["analytic"]) for pt in pts])
-            qn = np.array([finite(pt["quantities"][j]["numeric"]) for pt in pts])
-            bad = np.array([pt["quantities"][j]["agree"] is False for pt in pts])
+            x = np.array([pt["params"][first.name] for pt in pts]) / factor
+            qs = [next(q for q in pt["quantities"] if q["name"] == o.name) for pt in pts]
+            qa = np.array([finite(q["analytic"]) for q in qs])
+            qn = np.array([finite(q["numeric"]) for q in qs])
+            bad = np.array([q["agree"] is False for q in qs])
             tag = ", ".join(f"{a.name} = {ex.param_map[a.name].show(v)}" for a, v in zip(others, key))
             color = f"C{c % 10}" if others else ANALYTIC["color"]
             ax.plot(x, qa, color=color, lw=1.5, label=("analytic" + (f" ({tag})" if tag else "")) if j == 0 else None)
@@ -46,7 +73,7 @@ def sweep_figure(result):
                 ax.plot(x[bad], qn[bad], "x", color="k", ms=8, label="disagree" if j == 0 else None)
         if first.log:
             ax.set_xscale("log")
-        ax.set_xlabel(label(p.symbol or p.name, p.display or p.unit))
+        ax.set_xlabel(label(p.symbol or p.name, unit))
         ax.set_ylabel(label(o.name, o.unit) + (" *" if o.theory != "exact" else ""), fontsize=9)
         ax.grid(alpha=0.3)
         ax.tick_params(labelsize=8)
@@ -54,6 +81,135 @@ def sweep_figure(result):
             ax.legend(fontsize=7, frameon=False)
     for j in range(k, nrows * ncols):
         axes[j // ncols][j % ncols].set_visible(False)
-    title(fig, ex, result.points[0]["params"], skip=tuple(a.name for a in result.axes),
-          extra=f"sweep of {len(result.points)} points")
+    title(fig, ex, result.point_list()[0]["params"], skip=tuple(a.name for a in result.axes),
+          extra=f"sweep of {len(result)} points")
     return fig
+
+
+def _edges(v, log):
+    """Cell edges around grid values (geometric midpoints on a log axis)."""
+    v = np.asarray(v, dtype=float)
+    if v.size == 1:
+        return np.array([v[0] * 0.99, v[0] * 1.01]) if v[0] else np.array([-0.5, 0.5])
+    if log:
+        lv = np.log(v)
+        mid = 0.5 * (lv[1:] + lv[:-1])
+        return np.exp(np.concatenate([[2 * lv[0] - mid[0]], mid, [2 * lv[-1] - mid[-1]]]))
+    mid = 0.5 * (v[1:] + v[:-1])
+    return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
+
+
+def map_figure(result):
+    import matplotlib.colors as mcolors
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    from mech.solvers.sweep import boundary_curves, failure_kind, output_arrays
+
+    ex = result.exercise
+    ax_x, ax_y = result.axes
+    px, py = ex.param_map[ax_x.name], ex.param_map[ax_y.name]
+    ux, fx = _shown(result, ax_x.name)
+    uy, fy = _shown(result, ax_y.name)
+    x = np.asarray(ax_x.values) / fx
+    y = np.asarray(ax_y.values) / fy
+    shape = (x.size, y.size)
+    names = result.output_names
+    outs = [o for o in ex.outputs if o.name in names]
+    k = len(outs)
+    ncols = 1 if k == 1 else 2
+    nrows = math.ceil(k / ncols)
+    fig, axes = figure(nrows, ncols, w=6.4 if k == 1 else 5.0, h=5.6 if k == 1 else 4.6)
+    curves = boundary_curves(result)
+    for j, o in enumerate(outs):
+        ax = axes[j // ncols][j % ncols]
+        arr = output_arrays(result, o.name)
+        Z = arr["numeric"].reshape(shape).T  # rows: y, columns: x
+        finite_z = Z[np.isfinite(Z)]
+        cmap = None
+        norm = None
+        if finite_z.size and finite_z.min() < 0 < finite_z.max():
+            import matplotlib
+
+            cmap = matplotlib.colormaps["RdBu_r"]
+            norm = mcolors.TwoSlopeNorm(vmin=finite_z.min(), vcenter=0.0, vmax=finite_z.max())
+        else:
+            import matplotlib
+
+            cmap = matplotlib.colormaps["viridis"]
+        cmap = cmap.with_extremes(bad="0.82")
+        mesh = ax.pcolormesh(_edges(x, ax_x.log), _edges(y, ax_y.log), np.ma.masked_invalid(Z), cmap=cmap,
+                             norm=norm, shading="flat", rasterized=True)
+        cb = fig.colorbar(mesh, ax=ax, shrink=0.92, pad=0.02)
+        if norm is not None:  # both ends labelled: the scale is not the same on both sides of zero
+            from matplotlib.ticker import MaxNLocator
+
+            up = [t for t in MaxNLocator(6).tick_values(0.0, norm.vmax) if 0.0 <= t <= norm.vmax]
+            down = [t for t in MaxNLocator(3).tick_values(norm.vmin, 0.0) if norm.vmin <= t < 0.0]
+            cb.set_ticks(sorted(set(down + up + [norm.vmin])))
+        cb.set_label(label(f"{o.name} (numeric)", o.unit), fontsize=9)
+        cb.ax.tick_params(labelsize=8)
+        handles = []
+        if x.size > 1 and y.size > 1:
+            if norm is not None:
+                ax.contour(x, y, Z, levels=[0.0], colors="k", linewidths=1.3)
+                handles.append(Line2D([], [], color="k", lw=1.3, label=f"{o.name} = 0 (numeric, exact)"))
+            undefined = ~np.isfinite(Z)
+            if undefined.any() and not undefined.all():
+                ax.contour(x, y, undefined.astype(float), levels=[0.5], colors="k", linewidths=1.3)
+                handles.append(Line2D([], [], color="k", lw=1.3, label="edge of the grey region (numeric, exact)"))
+        if np.isnan(Z).any():
+            handles.append(Patch(facecolor="0.82", edgecolor="none", label=_grey_label(result, o.name)))
+        for axis_name, xs, ys, text in curves:
+            if axis_name == ax_y.name:
+                ax.plot(xs / fx, ys / fy, color="k", ls="--", lw=1.5)
+            else:
+                ax.plot(ys / fx, xs / fy, color="k", ls="--", lw=1.5)
+            handles.append(Line2D([], [], color="k", ls="--", lw=1.5, label=text))
+        bad = arr["failed"]
+        if bad.any():
+            X, Y = np.meshgrid(x, y, indexing="ij")
+            kinds = Counter(failure_kind(r) for r in arr["reasons"][bad])
+            ax.plot(X.ravel()[bad], Y.ravel()[bad], "x", color="m", ms=4, mew=1.0)
+            for kind, count in kinds.most_common(3):
+                handles.append(Line2D([], [], color="m", marker="x", ls="none",
+                                      label=f"FAILED ({count} points): {kind}"))
+            if len(kinds) > 3:
+                handles.append(Line2D([], [], color="m", marker="x", ls="none",
+                                      label=f"FAILED: {len(kinds) - 3} other reasons (see --json)"))
+        ax.set_xlim(_edges(x, ax_x.log)[[0, -1]])
+        ax.set_ylim(_edges(y, ax_y.log)[[0, -1]])
+        if ax_x.log:
+            ax.set_xscale("log")
+        if ax_y.log:
+            ax.set_yscale("log")
+        ax.set_xlabel(label(px.symbol or px.name, ux))
+        ax.set_ylabel(label(py.symbol or py.name, uy))
+        ax.tick_params(labelsize=8)
+        if handles:  # under the map, where it hides nothing
+            ax.legend(handles=handles, fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.13),
+                      ncol=1 if k == 1 else 1, frameon=False)
+    for j in range(k, nrows * ncols):
+        axes[j // ncols][j % ncols].set_visible(False)
+    n = len(result)
+    n_bad = int(output_arrays(result, outs[0].name)["failed"].sum()) if outs else 0
+    verdict = "every point verified and agreeing" if n_bad == 0 else f"{n_bad} points FAILED (crossed)"
+    title(fig, ex, {**{p.name: p.default for p in ex.params}, **result.fixed},
+          skip=tuple(a.name for a in result.axes),
+          extra=f"map of {ax_x.values.__len__()} x {len(ax_y.values)} points; {verdict}")
+    return fig
+
+
+def _grey_label(result, name):
+    """What a grey cell means: the numeric method's reason for having no value there."""
+    if result.points is None:
+        J = result.extra["judged"][name]
+        reasons = [why for _, why in J["num"].undefined]
+        if reasons:
+            return f"no value: {reasons[0]}"
+        return "no value (failed)"
+    for pt in result.points:
+        for q in pt["quantities"]:
+            if q["name"] == name and q["numeric"] is None and q.get("note"):
+                return "no value: " + q["note"].split(";")[0].replace("numeric: ", "")
+    return "no value"

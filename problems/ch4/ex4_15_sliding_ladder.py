@@ -102,6 +102,7 @@ def numeric(p, run):
         atol=[run.rtol * 1e-3 * max(p.theta0, 1e-300), run.rtol * 1e-3 * max(p.theta0, 1e-300) / t_unit],
     )
     run.record(traj)
+    run.motion(traj)
     e_start = _energy(theta_start, omega_start, M, l, g)
     run.invariant("energy", (_energy(y_ev[0], y_ev[1], M, l, g) - e_start) / (M * g * l / 2))
     run.info["t_c"] = t_ev

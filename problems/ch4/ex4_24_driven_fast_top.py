@@ -62,6 +62,7 @@ from __future__ import annotations
 import math
 
 from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.budget import check as budget_check
 
 exercise = Exercise(
     "4.24",
@@ -114,8 +115,11 @@ def expected_error(p):
         "t_down": first + slip**2,
         "t_up": first + slip**2,
         "phi_lead": first + slip / (math.pi / 2),
-        # first-order slip cancels at the bottom (symmetric about it): second order
-        "cos_min": eps_g**2 + eps_F**2 + slip**2,
+        # first-order slip cancels at the bottom (symmetric about it): second order.  The axis
+        # nutates on a circle of radius ~eps about a guiding center itself ~eps off the
+        # leading-order path, so it can pass 2 eps from straight down: 1 - cos(2 eps) ~ 2 eps^2
+        # (measured 1.97 eps_F^2 at a/b = 2.5e-5, eps_F = 0.0095); 2.5: the radii are eps (1 + O(eps))
+        "cos_min": 2.5 * (eps_g + eps_F) ** 2 + slip**2,
     }
 
 
@@ -123,6 +127,9 @@ def expected_error(p):
 _W = (0.784513610477560, 0.235573213359357, -1.17767998417887)
 _W6 = _W + (1.0 - 2.0 * sum(_W),) + _W[::-1]
 MAX_STEPS = 600_000
+# beyond this many steps (about 3 s at 22 us a step on a loaded machine) the guiding-center equations
+# answer instead wherever what they neglect is within the accuracy claimed
+AVERAGE_BEYOND_STEPS = 150_000
 
 
 def _stepper(k, a, b, w, h):
@@ -272,6 +279,91 @@ def _lowest(step, low, h):
     return min(float(res.fun), best[0], low[0])
 
 
+def averaging_error(a, b, k):
+    """Relative size of what the guiding-center equations neglect (a, b, k as in ``numeric``).
+
+    The free nutation left by the start from pure spin moves the axis off its guiding
+    center by b/k (the slow velocity at the vertical, z x g = b y, over k; an adiabatic
+    invariant afterwards): the events of the real axis move by that much (t_down by
+    1/k of b t_down ~ 1, phi_lead by b/k rad, cos_min by b/k).  The next order of the
+    slow flow, ~ Om^3/k^2, accumulates (Om/k)^2 Om/b over the overturn (1/b).  Factor 3
+    for the unknown coefficients."""
+    Om = math.hypot(a, b)
+    return 3.0 * (b / k + (Om / k) ** 2 * Om / b)
+
+
+def _guiding_center(a, b, k, run):
+    """The outputs from the slow (guiding-center) motion of the axis, the nutation averaged out.
+
+    Exact: L = n + (1/k) n x dn/dt (L . n = 1, dn/dt = k L x n), so dL/dt = n x g gives
+    dn/dt + (1/k) n x d2n/dt2 = n x g.  Its slow solutions: dn/dt = V0 + V1/k + O(1/k^2),
+    V0 = n x g, V1 = -n x dV0/dt = -n x [(n x g) x g + n x dg/dt].  In the frame turning
+    with F (x' along F, y' = z x x'; rate w = a about z) g = -a z + b x' is fixed,
+    dg/dt = a b y' (a lab derivative), and the weight's part of V0 cancels the frame's
+    turning; in the slow time s = b t, with A = a/b and d = b/k:
+        dc/ds = c x x' - d c x [(c x g^) x g^ + A c x y'],   g^ = g/b = -A z + x'.
+    Every rate is O(1) (d A^2 = a^2/(k b) is the slip, at most 0.2): the cost does not grow
+    with the spin.  Start: the center of the nutation circle through n = z at rest,
+    c = z - (1/k) z x V0(z) = z + d x'.
+    """
+    import numpy as np
+
+    from mech.solvers.ode import Event, integrate
+
+    A, d = a / b, b / k
+
+    def rhs(s, c):
+        cx, cy, cz = c
+        # u = c x g^, g^ = (1, 0, -A)
+        ux, uy, uz = cy * (-A), cz - cx * (-A), -cy
+        # v = u x g^ + A c x y'  (c x y' = (-cz, 0, cx))
+        vx = uy * (-A) - A * cz
+        vy = uz - ux * (-A)
+        vz = -uy + A * cx
+        # dc/ds = c x x' - d c x v,  c x x' = (0, cz, -cy)
+        return np.array([
+            -d * (cy * vz - cz * vy),
+            cz - d * (cz * vx - cx * vz),
+            -cy - d * (cx * vy - cy * vx),
+        ])
+
+    def c_z(s, c):
+        return c[2] / math.sqrt(c[0] ** 2 + c[1] ** 2 + c[2] ** 2)
+
+    def c_z_rate(s, c):
+        return rhs(s, c)[2]
+
+    c0 = np.array([d, 0.0, 1.0]) / math.hypot(d, 1.0)
+    s_max = 12.0  # the overturn and back take 3 pi/2 of s (the slip shortens or lengthens it by < 20 %)
+    traj = integrate(rhs, (0.0, s_max), c0, rtol=run.rtol, atol=run.rtol * 1e-3,
+                     events=[Event(c_z, terminal=False, direction=-1, name="down"),
+                             Event(c_z, terminal=False, direction=+1, name="up"),
+                             Event(c_z_rate, terminal=False, direction=+1, name="lowest")])
+    run.record(traj)
+    downs, ups, lows = traj.t_events
+    if len(downs) == 0:
+        raise NumericFailure(f"the guiding center did not reach the horizontal by t = {s_max / b:.4g} s")
+    s_down = float(downs[0])
+    later_ups = [float(x) for x in ups if x > s_down]
+    if not later_ups:
+        raise NumericFailure(f"the guiding center did not come back to the horizontal by t = {s_max / b:.4g} s")
+    s_up = later_ups[0]
+    c_down = traj.y_events[0][0]
+    lows_between = [(float(x), y) for x, y in zip(lows, traj.y_events[2]) if s_down < x < s_up]
+    if len(lows_between) != 1:
+        raise NumericFailure(f"{len(lows_between)} lowest points of the guiding center between t_down and t_up")
+    y_low = lows_between[0][1]
+    cos_min = float(y_low[2] / np.linalg.norm(y_low))
+    norm_drift = float(np.max(np.abs(np.linalg.norm(traj.y, axis=0) - 1.0)))
+    run.invariant("|c| (guiding center, unit)", norm_drift)
+    return {
+        "t_down": s_down / b,
+        "t_up": s_up / b,
+        "phi_lead": math.atan2(c_down[1], c_down[0]),
+        "cos_min": cos_min,
+    }
+
+
 @exercise.numeric
 def numeric(p, run):
     IA = p.I1 + p.M * p.l**2
@@ -282,6 +374,19 @@ def numeric(p, run):
     w = p.M * p.g * p.l / (p.I3 * p.omega_rot)  # the drive's turning rate, as given
     Om = math.hypot(a, b)  # the torque's rate: the axis moves at most this fast
     eps = max(a, b) / k
+    model_err = averaging_error(a, b, k)
+
+    def averaged():
+        run.method = "guiding-center (nutation-averaged) equations to first order in 1/k, DOP853"
+        run.info["averaging_error"] = model_err
+        for q in ("t_down", "t_up", "phi_lead"):
+            run.claim(q, rel=exercise.tol_factor * run.rtol + model_err)
+        run.claim("cos_min", rel=exercise.tol_factor * run.rtol, abs=model_err)
+        return _guiding_center(a, b, k, run)
+
+    if model_err <= 0.1 * run.rtol:
+        # the nutation's part in the events is below the accuracy asked: integrate its average
+        return averaged()
     # fine steps per nutation period: calibrated on this scheme's error, ~ eps^1.6 m^-6 per overturn
     m = max(4, math.ceil(8.0 * (eps / 2.7e-3) ** 0.27 * (1e-6 / run.rtol) ** (1.0 / 6.0)))
     h = 2 * math.pi / k / m
@@ -301,7 +406,12 @@ def numeric(p, run):
     # the fine steps near the events: windows of +-margin in n_z, crossed at a rate of order b
     margin = ladder[-1][1] if ladder else 0.0
     # cost in fine steps (a coarse step costs ~1/4 of one) to t_up ~ 3 pi/(2 b); the loop stops there
-    budget = 6.0 / b / H / 4 + 2 * len(ladder) * 8 + 8 * (2 * margin) / b / h if H else t_max / h
+    # (at most 1.2 x 3 pi/2 = 5.7 over b with the slip the constraint allows)
+    budget = 6.0 / b / H / 4 + 2 * len(ladder) * 8 + 8 * (2 * margin) / b / h if H else 6.0 / b / h
+    if budget > AVERAGE_BEYOND_STEPS and model_err <= exercise.tol_factor * run.rtol:
+        # a long resolved run, where averaging costs no more than the accuracy claimed
+        # (the claim then adds what averaging neglects)
+        return averaged()
     if budget > MAX_STEPS:
         raise NumericFailure(
             f"the overturn lasts about {5 / b * k / (2 * math.pi):.3g} nutation periods: beyond this solver's "
@@ -382,6 +492,7 @@ def numeric(p, run):
                 if H and n2[2] < -margin - arm:
                     fine = False
         if (nsteps + ncoarse) % 64 == 0:
+            budget_check("4.24 splitting steps")
             cx, cy, cz = n2[1] * L2[2] - n2[2] * L2[1], n2[2] * L2[0] - n2[0] * L2[2], n2[0] * L2[1] - n2[1] * L2[0]
             arm = max(arm, 6.0 * math.sqrt(cx * cx + cy * cy + cz * cz))  # 6 sin(cone angle) (|L| ~ 1)
             drift_J = max(drift_J, abs(jacobi(n2, L2, t2) - J0) / J_scale)

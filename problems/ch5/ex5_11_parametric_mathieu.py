@@ -11,7 +11,10 @@ eps <= delta).  All leading order in mu, delta/omega0 and xi/omega0.
 Numeric (Floquet, exact): the monodromy matrix M of the full linear equation
 over one modulation period pi/omega (both fundamental solutions, DOP853 at
 rtol ~1e-12, det M = exp(-2 delta pi/omega) monitored).  growth = (omega/pi)
-ln of the largest |multiplier|.  In the first zone the critical multiplier
+ln of the largest |multiplier| of y = exp(delta t) q, minus delta: near
+threshold a difference of two nearly equal rates, so its error is absolute
+(~ rtol omega0, not rtol growth) and the multiplier's logarithm is formed
+from the half-period solutions without cancellation (see ``_growth``).  In the first zone the critical multiplier
 is -1, so the threshold (root in mu, bracketed by a geometric scan upward
 from 0) and the edges (roots in omega on both sides of the minimum of the
 function over omega) are roots of the smooth P = det(M + I) =
@@ -25,7 +28,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.floquet import even_hill_discriminant
+from mech.solvers.floquet import even_hill_discriminant, even_hill_half
 
 exercise = Exercise(
     "5.11",
@@ -117,7 +120,8 @@ def expected_error(p):
         for sx in (-1.0, 1.0):
             g = _lo(p.omega0, p.delta, p.mu * (1 + se * r), xi + sx * s)["growth"]
             worst = max(worst, abs(g - g0))
-    out["growth"] = worst / abs(g0) if g0 != 0 else math.inf
+    # at threshold the leading-order growth is exactly 0: what the theory neglects is then absolute
+    out["growth"] = worst / abs(g0) if g0 != 0 else (0.0, worst)
     # edges: the half-width through eps, plus the centre's shift
     if not isinstance(base["xi_hi"], Undefined):
         h = base["xi_hi"]
@@ -127,6 +131,13 @@ def expected_error(p):
             alt = _lo(p.omega0, p.delta, p.mu * (1 + se * r), 0.0)["xi_hi"]
             worst = max(worst, h if isinstance(alt, Undefined) else abs(alt - h))
         out["xi_lo"] = out["xi_hi"] = (worst + s) / h
+    else:
+        # the theory finds no zone (eps <= delta); within what it neglects a zone may still open, no wider
+        # than the one the larger coupling eps (1 + r) gives, around a centre uncertain by s
+        r, s = _eps_rel_err(p.mu, 0.0, p.omega0), _centre_err(p.mu, 0.0, p.delta, p.omega0)
+        widest = _lo(p.omega0, p.delta, p.mu * (1 + r), 0.0)["xi_hi"]
+        if not isinstance(widest, Undefined):
+            out["xi_lo"] = out["xi_hi"] = (None, widest + s)
     return out
 
 
@@ -151,21 +162,51 @@ def _floquet(p, omega, mu, rtol, run):
     return damp * lam, 1.0 + damp * tr + damp * damp, tr
 
 
+def _growth(p, rtol, run):
+    """(growth, its absolute error) of the full damped equation at the given mu and omega.
+
+    growth = ln(lambda_y)/T - delta with lambda_y the largest |multiplier| of the Hill equation for
+    y = exp(delta t) q.  Near the zone's edge and near threshold lambda_y is close to 1, and the
+    growth a difference of two nearly equal rates, so ln(lambda_y) = arccosh(1 + h) is formed from
+    h = (|tr M| - 2)/2 without cancellation: with the half-period solutions (y1 even, y2 odd) and the
+    Wronskian y1 y2' - y1' y2 = 1, tr M + 2 = 4 y1 y2' and tr M - 2 = 4 y1' y2, and
+    arccosh(1 + h) = log1p(h + (h (h + 2))^(1/2)).  Its error is that of the four half-period
+    values, propagated through h and the square root (which amplifies it near the zone's edge)."""
+    T = math.pi / p.omega
+    w0sq, d2, two_omega = p.omega0**2, p.delta**2, 2.0 * p.omega
+    (y1, y1p, y2, y2p), traj = even_hill_half(
+        lambda t: w0sq * (1.0 + p.mu * math.cos(two_omega * t)) - d2, T, rtol=rtol, vscale=p.omega0
+    )
+    run.record(traj)
+    run.invariant("Wronskian", y1 * y2p - y1p * y2 - 1.0)
+    tr = 2.0 * (y1 * y2p + y1p * y2)
+    # |tr| - 2 from the product that does not cancel: -(tr + 2) for tr < 0, tr - 2 for tr > 0
+    h = -2.0 * y1 * y2p if tr < 0 else 2.0 * y1p * y2
+    # DOP853's global error on unit solutions: ~rtol plus 0.06 rtol per radian (measured for 5.3's maps);
+    # taken as 2 rtol plus 0.2 rtol per radian of omega0 T/2 (y1, y2' ~ 1; y1' ~ omega0; y2 ~ 1/omega0)
+    e = rtol * (2.0 + 0.2 * p.omega0 * 0.5 * T)
+    dh = 2.0 * e * ((abs(y1) + abs(y2p)) if tr < 0 else (abs(y1p) / p.omega0 + abs(y2) * p.omega0))
+    if h > 0:
+        ln_lam = math.log1p(h + math.sqrt(h * (h + 2.0)))
+        d_ln = dh / math.sqrt(h * (h + 2.0)) if h > dh else math.sqrt(2.0 * (h + dh))
+    else:
+        ln_lam = 0.0  # |tr| <= 2: both multipliers of y on the unit circle
+        d_ln = math.sqrt(2.0 * dh) if -h < dh else 0.0
+    growth = ln_lam / T - p.delta
+    return growth, d_ln / T + 4.0 * 2.0**-53 * (ln_lam / T + p.delta)
+
+
 @exercise.numeric
 def numeric(p, run):
     from mech.solvers.roots import brentq
 
     rtol = run.rtol
     noise = 10.0 * rtol  # size of the truncation and round-off in P = det(M + I)
-    T = math.pi / p.omega
     out = {}
 
-    # growth at the given mu and omega
-    lam, _, tr = _floquet(p, p.omega, p.mu, rtol, run)
-    out["growth"] = math.log(lam) / T
-    # near a zone edge the multiplier (tr + sqrt(tr^2 - 4))/2 amplifies the error of tr
-    amplify = 1.0 + abs(tr) / math.sqrt(max(tr * tr - 4.0, noise))
-    run.claim("growth", rel=100 * rtol, abs=noise * amplify / T)
+    # growth at the given mu and omega; its error is absolute (a cancellation of two rates)
+    out["growth"], err = _growth(p, rtol, run)
+    run.claim("growth", rel=100 * rtol, abs=err)
 
     # threshold at the given omega: the first sign change of P(mu) scanning upward
     def P_mu(mu):
@@ -218,6 +259,12 @@ def numeric(p, run):
                 fd = P_w(d)
         if w_in is None:
             pmin = min(fc, fd)
+            if pmin <= noise:
+                # the minimum is within the noise of P: a zone narrower than the search can resolve may be
+                # there (a draw: half-width 3e-8 omega0), so "no zone" would be a guess
+                raise NumericFailure(
+                    f"min over omega of det(M + I) = {pmin:.3g} is within its accuracy {noise:.1g}: whether a "
+                    "zone exists at this mu is not resolved")
             why = Undefined(f"min over omega of det(M + I) = {pmin:.3g} >= 0: no multiplier passes -1 at mu = {p.mu:g}")
             out["xi_lo"] = out["xi_hi"] = why
             return out
@@ -273,3 +320,313 @@ def scene(p, run):
                                f"numeric failed ({len(failed)})", kind="failure"))
     growth.add(Markers([xi], [a["growth"]], "this oscillator", kind="this"))
     return Scene([plane, growth], caption="leading-order analytic theory: agreement within what it neglects")
+
+
+# -- charts: the same two routes over many points at once ----------------------------------------------
+
+_NO_ZONE = "eps = mu omega0/4 does not exceed delta: the rest state is stable at every detuning"
+
+
+def _lo_batch(omega0, delta, mu, xi):
+    """``_lo`` over arrays (NaN marks an undefined edge)."""
+    eps = mu * omega0 / 4.0
+    s2 = eps * eps - xi * xi
+    growth = np.where(s2 > 0, -delta + np.sqrt(np.maximum(s2, 0.0)), -delta)
+    h2 = eps * eps - delta * delta
+    h = np.where(h2 > 0, np.sqrt(np.maximum(h2, 0.0)), np.nan)
+    return {"mu_th": 4.0 * np.hypot(delta, xi) / omega0, "growth": growth, "xi_lo": -h, "xi_hi": h}
+
+
+def analytic_batch(P):
+    """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
+    from mech.solvers.batch import Column
+
+    omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
+    lo = _lo_batch(omega0, delta, mu, omega - omega0)
+    out = {k: Column(v) for k, v in lo.items()}
+    for k in ("xi_lo", "xi_hi"):
+        out[k].undefined.append((np.isnan(lo[k]), _NO_ZONE))
+    return out
+
+
+def expected_error_batch(P):
+    """``expected_error`` over arrays of points (NaN where the scalar one gives none)."""
+    omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
+    xi = omega - omega0
+    g0 = _lo_batch(omega0, delta, mu, xi)["growth"]
+    r = 2.0 * (np.abs(xi) / omega0 + mu**2 / 16.0)
+    s = 2.0 * (mu**2 * omega0 / 64.0 + 0.5 * delta**2 / omega0 + xi**2 / omega0)
+    worst = np.zeros_like(g0)
+    for se in (-1.0, 1.0):
+        for sx in (-1.0, 1.0):
+            g = _lo_batch(omega0, delta, mu * (1 + se * r), xi + sx * s)["growth"]
+            worst = np.maximum(worst, np.abs(g - g0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # at threshold the leading-order growth is exactly 0: what the theory neglects is then absolute
+        out = {"growth": (np.where(g0 != 0, worst / np.abs(g0), 0.0), np.where(g0 != 0, np.nan, worst))}
+        # threshold: its own mu sets the neglected terms (none given where it is 0)
+        mt = 4.0 * np.hypot(delta, xi) / omega0
+        r = 2.0 * (np.abs(xi) / omega0 + mt**2 / 16.0)
+        s = 2.0 * (mt**2 * omega0 / 64.0 + 0.5 * delta**2 / omega0 + xi**2 / omega0)
+        alt = 4.0 * np.hypot(delta, np.abs(xi) + s) / omega0 / np.maximum(1.0 - r, 1e-3)
+        out["mu_th"] = np.where(mt > 0, alt / mt - 1.0, np.nan)
+        # edges: the half-width through eps, plus the centre's shift (none given where there is no zone)
+        h = _lo_batch(omega0, delta, mu, np.zeros_like(mu))["xi_hi"]
+        r = 2.0 * (np.abs(h) / omega0 + mu**2 / 16.0)
+        s = 2.0 * (mu**2 * omega0 / 64.0 + 0.5 * delta**2 / omega0 + h**2 / omega0)
+        worst = np.zeros_like(h)
+        for se in (-1.0, 1.0):
+            alt = _lo_batch(omega0, delta, mu * (1 + se * r), np.zeros_like(mu))["xi_hi"]
+            worst = np.maximum(worst, np.where(np.isnan(alt), h, np.abs(alt - h)))
+        rel = (worst + s) / h
+        # no zone in the theory: one may still open, no wider than the larger coupling eps (1 + r) gives
+        r = 2.0 * (mu**2 / 16.0)
+        s = 2.0 * (mu**2 * omega0 / 64.0 + 0.5 * delta**2 / omega0)
+        widest = _lo_batch(omega0, delta, mu * (1 + r), np.zeros_like(mu))["xi_hi"]
+        ab = np.where(np.isnan(h), widest + s, np.nan)
+        out["xi_lo"] = out["xi_hi"] = (rel, ab)
+    return out
+
+
+def _trace_batch(omega0, delta, mu, omega, rtol):
+    """(tr M_y, |Wronskian drift|) of ``_floquet``'s Hill equation at N points at once.
+
+    q = exp(-delta t) y leaves y'' + (omega0^2 (1 + mu cos 2 omega t) - delta^2) y = 0;
+    in the time s = omega t every point's modulation period pi/omega becomes
+    pi, so all points integrate the even Hill equation
+    y'' + ((omega0/omega)^2 (1 + mu cos 2s) - (delta/omega)^2) y = 0 over the
+    same half period [0, pi/2] (tr M does not depend on the time's unit).
+    """
+    (y1, y1p, y2, y2p), drift = _half_batch(omega0, delta, mu, omega, rtol)
+    return 2.0 * (y1 * y2p + y1p * y2), drift
+
+
+def _half_batch(omega0, delta, mu, omega, rtol):
+    """(y1, y1', y2, y2') at half the period, in the time t as ``even_hill_half`` gives them, and the
+    |Wronskian drift|, at N points at once (see ``_trace_batch`` for the scaled time)."""
+    from mech.solvers.floquet import even_hill_half_batch
+
+    r2 = (omega0 / omega) ** 2
+    c0, c1 = r2 - (delta / omega) ** 2, r2 * mu
+    (y1, y1p, y2, y2p), _ = even_hill_half_batch(lambda s: c0 + c1 * math.cos(2.0 * s), 0.5 * math.pi, omega.size,
+                                                  rtol=rtol, vscale=omega0 / omega)
+    # back to the time t: d/dt = omega d/ds, and y2 (y2'(0) = 1) is 1/omega of its scaled self
+    return (y1, omega * y1p, y2 / omega, y2p), np.abs(y1 * y2p - y1p * y2 - 1.0)
+
+
+def _growth_batch(omega0, delta, mu, omega, rtol):
+    """``_growth`` at N points at once: (growth, its absolute error, |Wronskian drift|), by the same
+    cancellation-free logarithm and the same error propagation."""
+    (y1, y1p, y2, y2p), drift = _half_batch(omega0, delta, mu, omega, rtol)
+    T = math.pi / omega
+    tr = 2.0 * (y1 * y2p + y1p * y2)
+    neg = tr < 0
+    h = np.where(neg, -2.0 * y1 * y2p, 2.0 * y1p * y2)
+    e = rtol * (2.0 + 0.2 * omega0 * 0.5 * T)
+    dh = 2.0 * e * np.where(neg, np.abs(y1) + np.abs(y2p), np.abs(y1p) / omega0 + np.abs(y2) * omega0)
+    hp = np.maximum(h, 0.0)
+    root = np.sqrt(hp * (hp + 2.0))
+    ln_lam = np.where(h > 0, np.log1p(hp + root), 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d_pos = np.where(h > dh, dh / np.where(root > 0, root, 1.0), np.sqrt(2.0 * np.maximum(h + dh, 0.0)))
+    d_neg = np.where(-h < dh, np.sqrt(2.0 * dh), 0.0)
+    d_ln = np.where(h > 0, d_pos, d_neg)
+    growth = ln_lam / T - delta
+    return growth, d_ln / T + 4.0 * 2.0**-53 * (ln_lam / T + delta), drift
+
+
+class _MinusOne:
+    """P = det(M + I) of points (omega0, delta, mu, omega), any one of mu or omega varied; the largest
+    Wronskian drift of each point kept."""
+
+    def __init__(self, omega0, delta, mu, omega, rtol):
+        self.omega0, self.delta, self.mu, self.omega, self.rtol = omega0, delta, mu, omega, rtol
+        self.drift = np.zeros(omega0.size)
+
+    def __call__(self, idx, mu=None, omega=None):
+        mu = self.mu[idx] if mu is None else mu
+        omega = self.omega[idx] if omega is None else omega
+        tr, w = _trace_batch(self.omega0[idx], self.delta[idx], mu, omega, self.rtol)
+        self.drift[idx] = np.maximum(self.drift[idx], w)
+        damp = np.exp(-self.delta[idx] * math.pi / omega)
+        return 1.0 + damp * tr + damp * damp
+
+
+def _threshold_batch(omega0, delta, omega, rtol):
+    """``numeric``'s mu_th at N points: the first sign change of P(mu) scanning upward, then the root."""
+    from mech.solvers.batch import illinois
+
+    n = omega.size
+    P = _MinusOne(omega0, delta, np.zeros(n), omega, rtol)
+    noise = 10.0 * rtol
+    allp = np.arange(n)
+    p0 = P(allp, mu=np.zeros(n))
+    zero = p0 <= noise  # exact resonance without damping: any modulation excites
+    lo, hi = np.zeros(n), np.full(n, 1e-3)
+    flo, fhi = p0.copy(), np.full(n, np.nan)
+    scan = ~zero
+    no_root = np.zeros(n, dtype=bool)
+    while scan.any():
+        idx = np.flatnonzero(scan)
+        fhi[idx] = P(idx, mu=hi[idx])
+        up = fhi[idx] > 0.0
+        grow = idx[up]
+        lo[grow], flo[grow], hi[grow] = hi[grow], fhi[grow], 4.0 * hi[grow]
+        over = grow[hi[grow] > 10.0]
+        no_root[over] = True
+        scan[idx[~up]] = False
+        scan[over] = False
+    go = np.flatnonzero(~zero & ~no_root)
+    mu_th = np.zeros(n)
+    conv = np.ones(n, dtype=bool)
+    if go.size:
+        x, ok = illinois(lambda x, i: P(go[i], mu=x), lo[go], hi[go], flo[go], fhi[go], xtol=1e-15, rtol=1e-13)
+        mu_th[go], conv[go] = x, ok
+    rel = np.full(n, 100.0 * rtol)
+    ab = np.zeros(n)
+    ab[zero] = math.sqrt(noise)
+    if go.size:
+        dmu = 1e-4 * mu_th[go]
+        slope = np.abs(P(go, mu=mu_th[go] + dmu)) / dmu
+        with np.errstate(divide="ignore"):
+            rel[go] = np.maximum(100.0 * rtol, noise / (slope * mu_th[go]))
+    mu_th[no_root | ~conv] = np.nan
+    return mu_th, rel, ab, no_root, ~conv, P.drift
+
+
+def _edges_batch(omega0, delta, mu, rtol):
+    """``numeric``'s zone edges at N points: P(omega) on a grid, its minimum by golden section until P < 0,
+    the roots on both sides."""
+    from mech.solvers.batch import illinois
+
+    n = mu.size
+    P = _MinusOne(omega0, delta, mu, np.ones(n), rtol)
+    noise = 10.0 * rtol
+    allp = np.arange(n)
+    grid = np.linspace(0.55, 1.6, 9)[None, :] * omega0[:, None]
+    vals = np.stack([P(allp, omega=grid[:, j]) for j in range(9)], axis=1)
+    window = (vals[:, 0] <= 0) | (vals[:, -1] <= 0)
+    k = np.argmin(vals, axis=1)
+    w_in = grid[allp, k]
+    p_in = vals[allp, k]
+    found = (p_in < 0) & ~window
+    none = np.zeros(n, dtype=bool)
+    unresolved = np.zeros(n, dtype=bool)  # the minimum is within the noise of P: whether a zone exists is open
+    # golden-section search for the minimum, stopped as soon as P < 0 is seen
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    a = grid[allp, np.maximum(k - 1, 0)]
+    b = grid[allp, np.minimum(k + 1, 8)]
+    c, d = b - g * (b - a), a + g * (b - a)
+    active = ~found & ~window
+    fc, fd = np.full(n, np.inf), np.full(n, np.inf)
+    idx = np.flatnonzero(active)
+    if idx.size:
+        fc[idx] = P(idx, omega=c[idx])
+        fd[idx] = P(idx, omega=d[idx])
+    while active.any():
+        idx = np.flatnonzero(active)
+        hit = np.minimum(fc[idx], fd[idx]) < 0
+        h = idx[hit]
+        use_c = fc[h] < fd[h]
+        w_in[h] = np.where(use_c, c[h], d[h])
+        p_in[h] = np.where(use_c, fc[h], fd[h])
+        found[h] = True
+        active[h] = False
+        idx = idx[~hit]
+        narrow = b[idx] - a[idx] <= 1e-11 * omega0[idx]
+        nn = idx[narrow]
+        resolved = np.minimum(fc[nn], fd[nn]) > noise
+        none[nn[resolved]] = True
+        unresolved[nn[~resolved]] = True
+        active[idx[narrow]] = False
+        idx = idx[~narrow]
+        if not idx.size:
+            break
+        left = fc[idx] < fd[idx]
+        L, R = idx[left], idx[~left]
+        b[L], d[L], fd[L] = d[L], c[L], fc[L]
+        c[L] = b[L] - g * (b[L] - a[L])
+        a[R], c[R], fc[R] = c[R], d[R], fd[R]
+        d[R] = a[R] + g * (b[R] - a[R])
+        x = np.where(left, c[idx], d[idx])
+        fx = P(idx, omega=x)
+        fc[L], fd[R] = fx[left], fx[~left]
+    out = {}
+    go = np.flatnonzero(found)
+    for name, sgn in (("xi_lo", -1.0), ("xi_hi", 1.0)):
+        value, rel, ab = np.full(n, np.nan), np.full(n, 100.0 * rtol), np.zeros(n)
+        conv = np.ones(n, dtype=bool)
+        if go.size:
+            gg, vv, wi = grid[go], vals[go], w_in[go]
+            if sgn < 0:  # the last grid point below w_in where P > 0
+                m = (gg < wi[:, None]) & (vv > 0)
+                j = 8 - np.argmax(m[:, ::-1], axis=1)
+                end, fend = gg[np.arange(go.size), j], vv[np.arange(go.size), j]
+                lo_, hi_, flo, fhi = end, wi, fend, p_in[go]
+            else:  # the first grid point above w_in where P > 0
+                m = (gg > wi[:, None]) & (vv > 0)
+                j = np.argmax(m, axis=1)
+                end, fend = gg[np.arange(go.size), j], vv[np.arange(go.size), j]
+                lo_, hi_, flo, fhi = wi, end, p_in[go], fend
+            w, ok = illinois(lambda x, i: P(go[i], omega=x), lo_, hi_, flo, fhi, xtol=1e-15 * omega0[go],
+                             rtol=1e-14)
+            dw = 1e-7 * omega0[go]
+            slope = np.abs(P(go, omega=w + sgn * dw)) / dw
+            value[go] = w - omega0[go]
+            with np.errstate(divide="ignore"):
+                ab[go] = noise / slope
+            conv[go] = ok
+        out[name] = (value, rel, ab, ~conv)
+    return out, window, none, unresolved, P.drift
+
+
+_CHART_OUTPUTS = ("growth", "mu_th", "xi_lo", "xi_hi")
+
+
+@exercise.batched(_CHART_OUTPUTS, analytic=analytic_batch, expected_error=expected_error_batch,
+                  boundaries={"mu": ("mu_th", "leading-order zone edge μ = μ_th(ω)")})
+def numeric_batch(P, rtol, outputs, memo=None):
+    """``numeric`` at N points at once, from the same equation of motion (see ``_trace_batch``).
+
+    growth at every point; mu_th once for each distinct (omega0, delta, omega)
+    and the edges once for each distinct (omega0, delta, mu), the parameters
+    they depend on (a grid over omega and mu needs 200 thresholds, not 40 000),
+    kept in ``memo`` (one dict for the whole sweep) across its chunks.
+    The same scans, roots, claims and Wronskian check as the one-point route.
+    """
+    from mech.solvers.batch import Column, by_rows
+
+    omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
+    memo = {} if memo is None else memo
+    allowed = exercise.tol_factor * rtol
+    drifted = f"the Wronskian drifted by more than {allowed:.3g}"
+    out = {}
+    if "growth" in outputs:
+        growth, err, wronski = _growth_batch(omega0, delta, mu, omega, rtol)
+        out["growth"] = Column(growth, rel=100 * rtol, abs=err, failed=[(wronski > allowed, drifted)])
+    if "mu_th" in outputs:
+        v, rel, ab, no_root, unconv, drift = by_rows(memo, ("mu_th", rtol), (omega0, delta, omega),
+                                                      lambda a, b, c: _threshold_batch(a, b, c, rtol))
+        out["mu_th"] = Column(v, rel=rel, abs=ab, failed=[
+            (no_root, "no multiplier reaches -1 for mu < 10: no first-zone threshold found"),
+            (unconv, "the root search for the threshold did not converge"),
+            (drift > allowed, drifted)])
+    if {"xi_lo", "xi_hi"} & set(outputs):
+        def edges(a, b, c):
+            e, window, none, unresolved, drift = _edges_batch(a, b, c, rtol)
+            return (*e["xi_lo"], *e["xi_hi"], window, none, unresolved, drift)
+
+        got = by_rows(memo, ("edges", rtol), (omega0, delta, mu), edges)
+        window, none, unresolved, drift = got[8], got[9].astype(bool), got[10].astype(bool), got[11]
+        window = window.astype(bool)
+        for k, name in enumerate(("xi_lo", "xi_hi")):
+            if name in outputs:
+                v, rel, ab, unconv = got[4 * k: 4 * k + 4]
+                out[name] = Column(v, rel=rel, abs=ab, undefined=[
+                    (none, "min over omega of det(M + I) >= 0: no multiplier passes -1 at this mu")],
+                    failed=[(window, "the first zone reaches the end of the omega search window"),
+                            (unresolved, "min over omega of det(M + I) is within its accuracy: whether a "
+                                         "zone exists at this mu is not resolved"),
+                            (unconv, "the root search for the zone's edge did not converge"),
+                            (drift > allowed, drifted)])
+    return out

@@ -310,3 +310,147 @@ def _stationary_swing(p, a_th, run):
     run.record(traj)
     ext = [abs(y[0]) for y in traj.y_events[0]] + [abs(z[0])]
     return float(max(ext))
+
+
+# -- charts: the small-swing growth rate over many points at once ----------------------------------------
+
+def _lo_batch(w0, delta, eps, xi, l, Omega):
+    """``_lo`` over arrays."""
+    s2 = eps * eps - xi * xi
+    growth = np.where(s2 > 0, -delta + np.sqrt(np.maximum(s2, 0.0)), -delta)
+    theta2 = np.where(growth > 0, 16.0 * (np.sqrt(np.maximum(eps * eps - delta * delta, 0.0)) - xi) / w0, 0.0)
+    return {"a_th": 2.0 * l * np.hypot(delta, xi) / Omega, "growth": growth,
+            "theta_st": np.sqrt(np.maximum(theta2, 0.0))}
+
+
+def _arrays(P):
+    return (np.asarray(P[k], dtype=float) for k in ("l", "g", "delta", "a", "Omega"))
+
+
+def analytic_batch(P):
+    """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
+    from mech.solvers.batch import Column
+
+    l, g, delta, a, Omega = _arrays(P)
+    w0 = np.sqrt(g / l)
+    lo = _lo_batch(w0, delta, a * Omega / (2 * l), Omega / 2 - w0, l, Omega)
+    return {k: Column(v) for k, v in lo.items()}
+
+
+def expected_error_batch(P):
+    """``expected_error`` of the small-swing outputs over arrays of points."""
+    l, g, delta, a, Omega = _arrays(P)
+    w0 = np.sqrt(g / l)
+    xi = Omega / 2 - w0
+    eps = a * Omega / (2 * l)
+    mu = a * Omega**2 / g
+    base = _lo_batch(w0, delta, eps, xi, l, Omega)
+    r = 2.0 * (np.abs(xi) / w0 + mu**2 / 16.0)
+    s = 2.0 * (mu**2 * w0 / 64.0 + 0.5 * delta**2 / w0 + xi**2 / w0)
+    worst = {"a_th": np.zeros_like(w0), "growth": np.zeros_like(w0)}
+    for se in (-1.0, 1.0):
+        for sx in (-1.0, 1.0):
+            alt = _lo_batch(w0, delta, eps * (1 + se * r), xi + sx * s, l, Omega)
+            alt["a_th"] = 2.0 * l * np.hypot(delta, np.abs(xi) + s) / Omega / np.maximum(1.0 - r, 1e-3)
+            for k in worst:
+                worst[k] = np.maximum(worst[k], np.abs(alt[k] - base[k]))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return {k: np.where(base[k] != 0, worst[k] / np.abs(base[k]), 0.0) for k in worst}
+
+
+def _trace_batch(l, g, delta, a, Omega, rtol):
+    """(tr M_y, |Wronskian drift|) of ``_linear``'s Hill equation at N points at once.
+
+    theta'' + 2 delta theta' + (g - a Omega^2 cos Omega t)/l theta = 0 with
+    theta = exp(-delta t) y is an even Hill equation; in the time s = Omega t
+    every point's pivot period becomes 2 pi, so all points integrate
+    y'' + ((g/l - delta^2)/Omega^2 - (a/l) cos s) y = 0 over the same half
+    period [0, pi].
+    """
+    from mech.solvers.floquet import even_hill_half_batch
+
+    c0, c1 = (g / l - delta**2) / Omega**2, a / l
+    (y1, y1p, y2, y2p), _ = even_hill_half_batch(lambda s: c0 - c1 * math.cos(s), math.pi, Omega.size, rtol=rtol,
+                                                  vscale=np.sqrt(g / l) / Omega)
+    return 2.0 * (y1 * y2p + y1p * y2), np.abs(y1 * y2p - y1p * y2 - 1.0)
+
+
+def _threshold_batch(l, g, delta, Omega, rtol):
+    """``numeric``'s a_th at N points: the scan up from 1e-4 l in factors of 2, then the root of det(M + I)."""
+    from mech.solvers.batch import illinois
+
+    n = Omega.size
+    drift = np.zeros(n)
+    damp = np.exp(-delta * 2.0 * math.pi / Omega)
+
+    def P(idx, a):
+        tr, w = _trace_batch(l[idx], g[idx], delta[idx], a, Omega[idx], rtol)
+        drift[idx] = np.maximum(drift[idx], w)
+        return 1.0 + damp[idx] * tr + damp[idx] ** 2
+
+    noise = 10.0 * rtol
+    lo, hi = np.zeros(n), 1e-4 * l
+    flo, fhi = np.full(n, np.nan), np.full(n, np.nan)
+    scan = np.ones(n, dtype=bool)
+    no_root = np.zeros(n, dtype=bool)
+    while scan.any():
+        idx = np.flatnonzero(scan)
+        fhi[idx] = P(idx, hi[idx])
+        up = fhi[idx] > 0.0
+        grow = idx[up]
+        lo[grow], flo[grow], hi[grow] = hi[grow], fhi[grow], 2.0 * hi[grow]
+        over = grow[hi[grow] > 4.0 * l[grow]]
+        no_root[over] = True
+        scan[idx[~up]] = False
+        scan[over] = False
+    first = np.isnan(flo)  # the bracket starts at a = 0
+    idx0 = np.flatnonzero(first & ~no_root)
+    if idx0.size:
+        flo[idx0] = P(idx0, np.zeros(idx0.size))
+    go = np.flatnonzero(~no_root)
+    a_th, conv = np.full(n, np.nan), np.ones(n, dtype=bool)
+    rel = np.full(n, 100.0 * rtol)
+    if go.size:
+        x, ok = illinois(lambda x, i: P(go[i], x), lo[go], hi[go], flo[go], fhi[go], xtol=1e-16 * l[go], rtol=1e-14)
+        a_th[go], conv[go] = x, ok
+        da = 1e-5 * x
+        slope = np.abs(P(go, x + da)) / da
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rel[go] = np.maximum(100.0 * rtol, noise / (slope * x))
+    a_th[~conv] = np.nan
+    return a_th, rel, no_root, ~conv, drift
+
+
+@exercise.batched(("growth", "a_th"), analytic=analytic_batch, expected_error=expected_error_batch,
+                  boundaries={"a": ("a_th", "leading-order threshold a = a_th(Ω)")})
+def numeric_batch(P, rtol, outputs, memo=None):
+    """growth and a_th at N points at once, from the linearized equation of motion (``_trace_batch``).
+
+    a_th once for each distinct (l, g, delta, Omega), kept in ``memo`` across
+    a sweep's chunks.  Claims and the Wronskian check as in ``numeric``; the
+    stationary swing (a continuation per point) has no batched route.
+    """
+    from mech.solvers.batch import Column, by_rows
+
+    l, g, delta, a, Omega = _arrays(P)
+    memo = {} if memo is None else memo
+    allowed = exercise.tol_factor * rtol
+    drifted = f"the Wronskian drifted by more than {allowed:.3g}"
+    out = {}
+    if "growth" in outputs:
+        tr, wronski = _trace_batch(l, g, delta, a, Omega, rtol)
+        T = 2.0 * math.pi / Omega
+        disc = tr * tr - 4.0
+        lam = np.where(disc > 0, 0.5 * (np.abs(tr) + np.sqrt(np.maximum(disc, 0.0))), 1.0)
+        noise = 10.0 * rtol
+        amplify = 1.0 + np.abs(tr) / np.sqrt(np.maximum(disc, noise))
+        out["growth"] = Column(np.log(np.exp(-delta * T) * lam) / T, rel=100 * rtol, abs=noise * amplify / T,
+                               failed=[(wronski > allowed, drifted)])
+    if "a_th" in outputs:
+        v, rel, no_root, unconv, drift = by_rows(memo, ("a_th", rtol), (l, g, delta, Omega),
+                                                 lambda *c: _threshold_batch(*c, rtol))
+        out["a_th"] = Column(v, rel=rel, failed=[
+            (no_root, "no pivot amplitude below 4 l brings a multiplier to -1"),
+            (unconv, "the root search for the threshold did not converge"),
+            (drift > allowed, drifted)])
+    return out

@@ -23,8 +23,11 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.floquet import even_hill_half
+from mech.solvers import budget
+from mech.solvers.ode import integrate
 
 exercise = Exercise(
     "5.13",
@@ -89,27 +92,43 @@ def expected_error(p):
     return out
 
 
-def _half(p, a, sign, rtol, run):
-    """y1, y1', y2, y2' at half a fast period for the linearization about theta = 0 (sign +1) or pi (-1)."""
-    g_l, aW2_l, W = p.g / p.l, a * p.Omega**2 / p.l, p.Omega
-    vals, traj = even_hill_half(
-        lambda t: sign * (g_l - aW2_l * math.cos(W * t)), 2.0 * math.pi / W, rtol=rtol, vscale=W
-    )
+def _half(p, eps, sign, rtol, run):
+    """(y1, y1', y2, y2') at tau = pi (half a fast period) for y'' = sign (kappa - eps cos tau) y.
+
+    Time tau = Omega t, kappa = g/(l Omega^2), eps = a/l: the linearization about theta = pi (sign +1)
+    or theta = 0 (sign -1).  The fast jitter is taken out exactly by p = y' + e sin(tau) y (e = sign eps):
+        y' = p - e sin(tau) y,   p' = (c - e^2 sin^2 tau) y + e sin(tau) p   (c = sign kappa),
+    so p carries only the slow drift, of order kappa + eps^2, and is integrated to rtol of that size
+    (y' itself swings by eps each fast period: its error, rtol eps, would swamp a drift of eps^2 when
+    eps is small).  At tau = 0 and pi, sin tau = 0 and p = y'.
+    """
+    kappa = p.g / (p.l * p.Omega**2)
+    c, e = sign * kappa, sign * eps
+
+    def rhs(tau, y):
+        sn = math.sin(tau)
+        es = e * sn
+        return np.array([y[1] - es * y[0], (c - es * es) * y[0] + es * y[1],
+                         y[3] - es * y[2], (c - es * es) * y[2] + es * y[3]])
+
+    drift = abs(c) + e * e  # the size of the slow drift of p per unit tau
+    atol = 1e-3 * rtol * np.array([1.0, drift, 1.0, 1.0])
+    traj = integrate(rhs, (0.0, math.pi), [1.0, 0.0, 0.0, 1.0], rtol=rtol, atol=atol)
     run.record(traj)
-    y1, y1p, y2, y2p = vals
+    y1, y1p, y2, y2p = traj.y_end
     run.invariant("Wronskian", y1 * y2p - y1p * y2 - 1.0)
-    return vals
+    return y1, y1p, y2, y2p, drift
 
 
-def _slow_frequency(p, a, sign, rtol, run, name):
-    y1, y1p, y2, y2p = _half(p, a, sign, rtol, run)
+def _slow_frequency(p, sign, rtol, run, name):
+    y1, y1p, y2, y2p, drift = _half(p, p.a / p.l, sign, rtol, run)
     s = -y1p * y2  # sin^2(nu pi / Omega)
     if not 0.0 < s < 1.0:
-        where = "inverted" if sign < 0 else "lower"
+        where = "inverted" if sign > 0 else "lower"
         return Undefined(f"|tr M| >= 2 about the {where} position (sin^2(nu pi/Omega) = {s:.6g}): unstable")
     nu = (p.Omega / math.pi) * math.asin(math.sqrt(s))
-    # the error of s is ~rtol relative to the size of its factors (|y1'| ~ Omega, |y2| ~ 1/Omega)
-    ds = 10.0 * rtol * abs(y1p * y2) + 10.0 * rtol * 1e-3
+    # y1' is resolved to about rtol of the drift scale times pi (its size over half a period)
+    ds = 10.0 * rtol * (abs(s) + math.pi * drift * abs(y2))
     dnu = (p.Omega / math.pi) * ds / (2.0 * math.sqrt(s * (1.0 - s)))
     run.claim(name, rel=max(100.0 * rtol, dnu / nu))
     return nu
@@ -121,27 +140,179 @@ def numeric(p, run):
 
     rtol = run.rtol
     out = {
-        "omega_down": _slow_frequency(p, p.a, +1.0, rtol, run, "omega_down"),
-        "omega_inv": _slow_frequency(p, p.a, -1.0, rtol, run, "omega_inv"),
+        "omega_down": _slow_frequency(p, -1.0, rtol, run, "omega_down"),
+        "omega_inv": _slow_frequency(p, +1.0, rtol, run, "omega_inv"),
     }
 
-    def f(a):  # y1' y2 = (tr M - 2)/4 about the inverted position: > 0 unstable, < 0 stable
-        y1, y1p, y2, y2p = _half(p, a, -1.0, rtol, run)
+    def f(eps):  # y1' y2 = (tr M - 2)/4 about the inverted position, over its drift scale: > 0 unstable
+        y1, y1p, y2, y2p, drift = _half(p, eps, +1.0, rtol, run)
+        return y1p * y2 / drift
+
+    kappa = p.g / (p.l * p.Omega**2)
+    e_lo = 0.05 * math.sqrt(kappa)  # a fraction of the amplitude where a Omega/l ~ omega0
+    f_lo = f(e_lo)
+    if f_lo <= 0:
+        raise NumericFailure(f"the inverted position is already stable at a = {e_lo * p.l:.3g} m: no bracket")
+    e_hi = e_lo
+    for _ in range(200):  # 1.3^200: far past l/2 from any start
+        budget.check("5.13: bracketing a_min")
+        e_hi *= 1.3
+        f_hi = f(e_hi)
+        if f_hi < 0:
+            break
+        e_lo, f_lo = e_hi, f_hi
+        if e_hi > 0.5:
+            raise NumericFailure("no pivot amplitude below l/2 stabilizes the inverted position")
+    # f is smooth in eps and resolved to ~rtol of its scale: the root to ~rtol relative
+    out["a_min"] = p.l * brentq(f, e_lo, e_hi, xtol=1e-3 * rtol * e_lo, rtol=1e-15, fa=f_lo, fb=f_hi)
+    return out
+
+
+# -- charts: stability of both positions and their slow frequencies over many points at once ----------
+
+_BELOW_A_MIN = "a is below a_min: the effective potential has a maximum at theta = pi"
+
+
+def _arrays(P):
+    import numpy as np
+
+    return (np.asarray(P[k], dtype=float) for k in ("l", "g", "a", "Omega"))
+
+
+def analytic_batch(P):
+    """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
+    import numpy as np
+
+    from mech.solvers.batch import Column
+
+    l, g, a, Omega = _arrays(P)
+    w0sq = g / l
+    kick = (a * Omega / l) ** 2 / 2.0
+    inv = np.where(kick > w0sq, np.sqrt(np.maximum(kick - w0sq, 0.0)), np.nan)
+    return {"a_min": Column(np.sqrt(2.0 * g * l) / Omega), "omega_down": Column(np.sqrt(w0sq + kick)),
+            "omega_inv": Column(inv, undefined=[(~(kick > w0sq), _BELOW_A_MIN)])}
+
+
+def expected_error_batch(P):
+    """``expected_error`` of the slow frequencies over arrays of points (NaN where omega_inv has none)."""
+    import numpy as np
+
+    l, g, a, Omega = _arrays(P)
+    w0sq = g / l
+    eta = 4.0 * w0sq / Omega**2 + (2.0 * a / l) ** 2
+    kick = (a * Omega / l) ** 2 / 2.0
+    abs_nu2 = eta * (w0sq + kick)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = np.where(kick > w0sq, np.minimum(0.5 * abs_nu2 / (kick - w0sq), 1e6), np.nan)
+    a_min = np.sqrt(2.0 * g * l) / Omega
+    return {"omega_down": 0.5 * abs_nu2 / (w0sq + kick), "omega_inv": inv,
+            "a_min": 4.0 * w0sq / Omega**2 + (2.0 * a_min / l) ** 2}
+
+
+def _half_batch(l, g, a, Omega, sign, rtol):
+    """``_half`` at N points at once: (y1, y1', y2, y2'), |Wronskian drift|.
+
+    theta'' + (g - a Omega^2 cos Omega t)/l sin theta = 0 linearized about
+    theta = 0 (sign +1) or pi (sign -1) is an even Hill equation; in the time
+    s = Omega t every point's fast period becomes 2 pi, so all points
+    integrate y'' + sign ((g/l)/Omega^2 - (a/l) cos s) y = 0 over the same half
+    period [0, pi].  The products y1' y2 and y1 y2' do not depend on the time's unit.
+    """
+    import numpy as np
+
+    from mech.solvers.floquet import even_hill_half_batch
+
+    c0, c1 = (g / l) / Omega**2, a / l
+    (y1, y1p, y2, y2p), _ = even_hill_half_batch(lambda s: sign * (c0 - c1 * math.cos(s)), math.pi, Omega.size,
+                                                  rtol=rtol)
+    return (y1, y1p, y2, y2p), np.abs(y1 * y2p - y1p * y2 - 1.0)
+
+
+def _a_min_batch(l, g, Omega, rtol):
+    """``numeric``'s a_min at N points: the scan up from 0.05 l omega0/Omega in factors of 1.3, then the root
+    of y1' y2 about the inverted position."""
+    import numpy as np
+
+    from mech.solvers.batch import illinois
+
+    n = Omega.size
+    drift = np.zeros(n)
+
+    def f(idx, a):
+        (y1, y1p, y2, y2p), w = _half_batch(l[idx], g[idx], a, Omega[idx], -1.0, rtol)
+        drift[idx] = np.maximum(drift[idx], w)
         return y1p * y2
 
-    w0 = math.sqrt(p.g / p.l)
-    a_lo = 0.05 * p.l * w0 / p.Omega  # a fraction of the length where a Omega/l ~ omega0
-    if f(a_lo) <= 0:
-        raise NumericFailure(f"the inverted position is already stable at a = {a_lo:.3g} m: no bracket")
-    a_hi = a_lo
-    while True:
-        a_hi *= 1.3
-        if f(a_hi) < 0:
-            break
-        a_lo = a_hi
-        if a_hi > 0.5 * p.l:
-            raise NumericFailure("no pivot amplitude below l/2 stabilizes the inverted position")
-    out["a_min"] = brentq(f, a_lo, a_hi, xtol=1e-16 * p.l, rtol=1e-14)
+    allp = np.arange(n)
+    a_lo = 0.05 * l * np.sqrt(g / l) / Omega
+    f_lo = f(allp, a_lo)
+    stable_start = f_lo <= 0
+    a_hi, f_hi = a_lo.copy(), np.full(n, np.nan)
+    scan = ~stable_start
+    no_root = np.zeros(n, dtype=bool)
+    while scan.any():
+        idx = np.flatnonzero(scan)
+        a_hi[idx] *= 1.3
+        f_hi[idx] = f(idx, a_hi[idx])
+        done = f_hi[idx] < 0
+        scan[idx[done]] = False
+        rest = idx[~done]
+        a_lo[rest], f_lo[rest] = a_hi[rest], f_hi[rest]
+        over = rest[a_hi[rest] > 0.5 * l[rest]]
+        no_root[over] = True
+        scan[over] = False
+    go = np.flatnonzero(~stable_start & ~no_root)
+    a_min, conv = np.full(n, np.nan), np.ones(n, dtype=bool)
+    if go.size:
+        x, ok = illinois(lambda x, i: f(go[i], x), a_lo[go], a_hi[go], f_lo[go], f_hi[go], xtol=1e-16 * l[go],
+                         rtol=1e-14)
+        a_min[go], conv[go] = x, ok
+    a_min[~conv] = np.nan
+    return a_min, stable_start, no_root, ~conv, drift
+
+
+@exercise.batched(("omega_inv", "omega_down", "a_min"), analytic=analytic_batch,
+                  expected_error=expected_error_batch,
+                  boundaries={"a": ("a_min", "leading-order stability edge a = a_min(Ω)")})
+def numeric_batch(P, rtol, outputs, memo=None):
+    """The slow frequencies about both positions and a_min at N points at once (see ``_half_batch``).
+
+    sin^2(nu pi/Omega) = -y1' y2; stable iff it lies in (0, 1).  a_min once
+    for each distinct (l, g, Omega), kept in ``memo`` across a sweep's chunks.
+    Claims and the Wronskian check as in ``numeric``.
+    """
+    import numpy as np
+
+    from mech.solvers.batch import Column, by_rows
+
+    l, g, a, Omega = _arrays(P)
+    memo = {} if memo is None else memo
+    allowed = exercise.tol_factor * rtol
+    drifted = f"the Wronskian drifted by more than {allowed:.3g}"
+    out = {}
+    for name, sign in (("omega_down", 1.0), ("omega_inv", -1.0)):
+        if name not in outputs:
+            continue
+        (y1, y1p, y2, y2p), wronski = _half_batch(l, g, a, Omega, sign, rtol)
+        s = -y1p * y2
+        stable = (s > 0.0) & (s < 1.0)
+        sc = np.clip(s, 1e-300, 1.0 - 1e-16)
+        nu = np.where(stable, (Omega / math.pi) * np.arcsin(np.sqrt(sc)), np.nan)
+        ds = 10.0 * rtol * np.abs(y1p * y2) + 10.0 * rtol * 1e-3
+        dnu = (Omega / math.pi) * ds / (2.0 * np.sqrt(sc * (1.0 - sc)))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rel = np.where(stable, np.maximum(100.0 * rtol, dnu / nu), 100.0 * rtol)
+        where = "inverted" if sign < 0 else "lower"
+        out[name] = Column(nu, rel=rel, undefined=[(~stable, f"|tr M| >= 2 about the {where} position: unstable")],
+                           failed=[(wronski > allowed, drifted)])
+    if "a_min" in outputs:
+        v, early, no_root, unconv, drift = by_rows(memo, ("a_min", rtol), (l, g, Omega),
+                                                   lambda *c: _a_min_batch(*c, rtol))
+        out["a_min"] = Column(v, rel=100.0 * rtol, failed=[
+            (early, "the inverted position is already stable at the scan's start: no bracket"),
+            (no_root, "no pivot amplitude below l/2 stabilizes the inverted position"),
+            (unconv, "the root search for a_min did not converge"),
+            (drift > allowed, drifted)])
     return out
 
 

@@ -89,16 +89,17 @@ def numeric(p, run):
     b = np.array([0.0, 1.0])
     c = np.array([1.0, 0.0])
 
-    def chi_scaled(x):
-        # frequency domain: q = a exp(-i x t) turns q'' + 2 d q' + q = F into (-x^2 - 2 i d x + 1) a = F
-        # (for an array of x at once; 1 - x^2 as (1 - x)(1 + x), exact near the resonance x = 1)
-        return 1.0 / ((1.0 - x) * (1.0 + x) - 2j * d * x)
+    def chi_local(base, off):
+        # frequency domain: q = a exp(-i x t) turns q'' + 2 d q' + q = F into (-x^2 - 2 i d x + 1) a = F,
+        # at x = base + off (arrays), 1 - x^2 as (1 - x)(1 + x) with 1 - x = (1 - base) - off (1 - base exact
+        # near x = 1): a resonance of width d = 1e-10 is resolved without the 1e-16 rounding of x itself
+        return 1.0 / (((1.0 - base) - off) * ((1.0 + base) + off) - 2j * d * (base + off))
 
     # characteristic roots in the frequency variable: where the coefficient above vanishes
     poles = np.roots([-1.0, -2j * d, 1.0])
     eps_q = max(0.1 * run.rtol, 1e-14)
-    Gp = inverse_fourier(chi_scaled, t, poles, epsrel=eps_q, vectorized=True)
-    Gm = inverse_fourier(chi_scaled, -t, poles, epsrel=eps_q, vectorized=True)
+    Gp = inverse_fourier(chi_local, t, poles, epsrel=eps_q, vectorized=True, local=True)
+    Gm = inverse_fourier(chi_local, -t, poles, epsrel=eps_q, vectorized=True, local=True)
 
     # impulse response, transformed: one segment plus the exact geometric sum
     lam = np.linalg.eigvals(A)

@@ -10,14 +10,19 @@ So A_after = 2 |q_st| |sin(omega0 T/2)|, and q_max = 2 |q_st| if omega0 T >= pi
 Numeric: the equation of motion in the scaled variables x = q/q_st,
 tau = omega0 t (x'' + x = 1 during the pulse, x'' + x = 0 after it), which is
 linear, so q = q_st x.  The forced leg is integrated with DOP853 from rest to
-exactly tau = omega0 T with non-terminal events x' = 0 (its turning points);
-absolute tolerances are scaled to the size of the state during the pulse,
-(omega0 T)^2 for x and omega0 T for x'.  The free leg starts from the state at
-T: its amplitude is sqrt(x^2 + x'^2) there, checked against the largest |x|
-over one free period from events x' = 0.  x at t1 > T comes from the free
-flow map: the 2x2 fundamental matrix integrated numerically over h =
-(tau1 - tauT)/N and raised to the power N (linear autonomous flow), so that a
-reading hundreds of periods in costs one short integration.
+tau = omega0 T, or over its first free period 2 pi when the pulse is longer
+(the state is back at rest there, checked, and the motion repeats), with
+non-terminal events x' = 0 (its turning points); absolute tolerances are
+scaled to the size of the state during the pulse, (omega0 T)^2 for x and
+omega0 T for x'.  A longer pulse is carried to its end by the exact flow of its
+linear equation, the matrix exponential of its generator in (x, x', 1)
+(solvers/linear_flow), never stepped through millions of periods.  The free
+leg starts from the state at T: its amplitude is sqrt(x^2 + x'^2) there,
+checked against the largest |x| over one free period from events x' = 0; x at
+t1 > T is the free flow's matrix exponential over omega0 (t1 - T) applied to
+the state at T.  A phase Theta of 1e6..1e15 rad is known in floats to u Theta
+only, in both methods: the claims and ``analytic_error`` carry that round-off,
+and a phase beyond 1e15 rad is refused.
 """
 
 from __future__ import annotations
@@ -54,6 +59,13 @@ def analytic(p):
     return {"A_after": a_after, "q_max": q_max, "q_t": q_t}
 
 
+# the pulse's equation x'' + x = 1 as an autonomous linear system in (x, x', 1), and the free one in (x, x')
+_PULSE_GENERATOR = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 1.0], [0.0, 0.0, 0.0]])
+_FREE_GENERATOR = np.array([[0.0, 1.0], [-1.0, 0.0]])
+_U = 2.0**-53
+MAX_PHASE = 1e15  # rad: beyond it the phase's round-off (u * phase) reaches a tenth of a radian
+
+
 def _forced(t, y):
     return np.array([y[1], 1.0 - y[0]])
 
@@ -62,13 +74,29 @@ def _free(t, y):
     return np.array([y[1], -y[0]])
 
 
-def _free_stack(t, y):
-    # two copies of the free equation side by side: the columns of the fundamental matrix
-    return np.array([y[1], -y[0], y[3], -y[2]])
+@exercise.constraint
+def constraint(p):
+    for name, phase in (("omega0 t1", p.omega0 * p.t1), ("omega0 T", p.omega0 * p.T)):
+        if phase > MAX_PHASE:
+            return (f"the phase {name} = {phase:.3g} rad carries no significant digit in double precision "
+                    f"(its round-off u * phase exceeds 0.1 rad; at most {MAX_PHASE:g} rad)")
+
+
+@exercise.analytic_error
+def analytic_error(p):
+    """Round-off of the closed forms from their phases: sin of a phase phi computed in floats is off by
+    ~ u phi (the products omega0 t and the differences t1 - T/2 are rounded), so each value moves by its
+    slope, at most 2 |q_st|, times 2 u (1 + phi) per phase it contains."""
+    qst = abs(p.F0 / (p.m * p.omega0**2))
+    e_T = 2.0 * qst * 2.0 * _U * (1.0 + p.omega0 * p.T)
+    e_1 = 2.0 * qst * 2.0 * _U * (1.0 + p.omega0 * p.t1)
+    return {"A_after": e_T, "q_max": e_T, "q_t": e_1 + e_T}
 
 
 @exercise.numeric
 def numeric(p, run):
+    from mech.solvers.linear_flow import expm, rounding_bound
+
     qst = p.F0 / (p.m * p.omega0**2)
     tau_T = p.omega0 * p.T
     tau_1 = p.omega0 * p.t1
@@ -78,10 +106,15 @@ def numeric(p, run):
     sv = min(1.0, tau_T)
     atol = [rtol * 1e-3 * sx, rtol * 1e-3 * sv]
 
-    # forced leg, never stepping across the switch-off at tau_T; split at tau_1 when it falls inside
+    # forced leg, never stepping across the switch-off at tau_T; split at tau_1 when it falls inside.
+    # Only its first free period is stepped: the state then returns to rest (checked below) and the
+    # motion repeats, so all its turning points are met there; a longer pulse is carried to its end
+    # by the exact flow of its linear equation.
     turning = Event(lambda t, y: y[1], terminal=False, name="x' = 0")
-    max_step = tau_T / 8.0 if tau_T < 1 else 1.0
-    stops = [0.0] + ([tau_1] if 0.0 < tau_1 < tau_T else []) + [tau_T]
+    period = 2.0 * math.pi
+    stepped = min(tau_T, period)
+    max_step = stepped / 8.0 if stepped < 1 else 1.0
+    stops = [0.0] + ([tau_1] if 0.0 < tau_1 < stepped else []) + [stepped]
     state = np.array([0.0, 0.0])
     turn_x, x1 = [], (0.0 if tau_1 == 0.0 else None)
     for a, b in zip(stops[:-1], stops[1:]):
@@ -93,14 +126,24 @@ def numeric(p, run):
         turn_x += [abs(y[0]) for y in leg1.y_events[0]] if leg1.y_events else []
         if b == tau_1:
             x1 = state[0]
-    xT, vT = state
-    # invariant of the forced leg: x'^2/2 + (x - 1)^2/2
-    run.invariant("energy (pulse)", ((vT**2 + (xT - 1.0) ** 2) / 2.0 - 0.5) / 0.5)
-    x_max_pulse = max([abs(xT)] + turn_x)
+    x_max_pulse = max([abs(state[0])] + turn_x)
+    err_T = err_1 = 0.0  # round-off of the states at T and t1 from the long-span flow, relative to q_st
+    if tau_T > period:
+        run.invariant("return to rest after one free period of the pulse", math.hypot(*state) / 2.0)
+        run.info["pulse_flow"] = "exact flow of the linear equation (matrix exponential)"
+        xT, vT = (expm(_PULSE_GENERATOR * tau_T) @ np.array([0.0, 0.0, 1.0]))[:2]
+        err_T = 3.0 * rounding_bound(_PULSE_GENERATOR, tau_T)
+        if x1 is None and tau_1 <= tau_T:
+            x1 = (expm(_PULSE_GENERATOR * tau_1) @ np.array([0.0, 0.0, 1.0]))[0]
+            err_1 = 3.0 * rounding_bound(_PULSE_GENERATOR, tau_1)
+    else:
+        xT, vT = state
+    # invariant of the forced leg: x'^2/2 + (x - 1)^2/2, exact for the flow up to its round-off
+    run.invariant("energy (pulse)", ((vT**2 + (xT - 1.0) ** 2) / 2.0 - 0.5) / 0.5,
+                  allowed=exercise.tol_factor * rtol + err_T)
 
     # free leg: amplitude from the state at T, checked over one free period
     amp = math.hypot(xT, vT)
-    period = 2.0 * math.pi
     leg2 = integrate(_free, (tau_T, tau_T + period), [xT, vT], rtol=rtol,
                      atol=rtol * 1e-3 * max(amp, 1e-300), events=[turning])
     run.record(leg2)
@@ -114,23 +157,19 @@ def numeric(p, run):
                 f"free amplitude {amp:.12g} from the state at T but {max(free_turns):.12g} from turning points")
     run.info["free_turning_points_in_one_period"] = len(free_turns)
 
-    if tau_1 > tau_T:
-        # fundamental matrix of the free flow over h, then its N-th power
-        span = tau_1 - tau_T
-        n = max(1, 2 ** int(math.ceil(math.log2(max(span / 1.0, 1.0)))))
-        h = span / n
-        fm = integrate(_free_stack, (0.0, h), [1.0, 0.0, 0.0, 1.0], rtol=min(rtol, 1e-13),
-                       atol=1e-16)
-        run.record(fm)
-        phi = np.array([[fm.y_end[0], fm.y_end[2]], [fm.y_end[1], fm.y_end[3]]])
-        run.invariant("det of the free flow map (Liouville)", np.linalg.det(phi) - 1.0)
-        state = np.linalg.matrix_power(phi, n) @ np.array([xT, vT])
-        run.info["free_flow_steps"] = n
-        run.invariant("energy (free)", (math.hypot(*state) - amp) / max(amp, 1e-300) if amp > 0 else 0.0)
-        x1 = state[0]
-
     s_scale = min(2.0, tau_T)  # size of the state at T relative to q_st
-    run.claim("A_after", rel=exercise.tol_factor * rtol, abs=exercise.tol_factor * rtol * abs(qst) * s_scale)
-    run.claim("q_t", rel=exercise.tol_factor * rtol,
-              abs=exercise.tol_factor * rtol * abs(qst) * (sx if tau_1 <= tau_T else s_scale))
+    if tau_1 > tau_T:
+        # the free flow over t1 - T, exact for the linear equation up to its round-off
+        span = p.omega0 * (p.t1 - p.T)
+        state1 = expm(_FREE_GENERATOR * span) @ np.array([xT, vT])
+        err_1 = err_T + rounding_bound(_FREE_GENERATOR, span) * amp
+        run.invariant("energy (free)", (math.hypot(*state1) - amp) / max(amp, 1e-300) if amp > 0 else 0.0,
+                      allowed=exercise.tol_factor * rtol + err_1 / max(amp, 1e-300))
+        x1 = state1[0]
+    q_scale = s_scale if tau_1 > tau_T else sx
+
+    tol = exercise.tol_factor * rtol
+    run.claim("A_after", rel=tol, abs=abs(qst) * (tol * s_scale + err_T))
+    run.claim("q_max", rel=tol, abs=abs(qst) * err_T)
+    run.claim("q_t", rel=tol, abs=abs(qst) * (tol * q_scale + err_1))
     return {"A_after": abs(qst) * amp, "q_max": abs(qst) * max(x_max_pulse, amp), "q_t": qst * x1}

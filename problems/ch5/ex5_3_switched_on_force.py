@@ -17,20 +17,29 @@ bidiagonal matrix t [[i omega, 1, 0], [0, p1, 1], [0, 0, p2]] (Opitz).  The stat
 A_ss = |f| / |(omega0 - omega)(omega0 + omega) + 2 i delta omega|, infinite at
 delta = 0, omega = omega0.
 
-Numeric: the full equation of motion; over one drive period P = 2 pi/omega
-the map is x -> M x + b, M from the two unit initial states and b from rest.
-Near resonance (where M is close to I) the variables are the exact
-variation-of-constants pair (u, w), q = u cos wt + w sin wt,
-q' = omega (w cos wt - u sin wt) (no averaging: u' and w' carry the whole
-force), and M - I is integrated directly as the deviation of the unit states,
-so it keeps its relative accuracy however nearly resonant the drive; elsewhere
-plain (q, q').  A_ss: the periodic orbit
-(I - M) x* = b, amplitude |x*|.  q(t1), q'(t1): the augmented map raised to the
-N = floor(t1/P) power, then a direct integration over the remaining part of a
-period.  DOP853; Radau with the exact Jacobian when overdamped and 2 delta P > 1e3
-(stiff).  The claim on A_ss scales with the conditioning of I - M; where M is
-the identity within its accuracy (no damping, drive period a multiple of the
-free period) shooting cannot pick the orbit and the solver fails loudly.
+Numeric: the full equation of motion with the drive as a state of its own,
+(q, q', C, S) with C = cos wt, S = sin wt (C' = -w S, S' = w C): an autonomous
+linear system, in the time unit 1/max(omega0, omega, delta).  q(t1), q'(t1):
+its exact flow from rest, the matrix exponential of the generator over t1
+(solvers/linear_flow: scaling and squaring, numpy only), never stepped through
+1e6..1e11 rad; the claim carries the flow's round-off, u times its phase,
+entry by entry.  A_ss: the periodic orbit (I - M) x* = b of the one-period map
+x -> M x + b.  Near resonance (where M is close to I) the map is integrated by
+DOP853 in the exact variation-of-constants pair (u, w), q = u cos wt + w sin wt,
+q' = omega (w cos wt - u sin wt), with M - I integrated directly as the
+deviation of the unit states, so it keeps its relative accuracy however nearly
+resonant the drive; elsewhere M - I and b are the matrix exponential of the
+generator over one period, carried as exp - I.  Where that shooting is
+ill-conditioned (a slow mode that barely decays over a drive period amplifies
+the drive's phase round-off by 1/(1 - its multiplier)), the stationary motion
+is taken instead as the invariant plane of the flow that moves with the drive:
+(q, q') = X (C, S) at all times, a 4x4 linear system for X.  The claim on A_ss
+propagates the map's errors through (I - M)^-1 entry by entry; where M is the
+identity within its accuracy (no damping, drive period a multiple of the free
+period) shooting cannot pick the orbit and the solver fails loudly.  The
+phases omega t1, omega0 t1 are known in floats to u times themselves only, in
+both methods: ``analytic_error`` and the claims carry it, and a phase beyond
+1e15 rad is refused.
 """
 
 from __future__ import annotations
@@ -50,6 +59,13 @@ exercise = Exercise(
         "δ = 0, ω = ω₀:  q = (F₀/m) t sin(ω₀t)/(2ω₀)  (secular growth)",
         "A_ss = (F₀/m)/[(ω₀² − ω²)² + 4δ²ω²]^½",
     ],
+    route_note=(
+        "q(t1) is the exact flow of the equation of motion (the drive made a state of its own, the matrix "
+        "exponential of the generator by scaling and squaring) rather than a DOP853 run to t1, which through "
+        "1e6..1e11 rad of phase timed out; A_ss by shooting as the route says, with DOP853 near resonance and "
+        "the one-period matrix exponential elsewhere, and the flow's invariant plane where shooting is "
+        "ill-conditioned (a slow mode under a fast drive)."
+    ),
 )
 
 
@@ -86,7 +102,7 @@ def _response(w0, d, w, t):
         return 0.0, 0.0
     if t * max(abs(z) for z in nodes) <= 1.0:
         # all nodes within 1/t of the origin: the exponential of the small bidiagonal matrix (no squaring)
-        from scipy.linalg import expm
+        from mech.solvers.linear_flow import expm
 
         B = np.array([[nodes[0], 1, 0], [0, nodes[1], 1], [0, 0, nodes[2]]], dtype=complex)
         E = expm(t * B)
@@ -130,150 +146,181 @@ class _Rotating:
         a = np.array([[-s * gu, -s * gw], [c * gu, c * gw]]) / self.w
         return a, np.array([-s * c, c * c]) / self.w
 
-    def rhs_full(self, t, y):
-        a, force = self.coeffs(t)
-        return a @ y + force
-
     def rhs_period(self, t, y):
         # y = [d1, d2, xp]: deviations of the two unit columns from their start, and the forced state from rest
         a, force = self.coeffs(t)
         return np.concatenate([a @ (y[0:2] + (1.0, 0.0)), a @ (y[2:4] + (0.0, 1.0)), a @ y[4:6] + force])
-
-    jac_full = jac_period = None
 
     def to_qv(self, x, s):
         c, sn = math.cos(self.w * s), math.sin(self.w * s)
         return x[0] * c + x[1] * sn, self.w * (x[1] * c - x[0] * sn)
 
 
-class _Direct:
-    """Unit force per mass in (q, q'); used away from resonance, Radau when overdamped and stiff."""
+_U = 2.0**-53
+MAX_PHASE = 1e15  # rad: beyond it the phase's round-off (u * phase) reaches a tenth of a radian
 
-    def __init__(self, w0, d, w):
-        self.w = w
-        self.a = np.array([[0.0, 1.0], [-w0 * w0, -2.0 * d]])
 
-    def rhs_full(self, t, y):
-        return self.a @ y + (0.0, math.cos(self.w * t))
+def _rate(p):
+    """The fastest phase rate of the motion: the drive and the free oscillation (or the slow decay)."""
+    w0, d = p.omega0, p.delta
+    free = w0 if d < w0 else w0 * w0 / (d + math.sqrt((d - w0) * (d + w0)))
+    return p.omega + free
 
-    def rhs_period(self, t, y):
-        # here the unit columns are integrated as they are (the map is far from the identity)
-        a = self.a
-        return np.concatenate([a @ (y[0:2] + (1.0, 0.0)), a @ (y[2:4] + (0.0, 1.0)),
-                               a @ y[4:6] + (0.0, math.cos(self.w * t))])
 
-    def jac_full(self, t, y):
-        return self.a
+@exercise.constraint
+def constraint(p):
+    phase = max(p.omega, p.omega0) * p.t1
+    if phase > MAX_PHASE:
+        return (f"the phase max(omega, omega0) t1 = {phase:.3g} rad carries no significant digit in double "
+                f"precision (its round-off u * phase exceeds 0.1 rad; at most {MAX_PHASE:g} rad)")
 
-    def jac_period(self, t, y):
-        j = np.zeros((6, 6))
-        for k in range(3):
-            j[2 * k:2 * k + 2, 2 * k:2 * k + 2] = self.a
-        return j
 
-    def to_qv(self, x, s):
-        return x[0], x[1]
+@exercise.analytic_error
+def analytic_error(p):
+    """Round-off of the closed form from its phases: exp(i omega t1) and exp(p t1) are evaluated at
+    products rounded to u (omega t1), u (|p| t1), so each term moves by its size times that; the terms
+    are bounded by the state at t1 (amplitude |q| + |q'|/omega + |q'|/omega0) and the stationary
+    oscillation (which the transient cancels at t = 0)."""
+    a = analytic(p)
+    a_ss = 0.0 if isinstance(a["A_ss"], Undefined) else a["A_ss"]
+    q, v = abs(a["q_t"]), abs(a["v_t"])
+    size = q + v / p.omega + v / p.omega0 + 2.0 * a_ss
+    err = 8.0 * _U * (1.0 + _rate(p) * p.t1) * size
+    return {"q_t": err, "v_t": err * max(p.omega, p.omega0), "A_ss": 4.0 * _U * a_ss}
+
+
+def _generator(w0, d, w, unit):
+    """The equation of motion with the drive as a state of its own, in the time unit 1/unit and
+    x = q unit^2 per unit force per mass: (x, x', C, S) with x'' = -a x - 2 b x' + C, C' = -c S, S' = c C
+    (C = cos omega t, S = sin omega t): an autonomous linear system."""
+    a, b, c = (w0 / unit) ** 2, d / unit, w / unit
+    return np.array([[0.0, 1.0, 0.0, 0.0], [-a, -2.0 * b, 1.0, 0.0], [0.0, 0.0, 0.0, -c], [0.0, 0.0, c, 0.0]])
+
+
+def _orbit_by_rotating_shooting(model, w, d, rtol, run):
+    """Near resonance: the one-period map in variation-of-constants variables by DOP853 (M - I integrated
+    directly, so it keeps its relative digits however close to the identity); returns the periodic
+    state (q*, q'*) per unit force per mass at t = 0 and its relative error, or Undefined."""
+    period = 2.0 * math.pi / w
+    dev = (abs(model.det2) + 2.0 * d * w) * period / w
+    s_force = 1.0 / max(w * w, abs(model.det2) + w * w, 2.0 * d * w)
+    scale = np.array([max(dev, 1e-300)] * 4 + [s_force] * 2)
+    atol = np.maximum(scale * rtol * 1e-3, 1e-300)
+    one = integrate(model.rhs_period, (0.0, period), np.zeros(6), rtol=rtol, atol=atol)
+    run.record(one)
+    y = one.y_end
+    i_minus_m = -np.array([[y[0], y[2]], [y[1], y[3]]])
+    b = y[4:6]
+    if d == 0.0:
+        run.invariant("det of the period map (Liouville, delta = 0)", np.linalg.det(np.eye(2) - i_minus_m) - 1.0)
+    # DOP853's global error grows by about 0.06 rtol per radian of the fastest motion (measured against the
+    # exact map: 0.01-0.063 over 6-565 rad) on top of ~rtol; the claim takes 1 + 0.2 per radian
+    g_one = rtol * (1.0 + 0.2 * w * period)
+    sig_m = g_one * np.abs(one.y[0:4]).max(axis=1) + atol[0:4]  # entries (0,0), (1,0), (0,1), (1,1)
+    sig_b = g_one * np.abs(one.y[4:6]).max(axis=1) + atol[4:6]
+    if np.linalg.svd(i_minus_m, compute_uv=False)[-1] == 0.0:
+        if d == 0.0 and model.det2 == 0.0:
+            return Undefined("undamped exact resonance: the period map is the identity, no periodic orbit"), 0.0
+        raise NumericFailure("the one-period map is the identity to rounding: no unique periodic orbit")
+    xs = np.linalg.solve(i_minus_m, b)
+    sig_mat = np.array([[sig_m[0], sig_m[2]], [sig_m[1], sig_m[3]]])
+    dxs = np.abs(np.linalg.inv(i_minus_m)) @ (sig_b + sig_mat @ np.abs(xs))
+    return model.to_qv(xs, 0.0), float(np.hypot(*dxs) / max(np.hypot(*xs), 1e-300))
+
+
+def _orbit_by_flow_shooting(gen, unit, w, run):
+    """Away from resonance: the one-period map of the autonomous system ``gen`` as its matrix exponential,
+    carried as M - I (a slow mode that barely moves in one period keeps its digits); the periodic state
+    (q*, q'*) per unit force per mass and its relative error (rounding propagated entry by entry)."""
+    from mech.solvers.linear_flow import expm_minus_identity, rounding_bound
+
+    period = 2.0 * math.pi * unit / w  # in the time unit 1/unit
+    dm = expm_minus_identity(gen * period)
+    rb = rounding_bound(gen, period)
+    sig = rb * (np.abs(dm) @ (np.abs(dm) + 2.0 * np.eye(4)))
+    i_minus_m, b = -dm[:2, :2], dm[:2, 2]
+    sig_mat, sig_b = sig[:2, :2], sig[:2, 2]
+    # the period itself is known to rb P only (the drive's phase): b moves by that time the state's rate
+    end = np.array([b[0], b[1], 1.0, 0.0])
+    sig_b = sig_b + rb * period * np.abs(gen @ end)[:2]
+    if np.linalg.svd(i_minus_m, compute_uv=False)[-1] == 0.0:
+        raise NumericFailure("the one-period map is the identity to rounding: no unique periodic orbit")
+    xs = np.linalg.solve(i_minus_m, b)
+    dxs = np.abs(np.linalg.inv(i_minus_m)) @ (sig_b + sig_mat @ np.abs(xs))
+    c = w / unit
+    rel = math.hypot(dxs[0], dxs[1] / c) / max(math.hypot(xs[0], xs[1] / c), 1e-300)
+    return (xs[0] / unit**2, xs[1] / unit), float(rel)
+
+
+def _orbit_by_invariant_manifold(gen, unit, w):
+    """Where one-period shooting is ill-conditioned (a slow mode that barely decays over a period: the
+    drive's phase round-off is amplified by 1/(1 - its multiplier)): the stationary motion is the flow's
+    invariant plane that moves with the drive, (x, x') = X (C, S) for all t, so A X + B = X R with A, B, R
+    the generator's blocks (oscillator, force, drive): a 4x4 linear system for X, solved as it stands.
+    Returns (q*, q'*) at t = 0 per unit force per mass and the relative error (Skeel's bound)."""
+    a_osc, b_force, r_drive = gen[:2, :2], gen[:2, 2:], gen[2:, 2:]
+    eye = np.eye(2)
+    # row-major vec: vec(A X) = (A kron I) vec X, vec(X R) = (I kron R^T) vec X
+    k = np.kron(a_osc, eye) - np.kron(eye, r_drive.T)
+    rhs = -b_force.ravel()
+    x = np.linalg.solve(k, rhs)
+    skeel = np.abs(np.linalg.inv(k)) @ (np.abs(k) @ np.abs(x) + np.abs(rhs))
+    c = w / unit
+    x_mat = x.reshape(2, 2)
+    qs, vs = x_mat[0, 0], x_mat[1, 0]  # at t = 0: (C, S) = (1, 0)
+    amp = math.hypot(x_mat[0, 0], x_mat[0, 1])
+    rel = 16.0 * _U * float(np.max(skeel[:2])) / max(amp, 1e-300)
+    return (qs / unit**2, vs / unit), rel
 
 
 @exercise.numeric
 def numeric(p, run):
+    from mech.solvers.linear_flow import expm, rounding_bound
+
     f = p.F0 / p.m
     w0, d, w = p.omega0, p.delta, p.omega
     period = 2.0 * math.pi / w
     det2 = (w0 - w) * (w0 + w)
     dev = (abs(det2) + 2.0 * d * w) * period / w  # how far the one-period map is from the identity
     rotating = dev <= 2.0
-    model = (_Rotating if rotating else _Direct)(w0, d, w)
-    stiff = (not rotating) and d > w0 and 2.0 * d * period > 1e3
-    method = "Radau" if stiff else "DOP853"
-    run.info["variables"] = "variation of constants (u, w)" if rotating else "(q, q')"
+    unit = max(w0, w, d)  # time unit 1/unit: every rate of the scaled system is at most 2
+    gen = _generator(w0, d, w, unit)
     rtol = run.rtol
-    s_force = 1.0 / max(w0 * w0, w * w, 2.0 * d * w)  # displacement per unit force per mass, roughly
-    if rotating:
-        scale = np.array([dev] * 4 + [s_force] * 2)
-    else:
-        scale = np.array([1.0, w0, 1.0 / w0, 1.0, s_force, s_force * max(w, w0)])
-    atol = np.maximum(scale * rtol * 1e-3, 1e-300)
-    one = integrate(model.rhs_period, (0.0, period), np.zeros(6), rtol=rtol, atol=atol, method=method,
-                    jac=model.jac_period if stiff else None)
-    run.record(one)
-    y = one.y_end
-    i_minus_m = -np.array([[y[0], y[2]], [y[1], y[3]]])
-    b = y[4:6]
-    m_map = np.eye(2) - i_minus_m
-    if d == 0.0:
-        run.invariant("det of the period map (Liouville, delta = 0)", np.linalg.det(m_map) - 1.0)
-    # accuracy of the one-period map, entry by entry: DOP853's global error grows along the run by about
-    # 0.06 rtol per radian of the fastest motion (measured against the exact map: 0.01-0.063 over 6-565 rad)
-    # on top of ~rtol; the claim takes 1 + 0.2 per radian times the largest value each entry meets
-    fast = max(w, w0 if d < w0 else 0.0)
-    g_one = rtol * (1.0 + 0.2 * fast * period)
-    sig_m = g_one * np.abs(one.y[0:4]).max(axis=1) + atol[0:4]  # entries (0,0), (1,0), (0,1), (1,1)
-    sig_b = g_one * np.abs(one.y[4:6]).max(axis=1) + atol[4:6]
+    tol = exercise.tol_factor * rtol
 
-    sv = np.linalg.svd(i_minus_m, compute_uv=False)
-    if sv[-1] == 0.0:
-        if rotating and d == 0.0 and det2 == 0.0:
-            a_ss = Undefined("undamped exact resonance: the period map is the identity, no periodic orbit")
-        else:
-            raise NumericFailure("the one-period map is the identity to rounding: no unique periodic orbit")
+    # A_ss: the periodic orbit of the one-period map x -> M x + b, (I - M) x* = b
+    if rotating:
+        run.info["orbit"] = "one-period map in variation-of-constants variables (DOP853)"
+        orbit, rel = _orbit_by_rotating_shooting(_Rotating(w0, d, w), w, d, rtol, run)
     else:
-        xs = np.linalg.solve(i_minus_m, b)
-        # first-order error of x* = (I - M)^-1 b, component by component (units kept apart: q and q' differ
-        # by a frequency, so no common norm)
-        sig_mat = np.array([[sig_m[0], sig_m[2]], [sig_m[1], sig_m[3]]])
-        dxs = np.abs(np.linalg.inv(i_minus_m)) @ (sig_b + sig_mat @ np.abs(xs))
-        qs, vs = model.to_qv(xs, 0.0)
-        if rotating:
-            rel = float(np.hypot(*dxs) / max(np.hypot(*xs), 1e-300))
-        else:
-            rel = math.hypot(dxs[0], dxs[1] / w) / max(math.hypot(qs, vs / w), 1e-300)
+        run.info["orbit"] = "one-period map as the matrix exponential of the equation's generator"
+        orbit, rel = _orbit_by_flow_shooting(gen, unit, w, run)
+        if rel > tol:
+            run.info["orbit"] = (f"shooting ill-conditioned (relative error {rel:.2g}): the invariant plane of the "
+                                 "generator that moves with the drive")
+            orbit, rel = _orbit_by_invariant_manifold(gen, unit, w)
+    if isinstance(orbit, Undefined):
+        a_ss, stationary = orbit, 0.0
+    else:
         if rel > 1e-3:
             raise NumericFailure(
                 "the one-period map is the identity within its accuracy (drive period a multiple of the free "
                 "period at no damping?): the periodic orbit is not determined by shooting")
+        qs, vs = orbit
         a_ss = abs(f) * math.hypot(qs, vs / w)
-        run.claim("A_ss", rel=max(exercise.tol_factor * rtol, rel))
+        run.claim("A_ss", rel=max(tol, rel))
+        stationary = (abs(qs) + abs(vs) / unit) * unit**2  # in the scaled units of the flow below
 
-    # the state at t1: N whole periods by the augmented map, then the rest of a period directly
-    n = int(p.t1 // period)
-    rest = p.t1 - n * period
-    if rest < 0.0:
-        n, rest = n - 1, p.t1 - (n - 1) * period
-    aug = np.eye(3)
-    aug[:2, :2] = m_map
-    aug[:2, 2] = b
-    x = (np.linalg.matrix_power(aug, n) @ np.array([0.0, 0.0, 1.0]))[:2] if n > 0 else np.zeros(2)
-    run.info["whole_periods"] = n
-    # the map's errors (sig_m, sig_b above) propagated through the N-fold power exactly, entry by entry:
-    # d(A^N) is the upper-right block of [[A, dA], [0, A]]^N (the error grows with N as the route does)
-    err = np.zeros(2)
-    if n > 0:
-        entries = [((0, 0), sig_m[0]), ((1, 0), sig_m[1]), ((0, 1), sig_m[2]), ((1, 1), sig_m[3]),
-                   ((0, 2), sig_b[0]), ((1, 2), sig_b[1])]
-        for (i, j), sig in entries:
-            blk = np.zeros((6, 6))
-            blk[:3, :3] = blk[3:, 3:] = aug
-            blk[i, 3 + j] = 1.0
-            err += np.abs(np.linalg.matrix_power(blk, n)[:2, 5]) * sig
-    if rest > 0.0:
-        # the tail carries its own unit columns along: its flow maps the error of the whole periods
-        size = np.maximum(np.abs(x), scale[4:6])
-        tail = integrate(model.rhs_period, (0.0, rest), np.concatenate([np.zeros(4), x]), rtol=rtol,
-                         atol=np.concatenate([atol[0:4], rtol * 1e-3 * size]), method=method,
-                         jac=model.jac_period if stiff else None)
-        run.record(tail)
-        yt = tail.y_end
-        flow = np.eye(2) + np.array([[yt[0], yt[2]], [yt[1], yt[3]]])
-        g_tail = rtol * (1.0 + 0.2 * fast * rest)
-        err = np.abs(flow) @ err + g_tail * np.abs(tail.y[4:6]).max(axis=1) + rtol * 1e-3 * size
-        x = yt[4:6]
-    q, qd = model.to_qv(x, rest)
-    if rotating:
-        c, sn = abs(math.cos(w * rest)), abs(math.sin(w * rest))
-        eq, ev = err[0] * c + err[1] * sn, w * (err[1] * c + err[0] * sn)
-    else:
-        eq, ev = err
-    run.claim("q_t", rel=exercise.tol_factor * rtol, abs=abs(f) * abs(eq))
-    run.claim("v_t", rel=exercise.tol_factor * rtol, abs=abs(f) * abs(ev))
-    return {"q_t": f * q, "v_t": f * qd, "A_ss": a_ss}
+    # q(t1), q'(t1): the exact flow of the equation of motion with the drive as a state, from rest
+    s1 = unit * p.t1
+    flow = expm(gen * s1)
+    y = flow[:, 2]  # from (x, x', C, S) = (0, 0, 1, 0)
+    run.info["flow"] = "matrix exponential of the generator over t1 (scaling and squaring)"
+    # its round-off: every component j injects about rb times its size, carried to x and x' by the flow
+    rb = rounding_bound(gen, s1)
+    s_x = abs(y[0]) + abs(y[1]) + 2.0 * stationary
+    sizes = np.array([s_x, s_x, 1.0, 1.0])
+    err = rb * (np.abs(flow[:2]) @ sizes)
+    run.claim("q_t", rel=tol, abs=abs(f) * err[0] / unit**2)
+    run.claim("v_t", rel=tol, abs=abs(f) * err[1] / unit)
+    return {"q_t": f * y[0] / unit**2, "v_t": f * y[1] / unit, "A_ss": a_ss}

@@ -130,6 +130,28 @@ def analytic(p):
 
 
 # ------------------------------------------------------------------ numeric
+def cubic_force(x, b):
+    """The anharmonic term of the scaled Duffing equation: -b x^3."""
+    return -b * x**3
+
+
+def equation_of_motion(x, a, b):
+    """x'' of the scaled Duffing equation x'' = -a x - b x^3 (a = 1/S^2, b = eps/S^2)."""
+    return -a * x + cubic_force(x, b)
+
+
+def barrier_equation_of_motion(s, xb, eps):
+    """s'' for the distance s = x_b - x from the barrier top, expanded about it without cancellation:
+    s'' = -x'' = x + eps x^3 at x = x_b - s, with 1 + eps x_b^2 = 0."""
+    return 2.0 * s - 3.0 * s * s / xb - eps * s**3
+
+
+def physical_energy(p, q, v):
+    """Energy per unit mass from the statement's potential, in SI: v^2/2 + omega0^2 q^2/2 + alpha q^4/4.
+    Written from the physics, not from the scaled equations above, so that it checks them."""
+    return 0.5 * v * v + 0.5 * p.omega0**2 * q * q + 0.25 * p.alpha * q**4
+
+
 def _quarter_excess(eps):
     """(T/4 - pi/2) in units 1/omega0 by quadrature of the energy integral, and its error estimate."""
     from mech.solvers.quadrature import quad
@@ -159,10 +181,11 @@ def numeric(p, run):
         a, b = 1.0 / (S * S), eps / (S * S)
 
         def rhs(t, y):
-            return np.array([y[1], -a * y[0] - b * y[0] ** 3])
+            return np.array([y[1], equation_of_motion(y[0], a, b)])
 
         def energy(x, v):
-            return 0.5 * v * v + 0.5 * a * x * x + 0.25 * b * x**4
+            # back to SI: q = A x, dq/dt = A S omega0 dx/dsigma
+            return physical_energy(p, A * x, A * S * w0 * v)
 
         vmax = math.sqrt(a + 0.5 * abs(b))
         span = 8.0 * math.pi
@@ -191,9 +214,11 @@ def numeric(p, run):
 
         # c3 from the deviation r = x - cos(ws sigma)
         def rhs_r(t, y):
+            # r'' = x'' + ws^2 cos(ws t) = -ws^2 r + (ws^2 - a) x - b x^3 (the -a x - b x^3 of x'' split as
+            # -ws^2 x + (ws^2 - a) x so that r stays small)
             c = math.cos(ws * t)
             x = c + y[0]
-            return np.array([y[1], -ws * ws * y[0] + ws2ma * x - b * x**3, y[0] * math.cos(3.0 * ws * t)])
+            return np.array([y[1], -ws * ws * y[0] + ws2ma * x + cubic_force(x, b), y[0] * math.cos(3.0 * ws * t)])
 
         rs = min(max(abs(eps), 1e-300), 1.0)  # the size of r (|eps|/32 small, order one large)
         tq = 0.5 * math.pi / ws
@@ -211,11 +236,12 @@ def numeric(p, run):
         s0 = g / ((-eps) * (xb + 1.0))
 
         def rhs_s(t, y):
-            s = y[0]
-            return np.array([y[1], 2.0 * s - 3.0 * s * s / xb - eps * s**3])
+            return np.array([y[1], barrier_equation_of_motion(y[0], xb, eps)])
 
-        def pot(s):
-            return -s * s + s**3 / xb + 0.25 * eps * s**4
+        def energy_s(s, ds):
+            # back to SI: q = A (x_b - s), dq/dt = -A omega0 ds/dtau; relative to the barrier's energy
+            # omega0^4/(4 |alpha|), from which the motion starts only 1 + eps below
+            return physical_energy(p, A * (xb - s), -A * w0 * ds)
 
         # the quarter period grows like ln(1/s0): bound the search generously
         span = 8.0 * (math.pi + math.log(1.0 + 1.0 / s0))
@@ -224,17 +250,18 @@ def numeric(p, run):
             rtol=rtol, atol=[rtol * 1e-3 * s0, rtol * 1e-3 * s0],
         )
         run.record(tr)
-        e0 = pot(s0)
-        # relative to the energy range explored, V(s0) - V(x_b) = (1/2 + eps/4 x_b^4)... ~ 1/4 x_b^2 scale
-        scale = 0.5 * y_q[1] ** 2
-        run.invariant("energy", (0.5 * y_q[1] ** 2 + pot(y_q[0]) - e0) / scale)
+        e0 = energy_s(s0, 0.0)
+        # relative to the kinetic energy at x = 0, the energy range explored (the potential's round-off near
+        # the barrier top, where the energy is 1/(-4 eps) in units A^2 omega0^2, is relative to that scale)
+        scale = 0.5 * (A * w0 * y_q[1]) ** 2
+        run.invariant("energy", (energy_s(y_q[0], y_q[1]) - e0) / scale)
         omega1 = 0.5 * math.pi / t_q
         dw = omega1 - 1.0
         run.info["domega_route"] = "event x = 0 in the distance from the barrier top"
 
         def rhs_c(t, y):
             s = y[0]
-            return np.array([y[1], 2.0 * s - 3.0 * s * s / xb - eps * s**3, (xb - s) * math.cos(3.0 * omega1 * t)])
+            return np.array([y[1], barrier_equation_of_motion(s, xb, eps), (xb - s) * math.cos(3.0 * omega1 * t)])
 
         tr2 = integrate(rhs_c, (0.0, t_q), [s0, 0.0, 0.0], rtol=rtol,
                         atol=np.array([s0, s0, t_q]) * rtol * 1e-3)

@@ -148,6 +148,21 @@ def _force(omega0, delta, alpha):
     return force
 
 
+def _remainder(delta, alpha):
+    """The force per unit mass besides the linear -omega0^2 q and the drive: drag and the cubic."""
+    d2 = 2.0 * delta
+
+    def remainder(q, v):
+        return -d2 * v - alpha * q * q * q, -3.0 * alpha * q * q, -d2
+
+    return remainder
+
+
+# damping per period 4 pi delta/omega0 below which the one-period map is taken in the rotating frame: the
+# plain map resolves its fixed point only to rtol/damp, and its refinements, at rtol 10 damp, reach the
+# integrator's floor 3e-14 at rtol/10 = 1e-11 for damp 3e-4; the rotating one costs 1.7 times the
+# evaluations (its integrand carries the cubic's harmonics), so the defaults (damp 0.025) keep the plain one
+ROTATING_BELOW = 1e-3
 MAX_CHORD = 1.0  # longest bracket (scaled units) refined directly: a longer one is first re-swept in short steps
 
 
@@ -161,21 +176,29 @@ def _swing_slope(bp):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.sweeps import OrbitMap, refine_root, shorten_bracket, solve_on_plane, sweep
+    from mech.solvers.sweeps import OrbitMap, RotatingOrbitMap, refine_root, shorten_bracket, solve_on_plane, sweep
 
     rtol = run.rtol
-    # the sweeps only bracket, the refinements run at rtol; but the fixed point's condition number is about
-    # the inverse of the damping per period, 4 pi delta/omega0, and the sweep needs its points to ~1e-5
-    damp = 4.0 * math.pi * p.delta / p.omega0  # 1 - det M: the damping per period
-    rs = max(rtol, min(1e-7, 1e-6 * damp))
-    # the refinements: integration tolerance scaled by the same condition number, so that the orbit (and so
-    # the outputs) come out to about rtol
-    rr = max(3e-14, rtol * min(1.0, 10.0 * damp))  # scipy floors rtol at 2.2e-14
-    run.info["rtol_integration"] = rr
     Q = p.f0 / (2.0 * p.omega0 * p.delta)  # unit of length: the linear resonant swing
     W = p.delta  # unit of detuning: the half-width
-    om = OrbitMap(_force(p.omega0, p.delta, p.alpha), p.f0, Q, p.omega0, W,
-                  memo=run.shared, memo_key=("5.8", *(float(p[k]) for k in p)))
+    memo_key = ("5.8", *(float(p[k]) for k in p))
+    damp = 4.0 * math.pi * p.delta / p.omega0  # 1 - det M: the damping per period
+    if damp < ROTATING_BELOW:
+        # the map in the rotating frame, integrated as its increment over the damping scale: its fixed
+        # point is conditioned by O(1) however weak the damping.  The sweeps only bracket (points to
+        # ~1e-5), the refinements run at rtol
+        rs, rr = max(rtol, 1e-7), rtol
+        om = RotatingOrbitMap(_remainder(p.delta, p.alpha), p.f0, Q, p.omega0, W, 2.0 * p.delta / p.omega0,
+                              memo=run.shared, memo_key=memo_key)
+    else:
+        # the plain map: its fixed point's condition number is about 1/damp, and the sweep needs its points
+        # to ~1e-5; the refinements integrate at rtol scaled by the same condition number, so that the
+        # orbit (and so the outputs) come out to about rtol
+        rs = max(rtol, min(1e-7, 1e-6 * damp))
+        rr = max(3e-14, rtol * min(1.0, 10.0 * damp))  # scipy floors rtol at 2.2e-14
+        om = OrbitMap(_force(p.omega0, p.delta, p.alpha), p.f0, Q, p.omega0, W, memo=run.shared, memo_key=memo_key)
+    run.info["rtol_integration"] = rr
+    run.info["orbit_map"] = type(om).__name__
     # the sweeps run over +-(4 half-widths + 0.6 times the nonlinear shift scale |alpha| Q^2/omega0)
     w_end = 4.0 + 0.6 * abs(p.alpha) * Q * Q / (p.omega0 * p.delta)
 

@@ -8,17 +8,20 @@ deviation from A0 relaxes at the rate
 d/dA[(mu/2) A (1 - beta A^2/4)] at A0 = -mu, the Floquet exponent.  Leading
 order in mu/omega0.
 
-Numeric (shooting, exact): in the scaled variables x = sqrt(beta) q,
-tau = omega0 t, eps = mu/omega0 the equation is x'' - eps (1 - x^2) x' + x = 0.
-From (x, x') = (3, 0) a few periods are integrated (a transient, not waited
-out), the last maximum (section x' = 0, x > 0) and the last period are the
-start of Newton's method on phi_T(X, 0) = (X, 0) for (X, T), with the Jacobian
-[M e1 - e1, f(phi_T)] from the variational equations (DOP853; Radau with
-finite-difference Jacobian for eps > 2, where the cycle is a stiff
-relaxation oscillation).  A = X/sqrt(beta) (the section is the maximum of q),
-omega = 2 pi omega0/T.  lambda_lc: Liouville's formula, the period average
-of the divergence eps (1 - x^2), carried along as an extra state; the second
-multiplier det M is compared with exp(lambda T) where it is resolvable.
+Numeric (exact): in the scaled variables x = sqrt(beta) q, tau = omega0 t,
+eps = mu/omega0 the equation is x'' - eps (1 - x^2) x' + x = 0.
+eps <= 4: the return map from a maximum (X, 0) to the next (events on
+x' = 0, DOP853) carries the integral of (1 - x^2) x'^2, the energy gained
+over the return divided by eps; the cycle's X is its root (Brent, bracketed
+by X = 1, where the damping is negative all along, and X = 3).  Unlike Newton
+on the map itself, X -> X + O(eps), the root keeps its conditioning as
+eps -> 0.  A = X/sqrt(beta), omega = 2 pi omega0/T; lambda_lc: Liouville's
+formula, mu times the period average of (1 - x^2), checked against ln det M
+of the converged cycle where that is resolvable.
+eps > 4 (relaxation oscillation): x and u = x'/eps against the slow time
+tau/eps with LSODA (stiff on the slow branches); from the maximum (2, 0) the
+cycle attracts by exp(-1.44 eps^2) per half cycle, and the second full cycle
+gives period, amplitude and exponent; its two halves must agree.
 """
 
 from __future__ import annotations
@@ -39,12 +42,30 @@ exercise = Exercise(
         "λ_lc = -μ",
     ],
     leading_order=("A", "omega", "lambda_lc"),
+    route_note="""
+The cycle is the root of the energy gained over one return from the section
+(Brent in X alone), not Newton on (A, T): that Newton step is conditioned by
+1/eps and moved A by 1e-7 at rtol/10 for eps ~ 1e-5.  For eps > 4, LSODA in
+the slow time tau/eps replaces Radau, whose steps stalled at ~1e-6 of a
+cycle on the slow branches (30 s at eps = 100).
+""",
 )
 
-STIFF_EPS = 2.0  # mu/omega0 above which the cycle is a relaxation oscillation (no Newton needed)
-# mu/omega0 above which the explicit method's stability limit (step < ~3/(eps (x^2 - 1)) on the
-# slow branches, ~eps^2 steps a cycle) costs more than the implicit Radau's accuracy-limited steps
-IMPLICIT_EPS = 30.0
+# mu/omega0 above which the cycle is a relaxation oscillation: it attracts by exp(-1.44 eps^2) per half
+# cycle (1e-10 at eps = 4), so that a start on the slow branch has settled after one half cycle, and the
+# explicit method's stability limit (~eps^2 steps a cycle) makes the stiff solver the cheaper one
+RELAX_EPS = 4.0
+# mu/omega0 beyond which the jumps of the relaxation oscillation, ~1/eps^2 of its slow phases, fall below
+# what double precision resolves of a period (1e-10 at 1e5; at 1e6 the jump's event is lost in round-off)
+MAX_EPS = 1e5
+
+
+@exercise.constraint
+def constraint(p):
+    eps = p.mu / p.omega0
+    if eps > MAX_EPS:
+        return (f"mu/omega0 = {eps:.3g} exceeds {MAX_EPS:g}: a relaxation oscillation whose jumps last "
+                f"~(omega0/mu)^2 = {eps**-2:.1e} of its slow phases, below what double precision resolves of a period")
 
 
 @exercise.analytic
@@ -64,6 +85,85 @@ def expected_error(p):
     return {"A": e2 / 48.0, "omega": e2 / 8.0, "lambda_lc": e2 / 8.0}
 
 
+def _return(X, eps, rtol, run):
+    """From the maximum (X, 0) to the next one, x'' = eps (1 - x^2) x' - x in tau = omega0 t.
+
+    Returns (X_next, period, int (1 - x^2) x'^2 dtau, int (1 - x^2) dtau).  The energy
+    (x^2 + x'^2)/2 changes over the return by eps times the third: a periodic orbit is where
+    that integral vanishes, a root that keeps its conditioning however small eps is (the
+    return map itself, X -> X + eps (...), cannot resolve X better than rtol/eps)."""
+    vs = max(1.0, eps)  # x' reaches ~eps in the fast parts for eps ~ 1
+
+    def rhs(t, z):
+        x, v = z[0], z[1]
+        d = 1.0 - x * x
+        return [v, eps * d * v - x, d * v * v, d]
+
+    atol = [1e-3 * rtol, 1e-3 * rtol * vs, 1e-3 * rtol * vs * vs, 1e-3 * rtol]
+    t_max = 20.0 + 4.0 * eps  # a half period is pi at eps = 0 and ~4.5 at eps = 4
+    z, t = [X, 0.0, 0.0, 0.0], 0.0
+    # two legs: to the minimum (x' = 0 upward), then to the maximum; each starts on its other section
+    for direction, what in ((1.0, "minimum"), (-1.0, "maximum")):
+        ev = Event(lambda t, z: z[1], terminal=True, direction=direction, name=f"x' = 0, {what}")
+        traj = integrate(rhs, (t, t + t_max), z, rtol=rtol, atol=atol, events=[ev])
+        run.record(traj)
+        if len(traj.t_events[0]) == 0:
+            raise NumericFailure(f"no {what} of x within tau = {t_max:g} from X = {X:.6g}")
+        t, z = float(traj.t_events[0][0]), np.array(traj.y_events[0][0])
+        z[1] = 0.0
+    return float(z[0]), t, float(z[2]), float(z[3])
+
+
+def _energy_balance(p, run, eps):
+    """The cycle's maximum X is the root of the energy gained over one return, in [1, 3]: for X <= 1
+    the damping is negative all along the orbit (the energy grows); from X = 3 it falls."""
+    from mech.solvers.roots import brentq
+
+    rtol = run.rtol
+    r_search = max(rtol, 1e-7)  # the search runs cheaper; secant steps at rtol finish it
+    seen = {}
+
+    def gain(X, r):
+        seen[X, r] = _return(X, eps, r, run)
+        return seen[X, r][2] / (X * X)
+
+    g_lo, g_hi = gain(1.0, r_search), gain(3.0, r_search)
+    if not (g_lo > 0.0 > g_hi):
+        raise NumericFailure(f"the energy gained over a cycle does not change sign between X = 1 and 3 "
+                             f"({g_lo:.3g}, {g_hi:.3g}): no bracket for the limit cycle")
+    Xs = brentq(lambda X: gain(X, r_search), 1.0, 3.0, xtol=1e-5, rtol=1e-15, maxiter=100, fa=g_lo, fb=g_hi)
+    # the gain's slope is O(1) (-4 pi at eps -> 0): secant steps at rtol from either side of the search's root
+    x0, x1 = Xs - 1e-5, Xs + 1e-5
+    f0, f1 = gain(x0, rtol), gain(x1, rtol)
+    for _ in range(12):
+        if f1 == f0:
+            break
+        x2 = x1 - f1 * (x1 - x0) / (f1 - f0)
+        if not 1.0 <= x2 <= 3.0:
+            raise NumericFailure(f"the secant steps for the limit cycle left the bracket [1, 3] (X = {x2:.6g})")
+        x0, f0, x1 = x1, f1, x2
+        f1 = gain(x1, rtol)
+        if abs(x1 - x0) <= rtol * x1:  # the noise floor: g is resolved to ~rtol, its slope is O(1)
+            break
+    else:
+        raise NumericFailure("the secant steps for the limit cycle did not converge in 12 steps")
+    X = x1
+    X_next, T, _, int_div = seen[X, rtol]
+    run.info["closure"] = X_next - X
+    run.info["brent_evaluations"] = len(seen)
+
+    # Liouville: the second multiplier det M of the converged cycle is exp(eps int (1 - x^2) dtau)
+    f = lambda t, y: _f(t, y, eps)  # noqa: E731
+    jac = lambda t, y: _jac(t, y, eps)  # noqa: E731
+    _, M, _, traj = flow_with_variations(f, jac, [X, 0.0], (0.0, T), rtol=rtol, scale=[1.0, max(1.0, eps)])
+    run.record(traj)
+    det = float(np.linalg.det(M))
+    run.info["det_M"] = det
+    if det > 1e3 * rtol:
+        run.invariant("Liouville (ln det M - int div)", (math.log(det) - eps * int_div) / max(abs(eps * int_div), 1.0))
+    return {"A": X / math.sqrt(p.beta), "omega": 2.0 * math.pi * p.omega0 / T, "lambda_lc": p.mu * int_div / T}
+
+
 def _f(t, y, eps):
     return np.array([y[1], eps * (1.0 - y[0] ** 2) * y[1] - y[0]])
 
@@ -75,94 +175,50 @@ def _jac(t, y, eps):
 @exercise.numeric
 def numeric(p, run):
     eps = p.mu / p.omega0
+    if eps > RELAX_EPS:
+        return _relaxation(p, run, eps)
+    return _energy_balance(p, run, eps)
+
+
+def _relaxation(p, run, eps):
+    """The stiff case in x and u = x'/eps against the slow time s = tau/eps:
+    x_s = eps^2 u, u_s = eps^2 (1 - x^2) u - x (the fast jumps take ~1/eps^2 in s, the slow
+    branches ~1), with LSODA (it switches to BDF on the stiff slow branches).  From the maximum
+    (2, 0) the cycle attracts by exp(-1.44 eps^2) per half cycle; three legs, max -> min -> max
+    -> min, and the last full cycle (min to min) gives the period, its maximum the amplitude and
+    the integral of the divergence the exponent.  Its two halves must agree (the cycle is
+    symmetric under x -> -x): the check that the start has settled."""
     rtol = run.rtol
-    stiff = eps > STIFF_EPS
-    method = "DOP853"
-    f = lambda t, y: _f(t, y, eps)  # noqa: E731
-    jac = lambda t, y: _jac(t, y, eps)  # noqa: E731
-    vscale = max(1.0, eps)  # x' reaches ~eps in the fast jumps of a relaxation oscillation
+    e2 = eps * eps
 
-    def div(t, y):
-        return [eps * (1.0 - y[0] ** 2)]
+    def rhs(s, z):
+        x, u = z[0], z[1]
+        d = 1.0 - x * x
+        return [e2 * u, e2 * d * u - x, d]
 
-    if stiff:
-        return _relaxation(p, run, eps, vscale, div)
+    def jac(s, z):
+        x, u = z[0], z[1]
+        return [[0.0, e2, 0.0], [-2.0 * e2 * x * u - 1.0, e2 * (1.0 - x * x), 0.0], [-2.0 * x, 0.0, 0.0]]
 
-    # a short transient from above the cycle, to find the section and a period
-    maxima = Event(lambda t, y: y[1], terminal=False, direction=-1.0, name="x' = 0, maximum")
-    pre = integrate(
-        f, (0.0, 4.0 * 2.0 * math.pi), [3.0, 0.0], rtol=min(1e-8, 1e3 * rtol), atol=1e-10 * vscale, method=method,
-        events=[maxima],
-    )
-    run.record(pre)
-    tm = [t for t, y in zip(pre.t_events[0], pre.y_events[0]) if y[0] > 0]
-    xm = [y[0] for y in pre.y_events[0] if y[0] > 0]
-    if len(tm) < 2:
-        raise NumericFailure("fewer than two maxima in the transient: no start for the shooting")
-    X, T = xm[-1], tm[-1] - tm[-2]
-
-    for it in range(30):
-        y_end, M, extra, traj = flow_with_variations(
-            f, jac, [X, 0.0], (0.0, T), rtol=rtol, scale=[1.0, vscale], method=method, extra=div, n_extra=1
-        )
+    # u is ~1/eps^2 on the slow branches, ~1 in the jumps
+    atol = [1e-3 * rtol, 1e-3 * rtol / e2, 1e-3 * rtol]
+    z, s = np.array([2.0, 0.0, 0.0]), 0.0
+    marks = []
+    for direction, what in ((1.0, "minimum"), (-1.0, "maximum"), (1.0, "minimum")):
+        ev = Event(lambda t, z: z[1], terminal=True, direction=direction, name=f"x' = 0, {what}")
+        traj = integrate(rhs, (s, s + 4.0), z, rtol=rtol, atol=atol, method="LSODA", jac=jac, events=[ev])
         run.record(traj)
-        r = y_end - np.array([X, 0.0])
-        J = np.array([[M[0, 0] - 1.0, f(0, y_end)[0]], [M[1, 0], f(0, y_end)[1]]])
-        dX, dT = np.linalg.solve(J, -r)
-        dX = float(np.clip(dX, -0.5 * X, 0.5 * X))
-        X, T = X + dX, T + float(dT)
-        if abs(dX) < rtol * X and abs(dT) < rtol * T and np.max(np.abs(r)) < 10 * rtol * vscale:
-            break
-    else:
-        raise NumericFailure("Newton's method for the limit cycle did not converge in 30 steps")
-    run.info["newton_steps"] = it + 1
-    if X <= 0:
-        raise NumericFailure("the shooting converged to a start that is not a maximum of q")
-
-    lam_tau = float(extra[0]) / T
-    det = float(np.linalg.det(M))
-    run.info["det_M"] = det
-    if det > 1e3 * rtol:
-        # Liouville: det M = exp(integral of the divergence); only resolvable when det M is not tiny
-        run.invariant("Liouville (ln det M - int div)", (math.log(det) - float(extra[0])) / max(abs(float(extra[0])), 1.0))
-    return {"A": X / math.sqrt(p.beta), "omega": 2.0 * math.pi * p.omega0 / T, "lambda_lc": p.omega0 * lam_tau}
-
-
-def _relaxation(p, run, eps, vscale, div):
-    """The stiff case: the cycle attracts so strongly (second multiplier exp(lambda T) < 1e-9)
-    that a start's error is gone after one period; Radau with the exact Jacobian
-    runs a few periods, and the last two maxima must agree to the tolerance."""
-    rtol = run.rtol
-
-    def rhs(t, y):
-        return np.array([y[1], eps * (1.0 - y[0] ** 2) * y[1] - y[0], eps * (1.0 - y[0] ** 2)])
-
-    def jac(t, y):
-        return np.array(
-            [[0.0, 1.0, 0.0], [-2.0 * eps * y[0] * y[1] - 1.0, eps * (1.0 - y[0] ** 2), 0.0], [-2.0 * eps * y[0], 0.0, 0.0]]
-        )
-
-    method = "Radau" if eps > IMPLICIT_EPS else "DOP853"
-    maxima = Event(lambda t, y: y[1], terminal=False, direction=-1.0, name="x' = 0, maximum")
-    # the slow phases last about (3 - 2 ln 2) eps each cycle: run several of them
-    t_run = 4.6 * (1.614 * eps + 2.0 * math.pi)
-    traj = integrate(
-        rhs, (0.0, t_run), [3.0, 0.0, 0.0], rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3 * vscale, rtol * 1e-3 * eps],
-        method=method, events=[maxima], jac=jac,
-    )
-    run.record(traj)
-    ev = [(t, y) for t, y in zip(traj.t_events[0], traj.y_events[0]) if y[0] > 0]
-    if len(ev) < 3:
-        raise NumericFailure(f"only {len(ev)} maxima in the relaxation run: too short")
-    (t1, y1), (t2, y2), (t3, y3) = ev[-3:]
-    T, T_prev = t3 - t2, t2 - t1
-    if abs(T - T_prev) > 100 * rtol * T or abs(y3[0] - y2[0]) > 100 * rtol * y3[0]:
-        raise NumericFailure(f"the relaxation cycle has not settled: periods {T_prev:.12g}, {T:.12g}")
-    lam_tau = (y3[2] - y2[2]) / T
-    run.info["second_multiplier_log10"] = lam_tau * T / math.log(10.0)
-    run.info["method_note"] = (
-        "Radau (implicit, exact Jacobian): stiff relaxation oscillation" if method == "Radau"
-        else "DOP853: relaxation oscillation, mildly stiff at this eps (explicit steps stay accuracy-limited)"
-    )
-    run.claim("lambda_lc", rel=1e3 * rtol)
-    return {"A": y3[0] / math.sqrt(p.beta), "omega": 2.0 * math.pi * p.omega0 / T, "lambda_lc": p.omega0 * lam_tau}
+        if len(traj.t_events[0]) == 0:
+            raise NumericFailure(f"no {what} of x within 4 slow times (the relaxation cycle's half takes ~0.8)")
+        s, z = float(traj.t_events[0][0]), np.array(traj.y_events[0][0])
+        z[1] = 0.0
+        marks.append((s, z.copy()))
+    (s1, z1), (s2, z2), (s3, z3) = marks
+    T, h1, h2 = s3 - s1, s2 - s1, s3 - s2
+    if abs(h1 - h2) > 100 * rtol * T or abs(z2[0] + z3[0]) > 100 * rtol * z2[0]:
+        raise NumericFailure(f"the relaxation cycle has not settled: half periods {h1:.12g}, {h2:.12g}")
+    int_div = z3[2] - z1[2]  # int (1 - x^2) ds over the cycle
+    run.info["second_multiplier_log10"] = e2 * int_div / math.log(10.0)
+    run.info["method_note"] = "LSODA in the slow time tau/eps: stiff relaxation oscillation"
+    return {"A": z2[0] / math.sqrt(p.beta), "omega": 2.0 * math.pi * p.omega0 / (eps * T),
+            "lambda_lc": p.mu * int_div / T}

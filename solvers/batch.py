@@ -1,0 +1,269 @@
+"""Many independent initial-value problems integrated at once, as one vectorised system.
+
+A chart evaluates the same equation of motion at thousands of parameter
+points.  Integrated one by one, the interpreter's cost per step (a few tens of
+microseconds) dominates the arithmetic; integrated together, one step of all
+points is a handful of numpy operations on arrays of N numbers.  The points
+must share one time interval: an exercise puts every point on the same
+interval by scaling time (its period onto a fixed span).
+
+``integrate_batch(rhs, t_span, y0, rtol=, atol=)`` is the DOP853 pair of
+``mech.solvers.dop853`` (the same tableau, error blend and step control) on a
+state of shape (n, N): n components for each of N points.  The error of a step
+is measured per point (the weighted RMS over that point's n components, as a
+single run of that point would measure it) and the step is accepted only when
+every point's error is below 1; the step size follows the worst point.  So
+every point meets its own tolerance, on a mesh at least as fine as its own run
+would choose.  Each point's largest accepted error estimate is returned, so a
+caller can see how close to its tolerance each point came.
+
+Memory is (16 n N) numbers for the stages; a caller chunks large grids.
+No physics here; numpy only.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from mech.problems.spec import NumericFailure
+from mech.solvers import budget
+
+__all__ = ["BatchResult", "integrate_batch", "MAX_STEPS"]
+
+SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
+ERR_EXP = -1.0 / 8.0
+MAX_STEPS = 100_000
+
+
+@dataclass
+class BatchResult:
+    y_end: np.ndarray  # (n, N): every point's state at t_span[1]
+    steps: int  # accepted steps (shared by all points)
+    rejected: int
+    nfev: int  # right-hand-side evaluations of the whole batch (each evaluates all N points)
+    err_max: np.ndarray  # (N,): each point's largest accepted error estimate (in units of its tolerance)
+    method: str = "DOP853 (batched)"
+
+
+def _tableau():
+    from mech.solvers import dop853
+
+    if not dop853.available():
+        raise NumericFailure("the DOP853 tableau is unavailable: no batched integration")
+    return dop853._TABLEAU
+
+
+def integrate_batch(
+    rhs: Callable[[float, np.ndarray], np.ndarray],
+    t_span: tuple[float, float],
+    y0: np.ndarray,
+    *,
+    rtol: float,
+    atol,
+    first_step: float | None = None,
+    max_steps: int = MAX_STEPS,
+) -> BatchResult:
+    """Integrate ``y' = rhs(t, y)`` for a state ``y`` of shape (n, N) from ``t_span[0]`` to ``t_span[1]``.
+
+    ``atol``: a number, or one per component (shape (n,) or (n, 1)), or per component and point (n, N).
+    Raises ``NumericFailure`` when the step size underflows or ``max_steps`` is reached.
+    """
+    tab = _tableau()
+    C, A, B, E3, E5 = tab["C"], tab["A"], tab["B"], tab["E3"], tab["E5"]
+    y = np.array(y0, dtype=float)
+    if y.ndim != 2:
+        raise ValueError("y0 must have the shape (n, N)")
+    n, N = y.shape
+    atol = np.asarray(atol, dtype=float)
+    if atol.ndim == 1:
+        atol = atol[:, None]
+    t0, t_end = float(t_span[0]), float(t_span[1])
+    direction = 1.0 if t_end >= t0 else -1.0
+    err_max = np.zeros(N)
+    if t_end == t0 or N == 0:
+        return BatchResult(y, 0, 0, 0, err_max)
+    nfev = 0
+
+    def f(t, yy):
+        nonlocal nfev
+        nfev += 1
+        return np.asarray(rhs(t, yy), dtype=float)
+
+    fy = f(t0, y)
+    span = abs(t_end - t0)
+    if first_step is not None:
+        h_abs = min(abs(float(first_step)), span)
+    else:
+        # Hairer's starting step, with the worst point's norms
+        scale = atol + np.abs(y) * rtol
+        d0 = np.sqrt(np.mean((y / scale) ** 2, axis=0))
+        d1 = np.sqrt(np.mean((fy / scale) ** 2, axis=0))
+        ratio = np.where((d0 < 1e-5) | (d1 < 1e-5), 1e-6, 0.01 * d0 / np.maximum(d1, 1e-300))
+        h0 = min(float(ratio.min()), span)
+        f1 = f(t0 + direction * h0, y + direction * h0 * fy)
+        d2 = float(np.max(np.sqrt(np.mean(((f1 - fy) / scale) ** 2, axis=0)))) / h0
+        dm = max(float(d1.max()), d2)
+        h1 = max(1e-6, h0 * 1e-3) if dm <= 1e-15 else (0.01 / dm) ** (1.0 / 8.0)
+        h_abs = min(100.0 * h0, h1, span)
+
+    K = np.empty((13, n, N))
+    K2 = K.reshape(13, n * N)
+    EE = np.vstack([E5, E3])
+    t = t0
+    steps = rejected = 0
+    while (t_end - t) * direction > 0:
+        budget.check("batched DOP853 step")
+        if steps + rejected >= max_steps:
+            raise NumericFailure(f"the batched integration took more than {max_steps} steps")
+        min_step = 10.0 * abs(math.nextafter(t, direction * math.inf) - t)
+        step_rejected = False
+        while True:
+            if h_abs < min_step:
+                raise NumericFailure(f"the batched integration's step size underflowed at t = {t:.6g}")
+            h = h_abs * direction
+            t_new = t + h
+            if (t_new - t_end) * direction > 0:
+                t_new = t_end
+            h = t_new - t
+            h_abs = abs(h)
+            K[0] = fy
+            hA = h * A
+            yflat = y.reshape(n * N)
+            for s in range(1, 12):
+                K[s] = f(t + C[s] * h, (yflat + hA[s, :s] @ K2[:s]).reshape(n, N))
+            y_new = y + h * (B @ K2[:12]).reshape(n, N)
+            f_new = f(t_new, y_new)
+            K[12] = f_new
+            scale = atol + np.maximum(np.abs(y), np.abs(y_new)) * rtol
+            ee = (EE @ K2).reshape(2, n, N) / scale
+            n5 = np.einsum("ij,ij->j", ee[0], ee[0])
+            n3 = np.einsum("ij,ij->j", ee[1], ee[1])
+            den = np.sqrt(n * (n5 + 0.01 * n3))
+            err = np.where(den > 0, h_abs * n5 / np.where(den > 0, den, 1.0), 0.0)
+            worst = float(err.max())
+            if not math.isfinite(worst) or not np.isfinite(y_new).all():
+                h_abs *= MIN_FACTOR
+                step_rejected = True
+                rejected += 1
+                continue
+            if worst < 1.0:
+                factor = MAX_FACTOR if worst == 0.0 else min(MAX_FACTOR, SAFETY * worst ** ERR_EXP)
+                if step_rejected:
+                    factor = min(1.0, factor)
+                h_next = h_abs * factor
+                break
+            h_abs *= max(MIN_FACTOR, SAFETY * worst ** ERR_EXP)
+            step_rejected = True
+            rejected += 1
+        np.maximum(err_max, err, out=err_max)
+        t, y, fy = t_new, y_new, f_new
+        steps += 1
+        h_abs = h_next
+    return BatchResult(y, steps, rejected, nfev, err_max)
+
+
+@dataclass
+class Column:
+    """One output over N points, as a batched route returns it.
+
+    ``value``: the numbers (NaN where undefined or failed).  ``rel``/``abs``:
+    the claimed accuracy (numbers or arrays of N), as ``Run.claim`` would give
+    it for one point.  ``undefined``/``failed``: lists of (mask, reason): where
+    the output has no finite value (both methods should agree on that), and
+    where the route could not give a trustworthy number (a loud failure of
+    that point, never a number).
+    """
+
+    value: np.ndarray
+    rel: object = 0.0
+    abs: object = 0.0
+    undefined: list = None
+    failed: list = None
+
+    def __post_init__(self):
+        self.value = np.asarray(self.value, dtype=float)
+        self.undefined = list(self.undefined or [])
+        self.failed = list(self.failed or [])
+
+    def mask(self, which: str) -> np.ndarray:
+        out = np.zeros(self.value.shape, dtype=bool)
+        for m, _ in getattr(self, which):
+            out |= np.asarray(m, dtype=bool)
+        return out
+
+    def reason(self, which: str, k: int) -> str | None:
+        for m, why in getattr(self, which):
+            if np.asarray(m, dtype=bool)[k]:
+                return why
+        return None
+
+
+__all__ += ["Column"]
+
+
+def illinois(f, a, b, fa, fb, *, xtol, rtol, max_iter: int = 200):
+    """Roots of N functions at once, each bracketed by its own [a, b] with fa, fb of opposite signs.
+
+    ``f(x, idx)`` evaluates the functions of the points ``idx`` (indices into the N) at ``x`` (one
+    value each).  The Illinois variant of false position: superlinear, and the bracket shrinks from
+    both sides.  A point is done when its bracket is within ``xtol + rtol |x|`` (arrays or numbers) or
+    f is exactly zero.  Returns (x, converged); a point not converged in ``max_iter`` passes is left
+    unconverged for the caller to fail loudly.
+    """
+    a, b = np.array(a, dtype=float), np.array(b, dtype=float)
+    fa, fb = np.array(fa, dtype=float), np.array(fb, dtype=float)
+    n = a.size
+    xtol = np.broadcast_to(np.asarray(xtol, dtype=float), (n,))
+    rtol = np.broadcast_to(np.asarray(rtol, dtype=float), (n,))
+    if np.any(np.sign(fa) * np.sign(fb) > 0):
+        raise ValueError("illinois: a root is not bracketed")
+    x = np.where(fa == 0, a, b)
+    done = (fa == 0) | (fb == 0) | (np.abs(b - a) <= xtol + rtol * np.abs(b))
+    for _ in range(max_iter):
+        idx = np.flatnonzero(~done)
+        if idx.size == 0:
+            break
+        budget.check("batched root search")
+        A, B, FA, FB = a[idx], b[idx], fa[idx], fb[idx]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            c = B - FB * (B - A) / (FB - FA)
+        lo, hi = np.minimum(A, B), np.maximum(A, B)
+        off = ~np.isfinite(c) | (c <= lo) | (c >= hi)
+        c[off] = 0.5 * (A + B)[off]
+        fc = np.asarray(f(c, idx), dtype=float)
+        cross = np.sign(fc) * np.sign(FB) < 0  # the root lies between b and c: b becomes the other end
+        A = np.where(cross, B, A)
+        FA = np.where(cross, FB, 0.5 * FA)  # Illinois: the end kept twice has its value halved
+        a[idx], fa[idx], b[idx], fb[idx], x[idx] = A, FA, c, fc, c
+        done[idx] = (fc == 0) | (np.abs(c - A) <= xtol[idx] + rtol[idx] * np.abs(c))
+    return x, done
+
+
+__all__ += ["illinois"]
+
+
+def by_rows(memo: dict, key, arrays, compute):
+    """``compute`` once for each distinct row of ``arrays`` (the parameters an output depends on), the
+    results kept in ``memo[key]`` for later calls (a sweep's later chunks); returns them for every point.
+
+    ``compute(*columns)`` takes the distinct rows' columns and returns a tuple of arrays, one entry per
+    row; the result is that tuple spread back over all N points."""
+    rows = np.stack([np.asarray(a, dtype=float) for a in arrays], axis=1)
+    uniq, inverse = np.unique(rows, axis=0, return_inverse=True)
+    store = memo.setdefault(key, {})
+    keys = [tuple(r) for r in uniq.tolist()]
+    todo = [j for j, k in enumerate(keys) if k not in store]
+    if todo:
+        got = compute(*(uniq[todo, c] for c in range(uniq.shape[1])))
+        for n, j in enumerate(todo):
+            store[keys[j]] = tuple(g[n] for g in got)
+    per_row = [store[k] for k in keys]
+    inv = inverse.ravel()
+    return tuple(np.array([r[m] for r in per_row])[inv] for m in range(len(per_row[0])))
+
+
+__all__ += ["by_rows"]
