@@ -107,7 +107,7 @@ class MechGroup(click.Group):
 
 
 @click.group(cls=MechGroup, context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100})
-@click.version_option(package_name="mech", prog_name="mech", message="%(prog)s %(version)s")
+@click.version_option(package_name="mech-likharev", prog_name="mech", message="%(prog)s %(version)s")
 def cli():
     """Solve the exercises of Likharev's Classical Mechanics, chapters 4 and 5, two ways.
 

@@ -316,6 +316,7 @@ class Exercise:
         self._expected_error: Callable | None = None
         self._analytic_error: Callable | None = None
         self._hamiltonian: Callable | None = None
+        self._scene: Callable | None = None
         self._batched: "BatchedRoute | None" = None
         self.param_map = {p.name: p for p in self.params}
 
@@ -354,6 +355,21 @@ class Exercise:
         (``mech bench`` adds that row).  It does not replace the numeric solver."""
         self._hamiltonian = fn
         return fn
+
+    def scene(self, fn: Callable[[Params, Any], Any]) -> Callable:
+        """Optional: ``fn(p, run) -> mech.problems.scene.Scene``, what ``mech plot`` draws for this
+        exercise, computed from the exercise's own physics (``run``: a ``scene.SceneRun``)."""
+        self._scene = fn
+        return fn
+
+    def make_scene(self, p: Params, rtol: float | None = None, points: int = 5):
+        """The exercise's scene at ``p`` and the run that made it, or (None, None) without a scene hook."""
+        if self._scene is None:
+            return None, None
+        from mech.problems.scene import SceneRun
+
+        run = SceneRun(self, rtol, points)
+        return self._scene(p, run), run
 
     def batched(self, outputs: tuple[str, ...], *, analytic: Callable, expected_error: Callable | None = None,
                 boundaries: Mapping[str, tuple[str, str]] | None = None) -> Callable:

@@ -266,3 +266,10 @@ def characteristic_exponents(H: np.ndarray) -> Exponents:
         err_slow=d_exp(L_slow, abs(lam[order[0]])),
         err_fast=d_exp(L_fast, abs(lam[order[-1]])),
     )
+
+
+def potential_eff(x, y, mu: float, nu: float):
+    """U_eff = -nu/r1 - mu/r2 - (x^2 + y^2)/2 in the plane (scaled units; arrays welcome): gravity of the
+    two bodies and the centrifugal term, for pictures of the rotating frame (its gradient is ``grad_eff``)."""
+    with np.errstate(divide="ignore"):  # -inf at a body's own place
+        return -nu / np.hypot(x + mu, y) - mu / np.hypot(x - nu, y) - 0.5 * (x * x + y * y)

@@ -205,3 +205,34 @@ def numeric(p, run):
         "l_opt": l_opt,
         "Omega_max": omega_max,
     }
+
+
+@exercise.scene
+def scene(p, run):
+    """Omega against the pivot distance, with its maximum at l_opt and the pair l, l_conj of equal Omega."""
+    from mech.problems.scene import Axis, Guide, Line, Markers, Panel, Scene
+
+    a = run.analytic(p)
+    lo = min(p.l, a["l_conj"], a["l_opt"]) / 8
+    hi = max(p.l, a["l_conj"], a["l_opt"]) * 8
+    ls = np.geomspace(lo, hi, 300)
+    curve = run.series(p, "l", ls)["Omega"]
+    panel = Panel("Ω(l): one maximum, and two pivots for every lower Ω",
+                  Axis("pivot's distance from the center of mass l", "m", log=True), Axis("Ω", "rad/s"),
+                  legend="lower center")
+    panel.add(Line(ls, curve, "Ω(l), analytic"))
+    xs = run.numeric_points(lo, hi, log=True)
+    if len(xs):
+        panel.add(Markers(xs, run.series(p, "l", xs, numeric=True)["Omega"], "numeric"))
+    panel.add(
+        Guide(a["l_opt"], label=f"l_opt = {a['l_opt']:.4g} m", color="C2"),
+        Guide(a["Omega_max"], axis="y", color="C2"),
+        Line([p.l, a["l_conj"]], [a["Omega"], a["Omega"]], kind="drawing", color="k", width=0.9),
+        Markers([p.l, a["l_conj"]], [a["Omega"], a["Omega"]],
+                f"same Ω: l = {p.l:.4g} m and l_conj = {a['l_conj']:.4g} m", kind="this"),
+    )
+    nv = run.numeric(p)
+    if nv:
+        panel.add(Markers([nv["l_opt"], nv["l_conj"]], [nv["Omega_max"], nv["Omega"]], kind="numeric"))
+    return Scene([panel], on_axis=("l",),
+                 caption=f"l + l_conj = l_ef = {a['l_ef']:.4g} m: the reversible (Kater) pendulum")

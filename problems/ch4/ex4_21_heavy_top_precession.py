@@ -297,3 +297,53 @@ def numeric(p, run):
     out["omega_pre"] = Om
     out["pre_ratio"] = Om * p.I3 * p.omega3 / Mgl
     return out
+
+
+def _effective_potential(IA, L3, Lz, Mgl, theta):
+    """U_ef(theta) = (L_z - L3 cos theta)^2 / (2 I_A sin^2 theta) + M g l cos theta: the energy of the axis's
+    polar motion with the two conserved momenta (L_z about the vertical, L3 about the axis) eliminated."""
+    return (Lz - L3 * np.cos(theta)) ** 2 / (2 * IA * np.sin(theta) ** 2) + Mgl * np.cos(theta)
+
+
+@exercise.scene
+def scene(p, run):
+    """The effective potential of the tilt for the steady precession's momenta (its minimum at theta0), and
+    the slow precession rate against the spin, with the fast-top estimate and the thresholds."""
+    from mech.problems.scene import Axis, Guide, Line, Markers, Panel, Scene
+
+    IA, Mgl, L3 = p.I1 + p.M * p.l**2, p.M * p.g * p.l, p.I3 * p.omega3
+    a = run.analytic(p)
+    nv = run.numeric(p)
+    deg = 180.0 / math.pi
+    well = Panel("the tilt's effective potential at this top's L_z, L3",
+                 Axis("θ, the axis from the upward vertical", "deg"), Axis("(U_ef − U_ef(θ0)) / (M g l)"))
+    Om = a["omega_pre"]
+    if math.isfinite(Om):
+        # the momenta of the steady precession: L = I_A Omega (z - cos theta0 n3) + L3 n3
+        Lz = IA * Om * math.sin(p.theta0) ** 2 + L3 * math.cos(p.theta0)
+        th = np.linspace(0.02, math.pi - 0.02, 600)
+        u0 = _effective_potential(IA, L3, Lz, Mgl, p.theta0)
+        well.add(Line(th * deg, (_effective_potential(IA, L3, Lz, Mgl, th) - u0) / Mgl, "U_ef(θ)"),
+                 Markers([p.theta0 * deg], [0.0], "θ0: steady precession at its bottom", kind="this"))
+        well.y.lim = (-0.5, 3.0)
+    else:
+        well.title = "no steady precession at θ0: ω3 < ω_min"
+    lo = max(a["omega_min"] * 1.02, a["omega_th"] * 0.2)
+    hi = max(p.omega3, a["omega_th"]) * 5
+    ws = np.geomspace(lo, hi, 200)
+    curve = run.series(p, "omega3", ws)
+    rate = Panel("slow precession against the spin", Axis("spin ω3", "rad/s", log=True),
+                 Axis("precession rate", "rad/s", log=True), legend="upper right")
+    rate.add(Line(ws, curve["omega_pre"], "exact slow root"),
+             Line(ws, curve["omega_pre"] / curve["pre_ratio"], "fast-top estimate M g l / (I3 ω3)",
+                  kind="reference"))
+    xs = run.numeric_points(lo, hi, log=True)
+    if len(xs):
+        rate.add(Markers(xs, run.series(p, "omega3", xs, numeric=True)["omega_pre"], "numeric"))
+    if nv:
+        rate.add(Markers([p.omega3], [nv["omega_pre"]]))
+    rate.add(Markers([p.omega3], [Om], "this top", kind="this"),
+             Guide(a["omega_th"], label=f"sleeping-top threshold {a['omega_th']:.4g} rad/s", color="C2"))
+    if a["omega_min"] > 0:
+        rate.add(Guide(a["omega_min"], label=f"ω_min = {a['omega_min']:.4g} rad/s", color="C4"))
+    return Scene([well, rate])

@@ -281,6 +281,47 @@ def numeric(p, run):
     return out
 
 
+@exercise.scene
+def scene(p, run):
+    """The first instability zone in the (detuning, modulation depth) plane, the leading-order theory as a
+    shaded zone and the Floquet edges as markers; and the growth rate across the zone at this depth."""
+    from mech.problems.scene import Axis, Band, Guide, Line, Markers, Panel, Scene
+
+    xi = p.omega - p.omega0
+    a = run.analytic(p)
+    top = min(1.0, max(3 * p.mu, 3 * a["mu_th"] if math.isfinite(a["mu_th"]) else 0.0, 0.05))
+    mus = np.linspace(top / 300, top * 0.999, 300)
+    zone = run.series(p, "mu", mus)
+    plane = Panel(f"first zone; threshold μ_th = {a['mu_th']:.4g} at this ω", Axis("detuning ξ = ω − ω0", "rad/s"),
+                  Axis("modulation depth μ"), legend="outside")
+    plane.add(Band(mus, zone["xi_lo"], zone["xi_hi"], "unstable, leading-order theory", vertical=True),
+              Line(zone["xi_lo"], mus, color="C3", width=1.2), Line(zone["xi_hi"], mus, color="C3", width=1.2))
+    ok = np.isfinite(zone["xi_lo"])
+    pts = run.numeric_points(mus[ok][0] if ok.any() else top / 10, top)
+    if len(pts):
+        edges = run.series(p, "mu", pts, numeric=True)
+        plane.add(Markers(edges["xi_lo"], pts, "zone's edges, Floquet (numeric)"), Markers(edges["xi_hi"], pts))
+        failed = run.failed_x.get("mu", [])
+        if failed:
+            plane.add(Markers([xi] * len(failed), failed, f"numeric failed ({len(failed)})", kind="failure"))
+    plane.add(Markers([xi], [p.mu], "this oscillator", kind="this"))
+    width = max(abs(xi), p.mu * p.omega0 / 2, 4 * p.delta, 1e-3 * p.omega0)
+    ws = p.omega0 + np.linspace(-width, width, 300)
+    growth = Panel(f"growth rate across the zone at μ = {p.mu:.4g}", Axis("detuning ξ = ω − ω0", "rad/s"),
+                   Axis("growth rate", "1/s"), legend="outside")
+    growth.add(Line(ws - p.omega0, run.series(p, "omega", ws)["growth"], "leading-order theory"),
+               Guide(0.0, axis="y", dashed=False, color="0.3"), Guide(xi))
+    pts = p.omega0 + run.numeric_points(-width, width)
+    if len(pts):
+        growth.add(Markers(pts - p.omega0, run.series(p, "omega", pts, numeric=True)["growth"], "Floquet (numeric)"))
+        failed = run.failed_x.get("omega", [])
+        if failed:
+            growth.add(Markers(np.array(failed) - p.omega0, [math.nan] * len(failed),
+                               f"numeric failed ({len(failed)})", kind="failure"))
+    growth.add(Markers([xi], [a["growth"]], "this oscillator", kind="this"))
+    return Scene([plane, growth], caption="leading-order analytic theory: agreement within what it neglects")
+
+
 # -- charts: the same two routes over many points at once ----------------------------------------------
 
 _NO_ZONE = "eps = mu omega0/4 does not exceed delta: the rest state is stable at every detuning"

@@ -169,3 +169,46 @@ def hamiltonian(p):
         time_scale=1.0,
         name="pendulum quarter swing",
     )
+
+
+@exercise.scene
+def scene(p, run):
+    """The phase portrait (contours of the energy, the separatrix, the swing at theta0 integrated from the
+    exercise's own Hamiltonian) and the period's rise with the amplitude, angles in degrees throughout."""
+    from mech.problems.scene import Axis, Line, Markers, Panel, Scene
+    from mech.solvers.ode import integrate
+
+    H = hamiltonian(p)  # H = p^2/2 - cos(theta) in tau = omega0 t: the equation of motion of this module
+    deg = 180.0 / math.pi
+    traj = integrate(lambda t, y: np.array([H.velocity(y[1]), H.force(y[0])]), (0.0, H.t_max), [H.q0, H.p0],
+                     rtol=run.rtol, atol=run.rtol * 1e-3, dense_output=True)
+    ts = np.linspace(0.0, traj.t[-1], 3000)
+    q, mom = traj.sol(ts)
+    phase = Panel("phase portrait: levels of the energy", Axis("θ", "deg"), Axis("θ' / ω0"), legend="upper right")
+    th = np.linspace(-1.25 * math.pi, 1.25 * math.pi, 400)
+    u = np.array([H.energy(x, 0.0) for x in th])  # the potential energy
+    for level in np.linspace(-0.9, 2.4, 12):  # energy levels in units of m g l
+        for sign in (1, -1):
+            v2 = 2.0 * (level - u)
+            v = np.where(v2 >= 0, sign * np.sqrt(np.abs(v2)), np.nan)
+            phase.add(Line(th * deg, v, kind="level"))
+    sep = 2.0 * (H.energy(math.pi, 0.0) - u)
+    for sign in (1, -1):
+        phase.add(Line(th * deg, sign * np.sqrt(np.maximum(sep, 0.0)), "separatrix" if sign > 0 else None,
+                       color="C2", width=1.3))
+    phase.add(Line(q * deg, mom, f"the swing at θ0 = {p.theta0 * deg:.4g}°, integrated", kind="trajectory"))
+    phase.y.lim = (-2.7, 3.4)
+    xs = np.linspace(0.02, math.pi - 1e-3, 300)
+    curve = run.series(p, "theta0", xs)
+    period = Panel("the period grows with the amplitude", Axis("amplitude θ0", "deg"), Axis("T / T0"),
+                   legend="upper left")
+    period.add(Line(xs * deg, curve["T_ratio"], "analytic (elliptic K)"),
+               Line(xs * deg, 1 + xs**2 / 16, "small-swing estimate 1 + θ0²/16", kind="reference"))
+    pts = run.numeric_points(0.2, math.pi - 0.05)
+    if len(pts):
+        period.add(Markers(pts * deg, run.series(p, "theta0", pts, numeric=True)["T_ratio"], "numeric"))
+    nv = run.numeric(p)
+    if nv:
+        period.add(Markers([p.theta0 * deg], [nv["T_ratio"]]))
+    period.add(Markers([p.theta0 * deg], [run.analytic(p)["T_ratio"]], "this swing", kind="this"))
+    return Scene([phase, period], on_axis=("theta0",))
