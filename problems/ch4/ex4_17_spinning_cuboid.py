@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import gauss_legendre, inertia_tensor
+from mech.solvers.mechanics.inertia import gauss_legendre, inertia_tensor
 
 exercise = Exercise(
     "4.17",

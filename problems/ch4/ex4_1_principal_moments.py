@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers import inertia
+from mech.solvers.mechanics import inertia
 
 exercise = Exercise(
     "4.1",

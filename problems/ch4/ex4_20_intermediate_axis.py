@@ -37,9 +37,9 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.freebody import euler_omega_rhs, steady_rotation_pair
-from mech.solvers.inertia import gauss_legendre
-from mech.solvers.ode import Event, first_event, integrate
+from mech.solvers.mechanics.freebody import euler_omega_rhs, steady_rotation_pair
+from mech.solvers.mechanics.inertia import gauss_legendre
+from mech.solvers.numerics.ode import Event, first_event, integrate
 
 exercise = Exercise(
     "4.20",

@@ -38,8 +38,8 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.ode import integrate
-from mech.solvers.tops import axis_rhs, azimuth, fit_rate, polar_angle, top_energy
+from mech.solvers.numerics.ode import integrate
+from mech.solvers.mechanics.tops import axis_rhs, azimuth, fit_rate, polar_angle, top_energy
 
 exercise = Exercise(
     "4.21",
@@ -109,7 +109,7 @@ def _residual_factory(IA, I3, Mgl, theta0):
 
 def _slow_root(f, omega3, Om_scale):
     """The smallest positive zero of f(., omega3), or None when f stays negative; also f's maximum."""
-    from mech.solvers.roots import brentq, minimize_scalar
+    from mech.solvers.numerics.roots import brentq, minimize_scalar
 
     f0 = f(0.0, omega3)
     if not f0 < 0:
@@ -136,7 +136,7 @@ def _slow_root(f, omega3, Om_scale):
 
 def _fmax(f, omega3, Om_scale):
     """Maximum over Omega > 0 of f(., omega3) (+inf when f grows without bound)."""
-    from mech.solvers.roots import minimize_scalar
+    from mech.solvers.numerics.roots import minimize_scalar
 
     prev2, prev, fprev = 0.0, 0.0, f(0.0, omega3)
     Om = Om_scale
@@ -206,7 +206,7 @@ def _threshold(IA, I3, Mgl):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     IA = p.I1 + p.M * p.l**2
     Mgl = p.M * p.g * p.l

@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import disk
+from mech.solvers.mechanics.inertia import disk
 
 exercise = Exercise(
     "4.22",

@@ -37,10 +37,10 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import disk, inertia_tensor
-from mech.solvers.ode import Event, integrate
-from mech.solvers.rigid import quat_mul, quat_to_matrix
-from mech.solvers.tops import azimuth, fit_rate
+from mech.solvers.mechanics.inertia import disk, inertia_tensor
+from mech.solvers.numerics.ode import Event, integrate
+from mech.solvers.mechanics.rigid import quat_mul, quat_to_matrix
+from mech.solvers.mechanics.tops import azimuth, fit_rate
 
 exercise = Exercise(
     "4.23",
@@ -268,7 +268,7 @@ class _Disk:
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     Rs = p.R / p.r
     theta = p.theta

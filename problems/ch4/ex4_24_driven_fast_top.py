@@ -62,7 +62,7 @@ from __future__ import annotations
 import math
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.budget import check as budget_check
+from mech.solvers.verification.budget import check as budget_check
 
 exercise = Exercise(
     "4.24",
@@ -260,7 +260,7 @@ def _crossing(step, n, L, t, h, sign):
 def _lowest(step, low, h):
     """cos_min near the lowest fine step: the true minimum lies within a step of its end (low = (n_z,
     state before that step)): scan the two steps around it by partial steps, then refine."""
-    from mech.solvers.roots import minimize_scalar
+    from mech.solvers.numerics.roots import minimize_scalar
 
     s_a = low[1]
     s_b = step(*s_a, h)
@@ -308,7 +308,7 @@ def _guiding_center(a, b, k, run):
     """
     import numpy as np
 
-    from mech.solvers.ode import Event, integrate
+    from mech.solvers.numerics.ode import Event, integrate
 
     A, d = a / b, b / k
 

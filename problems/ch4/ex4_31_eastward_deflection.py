@@ -26,8 +26,8 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise
-from mech.solvers.ode import integrate_to_event
-from mech.solvers.ode import Event
+from mech.solvers.numerics.ode import integrate_to_event
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "4.31",
@@ -113,7 +113,7 @@ def analytic(p):
 
 # Tuned default (from `mech bench 4.31`, rtol 1e-10, cross-check tolerance 1e-8): DOP853.  The equations
 # are linear with constant coefficients and z = 0 is crossed once; with the event confirmed on the dense
-# output (mech.solvers.ode) DOP853 needs 77 evaluations for an error of 2e-14 (1e-15 on the 90 s fall),
+# output (mech.solvers.numerics.ode) DOP853 needs 77 evaluations for an error of 2e-14 (1e-15 on the 90 s fall),
 # LSODA 59 for 1.6e-13 and RK45 50 for 2.4e-11, all within a few ms.  With ode's bounded rerun DOP853
 # cost 862 evaluations (the rerun's 64 steps of 12 stages) and LSODA, at 167, was the cheaper choice.
 METHOD = "DOP853"

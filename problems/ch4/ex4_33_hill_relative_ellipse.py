@@ -36,8 +36,8 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.gravity import relative_gravity, relative_potential
-from mech.solvers.ode import Event, integrate
+from mech.solvers.mechanics.gravity import relative_gravity, relative_potential
+from mech.solvers.numerics.ode import Event, integrate
 
 exercise = Exercise(
     "4.33",
@@ -157,7 +157,7 @@ def numeric(p, run):
         t_half[0] = tr.t_events[0][0]
         return tr.y_events[0][0][1]
 
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     v0 = brentq(residual, lo, hi, fa=flo, fb=fhi, xtol=1e-3 * run.rtol, maxiter=100)
     residual_keep(v0)

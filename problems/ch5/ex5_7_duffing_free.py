@@ -94,7 +94,7 @@ def _agm(a, b):
 
 @exercise.analytic
 def analytic(p):
-    from mech.solvers.special import ellipk, ellipkm1
+    from mech.solvers.numerics.special import ellipk, ellipkm1
 
     w0, A = p.omega0, p.A
     eps = _eps(p)
@@ -154,7 +154,7 @@ def physical_energy(p, q, v):
 
 def _quarter_excess(eps):
     """(T/4 - pi/2) in units 1/omega0 by quadrature of the energy integral, and its error estimate."""
-    from mech.solvers.quadrature import quad
+    from mech.solvers.numerics.quadrature import quad
 
     def f(th):
         c = math.cos(th)
@@ -168,7 +168,7 @@ def _quarter_excess(eps):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.ode import Event, integrate, integrate_to_event
+    from mech.solvers.numerics.ode import Event, integrate, integrate_to_event
 
     w0, A = p.omega0, p.A
     eps = _eps(p)

@@ -10,7 +10,7 @@ Two roots (one each side of s = 3/4) exist only for |g| > 8/(3 sqrt 3): the
 critical force.  They are found from s = 3/4 + t, t^2 ((1 + t)^2 + 1/8) =
 27/256 - 1/(4 g^2), without the cancellation of the quartic near the cusp.
 
-Numeric (exact periodic orbits, solvers/sweeps.py): the one-period map of the
+Numeric (exact periodic orbits, solvers/mechanics/continuation.py): the one-period map of the
 full equation (time tau = omega t, variational equations carried along,
 DOP853) and Newton on its fixed point give the periodic response at one
 frequency.  An upward sweep starts below the resonance, a downward one above
@@ -176,7 +176,7 @@ def _swing_slope(bp):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.sweeps import OrbitMap, RotatingOrbitMap, refine_root, shorten_bracket, solve_on_plane, sweep
+    from mech.solvers.mechanics.continuation import OrbitMap, RotatingOrbitMap, refine_root, shorten_bracket, solve_on_plane, sweep
 
     rtol = run.rtol
     Q = p.f0 / (2.0 * p.omega0 * p.delta)  # unit of length: the linear resonant swing

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import NumericFailure
-from mech.solvers.ode import integrate
+from mech.solvers.numerics.ode import integrate
 
 __all__ = [
     "euler_omega_rhs",

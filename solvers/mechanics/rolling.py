@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mech.solvers.smallosc import Modes, mass_matrix, normal_modes
+from mech.solvers.numerics.modes import Modes, mass_matrix, normal_modes
 
 __all__ = ["cross_z", "rolling_spin", "plane_kinetic_energy", "balanced_modes", "rotate2", "scaled_mass_matrix"]
 
