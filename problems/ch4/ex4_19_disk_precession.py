@@ -26,7 +26,8 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.mechanics.freebody import free_invariants, integrate_free, lab_axes, phase_rate, quat_aligning
+from mech.solvers.mechanics.frames import quat_aligning
+from mech.solvers.mechanics.freebody import free_invariants, integrate_free, lab_axes, phase_rate
 from mech.solvers.mechanics.inertia import disk, inertia_tensor
 
 exercise = Exercise(

@@ -25,7 +25,8 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.mechanics.inertia import degenerate_groups, inertia_tensor, rotation
+from mech.solvers.mechanics.frames import rotation
+from mech.solvers.mechanics.inertia import degenerate_groups, inertia_tensor
 from mech.solvers.mechanics.shapes import rod_polyline, tetrahedron, triangle
 
 exercise = Exercise(
