@@ -39,6 +39,7 @@ import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
 from mech.solvers.numerics.ode import integrate
+from mech.solvers.numerics.roots import bracketed_root
 from mech.solvers.mechanics.tops import axis_rhs, azimuth, fit_rate, polar_angle, top_energy
 
 exercise = Exercise(
@@ -195,13 +196,7 @@ def _threshold(IA, I3, Mgl):
         hi *= 2
     else:
         raise NumericFailure("the upright top is unstable at every spin tried")
-    while hi - lo > 1e-15 * hi:
-        mid = 0.5 * (lo + hi)
-        if _upright_growth(IA, Mgl, I3 * mid) > ONSET:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return bracketed_root(lambda w: ONSET - _upright_growth(IA, Mgl, I3 * w), lo, hi)
 
 
 @exercise.numeric

@@ -62,6 +62,7 @@ from __future__ import annotations
 import math
 
 from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.numerics.roots import bracketed_root
 from mech.solvers.verification.budget import check as budget_check
 
 exercise = Exercise(
@@ -247,14 +248,7 @@ def _tan_root(j):
 
 def _crossing(step, n, L, t, h, sign):
     """Partial step tau in (0, h] where n_z changes sign (sign = +1: from positive to negative)."""
-    lo, hi = 0.0, h
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        if sign * step(n, L, t, mid)[0][2] > 0:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return bracketed_root(lambda tau: sign * step(n, L, t, tau)[0][2], 0.0, h)
 
 
 def _lowest(step, low, h):

@@ -28,6 +28,7 @@ import numpy as np
 from mech.problems.spec import Exercise
 from mech.solvers.numerics.ode import integrate_to_event
 from mech.solvers.numerics.ode import Event
+from mech.solvers.numerics.roots import bracketed_root
 
 exercise = Exercise(
     "4.31",
@@ -75,18 +76,6 @@ def _sinc(x: float) -> float:
     return 1.0 if x == 0.0 else math.sin(x) / x
 
 
-def _bisect(f, lo: float, hi: float) -> float:
-    """The root of an increasing f in [lo, hi] (f(lo) <= 0 < f(hi)), to the last bit."""
-    while True:
-        mid = 0.5 * (lo + hi)
-        if mid <= lo or mid >= hi:
-            return mid
-        if f(mid) <= 0.0:
-            lo = mid
-        else:
-            hi = mid
-
-
 @exercise.analytic
 def analytic(p):
     s, c = math.sin(p.theta), math.cos(p.theta)
@@ -100,7 +89,7 @@ def analytic(p):
         tau = 1.0
     else:
         # lost(1) <= 0 (sinc <= 1); at eps tau = pi/2 it is >= 1/eps^2 - 1 > 0 for eps <= 0.5
-        tau = _bisect(lost, 1.0, math.pi / (2.0 * eps))
+        tau = bracketed_root(lost, 1.0, math.pi / (2.0 * eps))
     t = tau * T0
     phi = p.omega_E * t
     if phi == 0.0:

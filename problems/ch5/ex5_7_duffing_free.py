@@ -39,6 +39,7 @@ from fractions import Fraction
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.numerics.special import agm
 
 exercise = Exercise(
     "5.7",
@@ -84,14 +85,6 @@ def _agm_deviation(da, db):
     return 0.5 * (da + db)
 
 
-def _agm(a, b):
-    for _ in range(80):
-        a, b = 0.5 * (a + b), math.sqrt(a * b)
-        if abs(a - b) <= 1e-16 * a:
-            break
-    return 0.5 * (a + b)
-
-
 @exercise.analytic
 def analytic(p):
     from mech.solvers.numerics.special import ellipk, ellipkm1
@@ -108,7 +101,7 @@ def analytic(p):
         omega = w0 * (1.0 + dw)
         domega = w0 * dw
     else:
-        omega = w0 * _agm(math.sqrt(g), math.sqrt(h))
+        omega = w0 * agm(math.sqrt(g), math.sqrt(h))
         domega = omega - w0
     # third harmonic
     m = 0.5 * eps / g  # alpha A^2/(2 Omega^2)

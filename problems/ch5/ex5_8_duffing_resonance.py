@@ -32,6 +32,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
+from mech.solvers.numerics.roots import bracketed_root
 
 exercise = Exercise(
     "5.8",
@@ -93,16 +94,7 @@ def _folds(g):
     roots = []
     for lo, hi in ((-0.75, 0.0), (0.0, 0.25)):
         # t^2 ((1 + t)^2 + 1/8) = D is monotonic on each bracket: bisection to the last bit
-        for _ in range(200):
-            mid = 0.5 * (lo + hi)
-            if mid in (lo, hi):
-                break
-            val = mid * mid * ((1.0 + mid) ** 2 + 0.125) - D
-            if (val > 0) == (lo < 0):  # on (-3/4, 0) the function decreases toward 0
-                lo = mid
-            else:
-                hi = mid
-        roots.append(0.75 + 0.5 * (lo + hi))
+        roots.append(0.75 + bracketed_root(lambda t: t * t * ((1.0 + t) ** 2 + 0.125) - D, lo, hi))
     return roots
 
 
