@@ -13,6 +13,7 @@ import csv
 import io
 import json
 import math
+import os
 import sys
 
 import click
@@ -233,6 +234,7 @@ def print_table(result) -> None:
             t.add_column(f"{o.name}\nnumeric", justify="right", no_wrap=True)
         t.add_column("worst\nrel. diff", justify="right", no_wrap=True)
         t.add_column("agree", justify="center", no_wrap=True)
+        blocks = []
         for pt in result.point_list():
             row = []
             for name in swept:
@@ -248,12 +250,21 @@ def print_table(result) -> None:
             row.append(Text("—", style="dim") if flag is None else
                        Text("yes", style="green") if flag else Text("NO", style="bold red"))
             t.add_row(*row)
-        if not c.is_terminal:  # piped: whole numbers in every column, however wide the grid's table
+            head = ", ".join(f"{name} = {val} {_unit_of(result, name)[0]}" for name, val in zip(swept, row))
+            labels = [f"{o.name} {kind}" + ("" if o.unit == "1" else f" [{o.unit}]")
+                      for o in outs for kind in ("analytic", "numeric")] + ["worst rel. diff", "agree"]
+            blocks.append((head, list(zip(labels, row[len(swept):]))))
+        if not c.is_terminal and not os.environ.get("COLUMNS", "").isdigit():
+            # piped with no width asked for: one row per point, as wide as the grid's table needs
             from rich.console import Console
 
             probe = Console(width=100_000)
             c = Console(highlight=False, soft_wrap=False, width=max(probe.measure(t).maximum, 80))
-        c.print(t)
+            render.emit(c, t)
+        elif render.fits(c, t):
+            render.emit(c, t)
+        else:  # too narrow for the grid's table: one block per point, every number whole
+            render.emit(c, render._stacked(f"{ex.id}  {ex.title}" + (f"\n{fixed}" if fixed else ""), blocks))
     else:
         c.print(escape(f"{ex.id}  {ex.title}" + (f"; {fixed}" if fixed else "")))
         c.print(f"(no table above {TABLE_MAX} points: --csv, --json or --plot FILE show them all)", style="dim")

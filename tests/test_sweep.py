@@ -126,3 +126,20 @@ def test_sweep_plot_writes_a_png(tmp_path):
     assert code == 0, err
     assert f.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert len(out.strip().splitlines()) == 4
+
+
+def test_the_sweep_table_never_cuts_a_number_at_60_or_80_columns(monkeypatch):
+    """At a narrow width the table stacks into one block per point; every value printed whole."""
+    from click.testing import CliRunner
+
+    from mech.cli.main import cli
+
+    for width in ("60", "80", "200"):
+        monkeypatch.setenv("COLUMNS", width)
+        res = CliRunner().invoke(cli, ["sweep", "4.15", "--theta0", "10deg:90deg:3"])
+        assert res.exit_code == 0
+        assert "…" not in res.output
+        lines = res.output.splitlines()
+        assert all(len(line) <= int(width) for line in lines), width
+        assert all(line == line.rstrip() for line in lines)
+        assert "0.7297276562" in res.output  # theta_c at 90 deg: asin(2/3), by hand
