@@ -195,6 +195,16 @@ def _abandon_rerun(handle) -> None:
         pass
 
 
+def combine_agree(flags) -> bool | None:
+    """Several verdicts as one: False if any is False, None if none was judged (all None), else True."""
+    flags = list(flags)
+    if any(f is False for f in flags):
+        return False
+    if all(f is None for f in flags):
+        return None
+    return True
+
+
 @dataclass
 class Quantity:
     name: str
@@ -268,12 +278,7 @@ class CrossCheck:
 
     @property
     def agree(self) -> bool | None:
-        flags = [q.agree for q in self.quantities]
-        if self.errors or any(f is False for f in flags):
-            return False
-        if all(f is None for f in flags):
-            return None
-        return True
+        return False if self.errors else combine_agree(q.agree for q in self.quantities)
 
     def as_json(self) -> dict:
         d = {

@@ -100,12 +100,9 @@ class SweepResult:
             if all((J["agree"] < 0).all() for J in judged):
                 return None
             return True
-        flags = [pt.get("agree") for pt in self.points]
-        if any(f is False for f in flags):
-            return False
-        if all(f is None for f in flags):
-            return None
-        return True
+        from mech.solvers.verification.crosscheck import combine_agree
+
+        return combine_agree(pt.get("agree") for pt in self.points)
 
     def as_json(self) -> dict:
         d = {
