@@ -308,8 +308,9 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
 
     ex = _get(ex_id)
     if trajectory_file and not ex.states:
-        raise UsageFailure(f"--trajectory: the numeric route of {ex.id} integrates no equations of motion "
-                           "(it is a quadrature, an eigenproblem or a root search): there is no trajectory")
+        raise UsageFailure(f"--trajectory: the numeric route of {ex.id} follows no motion of the scene in time "
+                           "(a quadrature, an eigenproblem or a root search, or integrations that are not the "
+                           "motion: one-period maps, fundamental solutions, a radial profile): no trajectory")
     if trajectory_file and method == "analytic":
         raise UsageFailure("--trajectory needs the numeric method: drop --method analytic")
     try:
@@ -329,7 +330,10 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
     result = sol.result
     if trajectory_file:
         if sol.trajectory is None:
-            click.echo(f"mech: no trajectory written: the numeric solve of {ex.id} did not finish", err=True)
+            failed = any("solver failed" in e for e in sol.errors)
+            why = "did not finish" if failed else "followed no motion at these parameters (nothing moves, or the " \
+                "motion it integrates does not exist here)"
+            click.echo(f"mech: no trajectory written: the numeric solve of {ex.id} {why}", err=True)
         else:
             sol.trajectory.to_csv(trajectory_file)
     expect_ok = grading.attach(result, expectations) if grading else True

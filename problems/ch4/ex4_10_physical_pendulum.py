@@ -35,6 +35,8 @@ exercise = Exercise(
         "l_opt = (I / M)^(1/2),  Ω_max = (g / (2 l_opt))^(1/2)",
         "l_conj = I / (M l)   (l · l_conj = l_opt²)",
     ],
+    # the cross-check's small swing at pivot distance l (amplitude PERIOD_AMPLITUDE, released at rest)
+    states=[("phi", "rad"), ("phi_dot", "rad/s")],
 )
 
 PERIOD_AMPLITUDE = 1e-4
@@ -113,8 +115,10 @@ def _period_omega(body, l, rtol, run):
         atol=[rtol * PERIOD_AMPLITUDE * 1e-3, rtol * PERIOD_AMPLITUDE * 1e-3 / guess],
         events=[Event(lambda t, y: y[0], terminal=False, name="phi = 0")],
         max_step=guess / 16,
+        dense_output=run.keep_trajectories,  # a smooth curve for the trajectory; the steps are the same
     )
     run.record(traj)
+    run.motion(traj)
     crossings = traj.t_events[0]
     if len(crossings) < 2:
         raise NumericFailure("the small swing did not cross the vertical twice")

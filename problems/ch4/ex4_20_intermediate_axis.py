@@ -53,6 +53,8 @@ exercise = Exercise(
         "T = (4K(k)/ω₀) [I₁I₂I₃/((I₂ - I₁)D)]^(1/2), D = I₁(I₃ - I₁) sin²δ + I₂(I₃ - I₂) cos²δ",
         "1 - k² = I₁(I₃ - I₁) sin²δ / D   (δ → 0: T ≈ (4/λ₂) ln(4/k'))",
     ],
+    # the body-axis angular velocity over 1.5 periods of the flip (the three legs the period is timed by)
+    states=[("omega1", "rad/s"), ("omega2", "rad/s"), ("omega3", "rad/s")],
 )
 
 # the integration is trusted while the separatrix distance keeps this many rtol of itself
@@ -113,7 +115,7 @@ def _separatrix_distance(I, w):
     return I[0] * (I[1] - I[0]) * w[0] ** 2 + I[2] * (I[1] - I[2]) * w[2] ** 2
 
 
-def _period_by_integration(I, w0, rtol, run, slowest_rate):
+def _period_by_integration(I, w0, rtol, run, slowest_rate, omega0=1.0):
     """Times of the upward crossings of omega3 = 0 at T/2 and 3T/2 (units omega0 = 1)."""
     rhs = euler_omega_rhs(I)
     # relative control down to the size of the small components near the saddle (they carry the answer)
@@ -135,9 +137,12 @@ def _period_by_integration(I, w0, rtol, run, slowest_rate):
     def leg(t0, y0, direction, name, max_step=np.inf):
         traj = integrate(
             rhs, (t0, t0 + t_max), y0, rtol=rtol, atol=atol, max_step=max_step,
+            dense_output=run.keep_trajectories and max_step == np.inf,  # a smooth trajectory, the same steps
             events=[Event(w3, direction=direction, name=name), Event(drift, direction=+1, name="drift")],
         )
         run.record(traj)
+        if max_step == np.inf:  # a leg of the motion (not its bounded-step confirmation)
+            run.motion(traj, t_scale=1.0 / omega0, y_scale=omega0)
         if len(traj.t_events[1]):
             return None  # the orbit's side of the separatrix is no longer certain
         return first_event(traj, 0)
@@ -225,7 +230,7 @@ def numeric(p, run):
     try:
         if w0[0] < 1e-4:
             raise NumericFailure(f"tilt {w0[0]:.3g} too close to the separatrix for an integration")
-        times, drifts = _period_by_integration(I, w0, run.rtol, run, min(out.values()))
+        times, drifts = _period_by_integration(I, w0, run.rtol, run, min(out.values()), omega0=p.omega0)
         trusted = drifts["separatrix distance 2EI2 - L^2"] <= SEPARATRIX_DRIFT_LIMIT * run.rtol
         if trusted:
             for name, drift in drifts.items():

@@ -51,6 +51,10 @@ exercise = Exercise(
         "ω_th = 2 (I_A M g l)^(1/2) / I₃   (Eq. 4.85)",
         "ω_min = ω_th (cos θ₀)^(1/2) for cos θ₀ > 0, else 0",
     ],
+    # the confirming run from the steady precession (when one exists): the unit symmetry axis and the
+    # angular momentum about the support, lab components, z up
+    states=[("n_x", "1"), ("n_y", "1"), ("n_z", "1"), ("L_x", "kg*m^2/s"), ("L_y", "kg*m^2/s"),
+            ("L_z", "kg*m^2/s")],
 )
 
 
@@ -260,6 +264,7 @@ def numeric(p, run):
     traj = integrate(rhs, (0.0, T), y0, rtol=run.rtol, atol=run.rtol * 1e-3 * min(1.0, math.sin(p.theta0)),
                      dense_output=True, max_step=2.0 / fastest)
     run.record(traj)
+    run.motion(traj, y_scale=[1.0, 1.0, 1.0, Ls, Ls, Ls])
     ts = np.linspace(0.0, T, 401)
     ys = traj.sol(ts)
     n_t, L_t = ys[0:3], ys[3:6] * Ls

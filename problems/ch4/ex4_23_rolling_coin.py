@@ -54,6 +54,11 @@ exercise = Exercise(
     # while halving the solve (3482 against 5972 evaluations; 0.72 against 1.42 s under load).
     default_rtol=1e-8,
     tol_factor=1.0,
+    # the run from the steady rolling: body-axis rates (3 = the coin's normal), attitude quaternion
+    # (scalar first, body -> lab), the centre's position (z up, circle centred on the origin) and velocity
+    states=[("omega1", "rad/s"), ("omega2", "rad/s"), ("omega3", "rad/s"), ("q0", "1"), ("q1", "1"),
+            ("q2", "1"), ("q3", "1"), ("x_c", "m"), ("y_c", "m"), ("z_c", "m"), ("vx_c", "m/s"),
+            ("vy_c", "m/s"), ("vz_c", "m/s")],
 )
 
 # relative margin above R = 5 r sin(theta)/6, where Omega diverges and the period loses its digits
@@ -315,6 +320,9 @@ def numeric(p, run):
         # the azimuth's error is absolute (about 1e3 rtol): relative to the swept angle
         rel = max(exercise.tol_factor * run.rtol, 1e3 * run.rtol / swept)
         run.claim("T", rel=rel)
+
+    t_unit, w_unit, v_unit = math.sqrt(p.r / p.g), math.sqrt(p.g / p.r), math.sqrt(p.g * p.r)
+    run.motion(traj, t_scale=t_unit, y_scale=[w_unit] * 3 + [1.0] * 4 + [p.r] * 3 + [v_unit] * 3)
 
     # monitors over the run
     ts = np.linspace(traj.t[0], traj.t[-1], 200)

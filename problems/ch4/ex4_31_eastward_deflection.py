@@ -38,6 +38,10 @@ exercise = Exercise(
         "v_east = g sinθ t sin²φ / φ ≈ ω_E g t² sinθ = 2 ω_E h sinθ",
         "(exact solution of dv/dt = g - 2 ω_E × v; the ≈ forms are leading order in ω_E t)",
     ],
+    # the fall from rest at height h to the ground, ground-frame axes (east, north, up; origin at the
+    # foot of the plumb line)
+    states=[("x_east", "m"), ("y_north", "m"), ("z_up", "m"), ("v_east", "m/s"), ("v_north", "m/s"),
+            ("v_up", "m/s")],
 )
 
 # The model (uniform g with the centrifugal part folded in, h << R_E) needs the
@@ -136,6 +140,7 @@ def numeric(p, run):
         method=METHOD,
     )
     run.record(traj)
+    run.motion(traj, t_scale=T0, y_scale=[p.h] * 3 + [p.h / T0] * 3)
     e_end = 0.5 * float(np.dot(y_ev[3:], y_ev[3:])) + 2.0 * y_ev[2]
     run.invariant("energy", (e_end - 2.0) / 2.0)
     run.info["north_deviation_m"] = y_ev[1] * p.h

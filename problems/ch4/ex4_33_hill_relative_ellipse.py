@@ -49,6 +49,9 @@ exercise = Exercise(
         "exact: v₀ = ΩR[(1-ξ)/(1+ξ)]^{1/2} - Ω(R + x₀), ξ = x₀/R; a_radial = |x₀|; "
         "a_along = max_E r sin(ν - M) (e = |ξ|)",
     ],
+    # one period of the closed relative path, in the frame turning with the satellite and centred on
+    # it: x radially outward, y along the orbital motion
+    states=[("x", "m"), ("y", "m"), ("vx", "m/s"), ("vy", "m/s")],
 )
 
 MAX_OFFSET = 0.1  # |x0|/R
@@ -153,9 +156,10 @@ def numeric(p, run):
         rhs, (0.0, T), y0,
         events=[Event(xdot, terminal=False, name="radial extremes"),
                 Event(ydot, terminal=False, name="along-track extremes")],
-        max_step=0.25, **opts,
+        max_step=0.25, dense_output=run.keep_trajectories, **opts,  # dense: a smooth trajectory, same steps
     )
     run.record(tr)
+    run.motion(tr, t_scale=1.0 / W, y_scale=[L, L, L * W, L * W])
     run.nfev += nfev[0]
     xs = [sgn] + [yy[0] for tt, yy in zip(tr.t_events[0], tr.y_events[0]) if tt > 1e-6]
     ys = [yy[1] for yy in tr.y_events[1]]

@@ -57,6 +57,9 @@ exercise = Exercise(
         "ω_pitch = √3 Ω,  ω_roll = 2 Ω,  Ω = (GM/R³)^{1/2}",
         "T_pitch = 4 K(sin θ_amp)/(√3 Ω)  (pendulum in 2θ: θ'' = -(3/2) Ω² sin 2θ)",
     ],
+    # a quarter of the pitch libration (theta_amp > 0), from rest at theta_amp to the local vertical:
+    # the rod's angle from the vertical in the orbital plane (positive toward the orbital motion)
+    states=[("theta", "rad"), ("theta_dot", "rad/s")],
 )
 
 
@@ -242,6 +245,8 @@ def numeric(p, run):
             rtol=run.rtol, atol=atol,
         )
         run.record(traj)
+        run.motion(traj, t_scale=1.0 / W, y_scale=[1.0, W], transform=lambda y: [
+            np.arctan2(y[1], y[0]), (y[0] * y[3] - y[1] * y[2]) / (y[0] ** 2 + y[1] ** 2)])
         probe = np.array([math.cos(0.7), math.sin(0.7), 0.3, -0.2])
         if not np.allclose(rhs(0.0, probe)[2:], rhs_check(probe), rtol=1e-13, atol=1e-13):
             raise NumericFailure("the expanded accelerations disagree with the constrained form")

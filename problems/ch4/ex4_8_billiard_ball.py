@@ -38,6 +38,10 @@ exercise = Exercise(
         "t_roll = P |7 - 5h/R| / (7 M μ g),  x_roll = (V₀ + V_f) t_roll / 2",
         "ω_z = -5 b P / (2 M R²)   (constant: friction has no vertical torque)",
     ],
+    # the sliding phase, from the end of the strike to rolling (x along the impulse, z up): the slip
+    # velocity of the contact point, the spin, and the centre's displacement since the strike
+    states=[("slip_x", "m/s"), ("slip_y", "m/s"), ("slip_z", "m/s"), ("omega_x", "rad/s"),
+            ("omega_y", "rad/s"), ("omega_z", "rad/s"), ("x", "m"), ("y", "m"), ("z", "m")],
 )
 
 
@@ -152,6 +156,7 @@ def numeric(p, run):
         atol=[run.rtol * 1e-3 * float(np.linalg.norm(u0))] * 3 + [run.rtol * 1e-3] * 6,
     )
     run.record(traj)
+    run.motion(traj, t_scale=t_unit, t_offset=0.5 * tau, y_scale=[V0] * 3 + [V0 / R] * 3 + [V0 * t_unit] * 3)
     L0, L1 = L_contact(ys), L_contact(y_ev)
     L_scale = float(np.linalg.norm(np.linalg.solve(I_inv_MR2, om1)) + np.linalg.norm(V1))
     run.invariant("L_contact", np.linalg.norm(L1 - L0) / L_scale)

@@ -42,6 +42,8 @@ exercise = Exercise(
         "Ω² = M g l / (I + M (R - l)²)",
         "period = 4 (M g l)^(-1/2) ∫₀^{π/2} [(I + M (R-l)² + 4MRl k² sin²u) / (1 - k² sin²u)]^(1/2) du, k = sin(φ₀/2)",
     ],
+    # a quarter swing from rest at phi0 down to phi = 0
+    states=[("phi", "rad"), ("phi_dot", "rad/s")],
 )
 
 
@@ -170,6 +172,8 @@ def numeric(p, run):
         atol=run.rtol * 1e-4 * min(phi0, 2.0 * np.cos(phi0 / 2.0)),
     )
     run.record(traj)
+    # integrated as the change phi - phi0 (a start next to the top keeps its digits)
+    run.motion(traj, t_scale=1.0 / Omega, y_scale=[1.0, Omega], transform=lambda y: [phi0 + y[0], y[1]])
     e0 = _energy(_trig(phi0, 0.0), 0.0, M, R, l, I, g)
     e1 = _energy(_trig(phi0, y_ev[0]), y_ev[1] * Omega, M, R, l, I, g)
     run.invariant("energy", (e1 - e0) / e0)

@@ -60,6 +60,8 @@ exercise = Exercise(
     leading_order=("a_th", "growth", "theta_st"),
     default_rtol=1e-11,
     min_rtol=1e-12,
+    # above threshold: one full period (two pivot periods) of the stationary swing the small swing grows into
+    states=[("theta", "rad"), ("theta_dot", "rad/s")],
 )
 
 MAX_DETUNING = 0.3
@@ -306,8 +308,12 @@ def _stationary_swing(p, a_th, run):
     # largest |theta| on the orbit: extrema on theta' = 0 over one half-period (the other half mirrors it)
     f, _ = f_a(target)
     turn = Event(lambda t, y: y[1], terminal=False, name="theta' = 0")
-    traj = integrate(f, (0.0, Tp), z, rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3 * w0], events=[turn])
+    traj = integrate(f, (0.0, Tp), z, rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3 * w0], events=[turn],
+                     dense_output=run.keep_trajectories)  # dense: a smooth trajectory, the same steps
     run.record(traj)
+    run.motion(traj)
+    # the second pivot period mirrors the first (the half map solved above: theta -> -theta)
+    run.motion(traj, t_offset=Tp, transform=lambda y: -y)
     ext = [abs(y[0]) for y in traj.y_events[0]] + [abs(z[0])]
     return float(max(ext))
 

@@ -50,6 +50,8 @@ exercise = Exercise(
         "leading order: ω ≈ ω₀ + 3αA²/(8ω₀),  c₃ ≈ αA³/(32ω₀²)",
         "α < 0, A² → ω₀²/|α|: T ≈ (2√2/ω₀) ln(8ω₀²/(ω₀² + αA²)) → ∞ (logarithmic divergence)",
     ],
+    # a quarter period from rest at q = A down to q = 0
+    states=[("q", "m"), ("v", "m/s")],
 )
 
 EPS_MAX = 1e200  # alpha A^2/omega0^2 above this the scaled force and energy terms approach overflow
@@ -187,6 +189,7 @@ def numeric(p, run):
             rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3 * vmax],
         )
         run.record(tr)
+        run.motion(tr, t_scale=1.0 / (S * w0), y_scale=[A, A * S * w0])
         e0 = energy(1.0, 0.0)
         run.invariant("energy", (energy(y_q[0], y_q[1]) - e0) / e0)
         if abs(eps) < 0.5:
@@ -243,6 +246,8 @@ def numeric(p, run):
             rtol=rtol, atol=[rtol * 1e-3 * s0, rtol * 1e-3 * s0],
         )
         run.record(tr)
+        # the state is the distance s = x_b - x from the barrier top and its rate
+        run.motion(tr, t_scale=1.0 / w0, y_scale=[A, A * w0], transform=lambda y: [xb - y[0], -y[1]])
         e0 = energy_s(s0, 0.0)
         # relative to the kinetic energy at x = 0, the energy range explored (the potential's round-off near
         # the barrier top, where the energy is 1/(-4 eps) in units A^2 omega0^2, is relative to that scale)
