@@ -309,7 +309,7 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
 def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None,
                    verify: bool = True) -> Solution:
     """The cross-check at checked parameters: what ``mech.solve`` and ``mech solve`` both run."""
-    from mech.solvers.crosscheck import cross_check
+    from mech.solvers.verification.crosscheck import cross_check
 
     result = cross_check(ex, params, methods=tuple(methods), rtol=rtol, verify=verify and "numeric" in methods)
     return Solution(ex, result.as_json(), None, result)
@@ -435,7 +435,7 @@ def _nan(v) -> float:
 def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, only=None, jobs=None,
           ranges: dict | None = None) -> Sweep:
     from mech.problems import registry
-    from mech.solvers.sweep import Axis, batched_outputs, batched_points, grid_points, run_batched, run_sweep
+    from mech.solvers.verification.sweep import Axis, batched_outputs, batched_points, grid_points, run_batched, run_sweep
 
     ex = registry.get(str(ex_id))
     axes, fixed = [], {}

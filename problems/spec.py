@@ -350,7 +350,7 @@ class Exercise:
         return fn
 
     def hamiltonian(self, fn: Callable[[Params], Any]) -> Callable:
-        """Optional: ``fn(p) -> mech.solvers.symplectic.SeparableHamiltonian``, the scene as a separable
+        """Optional: ``fn(p) -> mech.solvers.numerics.symplectic.SeparableHamiltonian``, the scene as a separable
         Hamiltonian with the readout of the outputs, so that a symplectic integrator can solve it too
         (``mech bench`` adds that row).  It does not replace the numeric solver."""
         self._hamiltonian = fn
@@ -379,7 +379,7 @@ class Exercise:
         point, already validated); ``fn`` computes only the ``outputs`` asked
         (a subset of ``outputs`` given here) from the equations of motion, as
         the numeric solver does, for all N points at once (see
-        ``mech.solvers.batch``).  ``analytic(P)`` and ``expected_error(P)`` are
+        ``mech.solvers.numerics.batch``).  ``analytic(P)`` and ``expected_error(P)`` are
         the analytic solver and its expected error over the same arrays
         ({output: Column} and {output: array}); tests hold them equal to the
         scalar ones.  ``boundaries`` maps a parameter to (output, label): the

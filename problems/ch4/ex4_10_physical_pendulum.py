@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.ode import Event, integrate
+from mech.solvers.numerics.ode import Event, integrate
 
 exercise = Exercise(
     "4.10",
@@ -141,7 +141,7 @@ def _bracket_root(f, start, factor, limit=400):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     body = _Body(p.M, p.I, p.g)
     omega = body.omega(p.l)

@@ -24,9 +24,9 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import gauss_legendre
-from mech.solvers.rolling import balanced_modes
-from mech.solvers.smallosc import hessian, mass_matrix
+from mech.solvers.mechanics.inertia import gauss_legendre
+from mech.solvers.mechanics.rolling import balanced_modes
+from mech.solvers.numerics.modes import hessian, mass_matrix
 
 exercise = Exercise(
     "4.12",

@@ -20,8 +20,8 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise
-from mech.solvers.ode import integrate_to_event
-from mech.solvers.ode import Event
+from mech.solvers.numerics.ode import integrate_to_event
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "4.15",
@@ -116,7 +116,7 @@ def hamiltonian(p):
     + (M g l/2) sin θ is separable.  Units M = l = 1, τ = (g/l)^½ t: θ' = 3p, p' = -(1/2) cos θ.  The wall's
     force is M x'' with x = (l/2) cos θ: N ∝ -(sin θ θ'' + cos θ θ'²) = cos θ ((3/2) sin θ - θ'²), so the
     event is (3/2) sin θ - θ'² falling through zero.  Started as the numeric solver starts (the nudge)."""
-    from mech.solvers.symplectic import SeparableHamiltonian
+    from mech.solvers.numerics.symplectic import SeparableHamiltonian
 
     theta, omega = p.theta0, 0.0
     if np.pi / 2 - p.theta0 < UPRIGHT_NUDGE:

@@ -24,7 +24,8 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import gauss_legendre, inertia_tensor
+from mech.solvers.mechanics.frames import rotation
+from mech.solvers.mechanics.inertia import gauss_legendre, inertia_tensor
 
 exercise = Exercise(
     "4.17",
@@ -55,12 +56,6 @@ def _box_points(a, n=3):
     return np.stack([X.ravel(), Y.ravel(), Z.ravel()], axis=1), W.ravel()
 
 
-def _rodrigues(axis, angle):
-    """Rotation by a (possibly complex) angle about a real unit axis."""
-    K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]], dtype=complex)
-    return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * (K @ K)
-
-
 @exercise.numeric
 def numeric(p, run):
     a = np.array([p.a1, p.a2, p.a3])
@@ -75,7 +70,7 @@ def numeric(p, run):
     # check through the angular momentum of the turning body, d/dt by a complex step
     I = inertia_tensor(r, dm, about=np.zeros(3))
     h = 1e-20 / p.omega
-    R = _rodrigues(omega / p.omega, p.omega * 1j * h)
+    R = rotation(omega / p.omega, p.omega * 1j * h)
     L = R @ I @ R.T @ omega
     tau_check = L.imag / h
 

@@ -29,8 +29,8 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import ball, inertia_tensor
-from mech.solvers.ode import integrate
+from mech.solvers.mechanics.inertia import ball, inertia_tensor
+from mech.solvers.numerics.ode import integrate
 
 exercise = Exercise(
     "4.18",

@@ -9,7 +9,7 @@ that turns about L at omega_lab = |L|/I1 = omega (sin^2 alpha + 4 cos^2 alpha)^(
 I1 sin(alpha) / (I3 cos(alpha)) = tan(alpha)/2.  For alpha -> 0: Omega_body = omega,
 omega_lab = 2 omega (twice the spin), theta_L = 0.
 
-Numeric: Euler's equations with the quaternion attitude (solvers.rigid), with
+Numeric: Euler's equations with the quaternion attitude (solvers.mechanics.rigid), with
 the moments from a quadrature of the disk's mass, started from
 omega (sin alpha, 0, cos alpha) in body axes and an attitude that puts the
 initial L (computed from that state) along the lab z axis, so that the small
@@ -26,8 +26,9 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.freebody import free_invariants, integrate_free, lab_axes, phase_rate, quat_aligning
-from mech.solvers.inertia import disk, inertia_tensor
+from mech.solvers.mechanics.frames import quat_aligning
+from mech.solvers.mechanics.freebody import free_invariants, integrate_free, lab_axes, phase_rate
+from mech.solvers.mechanics.inertia import disk, inertia_tensor
 
 exercise = Exercise(
     "4.19",

@@ -34,12 +34,15 @@ tilt keeps its digits.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.freebody import euler_omega_rhs, steady_rotation_pair
-from mech.solvers.inertia import gauss_legendre
-from mech.solvers.ode import Event, first_event, integrate
+from mech.solvers.mechanics.freebody import euler_omega_rhs, steady_rotation_pair
+from mech.solvers.mechanics.inertia import gauss_legendre
+from mech.solvers.numerics.ode import Event, first_event, integrate
+from mech.solvers.numerics.special import agm
 
 exercise = Exercise(
     "4.20",
@@ -66,16 +69,6 @@ def constraint(p):
         return f"I3 = {p.I3:g} exceeds I1 + I2 = {p.I1 + p.I2:g} kg m^2: no real body has such moments"
 
 
-def _complete_K(kp: float) -> float:
-    """K(k) from the complementary modulus k' = (1 - k^2)^(1/2): pi / (2 AGM(1, k'))."""
-    a, b = 1.0, float(kp)
-    for _ in range(60):
-        if abs(a - b) <= 1e-16 * a:
-            break
-        a, b = 0.5 * (a + b), float(np.sqrt(a * b))
-    return float(np.pi / (a + b))
-
-
 @exercise.analytic
 def analytic(p):
     I1, I2, I3, w = p.I1, p.I2, p.I3, p.omega0
@@ -88,7 +81,7 @@ def analytic(p):
         # split so that a subnormal tilt keeps its digits
         K = np.log(4.0) - np.log(ratio) - np.log(s)
     else:
-        K = _complete_K(kp)
+        K = math.pi / (2.0 * agm(1.0, kp))  # K(k) from the complementary modulus k'
     T = 4.0 * K / w * np.sqrt(I1 * I2 * I3 / ((I2 - I1) * D))
     return {
         "Omega_1": w * np.sqrt((I2 - I1) * (I3 - I1) / (I2 * I3)),

@@ -38,8 +38,9 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.ode import integrate
-from mech.solvers.tops import axis_rhs, azimuth, fit_rate, polar_angle, top_energy
+from mech.solvers.numerics.ode import integrate
+from mech.solvers.numerics.roots import bracketed_root
+from mech.solvers.mechanics.tops import axis_rhs, azimuth, fit_rate, polar_angle, top_energy
 
 exercise = Exercise(
     "4.21",
@@ -113,7 +114,7 @@ def _residual_factory(IA, I3, Mgl, theta0):
 
 def _slow_root(f, omega3, Om_scale):
     """The smallest positive zero of f(., omega3), or None when f stays negative; also f's maximum."""
-    from mech.solvers.roots import brentq, minimize_scalar
+    from mech.solvers.numerics.roots import brentq, minimize_scalar
 
     f0 = f(0.0, omega3)
     if not f0 < 0:
@@ -140,7 +141,7 @@ def _slow_root(f, omega3, Om_scale):
 
 def _fmax(f, omega3, Om_scale):
     """Maximum over Omega > 0 of f(., omega3) (+inf when f grows without bound)."""
-    from mech.solvers.roots import minimize_scalar
+    from mech.solvers.numerics.roots import minimize_scalar
 
     prev2, prev, fprev = 0.0, 0.0, f(0.0, omega3)
     Om = Om_scale
@@ -199,18 +200,12 @@ def _threshold(IA, I3, Mgl):
         hi *= 2
     else:
         raise NumericFailure("the upright top is unstable at every spin tried")
-    while hi - lo > 1e-15 * hi:
-        mid = 0.5 * (lo + hi)
-        if _upright_growth(IA, Mgl, I3 * mid) > ONSET:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return bracketed_root(lambda w: ONSET - _upright_growth(IA, Mgl, I3 * w), lo, hi)
 
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     IA = p.I1 + p.M * p.l**2
     Mgl = p.M * p.g * p.l

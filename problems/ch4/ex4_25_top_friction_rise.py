@@ -36,7 +36,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.ode import Event, integrate_to_event
+from mech.solvers.numerics.ode import Event, integrate_to_event
 
 exercise = Exercise(
     "4.25",

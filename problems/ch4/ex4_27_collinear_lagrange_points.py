@@ -25,7 +25,8 @@ from __future__ import annotations
 import math
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.rotframe import bracketed_root, mass_fractions, walk_to_sign_change
+from mech.solvers.mechanics.frames import mass_fractions
+from mech.solvers.numerics.roots import bracketed_root, walk_to_sign_change
 
 exercise = Exercise(
     "4.27",

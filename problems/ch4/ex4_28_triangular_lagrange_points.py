@@ -14,7 +14,7 @@ D >= 0 (mu <= mu_c = (1 - sqrt(23/27))/2 = 0.0385): stable,
 D < 0: lambda = (Omega/2) [+-(sqrt(27 mu nu) - 1)^(1/2) +- i (sqrt(27 mu nu) + 1)^(1/2)].
 
 Numeric (scaled units d, 1/Omega): Newton's method on the cancellation-free
-gradient of U_eff from (0, 1), with the exact Hessian (solvers/rotframe.py);
+gradient of U_eff from (0, 1), with the exact Hessian (solvers/mechanics/frames.py);
 then the eigenvalues of the 4x4 linearized rotating-frame matrix built from
 that exact Hessian.  Each exponent gets an absolute error claim from
 perturbation theory that switches to the square-root law where two exponents
@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.rotframe import (
+from mech.solvers.mechanics.frames import (
     characteristic_exponents,
     grad_eff,
     hess_eff,

@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise
-from mech.solvers.ode import integrate
+from mech.solvers.numerics.ode import integrate
 
 exercise = Exercise(
     "4.29",

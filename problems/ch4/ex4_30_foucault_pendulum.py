@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.ode import Event, integrate
+from mech.solvers.numerics.ode import Event, integrate
 
 exercise = Exercise(
     "4.30",

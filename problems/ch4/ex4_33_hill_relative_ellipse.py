@@ -36,8 +36,9 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.gravity import relative_gravity, relative_potential
-from mech.solvers.ode import Event, integrate
+from mech.solvers.mechanics.gravity import relative_gravity, relative_potential
+from mech.solvers.numerics.ode import Event, integrate
+from mech.solvers.numerics.roots import minimize_bounded
 
 exercise = Exercise(
     "4.33",
@@ -67,24 +68,6 @@ def constraint(p):
         return f"|x0|/R = {xi:.3g} is below 1e-90: offsets that small are below any physical meaning"
 
 
-def _golden_max(f, a, b, iters=200):
-    g = (math.sqrt(5.0) - 1.0) / 2.0
-    c, d = b - g * (b - a), a + g * (b - a)
-    fc, fd = f(c), f(d)
-    for _ in range(iters):
-        if fc > fd:
-            b, d, fd = d, c, fc
-            c = b - g * (b - a)
-            fc = f(c)
-        else:
-            a, c, fc = c, d, fd
-            d = a + g * (b - a)
-            fd = f(d)
-        if b - a < 1e-15:
-            break
-    return max(fc, fd)
-
-
 @exercise.analytic
 def analytic(p):
     W = math.sqrt(p.GM / p.R**3)
@@ -99,7 +82,7 @@ def analytic(p):
         M = E - se
         return beta * math.sin(E) * math.cos(M) + math.sin(se) * (1.0 - e * math.cos(E)) + se * math.cos(se)
 
-    a_along = p.R * _golden_max(y_over_R, 0.0, math.pi)
+    a_along = -p.R * minimize_bounded(lambda E: -y_over_R(E), 0.0, math.pi, xatol=1e-15)[1]
     a_radial = abs(p.x0)
     ratio = a_radial / a_along
     return {
@@ -160,7 +143,7 @@ def numeric(p, run):
         t_half[0] = tr.t_events[0][0]
         return tr.y_events[0][0][1]
 
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     v0 = brentq(residual, lo, hi, fa=flo, fb=fhi, xtol=1e-3 * run.rtol, maxiter=100)
     residual_keep(v0)

@@ -46,9 +46,9 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.gravity import coriolis, hill_acceleration, hill_potential
-from mech.solvers.ode import integrate_to_event
-from mech.solvers.ode import Event
+from mech.solvers.mechanics.gravity import coriolis, hill_acceleration, hill_potential
+from mech.solvers.numerics.ode import integrate_to_event
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "4.34",
@@ -69,7 +69,7 @@ def _omega(p):
 
 @exercise.analytic
 def analytic(p):
-    from mech.solvers.special import ellipkm1
+    from mech.solvers.numerics.special import ellipkm1
 
     W = _omega(p)
     c = math.cos(p.theta_amp)
@@ -275,7 +275,7 @@ def hamiltonian(p):
     - Phi with Hill's Phi = -3x²/2 + z²/2; for the two masses r'.(Omega x r) = th' (a total derivative, dropped),
     so L = th'² + 3 cos² th and H = p²/4 - 3 cos² th is separable (p = 2 th'); from rest at theta_amp to the
     first downward passage through th = 0: a quarter libration."""
-    from mech.solvers.symplectic import SeparableHamiltonian
+    from mech.solvers.numerics.symplectic import SeparableHamiltonian
 
     W = _omega(p)
     return SeparableHamiltonian(

@@ -10,7 +10,7 @@ Hence J = m m_b v0/(m + 4 m_b) and
 The same follows from the conservation of the momentum m_b v0 and of the
 angular momentum m_b v0 l about the rod's center.
 
-Numeric: a finite force pulse (solvers.impact).  In units of m, l and v0 the rod
+Numeric: a finite force pulse (solvers.mechanics.impact).  In units of m, l and v0 the rod
 (center and angle, mass and moment from a Gauss rule along it) and the bullet are
 tied by a contact spring-damper between the bullet and the rod's end point,
 K = W^-1/tp^2 and C = 2 W^-1/tp with W the contact's inverse effective mass, so the
@@ -32,9 +32,9 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.impact import critical_contact, delassus, pulse_end, richardson
-from mech.solvers.inertia import gauss_legendre
-from mech.solvers.ode import integrate
+from mech.solvers.mechanics.impact import critical_contact, delassus, pulse_end, richardson
+from mech.solvers.mechanics.inertia import gauss_legendre
+from mech.solvers.numerics.ode import integrate
 
 exercise = Exercise(
     "4.7",

@@ -10,7 +10,7 @@ contact-point slip u = V + w x (0, 0, -R) starts along x, u0 = V0 (1 - 5 (h - R)
 t_roll = 2 |u0| / (7 mu g) = P |7 - 5 h/R| / (7 M mu g).  Then
 V_f = V0 - (2/7) u0 = 5 P h / (7 M R), independent of b; x_roll = (V0 + V_f) t_roll / 2.
 
-Numeric: the sphere's moment from a Gauss quadrature of the ball (solvers.inertia);
+Numeric: the sphere's moment from a Gauss quadrature of the ball (solvers.mechanics.inertia);
 the strike is a finite force pulse P (pi / 2 tau) sin(pi t / tau) along x at the
 body-fixed hit point, integrated through (the hit point turns with the ball) for
 tau = 1e-3 rtol min(R/V0, V0/(mu g)), so the finite-pulse effect (|w0| tau + mu g tau / V0,
@@ -26,9 +26,9 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import ball, inertia_tensor
-from mech.solvers.ode import integrate_to_event
-from mech.solvers.ode import Event, integrate
+from mech.solvers.mechanics.inertia import ball, inertia_tensor
+from mech.solvers.numerics.ode import integrate_to_event
+from mech.solvers.numerics.ode import Event, integrate
 
 exercise = Exercise(
     "4.8",

@@ -32,8 +32,8 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.ode import integrate_to_event
-from mech.solvers.ode import Event
+from mech.solvers.numerics.ode import integrate_to_event
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "4.9",
@@ -58,8 +58,8 @@ def constraint(p):
 
 @exercise.analytic
 def analytic(p):
-    from mech.solvers.quadrature import quad
-    from mech.solvers.special import ellipkm1
+    from mech.solvers.numerics.quadrature import quad
+    from mech.solvers.numerics.special import ellipkm1
 
     M, R, l, I, g = p.M, p.R, p.l, p.I, p.g
     J0 = I + M * (R - l) ** 2

@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.floquet import even_hill_discriminant, even_hill_half
+from mech.solvers.mechanics.floquet import even_hill_discriminant, even_hill_half
 
 exercise = Exercise(
     "5.11",
@@ -198,7 +198,7 @@ def _growth(p, rtol, run):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     rtol = run.rtol
     noise = 10.0 * rtol  # size of the truncation and round-off in P = det(M + I)
@@ -339,7 +339,7 @@ def _lo_batch(omega0, delta, mu, xi):
 
 def analytic_batch(P):
     """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
-    from mech.solvers.batch import Column
+    from mech.solvers.numerics.batch import Column
 
     omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
     lo = _lo_batch(omega0, delta, mu, omega - omega0)
@@ -404,7 +404,7 @@ def _trace_batch(omega0, delta, mu, omega, rtol):
 def _half_batch(omega0, delta, mu, omega, rtol):
     """(y1, y1', y2, y2') at half the period, in the time t as ``even_hill_half`` gives them, and the
     |Wronskian drift|, at N points at once (see ``_trace_batch`` for the scaled time)."""
-    from mech.solvers.floquet import even_hill_half_batch
+    from mech.solvers.mechanics.floquet import even_hill_half_batch
 
     r2 = (omega0 / omega) ** 2
     c0, c1 = r2 - (delta / omega) ** 2, r2 * mu
@@ -454,7 +454,7 @@ class _MinusOne:
 
 def _threshold_batch(omega0, delta, omega, rtol):
     """``numeric``'s mu_th at N points: the first sign change of P(mu) scanning upward, then the root."""
-    from mech.solvers.batch import illinois
+    from mech.solvers.numerics.batch import illinois
 
     n = omega.size
     P = _MinusOne(omega0, delta, np.zeros(n), omega, rtol)
@@ -497,7 +497,7 @@ def _threshold_batch(omega0, delta, omega, rtol):
 def _edges_batch(omega0, delta, mu, rtol):
     """``numeric``'s zone edges at N points: P(omega) on a grid, its minimum by golden section until P < 0,
     the roots on both sides."""
-    from mech.solvers.batch import illinois
+    from mech.solvers.numerics.batch import illinois
 
     n = mu.size
     P = _MinusOne(omega0, delta, mu, np.ones(n), rtol)
@@ -594,7 +594,7 @@ def numeric_batch(P, rtol, outputs, memo=None):
     kept in ``memo`` (one dict for the whole sweep) across its chunks.
     The same scans, roots, claims and Wronskian check as the one-point route.
     """
-    from mech.solvers.batch import Column, by_rows
+    from mech.solvers.numerics.batch import Column, by_rows
 
     omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
     memo = {} if memo is None else memo

@@ -26,8 +26,8 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers import budget
-from mech.solvers.ode import integrate
+from mech.solvers.verification import budget
+from mech.solvers.numerics.ode import integrate
 
 exercise = Exercise(
     "5.13",
@@ -136,7 +136,7 @@ def _slow_frequency(p, sign, rtol, run, name):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     rtol = run.rtol
     out = {
@@ -183,7 +183,7 @@ def analytic_batch(P):
     """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
     import numpy as np
 
-    from mech.solvers.batch import Column
+    from mech.solvers.numerics.batch import Column
 
     l, g, a, Omega = _arrays(P)
     w0sq = g / l
@@ -220,7 +220,7 @@ def _half_batch(l, g, a, Omega, sign, rtol):
     """
     import numpy as np
 
-    from mech.solvers.floquet import even_hill_half_batch
+    from mech.solvers.mechanics.floquet import even_hill_half_batch
 
     c0, c1 = (g / l) / Omega**2, a / l
     (y1, y1p, y2, y2p), _ = even_hill_half_batch(lambda s: sign * (c0 - c1 * math.cos(s)), math.pi, Omega.size,
@@ -233,7 +233,7 @@ def _a_min_batch(l, g, Omega, rtol):
     of y1' y2 about the inverted position."""
     import numpy as np
 
-    from mech.solvers.batch import illinois
+    from mech.solvers.numerics.batch import illinois
 
     n = Omega.size
     drift = np.zeros(n)
@@ -283,7 +283,7 @@ def numeric_batch(P, rtol, outputs, memo=None):
     """
     import numpy as np
 
-    from mech.solvers.batch import Column, by_rows
+    from mech.solvers.numerics.batch import Column, by_rows
 
     l, g, a, Omega = _arrays(P)
     memo = {} if memo is None else memo

@@ -32,7 +32,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.ode import Event, integrate
+from mech.solvers.numerics.ode import Event, integrate
 
 exercise = Exercise(
     "5.2",
@@ -98,7 +98,7 @@ def analytic_error(p):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.linear_flow import expm, rounding_bound
+    from mech.solvers.numerics.linear_flow import expm, rounding_bound
 
     qst = p.F0 / (p.m * p.omega0**2)
     tau_T = p.omega0 * p.T

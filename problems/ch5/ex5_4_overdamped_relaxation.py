@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.ode import Event, integrate
+from mech.solvers.numerics.ode import Event, integrate
 
 exercise = Exercise(
     "5.4",
@@ -65,7 +65,7 @@ def analytic(p):
     t_star = 1.0 / w0 if s == 0.0 else math.log1p((z - 1.0) + s) / (w0 * s)
     v_max = p.q0 * w0 * w0 * t_star * math.exp(-lam * t_star) * _g(delta * t_star)
 
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     target = math.log(p.eps)
     hi = 1.0 / lam

@@ -102,7 +102,7 @@ def _cycle(z, om, rtol):
     om = 1 - zeta, passed exactly so that 1 - zeta sin 2th = om + 2 zeta sin^2(th - pi/4)
     keeps its digits when zeta is close to 1.
     """
-    from mech.solvers.ode import integrate
+    from mech.solvers.numerics.ode import integrate
 
     def rhs(th, y):
         g = om + 2.0 * z * math.sin(th - 0.25 * math.pi) ** 2  # 1 - zeta sin 2th
@@ -115,7 +115,7 @@ def _cycle(z, om, rtol):
 
 def _polar_in_time(z, tau, rtol):
     """(th, l) after time tau from th = 0 (a maximum), l = ln(E ratio)/zeta."""
-    from mech.solvers.ode import integrate
+    from mech.solvers.numerics.ode import integrate
 
     def rhs(t, y):
         s = math.sin(y[0])
@@ -127,7 +127,7 @@ def _polar_in_time(z, tau, rtol):
 
 def _ringdown_work(z, t_span, rtol, dense=False):
     """From rest at x = 1 to the next maximum: (tau_max, x, x', w) with W = 2 zeta w; the trajectory."""
-    from mech.solvers.ode import Event, integrate
+    from mech.solvers.numerics.ode import Event, integrate
 
     def rhs(t, y):
         return np.array([y[1], -2.0 * z * y[1] - y[0], y[1] * y[1]])
@@ -154,7 +154,7 @@ class _Resonance:
     def amp2(self, u):
         if u in self.cache:
             return self.cache[u]
-        from mech.solvers.ode import integrate
+        from mech.solvers.numerics.ode import integrate
 
         z = self.z
         w = 1.0 + u
@@ -192,7 +192,7 @@ class _Resonance:
 
     def static(self):
         """omega -> 0: the periodic orbit of x'' + 2 zeta x' + x = 1 (a constant force) over one free period."""
-        from mech.solvers.ode import integrate
+        from mech.solvers.numerics.ode import integrate
 
         z = self.z
 
@@ -209,7 +209,7 @@ class _Resonance:
 
 def _bandwidth(z, d_meas, rtol, run):
     """The full width at half maximum of |a|^2 in units of omega0, or Undefined."""
-    from mech.solvers.roots import brentq, minimize_scalar
+    from mech.solvers.numerics.roots import brentq, minimize_scalar
 
     res = _Resonance(z, rtol, run)
     left_edge = -(1.0 - 0.1)

@@ -28,8 +28,8 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.ode import integrate_to_event
-from mech.solvers.ode import Event
+from mech.solvers.numerics.ode import integrate_to_event
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "5.6",
@@ -52,7 +52,7 @@ def _phi0(theta0):
 
 @exercise.analytic
 def analytic(p):
-    from mech.solvers.special import ellipkm1
+    from mech.solvers.numerics.special import ellipkm1
 
     w0 = math.sqrt(p.g / p.l)
     c = math.sin(_phi0(p.theta0) / 2.0)  # cos(theta0/2)
@@ -79,7 +79,7 @@ def _one_minus_sinc(x):
 
 def _period_excess(theta0):
     """(T - T0) omega0 by quadrature of the period integral minus the harmonic one; also its error estimate."""
-    from mech.solvers.quadrature import quad
+    from mech.solvers.numerics.quadrature import quad
 
     def integrand(u):
         th = theta0 * math.sin(u)
@@ -148,7 +148,7 @@ def numeric(p, run):
 def hamiltonian(p):
     """For the symplectic rows of ``mech bench``: H = p²/2 - cos θ in τ = ω₀ t (separable), from rest at θ₀
     to the first downward passage through θ = 0, a quarter period; T, T/T₀ and δω read from it."""
-    from mech.solvers.symplectic import SeparableHamiltonian
+    from mech.solvers.numerics.symplectic import SeparableHamiltonian
 
     w0 = math.sqrt(p.g / p.l)
 

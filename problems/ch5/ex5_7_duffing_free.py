@@ -39,6 +39,7 @@ from fractions import Fraction
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.numerics.special import agm
 
 exercise = Exercise(
     "5.7",
@@ -86,17 +87,9 @@ def _agm_deviation(da, db):
     return 0.5 * (da + db)
 
 
-def _agm(a, b):
-    for _ in range(80):
-        a, b = 0.5 * (a + b), math.sqrt(a * b)
-        if abs(a - b) <= 1e-16 * a:
-            break
-    return 0.5 * (a + b)
-
-
 @exercise.analytic
 def analytic(p):
-    from mech.solvers.special import ellipk, ellipkm1
+    from mech.solvers.numerics.special import ellipk, ellipkm1
 
     w0, A = p.omega0, p.A
     eps = _eps(p)
@@ -110,7 +103,7 @@ def analytic(p):
         omega = w0 * (1.0 + dw)
         domega = w0 * dw
     else:
-        omega = w0 * _agm(math.sqrt(g), math.sqrt(h))
+        omega = w0 * agm(math.sqrt(g), math.sqrt(h))
         domega = omega - w0
     # third harmonic
     m = 0.5 * eps / g  # alpha A^2/(2 Omega^2)
@@ -156,7 +149,7 @@ def physical_energy(p, q, v):
 
 def _quarter_excess(eps):
     """(T/4 - pi/2) in units 1/omega0 by quadrature of the energy integral, and its error estimate."""
-    from mech.solvers.quadrature import quad
+    from mech.solvers.numerics.quadrature import quad
 
     def f(th):
         c = math.cos(th)
@@ -170,7 +163,7 @@ def _quarter_excess(eps):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.ode import Event, integrate, integrate_to_event
+    from mech.solvers.numerics.ode import Event, integrate, integrate_to_event
 
     w0, A = p.omega0, p.A
     eps = _eps(p)

@@ -31,8 +31,8 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.floquet import flow_with_variations
-from mech.solvers.ode import Event, integrate
+from mech.solvers.mechanics.floquet import flow_with_variations
+from mech.solvers.numerics.ode import Event, integrate
 
 exercise = Exercise(
     "5.9",
@@ -120,7 +120,7 @@ def _return(X, eps, rtol, run):
 def _energy_balance(p, run, eps):
     """The cycle's maximum X is the root of the energy gained over one return, in [1, 3]: for X <= 1
     the damping is negative all along the orbit (the energy grows); from X = 3 it falls."""
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     rtol = run.rtol
     r_search = max(rtol, 1e-7)  # the search runs cheaper; secant steps at rtol finish it
