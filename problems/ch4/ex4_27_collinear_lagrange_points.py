@@ -136,7 +136,7 @@ def scene(p, run):
     import numpy as np
 
     from mech.problems.scene import Axis, Guide, Line, Map, Markers, Note, Panel, Scene
-    from mech.solvers.rotframe import potential_eff
+    from mech.solvers.mechanics.frames import potential_eff
 
     nu, mu = mass_fractions(p.M1, p.M2)  # M1 at x = -mu, M2 at x = nu (units of d)
     a = run.analytic(p)

@@ -126,7 +126,7 @@ def scene(p, run):
     """The rotating frame's effective potential as a map with L4 and L5, and its cut along x through L4:
     L4 sits on a maximum, and is stable anyway below the Routh mass ratio (the Coriolis force)."""
     from mech.problems.scene import Axis, Guide, Line, Map, Markers, Note, Panel, Scene
-    from mech.solvers.rotframe import potential_eff
+    from mech.solvers.mechanics.frames import potential_eff
 
     nu, mu = mass_fractions(p.M1, p.M2)  # M1 at x = -mu, M2 at x = nu (units of d)
     a = run.analytic(p)

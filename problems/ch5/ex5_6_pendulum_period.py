@@ -176,7 +176,7 @@ def scene(p, run):
     """The phase portrait (contours of the energy, the separatrix, the swing at theta0 integrated from the
     exercise's own Hamiltonian) and the period's rise with the amplitude, angles in degrees throughout."""
     from mech.problems.scene import Axis, Line, Markers, Panel, Scene
-    from mech.solvers.ode import integrate
+    from mech.solvers.numerics.ode import integrate
 
     H = hamiltonian(p)  # H = p^2/2 - cos(theta) in tau = omega0 t: the equation of motion of this module
     deg = 180.0 / math.pi
