@@ -357,12 +357,9 @@ class Sweep:
 
     @property
     def agree(self) -> bool | None:
-        flags = [p.agree for p in self.points]
-        if any(f is False for f in flags):
-            return False
-        if all(f is None for f in flags):
-            return None
-        return True
+        from mech.solvers.verification.crosscheck import combine_agree
+
+        return combine_agree(p.agree for p in self.points)
 
     @property
     def shape(self) -> tuple[int, ...]:

@@ -31,6 +31,7 @@ import numpy as np
 
 from mech.problems.spec import NumericFailure
 from mech.solvers.verification import budget
+from mech.solvers.numerics.dop853 import step_to
 
 __all__ = ["BatchResult", "integrate_batch", "MAX_STEPS"]
 
@@ -124,12 +125,7 @@ def integrate_batch(
         while True:
             if h_abs < min_step:
                 raise NumericFailure(f"the batched integration's step size underflowed at t = {t:.6g}")
-            h = h_abs * direction
-            t_new = t + h
-            if (t_new - t_end) * direction > 0:
-                t_new = t_end
-            h = t_new - t
-            h_abs = abs(h)
+            t_new, h, h_abs = step_to(t, h_abs, direction, t_end)
             K[0] = fy
             hA = h * A
             yflat = y.reshape(n * N)

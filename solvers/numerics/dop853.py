@@ -143,6 +143,15 @@ class Result:
     __slots__ = ("t", "y", "t_events", "y_events", "nfev", "status", "message", "sol", "njev", "nlu")
 
 
+def step_to(t: float, h_abs: float, direction: float, t_end: float) -> tuple[float, float, float]:
+    """The next step from ``t``: (t_new, h, |h|), cut so as not to pass ``t_end``."""
+    t_new = t + h_abs * direction
+    if (t_new - t_end) * direction > 0:
+        t_new = t_end
+    h = t_new - t
+    return t_new, h, abs(h)
+
+
 def _rms(v):
     return math.sqrt(float(v @ v) / v.size)
 
@@ -248,12 +257,7 @@ def solve(
             if h_abs < min_step:
                 status, message = -1, "Required step size is less than spacing between numbers."
                 break
-            h = h_abs * direction
-            t_new = t + h
-            if (t_new - t_end) * direction > 0:
-                t_new = t_end
-            h = t_new - t
-            h_abs = abs(h)
+            t_new, h, h_abs = step_to(t, h_abs, direction, t_end)
             K[0] = fy
             hA = h * A  # the step's tableau: one product instead of one per stage
             for s in range(1, 12):
