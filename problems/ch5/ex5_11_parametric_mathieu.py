@@ -28,6 +28,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
+from mech.solvers.numerics.roots import golden_min
 from mech.solvers.mechanics.floquet import even_hill_discriminant, even_hill_half
 
 exercise = Exercise(
@@ -241,24 +242,9 @@ def numeric(p, run):
     else:
         # golden-section search for the minimum, stopped as soon as P < 0 is seen
         a, b = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
-        g = 0.5 * (math.sqrt(5.0) - 1.0)
-        c, d = b - g * (b - a), a + g * (b - a)
-        fc, fd = P_w(c), P_w(d)
-        w_in = None
-        while b - a > 1e-11 * p.omega0:
-            if min(fc, fd) < 0:
-                w_in = c if fc < fd else d
-                break
-            if fc < fd:
-                b, d, fd = d, c, fc
-                c = b - g * (b - a)
-                fc = P_w(c)
-            else:
-                a, c, fc = c, d, fd
-                d = a + g * (b - a)
-                fd = P_w(d)
+        w_min, pmin, inside = golden_min(P_w, a, b, xtol=1e-11 * p.omega0, stop=lambda P: P < 0)
+        w_in = w_min if inside else None
         if w_in is None:
-            pmin = min(fc, fd)
             if pmin <= noise:
                 # the minimum is within the noise of P: a zone narrower than the search can resolve may be
                 # there (a draw: half-width 3e-8 omega0), so "no zone" would be a guess

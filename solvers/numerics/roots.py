@@ -244,6 +244,35 @@ def minimize_bounded(
     raise NumericFailure(f"bounded minimization: no convergence in {maxiter} iterations")
 
 
+def golden_min(f: Callable[[float], float], a: float, b: float, *, xtol: float,
+               stop: Callable[[float], bool] | None = None) -> tuple[float, float, bool]:
+    """Golden-section search for a minimum of ``f`` on [a, b], to a bracket of width ``xtol``.
+
+    ``stop(fx)``, when given, ends the search at the first value it accepts (a search for where ``f``
+    goes negative need not find the minimum itself).  Returns ``(x, f(x), stopped)`` with the best point
+    seen."""
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = f(c), f(d)
+    best = (c, fc) if fc < fd else (d, fd)
+    if stop is not None and stop(best[1]):
+        return best[0], best[1], True
+    while b - a > xtol:
+        if fc < fd:
+            b, d, fd = d, c, fc
+            c = b - g * (b - a)
+            fc = f(c)
+            if stop is not None and stop(fc):
+                return c, fc, True
+        else:
+            a, c, fc = c, d, fd
+            d = a + g * (b - a)
+            fd = f(d)
+            if stop is not None and stop(fd):
+                return d, fd, True
+    return (c, fc, False) if fc < fd else (d, fd, False)
+
+
 def minimize_scalar(fun: Callable[[float], float], bounds: tuple[float, float], method: str = "bounded",
                     options: dict | None = None):
     """The call shape of ``scipy.optimize.minimize_scalar(..., method="bounded")``, on ``minimize_bounded``.
