@@ -30,8 +30,11 @@ __all__ = [
     "Solution",
     "Sweep",
     "Trajectory",
+    "bench",
     "check",
     "exercise",
+    "grade",
+    "plot",
     "exercises",
     "solve",
     "sweep",
@@ -53,19 +56,21 @@ def exercise(ex_id: str):
 
 
 def solve(ex_id: str, method: str = "both", rtol: float | str | None = None, verify: bool = True,
-          *, raise_on_failure: bool = True, **params: Any) -> "Solution":
+          *, raise_on_failure: bool = True, expect: dict | None = None, expect_rtol: float | str | None = None,
+          **params: Any) -> "Solution":
     """Solve exercise ``ex_id`` at ``params`` (the rest at their defaults), as ``mech solve`` does.
 
     ``method``: "both" (default, cross-checked), "analytic" or "numeric".  ``rtol``: the numeric
     solver's requested accuracy (default: the exercise's).  ``verify``: rerun at rtol/10 to test the
     numeric claim.  Raises ``BadInput`` for a bad parameter and, unless ``raise_on_failure=False``,
     ``NumericFailure`` when a solver could not answer.  A disagreement is not an exception: look at
-    ``sol.agree``.
+    ``sol.agree``.  ``expect={"theta_c": "35.26deg"}`` judges your own answers as ``--expect`` does
+    (``sol["theta_c"].expected``, ``sol.expect_ok``).
     """
     from mech import api
 
     return api.solve(ex_id, method=method, rtol=rtol, verify=verify, raise_on_failure=raise_on_failure,
-                          params=params)
+                     params=params, expect=expect, expect_rtol=expect_rtol)
 
 
 def sweep(ex_id: str, method: str = "both", rtol: float | str | None = None, verify: bool = True,
@@ -90,6 +95,28 @@ def check(ids: list[str] | str | None = None, hard: bool = False):
     from mech import api
 
     return api.check(ids, hard=hard)
+
+
+def grade(path) -> dict:
+    """Hold a TOML file of answers against mech, as ``mech grade FILE --json`` does."""
+    from mech import api
+
+    return api.grade(path)
+
+
+def bench(ex_id: str, *, methods=None, tols=None, repeats: int = 5, max_seconds: float = 55.0,
+          **params: Any) -> dict:
+    """Speed against error of the numeric solver(s), as ``mech bench ID --json`` does."""
+    from mech import api
+
+    return api.bench(ex_id, methods=methods, tols=tols, params=params, repeats=repeats, max_seconds=max_seconds)
+
+
+def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = None, **params: Any):
+    """The exercise's figure, as ``mech plot`` draws it (needs matplotlib); saved to ``path`` if given."""
+    from mech import api
+
+    return api.plot(ex_id, path, generic=generic, vary=vary, params=params)
 
 
 def __getattr__(name: str):

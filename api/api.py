@@ -85,12 +85,13 @@ class Quantity:
     agree: bool | None
     theory: str = "exact"
     note: str | None = None
+    expected: dict | None = None  # with mech.solve(..., expect=...): value, match, rel_err, hint
 
     @classmethod
     def from_dict(cls, d: dict) -> "Quantity":
         return cls(d["name"], d["unit"], d.get("analytic"), d.get("numeric"), d.get("numeric_err"),
                    d.get("analytic_err"), d.get("abs_err"), d.get("rel_err"), d.get("tol"), d.get("agree"),
-                   d.get("theory", "exact"), d.get("note"))
+                   d.get("theory", "exact"), d.get("note"), d.get("expected"))
 
     @property
     def value(self) -> float | None:
@@ -169,7 +170,9 @@ class Solution:
     def __init__(self, exercise, data: dict, trajectory: Trajectory | None = None, result=None):
         self.exercise = exercise
         self._data = data
-        self.trajectory = trajectory
+        self._trajectory = trajectory
+        self._trajectory_done = trajectory is not None
+        self.expect_ok: bool | None = data.get("expect_ok")
         self._result = result
         self.result = result  # the cross-check behind it (None for a sweep's points)
         self.quantities = [Quantity.from_dict(q) for q in data["quantities"]]
@@ -178,6 +181,32 @@ class Solution:
     @property
     def id(self) -> str:
         return self.exercise.id
+
+    @property
+    def trajectory(self) -> Trajectory | None:
+        """The motion the numeric route integrates, in SI (None where it integrates none).
+
+        Computed on first use by the same numeric solve, run again with its motion kept (dense output
+        between steps may cost evaluations the answer does not need, so the answer's solve keeps none:
+        ``to_dict()`` stays what ``mech solve --json`` prints)."""
+        if not self._trajectory_done:
+            self._trajectory_done = True
+            self._trajectory = self._motion()
+        return self._trajectory
+
+    def _motion(self) -> Trajectory | None:
+        ex = self.exercise
+        if not ex.states or self._result is None or self._result.run is None:
+            return None
+        if any("solver failed" in e for e in self.errors):
+            return None  # the numeric solve itself did not finish: no motion to hand over
+        from mech.problems.spec import Params
+        from mech.solvers.verification import budget
+
+        info = self._data.get("numeric_info") or {}
+        with budget.limit(None, what=f"the trajectory of {ex.id}"):
+            _, run = ex.solve_numeric(Params(self._data["params"]), info.get("rtol"), keep_trajectories=True)
+        return _trajectory(ex, run)
 
     @property
     def params(self) -> dict[str, float]:
@@ -266,13 +295,20 @@ def _fmt(v, digits: int = 12) -> str:
 # -- solve -----------------------------------------------------------------------
 
 def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, raise_on_failure: bool = True,
-          params: dict | None = None, keep_trajectory: bool = True) -> Solution:
+          params: dict | None = None, expect: dict | None = None, expect_rtol=None) -> Solution:
     from mech.problems import registry
 
     ex = registry.get(str(ex_id))
     resolved = resolve_params(ex, dict(params or {}))
-    sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify,
-                         keep_trajectory=keep_trajectory)
+    expectations = _expectations(ex, expect, expect_rtol)
+    sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify)
+    if expectations is not None:
+        from mech.cli import grading
+
+        sol.expect_ok = grading.attach(sol.result, expectations)
+        sol._data = grading.solve_json(sol.result)
+        sol.quantities = [Quantity.from_dict(q) for q in sol._data["quantities"]]
+        sol._by_name = {q.name: q for q in sol.quantities}
     if raise_on_failure and any("solver failed" in e for e in sol.errors):
         exc = NumericFailure(f"{ex.id}: " + "; ".join(sol.errors))
         exc.solution = sol
@@ -280,15 +316,25 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
     return sol
 
 
-def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None, verify: bool = True,
-                   keep_trajectory: bool = True) -> Solution:
-    """The cross-check at checked parameters: what ``mech.solve`` and ``mech solve`` both run."""
-    from mech.solvers.crosscheck import cross_check
+def _expectations(ex, expect: dict | None, expect_rtol):
+    """``expect={"theta_c": "35.26deg"}`` -> the command line's --expect judgements (None: nothing expected)."""
+    if not expect:
+        if expect_rtol is not None:
+            raise BadInput("expect_rtol: given without any expected value")
+        return None
+    from mech.cli import grading
 
-    result = cross_check(ex, params, methods=tuple(methods), rtol=rtol,
-                         verify=verify and "numeric" in methods, keep_trajectories=keep_trajectory)
-    trajectory = _trajectory(ex, result.run) if keep_trajectory else None
-    return Solution(ex, result.as_json(), trajectory, result)
+    pairs = [f"{name}={_value_text(value)}" for name, value in expect.items()]
+    return grading.parse_expect_options(ex, pairs, None if expect_rtol is None else _value_text(expect_rtol))
+
+
+def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None,
+                   verify: bool = True) -> Solution:
+    """The cross-check at checked parameters: what ``mech.solve`` and ``mech solve`` both run."""
+    from mech.solvers.verification.crosscheck import cross_check
+
+    result = cross_check(ex, params, methods=tuple(methods), rtol=rtol, verify=verify and "numeric" in methods)
+    return Solution(ex, result.as_json(), None, result)
 
 
 # -- sweep -----------------------------------------------------------------------
@@ -333,12 +379,9 @@ class Sweep:
 
     @property
     def agree(self) -> bool | None:
-        flags = [p.agree for p in self.points]
-        if any(f is False for f in flags):
-            return False
-        if all(f is None for f in flags):
-            return None
-        return True
+        from mech.solvers.verification.crosscheck import combine_agree
+
+        return combine_agree(p.agree for p in self.points)
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -411,7 +454,7 @@ def _nan(v) -> float:
 def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, only=None, jobs=None,
           ranges: dict | None = None) -> Sweep:
     from mech.problems import registry
-    from mech.solvers.sweep import Axis, batched_outputs, batched_points, grid_points, run_batched, run_sweep
+    from mech.solvers.verification.sweep import Axis, batched_outputs, batched_points, grid_points, run_batched, run_sweep
 
     ex = registry.get(str(ex_id))
     axes, fixed = [], {}
@@ -450,6 +493,48 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
         data_points = result.points
     solutions = [Solution(ex, {"id": ex.id, "title": ex.title, **data}) for data in data_points]
     return Sweep(ex, axes, fixed, solutions, result.seconds, wanted)
+
+
+# -- grade, bench, plot ----------------------------------------------------------------
+
+def grade(path) -> dict:
+    """``mech grade FILE --json``: every answer of a grading file held against mech."""
+    import time
+
+    from mech.cli import grading
+
+    t0 = time.perf_counter()
+    entries = grading.load_answers(str(path))
+    grading.grade(entries)
+    return grading.grade_json(str(path), entries, time.perf_counter() - t0)
+
+
+def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **options) -> dict:
+    """``mech bench ID --json``: speed against error of the numeric solver(s)."""
+    from mech.problems import registry
+    from mech.solvers.verification import bench as benching
+
+    ex = registry.get(str(ex_id))
+    resolved = resolve_params(ex, dict(params or {}))
+    if isinstance(methods, str):
+        methods = [m.strip() for m in methods.split(",")]
+    return benching.bench(ex, resolved, methods=methods, tols=list(tols) if tols else None, **options)
+
+
+def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = None, params: dict | None = None):
+    """``mech plot ID -o PATH``: the exercise's figure (needs matplotlib); returns the matplotlib Figure,
+    saved to ``path`` when one is given."""
+    from mech.cli.figures import draw
+    from mech.cli.figures.common import need_matplotlib, save
+    from mech.problems import registry
+
+    ex = registry.get(str(ex_id))
+    resolved = resolve_params(ex, dict(params or {}))
+    need_matplotlib()
+    fig = draw(ex, resolved, generic=generic, vary=vary.replace("-", "_") if vary else None)
+    if path is not None:
+        save(fig, str(path))
+    return fig
 
 
 # -- check -------------------------------------------------------------------------

@@ -1,4 +1,4 @@
-"""``mech bench ID``: speed against error of an exercise's numeric solver (machinery in mech.solvers.bench)."""
+"""``mech bench ID``: speed against error of an exercise's numeric solver (machinery in mech.solvers.verification.bench)."""
 
 from __future__ import annotations
 
@@ -54,7 +54,7 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
     from mech.cli.main import UsageFailure, _get
     from mech.cli.options import collect_params
     from mech.problems.spec import BadInput
-    from mech.solvers.bench import bench
+    from mech.solvers.verification.bench import bench
 
     ex = _get(ex_id)
     if ex._numeric is None or ex._analytic is None:
@@ -69,7 +69,7 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
         try:
             import matplotlib  # noqa: F401
         except ImportError:
-            raise UsageFailure("--plot needs matplotlib: pip install 'mech[plot]'") from None
+            raise UsageFailure("--plot needs matplotlib: pip install -e '.[plot]' in mech's checkout") from None
 
     progress = None
     if not as_json:
@@ -89,7 +89,7 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
     if plot_file:
         plot_bench(result, plot_file)
     if as_json:
-        from mech.solvers.crosscheck import _clean
+        from mech.solvers.verification.crosscheck import _clean
 
         click.echo(json.dumps(_clean(result), indent=2, allow_nan=False))
     else:
@@ -99,7 +99,7 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
 def _canonical_methods(ex, params, text: str) -> list[str]:
     """The rows asked for, by their canonical names: ``rk45`` is RK45 (names are matched without case)."""
     from mech.cli.main import UsageFailure
-    from mech.solvers import bench as machinery
+    from mech.solvers.verification import bench as machinery
 
     names = list(dict.fromkeys(machinery.ODE_METHODS + machinery.OTHER_ODE + tuple(machinery.SYMPLECTIC)
                                + (machinery.STUDENT, machinery.DEFAULT_ROW)))
@@ -188,32 +188,7 @@ def _print(r: dict, plot_file: str | None) -> None:
 
 
 def plot_bench(r: dict, path: str) -> None:
-    """Error against median time and against nfev, log-log, one line per method (students' point a star)."""
-    import matplotlib
+    """Error against median time and against nfev, log-log, one line per method (cli/figures/benchfig.py)."""
+    from mech.cli.figures.benchfig import plot_bench as draw
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(1, 2, figsize=(9.0, 3.8), dpi=80, sharey=True)
-    methods = list(dict.fromkeys(p["method"] for p in r["points"]))
-    for m in methods:
-        pts = [p for p in r["points"] if p["method"] == m and p["ok"] and p["error"]]
-        if not pts:
-            continue
-        single = len(pts) == 1
-        style = dict(marker="*" if m == "scipy-default" else ("D" if m == "default" else "o"),
-                     markersize=10 if single else 4, linestyle="none" if single else "-")
-        for ax, key in zip(axes, ("time_s", "nfev")):
-            ax.plot([p[key] for p in pts], [max(p["error"], 1e-17) for p in pts], label=m, **style)
-    axes[0].set_xlabel("median wall time [s]")
-    axes[1].set_xlabel("right-hand-side evaluations")
-    axes[0].set_ylabel("error (max rel. vs analytic)")
-    for ax in axes:
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.grid(True, which="major", alpha=0.3)
-    axes[1].legend(fontsize=7, loc="best")
-    fig.suptitle(f"{r['id']}  {r['title']}", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=80)
-    plt.close(fig)
+    draw(r, path)

@@ -103,7 +103,7 @@ def case_text(ex: Exercise, values: dict) -> str:
 
 
 def run_case(case: Case) -> Case:
-    from mech.solvers.crosscheck import cross_check
+    from mech.solvers.verification.crosscheck import cross_check
 
     t0 = time.perf_counter()
     ex = case.exercise

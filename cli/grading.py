@@ -1,7 +1,7 @@
 """Checking your own answers: ``mech solve --expect``, ``mech grade FILE`` and ``mech check`` baselines.
 
-Parsing and drawing only; the judging is ``mech.solvers.answers``, the baseline
-comparison ``mech.solvers.baseline``.
+Parsing and drawing only; the judging is ``mech.solvers.verification.answers``, the baseline
+comparison ``mech.solvers.verification.baseline``.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ import click
 
 from mech.cli.values import CONSTANTS, ValueError_, _tokens, to_si
 from mech.problems.spec import BadInput, Exercise
-from mech.solvers.answers import Expectation, judge
+from mech.solvers.verification.answers import Expectation, judge
 
 __all__ = ["parse_expectation", "parse_expect_options", "attach", "grade_cmd"]
 
@@ -251,7 +251,7 @@ def load_answers(path: str) -> list[Entry]:
 
 
 def grade(entries: list[Entry]) -> None:
-    from mech.solvers.crosscheck import cross_check
+    from mech.solvers.verification.crosscheck import cross_check
 
     for entry in entries:
         entry.result = cross_check(entry.exercise, entry.exercise.resolve(entry.given))
@@ -360,7 +360,7 @@ def grade_cmd(file, as_json, junit_file):
 
 def open_baseline(path: str) -> dict:
     """A baseline file, read and checked before the run (BadInput: one line naming the file and field)."""
-    from mech.solvers import baseline
+    from mech.solvers.verification import baseline
 
     try:
         with open(path, encoding="utf-8") as fh:
@@ -376,7 +376,7 @@ def open_baseline(path: str) -> dict:
 
 
 def check_records(report) -> list[dict]:
-    from mech.solvers import baseline
+    from mech.solvers.verification import baseline
 
     return [baseline.record_case(c.exercise.id, c.label, getattr(c.result, "params", None) or c.given, c.ok,
                                  getattr(c.result, "quantities", None)) for c in report.cases]
@@ -384,7 +384,7 @@ def check_records(report) -> list[dict]:
 
 def baselines(report, hard: bool, old: dict | None, old_path: str | None, save_path: str | None):
     """Compare this check with a loaded baseline and/or save it as one; the Comparison or None."""
-    from mech.solvers import baseline
+    from mech.solvers.verification import baseline
 
     records = check_records(report)
     cmp = baseline.compare(old, records, old_path or "") if old is not None else None

@@ -107,7 +107,7 @@ class MechGroup(click.Group):
 
 
 @click.group(cls=MechGroup, context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100})
-@click.version_option(package_name="mech", prog_name="mech", message="%(prog)s %(version)s")
+@click.version_option(package_name="mech-likharev", prog_name="mech", message="%(prog)s %(version)s")
 def cli():
     """Solve the exercises of Likharev's Classical Mechanics, chapters 4 and 5, two ways.
 
@@ -308,8 +308,9 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
 
     ex = _get(ex_id)
     if trajectory_file and not ex.states:
-        raise UsageFailure(f"--trajectory: the numeric route of {ex.id} integrates no equations of motion "
-                           "(it is a quadrature, an eigenproblem or a root search): there is no trajectory")
+        raise UsageFailure(f"--trajectory: the numeric route of {ex.id} follows no motion of the scene in time "
+                           "(a quadrature, an eigenproblem or a root search, or integrations that are not the "
+                           "motion: one-period maps, fundamental solutions, a radial profile): no trajectory")
     if trajectory_file and method == "analytic":
         raise UsageFailure("--trajectory needs the numeric method: drop --method analytic")
     try:
@@ -324,14 +325,21 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     methods = ("analytic", "numeric") if method == "both" else (method,)
-    sol = solve_resolved(ex, params, methods=methods, rtol=rtol, verify=not no_verify and method != "analytic",
-                         keep_trajectory=bool(trajectory_file))
+    sol = solve_resolved(ex, params, methods=methods, rtol=rtol, verify=not no_verify and method != "analytic")
     result = sol.result
     if trajectory_file:
-        if sol.trajectory is None:
-            click.echo(f"mech: no trajectory written: the numeric solve of {ex.id} did not finish", err=True)
+        failed = any("solver failed" in e for e in sol.errors)
+        try:
+            trajectory = None if failed else sol.trajectory
+        except Exception as exc:  # the motion's own solve ran out: said, never a traceback
+            trajectory, failed = None, True
+            click.echo(f"mech: trajectory: {' '.join(str(exc).split())}", err=True)
+        if trajectory is None:
+            why = "did not finish" if failed else "followed no motion at these parameters (nothing moves, or the " \
+                "motion it integrates does not exist here)"
+            click.echo(f"mech: no trajectory written: the numeric solve of {ex.id} {why}", err=True)
         else:
-            sol.trajectory.to_csv(trajectory_file)
+            trajectory.to_csv(trajectory_file)
     expect_ok = grading.attach(result, expectations) if grading else True
     if as_json:
         _emit_json(grading.solve_json(result) if grading else result.as_json())

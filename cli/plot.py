@@ -8,6 +8,8 @@ from mech.cli.main import SolveCommand, UsageFailure, _complete_ids, _get
 from mech.cli.options import _canonical, collect_params, parse_rtol
 from mech.problems.spec import BadInput
 
+FIGURE_BUDGETS = 2
+
 
 @click.command("plot", cls=SolveCommand)
 @click.argument("ex_id", metavar="ID", shell_complete=_complete_ids)
@@ -17,7 +19,7 @@ from mech.problems.spec import BadInput
 @click.option("--generic", is_flag=True, help="The outputs against one parameter, even where a scene figure exists.")
 @click.option("--vary", metavar="NAME", help="The parameter of the generic figure [the most telling one].")
 @click.option("--points", "n_numeric", type=click.IntRange(0, 50), default=5, show_default=True,
-              help="Numeric solves for the markers (each costs 0.05-1 s).")
+              help="Numeric solves for the markers (each costs 0.05-1 s); 0: analytic lines only.")
 @click.option("--rtol", "rtol_text", metavar="R", help="Requested accuracy of the numeric solver [exercise default].")
 @click.option("--dpi", type=click.FloatRange(20, 600), default=110, show_default=True, help="Resolution of a PNG.")
 @click.pass_context
@@ -25,17 +27,19 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
     """Draw exercise ID: its scene with analytic and numeric results overlaid.
 
     \b
-    Scenes: the ladder's angle and the wall's force in time (4.15), Omega(l)
-    with its optimum (4.10), the heavy top's effective potential (4.21), the
-    rotating frame's potential with the Lagrange points (4.27, 4.28), normal
-    modes (4.12), a phase portrait (5.6), the Mathieu zones (5.11), the
-    Kapitza chart (5.13).  Every exercise has the generic figure (--generic):
-    each output against one parameter, analytic as a line, numeric as markers.
+    Scenes, each computed by the exercise's own physics: the wall's force on
+    the sliding ladder (4.15), Omega(l) with its optimum (4.10), the chime's
+    normal modes (4.12), the heavy top's effective potential (4.21), the
+    rotating frame's potential with the Lagrange points (4.27, 4.28), the
+    pendulum's phase portrait (5.6), the Mathieu zone (5.11), the Kapitza
+    chart (5.13).  Every exercise has the generic figure (--generic): each
+    output against one parameter, analytic as a line, numeric as markers.
     \b
     Examples:
       mech plot 4.15 --theta0 80deg -o ladder.svg
       mech plot 4.1 --generic --vary R
-    Matplotlib comes with the plot extra: pip install 'mech[plot]'.
+    Matplotlib comes with the plot extra; in mech's checkout:
+    pip install -e '.[plot]'.
     """
     from mech.cli.figures.common import check_target, need_matplotlib, save
 
@@ -51,8 +55,22 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
     out = out or f"mech-{ex.id}.png"
     check_target(out)
     need_matplotlib()
-    from mech.cli.figures import draw
+    import warnings
 
-    fig = draw(ex, params, generic=generic, vary=vary, n_numeric=n_numeric, rtol=rtol)
+    from mech.cli.figures import draw
+    from mech.problems.spec import NumericFailure
+    from mech.solvers.verification import budget
+
+    # every numeric solve has its own budget (a failed one is shown in the figure); the whole figure,
+    # the scene's own integrations included, ends within FIGURE_BUDGETS solve budgets or fails in one line
+    try:
+        with budget.limit(FIGURE_BUDGETS * budget.default_seconds(), what=f"the figure of {ex.id}"), \
+                warnings.catch_warnings():
+            # numpy's overflow and division warnings are no message of the figure: a value that is not
+            # finite leaves a gap, and a numeric solver's failure is told in the caption
+            warnings.simplefilter("ignore", RuntimeWarning)
+            fig = draw(ex, params, generic=generic, vary=vary, n_numeric=n_numeric, rtol=rtol)
+    except NumericFailure as exc:
+        raise click.ClickException(f"cannot draw {ex.id}: {exc}") from None
     save(fig, out, dpi=dpi)
     click.echo(f"wrote {out}", err=True)

@@ -159,6 +159,22 @@ class Params(Mapping[str, float]):
         return f"Params({self._values!r})"
 
 
+class _Transformed:
+    """An integration seen through a map of its states (``Run.motion``'s ``transform``)."""
+
+    def __init__(self, traj: Any, transform: Callable):
+        self.t = traj.t
+        self._transform = transform
+        self.y = self._map(traj.y, len(traj.t))
+        sol = getattr(traj, "sol", None)
+        self.sol = None if sol is None else (lambda t: self._map(sol(t), len(t)))
+
+    def _map(self, y, n: int):
+        import numpy as np
+
+        return np.asarray(self._transform(np.asarray(y, float).reshape(-1, n)), float)
+
+
 @dataclass
 class Run:
     """What a numeric solver is given and what it reports back besides its answers.
@@ -195,12 +211,17 @@ class Run:
         return result
 
     def motion(self, traj: Any, *, t_scale: float = 1.0, t_offset: float = 0.0, y_scale=None,
-               rows=None) -> None:
+               rows=None, transform: Callable | None = None) -> None:
         """Mark an integration (anything with ``t``, ``y`` and optionally a continuous extension ``sol``) as
         (a leg of) the scene's motion: its ``rows`` (all by default) are the exercise's declared ``states``.
         Scaled variables are brought to SI: time ``t_offset + t_scale * t``, state ``y_scale * y`` (a number
-        or one per state).  Legs marked one after another are joined in time order."""
+        or one per state).  Where the integrated variables are not the declared ones (an angle kept as its
+        change, a branch's own variables), ``transform`` maps the state array (n x N, scaled) to them before
+        ``rows`` and ``y_scale``; it runs only when a trajectory was asked for.  Legs marked one after
+        another are joined in time order."""
         if self.keep_trajectories:
+            if transform is not None:
+                traj = _Transformed(traj, transform)
             self.motion_parts.append((traj, float(t_scale), float(t_offset), y_scale, rows))
 
     def claim(self, name: str, rel: float | None = None, abs: float | None = None) -> None:
@@ -295,6 +316,7 @@ class Exercise:
         self._expected_error: Callable | None = None
         self._analytic_error: Callable | None = None
         self._hamiltonian: Callable | None = None
+        self._scene: Callable | None = None
         self._batched: "BatchedRoute | None" = None
         self.param_map = {p.name: p for p in self.params}
 
@@ -328,11 +350,26 @@ class Exercise:
         return fn
 
     def hamiltonian(self, fn: Callable[[Params], Any]) -> Callable:
-        """Optional: ``fn(p) -> mech.solvers.symplectic.SeparableHamiltonian``, the scene as a separable
+        """Optional: ``fn(p) -> mech.solvers.numerics.symplectic.SeparableHamiltonian``, the scene as a separable
         Hamiltonian with the readout of the outputs, so that a symplectic integrator can solve it too
         (``mech bench`` adds that row).  It does not replace the numeric solver."""
         self._hamiltonian = fn
         return fn
+
+    def scene(self, fn: Callable[[Params, Any], Any]) -> Callable:
+        """Optional: ``fn(p, run) -> mech.problems.scene.Scene``, what ``mech plot`` draws for this
+        exercise, computed from the exercise's own physics (``run``: a ``scene.SceneRun``)."""
+        self._scene = fn
+        return fn
+
+    def make_scene(self, p: Params, rtol: float | None = None, points: int = 5):
+        """The exercise's scene at ``p`` and the run that made it, or (None, None) without a scene hook."""
+        if self._scene is None:
+            return None, None
+        from mech.problems.scene import SceneRun
+
+        run = SceneRun(self, rtol, points)
+        return self._scene(p, run), run
 
     def batched(self, outputs: tuple[str, ...], *, analytic: Callable, expected_error: Callable | None = None,
                 boundaries: Mapping[str, tuple[str, str]] | None = None) -> Callable:
@@ -342,7 +379,7 @@ class Exercise:
         point, already validated); ``fn`` computes only the ``outputs`` asked
         (a subset of ``outputs`` given here) from the equations of motion, as
         the numeric solver does, for all N points at once (see
-        ``mech.solvers.batch``).  ``analytic(P)`` and ``expected_error(P)`` are
+        ``mech.solvers.numerics.batch``).  ``analytic(P)`` and ``expected_error(P)`` are
         the analytic solver and its expected error over the same arrays
         ({output: Column} and {output: array}); tests hold them equal to the
         scalar ones.  ``boundaries`` maps a parameter to (output, label): the

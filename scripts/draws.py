@@ -4,7 +4,7 @@
 usage: python scripts/draws.py [--n N] [--seed S] [--timeout T] [--jobs J] [--markdown] [ID ...]
 
 For each exercise (or the named ones, by prefix: "4.2" takes 4.2 and 4.20-4.29), N parameter sets
-are drawn over the whole declared range (mech.solvers.draws, kind "whole": log-uniform, open ends
+are drawn over the whole declared range (mech.solvers.verification.draws, kind "whole": log-uniform, open ends
 at 1e-6..1e6 times the default; a draw the joint constraints refuse is redrawn), and each is run as
 ``mech solve ID --json -p NAME=VALUE ...`` in a fresh process, killed after T seconds as a CI
 timeout would.  Each run is classified:
@@ -126,7 +126,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
 
     from mech.problems import registry
-    from mech.solvers.draws import draws
+    from mech.solvers.verification.draws import draws
 
     exercises = [ex for i, ex in registry.all_exercises().items()
                  if not args.ids or any(i == p or i.startswith(p) for p in args.ids)]

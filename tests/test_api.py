@@ -69,9 +69,13 @@ def test_bad_input_raises_with_the_command_lines_message():
         mech.solve("9.99")
 
 
-def test_to_dict_is_what_the_command_line_prints():
-    sol = mech.solve("4.15", theta0="60deg")
-    res = CliRunner().invoke(cli, ["solve", "4.15", "--theta0", "60deg", "--json"])
+@pytest.mark.parametrize("ex_id", ["4.15", "4.29"])
+def test_to_dict_is_what_the_command_line_prints(ex_id):
+    """Also after the trajectory was asked for (4.29 integrates with dense output only then)."""
+    sol = mech.solve(ex_id, theta0="60deg") if ex_id == "4.15" else mech.solve(ex_id)
+    assert sol.trajectory is not None
+    args = ["solve", ex_id, "--theta0", "60deg", "--json"] if ex_id == "4.15" else ["solve", ex_id, "--json"]
+    res = CliRunner().invoke(cli, args)
     assert res.exit_code == 0
     cli_json = json.loads(res.output)
     api_json = sol.to_dict()
@@ -178,3 +182,33 @@ def test_a_chart_sweep_takes_the_batched_route_and_matches_single_solves():
     assert all(a["growth_agree"])
     one = mech.solve("5.11", omega=10.1, mu=0.05)["growth"]
     assert abs(a["growth_numeric"][2] - one.numeric) <= a["growth_numeric_err"][2] + one.numeric_err
+
+
+def test_own_answers_from_python():
+    """θ0 = 60° gives θc = asin(1/√3) = 35.264°; 70.53° is twice that (by hand)."""
+    right = mech.solve("4.15", theta0="60deg", expect={"theta_c": "35.26deg"})
+    assert right.expect_ok is True and right["theta_c"].expected["match"] is True
+    wrong = mech.solve("4.15", theta0="60deg", expect={"theta_c": "70.53deg"})
+    assert wrong.expect_ok is False and "2" in wrong["theta_c"].expected["hint"]
+    res = CliRunner().invoke(cli, ["solve", "4.15", "--theta0", "60deg", "--expect", "theta_c=70.53deg", "--json"])
+    cli_json = json.loads(res.output)
+    api_json = wrong.to_dict()
+    for d in (cli_json, api_json):
+        d.pop("timing")
+        d["numeric_info"].pop("import_s", None)
+    assert api_json == cli_json
+    with pytest.raises(mech.BadInput):
+        mech.solve("4.15", expect={"nope": 1.0})
+
+
+def test_grade_bench_and_plot_from_python(tmp_path):
+    answers = tmp_path / "hw.toml"
+    answers.write_text('[[answer]]\nexercise = "4.15"\nparams = { theta0 = "60deg" }\n'
+                       'expect = { theta_c = "35.26deg" }\n')
+    graded = mech.grade(answers)
+    assert graded["ok"] is True and graded["passed"] == 1
+    b = mech.bench("4.15", methods="DOP853", tols=[1e-6], repeats=1, max_seconds=5)
+    assert b["id"] == "4.15" and any(p["method"] == "DOP853" and p["ok"] for p in b["points"])
+    pytest.importorskip("matplotlib")
+    fig = mech.plot("4.15", tmp_path / "ladder.png", theta0="80deg")
+    assert (tmp_path / "ladder.png").stat().st_size > 1000 and fig is not None

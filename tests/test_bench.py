@@ -11,7 +11,7 @@ from click.testing import CliRunner
 
 from mech.cli.main import cli
 from mech.problems import registry
-from mech.solvers.bench import STUDENT, bench, error_against, summarize
+from mech.solvers.verification.bench import STUDENT, bench, error_against, summarize
 
 POINT_KEYS = {"method", "rtol", "error", "time_s", "time_min_s", "time_max_s", "nfev", "ok"}
 
@@ -104,13 +104,13 @@ def test_json_is_finite():
 def _pendulum():
     import numpy as np
 
-    from mech.solvers.ode import Event
+    from mech.solvers.numerics.ode import Event
 
     return (lambda t, y: np.array([y[1], -math.sin(y[0])])), Event(lambda t, y: y[0], direction=-1, name="q = 0")
 
 
 def test_lean_event_is_ode_event_at_a_fraction_of_the_cost():
-    from mech.solvers import ode
+    from mech.solvers.numerics import ode
 
     rhs, ev = _pendulum()
     t1, y1, tr1 = ode.integrate_to_event(rhs, (0.0, 50.0), [1.0, 0.0], ev, rtol=1e-10, confirm="rerun")
@@ -123,7 +123,7 @@ def test_lean_event_catches_a_stepped_over_crossing():
     import numpy as np
 
     from mech.problems.spec import NumericFailure
-    from mech.solvers.ode import Event, integrate_to_event
+    from mech.solvers.numerics.ode import Event, integrate_to_event
 
     # y = t; the event crosses upward at 1.9 and 6, the integrator's steps (exact, growing x10) jump to 6
     g = Event(lambda t, y: ((y[0] - 2.0) ** 2 - 0.01) * (y[0] - 6.0), direction=1)
@@ -134,7 +134,7 @@ def test_lean_event_catches_a_stepped_over_crossing():
 
 
 def test_lean_event_obeys_the_bench_override():
-    from mech.solvers import ode
+    from mech.solvers.numerics import ode
 
     rhs, ev = _pendulum()
     with ode.override(method="LSODA"):

@@ -15,10 +15,10 @@ from click.testing import CliRunner
 from mech.cli.main import cli
 from mech.problems import registry
 from mech.problems.spec import NumericFailure
-from mech.solvers.batch import integrate_batch
-from mech.solvers.crosscheck import cross_check
-from mech.solvers.floquet import even_hill_half_batch
-from mech.solvers.sweep import Axis, batched_points, grid_points, run_batched
+from mech.solvers.numerics.batch import integrate_batch
+from mech.solvers.verification.crosscheck import cross_check
+from mech.solvers.mechanics.floquet import even_hill_half_batch
+from mech.solvers.verification.sweep import Axis, batched_points, grid_points, run_batched
 
 
 def run(*args):
@@ -269,7 +269,7 @@ def test_ctrl_c_ends_with_one_line_and_130(monkeypatch):
     """The second chunk is interrupted: exit 130, one line on stderr saying how far it got, nothing on stdout."""
     import dataclasses
 
-    import mech.solvers.sweep as sweep
+    import mech.solvers.verification.sweep as sweep
 
     ex = registry.get("5.11")
     calls = []
@@ -291,7 +291,7 @@ def test_ctrl_c_ends_with_one_line_and_130(monkeypatch):
 
 def test_illinois_finds_every_root():
     """x^3 = k for k over 1e-3..1e3 (roots k^(1/3)), and cos x = 0 on [1, 2] (pi/2): each to its tolerance."""
-    from mech.solvers.batch import illinois
+    from mech.solvers.numerics.batch import illinois
 
     k = np.geomspace(1e-3, 1e3, 40)
     a, b = np.zeros_like(k), np.full_like(k, 11.0)
@@ -332,7 +332,7 @@ def test_map_marks_failed_points_with_their_reason(monkeypatch):
     import dataclasses
 
     from mech.cli.figures.sweepfig import sweep_figure
-    from mech.solvers.batch import Column
+    from mech.solvers.numerics.batch import Column
 
     ex = registry.get("5.11")
     real = ex._batched.numeric

@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from mech.problems.spec import NumericFailure
-from mech.solvers import dop853, ode
+from mech.solvers.numerics import dop853, ode
 
 
 def test_the_tableau_is_mechs_own_data():
-    """Loaded from mech.solvers.dop853_tableau, never from a file of scipy's."""
+    """Loaded from mech.solvers.numerics.dop853_tableau, never from a file of scipy's."""
     assert dop853.available()
     import inspect
 
@@ -118,7 +118,7 @@ def test_blow_up_fails_loudly():
 
 def test_a_damaged_tableau_is_refused_loudly(monkeypatch):
     """No silent fallback: a tableau that fails its order conditions stops the integrator."""
-    from mech.solvers import dop853_tableau
+    from mech.solvers.numerics import dop853_tableau
 
     monkeypatch.setattr(dop853_tableau, "B", {**dop853_tableau.B, 3: dop853_tableau.B.get(3, 0.0) + 1e-9})
     monkeypatch.setattr(dop853, "_TABLEAU_TRIED", False)

@@ -58,8 +58,8 @@ def test_small_tilt_approaches_the_limit():
 
 
 def test_fast_free_rhs_matches_rigid():
-    from mech.solvers.freebody import free_rhs
-    from mech.solvers.rigid import euler_rhs
+    from mech.solvers.mechanics.freebody import free_rhs
+    from mech.solvers.mechanics.rigid import euler_rhs
 
     rng = np.random.default_rng(0)
     I = np.array([1.0, 1.7, 2.3])

@@ -81,7 +81,7 @@ def test_newton_finds_l4_for_every_mass_ratio():
     short of it for mu < 1e-25 (at x = 0.198) and cycled at mu = 4.4e-5 (issue 14 draw)."""
     import numpy as np
 
-    from mech.solvers.rotframe import mass_fractions, newton_equilibrium
+    from mech.solvers.mechanics.frames import mass_fractions, newton_equilibrium
 
     for ratio in np.concatenate([np.geomspace(1e-290, 1.0, 120), np.geomspace(1.0, 1e290, 60)]):
         nu, mu = mass_fractions(1.0, float(ratio))

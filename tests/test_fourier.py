@@ -1,4 +1,4 @@
-"""mech.solvers.response's Fourier quadrature against closed forms and against QUADPACK's QAWO/QAWF.
+"""mech.solvers.numerics.fourier's Fourier quadrature against closed forms and against QUADPACK's QAWO/QAWF.
 
 Closed forms (contour integration, the pole of the integrand in the upper half plane):
   int_0^inf cos(w t)/(1 + w^2) dw = (pi/2) e^-|t|,
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from mech.problems.spec import NumericFailure
-from mech.solvers.response import _spherical_bessel, fourier_quad, fourier_tail, inverse_fourier
+from mech.solvers.numerics.fourier import _spherical_bessel, fourier_quad, fourier_tail, inverse_fourier
 
 TS = [0.01, 0.5, 1.0, 3.0, 30.0, 300.0, 3000.0]
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import hiprec
-from mech.solvers.linear_flow import expm, expm_minus_identity, rounding_bound
+from mech.solvers.numerics.linear_flow import expm, expm_minus_identity, rounding_bound
 
 U = 2.0**-53
 

@@ -5,7 +5,7 @@ import os
 import pytest
 
 from mech.problems import registry
-from mech.solvers import crosscheck
+from mech.solvers.verification import crosscheck
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="the parallel rerun needs fork")
 
@@ -145,7 +145,7 @@ def test_no_fork_beside_another_thread(monkeypatch):
 _SLOW_IN_CHILD = """
 import os, sys, time
 from mech.problems import registry
-from mech.solvers import crosscheck
+from mech.solvers.verification import crosscheck
 ex = registry.get("4.15")
 good = ex._numeric
 parent = os.getpid()

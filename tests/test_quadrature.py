@@ -1,11 +1,11 @@
-"""mech.solvers.quadrature against integrals known in closed form and against scipy's QUADPACK."""
+"""mech.solvers.numerics.quadrature against integrals known in closed form and against scipy's QUADPACK."""
 
 import math
 
 import numpy as np
 import pytest
 
-from mech.solvers.quadrature import quad
+from mech.solvers.numerics.quadrature import quad
 
 
 @pytest.mark.parametrize(

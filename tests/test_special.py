@@ -1,11 +1,11 @@
-"""mech.solvers.special against scipy.special (an independent implementation) and known values."""
+"""mech.solvers.numerics.special against scipy.special (an independent implementation) and known values."""
 
 import math
 
 import numpy as np
 import pytest
 
-from mech.solvers.special import agm, ellipk, ellipkm1
+from mech.solvers.numerics.special import agm, ellipk, ellipkm1
 
 scipy_special = pytest.importorskip("scipy.special")
 

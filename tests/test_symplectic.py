@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from mech.problems import registry
-from mech.solvers.ode import integrate
-from mech.solvers.symplectic import YOSHIDA4, YOSHIDA6, integrate_fixed, pendulum, solve_scene
+from mech.solvers.numerics.ode import integrate
+from mech.solvers.numerics.symplectic import YOSHIDA4, YOSHIDA6, integrate_fixed, pendulum, solve_scene
 
 
 def test_composition_weights_are_consistent():

@@ -6,7 +6,11 @@ import math
 import os
 
 FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf"}
-INSTALL = "pip install 'mech[plot]' (from a checkout: pip install -e '.[plot]')"
+# the install command as it works today, from a checkout (on the package index the name "mech" is somebody
+# else's project; this one is published as mech-likharev)
+INSTALL = "pip install -e '.[plot]' in mech's checkout"
+# the house style: sizes that stay readable when a figure is shown at half its width
+FONT = dict(title=10, label=10, tick=9, legend=8.5, note=9, suptitle=11)
 
 ANALYTIC = dict(color="C0", lw=1.8, label="analytic")
 NUMERIC = dict(color="C3", marker="o", ms=5, ls="none", mfc="none", mew=1.4, label="numeric")
@@ -73,8 +77,10 @@ def title(fig, ex, params=None, skip=(), extra: str = "") -> None:
             line = ", ".join(shown[:half]) + "\n" + ", ".join(shown[half:])
         text += "\n" + line
     if extra:
-        text += "\n" + extra
-    fig.suptitle(text, fontsize=9.5)
+        import textwrap
+
+        text += "\n" + "\n".join(textwrap.fill(line, 100) for line in extra.splitlines())
+    fig.suptitle(text, fontsize=FONT["suptitle"])
 
 
 def label(name: str, unit: str) -> str:
@@ -90,53 +96,9 @@ def finite(v) -> float:
     return f if math.isfinite(f) else math.nan
 
 
-def numeric_values(ex, params, rtol=None):
-    """The numeric solver's outputs at ``params`` (NaN where it fails or has no value) and its failure, if any."""
-    try:
-        values, _run = ex.solve_numeric(params, rtol)
-    except Exception as exc:  # a figure shows what it can; the failure is told in the legend
-        return {o.name: math.nan for o in ex.outputs}, f"{type(exc).__name__}: {exc}"
-    return {k: finite(v) for k, v in values.items()}, None
-
-
 def analytic_values(ex, params):
     try:
         values = ex.solve_analytic(params)
     except Exception:
         return {o.name: math.nan for o in ex.outputs}
     return {k: finite(v) for k, v in values.items()}
-
-
-def series(ex, params, name, xs, *, numeric: bool = True, rtol=None):
-    """Analytic (and, if asked, numeric) outputs of ``ex`` with parameter ``name`` at each of ``xs``.
-
-    Returns ``(analytic, numeric)``: dicts output -> array (NaN where a value is
-    missing or the point is not allowed); ``numeric`` is None when not asked for.
-    """
-    import numpy as np
-
-    from mech.problems.spec import BadInput
-
-    a = {o.name: np.full(len(xs), math.nan) for o in ex.outputs}
-    n = {o.name: np.full(len(xs), math.nan) for o in ex.outputs} if numeric else None
-    for i, x in enumerate(xs):
-        try:
-            p = ex.resolve({**params, name: float(x)})
-        except BadInput:
-            continue
-        for k, v in analytic_values(ex, p).items():
-            a[k][i] = v
-        if numeric:
-            for k, v in numeric_values(ex, p, rtol)[0].items():
-                n[k][i] = v
-    return a, n
-
-
-def spread(lo: float, hi: float, k: int, log: bool = False):
-    """k points from lo to hi, not hitting an end exactly (the ends are often where a formula is singular)."""
-    import numpy as np
-
-    if k <= 0:
-        return np.array([])
-    f = (np.arange(k) + 0.5) / k
-    return lo * (hi / lo) ** f if log else lo + (hi - lo) * f

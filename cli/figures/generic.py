@@ -17,7 +17,8 @@ import time
 
 import numpy as np
 
-from mech.cli.figures.common import ANALYTIC, NUMERIC, POINT, analytic_values, figure, finite, label, numeric_values, title
+from mech.cli.figures.common import ANALYTIC, FONT, NUMERIC, POINT, analytic_values, figure, label, title
+from mech.problems.scene import SceneRun
 from mech.problems.spec import BadInput
 
 N_LINE = 121
@@ -87,7 +88,7 @@ def choose_param(ex, params, cost: float | None = None) -> str:
         if len(xs) < 3:
             continue
         rows = [analytic_values(ex, r) for r in resolved]
-        moved, bent = 0, 0
+        moved, bent, slopes = 0, 0, []
         for o in ex.outputs:
             ys = np.array([r[o.name] for r in rows])
             if not np.all(np.isfinite(ys)):
@@ -102,16 +103,35 @@ def choose_param(ex, params, cost: float | None = None) -> str:
                 ys = -ys if np.all(ys < 0) else ys
                 if np.all(ys > 0) and np.all(xs > 0):
                     sl = np.diff(np.log(ys)) / np.diff(np.log(xs[: len(ys)]))
+                    slopes.append(float(np.mean(np.abs(sl))))
                     if np.ptp(sl) > 0.05:
                         bent += 1
                 else:
                     bent += 1
         score = moved + 0.5 * min(bent, 1) + 0.25 * bent / max(len(ex.outputs), 1)
+        # among power laws, the steeper one tells more (I ~ M R^2: R before M)
+        score += 0.1 * min(float(np.mean(slopes)) if slopes else 0.0, 3.0) / 3.0
         score += 0.3 * (p.min is not None and p.max is not None) - 0.01 * order
         score -= 0.5 * (params[p.name] == 0)
         if score > best_score:
             best, best_score = p.name, score
     return best
+
+
+def _panels(ex, at_point) -> list[list]:
+    """Outputs sharing a panel: those of one unit whose values at the point are all positive (a log
+    axis shows them together) or within a factor 30 of each other; every other output alone."""
+    by_unit: dict[str, list] = {}
+    for o in ex.outputs:
+        by_unit.setdefault(o.unit, []).append(o)
+    panels = []
+    for group in by_unit.values():
+        vals = np.array([at_point.get(o.name, math.nan) for o in group])
+        mags = np.abs(vals[np.isfinite(vals)])
+        together = len(group) > 1 and len(mags) == len(group) and (
+            np.all(vals > 0) or (mags.min() > 0 and mags.max() / mags.min() < 30))
+        panels.extend([group] if together else [[o] for o in group])
+    return panels
 
 
 def generic_figure(ex, params, *, vary: str | None = None, n_numeric: int = 5, rtol: float | None = None):
@@ -127,57 +147,66 @@ def generic_figure(ex, params, *, vary: str | None = None, n_numeric: int = 5, r
 
     # numeric: a handful spread over the range, and the point itself
     picks = sorted(set(np.linspace(0, len(xs) - 1, max(n_numeric - 1, 1)).round().astype(int).tolist()))
-    num_x = [float(xs[i]) for i in picks] + [x0]
-    num_p = [resolved[i] for i in picks] + [params]
+    num_x = [x0] + [float(xs[i]) for i in picks]
+    num_p = [params] + [resolved[i] for i in picks]
     has_numeric = "numeric" in ex.methods and n_numeric > 0
-    num_rows, failures = [], []
-    if has_numeric:
-        for r in num_p:
-            vals, fail = numeric_values(ex, r, rtol)
-            num_rows.append(vals)
-            if fail:
-                failures.append(fail)
+    solves = SceneRun(ex, rtol, n_numeric)  # each numeric solve under its time budget, failures kept
+    num_rows = [solves.numeric(r) for r in num_p] if has_numeric else []
+    failures = solves.failures
     at_point = analytic_values(ex, params)
 
-    k = len(ex.outputs)
+    groups = _panels(ex, at_point)
+    k = len(groups)
     ncols = 1 if k == 1 else 2 if k in (2, 4) else 3
     nrows = math.ceil(k / ncols)
-    fig, axes = figure(nrows, ncols, w=4.0, h=2.9)
+    fig, axes = figure(nrows, ncols, w=5.0 if k > 1 else 6.4, h=3.7 if k > 1 else 4.3)
     scale = p.to_display(1.0)
-    for j, o in enumerate(ex.outputs):
+    for j, group in enumerate(groups):
         ax = axes[j // ncols][j % ncols]
-        ys = np.array([r[o.name] for r in rows])
-        if "analytic" in ex.methods:
-            ax.plot(xs * scale, ys, **ANALYTIC)
-        if has_numeric:
-            ny = np.array([r[o.name] for r in num_rows])
-            ax.plot(np.array(num_x) * scale, ny, **NUMERIC)
+        every = []
+        for c, o in enumerate(group):
+            color = f"C{c % 10}"
+            tag = o.name + (" *" if o.theory != "exact" else "")
+            ys = np.array([r[o.name] for r in rows])
+            every.extend(ys[np.isfinite(ys)])
+            if "analytic" in ex.methods:
+                ax.plot(xs * scale, ys, **{**ANALYTIC, "color": color, "label": tag if len(group) > 1 else "analytic"})
+            if has_numeric:
+                ny = np.array([r[o.name] for r in num_rows])
+                every.extend(ny[np.isfinite(ny)])
+                ax.plot(np.array(num_x) * scale, ny, **{**NUMERIC, "color": color if len(group) > 1 else NUMERIC["color"],
+                                                        "label": "numeric" if len(group) == 1 else None})
+            y0 = at_point.get(o.name, math.nan)
+            if math.isfinite(y0):
+                ax.plot([x0 * scale], [y0], marker="*", color="k", ms=10, ls="none", zorder=5)
+        ax.plot([], [], marker="*", color="k", ms=10, ls="none", label=f"this point, {p.symbol or p.name} = {p.show(x0)}")
         ax.axvline(x0 * scale, **POINT)
-        y0 = at_point.get(o.name, math.nan)
-        if math.isfinite(y0):
-            ax.plot([x0 * scale], [y0], marker="*", color="k", ms=9, ls="none", label="this point")
         if log:
             ax.set_xscale("log")
-        fin = ys[np.isfinite(ys)]
-        if len(fin) and np.ptp(fin) <= 1e-9 * max(np.max(np.abs(fin)), 1e-300):
+        every = np.array(every)
+        if len(group) == 1 and len(every) and np.ptp(every) <= 1e-9 * max(np.max(np.abs(every)), 1e-300):
             # a constant: round-off in the numeric markers must not fill the axis
-            c = float(fin[0])
-            half = abs(c) * 0.05 if c != 0 else 1.0
-            ax.set_ylim(c - half, c + half)
-        every = np.concatenate([ys[np.isfinite(ys)], [v for r in num_rows if math.isfinite(v := r[o.name])]])
-        if len(every) and np.all(every > 0) and every.max() / every.min() > 300:
+            c0 = float(every[0])
+            half = abs(c0) * 0.05 if c0 != 0 else 1.0
+            ax.set_ylim(c0 - half, c0 + half)
+        elif len(every) and np.all(every > 0) and every.max() / every.min() > 300:
             ax.set_yscale("log")
-        ax.set_xlabel(label(f"{p.symbol or p.name}", p.display or p.unit))
-        ax.set_ylabel(label(o.name, o.unit) + (" *" if o.theory != "exact" else ""), fontsize=9)
+        unit = group[0].unit
+        ylabel = label(group[0].name + (" *" if group[0].theory != "exact" else ""), unit) if len(group) == 1 \
+            else ("[" + unit + "]" if unit not in ("1", "") else "dimensionless")
+        ax.set_xlabel(label(f"{p.symbol or p.name}", p.display or p.unit), fontsize=FONT["label"])
+        ax.set_ylabel(ylabel, fontsize=FONT["label"])
         ax.grid(alpha=0.3)
-        ax.tick_params(labelsize=8)
-        if j == 0:
-            ax.legend(fontsize=7.5, frameon=False)
+        ax.tick_params(labelsize=FONT["tick"])
+        if len(group) > 1 or j == next(i for i, g in enumerate(groups) if len(g) == 1):
+            ax.legend(fontsize=FONT["legend"], framealpha=0.85, ncol=2 if len(group) > 4 else 1)
     for j in range(k, nrows * ncols):
         axes[j // ncols][j % ncols].set_visible(False)
     extra = ""
     if any(o.theory != "exact" for o in ex.outputs):
         extra = "* leading-order analytic theory"
+    if any(len(g) > 1 for g in groups):
+        extra += ("; " if extra else "") + "lines analytic, circles numeric"
     if failures:
         extra += ("; " if extra else "") + f"numeric failed at {len(failures)} of {len(num_p)} points"
     title(fig, ex, params, skip=(name,), extra=extra)

@@ -104,7 +104,7 @@ def map_figure(result):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    from mech.solvers.sweep import boundary_curves, failure_kind, output_arrays
+    from mech.solvers.verification.sweep import boundary_curves, failure_kind, output_arrays
 
     ex = result.exercise
     ax_x, ax_y = result.axes

@@ -30,7 +30,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.ode import Event, integrate
+from mech.solvers.numerics.ode import Event, integrate
 
 exercise = Exercise(
     "4.10",
@@ -40,6 +40,8 @@ exercise = Exercise(
         "l_opt = (I / M)^(1/2),  Ω_max = (g / (2 l_opt))^(1/2)",
         "l_conj = I / (M l)   (l · l_conj = l_opt²)",
     ],
+    # the cross-check's small swing at pivot distance l (amplitude PERIOD_AMPLITUDE, released at rest)
+    states=[("phi", "rad"), ("phi_dot", "rad/s")],
 )
 
 PERIOD_AMPLITUDE = 1e-4
@@ -155,8 +157,10 @@ def _period_omega(body, l, rtol, run):
         atol=[rtol * PERIOD_AMPLITUDE * 1e-3, rtol * PERIOD_AMPLITUDE * 1e-3 / guess],
         events=[Event(lambda t, y: y[0], terminal=False, name="phi = 0")],
         max_step=guess / 16,
+        dense_output=run.keep_trajectories,  # a smooth curve for the trajectory; the steps are the same
     )
     run.record(traj)
+    run.motion(traj)
     crossings = traj.t_events[0]
     if len(crossings) < 2:
         raise NumericFailure("the small swing did not cross the vertical twice")
@@ -179,7 +183,7 @@ def _bracket_root(f, start, factor, limit=1100):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     # units: M, the radius of gyration rho = (I/M)^(1/2) and g are 1 (Omega in (g/rho)^(1/2)); the body
     # is the same for every M, I, g, and only l/rho shapes the problem (1e-200 or 1e200 included)
@@ -246,3 +250,34 @@ def numeric(p, run):
         "l_opt": l_opt * rho,
         "Omega_max": omega_max * rate,
     }
+
+
+@exercise.scene
+def scene(p, run):
+    """Omega against the pivot distance, with its maximum at l_opt and the pair l, l_conj of equal Omega."""
+    from mech.problems.scene import Axis, Guide, Line, Markers, Panel, Scene
+
+    a = run.analytic(p)
+    lo = min(p.l, a["l_conj"], a["l_opt"]) / 8
+    hi = max(p.l, a["l_conj"], a["l_opt"]) * 8
+    ls = np.geomspace(lo, hi, 300)
+    curve = run.series(p, "l", ls)["Omega"]
+    panel = Panel("Ω(l): one maximum, and two pivots for every lower Ω",
+                  Axis("pivot's distance from the center of mass l", "m", log=True), Axis("Ω", "rad/s"),
+                  legend="lower center")
+    panel.add(Line(ls, curve, "Ω(l), analytic"))
+    xs = run.numeric_points(lo, hi, log=True)
+    if len(xs):
+        panel.add(Markers(xs, run.series(p, "l", xs, numeric=True)["Omega"], "numeric"))
+    panel.add(
+        Guide(a["l_opt"], label=f"l_opt = {a['l_opt']:.4g} m", color="C2"),
+        Guide(a["Omega_max"], axis="y", color="C2"),
+        Line([p.l, a["l_conj"]], [a["Omega"], a["Omega"]], kind="drawing", color="k", width=0.9),
+        Markers([p.l, a["l_conj"]], [a["Omega"], a["Omega"]],
+                f"same Ω: l = {p.l:.4g} m and l_conj = {a['l_conj']:.4g} m", kind="this"),
+    )
+    nv = run.numeric(p)
+    if nv:
+        panel.add(Markers([nv["l_opt"], nv["l_conj"]], [nv["Omega_max"], nv["Omega"]], kind="numeric"))
+    return Scene([panel], on_axis=("l",),
+                 caption=f"l + l_conj = l_ef = {a['l_ef']:.4g} m: the reversible (Kater) pendulum")

@@ -9,7 +9,7 @@ omega^2 = kappa / (M' + M/3).
 Numeric: T(q, q') for q = (X, x) is M' X'^2/2 plus the quadrature sum over a
 discretized disk cross-section of the cylinder of w |v_axis + phi' z x r|^2/2,
 with phi' solved at each call from the no-slip condition at the contact
-(solvers.rolling; the moment of inertia never enters).  Mass matrix by
+(solvers.mechanics.rolling; the moment of inertia never enters).  Mass matrix by
 polarization (body by body), stiffness by central differences of U, the balanced generalized
 eigenproblem; the zero root is discarded and the other eigenvector scaled to
 X = 1; phi/X is the no-slip spin at the mode's velocities.
@@ -20,9 +20,9 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import disk
-from mech.solvers.rolling import balanced_modes, plane_kinetic_energy, rolling_spin
-from mech.solvers.smallosc import hessian, mass_matrix
+from mech.solvers.mechanics.inertia import disk
+from mech.solvers.mechanics.rolling import balanced_modes, plane_kinetic_energy, rolling_spin
+from mech.solvers.numerics.modes import hessian, mass_matrix
 
 exercise = Exercise(
     "4.11",

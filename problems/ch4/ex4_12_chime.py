@@ -26,9 +26,9 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import gauss_legendre
-from mech.solvers.rolling import balanced_modes, scaled_mass_matrix
-from mech.solvers.smallosc import hessian
+from mech.solvers.mechanics.inertia import gauss_legendre
+from mech.solvers.mechanics.rolling import balanced_modes, scaled_mass_matrix
+from mech.solvers.numerics.modes import hessian
 
 exercise = Exercise(
     "4.12",
@@ -90,3 +90,44 @@ def numeric(p, run):
     for name in ("omega1", "omega2", "r1", "r2"):
         run.claim(name, rel=1e-10)
     return {"omega1": modes.omega[0], "omega2": modes.omega[1], "r1": ratios[0], "r2": ratios[1]}
+
+
+@exercise.scene
+def scene(p, run):
+    """The two normal modes drawn at the ends of a swing (thread angle phi, bar angle psi = r phi), and both
+    frequencies against the thread's length."""
+    from mech.problems.scene import Axis, Guide, Line, Markers, Panel, Scene
+
+    a, l = p.l_prime, p.l
+    an = run.analytic(p)
+    nv = run.numeric(p)
+    panels = []
+    for k, name in ((1, "lower"), (2, "higher")):
+        r, w = an[f"r{k}"], an[f"omega{k}"]
+        title = f"{name} mode: ω{k} = {w:.5g} rad/s, ψ/φ = {r:.4g}"
+        if nv:
+            title += f"\nnumeric: ω{k} = {nv[f'omega{k}']:.5g} rad/s, ψ/φ = {nv[f'r{k}']:.4g}"
+        panel = Panel(title, Axis(""), Axis(""), equal_aspect=True, legend="none", ticks=False)
+        swing = 0.35 / max(1.0, abs(r))
+        for sign, color in ((1, "C3"), (-1, "C0"), (0, "0.6")):
+            phi, psi = sign * swing, sign * swing * r
+            x1, y1 = a * np.sin(phi), -a * np.cos(phi)
+            x2, y2 = x1 + l * np.sin(psi), y1 - l * np.cos(psi)
+            panel.add(Line([0, x1], [0, y1], kind="drawing", color=color, width=1.0, dashed=sign == 0),
+                      Line([x1, x2], [y1, y2], kind="drawing", color=color, width=4.0 if sign else 2.0))
+        panel.add(Line([-0.2 * a, 0.2 * a], [0, 0], kind="drawing", color="k", width=2.0))
+        panel.x.lim = (-0.7 * (l + a), 0.7 * (l + a))
+        panel.y.lim = (-1.1 * (l + a), 0.1 * (l + a))
+        panels.append(panel)
+    ls = np.geomspace(a / 20, a * 20, 200)
+    curves = run.series(p, "l_prime", ls)
+    freq = Panel("both frequencies against the thread", Axis("thread's length l'", "m", log=True),
+                 Axis("ω", "rad/s", log=True))
+    freq.add(Line(ls, curves["omega1"], "ω1, analytic"), Line(ls, curves["omega2"], "ω2, analytic", color="C1"))
+    xs = run.numeric_points(ls[0], ls[-1], log=True)
+    if len(xs):
+        num = run.series(p, "l_prime", xs, numeric=True)
+        freq.add(Markers(xs, num["omega1"], "numeric"), Markers(xs, num["omega2"]))
+    freq.add(Guide(a, label="this thread"))
+    panels.append(freq)
+    return Scene(panels)

@@ -13,7 +13,7 @@ phi/theta = -rho/R.  At M' = M, R' = 2R: omega^2 = g/R.
 
 Numeric: T(q, q') for q = (X, theta) is M' X'^2/2 plus a quadrature sum over a
 discretized disk cross-section with v = v_axis + phi' z x r, phi' solved at each
-call from the no-slip condition at the contact point (solvers.rolling; no moment
+call from the no-slip condition at the contact point (solvers.mechanics.rolling; no moment
 of inertia used); U from the axis's height above its equilibrium,
 2 M g rho sin^2(theta/2).  Mass matrix by polarization (body by body, with theta' probed at 1/rho),
 stiffness by Richardson differences with the X step scaled by rho, balanced
@@ -25,9 +25,9 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import disk
-from mech.solvers.rolling import balanced_modes, plane_kinetic_energy, rolling_spin, scaled_mass_matrix
-from mech.solvers.smallosc import hessian, mass_matrix
+from mech.solvers.mechanics.inertia import disk
+from mech.solvers.mechanics.rolling import balanced_modes, plane_kinetic_energy, rolling_spin, scaled_mass_matrix
+from mech.solvers.numerics.modes import hessian, mass_matrix
 
 exercise = Exercise(
     "4.13",

@@ -28,9 +28,10 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import gauss_legendre, periodic
-from mech.solvers.rolling import balanced_modes, cross_z, rotate2
-from mech.solvers.smallosc import hessian, mass_matrix
+from mech.solvers.mechanics.inertia import gauss_legendre, periodic
+from mech.solvers.mechanics.frames import cross_z, rotate2
+from mech.solvers.mechanics.rolling import balanced_modes
+from mech.solvers.numerics.modes import hessian, mass_matrix
 
 exercise = Exercise(
     "4.14",

@@ -20,8 +20,8 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise
-from mech.solvers.ode import integrate_to_event
-from mech.solvers.ode import Event
+from mech.solvers.numerics.ode import integrate_to_event
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "4.15",
@@ -145,7 +145,7 @@ def hamiltonian(p):
     + (M g l/2) sin θ is separable.  Units M = l = 1, τ = (g/l)^½ t: θ' = 3p, p' = -(1/2) cos θ.  The wall's
     force is M x'' with x = (l/2) cos θ: N ∝ -(sin θ θ'' + cos θ θ'²) = cos θ ((3/2) sin θ - θ'²), so the
     event is (3/2) sin θ - θ'² falling through zero.  Started as the numeric solver starts (the nudge)."""
-    from mech.solvers.symplectic import SeparableHamiltonian
+    from mech.solvers.numerics.symplectic import SeparableHamiltonian
 
     theta, omega = p.theta0, 0.0
     if np.pi / 2 - p.theta0 < UPRIGHT_NUDGE:
@@ -165,3 +165,56 @@ def hamiltonian(p):
         time_scale=1.0,
         name="ladder until the wall lets go",
     )
+
+
+@exercise.scene
+def scene(p, run):
+    """The wall's force against the angle, from the same Newton-Euler equations integrated from the same
+    start as the numeric solver, up to the loss of contact; and the ladder drawn at equal steps of angle."""
+    from mech.problems.scene import Axis, Guide, Line, Markers, Note, Panel, Scene
+
+    M, l, g = 1.0, p.l, p.g
+    theta, omega = p.theta0, 0.0
+    if np.pi / 2 - p.theta0 < UPRIGHT_NUDGE:
+        theta = p.theta0 - UPRIGHT_NUDGE
+        e0, u = _energy(p.theta0, 0.0, M, l, g), _energy(theta, 0.0, M, l, g)
+        omega = -np.sqrt((e0 - u) / (_energy(theta, 1.0, M, l, g) - u))
+    t_unit = np.sqrt(l / g)
+    t_c, y_c, traj = integrate_to_event(
+        lambda t, y: np.array([y[1], _accelerations(y[0], y[1], M, l, g)[0]]),
+        (0.0, 200.0 * t_unit), [theta, omega],
+        Event(lambda t, y: _accelerations(y[0], y[1], M, l, g)[1], direction=-1, name="N_wall = 0"),
+        rtol=run.rtol, atol=[run.rtol * 1e-3 * p.theta0, run.rtol * 1e-3 * p.theta0 / t_unit],
+    )
+    # the angle runs from theta0 down to theta_c; sample it evenly in angle, not in time (most of the
+    # time is spent near the upright start)
+    ts = np.linspace(0.0, t_c, 4000)
+    th, w = traj.sol(ts)
+    N = np.array([_accelerations(a, b, M, l, g)[1] for a, b in zip(th, w)]) / (M * g)
+    deg = 180.0 / np.pi
+    a = run.analytic(p)
+    nv = run.numeric(p)
+    force = Panel("the wall's push, while both ends touch", Axis("θ, the ladder's angle from the floor", "deg"),
+                  Axis("wall's force N / (M g)"), legend="upper left")
+    force.add(
+        Line(th * deg, N, "Newton-Euler, integrated", kind="trajectory"),
+        Guide(0.0, axis="y", dashed=False, color="0.3"),
+        Markers([a["theta_c"] * deg], [0.0], f"analytic θc = {a['theta_c'] * deg:.5g}°", kind="analytic"),
+        Markers([nv["theta_c"] * deg] if nv else [], [0.0],
+                f"numeric θc = {nv['theta_c'] * deg:.5g}°" if nv else None, kind="numeric"),
+        Note("the top leaves the wall", (a["theta_c"] * deg, 0.0), text_at=(0.42, 0.25)),
+    )
+    force.x.lim = (max(th[0], p.theta0) * deg + 2.0, y_c[0] * deg - 5.0)  # time runs left to right
+    sketch = Panel("the ladder at equal steps of θ; red: at θc", Axis("x", "m"), Axis("y", "m"),
+                   equal_aspect=True, legend="none")
+    steps = np.linspace(max(theta, y_c[0]), y_c[0], 6)
+    for k, tk in enumerate(steps):
+        last = k == len(steps) - 1
+        sketch.add(Line([0.0, l * np.cos(tk)], [l * np.sin(tk), 0.0], kind="drawing",
+                        color="C3" if last else None, width=2.4 if last else None))
+    sketch.add(Line([0.0, 0.0, 1.08 * l], [1.08 * l, 0.0, 0.0], kind="drawing", color="k", width=2.0))
+    sketch.x.lim = sketch.y.lim = (-0.05 * l, 1.1 * l)
+    caption = f"ω at θc: analytic {a['omega_c']:.6g} rad/s" + (f", numeric {nv['omega_c']:.6g} rad/s" if nv else "")
+    if theta < p.theta0:
+        caption += f"; started {UPRIGHT_NUDGE:g} rad below upright (an equilibrium)"
+    return Scene([force, sketch], caption=caption)

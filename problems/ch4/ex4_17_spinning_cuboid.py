@@ -29,7 +29,8 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import gauss_legendre, inertia_tensor
+from mech.solvers.mechanics.frames import rotation
+from mech.solvers.mechanics.inertia import gauss_legendre, inertia_tensor
 
 exercise = Exercise(
     "4.17",
@@ -94,12 +95,6 @@ def _box_points(a, n=3):
     return np.stack([X.ravel(), Y.ravel(), Z.ravel()], axis=1), W.ravel()
 
 
-def _rodrigues(axis, angle):
-    """Rotation by a (possibly complex) angle about a real unit axis."""
-    K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]], dtype=complex)
-    return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * (K @ K)
-
-
 @exercise.numeric
 def numeric(p, run):
     # lengths in units of the longest edge A, masses in rho A^3, time in 1/omega: the torque comes out
@@ -117,7 +112,7 @@ def numeric(p, run):
     # check through the angular momentum of the turning body, d/dt by a complex step
     I = inertia_tensor(r, dm, about=np.zeros(3))
     h = 1e-20
-    R = _rodrigues(omega, 1j * h)
+    R = rotation(omega, 1j * h)
     L = R @ I @ R.T @ omega
     tau_check = L.imag / h
 

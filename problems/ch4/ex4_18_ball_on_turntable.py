@@ -29,8 +29,8 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import ball, inertia_tensor
-from mech.solvers.ode import integrate
+from mech.solvers.mechanics.inertia import ball, inertia_tensor
+from mech.solvers.numerics.ode import integrate
 
 exercise = Exercise(
     "4.18",
@@ -40,6 +40,10 @@ exercise = Exercise(
         "r_orbit = |v₀|/ω_orbit = 7|v₀|/(2Ω)",
         "x_c = x₀ - vy₀/ω_orbit,  y_c = y₀ + vx₀/ω_orbit",
     ],
+    # the ball over 60 / Omega (when it moves in the lab), lab axes: the centre's position and velocity,
+    # and the change of the ball's angular velocity since the start
+    states=[("x", "m"), ("y", "m"), ("vx", "m/s"), ("vy", "m/s"), ("domega_x", "rad/s"),
+            ("domega_y", "rad/s"), ("domega_z", "rad/s")],
 )
 
 # Scaled time over which the orbit is followed (Omega t); the velocity must turn
@@ -156,6 +160,10 @@ def numeric(p, run):
 
     v0 = np.array([p.vx0, p.vy0]) / speed
     traj = run.record(_follow(rhs, v0, run.rtol))
+    length = speed / p.Omega
+    # integrated as the displacement from (x0, y0), in speed / Omega
+    run.motion(traj, t_scale=1.0 / p.Omega, y_scale=[length] * 2 + [speed] * 2 + [speed / p.R] * 3,
+               transform=lambda y: [p.x0 / length + y[0], p.y0 / length + y[1], *y[2:]])
     d, v, dw = traj.y[0:2], traj.y[2:4], traj.y[4:7]
     # monitored: the no-slip condition (v - R w x z - Omega z x r = 0, its start subtracted
     # exactly), the speed and the vertical spin
@@ -170,7 +178,6 @@ def numeric(p, run):
     run.info["circle_fit_max_residual"] = spread
     if spread > 1e3 * run.rtol * max(r, 1.0):
         raise NumericFailure(f"the path is not a circle: points stray by {spread:.3g} of the unit length")
-    length = speed / p.Omega
     tol = exercise.tol_factor * run.rtol
     for name in ("xc", "yc"):
         run.claim(name, rel=tol, abs=tol * length)

@@ -9,7 +9,7 @@ that turns about L at omega_lab = |L|/I1 = omega (sin^2 alpha + 4 cos^2 alpha)^(
 I1 sin(alpha) / (I3 cos(alpha)) = tan(alpha)/2.  For alpha -> 0: Omega_body = omega,
 omega_lab = 2 omega (twice the spin), theta_L = 0.
 
-Numeric: Euler's equations with the quaternion attitude (solvers.rigid), with
+Numeric: Euler's equations with the quaternion attitude (solvers.mechanics.rigid), with
 the moments from a quadrature of the disk's mass, started from
 omega (sin alpha, 0, cos alpha) in body axes and an attitude that puts the
 initial L (computed from that state) along the lab z axis, so that the small
@@ -26,8 +26,9 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.freebody import free_invariants, integrate_free, lab_axes, phase_rate, quat_aligning
-from mech.solvers.inertia import disk, inertia_tensor
+from mech.solvers.mechanics.frames import quat_aligning
+from mech.solvers.mechanics.freebody import free_invariants, integrate_free, lab_axes, phase_rate
+from mech.solvers.mechanics.inertia import disk, inertia_tensor
 
 exercise = Exercise(
     "4.19",
@@ -37,6 +38,10 @@ exercise = Exercise(
         "ω_lab = |L|/I₁ = ω (1 + 3cos²α)^(1/2)  →  2ω as α → 0",
         "tan θ_L = I₁ sin α / (I₃ cos α) = (tan α)/2  →  0 as α → 0",
     ],
+    # two spin periods of the free disk: body-axis rates (3 = the symmetry axis) and the attitude as a
+    # unit quaternion (scalar first, body -> lab) with lab z along the angular momentum
+    states=[("omega1", "rad/s"), ("omega2", "rad/s"), ("omega3", "rad/s"),
+            ("q0", "1"), ("q1", "1"), ("q2", "1"), ("q3", "1")],
 )
 
 PROBE_TILT = 1e-7
@@ -64,7 +69,7 @@ def _disk_moments():
     return np.array([i_plane, i_plane, I[2]])
 
 
-def _follow(I, alpha, rtol, run):
+def _follow(I, alpha, rtol, run, omega=None):
     """Follow the disk in units omega = 1; return (Omega_body, omega_lab, theta_L) scaled."""
     sa, ca = np.sin(alpha), np.cos(alpha)
     w0 = np.array([sa, 0.0, ca])
@@ -76,6 +81,8 @@ def _follow(I, alpha, rtol, run):
     t_end = SPINS * 2 * np.pi
     t_eval = np.linspace(0.0, t_end, int(SPINS * SAMPLES_PER_SPIN) + 1)
     traj = run.record(integrate_free(I, w0, q0, t_end, rtol=rtol, atol=atol, t_eval=t_eval))
+    if omega is not None:  # the scene's motion (not the probe's): SI
+        run.motion(traj, t_scale=1.0 / omega, y_scale=[omega] * 3 + [1.0] * 4)
     for name, drift in free_invariants(I, traj).items():
         run.invariant(name, drift)
 
@@ -102,11 +109,11 @@ def numeric(p, run):
     I = _disk_moments()
     run.info["I3_over_I1"] = I[2] / I[0]
     if p.alpha == 0.0:
-        _, _, theta_L = _follow(I, 0.0, run.rtol, run)
+        _, _, theta_L = _follow(I, 0.0, run.rtol, run, omega=p.omega)
         om_body, om_lab, _ = _follow(I, PROBE_TILT, run.rtol, run)
         run.info["probe_tilt_rad"] = PROBE_TILT
     else:
-        om_body, om_lab, theta_L = _follow(I, p.alpha, run.rtol, run)
+        om_body, om_lab, theta_L = _follow(I, p.alpha, run.rtol, run, omega=p.omega)
     if om_lab <= 0:
         raise NumericFailure("the symmetry axis does not turn about +L")
     tol = exercise.tol_factor * run.rtol

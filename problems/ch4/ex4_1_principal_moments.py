@@ -20,7 +20,8 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers import inertia
+from mech.solvers.mechanics import inertia
+from mech.solvers.mechanics.frames import rotation
 
 exercise = Exercise(
     "4.1",
@@ -33,7 +34,7 @@ exercise = Exercise(
 )
 
 # an arbitrary orientation, so that no principal axis lies along a coordinate axis
-_TURN = inertia.rotation([0.3, -0.7, 0.65], 1.234)
+_TURN = rotation([0.3, -0.7, 0.65], 1.234)
 
 
 @exercise.analytic

@@ -34,12 +34,15 @@ tilt keeps its digits.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.freebody import euler_omega_rhs, steady_rotation_pair
-from mech.solvers.inertia import gauss_legendre
-from mech.solvers.ode import Event, first_event, integrate
+from mech.solvers.mechanics.freebody import euler_omega_rhs, steady_rotation_pair
+from mech.solvers.mechanics.inertia import gauss_legendre
+from mech.solvers.numerics.ode import Event, first_event, integrate
+from mech.solvers.numerics.special import agm
 
 exercise = Exercise(
     "4.20",
@@ -50,6 +53,8 @@ exercise = Exercise(
         "T = (4K(k)/ω₀) [I₁I₂I₃/((I₂ - I₁)D)]^(1/2), D = I₁(I₃ - I₁) sin²δ + I₂(I₃ - I₂) cos²δ",
         "1 - k² = I₁(I₃ - I₁) sin²δ / D   (δ → 0: T ≈ (4/λ₂) ln(4/k'))",
     ],
+    # the body-axis angular velocity over 1.5 periods of the flip (the three legs the period is timed by)
+    states=[("omega1", "rad/s"), ("omega2", "rad/s"), ("omega3", "rad/s")],
 )
 
 # the integration is trusted while the separatrix distance keeps this many rtol of itself
@@ -64,16 +69,6 @@ def constraint(p):
         return f"I3 = {p.I3:g} exceeds I1 + I2 = {p.I1 + p.I2:g} kg m^2: no real body has such moments"
 
 
-def _complete_K(kp: float) -> float:
-    """K(k) from the complementary modulus k' = (1 - k^2)^(1/2): pi / (2 AGM(1, k'))."""
-    a, b = 1.0, float(kp)
-    for _ in range(60):
-        if abs(a - b) <= 1e-16 * a:
-            break
-        a, b = 0.5 * (a + b), float(np.sqrt(a * b))
-    return float(np.pi / (a + b))
-
-
 @exercise.analytic
 def analytic(p):
     I1, I2, I3, w = p.I1, p.I2, p.I3, p.omega0
@@ -86,7 +81,7 @@ def analytic(p):
         # split so that a subnormal tilt keeps its digits
         K = np.log(4.0) - np.log(ratio) - np.log(s)
     else:
-        K = _complete_K(kp)
+        K = math.pi / (2.0 * agm(1.0, kp))  # K(k) from the complementary modulus k'
     T = 4.0 * K / w * np.sqrt(I1 * I2 * I3 / ((I2 - I1) * D))
     return {
         "Omega_1": w * np.sqrt((I2 - I1) * (I3 - I1) / (I2 * I3)),
@@ -120,7 +115,7 @@ def _separatrix_distance(I, w):
     return I[0] * (I[1] - I[0]) * w[0] ** 2 + I[2] * (I[1] - I[2]) * w[2] ** 2
 
 
-def _period_by_integration(I, w0, rtol, run, slowest_rate):
+def _period_by_integration(I, w0, rtol, run, slowest_rate, omega0=1.0):
     """Times of the upward crossings of omega3 = 0 at T/2 and 3T/2 (units omega0 = 1)."""
     rhs = euler_omega_rhs(I)
     # relative control down to the size of the small components near the saddle (they carry the answer)
@@ -142,9 +137,12 @@ def _period_by_integration(I, w0, rtol, run, slowest_rate):
     def leg(t0, y0, direction, name, max_step=np.inf):
         traj = integrate(
             rhs, (t0, t0 + t_max), y0, rtol=rtol, atol=atol, max_step=max_step,
+            dense_output=run.keep_trajectories and max_step == np.inf,  # a smooth trajectory, the same steps
             events=[Event(w3, direction=direction, name=name), Event(drift, direction=+1, name="drift")],
         )
         run.record(traj)
+        if max_step == np.inf:  # a leg of the motion (not its bounded-step confirmation)
+            run.motion(traj, t_scale=1.0 / omega0, y_scale=omega0)
         if len(traj.t_events[1]):
             return None  # the orbit's side of the separatrix is no longer certain
         return first_event(traj, 0)
@@ -232,7 +230,7 @@ def numeric(p, run):
     try:
         if w0[0] < 1e-4:
             raise NumericFailure(f"tilt {w0[0]:.3g} too close to the separatrix for an integration")
-        times, drifts = _period_by_integration(I, w0, run.rtol, run, min(out.values()))
+        times, drifts = _period_by_integration(I, w0, run.rtol, run, min(out.values()), omega0=p.omega0)
         trusted = drifts["separatrix distance 2EI2 - L^2"] <= SEPARATRIX_DRIFT_LIMIT * run.rtol
         if trusted:
             for name, drift in drifts.items():

@@ -38,8 +38,9 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.ode import integrate
-from mech.solvers.tops import axis_rhs, azimuth, fit_rate, polar_angle, top_energy
+from mech.solvers.numerics.ode import integrate
+from mech.solvers.numerics.roots import bracketed_root
+from mech.solvers.mechanics.tops import axis_rhs, azimuth, fit_rate, polar_angle, top_energy
 
 exercise = Exercise(
     "4.21",
@@ -50,6 +51,10 @@ exercise = Exercise(
         "ω_th = 2 (I_A M g l)^(1/2) / I₃   (Eq. 4.85)",
         "ω_min = ω_th (cos θ₀)^(1/2) for cos θ₀ > 0, else 0",
     ],
+    # the confirming run from the steady precession (when one exists): the unit symmetry axis and the
+    # angular momentum about the support, lab components, z up
+    states=[("n_x", "1"), ("n_y", "1"), ("n_z", "1"), ("L_x", "kg*m^2/s"), ("L_y", "kg*m^2/s"),
+            ("L_z", "kg*m^2/s")],
 )
 
 
@@ -109,7 +114,7 @@ def _residual_factory(IA, I3, Mgl, theta0):
 
 def _slow_root(f, omega3, Om_scale):
     """The smallest positive zero of f(., omega3), or None when f stays negative; also f's maximum."""
-    from mech.solvers.roots import brentq, minimize_scalar
+    from mech.solvers.numerics.roots import brentq, minimize_scalar
 
     f0 = f(0.0, omega3)
     if not f0 < 0:
@@ -136,7 +141,7 @@ def _slow_root(f, omega3, Om_scale):
 
 def _fmax(f, omega3, Om_scale):
     """Maximum over Omega > 0 of f(., omega3) (+inf when f grows without bound)."""
-    from mech.solvers.roots import minimize_scalar
+    from mech.solvers.numerics.roots import minimize_scalar
 
     prev2, prev, fprev = 0.0, 0.0, f(0.0, omega3)
     Om = Om_scale
@@ -195,18 +200,12 @@ def _threshold(IA, I3, Mgl):
         hi *= 2
     else:
         raise NumericFailure("the upright top is unstable at every spin tried")
-    while hi - lo > 1e-15 * hi:
-        mid = 0.5 * (lo + hi)
-        if _upright_growth(IA, Mgl, I3 * mid) > ONSET:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return bracketed_root(lambda w: ONSET - _upright_growth(IA, Mgl, I3 * w), lo, hi)
 
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     IA = p.I1 + p.M * p.l**2
     Mgl = p.M * p.g * p.l
@@ -265,6 +264,7 @@ def numeric(p, run):
     traj = integrate(rhs, (0.0, T), y0, rtol=run.rtol, atol=run.rtol * 1e-3 * min(1.0, math.sin(p.theta0)),
                      dense_output=True, max_step=2.0 / fastest)
     run.record(traj)
+    run.motion(traj, y_scale=[1.0, 1.0, 1.0, Ls, Ls, Ls])
     ts = np.linspace(0.0, T, 401)
     ys = traj.sol(ts)
     n_t, L_t = ys[0:3], ys[3:6] * Ls
@@ -292,3 +292,53 @@ def numeric(p, run):
     out["omega_pre"] = Om
     out["pre_ratio"] = Om * p.I3 * p.omega3 / Mgl
     return out
+
+
+def _effective_potential(IA, L3, Lz, Mgl, theta):
+    """U_ef(theta) = (L_z - L3 cos theta)^2 / (2 I_A sin^2 theta) + M g l cos theta: the energy of the axis's
+    polar motion with the two conserved momenta (L_z about the vertical, L3 about the axis) eliminated."""
+    return (Lz - L3 * np.cos(theta)) ** 2 / (2 * IA * np.sin(theta) ** 2) + Mgl * np.cos(theta)
+
+
+@exercise.scene
+def scene(p, run):
+    """The effective potential of the tilt for the steady precession's momenta (its minimum at theta0), and
+    the slow precession rate against the spin, with the fast-top estimate and the thresholds."""
+    from mech.problems.scene import Axis, Guide, Line, Markers, Panel, Scene
+
+    IA, Mgl, L3 = p.I1 + p.M * p.l**2, p.M * p.g * p.l, p.I3 * p.omega3
+    a = run.analytic(p)
+    nv = run.numeric(p)
+    deg = 180.0 / math.pi
+    well = Panel("the tilt's effective potential at this top's L_z, L3",
+                 Axis("θ, the axis from the upward vertical", "deg"), Axis("(U_ef − U_ef(θ0)) / (M g l)"))
+    Om = a["omega_pre"]
+    if math.isfinite(Om):
+        # the momenta of the steady precession: L = I_A Omega (z - cos theta0 n3) + L3 n3
+        Lz = IA * Om * math.sin(p.theta0) ** 2 + L3 * math.cos(p.theta0)
+        th = np.linspace(0.02, math.pi - 0.02, 600)
+        u0 = _effective_potential(IA, L3, Lz, Mgl, p.theta0)
+        well.add(Line(th * deg, (_effective_potential(IA, L3, Lz, Mgl, th) - u0) / Mgl, "U_ef(θ)"),
+                 Markers([p.theta0 * deg], [0.0], "θ0: steady precession at its bottom", kind="this"))
+        well.y.lim = (-0.5, 3.0)
+    else:
+        well.title = "no steady precession at θ0: ω3 < ω_min"
+    lo = max(a["omega_min"] * 1.02, a["omega_th"] * 0.2)
+    hi = max(p.omega3, a["omega_th"]) * 5
+    ws = np.geomspace(lo, hi, 200)
+    curve = run.series(p, "omega3", ws)
+    rate = Panel("slow precession against the spin", Axis("spin ω3", "rad/s", log=True),
+                 Axis("precession rate", "rad/s", log=True), legend="upper right")
+    rate.add(Line(ws, curve["omega_pre"], "exact slow root"),
+             Line(ws, curve["omega_pre"] / curve["pre_ratio"], "fast-top estimate M g l / (I3 ω3)",
+                  kind="reference"))
+    xs = run.numeric_points(lo, hi, log=True)
+    if len(xs):
+        rate.add(Markers(xs, run.series(p, "omega3", xs, numeric=True)["omega_pre"], "numeric"))
+    if nv:
+        rate.add(Markers([p.omega3], [nv["omega_pre"]]))
+    rate.add(Markers([p.omega3], [Om], "this top", kind="this"),
+             Guide(a["omega_th"], label=f"sleeping-top threshold {a['omega_th']:.4g} rad/s", color="C2"))
+    if a["omega_min"] > 0:
+        rate.add(Guide(a["omega_min"], label=f"ω_min = {a['omega_min']:.4g} rad/s", color="C4"))
+    return Scene([well, rate])

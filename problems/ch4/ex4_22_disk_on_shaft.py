@@ -28,7 +28,8 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import disk
+from mech.solvers.mechanics.frames import skew
+from mech.solvers.mechanics.inertia import disk
 
 exercise = Exercise(
     "4.22",
@@ -46,10 +47,6 @@ def analytic(p):
     return {"N": p.M * p.g + dN, "delta_N": dN, "omega_spin": p.Omega * p.l / p.R}
 
 
-def _skew(v):
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-
-
 @exercise.numeric
 def numeric(p, run):
     M, R, l, Om = p.M, p.R, p.l, p.Omega
@@ -58,7 +55,7 @@ def numeric(p, run):
     rho = R * np.stack([np.zeros(len(w)), pts[:, 0], pts[:, 1]], axis=1)
     m = M * w
     ex, ez = np.array([1.0, 0.0, 0.0]), np.array([0.0, 0.0, 1.0])
-    Kz, Kx = _skew(ez), _skew(ex)
+    Kz, Kx = skew(ez), skew(ex)
     center = l * ex
     # rolling: the material point at the contact, rho_c = -R z, has zero velocity at t = 0:
     # v = Omega Kz (center + rho_c) + s Kx rho_c, linear in the spin s

@@ -62,7 +62,8 @@ from __future__ import annotations
 import math
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.budget import check as budget_check
+from mech.solvers.numerics.roots import bracketed_root
+from mech.solvers.verification.budget import check as budget_check
 
 exercise = Exercise(
     "4.24",
@@ -247,20 +248,13 @@ def _tan_root(j):
 
 def _crossing(step, n, L, t, h, sign):
     """Partial step tau in (0, h] where n_z changes sign (sign = +1: from positive to negative)."""
-    lo, hi = 0.0, h
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        if sign * step(n, L, t, mid)[0][2] > 0:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
+    return bracketed_root(lambda tau: sign * step(n, L, t, tau)[0][2], 0.0, h)
 
 
 def _lowest(step, low, h):
     """cos_min near the lowest fine step: the true minimum lies within a step of its end (low = (n_z,
     state before that step)): scan the two steps around it by partial steps, then refine."""
-    from mech.solvers.roots import minimize_scalar
+    from mech.solvers.numerics.roots import minimize_scalar
 
     s_a = low[1]
     s_b = step(*s_a, h)
@@ -308,7 +302,7 @@ def _guiding_center(a, b, k, run):
     """
     import numpy as np
 
-    from mech.solvers.ode import Event, integrate
+    from mech.solvers.numerics.ode import Event, integrate
 
     A, d = a / b, b / k
 

@@ -36,7 +36,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.ode import Event, integrate_to_event
+from mech.solvers.numerics.ode import Event, integrate_to_event
 
 exercise = Exercise(
     "4.25",
@@ -47,6 +47,10 @@ exercise = Exercise(
         "θ - θ₀ = (l/R) ln(ω₃/ω₀)  ⇒  ω_rise = ω₀ exp(-(θ₀ - θ₁) R/l)",
         "t_rise = -ω₀ I₃ expm1(-(θ₀ - θ₁) R/l) / (μ M g R)",
     ],
+    # the rise from theta0 to theta1: the angular momentum in the vertical plane through the axis (the
+    # frame turning with the axis's azimuth), horizontal and vertical parts; the axis's tilt from the
+    # vertical is atan2(L_perp, L_z) (fast top: L along the axis)
+    states=[("L_perp", "kg*m^2/s"), ("L_z", "kg*m^2/s")],
 )
 
 @exercise.constraint
@@ -188,6 +192,7 @@ def numeric(p, run):
         atol=[floor, floor, math.inf],  # phi is only recorded
     )
     run.record(traj)
+    run.motion(traj, t_scale=t_unit, y_scale=L0, rows=[0, 1])  # not phi: no error control on it
     # monitored: |L| + (mu R / l) t is constant (axial torque of the friction) in these units,
     # and L' stays in the x'z plane
     Ls = np.hypot(traj.y[0], traj.y[1])

@@ -36,7 +36,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.ode import integrate
+from mech.solvers.numerics.ode import integrate
 
 EPS = 2.220446049250313e-16
 

@@ -25,7 +25,8 @@ from __future__ import annotations
 import math
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.rotframe import bracketed_root, mass_fractions, walk_to_sign_change
+from mech.solvers.mechanics.frames import mass_fractions
+from mech.solvers.numerics.roots import bracketed_root, walk_to_sign_change
 
 exercise = Exercise(
     "4.27",
@@ -126,3 +127,48 @@ def numeric(p, run):
     for name in ("r_L1", "r_L2", "r_L3", "dr_L3"):
         run.claim(name, rel=1e-12)
     return {"r_L1": s1 * p.d, "r_L2": s2 * p.d, "r_L3": (1.0 + e3) * p.d, "dr_L3": e3 * p.d}
+
+
+@exercise.scene
+def scene(p, run):
+    """The rotating frame's effective potential as a map with L1, L2, L3, and its cut along the line of the
+    bodies, where the three points are its maxima (saddles of the plane)."""
+    import numpy as np
+
+    from mech.problems.scene import Axis, Guide, Line, Map, Markers, Note, Panel, Scene
+    from mech.solvers.mechanics.frames import potential_eff
+
+    nu, mu = mass_fractions(p.M1, p.M2)  # M1 at x = -mu, M2 at x = nu (units of d)
+    a = run.analytic(p)
+    nv = run.numeric(p)
+
+    def places(v):  # the points' x / d from the distances the exercise answers
+        return {"L1": nu - v["r_L1"] / p.d, "L2": nu + v["r_L2"] / p.d, "L3": -mu - v["r_L3"] / p.d}
+
+    xa = places(a)
+    g = np.linspace(-1.6, 1.6, 361)
+    X, Y = np.meshgrid(g, g)
+    unit = "G(M1+M2)/d"
+    levels = [float(potential_eff(x, 0.0, mu, nu)) for x in xa.values()]
+    plane = Panel("effective potential in the rotating frame", Axis("x / d (from the center of mass)"),
+                  Axis("y / d"), equal_aspect=True, legend="outside")
+    plane.add(Map(g, g, potential_eff(X, Y, mu, nu), "φ_ef", unit, clip=(min(levels) - 0.25, max(levels) + 0.05)),
+              Markers([-mu], [0.0], f"M1 ({nu:.4g} of the mass)", kind="this", color="C0", size=9),
+              Markers([nu], [0.0], "M2", kind="this", color="0.6", size=7),
+              Markers(list(xa.values()), [0.0] * 3, "L1, L2, L3 analytic", kind="analytic"))
+    for name, x in xa.items():
+        plane.add(Note(name, (x, 0.0), color="w"))
+    if nv:
+        plane.add(Markers(list(places(nv).values()), [0.0] * 3, "numeric"))
+    x = np.linspace(-1.6, 1.6, 4001)
+    cut = Panel(f"on the line of the bodies, L1, L2, L3 are maxima\n(μ = {mu:.4g})", Axis("x / d"),
+                Axis("φ_ef(x, 0)", unit), legend="lower center")
+    cut.add(Line(x, potential_eff(x, 0 * x, mu, nu), "φ_ef(x, 0)"))
+    for name, xl in xa.items():
+        cut.add(Guide(xl), Note(name, (xl, max(levels) + 0.1)))
+    cut.add(Markers(list(xa.values()), levels, "analytic", kind="analytic"))
+    if nv:
+        xn = list(places(nv).values())
+        cut.add(Markers(xn, [float(potential_eff(v, 0.0, mu, nu)) for v in xn], "numeric"))
+    cut.y.lim = (min(levels) - 1.5, max(levels) + 0.3)
+    return Scene([plane, cut])

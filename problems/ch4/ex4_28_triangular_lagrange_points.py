@@ -15,11 +15,12 @@ D < 0: lambda = (Omega/2) [+-(sqrt(27 mu nu) - 1)^(1/2) +- i (sqrt(27 mu nu) + 1
 
 Numeric (scaled units d, 1/Omega): Newton's method on the cancellation-free
 gradient of U_eff from (0, 1), with the exact Hessian, in polar coordinates
-about body 1 (solvers/rotframe.py); then the eigenvalues of the 4x4 linearized
-rotating-frame matrix built from that exact Hessian.  Where a stable slow pair
-lies far below the fast one (small mass ratio), the slow exponent comes from
-the 4x4 matrix's determinant, det H = slow^2 fast^2, with det H taken from the
-polar Hessian (relative precision in its angular entries).  Each exponent gets an absolute error claim from
+about body 1 (solvers/mechanics/frames.py); then the eigenvalues of the 4x4
+linearized rotating-frame matrix built from that exact Hessian.  Where a stable
+slow pair lies far below the fast one (small mass ratio), the slow exponent
+comes from the 4x4 matrix's determinant, det H = slow^2 fast^2, with det H
+taken from the polar Hessian (relative precision in its angular entries).
+Each exponent gets an absolute error claim from
 perturbation theory that switches to the square-root law where two exponents
 merge (the defective matrix at the Routh limit).
 """
@@ -31,7 +32,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.rotframe import (
+from mech.solvers.mechanics.frames import (
     characteristic_exponents,
     grad_eff,
     EPS,
@@ -135,3 +136,41 @@ def numeric(p, run):
         "omega_slow": slow * W,
         "omega_fast": ex.fast * W,
     }
+
+
+@exercise.scene
+def scene(p, run):
+    """The rotating frame's effective potential as a map with L4 and L5, and its cut along x through L4:
+    L4 sits on a maximum, and is stable anyway below the Routh mass ratio (the Coriolis force)."""
+    from mech.problems.scene import Axis, Guide, Line, Map, Markers, Note, Panel, Scene
+    from mech.solvers.mechanics.frames import potential_eff
+
+    nu, mu = mass_fractions(p.M1, p.M2)  # M1 at x = -mu, M2 at x = nu (units of d)
+    a = run.analytic(p)
+    nv = run.numeric(p)
+    g = np.linspace(-1.6, 1.6, 361)
+    X, Y = np.meshgrid(g, g)
+    unit = "G(M1+M2)/d"
+    top = float(potential_eff(0.5 - mu, math.sqrt(3.0) / 2.0, mu, nu))  # the potential's highest level
+    plane = Panel("effective potential in the rotating frame", Axis("x / d (from the center of mass)"),
+                  Axis("y / d"), equal_aspect=True, legend="outside")
+    plane.add(Map(g, g, potential_eff(X, Y, mu, nu), "φ_ef", unit, clip=(top - 0.3, top + 0.002)),
+              Markers([-mu], [0.0], f"M1 ({nu:.4g} of the mass)", kind="this", color="C0", size=9),
+              Markers([nu], [0.0], "M2", kind="this", color="0.6", size=7))
+    xa, ya = a["x_L4"] / p.d, a["y_L4"] / p.d
+    plane.add(Markers([xa, xa], [ya, -ya], "L4, L5 analytic", kind="analytic"),
+              Note("L4", (xa, ya), color="w"), Note("L5", (xa, -ya), color="w"))
+    if nv:
+        plane.add(Markers([nv["x_L4"] / p.d] * 2, [nv["y_L4"] / p.d, -nv["y_L4"] / p.d], "numeric"))
+    x = np.linspace(-1.6, 1.6, 1200)
+    cut = Panel("", Axis("x / d"), Axis("φ_ef", unit), legend="lower center")
+    cut.add(Line(x, potential_eff(x, ya + 0 * x, mu, nu), "φ_ef(x, y_L4)"),
+            Guide(xa, label="L4"), Markers([xa], [top], kind="analytic"))
+    cut.y.lim = (top - 1.2, top + 0.15)
+    small = min(mu, nu)  # Routh's criterion is symmetric in the two mass fractions
+    if a["growth_rate"] == 0:
+        cut.title = f"L4 is a maximum of φ_ef, yet stable\n(the Coriolis force; smaller mass fraction {small:.4g} ≤ 0.0385)"
+    else:
+        cut.title = (f"L4 is a maximum of φ_ef, and unstable\n(smaller mass fraction {small:.4g} > 0.0385: "
+                     f"growth {a['growth_rate']:.3g} 1/s)")
+    return Scene([plane, cut])

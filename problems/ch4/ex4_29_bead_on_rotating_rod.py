@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise
-from mech.solvers.ode import integrate
+from mech.solvers.numerics.ode import integrate
 
 exercise = Exercise(
     "4.29",
@@ -38,6 +38,8 @@ exercise = Exercise(
         "N = 2 m ω r' (balances the Coriolis force), r' = ω (A e^(ωt) - B e^(-ωt))",
         "a_lab = 2 ω |r'| = |N|/m (across the rod; the radial part r'' - ω² r vanishes)",
     ],
+    # the bead from 0 to t (when it moves): its coordinate along the rod and its velocity relative to it
+    states=[("r", "m"), ("r_dot", "m/s")],
 )
 
 MAX_OMEGA_T = 100.0
@@ -92,8 +94,10 @@ def numeric(p, run):
         # |d y/d tau| <= |y| for this system, so |y| >= e^(-tau) |y0|: an absolute
         # tolerance below that keeps the error control relative all the way
         atol = run.rtol * 1e-3 * math.exp(-tau_end)
-        traj = integrate(rhs, (0.0, tau_end), y0, rtol=run.rtol, atol=atol)
+        # dense output only for a trajectory (a smooth curve); the steps are the same
+        traj = integrate(rhs, (0.0, tau_end), y0, rtol=run.rtol, atol=atol, dense_output=run.keep_trajectories)
         run.record(traj)
+        run.motion(traj, t_scale=1.0 / w, y_scale=[L, w * L], rows=[0, 2])  # across the rod: 0
         y = traj.y_end
         jac = 0.5 * (traj.y[2] ** 2 + traj.y[3] ** 2 - traj.y[0] ** 2 - traj.y[1] ** 2)
         size = 0.5 * (traj.y[2] ** 2 + traj.y[3] ** 2 + traj.y[0] ** 2 + traj.y[1] ** 2)

@@ -14,7 +14,7 @@ all the mass on the rim, the plate fills in toward the center.
 Numeric: the bodies are built from their vertices, placed in a generic rotated
 and shifted frame, and filled with Gauss rules exact for the quadratic
 integrands (Gauss-Legendre on each rod, the collapsed Duffy product rule on the
-triangle and on the tetrahedron; solvers.shapes).  The inertia tensor is taken
+triangle and on the tetrahedron; solvers.mechanics.shapes).  The inertia tensor is taken
 about the numerically found center of mass, diagonalized by a symmetric
 eigensolver, and the eigenvalues are grouped by a relative (scale-free)
 degeneracy test; each group reports its mean.
@@ -25,8 +25,9 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import degenerate_groups, inertia_tensor, rotation
-from mech.solvers.shapes import rod_polyline, tetrahedron, triangle
+from mech.solvers.mechanics.frames import rotation
+from mech.solvers.mechanics.inertia import degenerate_groups, inertia_tensor
+from mech.solvers.mechanics.shapes import rod_polyline, tetrahedron, triangle
 
 exercise = Exercise(
     "4.2",

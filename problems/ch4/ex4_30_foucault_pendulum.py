@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.ode import Event, integrate
+from mech.solvers.numerics.ode import Event, integrate
 
 exercise = Exercise(
     "4.30",
@@ -41,6 +41,9 @@ exercise = Exercise(
         "b_miss = a ω_E |cos θ| / (g/l + ω_E² cos²θ)^(1/2)",
         "(exact in the linear model: ζ = e^(-iω_z t)[A e^(iω't) + B e^(-iω't)], ω'² = g/l + ω_z²)",
     ],
+    # about 20 half-swings of the bob, horizontal ground-frame coordinates (small-swing model): x along
+    # the release direction, y a quarter turn counterclockwise seen from above
+    states=[("x", "m"), ("y", "m"), ("vx", "m/s"), ("vy", "m/s")],
 )
 
 HALF_SWINGS = 20
@@ -106,6 +109,7 @@ def numeric(p, run):
     atol = run.rtol * 1e-3 * np.array([1.0, 1.0, c2, c2])
     traj = integrate(rhs, (0.0, tau_end), [1.0, 0.0, 0.0, 0.0], rtol=run.rtol, atol=atol, events=[far_ev, near_ev])
     run.record(traj)
+    run.motion(traj, t_scale=1.0 / rate, y_scale=[p.a, p.a, p.a * rate, p.a * rate])
 
     Y = traj.y
     rho2 = Y[0] ** 2 + Y[1] ** 2

@@ -26,8 +26,9 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise
-from mech.solvers.ode import integrate_to_event
-from mech.solvers.ode import Event
+from mech.solvers.numerics.ode import integrate_to_event
+from mech.solvers.numerics.ode import Event
+from mech.solvers.numerics.roots import bracketed_root
 
 exercise = Exercise(
     "4.31",
@@ -37,6 +38,10 @@ exercise = Exercise(
         "v_east = g sinθ t sin²φ / φ ≈ ω_E g t² sinθ = 2 ω_E h sinθ",
         "(exact solution of dv/dt = g - 2 ω_E × v; the ≈ forms are leading order in ω_E t)",
     ],
+    # the fall from rest at height h to the ground, ground-frame axes (east, north, up; origin at the
+    # foot of the plumb line)
+    states=[("x_east", "m"), ("y_north", "m"), ("z_up", "m"), ("v_east", "m/s"), ("v_north", "m/s"),
+            ("v_up", "m/s")],
 )
 
 # The model (uniform g with the centrifugal part folded in, h << R_E) needs the
@@ -75,18 +80,6 @@ def _sinc(x: float) -> float:
     return 1.0 if x == 0.0 else math.sin(x) / x
 
 
-def _bisect(f, lo: float, hi: float) -> float:
-    """The root of an increasing f in [lo, hi] (f(lo) <= 0 < f(hi)), to the last bit."""
-    while True:
-        mid = 0.5 * (lo + hi)
-        if mid <= lo or mid >= hi:
-            return mid
-        if f(mid) <= 0.0:
-            lo = mid
-        else:
-            hi = mid
-
-
 @exercise.analytic
 def analytic(p):
     s, c = math.sin(p.theta), math.cos(p.theta)
@@ -100,7 +93,7 @@ def analytic(p):
         tau = 1.0
     else:
         # lost(1) <= 0 (sinc <= 1); at eps tau = pi/2 it is >= 1/eps^2 - 1 > 0 for eps <= 0.5
-        tau = _bisect(lost, 1.0, math.pi / (2.0 * eps))
+        tau = bracketed_root(lost, 1.0, math.pi / (2.0 * eps))
     t = tau * T0
     phi = p.omega_E * t
     if phi == 0.0:
@@ -113,7 +106,7 @@ def analytic(p):
 
 # Tuned default (from `mech bench 4.31`, rtol 1e-10, cross-check tolerance 1e-8): DOP853.  The equations
 # are linear with constant coefficients and z = 0 is crossed once; with the event confirmed on the dense
-# output (mech.solvers.ode) DOP853 needs 77 evaluations for an error of 2e-14 (1e-15 on the 90 s fall),
+# output (mech.solvers.numerics.ode) DOP853 needs 77 evaluations for an error of 2e-14 (1e-15 on the 90 s fall),
 # LSODA 59 for 1.6e-13 and RK45 50 for 2.4e-11, all within a few ms.  With ode's bounded rerun DOP853
 # cost 862 evaluations (the rerun's 64 steps of 12 stages) and LSODA, at 167, was the cheaper choice.
 METHOD = "DOP853"
@@ -147,6 +140,7 @@ def numeric(p, run):
         method=METHOD,
     )
     run.record(traj)
+    run.motion(traj, t_scale=T0, y_scale=[p.h] * 3 + [p.h / T0] * 3)
     e_end = 0.5 * float(np.dot(y_ev[3:], y_ev[3:])) + 2.0 * y_ev[2]
     run.invariant("energy", (e_end - 2.0) / 2.0)
     run.info["north_deviation_m"] = y_ev[1] * p.h

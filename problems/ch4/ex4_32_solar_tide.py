@@ -36,6 +36,7 @@ import numpy as np
 from numpy.polynomial import legendre as L
 
 from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.numerics.roots import bracketed_root
 
 exercise = Exercise(
     "4.32",
@@ -171,20 +172,12 @@ def numeric(p, run):
     def slope(xx):
         return _tidal_slope(eps * (1.0 + float(surface(c, np.array(xx)))), xx)
 
-    lo, hi = 0.0, 1.0
-    if not (slope(lo) < 0.0 < slope(hi)):
+    if not (slope(0.0) < 0.0 < slope(1.0)):
         raise NumericFailure("the lowest point is not bracketed in [0, 1] in cos(psi)")
-    while True:
-        mid = 0.5 * (lo + hi)
-        if not lo < mid < hi:
-            break
-        if slope(mid) < 0.0:
-            lo = mid
-        else:
-            hi = mid
-    u_low = float(surface(c, np.array(0.5 * (lo + hi))))
+    x_low = bracketed_root(slope, 0.0, 1.0)
+    u_low = float(surface(c, np.array(x_low)))
     run.method = "Gauss-Legendre surface solve"
-    run.info["cos_psi_low"] = 0.5 * (lo + hi)
+    run.info["cos_psi_low"] = x_low
     run.info["level_c"] = c
     for name in ("h_range", "h_high", "h_low"):
         run.claim(name, rel=1e-12)

@@ -36,8 +36,9 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.gravity import relative_gravity, relative_potential
-from mech.solvers.ode import Event, integrate
+from mech.solvers.mechanics.gravity import relative_gravity, relative_potential
+from mech.solvers.numerics.ode import Event, integrate
+from mech.solvers.numerics.roots import minimize_bounded
 
 exercise = Exercise(
     "4.33",
@@ -48,6 +49,9 @@ exercise = Exercise(
         "exact: v₀ = ΩR[(1-ξ)/(1+ξ)]^{1/2} - Ω(R + x₀), ξ = x₀/R; a_radial = |x₀|; "
         "a_along = max_E r sin(ν - M) (e = |ξ|)",
     ],
+    # one period of the closed relative path, in the frame turning with the satellite and centred on
+    # it: x radially outward, y along the orbital motion
+    states=[("x", "m"), ("y", "m"), ("vx", "m/s"), ("vy", "m/s")],
 )
 
 MAX_OFFSET = 0.1  # |x0|/R
@@ -64,24 +68,6 @@ def constraint(p):
         return f"|x0|/R = {xi:.3g} is below 1e-90: offsets that small are below any physical meaning"
 
 
-def _golden_max(f, a, b, iters=200):
-    g = (math.sqrt(5.0) - 1.0) / 2.0
-    c, d = b - g * (b - a), a + g * (b - a)
-    fc, fd = f(c), f(d)
-    for _ in range(iters):
-        if fc > fd:
-            b, d, fd = d, c, fc
-            c = b - g * (b - a)
-            fc = f(c)
-        else:
-            a, c, fc = c, d, fd
-            d = a + g * (b - a)
-            fd = f(d)
-        if b - a < 1e-15:
-            break
-    return max(fc, fd)
-
-
 @exercise.analytic
 def analytic(p):
     W = math.sqrt(p.GM / p.R**3)
@@ -96,7 +82,7 @@ def analytic(p):
         M = E - se
         return beta * math.sin(E) * math.cos(M) + math.sin(se) * (1.0 - e * math.cos(E)) + se * math.cos(se)
 
-    a_along = p.R * _golden_max(y_over_R, 0.0, math.pi)
+    a_along = -p.R * minimize_bounded(lambda E: -y_over_R(E), 0.0, math.pi, xatol=1e-15)[1]
     a_radial = abs(p.x0)
     ratio = a_radial / a_along
     return {
@@ -157,7 +143,7 @@ def numeric(p, run):
         t_half[0] = tr.t_events[0][0]
         return tr.y_events[0][0][1]
 
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     v0 = brentq(residual, lo, hi, fa=flo, fb=fhi, xtol=1e-3 * run.rtol, maxiter=100)
     residual_keep(v0)
@@ -170,9 +156,10 @@ def numeric(p, run):
         rhs, (0.0, T), y0,
         events=[Event(xdot, terminal=False, name="radial extremes"),
                 Event(ydot, terminal=False, name="along-track extremes")],
-        max_step=0.25, **opts,
+        max_step=0.25, dense_output=run.keep_trajectories, **opts,  # dense: a smooth trajectory, same steps
     )
     run.record(tr)
+    run.motion(tr, t_scale=1.0 / W, y_scale=[L, L, L * W, L * W])
     run.nfev += nfev[0]
     xs = [sgn] + [yy[0] for tt, yy in zip(tr.t_events[0], tr.y_events[0]) if tt > 1e-6]
     ys = [yy[1] for yy in tr.y_events[1]]

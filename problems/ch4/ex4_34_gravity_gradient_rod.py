@@ -46,9 +46,9 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.gravity import coriolis, hill_acceleration, hill_potential
-from mech.solvers.ode import integrate_to_event
-from mech.solvers.ode import Event
+from mech.solvers.mechanics.gravity import coriolis, hill_acceleration, hill_potential
+from mech.solvers.numerics.ode import integrate_to_event
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "4.34",
@@ -57,6 +57,9 @@ exercise = Exercise(
         "ω_pitch = √3 Ω,  ω_roll = 2 Ω,  Ω = (GM/R³)^{1/2}",
         "T_pitch = 4 K(sin θ_amp)/(√3 Ω)  (pendulum in 2θ: θ'' = -(3/2) Ω² sin 2θ)",
     ],
+    # a quarter of the pitch libration (theta_amp > 0), from rest at theta_amp to the local vertical:
+    # the rod's angle from the vertical in the orbital plane (positive toward the orbital motion)
+    states=[("theta", "rad"), ("theta_dot", "rad/s")],
 )
 
 
@@ -66,7 +69,7 @@ def _omega(p):
 
 @exercise.analytic
 def analytic(p):
-    from mech.solvers.special import ellipkm1
+    from mech.solvers.numerics.special import ellipkm1
 
     W = _omega(p)
     c = math.cos(p.theta_amp)
@@ -249,6 +252,8 @@ def numeric(p, run):
             rtol=run.rtol, atol=atol,
         )
         run.record(traj)
+        run.motion(traj, t_scale=1.0 / W, y_scale=[1.0, W], transform=lambda y: [
+            np.arctan2(y[1], y[0]), (y[0] * y[3] - y[1] * y[2]) / (y[0] ** 2 + y[1] ** 2)])
         probe = np.array([math.cos(0.7), math.sin(0.7), 0.3, -0.2])
         if not np.allclose(rhs(0.0, probe)[2:], rhs_check(probe), rtol=1e-13, atol=1e-13):
             raise NumericFailure("the expanded accelerations disagree with the constrained form")
@@ -277,7 +282,7 @@ def hamiltonian(p):
     - Phi with Hill's Phi = -3x²/2 + z²/2; for the two masses r'.(Omega x r) = th' (a total derivative, dropped),
     so L = th'² + 3 cos² th and H = p²/4 - 3 cos² th is separable (p = 2 th'); from rest at theta_amp to the
     first downward passage through th = 0: a quarter libration."""
-    from mech.solvers.symplectic import SeparableHamiltonian
+    from mech.solvers.numerics.symplectic import SeparableHamiltonian
 
     W = _omega(p)
     return SeparableHamiltonian(

@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.numerics.roots import bracketed_root
 
 exercise = Exercise(
     "4.35",
@@ -94,17 +95,8 @@ def numeric(p, run):
     F0, Fr0 = section(0.0)[0], section(r0)[0]
     if not (F0 < 0.0 < Fr0):
         raise NumericFailure(f"shear root not bracketed: F(0) = {F0:.3g}, F(r0) = {Fr0:.3g}")
-    # bisection on the shear (monotone across its root); stops when the bracket stops shrinking
-    lo, hi = 0.0, r0
-    while True:
-        mid = 0.5 * (lo + hi)
-        if not lo < mid < hi:
-            break
-        if section(mid)[0] < 0.0:
-            lo = mid
-        else:
-            hi = mid
-    s_max = 0.5 * (lo + hi)
+    # bisection on the shear (monotone across its root), to the last bit
+    s_max = bracketed_root(lambda s: section(s)[0], 0.0, r0)
     tau_max = section(s_max)[1]
     if not tau_max >= max(section(0.0)[1], section(l)[1]):
         raise NumericFailure("the shear root is not the maximum of the bending torque")

@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise
-from mech.solvers.shapes import triangle
+from mech.solvers.mechanics.shapes import triangle
 
 exercise = Exercise(
     "4.3",
@@ -69,7 +69,7 @@ def numeric(p, run):
     m = w
     d = pts2 - (m @ pts2) / m.sum()  # from the numerically found center of mass
     # Second moments first, moments from them: I_xx = sum m y^2 directly, not as
-    # sum m |r|^2 - sum m x^2 (solvers.inertia.inertia_tensor), which for a sliver
+    # sum m |r|^2 - sum m x^2 (solvers.mechanics.inertia.inertia_tensor), which for a sliver
     # cancels away the small moment (4e-5 relative error at b/a = 1e-6).
     Sxx, Syy, Sxy = m @ (d[:, 0] ** 2), m @ (d[:, 1] ** 2), m @ (d[:, 0] * d[:, 1])
     A, B, C = Syy, Sxx, -Sxy  # in-plane block of the inertia tensor

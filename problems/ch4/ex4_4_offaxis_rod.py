@@ -25,7 +25,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise
-from mech.solvers.shapes import rod
+from mech.solvers.mechanics.shapes import rod
 
 exercise = Exercise(
     "4.4",

@@ -26,7 +26,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.shapes import cone
+from mech.solvers.mechanics.shapes import cone
 
 exercise = Exercise(
     "4.5",

@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.mechanics.frames import skew
 
 exercise = Exercise(
     "4.6",
@@ -49,10 +50,6 @@ def analytic(p):
 
 # arbitrary geometry (m): side-gear pitch radius, satellite pitch radius, pin azimuth about x
 _R_SIDE, _R_SAT, _PIN_AZIMUTH = 0.083, 0.031, 0.4
-
-
-def _skew(a):
-    return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
 
 
 @exercise.numeric
@@ -86,7 +83,7 @@ def numeric(p, run):
     K[3:6, 1] = np.cross(P[1] - C, t[1])
     K[3:6, 5], K[3:6, 6] = n1, n2
     # carrier (massless), moment about x: tau + moment of what the satellite exerts on it (-R at C, -N) = 0
-    K[6, 2:5] = -(_skew(C).T @ x)  # x . (C x (-R)) = -x . (C x R) = -(skew(C)^T x) . R
+    K[6, 2:5] = -(skew(C).T @ x)  # x . (C x (-R)) = -x . (C x R) = -(skew(C)^T x) . R
     K[6, 5], K[6, 6] = -(x @ n1), -(x @ n2)
     rhs[6] = -p.tau
     sol = np.linalg.solve(K, rhs)

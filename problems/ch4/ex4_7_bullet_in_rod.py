@@ -10,7 +10,7 @@ Hence J = m m_b v0/(m + 4 m_b) and
 The same follows from the conservation of the momentum m_b v0 and of the
 angular momentum m_b v0 l about the rod's center.
 
-Numeric: a finite force pulse (solvers.impact).  In units of m, l and v0 the rod
+Numeric: a finite force pulse (solvers.mechanics.impact).  In units of m, l and v0 the rod
 (center and angle, mass and moment from a Gauss rule along it) and the bullet are
 tied by a contact spring-damper between the bullet and the rod's end point,
 K = W^-1/tp^2 and C = 2 W^-1/tp with W the contact's inverse effective mass, so the
@@ -32,9 +32,9 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.impact import critical_contact, delassus, pulse_end, richardson
-from mech.solvers.inertia import gauss_legendre
-from mech.solvers.ode import integrate
+from mech.solvers.mechanics.impact import critical_contact, delassus, pulse_end, richardson
+from mech.solvers.mechanics.inertia import gauss_legendre
+from mech.solvers.numerics.ode import integrate
 
 exercise = Exercise(
     "4.7",
@@ -43,6 +43,11 @@ exercise = Exercise(
         "v_hit = 4m' v₀/(m + 4m'),  v_end = -2m' v₀/(m + 4m'),  ω = 3m' v₀/(l (m + 4m'))",
         "E_loss = (m' v₀²/2) m/(m + 4m')",
     ],
+    # the collision itself (the longer of the two pulses): displacements from the pre-impact positions,
+    # rod along +y centred at the origin, bullet at its end (0, l) moving along +x
+    states=[("rod_dx", "m"), ("rod_dy", "m"), ("rod_theta", "rad"), ("bullet_dx", "m"), ("bullet_dy", "m"),
+            ("rod_vx", "m/s"), ("rod_vy", "m/s"), ("rod_omega", "rad/s"), ("bullet_vx", "m/s"),
+            ("bullet_vy", "m/s"), ("E_dissipated", "J")],
 )
 
 
@@ -166,6 +171,9 @@ def numeric(p, run):
     def at(tp):
         readings, traj, drifts, mismatch = _impact(mu, tp, run.rtol)
         run.record(traj)
+        if tp == PULSE:
+            l, v0 = p.l, p.v0
+            run.motion(traj, t_scale=l / v0, y_scale=[l, l, 1.0, l, l, v0, v0, v0 / l, v0, v0, p.m * v0**2])
         run.info.setdefault("energy_books_mismatch_rel", []).append(float(mismatch))
         for k, v in drifts.items():
             run.invariant(k, v)

@@ -10,7 +10,7 @@ contact-point slip u = V + w x (0, 0, -R) starts along x, u0 = V0 (1 - 5 (h - R)
 t_roll = 2 |u0| / (7 mu g) = P |7 - 5 h/R| / (7 M mu g).  Then
 V_f = V0 - (2/7) u0 = 5 P h / (7 M R), independent of b; x_roll = (V0 + V_f) t_roll / 2.
 
-Numeric: the sphere's moment from a Gauss quadrature of the ball (solvers.inertia);
+Numeric: the sphere's moment from a Gauss quadrature of the ball (solvers.mechanics.inertia);
 the strike is a finite force pulse P (pi / 2 tau) sin(pi t / tau) along x at the
 body-fixed hit point, integrated through (the hit point turns with the ball) for
 tau = 1e-3 rtol min(R/V0, V0/(mu g)), so the finite-pulse effect (|w0| tau + mu g tau / V0,
@@ -26,9 +26,9 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.inertia import ball, inertia_tensor
-from mech.solvers.ode import integrate_to_event
-from mech.solvers.ode import Event, integrate
+from mech.solvers.mechanics.inertia import ball, inertia_tensor
+from mech.solvers.numerics.ode import integrate_to_event
+from mech.solvers.numerics.ode import Event, integrate
 
 exercise = Exercise(
     "4.8",
@@ -38,6 +38,10 @@ exercise = Exercise(
         "t_roll = P |7 - 5h/R| / (7 M μ g),  x_roll = (V₀ + V_f) t_roll / 2",
         "ω_z = -5 b P / (2 M R²)   (constant: friction has no vertical torque)",
     ],
+    # the sliding phase, from the end of the strike to rolling (x along the impulse, z up): the slip
+    # velocity of the contact point, the spin, and the centre's displacement since the strike
+    states=[("slip_x", "m/s"), ("slip_y", "m/s"), ("slip_z", "m/s"), ("omega_x", "rad/s"),
+            ("omega_y", "rad/s"), ("omega_z", "rad/s"), ("x", "m"), ("y", "m"), ("z", "m")],
 )
 
 
@@ -152,6 +156,7 @@ def numeric(p, run):
         atol=[run.rtol * 1e-3 * float(np.linalg.norm(u0))] * 3 + [run.rtol * 1e-3] * 6,
     )
     run.record(traj)
+    run.motion(traj, t_scale=t_unit, t_offset=0.5 * tau, y_scale=[V0] * 3 + [V0 / R] * 3 + [V0 * t_unit] * 3)
     L0, L1 = L_contact(ys), L_contact(y_ev)
     L_scale = float(np.linalg.norm(np.linalg.solve(I_inv_MR2, om1)) + np.linalg.norm(V1))
     run.invariant("L_contact", np.linalg.norm(L1 - L0) / L_scale)

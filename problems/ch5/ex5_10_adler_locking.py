@@ -13,7 +13,7 @@ sqrt(xi^2 - Delta^2); zero inside.
 Numeric (exact, full equation): (1) the locked state is a periodic orbit of
 the drive's period, found by Newton on the one-period map (variational
 equations carried along, DOP853) at omega0 and swept up and down in omega by
-continuation until det(M - I) changes sign (solvers/sweeps.py); each edge,
+continuation until det(M - I) changes sign (solvers/mechanics/continuation.py); each edge,
 a fold of the orbit, refined by Brent's method on det(M - I) along the branch.
 (2) The beat: inside the numeric range the locked orbit exists and attracts:
 beat = 0.  Outside, 96 copies started around the cycle are integrated together
@@ -121,7 +121,7 @@ MAX_SETTLE = 300  # drive periods at most (very small mu): the claim then carrie
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.sweeps import OrbitMap, refine_root, solve_on_plane, sweep
+    from mech.solvers.mechanics.continuation import OrbitMap, refine_root, solve_on_plane, sweep
 
     rtol = run.rtol
     mu, beta, w0, f0 = p.mu, p.beta, p.omega0, p.f0
@@ -210,7 +210,7 @@ def numeric(p, run):
 
 def _beat(p, run, amplitude):
     """|omega - mean oscillator frequency| from the circle map on the torus (see the module doc)."""
-    from mech.solvers.ode import integrate
+    from mech.solvers.numerics.ode import integrate
 
     mu, beta, w0, f0, w = p.mu, p.beta, p.omega0, p.f0, p.omega
     M = N_COPIES

@@ -28,7 +28,8 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.floquet import even_hill_discriminant, even_hill_half
+from mech.solvers.numerics.roots import golden_min
+from mech.solvers.mechanics.floquet import even_hill_discriminant, even_hill_half
 
 exercise = Exercise(
     "5.11",
@@ -198,7 +199,7 @@ def _growth(p, rtol, run):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     rtol = run.rtol
     noise = 10.0 * rtol  # size of the truncation and round-off in P = det(M + I)
@@ -241,24 +242,9 @@ def numeric(p, run):
     else:
         # golden-section search for the minimum, stopped as soon as P < 0 is seen
         a, b = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
-        g = 0.5 * (math.sqrt(5.0) - 1.0)
-        c, d = b - g * (b - a), a + g * (b - a)
-        fc, fd = P_w(c), P_w(d)
-        w_in = None
-        while b - a > 1e-11 * p.omega0:
-            if min(fc, fd) < 0:
-                w_in = c if fc < fd else d
-                break
-            if fc < fd:
-                b, d, fd = d, c, fc
-                c = b - g * (b - a)
-                fc = P_w(c)
-            else:
-                a, c, fc = c, d, fd
-                d = a + g * (b - a)
-                fd = P_w(d)
+        w_min, pmin, inside = golden_min(P_w, a, b, xtol=1e-11 * p.omega0, stop=lambda P: P < 0)
+        w_in = w_min if inside else None
         if w_in is None:
-            pmin = min(fc, fd)
             if pmin <= noise:
                 # the minimum is within the noise of P: a zone narrower than the search can resolve may be
                 # there (a draw: half-width 3e-8 omega0), so "no zone" would be a guess
@@ -281,6 +267,47 @@ def numeric(p, run):
     return out
 
 
+@exercise.scene
+def scene(p, run):
+    """The first instability zone in the (detuning, modulation depth) plane, the leading-order theory as a
+    shaded zone and the Floquet edges as markers; and the growth rate across the zone at this depth."""
+    from mech.problems.scene import Axis, Band, Guide, Line, Markers, Panel, Scene
+
+    xi = p.omega - p.omega0
+    a = run.analytic(p)
+    top = min(1.0, max(3 * p.mu, 3 * a["mu_th"] if math.isfinite(a["mu_th"]) else 0.0, 0.05))
+    mus = np.linspace(top / 300, top * 0.999, 300)
+    zone = run.series(p, "mu", mus)
+    plane = Panel(f"first zone; threshold μ_th = {a['mu_th']:.4g} at this ω", Axis("detuning ξ = ω − ω0", "rad/s"),
+                  Axis("modulation depth μ"), legend="outside")
+    plane.add(Band(mus, zone["xi_lo"], zone["xi_hi"], "unstable, leading-order theory", vertical=True),
+              Line(zone["xi_lo"], mus, color="C3", width=1.2), Line(zone["xi_hi"], mus, color="C3", width=1.2))
+    ok = np.isfinite(zone["xi_lo"])
+    pts = run.numeric_points(mus[ok][0] if ok.any() else top / 10, top)
+    if len(pts):
+        edges = run.series(p, "mu", pts, numeric=True)
+        plane.add(Markers(edges["xi_lo"], pts, "zone's edges, Floquet (numeric)"), Markers(edges["xi_hi"], pts))
+        failed = run.failed_x.get("mu", [])
+        if failed:
+            plane.add(Markers([xi] * len(failed), failed, f"numeric failed ({len(failed)})", kind="failure"))
+    plane.add(Markers([xi], [p.mu], "this oscillator", kind="this"))
+    width = max(abs(xi), p.mu * p.omega0 / 2, 4 * p.delta, 1e-3 * p.omega0)
+    ws = p.omega0 + np.linspace(-width, width, 300)
+    growth = Panel(f"growth rate across the zone at μ = {p.mu:.4g}", Axis("detuning ξ = ω − ω0", "rad/s"),
+                   Axis("growth rate", "1/s"), legend="outside")
+    growth.add(Line(ws - p.omega0, run.series(p, "omega", ws)["growth"], "leading-order theory"),
+               Guide(0.0, axis="y", dashed=False, color="0.3"), Guide(xi))
+    pts = p.omega0 + run.numeric_points(-width, width)
+    if len(pts):
+        growth.add(Markers(pts - p.omega0, run.series(p, "omega", pts, numeric=True)["growth"], "Floquet (numeric)"))
+        failed = run.failed_x.get("omega", [])
+        if failed:
+            growth.add(Markers(np.array(failed) - p.omega0, [math.nan] * len(failed),
+                               f"numeric failed ({len(failed)})", kind="failure"))
+    growth.add(Markers([xi], [a["growth"]], "this oscillator", kind="this"))
+    return Scene([plane, growth], caption="leading-order analytic theory: agreement within what it neglects")
+
+
 # -- charts: the same two routes over many points at once ----------------------------------------------
 
 _NO_ZONE = "eps = mu omega0/4 does not exceed delta: the rest state is stable at every detuning"
@@ -298,7 +325,7 @@ def _lo_batch(omega0, delta, mu, xi):
 
 def analytic_batch(P):
     """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
-    from mech.solvers.batch import Column
+    from mech.solvers.numerics.batch import Column
 
     omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
     lo = _lo_batch(omega0, delta, mu, omega - omega0)
@@ -363,7 +390,7 @@ def _trace_batch(omega0, delta, mu, omega, rtol):
 def _half_batch(omega0, delta, mu, omega, rtol):
     """(y1, y1', y2, y2') at half the period, in the time t as ``even_hill_half`` gives them, and the
     |Wronskian drift|, at N points at once (see ``_trace_batch`` for the scaled time)."""
-    from mech.solvers.floquet import even_hill_half_batch
+    from mech.solvers.mechanics.floquet import even_hill_half_batch
 
     r2 = (omega0 / omega) ** 2
     c0, c1 = r2 - (delta / omega) ** 2, r2 * mu
@@ -413,7 +440,7 @@ class _MinusOne:
 
 def _threshold_batch(omega0, delta, omega, rtol):
     """``numeric``'s mu_th at N points: the first sign change of P(mu) scanning upward, then the root."""
-    from mech.solvers.batch import illinois
+    from mech.solvers.numerics.batch import illinois
 
     n = omega.size
     P = _MinusOne(omega0, delta, np.zeros(n), omega, rtol)
@@ -456,7 +483,7 @@ def _threshold_batch(omega0, delta, omega, rtol):
 def _edges_batch(omega0, delta, mu, rtol):
     """``numeric``'s zone edges at N points: P(omega) on a grid, its minimum by golden section until P < 0,
     the roots on both sides."""
-    from mech.solvers.batch import illinois
+    from mech.solvers.numerics.batch import illinois
 
     n = mu.size
     P = _MinusOne(omega0, delta, mu, np.ones(n), rtol)
@@ -553,7 +580,7 @@ def numeric_batch(P, rtol, outputs, memo=None):
     kept in ``memo`` (one dict for the whole sweep) across its chunks.
     The same scans, roots, claims and Wronskian check as the one-point route.
     """
-    from mech.solvers.batch import Column, by_rows
+    from mech.solvers.numerics.batch import Column, by_rows
 
     omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
     memo = {} if memo is None else memo

@@ -46,8 +46,8 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.floquet import even_hill_half, flow_with_variations
-from mech.solvers.ode import Event, integrate
+from mech.solvers.mechanics.floquet import even_hill_half, flow_with_variations
+from mech.solvers.numerics.ode import Event, integrate
 
 exercise = Exercise(
     "5.12",
@@ -60,6 +60,8 @@ exercise = Exercise(
     leading_order=("a_th", "growth", "theta_st"),
     default_rtol=1e-11,
     min_rtol=1e-12,
+    # above threshold: one full period (two pivot periods) of the stationary swing the small swing grows into
+    states=[("theta", "rad"), ("theta_dot", "rad/s")],
 )
 
 MAX_DETUNING = 0.3
@@ -144,7 +146,7 @@ def _linear(p, a, rtol, run):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     rtol = run.rtol
     noise = 10.0 * rtol
@@ -306,8 +308,12 @@ def _stationary_swing(p, a_th, run):
     # largest |theta| on the orbit: extrema on theta' = 0 over one half-period (the other half mirrors it)
     f, _ = f_a(target)
     turn = Event(lambda t, y: y[1], terminal=False, name="theta' = 0")
-    traj = integrate(f, (0.0, Tp), z, rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3 * w0], events=[turn])
+    traj = integrate(f, (0.0, Tp), z, rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3 * w0], events=[turn],
+                     dense_output=run.keep_trajectories)  # dense: a smooth trajectory, the same steps
     run.record(traj)
+    run.motion(traj)
+    # the second pivot period mirrors the first (the half map solved above: theta -> -theta)
+    run.motion(traj, t_offset=Tp, transform=lambda y: -y)
     ext = [abs(y[0]) for y in traj.y_events[0]] + [abs(z[0])]
     return float(max(ext))
 
@@ -329,7 +335,7 @@ def _arrays(P):
 
 def analytic_batch(P):
     """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
-    from mech.solvers.batch import Column
+    from mech.solvers.numerics.batch import Column
 
     l, g, delta, a, Omega = _arrays(P)
     w0 = np.sqrt(g / l)
@@ -367,7 +373,7 @@ def _trace_batch(l, g, delta, a, Omega, rtol):
     y'' + ((g/l - delta^2)/Omega^2 - (a/l) cos s) y = 0 over the same half
     period [0, pi].
     """
-    from mech.solvers.floquet import even_hill_half_batch
+    from mech.solvers.mechanics.floquet import even_hill_half_batch
 
     c0, c1 = (g / l - delta**2) / Omega**2, a / l
     (y1, y1p, y2, y2p), _ = even_hill_half_batch(lambda s: c0 - c1 * math.cos(s), math.pi, Omega.size, rtol=rtol,
@@ -377,7 +383,7 @@ def _trace_batch(l, g, delta, a, Omega, rtol):
 
 def _threshold_batch(l, g, delta, Omega, rtol):
     """``numeric``'s a_th at N points: the scan up from 1e-4 l in factors of 2, then the root of det(M + I)."""
-    from mech.solvers.batch import illinois
+    from mech.solvers.numerics.batch import illinois
 
     n = Omega.size
     drift = np.zeros(n)
@@ -430,7 +436,7 @@ def numeric_batch(P, rtol, outputs, memo=None):
     a sweep's chunks.  Claims and the Wronskian check as in ``numeric``; the
     stationary swing (a continuation per point) has no batched route.
     """
-    from mech.solvers.batch import Column, by_rows
+    from mech.solvers.numerics.batch import Column, by_rows
 
     l, g, delta, a, Omega = _arrays(P)
     memo = {} if memo is None else memo

@@ -26,8 +26,8 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers import budget
-from mech.solvers.ode import integrate
+from mech.solvers.verification import budget
+from mech.solvers.numerics.ode import integrate
 
 exercise = Exercise(
     "5.13",
@@ -136,7 +136,7 @@ def _slow_frequency(p, sign, rtol, run, name):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     rtol = run.rtol
     out = {
@@ -183,7 +183,7 @@ def analytic_batch(P):
     """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
     import numpy as np
 
-    from mech.solvers.batch import Column
+    from mech.solvers.numerics.batch import Column
 
     l, g, a, Omega = _arrays(P)
     w0sq = g / l
@@ -220,7 +220,7 @@ def _half_batch(l, g, a, Omega, sign, rtol):
     """
     import numpy as np
 
-    from mech.solvers.floquet import even_hill_half_batch
+    from mech.solvers.mechanics.floquet import even_hill_half_batch
 
     c0, c1 = (g / l) / Omega**2, a / l
     (y1, y1p, y2, y2p), _ = even_hill_half_batch(lambda s: sign * (c0 - c1 * math.cos(s)), math.pi, Omega.size,
@@ -233,7 +233,7 @@ def _a_min_batch(l, g, Omega, rtol):
     of y1' y2 about the inverted position."""
     import numpy as np
 
-    from mech.solvers.batch import illinois
+    from mech.solvers.numerics.batch import illinois
 
     n = Omega.size
     drift = np.zeros(n)
@@ -283,7 +283,7 @@ def numeric_batch(P, rtol, outputs, memo=None):
     """
     import numpy as np
 
-    from mech.solvers.batch import Column, by_rows
+    from mech.solvers.numerics.batch import Column, by_rows
 
     l, g, a, Omega = _arrays(P)
     memo = {} if memo is None else memo
@@ -314,3 +314,39 @@ def numeric_batch(P, rtol, outputs, memo=None):
             (unconv, "the root search for a_min did not converge"),
             (drift > allowed, drifted)])
     return out
+
+
+@exercise.scene
+def scene(p, run):
+    """Where the inverted pendulum is stable in the (Omega, a) plane, and the slow frequencies about both
+    positions against the amplitude; lines from the averaging theory, markers from Floquet."""
+    import numpy as np
+
+    from mech.problems.scene import Axis, Band, Guide, Line, Markers, Panel, Scene
+
+    w0 = math.sqrt(p.g / p.l)
+    an = run.analytic(p)
+    Oms = np.geomspace(max(p.Omega / 10, MIN_RATIO * w0 * 1.001), p.Omega * 10, 200)
+    amin = run.series(p, "Omega", Oms)["a_min"]
+    chart = Panel("the inverted position is stable above a_min(Ω)", Axis("pivot's frequency Ω", "rad/s", log=True),
+                  Axis("pivot's amplitude a", "m", log=True), legend="lower left")
+    chart.add(Band(Oms, amin, np.full(len(Oms), np.nanmax(amin) * 10), "inverted pendulum stable", color="C2"),
+              Line(Oms, amin, "a_min, averaging theory"))
+    pts = run.numeric_points(Oms[0], Oms[-1], log=True)
+    if len(pts):
+        chart.add(Markers(pts, run.series(p, "Omega", pts, numeric=True)["a_min"], "a_min, Floquet (numeric)"))
+    chart.add(Markers([p.Omega], [p.a], "this pendulum", kind="this"))
+    chart.y.lim = (np.nanmin(amin) / 3, np.nanmax(amin) * 3)
+    As = np.linspace(0.3 * an["a_min"], max(3 * an["a_min"], 1.5 * p.a), 300)
+    As = As[As <= MAX_AMPLITUDE * p.l]
+    slow = run.series(p, "a", As)
+    freq = Panel("slow oscillations about both positions", Axis("pivot's amplitude a", "m"),
+                 Axis("slow frequency", "rad/s"), legend="upper left")
+    freq.add(Line(As, slow["omega_down"], "about the lower position"),
+             Line(As, slow["omega_inv"], "about the inverted position", color="C1"))
+    pts = run.numeric_points(As[0], As[-1])
+    if len(pts):
+        num = run.series(p, "a", pts, numeric=True)
+        freq.add(Markers(pts, num["omega_down"], "Floquet (numeric)"), Markers(pts, num["omega_inv"]))
+    freq.add(Guide(an["a_min"], label=f"a_min = {an['a_min']:.4g} m", color="C2"), Guide(p.a, label="this a"))
+    return Scene([chart, freq], caption="leading-order analytic theory (averaging over the fast period)")

@@ -38,7 +38,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise
-from mech.solvers.response import impulse_spectrum, inverse_fourier
+from mech.solvers.numerics.fourier import impulse_spectrum, inverse_fourier
 
 exercise = Exercise(
     "5.1",

@@ -49,7 +49,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.ode import integrate
+from mech.solvers.numerics.ode import integrate
 
 exercise = Exercise(
     "5.3",
@@ -102,7 +102,7 @@ def _response(w0, d, w, t):
         return 0.0, 0.0
     if t * max(abs(z) for z in nodes) <= 1.0:
         # all nodes within 1/t of the origin: the exponential of the small bidiagonal matrix (no squaring)
-        from mech.solvers.linear_flow import expm
+        from mech.solvers.numerics.linear_flow import expm
 
         B = np.array([[nodes[0], 1, 0], [0, nodes[1], 1], [0, 0, nodes[2]]], dtype=complex)
         E = expm(t * B)
@@ -232,7 +232,7 @@ def _orbit_by_flow_shooting(gen, unit, w, run):
     """Away from resonance: the one-period map of the autonomous system ``gen`` as its matrix exponential,
     carried as M - I (a slow mode that barely moves in one period keeps its digits); the periodic state
     (q*, q'*) per unit force per mass and its relative error (rounding propagated entry by entry)."""
-    from mech.solvers.linear_flow import expm_minus_identity, rounding_bound
+    from mech.solvers.numerics.linear_flow import expm_minus_identity, rounding_bound
 
     period = 2.0 * math.pi * unit / w  # in the time unit 1/unit
     dm = expm_minus_identity(gen * period)
@@ -275,7 +275,7 @@ def _orbit_by_invariant_manifold(gen, unit, w):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.linear_flow import expm, rounding_bound
+    from mech.solvers.numerics.linear_flow import expm, rounding_bound
 
     f = p.F0 / p.m
     w0, d, w = p.omega0, p.delta, p.omega

@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.ode import Event, integrate
+from mech.solvers.numerics.ode import Event, integrate
 
 exercise = Exercise(
     "5.4",
@@ -42,6 +42,8 @@ exercise = Exercise(
     # Radau's cost grows fast below rtol 1e-8 and it delivers ~1e-10 there; claim 10 rtol
     default_rtol=1e-8,
     tol_factor=10.0,
+    # the relaxation from rest at q0, up to t1 and on to q = eps q0 (whichever is later)
+    states=[("q", "m"), ("v", "m/s")],
 )
 
 
@@ -63,7 +65,7 @@ def analytic(p):
     t_star = 1.0 / w0 if s == 0.0 else math.log1p((z - 1.0) + s) / (w0 * s)
     v_max = p.q0 * w0 * w0 * t_star * math.exp(-lam * t_star) * _g(delta * t_star)
 
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     target = math.log(p.eps)
     hi = 1.0 / lam
@@ -105,8 +107,9 @@ def numeric(p, run):
 
     def leg(t0, t1, y0, events):
         tr = integrate(rhs, (t0, t1), y0, rtol=rtol, atol=atol, method=method, jac=jac, events=events,
-                       max_step=max_step)
+                       max_step=max_step, dense_output=run.keep_trajectories)  # dense: a smooth trajectory
         run.record(tr)
+        run.motion(tr, t_scale=1.0 / w0, y_scale=[p.q0, p.q0 * w0], rows=[0, 1])  # not the dissipated work
         for ev, times, states in zip(events, tr.t_events, tr.y_events):
             if len(times) and ev.name not in found:
                 found[ev.name] = (float(times[0]), states[0])

@@ -54,6 +54,8 @@ exercise = Exercise(
         "FWHM of |a|²: ω∓ = (ω₀² − 2δ² ∓ 2δω_d)^½,  Δω = 4δω_d/(ω₊ + ω₋) ≈ 2δ = ω₀/Q",
         "the lower half-power point exists only for δ < sin(π/8) ω₀ (Q > 1.307)",
     ],
+    # the free ringdown (delta <= 0.9 omega0) from rest at q(0) over about 1.25 cycles, relative to q(0)
+    states=[("q_over_q0", "1"), ("v_over_q0", "1/s")],
 )
 
 ZETA_MIN = 1e-150  # delta/omega0 below this the peak |a|^2 ~ 1/(4 zeta^2) per unit force leaves double precision
@@ -100,7 +102,7 @@ def _cycle(z, om, rtol):
     om = 1 - zeta, passed exactly so that 1 - zeta sin 2th = om + 2 zeta sin^2(th - pi/4)
     keeps its digits when zeta is close to 1.
     """
-    from mech.solvers.ode import integrate
+    from mech.solvers.numerics.ode import integrate
 
     def rhs(th, y):
         g = om + 2.0 * z * math.sin(th - 0.25 * math.pi) ** 2  # 1 - zeta sin 2th
@@ -113,7 +115,7 @@ def _cycle(z, om, rtol):
 
 def _polar_in_time(z, tau, rtol):
     """(th, l) after time tau from th = 0 (a maximum), l = ln(E ratio)/zeta."""
-    from mech.solvers.ode import integrate
+    from mech.solvers.numerics.ode import integrate
 
     def rhs(t, y):
         s = math.sin(y[0])
@@ -123,15 +125,16 @@ def _polar_in_time(z, tau, rtol):
     return tr.y_end, tr
 
 
-def _ringdown_work(z, t_span, rtol):
+def _ringdown_work(z, t_span, rtol, dense=False):
     """From rest at x = 1 to the next maximum: (tau_max, x, x', w) with W = 2 zeta w; the trajectory."""
-    from mech.solvers.ode import Event, integrate
+    from mech.solvers.numerics.ode import Event, integrate
 
     def rhs(t, y):
         return np.array([y[1], -2.0 * z * y[1] - y[0], y[1] * y[1]])
 
     peak = Event(lambda t, y: y[1], terminal=False, direction=-1, name="x' = 0 (maximum)")
-    tr = integrate(rhs, (0.0, t_span), [1.0, 0.0, 0.0], rtol=rtol, atol=rtol * 1e-3, events=[peak])
+    tr = integrate(rhs, (0.0, t_span), [1.0, 0.0, 0.0], rtol=rtol, atol=rtol * 1e-3, events=[peak],
+                   dense_output=dense)  # dense: a smooth trajectory, the same steps
     later = [(t, y) for t, y in zip(tr.t_events[0], tr.y_events[0]) if t > 0.5 * t_span / 1.25]
     if not later:
         raise NumericFailure("the ringdown reached no maximum after the start within 1.25 periods")
@@ -151,7 +154,7 @@ class _Resonance:
     def amp2(self, u):
         if u in self.cache:
             return self.cache[u]
-        from mech.solvers.ode import integrate
+        from mech.solvers.numerics.ode import integrate
 
         z = self.z
         w = 1.0 + u
@@ -189,7 +192,7 @@ class _Resonance:
 
     def static(self):
         """omega -> 0: the periodic orbit of x'' + 2 zeta x' + x = 1 (a constant force) over one free period."""
-        from mech.solvers.ode import integrate
+        from mech.solvers.numerics.ode import integrate
 
         z = self.z
 
@@ -206,7 +209,7 @@ class _Resonance:
 
 def _bandwidth(z, d_meas, rtol, run):
     """The full width at half maximum of |a|^2 in units of omega0, or Undefined."""
-    from mech.solvers.roots import brentq, minimize_scalar
+    from mech.solvers.numerics.roots import brentq, minimize_scalar
 
     res = _Resonance(z, rtol, run)
     left_edge = -(1.0 - 0.1)
@@ -281,8 +284,9 @@ def numeric(p, run):
 
     # loss per cycle from the dissipated work
     if z <= 0.9:
-        t_max, y, tr2 = _ringdown_work(z, 1.25 * t_cyc, rtol)
+        t_max, y, tr2 = _ringdown_work(z, 1.25 * t_cyc, rtol, dense=run.keep_trajectories)
         run.record(tr2)
+        run.motion(tr2, t_scale=1.0 / w0, y_scale=[1.0, w0], rows=[0, 1])
         work = 2.0 * z * y[2]
         energy = 0.5 * (y[0] ** 2 + y[1] ** 2)
         run.invariant("E + dissipated work", (energy + work - 0.5) / 0.5)

@@ -28,8 +28,8 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.ode import integrate_to_event
-from mech.solvers.ode import Event
+from mech.solvers.numerics.ode import integrate_to_event
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "5.6",
@@ -39,6 +39,8 @@ exercise = Exercise(
         "δω = 2π/T − ω₀ = ω₀ [AGM(1, cos(θ₀/2)) − 1] ≈ −ω₀ θ₀²/16",
         "θ₀ → π: T ≈ (4/ω₀) ln(8/(π − θ₀))",
     ],
+    # a quarter swing from rest at theta0 down to the bottom
+    states=[("theta", "rad"), ("theta_dot", "rad/s")],
 )
 
 PI_LO = 1.2246467991473532e-16  # pi - math.pi
@@ -50,7 +52,7 @@ def _phi0(theta0):
 
 @exercise.analytic
 def analytic(p):
-    from mech.solvers.special import ellipkm1
+    from mech.solvers.numerics.special import ellipkm1
 
     w0 = math.sqrt(p.g / p.l)
     c = math.sin(_phi0(p.theta0) / 2.0)  # cos(theta0/2)
@@ -77,7 +79,7 @@ def _one_minus_sinc(x):
 
 def _period_excess(theta0):
     """(T - T0) omega0 by quadrature of the period integral minus the harmonic one; also its error estimate."""
-    from mech.solvers.quadrature import quad
+    from mech.solvers.numerics.quadrature import quad
 
     def integrand(u):
         th = theta0 * math.sin(u)
@@ -120,6 +122,9 @@ def numeric(p, run):
     # verification at rtol/10.  (The symplectic Yoshida-6 row reaches 4e-13 in 0.6 ms: see `hamiltonian`.)
     t_q, y_q, traj = integrate_to_event(rhs, (0.0, span), start, event, rtol=rtol, atol=atol)
     run.record(traj)
+    # above pi/2 the state is phi = pi - theta and its rate
+    run.motion(traj, t_scale=1.0 / w0, y_scale=[1.0, w0],
+               transform=None if th0 <= math.pi / 2.0 else lambda y: [math.pi - y[0], -y[1]])
     e0 = energy(np.array(start))
     # relative to the energy range explored (~ theta0^2/2 for small swings)
     run.invariant("energy", (energy(y_q) - e0) / max(0.5 * y_q[1] ** 2, 1e-300))
@@ -143,7 +148,7 @@ def numeric(p, run):
 def hamiltonian(p):
     """For the symplectic rows of ``mech bench``: H = p²/2 - cos θ in τ = ω₀ t (separable), from rest at θ₀
     to the first downward passage through θ = 0, a quarter period; T, T/T₀ and δω read from it."""
-    from mech.solvers.symplectic import SeparableHamiltonian
+    from mech.solvers.numerics.symplectic import SeparableHamiltonian
 
     w0 = math.sqrt(p.g / p.l)
 
@@ -164,3 +169,46 @@ def hamiltonian(p):
         time_scale=1.0,
         name="pendulum quarter swing",
     )
+
+
+@exercise.scene
+def scene(p, run):
+    """The phase portrait (contours of the energy, the separatrix, the swing at theta0 integrated from the
+    exercise's own Hamiltonian) and the period's rise with the amplitude, angles in degrees throughout."""
+    from mech.problems.scene import Axis, Line, Markers, Panel, Scene
+    from mech.solvers.numerics.ode import integrate
+
+    H = hamiltonian(p)  # H = p^2/2 - cos(theta) in tau = omega0 t: the equation of motion of this module
+    deg = 180.0 / math.pi
+    traj = integrate(lambda t, y: np.array([H.velocity(y[1]), H.force(y[0])]), (0.0, H.t_max), [H.q0, H.p0],
+                     rtol=run.rtol, atol=run.rtol * 1e-3, dense_output=True)
+    ts = np.linspace(0.0, traj.t[-1], 3000)
+    q, mom = traj.sol(ts)
+    phase = Panel("phase portrait: levels of the energy", Axis("θ", "deg"), Axis("θ' / ω0"), legend="upper right")
+    th = np.linspace(-1.25 * math.pi, 1.25 * math.pi, 400)
+    u = np.array([H.energy(x, 0.0) for x in th])  # the potential energy
+    for level in np.linspace(-0.9, 2.4, 12):  # energy levels in units of m g l
+        for sign in (1, -1):
+            v2 = 2.0 * (level - u)
+            v = np.where(v2 >= 0, sign * np.sqrt(np.abs(v2)), np.nan)
+            phase.add(Line(th * deg, v, kind="level"))
+    sep = 2.0 * (H.energy(math.pi, 0.0) - u)
+    for sign in (1, -1):
+        phase.add(Line(th * deg, sign * np.sqrt(np.maximum(sep, 0.0)), "separatrix" if sign > 0 else None,
+                       color="C2", width=1.3))
+    phase.add(Line(q * deg, mom, f"the swing at θ0 = {p.theta0 * deg:.4g}°, integrated", kind="trajectory"))
+    phase.y.lim = (-2.7, 3.4)
+    xs = np.linspace(0.02, math.pi - 1e-3, 300)
+    curve = run.series(p, "theta0", xs)
+    period = Panel("the period grows with the amplitude", Axis("amplitude θ0", "deg"), Axis("T / T0"),
+                   legend="upper left")
+    period.add(Line(xs * deg, curve["T_ratio"], "analytic (elliptic K)"),
+               Line(xs * deg, 1 + xs**2 / 16, "small-swing estimate 1 + θ0²/16", kind="reference"))
+    pts = run.numeric_points(0.2, math.pi - 0.05)
+    if len(pts):
+        period.add(Markers(pts * deg, run.series(p, "theta0", pts, numeric=True)["T_ratio"], "numeric"))
+    nv = run.numeric(p)
+    if nv:
+        period.add(Markers([p.theta0 * deg], [nv["T_ratio"]]))
+    period.add(Markers([p.theta0 * deg], [run.analytic(p)["T_ratio"]], "this swing", kind="this"))
+    return Scene([phase, period], on_axis=("theta0",))

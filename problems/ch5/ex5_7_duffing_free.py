@@ -39,6 +39,7 @@ from fractions import Fraction
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.numerics.special import agm
 
 exercise = Exercise(
     "5.7",
@@ -49,6 +50,8 @@ exercise = Exercise(
         "leading order: ω ≈ ω₀ + 3αA²/(8ω₀),  c₃ ≈ αA³/(32ω₀²)",
         "α < 0, A² → ω₀²/|α|: T ≈ (2√2/ω₀) ln(8ω₀²/(ω₀² + αA²)) → ∞ (logarithmic divergence)",
     ],
+    # a quarter period from rest at q = A down to q = 0
+    states=[("q", "m"), ("v", "m/s")],
 )
 
 EPS_MAX = 1e200  # alpha A^2/omega0^2 above this the scaled force and energy terms approach overflow
@@ -84,17 +87,9 @@ def _agm_deviation(da, db):
     return 0.5 * (da + db)
 
 
-def _agm(a, b):
-    for _ in range(80):
-        a, b = 0.5 * (a + b), math.sqrt(a * b)
-        if abs(a - b) <= 1e-16 * a:
-            break
-    return 0.5 * (a + b)
-
-
 @exercise.analytic
 def analytic(p):
-    from mech.solvers.special import ellipk, ellipkm1
+    from mech.solvers.numerics.special import ellipk, ellipkm1
 
     w0, A = p.omega0, p.A
     eps = _eps(p)
@@ -108,7 +103,7 @@ def analytic(p):
         omega = w0 * (1.0 + dw)
         domega = w0 * dw
     else:
-        omega = w0 * _agm(math.sqrt(g), math.sqrt(h))
+        omega = w0 * agm(math.sqrt(g), math.sqrt(h))
         domega = omega - w0
     # third harmonic
     m = 0.5 * eps / g  # alpha A^2/(2 Omega^2)
@@ -154,7 +149,7 @@ def physical_energy(p, q, v):
 
 def _quarter_excess(eps):
     """(T/4 - pi/2) in units 1/omega0 by quadrature of the energy integral, and its error estimate."""
-    from mech.solvers.quadrature import quad
+    from mech.solvers.numerics.quadrature import quad
 
     def f(th):
         c = math.cos(th)
@@ -168,7 +163,7 @@ def _quarter_excess(eps):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.ode import Event, integrate, integrate_to_event
+    from mech.solvers.numerics.ode import Event, integrate, integrate_to_event
 
     w0, A = p.omega0, p.A
     eps = _eps(p)
@@ -194,6 +189,7 @@ def numeric(p, run):
             rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3 * vmax],
         )
         run.record(tr)
+        run.motion(tr, t_scale=1.0 / (S * w0), y_scale=[A, A * S * w0])
         e0 = energy(1.0, 0.0)
         run.invariant("energy", (energy(y_q[0], y_q[1]) - e0) / e0)
         if abs(eps) < 0.5:
@@ -250,6 +246,8 @@ def numeric(p, run):
             rtol=rtol, atol=[rtol * 1e-3 * s0, rtol * 1e-3 * s0],
         )
         run.record(tr)
+        # the state is the distance s = x_b - x from the barrier top and its rate
+        run.motion(tr, t_scale=1.0 / w0, y_scale=[A, A * w0], transform=lambda y: [xb - y[0], -y[1]])
         e0 = energy_s(s0, 0.0)
         # relative to the kinetic energy at x = 0, the energy range explored (the potential's round-off near
         # the barrier top, where the energy is 1/(-4 eps) in units A^2 omega0^2, is relative to that scale)

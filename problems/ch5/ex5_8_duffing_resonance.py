@@ -10,7 +10,7 @@ Two roots (one each side of s = 3/4) exist only for |g| > 8/(3 sqrt 3): the
 critical force.  They are found from s = 3/4 + t, t^2 ((1 + t)^2 + 1/8) =
 27/256 - 1/(4 g^2), without the cancellation of the quartic near the cusp.
 
-Numeric (exact periodic orbits, solvers/sweeps.py): the one-period map of the
+Numeric (exact periodic orbits, solvers/mechanics/continuation.py): the one-period map of the
 full equation (time tau = omega t, variational equations carried along,
 DOP853) and Newton on its fixed point give the periodic response at one
 frequency.  An upward sweep starts below the resonance, a downward one above
@@ -32,6 +32,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
+from mech.solvers.numerics.roots import bracketed_root
 
 exercise = Exercise(
     "5.8",
@@ -93,16 +94,7 @@ def _folds(g):
     roots = []
     for lo, hi in ((-0.75, 0.0), (0.0, 0.25)):
         # t^2 ((1 + t)^2 + 1/8) = D is monotonic on each bracket: bisection to the last bit
-        for _ in range(200):
-            mid = 0.5 * (lo + hi)
-            if mid in (lo, hi):
-                break
-            val = mid * mid * ((1.0 + mid) ** 2 + 0.125) - D
-            if (val > 0) == (lo < 0):  # on (-3/4, 0) the function decreases toward 0
-                lo = mid
-            else:
-                hi = mid
-        roots.append(0.75 + 0.5 * (lo + hi))
+        roots.append(0.75 + bracketed_root(lambda t: t * t * ((1.0 + t) ** 2 + 0.125) - D, lo, hi))
     return roots
 
 
@@ -176,7 +168,7 @@ def _swing_slope(bp):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.sweeps import OrbitMap, RotatingOrbitMap, refine_root, shorten_bracket, solve_on_plane, sweep
+    from mech.solvers.mechanics.continuation import OrbitMap, RotatingOrbitMap, refine_root, shorten_bracket, solve_on_plane, sweep
 
     rtol = run.rtol
     Q = p.f0 / (2.0 * p.omega0 * p.delta)  # unit of length: the linear resonant swing

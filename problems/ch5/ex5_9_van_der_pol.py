@@ -31,8 +31,8 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.floquet import flow_with_variations
-from mech.solvers.ode import Event, integrate
+from mech.solvers.mechanics.floquet import flow_with_variations
+from mech.solvers.numerics.ode import Event, integrate
 
 exercise = Exercise(
     "5.9",
@@ -49,6 +49,9 @@ The cycle is the root of the energy gained over one return from the section
 the slow time tau/eps replaces Radau, whose steps stalled at ~1e-6 of a
 cycle on the slow branches (30 s at eps = 100).
 """,
+    # one period of the limit cycle from its maximum (mu/omega0 <= 2); for a relaxation oscillation
+    # (mu/omega0 > 2) the cycle and a half from q = 2/beta^(1/2) at rest that settle onto it
+    states=[("q", "m"), ("v", "m/s")],
 )
 
 # mu/omega0 above which the cycle is a relaxation oscillation: it attracts by exp(-1.44 eps^2) per half
@@ -117,7 +120,7 @@ def _return(X, eps, rtol, run):
 def _energy_balance(p, run, eps):
     """The cycle's maximum X is the root of the energy gained over one return, in [1, 3]: for X <= 1
     the damping is negative all along the orbit (the energy grows); from X = 3 it falls."""
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     rtol = run.rtol
     r_search = max(rtol, 1e-7)  # the search runs cheaper; secant steps at rtol finish it
@@ -157,6 +160,8 @@ def _energy_balance(p, run, eps):
     jac = lambda t, y: _jac(t, y, eps)  # noqa: E731
     _, M, _, traj = flow_with_variations(f, jac, [X, 0.0], (0.0, T), rtol=rtol, scale=[1.0, max(1.0, eps)])
     run.record(traj)
+    qs = 1.0 / math.sqrt(p.beta)
+    run.motion(traj, t_scale=1.0 / p.omega0, y_scale=[qs, qs * p.omega0], rows=[0, 1])  # not the variations
     det = float(np.linalg.det(M))
     run.info["det_M"] = det
     if det > 1e3 * rtol:
@@ -208,6 +213,8 @@ def _relaxation(p, run, eps):
         ev = Event(lambda t, z: z[1], terminal=True, direction=direction, name=f"x' = 0, {what}")
         traj = integrate(rhs, (s, s + 4.0), z, rtol=rtol, atol=atol, method="LSODA", jac=jac, events=[ev])
         run.record(traj)
+        qs = 1.0 / math.sqrt(p.beta)  # slow time s = omega0 t/eps, u = (dx/d(omega0 t))/eps
+        run.motion(traj, t_scale=eps / p.omega0, y_scale=[qs, qs * p.omega0 * eps], rows=[0, 1])
         if len(traj.t_events[0]) == 0:
             raise NumericFailure(f"no {what} of x within 4 slow times (the relaxation cycle's half takes ~0.8)")
         s, z = float(traj.t_events[0][0]), np.array(traj.y_events[0][0])

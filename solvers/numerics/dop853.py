@@ -21,7 +21,7 @@ and Wanner, *Solving ODEs I*, sec. II.10) in one tight loop:
   by Brent's method to 4 ulp; a terminal event ends the run there.
 
 The tableau (the method's published coefficients) is data in this package,
-``mech.solvers.dop853_tableau``; it is checked on loading (row sums, the
+``mech.solvers.numerics.dop853_tableau``; it is checked on loading (row sums, the
 quadrature order conditions up to 8, error weights summing to zero), and
 tests/test_dop853.py compares it entry by entry with scipy's copy.
 """
@@ -34,7 +34,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from mech.solvers import budget
+from mech.solvers.verification import budget
 
 __all__ = ["available", "solve", "DenseSolution", "Result"]
 
@@ -47,7 +47,7 @@ _EPS = np.finfo(float).eps
 
 
 def _load_tableau():
-    from mech.solvers import dop853_tableau as data
+    from mech.solvers.numerics import dop853_tableau as data
 
     tab = {}
     for name, shape in data.SHAPES.items():
@@ -56,7 +56,7 @@ def _load_tableau():
             arr[index] = value
         tab[name] = arr
     if not _tableau_ok(tab):
-        raise RuntimeError("mech.solvers.dop853_tableau fails its order conditions: the data file is damaged")
+        raise RuntimeError("mech.solvers.numerics.dop853_tableau fails its order conditions: the data file is damaged")
     return tab
 
 
@@ -141,6 +141,15 @@ class DenseSolution:
 
 class Result:
     __slots__ = ("t", "y", "t_events", "y_events", "nfev", "status", "message", "sol", "njev", "nlu")
+
+
+def step_to(t: float, h_abs: float, direction: float, t_end: float) -> tuple[float, float, float]:
+    """The next step from ``t``: (t_new, h, |h|), cut so as not to pass ``t_end``."""
+    t_new = t + h_abs * direction
+    if (t_new - t_end) * direction > 0:
+        t_new = t_end
+    h = t_new - t
+    return t_new, h, abs(h)
 
 
 def _rms(v):
@@ -248,12 +257,7 @@ def solve(
             if h_abs < min_step:
                 status, message = -1, "Required step size is less than spacing between numbers."
                 break
-            h = h_abs * direction
-            t_new = t + h
-            if (t_new - t_end) * direction > 0:
-                t_new = t_end
-            h = t_new - t
-            h_abs = abs(h)
+            t_new, h, h_abs = step_to(t, h_abs, direction, t_end)
             K[0] = fy
             hA = h * A  # the step's tableau: one product instead of one per stage
             for s in range(1, 12):
@@ -361,7 +365,7 @@ def solve(
 
 
 def _event_root(g: Callable[[float], float], a: float, b: float) -> float:
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     ga, gb = g(a), g(b)
     if ga == 0.0:

@@ -13,48 +13,15 @@ from typing import Callable
 
 import numpy as np
 
+from mech.solvers.mechanics.frames import quat_mul, quat_to_matrix
+
 __all__ = [
-    "quat_mul",
-    "quat_to_matrix",
-    "quat_from_axis_angle",
     "euler_rhs",
     "body_state",
     "lab_vector",
     "angular_momentum_lab",
     "kinetic_energy",
 ]
-
-
-def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    a0, a1, a2, a3 = a
-    b0, b1, b2, b3 = b
-    return np.array(
-        [
-            a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
-            a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
-            a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
-            a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0,
-        ]
-    )
-
-
-def quat_to_matrix(q: np.ndarray) -> np.ndarray:
-    """The rotation matrix R (lab = R @ body) of a quaternion, normalized first."""
-    q = np.asarray(q, dtype=float)
-    w, x, y, z = q / np.linalg.norm(q)
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
-
-
-def quat_from_axis_angle(axis, angle: float) -> np.ndarray:
-    a = np.asarray(axis, dtype=float)
-    a = a / np.linalg.norm(a)
-    return np.concatenate([[np.cos(angle / 2)], np.sin(angle / 2) * a])
 
 
 def euler_rhs(

@@ -40,8 +40,8 @@ from typing import Callable
 import numpy as np
 
 from mech.problems.spec import NumericFailure
-from mech.solvers import budget
-from mech.solvers.ode import Event, integrate
+from mech.solvers.verification import budget
+from mech.solvers.numerics.ode import Event, integrate
 
 __all__ = ["OrbitMap", "RotatingOrbitMap", "BranchPoint", "Sweep", "solve_on_plane", "sweep", "refine_root", "shorten_bracket", "bisect_parameter"]
 
@@ -499,7 +499,7 @@ def refine_root(
     of the search's root.  The ends a
     and b are solved afresh, so they may be a sweep's loosely converged points.
     """
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     d = b.z - a.z
     L = float(np.linalg.norm(d))

@@ -154,7 +154,7 @@ def integrate_fixed(
 
 def _event_in_step(st, event, q, p, f, g0, g1, h):
     """The partial step s in (0, h] with event(step(q, p, s)) = 0 (Brent's method on the partial step)."""
-    from mech.solvers.roots import brentq
+    from mech.solvers.numerics.roots import brentq
 
     def g(s):
         qs, ps, _ = st.step(q, p, f, s)

@@ -20,19 +20,18 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import NumericFailure
-from mech.solvers.ode import integrate
+from mech.solvers.mechanics.frames import rotate_many
+from mech.solvers.numerics.ode import integrate
 
 __all__ = [
     "euler_omega_rhs",
     "free_rhs",
     "integrate_free",
-    "rotate_many",
     "lab_axes",
     "free_invariants",
     "phase_rate",
     "euler_jacobian",
     "steady_rotation_pair",
-    "quat_aligning",
 ]
 
 
@@ -45,23 +44,6 @@ def euler_omega_rhs(I):
         return np.array([c1 * w[1] * w[2], c2 * w[2] * w[0], c3 * w[0] * w[1]])
 
     return rhs
-
-
-def quat_aligning(v, target=(0.0, 0.0, 1.0)) -> np.ndarray:
-    """The quaternion of the shortest rotation taking the direction of ``v`` to that of ``target``."""
-    a = np.asarray(v, dtype=float) / np.linalg.norm(v)
-    b = np.asarray(target, dtype=float) / np.linalg.norm(target)
-    axis = np.cross(a, b)
-    s = np.linalg.norm(axis)
-    c = float(a @ b)
-    if s == 0.0:
-        if c > 0:
-            return np.array([1.0, 0.0, 0.0, 0.0])
-        # antiparallel: any axis perpendicular to a
-        perp = np.cross(a, [1.0, 0.0, 0.0] if abs(a[0]) < 0.9 else [0.0, 1.0, 0.0])
-        return np.concatenate([[0.0], perp / np.linalg.norm(perp)])
-    angle = np.arctan2(s, c)
-    return np.concatenate([[np.cos(angle / 2)], np.sin(angle / 2) * axis / s])
 
 
 def free_rhs(I, restore=1.0):
@@ -96,24 +78,6 @@ def integrate_free(I, omega_body0, q0, t_end, *, rtol, atol, t_eval=None, restor
     rhs = free_rhs(I, restore=restore)
     y0 = np.concatenate([np.asarray(omega_body0, dtype=float), np.asarray(q0, dtype=float)])
     return integrate(rhs, (0.0, t_end), y0, rtol=rtol, atol=atol, t_eval=t_eval)
-
-
-def rotate_many(q, v) -> np.ndarray:
-    """Lab components (3 x N) of body vectors ``v`` (3 or 3 x N) for quaternions ``q`` (4 x N), each normalized
-    (the same matrix as ``rigid.quat_to_matrix``, for all samples at once)."""
-    q = np.asarray(q, dtype=float)
-    w, x, y, z = q / np.linalg.norm(q, axis=0)
-    v = np.asarray(v, dtype=float)
-    if v.ndim == 1:
-        v = v[:, None]
-    R = np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
-    return np.einsum("ijn,jn->in", R, np.broadcast_to(v, (3, q.shape[1])))
 
 
 def lab_axes(traj, body_vector) -> np.ndarray:

@@ -7,6 +7,8 @@ it, written for mech:
 
 * ``brentq(f, a, b)``: Brent's method (inverse quadratic interpolation,
   secant, bisection as the safe fallback), for a bracket with a sign change.
+* ``bracketed_root(f, lo, hi)``: bisection on the floats' bit patterns, to the
+  last bit whatever the root's magnitude; ``walk_to_sign_change`` finds its bracket.
 * ``minimize_bounded(f, a, b)``: Brent's minimizer (golden section with
   parabolic steps) on a closed interval.
 
@@ -17,13 +19,14 @@ a sign change or an iteration budget spent is a failed solve.
 from __future__ import annotations
 
 import math
+import struct
 from dataclasses import dataclass
 from types import SimpleNamespace
 from typing import Callable
 
 from mech.problems.spec import NumericFailure
 
-__all__ = ["brentq", "minimize_bounded", "minimize_scalar", "RootResult"]
+__all__ = ["brentq", "bracketed_root", "walk_to_sign_change", "minimize_bounded", "minimize_scalar", "RootResult"]
 
 _EPS = 2.220446049250313e-16
 
@@ -113,6 +116,72 @@ def brentq(
     raise NumericFailure(f"root search: no convergence in {maxiter} iterations on [{min(b, c):.17g}, {max(b, c):.17g}]")
 
 
+def walk_to_sign_change(
+    f: Callable[[float], float], start: float, step: Callable[[float], float], sign: float, max_steps: int = 4000
+) -> float:
+    """From ``start``, apply ``step`` until ``f`` has the given sign; the walk is the caller's geometry
+    (halving toward a body, doubling toward infinity).  Failing to get there is a failure, not a guess."""
+    x = start
+    for _ in range(max_steps):
+        v = f(x)
+        if v != 0.0 and math.copysign(1.0, v) == sign:
+            return x
+        nxt = step(x)
+        if nxt == x:
+            break
+        x = nxt
+    raise NumericFailure(f"no sign change found walking from {start:g} (stopped at {x:.17g})")
+
+
+def _float_key(x: float) -> int:
+    """An integer that orders like the float (for x >= 0: its bit pattern)."""
+    return struct.unpack("<q", struct.pack("<d", x))[0]
+
+
+def _key_float(k: int) -> float:
+    return struct.unpack("<d", struct.pack("<q", k))[0]
+
+
+def bracketed_root(f: Callable[[float], float], lo: float, hi: float) -> float:
+    """The root of ``f`` in [lo, hi] (opposite signs required), to the last bit.
+
+    Bisection on the floats' bit patterns: at most ~64 halvings whatever the
+    magnitude of the root (1e-30 or 1e3), and no scipy import."""
+    flo, fhi = f(lo), f(hi)
+    if flo == 0.0:
+        return lo
+    if fhi == 0.0:
+        return hi
+    if (flo > 0) == (fhi > 0):
+        raise NumericFailure(f"root not bracketed in [{lo:.17g}, {hi:.17g}]: f = {flo:.3g}, {fhi:.3g}")
+    if lo < 0.0 < hi:  # split at zero so that both ends share a sign
+        f0 = f(0.0)
+        if f0 == 0.0:
+            return 0.0
+        if (f0 > 0) == (flo > 0):
+            lo, flo = 0.0, f0
+        else:
+            hi = 0.0
+    neg = hi <= 0.0
+    a, b = (0.0 - hi, 0.0 - lo) if neg else (lo + 0.0, hi + 0.0)  # 0 <= a < b (no -0.0); g(t) = f(+-t)
+    fa_pos = (flo > 0) if not neg else (fhi > 0)
+    ka, kb = _float_key(a), _float_key(b)
+    while kb - ka > 1:
+        km = (ka + kb) // 2
+        m = _key_float(km)
+        fm = f(-m if neg else m)
+        if fm == 0.0:
+            return -m if neg else m
+        if (fm > 0) == fa_pos:
+            ka = km
+        else:
+            kb = km
+    a, b = _key_float(ka), _key_float(kb)
+    fa, fb = f(-a if neg else a), f(-b if neg else b)
+    best = a if abs(fa) <= abs(fb) else b
+    return -best if neg else best
+
+
 _GOLD = 0.5 * (3.0 - math.sqrt(5.0))  # 0.381966..., the golden section's smaller part
 
 
@@ -173,6 +242,35 @@ def minimize_bounded(
             elif fu <= fv or v == x or v == w:
                 v, fv = u, fu
     raise NumericFailure(f"bounded minimization: no convergence in {maxiter} iterations")
+
+
+def golden_min(f: Callable[[float], float], a: float, b: float, *, xtol: float,
+               stop: Callable[[float], bool] | None = None) -> tuple[float, float, bool]:
+    """Golden-section search for a minimum of ``f`` on [a, b], to a bracket of width ``xtol``.
+
+    ``stop(fx)``, when given, ends the search at the first value it accepts (a search for where ``f``
+    goes negative need not find the minimum itself).  Returns ``(x, f(x), stopped)`` with the best point
+    seen."""
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = f(c), f(d)
+    best = (c, fc) if fc < fd else (d, fd)
+    if stop is not None and stop(best[1]):
+        return best[0], best[1], True
+    while b - a > xtol:
+        if fc < fd:
+            b, d, fd = d, c, fc
+            c = b - g * (b - a)
+            fc = f(c)
+            if stop is not None and stop(fc):
+                return c, fc, True
+        else:
+            a, c, fc = c, d, fd
+            d = a + g * (b - a)
+            fd = f(d)
+            if stop is not None and stop(fd):
+                return d, fd, True
+    return (c, fc, False) if fc < fd else (d, fd, False)
 
 
 def minimize_scalar(fun: Callable[[float], float], bounds: tuple[float, float], method: str = "bounded",

@@ -3,7 +3,7 @@ with its 7th-order continuous extension (Hairer, Norsett and Wanner, *Solving OD
 sec. II.10, and the authors' dop853 code), as data.
 
 Only the nonzero entries are listed, as (row, column): value, in the stage numbering used by
-mech.solvers.dop853 (stages 0-11 of the step, 12 the first-same-as-last evaluation, 13-15 the
+mech.solvers.numerics.dop853 (stages 0-11 of the step, 12 the first-same-as-last evaluation, 13-15 the
 extra stages of the continuous extension).  tests/test_dop853.py checks the order conditions and
 compares every entry with scipy's copy of the same published numbers where scipy is installed.
 """

@@ -16,7 +16,7 @@ is measured against its own numeric solver at its tightest rtol instead
 Rows:
   * RK45, DOP853 (explicit), LSODA (switches to BDF on stiffness), Radau
     (implicit, for possible stiffness): the exercise's solver with that method forced;
-    DOP853 is mech's own implementation (``mech.solvers.dop853``), every other
+    DOP853 is mech's own implementation (``mech.solvers.numerics.dop853``), every other
     method scipy's ``solve_ivp``; ``scipy-DOP853`` (on request) is scipy's
     DOP853, for comparing the two at equal error;
   * ``scipy-default``: what a student would write, ``solve_ivp`` with its defaults
@@ -117,13 +117,13 @@ class _Runner:
         self.ex, self.params = ex, params
 
     def __call__(self, method: str, rtol: float):
-        from mech.solvers import ode
+        from mech.solvers.numerics import ode
 
         ex, p = self.ex, self.params
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             if method in SYMPLECTIC:
-                from mech.solvers.symplectic import solve_scene
+                from mech.solvers.numerics.symplectic import solve_scene
 
                 values, res = solve_scene(ex._hamiltonian(p), rtol, SYMPLECTIC[method])
                 return values, res.nfev, method
@@ -139,8 +139,8 @@ class _Runner:
 
 
 def probe_route(ex: Exercise, params: Params) -> tuple[bool, str]:
-    """Whether the numeric solver integrates ODEs through mech.solvers.ode (forced LSODA shows up), and its method."""
-    from mech.solvers import ode
+    """Whether the numeric solver integrates ODEs through mech.solvers.numerics.ode (forced LSODA shows up), and its method."""
+    from mech.solvers.numerics import ode
 
     rtol = ex.default_rtol
     with warnings.catch_warnings():

@@ -110,7 +110,7 @@ def integrate(
 ) -> Trajectory:
     """Integrate ``y' = rhs(t, y)``; a failed integration raises ``NumericFailure``, never returns quietly.
 
-    ``method="DOP853"`` runs mech's own implementation (``mech.solvers.dop853``:
+    ``method="DOP853"`` runs mech's own implementation (``mech.solvers.numerics.dop853``:
     the same method and step control as scipy's, no scipy import, less
     overhead per step); ``"scipy-DOP853"`` forces scipy's; every other method
     is ``solve_ivp``'s.
@@ -137,7 +137,7 @@ def integrate(
     if jac is not None and method in ("Radau", "BDF", "LSODA"):
         kwargs["jac"] = jac
     if method == "DOP853":
-        from mech.solvers import dop853
+        from mech.solvers.numerics import dop853
 
         start = time.perf_counter()
         res = dop853.solve(rhs, t_span, y0, rtol=rtol, atol=atol, max_step=max_step,

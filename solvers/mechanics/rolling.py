@@ -21,22 +21,10 @@ from __future__ import annotations
 import numpy as np
 
 from mech.problems.spec import NumericFailure
-from mech.solvers.smallosc import Modes, mass_matrix, normal_modes
+from mech.solvers.mechanics.frames import cross_z
+from mech.solvers.numerics.modes import Modes, mass_matrix, normal_modes
 
-__all__ = ["cross_z", "rolling_spin", "plane_kinetic_energy", "balanced_modes", "rotate2", "scaled_mass_matrix"]
-
-
-def cross_z(omega: float, r: np.ndarray) -> np.ndarray:
-    """omega z x r for plane vectors r (shape (..., 2))."""
-    r = np.asarray(r, dtype=float)
-    return omega * np.stack([-r[..., 1], r[..., 0]], axis=-1)
-
-
-def rotate2(r: np.ndarray, angle: float) -> np.ndarray:
-    """Plane vectors r (shape (..., 2)) turned counterclockwise by ``angle``."""
-    r = np.asarray(r, dtype=float)
-    c, s = np.cos(angle), np.sin(angle)
-    return np.stack([c * r[..., 0] - s * r[..., 1], s * r[..., 0] + c * r[..., 1]], axis=-1)
+__all__ = ["rolling_spin", "plane_kinetic_energy", "balanced_modes", "scaled_mass_matrix"]
 
 
 def rolling_spin(v_center, v_surface, n, radius: float) -> float:

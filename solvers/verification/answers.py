@@ -246,7 +246,7 @@ def _shown(e: Expectation, value: float | None) -> str:
 
 
 def judge(result, expectations: list[Expectation]) -> list[Judgement]:
-    """Judge every expectation against a cross-check result (``solvers.crosscheck.CrossCheck``)."""
+    """Judge every expectation against a cross-check result (``solvers.verification.crosscheck.CrossCheck``)."""
     quantities = {q.name: q for q in result.quantities}
     refs: dict[str, _Reference] = {}
     for name, q in quantities.items():

@@ -15,7 +15,6 @@ __all__ = [
     "inertia_tensor",
     "principal_moments",
     "degenerate_groups",
-    "rotation",
     "gauss_legendre",
     "periodic",
     "hoop",
@@ -59,14 +58,6 @@ def degenerate_groups(values, rel: float = 1e-9) -> list[list[int]]:
         else:
             groups.append([i])
     return groups
-
-
-def rotation(axis, angle: float) -> np.ndarray:
-    """The rotation matrix by ``angle`` about ``axis`` (Rodrigues)."""
-    a = np.asarray(axis, dtype=float)
-    a = a / np.linalg.norm(a)
-    K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
-    return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
 
 
 def gauss_legendre(n: int, a: float = -1.0, b: float = 1.0) -> tuple[np.ndarray, np.ndarray]:

@@ -91,7 +91,7 @@ def _start_rerun(ex: Exercise, params: Params, rtol: float, budget_s: float):
             sys.stdout = sys.stderr = open(os.devnull, "w")
             warnings.simplefilter("ignore")
             _limit_memory(CHILD_MEMORY_BYTES)
-            from mech.solvers import budget
+            from mech.solvers.verification import budget
 
             try:
                 with budget.limit(budget_s, what=f"the rerun of {ex.id} at rtol={rtol:g}"):
@@ -195,6 +195,16 @@ def _abandon_rerun(handle) -> None:
         pass
 
 
+def combine_agree(flags) -> bool | None:
+    """Several verdicts as one: False if any is False, None if none was judged (all None), else True."""
+    flags = list(flags)
+    if any(f is False for f in flags):
+        return False
+    if all(f is None for f in flags):
+        return None
+    return True
+
+
 @dataclass
 class Quantity:
     name: str
@@ -268,12 +278,7 @@ class CrossCheck:
 
     @property
     def agree(self) -> bool | None:
-        flags = [q.agree for q in self.quantities]
-        if self.errors or any(f is False for f in flags):
-            return False
-        if all(f is None for f in flags):
-            return None
-        return True
+        return False if self.errors else combine_agree(q.agree for q in self.quantities)
 
     def as_json(self) -> dict:
         d = {
@@ -334,7 +339,7 @@ def cross_check(
     The numeric solve and its rerun share one wall-clock budget (``budget_s``, by default
     ``budget.default_seconds()``): past it the solve fails loudly instead of running on.
     """
-    from mech.solvers import budget
+    from mech.solvers.verification import budget
 
     rtol = float(rtol or ex.default_rtol)
     budget_s = budget.default_seconds() if budget_s is None else float(budget_s)
@@ -357,7 +362,7 @@ def cross_check(
     if "numeric" in methods and ex._numeric is not None:
         # the one-time load of the integrator and its tableau is start-up cost, not the solve: timed
         # apart (when this solve is the one that loads it) and taken out of the numeric time
-        loaded_before = "mech.solvers.dop853" in sys.modules and sys.modules["mech.solvers.dop853"]._TABLEAU_TRIED
+        loaded_before = "mech.solvers.numerics.dop853" in sys.modules and sys.modules["mech.solvers.numerics.dop853"]._TABLEAU_TRIED
         tighter = max(rtol / 10.0, ex.min_rtol)
         rerun = None
         if verify and tighter < rtol and _parallel_ok():
@@ -375,7 +380,7 @@ def cross_check(
                     raise
                 errors.append(f"numeric solver failed: {_failure_text(exc)}")
             timing["numeric_s"] = time.perf_counter() - t0
-            dop = sys.modules.get("mech.solvers.dop853")
+            dop = sys.modules.get("mech.solvers.numerics.dop853")
             if not loaded_before and dop is not None and dop._TABLEAU_TRIED:
                 import_s = dop.LOAD_S
                 timing["numeric_s"] = max(0.0, timing["numeric_s"] - import_s)

@@ -8,7 +8,7 @@ must share one time interval: an exercise puts every point on the same
 interval by scaling time (its period onto a fixed span).
 
 ``integrate_batch(rhs, t_span, y0, rtol=, atol=)`` is the DOP853 pair of
-``mech.solvers.dop853`` (the same tableau, error blend and step control) on a
+``mech.solvers.numerics.dop853`` (the same tableau, error blend and step control) on a
 state of shape (n, N): n components for each of N points.  The error of a step
 is measured per point (the weighted RMS over that point's n components, as a
 single run of that point would measure it) and the step is accepted only when
@@ -30,7 +30,8 @@ from typing import Callable
 import numpy as np
 
 from mech.problems.spec import NumericFailure
-from mech.solvers import budget
+from mech.solvers.verification import budget
+from mech.solvers.numerics.dop853 import step_to
 
 __all__ = ["BatchResult", "integrate_batch", "MAX_STEPS"]
 
@@ -50,7 +51,7 @@ class BatchResult:
 
 
 def _tableau():
-    from mech.solvers import dop853
+    from mech.solvers.numerics import dop853
 
     if not dop853.available():
         raise NumericFailure("the DOP853 tableau is unavailable: no batched integration")
@@ -124,12 +125,7 @@ def integrate_batch(
         while True:
             if h_abs < min_step:
                 raise NumericFailure(f"the batched integration's step size underflowed at t = {t:.6g}")
-            h = h_abs * direction
-            t_new = t + h
-            if (t_new - t_end) * direction > 0:
-                t_new = t_end
-            h = t_new - t
-            h_abs = abs(h)
+            t_new, h, h_abs = step_to(t, h_abs, direction, t_end)
             K[0] = fy
             hA = h * A
             yflat = y.reshape(n * N)

@@ -22,7 +22,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from mech.solvers.ode import Trajectory, integrate
+from mech.solvers.numerics.ode import Trajectory, integrate
 
 __all__ = [
     "linear_monodromy",
@@ -176,12 +176,12 @@ def even_hill_half_batch(
     ``stiff(t)`` returns the N coefficients at the time t (an array of N, or a
     number shared by all); each must be even in t with period 2 t_half (scale
     each point's time so that its half period is ``t_half``).  Integrated by
-    ``mech.solvers.batch.integrate_batch``, with each point's error controlled
+    ``mech.solvers.numerics.batch.integrate_batch``, with each point's error controlled
     to ``rtol`` as a single run would.  Returns ((y1, y1', y2, y2') as arrays
     of N at t_half, with y2, y2' divided by ``vscale`` as in ``even_hill_half``,
     the ``BatchResult``).
     """
-    from mech.solvers.batch import integrate_batch
+    from mech.solvers.numerics.batch import integrate_batch
 
     vs = np.broadcast_to(np.asarray(vscale, dtype=float), (n_points,))
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mech.solvers.inertia import gauss_legendre, periodic
+from mech.solvers.mechanics.inertia import gauss_legendre, periodic
 
 __all__ = ["rod", "triangle", "tetrahedron", "cone", "rod_polyline"]
 

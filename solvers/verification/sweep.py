@@ -100,12 +100,9 @@ class SweepResult:
             if all((J["agree"] < 0).all() for J in judged):
                 return None
             return True
-        flags = [pt.get("agree") for pt in self.points]
-        if any(f is False for f in flags):
-            return False
-        if all(f is None for f in flags):
-            return None
-        return True
+        from mech.solvers.verification.crosscheck import combine_agree
+
+        return combine_agree(pt.get("agree") for pt in self.points)
 
     def as_json(self) -> dict:
         d = {
@@ -134,7 +131,7 @@ def grid_points(axes: Sequence[Axis], fixed: dict[str, float]) -> list[dict[str,
 def _serial_verify(parent: int | None = None) -> None:
     """In a pool worker: the cores are the pool's, so each cross-check's rerun runs after its solve; and
     the worker dies with the sweep (a sweep killed by a signal leaves no workers behind)."""
-    from mech.solvers import crosscheck
+    from mech.solvers.verification import crosscheck
 
     crosscheck.PARALLEL_VERIFY = False
     if parent is not None and hasattr(crosscheck, "_die_with_parent"):
@@ -146,7 +143,7 @@ def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only
 
     ``only``: the output names to keep (the solvers still compute all of them on this route)."""
     from mech.problems import registry
-    from mech.solvers.crosscheck import cross_check
+    from mech.solvers.verification.crosscheck import cross_check
 
     ex = registry.get(ex_id)
     params = Params(values) if isinstance(values, dict) else values
@@ -336,7 +333,7 @@ def _concat_columns(cols):
     """One Column from the chunks' Columns (values, claims and masks laid end to end)."""
     import numpy as np
 
-    from mech.solvers.batch import Column
+    from mech.solvers.numerics.batch import Column
 
     sizes = [c.value.size for c in cols]
 
@@ -367,7 +364,7 @@ def _concat_columns(cols):
 def _failed_column(n, why):
     import numpy as np
 
-    from mech.solvers.batch import Column
+    from mech.solvers.numerics.batch import Column
 
     return Column(np.full(n, np.nan), rel=np.nan, abs=0.0, failed=[(np.ones(n, dtype=bool), why)])
 

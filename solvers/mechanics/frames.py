@@ -1,6 +1,14 @@
-"""Rotating-frame machinery for the restricted three-body problem and kin.
+"""Frames and rotations: every rotation in mech, and the co-rotating frame of two bodies.
 
-Units: lengths in the bodies' separation d, times in 1/Omega, masses in M1 + M2
+Rotations (lab = R @ body throughout):
+* ``skew(v)``: the matrix of v x (.); ``rotation(axis, angle)``: Rodrigues' formula (a complex angle
+  is allowed, for complex-step derivatives); ``rotate2``/``cross_z``: the same in the plane.
+* Unit quaternions (w, x, y, z): ``quat_mul``, ``quat_to_matrix`` (one quaternion or 4 x N of them),
+  ``quat_from_axis_angle``, ``quat_from_matrix`` (Shepperd), ``quat_aligning`` (the shortest turn of
+  one direction onto another), ``rotate_many`` (lab components along a sampled attitude).
+
+The co-rotating frame of the restricted three-body problem:
+units: lengths in the bodies' separation d, times in 1/Omega, masses in M1 + M2
 (so G (M1 + M2) = 1 and Omega = 1).  The heavier or first body (mass fraction
 nu = M1/(M1+M2)) sits at x = -mu, the other (mu = M2/(M1+M2)) at x = nu; both
 fractions are passed separately so that neither is formed as 1 - other.
@@ -11,30 +19,34 @@ and its gradient is written without the O(1) cancellation between gravity and
 the centrifugal term:
     grad U = nu (r1^-3 - 1) d1 + mu (r2^-3 - 1) d2.
 The Hessian likewise: H = sum_k m_k [(r_k^-3 - 1) I - 3 d_k d_k^T / r_k^5]
-(exact second derivatives, no finite differences).
-
-Also here: a bracket search that walks from a start toward a geometric limit
-until the sign changes, a bracketed root (brentq to the last bits), Newton's
-method in polar coordinates for an off-axis equilibrium, and the characteristic
+(exact second derivatives, no finite differences).  Also here: Newton's method
+in polar coordinates for an off-axis equilibrium, and the characteristic
 exponents of the linearized rotating-frame motion with an error estimate that
-stays honest near a defective (merging) pair.
+stays honest near a defective (merging) pair.  (The bracket walk and the
+bit-exact bracketed root these exercises use live in ``numerics.roots``.)
 """
 
 from __future__ import annotations
 
 import math
-import struct
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
 from mech.problems.spec import NumericFailure
 
 __all__ = [
+    "skew",
+    "rotation",
+    "rotate2",
+    "cross_z",
+    "quat_mul",
+    "quat_to_matrix",
+    "quat_from_axis_angle",
+    "quat_from_matrix",
+    "quat_aligning",
+    "rotate_many",
     "mass_fractions",
-    "walk_to_sign_change",
-    "bracketed_root",
     "grad_eff",
     "hess_eff",
     "polar_derivatives",
@@ -48,76 +60,126 @@ __all__ = [
 EPS = np.finfo(float).eps
 
 
+# ---------------------------------------------------------------------------------------------
+# Rotations
+# ---------------------------------------------------------------------------------------------
+
+
+def skew(v) -> np.ndarray:
+    """The matrix K with K @ u = v x u."""
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def rotation(axis, angle) -> np.ndarray:
+    """The rotation matrix by ``angle`` about ``axis`` (Rodrigues); a complex angle gives the analytic
+    continuation (complex-step derivatives)."""
+    a = np.asarray(axis, dtype=float)
+    K = skew(a / np.linalg.norm(a))
+    return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * (K @ K)
+
+
+def cross_z(omega: float, r: np.ndarray) -> np.ndarray:
+    """omega z x r for plane vectors r (shape (..., 2))."""
+    r = np.asarray(r, dtype=float)
+    return omega * np.stack([-r[..., 1], r[..., 0]], axis=-1)
+
+
+def rotate2(r: np.ndarray, angle: float) -> np.ndarray:
+    """Plane vectors r (shape (..., 2)) turned counterclockwise by ``angle``."""
+    r = np.asarray(r, dtype=float)
+    c, s = np.cos(angle), np.sin(angle)
+    return np.stack([c * r[..., 0] - s * r[..., 1], s * r[..., 0] + c * r[..., 1]], axis=-1)
+
+
+def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    a0, a1, a2, a3 = a
+    b0, b1, b2, b3 = b
+    return np.array(
+        [
+            a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
+            a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
+            a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
+            a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0,
+        ]
+    )
+
+
+def quat_to_matrix(q: np.ndarray) -> np.ndarray:
+    """The rotation matrix R (lab = R @ body) of a quaternion, normalized first; for 4 x N quaternions
+    the 3 x 3 x N stack."""
+    q = np.asarray(q, dtype=float)
+    w, x, y, z = q / (np.linalg.norm(q) if q.ndim == 1 else np.linalg.norm(q, axis=0))
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def quat_from_axis_angle(axis, angle: float) -> np.ndarray:
+    a = np.asarray(axis, dtype=float)
+    a = a / np.linalg.norm(a)
+    return np.concatenate([[np.cos(angle / 2)], np.sin(angle / 2) * a])
+
+
+def quat_from_matrix(Rm) -> np.ndarray:
+    """Unit quaternion of a rotation matrix (Shepperd's method: the largest diagonal term first)."""
+    tr = np.trace(Rm)
+    cands = [tr, Rm[0, 0], Rm[1, 1], Rm[2, 2]]
+    k = int(np.argmax(cands))
+    if k == 0:
+        w = 0.5 * math.sqrt(1 + tr)
+        q = [w, (Rm[2, 1] - Rm[1, 2]) / (4 * w), (Rm[0, 2] - Rm[2, 0]) / (4 * w), (Rm[1, 0] - Rm[0, 1]) / (4 * w)]
+    elif k == 1:
+        x = 0.5 * math.sqrt(1 + 2 * Rm[0, 0] - tr)
+        q = [(Rm[2, 1] - Rm[1, 2]) / (4 * x), x, (Rm[0, 1] + Rm[1, 0]) / (4 * x), (Rm[0, 2] + Rm[2, 0]) / (4 * x)]
+    elif k == 2:
+        y = 0.5 * math.sqrt(1 + 2 * Rm[1, 1] - tr)
+        q = [(Rm[0, 2] - Rm[2, 0]) / (4 * y), (Rm[0, 1] + Rm[1, 0]) / (4 * y), y, (Rm[1, 2] + Rm[2, 1]) / (4 * y)]
+    else:
+        z = 0.5 * math.sqrt(1 + 2 * Rm[2, 2] - tr)
+        q = [(Rm[1, 0] - Rm[0, 1]) / (4 * z), (Rm[0, 2] + Rm[2, 0]) / (4 * z), (Rm[1, 2] + Rm[2, 1]) / (4 * z), z]
+    q = np.array(q)
+    return q / np.linalg.norm(q)
+
+
+def quat_aligning(v, target=(0.0, 0.0, 1.0)) -> np.ndarray:
+    """The quaternion of the shortest rotation taking the direction of ``v`` to that of ``target``."""
+    a = np.asarray(v, dtype=float) / np.linalg.norm(v)
+    b = np.asarray(target, dtype=float) / np.linalg.norm(target)
+    axis = np.cross(a, b)
+    s = np.linalg.norm(axis)
+    c = float(a @ b)
+    if s == 0.0:
+        if c > 0:
+            return np.array([1.0, 0.0, 0.0, 0.0])
+        # antiparallel: any axis perpendicular to a
+        perp = np.cross(a, [1.0, 0.0, 0.0] if abs(a[0]) < 0.9 else [0.0, 1.0, 0.0])
+        return np.concatenate([[0.0], perp / np.linalg.norm(perp)])
+    angle = np.arctan2(s, c)
+    return np.concatenate([[np.cos(angle / 2)], np.sin(angle / 2) * axis / s])
+
+
+def rotate_many(q, v) -> np.ndarray:
+    """Lab components (3 x N) of body vectors ``v`` (3 or 3 x N) for quaternions ``q`` (4 x N)."""
+    q = np.asarray(q, dtype=float)
+    v = np.asarray(v, dtype=float)
+    if v.ndim == 1:
+        v = v[:, None]
+    return np.einsum("ijn,jn->in", quat_to_matrix(q), np.broadcast_to(v, (3, q.shape[1])))
+
+
+# ---------------------------------------------------------------------------------------------
+# The co-rotating frame of two bodies
+# ---------------------------------------------------------------------------------------------
+
+
 def mass_fractions(M1: float, M2: float) -> tuple[float, float]:
     """(nu, mu) = (M1, M2)/(M1 + M2), each to full relative precision."""
     total = M1 + M2
     return M1 / total, M2 / total
-
-
-def walk_to_sign_change(
-    f: Callable[[float], float], start: float, step: Callable[[float], float], sign: float, max_steps: int = 4000
-) -> float:
-    """From ``start``, apply ``step`` until ``f`` has the given sign; the walk is the caller's geometry
-    (halving toward a body, doubling toward infinity).  Failing to get there is a failure, not a guess."""
-    x = start
-    for _ in range(max_steps):
-        v = f(x)
-        if v != 0.0 and math.copysign(1.0, v) == sign:
-            return x
-        nxt = step(x)
-        if nxt == x:
-            break
-        x = nxt
-    raise NumericFailure(f"no sign change found walking from {start:g} (stopped at {x:.17g})")
-
-
-def _float_key(x: float) -> int:
-    """An integer that orders like the float (for x >= 0: its bit pattern)."""
-    return struct.unpack("<q", struct.pack("<d", x))[0]
-
-
-def _key_float(k: int) -> float:
-    return struct.unpack("<d", struct.pack("<q", k))[0]
-
-
-def bracketed_root(f: Callable[[float], float], lo: float, hi: float) -> float:
-    """The root of ``f`` in [lo, hi] (opposite signs required), to the last bit.
-
-    Bisection on the floats' bit patterns: at most ~64 halvings whatever the
-    magnitude of the root (1e-30 or 1e3), and no scipy import."""
-    flo, fhi = f(lo), f(hi)
-    if flo == 0.0:
-        return lo
-    if fhi == 0.0:
-        return hi
-    if (flo > 0) == (fhi > 0):
-        raise NumericFailure(f"root not bracketed in [{lo:.17g}, {hi:.17g}]: f = {flo:.3g}, {fhi:.3g}")
-    if lo < 0.0 < hi:  # split at zero so that both ends share a sign
-        f0 = f(0.0)
-        if f0 == 0.0:
-            return 0.0
-        if (f0 > 0) == (flo > 0):
-            lo, flo = 0.0, f0
-        else:
-            hi = 0.0
-    neg = hi <= 0.0
-    a, b = (0.0 - hi, 0.0 - lo) if neg else (lo + 0.0, hi + 0.0)  # 0 <= a < b (no -0.0); g(t) = f(+-t)
-    fa_pos = (flo > 0) if not neg else (fhi > 0)
-    ka, kb = _float_key(a), _float_key(b)
-    while kb - ka > 1:
-        km = (ka + kb) // 2
-        m = _key_float(km)
-        fm = f(-m if neg else m)
-        if fm == 0.0:
-            return -m if neg else m
-        if (fm > 0) == fa_pos:
-            ka = km
-        else:
-            kb = km
-    a, b = _key_float(ka), _key_float(kb)
-    fa, fb = f(-a if neg else a), f(-b if neg else b)
-    best = a if abs(fa) <= abs(fb) else b
-    return -best if neg else best
 
 
 def _offsets(r: np.ndarray, mu: float, nu: float):
@@ -209,7 +271,7 @@ def newton_equilibrium(r0, mu: float, nu: float, max_iter: int = 200, max_step: 
 
 
 def _newton_polar(r0, mu, nu, max_iter, max_step):
-    from mech.solvers import budget
+    from mech.solvers.verification import budget
 
     rho, theta = math.hypot(r0[0] + mu, r0[1]), math.atan2(r0[1], r0[0] + mu)
     cap_theta = 2.0 * max_step
@@ -304,3 +366,10 @@ def characteristic_exponents(H: np.ndarray) -> Exponents:
         err_slow=d_exp(L_slow, abs(lam[order[0]])),
         err_fast=d_exp(L_fast, abs(lam[order[-1]])),
     )
+
+
+def potential_eff(x, y, mu: float, nu: float):
+    """U_eff = -nu/r1 - mu/r2 - (x^2 + y^2)/2 in the plane (scaled units; arrays welcome): gravity of the
+    two bodies and the centrifugal term, for pictures of the rotating frame (its gradient is ``grad_eff``)."""
+    with np.errstate(divide="ignore"):  # -inf at a body's own place
+        return -nu / np.hypot(x + mu, y) - mu / np.hypot(x - nu, y) - 0.5 * (x * x + y * y)
