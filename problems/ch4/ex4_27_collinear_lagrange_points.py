@@ -26,7 +26,7 @@ import math
 
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.frames import mass_fractions
-from mech.solvers.numerics.roots import bracketed_root, walk_to_sign_change
+from mech.solvers.numerics.roots import bracketed_root, brentq, walk_to_sign_change
 
 exercise = Exercise(
     "4.27",
@@ -55,36 +55,21 @@ def _horner(coeffs, x):
     return v, dv
 
 
-def _quintic_root(coeffs, lo, hi, x0):
-    """The root of the polynomial in [lo, hi] (sign change there), by Newton from x0 with bisection safeguard."""
-    flo = _horner(coeffs, lo)[0]
-    x = min(max(x0, lo), hi)
-    for _ in range(400):
-        v, dv = _horner(coeffs, x)
-        if v == 0.0:
-            return x
-        if (v > 0) == (flo > 0):
-            lo, flo = x, v
-        else:
-            hi = x
-        newton = x - v / dv if dv != 0.0 else math.nan
-        nxt = newton if lo < newton < hi else 0.5 * (lo + hi)
-        if nxt == x or abs(nxt - x) <= 2e-16 * abs(x):
-            return nxt
-        x = nxt
-    raise RuntimeError("quintic root did not converge")
+def _quintic_root(coeffs, lo, hi):
+    """The root of the polynomial in [lo, hi] (a sign change there), by the shared Brent root finder to a
+    few ulp of the root (its relative tolerance; the roots reach 1e-6 and below for small mass ratios)."""
+    return brentq(lambda x: _horner(coeffs, x)[0], lo, hi, xtol=1e-300, rtol=4 * 2.0**-52, maxiter=400)
 
 
 @exercise.analytic
 def analytic(p):
     nu, mu = mass_fractions(p.M1, p.M2)
-    hill = (mu / 3.0) ** (1.0 / 3.0)
     c1 = [1.0, -(3.0 - mu), 3.0 - 2.0 * mu, -mu, 2.0 * mu, -mu]
     c2 = [1.0, 3.0 - mu, 3.0 - 2.0 * mu, -mu, -2.0 * mu, -mu]
     c3 = [1.0, 7.0 + mu, 19.0 + 6.0 * mu, 24.0 + 13.0 * mu, 12.0 + 14.0 * mu, 7.0 * mu]
-    s1 = _quintic_root(c1, 0.0, 1.0, hill)
-    s2 = _quintic_root(c2, 0.0, 2.0, hill)
-    e3 = _quintic_root(c3, -1.0, 0.0, -7.0 * mu / 12.0)
+    s1 = _quintic_root(c1, 0.0, 1.0)
+    s2 = _quintic_root(c2, 0.0, 2.0)
+    e3 = _quintic_root(c3, -1.0, 0.0)
     return {"r_L1": s1 * p.d, "r_L2": s2 * p.d, "r_L3": (1.0 + e3) * p.d, "dr_L3": e3 * p.d}
 
 
