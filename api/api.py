@@ -8,7 +8,6 @@ as a ``Trajectory``.  A ``Sweep`` is many of them over a range or a grid.
 
 from __future__ import annotations
 
-import html
 import math
 from dataclasses import dataclass, field
 from typing import Any, Iterator, Sequence
@@ -265,6 +264,8 @@ class Solution:
         return Text(repr(self))
 
     def _repr_html_(self) -> str:
+        import html
+
         esc = html.escape
         ex = self.exercise
         params = ", ".join(f"{esc(p.symbol or p.name)} = {esc(p.show(self._data['params'][p.name]))}"
