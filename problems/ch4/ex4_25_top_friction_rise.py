@@ -36,7 +36,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.numerics.ode import Event, integrate_to_event
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "4.25",
@@ -183,7 +183,7 @@ def numeric(p, run):
     # both components stay positive (0 < theta < pi/2) and |L| may fall by up to e^25 (constraint):
     # relative error control, with an absolute floor far below that
     floor = rtol * 1e-3 * math.exp(-30.0)
-    t_ev, y_ev, traj = integrate_to_event(
+    t_ev, y_ev, traj = run.integrate_to_event(
         rhs,
         (0.0, t_end),
         [n0[0], n0[2], 0.0],
@@ -191,7 +191,6 @@ def numeric(p, run):
         rtol=rtol,
         atol=[floor, floor, math.inf],  # phi is only recorded
     )
-    run.record(traj)
     run.motion(traj, t_scale=t_unit, y_scale=L0, rows=[0, 1])  # not phi: no error control on it
     # monitored: |L| + (mu R / l) t is constant (axial torque of the friction) in these units,
     # and L' stays in the x'z plane
