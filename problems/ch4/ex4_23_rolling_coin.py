@@ -39,7 +39,7 @@ import numpy as np
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.frames import quat_from_matrix, quat_to_matrix, skew
 from mech.solvers.mechanics.inertia import disk, inertia_tensor
-from mech.solvers.numerics.ode import Event, integrate
+from mech.solvers.numerics.ode import Event
 from mech.solvers.mechanics.tops import azimuth, fit_rate
 
 exercise = Exercise(
@@ -291,10 +291,9 @@ def numeric(p, run):
 
     if spin_turns <= MAX_SPIN_TURNS:
         # one full turn of the axis's projection: n3_y crosses zero upward again at azimuth 2 pi
-        traj = integrate(body.rhs, (0.0, 1.3 * T_root), y0, rtol=run.rtol, atol=atol,
+        traj = run.integrate(body.rhs, (0.0, 1.3 * T_root), y0, rtol=run.rtol, atol=atol,
                          events=[Event(axis_y, terminal=False, direction=1, name="axis azimuth 2 pi"), fall],
                          max_step=T_root / 64, dense_output=True)
-        run.record(traj)
         times = [t for t in traj.t_events[0] if t > 0.5 * T_root]
         if times:
             T_s = float(times[0])
@@ -305,9 +304,8 @@ def numeric(p, run):
     else:
         # too many spin turns per orbit: fit the azimuth's rate over 20 spin turns
         t_run = 20.0 * 2 * math.pi / spin0
-        traj = integrate(body.rhs, (0.0, t_run), y0, rtol=run.rtol, atol=atol, dense_output=True, events=[fall],
+        traj = run.integrate(body.rhs, (0.0, t_run), y0, rtol=run.rtol, atol=atol, dense_output=True, events=[fall],
                          max_step=t_run / 64)
-        run.record(traj)
         ts = np.linspace(0.0, t_run, 801)
         n_t = np.stack([quat_to_matrix(traj.sol(t)[3:7])[:, 2] for t in ts], axis=1)
         rate, rms = fit_rate(ts, azimuth(n_t))

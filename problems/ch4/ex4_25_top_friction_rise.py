@@ -36,7 +36,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.numerics.ode import Event, integrate_to_event
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "4.25",
@@ -213,7 +213,7 @@ def numeric(p, run):
     # DOP853 start with steps of 1e-16 and spend 250 evaluations on them).
     floor = rtol * 1e-3 * math.exp(-30.0)
     floor_t = rtol * 1e-3 * min(0.25 * s_end, 1.0)
-    s_ev, y_ev, traj = integrate_to_event(
+    s_ev, y_ev, traj = run.integrate_to_event(
         rhs,
         (0.0, s_end),
         [n0[0], n0[2], 0.0, 0.0],
@@ -221,7 +221,6 @@ def numeric(p, run):
         rtol=rtol,
         atol=[floor, floor, floor_t, math.inf],  # phi is only recorded
     )
-    run.record(traj)
     t_ev = y_ev[2] / k
     if run.keep_trajectories:
         run.motion(_InTime(traj, s_ev, k), t_scale=t_unit, y_scale=L0)
