@@ -176,7 +176,7 @@ def numeric(p, run):
 
     # honest accuracy: the segment map's error is amplified as above
     amp = amplification(segment)
-    chi_abs = float(abs(spec.value))
+    chi_abs = float(abs(spec.value)) / (m * w0 * w0)  # |chi| in the output's units (spec.value is scaled)
     # and for a fast drive the half-period segments' integrals (~1/w) cancel down to chi (~1/w^2): relative ~ w
     rel_chi = max(run.rtol * 100.0, 1e-13) * max(1.0, amp) * max(1.0, w)
     rel_chi = float(rel_chi)
