@@ -136,3 +136,21 @@ def test_failures_are_loud():
         fourier_quad(lambda w: np.where(w > 0.5, np.nan, 1.0), 0.0, 1.0, 3.0)
     with pytest.raises(ValueError):
         inverse_fourier(lambda x: 1.0, 0.0, [1j])
+
+
+@pytest.mark.parametrize("omega, x", [(-1.0e11, 0.99999999), (5.15e7, 1.0000001), (-3.3e13, 0.7),
+                                      (1e15, 0.123456789), (-6.4e9, 1.0 - 2.0**-40), (4.3e12, 37.25)])
+def test_turn_is_exact_beyond_two_to_the_22_turns(omega, x):
+    """exp(i omega x) of the exact product, against 100-digit sin/cos (tests/hiprec.py): fl(omega x) alone
+    would be off by up to u |omega x| (1e-5 rad at 1e11), which kept the late-time panels from agreeing."""
+    from decimal import localcontext
+
+    import hiprec
+
+    from mech.solvers.numerics.fourier import _turn
+
+    with localcontext() as ctx:
+        ctx.prec = hiprec.PREC
+        s, c = hiprec.sincos(hiprec.D(omega) * hiprec.D(x))
+    z = _turn(omega, x)
+    assert abs(z.real - float(c)) < 4e-16 and abs(z.imag - float(s)) < 4e-16

@@ -29,6 +29,12 @@ the infinite decaying run is summed exactly by the semigroup property as a
 geometric series; solvers/response.impulse_spectrum (a drive much faster than
 the oscillator gets segments of half its period).  Liouville's
 det Phi = exp(-2 delta t) is monitored.
+
+A weakly damped oscillator asked late (tau of 1e5..1e11 periods) has a phase
+Theta = w1 tau known in floats to u Theta only (u = 2^-53; the product tau w0 is
+rounded, in both methods): the claims and ``analytic_error`` carry that
+round-off times the envelope exp(-delta tau), and a phase beyond 1e15 rad, where
+it carries no digit, is refused while the envelope still matters.
 """
 
 from __future__ import annotations
@@ -61,6 +67,27 @@ exercise = Exercise(
 )
 
 
+_U = 2.0**-53
+MAX_PHASE = 1e15  # rad: beyond it the phase's round-off (u * phase) reaches a tenth of a radian
+FADED = 40.0  # delta tau beyond which G is below exp(-40) of its scale 1/(m w1): its phase no longer shows
+
+
+def _phase(p):
+    """w1 tau (underdamped) or 0, and the decay delta tau."""
+    m, w0, d, t = p.m, p.omega0, p.delta, p.tau
+    w1 = math.sqrt((w0 - d) * (w0 + d)) if d < w0 else 0.0
+    return w1 * t, d * t
+
+
+@exercise.constraint
+def constraint(p):
+    phase, decay = _phase(p)
+    if phase > MAX_PHASE and decay < FADED:
+        return (f"the phase omega1 tau = {phase:.3g} rad carries no significant digit in double precision "
+                f"(its round-off u * phase exceeds 0.1 rad; at most {MAX_PHASE:g} rad while "
+                f"delta tau = {decay:.3g} < {FADED:g}: lower tau)")
+
+
 @exercise.analytic
 def analytic(p):
     m, w0, d, t, w = p.m, p.omega0, p.delta, p.tau, p.omega
@@ -75,6 +102,21 @@ def analytic(p):
         G = math.exp(-g1 * t) * (-math.expm1(-2.0 * wp * t)) / (2.0 * m * wp)
     chi = 1.0 / (m * complex((w0 - w) * (w0 + w), -2.0 * d * w))
     return {"G": G, "G_minus": 0.0, "chi_re": chi.real, "chi_im": chi.imag}
+
+
+@exercise.analytic_error
+def analytic_error(p):
+    """Round-off of G's closed forms: sin of the phase Theta = w1 tau computed in floats is off by ~ u Theta
+    (w1 from a rounded product and root, w1 tau rounded), moving G by its slope, at most the envelope
+    exp(-delta tau)/(m w1), times 4 u (1 + Theta); the exponentials' arguments delta tau (or g1 tau) are
+    rounded too: a relative 4 u (1 + delta tau) of G."""
+    phase, decay = _phase(p)
+    G = analytic(p)["G"]
+    err = 4.0 * _U * (1.0 + decay) * abs(G)
+    if phase > 0.0:
+        w1 = phase / p.tau
+        err += 4.0 * _U * (1.0 + phase) * math.exp(-decay) / (p.m * w1)
+    return {"G": err}
 
 
 @exercise.numeric
@@ -135,7 +177,7 @@ def numeric(p, run):
 
     # honest accuracy: the segment map's error is amplified as above
     amp = amplification(segment)
-    chi_abs = float(abs(spec.value))
+    chi_abs = float(abs(spec.value)) / (m * w0 * w0)  # |chi| in the output's units (spec.value is scaled)
     # and for a fast drive the half-period segments' integrals (~1/w) cancel down to chi (~1/w^2): relative ~ w
     rel_chi = max(run.rtol * 100.0, 1e-13) * max(1.0, amp) * max(1.0, w)
     rel_chi = float(rel_chi)
@@ -143,7 +185,21 @@ def numeric(p, run):
     run.claim("chi_im", rel=rel_chi, abs=rel_chi * chi_abs)
     # the quadrature: relative to the size of G's scale (1/(m w0) in these units), plus its own error estimate
     g_abs = float(100.0 * eps_q + 10.0 * (Gp.abserr + Gm.abserr))
-    run.claim("G", rel=100.0 * eps_q, abs=g_abs / (m * w0))
+    # and the scaled time t = tau w0 is rounded: the integral is G at t (1 + u), off by u t |G'(t)|.  The
+    # slope is bounded by the velocity after a unit impulse: |q'| <= 1 (the energy 1/2 never grows) and,
+    # from the residues at the poles (slowest decay rate s, fastest f), |q'| <= e^{-s t} (1 + s t + s/(f - s))
+    # (the last term only when the rates differ: overdamped).  A long phase of a weakly damped oscillator
+    # (t of 1e11, phase known to 1e-5 rad) makes this the largest part
+    rates = sorted(-z.imag for z in poles)
+    # the slow rate of a strongly overdamped oscillator is rounded relative to the fast one (the roots'
+    # product is 1 in these units, so 1/f gives it to full precision); the smaller keeps the bound safe
+    f_fast = rates[-1]
+    s_slow = min(rates[0], 1.0 / f_fast)
+    spread = s_slow / (f_fast - s_slow) if f_fast - s_slow > 1e-8 * f_fast else 0.0
+    slope = min(1.0, math.exp(-s_slow * t) * (1.0 + s_slow * t + spread))
+    g_phase = 2.0 * 2.0**-53 * t * slope
+    run.info["G_phase_roundoff"] = g_phase / (m * w0)
+    run.claim("G", rel=100.0 * eps_q, abs=(g_abs + g_phase) / (m * w0))
     run.claim("G_minus", rel=100.0 * eps_q, abs=g_abs / (m * w0))
     run.method = method + " + Filon/Wynn Fourier quadrature"
 

@@ -145,16 +145,56 @@ def _two_product(a: float, b: float):
     return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
 
 
+def _pi_fixed(bits: int) -> int:
+    """floor(pi 2^bits) in integers (Machin's formula with guard bits)."""
+    guard = bits + 16
+    one = 1 << guard
+
+    def atan_inv(n: int) -> int:
+        total = term = one // n
+        k, n2, sign = 1, n * n, 1
+        while term:
+            term //= n2
+            k += 2
+            sign = -sign
+            total += sign * (term // k)
+        return total
+
+    return (4 * (4 * atan_inv(5) - atan_inv(239))) >> 16
+
+
+_FIX = 160  # bits after the point of the exact reduction below
+_TWO_PI_FIX = 2 * _pi_fixed(_FIX + 2) >> 2  # 2 pi in units of 2^-160, good to one unit
+
+
+def _reduce_exact(p: float, e: float) -> float:
+    """(p + e) mod 2 pi in [-pi, pi) for any pair of doubles: both scaled to integers in units of 2^-160
+    (exact for |e| above 2^-160; below it e is far under the result's own rounding), then reduced by
+    2 pi held to 160 bits, whose error times the quotient (< 2^1024/6) stays below 2^-100 for every
+    phase that carries a digit at all."""
+    n, d = p.as_integer_ratio()
+    x = (n << _FIX) // d
+    n, d = e.as_integer_ratio()
+    x += (n << _FIX) // d
+    half = _TWO_PI_FIX >> 1
+    r = (x + half) % _TWO_PI_FIX - half
+    return r / (1 << _FIX) if r.bit_length() < 1000 else math.ldexp(r >> (_FIX - 60), -60)
+
+
 def _turn(omega: float, x: float) -> complex:
     """exp(i omega x) for the exact product of the two doubles.
 
     fl(omega x) is off by half an ulp of the product, a phase error of 1e-16 |omega x| that would
     set a noise floor on every panel far out on the w axis; the product is instead formed exactly
-    as a pair of doubles and reduced modulo 2 pi in three parts (Cody and Waite)."""
+    as a pair of doubles and reduced modulo 2 pi: in three parts (Cody and Waite) while the turns
+    stay below 2^22, exactly in integers beyond (a late time, |omega x| of 1e7..1e15: the phase
+    then still carries every digit of the given doubles, which the Filon panels need to agree
+    with one another)."""
     p, e = _two_product(omega, x)
     turns = round(p / (2.0 * math.pi))
     if abs(turns) >= 2**22:
-        return complex(math.cos(p), math.sin(p))
+        r = _reduce_exact(p, e)
+        return complex(math.cos(r), math.sin(r))
     r = ((p - turns * _TWO_PI[0]) - turns * _TWO_PI[1]) + (e - turns * _TWO_PI[2])
     return complex(math.cos(r), math.sin(r))
 
