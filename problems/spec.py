@@ -201,6 +201,14 @@ class Run:
     # the scene's motion (``motion``), kept when the caller asks for it (a trajectory)
     keep_trajectories: bool = False
     motion_parts: list = field(default_factory=list, repr=False)
+    # the integrator every ODE integration of the solve must use (``mech bench``): None keeps each
+    # integration's own method and step settings; a method name ("LSODA") replaces the method;
+    # "student" runs solve_ivp's defaults.  ``integrate`` applies it; a shared solver that integrates
+    # takes it as ``integrator=run.integrator``.
+    integrator: str | None = None
+    # recorded integrations that ran with ``integrator`` applied / with the exercise's own settings
+    forced_runs: int = 0
+    own_runs: int = 0
 
     def record(self, result: Any, method: str | None = None) -> Any:
         """Add the cost of an integration (anything with ``nfev`` and ``method``)."""
@@ -208,7 +216,26 @@ class Run:
         m = method or getattr(result, "method", None)
         if m and not self.method:
             self.method = m
+        if getattr(result, "forced", False):
+            self.forced_runs += 1
+        else:
+            self.own_runs += 1
         return result
+
+    def integrate(self, rhs: Callable, t_span, y0, **kwargs) -> Any:
+        """``ode.integrate`` under the Run's integrator choice, recorded; the keywords are the exercise's own
+        choice (method, step bounds), used when no integrator is forced."""
+        from mech.solvers.numerics.ode import integrate
+
+        return self.record(integrate(rhs, t_span, y0, integrator=self.integrator, **kwargs))
+
+    def integrate_to_event(self, rhs: Callable, t_span, y0, event, **kwargs) -> tuple:
+        """``ode.integrate_to_event`` under the Run's integrator choice; the trajectory is recorded."""
+        from mech.solvers.numerics.ode import integrate_to_event
+
+        t_ev, y_ev, traj = integrate_to_event(rhs, t_span, y0, event, integrator=self.integrator, **kwargs)
+        self.record(traj)
+        return t_ev, y_ev, traj
 
     def motion(self, traj: Any, *, t_scale: float = 1.0, t_offset: float = 0.0, y_scale=None,
                rows=None, transform: Callable | None = None) -> None:
@@ -428,13 +455,14 @@ class Exercise:
     def solve_analytic(self, p: Params) -> dict:
         return self._finish(self._analytic(p), "analytic")
 
-    def solve_numeric(self, p: Params, rtol: float | None = None, method: str | None = None,
-                      shared: dict | None = None, keep_trajectories: bool = False) -> tuple[dict, Run]:
-        run = Run(rtol=float(rtol or self.default_rtol), method=None, keep_trajectories=keep_trajectories)
+    def solve_numeric(self, p: Params, rtol: float | None = None, shared: dict | None = None,
+                      keep_trajectories: bool = False, integrator: str | None = None) -> tuple[dict, Run]:
+        """The numeric solver's answers and its Run; ``integrator`` forces every ODE integration onto one
+        integrator (``mech bench``; see ``Run.integrator``)."""
+        run = Run(rtol=float(rtol or self.default_rtol), method=None, keep_trajectories=keep_trajectories,
+                  integrator=integrator)
         if shared is not None:
             run.shared = shared
-        if method:
-            run.info["requested_method"] = method
         values = self._numeric(p, run)
         return self._finish(values, "numeric"), run
 

@@ -133,10 +133,42 @@ def test_lean_event_catches_a_stepped_over_crossing():
         integrate_to_event(lambda t, y: np.array([1.0]), (0.0, 20.0), [0.0], g, rtol=1e-6, confirm="rerun")
 
 
-def test_lean_event_obeys_the_bench_override():
-    from mech.solvers.numerics import ode
+def test_lean_event_obeys_the_runs_integrator():
+    from mech.problems.spec import Run
 
     rhs, ev = _pendulum()
-    with ode.override(method="LSODA"):
-        _, _, tr = ode.integrate_to_event(rhs, (0.0, 50.0), [1.0, 0.0], ev, rtol=1e-8)
-    assert tr.method == "LSODA"
+    run = Run(rtol=1e-8, integrator="LSODA")
+    _, _, tr = run.integrate_to_event(rhs, (0.0, 50.0), [1.0, 0.0], ev, rtol=1e-8, method="DOP853")
+    assert tr.method == "LSODA" and tr.forced
+    assert (run.forced_runs, run.own_runs, run.nfev) == (1, 0, tr.nfev)
+
+
+def test_the_student_integrator_drops_the_exercises_settings():
+    """"student": solve_ivp's defaults (RK45, rtol 1e-3, atol 1e-6, no step bound), whatever the call asked."""
+    from mech.problems.spec import Run
+
+    run = Run(rtol=1e-10, integrator="student")
+    tr = run.integrate(lambda t, y: -y, (0.0, 1.0), [1.0], rtol=1e-10, atol=1e-14, max_step=1e-3)
+    assert (tr.method, tr.rtol, tr.forced) == ("RK45", 1e-3, True)
+    # RK45 at rtol 1e-3 over one decay time takes a handful of steps, not the 1000 the step bound forces
+    assert len(tr.t) < 20
+
+
+def test_no_integrator_keeps_the_exercises_own_choice():
+    from mech.problems.spec import Run
+
+    run = Run(rtol=1e-9)
+    tr = run.integrate(lambda t, y: -y, (0.0, 1.0), [1.0], rtol=1e-9, method="DOP853")
+    assert (tr.method, tr.forced, run.forced_runs, run.own_runs, run.method) == ("DOP853", False, 0, 1, "DOP853")
+
+
+@pytest.mark.parametrize("ex_id, applies", [("4.21", True), ("5.12", True), ("5.8", True), ("4.1", False)])
+def test_probe_sees_whether_the_forced_integrator_ran(ex_id, applies):
+    """The probe forces LSODA on the Run: an exercise that integrates (directly, through floquet, through the
+    orbit continuation) reports it ran; a closed-form route (4.1: integrals over the mass) does not."""
+    from mech.problems import registry
+    from mech.solvers.verification.bench import probe_route
+
+    ex = registry.get(ex_id)
+    integrates, _ = probe_route(ex, ex.resolve({}))
+    assert integrates is applies

@@ -96,3 +96,23 @@ def test_issue_draws_earn_their_claims(draw):
     assert n["T"] == pytest.approx(2 * math.pi / Om, rel=1e-7)
     case = run_case(Case(registry.all_exercises()["4.23"], "draw", d))
     assert case.ok, case.detail
+
+
+def test_upright_coin_on_a_huge_circle_falls_within_the_fit():
+    """Issue 14 draw: theta = 5.46e-7, R/r = 1.55e4.  More than 60 spin turns per orbit, so the turn is
+    timed by the azimuth's fitted rate; but the steady motion is unstable (the rim speed
+    Omega R = 6.0e-4 m/s is far below sqrt(g r) = 8.1e-3 m/s), the coin falls over within the fit's
+    20 spin turns and its azimuth does not advance: the answer is the steady-state root, by hand
+    Omega^2 = 4 g tan(theta)/(6 R - 5 r sin(theta)) (it used to fail "the axis does not turn")."""
+    from mech.cli.checking import Case, run_case
+    from mech.problems import registry
+
+    d = dict(r=5.57175e-07, theta=5.45819e-07, R=0.00862358, g=116.477)
+    T, Om, spin = hand(d["r"], d["theta"], d["R"], d["g"])
+    _, n, run = solve_both("4.23", **d)
+    assert "unstable" in run.info["steady_motion"]
+    assert n["Omega"] == pytest.approx(Om, rel=1e-8)
+    assert n["omega_spin"] == pytest.approx(spin, rel=1e-8)
+    assert n["T"] == pytest.approx(T, rel=1e-8)
+    case = run_case(Case(registry.all_exercises()["4.23"], "draw", d))
+    assert case.ok, case.detail

@@ -30,7 +30,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.numerics.ode import Event, integrate
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "4.10",
@@ -149,7 +149,7 @@ def _period_omega(body, l, rtol, run):
         return np.array([y[1], body.torque(l, y[0]) / inertia])
 
     guess = 2 * np.pi / body.omega(l)  # only bounds the integration time
-    traj = integrate(
+    traj = run.integrate(
         rhs,
         (0.0, 1.5 * guess),
         [PERIOD_AMPLITUDE, 0.0],
@@ -159,7 +159,6 @@ def _period_omega(body, l, rtol, run):
         max_step=guess / 16,
         dense_output=run.keep_trajectories,  # a smooth curve for the trajectory; the steps are the same
     )
-    run.record(traj)
     run.motion(traj)
     crossings = traj.t_events[0]
     if len(crossings) < 2:

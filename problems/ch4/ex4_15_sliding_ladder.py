@@ -116,14 +116,13 @@ def numeric(p, run):
     # Integrator: DOP853 at rtol 1e-10 (tolerance 1e-8), kept after `mech bench 4.15`: 533 evaluations
     # for 8.5e-12; LSODA needs 295 but reaches only 1.3e-10 (a margin of 80 under the tolerance, and its
     # error stalls at 1e-11 below rtol 1e-11) and is no faster per step; RK45 needs 1484, Radau 5605.
-    t_ev, y_ev, traj = integrate_to_event(
+    t_ev, y_ev, traj = run.integrate_to_event(
         rhs,
         (0.0, 200.0),
         [theta_start / a_s, omega_start / w_s],
         Event(wall_force, direction=-1, name="N_wall = 0"),
         rtol=run.rtol,
     )
-    run.record(traj)
 
     def energy_over_scale(y):
         """(T + U) / a_s from the center's motion and the rotation about it, in the scaled state."""

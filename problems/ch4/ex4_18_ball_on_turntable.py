@@ -105,11 +105,12 @@ def _make_rhs(M, R, I, Om):
     return rhs, friction
 
 
-def _follow(rhs, v0, rtol):
+def _follow(rhs, v0, rtol, integrator=None):
     """Integrate from the start (unit speed, scaled) and sample the path."""
     t_eval = np.linspace(0.0, T_SCALED, N_SAMPLES)
     y0 = np.concatenate([[0.0, 0.0], v0, [0.0, 0.0, 0.0]])
-    return integrate(rhs, (0.0, T_SCALED), y0, rtol=rtol, atol=rtol * 1e-3, t_eval=t_eval)
+    return integrate(rhs, (0.0, T_SCALED), y0, rtol=rtol, atol=rtol * 1e-3, t_eval=t_eval,
+                     integrator=integrator)
 
 
 def _turn_rate(traj):
@@ -154,12 +155,12 @@ def numeric(p, run):
         f_rest = friction(np.zeros(2))
         if np.any(f_rest != 0.0):
             raise NumericFailure("a ball at rest in the lab feels a friction force: inconsistent model")
-        traj = run.record(_follow(rhs, np.array([1.0, 0.0]), run.rtol))
+        traj = run.record(_follow(rhs, np.array([1.0, 0.0]), run.rtol, run.integrator))
         run.info["probe_velocity"] = "unit speed along x (scaled)"
         return {"omega_orbit": _turn_rate(traj) * p.Omega, "r_orbit": 0.0, "xc": p.x0, "yc": p.y0}
 
     v0 = np.array([p.vx0, p.vy0]) / speed
-    traj = run.record(_follow(rhs, v0, run.rtol))
+    traj = run.record(_follow(rhs, v0, run.rtol, run.integrator))
     length = speed / p.Omega
     # integrated as the displacement from (x0, y0), in speed / Omega
     run.motion(traj, t_scale=1.0 / p.Omega, y_scale=[length] * 2 + [speed] * 2 + [speed / p.R] * 3,

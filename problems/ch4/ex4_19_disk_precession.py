@@ -80,7 +80,8 @@ def _follow(I, alpha, rtol, run, omega=None):
     atol = rtol * 1e-3 * np.array([max(sa, 1e-300), max(sa, 1e-300), max(abs(ca), 1e-300), 1.0, small, small, 1.0])
     t_end = SPINS * 2 * np.pi
     t_eval = np.linspace(0.0, t_end, int(SPINS * SAMPLES_PER_SPIN) + 1)
-    traj = run.record(integrate_free(I, w0, q0, t_end, rtol=rtol, atol=atol, t_eval=t_eval))
+    traj = run.record(integrate_free(I, w0, q0, t_end, rtol=rtol, atol=atol, t_eval=t_eval,
+                                        integrator=run.integrator))
     if omega is not None:  # the scene's motion (not the probe's): SI
         run.motion(traj, t_scale=1.0 / omega, y_scale=[omega] * 3 + [1.0] * 4)
     for name, drift in free_invariants(I, traj).items():

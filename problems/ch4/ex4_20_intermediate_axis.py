@@ -41,7 +41,7 @@ import numpy as np
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.freebody import euler_omega_rhs, steady_rotation_pair
 from mech.solvers.mechanics.inertia import gauss_legendre
-from mech.solvers.numerics.ode import Event, first_event, integrate
+from mech.solvers.numerics.ode import Event, first_event
 from mech.solvers.numerics.special import agm
 
 exercise = Exercise(
@@ -135,12 +135,11 @@ def _period_by_integration(I, w0, rtol, run, slowest_rate, omega0=1.0):
         return abs(_separatrix_distance(I, y) / sep0 - 1.0) - limit
 
     def leg(t0, y0, direction, name, max_step=np.inf):
-        traj = integrate(
+        traj = run.integrate(
             rhs, (t0, t0 + t_max), y0, rtol=rtol, atol=atol, max_step=max_step,
             dense_output=run.keep_trajectories and max_step == np.inf,  # a smooth trajectory, the same steps
             events=[Event(w3, direction=direction, name=name), Event(drift, direction=+1, name="drift")],
         )
-        run.record(traj)
         if max_step == np.inf:  # a leg of the motion (not its bounded-step confirmation)
             run.motion(traj, t_scale=1.0 / omega0, y_scale=omega0)
         if len(traj.t_events[1]):

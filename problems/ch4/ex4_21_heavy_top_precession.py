@@ -38,7 +38,6 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.numerics.ode import integrate
 from mech.solvers.numerics.roots import bracketed_root
 from mech.solvers.mechanics.tops import axis_rhs, azimuth, fit_rate, polar_angle, top_energy
 
@@ -261,9 +260,8 @@ def numeric(p, run):
     # rtol 1e-12).  A step of 2 radians of the fastest rate of the linearized
     # motion keeps it resolved (drift 1e-14).
     fastest = nu + math.sqrt(Mgl / IA) + abs(Om)
-    traj = integrate(rhs, (0.0, T), y0, rtol=run.rtol, atol=run.rtol * 1e-3 * min(1.0, math.sin(p.theta0)),
+    traj = run.integrate(rhs, (0.0, T), y0, rtol=run.rtol, atol=run.rtol * 1e-3 * min(1.0, math.sin(p.theta0)),
                      dense_output=True, max_step=2.0 / fastest)
-    run.record(traj)
     run.motion(traj, y_scale=[1.0, 1.0, 1.0, Ls, Ls, Ls])
     ts = np.linspace(0.0, T, 401)
     ys = traj.sol(ts)

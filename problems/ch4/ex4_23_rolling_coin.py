@@ -39,7 +39,7 @@ import numpy as np
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.frames import quat_from_matrix, quat_to_matrix, skew
 from mech.solvers.mechanics.inertia import disk, inertia_tensor
-from mech.solvers.numerics.ode import Event, integrate
+from mech.solvers.numerics.ode import Event
 from mech.solvers.mechanics.tops import azimuth, fit_rate
 
 exercise = Exercise(
@@ -291,10 +291,9 @@ def numeric(p, run):
 
     if spin_turns <= MAX_SPIN_TURNS:
         # one full turn of the axis's projection: n3_y crosses zero upward again at azimuth 2 pi
-        traj = integrate(body.rhs, (0.0, 1.3 * T_root), y0, rtol=run.rtol, atol=atol,
+        traj = run.integrate(body.rhs, (0.0, 1.3 * T_root), y0, rtol=run.rtol, atol=atol,
                          events=[Event(axis_y, terminal=False, direction=1, name="axis azimuth 2 pi"), fall],
                          max_step=T_root / 64, dense_output=True)
-        run.record(traj)
         times = [t for t in traj.t_events[0] if t > 0.5 * T_root]
         if times:
             T_s = float(times[0])
@@ -305,21 +304,24 @@ def numeric(p, run):
     else:
         # too many spin turns per orbit: fit the azimuth's rate over 20 spin turns
         t_run = 20.0 * 2 * math.pi / spin0
-        traj = integrate(body.rhs, (0.0, t_run), y0, rtol=run.rtol, atol=atol, dense_output=True, events=[fall],
+        traj = run.integrate(body.rhs, (0.0, t_run), y0, rtol=run.rtol, atol=atol, dense_output=True, events=[fall],
                          max_step=t_run / 64)
-        run.record(traj)
         ts = np.linspace(0.0, t_run, 801)
         n_t = np.stack([quat_to_matrix(traj.sol(t)[3:7])[:, 2] for t in ts], axis=1)
         rate, rms = fit_rate(ts, azimuth(n_t))
-        if rate <= 0:
-            raise NumericFailure("the axis does not turn")
-        T_s = 2 * math.pi / rate
         y_end = traj.sol(t_run)
-        swept = rate * t_run
-        run.info["timed_by"] = f"azimuth rate fitted over {swept:.3g} rad"
-        # the azimuth's error is absolute (about 1e3 rtol): relative to the swept angle
-        rel = max(exercise.tol_factor * run.rtol, 1e3 * run.rtol / swept)
-        run.claim("T", rel=rel)
+        if rate > 0:
+            T_s = 2 * math.pi / rate
+            swept = rate * t_run
+            run.info["timed_by"] = f"azimuth rate fitted over {swept:.3g} rad"
+            # the azimuth's error is absolute (about 1e3 rtol): relative to the swept angle
+            rel = max(exercise.tol_factor * run.rtol, 1e3 * run.rtol / swept)
+            run.claim("T", rel=rel)
+        else:
+            # judged after the monitors: on an unstable steady motion (a nearly upright coin rolling
+            # slowly, issue 14: theta = 5.5e-7, R/r = 1.5e4) the axis falls over within the fit's 20
+            # spin turns and its azimuth is meaningless; the steady-state root then answers (below)
+            T_s = None
 
     t_unit, w_unit, v_unit = math.sqrt(p.r / p.g), math.sqrt(p.g / p.r), math.sqrt(p.g * p.r)
     run.motion(traj, t_scale=t_unit, y_scale=[w_unit] * 3 + [1.0] * 4 + [p.r] * 3 + [v_unit] * 3)
@@ -360,6 +362,8 @@ def numeric(p, run):
         run.claim("omega_spin", rel=root_rel)
         t_unit = math.sqrt(p.r / p.g)
         return {"T": T_root * t_unit, "Omega": Om / t_unit, "omega_spin": spin0 / t_unit}
+    if T_s is None:
+        raise NumericFailure("the axis does not turn")
     # the tilt is no conserved quantity: it stays only on a stable steady motion; past tilt_tol the
     # steady state is taken as lost (above), below it the turn is timed
     run.invariant("tilt n3.z", tilt_dev, allowed=tilt_tol)

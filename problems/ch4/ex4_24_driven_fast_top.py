@@ -302,7 +302,7 @@ def _guiding_center(a, b, k, run):
     """
     import numpy as np
 
-    from mech.solvers.numerics.ode import Event, integrate
+    from mech.solvers.numerics.ode import Event
 
     A, d = a / b, b / k
 
@@ -329,11 +329,10 @@ def _guiding_center(a, b, k, run):
 
     c0 = np.array([d, 0.0, 1.0]) / math.hypot(d, 1.0)
     s_max = 12.0  # the overturn and back take 3 pi/2 of s (the slip shortens or lengthens it by < 20 %)
-    traj = integrate(rhs, (0.0, s_max), c0, rtol=run.rtol, atol=run.rtol * 1e-3,
+    traj = run.integrate(rhs, (0.0, s_max), c0, rtol=run.rtol, atol=run.rtol * 1e-3,
                      events=[Event(c_z, terminal=False, direction=-1, name="down"),
                              Event(c_z, terminal=False, direction=+1, name="up"),
                              Event(c_z_rate, terminal=False, direction=+1, name="lowest")])
-    run.record(traj)
     downs, ups, lows = traj.t_events
     if len(downs) == 0:
         raise NumericFailure(f"the guiding center did not reach the horizontal by t = {s_max / b:.4g} s")

@@ -36,7 +36,6 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.numerics.ode import integrate
 
 EPS = 2.220446049250313e-16
 
@@ -102,8 +101,7 @@ def numeric(p, run):
     short = min(span, 1.0)
     atol = run.rtol * 1e-3 * np.array([1.0, 1e-3 * short, x_a, 1e-3 * short * x_a, 1e-3 * short * x_a**3,
                                        1e-3 * short * x_a**3])
-    tv = integrate(_rhs, (0.0, s_a), [1.0, 0.0, 2.0, 0.0, 0.0, 0.0], rtol=run.rtol, atol=atol)
-    run.record(tv)
+    tv = run.integrate(_rhs, (0.0, s_a), [1.0, 0.0, 2.0, 0.0, 0.0, 0.0], rtol=run.rtol, atol=atol)
     gv_a, gvp_a = tv.y_end[0], tv.y_end[1]
     Qvv, Qrv, Qrr = -tv.y_end[3], -tv.y_end[4], -tv.y_end[5]  # integrated inward: negated
     if not (gvp_a < 0.0 and Qvv > 0.0 and Qrr > 0.0):

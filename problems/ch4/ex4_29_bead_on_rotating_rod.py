@@ -28,7 +28,6 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise
-from mech.solvers.numerics.ode import integrate
 
 exercise = Exercise(
     "4.29",
@@ -95,8 +94,7 @@ def numeric(p, run):
         # tolerance below that keeps the error control relative all the way
         atol = run.rtol * 1e-3 * math.exp(-tau_end)
         # dense output only for a trajectory (a smooth curve); the steps are the same
-        traj = integrate(rhs, (0.0, tau_end), y0, rtol=run.rtol, atol=atol, dense_output=run.keep_trajectories)
-        run.record(traj)
+        traj = run.integrate(rhs, (0.0, tau_end), y0, rtol=run.rtol, atol=atol, dense_output=run.keep_trajectories)
         run.motion(traj, t_scale=1.0 / w, y_scale=[L, w * L], rows=[0, 2])  # across the rod: 0
         y = traj.y_end
         jac = 0.5 * (traj.y[2] ** 2 + traj.y[3] ** 2 - traj.y[0] ** 2 - traj.y[1] ** 2)

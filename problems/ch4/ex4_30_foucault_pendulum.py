@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.numerics.ode import Event, integrate
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "4.30",
@@ -107,8 +107,7 @@ def numeric(p, run):
     # that is 1e-7 of the positions' scale, and an absolute tolerance sized for the positions would
     # leave the velocities, and with them the turning points (rho rho' = 0), at 1e-6 relative.
     atol = run.rtol * 1e-3 * np.array([1.0, 1.0, c2, c2])
-    traj = integrate(rhs, (0.0, tau_end), [1.0, 0.0, 0.0, 0.0], rtol=run.rtol, atol=atol, events=[far_ev, near_ev])
-    run.record(traj)
+    traj = run.integrate(rhs, (0.0, tau_end), [1.0, 0.0, 0.0, 0.0], rtol=run.rtol, atol=atol, events=[far_ev, near_ev])
     run.motion(traj, t_scale=1.0 / rate, y_scale=[p.a, p.a, p.a * rate, p.a * rate])
 
     Y = traj.y

@@ -124,7 +124,7 @@ def numeric(p, run):
     def residual(v):
         """y where the path next crosses dx/dt = 0 (the far radial extreme)."""
         tr = integrate(rhs, (0.0, 20.0), [sgn, 0.0, 0.0, v], events=[Event(xdot, direction=sgn, terminal=True)],
-                       max_step=0.25, **opts)
+                       max_step=0.25, integrator=run.integrator, **opts)
         nfev[0] += tr.nfev
         if len(tr.t_events[0]) == 0:
             raise NumericFailure(f"no radial turning point with v0 = {v:.6g} (scaled)")
@@ -138,7 +138,7 @@ def numeric(p, run):
 
     def residual_keep(v):
         tr = integrate(rhs, (0.0, 20.0), [sgn, 0.0, 0.0, v], events=[Event(xdot, direction=sgn, terminal=True)],
-                       max_step=0.25, **opts)
+                       max_step=0.25, integrator=run.integrator, **opts)
         nfev[0] += tr.nfev
         t_half[0] = tr.t_events[0][0]
         return tr.y_events[0][0][1]
@@ -152,13 +152,12 @@ def numeric(p, run):
     # along-track extremes, and the closure of the path checked at its end
     y0 = [sgn, 0.0, 0.0, v0]
     T = 2.0 * t_half[0]
-    tr = integrate(
+    tr = run.integrate(
         rhs, (0.0, T), y0,
         events=[Event(xdot, terminal=False, name="radial extremes"),
                 Event(ydot, terminal=False, name="along-track extremes")],
         max_step=0.25, dense_output=run.keep_trajectories, **opts,  # dense: a smooth trajectory, same steps
     )
-    run.record(tr)
     run.motion(tr, t_scale=1.0 / W, y_scale=[L, L, L * W, L * W])
     run.nfev += nfev[0]
     xs = [sgn] + [yy[0] for tt, yy in zip(tr.t_events[0], tr.y_events[0]) if tt > 1e-6]

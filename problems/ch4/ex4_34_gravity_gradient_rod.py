@@ -47,7 +47,6 @@ import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.gravity import coriolis, hill_acceleration, hill_potential
-from mech.solvers.numerics.ode import integrate_to_event
 from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
@@ -247,11 +246,10 @@ def numeric(p, run):
         atol = run.rtol * 1e-3 * np.array([c, s, min(c, s), min(c, s)])
         # Integrator: DOP853 at rtol 1e-10 (tolerance 1e-8), kept after `mech bench 4.34`: 152 evaluations
         # for 3.4e-12; RK45 needs 326 (5.6e-12), LSODA 155 for 3.9e-11.
-        t_ev, y_ev, traj = integrate_to_event(
+        t_ev, y_ev, traj = run.integrate_to_event(
             rhs, (0.0, 1e4), y0, Event(pitch_sine, direction=-1, name="rod along the vertical"),
             rtol=run.rtol, atol=atol,
         )
-        run.record(traj)
         run.motion(traj, t_scale=1.0 / W, y_scale=[1.0, W], transform=lambda y: [
             np.arctan2(y[1], y[0]), (y[0] * y[3] - y[1] * y[2]) / (y[0] ** 2 + y[1] ** 2)])
         probe = np.array([math.cos(0.7), math.sin(0.7), 0.3, -0.2])

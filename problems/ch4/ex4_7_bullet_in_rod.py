@@ -146,7 +146,7 @@ def _rod_nodes(n=4):
     return s, w / w.sum()
 
 
-def _impact(mu, tp, rtol):
+def _impact(mu, tp, rtol, integrator=None):
     """Integrate one pulse of time tp (scaled units: m = l = v0 = 1); returns the readings and the run."""
     s, w = _rod_nodes()
     I_rod = float(w @ s**2)  # moment about the center, from the mass distribution
@@ -189,7 +189,8 @@ def _impact(mu, tp, rtol):
     y0[8] = 1.0
     rod_v = mu / (1.0 + mu)  # scale of the rod's velocities (J/m <= this)
     scale = np.array([rod_v * tp] * 3 + [tp, tp] + [rod_v] * 3 + [1.0, 1.0] + [0.5 * mu])
-    traj = integrate(rhs, (0.0, pulse_end(tp)), y0, rtol=rtol, atol=rtol * 1e-3 * scale, method="DOP853")
+    traj = integrate(rhs, (0.0, pulse_end(tp)), y0, rtol=rtol, atol=rtol * 1e-3 * scale, method="DOP853",
+                     integrator=integrator)
     y = traj.y_end
     dx, dy, ux, uy, *_ = parts(y)
     d, dd = np.array([dx, dy]), np.array([ux, uy])
@@ -243,7 +244,7 @@ def numeric(p, run):
     mu = p.m_b / p.m
 
     def at(tp):
-        readings, traj, drifts, mismatch = _impact(mu, tp, run.rtol)
+        readings, traj, drifts, mismatch = _impact(mu, tp, run.rtol, run.integrator)
         run.record(traj)
         if tp == PULSE:
             l, v0 = p.l, p.v0

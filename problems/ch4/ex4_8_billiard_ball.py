@@ -27,8 +27,7 @@ import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.inertia import ball, inertia_tensor
-from mech.solvers.numerics.ode import integrate_to_event
-from mech.solvers.numerics.ode import Event, integrate
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "4.8",
@@ -100,8 +99,7 @@ def numeric(p, run):
         return np.concatenate([f * xhat, f * (I_inv_MR2 @ _cross(rh, xhat)), kappa * _cross(om, rh), kappa * V])
 
     y0 = np.concatenate([np.zeros(6), _hit_point(p.h_over_R, p.b_over_R), np.zeros(3)])
-    pulse = integrate(strike, (0.0, 1.0), y0, rtol=run.rtol, atol=run.rtol * 1e-3, first_step=1e-3)
-    run.record(pulse)
+    pulse = run.integrate(strike, (0.0, 1.0), y0, rtol=run.rtol, atol=run.rtol * 1e-3, first_step=1e-3)
     y1 = pulse.y_end
     V1, om1, xc1 = y1[0:3], y1[3:6], y1[9:12]  # scaled
     run.info["pulse_tau_s"] = tau
@@ -147,7 +145,7 @@ def numeric(p, run):
         return np.linalg.solve(I_inv_MR2, y[3:6]) + _cross(-down, velocity(y))
 
     ys = np.concatenate([u0, om1, np.zeros(3)])
-    s_ev, y_ev, traj = integrate_to_event(
+    s_ev, y_ev, traj = run.integrate_to_event(
         sliding,
         (0.0, 1e3 * max(1.0, float(np.linalg.norm(u0)))),
         ys,
@@ -155,7 +153,6 @@ def numeric(p, run):
         rtol=run.rtol,
         atol=[run.rtol * 1e-3 * float(np.linalg.norm(u0))] * 3 + [run.rtol * 1e-3] * 6,
     )
-    run.record(traj)
     run.motion(traj, t_scale=t_unit, t_offset=0.5 * tau, y_scale=[V0] * 3 + [V0 / R] * 3 + [V0 * t_unit] * 3)
     L0, L1 = L_contact(ys), L_contact(y_ev)
     L_scale = float(np.linalg.norm(np.linalg.solve(I_inv_MR2, om1)) + np.linalg.norm(V1))

@@ -133,7 +133,7 @@ def numeric(p, run):
     Q = 1.0 / math.sqrt(beta)  # unit of length (the cycle's swing is about 2 Q)
     W = f0 * math.sqrt(beta) / w0  # unit of detuning: the drive's strength over the swing, by dimensions
     om = OrbitMap(force, f0, Q, w0, W,
-                  memo=run.shared, memo_key=("5.10", *(float(p[k]) for k in p)))
+                  memo=run.shared, memo_key=("5.10", *(float(p[k]) for k in p)), integrator=run.integrator)
     # an edge is a detuning, a small difference of frequencies: the orbit's phase error per period, about
     # the tolerance, is a frequency error of about rtol omega0, so the refinements integrate at rtol W/omega0
     rr = max(3e-14, rtol * min(1.0, W / w0))
@@ -196,7 +196,7 @@ def numeric(p, run):
     run.info["fold_multipliers"] = [sorted(np.abs(np.linalg.eigvals(f.M)).tolist()) for f in folds]
     run.info["orbit_maps"] = om.calls
     run.info["orbit_maps_reused"] = om.memo_hits  # taken from the solve by its rerun (Run.shared)
-    run.record(SimpleNamespace(nfev=om.nfev, method="DOP853"))
+    run.record(SimpleNamespace(nfev=om.nfev, method="DOP853", forced=om.forced))
 
     xi = p.omega - w0
     if xi_lo <= xi <= xi_hi:
@@ -214,7 +214,6 @@ def numeric(p, run):
 
 def _beat(p, run, amplitude):
     """|omega - mean oscillator frequency| from the circle map on the torus (see the module doc)."""
-    from mech.solvers.numerics.ode import integrate
 
     mu, beta, w0, f0, w = p.mu, p.beta, p.omega0, p.f0, p.omega
     M = N_COPIES
@@ -237,16 +236,14 @@ def _beat(p, run, amplitude):
     key = ("5.10 settle", mu, beta, w0, f0, w, amplitude, n_settle, r_settle)
     y_settled = run.shared.get(key)
     if y_settled is None:
-        settle = integrate(rhs, (0.0, n_settle * T), y0, rtol=r_settle,
+        settle = run.integrate(rhs, (0.0, n_settle * T), y0, rtol=r_settle,
                            atol=np.concatenate([np.full(M, aq), np.full(M, aq * w0)]) * r_settle)
-        run.record(settle)
         y_settled = run.shared[key] = settle.y_end.copy()
     else:
         run.info["beat_settle_reused"] = True
-    traj = integrate(rhs, (n_settle * T, (n_settle + 2) * T), y_settled, rtol=run.rtol,
+    traj = run.integrate(rhs, (n_settle * T, (n_settle + 2) * T), y_settled, rtol=run.rtol,
                      atol=np.concatenate([np.full(M, aq), np.full(M, aq * w0)]) * run.rtol,
                      t_eval=[n_settle * T, (n_settle + 1) * T, (n_settle + 2) * T])
-    run.record(traj)
     Y = traj.y  # columns: the three section times
     phases = np.arctan2(-Y[M:, :] / w0, Y[:M, :])
     means = []

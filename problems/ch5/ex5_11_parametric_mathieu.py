@@ -150,7 +150,8 @@ def _half(p, omega, mu, rtol, run):
     T = math.pi / omega
     w0sq, d2, two_omega = p.omega0**2, p.delta**2, 2.0 * omega
     (y1, y1p, y2, y2p), traj = even_hill_half(
-        lambda t: w0sq * (1.0 + mu * math.cos(two_omega * t)) - d2, T, rtol=rtol, vscale=p.omega0
+        lambda t: w0sq * (1.0 + mu * math.cos(two_omega * t)) - d2, T, rtol=rtol, vscale=p.omega0,
+        integrator=run.integrator,
     )
     run.record(traj)
     run.invariant("Wronskian", y1 * y2p - y1p * y2 - 1.0)

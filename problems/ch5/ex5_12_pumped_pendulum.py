@@ -47,7 +47,7 @@ import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.floquet import even_hill_half, flow_with_variations
-from mech.solvers.numerics.ode import Event, integrate
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "5.12",
@@ -133,7 +133,8 @@ def _linear(p, a, rtol, run):
     T = 2.0 * math.pi / p.Omega
     g_l, aW2_l, W, d2 = p.g / p.l, a * p.Omega**2 / p.l, p.Omega, p.delta**2
     (y1, y1p, y2, y2p), traj = even_hill_half(
-        lambda t: g_l - aW2_l * math.cos(W * t) - d2, T, rtol=rtol, vscale=math.sqrt(g_l)
+        lambda t: g_l - aW2_l * math.cos(W * t) - d2, T, rtol=rtol, vscale=math.sqrt(g_l),
+        integrator=run.integrator,
     )
     run.record(traj)
     run.invariant("Wronskian", y1 * y2p - y1p * y2 - 1.0)
@@ -200,7 +201,8 @@ def _stationary_swing(p, a_th, run):
 
     def residual(z, a, tol=crude):
         f, jac = f_a(a)
-        y, M, _, traj = flow_with_variations(f, jac, z, (0.0, Tp), rtol=tol, scale=scale)
+        y, M, _, traj = flow_with_variations(f, jac, z, (0.0, Tp), rtol=tol, scale=scale,
+                                           integrator=run.integrator)
         run.record(traj)
         return z + y, np.eye(2) + M, M  # z - H(z), its Jacobian, and M
 
@@ -220,7 +222,8 @@ def _stationary_swing(p, a_th, run):
 
     def residual_a(z, a):
         """z - H(z) at a, its Jacobian in z and its derivative in a."""
-        y, M, _, traj = flow_with_variations(f3, jac3, [z[0], z[1], a], (0.0, Tp), rtol=crude, scale=scale3)
+        y, M, _, traj = flow_with_variations(f3, jac3, [z[0], z[1], a], (0.0, Tp), rtol=crude, scale=scale3,
+                                           integrator=run.integrator)
         run.record(traj)
         return z + y[:2], np.eye(2) + M[:2, :2], M[:2, 2]
 
@@ -308,9 +311,8 @@ def _stationary_swing(p, a_th, run):
     # largest |theta| on the orbit: extrema on theta' = 0 over one half-period (the other half mirrors it)
     f, _ = f_a(target)
     turn = Event(lambda t, y: y[1], terminal=False, name="theta' = 0")
-    traj = integrate(f, (0.0, Tp), z, rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3 * w0], events=[turn],
+    traj = run.integrate(f, (0.0, Tp), z, rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3 * w0], events=[turn],
                      dense_output=run.keep_trajectories)  # dense: a smooth trajectory, the same steps
-    run.record(traj)
     run.motion(traj)
     # the second pivot period mirrors the first (the half map solved above: theta -> -theta)
     run.motion(traj, t_offset=Tp, transform=lambda y: -y)

@@ -27,7 +27,6 @@ import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
 from mech.solvers.verification import budget
-from mech.solvers.numerics.ode import integrate
 
 exercise = Exercise(
     "5.13",
@@ -113,8 +112,7 @@ def _half(p, eps, sign, rtol, run):
 
     drift = abs(c) + e * e  # the size of the slow drift of p per unit tau
     atol = 1e-3 * rtol * np.array([1.0, drift, 1.0, 1.0])
-    traj = integrate(rhs, (0.0, math.pi), [1.0, 0.0, 0.0, 1.0], rtol=rtol, atol=atol)
-    run.record(traj)
+    traj = run.integrate(rhs, (0.0, math.pi), [1.0, 0.0, 0.0, 1.0], rtol=rtol, atol=atol)
     y1, y1p, y2, y2p = traj.y_end
     run.invariant("Wronskian", y1 * y2p - y1p * y2 - 1.0)
     return y1, y1p, y2, y2p, drift

@@ -122,7 +122,8 @@ def numeric(p, run):
     # avoid a segment whose length makes exp(i (w -+ w1) D) = 1 by accident (not a physical resonance)
     segment = min((segment * f for f in (1.0, 0.9, 0.8, 0.7, 0.6, 0.5)), key=lambda D: (amplification(D), -D))
     method = "LSODA" if stiff else "DOP853"
-    spec = impulse_spectrum(A, b, c, w, rtol=run.rtol, segment=segment, method=method)
+    spec = impulse_spectrum(A, b, c, w, rtol=run.rtol, segment=segment, method=method,
+                            integrator=run.integrator)
     run.record(spec.traj)
     run.invariant("Liouville det(Phi)", spec.liouville_drift)
     run.info["segment"] = segment / w0

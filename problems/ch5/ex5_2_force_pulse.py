@@ -32,7 +32,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.numerics.ode import Event, integrate
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "5.2",
@@ -121,9 +121,8 @@ def numeric(p, run):
     state = np.array([0.0, 0.0])
     turn_x, x1 = [], (0.0 if tau_1 == 0.0 else None)
     for a, b in zip(stops[:-1], stops[1:]):
-        leg1 = integrate(_forced, (a, b), state, rtol=rtol, atol=atol, events=[turning], max_step=max_step,
+        leg1 = run.integrate(_forced, (a, b), state, rtol=rtol, atol=atol, events=[turning], max_step=max_step,
                          dense_output=run.keep_trajectories)  # dense: a smooth trajectory, the same steps
-        run.record(leg1)
         run.motion(leg1, t_scale=1.0 / p.omega0, y_scale=[qst, qst * p.omega0])
         if leg1.t_end != b:
             raise NumericFailure("the forced leg did not reach its end")
@@ -149,9 +148,8 @@ def numeric(p, run):
 
     # free leg: amplitude from the state at T, checked over one free period
     amp = math.hypot(xT, vT)
-    leg2 = integrate(_free, (tau_T, tau_T + period), [xT, vT], rtol=rtol,
+    leg2 = run.integrate(_free, (tau_T, tau_T + period), [xT, vT], rtol=rtol,
                      atol=rtol * 1e-3 * max(amp, 1e-300), events=[turning], dense_output=run.keep_trajectories)
-    run.record(leg2)
     if tau_T <= period:  # joined to the forced legs (a longer pulse was carried by the flow map)
         run.motion(leg2, t_scale=1.0 / p.omega0, y_scale=[qst, qst * p.omega0])
     free_turns = [abs(y[0]) for y in leg2.y_events[0]] if leg2.y_events else []

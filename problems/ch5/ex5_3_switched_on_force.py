@@ -49,7 +49,6 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.numerics.ode import integrate
 
 exercise = Exercise(
     "5.3",
@@ -206,8 +205,7 @@ def _orbit_by_rotating_shooting(model, w, d, rtol, run):
     s_force = 1.0 / max(w * w, abs(model.det2) + w * w, 2.0 * d * w)
     scale = np.array([max(dev, 1e-300)] * 4 + [s_force] * 2)
     atol = np.maximum(scale * rtol * 1e-3, 1e-300)
-    one = integrate(model.rhs_period, (0.0, period), np.zeros(6), rtol=rtol, atol=atol)
-    run.record(one)
+    one = run.integrate(model.rhs_period, (0.0, period), np.zeros(6), rtol=rtol, atol=atol)
     y = one.y_end
     i_minus_m = -np.array([[y[0], y[2]], [y[1], y[3]]])
     b = y[4:6]

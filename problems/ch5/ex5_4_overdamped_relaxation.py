@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.numerics.ode import Event, integrate
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "5.4",
@@ -106,9 +106,8 @@ def numeric(p, run):
     y = np.array([1.0, 0.0, 0.0])
 
     def leg(t0, t1, y0, events):
-        tr = integrate(rhs, (t0, t1), y0, rtol=rtol, atol=atol, method=method, jac=jac, events=events,
+        tr = run.integrate(rhs, (t0, t1), y0, rtol=rtol, atol=atol, method=method, jac=jac, events=events,
                        max_step=max_step, dense_output=run.keep_trajectories)  # dense: a smooth trajectory
-        run.record(tr)
         run.motion(tr, t_scale=1.0 / w0, y_scale=[p.q0, p.q0 * w0], rows=[0, 1])  # not the dissipated work
         for ev, times, states in zip(events, tr.t_events, tr.y_events):
             if len(times) and ev.name not in found:

@@ -96,7 +96,7 @@ def analytic(p):
 
 
 # ---------------------------------------------------------------- ringdown
-def _cycle(z, om, rtol):
+def _cycle(z, om, rtol, integrator=None):
     """(T', l) over half a cycle th: 0 -> pi, l = ln(E_end/E_start)/zeta; the trajectory.
 
     om = 1 - zeta, passed exactly so that 1 - zeta sin 2th = om + 2 zeta sin^2(th - pi/4)
@@ -109,11 +109,12 @@ def _cycle(z, om, rtol):
         s = math.sin(th)
         return np.array([1.0 / g, -4.0 * s * s / g])
 
-    tr = integrate(rhs, (0.0, math.pi), [0.0, 0.0], rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3])
+    tr = integrate(rhs, (0.0, math.pi), [0.0, 0.0], rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3],
+                   integrator=integrator)
     return tr.y_end[0], tr.y_end[1], tr
 
 
-def _polar_in_time(z, tau, rtol):
+def _polar_in_time(z, tau, rtol, integrator=None):
     """(th, l) after time tau from th = 0 (a maximum), l = ln(E ratio)/zeta."""
     from mech.solvers.numerics.ode import integrate
 
@@ -121,11 +122,12 @@ def _polar_in_time(z, tau, rtol):
         s = math.sin(y[0])
         return np.array([1.0 - z * math.sin(2.0 * y[0]), -4.0 * s * s])
 
-    tr = integrate(rhs, (0.0, tau), [0.0, 0.0], rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3])
+    tr = integrate(rhs, (0.0, tau), [0.0, 0.0], rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3],
+                   integrator=integrator)
     return tr.y_end, tr
 
 
-def _ringdown_work(z, t_span, rtol, dense=False):
+def _ringdown_work(z, t_span, rtol, dense=False, integrator=None):
     """From rest at x = 1 to the next maximum: (tau_max, x, x', w) with W = 2 zeta w; the trajectory."""
     from mech.solvers.numerics.ode import Event, integrate
 
@@ -134,7 +136,7 @@ def _ringdown_work(z, t_span, rtol, dense=False):
 
     peak = Event(lambda t, y: y[1], terminal=False, direction=-1, name="x' = 0 (maximum)")
     tr = integrate(rhs, (0.0, t_span), [1.0, 0.0, 0.0], rtol=rtol, atol=rtol * 1e-3, events=[peak],
-                   dense_output=dense)  # dense: a smooth trajectory, the same steps
+                   dense_output=dense, integrator=integrator)  # dense: a smooth trajectory, the same steps
     later = [(t, y) for t, y in zip(tr.t_events[0], tr.y_events[0]) if t > 0.5 * t_span / 1.25]
     if not later:
         raise NumericFailure("the ringdown reached no maximum after the start within 1.25 periods")
@@ -154,7 +156,6 @@ class _Resonance:
     def amp2(self, u):
         if u in self.cache:
             return self.cache[u]
-        from mech.solvers.numerics.ode import integrate
 
         z = self.z
         w = 1.0 + u
@@ -177,8 +178,7 @@ class _Resonance:
         dev = min(1.0, (abs(det2) + 2.0 * z * w) * period / w)
         force = period / w
         atol = np.array([dev] * 4 + [force] * 2) * self.rtol * 1e-3
-        tr = integrate(rhs, (0.0, period), np.zeros(6), rtol=self.rtol, atol=atol)
-        self.run.record(tr)
+        tr = self.run.integrate(rhs, (0.0, period), np.zeros(6), rtol=self.rtol, atol=atol)
         y = tr.y_end
         d_m = np.array([[y[0], y[2]], [y[1], y[3]]])  # M - I
         # Liouville: det M = exp(-2 zeta period); det(I + D) - 1 = tr D + det D
@@ -192,15 +192,13 @@ class _Resonance:
 
     def static(self):
         """omega -> 0: the periodic orbit of x'' + 2 zeta x' + x = 1 (a constant force) over one free period."""
-        from mech.solvers.numerics.ode import integrate
 
         z = self.z
 
         def rhs(t, y):
             return np.array([y[1], -2.0 * z * y[1] - y[0] + 1.0, y[3], -2.0 * z * y[3] - y[2], y[5], -2.0 * z * y[5] - y[4]])
 
-        tr = integrate(rhs, (0.0, 2.0 * math.pi), [0, 0, 1, 0, 0, 1], rtol=self.rtol, atol=self.rtol * 1e-3)
-        self.run.record(tr)
+        tr = self.run.integrate(rhs, (0.0, 2.0 * math.pi), [0, 0, 1, 0, 0, 1], rtol=self.rtol, atol=self.rtol * 1e-3)
         y = tr.y_end
         m = np.array([[y[2], y[4]], [y[3], y[5]]])
         xs = np.linalg.solve(np.eye(2) - m, y[0:2])
@@ -273,7 +271,7 @@ def numeric(p, run):
     rtol = run.rtol
 
     # ringdown in amplitude-phase variables: T' and ln(E) over one cycle
-    half_t, half_l, tr = _cycle(z, om, rtol)
+    half_t, half_l, tr = _cycle(z, om, rtol, run.integrator)
     run.record(tr)
     t_cyc = 2.0 * half_t
     log_dec = 2.0 * half_l * z  # ln(E(T')/E(0))
@@ -284,7 +282,8 @@ def numeric(p, run):
 
     # loss per cycle from the dissipated work
     if z <= 0.9:
-        t_max, y, tr2 = _ringdown_work(z, 1.25 * t_cyc, rtol, dense=run.keep_trajectories)
+        t_max, y, tr2 = _ringdown_work(z, 1.25 * t_cyc, rtol, dense=run.keep_trajectories,
+                                        integrator=run.integrator)
         run.record(tr2)
         run.motion(tr2, t_scale=1.0 / w0, y_scale=[1.0, w0], rows=[0, 1])
         work = 2.0 * z * y[2]
@@ -305,7 +304,7 @@ def numeric(p, run):
         m, rem = m - 1, rem + half_t
     rem = min(rem, half_t)
     if rem > 0.0:
-        y_r, tr3 = _polar_in_time(z, rem, rtol)
+        y_r, tr3 = _polar_in_time(z, rem, rtol, run.integrator)
         run.record(tr3)
         l_rem = y_r[1]
     else:

@@ -28,7 +28,6 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.numerics.ode import integrate_to_event
 from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
@@ -120,8 +119,7 @@ def numeric(p, run):
     # Integrator: DOP853 at rtol 1e-10 (tolerance 1e-8), kept after `mech bench 5.6`: 164 evaluations for
     # 2e-11; RK45 needs 296 (9e-12), LSODA 143 but for 3.5e-9, too close to the tolerance for the
     # verification at rtol/10.  (The symplectic Yoshida-6 row reaches 4e-13 in 0.6 ms: see `hamiltonian`.)
-    t_q, y_q, traj = integrate_to_event(rhs, (0.0, span), start, event, rtol=rtol, atol=atol)
-    run.record(traj)
+    t_q, y_q, traj = run.integrate_to_event(rhs, (0.0, span), start, event, rtol=rtol, atol=atol)
     # above pi/2 the state is phi = pi - theta and its rate
     run.motion(traj, t_scale=1.0 / w0, y_scale=[1.0, w0],
                transform=None if th0 <= math.pi / 2.0 else lambda y: [math.pi - y[0], -y[1]])

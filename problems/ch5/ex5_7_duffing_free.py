@@ -163,7 +163,7 @@ def _quarter_excess(eps):
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.numerics.ode import Event, integrate, integrate_to_event
+    from mech.solvers.numerics.ode import Event
 
     w0, A = p.omega0, p.A
     eps = _eps(p)
@@ -184,11 +184,10 @@ def numeric(p, run):
 
         vmax = math.sqrt(a + 0.5 * abs(b))
         span = 8.0 * math.pi
-        t_q, y_q, tr = integrate_to_event(
+        t_q, y_q, tr = run.integrate_to_event(
             rhs, (0.0, span), [1.0, 0.0], Event(lambda t, y: y[0], direction=-1, name="x = 0"),
             rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3 * vmax],
         )
-        run.record(tr)
         run.motion(tr, t_scale=1.0 / (S * w0), y_scale=[A, A * S * w0])
         e0 = energy(1.0, 0.0)
         run.invariant("energy", (energy(y_q[0], y_q[1]) - e0) / e0)
@@ -218,9 +217,8 @@ def numeric(p, run):
 
         rs = min(max(abs(eps), 1e-300), 1.0)  # the size of r (|eps|/32 small, order one large)
         tq = 0.5 * math.pi / ws
-        tr2 = integrate(rhs_r, (0.0, tq), [0.0, 0.0, 0.0], rtol=rtol,
+        tr2 = run.integrate(rhs_r, (0.0, tq), [0.0, 0.0, 0.0], rtol=rtol,
                         atol=np.array([rs, rs * ws, rs * tq]) * rtol * 1e-3)
-        run.record(tr2)
         r_end, v_end, integral = tr2.y_end
         x_end = r_end + math.cos(ws * tq)
         run.invariant("energy", (energy(x_end, v_end - ws * math.sin(ws * tq)) - e0) / e0)
@@ -241,11 +239,10 @@ def numeric(p, run):
 
         # the quarter period grows like ln(1/s0): bound the search generously
         span = 8.0 * (math.pi + math.log(1.0 + 1.0 / s0))
-        t_q, y_q, tr = integrate_to_event(
+        t_q, y_q, tr = run.integrate_to_event(
             rhs_s, (0.0, span), [s0, 0.0], Event(lambda t, y: y[0] - xb, direction=1, name="x = 0"),
             rtol=rtol, atol=[rtol * 1e-3 * s0, rtol * 1e-3 * s0],
         )
-        run.record(tr)
         # the state is the distance s = x_b - x from the barrier top and its rate
         run.motion(tr, t_scale=1.0 / w0, y_scale=[A, A * w0], transform=lambda y: [xb - y[0], -y[1]])
         e0 = energy_s(s0, 0.0)
@@ -261,9 +258,8 @@ def numeric(p, run):
             s = y[0]
             return np.array([y[1], barrier_equation_of_motion(s, xb, eps), (xb - s) * math.cos(3.0 * omega1 * t)])
 
-        tr2 = integrate(rhs_c, (0.0, t_q), [s0, 0.0, 0.0], rtol=rtol,
+        tr2 = run.integrate(rhs_c, (0.0, t_q), [s0, 0.0, 0.0], rtol=rtol,
                         atol=np.array([s0, s0, t_q]) * rtol * 1e-3)
-        run.record(tr2)
         run.info["x_at_quarter_period"] = xb - tr2.y_end[0]
         c3_over_a = 4.0 * omega1 / math.pi * tr2.y_end[2]
     if not math.isfinite(omega1) or not math.isfinite(c3_over_a):

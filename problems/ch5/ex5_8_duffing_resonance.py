@@ -181,14 +181,15 @@ def numeric(p, run):
         # ~1e-5), the refinements run at rtol
         rs, rr = max(rtol, 1e-7), rtol
         om = RotatingOrbitMap(_remainder(p.delta, p.alpha), p.f0, Q, p.omega0, W, 2.0 * p.delta / p.omega0,
-                              memo=run.shared, memo_key=memo_key)
+                              memo=run.shared, memo_key=memo_key, integrator=run.integrator)
     else:
         # the plain map: its fixed point's condition number is about 1/damp, and the sweep needs its points
         # to ~1e-5; the refinements integrate at rtol scaled by the same condition number, so that the
         # orbit (and so the outputs) come out to about rtol
         rs = max(rtol, min(1e-7, 1e-6 * damp))
         rr = max(3e-14, rtol * min(1.0, 10.0 * damp))  # scipy floors rtol at 2.2e-14
-        om = OrbitMap(_force(p.omega0, p.delta, p.alpha), p.f0, Q, p.omega0, W, memo=run.shared, memo_key=memo_key)
+        om = OrbitMap(_force(p.omega0, p.delta, p.alpha), p.f0, Q, p.omega0, W, memo=run.shared, memo_key=memo_key,
+                      integrator=run.integrator)
     run.info["rtol_integration"] = rr
     run.info["orbit_map"] = type(om).__name__
     # the sweeps run over +-(4 half-widths + 0.6 times the nonlinear shift scale |alpha| Q^2/omega0)
@@ -246,7 +247,7 @@ def numeric(p, run):
     for bp in [peak, *folds]:
         det_exact = math.exp(-4.0 * math.pi * p.delta / om.omega(bp.z[2]))
         run.invariant("Liouville det M", (float(np.linalg.det(bp.M)) - det_exact) / det_exact)
-    run.record(SimpleNamespace(nfev=om.nfev, method="DOP853"))
+    run.record(SimpleNamespace(nfev=om.nfev, method="DOP853", forced=om.forced))
     run.info["orbit_maps"] = om.calls
     run.info["orbit_maps_reused"] = om.memo_hits  # taken from the solve by its rerun (Run.shared)
 

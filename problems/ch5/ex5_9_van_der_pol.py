@@ -32,7 +32,7 @@ import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.floquet import flow_with_variations
-from mech.solvers.numerics.ode import Event, integrate
+from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "5.9",
@@ -108,8 +108,7 @@ def _return(X, eps, rtol, run):
     # two legs: to the minimum (x' = 0 upward), then to the maximum; each starts on its other section
     for direction, what in ((1.0, "minimum"), (-1.0, "maximum")):
         ev = Event(lambda t, z: z[1], terminal=True, direction=direction, name=f"x' = 0, {what}")
-        traj = integrate(rhs, (t, t + t_max), z, rtol=rtol, atol=atol, events=[ev])
-        run.record(traj)
+        traj = run.integrate(rhs, (t, t + t_max), z, rtol=rtol, atol=atol, events=[ev])
         if len(traj.t_events[0]) == 0:
             raise NumericFailure(f"no {what} of x within tau = {t_max:g} from X = {X:.6g}")
         t, z = float(traj.t_events[0][0]), np.array(traj.y_events[0][0])
@@ -158,7 +157,8 @@ def _energy_balance(p, run, eps):
     # Liouville: the second multiplier det M of the converged cycle is exp(eps int (1 - x^2) dtau)
     f = lambda t, y: _f(t, y, eps)  # noqa: E731
     jac = lambda t, y: _jac(t, y, eps)  # noqa: E731
-    _, M, _, traj = flow_with_variations(f, jac, [X, 0.0], (0.0, T), rtol=rtol, scale=[1.0, max(1.0, eps)])
+    _, M, _, traj = flow_with_variations(f, jac, [X, 0.0], (0.0, T), rtol=rtol, scale=[1.0, max(1.0, eps)],
+                                        integrator=run.integrator)
     run.record(traj)
     qs = 1.0 / math.sqrt(p.beta)
     run.motion(traj, t_scale=1.0 / p.omega0, y_scale=[qs, qs * p.omega0], rows=[0, 1])  # not the variations
@@ -211,8 +211,7 @@ def _relaxation(p, run, eps):
     marks = []
     for direction, what in ((1.0, "minimum"), (-1.0, "maximum"), (1.0, "minimum")):
         ev = Event(lambda t, z: z[1], terminal=True, direction=direction, name=f"x' = 0, {what}")
-        traj = integrate(rhs, (s, s + 4.0), z, rtol=rtol, atol=atol, method="LSODA", jac=jac, events=[ev])
-        run.record(traj)
+        traj = run.integrate(rhs, (s, s + 4.0), z, rtol=rtol, atol=atol, method="LSODA", jac=jac, events=[ev])
         qs = 1.0 / math.sqrt(p.beta)  # slow time s = omega0 t/eps, u = (dx/d(omega0 t))/eps
         run.motion(traj, t_scale=eps / p.omega0, y_scale=[qs, qs * p.omega0 * eps], rows=[0, 1])
         if len(traj.t_events[0]) == 0:

@@ -103,6 +103,7 @@ class OrbitMap:
         method: str = "DOP853",
         memo: dict | None = None,
         memo_key: tuple | None = None,
+        integrator: str | None = None,
     ):
         """``memo``/``memo_key``: a dict shared by the runs of one cross-check (``run.shared``) and a key
         naming everything the force depends on.  The map is a deterministic function of (z, rtol), so an
@@ -110,11 +111,14 @@ class OrbitMap:
         which run at a tolerance that does not depend on rtol) is taken from there: the same numbers
         without the integration.  Without both, nothing is kept."""
         self.force, self.f0, self.Q, self.omega_ref, self.W, self.method = force, f0, Q, omega_ref, W, method
+        # the Run's integrator choice (``mech bench``), applied to every integration of the map
+        self.integrator = integrator
+        self.forced = bool(integrator)
         self.nfev = 0
         self.calls = 0
         self.memo_hits = 0
         self._memo = memo if memo is not None and memo_key is not None else None
-        self._memo_key = (type(self).__name__, memo_key, f0, Q, omega_ref, W, method)
+        self._memo_key = (type(self).__name__, memo_key, f0, Q, omega_ref, W, method, integrator)
 
     def omega(self, w: float) -> float:
         return self.omega_ref + self.W * w
@@ -173,7 +177,7 @@ class OrbitMap:
         scale = max(abs(z[0]), abs(z[1]), 1e-3)
         atol = [rtol * 1e-3 * scale] * 2 + [rtol * 1e-3] * 6
         traj = integrate(self._rhs(omega), (0.0, 2.0 * math.pi), y0, rtol=rtol, atol=atol, method=self.method,
-                         events=[top, bottom])
+                         events=[top, bottom], integrator=self.integrator)
         self.nfev += traj.nfev
         self.calls += 1
         s = traj.y_end
@@ -214,8 +218,8 @@ class RotatingOrbitMap(OrbitMap):
     ``remainder(q, p)`` returns (r, dr/dq, dr/dp) as floats; ``omega_ref`` is omega0.
     """
 
-    def __init__(self, remainder, f0, Q, omega0, W, eps, *, memo=None, memo_key=None):
-        super().__init__(remainder, f0, Q, omega0, W, memo=memo, memo_key=memo_key)
+    def __init__(self, remainder, f0, Q, omega0, W, eps, *, memo=None, memo_key=None, integrator=None):
+        super().__init__(remainder, f0, Q, omega0, W, memo=memo, memo_key=memo_key, integrator=integrator)
         self.eps = float(eps)
         self._memo_key = (*self._memo_key, self.eps)
 
@@ -259,7 +263,7 @@ class RotatingOrbitMap(OrbitMap):
         bottom = Event(velocity, terminal=False, direction=1.0, name="q' = 0, minimum")
         scale = max(abs(a0), abs(b0), 1.0)
         traj = integrate(rhs, (0.0, 2.0 * math.pi), [0.0] * 8, rtol=rtol, atol=1e-3 * rtol * scale,
-                         method=self.method, events=[top, bottom])
+                         method=self.method, events=[top, bottom], integrator=self.integrator)
         self.nfev += traj.nfev
         self.calls += 1
         s = traj.y_end

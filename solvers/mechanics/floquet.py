@@ -42,6 +42,7 @@ def linear_monodromy(
     t0: float = 0.0,
     vscale: float = 1.0,
     method: str = "DOP853",
+    integrator: str | None = None,
 ) -> tuple[np.ndarray, Trajectory]:
     """Monodromy matrix of q'' + damp(t) q' + stiff(t) q = 0 for the state (q, q').
 
@@ -56,7 +57,8 @@ def linear_monodromy(
     atol_q = rtol * 1e-3
     atol = [atol_q, atol_q * vscale, atol_q, atol_q * vscale]
     # second column started with q' = vscale so that both columns have the same size
-    traj = integrate(rhs, (t0, t0 + T), [1.0, 0.0, 0.0, vscale], rtol=rtol, atol=atol, method=method)
+    traj = integrate(rhs, (t0, t0 + T), [1.0, 0.0, 0.0, vscale], rtol=rtol, atol=atol, method=method,
+                     integrator=integrator)
     y = traj.y_end
     M = np.array([[y[0], y[2] / vscale], [y[1], y[3] / vscale]])
     return M, traj
@@ -71,6 +73,7 @@ def flow_with_variations(
     rtol: float,
     scale: Sequence[float] | None = None,
     method: str = "DOP853",
+    integrator: str | None = None,
     extra: Callable[[float, np.ndarray], Sequence[float]] | None = None,
     n_extra: int = 0,
     events=(),
@@ -96,7 +99,8 @@ def flow_with_variations(
     s = np.ones(n) if scale is None else np.asarray(scale, dtype=float)
     # the variational entries d y_i / d y0_j have the size s_i / s_j
     atol = rtol * 1e-3 * np.concatenate([s, np.outer(s, 1.0 / s).ravel(), np.ones(n_extra)])
-    traj = integrate(rhs, t_span, z0, rtol=rtol, atol=atol, method=method, events=events)
+    traj = integrate(rhs, t_span, z0, rtol=rtol, atol=atol, method=method, events=events,
+                     integrator=integrator)
     z = traj.y_end
     return z[:n], z[n : n + n * n].reshape(n, n), z[n + n * n :], traj
 
@@ -124,6 +128,7 @@ def even_hill_half(
     rtol: float,
     vscale: float = 1.0,
     method: str = "DOP853",
+    integrator: str | None = None,
 ) -> tuple[tuple[float, float, float, float], Trajectory]:
     """(y1, y1', y2, y2') at T/2 for y'' + stiff(t) y = 0, y1 even and y2 odd (stiff even, period T).
 
@@ -138,7 +143,8 @@ def even_hill_half(
 
     atol_q = rtol * 1e-3
     atol = [atol_q, atol_q * vscale, atol_q, atol_q * vscale]
-    traj = integrate(rhs, (0.0, 0.5 * T), [1.0, 0.0, 0.0, vscale], rtol=rtol, atol=atol, method=method)
+    traj = integrate(rhs, (0.0, 0.5 * T), [1.0, 0.0, 0.0, vscale], rtol=rtol, atol=atol, method=method,
+                     integrator=integrator)
     y1, y1p, y2, y2p = traj.y_end
     return (y1, y1p, y2 / vscale, y2p / vscale), traj
 
@@ -150,6 +156,7 @@ def even_hill_discriminant(
     rtol: float,
     vscale: float = 1.0,
     method: str = "DOP853",
+    integrator: str | None = None,
 ) -> tuple[float, float, Trajectory]:
     """tr M of the Hill equation y'' + stiff(t) y = 0 with stiff even in t and of period T.
 
@@ -159,7 +166,8 @@ def even_hill_discriminant(
     q = exp(-delta t) y with stiff = k - delta^2; its multipliers are
     exp(-delta T) times those of y.
     """
-    (y1, y1p, y2, y2p), traj = even_hill_half(stiff, T, rtol=rtol, vscale=vscale, method=method)
+    (y1, y1p, y2, y2p), traj = even_hill_half(stiff, T, rtol=rtol, vscale=vscale, method=method,
+                                            integrator=integrator)
     return 2.0 * (y1 * y2p + y1p * y2), y1 * y2p - y1p * y2 - 1.0, traj
 
 

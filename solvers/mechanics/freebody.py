@@ -70,14 +70,14 @@ def free_rhs(I, restore=1.0):
     return rhs
 
 
-def integrate_free(I, omega_body0, q0, t_end, *, rtol, atol, t_eval=None, restore=1.0):
+def integrate_free(I, omega_body0, q0, t_end, *, rtol, atol, t_eval=None, restore=1.0, integrator=None):
     """Integrate the free body from ``omega_body0`` and attitude ``q0`` (body -> lab) to ``t_end``.
 
     ``atol``: a 7-vector (3 for omega, 4 for q) or a scalar.
     """
     rhs = free_rhs(I, restore=restore)
     y0 = np.concatenate([np.asarray(omega_body0, dtype=float), np.asarray(q0, dtype=float)])
-    return integrate(rhs, (0.0, t_end), y0, rtol=rtol, atol=atol, t_eval=t_eval)
+    return integrate(rhs, (0.0, t_end), y0, rtol=rtol, atol=atol, t_eval=t_eval, integrator=integrator)
 
 
 def lab_axes(traj, body_vector) -> np.ndarray:

@@ -401,7 +401,8 @@ class Spectrum:
     traj: object
 
 
-def impulse_spectrum(A, b, c, omega: float, *, rtol: float, segment: float, method: str = "DOP853") -> Spectrum:
+def impulse_spectrum(A, b, c, omega: float, *, rtol: float, segment: float, method: str = "DOP853",
+                     integrator: str | None = None) -> Spectrum:
     """int_0^inf c.y(t) exp(i omega t) dt for y' = A y, y(0) = b; all eigenvalues of A must decay."""
     A = np.asarray(A, dtype=float)
     b = np.asarray(b, dtype=float)
@@ -429,7 +430,7 @@ def impulse_spectrum(A, b, c, omega: float, *, rtol: float, segment: float, meth
 
     y0 = np.concatenate([np.eye(n).ravel(), np.zeros(2 * n)])
     atol = rtol * 1e-3
-    traj = integrate(rhs, (0.0, segment), y0, rtol=rtol, atol=atol, method=method, jac=jac)
+    traj = integrate(rhs, (0.0, segment), y0, rtol=rtol, atol=atol, method=method, jac=jac, integrator=integrator)
     yend = traj.y_end
     Phi = yend[: n * n].reshape(n, n)
     w = yend[n * n : n * n + n] + 1j * yend[n * n + n :]

@@ -18,32 +18,25 @@ import numpy as np
 
 from mech.problems.spec import NumericFailure
 
-__all__ = ["Event", "Trajectory", "integrate", "integrate_to_event", "first_event", "override"]
+__all__ = ["Event", "Trajectory", "integrate", "integrate_to_event", "first_event", "apply_integrator", "STUDENT"]
 
-_OVERRIDE: dict = {}
+STUDENT = "student"
 
 
-class override:
-    """Force every ``integrate`` call inside the block onto one integrator (for ``mech bench``).
+def apply_integrator(integrator: str | None, method: str, rtol: float, atol, max_step: float,
+                     first_step: float | None):
+    """The integration settings once a caller's integrator choice is applied (``mech bench``).
 
-    ``override(method="LSODA")`` replaces the method each exercise chose;
-    ``override(student=True)`` runs plain ``solve_ivp`` defaults (RK45, rtol 1e-3,
-    atol 1e-6, no step bounds), the way a first attempt would.
+    ``None`` keeps the exercise's own ``method`` and step settings; a method name
+    (``"LSODA"``, ``"RK45"``, ...) replaces the method and keeps the rest;
+    ``"student"`` runs plain ``solve_ivp`` defaults (RK45, rtol 1e-3, atol 1e-6,
+    no step bounds), the way a first attempt would.
     """
-
-    def __init__(self, method: str | None = None, student: bool = False):
-        self.settings = {"method": "RK45" if student else method, "student": student}
-
-    def __enter__(self):
-        self.saved = dict(_OVERRIDE)
-        _OVERRIDE.clear()
-        _OVERRIDE.update({k: v for k, v in self.settings.items() if v})
-        return self
-
-    def __exit__(self, *exc):
-        _OVERRIDE.clear()
-        _OVERRIDE.update(self.saved)
-        return False
+    if integrator == STUDENT:
+        return "RK45", 1e-3, 1e-6, math.inf, None
+    if integrator:
+        return integrator, rtol, atol, max_step, first_step
+    return method, rtol, atol, max_step, first_step
 
 
 @dataclass
@@ -82,6 +75,8 @@ class Trajectory:
     message: str
     sol: object = None
     extra: dict = field(default_factory=dict)
+    # True when a caller's integrator choice (``integrator=``) replaced the exercise's own settings
+    forced: bool = False
 
     @property
     def y_end(self) -> np.ndarray:
@@ -107,19 +102,20 @@ def integrate(
     dense_output: bool = False,
     jac: Callable | None = None,
     vectorized: bool = False,
+    integrator: str | None = None,
 ) -> Trajectory:
     """Integrate ``y' = rhs(t, y)``; a failed integration raises ``NumericFailure``, never returns quietly.
 
     ``method="DOP853"`` runs mech's own implementation (``mech.solvers.numerics.dop853``:
     the same method and step control as scipy's, no scipy import, less
     overhead per step); ``"scipy-DOP853"`` forces scipy's; every other method
-    is ``solve_ivp``'s.
+    is ``solve_ivp``'s.  ``integrator`` (``mech bench``, through the Run) replaces
+    these settings: see ``apply_integrator``.
     """
     y0 = np.asarray(y0, dtype=float)
-    if _OVERRIDE.get("method"):
-        method = _OVERRIDE["method"]
-    if _OVERRIDE.get("student"):
-        rtol, atol, max_step, first_step = 1e-3, 1e-6, math.inf, None
+    if integrator:
+        method, rtol, atol, max_step, first_step = apply_integrator(integrator, method, rtol, atol, max_step,
+                                                                   first_step)
     if atol is None:
         atol = rtol * 1e-3
     kwargs = dict(
@@ -169,6 +165,7 @@ def integrate(
         status=int(res.status),
         message=res.message,
         sol=res.sol,
+        forced=bool(integrator),
     )
 
 

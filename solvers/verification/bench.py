@@ -1,8 +1,8 @@
 """Speed against error: sweep the numeric solver of one exercise over integrators and tolerances.
 
 For every (method, requested rtol) point the exercise's own numeric solver runs
-with every ODE integration inside it forced onto that method
-(``ode.override(method=...)``); the error is measured against the exact
+with every ODE integration inside it forced onto that method (the Run's
+``integrator``: ``ex.solve_numeric(p, rtol, integrator=method)``); the error is measured against the exact
 analytic answer and the time is the median of repeated runs after a warm-up.
 
 Error measure: max over outputs of |numeric - analytic| / |analytic|, over the
@@ -20,7 +20,7 @@ Rows:
     method scipy's ``solve_ivp``; ``scipy-DOP853`` (on request) is scipy's
     DOP853, for comparing the two at equal error;
   * ``scipy-default``: what a student would write, ``solve_ivp`` with its defaults
-    (RK45, rtol 1e-3, atol 1e-6, no step bounds; ``ode.override(student=True)``),
+    (RK45, rtol 1e-3, atol 1e-6, no step bounds; the Run's integrator ``"student"``),
     one point, run with ``run.rtol = 1e-3`` so that the exercise's own checks
     (event confirmation) match what was integrated;
   * ``Yoshida4`` / ``Yoshida6``: fixed-step symplectic compositions of
@@ -111,7 +111,7 @@ def error_against(values: dict, reference: dict, names: list[str]) -> tuple[floa
 
 
 class _Runner:
-    """Runs one configuration: returns (values, nfev, integrator name)."""
+    """Runs one configuration: returns (values, nfev, integrator name, Run or None)."""
 
     def __init__(self, ex: Exercise, params: Params):
         self.ex, self.params = ex, params
@@ -126,32 +126,29 @@ class _Runner:
                 from mech.solvers.numerics.symplectic import solve_scene
 
                 values, res = solve_scene(ex._hamiltonian(p), rtol, SYMPLECTIC[method])
-                return values, res.nfev, method
+                return values, res.nfev, method, None
             if method == STUDENT:
-                with ode.override(student=True):
-                    values, run = ex.solve_numeric(p, 1e-3)
+                values, run = ex.solve_numeric(p, 1e-3, integrator=ode.STUDENT)
             elif method in ODE_METHODS + OTHER_ODE:
-                with ode.override(method=method):
-                    values, run = ex.solve_numeric(p, rtol)
+                values, run = ex.solve_numeric(p, rtol, integrator=method)
             else:  # the exercise's own route / settings
                 values, run = ex.solve_numeric(p, rtol)
-            return values, run.nfev, run.method
+            return values, run.nfev, run.method, run
 
 
 def probe_route(ex: Exercise, params: Params) -> tuple[bool, str]:
-    """Whether the numeric solver integrates ODEs through mech.solvers.numerics.ode (forced LSODA shows up), and its method."""
-    from mech.solvers.numerics import ode
+    """Whether the numeric solver integrates ODEs that take the Run's integrator choice, and its method.
 
+    A run with LSODA forced on the Run says how many of its recorded integrations took it
+    (``run.forced_runs``): none, and the route has no integration bench can force."""
     rtol = ex.default_rtol
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         _, own = ex.solve_numeric(params, rtol)
         try:
-            with ode.override(method="LSODA"):
-                _, forced = ex.solve_numeric(params, rtol)
-            # a forced integrator shows in the recorded method, or at least in a different cost
-            integrates = forced.method == "LSODA" or forced.nfev != own.nfev
-        except Exception:  # noqa: BLE001 - a forced run that fails shows that the override reached an integration
+            _, forced = ex.solve_numeric(params, rtol, integrator="LSODA")
+            integrates = forced.forced_runs > 0
+        except Exception:  # noqa: BLE001 - a forced run that fails: a failure inside a forced integration
             integrates = True
     return integrates, own.method or "own route"
 
@@ -242,7 +239,7 @@ def bench(
         try:
             with _time_limit(run_limit_s):
                 t0 = time.perf_counter()
-                values, nfev, used = runner(method, rtol)
+                values, nfev, used, run = runner(method, rtol)
                 times.append(time.perf_counter() - t0)
             err, worst = error_against(values, ref_values, names)
             while len(times) < repeats + 1 and sum(times) + times[0] <= share:
@@ -275,11 +272,16 @@ def bench(
             pt["note"] = f"this route gives {', '.join(n for n in names if n in values)} only"
         if not math.isfinite(err):
             pt["note"] = f"failed: numeric {worst} undefined where the analytic value is finite"
-        if used and method in ODE_METHODS + OTHER_ODE and method.lower() not in used.lower():
-            # the route integrates with a scheme of its own: the forced integrator never ran, so this
-            # point measures nothing about it (not applicable, never a silent row)
-            pt.update(ok=False, error=None, applies=False,
-                      note=f"not applicable: this route integrates with its own scheme ({used}); {method} never ran")
+        if run is not None and method in ODE_METHODS + OTHER_ODE + (STUDENT,):
+            if run.forced_runs == 0:
+                # no integration of the route took the forced integrator (it integrates with a scheme of
+                # its own, or not at all): this point measures nothing about it (never a silent row)
+                pt.update(ok=False, error=None, applies=False,
+                          note=f"not applicable: this route integrates with its own scheme ({used}); "
+                               f"{method} never ran")
+            elif run.own_runs and "note" not in pt:
+                pt["note"] = (f"{method} ran {run.forced_runs} of the route's {run.forced_runs + run.own_runs} "
+                              "recorded integrations; the others are the route's own")
         if timed[0] > slow_s and method not in (STUDENT, DEFAULT_ROW):
             too_slow[method] = f"not run: a looser tolerance already took {timed[0]:.2g} s"
         points.append(pt)
