@@ -178,3 +178,43 @@ def test_width_error_shrinks_like_the_square_of_the_drive():
         a, n, _ = solve_both("5.10", f0=f0, omega=3.1)
         errs.append(abs(n["width"] / a["width"] - 1))
     assert 3.0 < errs[0] / errs[1] < 4.5
+
+
+# Narrow locking ranges (issue 14).  By hand, Delta = f0 sqrt(beta)/(4 omega0):
+# (a) omega0 = 187857, mu = 7.12743e-4 (mu/omega0 = 3.8e-9), beta = 0.891854, f0 = 34.027:
+#     Delta = 34.027 * 0.944380/751428 = 4.27645e-5 rad/s; the free-frequency shift mu^2/(16 omega0) = 1.7e-13
+#     and (Delta/mu)^2 = 3.6e-3 relative, so the exact edges are +-Delta to 0.4 percent.  Newton from far
+#     away found no orbit here at the start tolerance 1e-7 (the swing relaxes by only mu T = 2.4e-8 a period).
+# (b) omega0 = 100, mu = 1e-3, beta = 1, f0 = 2e-5: Delta = 2e-5/400 = 5e-8 rad/s (width 1e-9 omega0); the
+#     shift -mu^2/(16 omega0) = -6.25e-10 moves both edges, the width 2 Delta = 1e-7 keeps it to
+#     (Delta/mu)^2 + Delta/omega0 + (mu/omega0)^2 ~ 1e-8 relative.  The continuation stalled here at rtol 1e-10.
+NARROW_A = dict(omega0=187857.0, mu=0.000712743, beta=0.891854, f0=34.027, omega=222758.0)
+NARROW_B = dict(omega0=100.0, mu=1e-3, beta=1.0, f0=2e-5, omega=100.001)
+
+
+def _cross_check(given):
+    from mech.problems import registry
+    from mech.solvers.verification.crosscheck import cross_check
+
+    ex = registry.get("5.10")
+    return {q["name"]: q for q in cross_check(ex, ex.resolve(given)).as_json()["quantities"]}
+
+
+def test_locking_range_at_mu_over_omega0_of_4e_9():
+    q = _cross_check(NARROW_A)
+    D = 34.027 * math.sqrt(0.891854) / (4 * 187857.0)
+    assert D == pytest.approx(4.27645e-5, rel=1e-5)  # the hand value above
+    for name, want in (("xi_lo", -D), ("xi_hi", D), ("width", 2 * D)):
+        assert q[name]["agree"]
+        assert abs(q[name]["numeric"] - want) <= q[name]["numeric_err"] + 4e-3 * abs(want), q[name]
+
+
+def test_locking_range_1e_9_omega0_wide():
+    q = _cross_check(NARROW_B)
+    assert all(x["agree"] for x in q.values())
+    width, shift = 1e-7, -1e-3**2 / (16 * 100.0)
+    assert abs(q["width"]["numeric"] - width) <= q["width"]["numeric_err"] + 1e-8 * width, q["width"]
+    centre = 0.5 * (q["xi_lo"]["numeric"] + q["xi_hi"]["numeric"])
+    err = 0.5 * (q["xi_lo"]["numeric_err"] + q["xi_hi"]["numeric_err"])
+    # the centre moves by the free oscillator's frequency shift, to its own relative O(mu/omega0)
+    assert abs(centre - shift) <= err + 1e-2 * abs(shift), (centre, err)

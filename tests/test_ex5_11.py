@@ -135,3 +135,40 @@ def test_growth_at_threshold_is_zero_within_what_the_numeric_claims():
     assert a["growth"] == pytest.approx(0.0, abs=1e-17)
     assert abs(n["growth"]) < 1e-6
     assert 0.0 < ab < 1e-9
+
+
+# A draw of issue 14: a zone 5e-8 omega0 wide, where det(M + I) ~ -1e-14 is far below the
+# round-off of 1 + tr M + det M.  By hand: eps = mu omega0/4 = 1.97581e-7 * 410386/4 = 0.02027112 1/s,
+# so the leading-order half-width sqrt(eps^2 - delta^2) = sqrt(0.02027112^2 - 0.000669337^2) = 0.02026007 rad/s;
+# what it neglects is < 1e-8 rad/s here (centre shift mu^2 omega0/64 = 2.5e-10, eps's relative
+# O(h/omega0, mu^2) = 5e-8 of 0.02).
+NARROW = dict(omega0=410386.0, mu=1.97581e-07, omega=474653.0)
+
+
+def _cross_check(**given):
+    from mech.problems import registry
+    from mech.solvers.verification.crosscheck import cross_check
+
+    ex = registry.get("5.11")
+    return {q["name"]: q for q in cross_check(ex, ex.resolve(given)).as_json()["quantities"]}
+
+
+def test_narrow_undamped_zone_against_mathieu_characteristic_values():
+    """Without damping the edges of the narrow zone are Mathieu's b_1 and a_1 (scipy's, good to ~3e-17 in a
+    here, i.e. ~1e-11 rad/s); the numeric edges within their claimed error, which resolves the zone."""
+    q = _cross_check(**{**NARROW, "omega": NARROW["omega0"]}, delta=0.0)
+    omega0, mu = NARROW["omega0"], NARROW["mu"]
+    w1, w2 = sorted([_mathieu_edge(mathieu_a, mu, omega0), _mathieu_edge(mathieu_b, mu, omega0)])
+    for name, w in (("xi_lo", w1), ("xi_hi", w2)):
+        assert abs(q[name]["numeric"] - (w - omega0)) <= q[name]["numeric_err"], q[name]
+        assert q[name]["numeric_err"] < 1e-4 * abs(w - omega0)
+
+
+def test_narrow_damped_zone_of_issue_14_is_resolved():
+    q = _cross_check(**NARROW, delta=0.000669337)
+    h = math.sqrt((1.97581e-7 * 410386 / 4) ** 2 - 0.000669337**2)
+    assert h == pytest.approx(0.02026007, rel=1e-6)  # the hand value above
+    for name, want in (("xi_lo", -h), ("xi_hi", h)):
+        assert q[name]["agree"]
+        assert abs(q[name]["numeric"] - want) <= q[name]["numeric_err"] + 1e-8, q[name]
+        assert q[name]["numeric_err"] < 1e-4 * h

@@ -140,10 +140,14 @@ def numeric(p, run):
     run.info["rtol_integration"] = rr
     # the sweeps' looser tolerance: a unit of w changes the orbit's phase per period by only about T W
     # (T = 2 pi/omega0), so the map must be good to a small part of that for Newton and the corrector to
-    # resolve w (at mu/omega0 ~ 1e-3, T W ~ 6e-6, a fixed 1e-7 stalled the continuation)
+    # resolve w (at mu/omega0 ~ 1e-3, T W ~ 6e-6, a fixed 1e-7 stalled the continuation; at T W ~ 1e-8,
+    # a locking width ~1e-9 omega0, so did a floor at the requested rtol 1e-10); not depending on rtol, the
+    # rerun takes the sweeps from run.shared
     T = 2.0 * math.pi / w0
-    rs_start = max(rtol, 1e-7)
-    rs = max(rtol, min(1e-7, max(rr, 1e-3 * T * W)))
+    rs = max(rr, min(1e-7, 1e-3 * T * W))
+    # Newton's start from far away: per period the phase moves by ~T W and the swing relaxes by mu T, so the
+    # map must be good to a small part of the smaller (mu/omega0 ~ 4e-9: 1e-7 found no orbit at all)
+    rs_start = max(rs, min(1e-7, 1e-2 * min(T * W, mu * T)))
     run.info["rtol_sweep"] = rs
     edge_claim = max(exercise.tol_factor * rtol, 100.0 * rr * w0 / W)
     for name in ("xi_lo", "xi_hi", "width"):

@@ -15,10 +15,12 @@ ln of the largest |multiplier| of y = exp(delta t) q, minus delta: near
 threshold a difference of two nearly equal rates, so its error is absolute
 (~ rtol omega0, not rtol growth) and the multiplier's logarithm is formed
 from the half-period solutions without cancellation (see ``_growth``).  In the first zone the critical multiplier
-is -1, so the threshold (root in mu, bracketed by a geometric scan upward
-from 0) and the edges (roots in omega on both sides of the minimum of the
-function over omega) are roots of the smooth P = det(M + I) =
-1 + tr M + det M, never of the growth rate.
+is -1, so the threshold (root in mu, bracketed by a geometric scan from 1e-3)
+and the edges (roots in omega on both sides of the minimum of the function
+over omega) are roots of the smooth P = det(M + I) = 1 + tr M + det M, never
+of the growth rate.  P is formed as exp(-delta T) F with F from half-period
+products that do not cancel (``_minus_one_scaled``), so a zone 1e-7 omega0
+wide (|P| ~ 1e-14) is still resolved.
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
 from mech.solvers.numerics.roots import golden_min
-from mech.solvers.mechanics.floquet import even_hill_discriminant, even_hill_half
+from mech.solvers.mechanics.floquet import even_hill_half
 
 exercise = Exercise(
     "5.11",
@@ -142,26 +144,44 @@ def expected_error(p):
     return out
 
 
-def _floquet(p, omega, mu, rtol, run):
-    """(largest |multiplier|, P = det(M + I), tr M_y) of the full damped equation over one period pi/omega.
-
-    The damping is taken out exactly by q = exp(-delta t) y, which leaves the
-    Hill equation y'' + (omega0^2 (1 + mu cos 2 omega t) - delta^2) y = 0 with
-    an even coefficient: half a period of its two fundamental solutions gives
-    tr M_y; the multipliers of q are exp(-delta T) times those of y.
-    """
+def _half(p, omega, mu, rtol, run):
+    """(y1, y1', y2, y2', e) of ``_growth``'s Hill equation at half the period pi/omega, e the absolute error
+    of the unit-sized y1, y2' (see ``_growth``); the trajectory and the Wronskian recorded."""
     T = math.pi / omega
     w0sq, d2, two_omega = p.omega0**2, p.delta**2, 2.0 * omega
-    tr, wronski, traj = even_hill_discriminant(
+    (y1, y1p, y2, y2p), traj = even_hill_half(
         lambda t: w0sq * (1.0 + mu * math.cos(two_omega * t)) - d2, T, rtol=rtol, vscale=p.omega0,
         integrator=run.integrator,
     )
     run.record(traj)
-    run.invariant("Wronskian", wronski)
-    damp = math.exp(-p.delta * T)
-    disc = tr * tr - 4.0
-    lam = 0.5 * (abs(tr) + math.sqrt(disc)) if disc > 0 else 1.0  # largest |multiplier| of y
-    return damp * lam, 1.0 + damp * tr + damp * damp, tr
+    run.invariant("Wronskian", y1 * y2p - y1p * y2 - 1.0)
+    # DOP853's global error on unit solutions: ~rtol plus 0.06 rtol per radian (measured for 5.3's maps);
+    # taken as 2 rtol plus 0.2 rtol per radian of omega0 T/2 (y1, y2' ~ 1; y1' ~ omega0; y2 ~ 1/omega0)
+    return y1, y1p, y2, y2p, rtol * (2.0 + 0.2 * p.omega0 * 0.5 * T)
+
+
+def _minus_one_scaled(y1, y1p, y2, y2p, e, dT, omega0):
+    """(F, its absolute error) with F = det(M + I) / exp(-delta T), M the monodromy matrix of q; dT = delta T.
+
+    With the multipliers of q equal to exp(-delta T) times those of y, det(M + I) = 1 + exp(-dT) tr M_y +
+    exp(-2 dT), so F = 2 cosh dT + tr M_y.  Near a multiplier -1 (tr M_y near -2) that sum cancels almost
+    completely (a narrow zone: F ~ -(eps^2 - delta^2) T^2 ~ 1e-14 while tr M_y ~ 2 carries an error ~rtol),
+    so it is formed from the half-period products that do not cancel: tr M_y + 2 = 4 y1 y2' gives
+    F = 4 y1 y2' + 4 sinh^2(dT/2); tr M_y - 2 = 4 y1' y2 gives F = 4 y1' y2 + 4 cosh^2(dT/2) (used when
+    tr M_y > 0, where F is far from 0).  The error is that of the product from the errors e of its two
+    unit-sized factors, plus the round-off of the sum."""
+    neg = y1 * y2p + y1p * y2 < 0  # tr M_y < 0
+    prod = 4.0 * np.where(neg, y1 * y2p, y1p * y2)
+    extra = np.where(neg, 4.0 * np.sinh(0.5 * dT) ** 2, 4.0 * np.cosh(0.5 * dT) ** 2)
+    err = 4.0 * e * (np.where(neg, np.abs(y1) + np.abs(y2p), np.abs(y1p) / omega0 + np.abs(y2) * omega0) + e)
+    return prod + extra, err + 4.0 * 2.0**-53 * (np.abs(prod) + extra)
+
+
+def _minus_one(p, omega, mu, rtol, run):
+    """(F, its error) of ``_minus_one_scaled`` at this omega and mu: F < 0 inside the first zone."""
+    y1, y1p, y2, y2p, e = _half(p, omega, mu, rtol, run)
+    F, err = _minus_one_scaled(y1, y1p, y2, y2p, e, p.delta * math.pi / omega, p.omega0)
+    return float(F), float(err)
 
 
 def _growth(p, rtol, run):
@@ -175,19 +195,10 @@ def _growth(p, rtol, run):
     arccosh(1 + h) = log1p(h + (h (h + 2))^(1/2)).  Its error is that of the four half-period
     values, propagated through h and the square root (which amplifies it near the zone's edge)."""
     T = math.pi / p.omega
-    w0sq, d2, two_omega = p.omega0**2, p.delta**2, 2.0 * p.omega
-    (y1, y1p, y2, y2p), traj = even_hill_half(
-        lambda t: w0sq * (1.0 + p.mu * math.cos(two_omega * t)) - d2, T, rtol=rtol, vscale=p.omega0,
-        integrator=run.integrator,
-    )
-    run.record(traj)
-    run.invariant("Wronskian", y1 * y2p - y1p * y2 - 1.0)
+    y1, y1p, y2, y2p, e = _half(p, p.omega, p.mu, rtol, run)
     tr = 2.0 * (y1 * y2p + y1p * y2)
     # |tr| - 2 from the product that does not cancel: -(tr + 2) for tr < 0, tr - 2 for tr > 0
     h = -2.0 * y1 * y2p if tr < 0 else 2.0 * y1p * y2
-    # DOP853's global error on unit solutions: ~rtol plus 0.06 rtol per radian (measured for 5.3's maps);
-    # taken as 2 rtol plus 0.2 rtol per radian of omega0 T/2 (y1, y2' ~ 1; y1' ~ omega0; y2 ~ 1/omega0)
-    e = rtol * (2.0 + 0.2 * p.omega0 * 0.5 * T)
     dh = 2.0 * e * ((abs(y1) + abs(y2p)) if tr < 0 else (abs(y1p) / p.omega0 + abs(y2) * p.omega0))
     if h > 0:
         ln_lam = math.log1p(h + math.sqrt(h * (h + 2.0)))
@@ -204,68 +215,89 @@ def numeric(p, run):
     from mech.solvers.numerics.roots import brentq
 
     rtol = run.rtol
-    noise = 10.0 * rtol  # size of the truncation and round-off in P = det(M + I)
     out = {}
 
     # growth at the given mu and omega; its error is absolute (a cancellation of two rates)
     out["growth"], err = _growth(p, rtol, run)
     run.claim("growth", rel=100 * rtol, abs=err)
 
-    # threshold at the given omega: the first sign change of P(mu) scanning upward
-    def P_mu(mu):
-        return _floquet(p, p.omega, mu, rtol, run)[1]
+    # threshold at the given omega: the first sign change of F(mu) (det(M + I), scaled) scanning upward
+    def F_mu(mu):
+        return _minus_one(p, p.omega, mu, rtol, run)
 
-    if P_mu(0.0) <= noise:
-        out["mu_th"] = 0.0  # exact resonance without damping: any modulation excites
-        run.claim("mu_th", rel=100 * rtol, abs=math.sqrt(noise))
+    f0, e0 = F_mu(0.0)
+    if f0 <= e0:
+        # exact resonance without damping: any modulation excites.  Near it F(0) ~ (pi xi/omega0)^2 and
+        # mu_th ~ 4 |xi|/omega0 = (4/pi) F(0)^(1/2): a value of F(0) within e0 leaves mu_th below 2 e0^(1/2)
+        out["mu_th"] = 0.0
+        run.claim("mu_th", rel=100 * rtol, abs=2.0 * math.sqrt(e0))
     else:
         lo, hi = 0.0, 1e-3
-        while P_mu(hi) > 0.0:
+        if F_mu(hi)[0] < 0.0:
+            # a threshold below 1e-3 (delta and xi small): bracket it within a factor 4, so that the root's
+            # tolerance below is relative to it
+            while hi > 1e-15 and F_mu(0.25 * hi)[0] < 0.0:
+                hi *= 0.25
+            lo = 0.25 * hi if hi > 1e-15 else 0.0
+        while F_mu(hi)[0] > 0.0:
             lo, hi = hi, 4.0 * hi
             if hi > 10.0:
                 raise NumericFailure("no multiplier reaches -1 for mu < 10: no first-zone threshold found")
-        mu_th = brentq(P_mu, lo, hi, xtol=1e-15, rtol=1e-13)
+        xtol = 1e-15 * hi
+        mu_th = brentq(lambda m: F_mu(m)[0], lo, hi, xtol=xtol, rtol=1e-13)
         dmu = 1e-4 * mu_th
-        slope = abs(P_mu(mu_th + dmu)) / dmu
+        f1, e1 = F_mu(mu_th + dmu)
+        slope = abs(f1) / dmu
         out["mu_th"] = mu_th
-        run.claim("mu_th", rel=max(100 * rtol, noise / (slope * mu_th)))
+        run.claim("mu_th", rel=max(100 * rtol, (e1 / slope + xtol) / mu_th))
 
-    # zone edges at the given mu: roots of P(omega) on both sides of its minimum
-    def P_w(w):
-        return _floquet(p, w, p.mu, rtol, run)[1]
+    # zone edges at the given mu: roots of F(omega) on both sides of its minimum
+    seen = {}
+
+    def F_w(w):
+        if w not in seen:
+            seen[w] = _minus_one(p, w, p.mu, rtol, run)
+        return seen[w][0]
 
     grid = np.linspace(0.55 * p.omega0, 1.6 * p.omega0, 9)
-    vals = np.array([P_w(w) for w in grid])
+    vals = np.array([F_w(w) for w in grid])
     if vals[0] <= 0 or vals[-1] <= 0:
         raise NumericFailure("the first zone reaches the end of the omega search window")
     k = int(np.argmin(vals))
     if vals[k] < 0:
         w_in = grid[k]
     else:
-        # golden-section search for the minimum, stopped as soon as P < 0 is seen
+        # golden-section search for the minimum, stopped as soon as F < 0 is seen
         a, b = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
-        w_min, pmin, inside = golden_min(P_w, a, b, xtol=1e-11 * p.omega0, stop=lambda P: P < 0)
+        w_min, fmin, inside = golden_min(F_w, a, b, xtol=1e-11 * p.omega0, stop=lambda F: F < 0)
         w_in = w_min if inside else None
         if w_in is None:
-            if pmin <= noise:
-                # the minimum is within the noise of P: a zone narrower than the search can resolve may be
-                # there (a draw: half-width 3e-8 omega0), so "no zone" would be a guess
+            emin = seen[w_min][1]
+            if fmin <= emin:
+                # the minimum is within the error of F: a zone narrower than the search can resolve may be
+                # there, so "no zone" would be a guess
                 raise NumericFailure(
-                    f"min over omega of det(M + I) = {pmin:.3g} is within its accuracy {noise:.1g}: whether a "
-                    "zone exists at this mu is not resolved")
-            why = Undefined(f"min over omega of det(M + I) = {pmin:.3g} >= 0: no multiplier passes -1 at mu = {p.mu:g}")
+                    f"min over omega of det(M + I) exp(delta T) = {fmin:.3g} is within its accuracy {emin:.1g}: "
+                    "whether a zone exists at this mu is not resolved")
+            why = Undefined(f"min over omega of det(M + I) = {fmin * math.exp(-p.delta * math.pi / w_min):.3g} "
+                            f">= 0: no multiplier passes -1 at mu = {p.mu:g}")
             out["xi_lo"] = out["xi_hi"] = why
             return out
     run.info["omega_inside_zone"] = w_in
     below, above = grid[grid < w_in], grid[grid > w_in]
     left = below[vals[: below.size] > 0][-1]
     right = above[vals[grid.size - above.size :] > 0][0]
+    xtol = 1e-15 * p.omega0
     for name, a, b, sgn in (("xi_lo", left, w_in, -1.0), ("xi_hi", w_in, right, 1.0)):
-        w = brentq(P_w, a, b, xtol=1e-15 * p.omega0, rtol=1e-14)
-        dw = 1e-7 * p.omega0
-        slope = abs(P_w(w + sgn * dw)) / dw
+        w = brentq(F_w, a, b, xtol=xtol, rtol=4 * 2.0**-52)
+        F_w(w)
+        # the slope over a step well inside the zone's half-width (a zone may be 1e-7 omega0 wide)
+        dw = min(1e-7 * p.omega0, 1e-2 * abs(w - w_in))
+        f1 = F_w(w + sgn * dw)
+        slope = abs(f1) / dw
         out[name] = w - p.omega0
-        run.claim(name, rel=100 * rtol, abs=noise / slope)
+        # F's error at the root over the slope, and the root's own tolerance (w is a number near omega0)
+        run.claim(name, rel=100 * rtol, abs=seen[w][1] / slope + 2.0 * xtol + 8 * 2.0**-52 * p.omega0)
     return out
 
 
@@ -376,22 +408,16 @@ def expected_error_batch(P):
     return out
 
 
-def _trace_batch(omega0, delta, mu, omega, rtol):
-    """(tr M_y, |Wronskian drift|) of ``_floquet``'s Hill equation at N points at once.
+def _half_batch(omega0, delta, mu, omega, rtol):
+    """(y1, y1', y2, y2') at half the period, in the time t as ``even_hill_half`` gives them, and the
+    |Wronskian drift|, at N points at once.
 
     q = exp(-delta t) y leaves y'' + (omega0^2 (1 + mu cos 2 omega t) - delta^2) y = 0;
     in the time s = omega t every point's modulation period pi/omega becomes
     pi, so all points integrate the even Hill equation
     y'' + ((omega0/omega)^2 (1 + mu cos 2s) - (delta/omega)^2) y = 0 over the
-    same half period [0, pi/2] (tr M does not depend on the time's unit).
+    same half period [0, pi/2].
     """
-    (y1, y1p, y2, y2p), drift = _half_batch(omega0, delta, mu, omega, rtol)
-    return 2.0 * (y1 * y2p + y1p * y2), drift
-
-
-def _half_batch(omega0, delta, mu, omega, rtol):
-    """(y1, y1', y2, y2') at half the period, in the time t as ``even_hill_half`` gives them, and the
-    |Wronskian drift|, at N points at once (see ``_trace_batch`` for the scaled time)."""
     from mech.solvers.mechanics.floquet import even_hill_half_batch
 
     r2 = (omega0 / omega) ** 2
@@ -424,8 +450,8 @@ def _growth_batch(omega0, delta, mu, omega, rtol):
 
 
 class _MinusOne:
-    """P = det(M + I) of points (omega0, delta, mu, omega), any one of mu or omega varied; the largest
-    Wronskian drift of each point kept."""
+    """(F, its error) of ``_minus_one_scaled`` (det(M + I) exp(delta T)) at points (omega0, delta, mu, omega),
+    any one of mu or omega varied; the largest Wronskian drift of each point kept."""
 
     def __init__(self, omega0, delta, mu, omega, rtol):
         self.omega0, self.delta, self.mu, self.omega, self.rtol = omega0, delta, mu, omega, rtol
@@ -434,29 +460,46 @@ class _MinusOne:
     def __call__(self, idx, mu=None, omega=None):
         mu = self.mu[idx] if mu is None else mu
         omega = self.omega[idx] if omega is None else omega
-        tr, w = _trace_batch(self.omega0[idx], self.delta[idx], mu, omega, self.rtol)
+        omega0, delta = self.omega0[idx], self.delta[idx]
+        (y1, y1p, y2, y2p), w = _half_batch(omega0, delta, mu, omega, self.rtol)
         self.drift[idx] = np.maximum(self.drift[idx], w)
-        damp = np.exp(-self.delta[idx] * math.pi / omega)
-        return 1.0 + damp * tr + damp * damp
+        T = math.pi / omega
+        e = self.rtol * (2.0 + 0.2 * omega0 * 0.5 * T)
+        return _minus_one_scaled(y1, y1p, y2, y2p, e, delta * T, omega0)
 
 
 def _threshold_batch(omega0, delta, omega, rtol):
-    """``numeric``'s mu_th at N points: the first sign change of P(mu) scanning upward, then the root."""
+    """``numeric``'s mu_th at N points: the first sign change of F(mu) scanning upward (downward first
+    where F(1e-3) < 0), then the root."""
     from mech.solvers.numerics.batch import illinois
 
     n = omega.size
     P = _MinusOne(omega0, delta, np.zeros(n), omega, rtol)
-    noise = 10.0 * rtol
     allp = np.arange(n)
-    p0 = P(allp, mu=np.zeros(n))
-    zero = p0 <= noise  # exact resonance without damping: any modulation excites
+    p0, e0 = P(allp, mu=np.zeros(n))
+    zero = p0 <= e0  # exact resonance without damping: any modulation excites
     lo, hi = np.zeros(n), np.full(n, 1e-3)
     flo, fhi = p0.copy(), np.full(n, np.nan)
-    scan = ~zero
+    idx = np.flatnonzero(~zero)
+    if idx.size:
+        fhi[idx] = P(idx, mu=hi[idx])[0]
+    # a threshold below 1e-3: bracket it within a factor 4 (the root's tolerance is relative to it)
+    down = ~zero & (fhi < 0.0)
+    while down.any():
+        idx = np.flatnonzero(down)
+        f4 = P(idx, mu=0.25 * hi[idx])[0]
+        neg = f4 < 0.0
+        stepped = idx[neg]
+        hi[stepped], fhi[stepped] = 0.25 * hi[stepped], f4[neg]
+        floor = stepped[hi[stepped] <= 1e-15]
+        down[idx[~neg]] = False
+        down[floor] = False
+        ok = idx[~neg]
+        lo[ok], flo[ok] = 0.25 * hi[ok], f4[~neg]
+    scan = ~zero & (fhi > 0.0)
     no_root = np.zeros(n, dtype=bool)
     while scan.any():
         idx = np.flatnonzero(scan)
-        fhi[idx] = P(idx, mu=hi[idx])
         up = fhi[idx] > 0.0
         grow = idx[up]
         lo[grow], flo[grow], hi[grow] = hi[grow], fhi[grow], 4.0 * hi[grow]
@@ -464,53 +507,60 @@ def _threshold_batch(omega0, delta, omega, rtol):
         no_root[over] = True
         scan[idx[~up]] = False
         scan[over] = False
+        idx = np.flatnonzero(scan)
+        if idx.size:
+            fhi[idx] = P(idx, mu=hi[idx])[0]
+            scan[idx[fhi[idx] <= 0.0]] = False
     go = np.flatnonzero(~zero & ~no_root)
     mu_th = np.zeros(n)
     conv = np.ones(n, dtype=bool)
+    xtol = 1e-15 * hi
     if go.size:
-        x, ok = illinois(lambda x, i: P(go[i], mu=x), lo[go], hi[go], flo[go], fhi[go], xtol=1e-15, rtol=1e-13)
+        x, ok = illinois(lambda x, i: P(go[i], mu=x)[0], lo[go], hi[go], flo[go], fhi[go], xtol=xtol[go],
+                         rtol=1e-13)
         mu_th[go], conv[go] = x, ok
     rel = np.full(n, 100.0 * rtol)
     ab = np.zeros(n)
-    ab[zero] = math.sqrt(noise)
+    ab[zero] = 2.0 * np.sqrt(e0[zero])
     if go.size:
         dmu = 1e-4 * mu_th[go]
-        slope = np.abs(P(go, mu=mu_th[go] + dmu)) / dmu
-        with np.errstate(divide="ignore"):
-            rel[go] = np.maximum(100.0 * rtol, noise / (slope * mu_th[go]))
+        f1, e1 = P(go, mu=mu_th[go] + dmu)
+        slope = np.abs(f1) / dmu
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rel[go] = np.maximum(100.0 * rtol, (e1 / slope + xtol[go]) / mu_th[go])
     mu_th[no_root | ~conv] = np.nan
     return mu_th, rel, ab, no_root, ~conv, P.drift
 
 
 def _edges_batch(omega0, delta, mu, rtol):
-    """``numeric``'s zone edges at N points: P(omega) on a grid, its minimum by golden section until P < 0,
+    """``numeric``'s zone edges at N points: F(omega) on a grid, its minimum by golden section until P < 0,
     the roots on both sides."""
     from mech.solvers.numerics.batch import illinois
 
     n = mu.size
     P = _MinusOne(omega0, delta, mu, np.ones(n), rtol)
-    noise = 10.0 * rtol
     allp = np.arange(n)
     grid = np.linspace(0.55, 1.6, 9)[None, :] * omega0[:, None]
-    vals = np.stack([P(allp, omega=grid[:, j]) for j in range(9)], axis=1)
+    vals = np.stack([P(allp, omega=grid[:, j])[0] for j in range(9)], axis=1)
     window = (vals[:, 0] <= 0) | (vals[:, -1] <= 0)
     k = np.argmin(vals, axis=1)
     w_in = grid[allp, k]
     p_in = vals[allp, k]
     found = (p_in < 0) & ~window
     none = np.zeros(n, dtype=bool)
-    unresolved = np.zeros(n, dtype=bool)  # the minimum is within the noise of P: whether a zone exists is open
-    # golden-section search for the minimum, stopped as soon as P < 0 is seen
+    unresolved = np.zeros(n, dtype=bool)  # the minimum is within the error of F: whether a zone exists is open
+    # golden-section search for the minimum, stopped as soon as F < 0 is seen
     g = 0.5 * (math.sqrt(5.0) - 1.0)
     a = grid[allp, np.maximum(k - 1, 0)]
     b = grid[allp, np.minimum(k + 1, 8)]
     c, d = b - g * (b - a), a + g * (b - a)
     active = ~found & ~window
     fc, fd = np.full(n, np.inf), np.full(n, np.inf)
+    ec, ed = np.zeros(n), np.zeros(n)
     idx = np.flatnonzero(active)
     if idx.size:
-        fc[idx] = P(idx, omega=c[idx])
-        fd[idx] = P(idx, omega=d[idx])
+        fc[idx], ec[idx] = P(idx, omega=c[idx])
+        fd[idx], ed[idx] = P(idx, omega=d[idx])
     while active.any():
         idx = np.flatnonzero(active)
         hit = np.minimum(fc[idx], fd[idx]) < 0
@@ -523,7 +573,7 @@ def _edges_batch(omega0, delta, mu, rtol):
         idx = idx[~hit]
         narrow = b[idx] - a[idx] <= 1e-11 * omega0[idx]
         nn = idx[narrow]
-        resolved = np.minimum(fc[nn], fd[nn]) > noise
+        resolved = np.where(fc[nn] < fd[nn], fc[nn] > ec[nn], fd[nn] > ed[nn])
         none[nn[resolved]] = True
         unresolved[nn[~resolved]] = True
         active[idx[narrow]] = False
@@ -532,13 +582,14 @@ def _edges_batch(omega0, delta, mu, rtol):
             break
         left = fc[idx] < fd[idx]
         L, R = idx[left], idx[~left]
-        b[L], d[L], fd[L] = d[L], c[L], fc[L]
+        b[L], d[L], fd[L], ed[L] = d[L], c[L], fc[L], ec[L]
         c[L] = b[L] - g * (b[L] - a[L])
-        a[R], c[R], fc[R] = c[R], d[R], fd[R]
+        a[R], c[R], fc[R], ec[R] = c[R], d[R], fd[R], ed[R]
         d[R] = a[R] + g * (b[R] - a[R])
         x = np.where(left, c[idx], d[idx])
-        fx = P(idx, omega=x)
+        fx, ex = P(idx, omega=x)
         fc[L], fd[R] = fx[left], fx[~left]
+        ec[L], ed[R] = ex[left], ex[~left]
     out = {}
     go = np.flatnonzero(found)
     for name, sgn in (("xi_lo", -1.0), ("xi_hi", 1.0)):
@@ -556,13 +607,15 @@ def _edges_batch(omega0, delta, mu, rtol):
                 j = np.argmax(m, axis=1)
                 end, fend = gg[np.arange(go.size), j], vv[np.arange(go.size), j]
                 lo_, hi_, flo, fhi = wi, end, p_in[go], fend
-            w, ok = illinois(lambda x, i: P(go[i], omega=x), lo_, hi_, flo, fhi, xtol=1e-15 * omega0[go],
-                             rtol=1e-14)
-            dw = 1e-7 * omega0[go]
-            slope = np.abs(P(go, omega=w + sgn * dw)) / dw
+            xtol = 1e-15 * omega0[go]
+            w, ok = illinois(lambda x, i: P(go[i], omega=x)[0], lo_, hi_, flo, fhi, xtol=xtol, rtol=4 * 2.0**-52)
+            # the slope over a step well inside the zone's half-width (a zone may be 1e-7 omega0 wide)
+            dw = np.minimum(1e-7 * omega0[go], 1e-2 * np.abs(w - wi))
+            ew = P(go, omega=w)[1]
+            slope = np.abs(P(go, omega=w + sgn * dw)[0]) / dw
             value[go] = w - omega0[go]
-            with np.errstate(divide="ignore"):
-                ab[go] = noise / slope
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ab[go] = ew / slope + 2.0 * xtol + 8 * 2.0**-52 * omega0[go]
             conv[go] = ok
         out[name] = (value, rel, ab, ~conv)
     return out, window, none, unresolved, P.drift
@@ -574,7 +627,7 @@ _CHART_OUTPUTS = ("growth", "mu_th", "xi_lo", "xi_hi")
 @exercise.batched(_CHART_OUTPUTS, analytic=analytic_batch, expected_error=expected_error_batch,
                   boundaries={"mu": ("mu_th", "leading-order zone edge μ = μ_th(ω)")})
 def numeric_batch(P, rtol, outputs, memo=None):
-    """``numeric`` at N points at once, from the same equation of motion (see ``_trace_batch``).
+    """``numeric`` at N points at once, from the same equation of motion (see ``_half_batch``).
 
     growth at every point; mu_th once for each distinct (omega0, delta, omega)
     and the edges once for each distinct (omega0, delta, mu), the parameters
@@ -613,8 +666,8 @@ def numeric_batch(P, rtol, outputs, memo=None):
                 out[name] = Column(v, rel=rel, abs=ab, undefined=[
                     (none, "min over omega of det(M + I) >= 0: no multiplier passes -1 at this mu")],
                     failed=[(window, "the first zone reaches the end of the omega search window"),
-                            (unresolved, "min over omega of det(M + I) is within its accuracy: whether a "
-                                         "zone exists at this mu is not resolved"),
+                            (unresolved, "min over omega of det(M + I) exp(delta T) is within its accuracy: "
+                                         "whether a zone exists at this mu is not resolved"),
                             (unconv, "the root search for the zone's edge did not converge"),
                             (drift > allowed, drifted)])
     return out
