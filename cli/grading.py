@@ -13,13 +13,11 @@ import sys
 import time
 import tomllib
 from dataclasses import dataclass, field
-from xml.etree import ElementTree as ET
 
 import click
 
 from mech.cli.values import CONSTANTS, ValueError_, _tokens, to_si
 from mech.problems.spec import BadInput, Exercise
-from mech.solvers.verification.answers import Expectation, judge
 
 __all__ = ["parse_expectation", "parse_expect_options", "attach", "grade_cmd"]
 
@@ -51,6 +49,8 @@ def _unit_factor(text: str, toks: list[tuple[str, str]], i: int, unit: str) -> t
 
 def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = None) -> Expectation:
     """``theta_c``, ``35.26deg`` -> an Expectation in SI; BadInput naming the output otherwise."""
+    from mech.solvers.verification.answers import Expectation
+
     name = str(raw_name).strip().replace("-", "_")
     outputs = {o.name: o for o in ex.outputs}
     if name not in outputs:
@@ -112,6 +112,8 @@ def parse_expect_options(ex: Exercise, pairs: list[str], rtol_text: str | None) 
 def attach(result, expectations: list[Expectation]) -> bool:
     """Judge and hang the judgements on the cross-check result (``result.expected``, read by the table);
     True when every expected value matches."""
+    from mech.solvers.verification.answers import judge
+
     judgements = judge(result, expectations)
     result.expected = {j.name: j for j in judgements}
     refs = sorted({j.reference for j in judgements if j.reference})
@@ -251,6 +253,8 @@ def load_answers(path: str) -> list[Entry]:
 
 
 def grade(entries: list[Entry]) -> None:
+    from mech.solvers.verification.answers import judge
+
     from mech.solvers.verification.crosscheck import cross_check
 
     for entry in entries:
@@ -277,6 +281,8 @@ def grade_json(path: str, entries: list[Entry], seconds: float) -> dict:
 def write_grade_junit(path: str, entries: list[Entry], seconds: float, out_file: str) -> None:
     """One test case per expected value; the classname ``mech.ex4_15`` has no dot inside the id, so CI
     viewers do not split "4.15" into a package 4 and a class 15."""
+    from xml.etree import ElementTree as ET
+
     judgements = [(e, j) for e in entries for j in e.judgements]
     failed = sum(not j.match for _, j in judgements)
     suite = ET.Element("testsuite", name=f"mech grade {path}", tests=str(len(judgements)), failures=str(failed),
@@ -401,6 +407,8 @@ def baselines(report, hard: bool, old: dict | None, old_path: str | None, save_p
 def junit_baseline(junit_file: str, cmp) -> None:
     """Add to ``mech check``'s JUnit report a suite with one test case per point compared with the
     baseline, failed when any of its values moved: CI shows what moved, not only the exit status."""
+    from xml.etree import ElementTree as ET
+
     tree = ET.parse(junit_file)
     root = tree.getroot()
     moved: dict[tuple[str, str], list[str]] = {}
