@@ -26,3 +26,12 @@ def solve_both(ex_id: str, rtol: float | None = None, **given):
     p = ex.resolve(given)
     numeric, run = ex.solve_numeric(p, rtol)
     return ex.solve_analytic(p), numeric, run
+
+
+def claimed_error(ex, run, name: str, value: float) -> float:
+    """A numeric output's error bar as the solver claims it (``run.claim``, else the exercise's default
+    ``tol_factor * rtol``): what the cross-check reports as numeric_err, for tests that call a solver
+    directly."""
+    rel, abs_ = run.claims.get(name, (None, None))
+    rel = ex.tol_factor * run.rtol if rel is None else rel
+    return rel * abs(value) + (abs_ or 0.0)

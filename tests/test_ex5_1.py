@@ -18,7 +18,7 @@ import math
 
 import pytest
 
-from conftest import solve_both
+from conftest import claimed_error, solve_both
 
 
 def G_hand(m, w0, d, t):
@@ -92,15 +92,14 @@ def test_static_response_is_one_over_stiffness():
     dict(m=0.00657938, omega0=83916.9, delta=5881.43, tau=619.994, omega=2494.04),
 ])
 def test_issue14_draws_answer_fast_within_their_claims(given):
-    import time
-
     from mech.problems import registry
 
     ex = registry.get("5.1")
     p = ex.resolve(given)
-    t0 = time.monotonic()
     n, run = ex.solve_numeric(p)
-    assert time.monotonic() - t0 < 3.0
+    # cost that does not grow with the phase or the decay: stepping through these spans would take
+    # 1e6-1e10 evaluations; a count, not a wall time, so a loaded machine cannot fail it
+    assert run.nfev < 20_000
     G = G_hand(given["m"], given["omega0"], given["delta"], given["tau"])
     for name, exact in (("G", G), ("G_minus", 0.0)):
         rel, ab = run.claims[name]
@@ -138,33 +137,26 @@ def _exact(m, omega0, delta, tau, omega):
         return {"G": float(G), "G_minus": 0.0, "chi_re": float(re / den), "chi_im": float(im / den)}, float(envelope)
 
 
-def _numeric_err(ex, run, name, value):
-    rel, abs_ = run.claims.get(name, (None, None))
-    rel = ex.tol_factor * run.rtol if rel is None else rel
-    return rel * abs(value) + (abs_ or 0.0)
-
-
 @pytest.mark.parametrize("given", LATE)
 def test_late_times_within_the_stated_errors(given):
-    import time
-
     from mech.problems import registry
 
     ex = registry.get("5.1")
     p = ex.resolve(given)
-    t0 = time.monotonic()
     n, run = ex.solve_numeric(p)
-    assert time.monotonic() - t0 < 3.0  # it ran 20000 panels (2.5 s unloaded) and gave up
+    # cost that does not grow with the phase or the decay: stepping through these spans would take
+    # 1e6-1e10 evaluations; a count, not a wall time, so a loaded machine cannot fail it
+    assert run.nfev < 20_000
     a = ex.solve_analytic(p)
     a_err = ex.analytic_errors(p)
     ref, envelope = _exact(**given)
     for name, exact in ref.items():
-        assert abs(n[name] - exact) <= _numeric_err(ex, run, name, n[name]), name
+        assert abs(n[name] - exact) <= claimed_error(ex, run, name, n[name]), name
         assert abs(a[name] - exact) <= a_err.get(name, 0.0) + 8 * 2.0**-53 * abs(exact), name
     # the error bars are not vacuous: G's below a part in 1e3 of its envelope exp(-delta tau)/(m w1), over
     # the quadrature's floor of 1e-9 of G's scale 1/(m omega0) (the third has decayed by exp(-1715))
     floor = 2e-9 / (given["m"] * given["omega0"])
-    assert _numeric_err(ex, run, "G", n["G"]) < 1e-3 * envelope + floor
+    assert claimed_error(ex, run, "G", n["G"]) < 1e-3 * envelope + floor
     assert a_err["G"] < 1e-3 * envelope + floor
 
 

@@ -13,7 +13,7 @@ import math
 
 import pytest
 
-from conftest import solve_both
+from conftest import claimed_error, solve_both
 
 
 def test_defaults():
@@ -97,31 +97,24 @@ def _exact(m, omega0, F0, T, t1):
         return {"A_after": float(a_after), "q_max": float(q_max), "q_t": float(q_t)}
 
 
-def _numeric_err(ex, run, name, value):
-    rel, abs_ = run.claims.get(name, (None, None))
-    rel = ex.tol_factor * run.rtol if rel is None else rel
-    return rel * abs(value) + (abs_ or 0.0)
-
-
 @pytest.mark.parametrize("given", LONG)
 def test_long_phases_within_the_stated_errors(given):
-    import time
-
     from mech.problems import registry
 
     ex = registry.get("5.2")
     p = ex.resolve(given)
-    t0 = time.monotonic()
     n, run = ex.solve_numeric(p)
-    assert time.monotonic() - t0 < 3.0  # the flow is a matrix exponential, not 1e9 rad of steps
+    # cost that does not grow with the phase or the decay: stepping through these spans would take
+    # 1e6-1e10 evaluations; a count, not a wall time, so a loaded machine cannot fail it
+    assert run.nfev < 20_000
     a = ex.solve_analytic(p)
     a_err = ex.analytic_errors(p)
     ref = _exact(**given)
     for name, exact in ref.items():
-        assert abs(n[name] - exact) <= _numeric_err(ex, run, name, n[name]), name
+        assert abs(n[name] - exact) <= claimed_error(ex, run, name, n[name]), name
         assert abs(a[name] - exact) <= a_err[name] + 4 * 2.0**-53 * abs(exact), name
         # and the error bars are not vacuous: below a part in 1e4 of the oscillation's size
-        assert _numeric_err(ex, run, name, n[name]) < 1e-4 * 2 * abs(given["F0"] / (given["m"] * given["omega0"] ** 2))
+        assert claimed_error(ex, run, name, n[name]) < 1e-4 * 2 * abs(given["F0"] / (given["m"] * given["omega0"] ** 2))
 
 
 def test_a_phase_without_significant_digits_is_refused():

@@ -186,15 +186,14 @@ ISSUE14 = [
 
 @pytest.mark.parametrize("given", ISSUE14)
 def test_issue14_draws_within_their_stated_errors(given):
-    import time
-
     from mech.problems import registry
 
     ex = registry.get("5.3")
     p = ex.resolve(given)
-    t0 = time.monotonic()
     n, run = ex.solve_numeric(p)
-    assert time.monotonic() - t0 < 3.0
+    # cost that does not grow with the phase or the decay: stepping through these spans would take
+    # 1e6-1e10 evaluations; a count, not a wall time, so a loaded machine cannot fail it
+    assert run.nfev < 20_000
     a = ex.solve_analytic(p)
     a_err = ex.analytic_errors(p)
     ref = _exact_hp(**given)

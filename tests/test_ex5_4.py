@@ -88,11 +88,10 @@ def test_a_reading_after_1e5_decay_times_is_zero_within_its_claim_and_fast():
     omega0/(zeta + (zeta^2 - 1)^(1/2)) = 0.0664 1/s, so q(t1)/q0 ~ e^-34600, zero in doubles; the leg
     once took 6e5 steps (and divided by zero in the step control).  t_eps: the root of
     q/q0 = eps = 1.74208e-5 is about ln(1/eps)/lambda_s (within the prefactor's log)."""
-    import time
-
-    t0 = time.monotonic()
     a, n, run = solve_both("5.4", omega0=0.484781, zeta=3.69078, q0=5095.95, t1=521341.0, eps=1.74208e-05)
-    assert time.monotonic() - t0 < 4.0
+    # cost that does not grow with the phase or the decay: stepping through these spans would take
+    # 1e6-1e10 evaluations; a count, not a wall time, so a loaded machine cannot fail it
+    assert run.nfev < 20_000
     rel, ab = run.claims["q_t"]
     assert abs(n["q_t"]) <= ab and 0.0 < ab < 1e-12 * 5095.95
     lam = 0.484781 / (3.69078 + math.sqrt(3.69078**2 - 1.0))
