@@ -179,16 +179,27 @@ def numeric(p, run):
     # fixed frequency instead, Newton's first step along the nearly neutral phase (stiffness ~ Delta,
     # against mu along the swing) overshoots from a far start, and a continuation in w steers by tangents
     # that the Jacobian of a point off the branch by more than ~Delta/mu in swing gets wrong.
-    def on_branch(th, R, w, r):
+    def on_branch(th, known, r, fresh=True):
+        """The locked orbit of phase th, Newton started from the solved point ``known`` = (th', bp) moved
+        along the branch's tangent (first order in th - th'; at a start, bp = None: a swing of 2 Q, w = 0).
+        ``fresh``: its Jacobian evaluated at the converged point (det(M - I) needs it), else that of Newton's
+        last iterate (the converged z is the same)."""
+        R, w = 2.0, 0.0
+        if known[1] is not None:
+            t_known, bp = known
+            z, tg = bp.z, bp.tangent
+            R = math.hypot(z[0], z[1])
+            w = z[2]
+            dth = (z[0] * tg[1] - z[1] * tg[0]) / (R * R)  # d(phase)/ds along the tangent
+            if abs(dth) * R > 1e-3 * np.linalg.norm(tg):
+                R += (z[0] * tg[0] + z[1] * tg[1]) / R / dth * (th - t_known)
+                w += tg[2] / dth * (th - t_known)
         c, sn = math.cos(th), math.sin(th)
         bp = solve_on_plane(om, [R * c, R * sn, w], [-sn, c, 0.0], 0.0, rtol=r, tol=1e-9, max_iter=12,
-                            fresh=True, monotone=False)
+                            fresh=fresh, monotone=False)
         if bp is None or not bp.A > 1.0:  # not the small unstable orbit near rest
             raise NumericFailure(f"no locked orbit found at the phase {th:.4g} rad: Newton did not converge")
         return bp
-
-    def radius(bp):
-        return float(math.hypot(bp.z[0], bp.z[1]))
 
     # from the phase where the drive pushes the swing outward (the centre of the range, w ~ 0), in steps of
     # PHASE_STEP each way round until w turns back: the edges are the folds, where det(M - I), the
@@ -198,13 +209,13 @@ def numeric(p, run):
     # exceeds 4/(3 sqrt 3), no locked orbit of a large swing has that phase (the loop turns through small
     # swings there)
     th0 = 0.5 * math.pi
-    start = on_branch(th0, 2.0, 0.0, rs)
+    start = on_branch(th0, (th0, None), rs)
     brackets = []
     for direction in (+1.0, -1.0):
         prev = (th0, start)
         for k in range(1, 4):
             th = th0 + direction * k * PHASE_STEP
-            bp = on_branch(th, radius(prev[1]), prev[1].z[2], rs)
+            bp = on_branch(th, prev, rs)
             if np.sign(bp.tangent[2]) != np.sign(prev[1].tangent[2]):
                 brackets.append(sorted([prev, (th, bp)], key=lambda u: u[0]))
                 break
@@ -226,7 +237,7 @@ def numeric(p, run):
 
         def det(th):
             t0 = min(near, key=lambda t: abs(t - th))
-            bp = near[th] = on_branch(th, radius(near[t0]), near[t0].z[2], r_search)
+            bp = near[th] = on_branch(th, (t0, near[t0]), r_search)
             return bp.tangent[2]
 
         root = brentq(det, ta, tb, xtol=0.1 * math.sqrt(edge_claim), rtol=1e-15, maxiter=100,
@@ -234,7 +245,8 @@ def numeric(p, run):
         fold = near.get(root) if rr == r_search else None
         if fold is None:
             t0 = min(near, key=lambda t: abs(t - root))
-            fold = on_branch(root, radius(near[t0]), near[t0].z[2], rr)
+            # the edge is z's w: the Jacobian of the last iterate is enough (fold_multipliers, the swing)
+            fold = on_branch(root, (t0, near[t0]), rr, fresh=False)
         folds.append(fold)
     folds.sort(key=lambda f: f.z[2], reverse=True)
     xi_hi, xi_lo = folds[0].z[2] * W, folds[1].z[2] * W
