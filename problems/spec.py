@@ -311,9 +311,12 @@ class Exercise:
         min_rtol: float = 1e-13,
         route_note: str = "",
         states: tuple[tuple[str, str], ...] | list = (),
+        constants: Mapping[str, str] | None = None,
     ):
         """``route_note``: where the implementation departs from the catalogue's numeric route (a
-        named library routine replaced, say), shown by ``mech show`` under the route."""
+        named library routine replaced, say), shown by ``mech show`` under the route.  ``constants``: the
+        dimensional constants the solvers use that are not parameters, name -> unit ({"G": "m^3/(kg s^2)"}),
+        so that a change of units (``scales.natural_units``) leaves them unchanged."""
         spec = _load_catalogue(id)
         self.id = spec["id"]
         self.title = spec["title"]
@@ -337,6 +340,7 @@ class Exercise:
         # (name, unit) of each component of the state vector its numeric route integrates, in order:
         # what a trajectory's rows are (``mech solve --trajectory``, ``Solution.trajectory``)
         self.states = tuple((str(n), str(u)) for n, u in states)
+        self.constants = dict(constants or {})
         self._analytic: Callable | None = None
         self._numeric: Callable | None = None
         self._constraints: list[Callable] = []
@@ -446,14 +450,36 @@ class Exercise:
             p.check(v)
             values[p.name] = v
         params = Params(values)
+        from mech.problems import scales
+
         for check in self._constraints:
-            msg = check(params)
+            try:
+                msg = check(params)
+            except (OverflowError, ZeroDivisionError) as exc:
+                # a joint check that cannot even form its scales: the input is beyond the floating-point range
+                where = scales.far_params(self, params)
+                msg = (f"the scales the parameters form{' at ' + where if where else ''} leave the "
+                       f"floating-point range ({type(exc).__name__} in the joint checks)")
             if msg:
                 raise BadInput(msg)
+        msg = scales.representable(self, params)
+        if msg:
+            raise BadInput(msg)
         return params
 
     def solve_analytic(self, p: Params) -> dict:
-        return self._finish(self._analytic(p), "analytic")
+        """The analytic answers; where the parameters are far (beyond ~1e+-9) from their defaults, solved in the
+        units, powers of two of kg, m and s, that bring them nearest (``scales.natural_units``) and brought back
+        to SI exactly, so that the units chosen do not matter."""
+        from mech.problems import scales
+
+        nat = scales.natural_units(self, p)
+        if nat is None:
+            return self._finish(self._analytic(p), "analytic")
+        u, values = nat
+        out = self._finish(self._analytic(Params(values)), "analytic")
+        units = {o.name: o.unit for o in self.outputs}
+        return {n: v if isinstance(v, Undefined) else scales.to_si(v, units[n], u) for n, v in out.items()}
 
     def solve_numeric(self, p: Params, rtol: float | None = None, shared: dict | None = None,
                       keep_trajectories: bool = False, integrator: str | None = None) -> tuple[dict, Run]:
