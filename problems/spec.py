@@ -135,6 +135,8 @@ class Params(Mapping[str, float]):
         object.__setattr__(self, "_values", dict(values))
 
     def __getattr__(self, name: str) -> float:
+        if name.startswith("__"):
+            raise AttributeError(name)  # copy and pickle probe dunders before ``_values`` exists
         try:
             return self._values[name]
         except KeyError:
@@ -142,6 +144,9 @@ class Params(Mapping[str, float]):
 
     def __setattr__(self, name, value):
         raise AttributeError("Params are read-only")
+
+    def __reduce__(self):
+        return (Params, (self._values,))
 
     def __getitem__(self, key: str) -> float:
         return self._values[key]
