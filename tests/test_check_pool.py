@@ -2,13 +2,9 @@
 worker outlives a killed check."""
 
 import os
-import signal
-import subprocess
-import sys
-import time
-import uuid
 
 import pytest
+from conftest import killed_leaves_nothing
 
 from mech.cli import checking
 from mech.problems import registry
@@ -74,33 +70,7 @@ checking.run_check([ex] * 1 + [registry.get(i) for i in ("4.1", "4.2", "4.3", "4
 """
 
 
-def _processes_with(marker: str) -> list[int]:
-    found = []
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                with open(f"/proc/{entry}/cmdline", "rb") as fh:
-                    if marker.encode() in fh.read():
-                        found.append(int(entry))
-            except OSError:
-                continue
-    return found
-
-
 @pytest.mark.parametrize("sig", ["SIGKILL", "SIGTERM"])
 def test_the_workers_die_with_a_killed_check(sig):
     """A CI timeout kills mech check (SIGKILL or SIGTERM): none of its pool's workers may outlive it."""
-    marker = f"mech-pool-probe-{uuid.uuid4().hex}"
-    proc = subprocess.Popen([sys.executable, "-c", _CHECK_THEN_HANG, marker], stdout=subprocess.PIPE, text=True)
-    try:
-        assert proc.stdout.readline().strip() == "worker"
-        assert len(_processes_with(marker)) >= 2, "no worker was running"
-        proc.send_signal(getattr(signal, sig))
-        proc.wait(timeout=10)
-        time.sleep(2.0)
-        assert _processes_with(marker) == []
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-        for pid in _processes_with(marker):
-            os.kill(pid, signal.SIGKILL)
+    assert killed_leaves_nothing(_CHECK_THEN_HANG, "worker", sig) == []
