@@ -253,3 +253,17 @@ def test_locking_range_far_below_the_precision_of_omega0(given, delta, shift):
     centre = 0.5 * (q["xi_lo"]["numeric"] + q["xi_hi"]["numeric"])
     err = 0.5 * (q["xi_lo"]["numeric_err"] + q["xi_hi"]["numeric_err"])
     assert abs(centre - shift) <= err + 1e-3 * abs(shift) + 3 * D * (D / p["mu"]) ** 2, (centre, err, shift)
+
+
+def test_a_beat_its_error_bar_cannot_resolve_fails_loudly():
+    """Draw (c) with omega 2e-10 rad/s (three times the half-width) above omega0: the beat, by the
+    leading-order theory sqrt(xi^2 - Delta^2) ~ 2.3e-10 rad/s, lies far below what the settling run resolves
+    at omega0 = 7e5 rad/s (rtol omega0 ~ 7e-5 rad/s); printing 3.8e-6 +- 3e5 would be no answer: a loud
+    failure that says why."""
+    from mech.problems import registry
+    from mech.problems.spec import NumericFailure
+
+    ex = registry.get("5.10")
+    p = ex.resolve({**NARROW_C, "omega": 684581.00000000023})
+    with pytest.raises(NumericFailure, match="beat .* is not resolved"):
+        ex.solve_numeric(p)

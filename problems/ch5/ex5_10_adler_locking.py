@@ -268,7 +268,14 @@ def numeric(p, run):
     else:
         near = folds[0] if xi > xi_hi else folds[1]
         beat, err = _beat(p, run, amplitude=near.A * Q)
-        run.claim("beat", rel=max(10.0 * err, 100.0 * rtol * p.omega / beat))
+        rel = max(10.0 * err, 100.0 * rtol * p.omega / beat)
+        if rel >= 1.0:
+            # outside the range the beat is positive; an error bar as large as the beat itself is no answer
+            # (just outside a range far narrower than omega0's round-off, the settling run cannot resolve it)
+            raise NumericFailure(f"the beat {beat:.2g} rad/s is not resolved: its error bar would be {rel:.1g} "
+                                 f"times its value (omega is {abs(xi - (xi_hi if xi > xi_hi else xi_lo)):.2g} "
+                                 f"rad/s outside a locking range {xi_hi - xi_lo:.2g} rad/s wide)")
+        run.claim("beat", rel=rel)
         run.info["locked"] = False
     return {"xi_lo": xi_lo, "xi_hi": xi_hi, "width": xi_hi - xi_lo, "beat": beat}
 
