@@ -84,7 +84,8 @@ def balanced_modes(M: np.ndarray, K: np.ndarray) -> Modes:
     n = omega2.size
     # each eigenvalue's error: eps times the largest (symmetric solver on the balanced problem)...
     err = np.full(n, 8.0 * 2.0**-53 * float(np.max(np.abs(omega2))))
-    if n > 1 and omega2[0] > 0 and omega2[-1] > 1e3 * omega2[0]:
+    # (a low root rounded to 0 or below it too: with K positive definite the inverse solve gets it)
+    if n > 1 and omega2[-1] > 0 and omega2[-1] > 1e3 * omega2[0]:
         try:
             inverse = normal_modes(Kb, Mb)  # eigenvalues omega^-2, ascending: the highest mode first
         except NumericFailure:
