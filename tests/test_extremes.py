@@ -22,10 +22,6 @@ from mech.solvers.verification.extremes import TIDY, classify, extreme_points
 # Untidy today, each a per-exercise numeric defect (a solve that loses a tiny or huge ratio), reported for
 # its own fix; strict, so that a fix is noticed.
 KNOWN = {
-    ("4.11", "M_prime*1e+200"): "mass ratio 1e200: the 2x2 modes lose the light cylinder's share",
-    ("5.1", "tau*1e-200"): "5.1 is another helper's; its numeric route at tau = 1e-200 s",
-    ("5.1", "delta*1e-200"): "5.1 is another helper's; G at delta = 1e-202 1/s after its merge (a=-0.29, n=-0.16)",
-    ("5.3", "omega*1e-200"): "a drive period of 1e201 s: shooting over it claims digits it has not",
     ("5.8", "f0*1e-200"): "5.8 is another helper's",
 }
 

@@ -154,3 +154,35 @@ def test_turn_is_exact_beyond_two_to_the_22_turns(omega, x):
         s, c = hiprec.sincos(hiprec.D(omega) * hiprec.D(x))
     z = _turn(omega, x)
     assert abs(z.real - float(c)) < 4e-16 and abs(z.imag - float(s)) < 4e-16
+
+
+@pytest.mark.parametrize("t", [4.2e-200, 1e-30, 1e-3])
+def test_an_early_time_is_near_zero(t):
+    """q'' + 2 d q' + q = delta(t): G(t) = e^{-d t} sin(w1 t)/w1 (= t (1 - d t + ...) for t -> 0), by hand;
+    the quadrature is asked to an absolute tolerance of order 1e-12 (G's scale is 1)."""
+    d = 0.0667
+
+    def chi(x):
+        with np.errstate(over="ignore"):  # x up to 40/t: chi = 0 where x^2 overflows (its size < 1e-308)
+            return 1.0 / ((1.0 - x) * (1.0 + x) - 2j * d * x)
+
+    poles = np.roots([-1.0, -2j * d, 1.0])
+    res = inverse_fourier(chi, t, poles, epsrel=1e-12, vectorized=True)
+    assert abs(res.value - green(d, t)) <= max(res.abserr, 1e-15)
+    assert abs(res.value - green(d, t)) <= 1e-11
+
+
+@pytest.mark.parametrize("d", [1e-13, 1e-50, 6.7e-202])
+def test_a_peak_narrower_than_the_floats_around_it(d):
+    """A resonance of width d far below the spacing of the floats at w = 1 (Q up to 1e201).  Its inverse
+    transform at t = 4.2 is e^{-d t} sin(w1 t)/w1 with w1 = (1 - d^2)^(1/2) = 1 to the last bit: sin(4.2),
+    by hand.  chi in the local form (base, offset) so that the offset carries what 1 + y cannot."""
+    def chi_local(base, off):
+        return 1.0 / (((1.0 - base) - off) * ((1.0 + base) + off) - 2j * d * (base + off))
+
+    poles = [complex(1.0, -d), complex(-1.0, -d)]
+    t = 4.2
+    after = inverse_fourier(chi_local, t, poles, epsrel=1e-11, vectorized=True, local=True)
+    before = inverse_fourier(chi_local, -t, poles, epsrel=1e-11, vectorized=True, local=True)
+    assert abs(after.value - math.sin(t)) <= 1e-10
+    assert abs(before.value) <= 1e-10

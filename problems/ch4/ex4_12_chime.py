@@ -56,31 +56,34 @@ def analytic(p):
 
 @exercise.numeric
 def numeric(p, run):
-    a, l, g, M = p.l_prime, p.l, p.g, p.M
+    # dimensionless: lengths in l, masses in M, time in sqrt(l/g); the thread's swing as the length
+    # x = a phi (a = l'/l), so that T and U keep O(1) coefficients for a from 1e-200 to 1e200 (with phi,
+    # the thread's term M l'^2 phi'^2 over- or underflowed: NaN modes)
+    a, l, g, M = p.l_prime / p.l, 1.0, 1.0, 1.0
     s, ws = gauss_legendre(8, 0.0, l)
     w = M * ws / l  # mass of each point
 
     def T(q, qdot):
-        phi, psi = q
-        # velocity of the point at s: a phi' (cos phi, sin phi) + s psi' (cos psi, sin psi)
-        vx = a * qdot[0] * np.cos(phi) + s * qdot[1] * np.cos(psi)
-        vy = a * qdot[0] * np.sin(phi) + s * qdot[1] * np.sin(psi)
+        phi, psi = q[0] / a, q[1]
+        # velocity of the point at s: a phi' (cos phi, sin phi) + s psi' (cos psi, sin psi), a phi' = x'
+        vx = qdot[0] * np.cos(phi) + s * qdot[1] * np.cos(psi)
+        vy = qdot[0] * np.sin(phi) + s * qdot[1] * np.sin(psi)
         return 0.5 * float(np.sum(w * (vx**2 + vy**2)))
 
     def U(q):
         # y - y_eq of each point: a (1 - cos phi) + s (1 - cos psi), written as 2 sin^2(x/2)
-        dy = 2 * a * np.sin(q[0] / 2) ** 2 + 2 * s * np.sin(q[1] / 2) ** 2
+        dy = 2 * a * np.sin(q[0] / a / 2) ** 2 + 2 * s * np.sin(q[1] / 2) ** 2
         return g * float(np.sum(w * dy))
 
     q0 = np.zeros(2)
-    # probe rates 1/a and 1/l move thread and bar at comparable speeds: with l' = 1e-7 l, unit rates
-    # would leave the cross term M a l/2 at 1e-7 of T and polarization would lose seven digits of it
-    Mm = scaled_mass_matrix(T, q0, [1.0 / a, 1.0 / l])
-    K = hessian(U, q0, scale=1.0)
+    # probe rates of one length per time for x and one radian per time for psi move thread and bar at
+    # comparable speeds (the bar's length is the unit)
+    Mm = scaled_mass_matrix(T, q0, [1.0, 1.0])
+    K = hessian(U, q0, scale=[a, 1.0])  # steps of 1e-3 rad in phi and psi
     modes = balanced_modes(Mm, K)
     if not modes.stable:
         raise NumericFailure(f"the hanging equilibrium came out unstable: omega^2 = {modes.omega2}")
-    ratios = modes.shapes[1, :] / modes.shapes[0, :]
+    ratios = a * modes.shapes[1, :] / modes.shapes[0, :]  # psi/phi = a psi/x
     run.info["mass_matrix"] = Mm.tolist()
     run.info["stiffness"] = K.tolist()
     # polarization with balanced probe rates is exact to a few ulps; the Hessian's truncation (h^4/1440,
@@ -89,7 +92,8 @@ def numeric(p, run):
     # costs no digits (measured 1e-15 at l'/l = 1e-7 and 1e7)
     for name in ("omega1", "omega2", "r1", "r2"):
         run.claim(name, rel=1e-10)
-    return {"omega1": modes.omega[0], "omega2": modes.omega[1], "r1": ratios[0], "r2": ratios[1]}
+    unit = np.sqrt(p.g) / np.sqrt(p.l)
+    return {"omega1": modes.omega[0] * unit, "omega2": modes.omega[1] * unit, "r1": ratios[0], "r2": ratios[1]}
 
 
 @exercise.scene

@@ -149,7 +149,10 @@ def numeric(p, run):
         # frequency domain: q = a exp(-i x t) turns q'' + 2 d q' + q = F into (-x^2 - 2 i d x + 1) a = F,
         # at x = base + off (arrays), 1 - x^2 as (1 - x)(1 + x) with 1 - x = (1 - base) - off (1 - base exact
         # near x = 1): a resonance of width d = 1e-10 is resolved without the 1e-16 rounding of x itself
-        return 1.0 / (((1.0 - base) - off) * ((1.0 + base) + off) - 2j * d * (base + off))
+        # beyond |x| ~ 1e154 (an early time's window reaches 40/t) the product overflows and chi = 0,
+        # its true size ~ 1/x^2 being under the smallest double anyway
+        with np.errstate(over="ignore"):
+            return 1.0 / (((1.0 - base) - off) * ((1.0 + base) + off) - 2j * d * (base + off))
 
     # characteristic roots in the frequency variable: where the coefficient above vanishes
     lam = _characteristic_roots(d)  # time domain: q = exp(lam t)

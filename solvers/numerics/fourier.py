@@ -418,17 +418,69 @@ def inverse_fourier(chi, t: float, poles, *, epsrel: float = 1e-12, window_facto
     poles = [complex(z) for z in poles]
     window = window_factor * max(1.0, max(abs(z) for z in poles))
     pts = _breakpoints(poles, window)
+    # an early time (|t| far below 1/W): the exponential has not turned once over the window, and the
+    # tail's first cycle (a half period pi/|t|) would span hundreds of decades of a decaying chi in one
+    # adaptive piece, whose bisections cannot reach the window end (t = 4e-200 gave G = 8e-3 for ~t).
+    # The window is carried on in cuts a factor 4 apart until the exponential turns (window_factor / |t|)
+    reach = window_factor / abs(float(t))
+    while pts[-1] < reach:
+        pts.append(4.0 * pts[-1])
+    window = pts[-1]
     f = chi if vectorized else (lambda ws: np.array([chi(float(x)) for x in ws], dtype=complex))
     panels = _Panels(f, -float(t), "re", local=local and vectorized)
-    pieces = [(a, b) for a, b in zip(pts[:-1], pts[1:]) if b > a]
+    # a peak narrower than the floats resolve around it (width below 2^-40 of its centre c: a Q of 1e12
+    # and up, to 1e201) is integrated over [c - K, c + K] in the offset y = w - c, whose floats are as
+    # fine as the width needs: exp(-i w t) = exp(-i c t) exp(-i y t), chi(c, y) from the local form
+    cores = []
+    if local and vectorized:
+        for c in sorted({abs(z.real) for z in poles if z.real != 0.0 and abs(z.imag) < 2.0**-40 * abs(z.real)}):
+            K = math.ldexp(1.0, math.frexp(c)[1] - 30)  # ~1e-9 c, a power of two: c +- K exact
+            if any(lo - K < c < hi + K for lo, hi, _, _ in cores):
+                continue
+            lo, hi = c - K, c + K  # rounded, perhaps (c + K past a power of two): the offsets below are
+            # then hi - c and lo - c exactly (Sterbenz), so that the core and the window tile without a gap
+            width = min(abs(z.imag) for z in poles if abs(z.real) == c)
+            offs, k = {0.0, lo - c, hi - c}, 0.5 * width
+            while 0.0 < k < 0.5 * K:
+                offs |= {k, -k}
+                k *= 4.0
+            pts = sorted({x for x in pts if not lo < x < hi} | {lo, hi})
+            cores.append((lo, hi, c, sorted(offs)))
+    excluded = {(lo, hi) for lo, hi, _, _ in cores}
+    pieces = [(a, b) for a, b in zip(pts[:-1], pts[1:]) if b > a and (a, b) not in excluded]
+    core_panels = [(c, _Panels(lambda ys, c=c: chi(np.full_like(ys, c), ys), -float(t), None))
+                   for _, _, c, _ in cores]
+    core_pieces = [[(a, b) for a, b in zip(offs[:-1], offs[1:])] for _, _, _, offs in cores]
     scale = math.fsum(abs(panels.rule(a, b).real) for a, b in pieces)
+    scale += math.fsum(abs(cp.rule(a, b)) for (_, cp), cps in zip(core_panels, core_pieces) for a, b in cps)
     # the rule's round-off is relative to the integral of |f|, not to the oscillation's cancelled pieces:
     # at a late time (t 1e7 over a peak of width 1e-5) the pieces cancel far below it, and a tolerance
     # under that floor is never met (it once ran 20000 panels and gave up)
     weights = _filon_table(panels.n)[1]
     l1 = math.fsum(0.5 * (b - a) * float(weights @ np.abs(v)) for (a, b), v in zip(pieces, panels.values(pieces)))
+    for (_, cp), cps in zip(core_panels, core_pieces):
+        l1 += math.fsum(0.5 * (b - a) * float(weights @ np.abs(v)) for (a, b), v in zip(cps, cp.values(cps)))
     epsabs = max(epsrel * scale, 64.0 * 2.0**-52 * l1)
-    body, body_err, count = _adaptive(panels, pts, 0.5 * epsabs, 0.0, 20000)
+    # the body: each run of cuts between the cores, and each core in its offset variable
+    runs, run_ = [], [pts[0]]
+    for a, b in zip(pts[:-1], pts[1:]):
+        if (a, b) in excluded:
+            runs.append(run_)
+            run_ = [b]
+        else:
+            run_.append(b)
+    runs.append(run_)
+    share = 0.5 * epsabs / (len(runs) + len(cores))
+    body, body_err, count = 0.0, 0.0, 0
+    for cuts in runs:
+        if len(cuts) > 1:
+            v, e, n_ = _adaptive(panels, cuts, share, 0.0, 20000)
+            body, body_err, count = body + v, body_err + e, count + n_
+    for (c, cp), (_, _, _, offs) in zip(core_panels, cores):
+        v, e, n_ = _adaptive(cp, offs, share, 0.0, 20000)
+        body += (_turn(-float(t), c) * v).real
+        body_err, count = body_err + e, count + n_
+        panels.evaluations += cp.evaluations
     tail, tail_err, cycles = _tail(panels, window, 0.5 * epsabs, 0.0)
     return FourierIntegral((body + tail) / math.pi, (body_err + tail_err) / math.pi, count, cycles,
                            panels.evaluations, epsabs / math.pi)

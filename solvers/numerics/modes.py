@@ -16,7 +16,7 @@ import numpy as np
 
 from mech.problems.spec import NumericFailure
 
-__all__ = ["mass_matrix", "hessian", "gradient", "normal_modes", "Modes"]
+__all__ = ["mass_matrix", "hessian", "gradient", "normal_modes", "Modes", "pair_shapes"]
 
 
 def mass_matrix(T: Callable[[np.ndarray, np.ndarray], float], q0: Sequence[float]) -> np.ndarray:
@@ -116,3 +116,38 @@ def normal_modes(M: np.ndarray, K: np.ndarray) -> Modes:
         i = int(np.argmax(np.abs(vecs[:, k])))
         vecs[:, k] /= vecs[i, k]
     return Modes(omega2=w2, shapes=vecs)
+
+
+_U = 2.0**-53
+
+
+def pair_shapes(M: np.ndarray, K: np.ndarray, omega2: Sequence[float], omega2_err: Sequence[float]) -> np.ndarray:
+    """The two mode shapes of a 2x2 problem K a = omega^2 M a, each from one row of (K - omega^2 M) a = 0.
+
+    An eigensolver's vector errs by u over the relative gap in every component, so a component of
+    relative size 1e-100 (a light body beside one 1e200 times heavier, in balanced coordinates) comes out
+    as noise.  A row (r1, r2) of K - omega^2 M gives the direction a = (-r2, r1) to the relative accuracy
+    of the row itself: its entries' rounding u (|K_i| + |omega^2| |M_i|) plus the eigenvalue's error
+    times |M_i|.  Each mode takes the row in which that error is the smaller fraction of the row: the
+    row that does not cancel (for 4.11's heavy block the cylinder's row, M_2 . a = 0 exactly when K_2 = 0).
+    Columns are scaled to their largest component +1, as ``normal_modes`` does.
+    """
+    M = np.asarray(M, dtype=float)
+    K = np.asarray(K, dtype=float)
+    shapes = np.empty((2, 2))
+    for k, (lam, dlam) in enumerate(zip(omega2, omega2_err)):
+        best = None
+        for i in range(2):
+            r = K[i] - lam * M[i]
+            size = float(np.max(np.abs(r)))
+            err = 4.0 * _U * float(np.max(np.abs(K[i]) + abs(lam) * np.abs(M[i]))) + dlam * float(np.max(np.abs(M[i])))
+            if size == 0.0 or not np.isfinite(size):
+                continue
+            score = err / size
+            if best is None or score < best[0]:
+                best = (score, np.array([-r[1], r[0]]))
+        if best is None:
+            raise NumericFailure(f"mode {k}: K - omega^2 M vanishes in both rows")
+        a = best[1]
+        shapes[:, k] = a / a[int(np.argmax(np.abs(a)))]
+    return shapes
