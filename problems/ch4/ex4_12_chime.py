@@ -16,9 +16,9 @@ U(q) = sum w g (y - y_eq) straight from the points' positions (heights measured
 from equilibrium as 2 sin^2 of the half-angles, so U carries no large constant).
 The mass matrix by polarization (probe rates 1/l' and 1/l, so the cross term
 is not lost beside the diagonal), the stiffness by Richardson central
-differences (smallosc), the generalized symmetric eigenproblem solved with M
-scaled to unit diagonal (each mode from the forward or the inverse problem,
-whichever has it as a large eigenvalue), mode ratios from the eigenvectors.
+differences (smallosc), both roots of the 2x2 characteristic polynomial in a
+stable form (the large root directly, the small one as det/large: numerics.modes.pair_roots),
+mode ratios from the non-cancelling row of (K - omega^2 M) a = 0 (pair_shapes).
 """
 
 from __future__ import annotations
@@ -27,8 +27,8 @@ import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.inertia import gauss_legendre
-from mech.solvers.mechanics.rolling import balanced_modes, scaled_mass_matrix
-from mech.solvers.numerics.modes import hessian
+from mech.solvers.mechanics.rolling import scaled_mass_matrix
+from mech.solvers.numerics.modes import hessian, pair_roots, pair_shapes
 
 exercise = Exercise(
     "4.12",
@@ -79,21 +79,28 @@ def numeric(p, run):
     # probe rates of one length per time for x and one radian per time for psi move thread and bar at
     # comparable speeds (the bar's length is the unit)
     Mm = scaled_mass_matrix(T, q0, [1.0, 1.0])
-    K = hessian(U, q0, scale=[a, 1.0])  # steps of 1e-3 rad in phi and psi
-    modes = balanced_modes(Mm, K)
-    if not modes.stable:
-        raise NumericFailure(f"the hanging equilibrium came out unstable: omega^2 = {modes.omega2}")
-    ratios = a * modes.shapes[1, :] / modes.shapes[0, :]  # psi/phi = a psi/x
+    # steps of 1e-3 rad in phi and psi: the Hessian in (phi, psi), then brought to x = a phi by dividing
+    # twice by a (one step at a time: the step in x squared, a^2 1e-6, leaves the range at a = 1e+-200)
+    K = hessian(lambda q: U(np.array([a * q[0], q[1]])), q0, scale=1.0)
+    K[0, :] /= a
+    K[:, 0] /= a
+    # both roots of the 2x2 characteristic polynomial without cancellation (numerics.modes.pair_roots): at
+    # a = 1e+-200 they are 1e200 apart, and an eigensolver (forward or inverse) rounds one of them to 0
+    w2, w2_err = pair_roots(Mm, K)
+    if not w2[0] > w2_err[0]:
+        raise NumericFailure(f"the hanging equilibrium came out unstable: omega^2 = {w2}")
+    shapes = pair_shapes(Mm, K, w2, w2_err)
+    ratios = a * shapes[1, :] / shapes[0, :]  # psi/phi = a psi/x
     run.info["mass_matrix"] = Mm.tolist()
     run.info["stiffness"] = K.tolist()
     # polarization with balanced probe rates is exact to a few ulps; the Hessian's truncation (h^4/1440,
     # h = 1e-3) and round-off (U has no large constant) stay near 1e-13; each mode comes from the
     # eigen-solve in which it is the larger eigenvalue (balanced_modes), so a 1e7 spread of omega^2
-    # costs no digits (measured 1e-15 at l'/l = 1e-7 and 1e7)
+    # costs no digits (measured 1e-15 at l'/l = 1e-7 and 1e7; the claim covers pair_roots' own bound)
     for name in ("omega1", "omega2", "r1", "r2"):
         run.claim(name, rel=1e-10)
     unit = np.sqrt(p.g) / np.sqrt(p.l)
-    return {"omega1": modes.omega[0] * unit, "omega2": modes.omega[1] * unit, "r1": ratios[0], "r2": ratios[1]}
+    return {"omega1": np.sqrt(w2[0]) * unit, "omega2": np.sqrt(w2[1]) * unit, "r1": ratios[0], "r2": ratios[1]}
 
 
 @exercise.scene
