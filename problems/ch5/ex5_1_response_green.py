@@ -22,9 +22,11 @@ widths; the tail cycle by cycle, the alternating partial sums extrapolated by
 Wynn's epsilon algorithm); solvers/response.inverse_fourier.
 (2) chi(w) as the Fourier transform of the integrated impulse response
 (q = 0, q' = 1/m): the equation of motion's fundamental matrix with two
-accumulators of q exp(i w t) is integrated over one segment (mech's DOP853, or
-scipy's LSODA, which switches to its implicit BDF branch, only when the decay
-rates differ by more than 50: strongly overdamped, stiff), and
+accumulators of q exp(i w t) is integrated over one segment by mech's DOP853 or,
+when the decay rates differ by more than 50 (strongly overdamped, stiff), not
+stepped: Phi(D) = exp(A D) by scaling and squaring and the accumulated transform
+by adaptive Gauss-Legendre quadrature at rtol/10 (numpy only; scipy's LSODA
+when mech bench forces an integrator), and
 the infinite decaying run is summed exactly by the semigroup property as a
 geometric series; solvers/response.impulse_spectrum (a drive much faster than
 the oscillator gets segments of half its period).  Liouville's
@@ -44,7 +46,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise
-from mech.solvers.numerics.fourier import impulse_spectrum, inverse_fourier
+from mech.solvers.numerics.fourier import FLOW, impulse_spectrum, inverse_fourier
 
 exercise = Exercise(
     "5.1",
@@ -61,8 +63,8 @@ exercise = Exercise(
         "its product with cos/sin integrated exactly) on the window, and the tail cycle by cycle with Wynn's "
         "epsilon extrapolation, as QAWF does.  (2) The impulse response is integrated over one segment and "
         "the decaying rest summed exactly as a geometric series of that segment's map, instead of integrating "
-        "until the motion has decayed by exp(-40); LSODA (BDF) only where the decay rates differ by more "
-        "than 50."
+        "until the motion has decayed by exp(-40); where the decay rates differ by more than 50 (stiff) the "
+        "segment is the exact flow exp(A D) and the transform adaptive quadrature, instead of Radau/BDF."
     ),
 )
 
@@ -182,7 +184,7 @@ def numeric(p, run):
 
     # avoid a segment whose length makes exp(i (w -+ w1) D) = 1 by accident (not a physical resonance)
     segment = min((segment * f for f in (1.0, 0.9, 0.8, 0.7, 0.6, 0.5)), key=lambda D: (amplification(D), -D))
-    method = "LSODA" if stiff else "DOP853"
+    method = FLOW if stiff else "DOP853"
     atol = None
     if stiff:
         # absolute tolerances at each component's own size: Phi's entries (row-major) go as 1, s, s, s^2
@@ -235,7 +237,7 @@ def numeric(p, run):
     run.info["G_phase_roundoff"] = g_phase / (m * w0)
     run.claim("G", rel=100.0 * eps_q, abs=(g_abs + g_phase) / (m * w0))
     run.claim("G_minus", rel=100.0 * eps_q, abs=g_abs / (m * w0))
-    run.method = method + " + Filon/Wynn Fourier quadrature"
+    run.method = spec.traj.method + " + Filon/Wynn Fourier quadrature"
 
     chi = spec.value / (m * w0 * w0)
     return {
