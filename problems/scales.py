@@ -188,12 +188,68 @@ def representable(ex, p) -> str | None:
                 return None  # likewise a defect, not a question of range
             return f"the answer {o.name} is not finite{at}: its scale leaves the floating-point range"
         if v == 0:
+            if where:
+                k = _underflowed(ex, p, o)
+                if k is not None:
+                    unit = "" if o.unit in ("1", "rad") else f" {o.unit}"
+                    return (f"the answer {o.name} ~ 1e{k:+.0f}{unit}{at} underflows: it lies below the "
+                            f"floating-point range (1e-{LOG10_LIMIT:.0f}..1e{LOG10_LIMIT:.0f})")
             continue
         k = _log10_si(v, o.unit, u)
         if abs(k) > LOG10_LIMIT:
             unit = "" if o.unit in ("1", "rad") else f" {o.unit}"
             return (f"the answer {o.name} ~ 1e{k:+.0f}{unit}{at} lies outside the floating-point range "
                     f"(1e-{LOG10_LIMIT:.0f}..1e{LOG10_LIMIT:.0f})")
+    return None
+
+
+def _log10_output_at(ex, p, o) -> float | None:
+    """log10 of the SI size of output ``o`` of the analytic solution at ``p`` (natural units); None if it is 0,
+    undefined or the solution fails there."""
+    import numpy as np
+
+    from mech.problems.spec import Params
+
+    nat = natural_units(ex, p)
+    u, values = nat if nat else (None, dict(p))
+    try:
+        with np.errstate(all="ignore"):
+            v = float(ex._analytic(Params(values))[o.name])
+    except Exception:
+        return None
+    if v == 0 or not math.isfinite(v):
+        return None
+    return _log10_si(v, o.unit, u)
+
+
+def _underflowed(ex, p, o, steps: int = 6) -> float | None:
+    """The estimated log10 SI size of an output that the analytic solution gives as exactly 0 at ``p``, when that
+    0 is an underflow (below -LOG10_LIMIT), else None.
+
+    The far parameters are brought part of the way from their defaults, p_t = default (p/default)^t for
+    t = 1/2, 1/4, ..., and the output's log size at t and t/2 extrapolated linearly in t to t = 1 (exact for a
+    power law, which the dimensional analysis makes of most answers).  An output that is 0 at those points
+    too is 0 by the physics (a symmetry, a parameter at 0), and stays 0."""
+    from mech.problems.spec import Params
+
+    far = {prm.name: prm.default for prm in ex.params
+           if (dev := _log2_dev(p[prm.name], prm.default)) is not None and abs(dev) * math.log10(2) >= 50.0}
+    if not far:
+        return None
+
+    def at(t):
+        q = dict(p)
+        for name, d in far.items():
+            q[name] = math.copysign(math.exp((1 - t) * math.log(abs(d)) + t * math.log(abs(p[name]))), p[name])
+        return _log10_output_at(ex, Params(q), o)
+
+    t = 0.5
+    for _ in range(steps):
+        hi, lo = at(t), at(t / 2)
+        if hi is not None and lo is not None:
+            k = hi + (hi - lo) / (t / 2) * (1 - t)
+            return k if k < -LOG10_LIMIT else None
+        t /= 2
     return None
 
 

@@ -103,3 +103,15 @@ def test_analytic_is_unit_free():
     assert math.isclose(natural["t_fall"], default["t_fall"], rel_tol=1e-14)
     assert math.isclose(natural["d_east"], math.ldexp(default["d_east"], -200), rel_tol=1e-14)
     assert math.isclose(natural["d_east"], si["d_east"], rel_tol=1e-14)
+
+
+def test_an_answer_that_underflows_to_zero_is_refused():
+    """4.8 with M, P, R, mu and g all 1e200 times their defaults: V0 = P/M = 2 m/s and, by hand,
+    t_roll = V0 (7 - 5 h/R)/(7 mu g) = 2 * 3/(7 * 2e199 * 9.81e200) = 4.4e-401 s, which the analytic solution
+    gives as exactly 0 (an underflow): refused, naming t_roll.  With h/R = 7/5 the cue strikes at the height
+    of pure rolling and t_roll = x_roll = 0 by the physics: that 0 is an answer, not refused."""
+    ex = registry.get("4.8")
+    far = {n: 1e200 * next(p.default for p in ex.params if p.name == n) for n in ("M", "P", "R", "mu", "g")}
+    with pytest.raises(BadInput, match=r"t_roll ~ 1e-400 s .*underflows"):
+        ex.resolve(far)
+    assert ex.resolve({**far, "h_over_R": 1.4})["h_over_R"] == 1.4
