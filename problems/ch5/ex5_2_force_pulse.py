@@ -105,7 +105,10 @@ def numeric(p, run):
     tau_1 = p.omega0 * p.t1
     rtol = run.rtol
     # size of the state during the pulse: x ~ min(2, tau^2/2), x' ~ min(1, tau)
-    sx = min(2.0, tau_T**2 / 2.0)
+    # (for tau_T below 1e-145 the scale of x, tau_T^2/2, falls under 1e-290 of q_st: floored there, where x
+    # (with x' ~ tau_T beside it) no longer moves any answer; an absolute tolerance of 0 would shrink the
+    # steps without end)
+    sx = max(min(2.0, tau_T**2 / 2.0), 1e-290)
     sv = min(1.0, tau_T)
     atol = [rtol * 1e-3 * sx, rtol * 1e-3 * sv]
 
