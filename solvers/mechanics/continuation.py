@@ -92,6 +92,12 @@ class OrbitMap:
 
     ``force(q, p)`` returns (a, da/dq, da/dp) as floats.
 
+    ``step_scale``: DOP853's first step is ``step_scale * rtol**(1/8)`` (drive phase) instead of its
+    starting heuristic, which begins a smooth one-period orbit with a step a few hundred times too short
+    and spends three steps growing it: for a near-harmonic response, whose steps in the drive phase are
+    about c rtol^(1/8) with c set by the waveform alone (a function of rtol, never of the history, so that
+    a map's value depends on (z, rtol) only).
+
     ``odd``: the force is odd, a(-q, -p) = -a(q, p).  The equation is then unchanged by q -> -q with
     t -> t + T/2 (the drive changes sign over half a period), and the periodic response that grows out
     of the linear one keeps that symmetry, q(t + T/2) = -q(t).  Such an orbit is a fixed point of the
@@ -115,6 +121,7 @@ class OrbitMap:
         memo_key: tuple | None = None,
         integrator: str | None = None,
         odd: bool = False,
+        step_scale: float | None = None,
     ):
         """``memo``/``memo_key``: a dict shared by the runs of one cross-check (``run.shared``) and a key
         naming everything the force depends on.  The map is a deterministic function of (z, rtol), so an
@@ -130,7 +137,9 @@ class OrbitMap:
         self.memo_hits = 0
         self._memo = memo if memo is not None and memo_key is not None else None
         self.odd = bool(odd)
-        self._memo_key = (type(self).__name__, memo_key, f0, Q, omega_ref, W, method, integrator, self.odd)
+        self.step_scale = step_scale
+        self._memo_key = (type(self).__name__, memo_key, f0, Q, omega_ref, W, method, integrator, self.odd,
+                          step_scale)
 
     def monodromy(self, bp: BranchPoint) -> np.ndarray:
         """The one-period monodromy matrix M at a periodic orbit: bp.M, or (dG)^2 for an odd force."""
@@ -195,8 +204,9 @@ class OrbitMap:
         scale = max(abs(z[0]), abs(z[1]), 1e-3)
         atol = [rtol * 1e-3 * scale] * 2 + [rtol * 1e-3] * 6
         span = math.pi if self.odd else 2.0 * math.pi
+        first = None if self.step_scale is None else min(span, self.step_scale * rtol ** 0.125)
         traj = integrate(self._rhs(omega), (0.0, span), y0, rtol=rtol, atol=atol, method=self.method,
-                         events=[top, bottom], integrator=self.integrator)
+                         events=[top, bottom], integrator=self.integrator, first_step=first)
         self.nfev += traj.nfev
         self.calls += 1
         s = traj.y_end
