@@ -135,35 +135,54 @@ AVERAGE_BEYOND_STEPS = 150_000
 
 def _stepper(k, a, b, w, h):
     """One splitting step of size hh (<= h) for the scaled state n, L (L in units of L3):
-    free motion: n turns about L at k |L|; kick: L += c n x (-a z + b (cos wt, sin wt, 0))."""
-    cs = [c for c in _W6]
+    free motion: n turns about L at k |L|; kick: L += c n x (-a z + b (cos wt, sin wt, 0)).
+
+    The stages' constants (kick weights times a and b, the force's direction at each kick's time
+    relative to the step's start, the nutation's rate times each rotation's length) are made once for
+    the full step h, whose thousands of repetitions are the run's cost: a step then calls cos and sin of
+    w t once (the force at each kick is that direction turned by the kick's offset) and is one pass over
+    the stages with nothing but arithmetic and the rotation's own sqrt, cos, sin."""
+    cs = _W6
     kw = [0.5 * cs[0]] + [0.5 * (cs[i] + cs[i + 1]) for i in range(len(cs) - 1)] + [0.5 * cs[-1]]
-    nst = len(cs)
+    offsets = [sum(cs[:i]) for i in range(len(cs) + 1)]  # each kick's time after the step's start, over hh
+    cos, sin, sqrt = math.cos, math.sin, math.sqrt
+
+    def stages(hh):
+        # per kick: (c a, c b cos(w o), c b sin(w o)) with c = its weight times hh, o its offset; per rotation
+        # the nutation's angle per unit |L|
+        kicks = [(c * hh * a, c * hh * b * cos(w * o * hh), c * hh * b * sin(w * o * hh)) for c, o in zip(kw, offsets)]
+        return list(zip(kicks[:-1], [k * d * hh for d in cs])), kicks[-1]
+
+    full = stages(h)
 
     def step(n, L, t, hh):
+        body, (ca, kc, ks) = full if hh == h else stages(hh)
         nx, ny, nz = n
         Lx, Ly, Lz = L
-        tt = t
-        for i in range(nst + 1):
-            c = kw[i] * hh
-            fx = b * math.cos(w * tt)
-            fy = b * math.sin(w * tt)
-            # torque n x (-a z + f): (ny*(-a) - nz*fy, nz*fx + a*nx, nx*fy - ny*fx)
-            Lx += c * (-a * ny - nz * fy)
-            Ly += c * (nz * fx + a * nx)
-            Lz += c * (nx * fy - ny * fx)
-            if i == nst:
-                break
-            d = cs[i] * hh
-            Ln = math.sqrt(Lx * Lx + Ly * Ly + Lz * Lz)
-            ux, uy, uz = Lx / Ln, Ly / Ln, Lz / Ln
-            th = k * Ln * d
-            ct, st = math.cos(th), math.sin(th)
-            dd = (ux * nx + uy * ny + uz * nz) * (1.0 - ct)
-            cx, cy, cz = uy * nz - uz * ny, uz * nx - ux * nz, ux * ny - uy * nx
-            nx, ny, nz = nx * ct + cx * st + ux * dd, ny * ct + cy * st + uy * dd, nz * ct + cz * st + uz * dd
-            tt += d
-        s = 1.0 / math.sqrt(nx * nx + ny * ny + nz * nz)  # round-off only: the rotations keep |n| = 1
+        C, S = cos(w * t), sin(w * t)
+        for (ca_i, kc_i, ks_i), kr in body:
+            # kick: L += c n x (-a z + f), c f = (C kc - S ks, S kc + C ks) the force at the kick's time
+            fx = C * kc_i - S * ks_i
+            fy = S * kc_i + C * ks_i
+            Lx -= ca_i * ny + nz * fy
+            Ly += nz * fx + ca_i * nx
+            Lz += nx * fy - ny * fx
+            # free motion: n turns about L by kr |L|: n cos + (L x n) sin/|L| + L (L . n)(1 - cos)/|L|^2
+            L2 = Lx * Lx + Ly * Ly + Lz * Lz
+            Ln = sqrt(L2)
+            th = kr * Ln
+            ct, st = cos(th), sin(th)
+            s1 = st / Ln
+            s2 = (Lx * nx + Ly * ny + Lz * nz) * (1.0 - ct) / L2
+            nx, ny, nz = (nx * ct + (Ly * nz - Lz * ny) * s1 + Lx * s2,
+                          ny * ct + (Lz * nx - Lx * nz) * s1 + Ly * s2,
+                          nz * ct + (Lx * ny - Ly * nx) * s1 + Lz * s2)
+        fx = C * kc - S * ks
+        fy = S * kc + C * ks
+        Lx -= ca * ny + nz * fy
+        Ly += nz * fx + ca * nx
+        Lz += nx * fy - ny * fx
+        s = 1.0 / sqrt(nx * nx + ny * ny + nz * nz)  # round-off only: the rotations keep |n| = 1
         return (nx * s, ny * s, nz * s), (Lx, Ly, Lz), t + hh
 
     return step
