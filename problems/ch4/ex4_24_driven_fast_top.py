@@ -20,9 +20,9 @@ symmetric splitting: the free motion (L fixed, n3 turning about L at
 |L|/I_A, the nutation, done exactly by a rotation) alternates with kicks of L by
 the torque at fixed n3 (a composition of Strang steps, a fixed number of steps
 per nutation period set from rtol: Yoshida's 7-stage 6th-order one, or where it
-costs fewer stages for errors no larger, Kahan and Li's 15-stage 8th-order one;
-on the tops measured, eps ~ 1e-3 - 0.05, it needs 3-8 steps per nutation period
-where the 6th-order one needs 7-26).  This follows thousands of nutation
+costs fewer stages for errors no larger, Kahan and Li's 17-stage 8th-order one;
+on the tops measured, eps ~ 3e-4 - 0.05, it needs 2.5-5.5 steps per nutation
+period where the 6th-order one needs 7-26).  This follows thousands of nutation
 periods at a fraction of the cost of an adaptive Runge-Kutta, and keeps L . n3
 exactly.  t_down and t_up: sign changes of n3 . z located by bisection on a
 partial step; phi_lead from the state there; cos_min: the lowest step, then a
@@ -130,12 +130,14 @@ def expected_error(p):
 # Yoshida's 6th-order composition (solution A) of symmetric Strang steps
 _W = (0.784513610477560, 0.235573213359357, -1.17767998417887)
 _W6 = _W + (1.0 - 2.0 * sum(_W),) + _W[::-1]
-# Kahan and Li's 8th-order composition of 15 symmetric Strang steps (their s15odr8; Math. Comp. 66 (1997)
-# 1089): the first eight weights, the other seven mirror them
-_K = (0.74167036435061295345, -0.40910082580003159400, 0.19075471029623837995, -0.57386247111608226666,
-      0.29906418130365592384, 0.33462491824529818378, 0.31529309239676659663, -0.79688793935291635402)
+# Kahan and Li's 8th-order composition of 17 symmetric Strang steps (their s17odr8b; Math. Comp. 66 (1997)
+# 1089): the first nine weights, the other eight mirror them.  On the weak-force hard case its errors are a
+# twentieth of their 15-step s15odr8's at the same step: 0.69 of the steps for the same error
+_K = (0.12713692773487857916, 0.56170253798880269972, -0.38253471994883018888, 0.16007605629464743119,
+      -0.40181637432680696673, 0.18736671654227849724, 0.26070870920779240570, 0.29039738812516162389,
+      -0.60607448323584816258)
 _K8 = _K + _K[-2::-1]
-K8_COEF, K8_EXP, K8_MIN = 3.3, 0.2, 3.0
+K8_COEF, K8_EXP, K8_MIN = 2.3, 0.2, 2.5
 MAX_STEPS = 600_000
 # beyond this many steps (about 3 s at 22 us a step on a loaded machine) the guiding-center equations
 # answer instead wherever what they neglect is within the accuracy claimed
@@ -145,12 +147,13 @@ AVERAGE_BEYOND_STEPS = 150_000
 def _fine_steps(eps, rtol):
     """The fine splitting: (its weights, its order, steps per nutation period m), the cheaper in stages of
     Yoshida's 6th-order composition, its m calibrated on its own error (~ eps^1.6 m^-6 per overturn), and
-    Kahan and Li's 8th-order one, m = 3.3 (eps/2.7e-3)^0.2 (1e-6/rtol)^(1/8) (at least 3): against runs at
-    2.5 times its m and rtol 1e-8, its largest error (t_down, t_up relative, phi_lead, cos_min absolute)
-    stayed at or below the 6th-order's at rtol 1e-6 and 1e-7 on 36 tops (the hard cases; omega_rot
-    150-1700 rad/s with F from the slip's bound to eps_F = 0.05; draws around the defaults): at the
-    weak-force hard case 1.44 rtol against 2.05 (rtol 1e-6) and 1.49 against 3.68 (1e-7), at 49.7 and 66
-    stages per nutation period against 63 and 84.  It is chosen where eps >~ 7e-4."""
+    Kahan and Li's 8th-order one, m = 2.3 (eps/2.7e-3)^0.2 (1e-6/rtol)^(1/8) (at least 2.5): against runs of
+    their 15-step 8th-order composition at 2.5 times its m (rtol 1e-8), its largest error (t_down, t_up
+    relative, phi_lead, cos_min absolute) stayed at or below the 6th-order's at rtol 1e-6 and 1e-7 on the
+    tops measured (the hard cases; omega_rot 150-1700 rad/s with F from the slip's bound to eps_F = 0.05;
+    draws around the defaults), or below 0.03 rtol where that was smaller: at the weak-force hard case 0.67 rtol against 2.05 (rtol 1e-6) and 1.32
+    against 3.68 (1e-7), at 42.5 and 52 stages per nutation period against 63 and 84.  It is chosen where
+    eps >~ 3e-4."""
     m6 = max(4, math.ceil(8.0 * (eps / 2.7e-3) ** 0.27 * (1e-6 / rtol) ** (1.0 / 6.0)))
     m8 = max(K8_MIN, K8_COEF * (eps / 2.7e-3) ** K8_EXP * (1e-6 / rtol) ** 0.125)
     if len(_K8) * m8 < len(_W6) * m6:
