@@ -14,7 +14,7 @@ import sys
 import click
 
 from mech.cli.options import collect_params, parse_rtol
-from mech.problems.spec import BadInput
+from mech.problems.errors import BadInput
 
 EXIT_OK, EXIT_DISAGREE, EXIT_USAGE = 0, 1, 2
 
@@ -357,8 +357,10 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
 @click.option("--junit", "junit_file", type=click.Path(dir_okay=False, writable=True), help="Write a JUnit XML report.")
 @click.option("--save-baseline", "save_baseline", metavar="FILE", help="Record every checked value with its error bar.")
 @click.option("--baseline", "baseline_file", metavar="FILE", help="Fail when a value moved beyond its error bars since FILE.")
+@click.option("-j", "--jobs", type=click.IntRange(1, 256),
+              help="Processes to run the cases in [one per core from 8 cases on].")
 @click.pass_context
-def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file):
+def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file, jobs):
     """Cross-check every (or the named) exercise at its defaults, and with --hard its hard cases.
 
     Exit status 1 when any case fails: the CI regression command.
@@ -374,7 +376,7 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file)
             old = grading.open_baseline(baseline_file) if baseline_file else None  # a bad file fails first
         except BadInput as exc:
             raise UsageFailure(str(exc)) from None
-    report = run_check(exercises, hard=hard, progress=not as_json)
+    report = run_check(exercises, hard=hard, progress=not as_json, jobs=jobs)
     try:
         moved = grading.baselines(report, hard, old, baseline_file, save_baseline) if grading else None
     except BadInput as exc:

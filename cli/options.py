@@ -3,7 +3,12 @@
 from __future__ import annotations
 
 from mech.cli.values import ValueError_, to_si
-from mech.problems.spec import BadInput, Exercise
+from typing import TYPE_CHECKING
+
+from mech.problems.errors import BadInput
+
+if TYPE_CHECKING:  # pragma: no cover
+    from mech.problems.spec import Exercise
 
 __all__ = ["collect_params", "collect_texts", "parse_rtol"]
 

@@ -13,8 +13,10 @@ from __future__ import annotations
 import math
 import tomllib
 from dataclasses import dataclass, field
-from importlib import resources
+from pathlib import Path
 from typing import Any, Callable, Mapping
+
+from mech.problems.errors import BadInput, NumericFailure
 
 __all__ = [
     "BadInput",
@@ -26,14 +28,6 @@ __all__ = [
     "Undefined",
     "NumericFailure",
 ]
-
-
-class BadInput(ValueError):
-    """A parameter value the exercise cannot take; the message is one line for the user."""
-
-
-class NumericFailure(RuntimeError):
-    """The numeric solver could not produce a trustworthy answer; never swallowed into a number."""
 
 
 @dataclass(frozen=True)
@@ -135,6 +129,8 @@ class Params(Mapping[str, float]):
         object.__setattr__(self, "_values", dict(values))
 
     def __getattr__(self, name: str) -> float:
+        if name.startswith("__"):
+            raise AttributeError(name)  # copy and pickle probe dunders before ``_values`` exists
         try:
             return self._values[name]
         except KeyError:
@@ -142,6 +138,9 @@ class Params(Mapping[str, float]):
 
     def __setattr__(self, name, value):
         raise AttributeError("Params are read-only")
+
+    def __reduce__(self):
+        return (Params, (self._values,))
 
     def __getitem__(self, key: str) -> float:
         return self._values[key]
@@ -285,7 +284,8 @@ class BatchedRoute:
 
 
 def _load_catalogue(ex_id: str) -> dict:
-    text = resources.files("mech.problems").joinpath("catalogue", f"{ex_id}.toml").read_text("utf-8")
+    # beside this module (importlib.resources would cost 4 ms of imports at every start-up)
+    text = (Path(__file__).parent / "catalogue" / f"{ex_id}.toml").read_text("utf-8")
     return tomllib.loads(text)
 
 
@@ -311,9 +311,12 @@ class Exercise:
         min_rtol: float = 1e-13,
         route_note: str = "",
         states: tuple[tuple[str, str], ...] | list = (),
+        constants: Mapping[str, str] | None = None,
     ):
         """``route_note``: where the implementation departs from the catalogue's numeric route (a
-        named library routine replaced, say), shown by ``mech show`` under the route."""
+        named library routine replaced, say), shown by ``mech show`` under the route.  ``constants``: the
+        dimensional constants the solvers use that are not parameters, name -> unit ({"G": "m^3/(kg s^2)"}),
+        so that a change of units (``scales.natural_units``) leaves them unchanged."""
         spec = _load_catalogue(id)
         self.id = spec["id"]
         self.title = spec["title"]
@@ -337,6 +340,7 @@ class Exercise:
         # (name, unit) of each component of the state vector its numeric route integrates, in order:
         # what a trajectory's rows are (``mech solve --trajectory``, ``Solution.trajectory``)
         self.states = tuple((str(n), str(u)) for n, u in states)
+        self.constants = dict(constants or {})
         self._analytic: Callable | None = None
         self._numeric: Callable | None = None
         self._constraints: list[Callable] = []
@@ -446,14 +450,36 @@ class Exercise:
             p.check(v)
             values[p.name] = v
         params = Params(values)
+        from mech.problems import scales
+
         for check in self._constraints:
-            msg = check(params)
+            try:
+                msg = check(params)
+            except (OverflowError, ZeroDivisionError) as exc:
+                # a joint check that cannot even form its scales: the input is beyond the floating-point range
+                where = scales.far_params(self, params)
+                msg = (f"the scales the parameters form{' at ' + where if where else ''} leave the "
+                       f"floating-point range ({type(exc).__name__} in the joint checks)")
             if msg:
                 raise BadInput(msg)
+        msg = scales.representable(self, params)
+        if msg:
+            raise BadInput(msg)
         return params
 
     def solve_analytic(self, p: Params) -> dict:
-        return self._finish(self._analytic(p), "analytic")
+        """The analytic answers; where the parameters are far (beyond ~1e+-9) from their defaults, solved in the
+        units, powers of two of kg, m and s, that bring them nearest (``scales.natural_units``) and brought back
+        to SI exactly, so that the units chosen do not matter."""
+        from mech.problems import scales
+
+        nat = scales.natural_units(self, p)
+        if nat is None:
+            return self._finish(self._analytic(p), "analytic")
+        u, values = nat
+        out = self._finish(self._analytic(Params(values)), "analytic")
+        units = {o.name: o.unit for o in self.outputs}
+        return {n: v if isinstance(v, Undefined) else scales.to_si(v, units[n], u) for n, v in out.items()}
 
     def solve_numeric(self, p: Params, rtol: float | None = None, shared: dict | None = None,
                       keep_trajectories: bool = False, integrator: str | None = None) -> tuple[dict, Run]:

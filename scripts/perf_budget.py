@@ -2,6 +2,7 @@
 """The performance budget of mech, measured as users meet it: wall time of whole commands.
 
     python scripts/perf_budget.py [--repeats N] [--hard-repeats N] [--skip-hard] [--markdown]
+                                  [--before OTHER/.venv/bin/mech] [--no-bytecode-cache]
     python scripts/perf_budget.py --overhead [ID ...]
 
 ``--overhead`` instead profiles each exercise's numeric solver in-process
@@ -40,7 +41,11 @@ from pathlib import Path
 BUDGET = {"help": 0.3, "list": 0.3, "solve": 1.0, "check": 20.0, "check --hard": 120.0}
 
 
-def mech_exe() -> list[str]:
+def mech_exe(path: str | None = None) -> list[str]:
+    """The console script to time: ``path`` (another checkout's ``.venv/bin/mech``) or the one beside this
+    Python."""
+    if path:
+        return [str(Path(path))]
     exe = Path(sys.executable).parent / "mech"
     return [str(exe)] if exe.exists() else [sys.executable, "-m", "mech.cli.main"]
 
@@ -48,8 +53,24 @@ def mech_exe() -> list[str]:
 TIMEOUT_FACTOR = 10.0  # a run longer than 10x its budget is stopped and counts as infinitely slow
 
 
-def timed(args: list[str], repeats: int, budget: float) -> tuple[float, float, float, int]:
-    """Median, min, max wall seconds of ``mech ARGS`` and the last exit status (-9: stopped, too slow).
+def environment(bytecode: bool) -> dict:
+    """The environment the commands run in.  ``bytecode``: compiled modules are cached (in a directory of
+    their own, as an installed package keeps its .pyc files); without it every process compiles mech's
+    sources again, as on a machine that sets PYTHONDONTWRITEBYTECODE (this one does: about 50 ms a
+    process for mech's own modules)."""
+    env = dict(os.environ)
+    if bytecode:
+        env.pop("PYTHONDONTWRITEBYTECODE", None)
+        env["PYTHONPYCACHEPREFIX"] = env.get("MECH_PERF_PYCACHE") or os.path.join(
+            os.environ.get("TMPDIR", "/tmp"), f"mech-perf-pycache-{os.getuid()}")
+    else:
+        env["PYTHONDONTWRITEBYTECODE"] = "1"
+        env.pop("PYTHONPYCACHEPREFIX", None)
+    return env
+
+
+def run_once(exe: list[str], args: list[str], budget: float, env: dict) -> tuple[float, int]:
+    """Wall seconds of one ``mech ARGS`` and its exit status (-9: stopped, too slow).
 
     The wait is a blocking waitpid, with the time limit enforced by a timer that kills the process:
     ``subprocess.run(timeout=...)`` polls with sleeps of up to 50 ms, which rounded every figure up
@@ -57,26 +78,38 @@ def timed(args: list[str], repeats: int, budget: float) -> tuple[float, float, f
     """
     import threading
 
-    times, code = [], 0
+    t0 = time.perf_counter()
+    proc = subprocess.Popen(exe + args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+    timer = threading.Timer(TIMEOUT_FACTOR * budget, proc.kill)
+    timer.start()
+    try:
+        code = proc.wait()
+    finally:
+        timer.cancel()
+    elapsed = time.perf_counter() - t0
+    return (float("inf") if code == -9 else elapsed), code
+
+
+def timed(exes: list[list[str]], args: list[str], repeats: int, budget: float, env: dict) -> list[tuple]:
+    """Per executable: median, min, max wall seconds of ``mech ARGS`` and the last exit status.
+
+    With two executables (before and after) the runs alternate, so that a change in the machine's load
+    during the measurement moves both alike; one unmeasured run of each first fills the bytecode cache."""
+    for exe in exes:
+        run_once(exe, args, budget, env)
+    times: list[list[float]] = [[] for _ in exes]
+    codes = [0] * len(exes)
     for _ in range(repeats):
-        t0 = time.perf_counter()
-        proc = subprocess.Popen(mech_exe() + args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        timer = threading.Timer(TIMEOUT_FACTOR * budget, proc.kill)
-        timer.start()
-        try:
-            code = proc.wait()
-        finally:
-            timer.cancel()
-        elapsed = time.perf_counter() - t0
-        if code == -9:
-            times.append(float("inf"))
-            break  # a hang does not need repeating
-        times.append(elapsed)
-    return statistics.median(times), min(times), max(times), code
+        for k, exe in enumerate(exes):
+            if times[k] and times[k][-1] == float("inf"):
+                continue  # a hang does not need repeating
+            t, codes[k] = run_once(exe, args, budget, env)
+            times[k].append(t)
+    return [(statistics.median(t), min(t), max(t), c) for t, c in zip(times, codes)]
 
 
-def exercise_ids() -> list[str]:
-    out = subprocess.run(mech_exe() + ["list", "--json"], capture_output=True, text=True, check=True).stdout
+def exercise_ids(exe: list[str]) -> list[str]:
+    out = subprocess.run(exe + ["list", "--json"], capture_output=True, text=True, check=True).stdout
     import json
 
     return [e["id"] for e in json.loads(out)]
@@ -131,52 +164,80 @@ def main(argv=None) -> int:
     ap.add_argument("--startup-repeats", type=int, default=5, help="runs of --help and list [5]")
     ap.add_argument("--hard-repeats", type=int, default=3, help="runs of check --hard [3]")
     ap.add_argument("--skip-hard", action="store_true", help="leave out check --hard")
+    ap.add_argument("--before", metavar="MECH",
+                    help="another checkout's console script (e.g. ../base/.venv/bin/mech): time it beside this "
+                         "one, runs alternating, and print both medians and their ratio")
+    ap.add_argument("--no-bytecode-cache", action="store_true",
+                    help="compile mech's sources in every process (PYTHONDONTWRITEBYTECODE=1) instead of caching "
+                         "them as an installed package does")
     ap.add_argument("--markdown", action="store_true", help="also print the table as Markdown (for the README)")
     ap.add_argument("--overhead", nargs="*", metavar="ID", help="profile the numeric solvers instead (see above)")
     a = ap.parse_args(argv)
     if a.overhead is not None:
         return overhead(a.overhead)
 
+    env = environment(bytecode=not a.no_bytecode_cache)
+    now = mech_exe()
+    exes = [mech_exe(a.before), now] if a.before else [now]
     load0 = os.getloadavg()[0]
-    rows = []  # (command, median, min, max, budget, ok, exit code)
+    rows = []  # (command, [(median, min, max, code) per exe], budget, repeats)
+
+    def show(label, res, budget, repeats):
+        med = res[-1][0]
+        before = f"  before {res[0][0]:7.3f} s  ratio {med / res[0][0]:5.2f}" if len(res) > 1 else ""
+        print(f"{label:<34} median {med:8.3f} s  [{res[-1][1]:.3f}-{res[-1][2]:.3f}] x{repeats}{before}  "
+              f"budget {budget:g} s  {'ok' if med <= budget else 'OVER'}  (exit {res[-1][3]})", flush=True)
 
     def add(label, args, repeats, budget):
-        med, lo, hi, code = timed(args, repeats, budget)
-        rows.append((label, med, lo, hi, budget, med <= budget, code, repeats))
-        print(f"{label:<34} median {med:8.3f} s  [{lo:.3f}-{hi:.3f}] x{repeats}  budget {budget:g} s  "
-              f"{'ok' if med <= budget else 'OVER'}  (exit {code})", flush=True)
+        res = timed(exes, args, repeats, budget, env)
+        rows.append((label, res, budget, repeats))
+        show(label, res, budget, repeats)
 
     add("mech --help", ["--help"], a.startup_repeats, BUDGET["help"])
     add("mech list", ["list"], a.startup_repeats, BUDGET["list"])
+    ids = exercise_ids(now)
+    if a.before:
+        ids = [i for i in ids if i in set(exercise_ids(exes[0]))]
     solve = []
-    for ex_id in exercise_ids():
-        med, lo, hi, code = timed(["solve", ex_id], a.repeats, BUDGET["solve"])
-        solve.append((med, lo, hi, ex_id, code))
-        print(f"  mech solve {ex_id:<6} median {med:6.3f} s  [{lo:.3f}-{hi:.3f}]  (exit {code})", flush=True)
-    worst = max(solve)
-    over = [s for s in solve if s[0] > BUDGET["solve"]]
-    rows.append((f"mech solve ID, slowest ({worst[3]})", worst[0], worst[1], worst[2], BUDGET["solve"],
-                 not over, worst[4], a.repeats))
-    med_all = statistics.median(s[0] for s in solve)
-    rows.append(("mech solve ID, median over IDs", med_all, None, None, BUDGET["solve"], med_all <= BUDGET["solve"],
-                 0, a.repeats))
+    for ex_id in ids:
+        res = timed(exes, ["solve", ex_id], a.repeats, BUDGET["solve"], env)
+        solve.append((ex_id, res))
+        show(f"  mech solve {ex_id}", res, BUDGET["solve"], a.repeats)
+    worst_id, worst = max(solve, key=lambda s: s[1][-1][0])
+    rows.append((f"mech solve ID, slowest ({worst_id})", worst, BUDGET["solve"], a.repeats))
+    medians = [statistics.median(s[1][k][0] for s in solve) for k in range(len(exes))]
+    rows.append((f"mech solve ID, median over the {len(ids)} exercises", [(m, None, None, 0) for m in medians],
+                 BUDGET["solve"], a.repeats))
+    show(rows[-1][0], rows[-1][1], BUDGET["solve"], a.repeats)
+    over = [(i, r[-1][0]) for i, r in solve if r[-1][0] > BUDGET["solve"]]
     add("mech check", ["check"], a.repeats, BUDGET["check"])
     if not a.skip_hard:
         add("mech check --hard", ["check", "--hard"], a.hard_repeats, BUDGET["check --hard"])
     load1 = os.getloadavg()[0]
 
     print()
-    print(f"machine: {os.cpu_count()} cpus, 1-min load {load0:.1f} before, {load1:.1f} after; python {sys.version.split()[0]}")
+    print(f"machine: {os.cpu_count()} cpus, 1-min load {load0:.1f} before, {load1:.1f} after; python "
+          f"{sys.version.split()[0]}; bytecode {'compiled in every process' if a.no_bytecode_cache else 'cached'}")
     if over:
-        print("over budget: " + ", ".join(f"solve {s[3]} {s[0]:.2f} s" for s in over))
+        print("over budget: " + ", ".join(f"solve {i} {t:.2f} s" for i, t in over))
+    ok = all(r[1][-1][0] <= r[2] for r in rows)
     if a.markdown:
         print()
-        print("| command | median wall [s] | range [s] | runs | budget [s] | within |")
-        print("|---|---|---|---|---|---|")
-        for label, med, lo, hi, budget, ok, code, n in rows:
+        if a.before:
+            print("| command | before [s] | now: median wall [s] | now/before | range [s] | runs | budget [s] | within |")
+            print("|---|---|---|---|---|---|---|---|")
+        else:
+            print("| command | median wall [s] | range [s] | runs | budget [s] | within |")
+            print("|---|---|---|---|---|---|")
+        for label, res, budget, n in rows:
+            med, lo, hi, _ = res[-1]
             rng = f"{lo:.3f}–{hi:.3f}" if lo is not None else "—"
-            print(f"| `{label}` | {med:.3f} | {rng} | {n} | {budget:g} | {'yes' if ok else 'no'} |")
-    return 0 if all(r[5] for r in rows) else 1
+            within = "yes" if med <= budget else "no"
+            if a.before:
+                print(f"| `{label}` | {res[0][0]:.3f} | {med:.3f} | {med / res[0][0]:.2f} | {rng} | {n} | {budget:g} | {within} |")
+            else:
+                print(f"| `{label}` | {med:.3f} | {rng} | {n} | {budget:g} | {within} |")
+    return 0 if ok else 1
 
 
 if __name__ == "__main__":

@@ -35,3 +35,49 @@ def claimed_error(ex, run, name: str, value: float) -> float:
     rel, abs_ = run.claims.get(name, (None, None))
     rel = ex.tol_factor * run.rtol if rel is None else rel
     return rel * abs(value) + (abs_ or 0.0)
+
+
+def processes_with(marker: str) -> list[int]:
+    """The pids whose command line holds ``marker`` (Linux /proc)."""
+    import os
+
+    found = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/cmdline", "rb") as fh:
+                    if marker.encode() in fh.read():
+                        found.append(int(entry))
+            except OSError:
+                continue
+    return found
+
+
+def killed_leaves_nothing(script: str, ready: str, sig: str, wait_children_s: float = 20.0) -> list[int]:
+    """Run ``script`` in a fresh Python (its argv tagged with a unique marker), wait for its line ``ready``
+    and for a child of it to exist, send it ``sig``, and return what still runs 2 s after it died (the
+    survivors are then killed)."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    import uuid
+
+    marker = f"mech-orphan-probe-{uuid.uuid4().hex}"
+    proc = subprocess.Popen([sys.executable, "-c", script, marker], stdout=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout.readline().strip() == ready
+        deadline = time.monotonic() + wait_children_s
+        while len(processes_with(marker)) < 2 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert len(processes_with(marker)) >= 2, "no child process was running"
+        proc.send_signal(getattr(signal, sig))
+        proc.wait(timeout=10)
+        time.sleep(2.0)
+        return processes_with(marker)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        for pid in processes_with(marker):
+            os.kill(pid, signal.SIGKILL)

@@ -224,7 +224,7 @@ def test_listing_and_help_import_nothing_heavy(argv, heavy):
 # one exercise per numpy-only tool: DOP853 with events (4.15), dense output (4.23), roots (4.21, 5.11),
 # bounded minimization (5.5), elliptic K and quadrature (4.9, 5.7), the generalized eigenproblem (4.11),
 # Fourier-weighted quadrature (5.1)
-SCIPY_FREE = ["4.9", "4.11", "4.15", "4.21", "4.23", "5.1", "5.5", "5.7", "5.11"]
+SCIPY_FREE = ["4.9", "4.11", "4.15", "4.21", "4.23", "5.1", "5.4", "5.5", "5.7", "5.11"]
 
 
 def test_solves_import_no_scipy():
@@ -241,6 +241,26 @@ def test_solves_import_no_scipy():
         "    if bad:\n"
         "        print(ex_id, bad[:5], file=sys.stderr)\n"
         "        sys.exit(1)\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+
+
+def test_stiff_hard_cases_import_no_scipy():
+    """The stiff hard cases (5.4's zeta = 1e3, 1e6; 5.1's delta = 120) go by the exact flow exp(A t), with
+    their rerun at rtol/10: no scipy import (0.4-0.5 s in each pool worker of `mech check --hard`)."""
+    code = (
+        "import sys\n"
+        "from mech.problems import registry\n"
+        "cases = [('5.4', {'zeta': 1000.0, 'eps': 0.001, 't1': 500.0}), ('5.4', {'zeta': 1e6, 't1': 3e5}),\n"
+        "         ('5.1', {'delta': 120.0, 'tau': 2.0, 'omega': 0.5})]\n"
+        "for ex_id, given in cases:\n"
+        "    ex = registry.get(ex_id)\n"
+        "    p = ex.resolve(given)\n"
+        "    ex.solve_numeric(p, None)\n"
+        "    ex.solve_numeric(p, ex.default_rtol / 10)\n"
+        "bad = sorted(m for m in sys.modules if m.split('.')[0] == 'scipy')\n"
+        "sys.exit(f'scipy imported: {bad[:5]}' if bad else 0)\n"
     )
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr

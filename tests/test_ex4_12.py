@@ -103,3 +103,22 @@ def test_widely_separated_modes(l_prime):
         assert values["omega2"] == pytest.approx(w2, rel=1e-12)
         assert values["r1"] == pytest.approx(r1, rel=1e-12)
         assert values["r2"] == pytest.approx(r2, rel=1e-12)
+
+
+@pytest.mark.parametrize("l, l_prime", [(0.4, 0.3e-200), (0.4e200, 0.3), (0.4, 0.3e200), (0.4e-200, 0.3)])
+def test_thread_and_bar_1e200_apart(l, l_prime):
+    """a = l'/l at 1e+-200, by the limits of the hand formulas (corrections O(a), O(1/a) lie far below
+    round-off).  a -> 0: D -> 4 l^2, the bar hung at its end, omega1^2 = 6g/(4l) = 3g/(2l), r1 = 4/3;
+    omega2^2 = g (4l)/(a l^2) = 4g/l', r2 = -(3a + 6a/4)/3 = -1.5 l'/l.  a -> inf: sqrt D = 3a l + l + O(1/a),
+    omega1^2 = 6g/(6 l') = g/l' (a pendulum of length l', r1 = 1); omega2^2 = g (6 a l)/(a l^2) = 6g/l
+    (the bar spinning about its center of mass, which the long thread leaves free to slide), r2 = -2 l'/l."""
+    g = 9.81
+    a, n, _ = solve_both("4.12", l=l, l_prime=l_prime, g=g)
+    if l_prime < l:
+        want = {"omega1": math.sqrt(1.5 * g / l), "omega2": math.sqrt(4 * g / l_prime), "r1": 4 / 3,
+                "r2": -1.5 * l_prime / l}
+    else:
+        want = {"omega1": math.sqrt(g / l_prime), "omega2": math.sqrt(6 * g / l), "r1": 1.0, "r2": -2 * l_prime / l}
+    for values in (a, n):
+        for name, v in want.items():
+            assert values[name] == pytest.approx(v, rel=1e-12), name

@@ -66,3 +66,22 @@ def test_cylinder_must_fit():
 
     with pytest.raises(BadInput):
         registry.get("4.13").resolve({"R_prime": 0.05})
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e200])
+def test_extreme_scales(scale):
+    """Every parameter times 1e+-200 (M' = M, R' = 2R): rho = R, (M + M')/(M + 3M') = 1/2, so
+    omega^2 = g/rho = 9.81/0.1 whatever the scale (g/R is a ratio of scaled values), X/theta = -rho/2,
+    x_c/X = -1, phi/theta = -1.  And R' alone 1e200 times its default: rho = 2e199 m to the last bit
+    (R = 0.1 is below its ulp), omega^2 = g/rho, X/theta = -rho/2, phi/theta = -rho/R = -2e200."""
+    a, n, _ = solve_both("4.13", M=scale, R=0.1 * scale, M_prime=scale, R_prime=0.2 * scale, g=9.81 * scale)
+    for values in (a, n):
+        assert values["omega"] == pytest.approx(math.sqrt(98.1), rel=1e-9)
+        assert values["X_over_theta"] == pytest.approx(-0.05 * scale, rel=1e-9)
+        assert values["xc_over_X"] == pytest.approx(-1.0, rel=1e-9)
+        assert values["phi_over_theta"] == pytest.approx(-1.0, rel=1e-9)
+    a, n, _ = solve_both("4.13", R_prime=0.2e200)
+    for values in (a, n):
+        assert values["omega"] == pytest.approx(math.sqrt(9.81 / 0.2e200), rel=1e-9)
+        assert values["X_over_theta"] == pytest.approx(-0.1e200, rel=1e-9)
+        assert values["phi_over_theta"] == pytest.approx(-2e200, rel=1e-9)

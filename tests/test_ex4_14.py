@@ -22,7 +22,8 @@ from conftest import solve_both
     "R, g",
     [(0.1, 9.81), (0.001, 9.81), (50.0, 9.81), (0.37, 1.62), (2.0, 274.0),
      # far from 1 m the SI polarization lost the cross terms: 4e-4 off at R = 1e-13, 4e-6 at 1e11
-     (1e-13, 9.81), (1e-7, 9.81), (1e11, 9.81), (1e-300, 9.81)],
+     # down to 1e-280 m (the answers stay inside 1e+-290, the range mech answers in; R = 1e-300 m is refused)
+     (1e-13, 9.81), (1e-7, 9.81), (1e11, 9.81), (1e-280, 9.81)],
 )
 def test_against_hand_values(R, g):
     a, n, _ = solve_both("4.14", R=R, g=g)
@@ -30,6 +31,15 @@ def test_against_hand_values(R, g):
         assert values["d_cm"] == pytest.approx(0.375 * R, rel=1e-12)
         assert values["omega_frictionless"] == pytest.approx(math.sqrt(120 * g / (83 * R)), rel=1e-9)
         assert values["omega_rolling"] == pytest.approx(math.sqrt(15 * g / (26 * R)), rel=1e-9)
+
+
+def test_an_answer_below_the_floating_point_range_is_refused():
+    # d_cm = 3 R / 8 = 3.75e-301 m at R = 1e-300 m: below 1e-290, refused in one line naming the answer
+    from mech.problems import registry
+    from mech.problems.spec import BadInput
+
+    with pytest.raises(BadInput, match="d_cm .*floating-point range"):
+        registry.get("4.14").resolve({"R": 1e-300})
 
 
 def test_defaults_numbers_and_catalogue_orders_of_magnitude():

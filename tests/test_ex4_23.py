@@ -81,6 +81,9 @@ def test_unstable_slow_upright_rolling_is_reported():
     dict(r=8.20871, theta=1.02145e-05, R=0.000315268, g=0.922707),
     dict(r=0.00111209, theta=0.0679484, R=0.0187511, g=76001.6),
     dict(r=1158.62, theta=0.535458, R=58113.7, g=2.05658),
+    # test_bounds seed 5 near-8: R/r = 50.5 (50 spin turns); the energy measured from z = 0 took in the
+    # weight's work on the contact height's drift, 2.1 rtol against a claim of 1.07 rtol
+    dict(r=0.0511812178986281, theta=0.21127493027795055, R=2.5852324979503627, g=58.47283982001544),
 ])
 def test_issue_draws_earn_their_claims(draw):
     """Omega^2 = 4 g tan(theta)/(6 R - 5 r sin(theta)) and omega_spin = Omega R/r (the module
@@ -116,3 +119,56 @@ def test_upright_coin_on_a_huge_circle_falls_within_the_fit():
     assert n["T"] == pytest.approx(T, rel=1e-8)
     case = run_case(Case(registry.all_exercises()["4.23"], "draw", d))
     assert case.ok, case.detail
+
+
+def _newton_euler_rhs(torque_sign):
+    """The rolling disk's Newton-Euler equations written out as the 9 x 9 system (M = r = g = 1):
+    a - F = -z; I alpha - s (d x F) = -omega x I omega; a + alpha x d = -omega x d', with s = +1 the
+    contact force's torque about the centre and s = -1 a sign-flipped, wrong equation of motion."""
+    import numpy as np
+
+    from mech.problems.ch4.ex4_23_rolling_coin import _Disk
+    from mech.solvers.mechanics.frames import quat_to_matrix, skew
+
+    body = _Disk()
+
+    def rhs(self, t, y):
+        q = y[3:7]
+        Rm = quat_to_matrix(q)
+        omega = Rm @ y[0:3]
+        I_lab = Rm @ body.I_body @ Rm.T
+        _, d, ddot = body.geometry(Rm, omega)
+        A = np.zeros((9, 9))
+        b = np.zeros(9)
+        A[0:3, 0:3], A[0:3, 6:9], b[0:3] = np.eye(3), -np.eye(3), -body.z
+        A[3:6, 3:6], A[3:6, 6:9], b[3:6] = I_lab, -torque_sign * skew(d), -np.cross(omega, I_lab @ omega)
+        A[6:9, 0:3], A[6:9, 3:6], b[6:9] = np.eye(3), -skew(d), -np.cross(omega, ddot)
+        x = np.linalg.solve(A, b)
+        w = y[0:3]
+        qdot = 0.5 * np.array([-q[1:] @ w, *(q[0] * w + np.cross(q[1:], w))]) - (q @ q - 1.0) * q
+        return np.concatenate([Rm.T @ x[3:6], qdot, y[10:13], x[0:3]])
+
+    return rhs
+
+
+@pytest.mark.parametrize("torque_sign", [1.0, -1.0])
+def test_energy_monitor_catches_a_wrong_equation_of_motion(monkeypatch, torque_sign):
+    """The energy (its potential measured from the contact point) is held to the claim.  With the
+    contact force's torque sign-flipped the rolling constraint still holds (slip and contact height
+    stay at round-off) but the force now does work, dE/dt = F.(v_C - omega x d) instead of F.v_P = 0:
+    the coin leaves its tilt within a fraction of a turn, the solver falls back on the steady-state
+    root, and only the energy monitor can fail the run.  The same equations with the right sign must
+    pass it (the test's own right-hand side is not what fails)."""
+    from mech.problems import registry
+    from mech.problems.ch4.ex4_23_rolling_coin import _Disk
+
+    monkeypatch.setattr(_Disk, "rhs", _newton_euler_rhs(torque_sign))
+    ex = registry.get("4.23")
+    p = ex.resolve(dict(r=0.0511812178986281, theta=0.21127493027795055, R=0.2, g=58.47))
+    _, run = ex.solve_numeric(p, None)
+    allowed = run.invariant_allowed.get("energy", ex.tol_factor * run.rtol)
+    if torque_sign > 0:
+        assert run.invariants["energy"] <= allowed
+    else:
+        assert run.invariants["rolling (slip speed)"] < 1e-12
+        assert run.invariants["energy"] > 100 * allowed

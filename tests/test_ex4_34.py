@@ -62,3 +62,17 @@ def test_near_the_separatrix_the_period_is_6_4_times_the_small_one():
     a, n, _ = solve_both("4.34", theta_amp=1.5706217938696971)
     _, n0, _ = solve_both("4.34", theta_amp=0.0)
     assert n["T_pitch"] / n0["T_pitch"] == pytest.approx(6.39, abs=0.01)
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e200])
+def test_orbit_at_extreme_scales(scale):
+    """R and GM both 1e+-200 times their defaults: Omega^2 = GM/R^3 becomes 1e-+400 times the default's,
+    so Omega = 1e-+200 Omega_0 with Omega_0 = (3.986004418e14/7e6^3)^(1/2) s^-1 (R^3 alone would leave the
+    range), and T = 4 K(sin theta)/(3^(1/2) Omega) as above."""
+    Omega = math.sqrt(GM / 7.0e6**3) / scale
+    theta = math.radians(10.0)
+    a, n, _ = solve_both("4.34", R=7.0e6 * scale, GM=GM * scale, theta_amp=theta)
+    for values in (a, n):
+        assert values["omega_pitch"] == pytest.approx(math.sqrt(3) * Omega, rel=1e-9)
+        assert values["omega_roll"] == pytest.approx(2 * Omega, rel=1e-9)
+        assert values["T_pitch"] == pytest.approx(T_hand(theta, Omega), rel=1e-8)

@@ -30,6 +30,10 @@ from conftest import solve_both
         (dict(xi=0.999999), 2.4524975475e-11, 2.0 / 3.0, 98.1 / 27.0),
         (dict(xi=0.0), 0.0, 2.0 / 3.0, 98.1 / 27.0),
         (dict(xi=1.0), 0.0, 2.0 / 3.0, 98.1 / 27.0),
+        # l at 1e+-200 times its default (the numeric side once formed m l^2 and lost it): by hand
+        # tau = (m g l sin theta/4) xi (1 - xi)^2 = 24.525 l/2 m * 0.125, s_max = l/3, tau_max = 49.05 l/27
+        (dict(l=2e200), 3.065625e200, 2e200 / 3.0, 98.1e200 / 27.0),
+        (dict(l=2e-200), 3.065625e-200, 2e-200 / 3.0, 98.1e-200 / 27.0),
     ],
 )
 def test_hand_values(given, tau, s_max, tau_max):

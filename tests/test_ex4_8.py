@@ -76,3 +76,17 @@ def test_hit_point_must_be_on_the_ball():
 
     with pytest.raises(BadInput):
         registry.get("4.8").resolve({"h_over_R": 0.2, "b_over_R": 0.7})
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e200])
+def test_ball_radius_at_extreme_scales(scale):
+    """R = 0.028575 * 1e+-200 m: V_f, t_roll and x_roll do not contain R (the hand values above:
+    V_f = 8/7 m/s, t_roll = (6/7)/1.962 s), and w_z = -5 b P/(2 M R^2) = -2.5 (b/R) V0 / R with
+    V0 = 2 m/s: -1.25/R, 1e+-200 times its default.  (M R^2 itself would leave the range.)"""
+    R = 0.028575 * scale
+    a, n, _ = solve_both("4.8", R=R)
+    for values in (a, n):
+        assert values["V_f"] == pytest.approx(8 / 7, rel=1e-8)
+        assert values["t_roll"] == pytest.approx((6 / 7) / 1.962, rel=1e-8)
+        assert values["x_roll"] == pytest.approx(0.5 * (2 + 8 / 7) * (6 / 7) / 1.962, rel=1e-8)
+        assert values["omega_z"] == pytest.approx(-1.25 / R, rel=1e-8)

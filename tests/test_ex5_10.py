@@ -218,3 +218,52 @@ def test_locking_range_1e_9_omega0_wide():
     err = 0.5 * (q["xi_lo"]["numeric_err"] + q["xi_hi"]["numeric_err"])
     # the centre moves by the free oscillator's frequency shift, to its own relative O(mu/omega0)
     assert abs(centre - shift) <= err + 1e-2 * abs(shift), (centre, err)
+
+
+# Locking ranges far below double precision of omega0 (bounds draws, seed 5): the plain one-period map
+# stalled ("continuation stalled") as it resolves the detuning only to rtol omega0/W; the map in the frame
+# rotating with the drive resolves it to rtol mu/W.  By hand, at leading order (reduced equations):
+#   Delta = f0 sqrt(beta)/(4 omega0), the range [-Delta, Delta] moved as a whole by the free van der Pol
+#   frequency shift -omega0 eps^2/16 (eps = mu/omega0; the next term, 17 eps^4/3072, is below 1e-20 of it).
+#   The width keeps 2 Delta to the relative (Delta/mu)^2 + Delta/omega0 + eps^2 that the theory neglects.
+# (c) omega0 = 684581, mu = 9.39052e-6, beta = 0.00487637, f0 = 0.00138742:
+#     Delta = 0.00138742 * 0.0698310/2738324 = 3.53811e-11 rad/s (5.2e-17 of omega0), Delta/mu = 3.8e-6;
+#     shift = -(9.39052e-6)^2/(16 * 684581) = -8.0507e-18 rad/s, 2.3e-7 of Delta.
+# (d) omega0 = 202589, mu = 9.49973e-4, beta = 1.12105e-4, f0 = 6.71775e-4:
+#     Delta = 6.71775e-4 * 0.0105880/810356 = 8.77729e-12 rad/s, Delta/mu = 9.2e-9;
+#     shift = -(9.49973e-4)^2/(16 * 202589) = -2.78413e-13 rad/s, 0.032 of Delta.
+NARROW_C = dict(omega0=684581.0, mu=9.39052e-06, beta=0.00487637, f0=0.00138742, omega=574221.0)
+NARROW_D = dict(omega0=202589.0, mu=0.000949973, beta=0.000112105, f0=0.000671775, omega=168158.0)
+
+
+@pytest.mark.parametrize("given, delta, shift", [(NARROW_C, 3.53811e-11, -8.0507e-18),
+                                                 (NARROW_D, 8.77729e-12, -2.78413e-13)])
+def test_locking_range_far_below_the_precision_of_omega0(given, delta, shift):
+    q = _cross_check(given)
+    assert all(x["agree"] for x in q.values()), q
+    p = {**DEF, **given}
+    D = p["f0"] * math.sqrt(p["beta"]) / (4 * p["omega0"])
+    assert D == pytest.approx(delta, rel=1e-5)  # the hand values above
+    assert -p["mu"] ** 2 / (16 * p["omega0"]) == pytest.approx(shift, rel=1e-4)
+    neglected = (D / p["mu"]) ** 2 + D / p["omega0"] + (p["mu"] / p["omega0"]) ** 2
+    width = q["width"]
+    assert abs(width["numeric"] - 2 * D) <= width["numeric_err"] + 3 * neglected * 2 * D, width
+    # the centre of the range is the free oscillator's frequency: its shift resolved against Delta, which
+    # itself is 1e-16 of omega0; what the drive adds to the centre is of the order Delta (Delta/mu)^2
+    centre = 0.5 * (q["xi_lo"]["numeric"] + q["xi_hi"]["numeric"])
+    err = 0.5 * (q["xi_lo"]["numeric_err"] + q["xi_hi"]["numeric_err"])
+    assert abs(centre - shift) <= err + 1e-3 * abs(shift) + 3 * D * (D / p["mu"]) ** 2, (centre, err, shift)
+
+
+def test_a_beat_its_error_bar_cannot_resolve_fails_loudly():
+    """Draw (c) with omega 2e-10 rad/s (three times the half-width) above omega0: the beat, by the
+    leading-order theory sqrt(xi^2 - Delta^2) ~ 2.3e-10 rad/s, lies far below what the settling run resolves
+    at omega0 = 7e5 rad/s (rtol omega0 ~ 7e-5 rad/s); printing 3.8e-6 +- 3e5 would be no answer: a loud
+    failure that says why."""
+    from mech.problems import registry
+    from mech.problems.spec import NumericFailure
+
+    ex = registry.get("5.10")
+    p = ex.resolve({**NARROW_C, "omega": 684581.00000000023})
+    with pytest.raises(NumericFailure, match="beat .* is not resolved"):
+        ex.solve_numeric(p)

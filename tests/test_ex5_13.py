@@ -111,3 +111,28 @@ def test_a_min_at_extreme_scales_keeps_its_accuracy(l, g, Omega):
     _, n10, _ = solve_both("5.13", rtol=1e-13, l=l, g=g, a=0.01 * l, Omega=Omega)
     assert n["a_min"] == pytest.approx(lead, rel=max(eta, 1e-11))
     assert n10["a_min"] == pytest.approx(n["a_min"], rel=1e-10)
+
+
+def test_omega_1e200_times_its_default_answers():
+    """Omega = 200 pi * 1e200: kappa = omega0^2/Omega^2 ~ 1e-403 underflows, yet a_min ~ 1e-202 m is due.
+    By hand, a_min = sqrt(2 g l)/Omega = sqrt(3.924)/(200 pi 1e200) = 3.152714e-203 m, off the exact
+    value by relative O(12 omega0^2/Omega^2) ~ 1e-403: the numeric root must equal it to its rtol.
+    The slow frequencies: with kappa beneath round-off both linearized equations are y'' = -+ eps cos(tau) y
+    (eps = a/l = 0.05, tau = Omega t), whose monodromy over 2 pi (scipy's solve_ivp, a different
+    integrator and the raw second-order form) gives cos(2 pi nu/Omega) = tr M/2, the same for both signs
+    (a shift of tau by pi).  With a = 0 instead, omega_down is omega0 = sqrt(49.05) exactly."""
+    Omega = 200 * math.pi * 1e200
+    a, n, _ = solve_both("5.13", Omega=Omega)
+    assert n["a_min"] == pytest.approx(math.sqrt(3.924) / Omega, rel=1e-10)
+
+    def mono(eps):
+        rhs = lambda t, y: [y[1], eps * math.cos(t) * y[0], y[3], eps * math.cos(t) * y[2]]  # noqa: E731
+        y = solve_ivp(rhs, (0.0, 2 * math.pi), [1.0, 0.0, 0.0, 1.0], method="Radau", rtol=1e-12,
+                      atol=1e-14).y[:, -1]
+        return y[0] + y[3]
+
+    nu = Omega * math.acos(mono(0.05) / 2.0) / (2 * math.pi)
+    assert n["omega_down"] == pytest.approx(nu, rel=1e-8)
+    assert n["omega_inv"] == pytest.approx(nu, rel=1e-8)
+    _, n0, _ = solve_both("5.13", Omega=Omega, a=0.0)
+    assert n0["omega_down"] == pytest.approx(math.sqrt(49.05), rel=1e-10)

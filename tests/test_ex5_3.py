@@ -214,3 +214,17 @@ def test_a_phase_without_significant_digits_is_refused():
 
     with pytest.raises(BadInput, match="carries no significant digit"):
         registry.get("5.3").resolve(dict(omega=3e6, t1=1e9))
+
+
+def test_a_static_drive_keeps_its_digits():
+    """omega = 6e-200 rad/s: over t1 = 5 s the force is a constant F0, so the stationary amplitude is the
+    static deflection f/omega0^2 = 2/36 = 1/18 m.  Both solvers give it; the analytic error bar stays at
+    round-off (8 u (1 + 6 * 5) times sizes below 1 m: under 1e-12; dividing q' by omega once made it 1e185)."""
+    from mech.problems import registry
+
+    a, n, _ = solve_both("5.3", omega=6e-200)
+    assert a["A_ss"] == pytest.approx(1 / 18, rel=1e-12)
+    assert n["A_ss"] == pytest.approx(1 / 18, rel=1e-8)
+    ex = registry.get("5.3")
+    errs = ex.analytic_errors(ex.resolve({"omega": 6e-200}))
+    assert errs["q_t"] < 1e-12 and errs["v_t"] < 1e-11

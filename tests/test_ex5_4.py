@@ -96,3 +96,41 @@ def test_a_reading_after_1e5_decay_times_is_zero_within_its_claim_and_fast():
     assert abs(n["q_t"]) <= ab and 0.0 < ab < 1e-12 * 5095.95
     lam = 0.484781 / (3.69078 + math.sqrt(3.69078**2 - 1.0))
     assert n["t_eps"] == pytest.approx(math.log(1 / 1.74208e-05) / lam, rel=0.1)
+
+
+def _decimal_textbook(omega0, zeta, q0, t1, eps):
+    """The textbook forms above in 100-digit Decimal (tests/hiprec.py); t_eps by bisection on them."""
+    from decimal import localcontext
+
+    import hiprec
+
+    with localcontext() as ctx:
+        ctx.prec = hiprec.PREC
+        D = hiprec.D
+        s = (D(zeta) ** 2 - 1).sqrt()
+        l1, l2 = D(omega0) * (D(zeta) - s), D(omega0) * (D(zeta) + s)
+        q = lambda t: D(q0) * (l2 * hiprec.exp(-l1 * t) - l1 * hiprec.exp(-l2 * t)) / (l2 - l1)
+        ts = (l2 / l1).ln() / (l2 - l1)
+        v_max = D(q0) * l1 * l2 * (hiprec.exp(-l1 * ts) - hiprec.exp(-l2 * ts)) / (l2 - l1)
+        lo, hi = D(0), 100 / l1
+        for _ in range(120):
+            mid = (lo + hi) / 2
+            lo, hi = (mid, hi) if q(mid) > D(eps) * D(q0) else (lo, mid)
+        return float(l1), float(q(D(t1))), float(lo), float(v_max)
+
+
+@pytest.mark.parametrize("given", [
+    {"zeta": 1000.0, "eps": 0.001, "t1": 500.0},               # hard 2
+    {"zeta": 1e6, "t1": 3e5},                                  # hard 3
+    {"zeta": 7.0, "omega0": 0.02, "q0": 3.0, "t1": 900.0, "eps": 0.3},
+])
+def test_stiff_cases_by_the_exact_flow_against_100_digits(given):
+    """zeta > 5: the numeric route propagates exp(A tau) (no integrator, no scipy) and finds the events by
+    Brent's method; within a small fraction of its claim (10 rtol) of the Decimal values."""
+    full = {"omega0": 5.0, "zeta": 2.0, "q0": 0.1, "t1": 1.0, "eps": 0.01, **given}
+    want = dict(zip(("lambda_slow", "q_t", "t_eps", "v_max"), _decimal_textbook(**full)))
+    _, n, run = solve_both("5.4", **given)
+    assert run.method.startswith("exact flow") and run.nfev == 0
+    for name, value in want.items():
+        assert n[name] == pytest.approx(value, rel=1e-9), name
+    assert run.invariants["semigroup Phi(a) Phi(b) = Phi(a + b)"] < 1e-12

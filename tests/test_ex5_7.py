@@ -141,3 +141,26 @@ def test_a_flipped_cubic_term_fails_the_energy_check(monkeypatch, given):
     result = cross_check(ex, p)
     assert not result.agree
     assert any("energy" in e for e in result.errors)
+
+
+def test_tiny_amplitude_is_harmonic_to_the_last_bit():
+    """A = 0.5e-200 m: eps = alpha A^2/omega0^2 = 0.8 * 0.25e-400 / 4 = 5e-402 (below the range), so the
+    motion is harmonic: omega = omega0 = 2 rad/s, the shift (3/8) eps omega0 ~ 4e-402 rad/s and
+    c3 = alpha A^3/(32 omega0^2) ~ 8e-604 m are zero within any error a double can state.  The energy
+    check used to form omega0^2 q^2 ~ 1e-400 in SI: drift NaN, a loud failure."""
+    a, n, _ = solve_both("5.7", A=0.5e-200)
+    for values in (a, n):
+        assert values["omega"] == pytest.approx(2.0, rel=1e-12)
+        assert abs(values["domega"]) <= 1e-300
+        assert abs(values["c3"]) <= 1e-300
+
+
+def test_a_shift_below_the_range_of_its_ratio_is_refused():
+    """omega0 = 2e200 rad/s: the shift (3/8) alpha A^2/omega0 = 3.75e-202 rad/s is representable, but it is
+    the fraction eps = 0.2/4e400 = 5e-402 of omega0, which is not: refused (exit 2) naming it, where both
+    solvers printed a shift of 0 +- 1e-300."""
+    from mech.problems import registry
+    from mech.problems.spec import BadInput
+
+    with pytest.raises(BadInput, match="floating point cannot represent"):
+        registry.get("5.7").resolve({"omega0": 2e200})

@@ -154,3 +154,61 @@ def test_turn_is_exact_beyond_two_to_the_22_turns(omega, x):
         s, c = hiprec.sincos(hiprec.D(omega) * hiprec.D(x))
     z = _turn(omega, x)
     assert abs(z.real - float(c)) < 4e-16 and abs(z.imag - float(s)) < 4e-16
+
+
+@pytest.mark.parametrize("t", [4.2e-200, 1e-30, 1e-3])
+def test_an_early_time_is_near_zero(t):
+    """q'' + 2 d q' + q = delta(t): G(t) = e^{-d t} sin(w1 t)/w1 (= t (1 - d t + ...) for t -> 0), by hand;
+    the quadrature is asked to an absolute tolerance of order 1e-12 (G's scale is 1)."""
+    d = 0.0667
+
+    def chi(x):
+        with np.errstate(over="ignore"):  # x up to 40/t: chi = 0 where x^2 overflows (its size < 1e-308)
+            return 1.0 / ((1.0 - x) * (1.0 + x) - 2j * d * x)
+
+    poles = np.roots([-1.0, -2j * d, 1.0])
+    res = inverse_fourier(chi, t, poles, epsrel=1e-12, vectorized=True)
+    assert abs(res.value - green(d, t)) <= max(res.abserr, 1e-15)
+    assert abs(res.value - green(d, t)) <= 1e-11
+
+
+@pytest.mark.parametrize("d", [1e-13, 1e-50, 6.7e-202])
+def test_a_peak_narrower_than_the_floats_around_it(d):
+    """A resonance of width d far below the spacing of the floats at w = 1 (Q up to 1e201).  Its inverse
+    transform at t = 4.2 is e^{-d t} sin(w1 t)/w1 with w1 = (1 - d^2)^(1/2) = 1 to the last bit: sin(4.2),
+    by hand.  chi in the local form (base, offset) so that the offset carries what 1 + y cannot."""
+    def chi_local(base, off):
+        return 1.0 / (((1.0 - base) - off) * ((1.0 + base) + off) - 2j * d * (base + off))
+
+    poles = [complex(1.0, -d), complex(-1.0, -d)]
+    t = 4.2
+    after = inverse_fourier(chi_local, t, poles, epsrel=1e-11, vectorized=True, local=True)
+    before = inverse_fourier(chi_local, -t, poles, epsrel=1e-11, vectorized=True, local=True)
+    assert abs(after.value - math.sin(t)) <= 1e-10
+    assert abs(before.value) <= 1e-10
+
+
+@pytest.mark.parametrize("d, w", [(50.0, 0.3), (1e4, 2e-4), (20.0, 0.0)])
+def test_impulse_spectrum_by_the_flow_of_a_stiff_oscillator(d, w):
+    """q'' + 2 d q' + q = 0 from q = 0, q' = 1: int_0^inf q e^{i w t} dt = 1/(1 - w^2 - 2 i d w)
+    (integrate q'' + 2 d q' + q against e^{i w t} by parts).  The numpy-only route (exp(A t), quadrature)
+    and, as a conformance check, scipy's LSODA on the same segment."""
+    from mech.solvers.numerics.fourier import FLOW, impulse_spectrum
+
+    A = np.array([[0.0, 1.0], [-1.0, -2.0 * d]])
+    b, c = np.array([0.0, 1.0]), np.array([1.0, 0.0])
+    exact = 1.0 / complex(1.0 - w * w, -2.0 * d * w)
+    slow = d - math.sqrt(d * d - 1.0)
+    seg = 1.0 / slow
+    spec = impulse_spectrum(A, b, c, w, rtol=1e-10, segment=seg, method=FLOW)
+    assert abs(spec.value - exact) <= 1e-9 * abs(exact)
+    assert spec.traj.method.startswith("exp(A t)") and not spec.traj.forced
+    from mech.solvers.numerics.linear_flow import rounding_bound
+
+    assert abs(spec.liouville_drift) <= rounding_bound(A, seg)  # measured 4e-12 at d = 1e4 (bound 7e-7)
+    looser = impulse_spectrum(A, b, c, w, rtol=1e-4, segment=seg, method=FLOW)
+    assert abs(looser.value - exact) <= 1e-3 * abs(exact)  # the tolerance is the quadrature's
+    forced = impulse_spectrum(A, b, c, w, rtol=1e-8, segment=seg, method=FLOW, integrator="LSODA",
+                              atol=1e-11 * np.array([1.0, slow, slow, slow * slow, seg, seg * slow, seg, seg * slow]))
+    assert forced.traj.method == "LSODA" and forced.traj.forced
+    assert abs(forced.value - exact) <= 1e-5 * abs(exact)

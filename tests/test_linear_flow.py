@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import hiprec
-from mech.solvers.numerics.linear_flow import expm, expm_minus_identity, rounding_bound
+from mech.solvers.numerics.linear_flow import expm, expm_many, expm_minus_identity, rounding_bound
 
 U = 2.0**-53
 
@@ -50,3 +50,33 @@ def test_minus_identity_keeps_a_slow_mode_digits():
     d = expm_minus_identity(np.array([[0.0, 1.0], [-k, -1.0]]) * t)
     exact = -k * t * t / 2.0 * (1.0 - t / 3.0 + t * t / 12.0 - k * t * t / 12.0)
     assert d[0, 0] == pytest.approx(exact, rel=1e-12)
+
+
+def test_many_times_at_once_equal_one_at_a_time():
+    a = np.array([[0.0, 1.0], [-1.0, -2.0e6]])
+    ts = np.array([0.0, 1e-9, 3e-7, 1.0, 2.5e3, 1e7])
+    many = expm_many(a, ts)
+    for t, e in zip(ts, many):
+        assert np.array_equal(e, expm(a * t))
+
+
+@pytest.mark.parametrize("zeta, tau", [(1e3, 1e-2), (1e3, 2.5e3), (1e3, 1.4e4), (1e6, 1e-6), (1e6, 1.5e6),
+                                       (1e6, 9e6)])
+def test_stiff_damped_flow_against_80_digits(zeta, tau):
+    """x'' + 2 zeta x' + x = 0 from (1, 0): with rates l1,2 = zeta -+ (zeta^2 - 1)^(1/2),
+    x = (l2 e^{-l1 t} - l1 e^{-l2 t})/(l2 - l1), x' = l1 l2 (e^{-l2 t} - e^{-l1 t})/(l2 - l1), in Decimal.
+    The squarings (up to 2^45 of them) keep the slow mode to a few u times its exponent l1 tau (<= 23)."""
+    from decimal import localcontext
+
+    with localcontext() as ctx:
+        ctx.prec = hiprec.PREC
+        z, t = hiprec.D(zeta), hiprec.D(tau)
+        s = (z * z - 1).sqrt()
+        l1, l2 = z - s, z + s
+        e1, e2 = hiprec.exp(-l1 * t), hiprec.exp(-l2 * t)
+        x = (l2 * e1 - l1 * e2) / (l2 - l1)
+        v = l1 * l2 * (e2 - e1) / (l2 - l1)
+        x, v = float(x), float(v)
+    y = expm(np.array([[0.0, 1.0], [-1.0, -2.0 * zeta]]) * tau) @ np.array([1.0, 0.0])
+    assert abs(y[0] - x) <= 1e-13 * abs(x)
+    assert abs(y[1] - v) <= 1e-13 * abs(v)

@@ -87,6 +87,39 @@ def test_normal_modes_match_scipys_generalized_eigenproblem():
     assert np.allclose(ours, theirs, rtol=1e-12)
 
 
+def test_pair_roots_against_closed_forms_and_eigh():
+    """Two masses m, three springs k: omega^2 = k/m and 3k/m.  M = diag(1, 1), K = diag(1e200, 1): the roots
+    are the diagonal, 1 and 1e200, exactly (an eigensolver returns the low one as 0 to within 1e184).  A mass
+    matrix [[1, 1/2], [1/2, 1/3]] (det 1/12) with K = diag(1/a, 1/2): 4.12 in units of the bar, roots of
+    w^4/12 - (1/(3a) + 1/2) w^2 + 1/(2a) = 0; at a = 1e-200 the product of the roots is 6/a and their sum
+    12 (1/(3a) + 1/2) = 4/a + 6, so the low root is 6/a / (4/a + 6 - low) = 1.5 (1 - 1.5 a) + O(a^2):
+    1.5 to round-off; at a = 1e200 the high root is 6 + O(1/a) and the low one (6/a)/6 = 1/a.
+    A random SPD pair against scipy's eigh; a zero root exactly (K singular)."""
+    m, k = 2.0, 5.0
+    w2, err = modes.pair_roots(np.diag([m, m]), np.array([[2 * k, -k], [-k, 2 * k]]))
+    assert np.allclose(w2, [k / m, 3 * k / m], rtol=1e-14)
+    assert np.all(err < 1e-14 * w2)
+    w2, err = modes.pair_roots(np.eye(2), np.diag([1e200, 1.0]))
+    assert w2[0] == pytest.approx(1.0, rel=1e-15) and w2[1] == pytest.approx(1e200, rel=1e-15)
+    Mb = np.array([[1.0, 0.5], [0.5, 1.0 / 3.0]])
+    w2, _ = modes.pair_roots(Mb, np.diag([1e200, 0.5]))
+    assert w2[0] == pytest.approx(1.5, rel=1e-14) and w2[1] == pytest.approx(4e200, rel=1e-14)
+    w2, _ = modes.pair_roots(Mb, np.diag([1e-200, 0.5]))
+    assert w2[0] == pytest.approx(1e-200, rel=1e-14) and w2[1] == pytest.approx(6.0, rel=1e-14)
+    w2, err = modes.pair_roots(np.diag([1.0, 3.0]), np.array([[1.0, 1.0], [1.0, 1.0]]))
+    assert w2[0] == 0.0 and w2[1] == pytest.approx(4.0 / 3.0, rel=1e-15)  # trace of M^-1 K, the other 0
+    linalg = pytest.importorskip("scipy.linalg")
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        A, B = rng.normal(size=(2, 2)), rng.normal(size=(2, 2))
+        M, K = A @ A.T + 0.1 * np.eye(2), B @ B.T + 0.1 * np.eye(2)
+        ours, err = modes.pair_roots(M, K)
+        theirs = linalg.eigh(K, M, eigvals_only=True)
+        assert np.all(np.abs(ours - theirs) <= err + 4e-16 * np.abs(theirs))
+    with pytest.raises(NumericFailure):
+        modes.pair_roots(np.eye(2), np.diag([1.0, -1.0]))
+
+
 def test_gradient_and_hessian_of_a_known_potential():
     """U = x^2 y + cos(y): grad = (2xy, x^2 - sin y), Hessian [[2y, 2x], [2x, -cos y]]."""
     U = lambda q: q[0] ** 2 * q[1] + math.cos(q[1])  # noqa: E731

@@ -4,6 +4,8 @@ import os
 
 import pytest
 
+from conftest import killed_leaves_nothing
+
 from mech.problems import registry
 from mech.solvers.verification import crosscheck
 
@@ -160,44 +162,8 @@ crosscheck.cross_check(ex, ex.resolve({}))
 """
 
 
-def _processes_with(marker: str) -> list[int]:
-    found = []
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit():
-            continue
-        try:
-            with open(f"/proc/{entry}/cmdline", "rb") as fh:
-                if marker.encode() in fh.read():
-                    found.append(int(entry))
-        except OSError:
-            continue
-    return found
-
-
 @pytest.mark.skipif(not os.path.isdir("/proc"), reason="needs /proc (Linux)")
 @pytest.mark.parametrize("sig", ["SIGKILL", "SIGTERM"])
 def test_the_rerun_dies_with_a_killed_parent(sig):
     """A CI timeout kills mech (SIGKILL or SIGTERM to its process): its forked rerun must not outlive it."""
-    import signal
-    import subprocess
-    import sys
-    import time
-    import uuid
-
-    marker = f"mech-orphan-probe-{uuid.uuid4().hex}"
-    proc = subprocess.Popen([sys.executable, "-c", _SLOW_IN_CHILD, marker], stdout=subprocess.PIPE, text=True)
-    try:
-        assert proc.stdout.readline().strip() == "ready"
-        deadline = time.monotonic() + 20
-        while len(_processes_with(marker)) < 2 and time.monotonic() < deadline:
-            time.sleep(0.05)
-        assert len(_processes_with(marker)) >= 2, "the rerun was never forked"
-        proc.send_signal(getattr(signal, sig))
-        proc.wait(timeout=10)
-        time.sleep(2.0)
-        assert _processes_with(marker) == []
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-        for pid in _processes_with(marker):
-            os.kill(pid, signal.SIGKILL)
+    assert killed_leaves_nothing(_SLOW_IN_CHILD, "ready", sig) == []

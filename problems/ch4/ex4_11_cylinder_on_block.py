@@ -6,13 +6,16 @@ U = kappa X^2/2.  x is cyclic: p_x = (3/2) M x' - M X'/2 = 0 in the drift-free
 mode, so x = X/3 and phi = (X - x)/R = 2X/(3R).  Then T = (M' + M/3) X'^2/2 and
 omega^2 = kappa / (M' + M/3).
 
-Numeric: T(q, q') for q = (X, x) is M' X'^2/2 plus the quadrature sum over a
+Numeric, in units of M, R and sqrt(M/kappa) (the mass ratio M'/M the only parameter left):
+T(q, q') for q = (X, x) is M' X'^2/2 plus the quadrature sum over a
 discretized disk cross-section of the cylinder of w |v_axis + phi' z x r|^2/2,
 with phi' solved at each call from the no-slip condition at the contact
 (solvers.mechanics.rolling; the moment of inertia never enters).  Mass matrix by
 polarization (body by body), stiffness by central differences of U, the balanced generalized
 eigenproblem; the zero root is discarded and the other eigenvector scaled to
-X = 1; phi/X is the no-slip spin at the mode's velocities.
+X = 1; phi/X is the no-slip spin at the mode's velocities.  The shapes come from the rows of
+(K - omega^2 M) a = 0 (numerics.modes.pair_shapes), so a block 1e200 times heavier than the cylinder
+keeps x/X = 1/3, which an eigenvector in balanced coordinates carries as 1e-100 noise.
 """
 
 from __future__ import annotations
@@ -45,7 +48,9 @@ def analytic(p):
 
 @exercise.numeric
 def numeric(p, run):
-    M, R, Mb, kappa = p.M, p.R, p.M_prime, p.kappa
+    # in units of the cylinder's mass M, its radius R and the time sqrt(M/kappa): the block's mass is the
+    # ratio M'/M and nothing else has a scale, so R or kappa at 1e+-200 of their defaults change nothing
+    M, R, Mb, kappa = 1.0, 1.0, p.M_prime / p.M, 1.0
     pts3, w = disk(6, 12)
     r_rel = R * pts3[:, :2]  # the cross-section in the plane of motion, about the axis
     w = M * w
@@ -78,4 +83,5 @@ def numeric(p, run):
     # central differences are exact up to round-off; eigh of the balanced 2x2 problem: ~1e-15
     for name in ("omega", "x_over_X", "phi_over_X"):
         run.claim(name, rel=1e-11)
-    return {"omega": np.sqrt(w2[1]), "x_over_X": shape[1], "phi_over_X": spin(shape)}
+    return {"omega": np.sqrt(w2[1]) * np.sqrt(p.kappa) / np.sqrt(p.M), "x_over_X": shape[1],
+            "phi_over_X": spin(shape) / p.R}

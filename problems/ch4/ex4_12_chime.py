@@ -16,9 +16,9 @@ U(q) = sum w g (y - y_eq) straight from the points' positions (heights measured
 from equilibrium as 2 sin^2 of the half-angles, so U carries no large constant).
 The mass matrix by polarization (probe rates 1/l' and 1/l, so the cross term
 is not lost beside the diagonal), the stiffness by Richardson central
-differences (smallosc), the generalized symmetric eigenproblem solved with M
-scaled to unit diagonal (each mode from the forward or the inverse problem,
-whichever has it as a large eigenvalue), mode ratios from the eigenvectors.
+differences (smallosc), both roots of the 2x2 characteristic polynomial in a
+stable form (the large root directly, the small one as det/large: numerics.modes.pair_roots),
+mode ratios from the non-cancelling row of (K - omega^2 M) a = 0 (pair_shapes).
 """
 
 from __future__ import annotations
@@ -27,8 +27,8 @@ import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.inertia import gauss_legendre
-from mech.solvers.mechanics.rolling import balanced_modes, scaled_mass_matrix
-from mech.solvers.numerics.modes import hessian
+from mech.solvers.mechanics.rolling import scaled_mass_matrix
+from mech.solvers.numerics.modes import hessian, pair_roots, pair_shapes
 
 exercise = Exercise(
     "4.12",
@@ -56,40 +56,51 @@ def analytic(p):
 
 @exercise.numeric
 def numeric(p, run):
-    a, l, g, M = p.l_prime, p.l, p.g, p.M
+    # dimensionless: lengths in l, masses in M, time in sqrt(l/g); the thread's swing as the length
+    # x = a phi (a = l'/l), so that T and U keep O(1) coefficients for a from 1e-200 to 1e200 (with phi,
+    # the thread's term M l'^2 phi'^2 over- or underflowed: NaN modes)
+    a, l, g, M = p.l_prime / p.l, 1.0, 1.0, 1.0
     s, ws = gauss_legendre(8, 0.0, l)
     w = M * ws / l  # mass of each point
 
     def T(q, qdot):
-        phi, psi = q
-        # velocity of the point at s: a phi' (cos phi, sin phi) + s psi' (cos psi, sin psi)
-        vx = a * qdot[0] * np.cos(phi) + s * qdot[1] * np.cos(psi)
-        vy = a * qdot[0] * np.sin(phi) + s * qdot[1] * np.sin(psi)
+        phi, psi = q[0] / a, q[1]
+        # velocity of the point at s: a phi' (cos phi, sin phi) + s psi' (cos psi, sin psi), a phi' = x'
+        vx = qdot[0] * np.cos(phi) + s * qdot[1] * np.cos(psi)
+        vy = qdot[0] * np.sin(phi) + s * qdot[1] * np.sin(psi)
         return 0.5 * float(np.sum(w * (vx**2 + vy**2)))
 
     def U(q):
         # y - y_eq of each point: a (1 - cos phi) + s (1 - cos psi), written as 2 sin^2(x/2)
-        dy = 2 * a * np.sin(q[0] / 2) ** 2 + 2 * s * np.sin(q[1] / 2) ** 2
+        dy = 2 * a * np.sin(q[0] / a / 2) ** 2 + 2 * s * np.sin(q[1] / 2) ** 2
         return g * float(np.sum(w * dy))
 
     q0 = np.zeros(2)
-    # probe rates 1/a and 1/l move thread and bar at comparable speeds: with l' = 1e-7 l, unit rates
-    # would leave the cross term M a l/2 at 1e-7 of T and polarization would lose seven digits of it
-    Mm = scaled_mass_matrix(T, q0, [1.0 / a, 1.0 / l])
-    K = hessian(U, q0, scale=1.0)
-    modes = balanced_modes(Mm, K)
-    if not modes.stable:
-        raise NumericFailure(f"the hanging equilibrium came out unstable: omega^2 = {modes.omega2}")
-    ratios = modes.shapes[1, :] / modes.shapes[0, :]
+    # probe rates of one length per time for x and one radian per time for psi move thread and bar at
+    # comparable speeds (the bar's length is the unit)
+    Mm = scaled_mass_matrix(T, q0, [1.0, 1.0])
+    # steps of 1e-3 rad in phi and psi: the Hessian in (phi, psi), then brought to x = a phi by dividing
+    # twice by a (one step at a time: the step in x squared, a^2 1e-6, leaves the range at a = 1e+-200)
+    K = hessian(lambda q: U(np.array([a * q[0], q[1]])), q0, scale=1.0)
+    K[0, :] /= a
+    K[:, 0] /= a
+    # both roots of the 2x2 characteristic polynomial without cancellation (numerics.modes.pair_roots): at
+    # a = 1e+-200 they are 1e200 apart, and an eigensolver (forward or inverse) rounds one of them to 0
+    w2, w2_err = pair_roots(Mm, K)
+    if not w2[0] > w2_err[0]:
+        raise NumericFailure(f"the hanging equilibrium came out unstable: omega^2 = {w2}")
+    shapes = pair_shapes(Mm, K, w2, w2_err)
+    ratios = a * shapes[1, :] / shapes[0, :]  # psi/phi = a psi/x
     run.info["mass_matrix"] = Mm.tolist()
     run.info["stiffness"] = K.tolist()
     # polarization with balanced probe rates is exact to a few ulps; the Hessian's truncation (h^4/1440,
     # h = 1e-3) and round-off (U has no large constant) stay near 1e-13; each mode comes from the
     # eigen-solve in which it is the larger eigenvalue (balanced_modes), so a 1e7 spread of omega^2
-    # costs no digits (measured 1e-15 at l'/l = 1e-7 and 1e7)
+    # costs no digits (measured 1e-15 at l'/l = 1e-7 and 1e7; the claim covers pair_roots' own bound)
     for name in ("omega1", "omega2", "r1", "r2"):
         run.claim(name, rel=1e-10)
-    return {"omega1": modes.omega[0], "omega2": modes.omega[1], "r1": ratios[0], "r2": ratios[1]}
+    unit = np.sqrt(p.g) / np.sqrt(p.l)
+    return {"omega1": np.sqrt(w2[0]) * unit, "omega2": np.sqrt(w2[1]) * unit, "r1": ratios[0], "r2": ratios[1]}
 
 
 @exercise.scene

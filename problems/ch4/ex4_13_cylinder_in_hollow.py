@@ -11,7 +11,7 @@ omega^2 = g / (rho [3/2 - M/(M + M')]) = 2 g (M + M') / (rho (M + 3 M')).
 The mode: X/theta = -M rho/(M + M'), x_c/X = 1 + rho theta/X = -M'/M,
 phi/theta = -rho/R.  At M' = M, R' = 2R: omega^2 = g/R.
 
-Numeric: T(q, q') for q = (X, theta) is M' X'^2/2 plus a quadrature sum over a
+Numeric, in units of M, rho and sqrt(rho/g) (left: M'/M and R/rho): T(q, q') for q = (X, theta) is M' X'^2/2 plus a quadrature sum over a
 discretized disk cross-section with v = v_axis + phi' z x r, phi' solved at each
 call from the no-slip condition at the contact point (solvers.mechanics.rolling; no moment
 of inertia used); U from the axis's height above its equilibrium,
@@ -60,8 +60,10 @@ def analytic(p):
 
 @exercise.numeric
 def numeric(p, run):
-    M, Mb, R, g = p.M, p.M_prime, p.R, p.g
-    rho = p.R_prime - p.R
+    # in units of the cylinder's mass M, the gap rho = R' - R and the time sqrt(rho/g): what is left is the
+    # mass ratio M'/M and the radius R/rho, so no choice of the SI scales (1e+-200) reaches the round-off
+    rho_si = p.R_prime - p.R
+    M, Mb, R, g, rho = 1.0, p.M_prime / p.M, p.R / rho_si, 1.0, 1.0
     pts3, w = disk(6, 12)
     r_rel = R * pts3[:, :2]
     w = M * w
@@ -104,8 +106,8 @@ def numeric(p, run):
         run.claim(name, rel=1e-11)
     run.claim("xc_over_X", rel=1e-11, abs=1e-12)
     return {
-        "omega": np.sqrt(w2[1]),
-        "X_over_theta": shape[0],
+        "omega": np.sqrt(w2[1]) * (np.sqrt(p.g) / np.sqrt(rho_si)),
+        "X_over_theta": shape[0] * rho_si,
         "xc_over_X": v_axis[0] / shape[0],
         "phi_over_theta": spin(q0, shape),
     }

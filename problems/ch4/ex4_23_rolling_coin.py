@@ -26,8 +26,9 @@ of one full turn of the axis's horizontal projection (event), or, when a turn
 is too long to integrate (many spin turns per orbit, R >> r), 2 pi over the
 azimuth's rate fitted over 20 spin turns; T's claim is at least 3 times its
 departure from 2 pi over the root (measured error).  Omega is the root, the
-spin the rolling condition's; the spin at the end of the run must match it.  The tilt, the energy, the rolling
-constraint and the contact height are monitored.  Units: r = g = M = 1.
+spin the rolling condition's; the spin at the end of the run must match it.  The tilt, the
+energy (its potential measured from the contact point), the rolling constraint and the contact
+height are monitored.  Units: r = g = M = 1.
 """
 
 from __future__ import annotations
@@ -240,10 +241,21 @@ class _Disk:
         return float(self.z @ (np.cross(alpha, n) + np.cross(omega, np.cross(omega, n))))
 
     def energy(self, y):
+        """Kinetic energy plus the weight's potential, the height measured from the contact point.
+
+        On the exact motion the contact point stays on the floor and this is the energy.  The rolling
+        constraint is held at the acceleration level only, so the integration lets the contact point
+        leave the floor slowly (up to t^2: a velocity error that ramps), and the normal force's work on
+        that slip, M g times the contact height, would enter an energy measured from z = 0: it was all of
+        its drift (1.28 rtol after 50 spin turns at R/r = 50.5, theta = 0.211: the contact height's 1.28
+        rtol exactly; the rest 0.05 rtol).  That constraint drift is monitored on its own ("contact
+        height / r"); measured from the contact point, the energy checks the dynamics alone and stays
+        within 0.09 rtol there, at 1/8, 1/4, 1/2 and 1 of the turn (6 to 50 spin turns)."""
         Rm = quat_to_matrix(y[3:7])
         omega = Rm @ y[0:3]
         I_lab = Rm @ self.I_body @ Rm.T
-        return 0.5 * y[10:13] @ y[10:13] + 0.5 * omega @ I_lab @ omega + y[9]
+        _, d, _ = self.geometry(Rm, omega)
+        return 0.5 * y[10:13] @ y[10:13] + 0.5 * omega @ I_lab @ omega - d[2]
 
 
 @exercise.numeric

@@ -130,9 +130,10 @@ def _axial_torque(n, rl, mu):
     # n3 x (P - C) = (R/l) n3 x e_P exactly; the weight's part is horizontal-free (h is horizontal)
     nx, ny, nz = n
     ex, ey, ez = _face_down(nx, ny, nz)
-    vx, vy, vz = rl * (ny * ez - nz * ey), rl * (nz * ex - nx * ez), rl * (nx * ey - ny * ex)
+    # n3 x e_P first, scaled by R/l last: its squares would underflow for R/l below 1e-154
+    vx, vy, vz = ny * ez - nz * ey, nz * ex - nx * ez, nx * ey - ny * ex
     vn = math.sqrt(vx * vx + vy * vy + vz * vz)
-    return vz - mu * vn  # F = z - mu v/|v|
+    return rl * (vz - mu * vn)  # F = z - mu v/|v|
 
 
 def _tilt_torque(n, rl, mu):

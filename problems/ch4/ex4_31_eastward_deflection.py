@@ -58,12 +58,13 @@ def constraint(p):
         )
 
 
-def _x_minus_sin(x: float) -> float:
-    """x - sin x without cancellation for small x."""
+def _x_minus_sin_over_cube(x: float) -> float:
+    """(x - sin x) / x^3 without cancellation for small x, and without forming x^3 (which underflows for
+    |x| < 1e-103)."""
     if abs(x) > 0.5:
-        return x - math.sin(x)
-    # x^3/3! - x^5/5! + x^7/7! - ...; terms fall by x^2/((2k)(2k+1)) < 0.0125
-    term = x**3 / 6.0
+        return (x - math.sin(x)) / x**3
+    # 1/3! - x^2/5! + x^4/7! - ...; terms fall by x^2/((2k)(2k+1)) < 0.0125
+    term = 1.0 / 6.0
     total = 0.0
     k = 1
     while True:
@@ -98,7 +99,8 @@ def analytic(p):
     if phi == 0.0:
         d, v = 0.0, 0.0
     else:
-        d = p.g * s * t * t * _x_minus_sin(2.0 * phi) / (4.0 * phi * phi)
+        # g s t^2 (x - sin x) / (4 phi^2) with x = 2 phi
+        d = 2.0 * p.g * s * t * t * phi * _x_minus_sin_over_cube(2.0 * phi)
         v = p.g * s * t * math.sin(phi) * _sinc(phi)
     return {"t_fall": t, "d_east": d, "v_east": v}
 

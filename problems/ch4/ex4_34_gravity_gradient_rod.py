@@ -63,7 +63,8 @@ exercise = Exercise(
 
 
 def _omega(p):
-    return math.sqrt(p.GM / p.R**3)
+    # the orbital rate (GM/R^3)^(1/2), formed without R^3 (which leaves the range at R = 1e+-200 times 7e6 m)
+    return math.sqrt(p.GM / p.R) / p.R
 
 
 @exercise.analytic

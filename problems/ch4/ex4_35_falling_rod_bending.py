@@ -54,7 +54,10 @@ _W = 0.5 * _WEIGHTS
 
 @exercise.numeric
 def numeric(p, run):
-    m, l, g, th = p.m, p.l, p.g, p.theta
+    # in units of the rod's mass, its length and g (m = l = g = 1): the inertia m l^2 and the torques
+    # m g l would leave the floating-point range for l or m at 1e+-200 times their defaults; the answers
+    # are brought back by their dimensions (tau: m g l, s: l) at the end
+    m, l, g, th = 1.0, 1.0, 1.0, p.theta
     lam = m / l  # uniform linear density
     sin_t = np.sin(th)
 
@@ -101,9 +104,10 @@ def numeric(p, run):
     if not tau_max >= max(section(0.0)[1], section(l)[1]):
         raise NumericFailure("the shear root is not the maximum of the bending torque")
     run.method = "Gauss-Legendre quadrature"
-    run.info["theta_ddot"] = th_dd
-    run.info["pivot_shear"] = F_pivot
-    scale = m * g * l * sin_t
+    torque_unit = p.m * p.g * p.l
+    run.info["theta_ddot"] = th_dd * p.g / p.l
+    run.info["pivot_shear"] = F_pivot * p.m * p.g
+    scale = torque_unit * sin_t
     for name in ("tau", "s_max", "tau_max"):
-        run.claim(name, rel=1e-12, abs=1e-15 * (l if name == "s_max" else scale))
-    return {"tau": tau, "s_max": s_max, "tau_max": tau_max}
+        run.claim(name, rel=1e-12, abs=1e-15 * (p.l if name == "s_max" else scale))
+    return {"tau": tau * torque_unit, "s_max": s_max * p.l, "tau_max": tau_max * torque_unit}

@@ -10,7 +10,7 @@ contact-point slip u = V + w x (0, 0, -R) starts along x, u0 = V0 (1 - 5 (h - R)
 t_roll = 2 |u0| / (7 mu g) = P |7 - 5 h/R| / (7 M mu g).  Then
 V_f = V0 - (2/7) u0 = 5 P h / (7 M R), independent of b; x_roll = (V0 + V_f) t_roll / 2.
 
-Numeric: the sphere's moment from a Gauss quadrature of the ball (solvers.mechanics.inertia);
+Numeric: the sphere's moment I/(M R^2) from a Gauss quadrature of the unit ball (solvers.mechanics.inertia);
 the strike is a finite force pulse P (pi / 2 tau) sin(pi t / tau) along x at the
 body-fixed hit point, integrated through (the hit point turns with the ball) for
 tau = 1e-3 rtol min(R/V0, V0/(mu g)), so the finite-pulse effect (|w0| tau + mu g tau / V0,
@@ -81,11 +81,13 @@ def numeric(p, run):
     M, R, P, mu, g = p.M, p.R, p.P, p.mu, p.g
     V0 = P / M  # velocity unit (not an answer: the pulse's integral is checked below)
     pts, w = ball(6, 6, 12)
-    I_t = inertia_tensor(R * pts, M * w)
+    # the unit ball of unit mass: I / (M R^2), so that no scale of M or R (M R^2 can leave the floating-point
+    # range at R = 1e+-200 times its default) enters the inertia
+    I_t = inertia_tensor(pts, w)
     moments = np.linalg.eigvalsh(I_t)
     if moments[-1] - moments[0] > 1e-12 * moments[-1]:
         raise NumericFailure(f"the ball quadrature is not isotropic: {moments}")
-    I_inv_MR2 = M * R**2 * np.linalg.inv(I_t)  # (I / M R^2)^-1, a sphere: no gyroscopic term
+    I_inv_MR2 = np.linalg.inv(I_t)  # (I / M R^2)^-1, a sphere: no gyroscopic term
 
     # --- the strike: force P (pi/2 tau) sin(pi t/tau) x at the body-fixed hit point ---
     # far shorter than both the time to turn the ball (R/V0) and the sliding time (V0/mu g)

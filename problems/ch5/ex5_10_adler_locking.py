@@ -11,10 +11,17 @@ slips with the period 2 pi/sqrt(xi^2 - Delta^2), the beat frequency
 sqrt(xi^2 - Delta^2); zero inside.
 
 Numeric (exact, full equation): (1) the locked state is a periodic orbit of
-the drive's period, found by Newton on the one-period map (variational
-equations carried along, DOP853) at omega0 and swept up and down in omega by
-continuation until det(M - I) changes sign (solvers/mechanics/continuation.py); each edge,
-a fold of the orbit, refined by Brent's method on det(M - I) along the branch.
+the drive's period, a fixed point of the one-period map (variational
+equations carried along, DOP853; solvers/mechanics/continuation.py).  For
+mu/omega0 < 5e-3 the map is taken in the frame rotating with the drive, as its
+increment over mu/omega0 (slow amplitude and phase, the fast rotation removed
+exactly), so that the detuning is resolved against mu, not omega0: locking
+ranges of 1e-16 omega0 come out to a part in 1e7.  The locked orbits form a
+loop over their phase against the drive: Newton on the plane of one phase
+solves for the swing and the frequency (well posed at any drive strength),
+stepping from the centre of the range a third of a turn at a time each way
+until det(M - I) changes sign; each edge, a fold of the orbit, refined by
+Brent's method on det(M - I) over the phase.
 (2) The beat: inside the numeric range the locked orbit exists and attracts:
 beat = 0.  Outside, 96 copies started around the cycle are integrated together
 (one vectorized system) for 16/mu (at most 300 drive periods) so that they
@@ -116,78 +123,132 @@ def expected_error(p):
 N_COPIES = 96
 N_MODES = 14
 SETTLE_MU_T = 16.0  # e^-16 ~ 1e-7 of the start's distance from the torus (itself ~ Delta/mu)
+# mu/omega0 below which the one-period map is taken in the frame rotating with the drive: the plain map
+# resolves the detuning w only to about rtol omega0/W, the rotating one to rtol mu/W (W ~ 4 Delta).  At
+# mu/omega0 = 0.05 (the defaults) the plain map is cheaper for the same accuracy (its integrand has fewer
+# harmonics: 750 evaluations a period at rtol 2e-12 against 980 at the rotating map's 4e-11)
+ROTATING_BELOW = 5e-3
+PHASE_STEP = math.pi / 3.0  # steps around the locked loop that bracket its folds
 MAX_SETTLE = 300  # drive periods at most (very small mu): the claim then carries the transient left over
 
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.mechanics.continuation import OrbitMap, refine_root, solve_on_plane, sweep
+    from mech.solvers.mechanics.continuation import OrbitMap, RotatingOrbitMap, solve_on_plane
+    from mech.solvers.numerics.roots import brentq
 
     rtol = run.rtol
     mu, beta, w0, f0 = p.mu, p.beta, p.omega0, p.f0
 
-    def force(q, v):
-        damp = mu * (1.0 - beta * q * q)
-        return damp * v - w0 * w0 * q, -2.0 * mu * beta * q * v - w0 * w0, damp
-
     Q = 1.0 / math.sqrt(beta)  # unit of length (the cycle's swing is about 2 Q)
     W = f0 * math.sqrt(beta) / w0  # unit of detuning: the drive's strength over the swing, by dimensions
-    om = OrbitMap(force, f0, Q, w0, W,
-                  memo=run.shared, memo_key=("5.10", *(float(p[k]) for k in p)), integrator=run.integrator)
-    # an edge is a detuning, a small difference of frequencies: the orbit's phase error per period, about
-    # the tolerance, is a frequency error of about rtol omega0, so the refinements integrate at rtol W/omega0
-    rr = max(3e-14, rtol * min(1.0, W / w0))
-    run.info["rtol_integration"] = rr
-    # the sweeps' looser tolerance: a unit of w changes the orbit's phase per period by only about T W
-    # (T = 2 pi/omega0), so the map must be good to a small part of that for Newton and the corrector to
-    # resolve w (at mu/omega0 ~ 1e-3, T W ~ 6e-6, a fixed 1e-7 stalled the continuation; at T W ~ 1e-8,
-    # a locking width ~1e-9 omega0, so did a floor at the requested rtol 1e-10); not depending on rtol, the
-    # rerun takes the sweeps from run.shared
+    memo_key = ("5.10", *(float(p[k]) for k in p))
+    if mu / w0 >= ROTATING_BELOW:
+        def force(q, v):
+            damp = mu * (1.0 - beta * q * q)
+            return damp * v - w0 * w0 * q, -2.0 * mu * beta * q * v - w0 * w0, damp
+
+        om = OrbitMap(force, f0, Q, w0, W, memo=run.shared, memo_key=memo_key, integrator=run.integrator)
+        scale = 1.0  # the map q -> q + O(mu/omega0) is computed to rtol of the swing
+    else:
+        def remainder(q, v):  # the force besides -omega0^2 q and the drive
+            damp = mu * (1.0 - beta * q * q)
+            return damp * v, -2.0 * mu * beta * q * v, damp
+
+        # the map's increment over the damping's scale mu/omega0, computed to rtol of itself
+        scale = mu / w0
+        om = RotatingOrbitMap(remainder, f0, Q, w0, W, scale, memo=run.shared, memo_key=memo_key,
+                              integrator=run.integrator)
+    run.info["orbit_map"] = type(om).__name__
+    # the map's increments are computed to about rtol of ``scale``; a unit of w moves the orbit's phase per
+    # period by T W (T = 2 pi/omega0), the swing relaxes by mu T
     T = 2.0 * math.pi / w0
-    rs = max(rr, min(1e-7, 1e-3 * T * W))
-    # Newton's start from far away: per period the phase moves by ~T W and the swing relaxes by mu T, so the
-    # map must be good to a small part of the smaller (mu/omega0 ~ 4e-9: 1e-7 found no orbit at all)
-    rs_start = max(rs, min(1e-7, 1e-2 * min(T * W, mu * T)))
+    sens = T * W / scale
+    rr = max(3e-14, rtol * min(1.0, W / (w0 * scale)))
+    run.info["rtol_integration"] = rr
+    rs = max(rr, min(1e-7, 1e-3 * sens))
     run.info["rtol_sweep"] = rs
-    edge_claim = max(exercise.tol_factor * rtol, 100.0 * rr * w0 / W)
+    edge_claim = max(exercise.tol_factor * rtol, 100.0 * rr * w0 * scale / W)
     for name in ("xi_lo", "xi_hi", "width"):
         run.claim(name, rel=edge_claim)
 
-    # a locked orbit at omega = omega0: Newton from a few phases around a swing of 2 Q
-    start = None
-    for ph in (0.5, -0.5, 0.0, 1.0):
-        bp = solve_on_plane(om, [2.0 * math.cos(ph * math.pi), 2.0 * math.sin(ph * math.pi), 0.0], [0.0, 0.0, 1.0],
-                            0.0, rtol=rs_start, tol=1e-7, max_iter=25, fresh=True, monotone=False)
-        if bp is not None and bp.A > 1.0:  # not the small unstable orbit near rest
-            start = bp
-            break
-    if start is None:
-        raise NumericFailure("no locked orbit found at omega = omega0: Newton did not converge from any phase")
-    if rs < rs_start:
-        # far starts converge at the loose tolerance (tighter, Newton's first steps along the nearly neutral
-        # phase overshoot); from there, the orbit at the sweeps' tolerance
-        start = solve_on_plane(om, start.z, [0.0, 0.0, 1.0], 0.0, rtol=rs, tol=1e-9, max_iter=25, fresh=True,
-                               monotone=False)
-        if start is None:
-            raise NumericFailure("the locked orbit at omega = omega0 did not converge at the sweeps' tolerance")
+    # The locked orbits form a closed loop around the w axis, parametrized by their phase against the drive:
+    # on the plane normal to the circle's tangent at the angle th, n = (-sin th, cos th, 0), Newton solves
+    # for the swing and the frequency (w).  That is well posed however weak the drive: the swing's
+    # direction is stiff (relaxation mu per unit time), and w enters the phase's closing directly.  At a
+    # fixed frequency instead, Newton's first step along the nearly neutral phase (stiffness ~ Delta,
+    # against mu along the swing) overshoots from a far start, and a continuation in w steers by tangents
+    # that the Jacobian of a point off the branch by more than ~Delta/mu in swing gets wrong.
+    def on_branch(th, known, r, fresh=True):
+        """The locked orbit of phase th, Newton started from the solved point ``known`` = (th', bp) moved
+        along the branch's tangent (first order in th - th'; at a start, bp = None: a swing of 2 Q, w = 0).
+        ``fresh``: its Jacobian evaluated at the converged point (det(M - I) needs it), else that of Newton's
+        last iterate (the converged z is the same)."""
+        R, w = 2.0, 0.0
+        if known[1] is not None:
+            t_known, bp = known
+            z, tg = bp.z, bp.tangent
+            R = math.hypot(z[0], z[1])
+            w = z[2]
+            dth = (z[0] * tg[1] - z[1] * tg[0]) / (R * R)  # d(phase)/ds along the tangent
+            if abs(dth) * R > 1e-3 * np.linalg.norm(tg):
+                R += (z[0] * tg[0] + z[1] * tg[1]) / R / dth * (th - t_known)
+                w += tg[2] / dth * (th - t_known)
+        c, sn = math.cos(th), math.sin(th)
+        bp = solve_on_plane(om, [R * c, R * sn, w], [-sn, c, 0.0], 0.0, rtol=r, tol=1e-9, max_iter=12,
+                            fresh=fresh, monotone=False)
+        if bp is None or not bp.A > 1.0:  # not the small unstable orbit near rest
+            raise NumericFailure(f"no locked orbit found at the phase {th:.4g} rad: Newton did not converge")
+        return bp
 
-    # the fold is searched for as the zero of det(M - I) along the branch.  Near it the phase multiplier is
+    # from the phase where the drive pushes the swing outward (the centre of the range, w ~ 0), in steps of
+    # PHASE_STEP each way round until w turns back: the edges are the folds, where det(M - I), the
+    # w-component of the branch's tangent, changes sign.  Adler's loop is w ~ -(Delta/W) cos(phase) with
+    # the folds a quarter turn either side, moved by ~Delta/mu rad by the drive's push on the swing (at most
+    # 0.25 rad, half a step).  Not all the way round: where the drive pushes the swing inward and 4 Delta/mu
+    # exceeds 4/(3 sqrt 3), no locked orbit of a large swing has that phase (the loop turns through small
+    # swings there)
+    th0 = 0.5 * math.pi
+    start = on_branch(th0, (th0, None), rs)
+    brackets = []
+    for direction in (+1.0, -1.0):
+        prev = (th0, start)
+        for k in range(1, 4):
+            th = th0 + direction * k * PHASE_STEP
+            bp = on_branch(th, prev, rs)
+            if np.sign(bp.tangent[2]) != np.sign(prev[1].tangent[2]):
+                brackets.append(sorted([prev, (th, bp)], key=lambda u: u[0]))
+                break
+            prev = (th, bp)
+        else:
+            raise NumericFailure("w did not turn back within half a turn of phase from the centre of the range")
+
+    # each fold refined by Brent's method on det(M - I) over the phase.  Near it the phase multiplier is
     # 1 + T D s (Adler: per period T = 2 pi/omega0 the phase direction contracts by T D sin phi, D the
-    # half-width ~ W/4, s the angle from the fold, about sigma/2 along the branch of radius ~2): M's error
-    # c rtol_s (c ~ 3 measured) moves the zero by d sigma ~ 8 c rtol_s/(T W), and the edge, stationary there,
-    # by the relative (d sigma)^2/8 (the branch is w ~ (D/W) cos(sigma/2)).  At mu/omega0 ~ 1e-3 the fixed
-    # search tolerance 1e-7 put the edges off by 3e-4 of the width; the search tolerance now keeps this
-    # part below a tenth of the claim (and so tightens with rtol, which the rerun then sees)
-    r_search = min(rs, max(rr, 0.1 * T * W * math.sqrt(0.1 * edge_claim / 8.0)))
+    # half-width ~ W/4, s the phase from the fold): M's error c rtol_s (c ~ 3 measured, in units of the
+    # map's scale) moves the zero by d s ~ 8 c rtol_s/sens (sens = T W/scale), and the edge, stationary there,
+    # by the relative (d s)^2/2 (the branch is w ~ (D/W) cos s).  The search tolerance keeps this part below
+    # a tenth of the claim (and so tightens with rtol, which the rerun then sees)
+    r_search = min(rs, max(rr, 0.1 * sens * math.sqrt(0.1 * edge_claim / 8.0)))
     run.info["rtol_fold_search"] = r_search
     folds = []
-    for direction in (+1.0, -1.0):
-        sw = sweep(om, start, direction, direction * 10.0, rtol=rs, h0=0.1)
-        if sw.fold_bracket is None:
-            raise NumericFailure(f"the {'upward' if direction > 0 else 'downward'} sweep found no edge of locking")
-        folds.append(refine_root(om, *sw.fold_bracket, lambda b: b.tangent[2], rtol=rr, rtol_search=r_search,
-                                 xtol=1e-7, polish=False))
-        run.info[("up" if direction > 0 else "down") + "_sweep_steps"] = sw.steps
+    for (ta, ba), (tb, bb) in brackets:
+        near = {ta: ba, tb: bb}
+
+        def det(th):
+            t0 = min(near, key=lambda t: abs(t - th))
+            bp = near[th] = on_branch(th, (t0, near[t0]), r_search)
+            return bp.tangent[2]
+
+        root = brentq(det, ta, tb, xtol=0.1 * math.sqrt(edge_claim), rtol=1e-15, maxiter=100,
+                      fa=ba.tangent[2], fb=bb.tangent[2])
+        fold = near.get(root) if rr == r_search else None
+        if fold is None:
+            t0 = min(near, key=lambda t: abs(t - root))
+            # the edge is z's w: the Jacobian of the last iterate is enough (fold_multipliers, the swing)
+            fold = on_branch(root, (t0, near[t0]), rr, fresh=False)
+        folds.append(fold)
+    folds.sort(key=lambda f: f.z[2], reverse=True)
     xi_hi, xi_lo = folds[0].z[2] * W, folds[1].z[2] * W
     if not xi_lo < xi_hi:
         raise NumericFailure("the edges came out in the wrong order")
@@ -207,7 +268,14 @@ def numeric(p, run):
     else:
         near = folds[0] if xi > xi_hi else folds[1]
         beat, err = _beat(p, run, amplitude=near.A * Q)
-        run.claim("beat", rel=max(10.0 * err, 100.0 * rtol * p.omega / beat))
+        rel = max(10.0 * err, 100.0 * rtol * p.omega / beat)
+        if rel >= 1.0:
+            # outside the range the beat is positive; an error bar as large as the beat itself is no answer
+            # (just outside a range far narrower than omega0's round-off, the settling run cannot resolve it)
+            raise NumericFailure(f"the beat {beat:.2g} rad/s is not resolved: its error bar would be {rel:.1g} "
+                                 f"times its value (omega is {abs(xi - (xi_hi if xi > xi_hi else xi_lo)):.2g} "
+                                 f"rad/s outside a locking range {xi_hi - xi_lo:.2g} rad/s wide)")
+        run.claim("beat", rel=rel)
         run.info["locked"] = False
     return {"xi_lo": xi_lo, "xi_hi": xi_hi, "width": xi_hi - xi_lo, "beat": beat}
 

@@ -55,13 +55,23 @@ def constraint(p):
         return f"a = {p.a:g} m is not small against l = {p.l:g} m: the exercise needs a <= {MAX_AMPLITUDE:g} l"
 
 
+def _norm(x, y):
+    """sqrt(x^2 + y^2) for x, y >= 0 without forming the squares (which under- or overflow at extreme
+    ratios); the same operations for floats and arrays, so that analytic_batch equals analytic to the bit."""
+    big, small = np.maximum(x, y), np.minimum(x, y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.where(big > 0, small / np.where(big > 0, big, 1.0), 0.0)
+    return big * np.sqrt(1.0 + r * r)
+
+
 @exercise.analytic
 def analytic(p):
-    w0sq = p.g / p.l
-    kick = (p.a * p.Omega / p.l) ** 2 / 2.0
-    out = {"a_min": math.sqrt(2.0 * p.g * p.l) / p.Omega, "omega_down": math.sqrt(w0sq + kick)}
+    """In the ratios sk = omega0/Omega and eps = a/l (so that neither Omega^2 nor (a Omega/l)^2 is formed):
+    omega_down = Omega sqrt(sk^2 + eps^2/2), omega_inv = Omega sqrt(eps^2/2 - sk^2), a_min = sqrt(2) sk l."""
+    sk, h = math.sqrt(p.g / p.l) / p.Omega, p.a / p.l / math.sqrt(2.0)
+    out = {"a_min": math.sqrt(2.0) * sk * p.l, "omega_down": float(p.Omega * _norm(sk, h))}
     out["omega_inv"] = (
-        math.sqrt(kick - w0sq) if kick > w0sq
+        p.Omega * math.sqrt((h - sk) * (h + sk)) if h > sk
         else Undefined(f"a = {p.a:g} m is below a_min: the effective potential has a maximum at theta = pi")
     )
     return out
@@ -76,59 +86,67 @@ def expected_error(p):
     slow frequency squared is off by about eta (omega0^2 + a^2 Omega^2/2 l^2)
     with eta = a_M + q^2, which in nu is half that over nu^2: near a_min
     (nu_inv -> 0) it grows without bound, as it must.  The measured
-    coefficient of eta stays below 0.6 over the allowed ranges; 1 is used."""
-    w0sq = p.g / p.l
-    eta = 4.0 * w0sq / p.Omega**2 + (2.0 * p.a / p.l) ** 2
-    kick = (p.a * p.Omega / p.l) ** 2 / 2.0
-    abs_nu2 = eta * (w0sq + kick)
-    a_min = math.sqrt(2.0 * p.g * p.l) / p.Omega
-    out = {
-        "a_min": 4.0 * w0sq / p.Omega**2 + (2.0 * a_min / p.l) ** 2,
-        "omega_down": 0.5 * abs_nu2 / (w0sq + kick),
-    }
-    if kick > w0sq:
-        out["omega_inv"] = min(0.5 * abs_nu2 / (kick - w0sq), 1e6)
+    coefficient of eta stays below 0.6 over the allowed ranges; 1 is used.
+    In sk = omega0/Omega and h = a/(sqrt(2) l): omega_down's is eta/2, omega_inv's
+    eta/2 (h^2 + sk^2)/(h^2 - sk^2), a_min's (at a = a_min, h = sk) 4 sk^2 + 8 sk^2."""
+    sk, h = math.sqrt(p.g / p.l) / p.Omega, p.a / p.l / math.sqrt(2.0)
+    eta = 4.0 * sk**2 + (2.0 * p.a / p.l) ** 2
+    out = {"a_min": 12.0 * sk**2, "omega_down": 0.5 * eta}
+    if h > sk:
+        u2 = (sk / h) ** 2
+        out["omega_inv"] = min(0.5 * eta * (1.0 + u2) / (1.0 - u2), 1e6)
     return out
 
 
 def _half(p, eps, sign, rtol, run):
-    """(y1, y1', y2, y2') at tau = pi (half a fast period) for y'' = sign (kappa - eps cos tau) y.
+    """(y1, q1, y2, y2', S) at tau = pi (half a fast period) for y'' = sign (kappa - eps cos tau) y.
 
-    Time tau = Omega t, kappa = g/(l Omega^2), eps = a/l: the linearization about theta = pi (sign +1)
-    or theta = 0 (sign -1).  The fast jitter is taken out exactly by p = y' + e sin(tau) y (e = sign eps):
+    Time tau = Omega t, kappa = g/(l Omega^2) = sk^2 with sk = omega0/Omega, eps = a/l: the linearization
+    about theta = pi (sign +1) or theta = 0 (sign -1).  The fast jitter is taken out exactly by
+    p = y' + e sin(tau) y (e = sign eps):
         y' = p - e sin(tau) y,   p' = (c - e^2 sin^2 tau) y + e sin(tau) p   (c = sign kappa),
-    so p carries only the slow drift, of order kappa + eps^2, and is integrated to rtol of that size
-    (y' itself swings by eps each fast period: its error, rtol eps, would swamp a drift of eps^2 when
+    so p carries only the slow drift, of order D = kappa + eps^2 = S^2, and is integrated to rtol of that
+    size (y' itself swings by eps each fast period: its error, rtol eps, would swamp a drift of eps^2 when
     eps is small).  At tau = 0 and pi, sin tau = 0 and p = y'.
+
+    The first solution's p starts at 0 and stays of order D, which underflows when Omega/omega0 ~ 1e+200
+    (a_min ~ 1e-200 l): it is carried as q1 = p1/D, whose equation holds only the ratios sk/S and eps/S
+    (S = hypot(sk, eps), representable; D itself enters only where its product is beneath round-off).
     """
-    kappa = p.g / (p.l * p.Omega**2)
-    c, e = sign * kappa, sign * eps
+    sk = math.sqrt(p.g / p.l) / p.Omega
+    S = math.hypot(sk, eps)
+    D = S * S
+    cn, en2 = sign * (sk / S) ** 2, (eps / S) ** 2  # c/D and e^2/D, each at most 1
+    e = sign * eps
 
     def rhs(tau, y):
         sn = math.sin(tau)
         es = e * sn
-        return np.array([y[1] - es * y[0], (c - es * es) * y[0] + es * y[1],
-                         y[3] - es * y[2], (c - es * es) * y[2] + es * y[3]])
+        k = cn - en2 * sn * sn  # (c - e^2 sin^2 tau)/D
+        return np.array([D * y[1] - es * y[0], k * y[0] + es * y[1],
+                         y[3] - es * y[2], D * k * y[2] + es * y[3]])
 
-    drift = abs(c) + e * e  # the size of the slow drift of p per unit tau
-    atol = 1e-3 * rtol * np.array([1.0, drift, 1.0, 1.0])
+    atol = 1e-3 * rtol * np.ones(4)
     traj = run.integrate(rhs, (0.0, math.pi), [1.0, 0.0, 0.0, 1.0], rtol=rtol, atol=atol)
-    y1, y1p, y2, y2p = traj.y_end
-    run.invariant("Wronskian", y1 * y2p - y1p * y2 - 1.0)
-    return y1, y1p, y2, y2p, drift
+    y1, q1, y2, y2p = traj.y_end
+    run.invariant("Wronskian", y1 * y2p - D * q1 * y2 - 1.0)
+    return y1, q1, y2, y2p, S
 
 
 def _slow_frequency(p, sign, rtol, run, name):
-    y1, y1p, y2, y2p, drift = _half(p, p.a / p.l, sign, rtol, run)
-    s = -y1p * y2  # sin^2(nu pi / Omega)
-    if not 0.0 < s < 1.0:
+    y1, q1, y2, y2p, S = _half(p, p.a / p.l, sign, rtol, run)
+    sig = -q1 * y2  # sin^2(nu pi / Omega) / S^2
+    r = S * math.sqrt(sig) if sig > 0 else 0.0  # sin(nu pi / Omega)
+    if not (sig > 0.0 and r < 1.0):
         where = "inverted" if sign > 0 else "lower"
-        return Undefined(f"|tr M| >= 2 about the {where} position (sin^2(nu pi/Omega) = {s:.6g}): unstable")
-    nu = (p.Omega / math.pi) * math.asin(math.sqrt(s))
+        s2 = r * r if sig > 0 else sig * S * S
+        return Undefined(f"|tr M| >= 2 about the {where} position (sin^2(nu pi/Omega) = {s2:.6g}): unstable")
+    nu = (p.Omega / math.pi) * math.asin(r)
     # y1' is resolved to about rtol of the drift scale times pi (its size over half a period)
-    ds = 10.0 * rtol * (abs(s) + math.pi * drift * abs(y2))
-    dnu = (p.Omega / math.pi) * ds / (2.0 * math.sqrt(s * (1.0 - s)))
-    run.claim(name, rel=max(100.0 * rtol, dnu / nu))
+    dsig = 10.0 * rtol * (abs(sig) + math.pi * abs(y2))
+    # dnu/nu = (Omega/pi) dr/sqrt(1 - r^2) / nu with dr = S dsig / (2 sqrt(sig)); Omega/pi cancels
+    rel = S * dsig / (2.0 * math.sqrt(sig) * math.sqrt(1.0 - r * r) * math.asin(r))
+    run.claim(name, rel=max(100.0 * rtol, rel))
     return nu
 
 
@@ -143,11 +161,10 @@ def numeric(p, run):
     }
 
     def f(eps):  # y1' y2 = (tr M - 2)/4 about the inverted position, over its drift scale: > 0 unstable
-        y1, y1p, y2, y2p, drift = _half(p, eps, +1.0, rtol, run)
-        return y1p * y2 / drift
+        y1, q1, y2, y2p, S = _half(p, eps, +1.0, rtol, run)
+        return q1 * y2
 
-    kappa = p.g / (p.l * p.Omega**2)
-    e_lo = 0.05 * math.sqrt(kappa)  # a fraction of the amplitude where a Omega/l ~ omega0
+    e_lo = 0.05 * math.sqrt(p.g / p.l) / p.Omega  # a fraction of the amplitude where a Omega/l ~ omega0
     f_lo = f(e_lo)
     if f_lo <= 0:
         raise NumericFailure(f"the inverted position is already stable at a = {e_lo * p.l:.3g} m: no bracket")
@@ -184,11 +201,11 @@ def analytic_batch(P):
     from mech.solvers.numerics.batch import Column
 
     l, g, a, Omega = _arrays(P)
-    w0sq = g / l
-    kick = (a * Omega / l) ** 2 / 2.0
-    inv = np.where(kick > w0sq, np.sqrt(np.maximum(kick - w0sq, 0.0)), np.nan)
-    return {"a_min": Column(np.sqrt(2.0 * g * l) / Omega), "omega_down": Column(np.sqrt(w0sq + kick)),
-            "omega_inv": Column(inv, undefined=[(~(kick > w0sq), _BELOW_A_MIN)])}
+    sk, h = np.sqrt(g / l) / Omega, a / l / math.sqrt(2.0)
+    up = h > sk
+    inv = np.where(up, Omega * np.sqrt(np.maximum((h - sk) * (h + sk), 0.0)), np.nan)
+    return {"a_min": Column(math.sqrt(2.0) * sk * l), "omega_down": Column(Omega * _norm(sk, h)),
+            "omega_inv": Column(inv, undefined=[(~up, _BELOW_A_MIN)])}
 
 
 def expected_error_batch(P):
@@ -196,15 +213,12 @@ def expected_error_batch(P):
     import numpy as np
 
     l, g, a, Omega = _arrays(P)
-    w0sq = g / l
-    eta = 4.0 * w0sq / Omega**2 + (2.0 * a / l) ** 2
-    kick = (a * Omega / l) ** 2 / 2.0
-    abs_nu2 = eta * (w0sq + kick)
+    sk, h = np.sqrt(g / l) / Omega, a / l / math.sqrt(2.0)
+    eta = 4.0 * sk**2 + (2.0 * a / l) ** 2
     with np.errstate(divide="ignore", invalid="ignore"):
-        inv = np.where(kick > w0sq, np.minimum(0.5 * abs_nu2 / (kick - w0sq), 1e6), np.nan)
-    a_min = np.sqrt(2.0 * g * l) / Omega
-    return {"omega_down": 0.5 * abs_nu2 / (w0sq + kick), "omega_inv": inv,
-            "a_min": 4.0 * w0sq / Omega**2 + (2.0 * a_min / l) ** 2}
+        u2 = (sk / h) ** 2
+        inv = np.where(h > sk, np.minimum(0.5 * eta * (1.0 + u2) / (1.0 - u2), 1e6), np.nan)
+    return {"omega_down": 0.5 * eta, "omega_inv": inv, "a_min": 12.0 * sk**2}
 
 
 def _half_batch(l, g, a, Omega, sign, rtol):

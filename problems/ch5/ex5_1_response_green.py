@@ -22,9 +22,11 @@ widths; the tail cycle by cycle, the alternating partial sums extrapolated by
 Wynn's epsilon algorithm); solvers/response.inverse_fourier.
 (2) chi(w) as the Fourier transform of the integrated impulse response
 (q = 0, q' = 1/m): the equation of motion's fundamental matrix with two
-accumulators of q exp(i w t) is integrated over one segment (mech's DOP853, or
-scipy's LSODA, which switches to its implicit BDF branch, only when the decay
-rates differ by more than 50: strongly overdamped, stiff), and
+accumulators of q exp(i w t) is integrated over one segment by mech's DOP853 or,
+when the decay rates differ by more than 50 (strongly overdamped, stiff), not
+stepped: Phi(D) = exp(A D) by scaling and squaring and the accumulated transform
+by adaptive Gauss-Legendre quadrature at rtol/10 (numpy only; scipy's LSODA
+when mech bench forces an integrator), and
 the infinite decaying run is summed exactly by the semigroup property as a
 geometric series; solvers/response.impulse_spectrum (a drive much faster than
 the oscillator gets segments of half its period).  Liouville's
@@ -44,7 +46,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise
-from mech.solvers.numerics.fourier import impulse_spectrum, inverse_fourier
+from mech.solvers.numerics.fourier import FLOW, impulse_spectrum, inverse_fourier
 
 exercise = Exercise(
     "5.1",
@@ -61,8 +63,8 @@ exercise = Exercise(
         "its product with cos/sin integrated exactly) on the window, and the tail cycle by cycle with Wynn's "
         "epsilon extrapolation, as QAWF does.  (2) The impulse response is integrated over one segment and "
         "the decaying rest summed exactly as a geometric series of that segment's map, instead of integrating "
-        "until the motion has decayed by exp(-40); LSODA (BDF) only where the decay rates differ by more "
-        "than 50."
+        "until the motion has decayed by exp(-40); where the decay rates differ by more than 50 (stiff) the "
+        "segment is the exact flow exp(A D) and the transform adaptive quadrature, instead of Radau/BDF."
     ),
 )
 
@@ -119,6 +121,20 @@ def analytic_error(p):
     return {"G": err}
 
 
+def _characteristic_roots(d):
+    """The roots of lambda^2 + 2 d lambda + 1 = 0 (q'' + 2 d q' + q = 0 with q = exp(lambda t)), free of
+    round-off: the large-magnitude root of an overdamped pair directly, the small one as the reciprocal
+    (their product is 1).  numpy's eigenvalues lose it: at d = 1e8 the slow rate 1/(2d) = 5e-9 is
+    below their absolute round-off ~ u 2d = 2e-8 and can come out growing."""
+    if d > 1.0:
+        fast = -(d + math.sqrt(d - 1.0) * math.sqrt(d + 1.0))
+        return np.array([fast, 1.0 / fast], dtype=complex)
+    if d == 1.0:
+        return np.array([-1.0, -1.0], dtype=complex)
+    w1 = math.sqrt((1.0 - d) * (1.0 + d))
+    return np.array([complex(-d, w1), complex(-d, -w1)])
+
+
 @exercise.numeric
 def numeric(p, run):
     m, w0 = p.m, p.omega0
@@ -135,23 +151,28 @@ def numeric(p, run):
         # frequency domain: q = a exp(-i x t) turns q'' + 2 d q' + q = F into (-x^2 - 2 i d x + 1) a = F,
         # at x = base + off (arrays), 1 - x^2 as (1 - x)(1 + x) with 1 - x = (1 - base) - off (1 - base exact
         # near x = 1): a resonance of width d = 1e-10 is resolved without the 1e-16 rounding of x itself
-        return 1.0 / (((1.0 - base) - off) * ((1.0 + base) + off) - 2j * d * (base + off))
+        # beyond |x| ~ 1e154 (an early time's window reaches 40/t) the product overflows and chi = 0,
+        # its true size ~ 1/x^2 being under the smallest double anyway
+        with np.errstate(over="ignore"):
+            return 1.0 / (((1.0 - base) - off) * ((1.0 + base) + off) - 2j * d * (base + off))
 
     # characteristic roots in the frequency variable: where the coefficient above vanishes
-    poles = np.roots([-1.0, -2j * d, 1.0])
+    lam = _characteristic_roots(d)  # time domain: q = exp(lam t)
+    poles = 1j * lam  # frequency domain: q = exp(-i x t) at x = i lam
     eps_q = max(0.1 * run.rtol, 1e-14)
     Gp = inverse_fourier(chi_local, t, poles, epsrel=eps_q, vectorized=True, local=True)
     Gm = inverse_fourier(chi_local, -t, poles, epsrel=eps_q, vectorized=True, local=True)
 
     # impulse response, transformed: one segment plus the exact geometric sum
-    lam = np.linalg.eigvals(A)
     slow, fast = np.min(-lam.real), np.max(-lam.real)
     osc = np.max(np.abs(lam.imag))
     stiff = fast / slow > 50.0
-    # one segment: up to one slow decay time, at most four oscillation periods; when stiff, the
-    # implicit integration stops after the fast transient (50 fast decay times) and the exact
-    # geometric sum carries the slow tail
-    segment = min(1.0 / slow, 8.0 * math.pi / osc if osc > 0 else math.inf, 50.0 / fast if stiff else math.inf)
+    # one segment: up to one slow decay time, at most four oscillation periods; when stiff, at most four
+    # periods of the drive too (the implicit method crosses the fast transient in a few steps).  A
+    # segment cut at the fast transient (50 fast decay times) left the slow mode at exp(-25/(2 d^2))
+    # = 1 - 1e-15 (d = 1e8): the geometric sum's 1 - exp(i w D) mu amplified its error by up to 1e7
+    segment = min(1.0 / slow, 8.0 * math.pi / osc if osc > 0 else math.inf,
+                  8.0 * math.pi / w if stiff and w > 0 else math.inf)
     if w > 4.0 * max(1.0, float(np.max(np.abs(lam)))) and w * segment > math.pi:
         # a fast drive: half a period of exp(i w t) per segment (exp(i w D) = -1 keeps the sum well
         # conditioned) instead of resolving hundreds of its periods in one segment
@@ -163,9 +184,16 @@ def numeric(p, run):
 
     # avoid a segment whose length makes exp(i (w -+ w1) D) = 1 by accident (not a physical resonance)
     segment = min((segment * f for f in (1.0, 0.9, 0.8, 0.7, 0.6, 0.5)), key=lambda D: (amplification(D), -D))
-    method = "LSODA" if stiff else "DOP853"
+    method = FLOW if stiff else "DOP853"
+    atol = None
+    if stiff:
+        # absolute tolerances at each component's own size: Phi's entries (row-major) go as 1, s, s, s^2
+        # (s the slow rate, 1/s the fast one), the accumulators as those of q times min(D, 1/w).  A common
+        # atol of 1e-3 rtol sat above the q' row (1/(2d)): det(Phi) drifted 8e-7 at d = 1e10
+        L = min(segment, 1.0 / w) if w > 0 else segment
+        atol = 1e-3 * run.rtol * np.array([1.0, slow, slow, slow * slow, L, slow * L, L, slow * L])
     spec = impulse_spectrum(A, b, c, w, rtol=run.rtol, segment=segment, method=method,
-                            integrator=run.integrator)
+                            integrator=run.integrator, atol=atol)
     run.record(spec.traj)
     run.invariant("Liouville det(Phi)", spec.liouville_drift)
     run.info["segment"] = segment / w0
@@ -184,7 +212,10 @@ def numeric(p, run):
     run.claim("chi_re", rel=rel_chi, abs=rel_chi * chi_abs)
     run.claim("chi_im", rel=rel_chi, abs=rel_chi * chi_abs)
     # the quadrature: relative to the size of G's scale (1/(m w0) in these units), plus its own error estimate
-    g_abs = float(100.0 * eps_q + 10.0 * (Gp.abserr + Gm.abserr))
+    # (a strongly overdamped chi is a peak of width 1/(2d) and G is ~ 1/(2d): the quadrature's target is
+    # eps_q times the pieces' summed sizes, that small too, and 100 eps_q claimed 2e-9 of G at d = 1e8)
+    g_scale = min(1.0, max(Gp.target, Gm.target) / eps_q) if d > 1.0 else 1.0
+    g_abs = float(100.0 * eps_q * g_scale + 10.0 * (Gp.abserr + Gm.abserr))
     # and the scaled time t = tau w0 is rounded: the integral is G at t (1 + u), off by u t |G'(t)|.  The
     # slope is bounded by the velocity after a unit impulse: |q'| <= 1 (the energy 1/2 never grows) and,
     # from the residues at the poles (slowest decay rate s, fastest f), |q'| <= e^{-s t} (1 + s t + s/(f - s))
@@ -197,11 +228,16 @@ def numeric(p, run):
     s_slow = min(rates[0], 1.0 / f_fast)
     spread = s_slow / (f_fast - s_slow) if f_fast - s_slow > 1e-8 * f_fast else 0.0
     slope = min(1.0, math.exp(-s_slow * t) * (1.0 + s_slow * t + spread))
+    if f_fast - s_slow > 1e-8 * f_fast:
+        # distinct real rates (overdamped): q = (e^{-s t} - e^{-f t})/(f - s) exactly, so
+        # |q'| <= (s e^{-s t} + f e^{-f t})/(f - s): ~ s/f = 1/(4 d^2) once the fast transient is over
+        # (the bound above, ~1, claimed 1.7e-7 of G at d = 5.4e7)
+        slope = min(slope, (s_slow * math.exp(-s_slow * t) + f_fast * math.exp(-f_fast * t)) / (f_fast - s_slow))
     g_phase = 2.0 * 2.0**-53 * t * slope
     run.info["G_phase_roundoff"] = g_phase / (m * w0)
     run.claim("G", rel=100.0 * eps_q, abs=(g_abs + g_phase) / (m * w0))
     run.claim("G_minus", rel=100.0 * eps_q, abs=g_abs / (m * w0))
-    run.method = method + " + Filon/Wynn Fourier quadrature"
+    run.method = spec.traj.method + " + Filon/Wynn Fourier quadrature"
 
     chi = spec.value / (m * w0 * w0)
     return {

@@ -177,13 +177,15 @@ def constraint(p):
 @exercise.analytic_error
 def analytic_error(p):
     """Round-off of the closed form from its phases: exp(i omega t1) and exp(p t1) are evaluated at
-    products rounded to u (omega t1), u (|p| t1), so each term moves by its size times that; the terms
-    are bounded by the state at t1 (amplitude |q| + |q'|/omega + |q'|/omega0) and the stationary
-    oscillation (which the transient cancels at t = 0)."""
+    products rounded to u (omega t1), u (|p| t1), so each term moves by its size times that.  The
+    stationary term's size is A_ss; the transient's is at most the state at t1 less the stationary
+    motion, |q| + A_ss in position and (|q'| + omega A_ss)/omega0 from the velocity (its rates are at
+    least omega0 in modulus for the fast part; a slow overdamped part shows in |q|).  Dividing |q'| by
+    omega instead (as once here) made the bar ~1e185 at omega = 6e-200 rad/s, where the drive is static."""
     a = analytic(p)
     a_ss = 0.0 if isinstance(a["A_ss"], Undefined) else a["A_ss"]
     q, v = abs(a["q_t"]), abs(a["v_t"])
-    size = q + v / p.omega + v / p.omega0 + 2.0 * a_ss
+    size = q + (v + p.omega * a_ss) / p.omega0 + 2.0 * a_ss
     err = 8.0 * _U * (1.0 + _rate(p) * p.t1) * size
     return {"q_t": err, "v_t": err * max(p.omega, p.omega0), "A_ss": 4.0 * _U * a_ss}
 
@@ -268,7 +270,9 @@ def _orbit_by_invariant_manifold(gen, unit, w):
     qs, vs = x_mat[0, 0], x_mat[1, 0]  # at t = 0: (C, S) = (1, 0)
     amp = math.hypot(x_mat[0, 0], x_mat[0, 1])
     rel = 16.0 * _U * float(np.max(skeel[:2])) / max(amp, 1e-300)
-    return (qs / unit**2, vs / unit), rel
+    # the amplitude is that of q = X00 C + X01 S itself, not hypot(q*, q'*/omega): q'* = X10 is tiny
+    # beside its own round-off when the drive is slow (omega = 6e-200 rad/s made A_ss ~ 1e183)
+    return (qs / unit**2, vs / unit), rel, amp / unit**2
 
 
 @exercise.numeric
@@ -287,16 +291,26 @@ def numeric(p, run):
     tol = exercise.tol_factor * rtol
 
     # A_ss: the periodic orbit of the one-period map x -> M x + b, (I - M) x* = b
+    amp = None
     if rotating:
         run.info["orbit"] = "one-period map in variation-of-constants variables (DOP853)"
         orbit, rel = _orbit_by_rotating_shooting(_Rotating(w0, d, w), w, d, rtol, run)
     else:
-        run.info["orbit"] = "one-period map as the matrix exponential of the equation's generator"
-        orbit, rel = _orbit_by_flow_shooting(gen, unit, w, run)
-        if rel > tol:
-            run.info["orbit"] = (f"shooting ill-conditioned (relative error {rel:.2g}): the invariant plane of the "
+        from mech.solvers.numerics.linear_flow import rounding_bound as _rb
+
+        # the one-period exponential's own rounding alone exceeds the claim over a period of more than
+        # ~1e7 time units (a drive far slower than the oscillator): shooting could not earn it, and over
+        # 1e200 units its squarings overflow; straight to the invariant plane then
+        if _rb(gen, 2.0 * math.pi * unit / w) > tol:
+            orbit, rel = None, math.inf
+        else:
+            run.info["orbit"] = "one-period map as the matrix exponential of the equation's generator"
+            orbit, rel = _orbit_by_flow_shooting(gen, unit, w, run)
+        if not rel <= tol:
+            why = "drive period too long to shoot over" if orbit is None else f"relative error {rel:.2g}"
+            run.info["orbit"] = (f"shooting ill-conditioned ({why}): the invariant plane of the "
                                  "generator that moves with the drive")
-            orbit, rel = _orbit_by_invariant_manifold(gen, unit, w)
+            orbit, rel, amp = _orbit_by_invariant_manifold(gen, unit, w)
     if isinstance(orbit, Undefined):
         a_ss, stationary = orbit, 0.0
     else:
@@ -305,7 +319,7 @@ def numeric(p, run):
                 "the one-period map is the identity within its accuracy (drive period a multiple of the free "
                 "period at no damping?): the periodic orbit is not determined by shooting")
         qs, vs = orbit
-        a_ss = abs(f) * math.hypot(qs, vs / w)
+        a_ss = abs(f) * (amp if amp is not None else math.hypot(qs, vs / w))
         run.claim("A_ss", rel=max(tol, rel))
         stationary = (abs(qs) + abs(vs) / unit) * unit**2  # in the scaled units of the flow below
 

@@ -11,9 +11,12 @@ zeta = 1), v_max = |q'(t*)|.  t_eps solves ln(q/q0) = ln eps (monotone; brackete
 root).  The decay time ~ 1/lambda_s = (zeta + s)/omega0 grows ~ 2 zeta/omega0 at
 large zeta and is least, 1/omega0, at critical damping.
 
-Numeric: x = q/q0 and tau = omega0 t, x'' + 2 zeta x' + x = 0 from (1, 0) with
-the stiff Radau method and its exact Jacobian (DOP853 while zeta <= 5, where the
-stiffness ratio ~4 zeta^2 is mild), carrying the dissipated energy
+Numeric: x = q/q0 and tau = omega0 t, x'' + 2 zeta x' + x = 0 from (1, 0).  For
+zeta > 5 (stiffness ratio ~4 zeta^2) no integrator: the state is the exact flow
+exp(A tau) y0 (numpy scaling and squaring), the events roots of its components
+bracketed on a geometric grid and polished by Brent's method to rtol/10
+(``_numeric_flow``; scipy's Radau only when mech bench forces an integrator).
+Otherwise DOP853, carrying the dissipated energy
 W = int 2 zeta x'^2 dtau so that E + W is monitored; events x = eps (t_eps)
 and x'' = 0 crossing upward (largest speed); q(t1) from a leg ending at t1.
 lambda_slow: the reciprocal of the largest-magnitude eigenvalue of the inverse
@@ -79,6 +82,8 @@ def analytic(p):
 def numeric(p, run):
     z, w0, eps = p.zeta, p.omega0, p.eps
     rtol = run.rtol
+    if z > 5.0 and run.integrator is None:
+        return _numeric_flow(p, run)
 
     def rhs(t, y):
         return np.array([y[1], -2.0 * z * y[1] - y[0], 2.0 * z * y[1] ** 2])
@@ -92,7 +97,8 @@ def numeric(p, run):
     reach_stop = Event(reach.fn, terminal=True, direction=-1, name="x = eps")
     turn = Event(lambda t, y: -2.0 * z * y[1] - y[0], terminal=False, direction=1, name="x'' = 0")
     tau1 = w0 * p.t1
-    # stiffness ratio lambda_f/lambda_s ~ 4 zeta^2: explicit DOP853 only while it is mild
+    # stiffness ratio lambda_f/lambda_s ~ 4 zeta^2: explicit DOP853 only while it is mild (beyond, the
+    # exact flow above; Radau here only when mech bench forces an integrator, which replaces it anyway)
     method = "DOP853" if z <= 5.0 else "Radau"
     # ... and even then its steps are kept well inside its stability region, |h lambda_fast| <= 3 (DOP853's
     # reaches about 6 on the negative axis): at the edge the step control hovers on stability, not accuracy,
@@ -140,6 +146,12 @@ def numeric(p, run):
     if y_eps[1] >= 0.0 or x1 < 0.0:
         raise NumericFailure("the oscillator crossed q = 0 or turned back: not aperiodic")
 
+    return _slow_rate_and_outputs(p, run, x1, t_eps, y_eps, y_star)
+
+
+def _slow_rate_and_outputs(p, run, x1, t_eps, y_eps, y_star):
+    z, w0, rtol = p.zeta, p.omega0, run.rtol
+    q_claim = exercise.tol_factor * rtol * 1e-3 * p.eps
     # slow rate: largest-magnitude eigenvalue of the inverse of the system matrix [[0, 1], [-1, -2 zeta]]
     inv = np.array([[-2.0 * z, -1.0], [1.0, 0.0]])
     mu = np.linalg.eigvals(inv)
@@ -157,3 +169,87 @@ def numeric(p, run):
         "t_eps": t_eps / w0,
         "v_max": p.q0 * w0 * abs(y_star[1]),
     }
+
+
+class _Flow:
+    """The sampled exact flow as a trajectory (``run.motion``): t, y at the samples and ``sol`` anywhere."""
+
+    def __init__(self, A, y0, ts):
+        self._A, self._y0 = A, y0
+        self.t = np.asarray(ts, float)
+        self.y = self.sol(self.t)
+
+    def sol(self, ts):
+        from mech.solvers.numerics.linear_flow import expm_many
+
+        return (expm_many(self._A, np.atleast_1d(ts)) @ self._y0).T
+
+
+def _numeric_flow(p, run):
+    """The stiff case (zeta > 5) without stepping: the equation of motion x'' + 2 zeta x' + x = 0 is linear
+    with constant coefficients, y' = A y, so the state at any tau is exp(A tau) y0, computed by scaling and
+    squaring (solvers/numerics/linear_flow; measured against 80-digit flows in tests/test_ex5_4.py within
+    ~1e-14 for zeta up to 1e6 and tau up to 1e7).  The events are roots of the flow's components, bracketed
+    on a geometric grid of tau from a hundredth of the fast time 1/||A|| (a factor 1.25 apart, 10 samples per
+    e-fold of tau: an implicit integrator's steps grow the same way) and polished by Brent's method to a
+    tenth of rtol in tau: the part of the answer that follows rtol, and what the rerun at rtol/10 checks.
+    The flow's rounding is monitored by the semigroup property Phi(a) Phi(b) = Phi(a + b)."""
+    from mech.solvers.numerics.linear_flow import expm
+    from mech.solvers.numerics.roots import brentq
+    from mech.solvers.verification import budget
+
+    z, w0, eps = p.zeta, p.omega0, p.eps
+    rtol = run.rtol
+    A = np.array([[0.0, 1.0], [-1.0, -2.0 * z]])
+    y0 = np.array([1.0, 0.0])
+
+    def state(tau):
+        return expm(A * tau) @ y0
+
+    def reach(tau):  # x = eps, crossed downward
+        return state(tau)[0] - eps
+
+    def turn(tau):  # x'' = 0, crossed upward: the largest speed
+        x, v = state(tau)
+        return -2.0 * z * v - x
+
+    horizon = 1e3 * (2.0 * z + 1.0) * max(1.0, -math.log(eps))
+    fast = float(np.max(np.sum(np.abs(A), axis=0)))
+    grid = [0.0]
+    tau = 0.01 / fast
+    while tau < horizon:
+        grid.append(tau)
+        tau *= 1.25
+    grid.append(horizon)
+    flow = _Flow(A, y0, grid)
+    xs, vs = flow.y
+    accel = -2.0 * z * vs - xs
+    found = {}
+    for name, g, direction, fn in (("x = eps", xs - eps, -1, reach), ("x'' = 0", accel, 1, turn)):
+        budget.check("5.4 events")
+        sign = np.sign(g) * direction
+        crossed = (sign[1:] >= 0.0) & (sign[:-1] < 0.0)
+        if not np.any(crossed):
+            raise NumericFailure(f"{name} not reached by tau = {horizon:.3g}")
+        k = int(np.argmax(crossed))
+        a, b = grid[k], grid[k + 1]
+        found[name] = b if g[k + 1] == 0.0 else brentq(fn, a, b, xtol=1e-300, rtol=max(0.1 * rtol, 4.0 * np.finfo(float).eps))
+    t_eps, t_star = found["x = eps"], found["x'' = 0"]
+    y_eps, y_star = state(t_eps), state(t_star)
+    upto = np.asarray(grid) <= t_eps
+    if np.any(xs[upto] <= 0.0) or np.any(vs[upto][1:] > 0.0):
+        raise NumericFailure("the oscillator crossed q = 0 or turned back: not aperiodic")
+    tau1 = w0 * p.t1
+    x1 = float(state(tau1)[0])
+    # the rounding of the flow: the same state reached in one span and in two
+    via = expm(A * (t_eps - t_star)) @ y_star
+    run.invariant("semigroup Phi(a) Phi(b) = Phi(a + b)", float(np.max(np.abs(via - y_eps) / np.abs(y_eps))))
+    if run.keep_trajectories:
+        end = max(t_eps, tau1)
+        run.motion(_Flow(A, y0, [t for t in grid if t < end] + [end]), t_scale=1.0 / w0,
+                   y_scale=[p.q0, p.q0 * w0])
+    run.method = "exact flow exp(A t) + Brent events"
+    run.info["grid_samples"] = len(grid)
+    if y_eps[1] >= 0.0 or x1 < 0.0:
+        raise NumericFailure("the oscillator crossed q = 0 or turned back: not aperiodic")
+    return _slow_rate_and_outputs(p, run, x1, t_eps, y_eps, y_star)

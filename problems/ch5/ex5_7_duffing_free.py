@@ -75,6 +75,14 @@ def constraint(p):
                 "the motion is not bounded")
     if _eps(p) > EPS_MAX:
         return f"alpha A^2/omega0^2 = {_eps(p):.3g} exceeds {EPS_MAX:g}"
+    # the shift omega - omega0 ~ (3/8) alpha A^2/omega0 is a fraction eps of omega0: when eps lies below the
+    # floating-point range while the shift itself does not (omega0 1e200 times its default), neither solver
+    # can form it (both would print a shift of 0, silently wrong)
+    shift = abs(p.alpha / p.omega0) * p.A * p.A
+    if p.alpha != 0.0 and abs(_eps(p)) < 1e-290 and shift >= 1e-290:
+        return (f"alpha A^2/omega0^2 ~ 1e{math.log10(shift) - math.log10(p.omega0):.0f}: the "
+                f"frequency shift ~ {shift:.3g} rad/s is a fraction of omega0 = {p.omega0:.3g} rad/s that "
+                "floating point cannot represent")
 
 
 def _agm_deviation(da, db):
@@ -141,10 +149,14 @@ def barrier_equation_of_motion(s, xb, eps):
     return 2.0 * s - 3.0 * s * s / xb - eps * s**3
 
 
-def physical_energy(p, q, v):
-    """Energy per unit mass from the statement's potential, in SI: v^2/2 + omega0^2 q^2/2 + alpha q^4/4.
-    Written from the physics, not from the scaled equations above, so that it checks them."""
-    return 0.5 * v * v + 0.5 * p.omega0**2 * q * q + 0.25 * p.alpha * q**4
+def physical_energy(p, x, u):
+    """Energy per unit mass from the statement's potential, v^2/2 + omega0^2 q^2/2 + alpha q^4/4, at
+    q = A x and v = A omega0 u, in units of (A omega0)^2: u^2/2 + x^2/2 + (alpha A^2/omega0^2) x^4/4.
+    Written from the physics, not from the scaled equations above, so that it checks them; in these
+    units it neither over- nor underflows when omega0 or A is 1e+-200 times its default (in SI,
+    omega0^2 q^2 or q^4 left the range: energy drift NaN)."""
+    k4 = (p.alpha / p.omega0) * (p.A / p.omega0) * p.A  # alpha A^2 / omega0^2, each factor in range
+    return 0.5 * u * u + 0.5 * x * x + 0.25 * k4 * x**4
 
 
 def _quarter_excess(eps):
@@ -179,8 +191,8 @@ def numeric(p, run):
             return np.array([y[1], equation_of_motion(y[0], a, b)])
 
         def energy(x, v):
-            # back to SI: q = A x, dq/dt = A S omega0 dx/dsigma
-            return physical_energy(p, A * x, A * S * w0 * v)
+            # the statement's energy in units of (A omega0)^2: q = A x, dq/dt = A omega0 (S dx/dsigma)
+            return physical_energy(p, x, S * v)
 
         vmax = math.sqrt(a + 0.5 * abs(b))
         span = 8.0 * math.pi
@@ -233,9 +245,9 @@ def numeric(p, run):
             return np.array([y[1], barrier_equation_of_motion(y[0], xb, eps)])
 
         def energy_s(s, ds):
-            # back to SI: q = A (x_b - s), dq/dt = -A omega0 ds/dtau; relative to the barrier's energy
+            # in units of (A omega0)^2: q = A (x_b - s), dq/dt = -A omega0 ds/dtau; relative to the barrier's energy
             # omega0^4/(4 |alpha|), from which the motion starts only 1 + eps below
-            return physical_energy(p, A * (xb - s), -A * w0 * ds)
+            return physical_energy(p, xb - s, -ds)
 
         # the quarter period grows like ln(1/s0): bound the search generously
         span = 8.0 * (math.pi + math.log(1.0 + 1.0 / s0))
@@ -248,7 +260,7 @@ def numeric(p, run):
         e0 = energy_s(s0, 0.0)
         # relative to the kinetic energy at x = 0, the energy range explored (the potential's round-off near
         # the barrier top, where the energy is 1/(-4 eps) in units A^2 omega0^2, is relative to that scale)
-        scale = 0.5 * (A * w0 * y_q[1]) ** 2
+        scale = 0.5 * y_q[1] ** 2  # in units (A omega0)^2, as energy_s
         run.invariant("energy", (energy_s(y_q[0], y_q[1]) - e0) / scale)
         omega1 = 0.5 * math.pi / t_q
         dw = omega1 - 1.0

@@ -22,7 +22,7 @@ import numpy as np
 
 from mech.problems.spec import NumericFailure
 from mech.solvers.mechanics.frames import cross_z
-from mech.solvers.numerics.modes import Modes, mass_matrix, normal_modes
+from mech.solvers.numerics.modes import Modes, mass_matrix, normal_modes, pair_shapes
 
 __all__ = ["rolling_spin", "plane_kinetic_energy", "balanced_modes", "scaled_mass_matrix"]
 
@@ -82,7 +82,10 @@ def balanced_modes(M: np.ndarray, K: np.ndarray) -> Modes:
     modes = normal_modes(Mb, Kb)
     omega2, shapes = modes.omega2.copy(), modes.shapes.copy()
     n = omega2.size
-    if n > 1 and omega2[0] > 0 and omega2[-1] > 1e3 * omega2[0]:
+    # each eigenvalue's error: eps times the largest (symmetric solver on the balanced problem)...
+    err = np.full(n, 8.0 * 2.0**-53 * float(np.max(np.abs(omega2))))
+    # (a low root rounded to 0 or below it too: with K positive definite the inverse solve gets it)
+    if n > 1 and omega2[-1] > 0 and omega2[-1] > 1e3 * omega2[0]:
         try:
             inverse = normal_modes(Kb, Mb)  # eigenvalues omega^-2, ascending: the highest mode first
         except NumericFailure:
@@ -93,4 +96,8 @@ def balanced_modes(M: np.ndarray, K: np.ndarray) -> Modes:
                 if omega2[k] < middle:
                     omega2[k] = 1.0 / inverse.omega2[n - 1 - k]
                     shapes[:, k] = inverse.shapes[:, n - 1 - k]
+                    err[k] = 8.0 * 2.0**-53 * omega2[k]  # ... or of itself, from the inverse problem
+    if n == 2:
+        # the shapes from the rows of (K - omega^2 M) a = 0: a component 1e-100 of the other survives
+        shapes = pair_shapes(Mb, Kb, omega2, err)
     return Modes(omega2=omega2, shapes=shapes * d[:, None])

@@ -386,6 +386,7 @@ class FourierIntegral:
     panels: int  # panels of the window [0, W]
     tail_cycles: int  # cycles of the tail [W, inf) summed before the extrapolation settled
     evaluations: int  # of chi
+    target: float = math.nan  # the absolute tolerance aimed at: epsrel times the pieces' summed sizes (or round-off)
 
 
 def _breakpoints(poles, window):
@@ -417,20 +418,72 @@ def inverse_fourier(chi, t: float, poles, *, epsrel: float = 1e-12, window_facto
     poles = [complex(z) for z in poles]
     window = window_factor * max(1.0, max(abs(z) for z in poles))
     pts = _breakpoints(poles, window)
+    # an early time (|t| far below 1/W): the exponential has not turned once over the window, and the
+    # tail's first cycle (a half period pi/|t|) would span hundreds of decades of a decaying chi in one
+    # adaptive piece, whose bisections cannot reach the window end (t = 4e-200 gave G = 8e-3 for ~t).
+    # The window is carried on in cuts a factor 4 apart until the exponential turns (window_factor / |t|)
+    reach = window_factor / abs(float(t))
+    while pts[-1] < reach:
+        pts.append(4.0 * pts[-1])
+    window = pts[-1]
     f = chi if vectorized else (lambda ws: np.array([chi(float(x)) for x in ws], dtype=complex))
     panels = _Panels(f, -float(t), "re", local=local and vectorized)
-    pieces = [(a, b) for a, b in zip(pts[:-1], pts[1:]) if b > a]
+    # a peak narrower than the floats resolve around it (width below 2^-40 of its centre c: a Q of 1e12
+    # and up, to 1e201) is integrated over [c - K, c + K] in the offset y = w - c, whose floats are as
+    # fine as the width needs: exp(-i w t) = exp(-i c t) exp(-i y t), chi(c, y) from the local form
+    cores = []
+    if local and vectorized:
+        for c in sorted({abs(z.real) for z in poles if z.real != 0.0 and abs(z.imag) < 2.0**-40 * abs(z.real)}):
+            K = math.ldexp(1.0, math.frexp(c)[1] - 30)  # ~1e-9 c, a power of two: c +- K exact
+            if any(lo - K < c < hi + K for lo, hi, _, _ in cores):
+                continue
+            lo, hi = c - K, c + K  # rounded, perhaps (c + K past a power of two): the offsets below are
+            # then hi - c and lo - c exactly (Sterbenz), so that the core and the window tile without a gap
+            width = min(abs(z.imag) for z in poles if abs(z.real) == c)
+            offs, k = {0.0, lo - c, hi - c}, 0.5 * width
+            while 0.0 < k < 0.5 * K:
+                offs |= {k, -k}
+                k *= 4.0
+            pts = sorted({x for x in pts if not lo < x < hi} | {lo, hi})
+            cores.append((lo, hi, c, sorted(offs)))
+    excluded = {(lo, hi) for lo, hi, _, _ in cores}
+    pieces = [(a, b) for a, b in zip(pts[:-1], pts[1:]) if b > a and (a, b) not in excluded]
+    core_panels = [(c, _Panels(lambda ys, c=c: chi(np.full_like(ys, c), ys), -float(t), None))
+                   for _, _, c, _ in cores]
+    core_pieces = [[(a, b) for a, b in zip(offs[:-1], offs[1:])] for _, _, _, offs in cores]
     scale = math.fsum(abs(panels.rule(a, b).real) for a, b in pieces)
+    scale += math.fsum(abs(cp.rule(a, b)) for (_, cp), cps in zip(core_panels, core_pieces) for a, b in cps)
     # the rule's round-off is relative to the integral of |f|, not to the oscillation's cancelled pieces:
     # at a late time (t 1e7 over a peak of width 1e-5) the pieces cancel far below it, and a tolerance
     # under that floor is never met (it once ran 20000 panels and gave up)
     weights = _filon_table(panels.n)[1]
     l1 = math.fsum(0.5 * (b - a) * float(weights @ np.abs(v)) for (a, b), v in zip(pieces, panels.values(pieces)))
+    for (_, cp), cps in zip(core_panels, core_pieces):
+        l1 += math.fsum(0.5 * (b - a) * float(weights @ np.abs(v)) for (a, b), v in zip(cps, cp.values(cps)))
     epsabs = max(epsrel * scale, 64.0 * 2.0**-52 * l1)
-    body, body_err, count = _adaptive(panels, pts, 0.5 * epsabs, 0.0, 20000)
+    # the body: each run of cuts between the cores, and each core in its offset variable
+    runs, run_ = [], [pts[0]]
+    for a, b in zip(pts[:-1], pts[1:]):
+        if (a, b) in excluded:
+            runs.append(run_)
+            run_ = [b]
+        else:
+            run_.append(b)
+    runs.append(run_)
+    share = 0.5 * epsabs / (len(runs) + len(cores))
+    body, body_err, count = 0.0, 0.0, 0
+    for cuts in runs:
+        if len(cuts) > 1:
+            v, e, n_ = _adaptive(panels, cuts, share, 0.0, 20000)
+            body, body_err, count = body + v, body_err + e, count + n_
+    for (c, cp), (_, _, _, offs) in zip(core_panels, cores):
+        v, e, n_ = _adaptive(cp, offs, share, 0.0, 20000)
+        body += (_turn(-float(t), c) * v).real
+        body_err, count = body_err + e, count + n_
+        panels.evaluations += cp.evaluations
     tail, tail_err, cycles = _tail(panels, window, 0.5 * epsabs, 0.0)
     return FourierIntegral((body + tail) / math.pi, (body_err + tail_err) / math.pi, count, cycles,
-                           panels.evaluations)
+                           panels.evaluations, epsabs / math.pi)
 
 
 @dataclass
@@ -441,14 +494,30 @@ class Spectrum:
     traj: object
 
 
+def _decays(A: np.ndarray) -> bool:
+    """Every eigenvalue of A has a negative real part.  For 2 x 2, exactly (Routh-Hurwitz: trace < 0
+    and det > 0), not from rounded eigenvalues: a strongly overdamped oscillator's slow rate
+    det / |trace| (1e-16 of the fast one at a damping ratio 1e8) is below the eigenvalues' round-off."""
+    if A.shape == (2, 2):
+        det = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
+        return bool(A[0, 0] + A[1, 1] < 0 and det > 0)
+    return bool(np.max(np.linalg.eigvals(A).real) < 0)
+
+
+FLOW = "flow"
+
+
 def impulse_spectrum(A, b, c, omega: float, *, rtol: float, segment: float, method: str = "DOP853",
-                     integrator: str | None = None) -> Spectrum:
-    """int_0^inf c.y(t) exp(i omega t) dt for y' = A y, y(0) = b; all eigenvalues of A must decay."""
+                     integrator: str | None = None, atol=None) -> Spectrum:
+    """int_0^inf c.y(t) exp(i omega t) dt for y' = A y, y(0) = b; all eigenvalues of A must decay.
+
+    ``method``: an ODE method for the segment (``ode.integrate``), or ``FLOW``: no stepping (stiff
+    systems, on numpy alone), see ``_impulse_spectrum_flow``; a forced ``integrator`` replaces it."""
     A = np.asarray(A, dtype=float)
     b = np.asarray(b, dtype=float)
     c = np.asarray(c, dtype=float)
     n = A.shape[0]
-    if np.max(np.linalg.eigvals(A).real) >= 0:
+    if not _decays(A):
         raise NumericFailure("impulse_spectrum: the system does not decay; its transform does not exist")
 
     def rhs(s, y):
@@ -468,8 +537,13 @@ def impulse_spectrum(A, b, c, omega: float, *, rtol: float, segment: float, meth
                 J[n * n + n + j, i * n + j] = c[i] * sn
         return J
 
+    if method == FLOW:
+        if not integrator:
+            return _impulse_spectrum_flow(A, b, c, omega, rtol=rtol, segment=segment)
+        method = "LSODA"  # replaced by the forced integrator (mech bench) anyway
     y0 = np.concatenate([np.eye(n).ravel(), np.zeros(2 * n)])
-    atol = rtol * 1e-3
+    if atol is None:
+        atol = rtol * 1e-3
     traj = integrate(rhs, (0.0, segment), y0, rtol=rtol, atol=atol, method=method, jac=jac, integrator=integrator)
     yend = traj.y_end
     Phi = yend[: n * n].reshape(n, n)
@@ -481,3 +555,51 @@ def impulse_spectrum(A, b, c, omega: float, *, rtol: float, segment: float, meth
     # relative to the size of the products in the determinant (it can be far smaller than they are)
     drift = (np.linalg.det(Phi) - expected_det) / max(float(np.prod(np.max(np.abs(Phi), axis=1))), 1e-300)
     return Spectrum(value, segment, float(drift), traj)
+
+
+def _impulse_spectrum_flow(A, b, c, omega: float, *, rtol: float, segment: float) -> Spectrum:
+    """``impulse_spectrum`` without an integrator, for a stiff A: Phi(D) = exp(A D) by scaling and squaring
+    (linear_flow), the geometric sum's state z = (1 - exp(i w D) Phi(D))^(-1) b first, then the one
+    remaining integral int_0^D c.Phi(s) z exp(i w s) ds by adaptive Gauss-Legendre quadrature
+    (``quadrature.quad``, real and imaginary parts to a tenth of rtol, relative to the integral of its
+    modulus), the integrand's flow exp(A s) at each rule's nodes at once (``expm_many``).  The
+    quadrature's tolerance is the part that follows rtol; the flow is exact to its rounding, which
+    Liouville's det Phi(D) = exp(D tr A) monitors as in the integrated route."""
+    import time
+
+    from mech.solvers.numerics.linear_flow import expm, expm_many
+    from mech.solvers.numerics.ode import Trajectory
+    from mech.solvers.numerics.quadrature import quad
+
+    start = time.perf_counter()
+    n = A.shape[0]
+    Phi = expm(A * segment)
+    lam = complex(math.cos(omega * segment), math.sin(omega * segment))
+    z = np.linalg.solve(np.eye(n) - lam * Phi, b.astype(complex))
+    cache: dict = {}
+
+    def response(u):
+        key = u.tobytes()
+        if key not in cache:
+            budget.check("impulse_spectrum flow quadrature")
+            cache[key] = (np.einsum("i,kij->kj", c, expm_many(A, u)) @ z) * np.exp(1j * omega * u)
+        return cache[key]
+
+    # the fast transient sits within a few 1/||A|| of the start: breakpoints there
+    fast = 1.0 / float(np.max(np.sum(np.abs(A), axis=0)))
+    points = [k * fast for k in (1.0, 10.0, 100.0) if k * fast < segment]
+    eps = max(0.1 * rtol, 1e-14)
+    size, _ = quad(lambda u: np.abs(response(u)), 0.0, segment, epsrel=1e-3, epsabs=0.0, points=points,
+                   vectorized=True, limit=500)
+    re, re_err = quad(lambda u: response(u).real, 0.0, segment, epsrel=eps, epsabs=eps * size, points=points,
+                      vectorized=True, limit=500)
+    im, im_err = quad(lambda u: response(u).imag, 0.0, segment, epsrel=eps, epsabs=eps * size, points=points,
+                      vectorized=True, limit=500)
+    nodes = sum(len(u) for u in cache.values())
+    expected_det = math.exp(segment * np.trace(A))
+    drift = (np.linalg.det(Phi) - expected_det) / max(float(np.prod(np.max(np.abs(Phi), axis=1))), 1e-300)
+    traj = Trajectory(t=np.array([0.0, segment]), y=np.stack([np.eye(n).ravel(), Phi.ravel()], axis=1),
+                      t_events=[], y_events=[], nfev=nodes, njev=0, nlu=0, method="exp(A t) + Gauss-Legendre",
+                      rtol=rtol, wall_s=time.perf_counter() - start, status=0, message="",
+                      extra={"quad_error_estimate": re_err + im_err})
+    return Spectrum(complex(re, im), segment, float(drift), traj)

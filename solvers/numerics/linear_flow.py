@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-__all__ = ["expm", "expm_minus_identity", "rounding_bound", "ROUNDING_FACTOR"]
+__all__ = ["expm", "expm_many", "expm_minus_identity", "rounding_bound", "ROUNDING_FACTOR"]
 
 _U = 2.0**-53
 ROUNDING_FACTOR = 16.0
@@ -62,6 +62,38 @@ def expm(a) -> np.ndarray:
     """exp(A) by scaling and squaring (see ``expm_minus_identity``)."""
     a = np.asarray(a)
     return np.eye(a.shape[0]) + expm_minus_identity(a)
+
+
+def expm_many(a, ts) -> np.ndarray:
+    """exp(A t) for every t of ``ts`` at once (shape (len(ts), n, n)): the same scaling and squaring as
+    ``expm``, each t with its own number of squarings, the matrix products stacked (a flow sampled at
+    the nodes of a quadrature rule or along a grid costs a few numpy calls, not one Python loop each)."""
+    a = np.asarray(a, dtype=float)
+    ts = np.asarray(ts, dtype=float).ravel()
+    n = a.shape[0]
+    if a.shape != (n, n):
+        raise ValueError("expm_many: a square matrix is needed")
+    if not np.all(np.isfinite(ts)):
+        raise ValueError("expm_many: non-finite times")
+    norms = _norm1(a) * np.abs(ts)
+    squarings = np.zeros(ts.size, dtype=int)
+    big = norms > 0.5
+    squarings[big] = np.ceil(np.log2(norms[big] / 0.5)).astype(int)
+    x = a[None, :, :] * (ts / 2.0**squarings)[:, None, None]
+    term = x.copy()
+    d = x.copy()
+    for k in range(2, 30):
+        term = term @ x / k
+        d = d + term
+        sizes = np.max(np.sum(np.abs(term), axis=1), axis=1)
+        if np.all(sizes <= 1e-18 * np.maximum(np.max(np.sum(np.abs(d), axis=1), axis=1), 1e-300)):
+            break
+    eye = np.eye(n)
+    for k in range(1, int(squarings.max(initial=0)) + 1):
+        sel = squarings >= k
+        ds = d[sel]
+        d[sel] = ds @ (ds + 2.0 * eye)
+    return d + eye
 
 
 def rounding_bound(a, t: float = 1.0) -> float:

@@ -16,7 +16,7 @@ import numpy as np
 
 from mech.problems.spec import NumericFailure
 
-__all__ = ["mass_matrix", "hessian", "gradient", "normal_modes", "Modes"]
+__all__ = ["mass_matrix", "hessian", "gradient", "normal_modes", "Modes", "pair_shapes", "pair_roots"]
 
 
 def mass_matrix(T: Callable[[np.ndarray, np.ndarray], float], q0: Sequence[float]) -> np.ndarray:
@@ -116,3 +116,83 @@ def normal_modes(M: np.ndarray, K: np.ndarray) -> Modes:
         i = int(np.argmax(np.abs(vecs[:, k])))
         vecs[:, k] /= vecs[i, k]
     return Modes(omega2=w2, shapes=vecs)
+
+
+_U = 2.0**-53
+
+
+def pair_shapes(M: np.ndarray, K: np.ndarray, omega2: Sequence[float], omega2_err: Sequence[float]) -> np.ndarray:
+    """The two mode shapes of a 2x2 problem K a = omega^2 M a, each from one row of (K - omega^2 M) a = 0.
+
+    An eigensolver's vector errs by u over the relative gap in every component, so a component of
+    relative size 1e-100 (a light body beside one 1e200 times heavier, in balanced coordinates) comes out
+    as noise.  A row (r1, r2) of K - omega^2 M gives the direction a = (-r2, r1) to the relative accuracy
+    of the row itself: its entries' rounding u (|K_i| + |omega^2| |M_i|) plus the eigenvalue's error
+    times |M_i|.  Each mode takes the row in which that error is the smaller fraction of the row: the
+    row that does not cancel (for 4.11's heavy block the cylinder's row, M_2 . a = 0 exactly when K_2 = 0).
+    Columns are scaled to their largest component +1, as ``normal_modes`` does.
+    """
+    M = np.asarray(M, dtype=float)
+    K = np.asarray(K, dtype=float)
+    shapes = np.empty((2, 2))
+    for k, (lam, dlam) in enumerate(zip(omega2, omega2_err)):
+        best = None
+        for i in range(2):
+            r = K[i] - lam * M[i]
+            size = float(np.max(np.abs(r)))
+            err = 4.0 * _U * float(np.max(np.abs(K[i]) + abs(lam) * np.abs(M[i]))) + dlam * float(np.max(np.abs(M[i])))
+            if size == 0.0 or not np.isfinite(size):
+                continue
+            score = err / size
+            if best is None or score < best[0]:
+                best = (score, np.array([-r[1], r[0]]))
+        if best is None:
+            raise NumericFailure(f"mode {k}: K - omega^2 M vanishes in both rows")
+        a = best[1]
+        shapes[:, k] = a / a[int(np.argmax(np.abs(a)))]
+    return shapes
+
+
+def pair_roots(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The two roots omega^2 of det(K - omega^2 M) = 0 for a 2x2 problem, ascending, and their absolute errors.
+
+    The characteristic polynomial A w^4 - B w^2 + C (A = det M, B = K11 M22 + K22 M11 - 2 K12 M12,
+    C = det K) is solved without cancellation and without squaring B: the large root as
+    B (1 + sqrt(1 - t)) / (2A) with t = 4AC/B^2 formed as (4A (C/B))/B, the small one as C / (A large).
+    So a spread of the two roots by 1e200 (4.12 with a thread 1e+-200 times the bar) keeps both to a few
+    ulps, where an eigensolver rounds the low root to 0 (and the inverse solve, the high one).  M must be
+    positive definite and K positive semi-definite (C = 0 gives the zero root exactly).
+
+    Errors: the rounding of A, B and C (the two products of each, a few u), carried through; the
+    square root's argument 1 - t cancels as the two roots meet, and the bound grows accordingly
+    (u / (1 - t) relative), as a symmetric problem's close roots do not, so it is honest, not tight.
+    """
+    M = np.asarray(M, dtype=float)
+    K = np.asarray(K, dtype=float)
+    m12 = 0.5 * (M[0, 1] + M[1, 0])
+    k12 = 0.5 * (K[0, 1] + K[1, 0])
+    A = M[0, 0] * M[1, 1] - m12 * m12
+    B = K[0, 0] * M[1, 1] + K[1, 1] * M[0, 0] - 2.0 * k12 * m12
+    C = K[0, 0] * K[1, 1] - k12 * k12
+    dA = 2 * _U * (abs(M[0, 0] * M[1, 1]) + m12 * m12)
+    dB = 3 * _U * (abs(K[0, 0] * M[1, 1]) + abs(K[1, 1] * M[0, 0]) + 2 * abs(k12 * m12))
+    dC = 2 * _U * (abs(K[0, 0] * K[1, 1]) + k12 * k12)
+    if not all(np.isfinite(x) for x in (A, B, C)):
+        raise NumericFailure("2x2 modes: the characteristic polynomial's coefficients are not finite")
+    if not (A > dA and B > dB and C >= -dC):
+        raise NumericFailure(f"2x2 modes: expected M positive definite and K positive semi-definite "
+                             f"(det M = {A:.3g}, trace term {B:.3g}, det K = {C:.3g})")
+    C = max(C, 0.0)
+    t = (4.0 * A * (C / B)) / B
+    rel_t = dA / A + 2 * dB / B + (dC / C if C > 0 else 0.0) + 4 * _U
+    one_minus_t = 1.0 - t
+    if one_minus_t < -rel_t * t - _U:
+        raise NumericFailure(f"2x2 modes: complex roots (1 - 4 det M det K / B^2 = {one_minus_t:.3g})")
+    s = np.sqrt(max(one_minus_t, 0.0))
+    big = B * (1.0 + s) / (2.0 * A)
+    # d(1 - t) = t rel_t + u; ds = d(1 - t) / (2 s), unbounded as the roots meet (s -> 0)
+    ds = (t * rel_t + _U) / (2.0 * s) if s > 0 else np.sqrt(t * rel_t + _U)
+    rel_big = dB / B + dA / A + ds / (1.0 + s) + 3 * _U
+    small = C / (A * big)
+    err_small = (dC + C * (dA / A + rel_big + 2 * _U)) / (A * big)
+    return np.array([small, big]), np.array([err_small, rel_big * big])

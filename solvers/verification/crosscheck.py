@@ -37,9 +37,11 @@ import pickle
 import sys
 import time
 import traceback
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
+from mech.problems.scales import LOG10_LIMIT, out_of_range
 from mech.problems.spec import BadInput, Exercise, NumericFailure, Params, Undefined
 
 __all__ = ["Quantity", "CrossCheck", "cross_check", "PARALLEL_VERIFY"]
@@ -343,6 +345,22 @@ def cross_check(
 
     rtol = float(rtol or ex.default_rtol)
     budget_s = budget.default_seconds() if budget_s is None else float(budget_s)
+
+    # numpy's warnings (an overflow in an intermediate, a 0/0 later masked) are not written to stderr: the
+    # answers they touch are judged below like any other (non-finite, out of range, moved at rtol/10), and
+    # the warnings are kept in numeric_info["fp_warnings"]
+    caught = warnings.catch_warnings(record=True)
+    fp_warnings = caught.__enter__()
+    warnings.simplefilter("always", RuntimeWarning)
+    try:
+        return _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings)
+    finally:
+        caught.__exit__(None, None, None)
+
+
+def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings) -> CrossCheck:
+    from mech.solvers.verification import budget
+
     timing: dict[str, float | None] = {"analytic_s": None, "numeric_s": None}
     errors: list[str] = []
     analytic: dict = {}
@@ -457,6 +475,13 @@ def cross_check(
                 q._note(f"{key} value is not finite ({v}): a solver defect")
                 setattr(q, key, Undefined(f"non-finite {key} value"))
                 errors.append(f"{out.name}: {key} value is not finite")
+            elif isinstance(v, float) and out_of_range(v):
+                # beyond 1e+-290 a value has lost the room its own error needs (subnormal, or one
+                # operation from overflow): no number is better than one that cannot be trusted
+                q._note(f"{key} value {v:.3g} lies outside the floating-point range mech works in")
+                setattr(q, key, Undefined(f"{key} value outside the floating-point range"))
+                errors.append(f"{out.name}: the {key} value {v:.3g} {out.unit} lies outside the floating-point "
+                              f"range (1e-{LOG10_LIMIT:.0f}..1e{LOG10_LIMIT:.0f})")
 
         a, n = q.analytic, q.numeric
         claim_finite = math.isfinite(rel_claim) and math.isfinite(q.tol_abs)
@@ -500,6 +525,9 @@ def cross_check(
                 q.agree = False
         quantities.append(q)
 
+    if run is not None and fp_warnings:
+        run.info["fp_warnings"] = list(dict.fromkeys(f"{w.filename.rsplit('/', 1)[-1]}:{w.lineno}: {w.message}"
+                                                     for w in fp_warnings))[:5]
     return CrossCheck(
         exercise=ex,
         params=params,

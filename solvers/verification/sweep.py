@@ -32,7 +32,7 @@ from typing import Callable, Sequence
 from mech.problems.spec import Exercise, Params
 
 __all__ = ["Axis", "SweepResult", "grid_points", "run_sweep", "plan_workers", "POOL_OVERHEAD_S", "MIN_PARALLEL_S",
-           "run_batched", "batched_outputs", "batched_points", "grid_arrays", "CHUNK"]
+           "pool_worker_init", "run_batched", "batched_outputs", "batched_points", "grid_arrays", "CHUNK"]
 
 POOL_OVERHEAD_S = 0.15  # start-up of one worker process and its first imports (fork), measured
 MIN_PARALLEL_S = 1.5  # below this much serial work left a pool is not worth its start-up
@@ -128,7 +128,7 @@ def grid_points(axes: Sequence[Axis], fixed: dict[str, float]) -> list[dict[str,
     return [{**fixed, **dict(zip(names, combo))} for combo in itertools.product(*(a.values for a in axes))]
 
 
-def _serial_verify(parent: int | None = None) -> None:
+def pool_worker_init(parent: int | None = None) -> None:
     """In a pool worker: the cores are the pool's, so each cross-check's rerun runs after its solve; and
     the worker dies with the sweep (a sweep killed by a signal leaves no workers behind)."""
     from mech.solvers.verification import crosscheck
@@ -213,7 +213,7 @@ def run_sweep(
             points[i] = solve_point(ex.id, dict(params[i]), rtol, verify, only)
             tick()
     else:
-        with ProcessPoolExecutor(max_workers=workers, initializer=_serial_verify,
+        with ProcessPoolExecutor(max_workers=workers, initializer=pool_worker_init,
                                  initargs=(os.getpid(),)) as pool:
             futures = {pool.submit(solve_point, ex.id, dict(params[i]), rtol, verify, only): i for i in rest}
             from concurrent.futures import as_completed

@@ -1,0 +1,10 @@
+"""The two ways a solve refuses, importable without the rest of mech (``import mech`` and ``mech --help``
+load this module alone)."""
+
+
+class BadInput(ValueError):
+    """A parameter value the exercise cannot take; the message is one line for the user."""
+
+
+class NumericFailure(RuntimeError):
+    """The numeric solver could not produce a trustworthy answer; never swallowed into a number."""

@@ -1,0 +1,258 @@
+"""Whether an exercise's answer can be represented in double precision at given parameters.
+
+Every parameter in an open-ended range (``min = 0`` and no ``max``) may be 1e-200 or 1e+200 times its
+default, and mech owes such an input an answer within its error bar or a one-line refusal.  An answer
+(or a scale the solve must form) beyond about 1e+-300 cannot be represented; this module finds that
+before anything is solved, for every exercise, from what the catalogue declares:
+
+* the units of the parameters and outputs give their dimensions in kg, m, s;
+* a change of units by powers of two (exact in floating point) brings the parameters as near to their
+  defaults as the dimensions allow (a least-squares fit of the three unit exponents, rounded to a
+  multiple of ``QUANTUM`` bits so that parameters within 1e+-9 of their defaults keep the SI units);
+* the analytic solution is evaluated in those units, with numpy's floating-point errors raised; its
+  outputs, brought back to SI by their dimensions, must lie in [1e-290, 1e290] (or be exactly 0).
+
+An input fails when an output's SI size leaves that range (the refusal names the output and its size)
+or when the analytic solution overflows, divides by zero or forms a NaN even in the natural units (the
+refusal names the parameters far from their defaults, whose combinations it could not form).  A
+solver's own failure of any other kind is left to the cross-check to report.
+
+``natural_units`` and ``to_si`` are also what ``Exercise.solve_analytic`` uses, so that the analytic
+answer does not depend on the units the user chose: at the defaults and within 1e+-9 of them the
+units are SI and nothing changes.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+__all__ = ["LOG10_LIMIT", "QUANTUM", "dims", "natural_units", "to_si", "representable", "far_params",
+           "out_of_range"]
+
+LOG10_LIMIT = 290.0  # |log10 x| beyond this for a non-zero scale: outside the range mech works in
+QUANTUM = 64  # unit exponents (powers of two) are multiples of this: 2^64 ~ 1.8e19
+
+_BASE = {  # (kg, m, s)
+    "kg": (1, 0, 0), "m": (0, 1, 0), "s": (0, 0, 1), "rad": (0, 0, 0), "1": (0, 0, 0),
+    "N": (1, 1, -2), "J": (1, 2, -2), "W": (1, 2, -3),
+}
+
+
+def _factors(text: str) -> tuple[int, int, int] | None:
+    text = text.strip()
+    if text.startswith("(") and text.endswith(")"):
+        text = text[1:-1]
+    total = [0, 0, 0]
+    for tok in re.split(r"[*\s]+", text.strip()):
+        if not tok:
+            continue
+        m = re.fullmatch(r"([A-Za-z]+|1)(?:\^(-?\d+))?", tok)
+        if not m or m.group(1) not in _BASE:
+            return None
+        power = int(m.group(2) or 1)
+        for k, e in enumerate(_BASE[m.group(1)]):
+            total[k] += e * power
+    return tuple(total)
+
+
+def dims(unit: str) -> tuple[int, int, int] | None:
+    """The (kg, m, s) exponents of a catalogue unit ("kg*m^2", "1/(m^2 s^2)", "rad/s"); None if unknown."""
+    num, _, den = unit.partition("/")
+    top = _factors(num)
+    bottom = _factors(den) if den else (0, 0, 0)
+    if top is None or bottom is None:
+        return None
+    return tuple(a - b for a, b in zip(top, bottom))
+
+
+def _log2_dev(value: float, default: float) -> float | None:
+    if value == 0 or default == 0 or not math.isfinite(value):
+        return None
+    return math.log2(abs(value)) - math.log2(abs(default))
+
+
+def natural_units(ex, p) -> tuple[tuple[int, int, int], dict] | None:
+    """The unit exponents (powers of two of kg, m, s) that bring ``p`` nearest its defaults, and ``p`` in
+    those units; None where the units are SI (no shift) or a unit cannot be read."""
+    rows, rhs = [], []
+    for prm in ex.params:
+        d = dims(prm.unit)
+        if d is None:
+            return None
+        dev = _log2_dev(p[prm.name], prm.default)
+        if any(d) and dev is not None:
+            rows.append(d)
+            rhs.append(dev)
+    if any(dims(o.unit) is None for o in ex.outputs) or not rows:
+        return None
+    fixed = [dims(unit) for unit in getattr(ex, "constants", {}).values()]
+    if any(d is None for d in fixed):
+        return None
+    import numpy as np
+
+    # a constant the solvers hold (G) must keep its value: a heavily weighted row, checked exactly below
+    A = np.array(rows + [tuple(1e3 * x for x in d) for d in fixed], float)
+    b = np.array(rhs + [0.0] * len(fixed), float)
+    fit = np.linalg.lstsq(A, b, rcond=None)[0]
+    # the nearest multiples of QUANTUM (each rounded down or up) that keep every constant, best fit first
+    import itertools
+
+    A_rows, b_rows = np.array(rows, float), np.array(rhs, float)
+    best = None
+    for u in itertools.product(*[sorted({QUANTUM * math.floor(x / QUANTUM), QUANTUM * math.ceil(x / QUANTUM)})
+                                 for x in fit]):
+        if any(sum(a * b for a, b in zip(d, u)) for d in fixed):
+            continue
+        cost = float(np.sum((A_rows @ np.array(u, float) - b_rows) ** 2))
+        if best is None or cost < best[0]:
+            best = (cost, tuple(int(x) for x in u))
+    if best is None or not any(best[1]):
+        return None
+    u = best[1]
+    values = {}
+    for prm in ex.params:
+        k = sum(a * b for a, b in zip(dims(prm.unit), u))
+        x = math.ldexp(p[prm.name], -k) if k else p[prm.name]
+        if p[prm.name] != 0 and (x == 0 or not math.isfinite(x) or abs(x) < 2.2250738585072014e-308):
+            return None  # the shift itself leaves the range for this parameter: keep SI
+        values[prm.name] = x
+    return u, values
+
+
+def _unit_exponent(unit: str, u) -> int:
+    return sum(a * b for a, b in zip(dims(unit), u))
+
+
+def to_si(value: float, unit: str, u) -> float:
+    """A value in the natural units ``u`` brought back to SI (exact unless it leaves the range)."""
+    k = _unit_exponent(unit, u)
+    return math.ldexp(value, k) if k else value
+
+
+def far_params(ex, p, decades: float = 50.0) -> str:
+    """The parameters farthest from their defaults (beyond ``decades``), as "R = 1e+199 m", for a message."""
+    far = []
+    for prm in ex.params:
+        dev = _log2_dev(p[prm.name], prm.default)
+        if dev is not None and abs(dev) * math.log10(2) >= decades:
+            far.append((abs(dev), prm))
+    far.sort(key=lambda t: -t[0])
+    if not far:
+        return ""
+    unit = lambda prm: "" if prm.unit in ("1", "rad") else f" {prm.unit}"  # noqa: E731
+    return ", ".join(f"{prm.name} = {p[prm.name]:.3g}{unit(prm)}" for _, prm in far[:3])
+
+
+def _log10_si(value: float, unit: str, u) -> float:
+    return math.log10(abs(value)) + (_unit_exponent(unit, u) * math.log10(2) if u else 0.0)
+
+
+def representable(ex, p) -> str | None:
+    """None when the analytic answer at ``p`` is representable, else the one-line reason for refusing."""
+    from mech.problems.spec import Undefined
+
+    if ex._analytic is None:
+        return None
+    import numpy as np
+
+    nat = natural_units(ex, p)
+    u, values = nat if nat else (None, dict(p))
+    from mech.problems.spec import Params
+
+    where = far_params(ex, p)
+    at = f" at {where}" if where else ""
+    try:
+        with np.errstate(over="raise", divide="raise", invalid="raise"):
+            out = ex._analytic(Params(values))
+    except (OverflowError, ZeroDivisionError, FloatingPointError) as exc:
+        if not where:
+            return None  # no parameter is far from its default: a defect for the cross-check to report
+        what = {OverflowError: "overflow", ZeroDivisionError: "division by zero"}.get(type(exc), str(exc))
+        if isinstance(exc, FloatingPointError):
+            what = str(exc).replace(" encountered", "")
+        return (f"the scales the solution forms{at} leave the floating-point range "
+                f"(the analytic solution meets {what})")
+    except Exception:
+        return None  # not a question of range: the cross-check reports the solver's failure
+    for o in ex.outputs:
+        v = out.get(o.name) if isinstance(out, dict) else None
+        if v is None or isinstance(v, Undefined):
+            continue
+        try:
+            v = float(v)
+        except (TypeError, ValueError):
+            continue
+        if not math.isfinite(v):
+            if not where:
+                return None  # likewise a defect, not a question of range
+            return f"the answer {o.name} is not finite{at}: its scale leaves the floating-point range"
+        if v == 0:
+            if where:
+                k = _underflowed(ex, p, o)
+                if k is not None:
+                    unit = "" if o.unit in ("1", "rad") else f" {o.unit}"
+                    return (f"the answer {o.name} ~ 1e{k:+.0f}{unit}{at} underflows: it lies below the "
+                            f"floating-point range (1e-{LOG10_LIMIT:.0f}..1e{LOG10_LIMIT:.0f})")
+            continue
+        k = _log10_si(v, o.unit, u)
+        if abs(k) > LOG10_LIMIT:
+            unit = "" if o.unit in ("1", "rad") else f" {o.unit}"
+            return (f"the answer {o.name} ~ 1e{k:+.0f}{unit}{at} lies outside the floating-point range "
+                    f"(1e-{LOG10_LIMIT:.0f}..1e{LOG10_LIMIT:.0f})")
+    return None
+
+
+def _log10_output_at(ex, p, o) -> float | None:
+    """log10 of the SI size of output ``o`` of the analytic solution at ``p`` (natural units); None if it is 0,
+    undefined or the solution fails there."""
+    import numpy as np
+
+    from mech.problems.spec import Params
+
+    nat = natural_units(ex, p)
+    u, values = nat if nat else (None, dict(p))
+    try:
+        with np.errstate(all="ignore"):
+            v = float(ex._analytic(Params(values))[o.name])
+    except Exception:
+        return None
+    if v == 0 or not math.isfinite(v):
+        return None
+    return _log10_si(v, o.unit, u)
+
+
+def _underflowed(ex, p, o, steps: int = 6) -> float | None:
+    """The estimated log10 SI size of an output that the analytic solution gives as exactly 0 at ``p``, when that
+    0 is an underflow (below -LOG10_LIMIT), else None.
+
+    The far parameters are brought part of the way from their defaults, p_t = default (p/default)^t for
+    t = 1/2, 1/4, ..., and the output's log size at t and t/2 extrapolated linearly in t to t = 1 (exact for a
+    power law, which the dimensional analysis makes of most answers).  An output that is 0 at those points
+    too is 0 by the physics (a symmetry, a parameter at 0), and stays 0."""
+    from mech.problems.spec import Params
+
+    far = {prm.name: prm.default for prm in ex.params
+           if (dev := _log2_dev(p[prm.name], prm.default)) is not None and abs(dev) * math.log10(2) >= 50.0}
+    if not far:
+        return None
+
+    def at(t):
+        q = dict(p)
+        for name, d in far.items():
+            q[name] = math.copysign(math.exp((1 - t) * math.log(abs(d)) + t * math.log(abs(p[name]))), p[name])
+        return _log10_output_at(ex, Params(q), o)
+
+    t = 0.5
+    for _ in range(steps):
+        hi, lo = at(t), at(t / 2)
+        if hi is not None and lo is not None:
+            k = hi + (hi - lo) / (t / 2) * (1 - t)
+            return k if k < -LOG10_LIMIT else None
+        t /= 2
+    return None
+
+
+def out_of_range(x: float) -> bool:
+    """A finite non-zero value beyond the range mech works in."""
+    return x != 0 and math.isfinite(x) and abs(math.log10(abs(x))) > LOG10_LIMIT
