@@ -12,7 +12,7 @@ The exact motion (nutation included) is integrated independently below with
 scipy's adaptive DOP853 on the vector equations dn/dt = L x n/I_A,
 dL/dt = l n x (-M g z + F(t)), at rtol 1e-10, at a stronger force (a shorter run);
 the solver's coarse Strang steps of a very fast top are checked against its own
-fine 6th-order splitting, itself checked against DOP853.
+fine splitting, itself checked against DOP853 (and for its order, below).
 """
 
 import math
@@ -72,6 +72,7 @@ def _dop853(M=0.5, l=0.05, I1=3.125e-4, I3=6.25e-4, w3=600.0, F=2.0, g=9.81):
 def test_against_adaptive_runge_kutta():
     # F = 6 N: t_up = 5.9 s, about 230 nutation periods (k = 240 rad/s), eps_F = I_A l F/L3^2 = 3.3e-3, so the
     # exact motion differs from the leading order by ~1e-2 and the 1e-6 agreement checks the nutation's effect
+    # (at this eps the fine splitting is the 8th-order one)
     td, tu, lead = _dop853(F=6.0)
     a, n, run = solve_both("4.24", rtol=1e-7, F=6.0)
     assert abs(td / a["t_down"] - 1) > 1e-3  # the comparison is not with the leading order
@@ -82,7 +83,7 @@ def test_against_adaptive_runge_kutta():
 
 
 def _fine_only(monkeypatch):
-    """Force the solver onto its 6th-order splitting at every step (validated above against DOP853)."""
+    """Force the solver onto its fine splitting at every step (validated above against DOP853)."""
     import mech.problems.ch4.ex4_24_driven_fast_top as mod
 
     monkeypatch.setattr(mod, "_tan_root", lambda j: math.inf)
@@ -138,3 +139,27 @@ def test_weak_force_slips_ahead():
     a, n, _ = solve_both("4.24", F=0.2)
     assert a["t_down"] == pytest.approx(0.375 * math.pi / 0.02, rel=1e-14)
     assert 0.005 < n["phi_lead"] - math.pi / 2 < 0.067
+
+
+def test_fine_splittings_have_their_orders():
+    """The two compositions of Strang steps the fine splitting uses, checked for their order on one step
+    from a tilted, nutating state (eps ~ 0.04, where the kicks matter): against 16 substeps of the same
+    scheme, a step's error is O(H^(p+1)), so halving H divides it by 2^7 = 128 for Yoshida's 6th-order
+    composition and by 2^9 = 512 for Kahan and Li's 8th-order one.  A wrong weight drops the order."""
+    import mech.problems.ch4.ex4_24_driven_fast_top as mod
+
+    k, a, b, w = 60.0, 2.6, 2.7, 2.6
+    n0 = (math.sin(0.7) * math.cos(0.3), math.sin(0.7) * math.sin(0.3), math.cos(0.7))
+    L0 = (n0[0] + 0.02, n0[1] - 0.01, n0[2] - (0.02 * n0[0] - 0.01 * n0[1]) / n0[2])  # L . n = 1
+    for weights, ratio in ((mod._W6, 128.0), (mod._K8, 512.0)):
+        assert sum(weights) == pytest.approx(1.0, abs=1e-15)
+        errs = []
+        for H in (1.6 / k, 0.8 / k, 0.4 / k):
+            one = mod._stepper(k, a, b, w, H, weights)(n0, L0, 0.3, H)
+            sub = mod._stepper(k, a, b, w, H / 16, weights)
+            s = (n0, L0, 0.3)
+            for _ in range(16):
+                s = sub(*s, H / 16)
+            errs.append(max(abs(x - y) for x, y in zip(one[0] + one[1], s[0] + s[1])))
+        for e0, e1 in zip(errs, errs[1:]):
+            assert e0 / e1 == pytest.approx(ratio, rel=0.3)

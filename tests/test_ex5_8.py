@@ -254,3 +254,46 @@ def test_rotating_and_plain_maps_agree(monkeypatch):
     assert isinstance(rot["xi_lo"], float)
     for k in rot:
         assert rot[k] == pytest.approx(plain[k], rel=1e-8, abs=1e-9 * p["delta"])
+
+
+def test_half_period_map_agrees_with_the_full_period(monkeypatch):
+    """The Duffing force is odd, so the module shoots the half-period map G = -phi_{T/2} of the symmetric
+    orbit (q(t + T/2) = -q(t)) instead of the one-period map.  Both are orbits of the same equation: the
+    outputs must agree to the numeric claims (100 rtol = 1e-8), with Liouville's det M = exp(-4 pi delta/omega)
+    holding for M = dG^2, at about 0.6 times the full map's evaluations (half the integration, the same
+    per-map start-up)."""
+    from mech.solvers.mechanics import continuation
+
+    _, half, run_half = solve_both("5.8", f0=0.012)
+    full_map = continuation.OrbitMap.__init__
+
+    def full(self, *args, **kw):
+        kw["odd"] = False
+        full_map(self, *args, **kw)
+
+    monkeypatch.setattr(continuation.OrbitMap, "__init__", full)
+    _, whole, run_whole = solve_both("5.8", f0=0.012)
+    for k in half:
+        assert half[k] == pytest.approx(whole[k], rel=1e-8)
+    assert run_half.nfev < 0.7 * run_whole.nfev
+    for run in (run_half, run_whole):
+        assert max(abs(d) for d in run.invariants.values()) < 1e-9
+
+
+def test_half_period_fixed_point_closes_the_full_period():
+    """At a fixed point of G = -phi_{T/2} (the symmetric orbit), the one-period map closes too, and its
+    monodromy matrix is dG^2 (the chain rule through G o G: what OrbitMap.monodromy returns)."""
+    from mech.problems.ch5.ex5_8_duffing_resonance import _force
+    from mech.solvers.mechanics.continuation import OrbitMap, solve_on_plane
+
+    p = DEF
+    Q, W = p["f0"] / (2 * p["omega0"] * p["delta"]), p["delta"]
+    half = OrbitMap(_force(p["omega0"], p["delta"], p["alpha"]), p["f0"], Q, p["omega0"], W, odd=True)
+    whole = OrbitMap(_force(p["omega0"], p["delta"], p["alpha"]), p["f0"], Q, p["omega0"], W)
+    bp = solve_on_plane(half, [0.0, 0.0, 2.5], [0.0, 0.0, 1.0], 2.5, rtol=1e-12, tol=1e-12, max_iter=40,
+                        monotone=False)
+    assert bp is not None and bp.residual < 1e-11
+    ev = whole.evaluate(bp.z, 1e-12)
+    assert ev.residual < 1e-9
+    assert np.allclose(half.monodromy(bp), ev.M, rtol=0, atol=1e-9)
+    assert ev.A == pytest.approx(bp.A, rel=1e-9)

@@ -91,6 +91,22 @@ class OrbitMap:
     """The one-period map of q'' = a(q, q') + f0 cos(omega t) in the scaled variables of the module doc.
 
     ``force(q, p)`` returns (a, da/dq, da/dp) as floats.
+
+    ``step_scale``: DOP853's first step is ``step_scale * rtol**(1/8)`` (drive phase) instead of its
+    starting heuristic, which begins a smooth one-period orbit with a step a few hundred times too short
+    and spends three steps growing it: for a near-harmonic response, whose steps in the drive phase are
+    about c rtol^(1/8) with c set by the waveform alone (a function of rtol, never of the history, so that
+    a map's value depends on (z, rtol) only).
+
+    ``odd``: the force is odd, a(-q, -p) = -a(q, p).  The equation is then unchanged by q -> -q with
+    t -> t + T/2 (the drive changes sign over half a period), and the periodic response that grows out
+    of the linear one keeps that symmetry, q(t + T/2) = -q(t).  Such an orbit is a fixed point of the
+    half-period map followed by (q, q') -> (-q, -q'), G = -phi_{T/2}, and the one-period map is G o G:
+    so it is G that is integrated (half the work), its fixed point found, and M = (dG)^2 (``monodromy``).
+    The residual, J = dG - I and the swing are G's: det(M - I) = det(dG - I) det(dG + I) changes sign
+    where det(dG - I) does unless dG + I is singular, an eigenvalue -1 of dG where the symmetric orbit
+    would lose its symmetry; ``evaluate`` fails loudly well before that (det(I + dG) < 1, where it is
+    about 4 for the near-harmonic response of a weak nonlinearity).
     """
 
     def __init__(
@@ -104,6 +120,8 @@ class OrbitMap:
         memo: dict | None = None,
         memo_key: tuple | None = None,
         integrator: str | None = None,
+        odd: bool = False,
+        step_scale: float | None = None,
     ):
         """``memo``/``memo_key``: a dict shared by the runs of one cross-check (``run.shared``) and a key
         naming everything the force depends on.  The map is a deterministic function of (z, rtol), so an
@@ -118,7 +136,15 @@ class OrbitMap:
         self.calls = 0
         self.memo_hits = 0
         self._memo = memo if memo is not None and memo_key is not None else None
-        self._memo_key = (type(self).__name__, memo_key, f0, Q, omega_ref, W, method, integrator)
+        self.odd = bool(odd)
+        self.step_scale = step_scale
+        self._memo_key = (type(self).__name__, memo_key, f0, Q, omega_ref, W, method, integrator, self.odd,
+                          step_scale)
+
+    def monodromy(self, bp: BranchPoint) -> np.ndarray:
+        """The one-period monodromy matrix M at a periodic orbit: bp.M, or (dG)^2 for an odd force."""
+        M = bp.M
+        return M @ M if self.odd else M
 
     def omega(self, w: float) -> float:
         return self.omega_ref + self.W * w
@@ -128,15 +154,16 @@ class OrbitMap:
         c_xy = ws / omega  # dX/dtau = (omega_ref/omega) Y
         c_y = 1.0 / (omega * ws * Q)
 
+        cos = math.cos
+
         def rhs(tau, s):
-            X, Y = s[0], s[1]
+            X, Y, p00, p01, p02, p10, p11, p12 = s.tolist()  # floats: cheaper than indexing the array 8 times
             a, a_q, a_p = force(Q * X, ws * Q * Y)
             fx = c_xy * Y
-            fy = (a + f0 * math.cos(tau)) * c_y
+            fy = (a + f0 * cos(tau)) * c_y
             jyx = a_q / (omega * ws)
             jyy = a_p / omega
             gx, gy = -W / omega * fx, -W / omega * fy  # d/dw of (fx, fy)
-            p00, p01, p02, p10, p11, p12 = s[2], s[3], s[4], s[5], s[6], s[7]
             return [
                 fx,
                 fy,
@@ -172,15 +199,33 @@ class OrbitMap:
         if not omega > 0:
             raise NumericFailure(f"the sweep reached a non-positive drive frequency ({omega:g} rad/s)")
         y0 = [z[0], z[1], 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
-        top = Event(lambda t, s: s[1], terminal=False, direction=-1.0, name="q' = 0, maximum")
-        bottom = Event(lambda t, s: s[1], terminal=False, direction=1.0, name="q' = 0, minimum")
+        top = Event(lambda t, s: s[1], terminal=False, direction=-1.0, name="q' = 0, maximum", component=1)
+        bottom = Event(lambda t, s: s[1], terminal=False, direction=1.0, name="q' = 0, minimum", component=1)
         scale = max(abs(z[0]), abs(z[1]), 1e-3)
         atol = [rtol * 1e-3 * scale] * 2 + [rtol * 1e-3] * 6
-        traj = integrate(self._rhs(omega), (0.0, 2.0 * math.pi), y0, rtol=rtol, atol=atol, method=self.method,
-                         events=[top, bottom], integrator=self.integrator)
+        span = math.pi if self.odd else 2.0 * math.pi
+        first = None if self.step_scale is None else min(span, self.step_scale * rtol ** 0.125)
+        traj = integrate(self._rhs(omega), (0.0, span), y0, rtol=rtol, atol=atol, method=self.method,
+                         events=[top, bottom], integrator=self.integrator, first_step=first)
         self.nfev += traj.nfev
         self.calls += 1
         s = traj.y_end
+        if self.odd:
+            # G = -phi_{T/2}: dG = -Phi (the half period's variational matrix); det(I + dG) = det(I - Phi)
+            sym = (1.0 - s[2]) * (1.0 - s[6]) - s[3] * s[5]
+            if not sym > 1.0:
+                raise NumericFailure(f"the half-period map has det(I + dG) = {sym:.3g} at w = {z[2]:.6g}: the "
+                                     "periodic response is near losing its q -> -q symmetry, which this map assumes")
+            J = np.array([[-s[2] - 1.0, -s[3], -s[4]], [-s[5], -s[6] - 1.0, -s[7]]])
+            res = np.array([-s[0] - z[0], -s[1] - z[1]])
+            # over half a period q reaches one of its extremes; the other is its mirror: the swing is the
+            # largest |q| among the turning points and the ends (on the periodic orbit, q' = 0 at an end
+            # only where an extreme sits there)
+            cands = [y for k in (0, 1) for y in traj.y_events[k]] + [np.array(y0), s]
+            y = max(cands, key=lambda c: abs(c[0]))
+            sign = 1.0 if y[0] >= 0 else -1.0
+            return BranchPoint(z=z.copy(), J=J, A=abs(float(y[0])), gradA=sign * np.array([y[2], y[3], y[4]]),
+                               res=res)
         J = np.array([[s[2] - 1.0, s[3], s[4]], [s[5], s[6] - 1.0, s[7]]])
         res = np.array([s[0] - z[0], s[1] - z[1]])
 

@@ -111,6 +111,19 @@ class _Segment:
             acc = (acc + F[k][:, None]) * (x1 if k % 2 else xs)
         return self.y_old[:, None] + acc
 
+    def component(self, i: int) -> Callable[[float], float]:
+        """``t -> y_i(t)`` on Python floats: the operations of ``__call__`` for one component, in its order
+        (so the same values to the bit), at a fraction of the cost of a numpy call per trial time."""
+        t_old, h, y0 = self.t_old, self.h, float(self.y_old[i])
+        c0, c1, c2, c3, c4, c5, c6 = (float(v) for v in self.F[:, i])
+
+        def y_i(t):
+            x = (t - t_old) / h
+            x1 = 1.0 - x
+            return y0 + (((((((c6 * x + c5) * x1 + c4) * x + c3) * x1 + c2) * x + c1) * x1 + c0) * x)
+
+        return y_i
+
 
 class DenseSolution:
     """The piecewise continuous extension over the whole run; ``sol(t)`` as scipy's OdeSolution."""
@@ -322,7 +335,13 @@ def solve(
                 dirn = getattr(ev, "direction", 0.0)
                 if (up and dirn > 0) or (down and dirn < 0) or ((up or down) and dirn == 0):
                     sg = segment()
-                    root = _event_root(lambda tt: float(ev(tt, sg(tt))), t, t_new)
+                    comp = getattr(ev, "component", None)
+                    if comp is not None:
+                        if b != y_new[comp]:
+                            raise ValueError(f"an event declared as component {comp} of the state is not it")
+                        root = _event_root(sg.component(comp), t, t_new)
+                    else:
+                        root = _event_root(lambda tt: float(ev(tt, sg(tt))), t, t_new)
                     found.append((root, k))
             found.sort(key=lambda rk: rk[0] * direction)
             for root, k in found:

@@ -41,12 +41,17 @@ def apply_integrator(integrator: str | None, method: str, rtol: float, atol, max
 
 @dataclass
 class Event:
-    """A zero of ``fn(t, y)``; ``direction`` +1 / -1 keeps only upward / downward crossings."""
+    """A zero of ``fn(t, y)``; ``direction`` +1 / -1 keeps only upward / downward crossings.
+
+    ``component``: the index i when ``fn(t, y)`` is just ``y[i]``; mech's DOP853 then locates the root
+    on that one component of its continuous extension (the same arithmetic, without the whole state
+    at every trial time)."""
 
     fn: Callable[[float, np.ndarray], float]
     terminal: bool = True
     direction: float = 0.0
     name: str = "event"
+    component: int | None = None
 
     def as_scipy(self) -> Callable:
         def f(t, y):
@@ -54,6 +59,8 @@ class Event:
 
         f.terminal = self.terminal
         f.direction = self.direction
+        if self.component is not None:
+            f.component = self.component
         return f
 
 
