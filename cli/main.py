@@ -51,18 +51,22 @@ class MechGroup(click.Group):
     test runner see exactly what users see.
     """
 
-    # commands kept in their own modules, imported only when listed or called
+    # commands kept in their own modules, imported only when called; their one-line summaries (the first
+    # sentence of each command's help, tests/test_cli_first_hour.py holds them equal) are listed by
+    # `mech --help` without importing them
     LAZY = {
-        "bench": ("mech.cli.bench", "bench_cmd"),
-        "grade": ("mech.cli.grading", "grade_cmd"),
-        "plot": ("mech.cli.plot", "plot_cmd"),
-        "sweep": ("mech.cli.sweep", "sweep_cmd"),
+        "bench": ("mech.cli.bench", "bench_cmd", "Speed against error of exercise ID's numeric solver."),
+        "grade": ("mech.cli.grading", "grade_cmd",
+                  "Hold a TOML file of answers against mech (each [[answer]]: exercise, params, expect, rtol)."),
+        "plot": ("mech.cli.plot", "plot_cmd", "Draw exercise ID: its scene with analytic and numeric results overlaid."),
+        "sweep": ("mech.cli.sweep", "sweep_cmd",
+                  "Solve exercise ID over a range: --NAME START:STOP:N[:log] for each swept parameter."),
     }
 
     def _lazy(self, name):
         import importlib
 
-        module_name, attr = self.LAZY[name]
+        module_name, attr, _summary = self.LAZY[name]
         try:
             module = importlib.import_module(module_name)
         except ModuleNotFoundError as exc:
@@ -72,15 +76,28 @@ class MechGroup(click.Group):
         return getattr(module, attr)
 
     def list_commands(self, ctx):
-        names = set(super().list_commands(ctx))
-        names.update(n for n in self.LAZY if self._lazy(n) is not None)
-        return sorted(names)
+        return sorted(set(super().list_commands(ctx)) | set(self.LAZY))
 
     def get_command(self, ctx, name):
         cmd = super().get_command(ctx, name)
         if cmd is None and name in self.LAZY:
             cmd = self._lazy(name)
         return cmd
+
+    def format_commands(self, ctx, formatter):
+        """The command list of ``mech --help``, as click lays it out, the lazy commands from their summaries."""
+        names = self.list_commands(ctx)
+        limit = formatter.width - 6 - max(len(n) for n in names)
+        rows = []
+        for name in names:
+            if name in self.LAZY:
+                rows.append((name, _shorten(self.LAZY[name][2], limit)))
+            else:
+                cmd = super().get_command(ctx, name)
+                if cmd is not None and not cmd.hidden:
+                    rows.append((name, cmd.get_short_help_str(limit)))
+        with formatter.section("Commands"):
+            formatter.write_dl(rows)
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         code = EXIT_OK
@@ -399,6 +416,18 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
 def main(argv=None) -> None:
     """Console-script entry point."""
     cli.main(args=argv, prog_name="mech")
+
+
+def _shorten(text: str, limit: int) -> str:
+    """``text`` cut at a word to at most ``limit`` characters, "..." marking the cut."""
+    if len(text) <= limit:
+        return text
+    words, out = text.split(), ""
+    for w in words:
+        if len(out) + len(w) + (1 if out else 0) > limit - 3:
+            break
+        out += (" " if out else "") + w
+    return out + "..."
 
 
 def _one_line(text: str) -> str:
