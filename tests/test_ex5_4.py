@@ -134,3 +134,24 @@ def test_stiff_cases_by_the_exact_flow_against_100_digits(given):
     for name, value in want.items():
         assert n[name] == pytest.approx(value, rel=1e-9), name
     assert run.invariants["semigroup Phi(a) Phi(b) = Phi(a + b)"] < 1e-12
+
+
+def test_long_decay_keeps_its_relative_accuracy():
+    """Released from rest at q0, an overdamped oscillator follows
+    q(t) = q0 (lf e^(-ls t) - ls e^(-lf t)) / (lf - ls), ls, lf = omega0 (zeta -+ (zeta^2 - 1)^(1/2)).
+    Draw of scripts/draws.py (seed 20261125): omega0 = 3048.71, zeta = 599.958, t1 = 29230.6 s, where
+    ls t1 = 7.4e4 and q(t1) = 0 in double precision; exp(A tau1) taken in one piece gave 2.5e-21 m
+    (1e-16 of q0).  At t1 = 236 s, ls t1 = 600: q(t1) = q0 lf/(lf - ls) e^-600 ~ 2e-266 m, representable,
+    and the numeric value must keep its relative accuracy there."""
+    base = dict(omega0=3048.7064204236535, zeta=599.9583194078805, q0=2.2267010862732086e-05,
+                eps=1.1000462045078789e-07)
+    a, n, _ = solve_both("5.4", t1=29230.562507718536, **base)
+    assert n["q_t"] == 0.0 and a["q_t"] == 0.0
+    w0, z, q0 = base["omega0"], base["zeta"], base["q0"]
+    ls = w0 / (z + math.sqrt(z * z - 1.0))  # = w0 (z - sqrt(z^2 - 1)) without the cancellation
+    lf = w0 * (z + math.sqrt(z * z - 1.0))
+    t1 = 600.0 / ls
+    a, n, _ = solve_both("5.4", t1=t1, **base)
+    expected = q0 * lf / (lf - ls) * math.exp(-600.0)
+    assert n["q_t"] == pytest.approx(expected, rel=1e-9)
+    assert a["q_t"] == pytest.approx(expected, rel=1e-9)
