@@ -140,3 +140,14 @@ def test_omega_min_at_extreme_inertias(M, l, I1, I3_, w3, th, g):
     assert n["omega_min"] == pytest.approx(wmin, rel=1e-9)
     if w3 > wmin:
         assert n["omega_pre"] == pytest.approx(slow_root_by_numpy(IA_, I3_, w3, Mgl, th), rel=1e-8)
+
+
+def test_spin_carrying_nearly_all_of_l_keeps_its_energy():
+    """Draw of scripts/draws.py (seed 20261125): L3 = I3 omega3 = 0.0104 kg m^2/s, while the precession
+    Omega ~ M g l/(I3 omega3) ~ 1.3e-16 rad/s gives L_perp ~ 3e-17 and M g l ~ 1.4e-18 J.  |L|^2 - L3^2 loses
+    everything to round-off (eps L3^2/I_A ~ 2e-20 J, a drift of ~1e-2 of the energy); the rejection
+    L - (n.L) n does not, and the steady motion must then hold the energy to rtol."""
+    given = dict(M=1.24915e-07, l=4.72373e-08, I1=0.499719, I3=0.0357475, omega3=0.292039, theta0=0.480073,
+                 g=0.000229291)
+    a, n, run = solve_both("4.21", **given)
+    assert run.invariants["energy less the spin's"] < 1e-8
