@@ -185,7 +185,8 @@ def main(argv=None) -> int:
     def show(label, res, budget, repeats):
         med = res[-1][0]
         before = f"  before {res[0][0]:7.3f} s  ratio {med / res[0][0]:5.2f}" if len(res) > 1 else ""
-        print(f"{label:<34} median {med:8.3f} s  [{res[-1][1]:.3f}-{res[-1][2]:.3f}] x{repeats}{before}  "
+        rng = f"[{res[-1][1]:.3f}-{res[-1][2]:.3f}]" if res[-1][1] is not None else "(median of medians)"
+        print(f"{label:<34} median {med:8.3f} s  {rng} x{repeats}{before}  "
               f"budget {budget:g} s  {'ok' if med <= budget else 'OVER'}  (exit {res[-1][3]})", flush=True)
 
     def add(label, args, repeats, budget):
