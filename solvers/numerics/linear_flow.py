@@ -31,6 +31,34 @@ def _norm1(a: np.ndarray) -> float:
     return float(np.max(np.sum(np.abs(a), axis=0))) if a.size else 0.0
 
 
+def _series_and_squarings(x: np.ndarray, squarings: np.ndarray) -> np.ndarray:
+    """exp(X) - I for a stack of matrices X (N x n x n) already scaled to ||X||_1 <= 1/2, then squared
+    ``squarings[k]`` times each: the one scaling-and-squaring loop of this module."""
+    # Taylor series of exp(x) - I: with ||x|| <= 1/2 the terms fall below 2^-60 by the 18th
+    term = x.copy()
+    d = x.copy()
+    for k in range(2, 30):
+        term = term @ x / k
+        d = d + term
+        sizes = np.max(np.sum(np.abs(term), axis=1), axis=1)
+        if np.all(sizes <= 1e-18 * np.maximum(np.max(np.sum(np.abs(d), axis=1), axis=1), 1e-300)):
+            break
+    eye = np.eye(x.shape[1])
+    for k in range(1, int(squarings.max(initial=0)) + 1):
+        sel = squarings >= k
+        ds = d[sel]
+        d[sel] = ds @ (ds + 2.0 * eye)  # exp(2y) - I = (exp(y) - I)(exp(y) - I + 2 I)
+    return d
+
+
+def _squarings(norms: np.ndarray) -> np.ndarray:
+    """Halvings that bring each 1-norm to 1/2 or below."""
+    out = np.zeros(norms.size, dtype=int)
+    big = norms > 0.5
+    out[big] = np.ceil(np.log2(norms[big] / 0.5)).astype(int)
+    return out
+
+
 def expm_minus_identity(a) -> np.ndarray:
     """exp(A) - I for a real or complex square matrix, each entry to its own relative accuracy where
     the squarings allow it (no 1 + small - 1)."""
@@ -42,20 +70,8 @@ def expm_minus_identity(a) -> np.ndarray:
     norm = _norm1(a)
     if not math.isfinite(norm):
         raise ValueError("expm: the matrix has non-finite entries")
-    s = max(0, int(math.ceil(math.log2(norm / 0.5)))) if norm > 0.5 else 0
-    x = a / 2.0**s
-    # Taylor series of exp(x) - I: with ||x|| <= 1/2 the terms fall below 2^-60 by the 18th
-    term = x.copy()
-    d = x.copy()
-    for k in range(2, 30):
-        term = term @ x / k
-        d = d + term
-        if _norm1(term) <= 1e-18 * max(_norm1(d), 1e-300):
-            break
-    eye = np.eye(n)
-    for _ in range(s):
-        d = d @ (d + 2.0 * eye)
-    return d
+    s = _squarings(np.array([norm]))
+    return _series_and_squarings((a / 2.0 ** int(s[0]))[None, :, :], s)[0]
 
 
 def expm(a) -> np.ndarray:
@@ -75,25 +91,9 @@ def expm_many(a, ts) -> np.ndarray:
         raise ValueError("expm_many: a square matrix is needed")
     if not np.all(np.isfinite(ts)):
         raise ValueError("expm_many: non-finite times")
-    norms = _norm1(a) * np.abs(ts)
-    squarings = np.zeros(ts.size, dtype=int)
-    big = norms > 0.5
-    squarings[big] = np.ceil(np.log2(norms[big] / 0.5)).astype(int)
+    squarings = _squarings(_norm1(a) * np.abs(ts))
     x = a[None, :, :] * (ts / 2.0**squarings)[:, None, None]
-    term = x.copy()
-    d = x.copy()
-    for k in range(2, 30):
-        term = term @ x / k
-        d = d + term
-        sizes = np.max(np.sum(np.abs(term), axis=1), axis=1)
-        if np.all(sizes <= 1e-18 * np.maximum(np.max(np.sum(np.abs(d), axis=1), axis=1), 1e-300)):
-            break
-    eye = np.eye(n)
-    for k in range(1, int(squarings.max(initial=0)) + 1):
-        sel = squarings >= k
-        ds = d[sel]
-        d[sel] = ds @ (ds + 2.0 * eye)
-    return d + eye
+    return _series_and_squarings(x, squarings) + np.eye(n)
 
 
 def rounding_bound(a, t: float = 1.0) -> float:
