@@ -323,6 +323,9 @@ def print_solve(result) -> None:
         if inv:
             cost.append("invariant drift: " + ", ".join(f"{k} {v:.2g}" for k, v in inv.items()))
     parts.append(Text("cost: " + "; ".join(cost), style="dim"))
+    fp = (result.numeric_info or {}).get("fp_warnings") or []
+    if fp:  # numpy's warnings are kept off stderr but shown: what they touched was judged like any value
+        parts.append(Text("floating-point warnings in the solve: " + "; ".join(fp), style="dim"))
     for n in notes:
         parts.append(Text(n, style="yellow"))
     for e in result.errors:

@@ -297,3 +297,29 @@ def test_list_table_has_every_exercise_and_wraps_to_the_width():
         assert starts == [e.id + ("" if e.from_book else "†") for e in entries]
     code, out, _ = run("list")
     assert code == 0 and out.rstrip().endswith(f"{len(entries)} exercises") and " 4.15 " in out
+
+
+def test_numpy_warnings_are_kept_off_stderr_but_shown(monkeypatch):
+    """A RuntimeWarning inside a numeric solver (an overflow in an intermediate) goes neither to stderr (it
+    would break a script reading it) nor away: the JSON keeps it in numeric_info.fp_warnings and the table
+    prints it under the cost line."""
+    import numpy as np
+    from click.testing import CliRunner
+
+    from mech.cli.main import cli
+    from mech.problems import registry
+
+    ex = registry.get("4.15")
+    good = ex._numeric
+
+    def overflows_on_the_way(p, run):
+        with np.errstate(over="warn"):
+            np.float64(1e308) * 10.0  # an intermediate that overflows and is not used
+        return good(p, run)
+
+    monkeypatch.setattr(ex, "_numeric", overflows_on_the_way)
+    res = CliRunner().invoke(cli, ["solve", "4.15", "--no-verify", "--json"])
+    assert res.exit_code == 0 and res.stderr == ""
+    assert any("overflow" in w for w in json.loads(res.stdout)["numeric_info"]["fp_warnings"])
+    res = CliRunner().invoke(cli, ["solve", "4.15", "--no-verify"])
+    assert res.exit_code == 0 and res.stderr == "" and "floating-point warnings in the solve" in res.stdout
