@@ -12,6 +12,10 @@ settings.load_profile("mech")
 # more time.  The budget's own tests pass their budget explicitly.
 os.environ.setdefault("MECH_BUDGET_S", "30")
 
+# Tables are read by tests as piped output at mech's own piped width; a terminal, a CI runner or a
+# pytest-xdist worker may export a narrower COLUMNS.  Tests of stacking and narrow widths set their own.
+os.environ.pop("COLUMNS", None)
+
 from mech.problems import registry
 
 
