@@ -63,6 +63,11 @@ def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = No
         value = to_si(text, unit)
         toks = _tokens(text)
     except ValueError_ as exc:
+        formula = _formula(ex, name, text)
+        if formula is not None:
+            from dataclasses import replace
+
+            return replace(formula, rtol=rtol)
         why = str(exc).replace("but the parameter is", f"but {name} is")
         raise BadInput(f"{name}: cannot use '{text}': {why}" + ("" if why != str(exc) else f" ({name} is in {unit})")) from None
     # the literals that set the value (not exponents of units such as the 2 of m/s^2)
@@ -78,6 +83,49 @@ def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = No
         raise BadInput(f"{name}: cannot use '{text}': an exponent too large") from None
     factor, unit_text = _unit_factor(text, toks, literals[0], unit)
     return Expectation(name, text, value, half_unit * abs(factor), digits, rtol, unit_text, abs(factor))
+
+
+def _formula(ex: Exercise, name: str, text: str):
+    """An Expectation holding a formula when ``text`` is one (it names a parameter or a function), else
+    None; BadInput (one line) when it is a formula mech cannot read."""
+    from mech.solvers.verification.answers import Expectation
+    from mech.solvers.verification.formula_ast import MAX_LENGTH, FormulaError, looks_like_formula, parse_formula
+
+    if len(text) > MAX_LENGTH:
+        raise BadInput(f"{name}: formula too long ({len(text)} characters; at most {MAX_LENGTH})")
+    if not looks_like_formula(text, ex):
+        return None
+    try:
+        f = parse_formula(text, ex)
+    except FormulaError as exc:
+        raise BadInput(f"{name}: cannot use the formula '{_short(text)}': {exc}") from None
+    return Expectation(name, text, math.nan, formula=f)
+
+
+def _short(text: str, n: int = 60) -> str:
+    return text if len(text) <= n else text[: n - 3] + "..."
+
+
+def with_range(expectations: list, points=None, seed=None, over=None) -> list:
+    """The formula expectations given the number of drawn points, the seed and the range (others as they are)."""
+    from dataclasses import replace
+
+    return [replace(e, points=points if points is not None else e.points, seed=seed if seed is not None else e.seed,
+                    over=tuple(sorted(over.items())) if over else e.over) if e.formula is not None else e
+            for e in expectations]
+
+
+def parse_count(text, what: str, lo: int, hi: int) -> int | None:
+    """A whole number in [lo, hi] (None when not given); BadInput naming the option otherwise."""
+    if text is None:
+        return None
+    try:
+        value = int(str(text).strip()) if not isinstance(text, bool) else None
+    except ValueError:
+        value = None
+    if value is None or not lo <= value <= hi:
+        raise BadInput(f"{what}: cannot use '{text}': allowed a whole number in [{lo}, {hi}]")
+    return value
 
 
 def parse_rtol_value(text, what: str = "--expect-rtol") -> float:

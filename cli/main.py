@@ -312,10 +312,14 @@ class SolveCommand(click.Command):
 @click.option("--expect", "expects", multiple=True, metavar="NAME=VALUE",
               help="Your answer for an output, judged to the digits written (repeatable): --expect theta_c=35.26deg.")
 @click.option("--expect-rtol", "expect_rtol", metavar="R", help="Judge --expect values to this relative tolerance.")
+@click.option("--expect-points", "expect_points", metavar="N",
+              help="A formula in --expect is checked at N parameter sets drawn across the range [24].")
+@click.option("--expect-seed", "expect_seed", metavar="S", help="Seed of those draws [fixed: verdicts repeat].")
 @click.option("--trajectory", "trajectory_file", metavar="FILE.csv",
               help="Write the integrated motion: t [s] and each state [unit], one row per time.")
 @click.pass_context
-def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects, expect_rtol, trajectory_file):
+def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects, expect_rtol, expect_points,
+              expect_seed, trajectory_file):
     """Solve exercise ID; parameters as --NAME VALUE or -p NAME=VALUE.
 
     Values are SI unless a unit is given: 90deg, 15 cm, 2Hz, 100 rpm, pi/3.
@@ -337,6 +341,15 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
             from mech.cli import grading
 
             expectations = grading.parse_expect_options(ex, list(expects), expect_rtol)
+        if expect_points is not None or expect_seed is not None:
+            from mech.cli import grading
+
+            expectations = grading.with_range(
+                expectations if grading and (expects or expect_rtol is not None) else [],
+                grading.parse_count(expect_points, "--expect-points", 1, 10000),
+                grading.parse_count(expect_seed, "--expect-seed", 0, 2**63 - 1))
+            if not expects:
+                raise BadInput("--expect-points/--expect-seed: given without any --expect NAME=FORMULA")
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     methods = ("analytic", "numeric") if method == "both" else (method,)

@@ -52,6 +52,12 @@ class Expectation:
     rtol: float | None = None
     unit_text: str = ""
     unit_factor: float = 1.0
+    # a formula (``formula_ast.Formula``) instead of a number, judged across the range by ``formulas``:
+    # at ``points`` drawn parameter sets (seeded by ``seed``), within ``over`` (name -> (lo, hi), SI)
+    formula: object = None
+    points: int | None = None
+    seed: int | None = None
+    over: tuple = ()
 
     def own_tol(self, reference: float) -> float:
         """The tolerance the user's writing earns, absolute, for a reference value."""
@@ -72,11 +78,15 @@ class Judgement:
     hint: str | None = None
     verdict: str = ""
     shown_reference: str = ""  # mech's value in the unit the user wrote
+    formula: dict | None = None  # for a formula: "formula", "dimension", "points", "depends" (the contract's)
 
     def as_json(self) -> dict:
-        return {"value": self.value, "match": self.match, "rel_err": _finite(self.rel_err), "hint": self.hint,
-                "text": self.text, "reference": self.reference, "reference_value": _finite(self.reference_value),
-                "tol": _finite(self.tol), "verdict": self.verdict}
+        d = {"value": _finite(self.value), "match": self.match, "rel_err": _finite(self.rel_err), "hint": self.hint,
+             "text": self.text, "reference": self.reference, "reference_value": _finite(self.reference_value),
+             "tol": _finite(self.tol), "verdict": self.verdict}
+        if self.formula is not None:
+            d.update(self.formula)
+        return d
 
 
 def _finite(v):
@@ -257,6 +267,11 @@ def judge(result, expectations: list[Expectation]) -> list[Judgement]:
     for e in expectations:
         q = quantities[e.name]
         ref = refs[e.name]
+        if e.formula is not None:
+            from mech.solvers.verification.formulas import judge_expectation
+
+            out.append(judge_expectation(result, e, q, ref))
+            continue
         j = Judgement(e.name, q.unit, e.text, e.value, match=False, reference=ref.label)
         if ref.value is None:
             j.verdict = f"cannot judge: {ref.why}"
