@@ -35,6 +35,7 @@ __all__ = ["FormulaError", "Formula", "parse_formula", "looks_like_formula", "Di
 
 MAX_LENGTH = 2000
 MAX_DEPTH = 100
+INPUT_ROUNDING = 2.0**-53  # a parameter's own rounding to a double, relative
 
 FUNCTIONS = {
     "sqrt": "sqrt", "exp": "exp", "log": "log", "ln": "log", "sin": "sin", "cos": "cos", "tan": "tan",
@@ -391,8 +392,11 @@ def _eval(node, env: dict, dtype, problems: list | None):
         v = dtype(node[1])
         return v, abs(v) * eps / 2
     if k == "par":
+        # a parameter is a double: half an ulp of it, whatever the precision of the arithmetic, so that a
+        # formula and mech's, exact for the same inputs, may differ by what that rounding moves (sin(2 beta)
+        # at beta = pi/2 in double is 1.2e-16, where mech's closed form gives 0)
         v = env[node[1]]
-        return v, np.zeros_like(v)
+        return v, np.abs(v) * INPUT_ROUNDING
     if k == "neg":
         v, e = _eval(node[1], env, dtype, problems)
         return -v, e
