@@ -186,7 +186,7 @@ def solve_json(result) -> dict:
 
 # -- mech grade FILE ------------------------------------------------------------------------------------
 
-_ENTRY_KEYS = ("exercise", "params", "expect", "rtol")
+_ENTRY_KEYS = ("exercise", "params", "expect", "rtol", "points", "seed", "over")
 
 
 @dataclass
@@ -296,8 +296,32 @@ def load_answers(path: str) -> list[Entry]:
                 raise bad(f"expect.{raw_name}", str(exc).split(": ", 1)[1]) from None
             if [e.name for e in expectations].count(expectations[-1].name) > 1:
                 raise bad(f"expect.{raw_name}", "given more than once")
+        try:
+            expectations = _formula_range(ex, item, expectations)
+        except BadInput as exc:
+            raise BadFile(f"{where}: {exc}") from None
         entries.append(Entry(k, line, ex, given, written, expectations))
     return entries
+
+
+def _formula_range(ex: Exercise, item: dict, expectations: list) -> list:
+    """An answer's optional ``points``, ``seed`` and ``over`` (the range its formulas are meant to hold
+    in), given to its formula expectations; BadInput naming the field."""
+    from mech.solvers.verification.formulas import parse_over
+
+    if not any(k in item for k in ("points", "seed", "over")):
+        return expectations
+    if not any(e.formula is not None for e in expectations):
+        raise BadInput(f"{next(k for k in ('points', 'seed', 'over') if k in item)}: only for formulas, and "
+                       "this answer has none")
+    points = parse_count(item["points"], "points", 1, 10000) if "points" in item else None
+    seed = parse_count(item["seed"], "seed", 0, 2**63 - 1) if "seed" in item else None
+    over = item.get("over")
+    if over is not None:
+        if not isinstance(over, dict) or not over:
+            raise BadInput("over: not a table such as { theta0 = \"10deg:60deg\" }")
+        over = parse_over(ex, over)
+    return with_range(expectations, points, seed, over)
 
 
 def grade(entries: list[Entry]) -> None:
@@ -305,10 +329,22 @@ def grade(entries: list[Entry]) -> None:
 
     from mech.solvers.verification.crosscheck import cross_check
 
+    solved: dict = {}  # a class file answers the same exercise at the same parameters: one solve each
     for entry in entries:
-        entry.result = cross_check(entry.exercise, entry.exercise.resolve(entry.given))
+        params = entry.exercise.resolve(entry.given)
+        key = (entry.exercise.id, tuple(sorted(params.items())))
+        if key not in solved:
+            solved[key] = cross_check(entry.exercise, params)
+        entry.result = _own_copy(solved[key])
         entry.judgements = judge(entry.result, entry.expectations)
         entry.result.expected = {j.name: j for j in entry.judgements}
+
+
+def _own_copy(result):
+    """The shared cross-check result with its own ``expected`` (each entry hangs its judgements on it)."""
+    import copy
+
+    return copy.copy(result)
 
 
 def grade_json(path: str, entries: list[Entry], seconds: float) -> dict:

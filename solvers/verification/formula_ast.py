@@ -493,6 +493,9 @@ class Formula:
             y, err = _eval(self.tree, env, dtype, problems)
         y = np.broadcast_to(np.asarray(y, dtype=dtype), (n,)).copy()
         err = np.broadcast_to(np.asarray(err, dtype=dtype), (n,)).copy()
+        for pr in problems:  # a constant part of the formula fails at every point
+            pr.mask = np.broadcast_to(np.asarray(pr.mask, bool), (n,))
+            pr.args = np.broadcast_to(np.asarray(pr.args, float), (n,))
         return y, err, problems
 
 

@@ -285,6 +285,7 @@ class PointSet:
     numeric: dict = field(default_factory=dict)  # (output, index) -> (value, err) or None: the verified numeric
     depends: dict = field(default_factory=dict)  # output -> list of parameters its value changes with
     lines: dict = field(default_factory=dict)  # parameter -> PointSet of one-at-a-time moves (lazy)
+    in_range: bool = True  # the given point inside ``over``
 
     def __len__(self):
         return len(self.points)
@@ -347,6 +348,7 @@ def point_set(ex, given: Params, n: int = DEFAULT_POINTS, seed: int = DEFAULT_SE
     pts += drawn
     labels += ["drawn"] * len(drawn)
     ps = _make(ex, pts, labels)
+    ps.in_range = _in_over(given, over)
     if len(_CACHE) > 256:
         _CACHE.clear()
     _CACHE[key] = ps
@@ -657,11 +659,13 @@ def _problem_text(pj: PointJudgement, ps: PointSet, i: int) -> str | None:
 
 
 def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: float | None,
-                  numeric_given: tuple | None = None) -> FormulaVerdict:
+                  numeric_given: tuple | None = None, given_in_range: bool = True) -> FormulaVerdict:
     """Judge ``formula`` for ``output`` (a spec Output) over the point set ``ps``.
 
     ``given_ref``: (value, err) of mech's trusted reference at the given point (None when there is none);
-    ``numeric_given``: (value, err) of the verified numeric value there, for a leading-order output.
+    ``numeric_given``: (value, err) of the verified numeric value there, for a leading-order output;
+    ``given_in_range``: False when the given parameters lie outside the range the formula is meant to hold
+    in (``over``): then it is judged at the other points only.
     """
     _, out_dim = dim_of_unit(output.unit)
     dimension = {"ok": formula.dim == out_dim, "yours": dim_text(formula.dim) if formula.dim else None,
@@ -679,7 +683,7 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
     lead = output.theory != "exact"
     ref = ps.analytic[name].copy()
     ref_err = ps.analytic_err[name].copy()
-    if given_ref is None:
+    if given_ref is None or not given_in_range:
         ref[0] = np.nan
     elif not lead:
         ref[0], ref_err[0] = given_ref
@@ -704,7 +708,7 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
     if ill:
         points["ill_conditioned"] = len(ill)
     kinds = _kinds(ps)
-    if given_ref is None:
+    if given_ref is None and given_in_range:
         return FormulaVerdict(False, "cannot judge: mech has no trusted value at the given parameters", None, y0,
                               None, None, None, points=points, **base)
     if n_checked == 0:
@@ -767,7 +771,7 @@ def _and(names: list[str]) -> str:
 
 def _kinds(ps: PointSet) -> str:
     n = {k: ps.labels.count(k) for k in ("drawn", "defaults", "hard case")}
-    parts = ["the given parameters"]
+    parts = ["the given parameters"] if ps.labels[0] == "given" and ps.in_range else []
     if n["drawn"]:
         parts.append(f"{n['drawn']} drawn across the range")
     if n["defaults"]:
@@ -869,7 +873,7 @@ def judge_expectation(result, e, q, ref):
             given_ref = numeric_given
     else:
         given_ref, numeric_given = (float(ref.value), float(ref.err)), None
-    v = judge_formula(e.formula, ex, output, ps, given_ref, e.rtol, numeric_given)
+    v = judge_formula(e.formula, ex, output, ps, given_ref, e.rtol, numeric_given, _in_over(given, over))
     j = Judgement(e.name, q.unit, e.text, v.value, match=v.match,
                   reference=(ref.label if ref.value is not None else None))
     j.reference_value = v.reference_value

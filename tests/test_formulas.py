@@ -1,0 +1,276 @@
+"""Formulas as answers (issue 24): the parser, dimensions, points, verdicts, the CLI, grade files, fuzz.
+
+Expected values are worked by hand here (the dimension of sqrt(g*l) is m/s; asin(2/3) is 41.81 deg; the
+4.15 ladder leaves the wall at sin(theta_c) = (2/3) sin(theta0), from energy conservation and the wall's
+force vanishing), never read off mech's solvers.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+import time
+import tracemalloc
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from mech.cli import grading
+from mech.problems import registry
+from mech.problems.spec import BadInput
+from mech.solvers.verification import formulas as F
+from mech.solvers.verification.formula_ast import (MAX_DEPTH, MAX_LENGTH, FormulaError, dim_text, parse_formula)
+
+EX = registry.get("4.15")
+
+
+def _mech(*args):
+    return subprocess.run([sys.executable, "-m", "mech.cli.main", *args], capture_output=True, text=True,
+                          timeout=120)
+
+
+# -- the parser ----------------------------------------------------------------------------------------
+
+def _value(text, ex=EX, **params):
+    f = parse_formula(text, ex)
+    env = {k: np.array([float(v)]) for k, v in params.items()}
+    return float(f.evaluate(env)[0][0]) if env else float(f.evaluate({"_": np.zeros(1)})[0][0])
+
+
+def test_arithmetic_functions_aliases_and_symbols():
+    assert _value("asin(2/3*sin(theta0))", theta0=math.pi / 2) == pytest.approx(math.asin(2 / 3), rel=1e-15)
+    assert _value("arcsin(2*sin(θ₀)/3)", theta0=math.pi / 2) == pytest.approx(math.asin(2 / 3), rel=1e-15)
+    assert _value("2 l g", l=0.5, g=3.0) == 3.0  # a factor next to a name multiplies
+    assert _value("l^2**1", l=3.0) == 9.0
+    assert _value("-l^2", l=3.0) == -9.0  # the power binds tighter than the sign
+    assert _value("2^3^2") == 512.0  # and to the right
+    assert _value("ln(exp(1.5)) + log(1)") == pytest.approx(1.5, rel=1e-15)
+    assert _value("atan2(1, -1)") == pytest.approx(3 * math.pi / 4, rel=1e-15)
+    assert _value("abs(-2) + sqrt(16) + cosh(0) + tanh(0)") == 7.0
+    assert _value("90deg") == pytest.approx(math.pi / 2, rel=1e-15)  # units convert to SI
+    assert _value("0.4*M_prime", ex=registry.get("4.13"), M_prime=5.0) == 2.0
+    assert _value("M'/2", ex=registry.get("4.13"), M_prime=5.0) == 2.5  # a symbol with a prime
+    assert _value("5*(h/R)", ex=registry.get("4.8"), h_over_R=0.5) == 2.5  # a symbol with a slash
+
+
+def test_parameters_win_over_units_of_the_same_name():
+    # in 4.15 g is gravity, not the gram; in 4.7 m is the rod's mass, not the metre
+    assert parse_formula("g", EX).dim == (Fraction(1), Fraction(0), Fraction(-2))
+    assert parse_formula("m", registry.get("4.7")).dim == (Fraction(0), Fraction(1), Fraction(0))
+
+
+@pytest.mark.parametrize("text, why", [
+    ("asin(2/3*sin(foo))", "unknown name 'foo'"), ("sin", "is a function"), ("sin(1, 2)", "takes 1 argument"),
+    ("atan2(1)", "takes 2 arguments"), ("(theta0", "missing ')'"), ("theta0 +", "ends too early"),
+    ("2 3", "side by side"), ("theta0 $ 2", "unexpected character"), ("", "empty"), ("1e999*l", "not a finite"),
+])
+def test_unreadable_formulas_say_why(text, why):
+    with pytest.raises(FormulaError, match=None) as info:
+        parse_formula(text, EX)
+    assert why in str(info.value)
+
+
+def test_length_and_depth_are_bounded():
+    with pytest.raises(FormulaError, match="too long"):
+        parse_formula("theta0+" * 400 + "1", EX)
+    with pytest.raises(FormulaError, match="nested too deeply"):
+        parse_formula("sqrt(" * (MAX_DEPTH + 5) + "l" + ")" * (MAX_DEPTH + 5), EX)
+    with pytest.raises(FormulaError, match="nested too deeply"):
+        parse_formula("-" * (MAX_LENGTH - 10) + "l", EX)
+    assert parse_formula("sqrt(" * 20 + "l" + ")" * 20, EX).dim is not None
+
+
+# -- dimensions -----------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("text, dim", [
+    ("sqrt(g*l)", "m/s"), ("sqrt(g/l)", "1/s"), ("l*theta0", "m"), ("g*l^2", "m^3/s^2"), ("sqrt(l)", "m^(1/2)"),
+    ("asin(2/3)", "1"), ("abs(-g)", "m/s^2"), ("l^(3/2)", "m^(3/2)"),
+])
+def test_dimension_of_a_formula(text, dim):
+    assert dim_text(parse_formula(text, EX).dim) == dim
+
+
+@pytest.mark.parametrize("text, why", [
+    ("l + g", "adds m and m/s^2"), ("sin(l)", "sin of m"), ("exp(g)", "exp of m/s^2"), ("l^theta0", "depends on"),
+    ("2^l", "exponent has the dimension of m"), ("atan2(l, g)", "atan2 of m and m/s^2"),
+])
+def test_clashing_dimensions_are_named(text, why):
+    f = parse_formula(text, EX)
+    assert f.dim is None and why in f.dim_error
+
+
+# -- points ---------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("ex_id", ["5.10", "5.8", "5.11", "5.12", "4.24", "4.20"])
+def test_draws_stay_inside_joint_constraints_and_spread(ex_id):
+    ex = registry.get(ex_id)
+    pts = F.draw(ex, 24, F.DEFAULT_SEED)
+    assert len(pts) == 24
+    for p in pts:
+        ex.resolve(dict(p))  # accepted by the exercise's own checks
+    # spread: the draws are not all the defaults, every parameter takes several values
+    for name in ex.param_map:
+        assert len({p[name] for p in pts}) >= 6, name
+
+
+def test_draws_repeat_with_the_seed_and_change_with_it():
+    a = F.draw(EX, 8, 1)
+    assert [dict(p) for p in a] == [dict(p) for p in F.draw(EX, 8, 1)]
+    assert [dict(p) for p in a] != [dict(p) for p in F.draw(EX, 8, 2)]
+
+
+def test_over_narrows_the_range():
+    over = F.parse_over(EX, {"theta0": "10deg:60deg"})
+    assert over["theta0"] == pytest.approx((math.radians(10), math.radians(60)))
+    pts = F.draw(EX, 24, 3, over)
+    assert all(math.radians(10) <= p.theta0 <= math.radians(60) for p in pts)
+    with pytest.raises(BadInput, match="out of range"):
+        F.parse_over(EX, {"theta0": "10deg:100deg"})
+    with pytest.raises(BadInput, match="LO:HI"):
+        F.parse_over(EX, {"theta0": "10deg"})
+
+
+# -- verdicts through the command line (the issue's done-when) --------------------------------------------
+
+def test_done_when_right_formula():
+    r = _mech("solve", "4.15", "--expect", "theta_c=asin(2/3*sin(theta0))", "--json")
+    assert r.returncode == 0, r.stderr
+    e = json.loads(r.stdout)["quantities"][0]["expected"]
+    assert e["match"] and e["formula"] == "asin(2/3*sin(theta0))"
+    assert e["dimension"] == {"ok": True, "yours": "1", "output": "rad"}
+    assert e["points"]["checked"] == e["points"]["right"] >= 26  # 24 drawn, the given point, a hard case
+    assert e["depends"] == []
+    # the 90 deg default: mech's value is asin(2/3), 41.81 deg
+    assert e["value"] == pytest.approx(math.asin(2 / 3), rel=1e-15)
+
+
+def test_done_when_right_only_at_the_defaults():
+    r = _mech("solve", "4.15", "--expect", "theta_c=asin(2/3)")
+    assert r.returncode == 1
+    assert "theta0" in r.stdout and "right when only l and g change" in " ".join(r.stdout.split())
+
+
+def test_done_when_wrong_dimension():
+    r = _mech("solve", "4.15", "--expect", "omega_c=sqrt(g*l)")
+    assert r.returncode == 1
+    assert "your formula has the dimension of m/s; omega_c is in rad/s" in " ".join(r.stdout.split())
+
+
+def test_done_when_domain_error():
+    r = _mech("solve", "4.15", "--expect", "theta_c=asin(1.2*sin(theta0))")
+    assert r.returncode == 1
+    assert "asin of 1.2" in r.stdout
+
+
+def test_options_and_refusals():
+    r = _mech("solve", "4.15", "--expect", "theta_c=asin(2/3*sin(theta0))", "--expect-points", "5",
+              "--expect-seed", "7", "--json")
+    assert r.returncode == 0
+    assert json.loads(r.stdout)["quantities"][0]["expected"]["points"]["checked"] == 7  # 5 + given + hard case
+    for args, word in ((["--expect-points", "0"], "--expect-points"), (["--expect-points", "x"], "--expect-points"),
+                       (["--expect", "theta_c=sin(nope)"], "unknown name 'nope'")):
+        extra = [] if "--expect" in args else ["--expect", "theta_c=asin(2/3*sin(theta0))"]
+        r = _mech("solve", "4.15", *extra, *args)
+        assert r.returncode == 2 and word in r.stderr and "Traceback" not in r.stderr
+        assert len(r.stderr.strip().splitlines()) == 1
+
+
+def test_a_number_stays_a_number():
+    # '3 m' is a length even in 4.7, where m names the rod's mass: it reads as a value first
+    e = grading.parse_expectation(EX, "theta_c", "41.81deg")
+    assert e.formula is None and e.digits == 4
+
+
+# -- judging details ------------------------------------------------------------------------------------
+
+def _judge(ex_id, out, text, **params):
+    import mech
+
+    sol = mech.solve(ex_id, **params, expect={out: text})
+    return next(q for q in sol.quantities if q.name == out).expected
+
+
+def test_cancellation_is_ill_conditioned_not_wrong():
+    # zeta - sqrt(zeta^2 - 1) at zeta = 1e6 keeps ~6 of 16 digits; 1/(zeta + sqrt(zeta^2 - 1)) keeps all
+    e = _judge("5.4", "lambda_slow", "omega0*(zeta - sqrt(zeta^2-1))", zeta="1e6")
+    assert e["match"] and "ill-conditioned" in e["verdict"]
+    assert not _judge("5.4", "lambda_slow", "omega0*(zeta - sqrt(zeta^2-1))*1.0001", zeta="1e6")["match"]
+
+
+def test_exact_zero_and_round_off_at_90_degrees():
+    # L_perp = M l^2 |omega| sin(beta) cos(beta) / 12 is 0 at beta = 90 deg; sin(2 beta) gives 1.2e-16 there
+    assert _judge("4.4", "L_perp", "M*l^2*abs(omega)*sin(2*beta)/24", beta="90deg")["match"]
+
+
+def test_over_restricts_a_formula_that_holds_only_in_part_of_the_range(tmp_path):
+    # the underdamped Green's function is right for delta < omega0 only: its sqrt fails above
+    text = "exp(-delta*tau)*sin(sqrt(omega0^2-delta^2)*tau)/(m*sqrt(omega0^2-delta^2))"
+    e = _judge("5.1", "G", text)
+    assert not e["match"] and "cannot be evaluated" in e["verdict"]
+    f = tmp_path / "a.toml"
+    f.write_text('[[answer]]\nexercise = "5.1"\nexpect = { G = "' + text + '" }\n'
+                 'over = { delta = "0.01:0.5", omega0 = "1:10" }\npoints = 12\n')
+    r = _mech("grade", str(f), "--json")
+    assert r.returncode == 0, r.stdout
+    q = next(q for q in json.loads(r.stdout)["entries"][0]["quantities"] if q["name"] == "G")
+    assert q["expected"]["points"]["right"] == q["expected"]["points"]["checked"] >= 12
+
+
+def test_grade_file_with_formulas_and_junit(tmp_path):
+    f = tmp_path / "class.toml"
+    f.write_text('[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "asin(2/3*sin(theta0))" }\n'
+                 'points = 10\nover = { theta0 = "10deg:60deg" }\n\n'
+                 '[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "asin(2/3)", omega_c = "sqrt(g/l)" }\n')
+    junit = tmp_path / "j.xml"
+    r = _mech("grade", str(f), "--json", "--junit", str(junit))
+    assert r.returncode == 1
+    d = json.loads(r.stdout)
+    assert (d["passed"], d["failed"]) == (1, 2)
+    assert junit.read_text().count("<testcase") == 3
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "0.7" }\npoints = 10\n')
+    r = _mech("grade", str(bad))
+    assert r.returncode == 2 and "points: only for formulas" in r.stderr
+
+
+def test_references_are_computed_once_per_exercise_and_point():
+    ex = registry.get("4.10")
+    p = ex.resolve({})
+    F._CACHE.clear()
+    a = F.point_set(ex, p)
+    assert F.point_set(ex, p) is a
+
+
+# -- fuzz: any text, no traceback, no hang, bounded memory ----------------------------------------------
+
+_ATOMS = ["theta0", "l", "g", "θ₀", "2", "0.5", "1e-300", "1e300", "pi", "deg", "m", "(", ")", "+", "-", "*", "/",
+          "^", "**", ",", "sqrt(", "asin(", "log(", "exp(", "atan2(", "abs(", " ", "0", "tan(", "cosh("]
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.one_of(st.lists(st.sampled_from(_ATOMS), max_size=40).map("".join), st.text(max_size=60)))
+def test_fuzz_formulas_never_crash(text):
+    tracemalloc.start()
+    t0 = time.perf_counter()
+    try:
+        f = parse_formula(text, EX)
+    except FormulaError:
+        pass
+    else:
+        pts = {k: np.array([0.3, 1.2, 1e-8]) for k in ("theta0", "l", "g")}
+        y, err, problems = f.evaluate(pts)
+        assert y.shape == (3,) and err.shape == (3,)
+        if f.dim is not None:
+            out = EX.outputs[0]
+            ps = F.point_set(EX, EX.resolve({}), 6, 1)
+            v = F.judge_formula(f, EX, out, ps, (float(ps.analytic["theta_c"][0]), 0.0), None)
+            assert isinstance(v.verdict, str) and v.verdict
+    assert time.perf_counter() - t0 < 5.0
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    assert peak < 50e6
