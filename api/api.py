@@ -200,7 +200,7 @@ class Solution:
         if any("solver failed" in e for e in self.errors):
             return None  # the numeric solve itself did not finish: no motion to hand over
         from mech.problems.spec import Params
-        from mech.solvers.verification import budget
+        from mech.core import budget
 
         info = self._data.get("numeric_info") or {}
         with budget.limit(None, what=f"the trajectory of {ex.id}"):

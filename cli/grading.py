@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import click
 
-from mech.cli.values import CONSTANTS, ValueError_, _tokens, to_si
+from mech.core.units import CONSTANTS, ValueError_, _tokens, to_si
 from mech.problems.spec import BadInput, Exercise
 
 __all__ = ["parse_expectation", "parse_expect_options", "attach", "grade_cmd"]

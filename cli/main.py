@@ -14,7 +14,7 @@ import sys
 import click
 
 from mech.cli.options import collect_params, parse_rtol
-from mech.problems.errors import BadInput
+from mech.core.errors import BadInput
 
 EXIT_OK, EXIT_DISAGREE, EXIT_USAGE = 0, 1, 2
 

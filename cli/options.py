@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from mech.cli.values import ValueError_, to_si
+from mech.core.units import ValueError_, to_si
 from typing import TYPE_CHECKING
 
-from mech.problems.errors import BadInput
+from mech.core.errors import BadInput
 
 if TYPE_CHECKING:  # pragma: no cover
     from mech.problems.spec import Exercise

@@ -59,7 +59,7 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
 
     from mech.cli.figures import draw
     from mech.problems.spec import NumericFailure
-    from mech.solvers.verification import budget
+    from mech.core import budget
 
     # every numeric solve has its own budget (a failed one is shown in the figure); the whole figure,
     # the scene's own integrations included, ends within FIGURE_BUDGETS solve budgets or fails in one line

@@ -20,7 +20,7 @@ import click
 
 from mech.cli.main import EXIT_DISAGREE, EXIT_OK, SolveCommand, UsageFailure, _complete_ids, _get
 from mech.cli.options import _convert, collect_texts, parse_rtol
-from mech.cli.values import ValueError_, to_si
+from mech.core.units import ValueError_, to_si
 from mech.problems.spec import BadInput, Exercise
 
 MAX_POINTS = 100_000
@@ -80,7 +80,7 @@ def shown_unit(param, text: str = "") -> tuple[str, float]:
     (``10deg`` -> deg, ``2Hz`` -> Hz), else the parameter's display unit, else its SI unit."""
     import re
 
-    from mech.cli.values import UNITS
+    from mech.core.units import UNITS
 
     m = re.fullmatch(r"\s*[-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?\s*([A-Za-z]+)\s*", text or "")
     if m and m.group(1) in UNITS:

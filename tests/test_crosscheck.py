@@ -133,7 +133,7 @@ def test_a_solve_past_its_budget_fails_loudly(monkeypatch):
     ex = registry.get("4.15")
 
     def endless(p, run):
-        from mech.solvers.verification import budget
+        from mech.core import budget
 
         while True:
             time.sleep(0.01)

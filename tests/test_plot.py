@@ -253,7 +253,7 @@ def test_bench_figure_is_large_enough_to_read(tmp_path):
 
 
 def _endless(*args):
-    from mech.solvers.verification import budget
+    from mech.core import budget
 
     while True:
         budget.check("a test's endless loop")

@@ -34,7 +34,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from mech.solvers.verification import budget
+from mech.core import budget
 
 __all__ = ["available", "solve", "DenseSolution", "Result"]
 
@@ -259,7 +259,7 @@ def solve(
     status, message = 0, "The solver successfully reached the end of the integration interval."
     rejected_last = False
     while (t_end - t) * direction > 0:
-        if time.monotonic() > budget._deadline:
+        if time.monotonic() > budget.deadline:
             budget.check("DOP853 step")
         min_step = 10.0 * abs(math.nextafter(t, direction * math.inf) - t)
         if h_abs < min_step:

@@ -93,7 +93,7 @@ def _start_rerun(ex: Exercise, params: Params, rtol: float, budget_s: float):
             sys.stdout = sys.stderr = open(os.devnull, "w")
             warnings.simplefilter("ignore")
             _limit_memory(CHILD_MEMORY_BYTES)
-            from mech.solvers.verification import budget
+            from mech.core import budget
 
             try:
                 with budget.limit(budget_s, what=f"the rerun of {ex.id} at rtol={rtol:g}"):
@@ -341,7 +341,7 @@ def cross_check(
     The numeric solve and its rerun share one wall-clock budget (``budget_s``, by default
     ``budget.default_seconds()``): past it the solve fails loudly instead of running on.
     """
-    from mech.solvers.verification import budget
+    from mech.core import budget
 
     rtol = float(rtol or ex.default_rtol)
     budget_s = budget.default_seconds() if budget_s is None else float(budget_s)
@@ -359,7 +359,7 @@ def cross_check(
 
 
 def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings) -> CrossCheck:
-    from mech.solvers.verification import budget
+    from mech.core import budget
 
     timing: dict[str, float | None] = {"analytic_s": None, "numeric_s": None}
     errors: list[str] = []
