@@ -332,7 +332,7 @@ def _expectations(ex, expect: dict | None, expect_rtol):
 def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None,
                    verify: bool = True) -> Solution:
     """The cross-check at checked parameters: what ``mech.solve`` and ``mech solve`` both run."""
-    from mech.solvers.verification.crosscheck import cross_check
+    from mech.verification.crosscheck import cross_check
 
     result = cross_check(ex, params, methods=tuple(methods), rtol=rtol, verify=verify and "numeric" in methods)
     return Solution(ex, result.as_json(), None, result)
@@ -380,7 +380,7 @@ class Sweep:
 
     @property
     def agree(self) -> bool | None:
-        from mech.solvers.verification.crosscheck import combine_agree
+        from mech.verification.crosscheck import combine_agree
 
         return combine_agree(p.agree for p in self.points)
 
@@ -455,7 +455,7 @@ def _nan(v) -> float:
 def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, only=None, jobs=None,
           ranges: dict | None = None) -> Sweep:
     from mech.problems import registry
-    from mech.solvers.verification.sweep import Axis, batched_outputs, batched_points, grid_points, run_batched, run_sweep
+    from mech.verification.sweep import Axis, batched_outputs, batched_points, grid_points, run_batched, run_sweep
 
     ex = registry.get(str(ex_id))
     axes, fixed = [], {}
@@ -513,7 +513,7 @@ def grade(path) -> dict:
 def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **options) -> dict:
     """``mech bench ID --json``: speed against error of the numeric solver(s)."""
     from mech.problems import registry
-    from mech.solvers.verification import bench as benching
+    from mech.verification import bench as benching
 
     ex = registry.get(str(ex_id))
     resolved = resolve_params(ex, dict(params or {}))
@@ -525,8 +525,8 @@ def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **
 def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = None, params: dict | None = None):
     """``mech plot ID -o PATH``: the exercise's figure (needs matplotlib); returns the matplotlib Figure,
     saved to ``path`` when one is given."""
-    from mech.cli.figures import draw
-    from mech.cli.figures.common import need_matplotlib, save
+    from mech.figures import draw
+    from mech.figures.common import need_matplotlib, save
     from mech.problems import registry
 
     ex = registry.get(str(ex_id))

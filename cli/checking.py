@@ -104,7 +104,7 @@ def case_text(ex: Exercise, values: dict) -> str:
 
 
 def run_case(case: Case) -> Case:
-    from mech.solvers.verification.crosscheck import cross_check
+    from mech.verification.crosscheck import cross_check
 
     t0 = time.perf_counter()
     ex = case.exercise
@@ -213,7 +213,7 @@ def _run_pooled(cases: list[Case], workers: int, started, finished) -> None:
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    from mech.solvers.verification.sweep import pool_worker_init
+    from mech.verification.sweep import pool_worker_init
 
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
                                initializer=pool_worker_init, initargs=(os.getpid(),))

@@ -1,7 +1,7 @@
 """Checking your own answers: ``mech solve --expect``, ``mech grade FILE`` and ``mech check`` baselines.
 
-Parsing and drawing only; the judging is ``mech.solvers.verification.answers``, the baseline
-comparison ``mech.solvers.verification.baseline``.
+Parsing and drawing only; the judging is ``mech.verification.answers``, the baseline
+comparison ``mech.verification.baseline``.
 """
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ def _unit_factor(text: str, toks: list[tuple[str, str]], i: int, unit: str) -> t
 
 def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = None) -> Expectation:
     """``theta_c``, ``35.26deg`` -> an Expectation in SI; BadInput naming the output otherwise."""
-    from mech.solvers.verification.answers import Expectation
+    from mech.verification.answers import Expectation
 
     name = str(raw_name).strip().replace("-", "_")
     outputs = {o.name: o for o in ex.outputs}
@@ -112,7 +112,7 @@ def parse_expect_options(ex: Exercise, pairs: list[str], rtol_text: str | None) 
 def attach(result, expectations: list[Expectation]) -> bool:
     """Judge and hang the judgements on the cross-check result (``result.expected``, read by the table);
     True when every expected value matches."""
-    from mech.solvers.verification.answers import judge
+    from mech.verification.answers import judge
 
     judgements = judge(result, expectations)
     result.expected = {j.name: j for j in judgements}
@@ -253,9 +253,9 @@ def load_answers(path: str) -> list[Entry]:
 
 
 def grade(entries: list[Entry]) -> None:
-    from mech.solvers.verification.answers import judge
+    from mech.verification.answers import judge
 
-    from mech.solvers.verification.crosscheck import cross_check
+    from mech.verification.crosscheck import cross_check
 
     for entry in entries:
         entry.result = cross_check(entry.exercise, entry.exercise.resolve(entry.given))
@@ -366,7 +366,7 @@ def grade_cmd(file, as_json, junit_file):
 
 def open_baseline(path: str) -> dict:
     """A baseline file, read and checked before the run (BadInput: one line naming the file and field)."""
-    from mech.solvers.verification import baseline
+    from mech.verification import baseline
 
     try:
         with open(path, encoding="utf-8") as fh:
@@ -382,7 +382,7 @@ def open_baseline(path: str) -> dict:
 
 
 def check_records(report) -> list[dict]:
-    from mech.solvers.verification import baseline
+    from mech.verification import baseline
 
     return [baseline.record_case(c.exercise.id, c.label, getattr(c.result, "params", None) or c.given, c.ok,
                                  getattr(c.result, "quantities", None)) for c in report.cases]
@@ -390,7 +390,7 @@ def check_records(report) -> list[dict]:
 
 def baselines(report, hard: bool, old: dict | None, old_path: str | None, save_path: str | None):
     """Compare this check with a loaded baseline and/or save it as one; the Comparison or None."""
-    from mech.solvers.verification import baseline
+    from mech.verification import baseline
 
     records = check_records(report)
     cmp = baseline.compare(old, records, old_path or "") if old is not None else None

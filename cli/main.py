@@ -14,7 +14,7 @@ import sys
 import click
 
 from mech.cli.options import collect_params, parse_rtol
-from mech.core.errors import BadInput
+from mech.core.errors import BadInput, BadUsage
 
 EXIT_OK, EXIT_DISAGREE, EXIT_USAGE = 0, 1, 2
 
@@ -110,6 +110,9 @@ class MechGroup(click.Group):
         except click.ClickException as exc:
             click.echo(f"mech: error: {_one_line(exc.format_message())}", err=True)
             code = EXIT_USAGE if isinstance(exc, (click.UsageError, UsageFailure)) else exc.exit_code
+        except BadUsage as exc:
+            click.echo(f"mech: error: {_one_line(str(exc))}", err=True)
+            code = EXIT_USAGE
         except click.Abort:
             click.echo("mech: aborted", err=True)
             code = 130
@@ -347,7 +350,7 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
         sol = solve_resolved(ex, params, methods=methods, rtol=rtol, verify=verify)
         result = sol.result
     else:  # the same cross-check, without loading the API's module (7 ms to compile where .pyc are not kept)
-        from mech.solvers.verification.crosscheck import cross_check
+        from mech.verification.crosscheck import cross_check
 
         result = cross_check(ex, params, methods=methods, rtol=rtol, verify=verify)
     if trajectory_file:

@@ -41,7 +41,7 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
     Matplotlib comes with the plot extra; in mech's checkout:
     pip install -e '.[plot]'.
     """
-    from mech.cli.figures.common import check_target, need_matplotlib, save
+    from mech.figures.common import check_target, need_matplotlib, save
 
     ex = _get(ex_id)
     try:
@@ -57,7 +57,7 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
     need_matplotlib()
     import warnings
 
-    from mech.cli.figures import draw
+    from mech.figures import draw
     from mech.problems.spec import NumericFailure
     from mech.core import budget
 

@@ -29,7 +29,7 @@ MAX_N = 10_000
 
 def parse_range(ex: Exercise, name: str, text: str):
     """``START:STOP:N[:log]`` -> Axis; every value within the parameter's bounds."""
-    from mech.solvers.verification.sweep import Axis
+    from mech.verification.sweep import Axis
 
     param = ex.param_map[name]
     parts = [s.strip() for s in text.split(":")]
@@ -165,7 +165,7 @@ class _PointView:
 
 def validate(ex: Exercise, axes, fixed):
     """Every grid point resolved with the bounds and joint constraints, as solve does; the first bad one is named."""
-    from mech.solvers.verification.sweep import grid_points
+    from mech.verification.sweep import grid_points
 
     total = math.prod(len(a.values) for a in axes)
     if total > MAX_POINTS:
@@ -346,7 +346,7 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
       mech sweep 5.11 --omega 7:13:200 --mu 0.005:0.5:200 --only growth --plot chart.png
     Exit status: 0 every point agrees, 1 a point failed, 2 bad input, 130 interrupted.
     """
-    from mech.solvers.verification.sweep import batched_outputs, run_batched, run_sweep
+    from mech.verification.sweep import batched_outputs, run_batched, run_sweep
 
     if as_json and as_csv:
         raise UsageFailure("--json and --csv: choose one")
@@ -365,7 +365,7 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     if plot_file:
-        from mech.cli.figures.common import check_target, need_matplotlib
+        from mech.figures.common import check_target, need_matplotlib
 
         need_matplotlib()
         check_target(plot_file)
@@ -403,8 +403,8 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
     result.fixed = {p.name: float(fixed.get(p.name, p.default)) for p in ex.params if p.name not in swept}
 
     if plot_file:
-        from mech.cli.figures.common import save
-        from mech.cli.figures.sweepfig import sweep_figure
+        from mech.figures.common import save
+        from mech.figures.sweepfig import sweep_figure
 
         save(sweep_figure(result), plot_file)
     if as_json:

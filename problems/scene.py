@@ -3,7 +3,7 @@
 An exercise that has a scene registers ``@exercise.scene def scene(p, run) -> Scene``:
 it computes every curve, trajectory, potential and marker from its own physics
 (its equations of motion, energies, solvers) and hands them over with labels
-and units.  ``mech plot`` (cli/figures) only draws what it is given; it holds
+and units.  ``mech plot`` (figures/) only draws what it is given; it holds
 no equation of motion and no formula.
 
 ``run`` is a :class:`SceneRun`: the requested accuracy, how many numeric

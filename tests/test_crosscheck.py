@@ -13,7 +13,7 @@ import pytest
 
 from mech.problems import registry
 from mech.problems.spec import Undefined
-from mech.solvers.verification import crosscheck
+from mech.verification import crosscheck
 
 
 def _stand_in(ex, factor_of, invariant=None):

@@ -100,7 +100,7 @@ class SweepResult:
             if all((J["agree"] < 0).all() for J in judged):
                 return None
             return True
-        from mech.solvers.verification.crosscheck import combine_agree
+        from mech.verification.crosscheck import combine_agree
 
         return combine_agree(pt.get("agree") for pt in self.points)
 
@@ -131,7 +131,7 @@ def grid_points(axes: Sequence[Axis], fixed: dict[str, float]) -> list[dict[str,
 def pool_worker_init(parent: int | None = None) -> None:
     """In a pool worker: the cores are the pool's, so each cross-check's rerun runs after its solve; and
     the worker dies with the sweep (a sweep killed by a signal leaves no workers behind)."""
-    from mech.solvers.verification import crosscheck
+    from mech.verification import crosscheck
 
     crosscheck.PARALLEL_VERIFY = False
     if parent is not None and hasattr(crosscheck, "_die_with_parent"):
@@ -143,7 +143,7 @@ def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only
 
     ``only``: the output names to keep (the solvers still compute all of them on this route)."""
     from mech.problems import registry
-    from mech.solvers.verification.crosscheck import cross_check
+    from mech.verification.crosscheck import cross_check
 
     ex = registry.get(ex_id)
     params = Params(values) if isinstance(values, dict) else values
