@@ -31,9 +31,9 @@ def _value_text(value: Any) -> str:
 
 
 def _convert(ex, name: str, value: Any) -> float:
-    from mech.cli.options import _canonical, _convert as convert_text
+    from mech.problems.values import convert as convert_text, param_name
 
-    canon = _canonical(ex, name)
+    canon = param_name(ex, name)
     return convert_text(ex, canon, _value_text(value))
 
 
@@ -51,7 +51,7 @@ def resolve_params(ex, given: dict[str, Any]):
 def _rtol(ex, rtol):
     if rtol is None:
         return None
-    from mech.cli.options import parse_rtol
+    from mech.problems.values import parse_rtol
 
     return parse_rtol(_value_text(rtol), ex)
 
@@ -255,7 +255,7 @@ class Solution:
         return f"<Solution {self.exercise.id}: {parts}; agree={self.agree}>"
 
     def __rich__(self):
-        from mech.cli import render
+        from mech import render
 
         if self._result is not None:
             return render.solve_table(self._result)
@@ -304,7 +304,7 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
     expectations = _expectations(ex, expect, expect_rtol)
     sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify)
     if expectations is not None:
-        from mech.cli import grading
+        from mech.verification import grading
 
         sol.expect_ok = grading.attach(sol.result, expectations)
         sol._data = grading.solve_json(sol.result)
@@ -323,7 +323,7 @@ def _expectations(ex, expect: dict | None, expect_rtol):
         if expect_rtol is not None:
             raise BadInput("expect_rtol: given without any expected value")
         return None
-    from mech.cli import grading
+    from mech.verification import grading
 
     pairs = [f"{name}={_value_text(value)}" for name, value in expect.items()]
     return grading.parse_expect_options(ex, pairs, None if expect_rtol is None else _value_text(expect_rtol))
@@ -483,7 +483,7 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     batched = batched_outputs(ex, wanted)
     if batched:
         # the chart route: every point integrated at once, each with its own verdict and error bar
-        from mech.cli.sweep import validate_grid
+        from mech.verification.sweep import validate_grid
 
         validate_grid(ex, axes, fixed)
         result = run_batched(ex, axes, fixed, batched, rtol=rtol_value, verify=verify)
@@ -502,7 +502,7 @@ def grade(path) -> dict:
     """``mech grade FILE --json``: every answer of a grading file held against mech."""
     import time
 
-    from mech.cli import grading
+    from mech.verification import grading
 
     t0 = time.perf_counter()
     entries = grading.load_answers(str(path))
@@ -541,7 +541,7 @@ def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = Non
 # -- check -------------------------------------------------------------------------
 
 def check(ids=None, hard: bool = False):
-    from mech.cli.checking import run_check
+    from mech.verification.checking import run_check
     from mech.problems import registry
 
     if isinstance(ids, str):

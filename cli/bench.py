@@ -73,7 +73,7 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
 
     progress = None
     if not as_json:
-        from mech.cli.render import console
+        from mech.render import console
 
         c = console()
 
@@ -135,7 +135,7 @@ def _print(r: dict, plot_file: str | None) -> None:
 
     from rich.console import Group
 
-    from mech.cli.render import console, emit
+    from mech.render import console, emit
 
     c = console()
     parts: list = []

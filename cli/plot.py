@@ -5,7 +5,8 @@ from __future__ import annotations
 import click
 
 from mech.cli.main import SolveCommand, UsageFailure, _complete_ids, _get
-from mech.cli.options import _canonical, collect_params, parse_rtol
+from mech.cli.options import collect_params
+from mech.problems.values import param_name, parse_rtol
 from mech.problems.spec import BadInput
 
 FIGURE_BUDGETS = 2
@@ -49,7 +50,7 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
         params = ex.resolve(given)
         rtol = parse_rtol(rtol_text, ex)
         if vary:
-            vary = _canonical(ex, vary)
+            vary = param_name(ex, vary)
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     out = out or f"mech-{ex.id}.png"

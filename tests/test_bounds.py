@@ -11,7 +11,7 @@ import os
 
 import pytest
 
-from mech.cli.checking import Case, run_case
+from mech.verification.checking import Case, run_case
 from mech.problems import registry
 from mech.verification.draws import draws
 

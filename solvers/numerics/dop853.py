@@ -36,7 +36,7 @@ import numpy as np
 
 from mech.core import budget
 
-__all__ = ["available", "solve", "DenseSolution", "Result"]
+__all__ = ["available", "tableau_load_seconds", "solve", "DenseSolution", "Result"]
 
 _TABLEAU = None
 _TABLEAU_TRIED = False
@@ -85,6 +85,12 @@ def available() -> bool:
         _TABLEAU = _load_tableau()
         LOAD_S = time.perf_counter() - t0
     return _TABLEAU is not None
+
+
+def tableau_load_seconds() -> float | None:
+    """What loading the tableau cost, once per process (start-up, kept out of a solve's time); None until
+    it has been loaded."""
+    return LOAD_S if _TABLEAU_TRIED else None
 
 
 class _Segment:
