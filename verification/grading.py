@@ -14,7 +14,7 @@ import tomllib
 from dataclasses import dataclass, field
 
 
-from mech.core.units import CONSTANTS, ValueError_, _tokens, to_si
+from mech.core.units import CONSTANTS, ValueError_, tokens, to_si
 from mech.problems.spec import BadInput, Exercise
 
 __all__ = ["parse_expectation", "parse_expect_options", "attach", "solve_json", "Entry", "BadFile", "load_answers",
@@ -60,7 +60,7 @@ def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = No
     text = str(text)
     try:
         value = to_si(text, unit)
-        toks = _tokens(text)
+        toks = tokens(text)
     except ValueError_ as exc:
         why = str(exc).replace("but the parameter is", f"but {name} is")
         raise BadInput(f"{name}: cannot use '{text}': {why}" + ("" if why != str(exc) else f" ({name} is in {unit})")) from None
