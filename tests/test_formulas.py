@@ -20,11 +20,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mech.cli import grading
+from mech.verification import grading
 from mech.problems import registry
 from mech.problems.spec import BadInput
-from mech.solvers.verification import formulas as F
-from mech.solvers.verification.formula_ast import (MAX_DEPTH, MAX_LENGTH, FormulaError, dim_text, parse_formula)
+from mech.verification import formulas as F
+from mech.verification.formula_ast import (MAX_DEPTH, MAX_LENGTH, FormulaError, dim_text, parse_formula)
 
 EX = registry.get("4.15")
 

@@ -15,10 +15,10 @@ from __future__ import annotations
 
 import pytest
 
-from mech.cli import grading
+from mech.verification import grading
 from mech.problems import registry
-from mech.solvers.verification.answers import judge
-from mech.solvers.verification.crosscheck import cross_check
+from mech.verification.answers import judge
+from mech.verification.crosscheck import cross_check
 
 R = None  # right: no hint expected
 

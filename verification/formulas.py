@@ -32,7 +32,7 @@ from fractions import Fraction
 import numpy as np
 
 from mech.problems.spec import BadInput, Params, Undefined
-from mech.solvers.verification.formula_ast import Formula, dim_of_unit, dim_text
+from mech.verification.formula_ast import Formula, dim_of_unit, dim_text
 
 __all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "FORMULA_RTOL", "PointSet", "point_set", "judge_formula",
            "FormulaVerdict", "parse_over"]
@@ -246,7 +246,7 @@ def draw(ex, n: int, seed: int, over: dict | None = None) -> list[Params]:
 
 def parse_over(ex, over: dict) -> dict[str, tuple[float, float]]:
     """``{"theta0": "10deg:60deg"}`` -> ``{"theta0": (lo, hi)}`` in SI, each inside the declared bounds."""
-    from mech.cli.values import ValueError_, to_si
+    from mech.core.units import ValueError_, to_si
 
     out = {}
     for raw, text in over.items():
@@ -356,7 +356,7 @@ def point_set(ex, given: Params, n: int = DEFAULT_POINTS, seed: int = DEFAULT_SE
 
 
 def _si(ex, params: dict) -> dict:
-    from mech.cli.values import to_si
+    from mech.core.units import to_si
 
     return {k: (float(v) if isinstance(v, (int, float)) else to_si(str(v), ex.param_map[k].unit))
             for k, v in params.items()}
@@ -852,7 +852,7 @@ def _numeric_at(ex, ps: PointSet, i: int, name: str):
 def judge_expectation(result, e, q, ref):
     """An ``answers.Judgement`` for the formula expectation ``e`` on output ``q`` of a cross-check
     ``result``, ``ref`` being the answers judge's reference at the given parameters."""
-    from mech.solvers.verification.answers import Judgement, numeric_err
+    from mech.verification.answers import Judgement, numeric_err
 
     ex, given = result.exercise, result.params
     output = {o.name: o for o in ex.outputs}[e.name]
@@ -873,7 +873,8 @@ def judge_expectation(result, e, q, ref):
             given_ref = numeric_given
     else:
         given_ref, numeric_given = (float(ref.value), float(ref.err)), None
-    v = judge_formula(e.formula, ex, output, ps, given_ref, e.rtol, numeric_given, _in_over(given, over))
+    with np.errstate(all="ignore"):  # a formula may overflow anywhere in the range: judged, not warned
+        v = judge_formula(e.formula, ex, output, ps, given_ref, e.rtol, numeric_given, _in_over(given, over))
     j = Judgement(e.name, q.unit, e.text, v.value, match=v.match,
                   reference=(ref.label if ref.value is not None else None))
     j.reference_value = v.reference_value

@@ -256,7 +256,7 @@ def _shown(e: Expectation, value: float | None) -> str:
 
 
 def judge(result, expectations: list[Expectation]) -> list[Judgement]:
-    """Judge every expectation against a cross-check result (``solvers.verification.crosscheck.CrossCheck``)."""
+    """Judge every expectation against a cross-check result (``verification.crosscheck.CrossCheck``)."""
     quantities = {q.name: q for q in result.quantities}
     refs: dict[str, _Reference] = {}
     for name, q in quantities.items():
@@ -268,7 +268,7 @@ def judge(result, expectations: list[Expectation]) -> list[Judgement]:
         q = quantities[e.name]
         ref = refs[e.name]
         if e.formula is not None:
-            from mech.solvers.verification.formulas import judge_expectation
+            from mech.verification.formulas import judge_expectation
 
             out.append(judge_expectation(result, e, q, ref))
             continue

@@ -28,7 +28,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from mech.cli.values import UNITS
+from mech.core.units import UNITS
 
 __all__ = ["FormulaError", "Formula", "parse_formula", "looks_like_formula", "Dim", "dim_of_unit", "dim_text",
            "FUNCTIONS", "MAX_LENGTH", "MAX_DEPTH"]
@@ -62,7 +62,7 @@ def _from_unit_dim(d) -> Dim:
 
 def dim_of_unit(unit: str) -> tuple[float, Dim]:
     """SI factor and dimension (angle dropped) of a catalogue unit such as ``kg*m^2/s`` or ``rad``."""
-    from mech.cli.values import parse_unit
+    from mech.core.units import parse_unit
 
     factor, d = parse_unit(unit)
     return factor, _from_unit_dim(d)
