@@ -508,14 +508,15 @@ def parameter_symbols(ex) -> dict[str, str]:
     return out
 
 
-def looks_like_formula(text: str, ex) -> bool:
-    """Does ``text`` name any parameter of ``ex`` (by name or symbol) or a function?"""
+def looks_like_formula(text: str, ex, parameters_only: bool = False) -> bool:
+    """Does ``text`` name any parameter of ``ex`` (by name or symbol) or (unless ``parameters_only``) a
+    function?"""
     try:
         toks = _tokens(str(text)[:MAX_LENGTH], parameter_symbols(ex))
     except FormulaError:
         return False
     names = set(getattr(ex, "param_map", ()))
-    return any(k == "name" and (v in names or v in FUNCTIONS) for k, v in toks)
+    return any(k == "name" and (v in names or (v in FUNCTIONS and not parameters_only)) for k, v in toks)
 
 
 def parse_formula(text: str, ex) -> Formula:

@@ -59,17 +59,22 @@ def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = No
     if isinstance(text, bool) or not isinstance(text, (str, int, float)):
         raise BadInput(f"{name}: expected a number or a string such as '1.23 {unit}', got {type(text).__name__}")
     text = str(text)
+    from dataclasses import replace
+
     try:
         value = to_si(text, unit)
         toks = tokens(text)
     except ValueError_ as exc:
         formula = _formula(ex, name, text)
         if formula is not None:
-            from dataclasses import replace
-
             return replace(formula, rtol=rtol)
         why = str(exc).replace("but the parameter is", f"but {name} is")
         raise BadInput(f"{name}: cannot use '{text}': {why}" + ("" if why != str(exc) else f" ({name} is in {unit})")) from None
+    # a value that names a parameter is a formula (``E=m*g*l``), unless it reads as a number of the
+    # output's dimension and the formula would not have it (``x=3 m`` in 4.7, whose m is a mass)
+    formula = _formula(ex, name, text, parameters_only=True, unit=unit)
+    if formula is not None:
+        return replace(formula, rtol=rtol)
     # the literals that set the value (not exponents of units such as the 2 of m/s^2)
     literals = [i for i, (k, _) in enumerate(toks) if k == "num"
                 and not (i > 0 and toks[i - 1][1] in ("^", "**"))
@@ -85,20 +90,26 @@ def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = No
     return Expectation(name, text, value, half_unit * abs(factor), digits, rtol, unit_text, abs(factor))
 
 
-def _formula(ex: Exercise, name: str, text: str):
+def _formula(ex: Exercise, name: str, text: str, parameters_only: bool = False, unit: str | None = None):
     """An Expectation holding a formula when ``text`` is one (it names a parameter or a function), else
-    None; BadInput (one line) when it is a formula mech cannot read."""
+    None; BadInput (one line) when it is a formula mech cannot read.  ``parameters_only``: for a text that
+    also reads as a number: a formula only if it names a parameter and has the dimension of ``unit``."""
     from mech.verification.answers import Expectation
-    from mech.verification.formula_ast import MAX_LENGTH, FormulaError, looks_like_formula, parse_formula
+    from mech.verification.formula_ast import (MAX_LENGTH, FormulaError, dim_of_unit, looks_like_formula,
+                                               parse_formula)
 
     if len(text) > MAX_LENGTH:
         raise BadInput(f"{name}: formula too long ({len(text)} characters; at most {MAX_LENGTH})")
-    if not looks_like_formula(text, ex):
+    if not looks_like_formula(text, ex, parameters_only):
         return None
     try:
         f = parse_formula(text, ex)
     except FormulaError as exc:
+        if parameters_only:
+            return None
         raise BadInput(f"{name}: cannot use the formula '{_short(text)}': {exc}") from None
+    if parameters_only and (not f.names or f.dim != dim_of_unit(unit)[1]):
+        return None
     return Expectation(name, text, math.nan, formula=f)
 
 
