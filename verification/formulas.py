@@ -587,6 +587,29 @@ def _approximation(formula: Formula, ps: PointSet, output: str, missing: list[st
     return f"this is the leading-order approximation; it holds only for {said}"
 
 
+def _known_approximation(ps: PointSet, output: str, yours: np.ndarray, tol: np.ndarray) -> str | None:
+    """The description of an approximation the exercise declares (``@exercise.approximations``: 5.5-5.7)
+    that the formula gives at every point, or None."""
+    at = getattr(ps.ex, "approximations_at", None)
+    if at is None:
+        return None
+    found: dict[str, int] = {}
+    n = 0
+    for i, p in enumerate(ps.points):
+        if not math.isfinite(yours[i]):
+            continue
+        try:
+            cands = at(p).get(output) or []
+        except Exception:  # an approximation with no value here: not one the formula can be matched to
+            return None
+        n += 1
+        for value, desc in cands:
+            if isinstance(value, (int, float)) and abs(yours[i] - value) <= tol[i] + 1e-9 * abs(value):
+                found[desc] = found.get(desc, 0) + 1
+    full = [d for d, k in found.items() if k == n]
+    return full[0] if n and full else None
+
+
 def _other_output(formula: Formula, ps: PointSet, output, yours: np.ndarray, rtol: float) -> str | None:
     """"that is mech's omega2": the formula gives another output of the same dimension at every point."""
     _, dim = dim_of_unit(output.unit)
@@ -739,7 +762,11 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
         deps = depends(ps, name)
         missing = [k for k in deps if k not in formula.names]
         if output.theory == "exact":
-            hint = _approximation(formula, ps, name, missing)
+            known = _known_approximation(ps, name, pj.yours, pj.tol)
+            hint = _approximation(formula, ps, name, missing + list(formula.names) if known else missing)
+            if known:
+                hint = f"this is {known}: " + (hint.replace("this is the leading-order approximation; ", "")
+                                               if hint else "the leading-order approximation")
         if hint is None and missing:
             hint = f"mech's {name} depends on {_and(missing)}, which your formula leaves out"
     if hint is None or hint.startswith("mech's"):
