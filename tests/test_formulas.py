@@ -274,3 +274,10 @@ def test_fuzz_formulas_never_crash(text):
     _, peak = tracemalloc.get_traced_memory()
     tracemalloc.stop()
     assert peak < 50e6
+
+
+def test_no_value_at_the_given_point_judges_the_others():
+    # on the equator the Foucault plane does not turn (T_F infinite): the formula is held at the other points
+    e = _judge("4.30", "T_F", "2*pi/(omega_E*abs(cos(theta)))", theta="90deg")
+    assert e["match"] and "not at the given parameters" in e["verdict"]
+    assert not _judge("4.30", "T_F", "2*pi/(omega_E*cos(theta))", theta="90deg")["match"]

@@ -730,7 +730,7 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
     ill = [i for i in range(len(ps)) if pj.ill[i]]
     if ill:
         points["ill_conditioned"] = len(ill)
-    kinds = _kinds(ps)
+    kinds = _kinds(ps, bool(judged[0]))
     if given_ref is None and given_in_range:
         return FormulaVerdict(False, "cannot judge: mech has no trusted value at the given parameters", None, y0,
                               None, None, None, points=points, **base)
@@ -796,9 +796,9 @@ def _and(names: list[str]) -> str:
     return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
 
 
-def _kinds(ps: PointSet) -> str:
+def _kinds(ps: PointSet, given_judged: bool = True) -> str:
     n = {k: ps.labels.count(k) for k in ("drawn", "defaults", "hard case")}
-    parts = ["the given parameters"] if ps.labels[0] == "given" and ps.in_range else []
+    parts = ["the given parameters"] if given_judged else []
     if n["drawn"]:
         parts.append(f"{n['drawn']} drawn across the range")
     if n["defaults"]:
@@ -900,16 +900,22 @@ def judge_expectation(result, e, q, ref):
             given_ref = numeric_given
     else:
         given_ref, numeric_given = (float(ref.value), float(ref.err)), None
+    in_range = _in_over(given, over)
+    undefined_here = ref.value is None and ref.why.startswith("mech finds no finite value")
+    if undefined_here:  # judged at the other points; the given one has no value to hold it against
+        in_range = False
     with np.errstate(all="ignore"):  # a formula may overflow anywhere in the range: judged, not warned
-        v = judge_formula(e.formula, ex, output, ps, given_ref, e.rtol, numeric_given, _in_over(given, over))
+        v = judge_formula(e.formula, ex, output, ps, given_ref, e.rtol, numeric_given, in_range)
+    if undefined_here:
+        v.verdict += f" ({ref.why.replace('mech finds no finite value here', 'not at the given parameters')})"
     j = Judgement(e.name, q.unit, e.text, v.value, match=v.match,
                   reference=(ref.label if ref.value is not None else None))
     j.reference_value = v.reference_value
     j.rel_err = v.rel_err
     j.tol = v.tol
     j.hint = v.hint
-    j.verdict = v.verdict if v.match or given_ref is not None or v.hint else f"cannot judge: {ref.why}"
-    if given_ref is None and not v.hint:
+    j.verdict = v.verdict
+    if given_ref is None and not v.hint and not undefined_here:
         j.verdict = f"cannot judge: {ref.why or 'mech has no trusted value here'}"
     j.shown_reference = show_value(v.reference_value, q.unit) if v.reference_value is not None else ""
     j.formula = {"formula": v.formula, "dimension": v.dimension, "points": v.points, "depends": v.depends}
