@@ -138,6 +138,15 @@ def _valid(ex, values: dict) -> Params | None:
         return None
 
 
+def _accept(ex, values: dict) -> Params | None:
+    """The parameters when the bounds and joint checks accept them (not ``resolve``'s representability
+    test, which solves the analytic answer once more: a point whose answer overflows gets no reference
+    where mech's values are computed, and is not judged)."""
+    if not _allowed(ex, values):
+        return None
+    return Params({p.name: float(values.get(p.name, p.default)) for p in ex.params})
+
+
 def _allowed(ex, values: dict) -> bool:
     """The bounds and the joint checks only, without their messages' use or the analytic solve of
     ``resolve`` (which also asks that the answer be representable): the cheap test the draws bisect on."""
@@ -194,9 +203,9 @@ def _repair(ex, x: dict, rs: dict[str, _Range], rng) -> Params | None:
             j += 1
         hi_t = grid[j] if j == len(grid) - 1 else _interval_around(ex, x, r, grid[j], grid[j + 1])
         t = rng.uniform(lo_t, hi_t) if hi_t > lo_t else grid[i]
-        p = _valid(ex, {**x, r.name: r.from_t(t)})
+        p = _accept(ex, {**x, r.name: r.from_t(t)})
         if p is None:
-            p = _valid(ex, {**x, r.name: r.from_t(grid[i])})
+            p = _accept(ex, {**x, r.name: r.from_t(grid[i])})
         if p is not None:
             return p
     return None
@@ -217,7 +226,7 @@ def _toward(ex, base: dict, x: dict, rs: dict[str, _Range], rng) -> Params | Non
             s_ok = mid
         else:
             s_bad = mid
-    return _valid(ex, at(rng.uniform(0.0, s_ok))) or _valid(ex, base)
+    return _accept(ex, at(rng.uniform(0.0, s_ok))) or _accept(ex, base)
 
 
 def _representable(r: _Range, v: float) -> bool:
@@ -238,7 +247,7 @@ def draw(ex, n: int, seed: int, over: dict | None = None) -> list[Params]:
         if len(out) >= n:
             break
         x = {k: r.draw(rng) for k, r in rs.items()}
-        p = (_allowed(ex, x) and _valid(ex, x)) or _repair(ex, x, rs, rng) or _toward(ex, base, x, rs, rng)
+        p = _accept(ex, x) or _repair(ex, x, rs, rng) or _toward(ex, base, x, rs, rng)
         if p is not None and _in_over(p, over):
             out.append(p)
     return out
@@ -371,14 +380,14 @@ def _line(ps: PointSet, name: str, m: int = 7) -> PointSet | None:
     a, b = r.t_bounds()
     pts = []
     for t in np.linspace(a, b, m + 2)[1:-1]:
-        p = _valid(ex, {**dict(given), name: r.from_t(float(t))})
+        p = _accept(ex, {**dict(given), name: r.from_t(float(t))})
         if p is not None:
             pts.append(p)
     if len(pts) < 2:
         # the constraints pin it near the given value: move it by a few percent instead
         for f in (0.9, 0.95, 1.05, 1.1):
             v = given[name] * f if given[name] != 0 else (f - 1.0) * _scale_for(ex, ex.param_map[name])
-            p = _valid(ex, {**dict(given), name: v})
+            p = _accept(ex, {**dict(given), name: v})
             if p is not None:
                 pts.append(p)
     out = _make(ex, pts, [f"{name} moved"] * len(pts)) if len(pts) >= 2 else None
@@ -544,7 +553,7 @@ def _limits(formula: Formula, ps: PointSet, output: str) -> list[tuple[str, str,
                 # toward the lower bound: shrink the distance to it
                 vals = [p.min + (v0 - p.min) * direction**j for j in range(1, 6)] if v0 > p.min else []
                 what = f"{name} near {p.min:g}"
-            pts = [q for q in (_valid(ex, {**dict(given), name: v}) for v in vals) if q is not None]
+            pts = [q for q in (_accept(ex, {**dict(given), name: v}) for v in vals) if q is not None]
             if len(pts) < 3:
                 continue
             line = _make(ex, [given] + pts, ["limit"] * (len(pts) + 1))
