@@ -93,7 +93,8 @@ def dim_text(d: Dim) -> str:
 _TOKEN = re.compile(
     r"\s*(?:(?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)|(?P<name>[^\W\d]\w*)|(?P<op>\*\*|[-+*/^(),])|(?P<bad>\S))"
 )
-_REPLACE = (("·", "*"), ("×", "*"), ("−", "-"), ("°", "deg"), ("π", "pi"), ("µ", "u"), ("√", "sqrt"))
+_REPLACE = (("·", "*"), ("×", "*"), ("−", "-"), ("°", "deg"), ("π", "pi"), ("µ", "u"), ("√", "sqrt"),
+            ("²", "^2"), ("³", "^3"), ("⁴", "^4"))
 
 
 def _tokens(text: str, symbols: dict[str, str]) -> list[tuple[str, str]]:

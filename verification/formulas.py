@@ -295,6 +295,7 @@ class PointSet:
     depends: dict = field(default_factory=dict)  # output -> list of parameters its value changes with
     lines: dict = field(default_factory=dict)  # parameter -> PointSet of one-at-a-time moves (lazy)
     in_range: bool = True  # the given point inside ``over``
+    outside: dict = field(default_factory=dict)  # leading-order output -> bool array: its theory does not apply
 
     def __len__(self):
         return len(self.points)
@@ -333,7 +334,26 @@ def _make(ex, pts: list, labels: list) -> PointSet:
     arrays = {p.name: np.array([pt[p.name] for pt in pts], dtype=float) for p in ex.params}
     ps = PointSet(ex, pts, labels, arrays)
     ps.analytic, ps.analytic_err, ps.undefined = _analytic_at(ex, pts)
+    ps.outside = _outside_theory(ex, pts)
     return ps
+
+
+def _outside_theory(ex, pts: list) -> dict:
+    """For each leading-order output, where its theory does not apply (``Exercise.theory_validity``, where
+    the exercise declares its theory's range): there a leading-order formula is not judged."""
+    lead = [o.name for o in ex.outputs if o.theory != "exact"]
+    validity = getattr(ex, "theory_validity", None)
+    out = {n: np.zeros(len(pts), bool) for n in lead}
+    if not lead or validity is None:
+        return out
+    for i, p in enumerate(pts):
+        try:
+            why = validity(p)
+        except Exception:  # no range to read here: the point is judged like any other
+            continue
+        for n in lead:
+            out[n][i] = bool(why.get(n))
+    return out
 
 
 def point_set(ex, given: Params, n: int = DEFAULT_POINTS, seed: int = DEFAULT_SEED,
@@ -723,6 +743,13 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
     notes = []
     if lead:
         _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, notes)
+        outside = ps.outside.get(name, np.zeros(len(ps), bool)) & ~pj.right
+        if outside.any():
+            # beyond its theory's range the leading-order value is no answer and the exact one is not what
+            # was asked: such points are left out (a formula that matches the exact value there is right)
+            pj.judged = pj.judged & ~outside
+            k = int(outside.sum())
+            notes.append(f"{k} point{'s' if k > 1 else ''} outside the leading-order theory's range not judged")
     judged = pj.judged
     wrong = judged & ~pj.right
     n_checked, n_right = int(judged.sum()), int(pj.right.sum())
@@ -792,7 +819,7 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
     base["depends"] = guilty
     ys, ms = show_pair(float(pj.yours[i_fail]), float(ref[i_fail]), output.unit)
     at = f"{_fmt_point(ps, i_fail)}: yours {ys}, mech {ms}"
-    head = f"wrong at {int(wrong.sum())} of {n_checked} points"
+    head = f"wrong at {int(wrong.sum())} of {n_checked} points" + "".join(f" ({n})" for n in notes)
     verdict = f"{head}: {hint}; {at}" if hint else f"{head}; {at}"
     return FormulaVerdict(False, verdict, hint, y0, r0, rel0, float(pj.tol[0]), points=points, **base)
 
@@ -917,15 +944,12 @@ def judge_expectation(result, e, q, ref):
         v = judge_formula(e.formula, ex, output, ps, given_ref, e.rtol, numeric_given, in_range)
     if undefined_here:
         v.verdict += f" ({ref.why.replace('mech finds no finite value here', 'not at the given parameters')})"
-    j = Judgement(e.name, q.unit, e.text, v.value, match=v.match,
-                  reference=(ref.label if ref.value is not None else None))
-    j.reference_value = v.reference_value
-    j.rel_err = v.rel_err
-    j.tol = v.tol
-    j.hint = v.hint
-    j.verdict = v.verdict
+    verdict = v.verdict
     if given_ref is None and not v.hint and not undefined_here:
-        j.verdict = f"cannot judge: {ref.why or 'mech has no trusted value here'}"
-    j.shown_reference = show_value(v.reference_value, q.unit) if v.reference_value is not None else ""
-    j.formula = {"formula": v.formula, "dimension": v.dimension, "points": v.points, "depends": v.depends}
-    return j
+        verdict = f"cannot judge: {ref.why or 'mech has no trusted value here'}"
+    return Judgement(
+        name=e.name, unit=q.unit, text=e.text, value=v.value, match=v.match,
+        reference=(ref.label if ref.value is not None else None), reference_value=v.reference_value,
+        rel_err=v.rel_err, tol=v.tol, hint=v.hint, verdict=verdict,
+        shown_reference=show_value(v.reference_value, q.unit) if v.reference_value is not None else "",
+        formula={"formula": v.formula, "dimension": v.dimension, "points": v.points, "depends": v.depends})
