@@ -192,7 +192,8 @@ def _judge(ex_id, out, text, **params):
     import mech
 
     sol = mech.solve(ex_id, **params, expect={out: text})
-    return next(q for q in sol.quantities if q.name == out).expected
+    expected = next(q for q in sol.quantities if q.name == out).expected
+    return expected.as_json() if hasattr(expected, "as_json") else expected
 
 
 def test_cancellation_is_ill_conditioned_not_wrong():
