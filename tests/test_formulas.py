@@ -282,3 +282,18 @@ def test_no_value_at_the_given_point_judges_the_others():
     e = _judge("4.30", "T_F", "2*pi/(omega_E*abs(cos(theta)))", theta="90deg")
     assert e["match"] and "not at the given parameters" in e["verdict"]
     assert not _judge("4.30", "T_F", "2*pi/(omega_E*cos(theta))", theta="90deg")["match"]
+
+
+def test_points_beyond_a_leading_order_theory_are_left_out(monkeypatch):
+    # a declared range (here a made-up one: mu/omega0 <= 0.3) leaves those points out of the verdict
+    ex = registry.get("5.9")
+    monkeypatch.setattr(ex, "theory_validity", lambda p: {o: ("too strong" if p.mu / p.omega0 > 0.3 else None)
+                                                           for o in ("A", "omega", "lambda_lc")}, raising=False)
+    ps = F.point_set(ex, ex.resolve({}), 24, 11)
+    out = next(o for o in ex.outputs if o.name == "A")
+    n_out = int(ps.outside["A"].sum())
+    assert 0 < n_out < len(ps)
+    f = parse_formula("2/sqrt(beta)", ex)  # A = 2/sqrt(beta), the limit cycle's amplitude to leading order
+    v = F.judge_formula(f, ex, out, ps, (float(ps.analytic["A"][0]), 0.0), None)
+    assert v.match and v.points["checked"] == len(ps) - n_out and "not judged" in v.verdict
+    F._CACHE.clear()

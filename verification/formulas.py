@@ -742,12 +742,13 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
     pj = _judge_points(formula, ps, ref, ref_err, rtol)
     notes = []
     if lead:
-        _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, notes)
-        outside = ps.outside.get(name, np.zeros(len(ps), bool)) & ~pj.right
+        exact_here = _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, notes)
+        outside = ps.outside.get(name, np.zeros(len(ps), bool)) & ~exact_here
         if outside.any():
             # beyond its theory's range the leading-order value is no answer and the exact one is not what
             # was asked: such points are left out (a formula that matches the exact value there is right)
             pj.judged = pj.judged & ~outside
+            pj.right = pj.right & ~outside
             k = int(outside.sum())
             notes.append(f"{k} point{'s' if k > 1 else ''} outside the leading-order theory's range not judged")
     judged = pj.judged
@@ -766,7 +767,7 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
     ill = [i for i in range(len(ps)) if pj.ill[i]]
     if ill:
         points["ill_conditioned"] = len(ill)
-    kinds = _kinds(ps, bool(judged[0]))
+    kinds = _kinds(ps, judged)
     if given_ref is None and given_in_range:
         return FormulaVerdict(False, "cannot judge: mech has no trusted value at the given parameters", None, y0,
                               None, None, None, points=points, **base)
@@ -832,9 +833,11 @@ def _and(names: list[str]) -> str:
     return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
 
 
-def _kinds(ps: PointSet, given_judged: bool = True) -> str:
-    n = {k: ps.labels.count(k) for k in ("drawn", "defaults", "hard case")}
-    parts = ["the given parameters"] if given_judged else []
+def _kinds(ps: PointSet, judged: np.ndarray) -> str:
+    """Which points were judged: ``the given parameters, 24 drawn across the range, 1 hard case``."""
+    labels = [lab for lab, j in zip(ps.labels, judged) if j]
+    n = {k: labels.count(k) for k in ("given", "drawn", "defaults", "hard case")}
+    parts = ["the given parameters"] if n["given"] else []
     if n["drawn"]:
         parts.append(f"{n['drawn']} drawn across the range")
     if n["defaults"]:
@@ -859,7 +862,7 @@ def _worst(pj: PointJudgement, ref) -> int | None:
     return int(use[np.argmax(d[use])])
 
 
-def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, notes) -> None:
+def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, notes) -> np.ndarray:
     """A leading-order output: a point that misses the leading-order value is right when it matches the
     verified numeric value there (the given point: the cross-check's; elsewhere: solved here, within a
     budget, stopping at the first point the numeric value does not confirm)."""
@@ -867,6 +870,7 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
     misses = [i for i in range(len(ps)) if pj.judged[i] and not pj.right[i] and math.isfinite(pj.yours[i])]
     t0 = time.perf_counter()
     confirmed = 0
+    exact_here = np.zeros(len(ps), bool)
     for i in misses:
         if i == 0:
             if numeric_given is None:
@@ -882,12 +886,14 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
             n, err = got
         if abs(pj.yours[i] - n) <= rtol * abs(n) + err + 4 * np.finfo(float).eps * abs(n):
             pj.right[i] = True
+            exact_here[i] = True
             confirmed += 1
         else:
             break
     if confirmed:
         notes.append(f"at {confirmed} point{'s' if confirmed > 1 else ''} it matches mech's numeric value "
                      "rather than the leading-order one")
+    return exact_here
 
 
 def _numeric_at(ex, ps: PointSet, i: int, name: str):
