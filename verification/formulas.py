@@ -573,10 +573,14 @@ def _limits(formula: Formula, ps: PointSet, output: str) -> list[tuple[str, str,
                 # toward the lower bound: shrink the distance to it
                 vals = [p.min + (v0 - p.min) * direction**j for j in range(1, 6)] if v0 > p.min else []
                 what = f"{name} near {p.min:g}"
-            pts = [q for q in (_accept(ex, {**dict(given), name: v}) for v in vals) if q is not None]
-            if len(pts) < 3:
+            key = ("limit", name, direction)
+            if key not in ps.lines:  # mech's values along the line, once per point set (a class file)
+                pts = [q for q in (_accept(ex, {**dict(given), name: v}) for v in vals) if q is not None]
+                ps.lines[key] = _make(ex, [given] + pts, ["limit"] * (len(pts) + 1)) if len(pts) >= 3 else None
+            line = ps.lines[key]
+            if line is None:
                 continue
-            line = _make(ex, [given] + pts, ["limit"] * (len(pts) + 1))
+            pts = line.points[1:]
             ref = line.analytic[output]
             env = {k: line.arrays[k] for k in formula.names} or {"_": np.zeros(len(pts) + 1)}
             y, _, _ = formula.evaluate(env)
