@@ -67,10 +67,12 @@ def _cube_diff(b, a):
 
 @exercise.analytic
 def analytic(p):
-    b3, a3 = p.b**3, p.a**3
-    gap = _cube_diff(p.b, p.a)
-    ratio = 2.0 * gap / (b3 + 2.0 * a3)
-    m_eff = 4.0 * math.pi / 3.0 * p.rho * b3 * gap / (b3 + 2.0 * a3)
+    # in units of b: b^3 (b^3 - a^3) in one piece overflows where m_eff does not (b ~ 1e76 in the natural
+    # units of Mc = 5e-324 kg gave a_container = 0)
+    x = p.a / p.b
+    x3 = x**3
+    ratio = 2.0 * _cube_diff(1.0, x) / (1.0 + 2.0 * x3)
+    m_eff = 4.0 * math.pi / 3.0 * p.rho * p.b**3 * (0.5 * ratio)
     acc = p.F / (p.Mc + m_eff)
     return {"a_rel": ratio * acc, "a_container": acc, "ratio": ratio}
 
