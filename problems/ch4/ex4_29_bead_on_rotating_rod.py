@@ -5,8 +5,9 @@ Analytic.  Rotating frame: along the rod only the centrifugal force acts
 r'' = omega^2 r and r = A e^(omega t) + B e^(-omega t), A, B = (r0 +- v0/omega)/2
 (written with the two exponentials, not cosh/sinh, so the decaying solution
 v0 = -omega r0 is exact; for omega t <= 1, r0 cosh + v0 t sinh(omega t)/(omega t),
-where v0/omega may overflow and cosh - sinh loses at most a factor 4).  The rotating-frame acceleration is r'' = omega^2 r
-along e_r; the rod's force balances the Coriolis force, N = 2 m omega r'.
+where v0/omega may overflow and cosh - sinh loses at most a factor 4).  The
+rotating-frame acceleration is r'' = omega^2 r along e_r; the rod's force
+balances the Coriolis force, N = 2 m omega r'.
 Lab frame: in polar coordinates the radial acceleration r'' - omega^2 r is 0 and
 the azimuthal one is 2 omega r', so |a_lab| = 2 omega |r'| = |N|/m: in the lab the
 rod's force is the only force and the whole acceleration is across the rod.
