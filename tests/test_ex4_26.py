@@ -102,3 +102,15 @@ def test_a_container_of_the_smallest_mass_moves_with_the_water():
     for got in (a, n):
         assert got["a_container"] == pytest.approx(acc, rel=1e-8, abs=0.0)
         assert got["a_rel"] == pytest.approx(2.0 * 0.000992 / 0.001016 * acc, rel=1e-8, abs=0.0)
+
+
+def test_water_too_light_to_form_its_mass_in_kg():
+    """scripts/extremes.py, every parameter at 1e-200 of its default: Mc = 1e-200 kg, F = 1e-199 N,
+    b = 1e-201 m, a = 2e-202 m, rho = 1e-197 kg/m^3.  The water's effective mass is ~(4 pi/3) rho b^3 ~ 4e-800
+    kg, nothing beside Mc, so a_container = F/Mc = 10 m/s^2 and a_rel = 2 (1 - 0.008)/(1 + 0.016) a_container
+    (a/b = 0.2).  The numeric mass matrix, formed in kg, underflowed to a singular one."""
+    given = dict(Mc=1e-200, F=1e-199, b=1e-201, a=2e-202, rho=1e-197)
+    a, n, _ = solve_both("4.26", **given)
+    for got in (a, n):
+        assert got["a_container"] == pytest.approx(10.0, rel=1e-8, abs=0.0)
+        assert got["a_rel"] == pytest.approx(2.0 * 0.992 / 1.016 * 10.0, rel=1e-8, abs=0.0)
