@@ -85,3 +85,16 @@ def test_a_run_far_shorter_than_one_over_omega():
     for got in (a, n):
         for name, value in want.items():
             assert got[name] == pytest.approx(value, rel=1e-12, abs=0.0), name
+
+
+def test_a_run_of_1e_minus_200_s_from_rest():
+    """scripts/extremes.py, t = 1e-200 of its default: omega t = 4e-200, v0 = 0.  By hand r = r0 cosh(wt) = 0.1 m,
+    a_rot = w^2 r = 0.4 m/s^2, r' = r0 w sinh(wt) = 0.1 * 2 * 4e-200 = 8e-201 m/s, a_lab = 2 w |r'| = 3.2e-200
+    m/s^2.  The numeric solver keeps its 1/omega units (v0/omega is finite) and its Jacobi integral, v'^2/2 -
+    r^2/2 in those units, is finite (it was 0/0 when the run's own length was the time unit)."""
+    _, n, run = solve_both("4.29", t=2e-200)
+    assert n["r"] == pytest.approx(0.1, rel=1e-12, abs=0.0)
+    assert n["a_rot"] == pytest.approx(0.4, rel=1e-12, abs=0.0)
+    assert n["a_lab"] == pytest.approx(3.2e-200, rel=1e-8, abs=0.0)
+    assert n["N"] == pytest.approx(3.2e-201, rel=1e-8, abs=0.0)
+    assert math.isfinite(run.invariants["jacobi"])

@@ -13,8 +13,8 @@ the azimuthal one is 2 omega r', so |a_lab| = 2 omega |r'| = |N|/m: in the lab t
 rod's force is the only force and the whole acceleration is across the rod.
 
 Numeric: the bead as a point mass in the rotating plane, in units of time
-T0 = 1/omega (or t, when omega t < 1) and length L = max(|r0|, |v0| T0) (no
-v0/omega, which can overflow where the answer does not), with the
+T0 = 1/omega and length L = max(|r0|, |v0| T0) (T0 = t where omega t < 1 and
+v0/omega overflows while the answer does not), with the
 centrifugal and Coriolis forces
 and the rod's reaction as a Lagrange multiplier that keeps the transverse
 coordinate at zero (solved from the twice-differentiated constraint).
@@ -92,11 +92,16 @@ def _forces(y, k):
 @exercise.numeric
 def numeric(p, run):
     w, t = p.omega, p.t
-    # time unit T0: 1/omega, or t itself when the run is shorter than 1/omega (omega = 1e-300 rad/s: 1/omega,
-    # and v0/omega with it, leave the floating-point range while v0 t does not); k = omega T0 <= 1
-    short = 0.0 < w * t < 1.0
-    T0, k = (t, w * t) if short else (1.0 / w, 1.0)
+    # time unit T0: 1/omega, or t itself where |v0|/omega (or 1/omega) leaves the floating-point range in a run
+    # shorter than 1/omega (omega = 1e-100 rad/s, v0 = 1e250 m/s, t = 1e-200 s: r ~ v0 t = 1e50 m); then
+    # k = omega T0 < 1, and the velocity unit V = L/t is |v0| (the part r0 omega^2 t of the speed that it
+    # leaves below round-off is less than 1e-308 r0 omega t of it)
+    T0, k = 1.0 / w, 1.0
     L = max(abs(p.r0), abs(p.v0) * T0)
+    short = not (math.isfinite(L) and math.isfinite(T0) and math.isfinite(L * w)) and 0.0 < w * t < 1.0
+    if short:
+        T0, k = t, w * t
+        L = max(abs(p.r0), abs(p.v0) * T0)
     if L == 0.0:  # at rest on the axis: an equilibrium
         return {"r": 0.0, "a_rot": 0.0, "a_lab": 0.0, "N": 0.0}
     V = L / T0 if short else L * w  # velocity unit
@@ -116,7 +121,7 @@ def numeric(p, run):
         y = traj.y_end
         jac = 0.5 * (traj.y[2] ** 2 + traj.y[3] ** 2 - k * k * (traj.y[0] ** 2 + traj.y[1] ** 2))
         size = 0.5 * (traj.y[2] ** 2 + traj.y[3] ** 2 + k * k * (traj.y[0] ** 2 + traj.y[1] ** 2))
-        run.invariant("jacobi", float(np.max(np.abs(jac - jac[0]) / size)))
+        run.invariant("jacobi", float(np.max(np.abs(jac - jac[0]) / np.maximum(size, np.finfo(float).tiny))))
         run.invariant("constraint", float(np.max(np.abs(traj.y[1]))))
     else:
         y = y0
