@@ -111,6 +111,16 @@ def constraint(p):
     return None
 
 
+@exercise.theory_range
+def theory_range(p):
+    """The fast-top picture expands in eps_g = I_A M g l/L3^2, eps_F = I_A l F/L3^2 and the slip of the
+    precession against the drive, eps_g M g/F (the largest shown)."""
+    eps_g, eps_F, slip = _small(p)
+    big = max([("I_A M g l/L3^2", eps_g), ("I_A l F/L3^2", eps_F), ("eps_g M g/F (slip)", slip)],
+              key=lambda c: c[1])
+    return {name: big for name in ("t_down", "t_up", "phi_lead", "cos_min")}
+
+
 @exercise.expected_error
 def expected_error(p):
     eps_g, eps_F, slip = _small(p)

@@ -119,6 +119,16 @@ def expected_error(p):
     return {"xi_lo": 3.0 * u / D, "xi_hi": 3.0 * u / D, "width": 3.0 * rest / D, "beat": beat}
 
 
+@exercise.theory_range
+def theory_range(p):
+    """The reduced equations expand in mu/omega0, the drive Delta/mu and the detuning |xi|/omega0 (the
+    largest shown)."""
+    cands = [("mu/omega0", p.mu / p.omega0), ("Delta/mu", _delta(p) / p.mu),
+             ("|omega - omega0|/omega0", abs(p.omega - p.omega0) / p.omega0)]
+    big = max(cands, key=lambda c: c[1])
+    return {name: big for name in ("xi_lo", "xi_hi", "width", "beat")}
+
+
 # ---------------------------------------------------------------------------------------------------------
 N_COPIES = 96
 N_MODES = 14

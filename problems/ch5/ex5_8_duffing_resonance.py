@@ -130,6 +130,14 @@ def expected_error(p):
             "xi_lo": fold, "xi_hi": fold}
 
 
+@exercise.theory_range
+def theory_range(p):
+    """The reduced equations expand in eps = |alpha| A_max^2/omega0^2 and delta/omega0 (the larger shown)."""
+    e_d, e_n = _small(p)
+    big = ("|alpha| A_max^2/omega0^2", e_n) if e_n >= e_d else ("delta/omega0", e_d)
+    return {name: big for name in ("A_max", "xi_peak", "xi_lo", "xi_hi")}
+
+
 # ---------------------------------------------------------------------------------------------------------
 def _force(omega0, delta, alpha):
     w2, d2 = omega0 * omega0, 2.0 * delta
