@@ -123,12 +123,23 @@ def theory_range(p):
 
 @exercise.expected_error
 def expected_error(p):
+    """First-order sizes, measured against the numeric route at 11 tops (eps_g, eps_F = 1e-6 - 2e-3, slip
+    1e-9 - 0.07, I1 0.3e-3 - 1e-3) plus the defaults and hard cases; the nutation's phase at the event makes
+    the coefficients erratic below these bounds, so they are bounds, not a series:
+      t_down    1.8 eps_g + eps_F + slip^2 + 100 eps_F^2 (measured: -1.3 eps_g where the weight dominates,
+                up to +0.57 eps_F where the force does; the slip enters at second order);
+      t_up      a third of that (the same offset in time over three times the interval), 0.6 eps_g +
+                0.4 eps_F + slip^2/3 + 40 eps_F^2;
+      phi_lead  1.2 slip/pi + eps_g + eps_F + 40 eps_F^2: in the frame turning with the drive the exact
+                precession runs fast by a eps_g cos(theta), which turns the axis sideways by slip sin^2(tau)/2,
+                so that it passes horizontal slip/2 rad further ahead (derived; 1.00 of the measured shift at
+                slip = 0.01 and 0.067, where it dominates);
+      cos_min   2.5 (eps_g + eps_F)^2 + slip^2: the first-order slip cancels at the bottom (see below)."""
     eps_g, eps_F, slip = _small(p)
-    first = 2.0 * (eps_g + eps_F)
     return {
-        "t_down": first + slip**2,
-        "t_up": first + slip**2,
-        "phi_lead": first + slip / (math.pi / 2),
+        "t_down": 1.8 * eps_g + eps_F + slip**2 + 100.0 * eps_F**2,
+        "t_up": 0.6 * eps_g + 0.4 * eps_F + slip**2 / 3.0 + 40.0 * eps_F**2,
+        "phi_lead": 1.2 * slip / math.pi + eps_g + eps_F + 40.0 * eps_F**2,
         # first-order slip cancels at the bottom (symmetric about it): second order.  The axis
         # nutates on a circle of radius ~eps about a guiding center itself ~eps off the
         # leading-order path, so it can pass 2 eps from straight down: 1 - cos(2 eps) ~ 2 eps^2
@@ -416,6 +427,19 @@ def _guiding_center(a, b, k, run):
 
 @exercise.numeric
 def numeric(p, run):
+    out = _numeric(p, run)
+    # cos_min is the least n_z: a direction error E (the claim, and what averaging neglects) moves it by
+    # E sin(angle from straight down) + E^2/2 at most, not by E (measured: the rerun at rtol/1000 moves it
+    # by <= 4e-12 where the claim E is 1e-5)
+    rel, ab = run.claims.get("cos_min", (None, None))
+    E = exercise.tol_factor * run.rtol if rel is None else rel
+    c = out["cos_min"]
+    if -1.0 <= c < 0.0:
+        run.claim("cos_min", rel=E * math.sqrt(2.0 * (1.0 + c)) + E * E, abs=ab)
+    return out
+
+
+def _numeric(p, run):
     IA = p.I1 + p.M * p.l**2
     L3 = p.I3 * p.omega_rot
     k = L3 / IA  # nutation rate (rad/s) for |L| = L3
