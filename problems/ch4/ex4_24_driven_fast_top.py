@@ -130,7 +130,8 @@ def expected_error(p):
                 up to +0.57 eps_F where the force does; the slip enters at second order);
       t_up      a third of that (the same offset in time over three times the interval), 0.6 eps_g +
                 0.4 eps_F + slip^2/3 + 40 eps_F^2;
-      phi_lead  1.2 slip/pi + eps_g + eps_F + 40 eps_F^2: in the frame turning with the drive the exact
+      phi_lead  1.2 slip/pi + 0.8 eps_g + 2 eps_F + 40 eps_F^2 (1.25 eps_F measured on a draw with
+                I_A/I3 = 8000): in the frame turning with the drive the exact
                 precession runs fast by a eps_g cos(theta), which turns the axis sideways by slip sin^2(tau)/2,
                 so that it passes horizontal slip/2 rad further ahead (derived; 1.00 of the measured shift at
                 slip = 0.01 and 0.067, where it dominates);
@@ -139,7 +140,7 @@ def expected_error(p):
     return {
         "t_down": 1.8 * eps_g + eps_F + slip**2 + 100.0 * eps_F**2,
         "t_up": 0.6 * eps_g + 0.4 * eps_F + slip**2 / 3.0 + 40.0 * eps_F**2,
-        "phi_lead": 1.2 * slip / math.pi + eps_g + eps_F + 40.0 * eps_F**2,
+        "phi_lead": 1.2 * slip / math.pi + 0.8 * eps_g + 2.0 * eps_F + 40.0 * eps_F**2,
         # first-order slip cancels at the bottom (symmetric about it): second order.  The axis
         # nutates on a circle of radius ~eps about a guiding center itself ~eps off the
         # leading-order path, so it can pass 2 eps from straight down: 1 - cos(2 eps) ~ 2 eps^2
@@ -453,8 +454,10 @@ def _numeric(p, run):
     def averaged():
         run.method = "guiding-center (nutation-averaged) equations to first order in 1/k, DOP853"
         run.info["averaging_error"] = model_err
-        for q in ("t_down", "t_up", "phi_lead"):
-            run.claim(q, rel=exercise.tol_factor * run.rtol + model_err)
+        # the guiding-centre run's own error, measured at 79 draws (rtol 1e-6 against 1e-9): at most 0.25 rtol
+        # (t_down), 0.15 rtol (t_up), 0.019 rtol (phi_lead); claimed with a margin of 6-10
+        for q, f in (("t_down", 2.0), ("t_up", 1.0), ("phi_lead", 0.2)):
+            run.claim(q, rel=f * run.rtol + model_err)
         run.claim("cos_min", rel=exercise.tol_factor * run.rtol, abs=model_err)
         return _guiding_center(a, b, k, run)
 
