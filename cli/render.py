@@ -294,7 +294,8 @@ def _verdict(result) -> Text | None:
         # a leading-order theory outside its range is not compared: say which outputs and why
         prefix = "leading-order theory outside its range: "
         why = "; ".join(dict.fromkeys(q.notes[-1].removeprefix(prefix) for q in outside if q.notes))
-        head = "analytic and numeric agree on the rest; " if result.agree else ""
+        compared = any(q.agree is True for q in qs)
+        head = "analytic and numeric agree on the rest; " if result.agree and compared else ""
         return Text(f"{head}no theory compared for {', '.join(q.name for q in outside)}: the leading-order "
                     f"theory is outside its range ({why}); the verified numeric values are the answers",
                     style="yellow")

@@ -37,7 +37,7 @@ def test_van_der_pol_far_outside_its_range_compares_nothing():
         assert q["theory"] == "leading-order"
         assert q["theory_valid"] is False and q["agree"] is None
         assert "outside its range" in q["note"] and "mu/omega0 = 3.3" in q["note"]
-    assert d["agree"] is None  # nothing compared, every numeric value verified
+    assert d["agree"] is True  # nothing compared, every numeric value verified (CONTRACT)
 
 
 def test_table_marks_the_outputs_outside_the_range():

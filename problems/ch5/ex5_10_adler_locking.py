@@ -109,13 +109,17 @@ def analytic(p):
 def expected_error(p):
     """Relative sizes: an edge moves by the uncertainty u (_edge_uncertainty) over Delta; the width loses
     the shift (it moves both edges alike) but keeps the rest; the beat b = sqrt(xi^2 - Delta^2) moves by
-    about (|xi| u + Delta u)/b, large near an edge.  Factor 3 over those sizes."""
+    about (|xi| u + Delta u)/b, large near an edge, and by (Delta/b)^2 xi/omega0 of itself through the
+    drive's coupling taken at omega0.  Factor 3 over those sizes."""
     D = _delta(p)
     u = _edge_uncertainty(p)
     rest = D * ((D / p.mu) ** 2 + D / p.omega0 + (p.mu / p.omega0) ** 2)
     xi = abs(p.omega - p.omega0)
     b2 = max((xi - D) * (xi + D), 0.0)
-    beat = 3.0 * (xi * u + D * u) / b2 + 3.0 * xi / p.omega0 if b2 > 0 else 0.0
+    # the drive's coupling f0/(2 omega A) is taken at omega0: relative xi/omega0 in Delta, which moves the
+    # beat by Delta^2 (xi/omega0)/b^2 of itself (not by xi/omega0: far from locking the beat is the plain
+    # difference of the two frequencies, 4e-11 off at xi = 0.16 omega0 in tests/test_ex5_10.py)
+    beat = 3.0 * (xi * u + D * u) / b2 + 3.0 * (D * D / b2) * xi / p.omega0 if b2 > 0 else 0.0
     return {"xi_lo": 3.0 * u / D, "xi_hi": 3.0 * u / D, "width": 3.0 * rest / D, "beat": beat}
 
 

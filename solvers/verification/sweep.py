@@ -521,7 +521,9 @@ def batched_points(result: SweepResult) -> list[dict]:
             if notes:
                 q["note"] = "; ".join(dict.fromkeys(notes))
             quantities.append(q)
-        flags = [q["agree"] for q in quantities]
+        # outside a leading-order theory's range nothing is compared: a verified numeric value holds
+        flags = [True if q.get("theory_valid") is False and q["agree"] is None and "verify_diff" in q
+                 else q["agree"] for q in quantities]
         agree = False if errors or any(f is False for f in flags) else (None if all(f is None for f in flags)
                                                                           else True)
         pt = {"params": {n: cols[n][k] for n in names}, "quantities": quantities, "agree": agree,
