@@ -58,6 +58,10 @@ six tops, so the coarse step is sized by (Om H)^3 = 2 rtol (and by
 the plain step needed (Om H)^2 = rtol.  On the bounds draw at rtol 1e-6 the
 steps are 13 nutation periods, 1.5e4 steps, 0.11 s, errors <= 3e-7 (rtol 1e-7:
 5e4 steps; the plain step there could not take coarse steps at all: 1e6 fine).
+
+Allowances (measured bounds; phi_lead's slip term derived, see ``expected_error``):
+  t_down 1.8 eps_g + eps_F + slip^2 + 100 eps_F^2;  t_up 0.6 eps_g + 0.4 eps_F + slip^2/3 + 40 eps_F^2;
+  phi_lead 1.2 slip/pi + 0.8 eps_g + 2 eps_F + 40 eps_F^2;  cos_min 2.5 (eps_g + eps_F)^2 + slip^2.
 """
 
 from __future__ import annotations

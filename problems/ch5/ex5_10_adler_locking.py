@@ -33,6 +33,10 @@ weight exp(-1/(s(1 - s))) (a weighted Birkhoff average, converging faster than
 any power of the length) gives the mean of d, and beat = omega |<d>|/(2 pi).
 Two consecutive periods give two fits: their difference over 1 - exp(-mu T)
 bounds the transient left, and with the fit's residual makes the claim.
+
+Allowances (bounds, factor 3 over the neglected sizes): xi_lo, xi_hi  the free-frequency shift
+mu^2/(16 omega0) plus Delta ((Delta/mu)^2 + Delta/omega0); width  the latter with (mu/omega0)^2 (the shift
+moves both edges alike); beat  their effect through sqrt(xi^2 - Delta^2) plus (Delta/b)^2 xi/omega0.
 """
 
 from __future__ import annotations

@@ -21,6 +21,13 @@ over omega) are roots of the smooth P = det(M + I) = 1 + tr M + det M, never
 of the growth rate.  P is formed as exp(-delta T) F with F from half-period
 products that do not cancel (``_minus_one_scaled``), so a zone 1e-7 omega0
 wide (|P| ~ 1e-14) is still resolved.
+
+Allowances (``_second_order``, ``_allowances``): twice the next order of the first zone (centre at
+a = 1 - k^2/8, sigma^2 kept, detuning not linearized, third harmonics' coupling), plus a floor measured
+against Floquet at 66 points:
+  mu_th   + 0.005 mu_th^2;   growth  + 0.002 k^2 of the rate (absolute at threshold);
+  xi_lo, xi_hi  + 0.005 k^2 + 0.01 (delta/omega0)^2 (absolute, the width a zone may have, where the theory
+  finds none).
 """
 
 from __future__ import annotations

@@ -37,6 +37,10 @@ The branch is only a path to a starting guess, so it is followed at rtol
 by Newton at fixed a (its last steps at the full rtol), both multipliers of H are checked to be inside the unit
 circle, and the largest |theta| on the orbit is found by event detection on
 theta' = 0.  Nothing waits for the slow transient.
+
+Allowances: a_th, growth  twice 5.11's next order of the same first zone (mu = a Omega^2/g) plus its floor;
+theta_st  a bound: the change of the leading-order swing when eps and the detuning move by their neglected
+sizes (no next order derived for the swing).
 """
 
 from __future__ import annotations

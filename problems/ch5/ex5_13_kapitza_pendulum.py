@@ -17,6 +17,12 @@ tr M - 2 = 4 y1' y2, so sin^2(nu pi/Omega) = -y1' y2 keeps its relative
 accuracy when nu << Omega; stable iff 0 < -y1' y2 < 1.  a_min is the root of
 y1' y2 in a for the inverted position (brentq after a geometric scan upward
 from a small a).
+
+Allowances (``_next_order``, from Mathieu's exponent to q^4, McLachlan sec. 4.70):
+  a_min       twice 7 sk^2/16 + 2 sk^4;
+  omega_down  twice e^2 - 7 e^4/(16 beta0^2) + 8 e^4;
+  omega_inv   the same with beta0^2 = 2 e^2 - 4 sk^2, plus the square of its second term (it grows past 0.3
+              near a_min: outside the range there).
 """
 
 from __future__ import annotations
@@ -95,8 +101,8 @@ def _next_order(sk, e):
     b_down, b_inv = 4.0 * s2 + 2.0 * e2, 2.0 * e2 - 4.0 * s2
     with np.errstate(divide="ignore", invalid="ignore"):
         c_inv = 7.0 * e2 * e2 / (16.0 * b_inv)
-    c_down = 7.0 * e2 * e2 / (16.0 * b_down) if np.ndim(b_down) or b_down > 0 else 0.0
-    d_down = e2 - np.nan_to_num(c_down)
+        c_down = 7.0 * e2 * e2 / (16.0 * b_down)  # b_down >= 4 sk^2 > 0
+    d_down = e2 - c_down
     d_inv = e2 - c_inv
     d_min = 7.0 / 16.0 * s2
     # allowances: twice the next order, plus a floor from the order after it (~5 e^4 measured at e = 0.33;

@@ -22,6 +22,10 @@ peak-to-peak swing (extrema by events on q' = 0; its gradient from the
 variational equations at the extrema).  Liouville's formula det M =
 exp(-4 pi delta/omega) is monitored.  Units: A by f0/(2 omega0 delta), the
 detuning by delta.
+
+Allowances (``_harmonic_balance``, the next order: one harmonic without the rotating-wave linearization):
+  A_max, xi_peak, xi_lo, xi_hi  twice the change it makes + 0.1 eps + 2 (delta/omega0)^2; the folds fall
+  back to 3 eps + 3 delta/omega0 where it finds no two (near the cusp).
 """
 
 from __future__ import annotations

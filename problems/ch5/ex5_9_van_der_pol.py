@@ -22,6 +22,11 @@ eps > 4 (relaxation oscillation): x and u = x'/eps against the slow time
 tau/eps with LSODA (stiff on the slow branches); from the maximum (2, 0) the
 cycle attracts by exp(-1.44 eps^2) per half cycle, and the second full cycle
 gives period, amplitude and exponent; its two halves must agree.
+
+Allowances (leading-order outputs; outside mu/omega0 >= 1 nothing is compared):
+  A          twice the next order eps^2/192 (Poincare-Lindstedt; fitted 0.005208);
+  omega      twice the next order eps^2/16 (Nayfeh & Mook sec. 3.3; fitted 0.06250);
+  lambda_lc  twice the next order eps^2/16 (fitted 0.06250).
 """
 
 from __future__ import annotations
