@@ -805,9 +805,9 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
         if output.theory == "exact":
             known = _known_approximation(ps, name, pj.yours, pj.tol)
             hint = _approximation(formula, ps, name, missing + list(formula.names) if known else missing)
-            if known:
-                hint = f"this is {known}: " + (hint.replace("this is the leading-order approximation; ", "")
-                                               if hint else "the leading-order approximation")
+            if known:  # "this is the small-amplitude period ..., a leading-order approximation; it holds only ..."
+                hint = f"this is {known}, a leading-order approximation" + (
+                    "; " + hint.replace("this is the leading-order approximation; ", "") if hint else "")
         if hint is None and missing:
             hint = f"mech's {name} depends on {_and(missing)}, which your formula leaves out"
     if hint is None or hint.startswith("mech's"):
