@@ -57,7 +57,7 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
     from mech.verification.bench import bench
 
     ex = _get(ex_id)
-    if ex._numeric is None or ex._analytic is None:
+    if not (ex.has_numeric and ex.has_analytic):
         raise UsageFailure(f"{ex.id} has no numeric and analytic solver pair to bench")
     try:
         params = ex.resolve(collect_params(ex, [], list(pairs)))

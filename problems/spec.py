@@ -428,6 +428,66 @@ class Exercise:
 
         return register
 
+    # -- what is registered: read by verification, bench, sweeps and tests ----
+    @property
+    def analytic_solver(self) -> Callable | None:
+        """The registered analytic solver ``fn(p)`` (None without one); assigning registers another."""
+        return self._analytic
+
+    @analytic_solver.setter
+    def analytic_solver(self, fn: Callable | None) -> None:
+        self._analytic = fn
+
+    @property
+    def numeric_solver(self) -> Callable | None:
+        """The registered numeric solver ``fn(p, run)`` (None without one); assigning registers another."""
+        return self._numeric
+
+    @numeric_solver.setter
+    def numeric_solver(self, fn: Callable | None) -> None:
+        self._numeric = fn
+
+    @property
+    def has_analytic(self) -> bool:
+        return self._analytic is not None
+
+    @property
+    def has_numeric(self) -> bool:
+        return self._numeric is not None
+
+    @property
+    def has_hamiltonian(self) -> bool:
+        """Whether the exercise exposes its scene as a separable Hamiltonian (``mech bench``'s symplectic rows)."""
+        return self._hamiltonian is not None
+
+    def separable_hamiltonian(self, p: Params) -> Any:
+        """The registered ``@exercise.hamiltonian`` at ``p``: a ``symplectic.SeparableHamiltonian``."""
+        if self._hamiltonian is None:
+            raise ValueError(f"{self.id} exposes no separable Hamiltonian")
+        return self._hamiltonian(p)
+
+    @property
+    def has_constraints(self) -> bool:
+        """Whether joint checks beyond the bounds are registered (``@exercise.constraint``)."""
+        return bool(self._constraints)
+
+    def constraint_message(self, p: Any) -> str | None:
+        """The first joint check's one-line message that ``p`` fails (anything read as ``p.name``), or None."""
+        for check in self._constraints:
+            msg = check(p)
+            if msg:
+                return msg
+        return None
+
+    @property
+    def batched_route(self) -> "BatchedRoute | None":
+        """The chart's batched route (``@exercise.batched``), None without one; assigning replaces it."""
+        return self._batched
+
+    @batched_route.setter
+    def batched_route(self, route: "BatchedRoute | None") -> None:
+        self._batched = route
+
     # -- use --------------------------------------------------------------
     @property
     def methods(self) -> list[str]:
