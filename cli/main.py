@@ -152,8 +152,7 @@ def cli():
 def list_cmd(chapter, as_json):
     """List the registered exercises: id, title, topic, methods.
 
-    A mark (†) flags the exercises set for mech on the chapter's topics (5.4-5.13); the others are the
-    book's own.
+    A mark (†) flags the exercises set for mech on the chapter's topics; the others are the book's own.
     """
     exercises = [e for e in _registry().index() if not chapter or e.chapter == int(chapter)]
     if as_json:
@@ -173,11 +172,11 @@ def show_cmd(ex_id, as_json):
     """Show an exercise: statement, parameters, outputs, formulas, numeric route, hard cases."""
     ex = _get(ex_id)
     if as_json:
-        _emit_json({**ex.as_json(), "from_book": _registry().from_book(ex.id)})
+        _emit_json({**ex.as_json(), "from_book": ex.from_book})
     else:
         from mech import render
 
-        render.print_show(ex, from_book=_registry().from_book(ex.id))
+        render.print_show(ex, from_book=ex.from_book)
 
 
 def _takes_value(param) -> bool:

@@ -321,6 +321,7 @@ class Exercise:
         self.id = spec["id"]
         self.title = spec["title"]
         self.topic = spec["topic"]
+        self.from_book = bool(spec.get("from_book", False))  # the book's own, or set for mech on its topics
         self.statement = spec["statement"].strip()
         self.model = spec["model"].strip()
         self.numeric_route = spec.get("numeric", {}).get("route", "").strip()
@@ -478,6 +479,11 @@ class Exercise:
             if msg:
                 return msg
         return None
+
+    @property
+    def has_scene(self) -> bool:
+        """Whether the exercise draws a scene of its own (``@exercise.scene``, ``mech plot``)."""
+        return self._scene is not None
 
     @property
     def batched_route(self) -> "BatchedRoute | None":

@@ -1,4 +1,4 @@
-"""Charts: the batched integrator, the batched routes of 5.11-5.13 and `mech sweep`'s batched path.
+"""Charts: the batched integrator, the batched routes (5.11, 5.12, 5.13) and `mech sweep`'s batched path.
 
 Independent references: closed forms (harmonic oscillators), scipy's Radau over
 the full period of the undamped-substitution-free equation, and the exercises'
@@ -19,6 +19,8 @@ from mech.solvers.numerics.batch import integrate_batch
 from mech.verification.crosscheck import cross_check
 from mech.solvers.mechanics.floquet import even_hill_half_batch
 from mech.verification.sweep import Axis, batched_points, grid_points, run_batched
+
+BATCHED = [ex_id for ex_id, ex in registry.all_exercises().items() if ex.batched_route is not None]
 
 
 def run(*args):
@@ -121,7 +123,7 @@ def test_5_13_slow_frequencies_against_radau():
     assert out["omega_inv"].mask("undefined")[1] and not out["omega_inv"].mask("undefined")[0]
 
 
-@pytest.mark.parametrize("ex_id", ["5.11", "5.12", "5.13"])
+@pytest.mark.parametrize("ex_id", BATCHED)
 def test_vectorised_analytic_is_the_exercises_own(ex_id):
     """analytic_batch and expected_error_batch give, point by point, what the scalar solvers give."""
     ex = registry.get(ex_id)
@@ -306,7 +308,7 @@ def test_illinois_finds_every_root():
     assert ok.all() and x[0] == pytest.approx(math.pi / 2, abs=1e-14)
 
 
-@pytest.mark.parametrize("ex_id", ["5.11", "5.12", "5.13"])
+@pytest.mark.parametrize("ex_id", BATCHED)
 def test_hard_cases_through_the_batched_route(ex_id):
     """The catalogue's hard cases, all in one batch: each within its error bar of `mech solve`, same verdict."""
     ex = registry.get(ex_id)

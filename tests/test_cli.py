@@ -293,7 +293,7 @@ def test_list_table_has_every_exercise_and_wraps_to_the_width():
         assert lines[-1] == f"{len(entries)} exercises"
         assert max(len(line) for line in lines) <= width
         starts = [line.split()[0] for line in lines[2:-1] if line[:6].strip() and not line.startswith(("†", "+"))]
-        # the exercises set for mech (5.4-5.13) carry the mark
+        # the exercises set for mech (from_book = false in their catalogue files) carry the mark
         assert starts == [e.id + ("" if e.from_book else "†") for e in entries]
     code, out, _ = run("list")
     assert code == 0 and out.rstrip().endswith(f"{len(entries)} exercises") and " 4.15 " in out
