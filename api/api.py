@@ -503,6 +503,62 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     return Sweep(ex, axes, fixed, solutions, result.seconds, wanted)
 
 
+@dataclass(frozen=True)
+class SweepPlan:
+    """A validated sweep of ``mech sweep``: its axes and fixed values, the outputs asked, and whether it runs
+    through the exercise's batched route (``batched``: those outputs) or point by point (``points``)."""
+
+    exercise: Any
+    axes: list
+    fixed: dict
+    only: Any
+    batched: Any
+    points: Any
+    n_points: int
+
+
+def plan_sweep(ex, axes: list, fixed: dict, only=None) -> SweepPlan:
+    """Every point validated (bounds and joint checks, ``BadInput`` naming the first bad one) before any
+    solve; the batched route where the exercise has one for the outputs asked."""
+    from mech.verification.sweep import batched_outputs, validate, validate_grid
+
+    batched = batched_outputs(ex, only)
+    if batched:
+        validate_grid(ex, axes, fixed)
+        return SweepPlan(ex, axes, fixed, only, batched, None, math.prod(len(a.values) for a in axes))
+    points = validate(ex, axes, fixed)
+    return SweepPlan(ex, axes, fixed, only, None, points, len(points))
+
+
+def run_sweep_plan(plan: SweepPlan, *, rtol: float | None = None, verify: bool = True, jobs: int | None = None,
+                   progress=None):
+    """Run a planned sweep: ``progress(k)`` after every k-th point; returns ``verification.sweep``'s result."""
+    from mech.verification.sweep import run_batched, run_sweep
+
+    if plan.batched:
+        return run_batched(plan.exercise, plan.axes, plan.fixed, plan.batched, rtol=rtol, verify=verify,
+                           progress=progress)
+    return run_sweep(plan.exercise, plan.axes, plan.fixed, plan.points, rtol=rtol, verify=verify, jobs=jobs,
+                     progress=progress, only=plan.only)
+
+
+def check_figure_target(path) -> None:
+    """Fail (``BadUsage``, one line) before any work when ``path`` cannot take a figure or matplotlib is
+    missing."""
+    from mech.figures.common import check_target, need_matplotlib
+
+    need_matplotlib()
+    check_target(str(path))
+
+
+def save_sweep_figure(result, path) -> None:
+    """A sweep's outputs against its first swept parameter, or as a map over two, saved to ``path``."""
+    from mech.figures.common import save
+    from mech.figures.sweepfig import sweep_figure
+
+    save(sweep_figure(result), str(path))
+
+
 # -- grade, bench, plot ----------------------------------------------------------------
 
 def grade(path) -> dict:
@@ -606,6 +662,30 @@ def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = Non
     if path is not None:
         save(fig, str(path))
     return fig
+
+
+def plot_resolved(ex, params, path, *, generic: bool = False, vary: str | None = None, n_numeric: int | None = None,
+                  rtol: float | None = None, dpi: float = 110, budgets: float = 2) -> None:
+    """``mech plot``: the exercise's figure at checked parameters, saved to ``path`` (its suffix chooses
+    the format; a bad target or no matplotlib fails before any solve).  Every numeric solve has its own
+    budget (a failed one is shown in the figure); the whole figure, the scene's own integrations included,
+    ends within ``budgets`` solve budgets or raises ``NumericFailure``."""
+    import warnings
+
+    from mech.core import budget
+    from mech.figures import draw
+    from mech.figures.common import check_target, need_matplotlib, save
+
+    check_target(str(path))
+    need_matplotlib()
+    options = {} if n_numeric is None else {"n_numeric": n_numeric}
+    with budget.limit(budgets * budget.default_seconds(), what=f"the figure of {ex.id}"), \
+            warnings.catch_warnings():
+        # numpy's overflow and division warnings are no message of the figure: a value that is not
+        # finite leaves a gap, and a numeric solver's failure is told in the caption
+        warnings.simplefilter("ignore", RuntimeWarning)
+        fig = draw(ex, params, generic=generic, vary=vary, rtol=rtol, **options)
+    save(fig, str(path), dpi=dpi)
 
 
 # -- check -------------------------------------------------------------------------
