@@ -1,7 +1,7 @@
 """Prose names only the ranges of exercises the registry defines.
 
-A range such as "5.4-5.13" in a README, a help text or a docstring goes stale silently when an
-exercise is added.  So a range may name only a block the registry itself defines: a chapter's registered
+A range of ids (the first and the last joined by a dash) in a README, a help text or a docstring goes
+stale silently when an exercise is added: the ids set for mech, written as a range, miss the new one.  So a range may name only a block the registry itself defines: a chapter's registered
 ids, or a run of them that are all the book's own or all set for mech (catalogue ``from_book``); any
 other set of exercises is listed id by id.  The blocks are worked out here from the catalogue files.
 """
