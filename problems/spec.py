@@ -37,9 +37,6 @@ class Undefined:
     why: str
 
 
-DISPLAY_FACTORS = {"deg": math.pi / 180.0}
-
-
 def _fmt(x: float) -> str:
     return f"{x:.6g}"
 
@@ -57,8 +54,19 @@ class Param:
     min_open: bool = False
     max_open: bool = False
 
+    @property
+    def dimension(self) -> tuple[int, int, int] | None:
+        """(kg, m, s) exponents of the unit, from the one unit system (``core.units.si_exponents``)."""
+        from mech.core.units import si_exponents
+
+        return si_exponents(self.unit)
+
     def to_display(self, value: float) -> float:
-        return value / DISPLAY_FACTORS[self.display] if self.display else value
+        if not self.display:
+            return value
+        from mech.core.units import parse_unit
+
+        return value / parse_unit(self.display)[0]  # the display unit's SI factor, from the one unit system
 
     def show(self, value: float) -> str:
         """The value as people read it: in the display unit where there is one."""
@@ -114,6 +122,13 @@ class Output:
     unit: str
     doc: str = ""
     theory: str = "exact"  # or "leading-order": the analytic value neglects higher orders
+
+    @property
+    def dimension(self) -> tuple[int, int, int] | None:
+        """(kg, m, s) exponents of the unit, from the one unit system (``core.units.si_exponents``)."""
+        from mech.core.units import si_exponents
+
+        return si_exponents(self.unit)
 
     def as_json(self) -> dict:
         d = {"name": self.name, "unit": self.unit, "doc": self.doc}
