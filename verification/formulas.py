@@ -621,7 +621,7 @@ def _approximation(formula: Formula, ps: PointSet, output: str, missing: list[st
 
 
 def _known_approximation(ps: PointSet, output: str, yours: np.ndarray, tol: np.ndarray) -> str | None:
-    """The description of an approximation the exercise declares (``@exercise.approximations``: 5.5-5.7)
+    """The description of an approximation the exercise declares (``@exercise.approximations``: 5.5, 5.6, 5.7)
     that the formula gives at every point, or None."""
     at = getattr(ps.ex, "approximations_at", None)
     if at is None:
