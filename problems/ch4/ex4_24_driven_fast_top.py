@@ -541,7 +541,7 @@ def numeric(p, run):
             drift_J = max(drift_J, abs(jacobi(n2, L2, t2) - J0) / J_scale)
             drift_L3 = max(drift_L3, abs(n2[0] * L2[0] + n2[1] * L2[1] + n2[2] * L2[2] - 1.0))
         n, L, t = n2, L2, t2
-    run.nfev = nsteps * (len(weights) + 1) + ncoarse * 2
+    run.cost(nsteps * (len(weights) + 1) + ncoarse * 2)
     run.info["steps"] = nsteps + ncoarse
     run.info["steps_per_nutation_period"] = m
     if H:
