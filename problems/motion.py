@@ -25,8 +25,11 @@ class Motion:
     ``event``: an ``ode.Event`` that ends the motion (found and confirmed on the dense output);
     ``invariants``: name -> ``f(y)``, a conserved quantity already divided by its scale, whose drift
     ``f(y_end) - f(y0)`` the solve reports; ``t_scale``, ``y_scale``: SI time ``t_scale * t`` and
-    state ``y_scale * y`` (a number or one per state); ``options``: the integration's own settings
-    (``atol``, ``max_step``, ``method``) at any rtol, overridden by a forced integrator."""
+    state ``y_scale * to_states(y)`` (a number or one per state), ``to_states`` mapping the integrated
+    variables (n x N) to the declared ones where they differ (an angle kept as its deviation from
+    upright); ``options``: the integration's own settings (``max_step``, ``method``) at any rtol,
+    overridden by a forced integrator; ``y_size``: the size of each integrated variable (a number or one
+    per variable; 1 by default), the absolute tolerance being ``1e-3 * rtol * y_size``."""
 
     rhs: Callable
     y0: Sequence[float]
@@ -36,12 +39,16 @@ class Motion:
     t_scale: float = 1.0
     y_scale: Any = None
     options: Mapping[str, Any] = field(default_factory=dict)
+    y_size: Any = None
+    to_states: Callable | None = None
 
     def si(self, y):
-        """A state (or n x N states) of the integrated variables in SI."""
+        """A state (or n x N states) of the integrated variables, as the declared states in SI."""
         import numpy as np
 
         y = np.asarray(y, float)
+        if self.to_states is not None:
+            y = np.asarray(self.to_states(y), float)
         if self.y_scale is None:
             return y
         scale = np.broadcast_to(np.asarray(self.y_scale, float), (y.shape[0],))

@@ -257,6 +257,9 @@ class Run:
 
         rtol = self.rtol if rtol is None else rtol
         opts = dict(motion.options)
+        if motion.y_size is not None:
+            size = motion.y_size
+            opts["atol"] = [rtol * 1e-3 * v for v in size] if hasattr(size, "__len__") else rtol * 1e-3 * size
         if motion.event is not None:
             t_end, y_end, traj = self.integrate_to_event(motion.rhs, motion.span, motion.y0, motion.event,
                                                          rtol=rtol, **opts)
@@ -267,7 +270,7 @@ class Run:
             t_end, y_end = float(traj.t[-1]), traj.y[:, -1]
         for name, f in motion.invariants.items():
             self.invariant(name, f(y_end) - f(motion.y0))
-        self.motion(traj, t_scale=motion.t_scale, y_scale=motion.y_scale)
+        self.motion(traj, t_scale=motion.t_scale, y_scale=motion.y_scale, transform=motion.to_states)
         return Path(float(t_end), y_end, traj)
 
     def motion(self, traj: Any, *, t_scale: float = 1.0, t_offset: float = 0.0, y_scale=None,
