@@ -16,3 +16,33 @@ def test_every_registered_exercise_is_in_the_readme_table():
 def test_ci_runs_the_readme_test_command():
     ci = (ROOT / ".ci" / "run").read_text("utf-8").strip().splitlines()[-1]
     assert ci in (ROOT / "README.md").read_text("utf-8")
+
+
+def test_the_readme_is_for_users_at_most_15_kb():
+    """Details live in docs/; the README keeps what a user needs first (issue 25 item 8)."""
+    assert (ROOT / "README.md").stat().st_size <= 15 * 1024
+
+
+def test_every_local_link_in_the_readme_and_docs_exists():
+    """Every relative link (docs pages, pictures, DEVELOPING.md) of README.md and docs/*.md names a file
+    or folder that exists; an anchor names a heading of that page."""
+    import re
+
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    seen_docs = set()
+    for page in pages:
+        text = page.read_text("utf-8")
+        for target in re.findall(r"\]\(([^)\s]+)\)", text):
+            if re.match(r"[a-z]+:", target):
+                continue  # a web address
+            path, _, anchor = target.partition("#")
+            dest = (page.parent / path).resolve() if path else page
+            assert dest.exists(), f"{page.name}: {target}"
+            if dest.parent == ROOT / "docs" and dest.suffix == ".md":
+                seen_docs.add(dest.name)
+            if anchor and dest.suffix == ".md":
+                headings = re.findall(r"^#+\s+(.+)$", dest.read_text("utf-8"), re.M)
+                slugs = {re.sub(r"[^\w\- ]", "", h.strip().lower()).replace(" ", "-") for h in headings}
+                assert anchor in slugs, f"{page.name}: {target}"
+    # every page of docs/ is reachable from the README or from another page
+    assert {p.name for p in (ROOT / "docs").glob("*.md")} <= seen_docs
