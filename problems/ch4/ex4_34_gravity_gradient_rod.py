@@ -32,8 +32,7 @@ expanded so that no order-one terms cancel (checked against the unexpanded
 form): otherwise round-off in the along-rod balance (x ~ 1) feeds the Coriolis
 term and errs by 1e-16/theta_amp (3e-9 at 1e-8 rad).  Not to the turning point: near the separatrix the arrival there
 is an approach to the unstable along-track orientation, where an energy error
-of 1e-13 shifts the turning time by 1e-6 (measured: the turning-point time
-moved by 3e-6 relative between rtol and rtol/10 at 89.99 degrees), whereas
+of 1e-13 shifts the turning time by 1e-6, whereas
 the departure from the exactly given start is well conditioned.  The Jacobi integral and the
 link length are monitored.  At theta_amp = 0 nothing moves:
 T = 2 pi/omega_pitch from (2).
