@@ -24,7 +24,8 @@ class Motion:
 
     ``event``: an ``ode.Event`` that ends the motion (found and confirmed on the dense output);
     ``invariants``: name -> ``f(y)``, a conserved quantity already divided by its scale, whose drift
-    ``f(y_end) - f(y0)`` the solve reports; ``t_scale``, ``y_scale``: SI time ``t_scale * t`` and
+    ``f(y_end) - f(y0)`` the solve reports; ``monitors``: name -> ``g(Y)``, the worst relative drift of
+    a conserved quantity (or a constraint's violation) over the steps ``Y`` (n x N); ``t_scale``, ``y_scale``: SI time ``t_scale * t`` and
     state ``y_scale * to_states(y)`` (a number or one per state), ``to_states`` mapping the integrated
     variables (n x N) to the declared ones where they differ (an angle kept as its deviation from
     upright); ``options``: the integration's own settings (``max_step``, ``method``) at any rtol,
@@ -36,6 +37,7 @@ class Motion:
     span: tuple[float, float]
     event: Any = None
     invariants: Mapping[str, Callable] = field(default_factory=dict)
+    monitors: Mapping[str, Callable] = field(default_factory=dict)
     t_scale: float = 1.0
     y_scale: Any = None
     options: Mapping[str, Any] = field(default_factory=dict)

@@ -270,6 +270,8 @@ class Run:
             t_end, y_end = float(traj.t[-1]), traj.y[:, -1]
         for name, f in motion.invariants.items():
             self.invariant(name, f(y_end) - f(motion.y0))
+        for name, g in motion.monitors.items():
+            self.invariant(name, g(traj.y))
         self.motion(traj, t_scale=motion.t_scale, y_scale=motion.y_scale, transform=motion.to_states)
         return Path(float(t_end), y_end, traj)
 

@@ -77,32 +77,43 @@ def _forces(y):
     return x + 2.0 * vy, yy - 2.0 * vx + n, n
 
 
-@exercise.numeric
-def numeric(p, run):
+@exercise.motion
+def motion(p):
+    """The bead in the rotating frame, in tau = omega t and lengths in L = max(|r0|, |v0|/omega): along
+    the rod (x) and across it (y, held at zero by the rod's reaction).  None for a bead at rest on the
+    axis (an equilibrium)."""
+    from mech.problems.motion import Motion
+
     w, tau_end = p.omega, p.omega * p.t
     L = max(abs(p.r0), abs(p.v0) / w)
-    if L == 0.0:  # at rest on the axis: an equilibrium
-        return {"r": 0.0, "a_rot": 0.0, "a_lab": 0.0, "N": 0.0}
-    y0 = np.array([p.r0 / L, 0.0, p.v0 / (w * L), 0.0])
+    if L == 0.0:
+        return None
 
     def rhs(t, y):
         ax, ay, _ = _forces(y)
         return np.array([y[2], y[3], ax, ay])
 
-    if tau_end > 0.0:
-        # |d y/d tau| <= |y| for this system, so |y| >= e^(-tau) |y0|: an absolute
-        # tolerance below that keeps the error control relative all the way
-        atol = run.rtol * 1e-3 * math.exp(-tau_end)
-        # dense output only for a trajectory (a smooth curve); the steps are the same
-        traj = run.integrate(rhs, (0.0, tau_end), y0, rtol=run.rtol, atol=atol, dense_output=run.keep_trajectories)
-        run.motion(traj, t_scale=1.0 / w, y_scale=[L, w * L], rows=[0, 2])  # across the rod: 0
-        y = traj.y_end
-        jac = 0.5 * (traj.y[2] ** 2 + traj.y[3] ** 2 - traj.y[0] ** 2 - traj.y[1] ** 2)
-        size = 0.5 * (traj.y[2] ** 2 + traj.y[3] ** 2 + traj.y[0] ** 2 + traj.y[1] ** 2)
-        run.invariant("jacobi", float(np.max(np.abs(jac - jac[0]) / size)))
-        run.invariant("constraint", float(np.max(np.abs(traj.y[1]))))
-    else:
-        y = y0
+    def jacobi(Y):
+        """The Jacobi integral (v^2 - r^2)/2 at every step, relative to (v^2 + r^2)/2 there."""
+        jac = 0.5 * (Y[2] ** 2 + Y[3] ** 2 - Y[0] ** 2 - Y[1] ** 2)
+        size = 0.5 * (Y[2] ** 2 + Y[3] ** 2 + Y[0] ** 2 + Y[1] ** 2)
+        return float(np.max(np.abs(jac - jac[0]) / size))
+
+    # |d y/d tau| <= |y| for this system, so |y| >= e^(-tau) |y0|: an absolute tolerance below that
+    # keeps the error control relative all the way
+    return Motion(rhs, np.array([p.r0 / L, 0.0, p.v0 / (w * L), 0.0]), (0.0, tau_end),
+                  monitors={"jacobi": jacobi, "constraint": lambda Y: float(np.max(np.abs(Y[1])))},
+                  t_scale=1.0 / w, y_scale=[L, w * L], to_states=lambda Y: Y[[0, 2]],  # across the rod: 0
+                  y_size=math.exp(-tau_end))
+
+
+@exercise.numeric
+def numeric(p, run):
+    m = motion(p)
+    if m is None:  # at rest on the axis: an equilibrium
+        return {"r": 0.0, "a_rot": 0.0, "a_lab": 0.0, "N": 0.0}
+    w, L = p.omega, m.y_scale[0]
+    y = run.follow(m).y_end if m.span[1] > 0.0 else m.y0
     ax, ay, n = _forces(y)
     # Eq. (4.90): a_lab = a_rot + 2 w x v_rot + w x (w x r), scaled (w = z)
     lab = np.array([ax - 2.0 * y[3] - y[0], ay + 2.0 * y[2] - y[1]])
