@@ -46,3 +46,34 @@ def test_every_local_link_in_the_readme_and_docs_exists():
                 assert anchor in slugs, f"{page.name}: {target}"
     # every page of docs/ is reachable from the README or from another page
     assert {p.name for p in (ROOT / "docs").glob("*.md")} <= seen_docs
+
+
+def test_the_readmes_console_examples_print_what_the_readme_shows():
+    """Every `$ mech ...` line of a console block is run; its output must be the lines that follow it in the
+    README, apart from the cost line (times depend on the machine), and `$ echo $?` its exit status."""
+    import re
+    import shlex
+
+    from click.testing import CliRunner
+
+    from mech.cli.main import cli
+
+    text = (ROOT / "README.md").read_text("utf-8")
+    blocks = re.findall(r"```console\n(.*?)```", text, re.S)
+    ran = 0
+    for block in blocks:
+        for chunk in re.split(r"^\$ ", block, flags=re.M)[1:]:
+            command, _, shown = chunk.partition("\n")
+            if command.startswith("echo $?"):
+                assert int(shown.strip()) == last_code, command
+                continue
+            assert command.startswith("mech "), command
+            result = CliRunner().invoke(cli, shlex.split(command)[1:])
+            last_code = result.exit_code
+
+            def keep(lines):
+                return [line.rstrip() for line in lines.splitlines() if not line.startswith("cost:")]
+
+            assert keep(result.output) == keep(shown), command
+            ran += 1
+    assert ran >= 2
