@@ -85,7 +85,7 @@ def test_join_orders_legs_in_time_and_drops_a_shared_time():
 
 def test_a_declared_motion_matches_the_exercises_states():
     """Every exercise that declares a motion has declared states, one per row its motion maps to."""
-    declared = [ex for ex in map(get, all_exercises()) if ex._motion is not None]
+    declared = [ex for ex in map(get, all_exercises()) if ex.has_motion]
     assert {"4.15", "4.29", "4.30", "4.31", "4.34", "5.6"} <= {ex.id for ex in declared}
     for ex in declared:
         p = ex.resolve({})
