@@ -69,15 +69,40 @@ def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = No
     literals = [i for i, (k, _) in enumerate(toks) if k == "num"
                 and not (i > 0 and toks[i - 1][1] in ("^", "**"))
                 and not (i > 1 and toks[i - 1][1] in ("-", "+") and toks[i - 2][1] in ("^", "**"))]
-    exact = len(literals) != 1 or any(k == "name" and v in CONSTANTS for k, v in toks)
-    if exact:
-        return Expectation(name, text, value, 0.0, None, rtol)
+    if len(literals) != 1 or any(k == "name" and v in CONSTANTS for k, v in toks):
+        return _expression_expectation(name, text, value, [toks[i][1] for i in literals], rtol)
     try:
         half_unit, digits = _literal_precision(toks[literals[0]][1])
     except OverflowError:
         raise BadInput(f"{name}: cannot use '{text}': an exponent too large") from None
     factor, unit_text = _unit_factor(text, toks, literals[0], unit)
     return Expectation(name, text, value, half_unit * abs(factor), digits, rtol, unit_text, abs(factor))
+
+
+def _expression_expectation(name: str, text: str, value: float, literals: list[str], rtol) -> Expectation:
+    """An expression (``(9.81*0.866)^0.5``, ``2*pi/921.5``) is judged to the digits of its least precise
+    number, relative: a whole number written without a point or an exponent (the 2 of ``2*pi``) and
+    ``pi`` are exact, and an expression of exact numbers only is exact (no written tolerance)."""
+    from mech.solvers.verification.answers import Expectation
+
+    worst = None  # (relative half unit, digits, literal) of the least precise number
+    for lit in literals:
+        if not any(c in lit.lower() for c in ".e"):
+            continue
+        try:
+            half_unit, digits = _literal_precision(lit)
+            size = abs(float(lit))
+        except (OverflowError, ValueError):
+            continue
+        if not digits or not (size > 0 and math.isfinite(size)):
+            continue
+        rel = half_unit / size
+        if worst is None or rel > worst[0]:
+            worst = (rel, digits, lit)
+    if worst is None:
+        return Expectation(name, text, value, 0.0, None, rtol)
+    rel, digits, lit = worst
+    return Expectation(name, text, value, rel * abs(value), digits, rtol, least_precise=lit)
 
 
 def parse_rtol_value(text, what: str = "--expect-rtol") -> float:

@@ -114,6 +114,8 @@ class Output:
     unit: str
     doc: str = ""
     theory: str = "exact"  # or "leading-order": the analytic value neglects higher orders
+    # the direction of an axis (an angle with no sense, 4.3's theta1): an answer is judged modulo pi
+    axis: bool = False
 
     def as_json(self) -> dict:
         d = {"name": self.name, "unit": self.unit, "doc": self.doc}

@@ -224,6 +224,9 @@ class Quantity:
     verify_diff: float | None = None
     numeric_err: float | None = None  # the numeric value's earned error, absolute, SI
     analytic_err: float | None = None  # the analytic value's round-off from its conditioning, absolute, SI
+    theory_valid: bool | None = None  # a leading-order output: is its theory inside its range here
+    allowed: float | None = None  # the absolute allowance |numeric - analytic| was held to (the judge's)
+    verdict: str = ""  # the judge's verdict (``judge.VERDICTS``)
     notes: list[str] = field(default_factory=list)
 
     def as_json(self) -> dict:
@@ -247,6 +250,7 @@ class Quantity:
         d["agree"] = self.agree
         if self.theory != "exact":
             d["theory"] = self.theory
+            d["theory_valid"] = self.theory_valid is not False
             d["expected_err"] = _finite_or_none(self.expected_err)
             if self.expected_err_abs is not None:
                 d["expected_err_abs"] = _finite_or_none(self.expected_err_abs)
@@ -312,6 +316,12 @@ def _clean(obj):
     if isinstance(obj, int) and not isinstance(obj, bool):
         return obj
     return f if math.isfinite(f) else None
+
+
+def _float_or_none(v) -> float | None:
+    """A judged array's element: None for NaN (nothing there)."""
+    v = float(v)
+    return None if v != v else v
 
 
 def _is_number(v) -> bool:
@@ -437,13 +447,21 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
                     "allows: the integration is not to be trusted"
                 )
 
+    from mech.solvers.verification import judge as judging
+
     expected = ex.expected_errors(params) if analytic and numeric else {}
+    try:
+        validity = judging.theory_validity(ex, params, expected) if analytic and numeric else {}
+    except Exception as exc:
+        validity = {}
+        errors.append(f"the leading-order theory's range failed: {_failure_text(exc)}")
     try:
         analytic_errs = ex.analytic_errors(params) if analytic else {}
     except Exception as exc:
         analytic_errs = {}
         errors.append(f"analytic error estimate failed: {_failure_text(exc)}")
     quantities = []
+    rows = []  # the judge's arguments, one element per output
     for out in ex.outputs:
         q = Quantity(out.name, out.unit, theory=out.theory)
         q.analytic = analytic.get(out.name) if analytic else None
@@ -452,7 +470,6 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
         if run is not None:
             rel_claim, abs_claim = run.claims.get(out.name, (None, None))
         rel_claim = float(ex.tol_factor * rtol) if rel_claim is None else float(rel_claim)
-        tol = rel_claim
         q.tol_abs = float(abs_claim or 0.0)
         if out.theory != "exact":
             q.expected_err = expected.get(out.name)
@@ -466,8 +483,9 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
             if q.expected_err is None and analytic and numeric:
                 q._note("the exercise gives no size for what its leading-order theory neglects")
             elif q.expected_err is not None:
-                tol = max(tol, float(q.expected_err))
-        q.tol = tol
+                q.expected_err = float(q.expected_err)
+            if analytic and numeric:
+                q.theory_valid = validity.get(out.name) is None
 
         for key in ("analytic", "numeric"):
             v = getattr(q, key)
@@ -482,48 +500,40 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
                 setattr(q, key, Undefined(f"{key} value outside the floating-point range"))
                 errors.append(f"{out.name}: the {key} value {v:.3g} {out.unit} lies outside the floating-point "
                               f"range (1e-{LOG10_LIMIT:.0f}..1e{LOG10_LIMIT:.0f})")
-
         a, n = q.analytic, q.numeric
-        claim_finite = math.isfinite(rel_claim) and math.isfinite(q.tol_abs)
-        if _is_number(n):
-            # the claim, tested by the rerun below: relative to the value, plus the absolute part
-            q.numeric_err = rel_claim * abs(n) + q.tol_abs
         if _is_number(a) and out.name in analytic_errs:
             q.analytic_err = abs(float(analytic_errs[out.name]))
-        if a is None or n is None:
-            q.agree = None
-        elif isinstance(a, Undefined) and _is_number(n) and out.theory != "exact" and q.expected_err_abs:
-            # the leading-order theory finds no value, but what it neglects allows one this large
-            q.agree = bool(abs(n) <= q.expected_err_abs + (q.numeric_err or 0.0))
-            q._note(f"the leading-order theory finds no value; within what it neglects one up to "
-                    f"{q.expected_err_abs:.3g} may exist" + ("" if q.agree else ", and this one is larger"))
-        elif isinstance(a, Undefined) or isinstance(n, Undefined):
-            both = isinstance(a, Undefined) and isinstance(n, Undefined)
-            q.agree = both
-            if not both:
-                q._note("one method finds no finite value where the other does")
-        else:
-            q.abs_err = float(abs(n - a))
-            denom = abs(a) if a != 0 else abs(n)
-            q.rel_err = float(q.abs_err / denom) if denom > 0 else 0.0
-            allowed_abs = max(q.tol_abs, q.expected_err_abs or 0.0)
-            q.agree = bool(q.abs_err <= tol * abs(a) + allowed_abs + (q.analytic_err or 0.0))
-        if _is_number(n) and not claim_finite:
-            # an error bar of infinity would agree with anything: no number at all is better
-            q._note("the numeric solver claims no finite accuracy for this value")
-            q.agree = False
-
-        if verify_values and _is_number(n) and _is_number(verify_values.get(out.name)):
-            q.verify_diff = float(abs(verify_values[out.name] - n))
-            scale = abs(a) if _is_number(a) and a != 0 else abs(n)
-            claim = rel_claim * scale + q.tol_abs
-            if q.verify_diff > claim:
-                q._note(
-                    f"unreliable: the numeric value moves by {q.verify_diff:.3g} at rtol/10, "
-                    f"more than its claimed accuracy {claim:.3g}"
-                )
-                q.agree = False
+        v = verify_values.get(out.name) if verify_values else None
+        rows.append(dict(
+            analytic=a if _is_number(a) else math.nan, numeric=n if _is_number(n) else math.nan,
+            a_undefined=isinstance(a, Undefined), n_undefined=isinstance(n, Undefined),
+            has_analytic=a is not None, has_numeric=n is not None, rel_claim=rel_claim, abs_claim=q.tol_abs,
+            analytic_err=q.analytic_err or 0.0, leading=out.theory != "exact",
+            expected_rel=math.nan if q.expected_err is None else q.expected_err,
+            expected_abs=math.nan if q.expected_err_abs is None else q.expected_err_abs,
+            verify=v if _is_number(v) else math.nan,
+            outside=out.theory != "exact" and validity.get(out.name) is not None,
+            outside_why=validity.get(out.name) or ""))
         quantities.append(q)
+
+    if rows:
+        import numpy as np
+
+        columns = {key: np.array([r[key] for r in rows]) for key in rows[0] if key != "outside_why"}
+        J = judging.judge(**{k: v for k, v in columns.items() if k != "verify"},
+                          verify=columns["verify"] if verify_values else None,
+                          outside_why=[r["outside_why"] for r in rows])
+        for k, q in enumerate(quantities):
+            q.agree = None if J.agree[k] < 0 else bool(J.agree[k])
+            q.verdict = judging.VERDICTS[int(J.verdict[k])]
+            q.tol = float(J.tol[k])
+            q.allowed = _float_or_none(J.allowed[k])
+            q.abs_err = _float_or_none(J.abs_err[k])
+            q.rel_err = _float_or_none(J.rel_err[k])
+            q.numeric_err = _float_or_none(J.numeric_err[k])
+            q.verify_diff = _float_or_none(J.verify_diff[k])
+            for text in judging.notes(J, k):
+                q._note(text)
 
     if run is not None and fp_warnings:
         run.info["fp_warnings"] = list(dict.fromkeys(f"{w.filename.rsplit('/', 1)[-1]}:{w.lineno}: {w.message}"

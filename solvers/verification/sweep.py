@@ -252,80 +252,45 @@ def grid_arrays(ex: Exercise, axes: Sequence[Axis], fixed: dict[str, float]) -> 
     return P
 
 
-def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter):
-    """The cross-check's rule over arrays: one output at every point -> dict of arrays and reasons.
-
-    The same rule as ``crosscheck.cross_check``: tolerance = the numeric claim,
-    at least the expected error for a leading-order output; both undefined
-    agree, one undefined disagrees; a rerun at rtol/10 that moves the value by
-    more than the claim makes it unreliable (disagree).
-    """
+def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter, outside=None):
+    """One output at every point of a batched sweep, judged by the one judge (``judge.judge``), with the
+    columns and reasons a chart and a point's solve object need.  ``outside``: (mask, reasons) where a
+    leading-order theory is outside its range."""
     import numpy as np
+
+    from mech.solvers.verification import judge as judging
 
     out = next(o for o in ex.outputs if o.name == name)
     a = a_col.value
-    a_und = a_col.mask("undefined")
-    n = num.value
-    n_und = num.mask("undefined")
-    n_fail = num.mask("failed")
-    N = n.size
+    N = a.size
     rel = np.broadcast_to(np.asarray(num.rel, dtype=float), (N,))
     rel = np.where(np.isnan(rel), ex.tol_factor * rtol, rel)  # no claim: the exercise's default one
     tol_abs = np.broadcast_to(np.asarray(num.abs, dtype=float), (N,))
-    tol = rel.copy()
     expected = expected_abs = None
-    allowed_abs = tol_abs
     if out.theory != "exact" and e_rel is not None:
         expected, expected_abs = (np.asarray(x, dtype=float) for x in e_rel)
         # an absolute part alone: the relative one is 0
         expected = np.where(np.isnan(expected) & ~np.isnan(expected_abs), 0.0, expected)
-        tol = np.where(np.isnan(expected), tol, np.fmax(tol, expected))
-        allowed_abs = np.fmax(tol_abs, np.nan_to_num(expected_abs, nan=0.0))
-    a_num = ~a_und & np.isfinite(a)
-    n_num = ~n_und & ~n_fail & np.isfinite(n)
-    both = a_num & n_num
-    abs_err = np.where(both, np.abs(n - a), np.nan)
-    denom = np.where(a != 0, np.abs(a), np.abs(n))
-    # the analytic value's own round-off (``Exercise.analytic_error``), where the batched analytic gives it
-    a_err = np.broadcast_to(np.asarray(a_col.abs, dtype=float), (N,))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rel_err = np.where(both, np.where(denom > 0, abs_err / denom, 0.0), np.nan)
-        agree_num = abs_err <= tol * np.abs(a) + allowed_abs + a_err
-    # 1 agree, 0 disagree, -1 no verdict (the numeric value failed: the point's error says why)
-    agree = np.full(N, -1, dtype=np.int8)
-    agree[both] = agree_num[both]
-    one = (a_und | n_und) & ~n_fail
-    agree[one] = (a_und & n_und)[one]
-    # the leading-order theory finds no value, but what it neglects allows one this large
-    numeric_err = np.where(n_num, rel * np.abs(n) + tol_abs, np.nan)
-    small = np.zeros(N, dtype=bool)
-    if expected_abs is not None:
-        small = a_und & n_num & (np.nan_to_num(expected_abs, nan=0.0) > 0)
-        agree[small] = (np.abs(n) <= expected_abs + numeric_err)[small]
-    # an error bar of infinity would agree with anything: no verdict but a failure
-    no_claim = n_num & ~(np.isfinite(rel) & np.isfinite(tol_abs))
-    agree[no_claim] = 0
-    verify_diff = np.full(N, np.nan)
-    unreliable = np.zeros(N, dtype=bool)
-    ver_fail = np.zeros(N, dtype=bool)
-    if ver is not None:
-        v = ver.value
-        v_num = ~ver.mask("undefined") & ~ver.mask("failed") & np.isfinite(v)
-        ver_fail = ver.mask("failed") & ~n_fail
-        chk = n_num & v_num
-        verify_diff = np.where(chk, np.abs(v - n), np.nan)
-        scale = np.where(a_num & (a != 0), np.abs(a), np.abs(n))
-        claim = rel * scale + tol_abs
-        unreliable = chk & (verify_diff > claim)
-        agree[unreliable] = 0
+    ver_fail = np.zeros(N, dtype=bool) if ver is None else ver.mask("failed") & ~num.mask("failed")
+    J = judging.judge(
+        analytic=a, numeric=num.value, a_undefined=a_col.mask("undefined"), n_undefined=num.mask("undefined"),
+        n_failed=num.mask("failed"), rel_claim=rel, abs_claim=tol_abs,
+        analytic_err=np.broadcast_to(np.asarray(a_col.abs, dtype=float), (N,)), leading=out.theory != "exact",
+        expected_rel=np.nan if expected is None else expected,
+        expected_abs=np.nan if expected_abs is None else expected_abs,
+        verify=None if ver is None else np.where(ver.mask("undefined") | ver.mask("failed"), np.nan, ver.value),
+        outside=None if outside is None else outside[0], outside_why=None if outside is None else outside[1])
+    n_fail = num.mask("failed")
     return {
-        "analytic": np.where(a_num, a, np.nan), "numeric": np.where(n_num, n, np.nan),
-        "a_und": a_und, "n_und": n_und, "n_fail": n_fail, "ver_fail": ver_fail,
-        "abs_err": abs_err, "rel_err": rel_err, "tol": tol, "tol_abs": tol_abs, "agree": agree,
-        "expected_err": expected, "expected_err_abs": expected_abs, "small": small,
-        "verify_diff": verify_diff, "unreliable": unreliable,
-        "numeric_err": numeric_err, "a_col": a_col, "num": num, "ver": ver, "no_claim": no_claim,
-        "tighter": tighter,
+        "J": J, "outside": J.outside, "outside_why": J.outside_why,
+        "analytic": np.where(~a_col.mask("undefined") & np.isfinite(a), a, np.nan),
+        "numeric": np.where(~num.mask("undefined") & ~n_fail & np.isfinite(num.value), num.value, np.nan),
+        "a_und": a_col.mask("undefined"), "n_und": num.mask("undefined"), "n_fail": n_fail, "ver_fail": ver_fail,
+        "abs_err": J.abs_err, "rel_err": J.rel_err, "tol": J.tol, "tol_abs": tol_abs, "agree": J.agree,
+        "expected_err": expected, "expected_err_abs": expected_abs, "small": J.small,
+        "verify_diff": J.verify_diff, "unreliable": J.verdict == judging.UNRELIABLE,
+        "numeric_err": J.numeric_err, "a_col": a_col, "num": num, "ver": ver,
+        "no_claim": J.verdict == judging.NO_CLAIM, "tighter": tighter,
     }
 
 
@@ -434,10 +399,15 @@ def run_batched(
         stats["chunks"] += 1
         if progress:
             progress(sl.stop)
+    from mech.solvers.verification.judge import theory_validity_batch
+
     judged = {}
+    expected = {o: np.concatenate(expected[o], axis=1) for o in outputs}
+    validity = theory_validity_batch(ex, P, {o: tuple(expected[o]) for o in outputs})
     for o in outputs:
-        judged[o] = _judge(ex, o, _concat_columns(analytic[o]), np.concatenate(expected[o], axis=1),
-                           _concat_columns(nums[o]), _concat_columns(vers[o]) if verify else None, rtol, tighter)
+        judged[o] = _judge(ex, o, _concat_columns(analytic[o]), expected[o],
+                           _concat_columns(nums[o]), _concat_columns(vers[o]) if verify else None, rtol, tighter,
+                           outside=validity.get(o))
     info = {"method": "DOP853 (batched)", "rtol": rtol, "verify_rtol": tighter if verify else None,
             "chunk": chunk, "chunks": stats["chunks"]}
     result = SweepResult(ex, list(axes), dict(fixed), None, 1, time.perf_counter() - t0)
@@ -454,6 +424,8 @@ def _num(x):
 
 def batched_points(result: SweepResult) -> list[dict]:
     """The chart's per-point solve objects (as ``mech solve --json`` gives them, the asked outputs only)."""
+    from mech.solvers.verification.judge import notes as judge_notes
+
     ex = result.exercise
     P = result.extra["grid"]
     judged = result.extra["judged"]
@@ -492,20 +464,12 @@ def batched_points(result: SweepResult) -> list[dict]:
                 q["expected_err"] = None if J["expected_err"] is None else _num(J["expected_err"][k])
                 if J["expected_err_abs"] is not None and J["expected_err_abs"][k] == J["expected_err_abs"][k]:
                     q["expected_err_abs"] = _num(J["expected_err_abs"][k])
+                q["theory_valid"] = not J["outside"][k]
             if q["numeric"] is not None:
                 q["numeric_err"] = _num(J["numeric_err"][k])
             if not (J["verify_diff"][k] != J["verify_diff"][k]):  # not NaN
                 q["verify_diff"] = float(J["verify_diff"][k])
-            if J["small"][k]:
-                notes.append("the leading-order theory finds no value; within what it neglects one up to "
-                             f"{J['expected_err_abs'][k]:.3g} may exist" + ("" if ag else ", and this one is larger"))
-            elif (J["a_und"][k]) != (J["n_und"][k]) and not J["n_fail"][k]:
-                notes.append("one method finds no finite value where the other does")
-            if J["no_claim"][k]:
-                notes.append("the numeric solver claims no finite accuracy for this value")
-            if J["unreliable"][k]:
-                notes.append(f"unreliable: the numeric value moves by {J['verify_diff'][k]:.3g} at rtol/10, "
-                             f"more than its claimed accuracy")
+            notes.extend(judge_notes(J["J"], k))
             if notes:
                 q["note"] = "; ".join(dict.fromkeys(notes))
             quantities.append(q)
