@@ -131,7 +131,7 @@ def run_case(case: Case) -> Case:
     details = []
     if bad:
         details.append("disagree: " + ", ".join(bad))
-    details.extend(result.errors)
+    details.extend(str(e) for e in result.errors)
     for q in result.quantities:
         if q.agree is False and q.notes:
             details.append(f"{q.name}: {'; '.join(q.notes)}")
@@ -227,7 +227,7 @@ def _run_pooled(cases: list[Case], workers: int, started, finished) -> None:
             started(case)
             ok, seconds, ratio, detail, result = fut.result()
             if result is not None:
-                result.exercise = case.exercise
+                result = result.replace(exercise=case.exercise)
             case.ok, case.seconds, case.worst_ratio, case.detail, case.result = ok, seconds, ratio, detail, result
             finished(case)
     except BaseException:
@@ -243,7 +243,7 @@ def _remote_case(ex_id: str, label: str, given: dict):
     case = run_case(Case(registry.get(ex_id), label, given))
     result = case.result
     if result is not None:  # what a report uses travels back; the exercise is the parent's own
-        result.exercise, result.run = None, None
+        result = result.replace(exercise=None, run=None)
     return case.ok, case.seconds, case.worst_ratio, case.detail, result
 
 

@@ -134,31 +134,12 @@ def parse_expect_options(ex: Exercise, pairs: list[str], rtol_text: str | None) 
     return list(out.values())
 
 
-def attach(result, expectations: list[Expectation]) -> bool:
-    """Judge and hang the judgements on the cross-check result (``result.expected``, read by the table);
-    True when every expected value matches."""
+def attach(result, expectations: list[Expectation]):
+    """The solution with every expectation judged on its quantity (``Quantity.expected``) and the summary
+    line (``expect_summary``); ``.expect_ok`` says whether every expected value matches."""
     from mech.solvers.verification.answers import judge
 
-    judgements = judge(result, expectations)
-    result.expected = {j.name: j for j in judgements}
-    refs = sorted({j.reference for j in judgements if j.reference})
-    right = sum(j.match for j in judgements)
-    result.expect_summary = (f"your answers: {right} of {len(judgements)} right"
-                             + (f" (judged against mech's {', '.join(refs)} value{'s' if len(judgements) > 1 else ''})"
-                                if refs else ""))
-    return right == len(judgements)
-
-
-def solve_json(result) -> dict:
-    """``result.as_json()`` with each expected quantity's ``expected`` and the top-level ``expect_ok``."""
-    d = result.as_json()
-    expected = getattr(result, "expected", None)
-    if expected is not None:
-        for q in d["quantities"]:
-            if q["name"] in expected:
-                q["expected"] = expected[q["name"]].as_json()
-        d["expect_ok"] = all(j.match for j in expected.values())
-    return d
+    return result.with_expected(judge(result, expectations))
 
 
 # -- mech grade FILE ------------------------------------------------------------------------------------
@@ -283,9 +264,9 @@ def grade(entries: list[Entry]) -> None:
     from mech.solvers.verification.crosscheck import cross_check
 
     for entry in entries:
-        entry.result = cross_check(entry.exercise, entry.exercise.resolve(entry.given))
-        entry.judgements = judge(entry.result, entry.expectations)
-        entry.result.expected = {j.name: j for j in entry.judgements}
+        result = cross_check(entry.exercise, entry.exercise.resolve(entry.given))
+        entry.judgements = judge(result, entry.expectations)
+        entry.result = result.with_expected(entry.judgements)
 
 
 def grade_json(path: str, entries: list[Entry], seconds: float) -> dict:
@@ -294,7 +275,7 @@ def grade_json(path: str, entries: list[Entry], seconds: float) -> dict:
     return {
         "file": path,
         "entries": [{"exercise": e.exercise.id, "answer": e.number, "params": dict(e.result.params),
-                     "quantities": solve_json(e.result)["quantities"], "agree": e.result.agree, "ok": e.ok}
+                     "quantities": e.result.to_dict()["quantities"], "agree": e.result.agree, "ok": e.ok}
                     for e in entries],
         "ok": passed == len(judgements),
         "passed": passed,

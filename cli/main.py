@@ -344,14 +344,13 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
     if trajectory_file:  # the Python API's Solution, whose trajectory is the numeric solve's motion
         from mech.api import solve_resolved
 
-        sol = solve_resolved(ex, params, methods=methods, rtol=rtol, verify=verify)
-        result = sol.result
+        result = sol = solve_resolved(ex, params, methods=methods, rtol=rtol, verify=verify)
     else:  # the same cross-check, without loading the API's module (7 ms to compile where .pyc are not kept)
         from mech.solvers.verification.crosscheck import cross_check
 
         result = cross_check(ex, params, methods=methods, rtol=rtol, verify=verify)
     if trajectory_file:
-        failed = any("solver failed" in e for e in sol.errors)
+        failed = sol.solver_failed
         try:
             trajectory = None if failed else sol.trajectory
         except Exception as exc:  # the motion's own solve ran out: said, never a traceback
@@ -363,9 +362,11 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
             click.echo(f"mech: no trajectory written: the numeric solve of {ex.id} {why}", err=True)
         else:
             trajectory.to_csv(trajectory_file)
-    expect_ok = grading.attach(result, expectations) if grading else True
+    if grading:
+        result = grading.attach(result, expectations)
+    expect_ok = result.expect_ok is not False
     if as_json:
-        _emit_json(grading.solve_json(result) if grading else result.as_json())
+        _emit_json(result.to_dict())
     else:
         from mech.cli import render
 

@@ -18,7 +18,7 @@ from mech.cli.grading import _literal_precision, parse_expectation
 from mech.cli.main import cli
 from mech.problems.spec import BadInput, Output, Undefined
 from mech.solvers.verification.answers import judge
-from mech.solvers.verification.crosscheck import Quantity
+from mech.solvers.verification.result import Quantity
 
 THETA_C = math.asin(1 / math.sqrt(3))
 THETA_C_DEG = math.degrees(THETA_C)  # 35.2644
@@ -153,13 +153,14 @@ def _result(*quantities, errors=()):
     return SimpleNamespace(exercise=ex, params={}, quantities=list(quantities), errors=list(errors))
 
 
-def _q(name, unit, a, n=None, agree=True, theory="exact", expected_err=None, numeric_err=None):
+def _q(name, unit, a, n=None, agree=True, theory="exact", expected_err=None, numeric_err=None, theory_valid=None,
+       notes=()):
     n = a if n is None else n
-    q = Quantity(name, unit, analytic=a, numeric=n, agree=agree, theory=theory, tol=1e-8, verify_diff=0.0)
-    q.expected_err = expected_err
     if isinstance(n, float):
-        q.numeric_err = 1e-8 * abs(n) if numeric_err is None else numeric_err
-    return q
+        numeric_err = 1e-8 * abs(n) if numeric_err is None else numeric_err
+    return Quantity(name, unit, analytic=a, numeric=n, agree=agree, theory=theory, tol=1e-8, verify_diff=0.0,
+                    expected_err=expected_err, numeric_err=numeric_err, theory_valid=theory_valid,
+                    notes=tuple(notes))
 
 
 def _judge(q, *texts, others=()):
@@ -208,8 +209,7 @@ def test_no_judgement_without_a_trusted_reference():
 def test_leading_order_answer_is_right_to_its_digits_against_either_value_never_a_band():
     # theory 1.000, exact (numeric) 1.010, the theory neglects 2 %: 1.000 and 1.010 are right to their
     # digits (half a unit: 0.0005); 1.005 lies inside the 2 % band but equals neither, so it is wrong
-    q = _q("x", "m", 1.000, 1.010, theory="leading-order", expected_err=0.02)
-    q.theory_valid = True
+    q = _q("x", "m", 1.000, 1.010, theory="leading-order", expected_err=0.02, theory_valid=True)
     (j,) = _judge(q, ("x", "1.000"))
     assert j.match and j.matches == "leading-order" and j.reference_value == 1.010
     # |1.010 - 1.000| / 1.010 = 0.0099
@@ -223,9 +223,8 @@ def test_leading_order_answer_is_right_to_its_digits_against_either_value_never_
 
 
 def test_outside_its_range_only_the_exact_value_is_right():
-    q = _q("x", "m", 1.000, 1.300, theory="leading-order", expected_err=0.5)
-    q.theory_valid = False
-    q._note("leading-order theory outside its range: mu/omega0 = 3.3")
+    q = _q("x", "m", 1.000, 1.300, theory="leading-order", expected_err=0.5, theory_valid=False,
+           notes=["leading-order theory outside its range: mu/omega0 = 3.3"])
     (j,) = _judge(q, ("x", "1.000"))
     assert not j.match and j.matches is None
     assert "does not apply here (mu/omega0 = 3.3)" in j.verdict and "1.3" in j.verdict

@@ -108,7 +108,7 @@ def test_solve_check_sweeps_and_grade_give_the_same_verdicts(given, tmp_path):
     name = next(iter(given), "mu")
     axis = Axis(name, (float(params[name]),))
     fixed = {k: v for k, v in params.items() if k != name}
-    pointwise = run_sweep(ex, [axis], fixed, [params], verify=True, jobs=1).points[0]
+    pointwise = run_sweep(ex, [axis], fixed, [params], verify=True, jobs=1).point_list()[0]
     point_q = {q["name"]: q for q in pointwise["quantities"]}
     batched = api.sweep("5.11", ranges={name: [float(params[name])], **fixed})
     assert batched.exercise._batched is not None and len(batched.points) == 1

@@ -43,8 +43,9 @@ from typing import Any
 
 from mech.problems.scales import LOG10_LIMIT, out_of_range
 from mech.problems.spec import BadInput, Exercise, NumericFailure, Params, Undefined
+from mech.solvers.verification.result import Failure, Quantity, Solution, _clean  # noqa: F401  (_clean: bench)
 
-__all__ = ["Quantity", "CrossCheck", "cross_check", "PARALLEL_VERIFY"]
+__all__ = ["Quantity", "Solution", "Failure", "cross_check", "combine_agree", "PARALLEL_VERIFY"]
 
 PARALLEL_VERIFY = True  # the rerun at rtol/10 in a forked child where there is a second core (see above)
 
@@ -208,7 +209,9 @@ def combine_agree(flags) -> bool | None:
 
 
 @dataclass
-class Quantity:
+class _Draft:
+    """An output while it is being judged; frozen into a ``result.Quantity`` at the end."""
+
     name: str
     unit: str
     analytic: float | Undefined | None = None
@@ -229,93 +232,17 @@ class Quantity:
     verdict: str = ""  # the judge's verdict (``judge.VERDICTS``)
     notes: list[str] = field(default_factory=list)
 
-    def as_json(self) -> dict:
-        d: dict[str, Any] = {"name": self.name, "unit": self.unit}
-        for key in ("analytic", "numeric"):
-            v = getattr(self, key)
-            if isinstance(v, Undefined):
-                d[key] = None
-                self._note(f"{key}: {v.why}")
-            else:
-                d[key] = _finite_or_none(v)
-        if _is_number(self.numeric):
-            d["numeric_err"] = _finite_or_none(self.numeric_err)
-        if self.analytic_err is not None and _is_number(self.analytic):
-            d["analytic_err"] = _finite_or_none(self.analytic_err)
-        d["abs_err"] = _finite_or_none(self.abs_err)
-        d["rel_err"] = _finite_or_none(self.rel_err)
-        d["tol"] = _finite_or_none(self.tol)
-        if self.tol_abs:
-            d["tol_abs"] = _finite_or_none(self.tol_abs)
-        d["agree"] = self.agree
-        if self.theory != "exact":
-            d["theory"] = self.theory
-            d["theory_valid"] = self.theory_valid is not False
-            d["expected_err"] = _finite_or_none(self.expected_err)
-            if self.expected_err_abs is not None:
-                d["expected_err_abs"] = _finite_or_none(self.expected_err_abs)
-        if self.verify_diff is not None:
-            d["verify_diff"] = _finite_or_none(self.verify_diff)
-        if self.notes:
-            d["note"] = "; ".join(dict.fromkeys(self.notes))
-        return d
-
     def _note(self, text: str) -> None:
         if text not in self.notes:
             self.notes.append(text)
 
-
-def _finite_or_none(v):
-    if v is None or isinstance(v, Undefined):
-        return None
-    v = float(v)
-    return v if math.isfinite(v) else None
-
-
-@dataclass
-class CrossCheck:
-    exercise: Exercise
-    params: Params
-    quantities: list[Quantity]
-    timing: dict
-    numeric_info: dict | None
-    errors: list[str] = field(default_factory=list)
-    run: Any = field(default=None, repr=False)  # the numeric solve's Run (its recorded integrations)
-
-    @property
-    def agree(self) -> bool | None:
-        return False if self.errors else combine_agree(q.agree for q in self.quantities)
-
-    def as_json(self) -> dict:
-        d = {
-            "id": self.exercise.id,
-            "title": self.exercise.title,
-            "params": _clean(dict(self.params)),
-            "quantities": [q.as_json() for q in self.quantities],
-            "agree": self.agree,
-            "timing": _clean(self.timing),
-            "numeric_info": _clean(self.numeric_info),
-        }
-        if self.errors:
-            d["errors"] = self.errors
-        return d
-
-
-def _clean(obj):
-    """Make an info structure JSON-safe: non-finite numbers become null."""
-    if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, bool) or obj is None or isinstance(obj, str):
-        return obj
-    try:
-        f = float(obj)
-    except (TypeError, ValueError):
-        return str(obj)
-    if isinstance(obj, int) and not isinstance(obj, bool):
-        return obj
-    return f if math.isfinite(f) else None
+    def freeze(self) -> Quantity:
+        for key in ("analytic", "numeric"):
+            v = getattr(self, key)
+            if isinstance(v, Undefined):
+                self._note(f"{key}: {v.why}")
+        fields = {f: getattr(self, f) for f in self.__dataclass_fields__ if f != "notes"}
+        return Quantity(**fields, notes=tuple(self.notes))
 
 
 def _float_or_none(v) -> float | None:
@@ -345,7 +272,7 @@ def cross_check(
     verify: bool = True,
     budget_s: float | None = None,
     keep_trajectories: bool = False,
-) -> CrossCheck:
+) -> Solution:
     """Run the asked-for solvers and compare; solver failures become loud entries, never numbers.
 
     The numeric solve and its rerun share one wall-clock budget (``budget_s``, by default
@@ -368,11 +295,11 @@ def cross_check(
         caught.__exit__(None, None, None)
 
 
-def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings) -> CrossCheck:
+def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings) -> Solution:
     from mech.solvers.verification import budget
 
     timing: dict[str, float | None] = {"analytic_s": None, "numeric_s": None}
-    errors: list[str] = []
+    errors: list[Failure] = []
     analytic: dict = {}
     numeric: dict = {}
     run = None
@@ -382,7 +309,7 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
         try:
             analytic = ex.solve_analytic(params)
         except Exception as exc:  # a broken solver is a failed check, reported, not a crash
-            errors.append(f"analytic solver failed: {_failure_text(exc)}")
+            errors.append(Failure("analytic", f"analytic solver failed: {_failure_text(exc)}"))
         timing["analytic_s"] = time.perf_counter() - t0
 
     verify_values: dict = {}
@@ -406,7 +333,7 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
                     rerun = None
                 if not isinstance(exc, Exception):
                     raise
-                errors.append(f"numeric solver failed: {_failure_text(exc)}")
+                errors.append(Failure("numeric", f"numeric solver failed: {_failure_text(exc)}"))
             timing["numeric_s"] = time.perf_counter() - t0
             dop = sys.modules.get("mech.solvers.numerics.dop853")
             if not loaded_before and dop is not None and dop._TABLEAU_TRIED:
@@ -429,23 +356,22 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
                     verify_values = payload
                     run.info["verify_rtol"] = tighter
                 else:
-                    errors.append(f"numeric solver failed at rtol={tighter:g}: {payload}")
+                    errors.append(Failure("rerun", f"numeric solver failed at rtol={tighter:g}: {payload}"))
             elif verify and run is not None and tighter < rtol:
                 try:
                     verify_values, vrun = ex.solve_numeric(params, tighter, shared=shared)
                     run.info["verify_rtol"] = tighter
                 except Exception as exc:
-                    errors.append(f"numeric solver failed at rtol={tighter:g}: {_failure_text(exc)}")
+                    errors.append(Failure("rerun", f"numeric solver failed at rtol={tighter:g}: {_failure_text(exc)}"))
 
     if run is not None:
         default_allowed = float(ex.tol_factor * rtol)
         for name, drift in run.invariants.items():
             allowed = run.invariant_allowed.get(name, default_allowed)
             if not (drift <= allowed):
-                errors.append(
-                    f"the invariant '{name}' drifts by {drift:.2g}, more than the {allowed:.2g} the method "
-                    "allows: the integration is not to be trusted"
-                )
+                errors.append(Failure(
+                    "invariant", f"the invariant '{name}' drifts by {drift:.2g}, more than the {allowed:.2g} the "
+                    "method allows: the integration is not to be trusted"))
 
     from mech.solvers.verification import judge as judging
 
@@ -454,16 +380,16 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
         validity = judging.theory_validity(ex, params, expected) if analytic and numeric else {}
     except Exception as exc:
         validity = {}
-        errors.append(f"the leading-order theory's range failed: {_failure_text(exc)}")
+        errors.append(Failure("estimate", f"the leading-order theory's range failed: {_failure_text(exc)}"))
     try:
         analytic_errs = ex.analytic_errors(params) if analytic else {}
     except Exception as exc:
         analytic_errs = {}
-        errors.append(f"analytic error estimate failed: {_failure_text(exc)}")
+        errors.append(Failure("estimate", f"analytic error estimate failed: {_failure_text(exc)}"))
     quantities = []
     rows = []  # the judge's arguments, one element per output
     for out in ex.outputs:
-        q = Quantity(out.name, out.unit, theory=out.theory)
+        q = _Draft(out.name, out.unit, theory=out.theory)
         q.analytic = analytic.get(out.name) if analytic else None
         q.numeric = numeric.get(out.name) if numeric else None
         rel_claim, abs_claim = (None, None)
@@ -492,14 +418,14 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
             if isinstance(v, float) and not math.isfinite(v):
                 q._note(f"{key} value is not finite ({v}): a solver defect")
                 setattr(q, key, Undefined(f"non-finite {key} value"))
-                errors.append(f"{out.name}: {key} value is not finite")
+                errors.append(Failure("non-finite", f"{out.name}: {key} value is not finite", out.name))
             elif isinstance(v, float) and out_of_range(v):
                 # beyond 1e+-290 a value has lost the room its own error needs (subnormal, or one
                 # operation from overflow): no number is better than one that cannot be trusted
                 q._note(f"{key} value {v:.3g} lies outside the floating-point range mech works in")
                 setattr(q, key, Undefined(f"{key} value outside the floating-point range"))
-                errors.append(f"{out.name}: the {key} value {v:.3g} {out.unit} lies outside the floating-point "
-                              f"range (1e-{LOG10_LIMIT:.0f}..1e{LOG10_LIMIT:.0f})")
+                errors.append(Failure("out-of-range", f"{out.name}: the {key} value {v:.3g} {out.unit} lies outside "
+                                      f"the floating-point range (1e-{LOG10_LIMIT:.0f}..1e{LOG10_LIMIT:.0f})", out.name))
         a, n = q.analytic, q.numeric
         if _is_number(a) and out.name in analytic_errs:
             q.analytic_err = abs(float(analytic_errs[out.name]))
@@ -538,12 +464,12 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
     if run is not None and fp_warnings:
         run.info["fp_warnings"] = list(dict.fromkeys(f"{w.filename.rsplit('/', 1)[-1]}:{w.lineno}: {w.message}"
                                                      for w in fp_warnings))[:5]
-    return CrossCheck(
+    return Solution(
         exercise=ex,
         params=params,
-        quantities=quantities,
+        quantities=tuple(q.freeze() for q in quantities),
         timing=timing,
         numeric_info={**run.as_json(), "import_s": import_s} if run is not None else None,
-        errors=errors,
+        errors=tuple(errors),
         run=run,
     )

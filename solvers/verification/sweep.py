@@ -29,7 +29,8 @@ from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
-from mech.problems.spec import Exercise, Params
+from mech.problems.spec import Exercise, Params, Undefined
+from mech.solvers.verification.result import Failure, Quantity, Solution, to_json
 
 __all__ = ["Axis", "SweepResult", "grid_points", "run_sweep", "plan_workers", "POOL_OVERHEAD_S", "MIN_PARALLEL_S",
            "pool_worker_init", "run_batched", "batched_outputs", "batched_points", "grid_arrays", "CHUNK"]
@@ -54,12 +55,13 @@ class SweepResult:
     exercise: Exercise
     axes: list[Axis]
     fixed: dict[str, float]
-    points: list[dict] | None  # one cross-check JSON object per grid point (without id and title), grid order;
-    # None for a batched sweep until ``point_list()`` builds them from its arrays
+    points: list | None  # one ``result.Solution`` per grid point, grid order; None for a batched sweep until
+    # ``solutions()`` builds them from its arrays
     workers: int = 1
     seconds: float = 0.0
     extra: dict = field(default_factory=dict)
     only: tuple[str, ...] | None = None  # the outputs asked for (None: all)
+    wall: list | None = None  # each point's wall time, s (point by point)
 
     @property
     def output_names(self) -> list[str]:
@@ -67,10 +69,25 @@ class SweepResult:
             return list(self.extra["outputs"])
         return list(self.only) if self.only else [o.name for o in self.exercise.outputs]
 
-    def point_list(self) -> list[dict]:
+    def solutions(self) -> list:
+        """One typed ``Solution`` per grid point, grid order."""
         if self.points is None:
-            self.points = batched_points(self)
+            self.points = batched_solutions(self)
         return self.points
+
+    def point_list(self) -> list[dict]:
+        """The points as the contract's solve objects (without id and title)."""
+        if "json" not in self.extra:
+            out = []
+            for k, sol in enumerate(self.solutions()):
+                d = to_json(sol)
+                d.pop("id", None)
+                d.pop("title", None)
+                if self.wall is not None:
+                    d["wall_s"] = self.wall[k]
+                out.append(d)
+            self.extra["json"] = out
+        return self.extra["json"]
 
     def __len__(self) -> int:
         if self.points is None:
@@ -87,13 +104,11 @@ class SweepResult:
             for J in self.extra["judged"].values():
                 bad |= (J["agree"] == 0) | J["n_fail"] | J["ver_fail"]
             return int(bad.sum())
-        return sum(pt.get("agree") is False for pt in self.points)
+        return sum(pt.agree is False for pt in self.points)
 
     @property
     def agree(self) -> bool | None:
         if self.points is None:
-            import numpy as np
-
             judged = self.extra["judged"].values()
             if any((J["agree"] == 0).any() or J["n_fail"].any() or J["ver_fail"].any() for J in judged):
                 return False
@@ -102,7 +117,7 @@ class SweepResult:
             return True
         from mech.solvers.verification.crosscheck import combine_agree
 
-        return combine_agree(pt.get("agree") for pt in self.points)
+        return combine_agree(pt.agree for pt in self.points)
 
     def as_json(self) -> dict:
         d = {
@@ -138,8 +153,9 @@ def pool_worker_init(parent: int | None = None) -> None:
         crosscheck._die_with_parent(parent)
 
 
-def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only=None) -> dict:
-    """One grid point's cross-check as the contract's solve object (without id and title); picklable.
+def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only=None):
+    """One grid point's cross-check: (its ``Solution`` without the exercise and the run, so that it
+    pickles; its wall time in s, without a one-time import).
 
     ``only``: the output names to keep (the solvers still compute all of them on this route)."""
     from mech.problems import registry
@@ -149,17 +165,11 @@ def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only
     params = Params(values) if isinstance(values, dict) else values
     t0 = time.perf_counter()
     result = cross_check(ex, params, rtol=rtol, verify=verify)
-    d = result.as_json()
-    d.pop("id", None)
-    d.pop("title", None)
-    import_s = (d.get("numeric_info") or {}).get("import_s") or 0.0
-    d["wall_s"] = time.perf_counter() - t0 - import_s
+    import_s = (result.numeric_info or {}).get("import_s") or 0.0
+    wall = time.perf_counter() - t0 - import_s
     if only:
-        d["quantities"] = [q for q in d["quantities"] if q["name"] in only]
-        flags = [q["agree"] for q in d["quantities"]]
-        d["agree"] = (False if d.get("errors") or any(f is False for f in flags)
-                      else None if all(f is None for f in flags) else True)
-    return d
+        result = result.replace(quantities=tuple(q for q in result.quantities if q.name in only))
+    return result.replace(exercise=None, run=None), wall
 
 
 def plan_workers(n_left: int, seconds_per_point: float, cores: int | None = None) -> int:
@@ -200,13 +210,13 @@ def run_sweep(
             progress(done)
 
     if not params:
-        return SweepResult(ex, list(axes), dict(fixed), [], 1, 0.0, only=only)
+        return SweepResult(ex, list(axes), dict(fixed), [], 1, 0.0, only=only, wall=[])
     only = tuple(only) if only else None
     # the first point here: it measures the cost per point
     points[0] = solve_point(ex.id, dict(params[0]), rtol, verify, only)
     tick()
     rest = list(range(1, len(params)))
-    workers = jobs if jobs is not None else plan_workers(len(rest), points[0]["wall_s"])
+    workers = jobs if jobs is not None else plan_workers(len(rest), points[0][1])
     workers = max(1, min(workers, len(rest))) if rest else 1
     if workers == 1:
         for i in rest:
@@ -221,7 +231,9 @@ def run_sweep(
             for fut in as_completed(futures):
                 points[futures[fut]] = fut.result()
                 tick()
-    return SweepResult(ex, list(axes), dict(fixed), points, workers, time.perf_counter() - t0, only=only)
+    solutions = [sol.replace(exercise=ex) for sol, _ in points]
+    return SweepResult(ex, list(axes), dict(fixed), solutions, workers, time.perf_counter() - t0, only=only,
+                       wall=[w for _, w in points])
 
 
 # -- charts: the batched route -----------------------------------------------------------------------
@@ -422,8 +434,9 @@ def _num(x):
     return x if _m.isfinite(x) else None
 
 
-def batched_points(result: SweepResult) -> list[dict]:
-    """The chart's per-point solve objects (as ``mech solve --json`` gives them, the asked outputs only)."""
+def batched_solutions(result: SweepResult) -> list[Solution]:
+    """The chart's per-point solutions (as ``mech solve`` gives them, the asked outputs only), built from the
+    judged arrays."""
     from mech.solvers.verification.judge import notes as judge_notes
 
     ex = result.exercise
@@ -439,49 +452,44 @@ def batched_points(result: SweepResult) -> list[dict]:
         quantities, errors = [], []
         for name, J in judged.items():
             o = units[name]
-            q = {"name": name, "unit": o.unit, "analytic": _num(J["analytic"][k]), "numeric": _num(J["numeric"][k])}
             notes = []
+            analytic, numeric = _num(J["analytic"][k]), _num(J["numeric"][k])
             if J["a_und"][k]:
-                notes.append(f"analytic: {J['a_col'].reason('undefined', k)}")
+                analytic = Undefined(J["a_col"].reason("undefined", k))
             if J["n_und"][k]:
-                notes.append(f"numeric: {J['num'].reason('undefined', k)}")
+                numeric = Undefined(J["num"].reason("undefined", k))
             if J["n_fail"][k]:
-                errors.append(J["num"].reason("failed", k) if J["num"].reason("failed", k).startswith("numeric")
-                              else f"numeric solver failed: {name}: {J['num'].reason('failed', k)}")
+                why = J["num"].reason("failed", k)
+                errors.append(Failure("numeric", why if why.startswith("numeric")
+                                      else f"numeric solver failed: {name}: {why}", name))
             if J["ver_fail"][k]:
                 why = J["ver"].reason("failed", k)
-                errors.append(why if why.startswith("numeric") else
-                              f"numeric solver failed at rtol={J['tighter']:g}: {name}: {why}")
-            q["abs_err"] = _num(J["abs_err"][k])
-            q["rel_err"] = _num(J["rel_err"][k])
-            q["tol"] = _num(J["tol"][k])
-            if J["tol_abs"][k]:
-                q["tol_abs"] = float(J["tol_abs"][k])
-            ag = int(J["agree"][k])
-            q["agree"] = None if ag < 0 else bool(ag)
-            if o.theory != "exact":
-                q["theory"] = o.theory
-                q["expected_err"] = None if J["expected_err"] is None else _num(J["expected_err"][k])
-                if J["expected_err_abs"] is not None and J["expected_err_abs"][k] == J["expected_err_abs"][k]:
-                    q["expected_err_abs"] = _num(J["expected_err_abs"][k])
-                q["theory_valid"] = not J["outside"][k]
-            if q["numeric"] is not None:
-                q["numeric_err"] = _num(J["numeric_err"][k])
-            if not (J["verify_diff"][k] != J["verify_diff"][k]):  # not NaN
-                q["verify_diff"] = float(J["verify_diff"][k])
+                errors.append(Failure("rerun", why if why.startswith("numeric") else
+                                      f"numeric solver failed at rtol={J['tighter']:g}: {name}: {why}", name))
             notes.extend(judge_notes(J["J"], k))
-            if notes:
-                q["note"] = "; ".join(dict.fromkeys(notes))
-            quantities.append(q)
-        flags = [q["agree"] for q in quantities]
-        agree = False if errors or any(f is False for f in flags) else (None if all(f is None for f in flags)
-                                                                          else True)
-        pt = {"params": {n: cols[n][k] for n in names}, "quantities": quantities, "agree": agree,
-              "numeric_info": dict(info)}
-        if errors:
-            pt["errors"] = list(dict.fromkeys(errors))
-        points.append(pt)
+            for key, v in (("analytic", analytic), ("numeric", numeric)):
+                if isinstance(v, Undefined):
+                    notes.append(f"{key}: {v.why}")
+            ag = int(J["agree"][k])
+            leading = o.theory != "exact"
+            e_abs = None if J["expected_err_abs"] is None else _num(J["expected_err_abs"][k])
+            quantities.append(Quantity(
+                name, o.unit, analytic=analytic, numeric=numeric,
+                numeric_err=_num(J["numeric_err"][k]) if isinstance(numeric, float) else None,
+                abs_err=_num(J["abs_err"][k]), rel_err=_num(J["rel_err"][k]), tol=_num(J["tol"][k]),
+                tol_abs=float(J["tol_abs"][k]), agree=None if ag < 0 else bool(ag), theory=o.theory,
+                theory_valid=(not J["outside"][k]) if leading else None,
+                expected_err=_num(J["expected_err"][k]) if leading and J["expected_err"] is not None else None,
+                expected_err_abs=e_abs if leading else None, verify_diff=_num(J["verify_diff"][k]),
+                allowed=_num(J["J"].allowed[k]), notes=tuple(dict.fromkeys(notes))))
+        points.append(Solution(ex, {n: cols[n][k] for n in names}, tuple(quantities), timing={},
+                               numeric_info=dict(info), errors=tuple(dict.fromkeys(errors))))
     return points
+
+
+def batched_points(result: SweepResult) -> list[dict]:
+    """The chart's per-point solve objects (as ``mech solve --json`` gives them, the asked outputs only)."""
+    return result.point_list()
 
 
 def output_arrays(result: SweepResult, name: str) -> dict:
@@ -499,7 +507,7 @@ def output_arrays(result: SweepResult, name: str) -> dict:
             reasons[k] = _reason_batched(result, int(k))
         return {"numeric": J["numeric"], "analytic": J["analytic"], "agree": J["agree"], "failed": pts_failed,
                 "reasons": reasons}
-    pts = result.points
+    pts = result.point_list()
     num = np.array([_nan(q["numeric"]) for pt in pts for q in pt["quantities"] if q["name"] == name])
     ana = np.array([_nan(q["analytic"]) for pt in pts for q in pt["quantities"] if q["name"] == name])
     agree = np.array([-1 if q["agree"] is None else int(q["agree"])
