@@ -15,7 +15,7 @@ import pytest
 from click.testing import CliRunner
 
 from mech.cli.main import cli
-from mech.solvers.verification import judge as J
+from mech.verification import judge as J
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -90,10 +90,10 @@ POINTS_5_11 = [{}, {"delta": 0.001, "mu": 0.000404, "omega": 10.0}, {"delta": 0.
 @pytest.mark.parametrize("given", POINTS_5_11)
 def test_solve_check_sweeps_and_grade_give_the_same_verdicts(given, tmp_path):
     from mech import api
-    from mech.cli.checking import Case, run_case
-    from mech.cli.grading import grade, load_answers
+    from mech.verification.checking import Case, run_case
+    from mech.verification.grading import grade, load_answers
     from mech.problems import registry
-    from mech.solvers.verification.sweep import Axis, run_sweep
+    from mech.verification.sweep import Axis, run_sweep
 
     ex = registry.get("5.11")
     params = ex.resolve(given)
@@ -184,7 +184,7 @@ def test_an_expression_is_judged_to_its_least_precise_number():
 
 
 def test_an_expression_of_exact_numbers_stays_exact():
-    from mech.cli.grading import parse_expectation
+    from mech.verification.grading import parse_expectation
     from mech.problems import registry
 
     ex = registry.get("4.15")

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import mech
-from mech.solvers.verification.result import Failure, Quantity, Solution
+from mech.verification.result import Failure, Quantity, Solution
 
 
 @pytest.fixture(scope="module")

@@ -174,7 +174,7 @@ def print_show(ex, from_book: bool | None = None) -> None:
 
 def case_params_text(ex, values: dict) -> str:
     """``theta0 = 1 deg, l = 2 m``: parameter values as people read them."""
-    from mech.cli.checking import case_text
+    from mech.verification.checking import case_text
 
     return case_text(ex, values)
 
@@ -329,7 +329,7 @@ def print_solve(result) -> None:
     for n in notes:
         parts.append(Text(n, style="yellow"))
     for e in result.errors:
-        parts.append(Text(e, style="bold red"))
+        parts.append(Text(str(e), style="bold red"))
     verdict = _verdict(result)
     if verdict is not None:
         parts.append(verdict)

@@ -17,7 +17,7 @@ import platform
 from dataclasses import dataclass, field
 
 from mech.problems.spec import Undefined
-from mech.solvers.verification.answers import ROUND_OFF, analytic_err
+from mech.verification.answers import ROUND_OFF, analytic_err
 
 __all__ = ["FORMAT", "record_case", "make", "validate", "compare", "Comparison", "Move"]
 
@@ -134,7 +134,7 @@ class Comparison:
 
 
 def within(diff: float, allowed: float) -> bool:
-    from mech.solvers.verification.judge import within as judged_within
+    from mech.verification.judge import within as judged_within
 
     return bool(judged_within(diff, allowed))
 

@@ -228,7 +228,7 @@ class _GSlips:
 def _approximations(result) -> dict:
     """The approximations the exercise declares next to its exact outputs at these parameters
     ({output: [(value, what it is)]}); none where it declares none or they cannot be evaluated."""
-    from mech.solvers.verification.judge import approximations
+    from mech.verification.judge import approximations
 
     try:
         return approximations(result.exercise, result.params)
@@ -350,7 +350,7 @@ def _digits(e: Expectation) -> int:
 
 
 def judge(result, expectations: list[Expectation]) -> list[Judgement]:
-    """Judge every expectation against a cross-check result (``solvers.verification.crosscheck.CrossCheck``)."""
+    """Judge every expectation against a cross-check result (a ``result.Solution``)."""
     quantities = {q.name: q for q in result.quantities}
     refs: dict[str, _Reference] = {}
     for name, q in quantities.items():
