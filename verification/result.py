@@ -187,9 +187,13 @@ class Solution(Mapping):
 
     @property
     def agree(self) -> bool | None:
+        """True when every compared output agrees and every numeric value is verified (an output whose
+        leading-order theory is outside its range compares nothing: its numeric value, verified by the
+        rerun, holds); False when anything failed; None where nothing was compared or verified."""
         if self.errors:
             return False
-        flags = [q.agree for q in self.quantities]
+        flags = [True if q.theory_valid is False and q.agree is None and q.verify_diff is not None else q.agree
+                 for q in self.quantities]
         if any(f is False for f in flags):
             return False
         return None if all(f is None for f in flags) else True

@@ -111,10 +111,13 @@ class SweepResult:
     @property
     def agree(self) -> bool | None:
         if self.points is None:
+            import numpy as np
+
             judged = self.extra["judged"].values()
             if any((J["agree"] == 0).any() or J["n_fail"].any() or J["ver_fail"].any() for J in judged):
                 return False
-            if all((J["agree"] < 0).all() for J in judged):
+            # a leading-order output outside its range with a verified numeric value holds (``Solution.agree``)
+            if all(((J["agree"] < 0) & ~(J["outside"] & ~np.isnan(J["verify_diff"]))).all() for J in judged):
                 return None
             return True
         from mech.verification.crosscheck import combine_agree
