@@ -92,6 +92,14 @@ def judge(*, analytic, numeric, a_undefined=False, n_undefined=False, n_failed=F
     values at rtol/10 (None: no rerun) with ``v_number`` where it gave a number; ``outside``: where a
     leading-order theory is outside its range, ``outside_why`` the reasons.
     """
+    with np.errstate(all="ignore"):  # NaN marks what is missing: comparisons with it are simply False
+        return _judge(analytic, numeric, a_undefined, n_undefined, n_failed, has_analytic, has_numeric, rel_claim,
+                      abs_claim, analytic_err, leading, expected_rel, expected_abs, verify, v_number, outside,
+                      outside_why)
+
+
+def _judge(analytic, numeric, a_undefined, n_undefined, n_failed, has_analytic, has_numeric, rel_claim, abs_claim,
+           analytic_err, leading, expected_rel, expected_abs, verify, v_number, outside, outside_why) -> Judged:
     a = np.atleast_1d(np.asarray(analytic, dtype=float))
     n = np.atleast_1d(np.asarray(numeric, dtype=float))
     N = max(a.size, n.size)
@@ -117,20 +125,18 @@ def judge(*, analytic, numeric, a_undefined=False, n_undefined=False, n_failed=F
     a_und = has_a & (a_und | ~np.isfinite(a) & ~a_num)
     n_und = has_n & ~n_fail & (n_und | ~np.isfinite(n) & ~n_num)
     both = a_num & n_num
-    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        abs_err = np.where(both, np.abs(n - a), np.nan)
-        denom = np.where(a != 0, np.abs(a), np.abs(n))
-        rel_err = np.where(both, np.where(denom > 0, abs_err / denom, 0.0), np.nan)
-        allowed = np.where(both, tol * np.abs(a) + allowed_abs + a_err, np.nan)
-        numeric_err = np.where(n_num, rel * np.abs(n) + tol_abs, np.nan)
+    abs_err = np.where(both, np.abs(n - a), np.nan)
+    denom = np.where(a != 0, np.abs(a), np.abs(n))
+    rel_err = np.where(both, np.where(denom > 0, abs_err / denom, 0.0), np.nan)
+    allowed = np.where(both, tol * np.abs(a) + allowed_abs + a_err, np.nan)
+    numeric_err = np.where(n_num, rel * np.abs(n) + tol_abs, np.nan)
 
     agree = np.full(N, -1, np.int8)
     verdict = np.full(N, FAILED, np.int8)
     verdict[~has_a & has_n] = NUMERIC_ONLY
     verdict[has_a & ~has_n] = ANALYTIC_ONLY
     verdict[~has_a & ~has_n] = FAILED
-    with np.errstate(invalid="ignore"):
-        ok = within(abs_err, allowed)
+    ok = within(abs_err, allowed)
     agree[both] = ok[both]
     verdict[both] = np.where(ok, AGREE, DISAGREE)[both]
     # one method finds no finite value where the other does (or both find none: they agree)
@@ -139,8 +145,7 @@ def judge(*, analytic, numeric, a_undefined=False, n_undefined=False, n_failed=F
     verdict[one] = np.where(a_und & n_und, AGREE, ONE_UNDEFINED)[one]
     # the leading-order theory finds no value, but what it neglects allows one this large
     small = lead & ~out_mask & a_und & n_num & (np.nan_to_num(e_abs, nan=0.0) > 0)
-    with np.errstate(invalid="ignore"):
-        ok_small = within(np.abs(n), e_abs + numeric_err)
+    ok_small = within(np.abs(n), e_abs + numeric_err)
     agree[small] = ok_small[small]
     verdict[small] = np.where(ok_small, AGREE, DISAGREE)[small]
     # a leading-order theory outside its range: nothing compared
@@ -158,11 +163,10 @@ def judge(*, analytic, numeric, a_undefined=False, n_undefined=False, n_failed=F
         v = _arr(verify, N)
         v_num = np.isfinite(v) if v_number is None else _arr(v_number, N, bool) & np.isfinite(v)
         chk = n_num & v_num
-        with np.errstate(invalid="ignore", over="ignore"):
-            verify_diff = np.where(chk, np.abs(v - n), np.nan)
-            scale = np.where(a_num & (a != 0), np.abs(a), np.abs(n))
-            claim = np.where(chk, rel * scale + tol_abs, np.nan)
-            moved = chk & ~within(verify_diff, claim)
+        verify_diff = np.where(chk, np.abs(v - n), np.nan)
+        scale = np.where(a_num & (a != 0), np.abs(a), np.abs(n))
+        claim = np.where(chk, rel * scale + tol_abs, np.nan)
+        moved = chk & ~within(verify_diff, claim)
         agree[moved] = 0
         verdict[moved] = UNRELIABLE
     return Judged(agree, verdict, tol, allowed, abs_err, rel_err, numeric_err, verify_diff, claim, small,
