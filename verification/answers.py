@@ -254,7 +254,8 @@ def _hint(e: Expectation, q, ref: _Reference, refs: dict, expectations: dict, gs
     for value, what in approx:
         if _number(value):
             pct = _percent(abs(value - ref.value) / abs(ref.value)) if ref.value else f"{abs(value):.3g}"
-            named.append((f"this is the {what}; the exact value differs by {pct} here", value, 0.0))
+            what = what if what.startswith(("the ", "a ", "an ")) else f"the {what}"
+            named.append((f"this is {what}; the exact value differs by {pct} here", value, 0.0))
     if ref.outside_value is not None:
         named.append(("that is the leading-order value, but the leading-order theory does not apply here",
                       ref.outside_value, 0.0))
@@ -286,7 +287,9 @@ def _hint(e: Expectation, q, ref: _Reference, refs: dict, expectations: dict, gs
         if not _number(slipped):
             continue
         # a unit in the last written digit: a slip together with a rounding of that digit is still named
-        tol = 2.0 * e.own_tol(slipped) + err + ROUND_OFF * abs(slipped)
+        # (from 3 digits written on: one or two digits leave too wide a window to name anything by)
+        own = e.own_tol(slipped) * (2.0 if e.rtol is None and (e.digits or 0) >= 3 else 1.0)
+        tol = own + err + ROUND_OFF * abs(slipped)
         if _distance(Expectation("", "", ref.value), slipped, axis) <= tol:
             continue  # a slip that leaves mech's value where it is (g where the answer has none) explains nothing
         miss = _distance(e, slipped, axis)
