@@ -379,7 +379,7 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
 
     expected = ex.expected_errors(params) if analytic and numeric else {}
     try:
-        validity = judging.theory_validity(ex, params, expected) if analytic and numeric else {}
+        validity = judging.theory_validity(ex, params, expected if analytic and numeric else None)
     except Exception as exc:
         validity = {}
         errors.append(Failure("estimate", f"the leading-order theory's range failed: {_failure_text(exc)}"))
@@ -412,8 +412,7 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
                 q._note("the exercise gives no size for what its leading-order theory neglects")
             elif q.expected_err is not None:
                 q.expected_err = float(q.expected_err)
-            if analytic and numeric:
-                q.theory_valid = validity.get(out.name) is None
+            q.theory_valid = validity.get(out.name) is None
 
         for key in ("analytic", "numeric"):
             v = getattr(q, key)
