@@ -97,7 +97,6 @@ POINTS = [("5.11", {}, ()), ("5.11", {"delta": 0.001, "mu": 0.000404, "omega": 1
 def test_solve_check_sweeps_and_grade_give_the_same_verdicts(ex_id, given, outside, tmp_path):
     from mech import api
     from mech.problems import registry
-    from mech.problems.spec import Exercise
     from mech.verification.checking import Case, run_case
     from mech.verification.grading import grade, load_answers
     from mech.verification.sweep import Axis, run_sweep
@@ -107,12 +106,11 @@ def test_solve_check_sweeps_and_grade_give_the_same_verdicts(ex_id, given, outsi
     args = [a for k, v in given.items() for a in (f"--{k}", repr(v))]
     solved = json.loads(CliRunner().invoke(cli, ["solve", ex_id, *args, "--json"]).stdout)
     solve_q = {q["name"]: q for q in solved["quantities"]}
-    if hasattr(Exercise, "theory_range"):  # the exercises declare where their leading-order theories hold
-        for name, q in solve_q.items():
-            if name in outside:
-                assert q["theory_valid"] is False and q["agree"] is None, name
-            elif q.get("theory") == "leading-order":
-                assert q["theory_valid"] is True, name
+    for name, q in solve_q.items():
+        if name in outside:
+            assert q["theory_valid"] is False and q["agree"] is None, name
+        elif q.get("theory") == "leading-order":
+            assert q["theory_valid"] is True, name
 
     case = run_case(Case(ex, "here", dict(given)))
     check_q = {q.name: q.as_json() for q in case.result.quantities}

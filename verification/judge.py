@@ -194,19 +194,16 @@ def notes(J: Judged, k: int) -> list[str]:
 # -- the hooks of the exercise the judge reads (the leading-order range and the approximations) ------------
 
 def theory_validity(ex, params, expected: dict | None = None) -> dict:
-    """{output: None | reason}: why each leading-order theory does not apply at ``params`` (None: it does).
-    Exercises without a declared range are always valid."""
-    fn = getattr(ex, "theory_validity", None)
-    return dict(fn(params, expected)) if fn is not None else {}
+    """{output: None | reason}: why each leading-order theory does not apply at ``params`` (None: it does;
+    ``Exercise.theory_validity``)."""
+    return dict(ex.theory_validity(params, expected))
 
 
 def theory_validity_batch(ex, P, expected: dict) -> dict:
-    """The batched form: {output: (mask, reasons)}; always valid where the exercise declares no range."""
-    fn = getattr(ex, "theory_validity_batch", None)
-    return dict(fn(P, expected)) if fn is not None else {}
+    """The batched form: {output: (mask, reasons)} (``Exercise.theory_validity_batch``)."""
+    return dict(ex.theory_validity_batch(P, expected))
 
 
 def approximations(ex, params) -> dict:
     """{output: [(value, what it is)]}: the approximations the exercise declares next to exact outputs."""
-    fn = getattr(ex, "approximations_at", None)
-    return dict(fn(params)) if fn is not None else {}
+    return dict(ex.approximations_at(params))
