@@ -958,7 +958,7 @@ def judge_expectation(result, e, q, ref):
     if given_ref is None and not v.hint and not undefined_here:
         verdict = f"cannot judge: {ref.why or 'mech has no trusted value here'}"
     return Judgement(
-        name=e.name, unit=q.unit, text=e.text, value=v.value, match=v.match,
+        name=e.name, unit=q.unit, text=e.text, value=v.value, match=v.match, theory=q.theory,
         reference=(ref.label if ref.value is not None else None), reference_value=v.reference_value,
         rel_err=v.rel_err, tol=v.tol, hint=v.hint, verdict=verdict,
         shown_reference=show_value(v.reference_value, q.unit) if v.reference_value is not None else "",
