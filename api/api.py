@@ -299,7 +299,7 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
           params: dict | None = None, expect: dict | None = None, expect_rtol=None) -> Solution:
     from mech.problems import registry
 
-    ex = registry.get(str(ex_id))
+    ex = registry.get(ex_id)
     resolved = resolve_params(ex, dict(params or {}))
     expectations = _expectations(ex, expect, expect_rtol)
     sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify)
@@ -457,7 +457,7 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     from mech.problems import registry
     from mech.solvers.verification.sweep import Axis, batched_outputs, batched_points, grid_points, run_batched, run_sweep
 
-    ex = registry.get(str(ex_id))
+    ex = registry.get(ex_id)
     axes, fixed = [], {}
     for name, spec in dict(ranges or {}).items():
         canon = name.replace("-", "_")
@@ -515,7 +515,7 @@ def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **
     from mech.problems import registry
     from mech.solvers.verification import bench as benching
 
-    ex = registry.get(str(ex_id))
+    ex = registry.get(ex_id)
     resolved = resolve_params(ex, dict(params or {}))
     if isinstance(methods, str):
         methods = [m.strip() for m in methods.split(",")]
@@ -529,7 +529,7 @@ def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = Non
     from mech.cli.figures.common import need_matplotlib, save
     from mech.problems import registry
 
-    ex = registry.get(str(ex_id))
+    ex = registry.get(ex_id)
     resolved = resolve_params(ex, dict(params or {}))
     need_matplotlib()
     fig = draw(ex, resolved, generic=generic, vary=vary.replace("-", "_") if vary else None)
@@ -544,7 +544,7 @@ def check(ids=None, hard: bool = False):
     from mech.cli.checking import run_check
     from mech.problems import registry
 
-    if isinstance(ids, str):
-        ids = [ids]
+    if ids is not None and not isinstance(ids, (list, tuple)):
+        ids = [ids]  # one id; a number among them is refused by registry.get
     exercises = [registry.get(i) for i in ids] if ids else list(registry.all_exercises().values())
     return run_check(exercises, hard=hard, progress=False)

@@ -157,11 +157,22 @@ def all_exercises() -> dict[str, Exercise]:
 
 
 def get(ex_id: str) -> Exercise:
+    check_id_type(ex_id)
     modules = _modules()
     key = ex_id.strip()
     if key not in modules:
         raise BadInput(unknown_id_message(ex_id, list(modules)))
     return _load(key, modules[key])
+
+
+def check_id_type(ex_id) -> None:
+    """An id is a string: as numbers 4.10 and 4.1 are the same float, so a number is refused, never guessed."""
+    if isinstance(ex_id, str):
+        return
+    if isinstance(ex_id, (int, float)) or type(ex_id).__module__ == "numpy":
+        raise BadInput(f"exercise id {ex_id!r} is a number; give it as a string, e.g. mech.solve(\"4.10\") "
+                       f"(as numbers 4.10 and 4.1 are the same)")
+    raise BadInput(f"exercise id {ex_id!r} must be a string such as \"4.15\"")
 
 
 def _spans(ids: list[str]) -> str:
@@ -189,6 +200,9 @@ def unknown_id_message(ex_id: str, ids: list[str]) -> str:
         tries = [number.lstrip("0")]
         if len(number) >= 3:
             tries += [number[:-1]] + [number[:k] + number[k + 1:] for k in range(len(number) - 1)]
+        if 2 <= len(number) <= 3:
+            # a transposition of two neighbouring digits (4.51 for 4.15)
+            tries += [number[:k] + number[k + 1] + number[k] + number[k + 2:] for k in range(len(number) - 1)]
         close = [f"{chapter}.{n}" for n in tries if f"{chapter}.{n}" in ids][:1]
     elif len(norm) >= 3:
         close = difflib.get_close_matches(norm, ids, n=1, cutoff=0.7)

@@ -214,3 +214,27 @@ def test_grade_bench_and_plot_from_python(tmp_path):
     pytest.importorskip("matplotlib")
     fig = mech.plot("4.15", tmp_path / "ladder.png", theta0="80deg")
     assert (tmp_path / "ladder.png").stat().st_size > 1000 and fig is not None
+
+
+# -- issue 27 item 1: an id is a string; a number is refused, never read as another exercise ----------
+
+@pytest.mark.parametrize("call", [
+    lambda i: mech.solve(i),
+    lambda i: mech.sweep(i, theta0=("10deg", "80deg", 2)),
+    lambda i: mech.check([i]),
+    lambda i: mech.check(i),
+    lambda i: mech.exercise(i),
+    lambda i: mech.bench(i),
+    lambda i: mech.plot(i),
+])
+@pytest.mark.parametrize("number", [4.10, 4.15, 5.10, 4, np.float64(4.30)])
+def test_a_number_for_an_id_is_refused_with_the_quoted_form(call, number):
+    # 4.10 as a float is 4.1: solving it would answer another exercise without a word
+    with pytest.raises(mech.BadInput) as err:
+        call(number)
+    msg = str(err.value)
+    assert "is a number" in msg and 'mech.solve("4.10")' in msg and "\n" not in msg
+
+
+def test_a_quoted_id_still_solves():
+    assert mech.exercise("4.10").id == "4.10" and mech.exercise(" 4.1").id == "4.1"
