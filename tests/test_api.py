@@ -238,3 +238,19 @@ def test_a_number_for_an_id_is_refused_with_the_quoted_form(call, number):
 
 def test_a_quoted_id_still_solves():
     assert mech.exercise("4.10").id == "4.10" and mech.exercise(" 4.1").id == "4.1"
+
+
+def test_import_mech_from_the_folder_holding_a_checkout_named_mech(tmp_path):
+    # issue 27 item 2: a notebook started beside a clone named `mech` found the clone as an empty
+    # namespace package (AttributeError: module 'mech' has no attribute 'solve')
+    import os
+
+    checkout = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    (tmp_path / "mech").symlink_to(checkout, target_is_directory=True)
+    code = ("import sys, mech; s = mech.solve('4.15', theta0='60deg'); "
+            "from mech.cli.main import cli; from mech.problems import registry; "
+            "print(repr(s['theta_c'].numeric))")
+    run = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True,
+                         env={k: v for k, v in os.environ.items() if k != "PYTHONPATH"})
+    assert run.returncode == 0, run.stderr[-600:]
+    assert float(run.stdout) == pytest.approx(THETA_C_60, rel=1e-8)
