@@ -33,7 +33,9 @@ exercise = Exercise(
     "4.31",
     formulas=[
         "t_fall: (g t²/2) [cos²θ + sin²θ (sin φ/φ)²] = h, φ = ω_E t   (≈ (2h/g)^(1/2))",
-        "d_east = g sinθ t² (2φ - sin 2φ)/(4φ²) ≈ (1/3) ω_E g t³ sinθ = (2√2/3) ω_E sinθ h^(3/2) g^(-1/2)",
+        "d_east = g sinθ t² (2φ - sin 2φ)/(4φ²) = (1/3) ω_E g t³ sinθ Σ_k (-1)^k 6 (2φ)^(2k)/(2k+3)!"
+        "   (= ... [1 - φ²/5 + 2φ⁴/105 - ...]: no cancellation at small φ)",
+        "d_east ≈ (1/3) ω_E g t³ sinθ = (2√2/3) ω_E sinθ h^(3/2) g^(-1/2)",
         "v_east = g sinθ t sin²φ / φ ≈ ω_E g t² sinθ = 2 ω_E h sinθ",
         "(exact solution of dv/dt = g - 2 ω_E × v; the ≈ forms are leading order in ω_E t)",
     ],
