@@ -56,7 +56,7 @@ exercise = Exercise(
         "q(t) = (F₀/m) Re e^{zt}[iω, p₁, p₂]  (divided difference; p₁,₂ = −δ ± (δ² − ω₀²)^½)",
         "      = a e^{iωt} + transient,  a = (F₀/m)/(ω₀² − ω² + 2iδω)",
         "δ = 0, ω = ω₀:  q = (F₀/m) t sin(ω₀t)/(2ω₀)  (secular growth)",
-        "A_ss = (F₀/m)/[(ω₀² − ω²)² + 4δ²ω²]^½",
+        "A_ss = (|F₀|/m)/[(ω₀² − ω²)² + 4δ²ω²]^½   (an amplitude: positive for either sign of F₀)",
     ],
     route_note=(
         "q(t1) is the exact flow of the equation of motion (the drive made a state of its own, the matrix "
