@@ -146,7 +146,7 @@ def cli():
 @click.option("--chapter", type=click.Choice(["4", "5"]), help="Only this chapter's exercises.")
 @click.option("--json", "as_json", is_flag=True, help="Print a JSON array instead of a table.")
 def list_cmd(chapter, as_json):
-    """List the registered exercises: id, title, topic, methods.
+    """List the registered exercises: id, title, topic, and whether the analytic values are exact.
 
     A mark (†) flags the exercises set for mech on the chapter's topics (5.4-5.13); the others are the
     book's own.
@@ -154,7 +154,7 @@ def list_cmd(chapter, as_json):
     exercises = [e for e in _registry().index() if not chapter or e.chapter == int(chapter)]
     if as_json:
         _emit_json([{"id": e.id, "title": e.title, "topic": e.topic, "methods": list(e.methods),
-                     "from_book": e.from_book} for e in exercises])
+                     "theory": e.theory, "from_book": e.from_book} for e in exercises])
     else:
         from mech.cli import listing
 

@@ -159,7 +159,12 @@ def print_show(ex, from_book: bool | None = None) -> None:
     if not fits(c, ot):
         ot = _stacked("Outputs", [(o.name, [("unit", o.unit), ("meaning", o.doc + (
             " [leading-order theory]" if o.theory != "exact" else ""))]) for o in ex.outputs])
-    parts += [pt, ot, Text("Analytic results", style="bold")]
+    parts.append(pt)
+    if ex.joint_limits:
+        parts += [Text("Joint limits (a solve refuses parameters beyond them)", style="bold")]
+        parts += [plain("  " + t) for t in ex.joint_limits]
+        parts.append(Text())
+    parts += [ot, Text("Analytic results", style="bold")]
     parts += [plain("  " + f) for f in ex.formulas]
     parts += [Text(), Text("Numeric route", style="bold"), prose(ex.numeric_route)]
     if ex.route_note:

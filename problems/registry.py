@@ -48,6 +48,7 @@ class Entry:
     methods: tuple[str, ...]
     module: str
     integrates: bool = False  # its numeric route integrates declared equations of motion (a trajectory)
+    theory: str = "exact"  # its analytic values: "exact", "leading-order" or "partly leading-order"
 
     @property
     def chapter(self) -> int:
@@ -121,13 +122,16 @@ def index() -> list[Entry]:
         if facts is None:  # a module index.toml does not know yet: ask the registration itself
             facts = declarations(_load(ex_id, module))
         entries.append(Entry(ex_id, spec["title"], spec["topic"], tuple(facts["methods"]), module,
-                             bool(facts.get("integrates", False))))
+                             bool(facts.get("integrates", False)), str(facts.get("theory", "exact"))))
     return entries
 
 
 def declarations(ex: Exercise) -> dict:
     """What an exercise's registration declares, as index.toml records it."""
-    return {"methods": list(ex.methods), "integrates": bool(ex.states)}
+    leading = [o.name for o in ex.outputs if o.theory != "exact"]
+    theory = "exact" if not leading else (
+        "leading-order" if len(leading) == len(ex.outputs) else "partly leading-order")
+    return {"methods": list(ex.methods), "integrates": bool(ex.states), "theory": theory}
 
 
 def index_text() -> str:
@@ -139,7 +143,7 @@ def index_text() -> str:
         facts = declarations(ex)
         methods = ", ".join(f'"{m}"' for m in facts["methods"])
         lines += [f'[exercise."{ex_id}"]', f"methods = [{methods}]",
-                  f"integrates = {'true' if facts['integrates'] else 'false'}", ""]
+                  f"integrates = {'true' if facts['integrates'] else 'false'}", f'theory = "{facts["theory"]}"', ""]
     return "\n".join(lines)
 
 

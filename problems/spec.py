@@ -344,6 +344,7 @@ class Exercise:
         self._analytic: Callable | None = None
         self._numeric: Callable | None = None
         self._constraints: list[Callable] = []
+        self.joint_limits: list[str] = []  # what the constraints enforce, as text (`mech show`, "constraints")
         self._expected_error: Callable | None = None
         self._analytic_error: Callable | None = None
         self._hamiltonian: Callable | None = None
@@ -366,6 +367,17 @@ class Exercise:
         """Register a joint check of the parameters: return a one-line message when they are unphysical."""
         self._constraints.append(fn)
         return fn
+
+    def restate_hard_case(self, k: int, why: str) -> None:
+        """Replace the catalogue's note on hard case ``k`` (0-based) where it misdescribes mech's solution
+        (the catalogue file stays the shared one)."""
+        self.hard_cases[k]["why"] = why
+
+    def declare_limits(self, *texts: str) -> None:
+        """State, one line each, every joint limit the ``@exercise.constraint`` checks refuse beyond
+        (``"|x0|/R <= 0.1"``): shown by ``mech show`` and in its JSON as ``"constraints"``, so that a
+        user or a script can keep inside them. Declared beside the constraint, from the same constants."""
+        self.joint_limits.extend(str(t) for t in texts)
 
     def expected_error(self, fn: Callable[[Params], dict]) -> Callable:
         """For leading-order outputs: ``fn(p) -> {output: relative size of what the theory neglects}``; an
@@ -518,6 +530,7 @@ class Exercise:
             "formulas": self.formulas,
             "numeric_route": self.numeric_route,
             "hard_cases": self.hard_cases,
+            "constraints": list(self.joint_limits),
             "methods": self.methods,
         }
 

@@ -45,9 +45,20 @@ exercise = Exercise(
             ("v_up", "m/s")],
 )
 
+# the catalogue's note calls the analytic value leading-order; here it is the model's exact solution
+exercise.restate_hard_case(1, (
+    "a 90 s fall: the corrections of order (omega_E t)^2 to the textbook's leading-order formulas reach 1e-5 "
+    "and exceed the tolerance, so both answers must solve the model's full equations (mech's analytic value is "
+    "their exact solution, not the leading order)"))
+
 # The model (uniform g with the centrifugal part folded in, h << R_E) needs the
 # fall to take a small part of a turn of the Earth: w_E T0 = w_E (2h/g)^(1/2) << 1.
 MAX_EPS = 0.5
+
+
+exercise.declare_limits(
+    f"omega_E (2h/g)^(1/2) <= {MAX_EPS:g}: the fall lasts a small part of a turn of the Earth",
+)
 
 
 @exercise.constraint

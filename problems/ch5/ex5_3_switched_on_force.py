@@ -166,6 +166,11 @@ def _rate(p):
     return p.omega + free
 
 
+exercise.declare_limits(
+    f"max(omega, omega0) t1 <= {MAX_PHASE:g} rad: the phase carries a digit in double precision",
+)
+
+
 @exercise.constraint
 def constraint(p):
     phase = max(p.omega, p.omega0) * p.t1
