@@ -54,3 +54,53 @@ def test_list_shows_whether_the_analytic_value_is_exact(exercises):
     code, out, _ = run("list", "--json")
     by_id = {e["id"]: e for e in json.loads(out)}
     assert by_id["4.24"]["theory"] == "leading-order" and by_id["4.15"]["theory"] == "exact"
+
+
+# -- item 10: bench ranks by what its plot compares ---------------------------------------------------------
+
+def _pt(method, rtol, error, time_s, nfev):
+    return {"method": method, "rtol": rtol, "error": error, "time_s": time_s, "time_min_s": time_s,
+            "time_max_s": time_s, "nfev": nfev, "ok": True}
+
+
+def test_bench_ranks_by_evaluations_and_by_time_separately():
+    from mech.solvers.verification.bench import summarize
+
+    # 5.6 as measured: Yoshida6 reaches 1e-9 in 274 evaluations and 0.13 ms (a cheap Python loop),
+    # DOP853 in 164 evaluations and 1.3 ms; per evaluation DOP853 is the better method
+    points = [_pt("DOP853", 1e-8, 2e-9, 0.001, 119), _pt("DOP853", 1e-10, 1.3e-11, 0.0013, 164),
+              _pt("Yoshida6", 1e-4, 4e-8, 0.00006, 148), _pt("Yoshida6", 1e-6, 4.3e-10, 0.00013, 274)]
+    by = {s["method"]: s for s in summarize(points)}
+    assert by["DOP853"]["rank"] == 1 and by["Yoshida6"]["rank"] == 2
+    assert by["Yoshida6"]["rank_by_time"] == 1 and by["DOP853"]["rank_by_time"] == 2
+    assert by["DOP853"]["fewest_evals_for_1e-9"]["nfev"] == 164
+    assert by["Yoshida6"]["cheapest_for_1e-9"]["time_s"] == 0.00013
+
+
+def test_bench_says_what_rtol_means_on_a_fixed_step_row():
+    code, out, err = run("bench", "5.6", "--methods", "Yoshida6,DOP853", "--tols", "1e-4", "--json")
+    assert code == 0, err
+    pts = {p["method"]: p for p in json.loads(out)["points"]}
+    assert pts["Yoshida6"]["fixed_step"] is True and "no error control" in pts["Yoshida6"]["note"]
+    assert "fixed_step" not in pts["DOP853"]
+    code, out, err = run("bench", "5.6", "--methods", "Yoshida6,DOP853", "--tols", "1e-4")
+    assert "controls no error" in out and "ranked by the evaluations" in out
+
+
+def test_bench_figure_gives_the_tuned_default_a_colour_of_its_own():
+    pytest.importorskip("matplotlib")
+    from matplotlib.colors import to_hex
+
+    from mech.cli.figures.benchfig import bench_figure
+
+    methods = ["RK45", "DOP853", "LSODA", "Radau", "Yoshida4", "Yoshida6", "scipy-default", "default"]
+    r = {"id": "5.6", "title": "t", "points": [_pt(m, 1e-6, 1e-7 * (k + 1), 1e-3, 100 + k)
+                                               for k, m in enumerate(methods)]}
+    fig = bench_figure(r)
+    lines = fig.axes[0].get_lines()
+    colours = {ln.get_label(): to_hex(ln.get_color()) for ln in lines}
+    default = colours.pop("mech's tuned default")
+    assert default not in colours.values()
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
