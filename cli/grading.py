@@ -326,8 +326,15 @@ def print_grade(entries: list[Entry], seconds: float) -> None:
                  style="green" if right == len(judgements) else "bold red"))
 
 
+def _complete_files(ctx, param, incomplete):
+    """The shell's own file completion for FILE."""
+    from click.shell_completion import CompletionItem
+
+    return [CompletionItem(incomplete, type="file")]
+
+
 @click.command("grade")
-@click.argument("file", metavar="FILE")
+@click.argument("file", metavar="FILE", shell_complete=_complete_files)
 @click.option("--json", "as_json", is_flag=True, help="A JSON report on stdout.")
 @click.option("--junit", "junit_file", type=click.Path(dir_okay=False, writable=True),
               help="Write a JUnit XML report: one test case per expected value.")

@@ -40,6 +40,24 @@ def _complete_ids(ctx, param, incomplete):
     return [e.id for e in _registry().index() if e.id.startswith(incomplete)]
 
 
+def _complete_outputs(ctx, param, incomplete):
+    """``--expect th<TAB>`` -> ``theta_c=``: the outputs of the exercise already named on the line."""
+    ex_id = ctx.params.get("ex_id") or ctx.meta.get("mech_exercise_id")
+    try:
+        ex = _registry().get(ex_id) if ex_id else None
+    except BadInput:
+        ex = None
+    if ex is None:
+        return []
+    from click.shell_completion import CompletionItem
+
+    name = incomplete.split("=", 1)[0]
+    if "=" in incomplete:
+        return []
+    return [CompletionItem(f"{o.name}=", help=f"[{o.unit}] {o.doc}") for o in ex.outputs
+            if o.name.startswith(name)]
+
+
 def _emit_json(obj) -> None:
     click.echo(json.dumps(obj, indent=2, allow_nan=False))
 
@@ -309,7 +327,7 @@ class SolveCommand(click.Command):
 @click.option("--no-verify", is_flag=True, help="Skip the rerun at rtol/10 that tests the numeric accuracy claim.")
 @click.option("--json", "as_json", is_flag=True,
               help="Print the result as one JSON object on stdout (fields: the README's JSON section).")
-@click.option("--expect", "expects", multiple=True, metavar="NAME=VALUE",
+@click.option("--expect", "expects", multiple=True, metavar="NAME=VALUE", shell_complete=_complete_outputs,
               help="Your answer for an output, judged to the digits written (repeatable): --expect theta_c=35.26deg.")
 @click.option("--expect-rtol", "expect_rtol", metavar="R", help="Judge --expect values to this relative tolerance.")
 @click.option("--trajectory", "trajectory_file", metavar="FILE.csv",

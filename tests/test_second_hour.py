@@ -104,3 +104,23 @@ def test_bench_figure_gives_the_tuned_default_a_colour_of_its_own():
     import matplotlib.pyplot as plt
 
     plt.close(fig)
+
+
+# -- item 15: completion offers outputs after --expect and files after grade ----------------------------------
+
+def test_expect_completes_the_output_names():
+    from click.shell_completion import ShellComplete
+
+    comp = ShellComplete(cli, {}, "mech", "_MECH_COMPLETE")
+    got = [c.value for c in comp.get_completions(["solve", "4.15", "--expect"], "")]
+    assert got == ["theta_c=", "omega_c="]
+    got = [c.value for c in comp.get_completions(["solve", "4.15", "--theta0", "1", "--expect"], "om")]
+    assert got == ["omega_c="]
+
+
+def test_grade_completes_file_names():
+    from click.shell_completion import ShellComplete
+
+    comp = ShellComplete(cli, {}, "mech", "_MECH_COMPLETE")
+    got = comp.get_completions(["grade"], "hw")
+    assert [(c.value, c.type) for c in got] == [("hw", "file")]
