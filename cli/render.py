@@ -78,8 +78,8 @@ def _num(v) -> str:
     if v is None:
         return "—"
     if isinstance(v, Undefined):
-        return "undefined"
-    return f"{v:.{MAX_SIG}g}"
+        return v.word
+    return f"{float(v) + 0.0:.{MAX_SIG}g}"  # + 0.0: -0 prints as 0
 
 
 def with_error(v, err) -> str:
@@ -278,11 +278,25 @@ def solve_table(result, width: int | None = None) -> Table | Group:
     return _stacked("", blocks)
 
 
+def _undefined_notes(q) -> list[str]:
+    """Why an output has no value: one note when both methods say the same, else one per method."""
+    why = {key: v for key in ("analytic", "numeric") if isinstance(v := getattr(q, key, None), Undefined)}
+    if len(why) == 2 and why["analytic"].why == why["numeric"].why:
+        v = why["analytic"]
+        return [f"{v.word}: {v.why}"]
+    return [f"{key}: {v.why}" for key, v in why.items()]
+
+
 def _notes(result) -> list[str]:
-    """Each note once, with the outputs it is about: ``xi_lo, xi_hi: ...``."""
+    """Each note once, with the outputs it is about: ``xi_lo, xi_hi: ...``; an undefined or infinite
+    output always says why."""
     by_text: dict[str, list[str]] = {}
     for q in result.quantities:
-        for n in dict.fromkeys(q.notes):
+        own = _undefined_notes(q)
+        # the JSON's rendering notes each method's reason on the quantity; the table says it once
+        rest = [n for n in q.notes if not any(n == f"{k}: {getattr(q, k).why}" for k in ("analytic", "numeric")
+                                              if isinstance(getattr(q, k, None), Undefined))]
+        for n in dict.fromkeys(own + rest):
             by_text.setdefault(n, []).append(q.name)
     return [f"{', '.join(names)}: {text}" for text, names in by_text.items()]
 

@@ -32,9 +32,15 @@ __all__ = [
 
 @dataclass(frozen=True)
 class Undefined:
-    """An output that has no finite value for these parameters, with the reason."""
+    """An output that has no finite value for these parameters, with the reason; ``infinite`` when the
+    physics makes it infinite (a period of a plane that stops turning), not meaningless."""
 
     why: str
+    infinite: bool = False
+
+    @property
+    def word(self) -> str:
+        return "infinite" if self.infinite else "undefined"
 
 
 DISPLAY_FACTORS = {"deg": math.pi / 180.0}

@@ -124,3 +124,35 @@ def test_grade_completes_file_names():
     comp = ShellComplete(cli, {}, "mech", "_MECH_COMPLETE")
     got = comp.get_completions(["grade"], "hw")
     assert [(c.value, c.type) for c in got] == [("hw", "file")]
+
+
+# -- item 13: infinite, -0 and the reason for an undefined output ----------------------------------------------
+
+def test_foucault_period_on_the_equator_is_infinite_and_zero_has_no_sign():
+    # on the equator (theta = 90 deg) Omega_F = -omega_E cos(theta) = 0 and T_F = 2 pi/|Omega_F| is infinite
+    code, out, _ = run("solve", "4.30", "--theta", "90deg")
+    assert code == 0
+    row = next(line for line in out.splitlines() if line.startswith("T_F"))
+    assert row.split()[2:4] == ["infinite", "infinite"] and "undefined" not in out
+    omega = next(line for line in out.splitlines() if line.startswith("Omega_F"))
+    assert omega.split()[2] == "0" and "-0" not in omega.split()
+    assert re.search(r"^T_F: infinite: on the equator", out, re.M)
+    data = json.loads(run("solve", "4.30", "--theta", "90deg", "--json")[1])
+    q = {q["name"]: q for q in data["quantities"]}
+    assert q["T_F"]["analytic"] is None and q["T_F"]["infinite"] is True
+    assert json.dumps(q["Omega_F"]["analytic"]) == "0.0"
+
+
+def test_an_undefined_output_shows_its_reason_without_expect():
+    # 4.21 at omega3 = 10 rad/s: below omega_min (about 105 rad/s at the defaults) there is no steady precession
+    code, out, _ = run("solve", "4.21", "--omega3", "10")
+    assert code == 0
+    assert re.search(r"^omega_pre, pre_ratio: analytic: omega3 = 10 rad/s is below omega_min", out, re.M)
+
+
+def test_sweep_table_says_infinite_and_why():
+    code, out, _ = run("sweep", "4.30", "--theta", "80deg:90deg:3")
+    assert code == 0
+    last = next(line for line in out.splitlines() if line.strip().startswith("90 "))
+    assert last.split()[3:5] == ["infinite", "infinite"] and "-0" not in last.split()
+    assert "T_F: infinite: on the equator the plane does not turn" in out

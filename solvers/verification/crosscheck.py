@@ -233,6 +233,8 @@ class Quantity:
             if isinstance(v, Undefined):
                 d[key] = None
                 self._note(f"{key}: {v.why}")
+                if v.infinite:
+                    d["infinite"] = True
             else:
                 d[key] = _finite_or_none(v)
         if _is_number(self.numeric):
@@ -264,7 +266,7 @@ class Quantity:
 def _finite_or_none(v):
     if v is None or isinstance(v, Undefined):
         return None
-    v = float(v)
+    v = float(v) + 0.0  # -0.0 + 0.0 is 0.0: a zero has no sign to show
     return v if math.isfinite(v) else None
 
 
