@@ -426,12 +426,15 @@ class Sweep:
         with open(path, "w", newline="", encoding="utf-8") as fh:
             out = csv.writer(fh)
             out.writerow([f"{n} [{u}]" if u and u != "1" else n for n, u in cols])
+            swept = {a.name for a in self.axes}
             for k in range(len(self.points)):
                 row = []
                 for n, _ in cols:
                     v = arrays[n][k]
                     row.append("" if v is None or (isinstance(v, float) and math.isnan(v)) else
-                               (str(v).lower() if isinstance(v, (bool, np.bool_)) else repr(float(v))))
+                               (str(v).lower() if isinstance(v, (bool, np.bool_)) else
+                                # a swept value to 15 digits: 0.3 from linspace, not 0.30000000000000004
+                                f"{float(v):.15g}" if n in swept else repr(float(v))))
                 out.writerow(row)
 
     def to_pandas(self):

@@ -58,8 +58,8 @@ def parse_range(ex: Exercise, name: str, text: str):
         raise BadInput(f"{name}: one point in '{text}' needs START = STOP (or N >= 2)")
     if log and (start <= 0 or stop <= 0):
         raise BadInput(f"{name}: a log range needs positive ends, got '{text}'")
-    for v in (start, stop):
-        param.check(v)
+    for v, typed in zip((start, stop), parts[:2]):
+        param.check(v, typed)  # echoed as typed: "10 (= 572.958 deg)", not the SI value in degrees
     if n == 1:
         values = [start]
     elif log:
@@ -331,8 +331,11 @@ def csv_text(result) -> str:
             return "true" if v else "false"
         return repr(float(v))
 
+    def typed(v):  # a parameter in the unit typed, to 15 digits: 30 deg, not 29.999999999999996
+        return f"{v:.15g}"
+
     for pt in result.point_list():
-        row = [cell(pt["params"][p.name] / units[p.name][1]) for p in ex.params]
+        row = [typed(pt["params"][p.name] / units[p.name][1]) for p in ex.params]
         for q in pt["quantities"]:
             row += [cell(q["analytic"]), cell(q["numeric"]), cell(q.get("numeric_err")), cell(q["rel_err"]),
                     cell(q["agree"])]

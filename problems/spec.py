@@ -100,7 +100,23 @@ class Param:
         below = self.min is not None and (value < self.min or (self.min_open and value == self.min))
         above = self.max is not None and (value > self.max or (self.max_open and value == self.max))
         if below or above:
-            raise BadInput(f"{self.name}: {said} is out of range; allowed {self.range_text()}")
+            raise BadInput(f"{self.name}: {said} is out of range; allowed {self.range_text()}"
+                           + self._unit_hint(typed))
+
+    def _unit_hint(self, typed: str | None) -> str:
+        """"; a plain number is in rad: for degrees write 10deg" where the number typed is out of range in
+        SI but in range in the display unit."""
+        if not typed or not self.display:
+            return ""
+        try:
+            number = float(typed)
+        except ValueError:
+            return ""
+        si = number / self.to_display(1.0)
+        inside = (self.min is None or si > self.min or (not self.min_open and si == self.min)) and \
+                 (self.max is None or si < self.max or (not self.max_open and si == self.max))
+        return f" (a plain number is in {self.unit}: for {self.display} write {typed.strip()}{self.display})" \
+            if inside else ""
 
     def as_json(self) -> dict:
         d: dict[str, Any] = {"name": self.name, "symbol": self.symbol, "unit": self.unit, "default": self.default}

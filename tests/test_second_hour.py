@@ -156,3 +156,29 @@ def test_sweep_table_says_infinite_and_why():
     last = next(line for line in out.splitlines() if line.strip().startswith("90 "))
     assert last.split()[3:5] == ["infinite", "infinite"] and "-0" not in last.split()
     assert "T_F: infinite: on the equator the plane does not turn" in out
+
+
+# -- item 12: a sweep echoes what was typed and writes the values typed ----------------------------------------
+
+def test_sweep_out_of_range_echoes_the_range_as_typed():
+    code, out, err = run("sweep", "4.15", "--theta0", "10:80:8")
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    # 10 rad = 572.958 deg: the value typed leads, and the hint says how to write degrees
+    assert "theta0: 10 (= 572.958 deg) is out of range" in err and "write 10deg" in err
+
+
+def test_sweep_csv_writes_the_values_typed():
+    code, out, _ = run("sweep", "4.15", "--theta0", "10deg:80deg:8", "--csv", "--no-verify")
+    assert code == 0
+    col = [line.split(",")[0] for line in out.splitlines()[1:]]
+    assert col == ["10", "20", "30", "40", "50", "60", "70", "80"]  # not 29.999999999999996
+
+
+def test_api_sweep_csv_writes_linspace_values_to_15_digits(tmp_path):
+    import mech
+
+    sw = mech.sweep("4.15", l=(0.1, 1.0, 10), verify=False, only="theta_c")
+    sw.to_csv(tmp_path / "l.csv")
+    col = [line.split(",")[0] for line in (tmp_path / "l.csv").read_text().splitlines()[1:]]
+    # linspace gives 0.30000000000000004 and 0.7000000000000001
+    assert col == ["0.1", "0.2", "0.3", "0.4", "0.5", "0.6", "0.7", "0.8", "0.9", "1"]
