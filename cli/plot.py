@@ -69,7 +69,7 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
             # numpy's overflow and division warnings are no message of the figure: a value that is not
             # finite leaves a gap, and a numeric solver's failure is told in the caption
             warnings.simplefilter("ignore", RuntimeWarning)
-            fig = draw(ex, params, generic=generic, vary=vary, n_numeric=n_numeric, rtol=rtol)
+            fig = draw(ex, params, generic=generic, vary=vary, n_numeric=n_numeric, rtol=rtol, finish=False)
     except NumericFailure as exc:
         raise click.ClickException(f"cannot draw {ex.id}: {exc}") from None
     save(fig, out, dpi=dpi)
