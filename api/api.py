@@ -31,9 +31,9 @@ def _value_text(value: Any) -> str:
 
 
 def _convert(ex, name: str, value: Any) -> float:
-    from mech.cli.options import _canonical, _convert as convert_text
+    from mech.problems.values import convert as convert_text, param_name
 
-    canon = _canonical(ex, name)
+    canon = param_name(ex, name)
     return convert_text(ex, canon, _value_text(value))
 
 
@@ -51,7 +51,7 @@ def resolve_params(ex, given: dict[str, Any]):
 def _rtol(ex, rtol):
     if rtol is None:
         return None
-    from mech.cli.options import parse_rtol
+    from mech.problems.values import parse_rtol
 
     return parse_rtol(_value_text(rtol), ex)
 
@@ -200,7 +200,7 @@ class Solution:
         if any("solver failed" in e for e in self.errors):
             return None  # the numeric solve itself did not finish: no motion to hand over
         from mech.problems.spec import Params
-        from mech.solvers.verification import budget
+        from mech.core import budget
 
         info = self._data.get("numeric_info") or {}
         with budget.limit(None, what=f"the trajectory of {ex.id}"):
@@ -255,7 +255,7 @@ class Solution:
         return f"<Solution {self.exercise.id}: {parts}; agree={self.agree}>"
 
     def __rich__(self):
-        from mech.cli import render
+        from mech import render
 
         if self._result is not None:
             return render.solve_table(self._result)
@@ -304,7 +304,7 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
     expectations = _expectations(ex, expect, expect_rtol)
     sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify)
     if expectations is not None:
-        from mech.cli import grading
+        from mech.verification import grading
 
         sol.expect_ok = grading.attach(sol.result, expectations)
         sol._data = grading.solve_json(sol.result)
@@ -323,7 +323,7 @@ def _expectations(ex, expect: dict | None, expect_rtol):
         if expect_rtol is not None:
             raise BadInput("expect_rtol: given without any expected value")
         return None
-    from mech.cli import grading
+    from mech.verification import grading
 
     pairs = [f"{name}={_value_text(value)}" for name, value in expect.items()]
     return grading.parse_expect_options(ex, pairs, None if expect_rtol is None else _value_text(expect_rtol))
@@ -332,7 +332,7 @@ def _expectations(ex, expect: dict | None, expect_rtol):
 def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None,
                    verify: bool = True) -> Solution:
     """The cross-check at checked parameters: what ``mech.solve`` and ``mech solve`` both run."""
-    from mech.solvers.verification.crosscheck import cross_check
+    from mech.verification.crosscheck import cross_check
 
     result = cross_check(ex, params, methods=tuple(methods), rtol=rtol, verify=verify and "numeric" in methods)
     return Solution(ex, result.as_json(), None, result)
@@ -380,7 +380,7 @@ class Sweep:
 
     @property
     def agree(self) -> bool | None:
-        from mech.solvers.verification.crosscheck import combine_agree
+        from mech.verification.crosscheck import combine_agree
 
         return combine_agree(p.agree for p in self.points)
 
@@ -458,7 +458,7 @@ def _nan(v) -> float:
 def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, only=None, jobs=None,
           ranges: dict | None = None) -> Sweep:
     from mech.problems import registry
-    from mech.solvers.verification.sweep import Axis, batched_outputs, batched_points, grid_points, run_batched, run_sweep
+    from mech.verification.sweep import Axis, batched_outputs, batched_points, grid_points, run_batched, run_sweep
 
     ex = registry.get(ex_id)
     axes, fixed = [], {}
@@ -486,7 +486,7 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     batched = batched_outputs(ex, wanted)
     if batched:
         # the chart route: every point integrated at once, each with its own verdict and error bar
-        from mech.cli.sweep import validate_grid
+        from mech.verification.sweep import validate_grid
 
         validate_grid(ex, axes, fixed)
         result = run_batched(ex, axes, fixed, batched, rtol=rtol_value, verify=verify)
@@ -505,7 +505,7 @@ def grade(path) -> dict:
     """``mech grade FILE --json``: every answer of a grading file held against mech."""
     import time
 
-    from mech.cli import grading
+    from mech.verification import grading
 
     t0 = time.perf_counter()
     entries = grading.load_answers(str(path))
@@ -516,7 +516,7 @@ def grade(path) -> dict:
 def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **options) -> dict:
     """``mech bench ID --json``: speed against error of the numeric solver(s)."""
     from mech.problems import registry
-    from mech.solvers.verification import bench as benching
+    from mech.verification import bench as benching
 
     ex = registry.get(ex_id)
     resolved = resolve_params(ex, dict(params or {}))
@@ -528,8 +528,8 @@ def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **
 def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = None, params: dict | None = None):
     """``mech plot ID -o PATH``: the exercise's figure (needs matplotlib); returns the matplotlib Figure,
     saved to ``path`` when one is given."""
-    from mech.cli.figures import draw
-    from mech.cli.figures.common import need_matplotlib, save
+    from mech.figures import draw
+    from mech.figures.common import need_matplotlib, save
     from mech.problems import registry
 
     ex = registry.get(ex_id)
@@ -544,7 +544,7 @@ def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = Non
 # -- check -------------------------------------------------------------------------
 
 def check(ids=None, hard: bool = False):
-    from mech.cli.checking import run_check
+    from mech.verification.checking import run_check
     from mech.problems import registry
 
     if ids is not None and not isinstance(ids, (list, tuple)):

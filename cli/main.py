@@ -13,8 +13,9 @@ import sys
 
 import click
 
-from mech.cli.options import collect_params, parse_rtol
-from mech.problems.errors import BadInput
+from mech.cli.options import collect_params
+from mech.problems.values import parse_rtol
+from mech.core.errors import BadInput, BadUsage
 
 EXIT_OK, EXIT_DISAGREE, EXIT_USAGE = 0, 1, 2
 
@@ -128,6 +129,9 @@ class MechGroup(click.Group):
         except click.ClickException as exc:
             click.echo(f"mech: error: {_one_line(exc.format_message())}", err=True)
             code = EXIT_USAGE if isinstance(exc, (click.UsageError, UsageFailure)) else exc.exit_code
+        except BadUsage as exc:
+            click.echo(f"mech: error: {_one_line(str(exc))}", err=True)
+            code = EXIT_USAGE
         except click.Abort:
             click.echo("mech: aborted", err=True)
             code = 130
@@ -189,7 +193,7 @@ def show_cmd(ex_id, as_json):
     if as_json:
         _emit_json({**ex.as_json(), "from_book": _registry().from_book(ex.id)})
     else:
-        from mech.cli import render
+        from mech import render
 
         render.print_show(ex, from_book=_registry().from_book(ex.id))
 
@@ -352,7 +356,7 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
         rtol = parse_rtol(rtol_text, ex)
         grading = None
         if expects or expect_rtol is not None:
-            from mech.cli import grading
+            from mech.verification import grading
 
             expectations = grading.parse_expect_options(ex, list(expects), expect_rtol)
     except BadInput as exc:
@@ -365,7 +369,7 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
         sol = solve_resolved(ex, params, methods=methods, rtol=rtol, verify=verify)
         result = sol.result
     else:  # the same cross-check, without loading the API's module (7 ms to compile where .pyc are not kept)
-        from mech.solvers.verification.crosscheck import cross_check
+        from mech.verification.crosscheck import cross_check
 
         result = cross_check(ex, params, methods=methods, rtol=rtol, verify=verify)
     if trajectory_file:
@@ -385,7 +389,7 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
     if as_json:
         _emit_json(grading.solve_json(result) if grading else result.as_json())
     else:
-        from mech.cli import render
+        from mech import render
 
         render.print_solve(result)
     ctx.exit(EXIT_DISAGREE if result.agree is False or not expect_ok else EXIT_OK)
@@ -406,12 +410,13 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
 
     Exit status 1 when any case fails: the CI regression command.
     """
-    from mech.cli.checking import run_check, write_junit
+    from mech.cli.checking import write_junit
+    from mech.verification.checking import run_check
 
     exercises = [_get(i) for i in ids] if ids else list(_registry().all_exercises().values())
     grading = old = None
     if save_baseline or baseline_file:
-        from mech.cli import grading
+        from mech.verification import grading
 
         try:
             old = grading.open_baseline(baseline_file) if baseline_file else None  # a bad file fails first
@@ -425,15 +430,19 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
     if junit_file:
         write_junit(report, junit_file)
         if moved:
-            grading.junit_baseline(junit_file, moved)
+            from mech.cli.grading import junit_baseline
+
+            junit_baseline(junit_file, moved)
     if as_json:
         _emit_json({**report.as_json(), **({"baseline": moved.as_json()} if moved else {})})
     else:
-        from mech.cli import render
+        from mech import render
 
         render.print_check(report)
         if grading:
-            grading.print_baseline(moved, save_baseline)
+            from mech.cli.grading import print_baseline
+
+            print_baseline(moved, save_baseline)
     ctx.exit(EXIT_OK if report.ok and (moved is None or moved.ok) else EXIT_DISAGREE)
 
 

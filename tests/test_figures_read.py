@@ -20,14 +20,14 @@ matplotlib.use("Agg", force=True)
 
 @pytest.fixture
 def quick(monkeypatch):
-    from mech.cli.figures import generic
+    from mech.figures import generic
 
     monkeypatch.setattr(generic, "N_LINE", 61)
     monkeypatch.setattr(generic, "LINE_BUDGET_S", 0.3)
 
 
 def _figure(ex_id, **kw):
-    from mech.cli.figures import draw
+    from mech.figures import draw
 
     ex = registry.get(ex_id)
     return draw(ex, ex.resolve({}), n_numeric=3, **kw)
@@ -132,7 +132,7 @@ def test_41_coincident_lines_stay_visible_and_are_named(quick):
 
 def test_coarse_sweep_map_is_interpolated_and_says_so(monkeypatch, tmp_path):
 
-    from mech.cli.figures import common
+    from mech.figures import common
     from mech.cli.main import cli
 
     made = []

@@ -64,7 +64,7 @@ def _pt(method, rtol, error, time_s, nfev):
 
 
 def test_bench_ranks_by_evaluations_and_by_time_separately():
-    from mech.solvers.verification.bench import summarize
+    from mech.verification.bench import summarize
 
     # 5.6 as measured: Yoshida6 reaches 1e-9 in 274 evaluations and 0.13 ms (a cheap Python loop),
     # DOP853 in 164 evaluations and 1.3 ms; per evaluation DOP853 is the better method
@@ -91,7 +91,7 @@ def test_bench_figure_gives_the_tuned_default_a_colour_of_its_own():
     pytest.importorskip("matplotlib")
     from matplotlib.colors import to_hex
 
-    from mech.cli.figures.benchfig import bench_figure
+    from mech.figures.benchfig import bench_figure
 
     methods = ["RK45", "DOP853", "LSODA", "Radau", "Yoshida4", "Yoshida6", "scipy-default", "default"]
     r = {"id": "5.6", "title": "t", "points": [_pt(m, 1e-6, 1e-7 * (k + 1), 1e-3, 100 + k)

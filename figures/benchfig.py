@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from mech.cli.figures.common import FONT, figure, save
+from mech.figures.common import FONT, figure, save
 
 # a colour outside matplotlib's cycle C0-C9, which the method lines take
 DEFAULT_COLOUR = "#e6007e"

@@ -18,9 +18,9 @@ POINT = dict(color="k", lw=0.8, ls=":", alpha=0.7)
 
 
 def _usage(msg: str):
-    from mech.cli.main import UsageFailure
+    from mech.core.errors import BadUsage
 
-    return UsageFailure(msg)
+    return BadUsage(msg)
 
 
 def need_matplotlib():

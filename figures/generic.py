@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from mech.cli.figures.common import (ANALYTIC, FONT, NUMERIC, POINT, analytic_values, figure, label,
+from mech.figures.common import (ANALYTIC, FONT, NUMERIC, POINT, analytic_values, figure, label,
                                      defer_legend, plain_log_ticks, title)
 from mech.problems.scene import SceneRun
 from mech.problems.spec import BadInput

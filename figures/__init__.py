@@ -4,7 +4,7 @@ An exercise with a scene hook (``@exercise.scene``, see mech.problems.scene) han
 over what to draw, computed by its own physics; ``scene.draw_scene`` draws it.
 Every other exercise (and any with ``--generic`` or ``--vary``) gets
 ``generic.generic_figure``: its outputs against one parameter, from its solvers.
-Nothing in cli/figures computes physics.
+Nothing in figures/ computes physics.
 """
 
 from __future__ import annotations
@@ -18,15 +18,15 @@ def draw(ex, params, *, generic: bool = False, vary: str | None = None, n_numeri
          finish: bool = True):
     """The exercise's figure; ``finish=False`` leaves the legends' placement (a layout pass, no physics) to
     ``common.save``, outside a solve's time budget."""
-    from mech.cli.figures.common import finish_legends
+    from mech.figures.common import finish_legends
 
     if not (generic or vary) and has_scene(ex):
-        from mech.cli.figures.scene import draw_scene
+        from mech.figures.scene import draw_scene
 
         scene, run = ex.make_scene(params, rtol=rtol, points=n_numeric)
         fig = draw_scene(ex, params, scene, run)
     else:
-        from mech.cli.figures.generic import generic_figure
+        from mech.figures.generic import generic_figure
 
         fig = generic_figure(ex, params, vary=vary, n_numeric=n_numeric, rtol=rtol)
     return finish_legends(fig) if finish else fig

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from mech.cli.figures.common import FONT, defer_legend, figure, label, plain_log_ticks as _plain_log_ticks, title
+from mech.figures.common import FONT, defer_legend, figure, label, plain_log_ticks as _plain_log_ticks, title
 from mech.problems.scene import Band, Guide, Line, Map, Markers, Note
 
 LINE_STYLE = {
