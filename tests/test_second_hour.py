@@ -182,3 +182,83 @@ def test_api_sweep_csv_writes_linspace_values_to_15_digits(tmp_path):
     col = [line.split(",")[0] for line in (tmp_path / "l.csv").read_text().splitlines()[1:]]
     # linspace gives 0.30000000000000004 and 0.7000000000000001
     assert col == ["0.1", "0.2", "0.3", "0.4", "0.5", "0.6", "0.7", "0.8", "0.9", "1"]
+
+
+# -- items 5, 7, 8: grading a class -----------------------------------------------------------------------------
+
+# 4.15 at theta0 = 60 deg: theta_c = asin((2/3) sin 60 deg) = asin(1/sqrt 3) = 35.2644 deg, and
+# omega_c = sqrt(g sin(theta0)/l) = sqrt(9.81 * 0.8660) = 2.9147 rad/s; bob's 70.5 deg is twice theta_c
+CLASS = '''
+[[answer]]
+student = "alice"
+exercise = "4.15"
+params = { theta0 = "60deg" }
+expect = { theta_c = "35.26deg", omega_c = "2.91 rad/s" }
+
+[[answer]]
+student = "bob"
+exercise = "4.15"
+params = { theta0 = "60deg" }
+expect = { theta_c = "70.5deg" }
+'''
+
+
+@pytest.fixture
+def class_file(tmp_path):
+    path = tmp_path / "hw.toml"
+    path.write_text(CLASS)
+    return path
+
+
+def test_grade_names_the_student_in_table_json_and_junit(class_file, tmp_path):
+    from xml.etree import ElementTree as ET
+
+    junit = tmp_path / "hw.xml"
+    code, out, err = run("grade", str(class_file), "--junit", str(junit))
+    assert code == 1, err  # bob is wrong
+    rows = [line.split() for line in out.splitlines()]
+    assert any(r[:2] == ["1", "alice"] for r in rows) and any(r[:2] == ["2", "bob"] for r in rows)
+    assert "alice: 2 of 2 right" in out and "bob: 0 of 1 right" in out
+    data = json.loads(run("grade", str(class_file), "--json")[1])
+    assert [e["student"] for e in data["entries"]] == ["alice", "bob"]
+    assert data["students"] == [{"student": "alice", "passed": 2, "failed": 0, "entries": 1},
+                                {"student": "bob", "passed": 0, "failed": 1, "entries": 1}]
+    cases = ET.parse(junit).getroot().iter("testcase")
+    seen = []
+    for tc in cases:
+        prop = {p.get("name"): p.get("value") for p in tc.iter("property")}
+        assert tc.get("name").startswith(prop["student"] + ": ")
+        seen.append(prop["student"])
+    assert seen == ["alice", "alice", "bob"]
+
+
+@pytest.mark.parametrize("bad", ['""', "3", '"a\\nb"', '"' + "x" * 81 + '"'])
+def test_a_bad_student_name_is_refused_in_one_line(tmp_path, bad):
+    path = tmp_path / "bad.toml"
+    path.write_text(f'[[answer]]\nstudent = {bad}\nexercise = "4.15"\nexpect = {{ theta_c = "41.8deg" }}\n')
+    code, out, err = run("grade", str(path))
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "student" in err
+
+
+def test_grade_junit_cases_carry_a_time(class_file, tmp_path):
+    from xml.etree import ElementTree as ET
+
+    junit = tmp_path / "hw.xml"
+    run("grade", str(class_file), "--junit", str(junit))
+    root = ET.parse(junit).getroot()
+    suite = next(root.iter("testsuite"))
+    times = [float(tc.get("time")) for tc in root.iter("testcase")]
+    assert len(times) == 3 and all(t > 0 for t in times)
+    assert sum(times) <= float(suite.get("time")) + 0.01
+
+
+def test_grade_piped_has_no_trailing_spaces_and_stacks_when_narrow(class_file):
+    _, out, _ = run("grade", str(class_file))
+    assert out.splitlines() and not any(line != line.rstrip() for line in out.splitlines())
+    _, out, _ = run("grade", str(class_file), env={"COLUMNS": "60"})
+    lines = out.splitlines()
+    assert all(len(line) <= 60 for line in lines) and "…" not in out
+    assert not any(line != line.rstrip() for line in lines)
+    # every cell whole: the parameters, the output names and each verdict on one line
+    assert "(theta0=60deg)" in out and "omega_c" in out
+    assert any("off by a factor 2" in line for line in lines)

@@ -137,7 +137,8 @@ def solve_json(result) -> dict:
 
 # -- mech grade FILE ------------------------------------------------------------------------------------
 
-_ENTRY_KEYS = ("exercise", "params", "expect", "rtol")
+_ENTRY_KEYS = ("exercise", "params", "expect", "rtol", "student")
+MAX_STUDENT = 80  # characters of a student's name
 
 
 @dataclass
@@ -150,6 +151,8 @@ class Entry:
     expectations: list
     result: object = None
     judgements: list = field(default_factory=list)
+    student: str | None = None  # `student = "alice"`: names the entry in every report
+    seconds: float = 0.0  # the cross-check's wall time
 
     @property
     def ok(self) -> bool:
@@ -157,7 +160,8 @@ class Entry:
 
     def label(self) -> str:
         given = ", ".join(f"{k}={v}" for k, v in self.written.items())
-        return f"answer {self.number}" + (f": {given}" if given else "")
+        who = f"{self.student}, " if self.student else ""
+        return f"{who}answer {self.number}" + (f": {given}" if given else "")
 
 
 class BadFile(BadInput):
@@ -247,8 +251,27 @@ def load_answers(path: str) -> list[Entry]:
                 raise bad(f"expect.{raw_name}", str(exc).split(": ", 1)[1]) from None
             if [e.name for e in expectations].count(expectations[-1].name) > 1:
                 raise bad(f"expect.{raw_name}", "given more than once")
-        entries.append(Entry(k, line, ex, given, written, expectations))
+        student = item.get("student")
+        if student is not None:
+            if not isinstance(student, str) or not student.strip() or len(student.strip()) > MAX_STUDENT \
+                    or not student.strip().isprintable():
+                raise bad("student", f"not a name such as \"alice\" (a one-line string of 1 to {MAX_STUDENT} "
+                                     "characters)")
+            student = student.strip()
+        entries.append(Entry(k, line, ex, given, written, expectations, student=student))
     return entries
+
+
+def per_student(entries: list[Entry]) -> list[dict]:
+    """For each student named in the file (in order of first appearance; entries without a name under
+    null): answers right and wrong, and entries."""
+    out: dict = {}
+    for e in entries:
+        s = out.setdefault(e.student, {"student": e.student, "passed": 0, "failed": 0, "entries": 0})
+        s["entries"] += 1
+        for j in e.judgements:
+            s["passed" if j.match else "failed"] += 1
+    return list(out.values())
 
 
 def grade(entries: list[Entry]) -> None:
@@ -256,8 +279,12 @@ def grade(entries: list[Entry]) -> None:
 
     from mech.verification.crosscheck import cross_check
 
+    import time
+
     for entry in entries:
+        t0 = time.perf_counter()
         entry.result = cross_check(entry.exercise, entry.exercise.resolve(entry.given))
+        entry.seconds = time.perf_counter() - t0
         entry.judgements = judge(entry.result, entry.expectations)
         entry.result.expected = {j.name: j for j in entry.judgements}
 
@@ -267,12 +294,14 @@ def grade_json(path: str, entries: list[Entry], seconds: float) -> dict:
     passed = sum(j.match for j in judgements)
     return {
         "file": path,
-        "entries": [{"exercise": e.exercise.id, "answer": e.number, "params": dict(e.result.params),
-                     "quantities": solve_json(e.result)["quantities"], "agree": e.result.agree, "ok": e.ok}
+        "entries": [{"exercise": e.exercise.id, "answer": e.number, "student": e.student,
+                     "params": dict(e.result.params), "quantities": solve_json(e.result)["quantities"],
+                     "agree": e.result.agree, "ok": e.ok, "seconds": e.seconds}
                     for e in entries],
         "ok": passed == len(judgements),
         "passed": passed,
         "failed": len(judgements) - passed,
+        "students": [{k: v for k, v in s.items()} for s in per_student(entries) if s["student"] is not None],
         "seconds": seconds,
     }
 
