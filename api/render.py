@@ -91,7 +91,7 @@ def with_error(v, err) -> str:
     """
     if v is None or isinstance(v, Undefined):
         return _num(v)
-    v = float(v)
+    v = float(v) + 0.0  # -0 prints as 0
     if err is None or not math.isfinite(err) or err <= 0 or not math.isfinite(v):
         return _num(v)
     e_err = math.floor(math.log10(err))

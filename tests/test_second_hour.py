@@ -262,3 +262,10 @@ def test_grade_piped_has_no_trailing_spaces_and_stacks_when_narrow(class_file):
     # every cell whole: the parameters, the output names and each verdict on one line
     assert "(theta0=60deg)" in out and "omega_c" in out
     assert any("off by a factor 2" in line for line in lines)
+
+
+def test_a_zero_with_an_error_bar_has_no_sign():
+    from mech.render import with_error
+
+    assert with_error(-0.0, 1e-10) == "0 ± 1e-10"
+    assert with_error(-0.0, None) == "0"
