@@ -53,7 +53,8 @@ UNITS: dict[str, tuple[float, tuple]] = {
     "day": (86400.0, _T), "yr": (365.25 * 86400.0, _T), "year": (365.25 * 86400.0, _T),
     # angle and frequency
     "rad": (1.0, _A), "mrad": (1e-3, _A), "deg": (math.pi / 180, _A),
-    "degree": (math.pi / 180, _A), "degrees": (math.pi / 180, _A), "radian": (1.0, _A), "radians": (1.0, _A), "turn": (TURN, _A), "rev": (TURN, _A),
+    "degree": (math.pi / 180, _A), "degrees": (math.pi / 180, _A), "radian": (1.0, _A), "radians": (1.0, _A),
+    "turn": (TURN, _A), "rev": (TURN, _A),
     "Hz": (TURN, _dim(t=-1, a=1)), "kHz": (1e3 * TURN, _dim(t=-1, a=1)), "rpm": (TURN / 60, _dim(t=-1, a=1)),
     # derived
     "N": (1.0, _dim(l=1, m=1, t=-2)), "J": (1.0, _dim(l=2, m=1, t=-2)), "W": (1.0, _dim(l=2, m=1, t=-3)),
