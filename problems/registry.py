@@ -174,7 +174,7 @@ def check_id_type(ex_id) -> None:
     if isinstance(ex_id, str):
         return
     if isinstance(ex_id, (int, float)) or type(ex_id).__module__ == "numpy":
-        raise BadInput(f"exercise id {ex_id!r} is a number; give it as a string, e.g. mech.solve(\"4.10\") "
+        raise BadInput(f"exercise id {ex_id} is a number; give it as a string, e.g. mech.solve(\"4.10\") "
                        f"(as numbers 4.10 and 4.1 are the same)")
     raise BadInput(f"exercise id {ex_id!r} must be a string such as \"4.15\"")
 

@@ -160,8 +160,7 @@ class Entry:
 
     def label(self) -> str:
         given = ", ".join(f"{k}={v}" for k, v in self.written.items())
-        who = f"{self.student}, " if self.student else ""
-        return f"{who}answer {self.number}" + (f": {given}" if given else "")
+        return f"answer {self.number}" + (f": {given}" if given else "")
 
 
 class BadFile(BadInput):
