@@ -65,22 +65,18 @@ def figure(nrows=1, ncols=1, w=4.6, h=3.3, **kw):
 
 
 def title(fig, ex, params=None, skip=(), extra: str = "") -> None:
-    """The exercise as the figure's title; the parameters held at their values underneath."""
-    text = f"{ex.id}  {ex.title}"
-    if len(text) > 90:
-        cut = text.rfind(" ", 0, 88)
-        text = text[:cut] + "\n" + text[cut + 1:]
+    """The exercise as the figure's title; the parameters held at their values underneath; every line
+    wrapped to the figure's width (a character of the title font is about 0.6 of its size wide)."""
+    import textwrap
+
+    fit = max(40, min(110, int(fig.get_figwidth() * 72 / (FONT["suptitle"] * 0.6))))
+    text = "\n".join(textwrap.wrap(f"{ex.id}  {ex.title}", fit))
     if params is not None:
         shown = [f"{p.symbol or p.name} = {p.show(params[p.name])}" for p in ex.params if p.name not in skip]
         line = ", ".join(shown)
-        if len(line) > 110:
-            half = len(shown) // 2
-            line = ", ".join(shown[:half]) + "\n" + ", ".join(shown[half:])
-        text += "\n" + line
+        text += "\n" + textwrap.fill(line, fit)
     if extra:
-        import textwrap
-
-        text += "\n" + "\n".join(textwrap.fill(line, 100) for line in extra.splitlines())
+        text += "\n" + "\n".join(textwrap.fill(line, fit) for line in extra.splitlines())
     fig.suptitle(text, fontsize=FONT["suptitle"])
 
 

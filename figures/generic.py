@@ -146,10 +146,10 @@ def _power_law_slope(xs: np.ndarray, ys: np.ndarray) -> float | None:
 
 
 def _skewed(values: np.ndarray) -> bool:
-    """Positive values whose bulk sits at the bottom of a wide range (a divergence drawn as a spike):
+    """Positive values whose bulk sits at the bottom of a range wider than x5 (a divergence drawn as a spike):
     a log axis reads them; a linear one shows a flat line and a spike."""
     lo, hi, mid = values.min(), values.max(), float(np.median(values))
-    return hi / lo > 10 and (mid - lo) / (hi - lo) < 0.1
+    return hi / lo > 5 and (mid - lo) / (hi - lo) < 0.1
 
 
 def _panels(ex, at_point) -> list[list]:
