@@ -173,7 +173,10 @@ def print_show(ex, from_book: bool | None = None) -> None:
         parts += [Text(), Text("Hard cases", style="bold")]
         for h in ex.hard_cases:
             parts.append(plain(f"  {case_params_text(ex, h['params'])}: {h['why']}"))
-    parts += [Text(), Text(f"methods: {', '.join(ex.methods)}", style="dim")]
+    leading = [o.name for o in ex.outputs if o.theory != "exact"]
+    theory = f"leading-order for {', '.join(leading)}" if leading else "exact"
+    methods = [f"analytic ({theory})" if m == "analytic" else m for m in ex.methods]
+    parts += [Text(), Text(f"methods: {', '.join(methods)}", style="dim")]
     emit(c, Group(*parts))
 
 

@@ -51,6 +51,8 @@ def test_list_shows_whether_the_analytic_value_is_exact(exercises):
     for ex in exercises.values():
         leading = any(o.theory != "exact" for o in ex.outputs)
         assert rows[ex.id] == ("leading-order" if leading else "exact"), ex.id
+    assert "methods: analytic (exact), numeric" in run("show", "4.15")[1]
+    assert "methods: analytic (leading-order for " in run("show", "4.24")[1]
     code, out, _ = run("list", "--json")
     by_id = {e["id"]: e for e in json.loads(out)}
     assert by_id["4.24"]["theory"] == "leading-order" and by_id["4.15"]["theory"] == "exact"
