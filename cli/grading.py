@@ -1,17 +1,20 @@
 """``mech grade FILE`` and the printing of grades and baselines: tables, JUnit, exit status.
 
-The reading and judging is ``mech.verification.grading``.
+The reading and judging is ``mech.api.grade_entries`` (``mech.verification.grading``).
 """
 
 from __future__ import annotations
 
 import json
-import time
 
 import click
 
+from typing import TYPE_CHECKING
+
 from mech.core.errors import BadInput
-from mech.verification.grading import Entry, grade, grade_json, load_answers, per_student
+
+if TYPE_CHECKING:  # pragma: no cover
+    from mech.verification.grading import Entry
 
 __all__ = ["grade_cmd", "write_grade_junit", "print_grade", "junit_baseline", "print_baseline"]
 
@@ -77,7 +80,9 @@ def print_grade(entries: list[Entry], seconds: float) -> None:
     right = sum(j.match for j in judgements)
     lines = []
     if students:
-        for s in per_student(entries):
+        from mech import api
+
+        for s in api.grade_students(entries):
             n = s["passed"] + s["failed"]
             lines.append(Text(f"{s['student'] or '(no student named)'}: {s['passed']} of {n} right",
                               style="green" if s["failed"] == 0 else "bold red"))
@@ -114,17 +119,16 @@ def grade_cmd(file, as_json, junit_file):
     """
     from mech.cli.main import EXIT_DISAGREE, EXIT_OK, UsageFailure
 
+    from mech import api
+
     try:
-        entries = load_answers(file)
+        entries, seconds = api.grade_entries(file)
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
-    t0 = time.perf_counter()
-    grade(entries)
-    seconds = time.perf_counter() - t0
     if junit_file:
         write_grade_junit(file, entries, seconds, junit_file)
     if as_json:
-        click.echo(json.dumps(grade_json(file, entries, seconds), indent=2, allow_nan=False))
+        click.echo(json.dumps(api.grade_json(file, entries, seconds), indent=2, allow_nan=False))
     else:
         print_grade(entries, seconds)
     ok = all(e.ok for e in entries)
