@@ -41,9 +41,11 @@ def _complete_ids(ctx, param, incomplete):
 
 def _complete_outputs(ctx, param, incomplete):
     """``--expect th<TAB>`` -> ``theta_c=``: the outputs of the exercise already named on the line."""
+    import mech
+
     ex_id = ctx.params.get("ex_id") or ctx.meta.get("mech_exercise_id")
     try:
-        ex = _registry().get(ex_id) if ex_id else None
+        ex = mech.exercise(ex_id) if ex_id else None
     except BadInput:
         ex = None
     if ex is None:
