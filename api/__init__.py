@@ -52,7 +52,7 @@ def exercise(ex_id: str):
     """One exercise: ``.id .title .statement .model .params .outputs .formulas .hard_cases``."""
     from mech.problems import registry
 
-    return registry.get(str(ex_id))
+    return registry.get(ex_id)
 
 
 def solve(ex_id: str, method: str = "both", rtol: float | str | None = None, verify: bool = True,

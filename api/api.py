@@ -133,7 +133,7 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
           params: dict | None = None, expect: dict | None = None, expect_rtol=None) -> Solution:
     from mech.problems import registry
 
-    ex = registry.get(str(ex_id))
+    ex = registry.get(ex_id)
     resolved = resolve_params(ex, dict(params or {}))
     expectations = _expectations(ex, expect, expect_rtol)
     sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify,
@@ -275,6 +275,7 @@ class Sweep:
         with open(path, "w", newline="", encoding="utf-8") as fh:
             out = csv.writer(fh)
             out.writerow([f"{n} [{u}]" if u and u != "1" else n for n, u in cols])
+            swept = {a.name for a in self.axes}
             for k in range(len(self.points)):
                 row = []
                 for n, _ in cols:
@@ -282,7 +283,8 @@ class Sweep:
                     if n.endswith("_agree"):
                         row.append("" if arrays[f"{n}_mask"][k] else str(bool(v)).lower())
                     else:
-                        row.append("" if math.isnan(v) else repr(float(v)))
+                        # a swept value to 15 digits: 0.3 from linspace, not 0.30000000000000004
+                        row.append("" if math.isnan(v) else f"{float(v):.15g}" if n in swept else repr(float(v)))
                 out.writerow(row)
 
     def to_pandas(self):
@@ -320,7 +322,7 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     from mech.problems import registry
     from mech.verification.sweep import Axis, batched_outputs, grid_points, run_batched, run_sweep
 
-    ex = registry.get(str(ex_id))
+    ex = registry.get(ex_id)
     axes, fixed = [], {}
     for name, spec in dict(ranges or {}).items():
         canon = name.replace("-", "_")
@@ -435,6 +437,13 @@ def grade_entries(path) -> tuple[list, float]:
     return entries, time.perf_counter() - t0
 
 
+def grade_students(entries: list) -> list[dict]:
+    """Per student named in a grading file (entries without a name under None): passed, failed, entries."""
+    from mech.verification import grading
+
+    return grading.per_student(entries)
+
+
 def grade_json(path, entries: list, seconds: float) -> dict:
     """The JSON report of judged grading entries (``mech grade --json``)."""
     from mech.verification import grading
@@ -446,7 +455,7 @@ def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **
     """``mech bench ID --json``: speed against error of the numeric solver(s)."""
     from mech.problems import registry
 
-    ex = registry.get(str(ex_id))
+    ex = registry.get(ex_id)
     resolved = resolve_params(ex, dict(params or {}))
     if isinstance(methods, str):
         methods = [m.strip() for m in methods.split(",")]
@@ -508,7 +517,7 @@ def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = Non
     from mech.figures.common import need_matplotlib, save
     from mech.problems import registry
 
-    ex = registry.get(str(ex_id))
+    ex = registry.get(ex_id)
     resolved = resolve_params(ex, dict(params or {}))
     need_matplotlib()
     fig = draw(ex, resolved, generic=generic, vary=vary.replace("-", "_") if vary else None)
@@ -537,7 +546,8 @@ def plot_resolved(ex, params, path, *, generic: bool = False, vary: str | None =
         # numpy's overflow and division warnings are no message of the figure: a value that is not
         # finite leaves a gap, and a numeric solver's failure is told in the caption
         warnings.simplefilter("ignore", RuntimeWarning)
-        fig = draw(ex, params, generic=generic, vary=vary, rtol=rtol, **options)
+        # the legends are placed by save (a layout pass, no physics), outside the solves' budget
+        fig = draw(ex, params, generic=generic, vary=vary, rtol=rtol, finish=False, **options)
     save(fig, str(path), dpi=dpi)
 
 
@@ -549,8 +559,8 @@ def check(ids=None, hard: bool = False, *, jobs: int | None = None, started=None
     from mech.verification.checking import run_check
     from mech.problems import registry
 
-    if isinstance(ids, str):
-        ids = [ids]
+    if ids is not None and not isinstance(ids, (list, tuple)):
+        ids = [ids]  # one id; a number among them is refused by registry.get
     exercises = [registry.get(i) for i in ids] if ids else list(registry.all_exercises().values())
     return run_check(exercises, hard=hard, jobs=jobs, started=started, finished=finished)
 

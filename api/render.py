@@ -78,8 +78,8 @@ def _num(v) -> str:
     if v is None:
         return "—"
     if isinstance(v, Undefined):
-        return "undefined"
-    return f"{v:.{MAX_SIG}g}"
+        return v.word
+    return f"{float(v) + 0.0:.{MAX_SIG}g}"  # + 0.0: -0 prints as 0
 
 
 def with_error(v, err) -> str:
@@ -91,7 +91,7 @@ def with_error(v, err) -> str:
     """
     if v is None or isinstance(v, Undefined):
         return _num(v)
-    v = float(v)
+    v = float(v) + 0.0  # -0 prints as 0
     if err is None or not math.isfinite(err) or err <= 0 or not math.isfinite(v):
         return _num(v)
     e_err = math.floor(math.log10(err))
@@ -159,7 +159,12 @@ def print_show(ex, from_book: bool | None = None) -> None:
     if not fits(c, ot):
         ot = _stacked("Outputs", [(o.name, [("unit", o.unit), ("meaning", o.doc + (
             " [leading-order theory]" if o.theory != "exact" else ""))]) for o in ex.outputs])
-    parts += [pt, ot, Text("Analytic results", style="bold")]
+    parts.append(pt)
+    if ex.joint_limits:
+        parts += [Text("Joint limits (a solve refuses parameters beyond them)", style="bold")]
+        parts += [plain("  " + t) for t in ex.joint_limits]
+        parts.append(Text())
+    parts += [ot, Text("Analytic results", style="bold")]
     parts += [plain("  " + f) for f in ex.formulas]
     parts += [Text(), Text("Numeric route", style="bold"), prose(ex.numeric_route)]
     if ex.route_note:
@@ -168,7 +173,10 @@ def print_show(ex, from_book: bool | None = None) -> None:
         parts += [Text(), Text("Hard cases", style="bold")]
         for h in ex.hard_cases:
             parts.append(plain(f"  {case_params_text(ex, h['params'])}: {h['why']}"))
-    parts += [Text(), Text(f"methods: {', '.join(ex.methods)}", style="dim")]
+    leading = [o.name for o in ex.outputs if o.theory != "exact"]
+    theory = f"leading-order for {', '.join(leading)}" if leading else "exact"
+    methods = [f"analytic ({theory})" if m == "analytic" else m for m in ex.methods]
+    parts += [Text(), Text(f"methods: {', '.join(methods)}", style="dim")]
     emit(c, Group(*parts))
 
 
@@ -274,11 +282,25 @@ def solve_table(result, width: int | None = None) -> Table | Group:
     return _stacked("", blocks)
 
 
+def _undefined_notes(q) -> list[str]:
+    """Why an output has no value: one note when both methods say the same, else one per method."""
+    why = {key: v for key in ("analytic", "numeric") if isinstance(v := getattr(q, key, None), Undefined)}
+    if len(why) == 2 and why["analytic"].why == why["numeric"].why:
+        v = why["analytic"]
+        return [f"{v.word}: {v.why}"]
+    return [f"{key}: {v.why}" for key, v in why.items()]
+
+
 def _notes(result) -> list[str]:
-    """Each note once, with the outputs it is about: ``xi_lo, xi_hi: ...``."""
+    """Each note once, with the outputs it is about: ``xi_lo, xi_hi: ...``; an undefined or infinite
+    output always says why."""
     by_text: dict[str, list[str]] = {}
     for q in result.quantities:
-        for n in dict.fromkeys(q.notes):
+        own = _undefined_notes(q)
+        # the JSON's rendering notes each method's reason on the quantity; the table says it once
+        rest = [n for n in q.notes if not any(n == f"{k}: {getattr(q, k).why}" for k in ("analytic", "numeric")
+                                              if isinstance(getattr(q, k, None), Undefined))]
+        for n in dict.fromkeys(own + rest):
             by_text.setdefault(n, []).append(q.name)
     return [f"{', '.join(names)}: {text}" for text, names in by_text.items()]
 

@@ -29,8 +29,14 @@ def write_grade_junit(path: str, entries: list[Entry], seconds: float, out_file:
     suite = ET.Element("testsuite", name=f"mech grade {path}", tests=str(len(judgements)), failures=str(failed),
                        errors="0", time=f"{seconds:.3f}")
     for e, j in judgements:
+        who = f"{e.student}: " if e.student else ""
+        # an entry's cross-check time, shared by its expected values (the cases add up to the run)
         tc = ET.SubElement(suite, "testcase", classname=f"mech.ex{e.exercise.id.replace('.', '_')}",
-                           name=f"{j.name} = {j.text} ({e.label()})")
+                           name=f"{who}{j.name} = {j.text} ({e.label()})",
+                           time=f"{e.seconds / max(len(e.judgements), 1):.3f}")
+        if e.student:
+            props = ET.SubElement(tc, "properties")
+            ET.SubElement(props, "property", name="student", value=e.student)
         if not j.match:
             fail = ET.SubElement(tc, "failure", message=j.verdict)
             fail.text = (f"{e.exercise.id} {j.name}: yours {j.text}, mech {j.shown_reference or '—'}"
@@ -42,33 +48,59 @@ def write_grade_junit(path: str, entries: list[Entry], seconds: float, out_file:
 
 
 def print_grade(entries: list[Entry], seconds: float) -> None:
+    """One row per expected value; where the table does not fit the width, one block per value (the
+    stacking rule of the other commands); piped, no trailing spaces."""
     from rich import box
+    from rich.console import Group
     from rich.table import Table
     from rich.text import Text
 
     from mech import render
 
+    students = any(e.student for e in entries)
+    cols = [("#", "right")] + ([("student", "left")] if students else []) + [
+        ("exercise", "left"), ("quantity", "left"), ("yours", "right"), ("mech", "right"), ("verdict", "left")]
     t = Table(box=box.SIMPLE_HEAD, show_edge=False)
-    for col, just in (("#", "right"), ("exercise", "left"), ("quantity", "left"), ("yours", "right"),
-                      ("mech", "right"), ("verdict", "left")):
-        t.add_column(col, justify=just)
+    for col, just in cols:
+        t.add_column(col, justify=just, no_wrap=True)
+    blocks = []
     for e in entries:
         given = ", ".join(f"{k}={v}" for k, v in e.written.items())
+        where = f"{e.exercise.id}" + (f" ({given})" if given else "")
         for i, j in enumerate(e.judgements):
-            t.add_row(str(e.number) if i == 0 else "", (f"{e.exercise.id}" + (f" ({given})" if given else ""))
-                      if i == 0 else "", j.name, j.text, j.shown_reference or "—",
-                      Text(j.verdict, style="green" if j.match else "bold red"))
+            verdict = Text(j.verdict, style="green" if j.match else "bold red")
+            first = i == 0
+            t.add_row(*([str(e.number) if first else ""] + ([e.student or "" if first else ""] if students else [])
+                        + [where if first else "", j.name, j.text, j.shown_reference or "—", verdict]))
+            head = f"{e.number}  " + (f"{e.student}: " if e.student else "") + f"{where}: {j.name}"
+            blocks.append((head, [("yours", j.text), ("mech", j.shown_reference or "—"), ("verdict", verdict)]))
     c = render.console()
-    c.print(t)
+    table = t if render.fits(c, t) else render._stacked("", blocks)
     judgements = [j for e in entries for j in e.judgements]
     right = sum(j.match for j in judgements)
-    c.print(Text(f"{right} of {len(judgements)} answers right, {len(judgements) - right} wrong"
-                 f" ({len(entries)} entr{'y' if len(entries) == 1 else 'ies'}) in {seconds:.1f} s",
-                 style="green" if right == len(judgements) else "bold red"))
+    lines = []
+    if students:
+        from mech import api
+
+        for s in api.grade_students(entries):
+            n = s["passed"] + s["failed"]
+            lines.append(Text(f"{s['student'] or '(no student named)'}: {s['passed']} of {n} right",
+                              style="green" if s["failed"] == 0 else "bold red"))
+    lines.append(Text(f"{right} of {len(judgements)} answers right, {len(judgements) - right} wrong"
+                      f" ({len(entries)} entr{'y' if len(entries) == 1 else 'ies'}) in {seconds:.1f} s",
+                      style="green" if right == len(judgements) else "bold red"))
+    render.emit(c, Group(table, *lines))
+
+
+def _complete_files(ctx, param, incomplete):
+    """The shell's own file completion for FILE."""
+    from click.shell_completion import CompletionItem
+
+    return [CompletionItem(incomplete, type="file")]
 
 
 @click.command("grade")
-@click.argument("file", metavar="FILE")
+@click.argument("file", metavar="FILE", shell_complete=_complete_files)
 @click.option("--json", "as_json", is_flag=True, help="A JSON report on stdout.")
 @click.option("--junit", "junit_file", type=click.Path(dir_okay=False, writable=True),
               help="Write a JUnit XML report: one test case per expected value.")
@@ -77,6 +109,7 @@ def grade_cmd(file, as_json, junit_file):
 
     \b
     [[answer]]
+    student = "alice"
     exercise = "4.15"
     params = { theta0 = "60deg" }
     expect = { theta_c = "35.26deg", omega_c = "2.91 rad/s" }

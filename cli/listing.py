@@ -2,7 +2,9 @@
 
 rich's import and its table layout (measuring every cell) took 0.08-0.1 s of a
 0.25 s ``mech list``, whose budget is 0.3 s; this lays the same four columns
-out with textwrap.  Width: the terminal's, or 160 columns when piped (as the
+out with textwrap.  The last column says what differs between exercises: whether
+the analytic values are exact or a leading-order theory (every exercise has both
+methods; the source shows as the mark on the id).  Width: the terminal's, or 160 columns when piped (as the
 rich renderings use).
 """
 
@@ -13,18 +15,18 @@ import shutil
 import sys
 import textwrap
 
-METHODS_W = 17  # "analytic, numeric"
 
 
 def table_lines(exercises, width: int) -> list[str]:
     mark = _mark()
-    rows = [(e.id + ("" if e.from_book else mark), e.title, e.topic, ", ".join(e.methods)) for e in exercises]
+    rows = [(e.id + ("" if e.from_book else mark), e.title, e.topic,
+             e.theory if "analytic" in e.methods else "numeric only") for e in exercises]
     id_w = max([2] + [len(r[0]) for r in rows])
-    meth_w = max([len("methods")] + [len(r[3]) for r in rows])
+    meth_w = max([len("analytic")] + [len(r[3]) for r in rows])
     free = max(30, width - id_w - meth_w - 8)  # 2 spaces between 4 columns, 1 at each edge
     title_w = max(12, free // 2)
     topic_w = max(12, free - title_w)
-    out = [f" {'id':<{id_w}}  {'title':<{title_w}}  {'topic':<{topic_w}}  {'methods':<{meth_w}}".rstrip()]
+    out = [f" {'id':<{id_w}}  {'title':<{title_w}}  {'topic':<{topic_w}}  {'analytic':<{meth_w}}".rstrip()]
     out.append(_rule() * min(width, id_w + title_w + topic_w + meth_w + 8))
     for ex_id, title, topic, methods in rows:
         t = textwrap.wrap(title, title_w) or [""]

@@ -39,6 +39,26 @@ def _complete_ids(ctx, param, incomplete):
     return [e.id for e in mech.exercises() if e.id.startswith(incomplete)]
 
 
+def _complete_outputs(ctx, param, incomplete):
+    """``--expect th<TAB>`` -> ``theta_c=``: the outputs of the exercise already named on the line."""
+    import mech
+
+    ex_id = ctx.params.get("ex_id") or ctx.meta.get("mech_exercise_id")
+    try:
+        ex = mech.exercise(ex_id) if ex_id else None
+    except BadInput:
+        ex = None
+    if ex is None:
+        return []
+    from click.shell_completion import CompletionItem
+
+    name = incomplete.split("=", 1)[0]
+    if "=" in incomplete:
+        return []
+    return [CompletionItem(f"{o.name}=", help=f"[{o.unit}] {o.doc}") for o in ex.outputs
+            if o.name.startswith(name)]
+
+
 def _emit_json(obj) -> None:
     click.echo(json.dumps(obj, indent=2, allow_nan=False))
 
@@ -148,7 +168,7 @@ def cli():
 @click.option("--chapter", type=click.Choice(["4", "5"]), help="Only this chapter's exercises.")
 @click.option("--json", "as_json", is_flag=True, help="Print a JSON array instead of a table.")
 def list_cmd(chapter, as_json):
-    """List the registered exercises: id, title, topic, methods.
+    """List the registered exercises: id, title, topic, and whether the analytic values are exact.
 
     A mark (†) flags the exercises set for mech on the chapter's topics; the others are the book's own.
     """
@@ -157,7 +177,7 @@ def list_cmd(chapter, as_json):
     exercises = mech.exercises(int(chapter) if chapter else None)
     if as_json:
         _emit_json([{"id": e.id, "title": e.title, "topic": e.topic, "methods": list(e.methods),
-                     "from_book": e.from_book} for e in exercises])
+                     "theory": e.theory, "from_book": e.from_book} for e in exercises])
     else:
         from mech.cli import listing
 
@@ -312,7 +332,7 @@ class SolveCommand(click.Command):
 @click.option("--no-verify", is_flag=True, help="Skip the rerun at rtol/10 that tests the numeric accuracy claim.")
 @click.option("--json", "as_json", is_flag=True,
               help="Print the result as one JSON object on stdout (fields: docs/json.md).")
-@click.option("--expect", "expects", multiple=True, metavar="NAME=VALUE",
+@click.option("--expect", "expects", multiple=True, metavar="NAME=VALUE", shell_complete=_complete_outputs,
               help="Your answer for an output, judged to the digits written (repeatable): --expect theta_c=35.26deg.")
 @click.option("--expect-rtol", "expect_rtol", metavar="R", help="Judge --expect values to this relative tolerance.")
 @click.option("--expect-points", "expect_points", metavar="N",

@@ -59,8 +59,8 @@ def parse_range(ex: Exercise, name: str, text: str):
         raise BadInput(f"{name}: one point in '{text}' needs START = STOP (or N >= 2)")
     if log and (start <= 0 or stop <= 0):
         raise BadInput(f"{name}: a log range needs positive ends, got '{text}'")
-    for v in (start, stop):
-        param.check(v)
+    for v, typed in zip((start, stop), parts[:2]):
+        param.check(v, typed)  # echoed as typed: "10 (= 572.958 deg)", not the SI value in degrees
     if n == 1:
         values = [start]
     elif log:
@@ -128,7 +128,29 @@ SHOW_ERRORS = 20
 
 
 def _fmt(v) -> str:
-    return "—" if v is None else f"{v:.10g}"
+    return "—" if v is None else f"{v + 0.0:.10g}"  # + 0.0: -0 prints as 0
+
+
+def _cell(q: dict, key: str) -> str:
+    """A value, or why there is none: "infinite" / "undefined" where the solver said so (its note)."""
+    if q[key] is None and f"{key}: " in (q.get("note") or ""):
+        return "infinite" if q.get("infinite") else "undefined"
+    return _fmt(q[key])
+
+
+def _undefined_reasons(points: list[dict]) -> list[str]:
+    """Each output's reasons for having no value, once, with how many points gave it."""
+    seen: dict[str, int] = {}
+    for pt in points:
+        for q in pt["quantities"]:
+            if (q["analytic"] is None or q["numeric"] is None) and q.get("note"):
+                note = q["note"]
+                a, _, n = note.partition("; numeric: ")
+                if a == f"analytic: {n}":  # both methods give the same reason: say it once
+                    note = f"{'infinite' if q.get('infinite') else 'undefined'}: {n}"
+                key = f"{q['name']}: {note}"
+                seen[key] = seen.get(key, 0) + 1
+    return [f"{text} ({n} point{'s' if n > 1 else ''})" for text, n in seen.items()]
 
 
 def _unit_of(result, name):
@@ -184,7 +206,7 @@ def print_table(result) -> None:
                 row.append(f"{pt['params'][name] / factor:.6g}")
             rels = []
             for q in pt["quantities"]:
-                row += [_fmt(q["analytic"]), _fmt(q["numeric"])]
+                row += [_cell(q, "analytic"), _cell(q, "numeric")]
                 if q.get("rel_err") is not None:
                     rels.append(q["rel_err"])
             row.append(f"{max(rels):.2g}" if rels else "—")
@@ -212,6 +234,10 @@ def print_table(result) -> None:
         c.print(f"(no table above {TABLE_MAX} points: --csv, --json or --plot FILE show them all)", style="dim")
     text, ok = _summary(result)
     c.print(text, style="dim" if ok else "bold red")
+    if len(result) <= TABLE_MAX:
+        reasons = _undefined_reasons(result.point_list())
+        for r in reasons[:SHOW_ERRORS]:
+            c.print(Text(r, style="yellow"))
     shown = 0
     pts = result.point_list() if len(result) <= TABLE_MAX or not ok else []
     for k, pt in enumerate(pts):
@@ -247,8 +273,11 @@ def csv_text(result) -> str:
             return "true" if v else "false"
         return repr(float(v))
 
+    def typed(v):  # a parameter in the unit typed, to 15 digits: 30 deg, not 29.999999999999996
+        return f"{v:.15g}"
+
     for pt in result.point_list():
-        row = [cell(pt["params"][p.name] / units[p.name][1]) for p in ex.params]
+        row = [typed(pt["params"][p.name] / units[p.name][1]) for p in ex.params]
         for q in pt["quantities"]:
             row += [cell(q["analytic"]), cell(q["numeric"]), cell(q.get("numeric_err")), cell(q["rel_err"]),
                     cell(q["agree"])]

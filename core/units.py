@@ -45,18 +45,40 @@ UNITS: dict[str, tuple[float, tuple]] = {
     # length
     "m": (1.0, _L), "mm": (1e-3, _L), "cm": (1e-2, _L), "km": (1e3, _L), "um": (1e-6, _L), "nm": (1e-9, _L),
     "AU": (1.495978707e11, _L),
+    "ft": (0.3048, _L), "foot": (0.3048, _L), "feet": (0.3048, _L), "inch": (0.0254, _L), "mi": (1609.344, _L),
     # mass
     "kg": (1.0, _M), "g": (1e-3, _M), "mg": (1e-6, _M), "t": (1e3, _M),
+    "lb": (0.45359237, _M), "lbs": (0.45359237, _M),
     # time
     "s": (1.0, _T), "ms": (1e-3, _T), "us": (1e-6, _T), "min": (60.0, _T), "h": (3600.0, _T),
     "day": (86400.0, _T), "yr": (365.25 * 86400.0, _T), "year": (365.25 * 86400.0, _T),
     # angle and frequency
-    "rad": (1.0, _A), "mrad": (1e-3, _A), "deg": (math.pi / 180, _A), "turn": (TURN, _A), "rev": (TURN, _A),
+    "rad": (1.0, _A), "mrad": (1e-3, _A), "deg": (math.pi / 180, _A),
+    "degree": (math.pi / 180, _A), "degrees": (math.pi / 180, _A), "radian": (1.0, _A), "radians": (1.0, _A),
+    "turn": (TURN, _A), "rev": (TURN, _A),
     "Hz": (TURN, _dim(t=-1, a=1)), "kHz": (1e3 * TURN, _dim(t=-1, a=1)), "rpm": (TURN / 60, _dim(t=-1, a=1)),
     # derived
     "N": (1.0, _dim(l=1, m=1, t=-2)), "J": (1.0, _dim(l=2, m=1, t=-2)), "W": (1.0, _dim(l=2, m=1, t=-3)),
 }
 CONSTANTS = {"pi": math.pi}
+# a near miss is pointed at the short name (a typo of "degrees" gets "deg")
+_SHORT = {"degree": "deg", "degrees": "deg", "radian": "rad", "radians": "rad", "foot": "ft", "feet": "ft",
+          "lbs": "lb", "year": "yr"}
+
+
+def unit_hint(name: str) -> str:
+    """"; did you mean deg?" for a near miss of a unit or constant (at most one), else ""."""
+    import difflib
+
+    if len(name) < 2 or len(name) > 20:
+        return ""
+    known = list(UNITS) + list(CONSTANTS)
+    close = difflib.get_close_matches(name, known, n=1, cutoff=0.75) \
+        or difflib.get_close_matches(name.lower(), [k.lower() for k in known], n=1, cutoff=0.75)
+    if not close:
+        return ""
+    match = next((k for k in known if k.lower() == close[0].lower()), close[0])
+    return f"; did you mean {_SHORT.get(match, match)}?"
 
 _DIM_NAMES = {
     _L: "a length", _M: "a mass", _T: "a time", _A: "an angle", _ONE: "a pure number",
@@ -198,7 +220,7 @@ class _Parser:
                 return Dimensioned(factor, dim, True)
             if val.lower() in ("nan", "inf", "infinity"):
                 raise ValueError_("not a finite number")
-            raise ValueError_(f"unknown unit or name '{val}'")
+            raise ValueError_(f"unknown unit or name '{val}'{unit_hint(val)}")
         if val == "(":
             q = self.expr()
             if self.take()[1] != ")":

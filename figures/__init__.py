@@ -14,12 +14,19 @@ def has_scene(ex) -> bool:
     return getattr(ex, "_scene", None) is not None
 
 
-def draw(ex, params, *, generic: bool = False, vary: str | None = None, n_numeric: int = 5, rtol=None):
+def draw(ex, params, *, generic: bool = False, vary: str | None = None, n_numeric: int = 5, rtol=None,
+         finish: bool = True):
+    """The exercise's figure; ``finish=False`` leaves the legends' placement (a layout pass, no physics) to
+    ``common.save``, outside a solve's time budget."""
+    from mech.figures.common import finish_legends
+
     if not (generic or vary) and has_scene(ex):
         from mech.figures.scene import draw_scene
 
         scene, run = ex.make_scene(params, rtol=rtol, points=n_numeric)
-        return draw_scene(ex, params, scene, run)
-    from mech.figures.generic import generic_figure
+        fig = draw_scene(ex, params, scene, run)
+    else:
+        from mech.figures.generic import generic_figure
 
-    return generic_figure(ex, params, vary=vary, n_numeric=n_numeric, rtol=rtol)
+        fig = generic_figure(ex, params, vary=vary, n_numeric=n_numeric, rtol=rtol)
+    return finish_legends(fig) if finish else fig

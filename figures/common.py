@@ -52,6 +52,7 @@ def save(fig, path: str, dpi: float = 110) -> None:
     fmt = check_target(path)
     meta = {"Software": "mech"} if fmt == "png" else None
     try:
+        finish_legends(fig)
         fig.savefig(path, format=fmt, dpi=dpi, metadata=meta)
     finally:
         plt.close(fig)
@@ -64,23 +65,36 @@ def figure(nrows=1, ncols=1, w=4.6, h=3.3, **kw):
 
 
 def title(fig, ex, params=None, skip=(), extra: str = "") -> None:
-    """The exercise as the figure's title; the parameters held at their values underneath."""
-    text = f"{ex.id}  {ex.title}"
-    if len(text) > 90:
-        cut = text.rfind(" ", 0, 88)
-        text = text[:cut] + "\n" + text[cut + 1:]
+    """The exercise as the figure's title; the parameters held at their values underneath; every line
+    wrapped to the figure's width (a character of the title font is about 0.6 of its size wide)."""
+    import textwrap
+
+    fit = max(40, min(110, int(fig.get_figwidth() * 72 / (FONT["suptitle"] * 0.6))))
+    text = "\n".join(textwrap.wrap(f"{ex.id}  {ex.title}", fit))
     if params is not None:
         shown = [f"{p.symbol or p.name} = {p.show(params[p.name])}" for p in ex.params if p.name not in skip]
         line = ", ".join(shown)
-        if len(line) > 110:
-            half = len(shown) // 2
-            line = ", ".join(shown[:half]) + "\n" + ", ".join(shown[half:])
-        text += "\n" + line
+        text += "\n" + textwrap.fill(line, fit)
     if extra:
-        import textwrap
-
-        text += "\n" + "\n".join(textwrap.fill(line, 100) for line in extra.splitlines())
+        text += "\n" + "\n".join(textwrap.fill(line, fit) for line in extra.splitlines())
     fig.suptitle(text, fontsize=FONT["suptitle"])
+
+
+def plain_log_ticks(axis):
+    """Tick labels of a log axis as plain numbers (2, 3, 0.05), not 2×10⁰, where the axis spans
+    less than three decades; wider axes keep matplotlib's powers of ten."""
+    from matplotlib.ticker import FuncFormatter, LogLocator
+
+    def plain(v, _pos):
+        if v <= 0 or not math.isfinite(v):
+            return ""
+        return f"{v:g}"
+
+    lo, hi = axis.get_view_interval()
+    if lo > 0 and hi / lo < 1e3:
+        axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+        axis.set_major_formatter(FuncFormatter(plain))
+        axis.set_minor_formatter(FuncFormatter(lambda v, p: ""))
 
 
 def label(name: str, unit: str) -> str:
@@ -102,3 +116,109 @@ def analytic_values(ex, params):
     except Exception:
         return {o.name: math.nan for o in ex.outputs}
     return {k: finite(v) for k, v in values.items()}
+
+
+# -- legends placed where they hide nothing ------------------------------------------------------------
+
+LEGEND_LOCS = ("upper right", "upper left", "lower left", "lower right", "center right", "center left",
+               "lower center", "upper center", "center")
+
+
+def drawn_points(ax, step_px: float = 2.0):
+    """Display coordinates of what a legend in ``ax`` could hide: every data line's vertices and points
+    every ``step_px`` pixels along its segments (a line crossing a box counts, not only its vertices),
+    markers, and the boxes of annotations.  Reference lines spanning the axes (axvline, axhline) are
+    left out: a legend may sit over a stretch of them."""
+    import numpy as np
+
+    pts = []
+    for ln in ax.get_lines():
+        if not ln.get_visible() or ln.get_transform() is not ax.transData:
+            continue
+        xy = np.asarray(ln.get_xydata(), float)
+        if xy.size == 0:
+            continue
+        disp = ln.get_transform().transform(xy)
+        ok = np.all(np.isfinite(disp), axis=1)
+        pts.append(disp[ok])
+        if ln.get_linestyle() not in ("None", "none", "", " ") and len(disp) > 1:
+            a, b = disp[:-1], disp[1:]
+            both = ok[:-1] & ok[1:]
+            a, b = a[both], b[both]
+            n = np.minimum(np.linalg.norm(b - a, axis=1) // step_px, 2000).astype(int)
+            long = n > 1  # segments longer than a step get points along them
+            if long.any():
+                reps = n[long]
+                t = np.concatenate([np.arange(k) / k for k in reps])[:, None]
+                pts.append(np.repeat(a[long], reps, axis=0) + t * np.repeat((b - a)[long], reps, axis=0))
+    renderer = ax.figure.canvas.get_renderer()
+    for text in ax.texts:
+        bb = text.get_window_extent(renderer)
+        gx, gy = np.meshgrid(np.linspace(bb.x0, bb.x1, 12), np.linspace(bb.y0, bb.y1, 4))
+        pts.append(np.column_stack([gx.ravel(), gy.ravel()]))
+    return np.vstack(pts) if pts else np.zeros((0, 2))
+
+
+def hidden_by(legend, points, pad_px: float = 1.0) -> int:
+    """How many of ``points`` (display coordinates) the legend's box covers."""
+    bb = legend.get_window_extent(legend.figure.canvas.get_renderer()).padded(pad_px)
+    if len(points) == 0:
+        return 0
+    x, y = points[:, 0], points[:, 1]
+    return int(((x >= bb.x0) & (x <= bb.x1) & (y >= bb.y0) & (y <= bb.y1)).sum())
+
+
+def defer_legend(ax, preferred: str | None = None, **kw) -> None:
+    """Ask for a legend in ``ax`` placed by ``finish_legends`` once the figure is complete."""
+    fig = ax.figure
+    if not hasattr(fig, "_mech_legends"):
+        fig._mech_legends = []
+    fig._mech_legends.append((ax, preferred, kw))
+
+
+def finish_legends(fig):
+    """Lay the figure out once and place every deferred legend where it hides no data (``save`` calls
+    this; so does ``figures.draw`` unless told not to). Returns the figure."""
+    pending = getattr(fig, "_mech_legends", None)
+    if pending:
+        fig._mech_legends = []
+        engine = fig.get_layout_engine()
+        if engine is not None:
+            engine.execute(fig)  # the axes where they will be saved (a full draw costs twice as much)
+        for ax, preferred, kw in pending:
+            place_legend(ax, preferred, **kw)
+    return fig
+
+
+def place_legend(ax, preferred: str | None = None, **kw):
+    """A legend inside ``ax`` where it covers no drawn point: ``preferred`` first, then the corners and
+    edges; where every place covers something, room is made above the data and the legend goes there.
+    The figure should be laid out already (``finish_legends``)."""
+    fig = ax.figure
+    points = drawn_points(ax)
+    order = ([preferred] if preferred and preferred != "best" else []) + [c for c in LEGEND_LOCS if c != preferred]
+    best, best_n = None, None
+    for loc in order:
+        leg = ax.legend(loc=loc, **kw)
+        n = hidden_by(leg, points)
+        if n == 0:
+            return leg
+        if best_n is None or n < best_n:
+            best, best_n = loc, n
+    # nowhere free: raise the top of the axis by the legend's height (plus a margin) and put it there
+    leg = ax.legend(loc="upper right", **kw)
+    frac = leg.get_window_extent(fig.canvas.get_renderer()).height / ax.get_window_extent().height + 0.04
+    lo, hi = ax.get_ylim()
+    if ax.get_yscale() == "log":
+        import math
+
+        span = math.log10(hi) - math.log10(lo)
+        ax.set_ylim(lo, 10 ** (math.log10(lo) + span / max(1.0 - frac, 0.3)))
+    else:
+        ax.set_ylim(lo, lo + (hi - lo) / max(1.0 - frac, 0.3))
+    points = drawn_points(ax)
+    for loc in ("upper right", "upper left", "upper center"):
+        leg = ax.legend(loc=loc, **kw)
+        if hidden_by(leg, points) == 0:
+            return leg
+    return ax.legend(loc=best, **kw)

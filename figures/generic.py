@@ -17,7 +17,8 @@ import time
 
 import numpy as np
 
-from mech.figures.common import ANALYTIC, FONT, NUMERIC, POINT, analytic_values, figure, label, title
+from mech.figures.common import (ANALYTIC, FONT, NUMERIC, POINT, analytic_values, figure, label,
+                                     defer_legend, plain_log_ticks, title)
 from mech.problems.scene import SceneRun
 from mech.problems.spec import BadInput
 
@@ -118,6 +119,39 @@ def choose_param(ex, params, cost: float | None = None) -> str:
     return best
 
 
+ROUND_OFF = 1e3 * 2.220446049250313e-16  # relative to an output's scale: below it a value is round-off of 0
+COINCIDE = 1e-9  # two outputs whose values agree to this (relative) draw one on the other
+HOURS_FROM_S = 2 * 3600.0  # a time whose typical value exceeds this is drawn in hours
+
+
+def _zero_round_off(ys: np.ndarray, scale: float) -> np.ndarray:
+    """Values below the round-off of the output's scale are zero (cos 90 deg = 6e-17, not data)."""
+    ys = np.array(ys, float)
+    tiny = np.isfinite(ys) & (np.abs(ys) <= ROUND_OFF * scale)
+    ys[tiny] = 0.0
+    return ys
+
+
+def _power_law_slope(xs: np.ndarray, ys: np.ndarray) -> float | None:
+    """The exponent where ys is one power of xs (constant log-log slope), else None."""
+    ok = np.isfinite(ys) & (xs > 0)
+    if ok.sum() < 3:
+        return None
+    x, y = xs[ok], ys[ok]
+    y = -y if np.all(y < 0) else y
+    if not np.all(y > 0):
+        return None
+    sl = np.diff(np.log(y)) / np.diff(np.log(x))
+    return float(np.mean(sl)) if np.ptp(sl) < 0.02 else None
+
+
+def _skewed(values: np.ndarray) -> bool:
+    """Positive values whose bulk sits at the bottom of a range wider than x5 (a divergence drawn as a spike):
+    a log axis reads them; a linear one shows a flat line and a spike."""
+    lo, hi, mid = values.min(), values.max(), float(np.median(values))
+    return hi / lo > 5 and (mid - lo) / (hi - lo) < 0.1
+
+
 def _panels(ex, at_point) -> list[list]:
     """Outputs sharing a panel: those of one unit whose values at the point are all positive (a log
     axis shows them together) or within a factor 30 of each other; every other output alone."""
@@ -161,37 +195,75 @@ def generic_figure(ex, params, *, vary: str | None = None, n_numeric: int = 5, r
     nrows = math.ceil(k / ncols)
     fig, axes = figure(nrows, ncols, w=5.0 if k > 1 else 6.4, h=3.7 if k > 1 else 4.3)
     scale = p.to_display(1.0)
+    legends = []
+    coincident_notes = []
     for j, group in enumerate(groups):
         ax = axes[j // ncols][j % ncols]
         every = []
+        # each output's values, round-off of zero set to zero, in hours where a time runs to days
+        lines = {}
+        for o in group:
+            ys = np.array([r[o.name] for r in rows], float)
+            ny = np.array([r[o.name] for r in num_rows], float) if has_numeric else np.array([])
+            y0 = at_point.get(o.name, math.nan)
+            fin = ys[np.isfinite(ys)]
+            ref = float(np.max(np.abs(fin))) if fin.size else 0.0
+            ys, ny = _zero_round_off(ys, ref), _zero_round_off(ny, ref)
+            y0 = float(_zero_round_off(np.array([y0]), ref)[0])
+            lines[o.name] = (ys, ny, y0)
+        unit = group[0].unit
+        shown = np.concatenate([np.abs(v[0][np.isfinite(v[0])]) for v in lines.values()] + [np.zeros(0)])
+        factor = 1.0
+        if unit == "s" and shown.size and float(np.median(shown)) > HOURS_FROM_S:
+            unit, factor = "h", 1.0 / 3600.0
+        drawn: list[tuple[str, np.ndarray]] = []
         for c, o in enumerate(group):
             color = f"C{c % 10}"
             tag = o.name + (" *" if o.theory != "exact" else "")
-            ys = np.array([r[o.name] for r in rows])
+            ys, ny, y0 = (v * factor for v in lines[o.name])
+            # an output that lies exactly on one drawn before it is dashed over it, its markers squares,
+            # and the legend says so: otherwise it would be invisible
+            twin = next((name for name, other in drawn if other.shape == ys.shape and np.all(
+                np.isfinite(ys) == np.isfinite(other)) and np.allclose(ys, other, rtol=COINCIDE, atol=0.0,
+                                                                       equal_nan=True)), None)
+            drawn.append((o.name, ys))
+            style, marker = {}, {}
+            if twin is not None:
+                tag += f" (= {twin}, dashed)"
+                style = dict(ls=(0, (4, 3)), lw=2.4)
+                marker = dict(marker="s", ms=7)
+                coincident_notes.append(f"{o.name} = {twin}")
             every.extend(ys[np.isfinite(ys)])
             if "analytic" in ex.methods:
-                ax.plot(xs * scale, ys, **{**ANALYTIC, "color": color, "label": tag if len(group) > 1 else "analytic"})
+                ax.plot(xs * scale, ys, **{**ANALYTIC, "color": color, **style,
+                                           "label": tag if len(group) > 1 else "analytic"})
             if has_numeric:
-                ny = np.array([r[o.name] for r in num_rows])
                 every.extend(ny[np.isfinite(ny)])
                 ax.plot(np.array(num_x) * scale, ny, **{**NUMERIC, "color": color if len(group) > 1 else NUMERIC["color"],
-                                                        "label": "numeric" if len(group) == 1 else None})
-            y0 = at_point.get(o.name, math.nan)
+                                                        **marker, "label": "numeric" if len(group) == 1 else None})
             if math.isfinite(y0):
                 ax.plot([x0 * scale], [y0], marker="*", color="k", ms=10, ls="none", zorder=5)
         ax.plot([], [], marker="*", color="k", ms=10, ls="none", label=f"this point, {p.symbol or p.name} = {p.show(x0)}")
         ax.axvline(x0 * scale, **POINT)
-        if log:
-            ax.set_xscale("log")
         every = np.array(every)
+        slopes = [_power_law_slope(xs, v[0]) for v in lines.values()]
+        power_laws = log and all(s is not None for s in slopes)
+        proportional = power_laws and all(abs(s - 1.0) < 0.02 for s in slopes)
+        log_x = log and not proportional  # proportional to the parameter: a straight line on linear axes
+        if log_x:
+            ax.set_xscale("log")
         if len(group) == 1 and len(every) and np.ptp(every) <= 1e-9 * max(np.max(np.abs(every)), 1e-300):
             # a constant: round-off in the numeric markers must not fill the axis
             c0 = float(every[0])
             half = abs(c0) * 0.05 if c0 != 0 else 1.0
             ax.set_ylim(c0 - half, c0 + half)
-        elif len(every) and np.all(every > 0) and every.max() / every.min() > 300:
-            ax.set_yscale("log")
-        unit = group[0].unit
+        elif not proportional and len(every) and np.all(every > 0) and (
+                every.max() / every.min() > 300 or _skewed(every)
+                or (power_laws and log_x and every.max() / every.min() > 3)):
+            ax.set_yscale("log")  # a power law on log-log axes is a straight line
+        for axis, scale_name in ((ax.xaxis, ax.get_xscale()), (ax.yaxis, ax.get_yscale())):
+            if scale_name == "log":
+                plain_log_ticks(axis)
         ylabel = label(group[0].name + (" *" if group[0].theory != "exact" else ""), unit) if len(group) == 1 \
             else ("[" + unit + "]" if unit not in ("1", "") else "dimensionless")
         ax.set_xlabel(label(f"{p.symbol or p.name}", p.display or p.unit), fontsize=FONT["label"])
@@ -199,7 +271,7 @@ def generic_figure(ex, params, *, vary: str | None = None, n_numeric: int = 5, r
         ax.grid(alpha=0.3)
         ax.tick_params(labelsize=FONT["tick"])
         if len(group) > 1 or j == next(i for i, g in enumerate(groups) if len(g) == 1):
-            ax.legend(fontsize=FONT["legend"], framealpha=0.85, ncol=2 if len(group) > 4 else 1)
+            legends.append((ax, dict(fontsize=FONT["legend"], framealpha=0.85, ncol=2 if len(group) > 4 else 1)))
     for j in range(k, nrows * ncols):
         axes[j // ncols][j % ncols].set_visible(False)
     extra = ""
@@ -207,7 +279,11 @@ def generic_figure(ex, params, *, vary: str | None = None, n_numeric: int = 5, r
         extra = "* leading-order analytic theory"
     if any(len(g) > 1 for g in groups):
         extra += ("; " if extra else "") + "lines analytic, circles numeric"
+    if coincident_notes:
+        extra += ("; " if extra else "") + "coincide (dashed over): " + ", ".join(coincident_notes)
     if failures:
         extra += ("; " if extra else "") + f"numeric failed at {len(failures)} of {len(num_p)} points"
     title(fig, ex, params, skip=(name,), extra=extra)
+    for ax, kw in legends:
+        defer_legend(ax, None, **kw)
     return fig

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from mech.figures.common import FONT, figure, label, title
+from mech.figures.common import FONT, defer_legend, figure, label, plain_log_ticks as _plain_log_ticks, title
 from mech.problems.scene import Band, Guide, Line, Map, Markers, Note
 
 LINE_STYLE = {
@@ -99,26 +99,10 @@ def _axis(ax, panel):
             getattr(ax, f"set_{which}lim")(*a.lim)
 
 
-def _plain_log_ticks(axis):
-    """Tick labels of a log axis as plain numbers (2, 3, 0.05), not 2×10⁰, where the axis spans
-    less than three decades; wider axes keep matplotlib's powers of ten."""
-    from matplotlib.ticker import FuncFormatter, LogLocator
-
-    def plain(v, _pos):
-        if v <= 0 or not math.isfinite(v):
-            return ""
-        return f"{v:g}"
-
-    lo, hi = axis.get_view_interval()
-    if lo > 0 and hi / lo < 1e3:
-        axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
-        axis.set_major_formatter(FuncFormatter(plain))
-        axis.set_minor_formatter(FuncFormatter(lambda v, p: ""))
-
-
 def draw_scene(ex, params, scene, run):
     n = len(scene.panels)
     fig, axes = figure(1, n, w=5.2 if n > 1 else 6.4, h=4.3)
+    inside = []  # legends placed once the figure is laid out, where they hide no data
     for k, panel in enumerate(scene.panels):
         ax = axes[0][k]
         for it in panel.items:
@@ -153,10 +137,12 @@ def draw_scene(ex, params, scene, run):
                 ax.legend(fontsize=FONT["legend"], frameon=False, loc="upper center",
                           bbox_to_anchor=(0.5, -0.16), ncol=2)
             else:
-                ax.legend(fontsize=FONT["legend"], framealpha=0.85, loc=panel.legend)
+                inside.append((ax, panel.legend))
     extra = scene.caption
     if run is not None and run.failures:
         told = f"the numeric solver failed at {len(run.failures)} point(s) (no marker there): {run.failures[0][1]}"
         extra = (extra + "\n" if extra else "") + (told if len(told) < 200 else told[:197] + "...")
     title(fig, ex, params, skip=tuple(scene.on_axis), extra=extra)
+    for ax, preferred in inside:
+        defer_legend(ax, preferred, fontsize=FONT["legend"], framealpha=0.85)
     return fig

@@ -19,6 +19,7 @@ import numpy as np
 from mech.figures.common import ANALYTIC, NUMERIC, figure, finite, label, title
 
 MAX_CURVES = 8
+COARSE = 20  # a map with fewer points than this along an axis is drawn smooth between its points
 
 
 def _shown(result, name):
@@ -121,6 +122,8 @@ def map_figure(result):
     nrows = math.ceil(k / ncols)
     fig, axes = figure(nrows, ncols, w=6.4 if k == 1 else 5.0, h=5.6 if k == 1 else 4.6)
     curves = boundary_curves(result)
+    coarse = min(x.size, y.size) < COARSE and x.size > 1 and y.size > 1
+    any_smooth = False
     for j, o in enumerate(outs):
         ax = axes[j // ncols][j % ncols]
         arr = output_arrays(result, o.name)
@@ -138,8 +141,17 @@ def map_figure(result):
 
             cmap = matplotlib.colormaps["viridis"]
         cmap = cmap.with_extremes(bad="0.82")
-        mesh = ax.pcolormesh(_edges(x, ax_x.log), _edges(y, ax_y.log), np.ma.masked_invalid(Z), cmap=cmap,
-                             norm=norm, shading="flat", rasterized=True)
+        smooth = coarse and bool(np.all(np.isfinite(Z)))
+        if smooth:
+            # a coarse grid as flat cells is a mosaic of blocks: colour linearly between the computed points
+            # (dotted) instead; the map then spans the grid's own range
+            mesh = ax.pcolormesh(x, y, Z, cmap=cmap, norm=norm, shading="gouraud", rasterized=True)
+            X, Y = np.meshgrid(x, y)
+            ax.plot(X.ravel(), Y.ravel(), ls="none", marker="o", ms=2.5, mfc="w", mec="k", mew=0.5, clip_on=False)
+        else:
+            mesh = ax.pcolormesh(_edges(x, ax_x.log), _edges(y, ax_y.log), np.ma.masked_invalid(Z), cmap=cmap,
+                                 norm=norm, shading="flat", rasterized=True)
+        any_smooth |= smooth
         cb = fig.colorbar(mesh, ax=ax, shrink=0.92, pad=0.02)
         if norm is not None:  # both ends labelled: the scale is not the same on both sides of zero
             from matplotlib.ticker import MaxNLocator
@@ -177,8 +189,12 @@ def map_figure(result):
             if len(kinds) > 3:
                 handles.append(Line2D([], [], color="m", marker="x", ls="none",
                                       label=f"FAILED: {len(kinds) - 3} other reasons (see --json)"))
-        ax.set_xlim(_edges(x, ax_x.log)[[0, -1]])
-        ax.set_ylim(_edges(y, ax_y.log)[[0, -1]])
+        if smooth:
+            ax.set_xlim(x[0], x[-1])
+            ax.set_ylim(y[0], y[-1])
+        else:
+            ax.set_xlim(_edges(x, ax_x.log)[[0, -1]])
+            ax.set_ylim(_edges(y, ax_y.log)[[0, -1]])
         if ax_x.log:
             ax.set_xscale("log")
         if ax_y.log:
@@ -194,6 +210,10 @@ def map_figure(result):
     n = len(result)
     n_bad = int(output_arrays(result, outs[0].name)["failed"].sum()) if outs else 0
     verdict = "every point verified and agreeing" if n_bad == 0 else f"{n_bad} points FAILED (crossed)"
+    if any_smooth:
+        verdict += "; coarse grid: colours interpolated linearly between the computed points (dots)"
+    elif coarse:
+        verdict += "; coarse grid: each cell shows the value at its centre point"
     title(fig, ex, {**{p.name: p.default for p in ex.params}, **result.fixed},
           skip=tuple(a.name for a in result.axes),
           extra=f"map of {ax_x.values.__len__()} x {len(ax_y.values)} points; {verdict}")

@@ -47,6 +47,7 @@ class Entry:
     module: str
     integrates: bool = False  # its numeric route integrates declared equations of motion (a trajectory)
     from_book: bool = True  # the book's own exercise (False: set for mech on the chapter's topics)
+    theory: str = "exact"  # its analytic values: "exact", "leading-order" or "partly leading-order"
 
     @property
     def chapter(self) -> int:
@@ -118,13 +119,17 @@ def index() -> list[Entry]:
         if facts is None:  # a module index.toml does not know yet: ask the registration itself
             facts = declarations(_load(ex_id, module))
         entries.append(Entry(ex_id, spec["title"], spec["topic"], tuple(facts["methods"]), module,
-                             bool(facts.get("integrates", False)), spec["from_book"]))
+                             bool(facts.get("integrates", False)), spec["from_book"],
+                             str(facts.get("theory", "exact"))))
     return entries
 
 
 def declarations(ex: Exercise) -> dict:
     """What an exercise's registration declares, as index.toml records it."""
-    return {"methods": list(ex.methods), "integrates": bool(ex.states)}
+    leading = [o.name for o in ex.outputs if o.theory != "exact"]
+    theory = "exact" if not leading else (
+        "leading-order" if len(leading) == len(ex.outputs) else "partly leading-order")
+    return {"methods": list(ex.methods), "integrates": bool(ex.states), "theory": theory}
 
 
 def index_text() -> str:
@@ -136,7 +141,7 @@ def index_text() -> str:
         facts = declarations(ex)
         methods = ", ".join(f'"{m}"' for m in facts["methods"])
         lines += [f'[exercise."{ex_id}"]', f"methods = [{methods}]",
-                  f"integrates = {'true' if facts['integrates'] else 'false'}", ""]
+                  f"integrates = {'true' if facts['integrates'] else 'false'}", f'theory = "{facts["theory"]}"', ""]
     return "\n".join(lines)
 
 
@@ -154,11 +159,22 @@ def all_exercises() -> dict[str, Exercise]:
 
 
 def get(ex_id: str) -> Exercise:
+    check_id_type(ex_id)
     modules = _modules()
     key = ex_id.strip()
     if key not in modules:
         raise BadInput(unknown_id_message(ex_id, list(modules)))
     return _load(key, modules[key])
+
+
+def check_id_type(ex_id) -> None:
+    """An id is a string: as numbers 4.10 and 4.1 are the same float, so a number is refused, never guessed."""
+    if isinstance(ex_id, str):
+        return
+    if isinstance(ex_id, (int, float)) or type(ex_id).__module__ == "numpy":
+        raise BadInput(f"exercise id {ex_id} is a number; give it as a string, e.g. mech.solve(\"4.10\") "
+                       f"(as numbers 4.10 and 4.1 are the same)")
+    raise BadInput(f"exercise id {ex_id!r} must be a string such as \"4.15\"")
 
 
 def _spans(ids: list[str]) -> str:
@@ -186,6 +202,9 @@ def unknown_id_message(ex_id: str, ids: list[str]) -> str:
         tries = [number.lstrip("0")]
         if len(number) >= 3:
             tries += [number[:-1]] + [number[:k] + number[k + 1:] for k in range(len(number) - 1)]
+        if 2 <= len(number) <= 3:
+            # a transposition of two neighbouring digits (4.51 for 4.15)
+            tries += [number[:k] + number[k + 1] + number[k] + number[k + 2:] for k in range(len(number) - 1)]
         close = [f"{chapter}.{n}" for n in tries if f"{chapter}.{n}" in ids][:1]
     elif len(norm) >= 3:
         close = difflib.get_close_matches(norm, ids, n=1, cutoff=0.7)

@@ -32,9 +32,15 @@ __all__ = [
 
 @dataclass(frozen=True)
 class Undefined:
-    """An output that has no finite value for these parameters, with the reason."""
+    """An output that has no finite value for these parameters, with the reason; ``infinite`` when the
+    physics makes it infinite (a period of a plane that stops turning), not meaningless."""
 
     why: str
+    infinite: bool = False
+
+    @property
+    def word(self) -> str:
+        return "infinite" if self.infinite else "undefined"
 
 
 def _fmt(x: float) -> str:
@@ -102,7 +108,23 @@ class Param:
         below = self.min is not None and (value < self.min or (self.min_open and value == self.min))
         above = self.max is not None and (value > self.max or (self.max_open and value == self.max))
         if below or above:
-            raise BadInput(f"{self.name}: {said} is out of range; allowed {self.range_text()}")
+            raise BadInput(f"{self.name}: {said} is out of range; allowed {self.range_text()}"
+                           + self._unit_hint(typed))
+
+    def _unit_hint(self, typed: str | None) -> str:
+        """"; a plain number is in rad: for degrees write 10deg" where the number typed is out of range in
+        SI but in range in the display unit."""
+        if not typed or not self.display:
+            return ""
+        try:
+            number = float(typed)
+        except ValueError:
+            return ""
+        si = number / self.to_display(1.0)
+        inside = (self.min is None or si > self.min or (not self.min_open and si == self.min)) and \
+                 (self.max is None or si < self.max or (not self.max_open and si == self.max))
+        return f" (a plain number is in {self.unit}: for {self.display} write {typed.strip()}{self.display})" \
+            if inside else ""
 
     def as_json(self) -> dict:
         d: dict[str, Any] = {"name": self.name, "symbol": self.symbol, "unit": self.unit, "default": self.default}
@@ -438,6 +460,7 @@ class Exercise:
         self._analytic: Callable | None = None
         self._numeric: Callable | None = None
         self._constraints: list[Callable] = []
+        self.joint_limits: list[str] = []  # what the constraints enforce, as text (`mech show`, "constraints")
         self._expected_error: Callable | None = None
         self._analytic_error: Callable | None = None
         self._hamiltonian: Callable | None = None
@@ -463,6 +486,17 @@ class Exercise:
         """Register a joint check of the parameters: return a one-line message when they are unphysical."""
         self._constraints.append(fn)
         return fn
+
+    def restate_hard_case(self, k: int, why: str) -> None:
+        """Replace the catalogue's note on hard case ``k`` (0-based) where it misdescribes mech's solution
+        (the catalogue file stays the shared one)."""
+        self.hard_cases[k]["why"] = why
+
+    def declare_limits(self, *texts: str) -> None:
+        """State, one line each, every joint limit the ``@exercise.constraint`` checks refuse beyond
+        (``"|x0|/R <= 0.1"``): shown by ``mech show`` and in its JSON as ``"constraints"``, so that a
+        user or a script can keep inside them. Declared beside the constraint, from the same constants."""
+        self.joint_limits.extend(str(t) for t in texts)
 
     def expected_error(self, fn: Callable[[Params], dict]) -> Callable:
         """For leading-order outputs: ``fn(p) -> {output: relative size of what the theory neglects}``; an
@@ -756,6 +790,7 @@ class Exercise:
             "formulas": self.formulas,
             "numeric_route": self.numeric_route,
             "hard_cases": self.hard_cases,
+            "constraints": list(self.joint_limits),
             "methods": self.methods,
         }
 

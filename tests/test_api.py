@@ -217,3 +217,43 @@ def test_grade_bench_and_plot_from_python(tmp_path):
     pytest.importorskip("matplotlib")
     fig = mech.plot("4.15", tmp_path / "ladder.png", theta0="80deg")
     assert (tmp_path / "ladder.png").stat().st_size > 1000 and fig is not None
+
+
+# -- issue 27 item 1: an id is a string; a number is refused, never read as another exercise ----------
+
+@pytest.mark.parametrize("call", [
+    lambda i: mech.solve(i),
+    lambda i: mech.sweep(i, theta0=("10deg", "80deg", 2)),
+    lambda i: mech.check([i]),
+    lambda i: mech.check(i),
+    lambda i: mech.exercise(i),
+    lambda i: mech.bench(i),
+    lambda i: mech.plot(i),
+])
+@pytest.mark.parametrize("number", [4.10, 4.15, 5.10, 4, np.float64(4.30)])
+def test_a_number_for_an_id_is_refused_with_the_quoted_form(call, number):
+    # 4.10 as a float is 4.1: solving it would answer another exercise without a word
+    with pytest.raises(mech.BadInput) as err:
+        call(number)
+    msg = str(err.value)
+    assert "is a number" in msg and 'mech.solve("4.10")' in msg and "\n" not in msg
+
+
+def test_a_quoted_id_still_solves():
+    assert mech.exercise("4.10").id == "4.10" and mech.exercise(" 4.1").id == "4.1"
+
+
+def test_import_mech_from_the_folder_holding_a_checkout_named_mech(tmp_path):
+    # issue 27 item 2: a notebook started beside a clone named `mech` found the clone as an empty
+    # namespace package (AttributeError: module 'mech' has no attribute 'solve')
+    import os
+
+    checkout = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    (tmp_path / "mech").symlink_to(checkout, target_is_directory=True)
+    code = ("import sys, mech; s = mech.solve('4.15', theta0='60deg'); "
+            "from mech.cli.main import cli; from mech.problems import registry; "
+            "print(repr(s['theta_c'].numeric))")
+    run = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True,
+                         env={k: v for k, v in os.environ.items() if k != "PYTHONPATH"})
+    assert run.returncode == 0, run.stderr[-600:]
+    assert float(run.stdout) == pytest.approx(THETA_C_60, rel=1e-8)

@@ -334,3 +334,9 @@ def test_readme_exercise_table_marks_the_exercises_set_for_mech():
         e = entries[row.split("|")[1].strip()]
         title_cell = row.split("|")[2]
         assert title_cell.rstrip().endswith("†") is (not e.from_book), e.id
+
+
+def test_a_transposed_id_suggests_the_nearest():
+    # issue 27 item 11: 4.51 is 4.15 with two digits swapped, as 415 is 4.15 without its point
+    assert "did you mean 4.15?" in one_line_exit_2("solve", "4.51")
+    assert "did you mean 5.12?" in one_line_exit_2("show", "5.21")

@@ -98,6 +98,52 @@ def test_fall_lasting_a_large_part_of_a_turn_is_refused():
         registry.get("4.31").resolve({"h": 1e9})
 
 
+def _equator_reference(h, g, w):
+    """t, d_east, v_east on the equator to ~50 digits (decimal): sin(w t) = eps, d = g(2 phi - sin 2 phi)/(4 w^2)."""
+    from decimal import Decimal as D, localcontext
+
+    with localcontext() as ctx:
+        ctx.prec = 60
+        h, g, w = D(h), D(g), D(w)
+        eps = w * (2 * h / g).sqrt()
+        phi, term, k = D(0), eps, 0  # arcsin by its series
+        while abs(term) > D(10) ** -70:
+            phi += term / (2 * k + 1)
+            term = term * eps * eps * (2 * k + 1) * (2 * k + 2) / (4 * (k + 1) ** 2)
+            k += 1
+        x, s2, t, k = 2 * phi, D(0), 2 * phi, 1  # sin 2 phi
+        while abs(t) > D(10) ** -70:
+            s2 += t
+            t = -t * x * x / ((2 * k) * (2 * k + 1))
+            k += 1
+        return phi / w, g * (2 * phi - s2) / (4 * w * w), g * eps * eps / w
+
+
+@pytest.mark.parametrize("h", [1.0, 1e-3, 381.0, 4.0e4])
+def test_analytic_to_round_off_against_high_precision(h):
+    # issue 27 item 14: (2 phi - sin 2 phi) at phi = 3e-5 (h = 1 m) cancels 9 digits if evaluated as written;
+    # mech's analytic value (and the series `mech show` now prints) must hold to a few ulps
+    a, _, _ = solve_both("4.31", h=h, theta=math.pi / 2)
+    t, d, v = _equator_reference(h, 9.81, W)
+    assert a["t_fall"] == pytest.approx(float(t), rel=4e-16)
+    assert a["d_east"] == pytest.approx(float(d), rel=4e-15)
+    assert a["v_east"] == pytest.approx(float(v), rel=4e-15)
+    # the closed form as written does lose the digits: what the formula text now avoids
+    phi = math.asin(W * math.sqrt(2 * h / 9.81))
+    naive = 9.81 * (2 * phi - math.sin(2 * phi)) / (4 * W * W)
+    if h <= 1.0:
+        assert abs(naive / float(d) - 1) > 1e-9
+
+
+def test_show_calls_the_analytic_value_exact_and_prints_the_series():
+    from mech.problems import registry
+
+    ex = registry.get("4.31")
+    assert all(o.theory == "exact" for o in ex.outputs)
+    assert not any("leading-order value" in c["why"] for c in ex.hard_cases)
+    assert any("2φ⁴/105" in f for f in ex.formulas)
+
+
 def test_a_short_fall_where_the_rotation_is_below_rounding():
     """Draw of /work/shared/tools/draws.py (seed 4711): h = 320.533 m, g = 1.03343e6 m/s^2, omega_E = 1.8093e-6
     rad/s, theta = 0.03211 (drawn: 0.0321744...).  omega_E T0 = 4.5e-8, so the fall time is T0 = (2h/g)^(1/2) to 1 + s^2 eps^2/6 ~

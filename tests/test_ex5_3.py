@@ -228,3 +228,17 @@ def test_a_static_drive_keeps_its_digits():
     ex = registry.get("5.3")
     errs = ex.analytic_errors(ex.resolve({"omega": 6e-200}))
     assert errs["q_t"] < 1e-12 and errs["v_t"] < 1e-11
+
+
+def test_show_and_solve_give_the_same_sign_of_A_ss():
+    # issue 27 item 14: show printed A_ss = (F0/m)/[...]^1/2, signed, while the solve returns |F0|/...
+    import mech
+
+    ex = mech.exercise("5.3")
+    text = next(f for f in ex.formulas if f.startswith("A_ss"))
+    assert "|F₀|" in text
+    p = {k.name: k.default for k in ex.params}
+    sol = mech.solve("5.3", F0=-2.0)
+    by_hand = 2.0 / p["m"] / math.sqrt((p["omega0"] ** 2 - p["omega"] ** 2) ** 2 + 4 * p["delta"] ** 2 * p["omega"] ** 2)
+    assert sol["A_ss"].analytic == pytest.approx(by_hand, rel=1e-14)
+    assert sol["A_ss"].numeric == pytest.approx(by_hand, rel=1e-8)

@@ -72,3 +72,30 @@ def test_two_numbers_side_by_side_are_refused_not_multiplied(text, unit):
                                                   ("3 pi", "1", 3 * math.pi)])
 def test_products_with_an_operator_or_a_name_still_work(text, unit, expected):
     assert to_si(text, unit) == pytest.approx(expected, rel=1e-15)
+
+
+# -- issue 27 item 11: the units a student types ---------------------------------------------------
+
+@pytest.mark.parametrize("text, unit, expected", [
+    ("1250 ft", "m", 381.0),            # 4.31's building: 1 ft = 0.3048 m exactly (1959 agreement)
+    ("1250 feet", "m", 381.0),
+    ("2 lb", "kg", 0.90718474),         # 1 lb = 0.45359237 kg exactly
+    ("30 degrees", "rad", math.pi / 6),
+    ("1 degree", "rad", math.pi / 180),
+])
+def test_imperial_units_and_spelt_out_degrees(text, unit, expected):
+    assert to_si(text, unit) == pytest.approx(expected, rel=1e-15)
+
+
+@pytest.mark.parametrize("typed, hint", [("degs", "deg"), ("degres", "deg"), ("Deg", "deg"), ("kgs", "kg"),
+                                         ("hz", "Hz"), ("fet", "ft")])
+def test_a_near_miss_of_a_unit_gets_a_hint(typed, hint):
+    with pytest.raises(ValueError_) as err:
+        to_si(f"30 {typed}", "rad" if hint == "deg" else "kg")
+    assert f"did you mean {hint}?" in str(err.value)
+
+
+def test_a_name_far_from_every_unit_gets_no_hint():
+    with pytest.raises(ValueError_) as err:
+        to_si("30 x", "rad")
+    assert "did you mean" not in str(err.value)

@@ -203,7 +203,8 @@ def attach(result, expectations: list[Expectation]):
 
 # -- mech grade FILE ------------------------------------------------------------------------------------
 
-_ENTRY_KEYS = ("exercise", "params", "expect", "rtol", "points", "seed", "over")
+_ENTRY_KEYS = ("exercise", "params", "expect", "rtol", "points", "seed", "over", "student")
+MAX_STUDENT = 80  # characters of a student's name
 
 
 @dataclass
@@ -216,6 +217,8 @@ class Entry:
     expectations: list
     result: object = None
     judgements: list = field(default_factory=list)
+    student: str | None = None  # `student = "alice"`: names the entry in every report
+    seconds: float = 0.0  # the cross-check's wall time
 
     @property
     def ok(self) -> bool:
@@ -317,7 +320,14 @@ def load_answers(path: str) -> list[Entry]:
             expectations = _formula_range(ex, item, expectations)
         except BadInput as exc:
             raise BadFile(f"{where}: {exc}") from None
-        entries.append(Entry(k, line, ex, given, written, expectations))
+        student = item.get("student")
+        if student is not None:
+            if not isinstance(student, str) or not student.strip() or len(student.strip()) > MAX_STUDENT \
+                    or not student.strip().isprintable():
+                raise bad("student", f"not a name such as \"alice\" (a one-line string of 1 to {MAX_STUDENT} "
+                                     "characters)")
+            student = student.strip()
+        entries.append(Entry(k, line, ex, given, written, expectations, student=student))
     return entries
 
 
@@ -341,19 +351,35 @@ def _formula_range(ex: Exercise, item: dict, expectations: list) -> list:
     return with_range(expectations, points, seed, over)
 
 
+def per_student(entries: list[Entry]) -> list[dict]:
+    """For each student named in the file (in order of first appearance; entries without a name under
+    null): answers right and wrong, and entries."""
+    out: dict = {}
+    for e in entries:
+        s = out.setdefault(e.student, {"student": e.student, "passed": 0, "failed": 0, "entries": 0})
+        s["entries"] += 1
+        for j in e.judgements:
+            s["passed" if j.match else "failed"] += 1
+    return list(out.values())
+
+
 def grade(entries: list[Entry]) -> None:
     from mech.verification.answers import judge
 
     from mech.verification.crosscheck import cross_check
 
+    import time
+
     solved: dict = {}  # a class file answers the same exercise at the same parameters: one solve each
     for entry in entries:
+        t0 = time.perf_counter()
         params = entry.exercise.resolve(entry.given)
         key = (entry.exercise.id, tuple(sorted(params.items())))
         if key not in solved:
             solved[key] = cross_check(entry.exercise, params)
         entry.judgements = judge(solved[key], entry.expectations)
         entry.result = solved[key].with_expected(entry.judgements)
+        entry.seconds = time.perf_counter() - t0  # this entry's own work: its solve where it was the first
 
 
 def grade_json(path: str, entries: list[Entry], seconds: float) -> dict:
@@ -361,12 +387,14 @@ def grade_json(path: str, entries: list[Entry], seconds: float) -> dict:
     passed = sum(j.match for j in judgements)
     return {
         "file": path,
-        "entries": [{"exercise": e.exercise.id, "answer": e.number, "params": dict(e.result.params),
-                     "quantities": e.result.to_dict()["quantities"], "agree": e.result.agree, "ok": e.ok}
+        "entries": [{"exercise": e.exercise.id, "answer": e.number, "student": e.student,
+                     "params": dict(e.result.params), "quantities": e.result.to_dict()["quantities"],
+                     "agree": e.result.agree, "ok": e.ok, "seconds": e.seconds}
                     for e in entries],
         "ok": passed == len(judgements),
         "passed": passed,
         "failed": len(judgements) - passed,
+        "students": [{k: v for k, v in s.items()} for s in per_student(entries) if s["student"] is not None],
         "seconds": seconds,
     }
 

@@ -106,7 +106,7 @@ def _is_number(v) -> bool:
 def _finite_or_none(v):
     if v is None or isinstance(v, Undefined):
         return None
-    v = float(v)
+    v = float(v) + 0.0  # -0.0 + 0.0 is 0.0: a zero has no sign to show
     return v if math.isfinite(v) else None
 
 
@@ -115,6 +115,8 @@ def quantity_json(q: Quantity) -> dict:
     d: dict[str, Any] = {"name": q.name, "unit": q.unit}
     for key in ("analytic", "numeric"):
         d[key] = _finite_or_none(getattr(q, key))
+        if isinstance(getattr(q, key), Undefined) and getattr(q, key).infinite:
+            d["infinite"] = True  # infinite by the physics, not meaningless
     if _is_number(q.numeric):
         d["numeric_err"] = _finite_or_none(q.numeric_err)
     if q.analytic_err is not None and _is_number(q.analytic):

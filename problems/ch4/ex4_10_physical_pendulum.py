@@ -52,6 +52,11 @@ def _log10_l_over_rho(p):
     return math.log10(p.l) - 0.5 * (math.log10(p.I) - math.log10(p.M))
 
 
+exercise.declare_limits(
+    "|log10(l / (I/M)^(1/2))| <= 150: the two pivot distances within the floating-point range",
+)
+
+
 @exercise.constraint
 def constraint(p):
     k = _log10_l_over_rho(p)

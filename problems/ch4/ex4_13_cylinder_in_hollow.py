@@ -40,6 +40,11 @@ exercise = Exercise(
 )
 
 
+exercise.declare_limits(
+    "R' > R: the cylinder fits in the hollow",
+)
+
+
 @exercise.constraint
 def constraint(p):
     if not p.R_prime > p.R:

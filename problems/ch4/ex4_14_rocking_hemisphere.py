@@ -43,6 +43,11 @@ exercise = Exercise(
 )
 
 
+exercise.declare_limits(
+    "|log10((g/R)^(1/2))| <= 300: the frequencies within the floating-point range",
+)
+
+
 @exercise.constraint
 def constraint(p):
     k = 0.5 * (math.log10(p.g) - math.log10(p.R))

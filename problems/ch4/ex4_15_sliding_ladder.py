@@ -43,6 +43,12 @@ def _log10_rates(p):
     return unit, unit + 0.5 * math.log10(math.sin(p.theta0))
 
 
+exercise.declare_limits(
+    "theta0 >= 1e-300 rad",
+    "(g/l)^(1/2) and omega_c between 1e-300 and 1e300: the rates within the floating-point range",
+)
+
+
 @exercise.constraint
 def constraint(p):
     if p.theta0 < 1e-300:

@@ -51,6 +51,11 @@ def _log10_torque_scale(p):
             + 2 * math.log10(a[2]) + math.log10(d2_over_max2) + 2 * math.log10(p.omega))
 
 
+exercise.declare_limits(
+    "rho a1 a2 a3 (a1^2 + a2^2 + a3^2) omega^2 between 1e-290 and 1e290 N m: the torque scale within the floating-point range",
+)
+
+
 @exercise.constraint
 def constraint(p):
     k = _log10_torque_scale(p)

@@ -61,6 +61,12 @@ exercise = Exercise(
 SEPARATRIX_DRIFT_LIMIT = 10.0
 
 
+exercise.declare_limits(
+    "I1 < I2 < I3 strictly",
+    "I3 <= I1 + I2: moments a real body can have",
+)
+
+
 @exercise.constraint
 def constraint(p):
     if not (p.I1 < p.I2 < p.I3):

@@ -68,6 +68,11 @@ MARGIN = 1e-6
 MAX_SPIN_TURNS = 60.0
 
 
+exercise.declare_limits(
+    f"R > (1 + {MARGIN:g}) 5 r sin(theta)/6: steady rolling with this lean",
+)
+
+
 @exercise.constraint
 def constraint(p):
     Rmin = 5.0 * p.r * math.sin(p.theta) / 6.0

@@ -81,6 +81,12 @@ def _small(p):
     return eps_g, eps_F, slip
 
 
+exercise.declare_limits(
+    "I_A M g l/L3^2 <= 0.05 and I_A l F/L3^2 <= 0.05, with I_A = I1 + M l^2 and L3 = I3 omega_rot: a fast top",
+    "(I_A M g l/L3^2) (M g/F) <= 0.2: the drive holds the precession (slip in rad by t_down)",
+)
+
+
 @exercise.constraint
 def constraint(p):
     """The exercise is about a fast top (spin well above the threshold of Eq. 4.85): where the

@@ -53,6 +53,11 @@ exercise = Exercise(
     states=[("L_perp", "kg*m^2/s"), ("L_z", "kg*m^2/s")],
 )
 
+exercise.declare_limits(
+    "theta1 < theta0: the axis rises from theta0 to theta1",
+)
+
+
 @exercise.constraint
 def constraint(p):
     if not p.theta1 < p.theta0:

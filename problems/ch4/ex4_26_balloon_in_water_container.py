@@ -49,6 +49,12 @@ exercise = Exercise(
 )
 
 
+exercise.declare_limits(
+    "a < b: the balloon fits in the container",
+    "a >= 1e-40 b",
+)
+
+
 @exercise.constraint
 def constraint(p):
     if p.a >= p.b:

@@ -39,6 +39,12 @@ exercise = Exercise(
 )
 
 
+exercise.declare_limits(
+    "M2 <= M1: L3 lies beyond the heavier body M1",
+    "M2/(M1 + M2) >= 1e-290",
+)
+
+
 @exercise.constraint
 def constraint(p):
     if p.M2 > p.M1:

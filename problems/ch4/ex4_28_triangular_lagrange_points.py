@@ -56,6 +56,11 @@ exercise = Exercise(
 )
 
 
+exercise.declare_limits(
+    "min(M1, M2)/(M1 + M2) >= 1e-290",
+)
+
+
 @exercise.constraint
 def constraint(p):
     if min(p.M1, p.M2) / (p.M1 + p.M2) < 1e-290:

@@ -48,6 +48,11 @@ exercise = Exercise(
 MAX_OMEGA_T = 100.0
 
 
+exercise.declare_limits(
+    f"omega t <= {MAX_OMEGA_T:g}: the bead stays on a rod of any real length",
+)
+
+
 @exercise.constraint
 def constraint(p):
     if p.omega * p.t > MAX_OMEGA_T:

@@ -33,6 +33,8 @@ import numpy as np
 from mech.problems.spec import Exercise, NumericFailure, Undefined
 from mech.solvers.numerics.ode import Event
 
+EQUATOR = "on the equator the plane does not turn (Omega_F = 0)"
+
 exercise = Exercise(
     "4.30",
     formulas=[
@@ -61,7 +63,7 @@ def analytic(p):
     w0sq = p.g / p.l
     return {
         "Omega_F": -wz,
-        "T_F": Undefined("on the equator the plane does not turn") if wz == 0.0 else 2.0 * math.pi / abs(wz),
+        "T_F": Undefined(EQUATOR, infinite=True) if wz == 0.0 else 2.0 * math.pi / abs(wz),
         "b_miss": p.a * abs(wz) / math.sqrt(w0sq + wz * wz),
     }
 
@@ -181,6 +183,6 @@ def numeric(p, run):
     Omega_F = slope * rate
     return {
         "Omega_F": Omega_F,
-        "T_F": Undefined("on the equator the plane does not turn") if Omega_F == 0.0 else 2.0 * math.pi / abs(Omega_F),
+        "T_F": Undefined(EQUATOR, infinite=True) if Omega_F == 0.0 else 2.0 * math.pi / abs(Omega_F),
         "b_miss": b * p.a,
     }

@@ -33,7 +33,9 @@ exercise = Exercise(
     "4.31",
     formulas=[
         "t_fall: (g t²/2) [cos²θ + sin²θ (sin φ/φ)²] = h, φ = ω_E t   (≈ (2h/g)^(1/2))",
-        "d_east = g sinθ t² (2φ - sin 2φ)/(4φ²) ≈ (1/3) ω_E g t³ sinθ = (2√2/3) ω_E sinθ h^(3/2) g^(-1/2)",
+        "d_east = g sinθ t² (2φ - sin 2φ)/(4φ²) = (1/3) ω_E g t³ sinθ Σ_k (-1)^k 6 (2φ)^(2k)/(2k+3)!"
+        "   (= ... [1 - φ²/5 + 2φ⁴/105 - ...]: no cancellation at small φ)",
+        "d_east ≈ (1/3) ω_E g t³ sinθ = (2√2/3) ω_E sinθ h^(3/2) g^(-1/2)",
         "v_east = g sinθ t sin²φ / φ ≈ ω_E g t² sinθ = 2 ω_E h sinθ",
         "(exact solution of dv/dt = g - 2 ω_E × v; the ≈ forms are leading order in ω_E t)",
     ],
@@ -43,9 +45,20 @@ exercise = Exercise(
             ("v_up", "m/s")],
 )
 
+# the catalogue's note calls the analytic value leading-order; here it is the model's exact solution
+exercise.restate_hard_case(1, (
+    "a 90 s fall: the corrections of order (omega_E t)^2 to the textbook's leading-order formulas reach 1e-5 "
+    "and exceed the tolerance, so both answers must solve the model's full equations (mech's analytic value is "
+    "their exact solution, not the leading order)"))
+
 # The model (uniform g with the centrifugal part folded in, h << R_E) needs the
 # fall to take a small part of a turn of the Earth: w_E T0 = w_E (2h/g)^(1/2) << 1.
 MAX_EPS = 0.5
+
+
+exercise.declare_limits(
+    f"omega_E (2h/g)^(1/2) <= {MAX_EPS:g}: the fall lasts a small part of a turn of the Earth",
+)
 
 
 @exercise.constraint

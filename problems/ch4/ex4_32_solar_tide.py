@@ -52,6 +52,12 @@ MAX_EPS = 0.3  # R_E / r_S: the tide-raising body far outside the Earth
 MAX_ETA = 1e-5  # leading tide / R_E
 
 
+exercise.declare_limits(
+    f"1e-100 <= R_E/r_S <= {MAX_EPS:g}: the body is far",
+    f"1e-250 <= (M_S/M_E)(R_E/r_S)^3 <= {MAX_ETA:g}: a thin equilibrium tide",
+)
+
+
 @exercise.constraint
 def constraint(p):
     eps = p.R_E / p.r_S

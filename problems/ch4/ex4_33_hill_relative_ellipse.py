@@ -57,6 +57,12 @@ exercise = Exercise(
 MAX_OFFSET = 0.1  # |x0|/R
 
 
+exercise.declare_limits(
+    "x0 != 0",
+    f"1e-90 <= |x0|/R <= {MAX_OFFSET:g}: the body stays close to the satellite",
+)
+
+
 @exercise.constraint
 def constraint(p):
     if p.x0 == 0.0:

@@ -44,6 +44,11 @@ exercise = Exercise(
 )
 
 
+exercise.declare_limits(
+    "(h/R - 1)^2 + (b/R)^2 <= 1: the hit point lies on the ball",
+)
+
+
 @exercise.constraint
 def constraint(p):
     if (p.h_over_R - 1.0) ** 2 + p.b_over_R**2 > 1.0 + 1e-12:

@@ -46,6 +46,12 @@ exercise = Exercise(
 )
 
 
+exercise.declare_limits(
+    "l < R: the center of mass lies inside the cylinder",
+    "I <= M (R^2 - l^2): the most a body of mass M inside the cylinder can have",
+)
+
+
 @exercise.constraint
 def constraint(p):
     if not p.l < p.R:

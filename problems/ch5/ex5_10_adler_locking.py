@@ -76,6 +76,15 @@ def _edge_uncertainty(p):
     return p.mu**2 / (16.0 * p.omega0) + D * ((D / p.mu) ** 2 + D / p.omega0)
 
 
+exercise.declare_limits(
+    f"mu <= {MAX_EPS:g} omega0: a weakly nonlinear self-oscillator",
+    f"Delta = f0 beta^(1/2)/(4 omega0) <= {MAX_FORCING:g} mu: a weak drive",
+    f"mu^2/(16 omega0) <= {MAX_SHIFT:g} Delta: the neglected frequency shift small against the half-width",
+    f"|omega - omega0| <= {MAX_DETUNING:g} omega0",
+    f"||omega - omega0| - Delta| >= {EDGE_BAND:g} (mu^2/(16 omega0) + Delta ((Delta/mu)^2 + Delta/omega0)): not at a locking edge",
+)
+
+
 @exercise.constraint
 def constraint(p):
     if p.mu > MAX_EPS * p.omega0:

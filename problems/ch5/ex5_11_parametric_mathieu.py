@@ -59,6 +59,12 @@ MAX_DETUNING = 0.3  # |omega - omega0| / omega0
 MAX_DAMPING = 0.2  # delta / omega0
 
 
+exercise.declare_limits(
+    f"|omega - omega0| <= {MAX_DETUNING:g} omega0: the first parametric zone",
+    f"delta <= {MAX_DAMPING:g} omega0: weak damping",
+)
+
+
 @exercise.constraint
 def constraint(p):
     if abs(p.omega - p.omega0) > MAX_DETUNING * p.omega0:

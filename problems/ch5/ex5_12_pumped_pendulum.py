@@ -73,6 +73,13 @@ MAX_DAMPING = 0.2
 MAX_AMPLITUDE = 0.1
 
 
+exercise.declare_limits(
+    f"|Omega/2 - omega0| <= {MAX_DETUNING:g} omega0, omega0 = (g/l)^(1/2)",
+    f"delta <= {MAX_DAMPING:g} omega0: weak damping",
+    f"a <= {MAX_AMPLITUDE:g} l",
+)
+
+
 @exercise.constraint
 def constraint(p):
     w0 = math.sqrt(p.g / p.l)

@@ -51,6 +51,12 @@ MIN_RATIO = 5.0  # Omega / omega0: the fast/slow separation the exercise is abou
 MAX_AMPLITUDE = 0.35  # a / l
 
 
+exercise.declare_limits(
+    f"Omega >= {MIN_RATIO:g} omega0, omega0 = (g/l)^(1/2): a fast drive",
+    f"a <= {MAX_AMPLITUDE:g} l",
+)
+
+
 @exercise.constraint
 def constraint(p):
     w0 = math.sqrt(p.g / p.l)

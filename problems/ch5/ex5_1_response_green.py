@@ -81,6 +81,11 @@ def _phase(p):
     return w1 * t, d * t
 
 
+exercise.declare_limits(
+    f"omega1 tau <= {MAX_PHASE:g} rad unless delta tau >= {FADED:g}: the phase carries a digit in double precision",
+)
+
+
 @exercise.constraint
 def constraint(p):
     phase, decay = _phase(p)

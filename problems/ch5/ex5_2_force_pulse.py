@@ -77,6 +77,11 @@ def _free(t, y):
     return np.array([y[1], -y[0]])
 
 
+exercise.declare_limits(
+    f"omega0 t1 <= {MAX_PHASE:g} rad and omega0 T <= {MAX_PHASE:g} rad: the phases carry a digit in double precision",
+)
+
+
 @exercise.constraint
 def constraint(p):
     for name, phase in (("omega0 t1", p.omega0 * p.t1), ("omega0 T", p.omega0 * p.T)):

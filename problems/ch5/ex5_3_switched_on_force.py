@@ -56,7 +56,7 @@ exercise = Exercise(
         "q(t) = (F₀/m) Re e^{zt}[iω, p₁, p₂]  (divided difference; p₁,₂ = −δ ± (δ² − ω₀²)^½)",
         "      = a e^{iωt} + transient,  a = (F₀/m)/(ω₀² − ω² + 2iδω)",
         "δ = 0, ω = ω₀:  q = (F₀/m) t sin(ω₀t)/(2ω₀)  (secular growth)",
-        "A_ss = (F₀/m)/[(ω₀² − ω²)² + 4δ²ω²]^½",
+        "A_ss = (|F₀|/m)/[(ω₀² − ω²)² + 4δ²ω²]^½   (an amplitude: positive for either sign of F₀)",
     ],
     route_note=(
         "q(t1) is the exact flow of the equation of motion (the drive made a state of its own, the matrix "
@@ -126,7 +126,7 @@ def analytic(p):
     f = p.F0 / p.m
     q, v = _response(p.omega0, p.delta, p.omega, p.t1)
     den = abs(complex((p.omega0 - p.omega) * (p.omega0 + p.omega), 2.0 * p.delta * p.omega))
-    a_ss = Undefined("undamped exact resonance: the amplitude grows without bound") if den == 0 else abs(f) / den
+    a_ss = Undefined("undamped exact resonance: the amplitude grows without bound", infinite=True) if den == 0 else abs(f) / den
     return {"q_t": f * q, "v_t": f * v, "A_ss": a_ss}
 
 
@@ -164,6 +164,11 @@ def _rate(p):
     w0, d = p.omega0, p.delta
     free = w0 if d < w0 else w0 * w0 / (d + math.sqrt((d - w0) * (d + w0)))
     return p.omega + free
+
+
+exercise.declare_limits(
+    f"max(omega, omega0) t1 <= {MAX_PHASE:g} rad: the phase carries a digit in double precision",
+)
 
 
 @exercise.constraint
@@ -220,7 +225,8 @@ def _orbit_by_rotating_shooting(model, w, d, rtol, run):
     sig_b = g_one * np.abs(one.y[4:6]).max(axis=1) + atol[4:6]
     if np.linalg.svd(i_minus_m, compute_uv=False)[-1] == 0.0:
         if d == 0.0 and model.det2 == 0.0:
-            return Undefined("undamped exact resonance: the period map is the identity, no periodic orbit"), 0.0
+            return Undefined("undamped exact resonance: the period map is the identity, no periodic orbit; "
+                             "the amplitude grows without bound", infinite=True), 0.0
         raise NumericFailure("the one-period map is the identity to rounding: no unique periodic orbit")
     xs = np.linalg.solve(i_minus_m, b)
     sig_mat = np.array([[sig_m[0], sig_m[2]], [sig_m[1], sig_m[3]]])

@@ -63,6 +63,13 @@ MAX_PHASE = 1e15  # omega0 t1 above this: the phase at t1 is not resolved in dou
 LOW_FLOOR = 0.02  # lowest drive frequency (in omega0) shot for the lower half-power point
 
 
+exercise.declare_limits(
+    "delta < omega0: damped oscillations",
+    f"delta >= {ZETA_MIN:g} omega0",
+    f"omega0 t1 <= {MAX_PHASE:g}: the phase at t1 resolved in double precision",
+)
+
+
 @exercise.constraint
 def constraint(p):
     if p.delta >= p.omega0:

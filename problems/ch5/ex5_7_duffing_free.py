@@ -67,6 +67,13 @@ def _eps(p) -> float:
     return (p.alpha / p.omega0) * (p.A / p.omega0) * p.A
 
 
+exercise.declare_limits(
+    "A < omega0/|alpha|^(1/2) when alpha < 0: bounded motion",
+    f"alpha A^2/omega0^2 <= {EPS_MAX:g}",
+    "the frequency shift |alpha| A^2/omega0 representable as a fraction of omega0 (alpha A^2/omega0^2 >= 1e-290 where the shift is)",
+)
+
+
 @exercise.constraint
 def constraint(p):
     if p.alpha < 0.0 and _one_plus_eps(p) <= 0.0:

@@ -68,6 +68,14 @@ def _g(p):
     return 3.0 * p.alpha / (8.0 * p.omega0) * am**2 / p.delta
 
 
+exercise.declare_limits(
+    f"delta <= {MAX_DAMPING:g} omega0: weak damping",
+    f"|alpha| A^2/omega0^2 <= {MAX_NONLINEARITY:g} at the resonant amplitude A = f0/(2 omega0 delta): weak nonlinearity",
+    f"|g| <= {G_MAX:g}, g = 3 alpha A^2/(8 omega0 delta): the peak shift over the half-width",
+    f"|g/g_c - 1| >= {CUSP_BAND:g} (|alpha| A^2/omega0^2 + delta/omega0), g_c = 8/3^(3/2): not at the critical force of bistability",
+)
+
+
 @exercise.constraint
 def constraint(p):
     e_d, e_n = _small(p)

@@ -68,6 +68,11 @@ RELAX_EPS = 4.0
 MAX_EPS = 1e5
 
 
+exercise.declare_limits(
+    f"mu/omega0 <= {MAX_EPS:g}",
+)
+
+
 @exercise.constraint
 def constraint(p):
     eps = p.mu / p.omega0
