@@ -70,6 +70,9 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
             import matplotlib  # noqa: F401
         except ImportError:
             raise UsageFailure("--plot needs matplotlib: pip install -e '.[plot]' in mech's checkout") from None
+        from mech.cli.figures.common import check_target
+
+        check_target(plot_file)  # before the bench's seconds of work
 
     progress = None
     if not as_json:

@@ -102,25 +102,110 @@ class MechGroup(click.Group):
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         code = EXIT_OK
         try:
+            _environment_checks()
             rv = super().main(args=args, prog_name=prog_name or "mech", complete_var=complete_var,
                               standalone_mode=False, **extra)
             code = rv if isinstance(rv, int) else EXIT_OK
+            _flush_stdout()
         except click.exceptions.Exit as exc:
             code = exc.exit_code
+            try:
+                _flush_stdout()
+            except OSError as err:
+                code = _stdout_failed(err)
         except click.ClickException as exc:
-            click.echo(f"mech: error: {_one_line(exc.format_message())}", err=True)
+            _error(exc.format_message())
             code = EXIT_USAGE if isinstance(exc, (click.UsageError, UsageFailure)) else exc.exit_code
+        except BadInput as exc:  # bad input found below the command's own checks: still exit 2, one line
+            _error(str(exc))
+            code = EXIT_USAGE
         except click.Abort:
             click.echo("mech: aborted", err=True)
             code = 130
         except BrokenPipeError:
+            _quiet_stdout()
             code = EXIT_OK
+        except UnicodeEncodeError as exc:
+            _quiet_stdout()
+            bad = exc.object[exc.start:exc.end] if isinstance(exc.object, str) else "?"
+            _error(f"standard output cannot show {ascii(bad)} in its encoding ({exc.encoding}): set "
+                   "PYTHONIOENCODING=utf-8, or use --json")
+            code = EXIT_USAGE
+        except OSError as exc:
+            import errno
+
+            # files mech writes report their own failures (BadInput); what is left is standard output
+            if _stdout_broken() or exc.errno in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EIO, errno.EBADF):
+                code = _stdout_failed(exc)
+            else:
+                _error(f"internal error: {type(exc).__name__}: {exc}")
+                code = EXIT_DISAGREE
+        except RecursionError:
+            _error("input nested too deeply")
+            code = EXIT_USAGE
         except Exception as exc:  # a defect: say so in one line, never a traceback
-            click.echo(f"mech: internal error: {type(exc).__name__}: {_one_line(str(exc))}", err=True)
+            _error(f"internal error: {type(exc).__name__}: {exc}")
             code = EXIT_DISAGREE
         if standalone_mode:
             sys.exit(code)
         return code
+
+
+def _environment_checks() -> None:
+    """What the environment must give before a command runs: an open standard output, a usable
+    ``MECH_BUDGET_S``; ``COLUMNS`` read as the tables read it (below 60 as 60, zero or garbage unset)."""
+    import os
+
+    from mech.problems.safeio import normalize_columns
+
+    normalize_columns()
+    if sys.stdout is None:
+        raise UsageFailure("standard output is closed: nothing could be reported (redirect it to a file "
+                           "or /dev/null)")
+    if "MECH_BUDGET_S" in os.environ:
+        from mech.solvers.verification import budget
+
+        budget.default_seconds()
+
+
+def _error(text: str) -> None:
+    from mech.problems.safeio import escape
+
+    line = escape(_one_line(text))
+    if len(line) > 2000:
+        line = line[:2000] + "..."
+    click.echo(f"mech: error: {line}" if not line.startswith("internal error") else f"mech: {line}", err=True)
+
+
+def _flush_stdout() -> None:
+    if sys.stdout is not None:
+        sys.stdout.flush()
+
+
+def _stdout_broken() -> bool:
+    try:
+        _flush_stdout()
+    except (OSError, ValueError):
+        return True
+    return False
+
+
+def _quiet_stdout() -> None:
+    """Point standard output at /dev/null, so that the interpreter's last flush finds nothing to fail on."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):
+        pass
+
+
+def _stdout_failed(exc: OSError) -> int:
+    _quiet_stdout()
+    _error(f"cannot write to standard output: {exc.strerror or exc}")
+    return EXIT_USAGE
 
 
 @click.group(cls=MechGroup, context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100})

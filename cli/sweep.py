@@ -13,13 +13,13 @@ import csv
 import io
 import json
 import math
-import os
 import sys
 
 import click
 
 from mech.cli.main import EXIT_DISAGREE, EXIT_OK, SolveCommand, UsageFailure, _complete_ids, _get
 from mech.cli.options import _convert, collect_texts, parse_rtol
+from mech.problems.safeio import columns
 from mech.cli.values import ValueError_, to_si
 from mech.problems.spec import BadInput, Exercise
 
@@ -254,7 +254,7 @@ def print_table(result) -> None:
             labels = [f"{o.name} {kind}" + ("" if o.unit == "1" else f" [{o.unit}]")
                       for o in outs for kind in ("analytic", "numeric")] + ["worst rel. diff", "agree"]
             blocks.append((head, list(zip(labels, row[len(swept):]))))
-        if not c.is_terminal and not os.environ.get("COLUMNS", "").isdigit():
+        if not c.is_terminal and columns() is None:
             # piped with no width asked for: one row per point, as wide as the grid's table needs
             from rich.console import Console
 

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
+from mech.problems.safeio import shown
 from mech.problems.spec import BadInput, Exercise
 
 CHAPTER_PACKAGES = ("mech.problems.ch4", "mech.problems.ch5")
@@ -156,7 +157,13 @@ def all_exercises() -> dict[str, Exercise]:
     return {ex_id: _load(ex_id, module) for ex_id, module in _modules().items()}
 
 
+MAX_ID_CHARS = 12  # "exercise 4.15" is 13 with its word; anything longer is no id
+
+
 def get(ex_id: str) -> Exercise:
+    if not isinstance(ex_id, str):
+        raise BadInput(f"an exercise id is a string such as \"4.15\", got {type(ex_id).__name__} "
+                       f"{shown(repr(ex_id))}: quote it (the number 4.10 is 4.1)")
     modules = _modules()
     key = ex_id.strip()
     if key not in modules:
@@ -176,7 +183,9 @@ def unknown_id_message(ex_id: str, ids: list[str]) -> str:
     """One line for an id that is not registered: the nearest id where one is close, else the ranges."""
     import difflib
 
-    text = ex_id.strip()
+    text = str(ex_id).strip()
+    if len(text) > MAX_ID_CHARS + 8:  # no hint for what is no id: building one would cost memory
+        return f"unknown exercise '{shown(text, 20)}' (registered: {_spans(ids)})"
     norm = re.sub(r"^(?:ex(?:ercise)?)\s*", "", text.lower()).replace(",", ".").replace("-", ".").replace("_", ".")
     m = re.fullmatch(r"(\d+)\.(\d+)", norm)
     close: list[str] = []
@@ -193,7 +202,7 @@ def unknown_id_message(ex_id: str, ids: list[str]) -> str:
     elif len(norm) >= 3:
         close = difflib.get_close_matches(norm, ids, n=1, cutoff=0.7)
     hint = f"; did you mean {close[0]}?" if close else ""
-    return f"unknown exercise '{text}'{hint} (registered: {_spans(ids)})"
+    return f"unknown exercise '{shown(text)}'{hint} (registered: {_spans(ids)})"
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -26,18 +26,33 @@ __all__ = ["OutOfBudget", "check", "limit", "default_seconds", "remaining"]
 _deadline = math.inf
 _seconds = math.inf
 _what = "the numeric solve"
-_GRACE_S = 1.0
+_GRACE_S = 0.25  # the backup timer: a loop that never calls check() stops this late
 
 
 class OutOfBudget(NumericFailure):
     """A solve ran past its wall-clock budget."""
 
 
+DEFAULT_S = 8.0
+MAX_S = 86_400.0  # a day: the largest budget that still means one
+
+
 def default_seconds() -> float:
+    """``MECH_BUDGET_S``, or 8 s; ``BadInput`` naming the variable when it is not a finite positive number
+    (``nan`` or ``inf`` would switch the budget off)."""
+    raw = os.environ.get("MECH_BUDGET_S")
+    if raw is None or raw.strip() == "":
+        return DEFAULT_S
     try:
-        return float(os.environ.get("MECH_BUDGET_S", "8"))
+        value = float(raw)
     except ValueError:
-        return 8.0
+        value = math.nan
+    if not (0 < value <= MAX_S):
+        from mech.problems.errors import BadInput
+
+        shown = " ".join(raw.split())[:40]
+        raise BadInput(f"MECH_BUDGET_S: '{shown}' is not a number of seconds; allowed (0, {MAX_S:g}]")
+    return value
 
 
 def remaining() -> float:
