@@ -23,6 +23,7 @@ per-point solve objects only when they are printed.
 from __future__ import annotations
 
 import itertools
+import math
 import os
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -138,18 +139,33 @@ def pool_worker_init(parent: int | None = None) -> None:
         crosscheck._die_with_parent(parent)
 
 
-def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only=None) -> dict:
+def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only=None,
+                deadline: float | None = None, total_s: float | None = None) -> dict:
     """One grid point's cross-check as the contract's solve object (without id and title); picklable.
 
-    ``only``: the output names to keep (the solvers still compute all of them on this route)."""
+    ``only``: the output names to keep (the solvers still compute all of them on this route).
+    ``deadline``: the sweep's end (``time.monotonic()``, one clock for every process); the point's solve
+    gets what is left of it when that is less than a solve's own budget, and a point reached after it is
+    not solved: it fails, saying so (its analytic value is still given)."""
     from mech.problems import registry
+    from mech.solvers.verification import budget
     from mech.solvers.verification.crosscheck import cross_check
 
     ex = registry.get(ex_id)
     params = Params(values) if isinstance(values, dict) else values
     t0 = time.perf_counter()
-    result = cross_check(ex, params, rtol=rtol, verify=verify)
-    d = result.as_json()
+    budget_s = budget.default_seconds()
+    left = math.inf if deadline is None else deadline - time.monotonic()
+    if left <= 0.05:
+        result = cross_check(ex, params, methods=("analytic",), rtol=rtol, verify=False)
+        d = result.as_json()
+        d["errors"] = list(d.get("errors") or []) + [
+            f"numeric solver failed: not run: the sweep's total budget of {total_s or 0:g} s ran out "
+            "(--budget SECONDS gives it more)"]
+        d["agree"] = False
+    else:
+        result = cross_check(ex, params, rtol=rtol, verify=verify, budget_s=min(budget_s, left))
+        d = result.as_json()
     d.pop("id", None)
     d.pop("title", None)
     import_s = (d.get("numeric_info") or {}).get("import_s") or 0.0
@@ -162,9 +178,34 @@ def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only
     return d
 
 
+DEFAULT_TOTAL_S = 600.0  # a sweep's or a grading's wall-clock budget: 10 minutes, a class's file at 6 s a answer
+MAX_TOTAL_S = 7 * 86_400.0
+
+
+def check_total(seconds) -> float:
+    """A total budget in seconds: finite, positive, at most a week; BadInput naming --budget otherwise."""
+    from mech.problems.errors import BadInput
+
+    try:
+        value = float(seconds)
+    except (TypeError, ValueError):
+        value = math.nan
+    if isinstance(seconds, bool) or not (0 < value <= MAX_TOTAL_S):
+        raise BadInput(f"--budget: '{str(seconds)[:40]}' is not a number of seconds; allowed (0, {MAX_TOTAL_S:g}]")
+    return value
+
+
+def usable_cores() -> int:
+    """The cores this process may run on: a cap for -j (256 workers on 2 cores only thrash)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
+
+
 def plan_workers(n_left: int, seconds_per_point: float, cores: int | None = None) -> int:
     """How many processes the points left should use: 1 unless the serial work clearly pays a pool's start-up."""
-    cores = cores if cores is not None else (os.cpu_count() or 1)
+    cores = cores if cores is not None else usable_cores()
     if cores < 2 or n_left < 2:
         return 1
     serial = n_left * seconds_per_point
@@ -184,12 +225,17 @@ def run_sweep(
     jobs: int | None = None,
     progress: Callable[[int], None] | None = None,
     only: Sequence[str] | None = None,
+    total_s: float | None = None,
 ) -> SweepResult:
-    """Cross-check at every (already validated) point; ``jobs`` forces the number of processes (None: decide).
+    """Cross-check at every (already validated) point; ``jobs`` forces the number of processes (None: decide;
+    never more than the cores).
 
-    ``progress(k)`` is called after each finished point with the number done so far.
+    ``progress(k)`` is called after each finished point with the number done so far.  ``total_s``: the
+    sweep's wall-clock budget (None: ``DEFAULT_TOTAL_S``); points it leaves unsolved fail, saying so.
     """
     t0 = time.perf_counter()
+    total_s = DEFAULT_TOTAL_S if total_s is None else check_total(total_s)
+    deadline = time.monotonic() + total_s
     points: list[dict | None] = [None] * len(params)
     done = 0
 
@@ -203,19 +249,20 @@ def run_sweep(
         return SweepResult(ex, list(axes), dict(fixed), [], 1, 0.0, only=only)
     only = tuple(only) if only else None
     # the first point here: it measures the cost per point
-    points[0] = solve_point(ex.id, dict(params[0]), rtol, verify, only)
+    points[0] = solve_point(ex.id, dict(params[0]), rtol, verify, only, deadline, total_s)
     tick()
     rest = list(range(1, len(params)))
-    workers = jobs if jobs is not None else plan_workers(len(rest), points[0]["wall_s"])
+    workers = min(jobs, usable_cores()) if jobs is not None else plan_workers(len(rest), points[0]["wall_s"])
     workers = max(1, min(workers, len(rest))) if rest else 1
     if workers == 1:
         for i in rest:
-            points[i] = solve_point(ex.id, dict(params[i]), rtol, verify, only)
+            points[i] = solve_point(ex.id, dict(params[i]), rtol, verify, only, deadline, total_s)
             tick()
     else:
         with ProcessPoolExecutor(max_workers=workers, initializer=pool_worker_init,
                                  initargs=(os.getpid(),)) as pool:
-            futures = {pool.submit(solve_point, ex.id, dict(params[i]), rtol, verify, only): i for i in rest}
+            futures = {pool.submit(solve_point, ex.id, dict(params[i]), rtol, verify, only, deadline, total_s): i
+                       for i in rest}
             from concurrent.futures import as_completed
 
             for fut in as_completed(futures):
