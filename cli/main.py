@@ -154,18 +154,13 @@ class MechGroup(click.Group):
 def _environment_checks() -> None:
     """What the environment must give before a command runs: an open standard output, a usable
     ``MECH_BUDGET_S``; ``COLUMNS`` read as the tables read it (below 60 as 60, zero or garbage unset)."""
-    import os
-
-    from mech.problems.safeio import normalize_columns
+    from mech.problems.safeio import budget_seconds, normalize_columns
 
     normalize_columns()
     if sys.stdout is None:
         raise UsageFailure("standard output is closed: nothing could be reported (redirect it to a file "
                            "or /dev/null)")
-    if "MECH_BUDGET_S" in os.environ:
-        from mech.solvers.verification import budget
-
-        budget.default_seconds()
+    budget_seconds()
 
 
 def _error(text: str) -> None:

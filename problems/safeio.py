@@ -22,7 +22,7 @@ import stat
 from mech.problems.errors import BadInput
 
 __all__ = ["shown", "escape", "MAX_FILE_BYTES", "MAX_DEPTH", "MAX_KEY_PARTS", "read_text", "load_toml",
-           "load_json", "check_output", "atomic_write", "columns", "normalize_columns", "MIN_COLUMNS"]
+           "load_json", "check_output", "budget_seconds", "atomic_write", "columns", "normalize_columns", "MIN_COLUMNS"]
 
 SHOWN_CHARS = 80
 MAX_FILE_BYTES = 10 * 1024 * 1024
@@ -250,6 +250,27 @@ def _ignore_file_size_signal() -> None:
     if hasattr(signal, "SIGXFSZ") and threading.current_thread() is threading.main_thread():
         with contextlib.suppress(ValueError, OSError):
             signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+
+
+# -- the environment -------------------------------------------------------------------------------------
+
+DEFAULT_BUDGET_S = 8.0
+MAX_BUDGET_S = 86_400.0  # a day: the largest budget of one solve that still means one
+
+
+def budget_seconds(environ=None) -> float:
+    """A solve's wall-clock budget: ``MECH_BUDGET_S``, or 8 s.  BadInput naming the variable when it is
+    not a finite positive number (``nan`` or ``inf`` would switch the budget off)."""
+    raw = (os.environ if environ is None else environ).get("MECH_BUDGET_S")
+    if raw is None or raw.strip() == "":
+        return DEFAULT_BUDGET_S
+    try:
+        value = float(raw)
+    except ValueError:
+        value = float("nan")
+    if not (0 < value <= MAX_BUDGET_S):
+        raise BadInput(f"MECH_BUDGET_S: '{shown(raw, 40)}' is not a number of seconds; allowed (0, {MAX_BUDGET_S:g}]")
+    return value
 
 
 # -- the terminal ----------------------------------------------------------------------------------------

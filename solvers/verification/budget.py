@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import contextlib
 import math
-import os
 import time
 
 from mech.problems.spec import NumericFailure
@@ -33,26 +32,12 @@ class OutOfBudget(NumericFailure):
     """A solve ran past its wall-clock budget."""
 
 
-DEFAULT_S = 8.0
-MAX_S = 86_400.0  # a day: the largest budget that still means one
-
-
 def default_seconds() -> float:
     """``MECH_BUDGET_S``, or 8 s; ``BadInput`` naming the variable when it is not a finite positive number
     (``nan`` or ``inf`` would switch the budget off)."""
-    raw = os.environ.get("MECH_BUDGET_S")
-    if raw is None or raw.strip() == "":
-        return DEFAULT_S
-    try:
-        value = float(raw)
-    except ValueError:
-        value = math.nan
-    if not (0 < value <= MAX_S):
-        from mech.problems.errors import BadInput
+    from mech.problems.safeio import budget_seconds
 
-        shown = " ".join(raw.split())[:40]
-        raise BadInput(f"MECH_BUDGET_S: '{shown}' is not a number of seconds; allowed (0, {MAX_S:g}]")
-    return value
+    return budget_seconds()
 
 
 def remaining() -> float:
