@@ -9,7 +9,8 @@ as a ``Trajectory``.  A ``Sweep`` is many of them over a range or a grid.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+import time
+from dataclasses import dataclass
 from typing import Any, Iterator, Sequence
 
 import numpy as np
@@ -114,7 +115,9 @@ class Trajectory:
         """A header row ``t [s]`` then ``name [unit]`` per state, one row per time."""
         import csv
 
-        with open(path, "w", newline="", encoding="utf-8") as fh:
+        from mech.problems.safeio import atomic_write
+
+        with atomic_write(str(path), "--trajectory", newline="") as fh:
             out = csv.writer(fh)
             out.writerow(["t [s]"] + [f"{n} [{u}]" for n, u in zip(self.names, self.units)])
             for k in range(self.t.size):
@@ -173,6 +176,7 @@ class Solution:
         self._trajectory_done = trajectory is not None
         self.expect_ok: bool | None = data.get("expect_ok")
         self._result = result
+        self._deadline: float | None = None  # the end of the solve's time budget (time.monotonic())
         self.result = result  # the cross-check behind it (None for a sweep's points)
         self.quantities = [Quantity.from_dict(q) for q in data["quantities"]]
         self._by_name = {q.name: q for q in self.quantities}
@@ -203,7 +207,11 @@ class Solution:
         from mech.solvers.verification import budget
 
         info = self._data.get("numeric_info") or {}
-        with budget.limit(None, what=f"the trajectory of {ex.id}"):
+        # the solve's own budget, not a fresh one: what the cross-check left of it
+        left = budget.default_seconds() if self._deadline is None else self._deadline - time.monotonic()
+        if left <= 0:
+            raise budget.OutOfBudget(f"the trajectory of {ex.id}: the solve's time budget is spent")
+        with budget.limit(left, what=f"the trajectory of {ex.id}"):
             _, run = ex.solve_numeric(Params(self._data["params"]), info.get("rtol"), keep_trajectories=True)
         return _trajectory(ex, run)
 
@@ -332,10 +340,16 @@ def _expectations(ex, expect: dict | None, expect_rtol):
 def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None,
                    verify: bool = True) -> Solution:
     """The cross-check at checked parameters: what ``mech.solve`` and ``mech solve`` both run."""
+    from mech.solvers.verification import budget
     from mech.solvers.verification.crosscheck import cross_check
 
-    result = cross_check(ex, params, methods=tuple(methods), rtol=rtol, verify=verify and "numeric" in methods)
-    return Solution(ex, result.as_json(), None, result)
+    budget_s = budget.default_seconds()
+    deadline = time.monotonic() + budget_s
+    result = cross_check(ex, params, methods=tuple(methods), rtol=rtol, verify=verify and "numeric" in methods,
+                         budget_s=budget_s)
+    sol = Solution(ex, result.as_json(), None, result)
+    sol._deadline = deadline  # the trajectory, when asked for, shares this budget
+    return sol
 
 
 # -- sweep -----------------------------------------------------------------------
@@ -421,9 +435,11 @@ class Sweep:
         """One row per point; the header gives each column's unit as ``name [unit]``."""
         import csv
 
+        from mech.problems.safeio import atomic_write
+
         arrays = self.to_arrays()
         cols = self._columns()
-        with open(path, "w", newline="", encoding="utf-8") as fh:
+        with atomic_write(str(path), "--csv", newline="") as fh:
             out = csv.writer(fh)
             out.writerow([f"{n} [{u}]" if u and u != "1" else n for n, u in cols])
             for k in range(len(self.points)):

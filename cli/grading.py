@@ -9,9 +9,7 @@ from __future__ import annotations
 import json
 import math
 import re
-import sys
 import time
-import tomllib
 from dataclasses import dataclass, field
 
 import click
@@ -162,7 +160,15 @@ class Entry:
 
 
 class BadFile(BadInput):
-    """A grading file mech cannot use; the message names the file, the entry and the field."""
+    """A grading file mech cannot use.  ``problems``: every problem found, each one line naming the file,
+    the entry (and its line) and the field; the message is all of them, a line each."""
+
+    def __init__(self, problems):
+        self.problems = [problems] if isinstance(problems, str) else list(problems)
+        super().__init__("\n".join(self.problems))
+
+
+MAX_PROBLEMS = 50  # problems of a bad file listed before "... and N more"
 
 
 def _entry_lines(text: str) -> list[int]:
@@ -170,96 +176,124 @@ def _entry_lines(text: str) -> list[int]:
 
 
 def load_answers(path: str) -> list[Entry]:
-    """Read and check a whole grading file before anything is solved; BadFile on the first problem."""
+    """Read and check a whole grading file before anything is solved; BadFile listing every problem."""
     from mech.problems import registry
+    from mech.problems.safeio import load_toml, read_text, shown
 
-    try:
-        with open(path, "rb") as fh:
-            raw = fh.read()
-        text = raw.decode("utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise BadFile(f"{path}: cannot read: {getattr(exc, 'strerror', None) or exc}") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise BadFile(f"{path}: malformed TOML: {exc}") from None
+    name = shown(path)
+    data = load_toml(path, "answers file")  # BadInput naming the file: unreadable, too big, too deep, malformed
+    problems: list[str] = []
     for key in data:
         if key != "answer":
-            raise BadFile(f"{path}: '{key}': unknown top-level key; answers go in [[answer]] tables")
+            problems.append(f"{name}: '{shown(key)}': unknown top-level key; answers go in [[answer]] tables")
     answers = data.get("answer")
     if not isinstance(answers, list) or not answers or not all(isinstance(a, dict) for a in answers):
-        raise BadFile(f"{path}: no [[answer]] tables")
-    lines = _entry_lines(text)
+        raise BadFile(problems + [f"{name}: no [[answer]] tables"])
+    lines = _entry_lines(read_text(path, "answers file"))
     entries = []
     for k, item in enumerate(answers, 1):
         line = lines[k - 1] if len(lines) == len(answers) else None
-        where = f"{path}: answer {k}" + (f" (line {line})" if line else "")
+        where = f"{name}: answer {k}" + (f" (line {line})" if line else "")
+        found = len(problems)
 
-        def bad(fld: str, why: str):
-            return BadFile(f"{where}: {fld}: {why}")
+        def bad(fld: str, why: str) -> None:
+            problems.append(f"{where}: {shown(fld)}: {why}")
 
         for key in item:
             if key not in _ENTRY_KEYS:
-                raise bad(key, f"unknown field; an answer has {', '.join(_ENTRY_KEYS)}")
+                bad(key, f"unknown field; an answer has {', '.join(_ENTRY_KEYS)}")
         ex_id = item.get("exercise")
+        ex = None
         if not isinstance(ex_id, str):
-            raise bad("exercise", "missing, or not a string such as \"4.15\"")
-        try:
-            ex = registry.get(ex_id)
-        except BadInput as exc:
-            raise bad("exercise", str(exc)) from None
+            bad("exercise", "missing, or not a string such as \"4.15\"")
+        else:
+            try:
+                ex = registry.get(ex_id)
+            except BadInput as exc:
+                bad("exercise", str(exc))
         params = item.get("params", {})
         if not isinstance(params, dict):
-            raise bad("params", "not a table such as { theta0 = \"60deg\" }")
+            bad("params", "not a table such as { theta0 = \"60deg\" }")
+            params = {}
         given, written = {}, {}
         for raw_name, value in params.items():
-            name = raw_name.strip().replace("-", "_")
-            if name not in ex.param_map:
-                raise bad(f"params.{raw_name}", f"not a parameter of {ex.id}; its parameters are: "
-                          f"{', '.join(ex.param_map)}")
-            param = ex.param_map[name]
+            if ex is None:
+                break
+            pname = raw_name.strip().replace("-", "_")
+            if pname not in ex.param_map:
+                bad(f"params.{raw_name}", f"not a parameter of {ex.id}; its parameters are: {', '.join(ex.param_map)}")
+                continue
+            param = ex.param_map[pname]
             if isinstance(value, bool) or not isinstance(value, (str, int, float)):
-                raise bad(f"params.{raw_name}", "not a number or a string such as \"60deg\"")
+                bad(f"params.{raw_name}", "not a number or a string such as \"60deg\"")
+                continue
             try:
-                given[name] = to_si(str(value), param.unit)
-                param.check(given[name])
-            except (ValueError_, BadInput) as exc:
-                why = str(exc).removeprefix(f"{name}: ")
-                raise bad(f"params.{raw_name}", f"cannot use '{value}': {why}") from None
-            written[name] = value
-        try:
-            ex.resolve(given)
-        except BadInput as exc:
-            raise bad("params", str(exc)) from None
+                given[pname] = to_si(str(value), param.unit)
+                param.check(given[pname])
+            except (ValueError_, BadInput, OverflowError) as exc:
+                why = str(exc).removeprefix(f"{pname}: ")
+                bad(f"params.{raw_name}", f"cannot use '{shown(value)}': {why}")
+                given.pop(pname, None)
+                continue
+            written[pname] = shown(value, 40)
+        if ex is not None and len(problems) == found:
+            try:
+                ex.resolve(given)
+            except BadInput as exc:
+                bad("params", str(exc))
         rtol = None
         if "rtol" in item:
             try:
                 rtol = parse_rtol_value(item["rtol"], "rtol")
             except BadInput as exc:
-                raise BadFile(f"{where}: {exc}") from None
+                problems.append(f"{where}: {exc}")
         expect = item.get("expect")
-        if not isinstance(expect, dict) or not expect:
-            raise bad("expect", "missing or empty; give a table such as { theta_c = \"35.26deg\" }")
         expectations = []
-        for raw_name, value in expect.items():
-            try:
-                expectations.append(parse_expectation(ex, raw_name, value, rtol))
-            except BadInput as exc:
-                raise bad(f"expect.{raw_name}", str(exc).split(": ", 1)[1]) from None
-            if [e.name for e in expectations].count(expectations[-1].name) > 1:
-                raise bad(f"expect.{raw_name}", "given more than once")
-        entries.append(Entry(k, line, ex, given, written, expectations))
+        if not isinstance(expect, dict) or not expect:
+            bad("expect", "missing or empty; give a table such as { theta_c = \"35.26deg\" }")
+        elif ex is not None:
+            for raw_name, value in expect.items():
+                try:
+                    expectations.append(parse_expectation(ex, raw_name, value, rtol))
+                except BadInput as exc:
+                    bad(f"expect.{raw_name}", str(exc).split(": ", 1)[-1])
+                    continue
+                if [e.name for e in expectations].count(expectations[-1].name) > 1:
+                    bad(f"expect.{raw_name}", "given more than once")
+        if len(problems) == found and ex is not None:
+            entries.append(Entry(k, line, ex, given, written, expectations))
+    if problems:
+        if len(problems) > MAX_PROBLEMS:
+            problems = problems[:MAX_PROBLEMS] + [f"{name}: ... and {len(problems) - MAX_PROBLEMS} more problems"]
+        raise BadFile(problems)
     return entries
 
 
-def grade(entries: list[Entry]) -> None:
-    from mech.solvers.verification.answers import judge
-
+def grade(entries: list[Entry], total_s: float | None = None) -> None:
+    """Cross-check and judge every entry, within a total wall-clock budget (``total_s``, default
+    ``DEFAULT_TOTAL_S``): each solve gets what is left when that is less than its own budget, and an
+    entry reached after the end is not graded: its answers fail, saying so."""
+    from mech.solvers.verification import budget
+    from mech.solvers.verification.answers import Judgement, judge
     from mech.solvers.verification.crosscheck import cross_check
+    from mech.solvers.verification.sweep import DEFAULT_TOTAL_S, check_total
 
+    total_s = DEFAULT_TOTAL_S if total_s is None else check_total(total_s)
+    deadline = time.monotonic() + total_s
+    per_solve = budget.default_seconds()
     for entry in entries:
-        entry.result = cross_check(entry.exercise, entry.exercise.resolve(entry.given))
-        entry.judgements = judge(entry.result, entry.expectations)
+        params = entry.exercise.resolve(entry.given)
+        left = deadline - time.monotonic()
+        if left <= 0.05:
+            why = f"not graded: the total budget of {total_s:g} s ran out (--budget SECONDS gives it more)"
+            entry.result = cross_check(entry.exercise, params, methods=("analytic",), verify=False)
+            entry.result.errors.append(f"numeric solver failed: {why}")
+            units = {o.name: o.unit for o in entry.exercise.outputs}
+            entry.judgements = [Judgement(e.name, units.get(e.name, ""), e.text, e.value, False, None, verdict=why)
+                                for e in entry.expectations]
+        else:
+            entry.result = cross_check(entry.exercise, params, budget_s=min(per_solve, left))
+            entry.judgements = judge(entry.result, entry.expectations)
         entry.result.expected = {j.name: j for j in entry.judgements}
 
 
@@ -283,21 +317,24 @@ def write_grade_junit(path: str, entries: list[Entry], seconds: float, out_file:
     viewers do not split "4.15" into a package 4 and a class 15."""
     from xml.etree import ElementTree as ET
 
+    from mech.problems.safeio import atomic_write, shown
+
     judgements = [(e, j) for e in entries for j in e.judgements]
     failed = sum(not j.match for _, j in judgements)
-    suite = ET.Element("testsuite", name=f"mech grade {path}", tests=str(len(judgements)), failures=str(failed),
+    suite = ET.Element("testsuite", name=f"mech grade {shown(path)}", tests=str(len(judgements)), failures=str(failed),
                        errors="0", time=f"{seconds:.3f}")
     for e, j in judgements:
         tc = ET.SubElement(suite, "testcase", classname=f"mech.ex{e.exercise.id.replace('.', '_')}",
-                           name=f"{j.name} = {j.text} ({e.label()})")
+                           name=f"{j.name} = {shown(j.text)} ({e.label()})")
         if not j.match:
             fail = ET.SubElement(tc, "failure", message=j.verdict)
-            fail.text = (f"{e.exercise.id} {j.name}: yours {j.text}, mech {j.shown_reference or '—'}"
+            fail.text = (f"{e.exercise.id} {j.name}: yours {shown(j.text)}, mech {j.shown_reference or '—'}"
                          f" ({j.reference or 'no reference'}): {j.verdict}")
     root = ET.Element("testsuites", name="mech", tests=str(len(judgements)), failures=str(failed))
     root.append(suite)
     ET.indent(root)
-    ET.ElementTree(root).write(out_file, encoding="utf-8", xml_declaration=True)
+    with atomic_write(out_file, "--junit", mode="wb") as fh:
+        ET.ElementTree(root).write(fh, encoding="utf-8", xml_declaration=True)
 
 
 def print_grade(entries: list[Entry], seconds: float) -> None:
@@ -306,6 +343,7 @@ def print_grade(entries: list[Entry], seconds: float) -> None:
     from rich.text import Text
 
     from mech.cli import render
+    from mech.problems.safeio import shown
 
     t = Table(box=box.SIMPLE_HEAD, show_edge=False)
     for col, just in (("#", "right"), ("exercise", "left"), ("quantity", "left"), ("yours", "right"),
@@ -315,7 +353,7 @@ def print_grade(entries: list[Entry], seconds: float) -> None:
         given = ", ".join(f"{k}={v}" for k, v in e.written.items())
         for i, j in enumerate(e.judgements):
             t.add_row(str(e.number) if i == 0 else "", (f"{e.exercise.id}" + (f" ({given})" if given else ""))
-                      if i == 0 else "", j.name, j.text, j.shown_reference or "—",
+                      if i == 0 else "", j.name, shown(j.text), j.shown_reference or "—",
                       Text(j.verdict, style="green" if j.match else "bold red"))
     c = render.console()
     c.print(t)
@@ -329,9 +367,11 @@ def print_grade(entries: list[Entry], seconds: float) -> None:
 @click.command("grade")
 @click.argument("file", metavar="FILE")
 @click.option("--json", "as_json", is_flag=True, help="A JSON report on stdout.")
-@click.option("--junit", "junit_file", type=click.Path(dir_okay=False, writable=True),
+@click.option("--junit", "junit_file", metavar="FILE",
               help="Write a JUnit XML report: one test case per expected value.")
-def grade_cmd(file, as_json, junit_file):
+@click.option("--budget", "total_s", metavar="SECONDS", type=float,
+              help="Wall-clock budget of the whole grading [600]; answers not reached by then fail, saying so.")
+def grade_cmd(file, as_json, junit_file, total_s):
     """Hold a TOML file of answers against mech (each [[answer]]: exercise, params, expect, rtol).
 
     \b
@@ -343,14 +383,25 @@ def grade_cmd(file, as_json, junit_file):
     Values are judged to the digits written (or to rtol). Exit status: 0 all right,
     1 any wrong, 2 a bad file (one line naming the file, the answer and the field).
     """
-    from mech.cli.main import EXIT_DISAGREE, EXIT_OK, UsageFailure
+    from mech.cli.main import EXIT_DISAGREE, EXIT_OK, EXIT_USAGE, UsageFailure
+    from mech.problems.safeio import check_output, escape
 
+    ctx = click.get_current_context()
     try:
+        if junit_file is not None:
+            check_output(junit_file, "--junit")
         entries = load_answers(file)
+    except BadFile as exc:  # every problem of the file, a line each
+        for line in exc.problems:
+            click.echo(f"mech: error: {escape(' '.join(line.split()))}", err=True)
+        ctx.exit(EXIT_USAGE)
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     t0 = time.perf_counter()
-    grade(entries)
+    try:
+        grade(entries, total_s)
+    except BadInput as exc:
+        raise UsageFailure(str(exc)) from None
     seconds = time.perf_counter() - t0
     if junit_file:
         write_grade_junit(file, entries, seconds, junit_file)
@@ -366,18 +417,13 @@ def grade_cmd(file, as_json, junit_file):
 
 def open_baseline(path: str) -> dict:
     """A baseline file, read and checked before the run (BadInput: one line naming the file and field)."""
+    from mech.problems.safeio import load_json, shown
     from mech.solvers.verification import baseline
 
-    try:
-        with open(path, encoding="utf-8") as fh:
-            data = json.load(fh)
-    except (OSError, UnicodeDecodeError) as exc:
-        raise BadInput(f"{path}: cannot read: {getattr(exc, 'strerror', None) or exc}") from None
-    except json.JSONDecodeError as exc:
-        raise BadInput(f"{path}: malformed JSON: {exc}") from None
+    data = load_json(path, "baseline")  # a regular file under 10 MB, nesting bounded, finite numbers
     problem = baseline.validate(data)
     if problem:
-        raise BadInput(f"{path}: {problem}")
+        raise BadInput(f"{shown(path)}: {shown(problem, 300)}")
     return data
 
 
@@ -395,12 +441,11 @@ def baselines(report, hard: bool, old: dict | None, old_path: str | None, save_p
     records = check_records(report)
     cmp = baseline.compare(old, records, old_path or "") if old is not None else None
     if save_path:
-        try:
-            with open(save_path, "w", encoding="utf-8") as fh:
-                json.dump(baseline.make(records, hard), fh, indent=1, allow_nan=False)
-                fh.write("\n")
-        except OSError as exc:
-            raise BadInput(f"{save_path}: cannot write the baseline: {exc.strerror or exc}") from None
+        from mech.problems.safeio import atomic_write
+
+        text = json.dumps(baseline.make(records, hard), indent=1, allow_nan=False) + "\n"
+        with atomic_write(save_path, "--save-baseline") as fh:  # a failed write leaves the old file whole
+            fh.write(text)
     return cmp
 
 
@@ -424,7 +469,10 @@ def junit_baseline(junit_file: str, cmp) -> None:
     root.set("tests", str(int(root.get("tests", "0")) + len(cmp.points)))
     root.set("failures", str(int(root.get("failures", "0")) + len(moved)))
     ET.indent(root)
-    tree.write(junit_file, encoding="utf-8", xml_declaration=True)
+    from mech.problems.safeio import atomic_write
+
+    with atomic_write(junit_file, "--junit", mode="wb") as fh:
+        tree.write(fh, encoding="utf-8", xml_declaration=True)
 
 
 def print_baseline(cmp, saved: str | None) -> None:

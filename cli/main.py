@@ -408,6 +408,8 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
                            "motion: one-period maps, fundamental solutions, a radial profile): no trajectory")
     if trajectory_file and method == "analytic":
         raise UsageFailure("--trajectory needs the numeric method: drop --method analytic")
+    if trajectory_file is not None:
+        _check_output(trajectory_file, "--trajectory")
     try:
         given = collect_params(ex, ctx.meta.get("mech_param_args", []), list(pairs))
         params = ex.resolve(given)
@@ -442,7 +444,10 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
                 "motion it integrates does not exist here)"
             click.echo(f"mech: no trajectory written: the numeric solve of {ex.id} {why}", err=True)
         else:
-            trajectory.to_csv(trajectory_file)
+            try:
+                trajectory.to_csv(trajectory_file)
+            except BadInput as exc:
+                raise UsageFailure(str(exc)) from None
     expect_ok = grading.attach(result, expectations) if grading else True
     if as_json:
         _emit_json(grading.solve_json(result) if grading else result.as_json())
@@ -457,7 +462,7 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
 @click.argument("ids", nargs=-1, metavar="[ID]...", shell_complete=_complete_ids)
 @click.option("--hard", is_flag=True, help="Also run every exercise's hard cases.")
 @click.option("--json", "as_json", is_flag=True, help="Print a JSON report on stdout instead of the table.")
-@click.option("--junit", "junit_file", type=click.Path(dir_okay=False, writable=True), help="Write a JUnit XML report.")
+@click.option("--junit", "junit_file", metavar="FILE", help="Write a JUnit XML report.")
 @click.option("--save-baseline", "save_baseline", metavar="FILE", help="Record every checked value with its error bar.")
 @click.option("--baseline", "baseline_file", metavar="FILE", help="Fail when a value moved beyond its error bars since FILE.")
 @click.option("-j", "--jobs", type=click.IntRange(1, 256),
@@ -471,6 +476,9 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
     from mech.cli.checking import run_check, write_junit
 
     exercises = [_get(i) for i in ids] if ids else list(_registry().all_exercises().values())
+    for path, what in ((junit_file, "--junit"), (save_baseline, "--save-baseline")):
+        if path is not None:  # before the minutes of the check, not after
+            _check_output(path, what)
     grading = old = None
     if save_baseline or baseline_file:
         from mech.cli import grading
@@ -497,6 +505,15 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
         if grading:
             grading.print_baseline(moved, save_baseline)
     ctx.exit(EXIT_OK if report.ok and (moved is None or moved.ok) else EXIT_DISAGREE)
+
+
+def _check_output(path, what: str) -> None:
+    from mech.problems.safeio import check_output
+
+    try:
+        check_output(path, what)
+    except BadInput as exc:
+        raise UsageFailure(str(exc)) from None
 
 
 def main(argv=None) -> None:
