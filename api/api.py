@@ -64,7 +64,38 @@ def _methods(method: str) -> tuple[str, ...]:
     try:
         return _METHODS[str(method).lower()]
     except KeyError:
-        raise BadInput(f"method: '{method}' is not one of both, analytic, numeric") from None
+        raise BadInput(f"method: '{_shown(method)}' is not one of both, analytic, numeric") from None
+
+
+def _shown(value) -> str:
+    from mech.problems.safeio import shown
+
+    return shown(value)
+
+
+def _flag(name: str, value) -> bool:
+    """A True/False argument: a bool (numpy's too), never a string such as 'no' that would read as True."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise BadInput(f"{name}: give True or False, got {type(value).__name__} {_shown(repr(value))}")
+
+
+def _jobs(jobs):
+    """None (decide) or a whole number of processes, at least 1."""
+    if jobs is None:
+        return None
+    if isinstance(jobs, bool) or not isinstance(jobs, (int, np.integer)) or jobs < 1:
+        raise BadInput(f"jobs: give a whole number of processes, at least 1 (or None), got {_shown(repr(jobs))}")
+    return int(jobs)
+
+
+def _names(what: str, value) -> list[str]:
+    """A name or a sequence of names (strings)."""
+    if isinstance(value, str):
+        return [value]
+    if isinstance(value, (list, tuple)) and all(isinstance(v, str) for v in value):
+        return list(value)
+    raise BadInput(f"{what}: give a name or a list of names, got {_shown(repr(value))}")
 
 
 # -- results ---------------------------------------------------------------------
@@ -307,7 +338,9 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
           params: dict | None = None, expect: dict | None = None, expect_rtol=None) -> Solution:
     from mech.problems import registry
 
-    ex = registry.get(str(ex_id))
+    ex = registry.get(ex_id)
+    verify = _flag("verify", verify)
+    raise_on_failure = _flag("raise_on_failure", raise_on_failure)
     resolved = resolve_params(ex, dict(params or {}))
     expectations = _expectations(ex, expect, expect_rtol)
     sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify)
@@ -354,25 +387,38 @@ def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float |
 
 # -- sweep -----------------------------------------------------------------------
 
+MAX_N = 10_000  # values of one swept parameter, as on the command line
+MAX_POINTS = 100_000  # points of one sweep, as on the command line
+
+
 def _axis_values(ex, name: str, spec) -> tuple[list[float], bool]:
-    """A range tuple (start, stop, n[, "log"]) or a list of values -> SI values."""
+    """A range tuple (start, stop, n[, "log"]) or a list of values -> SI values, within the command line's
+    limits (checked before anything is allocated)."""
     if isinstance(spec, tuple) and len(spec) in (3, 4) and isinstance(spec[2], (int, np.integer)) \
             and not isinstance(spec[2], bool):
         log = len(spec) == 4 and str(spec[3]).lower() in ("log", "geom")
         if len(spec) == 4 and not log:
-            raise BadInput(f"{name}: a range is (start, stop, n) or (start, stop, n, 'log'), got {spec!r}")
-        start, stop = _convert(ex, name, spec[0]), _convert(ex, name, spec[1])
+            raise BadInput(f"{name}: a range is (start, stop, n) or (start, stop, n, 'log'), got {_shown(spec)}")
         n = int(spec[2])
-        if n < 1:
-            raise BadInput(f"{name}: n in {spec!r} must be at least 1")
+        if n < 1 or n > MAX_N:
+            raise BadInput(f"{name}: n in {_shown(spec)} must be between 1 and {MAX_N}")
+        start, stop = _convert(ex, name, spec[0]), _convert(ex, name, spec[1])
+        if n == 1 and start != stop:
+            raise BadInput(f"{name}: one point in {_shown(spec)} needs start = stop (or n >= 2)")
         if log:
             if start <= 0 or stop <= 0:
-                raise BadInput(f"{name}: a log range needs positive ends, got {spec!r}")
-            values = list(np.geomspace(start, stop, n))
+                raise BadInput(f"{name}: a log range needs positive ends, got {_shown(spec)}")
+            lo, hi = math.log(start), math.log(stop)  # not log(stop/start): 1e300/1e-300 overflows
+            values = [math.exp(lo + (hi - lo) * k / (n - 1)) for k in range(n)] if n > 1 else [start]
         else:
             values = list(np.linspace(start, stop, n))
         values[0], values[-1] = start, stop
         return [float(v) for v in values], log
+    if isinstance(spec, np.ndarray):
+        spec = spec.ravel().tolist() if spec.size <= MAX_N else spec
+    if len(spec) == 0 or len(spec) > MAX_N:
+        raise BadInput(f"{name}: give between 1 and {MAX_N} values, or a range (start, stop, n), "
+                       f"got {len(spec)} values")
     return [_convert(ex, name, v) for v in spec], False
 
 
@@ -473,7 +519,9 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     from mech.problems import registry
     from mech.solvers.verification.sweep import Axis, batched_outputs, batched_points, grid_points, run_batched, run_sweep
 
-    ex = registry.get(str(ex_id))
+    ex = registry.get(ex_id)
+    verify = _flag("verify", verify)
+    jobs = _jobs(jobs)
     axes, fixed = [], {}
     for name, spec in dict(ranges or {}).items():
         canon = name.replace("-", "_")
@@ -484,12 +532,16 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
             fixed[canon] = _convert(ex, name, spec)
     if not axes:
         raise BadInput(f"nothing to sweep: give a parameter of {ex.id} a range (start, stop, n) or a list")
+    total = math.prod(len(a.values) for a in axes)
+    if total > MAX_POINTS:
+        raise BadInput(f"the grid has {total} points; at most {MAX_POINTS} in one sweep")
     if only is not None:
-        wanted = [only] if isinstance(only, str) else list(only)
+        wanted = _names("only", only)
         known = {o.name for o in ex.outputs}
         for name in wanted:
             if name not in known:
-                raise BadInput(f"only: '{name}' is not an output of {ex.id}; its outputs are: {', '.join(known)}")
+                raise BadInput(f"only: '{_shown(name)}' is not an output of {ex.id}; its outputs are: "
+                               f"{', '.join(known)}")
     else:
         wanted = None
     methods = _methods(method)
@@ -531,11 +583,18 @@ def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **
     from mech.problems import registry
     from mech.solvers.verification import bench as benching
 
-    ex = registry.get(str(ex_id))
+    ex = registry.get(ex_id)
     resolved = resolve_params(ex, dict(params or {}))
-    if isinstance(methods, str):
-        methods = [m.strip() for m in methods.split(",")]
-    return benching.bench(ex, resolved, methods=methods, tols=list(tols) if tols else None, **options)
+    if methods is not None:
+        methods = _names("methods", [m.strip() for m in methods.split(",")] if isinstance(methods, str) else methods)
+    if tols is not None:
+        try:
+            tols = [float(t) for t in ([tols] if isinstance(tols, (int, float)) else tols)]
+        except (TypeError, ValueError):
+            raise BadInput(f"tols: give a list of tolerances such as [1e-6, 1e-9], got {_shown(repr(tols))}") from None
+        if not tols or not all(0 < t < 1 for t in tols):
+            raise BadInput(f"tols: every tolerance must be in (0, 1), got {_shown(tols)}")
+    return benching.bench(ex, resolved, methods=methods, tols=tols, **options)
 
 
 def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = None, params: dict | None = None):
@@ -545,8 +604,12 @@ def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = Non
     from mech.cli.figures.common import need_matplotlib, save
     from mech.problems import registry
 
-    ex = registry.get(str(ex_id))
+    ex = registry.get(ex_id)
     resolved = resolve_params(ex, dict(params or {}))
+    if vary is not None:
+        if not isinstance(vary, str) or vary.replace("-", "_") not in ex.param_map:
+            raise BadInput(f"vary: '{_shown(vary)}' is not a parameter of {ex.id}; its parameters are: "
+                           f"{', '.join(ex.param_map)}")
     need_matplotlib()
     fig = draw(ex, resolved, generic=generic, vary=vary.replace("-", "_") if vary else None)
     if path is not None:
@@ -560,7 +623,11 @@ def check(ids=None, hard: bool = False):
     from mech.cli.checking import run_check
     from mech.problems import registry
 
+    if ids is not None and not isinstance(ids, (str, list, tuple)):
+        registry.get(ids)  # a number: BadInput saying to quote it
+        raise BadInput(f"ids: give an id or a list of ids, got {_shown(repr(ids))}")
     if isinstance(ids, str):
         ids = [ids]
+    hard = _flag("hard", hard)
     exercises = [registry.get(i) for i in ids] if ids else list(registry.all_exercises().values())
     return run_check(exercises, hard=hard, progress=False)

@@ -73,6 +73,29 @@ class SweepResult:
             self.points = batched_points(self)
         return self.points
 
+    def iter_points(self):
+        """The points one at a time; a batched sweep's are built as they are read, never all held."""
+        if self.points is None:
+            return iter_batched_points(self)
+        return iter(self.points)
+
+    def write_json(self, out) -> None:
+        """``as_json()`` written to the text stream ``out`` as ``json.dumps(..., indent=2)`` would, its
+        points streamed: memory independent of the number of points."""
+        import json
+
+        head = self.as_json(points=False)
+        text = json.dumps({**head, "points": None}, indent=2, allow_nan=False)
+        before, after = text.split('\n  "points": null', 1)
+        out.write(before + '\n  "points": [')
+        first = True
+        for pt in self.iter_points():
+            chunk = json.dumps(pt, indent=2, allow_nan=False).replace("\n", "\n    ")
+            out.write(("\n    " if first else ",\n    ") + chunk)
+            first = False
+        out.write("\n  ]" if not first else "]")
+        out.write(after + "\n")
+
     def __len__(self) -> int:
         if self.points is None:
             return int(next(iter(self.extra["grid"].values())).size)
@@ -105,14 +128,14 @@ class SweepResult:
 
         return combine_agree(pt.get("agree") for pt in self.points)
 
-    def as_json(self) -> dict:
+    def as_json(self, points: bool = True) -> dict:
         d = {
             "id": self.exercise.id,
             "title": self.exercise.title,
             "swept": [{"name": a.name, "values": list(a.values), "log": a.log} for a in self.axes],
             "fixed": self.fixed,
             "outputs": self.output_names,
-            "points": self.point_list(),
+            "points": self.point_list() if points else None,
             "agree": self.agree,
             "workers": self.workers,
             "seconds": self.seconds,
@@ -501,6 +524,11 @@ def _num(x):
 
 def batched_points(result: SweepResult) -> list[dict]:
     """The chart's per-point solve objects (as ``mech solve --json`` gives them, the asked outputs only)."""
+    return list(iter_batched_points(result))
+
+
+def iter_batched_points(result: SweepResult):
+    """``batched_points`` one at a time: what streams 100 000 points to JSON without holding them."""
     ex = result.exercise
     P = result.extra["grid"]
     judged = result.extra["judged"]
@@ -509,7 +537,6 @@ def batched_points(result: SweepResult) -> list[dict]:
     names = [p.name for p in ex.params]
     N = next(iter(P.values())).size
     cols = {k: P[k].tolist() for k in names}
-    points = []
     for k in range(N):
         quantities, errors = [], []
         for name, J in judged.items():
@@ -563,8 +590,7 @@ def batched_points(result: SweepResult) -> list[dict]:
               "numeric_info": dict(info)}
         if errors:
             pt["errors"] = list(dict.fromkeys(errors))
-        points.append(pt)
-    return points
+        yield pt
 
 
 def output_arrays(result: SweepResult, name: str) -> dict:
