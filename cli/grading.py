@@ -178,9 +178,9 @@ def _entry_lines(text: str) -> list[int]:
 def load_answers(path: str) -> list[Entry]:
     """Read and check a whole grading file before anything is solved; BadFile listing every problem."""
     from mech.problems import registry
-    from mech.problems.safeio import load_toml, read_text, shown
+    from mech.problems.safeio import load_toml, read_text, shown, shown_path
 
-    name = shown(path)
+    name = shown_path(path)
     data = load_toml(path, "answers file")  # BadInput naming the file: unreadable, too big, too deep, malformed
     problems: list[str] = []
     for key in data:
@@ -317,12 +317,12 @@ def write_grade_junit(path: str, entries: list[Entry], seconds: float, out_file:
     viewers do not split "4.15" into a package 4 and a class 15."""
     from xml.etree import ElementTree as ET
 
-    from mech.problems.safeio import atomic_write, shown
+    from mech.problems.safeio import atomic_write, shown, shown_path
 
     judgements = [(e, j) for e in entries for j in e.judgements]
     failed = sum(not j.match for _, j in judgements)
-    suite = ET.Element("testsuite", name=f"mech grade {shown(path)}", tests=str(len(judgements)), failures=str(failed),
-                       errors="0", time=f"{seconds:.3f}")
+    suite = ET.Element("testsuite", name=f"mech grade {shown_path(path)}", tests=str(len(judgements)),
+                       failures=str(failed), errors="0", time=f"{seconds:.3f}")
     for e, j in judgements:
         tc = ET.SubElement(suite, "testcase", classname=f"mech.ex{e.exercise.id.replace('.', '_')}",
                            name=f"{j.name} = {shown(j.text)} ({e.label()})")
@@ -417,13 +417,13 @@ def grade_cmd(file, as_json, junit_file, total_s):
 
 def open_baseline(path: str) -> dict:
     """A baseline file, read and checked before the run (BadInput: one line naming the file and field)."""
-    from mech.problems.safeio import load_json, shown
+    from mech.problems.safeio import load_json, shown, shown_path
     from mech.solvers.verification import baseline
 
     data = load_json(path, "baseline")  # a regular file under 10 MB, nesting bounded, finite numbers
     problem = baseline.validate(data)
     if problem:
-        raise BadInput(f"{shown(path)}: {shown(problem, 300)}")
+        raise BadInput(f"{shown_path(path)}: {shown(problem, 300)}")
     return data
 
 

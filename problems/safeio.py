@@ -21,10 +21,11 @@ import stat
 
 from mech.problems.errors import BadInput
 
-__all__ = ["shown", "escape", "MAX_FILE_BYTES", "MAX_DEPTH", "MAX_KEY_PARTS", "read_text", "load_toml",
+__all__ = ["shown", "shown_path", "escape", "MAX_FILE_BYTES", "MAX_DEPTH", "MAX_KEY_PARTS", "read_text", "load_toml",
            "load_json", "check_output", "budget_seconds", "atomic_write", "columns", "normalize_columns", "MIN_COLUMNS"]
 
 SHOWN_CHARS = 80
+PATH_CHARS = 240  # a file name is cut later than a value: its end says which file
 MAX_FILE_BYTES = 10 * 1024 * 1024
 MAX_DEPTH = 32  # nesting of arrays and tables; an answers file needs 3, a baseline 5
 MAX_KEY_PARTS = 32  # parts of a dotted TOML key; an answers file needs 2
@@ -45,6 +46,11 @@ def escape(text) -> str:
     return _CONTROL.sub(_escape_one, str(text))
 
 
+def shown_path(path) -> str:
+    """A file name from input as it is echoed: escaped, cut at 240 characters."""
+    return shown(path, PATH_CHARS)
+
+
 def shown(value, limit: int = SHOWN_CHARS) -> str:
     """A value from input as it is echoed: control characters escaped, at most ``limit`` characters
     (then "...").  The one function every echo of input goes through."""
@@ -62,7 +68,7 @@ def read_text(path, what: str = "file", limit: int = MAX_FILE_BYTES) -> str:
 
     Opened without blocking (a FIFO with no writer is refused, not waited on) and read no further than
     the limit (``/dev/zero`` is refused, not read)."""
-    name = shown(path)
+    name = shown_path(path)
     if str(path) == "":
         raise BadInput(f"{what}: an empty file name")
     try:
@@ -137,7 +143,7 @@ def load_toml(path, what: str = "file") -> dict:
 
     text = read_text(path, what)
     skeleton = _TOML_STRINGS.sub('""', text)
-    name = shown(path)
+    name = shown_path(path)
     if _depth(skeleton) > MAX_DEPTH:
         raise BadInput(f"{name}: malformed TOML: nested deeper than {MAX_DEPTH} levels")
     if _key_parts(skeleton) > MAX_KEY_PARTS:
@@ -155,7 +161,7 @@ def load_json(path, what: str = "file"):
     import json
 
     text = read_text(path, what)
-    name = shown(path)
+    name = shown_path(path)
     if _depth(_JSON_STRINGS.sub('""', text)) > MAX_DEPTH:
         raise BadInput(f"{name}: malformed JSON: nested deeper than {MAX_DEPTH} levels")
 
@@ -176,7 +182,7 @@ def check_output(path, what: str = "output") -> str:
     """Refuse, before any work, an output path mech could not write: empty, a directory, a device or a
     FIFO, in a folder that does not exist or cannot be written.  Returns the path."""
     text = "" if path is None else str(path)
-    name = shown(text)
+    name = shown_path(text)
     if text.strip() == "":
         raise BadInput(f"{what}: an empty file name; give a file to write")
     try:
@@ -190,7 +196,7 @@ def check_output(path, what: str = "output") -> str:
         raise BadInput(f"{what} {name}: cannot write: {kind}")
     folder = os.path.dirname(os.path.abspath(text))
     if not os.path.isdir(folder):
-        raise BadInput(f"{what} {name}: cannot write: no folder {shown(folder)}")
+        raise BadInput(f"{what} {name}: cannot write: no folder {shown_path(folder)}")
     try:  # the temporary file the write will use must be possible there
         import tempfile
 
@@ -198,7 +204,7 @@ def check_output(path, what: str = "output") -> str:
         os.close(fd)
         os.unlink(probe)
     except OSError as exc:
-        raise BadInput(f"{what} {name}: cannot write in {shown(folder)}: {exc.strerror or exc}") from None
+        raise BadInput(f"{what} {name}: cannot write in {shown_path(folder)}: {exc.strerror or exc}") from None
     return text
 
 
@@ -227,7 +233,7 @@ def atomic_write(path, what: str = "output", mode: str = "w", newline: str | Non
         os.replace(tmp, text)
         tmp = None
     except OSError as exc:
-        raise BadInput(f"{what} {shown(text)}: cannot write: {exc.strerror or exc}; "
+        raise BadInput(f"{what} {shown_path(text)}: cannot write: {exc.strerror or exc}; "
                        "the old file, if any, is left as it was") from None
     finally:
         if tmp is not None:

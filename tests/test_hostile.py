@@ -260,3 +260,269 @@ def test_a_plot_path_is_refused_before_the_bench_runs(tmp_path):
     r = CliRunner().invoke(cli, ["bench", "4.15", "--plot", "/nonexistent/b.png"])
     assert r.exit_code == 2 and time.monotonic() - t0 < 3
     one_line_error(r, "no folder")
+
+
+# -- answers files -----------------------------------------------------------------------------------------
+
+def _answers(tmp_path, text, name="a.toml"):
+    f = tmp_path / name
+    f.write_text(text, encoding="utf-8")
+    return str(f)
+
+
+@pytest.mark.parametrize("text, why", [
+    ('[[answer]]\nexercise = "4.15"\n' + "x." * 16_000 + 'y = 1\n', "dotted key"),
+    ("a = " + "[" * 100_000 + "]" * 100_000 + "\n", "nested deeper"),
+    ('[[answer]]\nexercise = "4.15"\nexpect = { theta_c = ' + "9" * 5000 + " }\n", "malformed TOML"),
+])
+def test_grade_refuses_costly_files_in_little_memory(tmp_path, text, why):
+    r = mech("grade", _answers(tmp_path, text), limit_as=MEMORY_CAP)
+    assert r.returncode == 2
+    one_line_error(r, why, "a.toml")
+
+
+@pytest.mark.parametrize("path", ["/dev/zero", "FIFO"])
+def test_grade_and_baseline_refuse_what_is_not_a_regular_file(tmp_path, path):
+    if path == "FIFO":
+        path = str(tmp_path / "fifo")
+        os.mkfifo(path)
+    for args in (["grade", path], ["check", "4.15", "--baseline", path]):
+        r = mech(*args, limit_as=MEMORY_CAP, timeout=20)
+        assert r.returncode == 2
+        one_line_error(r, "not a regular file")
+
+
+def test_grade_escapes_what_it_echoes(tmp_path):
+    f = _answers(tmp_path, '[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "0.73\\u001b[2J" }\n')
+    r = CliRunner().invoke(cli, ["grade", f])
+    assert r.exit_code == 2 and "\x1b" not in r.output and "\\x1b" in r.output
+
+
+def test_grade_total_budget_fails_what_it_did_not_reach(tmp_path):
+    entries = "".join(f'[[answer]]\nexercise = "4.15"\nparams = {{ theta0 = "{d}deg" }}\n'
+                      'expect = { theta_c = "0.5" }\n\n' for d in (20, 30, 40))
+    r = CliRunner().invoke(cli, ["grade", _answers(tmp_path, entries), "--json", "--budget", "0.01"])
+    assert r.exit_code == 1
+    verdicts = [q["expected"]["verdict"] for e in json.loads(r.stdout)["entries"] for q in e["quantities"]
+                if "expected" in q]
+    assert any("total budget" in v for v in verdicts)
+    r = CliRunner().invoke(cli, ["grade", _answers(tmp_path, entries), "--budget", "nan"])
+    assert r.exit_code == 2 and "--budget" in r.output
+
+
+# -- baselines ---------------------------------------------------------------------------------------------
+
+def _baseline(**changes):
+    base = {"format": "mech-baseline", "version": 1, "versions": {"mech": "0.1.0"}, "hard": False,
+            "cases": [{"id": "4.15", "case": "defaults", "params": {"theta0": 1.0}, "ok": True,
+                       "outputs": {"theta_c": {"unit": "rad", "analytic": 0.5, "numeric": 0.5,
+                                               "numeric_err": 1e-12}}}]}
+    case = base["cases"][0]
+    for path, value in changes.items():
+        target, *keys = path.split("__")
+        obj = {"top": base, "case": case, "out": case["outputs"]["theta_c"]}[target]
+        for k in keys[:-1]:
+            obj = obj[k]
+        if value is KeyError:
+            del obj[keys[-1]]
+        else:
+            obj[keys[-1]] = value
+    return base
+
+
+@pytest.mark.parametrize("changes, words", [
+    ({"top__versions": "abc"}, "versions"),
+    ({"top__version": True}, "version"),
+    ({"out__numeric_err": -1e-3}, "negative"),
+    ({"out__analytic": KeyError}, "analytic: missing"),
+    ({"case__outputs": {}}, "outputs: empty"),
+    ({"case__params": {"theta0": "60deg"}}, "params.theta0"),
+    ({"out__numeric": 10**400}, "too large"),
+    ({"top__hard": "yes"}, "hard"),
+])
+def test_a_bad_baseline_is_refused_before_the_check_and_the_save_is_not_lost(tmp_path, changes, words):
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(_baseline(**changes)))
+    good = tmp_path / "good.json"
+    good.write_text("old\n")
+    r = CliRunner().invoke(cli, ["check", "4.15", "--baseline", str(bad), "--save-baseline", str(good)])
+    assert r.exit_code == 2
+    one_line_error(r, words, "bad.json")
+    assert good.read_text() == "old\n"  # refused before the check: nothing was saved over it
+
+
+def test_a_baseline_nested_deep_or_with_huge_integers(tmp_path):
+    for text, why in (("[" * 100_000 + "]" * 100_000, "nested deeper"), ('{"a": ' + "9" * 5000 + "}", "malformed")):
+        f = tmp_path / "b.json"
+        f.write_text(text)
+        r = mech("check", "4.15", "--baseline", str(f), limit_as=MEMORY_CAP)
+        assert r.returncode == 2
+        one_line_error(r, why)
+
+
+def test_a_baseline_records_mechs_real_version(tmp_path):
+    from importlib import metadata
+
+    out = tmp_path / "b.json"
+    r = CliRunner().invoke(cli, ["check", "4.15", "--save-baseline", str(out)])
+    assert r.exit_code == 0
+    assert json.loads(out.read_text())["versions"]["mech"] == metadata.version("mech-likharev")
+
+
+def test_a_good_baseline_survives_a_failed_write(tmp_path):
+    good = tmp_path / "good.json"
+    r = mech("check", "4.15", "--save-baseline", str(good))
+    assert r.returncode == 0
+    before = good.read_bytes()
+    assert len(before) > 500
+    # a file-size limit below the baseline's size: the write fails, the old file stays whole
+    r = mech("check", "4.15", "--save-baseline", str(good), limit_fsize=256)
+    assert r.returncode == 2
+    one_line_error(r, "good.json", "cannot write")
+    assert good.read_bytes() == before
+    assert sorted(os.listdir(tmp_path)) == ["good.json"]
+
+
+def test_junit_survives_a_failed_write(tmp_path):
+    report = tmp_path / "r.xml"
+    report.write_text("<old/>")
+    r = mech("check", "4.15", "--junit", str(report), limit_fsize=100)
+    assert r.returncode == 2 and report.read_text() == "<old/>"
+    assert sorted(os.listdir(tmp_path)) == ["r.xml"]
+
+
+# -- output paths, before the work -------------------------------------------------------------------------
+
+@pytest.mark.parametrize("args, words", [
+    (["check", "4.15", "--junit", "/nonexistent/x.xml"], "no folder"),
+    (["check", "4.15", "--junit", ""], "empty file name"),
+    (["check", "4.15", "--junit", "/dev/full"], "not a regular file"),
+    (["check", "4.15", "--save-baseline", "/nonexistent/b.json"], "no folder"),
+    (["solve", "4.15", "--trajectory", ""], "empty file name"),
+    (["solve", "4.15", "--trajectory", "/"], "a directory"),
+    (["grade", "ANSWERS", "--junit", "/nonexistent/x.xml"], "no folder"),
+    (["sweep", "4.15", "--theta0", "0.1:1:3", "--plot", "/nonexistent/x.png"], "no folder"),
+])
+def test_output_paths_are_refused_before_the_work(tmp_path, args, words):
+    answers = _answers(tmp_path, '[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "0.73" }\n')
+    args = [answers if a == "ANSWERS" else a for a in args]
+    t0 = time.monotonic()
+    r = CliRunner().invoke(cli, args)
+    assert r.exit_code == 2 and r.stdout == ""
+    one_line_error(r, words)
+    assert time.monotonic() - t0 < 5
+
+
+# -- the API -----------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("call", [
+    lambda m: m.check(4.15),
+    lambda m: m.solve(4.15),
+    lambda m: m.sweep("4.15", only=5, theta0=(0.1, 1.0, 3)),
+    lambda m: m.sweep("4.15", jobs="2", theta0=(0.1, 1.0, 3)),
+    lambda m: m.sweep("4.15", jobs=0, theta0=(0.1, 1.0, 3)),
+    lambda m: m.sweep("4.15", verify="no", theta0=(0.1, 1.0, 3)),
+    lambda m: m.solve("4.15", verify="no"),
+    lambda m: m.sweep("4.15", theta0=[]),
+    lambda m: m.sweep("4.15", theta0=(0.1, 1.0, 10**7)),
+    lambda m: m.sweep("4.15", theta0=(0.1, 1.0, 1000), l=(1, 2, 1000)),
+    lambda m: m.bench("4.15", methods="nosuch"),
+    lambda m: m.bench("4.15", tols=[float("nan")]),
+    lambda m: m.plot("4.15", vary="nosuch"),
+    lambda m: m.solve("4.15", l="m^(0*1e999)"),
+    lambda m: m.solve("4.15", expect={"theta_c": "rad^(0*1e999)"}),
+    lambda m: m.solve("1" * 100_000),
+    lambda m: m.grade("/dev/zero"),
+])
+def test_the_api_raises_badinput_for_every_bad_argument(call):
+    import mech as m
+
+    t0 = time.monotonic()
+    with pytest.raises(m.BadInput):
+        call(m)
+    assert time.monotonic() - t0 < 5
+
+
+def test_the_api_applies_point_limits_before_allocating():
+    r = subprocess.run([sys.executable, "-c", textwrap.dedent(f"""
+        import resource
+        resource.setrlimit(resource.RLIMIT_AS, ({MEMORY_CAP}, {MEMORY_CAP}))
+        import mech
+        try:
+            mech.sweep('4.15', theta0=(0.1, 1.0, 10**7))
+        except mech.BadInput as exc:
+            print('refused:', exc)
+    """)], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0 and r.stdout.startswith("refused:") and "10000" in r.stdout
+
+
+# -- sweeps ------------------------------------------------------------------------------------------------
+
+def test_sweep_json_streams_its_points(tmp_path):
+    import io
+
+    from mech.problems import registry
+    from mech.solvers.verification.sweep import Axis, batched_outputs, run_batched
+
+    ex = registry.get("5.11")
+    axes = [Axis("omega", (9.9, 10.0, 10.1), False), Axis("mu", (0.01, 0.05), False)]
+    result = run_batched(ex, axes, {}, batched_outputs(ex, None))
+    buf = io.StringIO()
+    result.write_json(buf)
+    assert result.points is None  # never built as a list: one point at a time
+    expected = json.dumps(result.as_json(), indent=2, allow_nan=False) + "\n"
+    assert buf.getvalue() == expected
+
+
+def test_a_log_sweep_over_600_decades():
+    r = CliRunner().invoke(cli, ["sweep", "4.15", "--l", "1e-300:1e300:5:log", "--csv"])
+    assert r.exit_code == 0, r.output
+    lengths = [float(row.split(",")[1]) for row in r.stdout.strip().splitlines()[1:]]
+    assert lengths == pytest.approx([1e-300, 1e-150, 1.0, 1e150, 1e300], rel=1e-12)
+
+
+def test_sweep_total_budget_and_jobs_cap():
+    from mech.problems import registry
+    from mech.solvers.verification.sweep import Axis, grid_points, run_sweep, usable_cores
+
+    ex = registry.get("4.15")
+    axes = [Axis("theta0", (0.2, 0.4, 0.6, 0.8), False)]
+    pts = [ex.resolve(v) for v in grid_points(axes, {})]
+    t0 = time.monotonic()
+    result = run_sweep(ex, axes, {}, pts, total_s=1e-3, jobs=256)
+    assert time.monotonic() - t0 < 5
+    assert result.workers <= usable_cores()
+    reasons = [" ".join(p.get("errors") or []) for p in result.points]
+    assert sum("total budget" in r for r in reasons) >= 3
+    assert all(p["agree"] is False for p in result.points[1:])
+    r = CliRunner().invoke(cli, ["sweep", "4.15", "--theta0", "0.1:1:3", "--budget", "-1"])
+    assert r.exit_code == 2
+    one_line_error(r, "--budget")
+
+
+def test_check_jobs_capped_by_the_cores():
+    from mech.cli.checking import plan_jobs
+    from mech.solvers.verification.sweep import usable_cores
+
+    assert plan_jobs(1000, 256) == min(256, usable_cores())
+
+
+# -- budgets -----------------------------------------------------------------------------------------------
+
+def test_a_loop_that_never_checks_is_stopped_by_the_timer_soon_after_the_deadline():
+    from mech.solvers.verification import budget
+
+    t0 = time.monotonic()
+    with pytest.raises(budget.OutOfBudget):
+        with budget.limit(0.3):
+            while True:  # never calls budget.check()
+                sum(range(1000))
+    assert time.monotonic() - t0 < 0.3 + 0.4
+
+
+def test_the_trajectory_shares_the_solves_budget(tmp_path):
+    out = tmp_path / "t.csv"
+    t0 = time.monotonic()
+    r = mech("solve", "4.15", "--trajectory", str(out), env={"MECH_BUDGET_S": "0.01"})
+    assert r.returncode == 1 and not out.exists()
+    assert time.monotonic() - t0 < 10
