@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from mech.problems.errors import BadInput, NumericFailure
+from mech.core.errors import BadInput, NumericFailure
 
 if TYPE_CHECKING:  # pragma: no cover
     from mech.api import Solution, Sweep, Trajectory

@@ -32,9 +32,9 @@ def _value_text(value: Any) -> str:
 
 
 def _convert(ex, name: str, value: Any) -> float:
-    from mech.cli.options import _canonical, _convert as convert_text
+    from mech.problems.values import convert as convert_text, param_name
 
-    canon = _canonical(ex, name)
+    canon = param_name(ex, name)
     return convert_text(ex, canon, _value_text(value))
 
 
@@ -52,7 +52,7 @@ def resolve_params(ex, given: dict[str, Any]):
 def _rtol(ex, rtol):
     if rtol is None:
         return None
-    from mech.cli.options import parse_rtol
+    from mech.problems.values import parse_rtol
 
     return parse_rtol(_value_text(rtol), ex)
 
@@ -68,7 +68,7 @@ def _methods(method: str) -> tuple[str, ...]:
 
 
 def _shown(value) -> str:
-    from mech.problems.safeio import shown
+    from mech.core.safeio import shown
 
     return shown(value)
 
@@ -146,7 +146,7 @@ class Trajectory:
         """A header row ``t [s]`` then ``name [unit]`` per state, one row per time."""
         import csv
 
-        from mech.problems.safeio import atomic_write
+        from mech.core.safeio import atomic_write
 
         with atomic_write(str(path), "--trajectory", newline="") as fh:
             out = csv.writer(fh)
@@ -235,7 +235,7 @@ class Solution:
         if any("solver failed" in e for e in self.errors):
             return None  # the numeric solve itself did not finish: no motion to hand over
         from mech.problems.spec import Params
-        from mech.solvers.verification import budget
+        from mech.core import budget
 
         info = self._data.get("numeric_info") or {}
         # the solve's own budget, not a fresh one: what the cross-check left of it
@@ -294,7 +294,7 @@ class Solution:
         return f"<Solution {self.exercise.id}: {parts}; agree={self.agree}>"
 
     def __rich__(self):
-        from mech.cli import render
+        from mech import render
 
         if self._result is not None:
             return render.solve_table(self._result)
@@ -345,7 +345,7 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
     expectations = _expectations(ex, expect, expect_rtol)
     sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify)
     if expectations is not None:
-        from mech.cli import grading
+        from mech.verification import grading
 
         sol.expect_ok = grading.attach(sol.result, expectations)
         sol._data = grading.solve_json(sol.result)
@@ -364,7 +364,7 @@ def _expectations(ex, expect: dict | None, expect_rtol):
         if expect_rtol is not None:
             raise BadInput("expect_rtol: given without any expected value")
         return None
-    from mech.cli import grading
+    from mech.verification import grading
 
     pairs = [f"{name}={_value_text(value)}" for name, value in expect.items()]
     return grading.parse_expect_options(ex, pairs, None if expect_rtol is None else _value_text(expect_rtol))
@@ -373,8 +373,8 @@ def _expectations(ex, expect: dict | None, expect_rtol):
 def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None,
                    verify: bool = True) -> Solution:
     """The cross-check at checked parameters: what ``mech.solve`` and ``mech solve`` both run."""
-    from mech.solvers.verification import budget
-    from mech.solvers.verification.crosscheck import cross_check
+    from mech.core import budget
+    from mech.verification.crosscheck import cross_check
 
     budget_s = budget.default_seconds()
     deadline = time.monotonic() + budget_s
@@ -440,7 +440,7 @@ class Sweep:
 
     @property
     def agree(self) -> bool | None:
-        from mech.solvers.verification.crosscheck import combine_agree
+        from mech.verification.crosscheck import combine_agree
 
         return combine_agree(p.agree for p in self.points)
 
@@ -481,7 +481,7 @@ class Sweep:
         """One row per point; the header gives each column's unit as ``name [unit]``."""
         import csv
 
-        from mech.problems.safeio import atomic_write
+        from mech.core.safeio import atomic_write
 
         arrays = self.to_arrays()
         cols = self._columns()
@@ -517,7 +517,7 @@ def _nan(v) -> float:
 def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, only=None, jobs=None,
           ranges: dict | None = None) -> Sweep:
     from mech.problems import registry
-    from mech.solvers.verification.sweep import Axis, batched_outputs, batched_points, grid_points, run_batched, run_sweep
+    from mech.verification.sweep import Axis, batched_outputs, batched_points, grid_points, run_batched, run_sweep
 
     ex = registry.get(ex_id)
     verify = _flag("verify", verify)
@@ -551,7 +551,7 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     batched = batched_outputs(ex, wanted)
     if batched:
         # the chart route: every point integrated at once, each with its own verdict and error bar
-        from mech.cli.sweep import validate_grid
+        from mech.verification.sweep import validate_grid
 
         validate_grid(ex, axes, fixed)
         result = run_batched(ex, axes, fixed, batched, rtol=rtol_value, verify=verify)
@@ -570,7 +570,7 @@ def grade(path) -> dict:
     """``mech grade FILE --json``: every answer of a grading file held against mech."""
     import time
 
-    from mech.cli import grading
+    from mech.verification import grading
 
     t0 = time.perf_counter()
     entries = grading.load_answers(str(path))
@@ -581,7 +581,7 @@ def grade(path) -> dict:
 def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **options) -> dict:
     """``mech bench ID --json``: speed against error of the numeric solver(s)."""
     from mech.problems import registry
-    from mech.solvers.verification import bench as benching
+    from mech.verification import bench as benching
 
     ex = registry.get(ex_id)
     resolved = resolve_params(ex, dict(params or {}))
@@ -600,8 +600,8 @@ def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **
 def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = None, params: dict | None = None):
     """``mech plot ID -o PATH``: the exercise's figure (needs matplotlib); returns the matplotlib Figure,
     saved to ``path`` when one is given."""
-    from mech.cli.figures import draw
-    from mech.cli.figures.common import need_matplotlib, save
+    from mech.figures import draw
+    from mech.figures.common import need_matplotlib, save
     from mech.problems import registry
 
     ex = registry.get(ex_id)
@@ -620,7 +620,7 @@ def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = Non
 # -- check -------------------------------------------------------------------------
 
 def check(ids=None, hard: bool = False):
-    from mech.cli.checking import run_check
+    from mech.verification.checking import run_check
     from mech.problems import registry
 
     if ids is not None and not isinstance(ids, (str, list, tuple)):

@@ -1,4 +1,4 @@
-"""``mech bench ID``: speed against error of an exercise's numeric solver (machinery in mech.solvers.verification.bench)."""
+"""``mech bench ID``: speed against error of an exercise's numeric solver (machinery in mech.verification.bench)."""
 
 from __future__ import annotations
 
@@ -54,7 +54,7 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
     from mech.cli.main import UsageFailure, _get
     from mech.cli.options import collect_params
     from mech.problems.spec import BadInput
-    from mech.solvers.verification.bench import bench
+    from mech.verification.bench import bench
 
     ex = _get(ex_id)
     if ex._numeric is None or ex._analytic is None:
@@ -70,13 +70,13 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
             import matplotlib  # noqa: F401
         except ImportError:
             raise UsageFailure("--plot needs matplotlib: pip install -e '.[plot]' in mech's checkout") from None
-        from mech.cli.figures.common import check_target
+        from mech.figures.common import check_target
 
         check_target(plot_file)  # before the bench's seconds of work
 
     progress = None
     if not as_json:
-        from mech.cli.render import console
+        from mech.render import console
 
         c = console()
 
@@ -92,7 +92,7 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
     if plot_file:
         plot_bench(result, plot_file)
     if as_json:
-        from mech.solvers.verification.crosscheck import _clean
+        from mech.verification.crosscheck import _clean
 
         click.echo(json.dumps(_clean(result), indent=2, allow_nan=False))
     else:
@@ -102,7 +102,7 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
 def _canonical_methods(ex, params, text: str) -> list[str]:
     """The rows asked for, by their canonical names: ``rk45`` is RK45 (names are matched without case)."""
     from mech.cli.main import UsageFailure
-    from mech.solvers.verification import bench as machinery
+    from mech.verification import bench as machinery
 
     names = list(dict.fromkeys(machinery.ODE_METHODS + machinery.OTHER_ODE + tuple(machinery.SYMPLECTIC)
                                + (machinery.STUDENT, machinery.DEFAULT_ROW)))
@@ -138,7 +138,7 @@ def _print(r: dict, plot_file: str | None) -> None:
 
     from rich.console import Group
 
-    from mech.cli.render import console, emit
+    from mech.render import console, emit
 
     c = console()
     parts: list = []
@@ -191,7 +191,7 @@ def _print(r: dict, plot_file: str | None) -> None:
 
 
 def plot_bench(r: dict, path: str) -> None:
-    """Error against median time and against nfev, log-log, one line per method (cli/figures/benchfig.py)."""
-    from mech.cli.figures.benchfig import plot_bench as draw
+    """Error against median time and against nfev, log-log, one line per method (figures/benchfig.py)."""
+    from mech.figures.benchfig import plot_bench as draw
 
     draw(r, path)

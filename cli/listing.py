@@ -58,7 +58,7 @@ def _rule() -> str:
 
 
 def print_list(exercises) -> None:
-    from mech.problems.safeio import columns
+    from mech.core.safeio import columns
 
     width = columns()
     if width is None:

@@ -13,8 +13,9 @@ import sys
 
 import click
 
-from mech.cli.options import collect_params, parse_rtol
-from mech.problems.errors import BadInput
+from mech.cli.options import collect_params
+from mech.problems.values import parse_rtol
+from mech.core.errors import BadInput, BadUsage
 
 EXIT_OK, EXIT_DISAGREE, EXIT_USAGE = 0, 1, 2
 
@@ -116,7 +117,7 @@ class MechGroup(click.Group):
         except click.ClickException as exc:
             _error(exc.format_message())
             code = EXIT_USAGE if isinstance(exc, (click.UsageError, UsageFailure)) else exc.exit_code
-        except BadInput as exc:  # bad input found below the command's own checks: still exit 2, one line
+        except (BadUsage, BadInput) as exc:  # bad input found below the command's own checks: exit 2, one line
             _error(str(exc))
             code = EXIT_USAGE
         except click.Abort:
@@ -154,7 +155,7 @@ class MechGroup(click.Group):
 def _environment_checks() -> None:
     """What the environment must give before a command runs: an open standard output, a usable
     ``MECH_BUDGET_S``; ``COLUMNS`` read as the tables read it (below 60 as 60, zero or garbage unset)."""
-    from mech.problems.safeio import budget_seconds, normalize_columns
+    from mech.core.safeio import budget_seconds, normalize_columns
 
     normalize_columns()
     if sys.stdout is None:
@@ -164,7 +165,7 @@ def _environment_checks() -> None:
 
 
 def _error(text: str) -> None:
-    from mech.problems.safeio import escape
+    from mech.core.safeio import escape
 
     line = escape(_one_line(text))
     if len(line) > 2000:
@@ -251,7 +252,7 @@ def show_cmd(ex_id, as_json):
     if as_json:
         _emit_json({**ex.as_json(), "from_book": _registry().from_book(ex.id)})
     else:
-        from mech.cli import render
+        from mech import render
 
         render.print_show(ex, from_book=_registry().from_book(ex.id))
 
@@ -416,7 +417,7 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
         rtol = parse_rtol(rtol_text, ex)
         grading = None
         if expects or expect_rtol is not None:
-            from mech.cli import grading
+            from mech.verification import grading
 
             expectations = grading.parse_expect_options(ex, list(expects), expect_rtol)
     except BadInput as exc:
@@ -429,7 +430,7 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
         sol = solve_resolved(ex, params, methods=methods, rtol=rtol, verify=verify)
         result = sol.result
     else:  # the same cross-check, without loading the API's module (7 ms to compile where .pyc are not kept)
-        from mech.solvers.verification.crosscheck import cross_check
+        from mech.verification.crosscheck import cross_check
 
         result = cross_check(ex, params, methods=methods, rtol=rtol, verify=verify)
     if trajectory_file:
@@ -452,7 +453,7 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
     if as_json:
         _emit_json(grading.solve_json(result) if grading else result.as_json())
     else:
-        from mech.cli import render
+        from mech import render
 
         render.print_solve(result)
     ctx.exit(EXIT_DISAGREE if result.agree is False or not expect_ok else EXIT_OK)
@@ -473,7 +474,8 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
 
     Exit status 1 when any case fails: the CI regression command.
     """
-    from mech.cli.checking import run_check, write_junit
+    from mech.cli.checking import write_junit
+    from mech.verification.checking import run_check
 
     exercises = [_get(i) for i in ids] if ids else list(_registry().all_exercises().values())
     for path, what in ((junit_file, "--junit"), (save_baseline, "--save-baseline")):
@@ -481,7 +483,7 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
             _check_output(path, what)
     grading = old = None
     if save_baseline or baseline_file:
-        from mech.cli import grading
+        from mech.verification import grading
 
         try:
             old = grading.open_baseline(baseline_file) if baseline_file else None  # a bad file fails first
@@ -495,20 +497,24 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
     if junit_file:
         write_junit(report, junit_file)
         if moved:
-            grading.junit_baseline(junit_file, moved)
+            from mech.cli.grading import junit_baseline
+
+            junit_baseline(junit_file, moved)
     if as_json:
         _emit_json({**report.as_json(), **({"baseline": moved.as_json()} if moved else {})})
     else:
-        from mech.cli import render
+        from mech import render
 
         render.print_check(report)
         if grading:
-            grading.print_baseline(moved, save_baseline)
+            from mech.cli.grading import print_baseline
+
+            print_baseline(moved, save_baseline)
     ctx.exit(EXIT_OK if report.ok and (moved is None or moved.ok) else EXIT_DISAGREE)
 
 
 def _check_output(path, what: str) -> None:
-    from mech.problems.safeio import check_output
+    from mech.core.safeio import check_output
 
     try:
         check_output(path, what)

@@ -5,7 +5,8 @@ from __future__ import annotations
 import click
 
 from mech.cli.main import SolveCommand, UsageFailure, _complete_ids, _get
-from mech.cli.options import _canonical, collect_params, parse_rtol
+from mech.cli.options import collect_params
+from mech.problems.values import param_name, parse_rtol
 from mech.problems.spec import BadInput
 
 FIGURE_BUDGETS = 2
@@ -41,7 +42,7 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
     Matplotlib comes with the plot extra; in mech's checkout:
     pip install -e '.[plot]'.
     """
-    from mech.cli.figures.common import check_target, need_matplotlib, save
+    from mech.figures.common import check_target, need_matplotlib, save
 
     ex = _get(ex_id)
     try:
@@ -49,7 +50,7 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
         params = ex.resolve(given)
         rtol = parse_rtol(rtol_text, ex)
         if vary:
-            vary = _canonical(ex, vary)
+            vary = param_name(ex, vary)
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     if out is not None and not out.strip():
@@ -60,9 +61,9 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
     need_matplotlib()
     import warnings
 
-    from mech.cli.figures import draw
+    from mech.figures import draw
     from mech.problems.spec import NumericFailure
-    from mech.solvers.verification import budget
+    from mech.core import budget
 
     # every numeric solve has its own budget (a failed one is shown in the figure); the whole figure,
     # the scene's own integrations included, ends within FIGURE_BUDGETS solve budgets or fails in one line

@@ -17,18 +17,19 @@ import sys
 import click
 
 from mech.cli.main import EXIT_DISAGREE, EXIT_OK, SolveCommand, UsageFailure, _complete_ids, _get
-from mech.cli.options import _convert, collect_texts, parse_rtol
-from mech.problems.safeio import columns
-from mech.cli.values import ValueError_, to_si
+from mech.cli.options import collect_texts
+from mech.core.safeio import columns
+from mech.problems.values import convert, parse_rtol
+from mech.core.units import ValueError_, to_si
 from mech.problems.spec import BadInput, Exercise
+from mech.verification.sweep import describe_point, validate, validate_grid
 
-MAX_POINTS = 100_000
 MAX_N = 10_000
 
 
 def parse_range(ex: Exercise, name: str, text: str):
     """``START:STOP:N[:log]`` -> Axis; every value within the parameter's bounds."""
-    from mech.solvers.verification.sweep import Axis
+    from mech.verification.sweep import Axis
 
     param = ex.param_map[name]
     parts = [s.strip() for s in text.split(":")]
@@ -80,7 +81,7 @@ def shown_unit(param, text: str = "") -> tuple[str, float]:
     (``10deg`` -> deg, ``2Hz`` -> Hz), else the parameter's display unit, else its SI unit."""
     import re
 
-    from mech.cli.values import UNITS
+    from mech.core.units import UNITS
 
     m = re.fullmatch(r"\s*[-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?\s*([A-Za-z]+)\s*", text or "")
     if m and m.group(1) in UNITS:
@@ -113,70 +114,11 @@ def collect(ex: Exercise, args: list[str], pairs: list[str]):
         if ":" in text:
             axes.append(parse_range(ex, name, text))
         else:
-            fixed[name] = _convert(ex, name, text)
+            fixed[name] = convert(ex, name, text)
     if not axes:
         names = ", ".join(ex.param_map)
         raise BadInput(f"nothing to sweep: give at least one --NAME START:STOP:N (parameters of {ex.id}: {names})")
     return axes, fixed
-
-
-def _describe(ex: Exercise, values: dict, names) -> str:
-    return ", ".join(f"{n} = {ex.param_map[n].show(values[n])}" for n in names)
-
-
-def validate_grid(ex: Exercise, axes, fixed) -> None:
-    """The batched route's check of every grid point: the same bounds and joint constraints as ``validate``.
-
-    The axes' values were checked against their bounds when parsed and the
-    fixed values when converted, so each point only needs the joint checks."""
-    from mech.problems.spec import Params
-
-    total = math.prod(len(a.values) for a in axes)
-    if total > MAX_POINTS:
-        raise BadInput(f"the grid has {total} points; at most {MAX_POINTS} in one sweep")
-    base = {p.name: float(fixed.get(p.name, p.default)) for p in ex.params}
-    if not ex._constraints:
-        return
-    import itertools
-
-    names = [a.name for a in axes]
-    view = _PointView(base)
-    for combo in itertools.product(*(a.values for a in axes)):
-        view.__dict__.update(zip(names, combo))
-        for check in ex._constraints:
-            try:
-                msg = check(view)
-            except Exception:  # a check that needs more than attribute access: the real Params
-                msg = check(Params(dict(view.__dict__)))
-            if msg:
-                raise BadInput(f"sweep point {_describe(ex, view.__dict__, names)}: {msg}")
-
-
-class _PointView:
-    """A grid point's values read as ``p.name`` or ``p["name"]``, refilled in place for every point (the
-    joint checks of 40 000 points then cost milliseconds, not the half second of building Params)."""
-
-    def __init__(self, values):
-        self.__dict__.update(values)
-
-    def __getitem__(self, key):
-        return self.__dict__[key]
-
-
-def validate(ex: Exercise, axes, fixed):
-    """Every grid point resolved with the bounds and joint constraints, as solve does; the first bad one is named."""
-    from mech.solvers.verification.sweep import grid_points
-
-    total = math.prod(len(a.values) for a in axes)
-    if total > MAX_POINTS:
-        raise BadInput(f"the grid has {total} points; at most {MAX_POINTS} in one sweep")
-    resolved = []
-    for values in grid_points(axes, fixed):
-        try:
-            resolved.append(ex.resolve(values))
-        except BadInput as exc:
-            raise BadInput(f"sweep point {_describe(ex, values, [a.name for a in axes])}: {exc}") from None
-    return resolved
 
 
 # -- output ----------------------------------------------------------------
@@ -213,7 +155,7 @@ def print_table(result) -> None:
     from rich.table import Table
     from rich.text import Text
 
-    from mech.cli import render
+    from mech import render
 
     ex = result.exercise
     swept = [a.name for a in result.axes]
@@ -278,7 +220,7 @@ def print_table(result) -> None:
             msgs = [f"{q['name']}: {q.get('note') or 'disagree'}" for q in pt["quantities"] if q["agree"] is False]
         for e in msgs:
             if shown < SHOW_ERRORS:
-                c.print(Text(f"point {k + 1} ({_describe(ex, pt['params'], swept)}): {e}", style="red"))
+                c.print(Text(f"point {k + 1} ({describe_point(ex, pt['params'], swept)}): {e}", style="red"))
             shown += 1
     if shown > SHOW_ERRORS:
         c.print(Text(f"... and {shown - SHOW_ERRORS} more (--json lists every point)", style="red"))
@@ -349,7 +291,7 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
       mech sweep 5.11 --omega 7:13:200 --mu 0.005:0.5:200 --only growth --plot chart.png
     Exit status: 0 every point agrees, 1 a point failed, 2 bad input, 130 interrupted.
     """
-    from mech.solvers.verification.sweep import batched_outputs, run_batched, run_sweep
+    from mech.verification.sweep import batched_outputs, run_batched, run_sweep
 
     if as_json and as_csv:
         raise UsageFailure("--json and --csv: choose one")
@@ -366,13 +308,13 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
             n_points = len(params)
         rtol = parse_rtol(rtol_text, ex)
         if total_s is not None:
-            from mech.solvers.verification.sweep import check_total
+            from mech.verification.sweep import check_total
 
             total_s = check_total(total_s)
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     if plot_file:
-        from mech.cli.figures.common import check_target, need_matplotlib
+        from mech.figures.common import check_target, need_matplotlib
 
         need_matplotlib()
         check_target(plot_file)
@@ -410,8 +352,8 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
     result.fixed = {p.name: float(fixed.get(p.name, p.default)) for p in ex.params if p.name not in swept}
 
     if plot_file:
-        from mech.cli.figures.common import save
-        from mech.cli.figures.sweepfig import sweep_figure
+        from mech.figures.common import save
+        from mech.figures.sweepfig import sweep_figure
 
         save(sweep_figure(result), plot_file)
     if as_json:

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
-from mech.problems.safeio import shown
+from mech.core.safeio import shown
 from mech.problems.spec import BadInput, Exercise
 
 CHAPTER_PACKAGES = ("mech.problems.ch4", "mech.problems.ch5")

@@ -17,7 +17,7 @@ or when the analytic solution overflows, divides by zero or forms a NaN even in 
 refusal names the parameters far from their defaults, whose combinations it could not form).  A
 solver's own failure of any other kind is left to the cross-check to report.
 
-``natural_units`` and ``to_si`` are also what ``Exercise.solve_analytic`` uses, so that the analytic
+``natural_units`` and ``from_natural`` are also what ``Exercise.solve_analytic`` uses, so that the analytic
 answer does not depend on the units the user chose: at the defaults and within 1e+-9 of them the
 units are SI and nothing changes.
 """
@@ -25,45 +25,23 @@ units are SI and nothing changes.
 from __future__ import annotations
 
 import math
-import re
 
-__all__ = ["LOG10_LIMIT", "QUANTUM", "dims", "natural_units", "to_si", "representable", "far_params",
+__all__ = ["LOG10_LIMIT", "QUANTUM", "dims", "natural_units", "from_natural", "representable", "far_params",
            "out_of_range"]
 
 LOG10_LIMIT = 290.0  # |log10 x| beyond this for a non-zero scale: outside the range mech works in
 QUANTUM = 64  # unit exponents (powers of two) are multiples of this: 2^64 ~ 1.8e19
 
-_BASE = {  # (kg, m, s)
-    "kg": (1, 0, 0), "m": (0, 1, 0), "s": (0, 0, 1), "rad": (0, 0, 0), "1": (0, 0, 0),
-    "N": (1, 1, -2), "J": (1, 2, -2), "W": (1, 2, -3),
-}
-
-
-def _factors(text: str) -> tuple[int, int, int] | None:
-    text = text.strip()
-    if text.startswith("(") and text.endswith(")"):
-        text = text[1:-1]
-    total = [0, 0, 0]
-    for tok in re.split(r"[*\s]+", text.strip()):
-        if not tok:
-            continue
-        m = re.fullmatch(r"([A-Za-z]+|1)(?:\^(-?\d+))?", tok)
-        if not m or m.group(1) not in _BASE:
-            return None
-        power = int(m.group(2) or 1)
-        for k, e in enumerate(_BASE[m.group(1)]):
-            total[k] += e * power
-    return tuple(total)
-
-
 def dims(unit: str) -> tuple[int, int, int] | None:
-    """The (kg, m, s) exponents of a catalogue unit ("kg*m^2", "1/(m^2 s^2)", "rad/s"); None if unknown."""
-    num, _, den = unit.partition("/")
-    top = _factors(num)
-    bottom = _factors(den) if den else (0, 0, 0)
-    if top is None or bottom is None:
+    """The (kg, m, s) exponents of a catalogue unit ("kg*m^2", "1/(m^2 s^2)", "rad/s"), read by the one unit
+    parser ``mech.core.units``; None if it is not a coherent SI unit."""
+    from mech.core.units import ValueError_, parse_unit
+
+    try:
+        factor, (length, mass, time, _angle) = parse_unit(unit)
+    except ValueError_:
         return None
-    return tuple(a - b for a, b in zip(top, bottom))
+    return (mass, length, time) if factor == 1.0 else None
 
 
 def _log2_dev(value: float, default: float) -> float | None:
@@ -124,7 +102,7 @@ def _unit_exponent(unit: str, u) -> int:
     return sum(a * b for a, b in zip(dims(unit), u))
 
 
-def to_si(value: float, unit: str, u) -> float:
+def from_natural(value: float, unit: str, u) -> float:
     """A value in the natural units ``u`` brought back to SI (exact unless it leaves the range)."""
     k = _unit_exponent(unit, u)
     return math.ldexp(value, k) if k else value

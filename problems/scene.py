@@ -3,7 +3,7 @@
 An exercise that has a scene registers ``@exercise.scene def scene(p, run) -> Scene``:
 it computes every curve, trajectory, potential and marker from its own physics
 (its equations of motion, energies, solvers) and hands them over with labels
-and units.  ``mech plot`` (cli/figures) only draws what it is given; it holds
+and units.  ``mech plot`` (figures/) only draws what it is given; it holds
 no equation of motion and no formula.
 
 ``run`` is a :class:`SceneRun`: the requested accuracy, how many numeric
@@ -176,10 +176,10 @@ class SceneRun:
     def numeric(self, p) -> dict | None:
         """The numeric solver's outputs at ``p``; None when the figure spends no numeric solves.
 
-        Each solve runs under the wall-clock budget of a solve (``mech.solvers.verification.budget``, as in the
+        Each solve runs under the wall-clock budget of a solve (``mech.core.budget``, as in the
         cross-check); once one has run out of it the figure's remaining numeric solves are skipped
         (recorded as failures), so that a figure never waits on several slow solves in a row."""
-        from mech.solvers.verification import budget
+        from mech.core import budget
 
         if self.points <= 0:
             return None

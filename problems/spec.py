@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
-from mech.problems.errors import BadInput, NumericFailure
+from mech.core.errors import BadInput, NumericFailure
 
 __all__ = [
     "BadInput",
@@ -479,7 +479,7 @@ class Exercise:
         u, values = nat
         out = self._finish(self._analytic(Params(values)), "analytic")
         units = {o.name: o.unit for o in self.outputs}
-        return {n: v if isinstance(v, Undefined) else scales.to_si(v, units[n], u) for n, v in out.items()}
+        return {n: v if isinstance(v, Undefined) else scales.from_natural(v, units[n], u) for n, v in out.items()}
 
     def solve_numeric(self, p: Params, rtol: float | None = None, shared: dict | None = None,
                       keep_trajectories: bool = False, integrator: str | None = None) -> tuple[dict, Run]:

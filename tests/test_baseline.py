@@ -8,7 +8,7 @@ import pytest
 from click.testing import CliRunner
 
 from mech.cli.main import cli
-from mech.solvers.verification import baseline
+from mech.verification import baseline
 
 
 def run(*args):

@@ -11,7 +11,7 @@ from click.testing import CliRunner
 
 from mech.cli.main import cli
 from mech.problems import registry
-from mech.solvers.verification.bench import STUDENT, bench, error_against, summarize
+from mech.verification.bench import STUDENT, bench, error_against, summarize
 
 POINT_KEYS = {"method", "rtol", "error", "time_s", "time_min_s", "time_max_s", "nfev", "ok"}
 
@@ -167,7 +167,7 @@ def test_probe_sees_whether_the_forced_integrator_ran(ex_id, applies):
     """The probe forces LSODA on the Run: an exercise that integrates (directly, through floquet, through the
     orbit continuation) reports it ran; a closed-form route (4.1: integrals over the mass) does not."""
     from mech.problems import registry
-    from mech.solvers.verification.bench import probe_route
+    from mech.verification.bench import probe_route
 
     ex = registry.get(ex_id)
     integrates, _ = probe_route(ex, ex.resolve({}))

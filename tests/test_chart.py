@@ -16,9 +16,9 @@ from mech.cli.main import cli
 from mech.problems import registry
 from mech.problems.spec import NumericFailure
 from mech.solvers.numerics.batch import integrate_batch
-from mech.solvers.verification.crosscheck import cross_check
+from mech.verification.crosscheck import cross_check
 from mech.solvers.mechanics.floquet import even_hill_half_batch
-from mech.solvers.verification.sweep import Axis, batched_points, grid_points, run_batched
+from mech.verification.sweep import Axis, batched_points, grid_points, run_batched
 
 
 def run(*args):
@@ -272,7 +272,7 @@ def test_ctrl_c_ends_with_one_line_and_130(monkeypatch):
     """The second chunk is interrupted: exit 130, one line on stderr saying how far it got, nothing on stdout."""
     import dataclasses
 
-    import mech.solvers.verification.sweep as sweep
+    import mech.verification.sweep as sweep
 
     ex = registry.get("5.11")
     calls = []
@@ -334,7 +334,7 @@ def test_map_marks_failed_points_with_their_reason(monkeypatch):
     pytest.importorskip("matplotlib")
     import dataclasses
 
-    from mech.cli.figures.sweepfig import sweep_figure
+    from mech.figures.sweepfig import sweep_figure
     from mech.solvers.numerics.batch import Column
 
     ex = registry.get("5.11")

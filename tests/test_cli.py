@@ -210,7 +210,7 @@ def test_version():
                                          (["show", "4.15"], ("scipy", "matplotlib"))])
 def test_listing_and_help_import_nothing_heavy(argv, heavy):
     if argv == ["--help"]:  # nor the lazily loaded commands, nor the exercise machinery
-        heavy = heavy + ("mech.cli.grading", "mech.cli.bench", "mech.cli.plot", "mech.cli.sweep",
+        heavy = heavy + ("mech.cli.grading", "mech.cli.bench", "mech.cli.plot", "mech.cli.sweep", "mech.verification",
                          "mech.problems.spec")
     code = (
         "import sys\n"

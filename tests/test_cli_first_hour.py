@@ -88,9 +88,9 @@ def test_show_keeps_brackets_in_statement_and_route():
 @pytest.mark.parametrize("width", [60, 80])
 @pytest.mark.parametrize("ex_id", ["4.30", "4.10", "5.8", "4.15"])
 def test_solve_table_never_cuts_a_number(ex_id, width):
-    from mech.cli import render
+    from mech import render
     from mech.problems import registry
-    from mech.solvers.verification.crosscheck import cross_check
+    from mech.verification.crosscheck import cross_check
 
     code, out, _ = run("solve", ex_id, env={"COLUMNS": str(width)})
     assert code == 0
@@ -138,15 +138,15 @@ def test_list_follows_columns():
     (1e-9, 1e-6, "1e-09 ± 1e-06"),                   # the error exceeds the value
 ])
 def test_values_are_printed_to_their_earned_digits(v, err, text):
-    from mech.cli.render import with_error
+    from mech.render import with_error
 
     assert with_error(v, err) == text
 
 
 def test_solve_table_uses_numeric_err_when_the_crosscheck_gives_it(monkeypatch):
-    from mech.cli import render
+    from mech import render
     from mech.problems import registry
-    from mech.solvers.verification.crosscheck import cross_check
+    from mech.verification.crosscheck import cross_check
 
     ex = registry.get("4.15")
     result = cross_check(ex, ex.resolve({}), verify=False)
@@ -221,9 +221,9 @@ def test_solve_help_without_an_id_says_how_to_list_parameters():
 
 
 def test_a_note_shared_by_outputs_is_said_once(monkeypatch):
-    from mech.cli import render
+    from mech import render
     from mech.problems import registry
-    from mech.solvers.verification.crosscheck import cross_check
+    from mech.verification.crosscheck import cross_check
 
     ex = registry.get("4.15")
     result = cross_check(ex, ex.resolve({}), verify=False)

@@ -13,7 +13,7 @@ import pytest
 
 from mech.problems import registry
 from mech.problems.spec import Undefined
-from mech.solvers.verification import crosscheck
+from mech.verification import crosscheck
 
 
 def _stand_in(ex, factor_of, invariant=None):
@@ -133,7 +133,7 @@ def test_a_solve_past_its_budget_fails_loudly(monkeypatch):
     ex = registry.get("4.15")
 
     def endless(p, run):
-        from mech.solvers.verification import budget
+        from mech.core import budget
 
         while True:
             time.sleep(0.01)

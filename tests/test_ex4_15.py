@@ -48,7 +48,7 @@ def test_nearly_upright_start_at_rest_matches_upright_limit():
     dict(theta0=1e-280), dict(theta0=1e-9, l=1e300),
 ])
 def test_extreme_scales_answer_quickly(given):
-    from mech.solvers.verification import budget
+    from mech.core import budget
 
     p = dict(theta0=math.pi / 2, l=1.0, g=9.81) | given
     with budget.limit(5.0):

@@ -194,7 +194,7 @@ NARROW_B = dict(omega0=100.0, mu=1e-3, beta=1.0, f0=2e-5, omega=100.001)
 
 def _cross_check(given):
     from mech.problems import registry
-    from mech.solvers.verification.crosscheck import cross_check
+    from mech.verification.crosscheck import cross_check
 
     ex = registry.get("5.10")
     return {q["name"]: q for q in cross_check(ex, ex.resolve(given)).as_json()["quantities"]}

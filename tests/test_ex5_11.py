@@ -147,7 +147,7 @@ NARROW = dict(omega0=410386.0, mu=1.97581e-07, omega=474653.0)
 
 def _cross_check(**given):
     from mech.problems import registry
-    from mech.solvers.verification.crosscheck import cross_check
+    from mech.verification.crosscheck import cross_check
 
     ex = registry.get("5.11")
     return {q["name"]: q for q in cross_check(ex, ex.resolve(given)).as_json()["quantities"]}

@@ -122,7 +122,7 @@ def test_threshold_against_mathieu_characteristic_values(l, g, Omega, edge):
 ])
 def test_cross_check_at_large_detuning(given):
     from mech.problems import registry
-    from mech.solvers.verification.crosscheck import cross_check
+    from mech.verification.crosscheck import cross_check
 
     ex = registry.get("5.12")
     cc = cross_check(ex, ex.resolve(given))

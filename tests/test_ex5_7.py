@@ -127,7 +127,7 @@ def test_a_flipped_cubic_term_fails_the_energy_check(monkeypatch, given):
     import importlib
 
     from mech.problems import registry
-    from mech.solvers.verification.crosscheck import cross_check
+    from mech.verification.crosscheck import cross_check
 
     mod = importlib.import_module("mech.problems.ch5.ex5_7_duffing_free")
     ex = registry.get("5.7")

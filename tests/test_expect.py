@@ -14,11 +14,11 @@ from types import SimpleNamespace
 import pytest
 from click.testing import CliRunner
 
-from mech.cli.grading import _literal_precision, parse_expectation
+from mech.verification.grading import _literal_precision, parse_expectation
 from mech.cli.main import cli
 from mech.problems.spec import BadInput, Output, Undefined
-from mech.solvers.verification.answers import judge
-from mech.solvers.verification.crosscheck import Quantity
+from mech.verification.answers import judge
+from mech.verification.crosscheck import Quantity
 
 THETA_C = math.asin(1 / math.sqrt(3))
 THETA_C_DEG = math.degrees(THETA_C)  # 35.2644

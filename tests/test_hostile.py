@@ -19,8 +19,8 @@ import pytest
 from click.testing import CliRunner
 
 from mech.cli.main import cli
-from mech.problems import safeio
-from mech.problems.errors import BadInput
+from mech.core import safeio
+from mech.core.errors import BadInput
 
 MEMORY_CAP = 500 * 2**20  # the bound on any command's peak memory
 
@@ -462,7 +462,7 @@ def test_sweep_json_streams_its_points(tmp_path):
     import io
 
     from mech.problems import registry
-    from mech.solvers.verification.sweep import Axis, batched_outputs, run_batched
+    from mech.verification.sweep import Axis, batched_outputs, run_batched
 
     ex = registry.get("5.11")
     axes = [Axis("omega", (9.9, 10.0, 10.1), False), Axis("mu", (0.01, 0.05), False)]
@@ -483,7 +483,7 @@ def test_a_log_sweep_over_600_decades():
 
 def test_sweep_total_budget_and_jobs_cap():
     from mech.problems import registry
-    from mech.solvers.verification.sweep import Axis, grid_points, run_sweep, usable_cores
+    from mech.verification.sweep import Axis, grid_points, run_sweep, usable_cores
 
     ex = registry.get("4.15")
     axes = [Axis("theta0", (0.2, 0.4, 0.6, 0.8), False)]
@@ -501,8 +501,8 @@ def test_sweep_total_budget_and_jobs_cap():
 
 
 def test_check_jobs_capped_by_the_cores():
-    from mech.cli.checking import plan_jobs
-    from mech.solvers.verification.sweep import usable_cores
+    from mech.verification.checking import plan_jobs
+    from mech.verification.sweep import usable_cores
 
     assert plan_jobs(1000, 256) == min(256, usable_cores())
 
@@ -510,7 +510,7 @@ def test_check_jobs_capped_by_the_cores():
 # -- budgets -----------------------------------------------------------------------------------------------
 
 def test_a_loop_that_never_checks_is_stopped_by_the_timer_soon_after_the_deadline():
-    from mech.solvers.verification import budget
+    from mech.core import budget
 
     t0 = time.monotonic()
     with pytest.raises(budget.OutOfBudget):

@@ -7,7 +7,7 @@ import pytest
 from conftest import killed_leaves_nothing
 
 from mech.problems import registry
-from mech.solvers.verification import crosscheck
+from mech.verification import crosscheck
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="the parallel rerun needs fork")
 
@@ -147,7 +147,7 @@ def test_no_fork_beside_another_thread(monkeypatch):
 _SLOW_IN_CHILD = """
 import os, sys, time
 from mech.problems import registry
-from mech.solvers.verification import crosscheck
+from mech.verification import crosscheck
 ex = registry.get("4.15")
 good = ex._numeric
 parent = os.getpid()

@@ -36,7 +36,7 @@ def png_size(data: bytes) -> tuple[int, int]:
 @pytest.fixture
 def quick(monkeypatch):
     """The same figures with fewer analytic points: the test is about rendering, not resolution."""
-    from mech.cli.figures import generic
+    from mech.figures import generic
 
     monkeypatch.setattr(generic, "N_LINE", 41)
     monkeypatch.setattr(generic, "LINE_BUDGET_S", 0.2)
@@ -45,8 +45,8 @@ def quick(monkeypatch):
 
 @pytest.mark.parametrize("ex_id", list(registry.all_exercises()))
 def test_default_figure_of_every_exercise(ex_id, tmp_path, quick):
-    from mech.cli.figures import draw
-    from mech.cli.figures.common import save
+    from mech.figures import draw
+    from mech.figures.common import save
 
     ex = registry.get(ex_id)
     fig = draw(ex, ex.resolve({}), n_numeric=2)
@@ -241,7 +241,7 @@ def test_distribution_name_is_not_the_index_s_mech():
 
 
 def test_bench_figure_is_large_enough_to_read(tmp_path):
-    from mech.cli.figures.benchfig import plot_bench
+    from mech.figures.benchfig import plot_bench
 
     points = [{"method": m, "ok": True, "error": e, "time_s": t, "nfev": n}
               for m, e, t, n in (("DOP853", 1e-6, 1e-3, 100), ("DOP853", 1e-9, 2e-3, 200),
@@ -253,7 +253,7 @@ def test_bench_figure_is_large_enough_to_read(tmp_path):
 
 
 def _endless(*args):
-    from mech.solvers.verification import budget
+    from mech.core import budget
 
     while True:
         budget.check("a test's endless loop")

@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from mech.cli.values import ValueError_, to_si
+from mech.core.units import ValueError_, to_si
 
 
 @pytest.mark.parametrize(

@@ -66,7 +66,7 @@ import math
 
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.numerics.roots import bracketed_root
-from mech.solvers.verification.budget import check as budget_check
+from mech.core.budget import check as budget_check
 
 exercise = Exercise(
     "4.24",

@@ -26,7 +26,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.verification import budget
+from mech.core import budget
 
 exercise = Exercise(
     "5.13",

@@ -196,7 +196,7 @@ def _numeric_flow(p, run):
     The flow's rounding is monitored by the semigroup property Phi(a) Phi(b) = Phi(a + b)."""
     from mech.solvers.numerics.linear_flow import expm
     from mech.solvers.numerics.roots import brentq
-    from mech.solvers.verification import budget
+    from mech.core import budget
 
     z, w0, eps = p.zeta, p.omega0, p.eps
     rtol = run.rtol

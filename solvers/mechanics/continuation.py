@@ -39,8 +39,8 @@ from typing import Callable
 
 import numpy as np
 
-from mech.problems.spec import NumericFailure
-from mech.solvers.verification import budget
+from mech.core.errors import NumericFailure
+from mech.core import budget
 from mech.solvers.numerics.ode import Event, integrate
 
 __all__ = ["OrbitMap", "RotatingOrbitMap", "BranchPoint", "Sweep", "solve_on_plane", "sweep", "refine_root", "shorten_bracket", "bisect_parameter"]

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mech.problems.spec import NumericFailure
+from mech.core.errors import NumericFailure
 
 __all__ = [
     "skew",
@@ -271,7 +271,7 @@ def newton_equilibrium(r0, mu: float, nu: float, max_iter: int = 200, max_step: 
 
 
 def _newton_polar(r0, mu, nu, max_iter, max_step):
-    from mech.solvers.verification import budget
+    from mech.core import budget
 
     rho, theta = math.hypot(r0[0] + mu, r0[1]), math.atan2(r0[1], r0[0] + mu)
     cap_theta = 2.0 * max_step

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mech.problems.spec import NumericFailure
+from mech.core.errors import NumericFailure
 from mech.solvers.mechanics.frames import rotate_many
 from mech.solvers.numerics.ode import integrate
 

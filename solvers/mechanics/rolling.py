@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mech.problems.spec import NumericFailure
+from mech.core.errors import NumericFailure
 from mech.solvers.mechanics.frames import cross_z
 from mech.solvers.numerics.modes import Modes, mass_matrix, normal_modes, pair_shapes
 

@@ -29,8 +29,8 @@ from typing import Callable
 
 import numpy as np
 
-from mech.problems.spec import NumericFailure
-from mech.solvers.verification import budget
+from mech.core.errors import NumericFailure
+from mech.core import budget
 from mech.solvers.numerics.dop853 import step_to
 
 __all__ = ["BatchResult", "integrate_batch", "MAX_STEPS"]

@@ -34,9 +34,9 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from mech.solvers.verification import budget
+from mech.core import budget
 
-__all__ = ["available", "solve", "DenseSolution", "Result"]
+__all__ = ["available", "tableau_load_seconds", "solve", "DenseSolution", "Result"]
 
 _TABLEAU = None
 _TABLEAU_TRIED = False
@@ -85,6 +85,12 @@ def available() -> bool:
         _TABLEAU = _load_tableau()
         LOAD_S = time.perf_counter() - t0
     return _TABLEAU is not None
+
+
+def tableau_load_seconds() -> float | None:
+    """What loading the tableau cost, once per process (start-up, kept out of a solve's time); None until
+    it has been loaded."""
+    return LOAD_S if _TABLEAU_TRIED else None
 
 
 class _Segment:
@@ -259,7 +265,7 @@ def solve(
     status, message = 0, "The solver successfully reached the end of the integration interval."
     rejected_last = False
     while (t_end - t) * direction > 0:
-        if time.monotonic() > budget._deadline:
+        if time.monotonic() > budget.deadline:
             budget.check("DOP853 step")
         min_step = 10.0 * abs(math.nextafter(t, direction * math.inf) - t)
         if h_abs < min_step:

@@ -31,8 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mech.problems.spec import NumericFailure
-from mech.solvers.verification import budget
+from mech.core.errors import NumericFailure
+from mech.core import budget
 from mech.solvers.numerics.ode import integrate
 
 __all__ = ["inverse_fourier", "impulse_spectrum", "Spectrum", "FourierIntegral", "fourier_quad", "fourier_tail"]

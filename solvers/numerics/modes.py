@@ -14,7 +14,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from mech.problems.spec import NumericFailure
+from mech.core.errors import NumericFailure
 
 __all__ = ["mass_matrix", "hessian", "gradient", "normal_modes", "Modes", "pair_shapes", "pair_roots"]
 

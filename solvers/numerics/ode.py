@@ -16,7 +16,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from mech.problems.spec import NumericFailure
+from mech.core.errors import NumericFailure
 
 __all__ = ["Event", "Trajectory", "integrate", "integrate_to_event", "first_event", "apply_integrator", "STUDENT"]
 

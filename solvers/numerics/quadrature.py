@@ -25,7 +25,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from mech.problems.spec import NumericFailure
+from mech.core.errors import NumericFailure
 
 __all__ = ["quad"]
 

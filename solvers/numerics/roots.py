@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from types import SimpleNamespace
 from typing import Callable
 
-from mech.problems.spec import NumericFailure
+from mech.core.errors import NumericFailure
 
 __all__ = ["brentq", "bracketed_root", "walk_to_sign_change", "minimize_bounded", "minimize_scalar", "RootResult"]
 

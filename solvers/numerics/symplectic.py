@@ -28,7 +28,7 @@ from typing import Callable
 
 import numpy as np
 
-from mech.problems.spec import NumericFailure
+from mech.core.errors import NumericFailure
 
 __all__ = ["SeparableHamiltonian", "YOSHIDA4", "YOSHIDA6", "weights", "integrate_fixed", "solve_scene"]
 

@@ -18,11 +18,11 @@ import contextlib
 import math
 import time
 
-from mech.problems.spec import NumericFailure
+from mech.core.errors import NumericFailure
 
-__all__ = ["OutOfBudget", "check", "limit", "default_seconds", "remaining"]
+__all__ = ["OutOfBudget", "check", "limit", "default_seconds", "remaining", "deadline"]
 
-_deadline = math.inf
+deadline = math.inf
 _seconds = math.inf
 _what = "the numeric solve"
 _GRACE_S = 0.25  # the backup timer: a loop that never calls check() stops this late
@@ -35,19 +35,19 @@ class OutOfBudget(NumericFailure):
 def default_seconds() -> float:
     """``MECH_BUDGET_S``, or 8 s; ``BadInput`` naming the variable when it is not a finite positive number
     (``nan`` or ``inf`` would switch the budget off)."""
-    from mech.problems.safeio import budget_seconds
+    from mech.core.safeio import budget_seconds
 
     return budget_seconds()
 
 
 def remaining() -> float:
     """Seconds left of the current budget (inf outside any limit)."""
-    return _deadline - time.monotonic()
+    return deadline - time.monotonic()
 
 
 def check(where: str = "") -> None:
     """Raise ``OutOfBudget`` when the current budget is spent."""
-    if time.monotonic() > _deadline:
+    if time.monotonic() > deadline:
         _raise(where)
 
 
@@ -63,13 +63,13 @@ def _on_alarm(signum, frame):
 @contextlib.contextmanager
 def limit(seconds: float | None = None, what: str = "the numeric solve"):
     """Run the block under a budget of ``seconds`` (default ``default_seconds()``)."""
-    global _deadline, _seconds, _what
+    global deadline, _seconds, _what
     seconds = default_seconds() if seconds is None else float(seconds)
-    saved = (_deadline, _seconds, _what)
+    saved = (deadline, _seconds, _what)
     new_deadline = time.monotonic() + seconds
-    outermost = not math.isfinite(_deadline)
-    if new_deadline < _deadline:
-        _deadline, _seconds, _what = new_deadline, seconds, what
+    outermost = not math.isfinite(deadline)
+    if new_deadline < deadline:
+        deadline, _seconds, _what = new_deadline, seconds, what
     old_handler = None
     armed = False
     if outermost and math.isfinite(seconds):
@@ -88,4 +88,4 @@ def limit(seconds: float | None = None, what: str = "the numeric solve"):
 
             signal.setitimer(signal.ITIMER_REAL, 0)
             signal.signal(signal.SIGALRM, old_handler if old_handler is not None else signal.SIG_DFL)
-        _deadline, _seconds, _what = saved
+        deadline, _seconds, _what = saved

@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from mech.cli.figures.common import ANALYTIC, FONT, NUMERIC, POINT, analytic_values, figure, label, title
+from mech.figures.common import ANALYTIC, FONT, NUMERIC, POINT, analytic_values, figure, label, title
 from mech.problems.scene import SceneRun
 from mech.problems.spec import BadInput
 

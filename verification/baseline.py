@@ -17,7 +17,7 @@ import platform
 from dataclasses import dataclass, field
 
 from mech.problems.spec import Undefined
-from mech.solvers.verification.answers import ROUND_OFF, analytic_err
+from mech.verification.answers import ROUND_OFF, analytic_err
 
 __all__ = ["FORMAT", "record_case", "make", "validate", "compare", "Comparison", "Move"]
 

@@ -27,7 +27,7 @@ PIPED_WIDTH = 160
 
 def console() -> Console:
     """A console for this command's output: the terminal's width, else ``COLUMNS``, else 160 columns."""
-    from mech.problems.safeio import columns, normalize_columns
+    from mech.core.safeio import columns, normalize_columns
 
     normalize_columns()  # rich reads COLUMNS itself: 0 would print nothing, 5 would drop rows
     probe = Console()
@@ -176,7 +176,7 @@ def print_show(ex, from_book: bool | None = None) -> None:
 
 def case_params_text(ex, values: dict) -> str:
     """``theta0 = 1 deg, l = 2 m``: parameter values as people read them."""
-    from mech.cli.checking import case_text
+    from mech.verification.checking import case_text
 
     return case_text(ex, values)
 

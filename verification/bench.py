@@ -196,8 +196,8 @@ def bench(
         known = ODE_METHODS + OTHER_ODE + tuple(SYMPLECTIC) + (STUDENT, DEFAULT_ROW, own_method)
         unknown = [m for m in methods if m not in known]
         if unknown:
-            from mech.problems.errors import BadInput
-            from mech.problems.safeio import shown
+            from mech.core.errors import BadInput
+            from mech.core.safeio import shown
 
             raise BadInput(f"methods: unknown method '{shown(unknown[0])}'; known: {', '.join(dict.fromkeys(known))}")
         rows = [m for m in methods if m != STUDENT]

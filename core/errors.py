@@ -8,3 +8,8 @@ class BadInput(ValueError):
 
 class NumericFailure(RuntimeError):
     """The numeric solver could not produce a trustworthy answer; never swallowed into a number."""
+
+
+class BadUsage(Exception):
+    """A request that cannot be carried out as asked (an optional package missing, a file it cannot write);
+    the message is one line for the user, and the command line exits 2 on it."""

@@ -16,7 +16,7 @@ from collections import Counter
 
 import numpy as np
 
-from mech.cli.figures.common import ANALYTIC, NUMERIC, figure, finite, label, title
+from mech.figures.common import ANALYTIC, NUMERIC, figure, finite, label, title
 
 MAX_CURVES = 8
 
@@ -104,7 +104,7 @@ def map_figure(result):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    from mech.solvers.verification.sweep import boundary_curves, failure_kind, output_arrays
+    from mech.verification.sweep import boundary_curves, failure_kind, output_arrays
 
     ex = result.exercise
     ax_x, ax_y = result.axes

@@ -19,7 +19,7 @@ import os
 import re
 import stat
 
-from mech.problems.errors import BadInput
+from mech.core.errors import BadInput
 
 __all__ = ["shown", "shown_path", "escape", "MAX_FILE_BYTES", "MAX_DEPTH", "MAX_KEY_PARTS", "read_text", "load_toml",
            "load_json", "check_output", "budget_seconds", "atomic_write", "columns", "normalize_columns", "MIN_COLUMNS"]

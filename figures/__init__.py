@@ -4,7 +4,7 @@ An exercise with a scene hook (``@exercise.scene``, see mech.problems.scene) han
 over what to draw, computed by its own physics; ``scene.draw_scene`` draws it.
 Every other exercise (and any with ``--generic`` or ``--vary``) gets
 ``generic.generic_figure``: its outputs against one parameter, from its solvers.
-Nothing in cli/figures computes physics.
+Nothing in figures/ computes physics.
 """
 
 from __future__ import annotations
@@ -16,10 +16,10 @@ def has_scene(ex) -> bool:
 
 def draw(ex, params, *, generic: bool = False, vary: str | None = None, n_numeric: int = 5, rtol=None):
     if not (generic or vary) and has_scene(ex):
-        from mech.cli.figures.scene import draw_scene
+        from mech.figures.scene import draw_scene
 
         scene, run = ex.make_scene(params, rtol=rtol, points=n_numeric)
         return draw_scene(ex, params, scene, run)
-    from mech.cli.figures.generic import generic_figure
+    from mech.figures.generic import generic_figure
 
     return generic_figure(ex, params, vary=vary, n_numeric=n_numeric, rtol=rtol)

@@ -87,7 +87,8 @@ _TOKEN = re.compile(
 )
 
 
-def _tokens(text: str) -> list[tuple[str, str]]:
+def tokens(text: str) -> list[tuple[str, str]]:
+    """The (kind, text) tokens of a typed value: numbers, names, operators, parentheses."""
     out = []
     pos = 0
     text = text.replace("·", "*").replace("×", "*").replace("°", "deg").replace("π", "pi").replace("µ", "u")
@@ -212,7 +213,7 @@ def parse_quantity(text: str) -> Quantity:
     if len(text) > 200:
         raise ValueError_("value too long")
     try:
-        q = _Parser(_tokens(text)).parse()
+        q = _Parser(tokens(text)).parse()
     except RecursionError:
         raise ValueError_("value nested too deeply") from None
     except OverflowError:

@@ -93,7 +93,7 @@ def _start_rerun(ex: Exercise, params: Params, rtol: float, budget_s: float):
             sys.stdout = sys.stderr = open(os.devnull, "w")
             warnings.simplefilter("ignore")
             _limit_memory(CHILD_MEMORY_BYTES)
-            from mech.solvers.verification import budget
+            from mech.core import budget
 
             try:
                 with budget.limit(budget_s, what=f"the rerun of {ex.id} at rtol={rtol:g}"):
@@ -341,7 +341,7 @@ def cross_check(
     The numeric solve and its rerun share one wall-clock budget (``budget_s``, by default
     ``budget.default_seconds()``): past it the solve fails loudly instead of running on.
     """
-    from mech.solvers.verification import budget
+    from mech.core import budget
 
     rtol = float(rtol or ex.default_rtol)
     budget_s = budget.default_seconds() if budget_s is None else float(budget_s)
@@ -359,7 +359,7 @@ def cross_check(
 
 
 def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings) -> CrossCheck:
-    from mech.solvers.verification import budget
+    from mech.core import budget
 
     timing: dict[str, float | None] = {"analytic_s": None, "numeric_s": None}
     errors: list[str] = []
@@ -380,7 +380,8 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
     if "numeric" in methods and ex._numeric is not None:
         # the one-time load of the integrator and its tableau is start-up cost, not the solve: timed
         # apart (when this solve is the one that loads it) and taken out of the numeric time
-        loaded_before = "mech.solvers.numerics.dop853" in sys.modules and sys.modules["mech.solvers.numerics.dop853"]._TABLEAU_TRIED
+        dop = sys.modules.get("mech.solvers.numerics.dop853")
+        loaded_before = dop is not None and dop.tableau_load_seconds() is not None
         tighter = max(rtol / 10.0, ex.min_rtol)
         rerun = None
         if verify and tighter < rtol and _parallel_ok():
@@ -399,8 +400,9 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
                 errors.append(f"numeric solver failed: {_failure_text(exc)}")
             timing["numeric_s"] = time.perf_counter() - t0
             dop = sys.modules.get("mech.solvers.numerics.dop853")
-            if not loaded_before and dop is not None and dop._TABLEAU_TRIED:
-                import_s = dop.LOAD_S
+            load_s = dop.tableau_load_seconds() if dop is not None else None
+            if not loaded_before and load_s is not None:
+                import_s = load_s
                 timing["numeric_s"] = max(0.0, timing["numeric_s"] - import_s)
             answer = None
             if rerun is not None:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from mech.cli.figures.common import FONT, figure, save
+from mech.figures.common import FONT, figure, save
 
 # the student's first attempt and the exercise's tuned default stand out as single points
 SINGLE = {"scipy-default": dict(marker="*", ms=14, ls="none", color="k"),

@@ -18,9 +18,9 @@ POINT = dict(color="k", lw=0.8, ls=":", alpha=0.7)
 
 
 def _usage(msg: str):
-    from mech.cli.main import UsageFailure
+    from mech.core.errors import BadUsage
 
-    return UsageFailure(msg)
+    return BadUsage(msg)
 
 
 def need_matplotlib():
@@ -37,8 +37,8 @@ def need_matplotlib():
 
 def check_target(path: str) -> str:
     """The format of the output file, from its suffix; exit 2 for anything else or an unwritable place."""
-    from mech.problems.errors import BadInput
-    from mech.problems.safeio import check_output, shown
+    from mech.core.errors import BadInput
+    from mech.core.safeio import check_output, shown
 
     ext = os.path.splitext(str(path))[1].lower()
     if ext not in FORMATS:
@@ -53,8 +53,8 @@ def check_target(path: str) -> str:
 def save(fig, path: str, dpi: float = 110) -> None:
     import matplotlib.pyplot as plt
 
-    from mech.problems.errors import BadInput
-    from mech.problems.safeio import atomic_write
+    from mech.core.errors import BadInput
+    from mech.core.safeio import atomic_write
 
     fmt = check_target(path)
     meta = {"Software": "mech"} if fmt == "png" else None

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from mech.cli.figures.common import FONT, figure, label, title
+from mech.figures.common import FONT, figure, label, title
 from mech.problems.scene import Band, Guide, Line, Map, Markers, Note
 
 LINE_STYLE = {
