@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import click
+from mech.core.safeio import shown
 
 __all__ = ["bench_cmd", "plot_bench"]
 
@@ -19,7 +20,7 @@ def _float_list(text: str | None, what: str) -> list[float] | None:
         try:
             v = float(part)
         except ValueError:
-            raise click.BadParameter(f"'{part}' is not a number", param_hint=what) from None
+            raise click.BadParameter(f"'{shown(part)}' is not a number", param_hint=what) from None
         if not (0.0 < v < 1.0):
             raise click.BadParameter(f"{part} is out of range; allowed (0, 1)", param_hint=what)
         out.append(v)
@@ -122,7 +123,7 @@ def _canonical_methods(ex, params, text: str) -> list[str]:
                 known = names + ([own] if own and own not in names else [])
                 close = difflib.get_close_matches(raw.lower(), [k.lower() for k in known], n=1, cutoff=0.6)
                 hint = f"; did you mean {by_lower.get(close[0], close[0])}?" if close else ""
-                raise UsageFailure(f"--methods: unknown method '{raw}'{hint} (known: {', '.join(known)})")
+                raise UsageFailure(f"--methods: unknown method '{shown(raw)}'{hint} (known: {', '.join(known)})")
         out.append(name)
     return out
 

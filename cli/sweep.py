@@ -23,6 +23,7 @@ from mech.problems.values import convert, parse_rtol
 from mech.core.units import ValueError_, to_si
 from mech.problems.spec import BadInput, Exercise
 from mech.verification.sweep import describe_point, validate, validate_grid
+from mech.core.safeio import shown
 
 MAX_N = 10_000
 
@@ -38,26 +39,26 @@ def parse_range(ex: Exercise, name: str, text: str):
         log = True
         parts = parts[:3]
     if len(parts) != 3:
-        raise BadInput(f"{name}: a range is START:STOP:N or START:STOP:N:log, got '{text}'")
+        raise BadInput(f"{name}: a range is START:STOP:N or START:STOP:N:log, got '{shown(text)}'")
     ends = []
     for part in parts[:2]:
         try:
             ends.append(to_si(part, param.unit))
         except ValueError_ as exc:
-            raise BadInput(f"{name}: cannot use '{part}' in '{text}': {exc}; allowed range {param.range_text()}") from None
+            raise BadInput(f"{name}: cannot use '{shown(part)}' in '{shown(text)}': {exc}; allowed range {param.range_text()}") from None
     try:
         n = int(parts[2])
         if str(n) != parts[2].lstrip("+"):
             raise ValueError
     except ValueError:
-        raise BadInput(f"{name}: N in '{text}' must be a whole number of points, got '{parts[2]}'") from None
+        raise BadInput(f"{name}: N in '{shown(text)}' must be a whole number of points, got '{shown(parts[2])}'") from None
     start, stop = ends
     if n < 1 or n > MAX_N:
-        raise BadInput(f"{name}: N in '{text}' must be between 1 and {MAX_N}")
+        raise BadInput(f"{name}: N in '{shown(text)}' must be between 1 and {MAX_N}")
     if n == 1 and start != stop:
-        raise BadInput(f"{name}: one point in '{text}' needs START = STOP (or N >= 2)")
+        raise BadInput(f"{name}: one point in '{shown(text)}' needs START = STOP (or N >= 2)")
     if log and (start <= 0 or stop <= 0):
-        raise BadInput(f"{name}: a log range needs positive ends, got '{text}'")
+        raise BadInput(f"{name}: a log range needs positive ends, got '{shown(text)}'")
     for v in (start, stop):
         param.check(v)
     if n == 1:
@@ -102,7 +103,7 @@ def parse_only(ex: Exercise, text: str | None) -> tuple[str, ...] | None:
     known = [o.name for o in ex.outputs]
     for n in names:
         if n not in known:
-            raise BadInput(f"--only: '{n}' is not an output of {ex.id}; its outputs are: {', '.join(known)}")
+            raise BadInput(f"--only: '{shown(n)}' is not an output of {ex.id}; its outputs are: {', '.join(known)}")
     return tuple(dict.fromkeys(names))
 
 

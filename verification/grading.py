@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 from mech.core.units import CONSTANTS, ValueError_, tokens, to_si
 from mech.problems.spec import BadInput, Exercise
+from mech.core.safeio import shown
 
 __all__ = ["parse_expectation", "parse_expect_options", "attach", "solve_json", "Entry", "BadFile", "load_answers",
            "grade", "grade_json", "open_baseline", "check_records", "baselines"]
@@ -63,7 +64,7 @@ def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = No
         toks = tokens(text)
     except ValueError_ as exc:
         why = str(exc).replace("but the parameter is", f"but {name} is")
-        raise BadInput(f"{name}: cannot use '{text}': {why}" + ("" if why != str(exc) else f" ({name} is in {unit})")) from None
+        raise BadInput(f"{name}: cannot use '{shown(text)}': {why}" + ("" if why != str(exc) else f" ({name} is in {unit})")) from None
     # the literals that set the value (not exponents of units such as the 2 of m/s^2)
     literals = [i for i, (k, _) in enumerate(toks) if k == "num"
                 and not (i > 0 and toks[i - 1][1] in ("^", "**"))
@@ -74,7 +75,7 @@ def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = No
     try:
         half_unit, digits = _literal_precision(toks[literals[0]][1])
     except OverflowError:
-        raise BadInput(f"{name}: cannot use '{text}': an exponent too large") from None
+        raise BadInput(f"{name}: cannot use '{shown(text)}': an exponent too large") from None
     factor, unit_text = _unit_factor(text, toks, literals[0], unit)
     return Expectation(name, text, value, half_unit * abs(factor), digits, rtol, unit_text, abs(factor))
 
@@ -83,7 +84,7 @@ def parse_rtol_value(text, what: str = "--expect-rtol") -> float:
     try:
         value = to_si(str(text), "1") if not isinstance(text, bool) else math.nan
     except ValueError_ as exc:
-        raise BadInput(f"{what}: cannot use '{text}': {exc}; allowed (0, 1)") from None
+        raise BadInput(f"{what}: cannot use '{shown(text)}': {exc}; allowed (0, 1)") from None
     if not (0 < value < 1):
         raise BadInput(f"{what}: {text} is out of range; allowed (0, 1)")
     return value
@@ -97,7 +98,7 @@ def parse_expect_options(ex: Exercise, pairs: list[str], rtol_text: str | None) 
     out: dict[str, Expectation] = {}
     for pair in pairs:
         if "=" not in pair:
-            raise BadInput(f"--expect takes NAME=VALUE, got '{pair}'")
+            raise BadInput(f"--expect takes NAME=VALUE, got '{shown(pair)}'")
         try:
             e = parse_expectation(ex, *pair.split("=", 1), rtol=rtol)
         except BadInput as exc:
