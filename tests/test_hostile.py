@@ -526,3 +526,199 @@ def test_the_trajectory_shares_the_solves_budget(tmp_path):
     r = mech("solve", "4.15", "--trajectory", str(out), env={"MECH_BUDGET_S": "0.01"})
     assert r.returncode == 1 and not out.exists()
     assert time.monotonic() - t0 < 10
+
+
+# -- the fuzz: hostile arguments, answers files and baselines ----------------------------------------------
+#
+# Each generator takes a ``random.Random``: hypothesis drives it here (derandomized: the same examples on
+# every run), and ``scripts/fuzz_hostile.py --seed S --runs N`` drives it with a seed of its own for the
+# larger runs the README reports.
+
+import random as _random  # noqa: E402
+
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+HOSTILE_TEXTS = ["", " ", "\x1b[2J", "\x1b]0;t\x07", "\u202e", "\x00", "nan", "inf", "-inf", "1e999", "1e-999",
+                 "m^(0*1e999)", "2^1e308", "(" * 300 + "1" + ")" * 300, "9" * 5000, "1" * 300, "4.15",
+                 "60deg", "pi/3", "-0", "0", "1e308 km", "5 furlong", "1/0", "°", "٣", "1_000", "0x10", "1e-320",
+                 "m^64", "m^65", "kg^-2", "--", "-p", "=", "x=1", "theta0=1", "1:2:3", "1e-300:1e300:5:log"]
+IDS_HOSTILE = ["4.15", "5.11", "4.10", "415", "4.150", "ex4.15", "4,15", "9.99", "", "\x1b[2J4.15", "1" * 40,
+               "4.15\n", "4." + "1" * 30]
+PARAMS = ["theta0", "l", "g", "m", "omega", "mu", "x", "theta-0", "L", "\x1b", "a.b"]
+OUTPUTS = ["theta_c", "omega_c", "growth", "x", "theta-c"]
+
+
+def _text(rnd: _random.Random) -> str:
+    base = rnd.choice(HOSTILE_TEXTS)
+    if rnd.random() < 0.3:
+        base += rnd.choice(["", " deg", "m", " rad/s", "\x1b", "\n", "'", '"', "\\"])
+    if rnd.random() < 0.1:
+        base = base * rnd.randint(2, 50)
+    return base
+
+
+def random_argv(rnd: _random.Random) -> list[str]:
+    """An argument list for solve (analytic), show, sweep (analytic-cheap 4.15) or check's file options."""
+    kind = rnd.choice(["solve", "solve", "show", "sweep", "check-paths"])
+    ex_id = rnd.choice(IDS_HOSTILE)
+    if kind == "show":
+        return ["show", ex_id] + (["--json"] if rnd.random() < 0.5 else [])
+    if kind == "check-paths":  # the file options are refused before any check runs
+        return ["check", "4.15", rnd.choice(["--junit", "--save-baseline", "--baseline"]),
+                rnd.choice(["", "/", "/dev/full", "/dev/zero", "/nonexistent/x", "\x1b[2J"])]
+    args = [kind, ex_id if kind == "solve" else rnd.choice(["4.15", ex_id])]
+    for _ in range(rnd.randint(0, 3)):
+        name, text = rnd.choice(PARAMS), _text(rnd)
+        if kind == "sweep" and rnd.random() < 0.6:
+            text = f"{_text(rnd)}:{_text(rnd)}:{rnd.choice(['3', '0', '10001', '1e3', _text(rnd)])}" + \
+                rnd.choice(["", ":log", ":lin"])
+        form = rnd.randint(0, 2)
+        args += [f"--{name}", text] if form == 0 else [f"--{name}={text}"] if form == 1 else ["-p", f"{name}={text}"]
+    if kind == "solve":
+        if rnd.random() < 0.3:
+            args += ["--expect", f"{rnd.choice(OUTPUTS)}={_text(rnd)}"]
+        if rnd.random() < 0.2:
+            args += ["--rtol", _text(rnd)]
+        args += ["--method", "analytic"]
+    else:
+        args += ["--no-verify", "--budget", rnd.choice(["20", "nan", "-1", "1e999", "abc"])]
+    if rnd.random() < 0.5:
+        args.append("--json")
+    return args
+
+
+def random_answers(rnd: _random.Random) -> str:
+    """The text of an answers file: good entries, bad fields, and the shapes that cost parsers memory."""
+    shape = rnd.random()
+    if shape < 0.08:
+        return "x" + ".y" * rnd.randint(30, 20_000) + " = 1\n"
+    if shape < 0.16:
+        n = rnd.randint(30, 50_000)
+        return "a = " + "[" * n + "]" * n + "\n"
+    if shape < 0.2:
+        return "a = " + "9" * rnd.randint(4000, 6000) + "\n"
+    entries = []
+    for _ in range(rnd.randint(0, 3)):
+        if rnd.random() < 0.5:  # a good entry, so that grading itself is fuzzed too
+            entries.append('[[answer]]\nexercise = "4.15"\n' + rnd.choice(['', 'params = { theta0 = "60deg" }\n']) +
+                           "expect = { theta_c = " + rnd.choice(['"35.26deg"', '"0.6155"', "0.7297", '"1 rad"',
+                                                                  '"asin(2/3*sin(theta0))"']) + " }\n")
+            continue
+        fields = {"exercise": rnd.choice(['"4.15"', '"4.15"', "4.15", '"9.99"', '"\\u001b[2J"', "[1]", '"' + "1" * 50 + '"'])}
+        if rnd.random() < 0.6:
+            fields["params"] = "{ " + ", ".join(f'{rnd.choice(PARAMS[:3] + ["x"])} = {rnd.choice(_TOML_VALUES)}'
+                                                 for _ in range(rnd.randint(0, 2))) + " }"
+        if rnd.random() < 0.9:
+            fields["expect"] = "{ " + ", ".join(f'{rnd.choice(OUTPUTS[:3])} = {rnd.choice(_TOML_VALUES)}'
+                                                 for _ in range(rnd.randint(0, 2))) + " }"
+        if rnd.random() < 0.2:
+            fields[rnd.choice(["rtol", "colour", "student"])] = rnd.choice(_TOML_VALUES)
+        entries.append("[[answer]]\n" + "".join(f"{k} = {v}\n" for k, v in fields.items()))
+    return "\n".join(entries) + (rnd.choice(["\n[other]\n", "\nx = 1\n", "\n[[answer]\n"]) if rnd.random() < 0.2 else "")
+
+
+_TOML_VALUES = ['"60deg"', '"35.26deg"', '"0.7297"', "0.7297", "1e-3", '"2 kg"', "true", "[1, 2]", "{ a = 1 }",
+                "inf", "nan", '"m^(0*1e999)"', '"\\u001b[2J"', '"' + "7" * 200 + '"', "-0.0", '"1e999"', '""',
+                '"asin(2/3*sin(theta0))"']
+
+
+def random_baseline(rnd: _random.Random, good: dict) -> str:
+    """A baseline: a good one with a field broken, or a shape that costs the parser."""
+    import copy
+
+    shape = rnd.random()
+    if shape < 0.1:
+        n = rnd.randint(30, 50_000)
+        return "[" * n + "]" * n
+    if shape < 0.15:
+        return '{"format": "mech-baseline", "version": ' + "9" * rnd.randint(4000, 6000) + "}"
+    data = copy.deepcopy(good)
+    case = data["cases"][0]
+    out = next(iter(case["outputs"].values()))
+    spots = [(data, "version"), (data, "versions"), (data, "hard"), (data, "format"), (data, "cases"),
+             (case, "id"), (case, "case"), (case, "params"), (case, "outputs"), (case, "ok"),
+             (out, "analytic"), (out, "numeric"), (out, "numeric_err"), (out, "unit")]
+    for _ in range(rnd.randint(0, 2)):
+        obj, key = rnd.choice(spots)
+        value = rnd.choice([None, True, "abc", -1e-3, 10**400, 1e308, [], {}, [1], "\x1b[2J", 0, -0.0, "DELETE"])
+        if value == "DELETE":
+            obj.pop(key, None)
+        else:
+            obj[key] = value
+    text = json.dumps(data)
+    if rnd.random() < 0.05:
+        text = text.replace("1e+308", "NaN")
+    return text
+
+
+def check_outcome(result) -> None:
+    """What every invocation owes: exit 0, 1 or 2; no traceback or internal error; exit 2 with lines
+    "mech: error: ..." on stderr and nothing on stdout; no control character reaching the terminal."""
+    out, err = result.stdout, result.stderr
+    assert result.exit_code in (0, 1, 2), (result.exit_code, err[-500:])
+    assert result.exception is None or isinstance(result.exception, SystemExit), repr(result.exception)
+    assert "Traceback" not in out + err and "internal error" not in err, err[-500:]
+    assert not any(c in err for c in "\x1b\x07\x00\u202e"), err[-300:]
+    if result.exit_code == 2:
+        lines = err.strip().splitlines()
+        assert out == "" and lines and all(ln.startswith("mech: error: ") for ln in lines), err[-500:]
+        assert all(len(ln) < 2100 for ln in lines)
+
+
+def run_argv(args):
+    result = CliRunner().invoke(cli, args)
+    check_outcome(result)
+    if result.exit_code != 2 and "--json" in args:
+        json.loads(result.stdout, parse_constant=lambda c: (_ for _ in ()).throw(AssertionError(c)))
+    return result.exit_code
+
+
+def run_answers(text: str, folder) -> int:
+    f = os.path.join(folder, "answers.toml")
+    with open(f, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    result = CliRunner().invoke(cli, ["grade", f, "--json", "--budget", "30"])
+    check_outcome(result)
+    if result.exit_code != 2:
+        json.loads(result.stdout)
+    return result.exit_code
+
+
+def run_baseline(text: str, folder) -> int:
+    f = os.path.join(folder, "baseline.json")
+    with open(f, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    result = CliRunner().invoke(cli, ["check", "4.15", "--baseline", f, "--json"])
+    check_outcome(result)
+    return result.exit_code
+
+
+@pytest.fixture(scope="module")
+def good_baseline(tmp_path_factory):
+    f = tmp_path_factory.mktemp("good") / "b.json"
+    assert CliRunner().invoke(cli, ["check", "4.15", "--save-baseline", str(f)]).exit_code == 0
+    return json.loads(f.read_text())
+
+
+def _fuzz(n: int):
+    return settings(max_examples=n, deadline=None,
+                    suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+
+
+@_fuzz(150)
+@given(rnd=st.randoms(use_true_random=False))
+def test_fuzz_hostile_arguments(rnd):
+    run_argv(random_argv(rnd))
+
+
+@_fuzz(40)
+@given(rnd=st.randoms(use_true_random=False))
+def test_fuzz_hostile_answers_files(rnd, tmp_path):
+    run_answers(random_answers(rnd), tmp_path)
+
+
+@_fuzz(25)
+@given(rnd=st.randoms(use_true_random=False))
+def test_fuzz_hostile_baselines(rnd, tmp_path, good_baseline):
+    run_baseline(random_baseline(rnd, good_baseline), tmp_path)
