@@ -371,12 +371,12 @@ def _expectations(ex, expect: dict | None, expect_rtol):
 
 
 def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None,
-                   verify: bool = True) -> Solution:
+                   verify: bool = True, budget_s: float | None = None) -> Solution:
     """The cross-check at checked parameters: what ``mech.solve`` and ``mech solve`` both run."""
     from mech.core import budget
     from mech.verification.crosscheck import cross_check
 
-    budget_s = budget.default_seconds()
+    budget_s = budget.default_seconds() if budget_s is None else float(budget_s)
     deadline = time.monotonic() + budget_s
     result = cross_check(ex, params, methods=tuple(methods), rtol=rtol, verify=verify and "numeric" in methods,
                          budget_s=budget_s)
