@@ -77,25 +77,38 @@ def natural_units(ex, p) -> tuple[tuple[int, int, int], dict] | None:
     import itertools
 
     A_rows, b_rows = np.array(rows, float), np.array(rhs, float)
-    best = None
+    candidates = []
     for u in itertools.product(*[sorted({QUANTUM * math.floor(x / QUANTUM), QUANTUM * math.ceil(x / QUANTUM)})
                                  for x in fit]):
         if any(sum(a * b for a, b in zip(d, u)) for d in fixed):
             continue
         cost = float(np.sum((A_rows @ np.array(u, float) - b_rows) ** 2))
-        if best is None or cost < best[0]:
-            best = (cost, tuple(int(x) for x in u))
-    if best is None or not any(best[1]):
-        return None
-    u = best[1]
+        candidates.append((cost, tuple(int(x) for x in u)))
+    # the best fit that keeps every parameter a normal double: a shift that fits the far parameters can
+    # push one near its own default out of the range (omega = 1e-300 rad/s with v0 = 1e290 m/s in 4.29
+    # overflowed in ldexp); failing every candidate, SI
+    for _, u in sorted(candidates):
+        if not any(u):
+            return None
+        values = _shifted(ex, p, u)
+        if values is not None:
+            return u, values
+    return None
+
+
+def _shifted(ex, p, u) -> dict | None:
+    """``p`` in the units ``u``; None when a non-zero parameter leaves the normal range of the doubles there."""
     values = {}
     for prm in ex.params:
         k = sum(a * b for a, b in zip(dims(prm.unit), u))
-        x = math.ldexp(p[prm.name], -k) if k else p[prm.name]
+        try:
+            x = math.ldexp(p[prm.name], -k) if k else p[prm.name]
+        except OverflowError:
+            return None
         if p[prm.name] != 0 and (x == 0 or not math.isfinite(x) or abs(x) < 2.2250738585072014e-308):
-            return None  # the shift itself leaves the range for this parameter: keep SI
+            return None
         values[prm.name] = x
-    return u, values
+    return values
 
 
 def _unit_exponent(unit: str, u) -> int:

@@ -88,3 +88,29 @@ def test_a_point_balloon_is_refused_not_hung():
     with pytest.raises(BadInput, match="below 1e-40"):
         registry.get("4.26").resolve(dict(a=2e-202))
     registry.get("4.26").resolve(dict(a=1e-40 * 0.1 * 1.01))  # just above: accepted
+
+
+def test_a_container_of_the_smallest_mass_moves_with_the_water():
+    """Issue 26: Mc = 5e-324 kg (the smallest double).  The container's mass is nothing beside the water's
+    effective mass, so a_container = F/m_eff, m_eff = (4 pi/3) rho b^3 (b^3 - a^3)/(b^3 + 2 a^3) =
+    (4 pi/3) 1000 (0.001) (0.000992/0.001016) kg at the defaults, and a_rel = 2 (b^3 - a^3)/(b^3 + 2 a^3)
+    a_container.  The analytic solution, in units where b ~ 1e76, formed b^3 (b^3 - a^3) ~ 1e456 and gave
+    0 for both accelerations."""
+    m_eff = 4.0 * math.pi / 3.0 * 1000.0 * 0.001 * (0.000992 / 0.001016)
+    acc = 10.0 / m_eff
+    a, n, _ = solve_both("4.26", Mc=5e-324)
+    for got in (a, n):
+        assert got["a_container"] == pytest.approx(acc, rel=1e-8, abs=0.0)
+        assert got["a_rel"] == pytest.approx(2.0 * 0.000992 / 0.001016 * acc, rel=1e-8, abs=0.0)
+
+
+def test_water_too_light_to_form_its_mass_in_kg():
+    """scripts/extremes.py, every parameter at 1e-200 of its default: Mc = 1e-200 kg, F = 1e-199 N,
+    b = 1e-201 m, a = 2e-202 m, rho = 1e-197 kg/m^3.  The water's effective mass is ~(4 pi/3) rho b^3 ~ 4e-800
+    kg, nothing beside Mc, so a_container = F/Mc = 10 m/s^2 and a_rel = 2 (1 - 0.008)/(1 + 0.016) a_container
+    (a/b = 0.2).  The numeric mass matrix, formed in kg, underflowed to a singular one."""
+    given = dict(Mc=1e-200, F=1e-199, b=1e-201, a=2e-202, rho=1e-197)
+    a, n, _ = solve_both("4.26", **given)
+    for got in (a, n):
+        assert got["a_container"] == pytest.approx(10.0, rel=1e-8, abs=0.0)
+        assert got["a_rel"] == pytest.approx(2.0 * 0.992 / 1.016 * 10.0, rel=1e-8, abs=0.0)

@@ -73,3 +73,28 @@ def test_lab_acceleration_is_the_rod_force_over_mass():
     a, n, _ = solve_both("4.29", m=0.3, omega=1.3, r0=0.4, v0=0.7, t=2.2)
     for values in (a, n):
         assert values["a_lab"] == pytest.approx(abs(values["N"]) / 0.3, rel=1e-9)
+
+
+def test_a_run_far_shorter_than_one_over_omega():
+    """Issue 26: omega = 1e-100 rad/s, v0 = 1e250 m/s, t = 1e-200 s (omega t = 1e-300).  By hand
+    r = r0 cosh(wt) + v0 sinh(wt)/w = 0.1 + 1e50 m (to 1e-600), r' = r0 w sinh(wt) + v0 cosh(wt) = 1e250 m/s,
+    a_rot = w^2 r = 1e-150 m/s^2, a_lab = 2 w |r'| = 2e150 m/s^2, N = 2 m w r' = 2e149 N.  v0/omega = 1e350
+    overflowed in both solvers (the numeric length unit was infinite: NaN everywhere)."""
+    a, n, _ = solve_both("4.29", omega=1e-100, v0=1e250, t=1e-200)
+    want = {"r": 1e50, "a_rot": 1e-150, "a_lab": 2e150, "N": 2e149}
+    for got in (a, n):
+        for name, value in want.items():
+            assert got[name] == pytest.approx(value, rel=1e-12, abs=0.0), name
+
+
+def test_a_run_of_1e_minus_200_s_from_rest():
+    """scripts/extremes.py, t = 1e-200 of its default: omega t = 4e-200, v0 = 0.  By hand r = r0 cosh(wt) = 0.1 m,
+    a_rot = w^2 r = 0.4 m/s^2, r' = r0 w sinh(wt) = 0.1 * 2 * 4e-200 = 8e-201 m/s, a_lab = 2 w |r'| = 3.2e-200
+    m/s^2.  The numeric solver keeps its 1/omega units (v0/omega is finite) and its Jacobi integral, v'^2/2 -
+    r^2/2 in those units, is finite (it was 0/0 when the run's own length was the time unit)."""
+    _, n, run = solve_both("4.29", t=2e-200)
+    assert n["r"] == pytest.approx(0.1, rel=1e-12, abs=0.0)
+    assert n["a_rot"] == pytest.approx(0.4, rel=1e-12, abs=0.0)
+    assert n["a_lab"] == pytest.approx(3.2e-200, rel=1e-8, abs=0.0)
+    assert n["N"] == pytest.approx(3.2e-201, rel=1e-8, abs=0.0)
+    assert math.isfinite(run.invariants["jacobi"])

@@ -96,3 +96,18 @@ def test_fall_lasting_a_large_part_of_a_turn_is_refused():
 
     with pytest.raises(BadInput):
         registry.get("4.31").resolve({"h": 1e9})
+
+
+def test_a_short_fall_where_the_rotation_is_below_rounding():
+    """Draw of /work/shared/tools/draws.py (seed 4711): h = 320.533 m, g = 1.03343e6 m/s^2, omega_E = 1.8093e-6
+    rad/s, theta = 0.03211 (drawn: 0.0321744...).  omega_E T0 = 4.5e-8, so the fall time is T0 = (2h/g)^(1/2) to 1 + s^2 eps^2/6 ~
+    1 + 4e-19, and the deflection and speed are their leading orders (1/3) g w t^3 sin th and g w t^2 sin th
+    to O((w t)^2) ~ 2e-15.  The analytic fall-time equation formed c^2 + s^2 - 1 = +2.2e-16 at tau = 1 and
+    its root was not bracketed (loud)."""
+    h, g, w, th = 320.533, 1.03343e6, 1.8093e-6, 0.03211  # theta as drawn (0.0321744) happens to round well
+    t = math.sqrt(2 * h / g)
+    a, n, _ = solve_both("4.31", h=h, g=g, omega_E=w, theta=th)
+    for got in (a, n):
+        assert got["t_fall"] == pytest.approx(t, rel=1e-13, abs=0.0)
+        assert got["d_east"] == pytest.approx(g * w * t**3 * math.sin(th) / 3, rel=1e-9, abs=0.0)
+        assert got["v_east"] == pytest.approx(g * w * t**2 * math.sin(th), rel=1e-9, abs=0.0)

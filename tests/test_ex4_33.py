@@ -81,3 +81,26 @@ def test_zero_offset_is_refused():
 
     with pytest.raises(BadInput):
         registry.get("4.33").resolve({"x0": 0.0})
+
+
+def test_a_tiny_gm_keeps_the_orbit_rate():
+    """Issue 26: GM = 1e-300 m^3/s^2.  GM/R^3 = 3.2e-321 is a subnormal double (10 significant bits), and
+    Omega formed from it was 3.1e-6 off in both solvers (the natural units of the analytic one avoided it,
+    so they disagreed).  Reference in 60-digit Decimal: Omega = (GM/R^3)^(1/2), T_rel = 2 pi/Omega and
+    the vis-viva start v0 = Omega R ((1 - xi)/(1 + xi))^(1/2) - Omega (R + x0), xi = x0/R."""
+    from decimal import Decimal, localcontext
+
+    import hiprec
+
+    R, x0, GM = 6.778e6, 100.0, 1e-300
+    with localcontext() as ctx:
+        ctx.prec = 60
+        W = (Decimal(GM) / Decimal(R) ** 3).sqrt()
+        xi = Decimal(x0) / Decimal(R)
+        v0 = float(W * Decimal(R) * ((1 - xi) / (1 + xi)).sqrt() - W * (Decimal(R) + Decimal(x0)))
+        T = float(2 * hiprec.PI / W)
+    a, n, _ = solve_both("4.33", GM=GM)
+    assert a["v0"] == pytest.approx(v0, rel=1e-13, abs=0.0)
+    assert a["T_rel"] == pytest.approx(T, rel=1e-14, abs=0.0)
+    assert n["v0"] == pytest.approx(v0, rel=1e-8, abs=0.0)
+    assert n["T_rel"] == pytest.approx(T, rel=1e-8, abs=0.0)

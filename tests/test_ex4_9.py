@@ -81,3 +81,22 @@ def test_release_a_nanoradian_below_the_top():
     T6 = solve_both("4.9", phi0=math.pi - 1e-6)[0]["period"]
     lam = math.sqrt(9.81 * 0.03 / (0.004 + 0.13**2))
     assert a["period"] - T6 == pytest.approx(4 * math.log(1000) / lam, rel=1e-6)
+
+
+def test_a_center_of_mass_1e300_from_the_axis_keeps_omega():
+    """Issue 26: l = 1e-300 m, g = 2.05e-4 m/s^2.  Omega^2 = M g l / (I + M (R - l)^2) = 2.05e-304/0.014
+    is representable in SI but not in every set of units (1e-379 in the natural units the analytic
+    solution works in), and Omega came out 0 for 1.2e-151 rad/s.  With l -> 0 the contact-line inertia
+    I + M d^2 is I + M R^2 at every angle (the R l terms are 1e-301 of it), so the swing is a plain
+    pendulum's: period = 4 K(sin(phi0/2))/Omega, K = pi/(2 agm(1, cos(phi0/2)))."""
+    M, R, l, I, phi0, g = 1.0, 0.1, 1e-300, 0.004, 0.5236, 2.05e-4
+    omega = math.sqrt(M * g * l / (I + M * R * R))
+    a_, b_ = 1.0, math.cos(phi0 / 2)
+    for _ in range(40):
+        a_, b_ = (a_ + b_) / 2, math.sqrt(a_ * b_)
+    period = 4 * (math.pi / (2 * a_)) / omega
+    a, n, _ = solve_both("4.9", l=l, phi0=phi0, g=g)
+    assert a["Omega"] == pytest.approx(omega, rel=1e-14, abs=0.0)
+    assert n["Omega"] == pytest.approx(omega, rel=1e-11, abs=0.0)
+    assert a["period"] == pytest.approx(period, rel=1e-12)
+    assert n["period"] == pytest.approx(period, rel=1e-8)

@@ -155,3 +155,16 @@ def test_long_decay_keeps_its_relative_accuracy():
     expected = q0 * lf / (lf - ls) * math.exp(-600.0)
     assert n["q_t"] == pytest.approx(expected, rel=1e-9)
     assert a["q_t"] == pytest.approx(expected, rel=1e-9)
+
+
+def test_a_small_eps_keeps_t_eps_to_its_claim():
+    """Issue 26: zeta 1e4, eps 1e-12.  exp(A tau) in one piece holds x only to ~1e-16 of q0, so x = 1e-12
+    came out 1.3e-4 off and t_eps 1.3e-6 off (claim 1e-7); the chain of hops keeps x relative to itself.
+    Reference: the textbook forms in 100-digit Decimal, t_eps by bisection on them."""
+    given = {"zeta": 1e4, "eps": 1e-12}
+    want = dict(zip(("lambda_slow", "q_t", "t_eps", "v_max"),
+                    _decimal_textbook(omega0=5.0, zeta=1e4, q0=0.1, t1=1.0, eps=1e-12)))
+    _, n, run = solve_both("5.4", **given)
+    for name, value in want.items():
+        assert n[name] == pytest.approx(value, rel=1e-9), name
+    assert run.invariants["semigroup Phi(a) Phi(b) = Phi(a + b)"] < 1e-12

@@ -54,3 +54,25 @@ def test_logarithmic_divergence_near_the_top():
     for v in (a, n):
         # (math.pi - phi0) is phi0 below the true pi to ~1e-9 relative in phi0
         assert v["T"] == pytest.approx(4 / w0 * math.log(8 / phi0), rel=1e-8)
+
+
+def test_domega_next_to_the_top_against_a_100_digit_agm():
+    """Issue 26: theta0 = pi - 3.1e-12.  2 pi/T = omega0 AGM(1, cos(theta0/2)) (K = pi/(2 AGM)), so
+    domega = omega0 (AGM - 1); here cos(theta0/2) = sin((pi - theta0)/2) ~ 1.6e-12, with pi and the AGM
+    taken in 100-digit Decimal (tests/hiprec.py).  The analytic value came out 6.5e-8 off (its claim
+    5.8e-10): 1 - a b formed from the deviations from 1 held the small mean only to 1e-16 absolute."""
+    from decimal import localcontext
+
+    import hiprec
+
+    g, theta0, l = 254219.77, 3.1415926535866516, 27.165
+    with localcontext() as ctx:
+        ctx.prec = hiprec.PREC
+        a, b = hiprec.D(1), hiprec.sin((hiprec.PI - hiprec.D(theta0)) / 2)
+        for _ in range(60):
+            a, b = (a + b) / 2, (a * b).sqrt()
+        w0 = (hiprec.D(g) / hiprec.D(l)).sqrt()
+        want = float(w0 * (a - 1))
+    an, num, _ = solve_both("5.6", g=g, theta0=theta0, l=l)
+    assert an["domega"] == pytest.approx(want, rel=1e-13, abs=0.0)
+    assert num["domega"] == pytest.approx(want, rel=1e-9, abs=0.0)

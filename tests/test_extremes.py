@@ -113,3 +113,42 @@ def test_an_answer_that_underflows_to_zero_is_refused():
     with pytest.raises(BadInput, match=r"t_roll ~ 1e-400 s .*underflows"):
         ex.resolve(far)
     assert ex.resolve({**far, "h_over_R": 1.4})["h_over_R"] == 1.4
+
+
+# Issue 26: in-bounds parameters whose product leaves the range, where the change to natural units overflowed
+# (OverflowError in math.ldexp: `internal error`).  Each must now be answered or refused in one line.
+PRODUCTS = [
+    ("4.29", {"omega": 1e-300, "v0": 1e290}, "a_rot"),  # a_rot = omega^2 r ~ 1e-600 * 1e290 = 1e-310 m/s^2
+    ("4.5", {"H": 1e-320, "R": 1e290}, None),
+    ("5.9", {"omega0": 1e-320, "mu": 1e290}, "mu/omega0 = 1e+610"),  # log10: 290 + 320
+    ("4.22", {"Omega": 1e270, "g": 1e-300}, None),
+]
+
+
+@pytest.mark.parametrize("ex_id, given, named", PRODUCTS, ids=[c[0] for c in PRODUCTS])
+def test_extreme_products_are_refused_in_one_line(ex_id, given, named):
+    args = ["solve", ex_id]
+    for name, value in given.items():
+        args += ["-p", f"{name}={value!r}"]
+    res = CliRunner().invoke(cli, args)
+    assert res.exit_code == 2, res.output
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and "internal error" not in lines[0], res.stderr
+    if named:
+        assert named in lines[0]
+
+
+def test_natural_units_keep_every_parameter_in_range():
+    """4.22 at Omega = 1e270 rad/s, g = 1e-300 m/s^2: the best least-squares shift pushed another parameter
+    past 1.8e308 (OverflowError); the next best that keeps every parameter a normal double is taken, and
+    brings each back to SI exactly."""
+    ex = registry.get("4.22")
+    p = {prm.name: prm.default for prm in ex.params}
+    p.update(Omega=1e270, g=1e-300)
+    nat = scales.natural_units(ex, p)
+    assert nat is not None
+    u, values = nat
+    for prm in ex.params:
+        x = values[prm.name]
+        assert x == 0.0 or 2.2250738585072014e-308 <= abs(x) < math.inf
+        assert scales.from_natural(x, prm.unit, u) == p[prm.name]

@@ -60,6 +60,17 @@ def constraint(p):
                 "(every result is its a -> 0 limit to within (a/b)^3 < 1e-120)")
 
 
+def _mass_unit(rho, b):
+    """(4 pi/3) rho b^3 with the powers of two apart: it underflows or overflows only where the result does."""
+    mr, er = math.frexp(rho)
+    mb, eb = math.frexp(b)
+    mant = 4.0 * math.pi / 3.0 * mr * mb**3
+    try:
+        return math.ldexp(mant, er + 3 * eb)
+    except OverflowError:
+        return math.inf
+
+
 def _cube_diff(b, a):
     """b^3 - a^3 without cancellation when a is close to b."""
     return (b - a) * (b * b + a * b + a * a)
@@ -67,10 +78,12 @@ def _cube_diff(b, a):
 
 @exercise.analytic
 def analytic(p):
-    b3, a3 = p.b**3, p.a**3
-    gap = _cube_diff(p.b, p.a)
-    ratio = 2.0 * gap / (b3 + 2.0 * a3)
-    m_eff = 4.0 * math.pi / 3.0 * p.rho * b3 * gap / (b3 + 2.0 * a3)
+    # in units of b: b^3 (b^3 - a^3) in one piece overflows where m_eff does not (b ~ 1e76 in the natural
+    # units of Mc = 5e-324 kg gave a_container = 0)
+    x = p.a / p.b
+    x3 = x**3
+    ratio = 2.0 * _cube_diff(1.0, x) / (1.0 + 2.0 * x3)
+    m_eff = _mass_unit(p.rho, p.b) * (0.5 * ratio)  # (4 pi/3) rho b^3 (b^3 - a^3)/(b^3 + 2 a^3)
     acc = p.F / (p.Mc + m_eff)
     return {"a_rel": ratio * acc, "a_container": acc, "ratio": ratio}
 
@@ -109,13 +122,16 @@ def numeric(p, run):
 
     # unit relative velocity at the balloon: f = c b g with f'(r) = c g'(s)/x, f'(a) = 1
     cv = x_a / gvp_a
-    unit = 4.0 * math.pi / 3.0 * p.rho * p.b**3  # mass unit of the bilinear energy form
-    m_rr, m_rv, m_vv = unit * Qrr, unit * cv * Qrv, unit * cv * cv * Qvv
+    unit = _mass_unit(p.rho, p.b)  # mass unit of the bilinear energy form, (4 pi/3) rho b^3
+    # the water's entries of the mass matrix in that unit: rigid (Qrr), coupling (cv Qrv), relative (cv^2 Qvv)
 
-    # Lagrange: X (container, the rigid mode), xi (balloon relative to it, the V mode)
-    M = np.array([[p.Mc + m_rr, m_rv], [m_rv, m_vv]])
-    acc_X, acc_xi = np.linalg.solve(M, np.array([p.F, 0.0]))
-    ratio = -m_rv / m_vv
+    # Lagrange: X (container, the rigid mode), xi (balloon relative to it, the V mode):
+    # [[Mc + unit Qrr, unit cv Qrv], [unit cv Qrv, unit cv^2 Qvv]] (X'', xi'') = (F, 0), eliminated by hand
+    # so that the water's entries are never formed in kg: (4 pi/3) rho b^3 underflows at rho = 1e-197,
+    # b = 1e-201 (a singular matrix) while Mc = 1e-200 kg carries the container alone
+    ratio = -Qrv / (cv * Qvv)  # xi''/X''
+    acc_X = p.F / (p.Mc + unit * (Qrr + ratio * cv * Qrv))
+    acc_xi = ratio * acc_X
 
     # pressure route from the boundary values, p = -rho (A_c f_R + A_rel f_V) cos(theta):
     # zero force on the massless balloon, and F plus the wall's pressure force on the container
@@ -129,6 +145,6 @@ def numeric(p, run):
     if diff > 1e3 * run.rtol + 1e2 * EPS / min(1.0, 1.0 - x_a):
         raise NumericFailure(f"energy (Lagrange) and pressure routes differ by {diff:.2g}")
     # the rigid mode's energy is the water's kinetic energy in rigid motion: its mass
-    water = 4.0 * math.pi / 3.0 * p.rho * _cube_diff(p.b, p.a)
-    run.invariant("rigid_mode_water_mass", (m_rr - water) / water)
+    water = _cube_diff(1.0, x_a)  # in the unit (4 pi/3) rho b^3
+    run.invariant("rigid_mode_water_mass", (Qrr - water) / water)
     return {"a_rel": acc_xi, "a_container": acc_X, "ratio": ratio}

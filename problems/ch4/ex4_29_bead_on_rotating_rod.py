@@ -4,14 +4,18 @@ Analytic.  Rotating frame: along the rod only the centrifugal force acts
 (the Coriolis force is across the rod and is balanced by the rod), so
 r'' = omega^2 r and r = A e^(omega t) + B e^(-omega t), A, B = (r0 +- v0/omega)/2
 (written with the two exponentials, not cosh/sinh, so the decaying solution
-v0 = -omega r0 is exact).  The rotating-frame acceleration is r'' = omega^2 r
-along e_r; the rod's force balances the Coriolis force, N = 2 m omega r'.
+v0 = -omega r0 is exact; for omega t <= 1, r0 cosh + v0 t sinh(omega t)/(omega t),
+where v0/omega may overflow and cosh - sinh loses at most a factor 4).  The
+rotating-frame acceleration is r'' = omega^2 r along e_r; the rod's force
+balances the Coriolis force, N = 2 m omega r'.
 Lab frame: in polar coordinates the radial acceleration r'' - omega^2 r is 0 and
 the azimuthal one is 2 omega r', so |a_lab| = 2 omega |r'| = |N|/m: in the lab the
 rod's force is the only force and the whole acceleration is across the rod.
 
-Numeric: the bead as a point mass in the rotating plane, in units of
-L = max(|r0|, |v0|/omega) and 1/omega, with the centrifugal and Coriolis forces
+Numeric: the bead as a point mass in the rotating plane, in units of time
+T0 = 1/omega and length L = max(|r0|, |v0| T0) (T0 = t where omega t < 1 and
+v0/omega overflows while the answer does not), with the
+centrifugal and Coriolis forces
 and the rod's reaction as a Lagrange multiplier that keeps the transverse
 coordinate at zero (solved from the twice-differentiated constraint).
 DOP853 integrates (x, y, vx, vy) to omega t.  The equations are autonomous and
@@ -27,7 +31,7 @@ import math
 
 import numpy as np
 
-from mech.problems.spec import Exercise
+from mech.problems.spec import Exercise, NumericFailure
 
 exercise = Exercise(
     "4.29",
@@ -56,66 +60,85 @@ def constraint(p):
 @exercise.analytic
 def analytic(p):
     w, t = p.omega, p.t
-    A = 0.5 * (p.r0 + p.v0 / w)
-    B = 0.5 * (p.r0 - p.v0 / w)
-    grow, decay = math.exp(w * t), math.exp(-w * t)
-    r = A * grow + B * decay
-    rdot = w * (A * grow - B * decay)
+    wt = w * t
+    if wt <= 1.0:
+        # r0 cosh(wt) + v0 t sinh(wt)/(wt): no v0/omega, which overflows where r does not (omega = 1e-300
+        # rad/s, v0 = 1e290 m/s: r ~ v0 t); below wt = 1 cosh - sinh loses at most a factor 4
+        sinhc = 1.0 if wt == 0.0 else (math.sinh(wt) / wt if wt > 1e-8 else 1.0 + wt * wt / 6.0)
+        r = p.r0 * math.cosh(wt) + p.v0 * t * sinhc
+        rdot = w * p.r0 * math.sinh(wt) + p.v0 * math.cosh(wt)
+    else:
+        A = 0.5 * (p.r0 + p.v0 / w)
+        B = 0.5 * (p.r0 - p.v0 / w)
+        grow, decay = math.exp(wt), math.exp(-wt)
+        r = A * grow + B * decay
+        rdot = w * (A * grow - B * decay)
     return {
         "r": r,
-        "a_rot": w * w * r,
+        "a_rot": w * (w * r),
         "a_lab": 2.0 * w * abs(rdot),
         "N": 2.0 * p.m * w * rdot,
     }
 
 
-def _forces(y):
-    """Scaled rotating-frame accelerations and the rod's reaction n = N/(m omega^2 L)."""
+def _forces(y, k):
+    """Scaled rotating-frame accelerations and the rod's reaction n = N T0^2/(m L), each divided by
+    k = omega T0 (so that k^2 x, 1e-600 at omega t = 1e-300, is never formed)."""
     x, yy, vx, vy = y
-    # centrifugal (x, y) + Coriolis (2 vy, -2 vx) + reaction (0, n); y'' = 0 fixes n
-    n = 2.0 * vx - yy
-    return x + 2.0 * vy, yy - 2.0 * vx + n, n
+    n = 2.0 * vx - k * yy
+    return k * x + 2.0 * vy, k * yy - 2.0 * vx + n, n
 
 
 @exercise.numeric
 def numeric(p, run):
-    w, tau_end = p.omega, p.omega * p.t
-    L = max(abs(p.r0), abs(p.v0) / w)
+    w, t = p.omega, p.t
+    # time unit T0: 1/omega, or t itself where |v0|/omega (or 1/omega) leaves the floating-point range in a run
+    # shorter than 1/omega (omega = 1e-100 rad/s, v0 = 1e250 m/s, t = 1e-200 s: r ~ v0 t = 1e50 m); then
+    # k = omega T0 < 1, and the velocity unit V = L/t is |v0| (the part r0 omega^2 t of the speed that it
+    # leaves below round-off is less than 1e-308 r0 omega t of it)
+    T0, k = 1.0 / w, 1.0
+    L = max(abs(p.r0), abs(p.v0) * T0)
+    short = not (math.isfinite(L) and math.isfinite(T0) and math.isfinite(L * w)) and 0.0 < w * t < 1.0
+    if short:
+        T0, k = t, w * t
+        L = max(abs(p.r0), abs(p.v0) * T0)
     if L == 0.0:  # at rest on the axis: an equilibrium
         return {"r": 0.0, "a_rot": 0.0, "a_lab": 0.0, "N": 0.0}
-    y0 = np.array([p.r0 / L, 0.0, p.v0 / (w * L), 0.0])
+    V = L / T0 if short else L * w  # velocity unit
+    if not (math.isfinite(L) and math.isfinite(V) and V > 0.0):
+        raise NumericFailure(f"the length unit {L:.3g} m or velocity unit {V:.3g} m/s leaves the floating-point range")
+    tau_end = t / T0 if short else w * t
+    y0 = np.array([p.r0 / L, 0.0, p.v0 / V, 0.0])
 
     def rhs(t, y):
-        ax, ay, _ = _forces(y)
-        return np.array([y[2], y[3], ax, ay])
+        fx, fy, _ = _forces(y, k)
+        return np.array([y[2], y[3], k * fx, k * fy])
 
     if tau_end > 0.0:
-        # |d y/d tau| <= |y| for this system, so |y| >= e^(-tau) |y0|: an absolute
-        # tolerance below that keeps the error control relative all the way
-        atol = run.rtol * 1e-3 * math.exp(-tau_end)
-        # dense output only for a trajectory (a smooth curve); the steps are the same
+        atol = run.rtol * 1e-3 * math.exp(-k * tau_end)
         traj = run.integrate(rhs, (0.0, tau_end), y0, rtol=run.rtol, atol=atol, dense_output=run.keep_trajectories)
-        run.motion(traj, t_scale=1.0 / w, y_scale=[L, w * L], rows=[0, 2])  # across the rod: 0
+        run.motion(traj, t_scale=T0, y_scale=[L, V], rows=[0, 2])  # across the rod: 0
         y = traj.y_end
-        jac = 0.5 * (traj.y[2] ** 2 + traj.y[3] ** 2 - traj.y[0] ** 2 - traj.y[1] ** 2)
-        size = 0.5 * (traj.y[2] ** 2 + traj.y[3] ** 2 + traj.y[0] ** 2 + traj.y[1] ** 2)
-        run.invariant("jacobi", float(np.max(np.abs(jac - jac[0]) / size)))
+        jac = 0.5 * (traj.y[2] ** 2 + traj.y[3] ** 2 - k * k * (traj.y[0] ** 2 + traj.y[1] ** 2))
+        size = 0.5 * (traj.y[2] ** 2 + traj.y[3] ** 2 + k * k * (traj.y[0] ** 2 + traj.y[1] ** 2))
+        run.invariant("jacobi", float(np.max(np.abs(jac - jac[0]) / np.maximum(size, np.finfo(float).tiny))))
         run.invariant("constraint", float(np.max(np.abs(traj.y[1]))))
     else:
         y = y0
-    ax, ay, n = _forces(y)
-    # Eq. (4.90): a_lab = a_rot + 2 w x v_rot + w x (w x r), scaled (w = z)
-    lab = np.array([ax - 2.0 * y[3] - y[0], ay + 2.0 * y[2] - y[1]])
-    # errors are relative to the larger of the state's two parts (growing and decaying)
+    fx, fy, n = _forces(y, k)
+    lab = np.array([fx - 2.0 * y[3] - k * y[0], fy + 2.0 * y[2] - k * y[1]])  # over k, like the forces
     scale = max(abs(y[0]), abs(y[2]))
     tol = exercise.tol_factor * run.rtol
+    # an acceleration k q in units L/T0^2 is q omega V in SI (1/T0 = omega/k)
+    wV = w * V  # the acceleration unit over k, formed first (q omega alone can underflow)
+    acc = lambda q: q * wV  # noqa: E731
     run.claim("r", rel=tol, abs=tol * L * scale)
-    run.claim("a_rot", rel=tol, abs=tol * w * w * L * scale)
-    run.claim("a_lab", rel=tol, abs=tol * 2.0 * w * w * L * scale)
-    run.claim("N", rel=tol, abs=tol * 2.0 * p.m * w * w * L * scale)
+    run.claim("a_rot", rel=tol, abs=tol * k * scale * wV)
+    run.claim("a_lab", rel=tol, abs=tol * 2.0 * scale * wV)
+    run.claim("N", rel=tol, abs=tol * 2.0 * p.m * scale * wV)
     return {
         "r": y[0] * L,
-        "a_rot": ax * w * w * L,
-        "a_lab": float(np.hypot(lab[0], lab[1])) * w * w * L,
-        "N": n * p.m * w * w * L,
+        "a_rot": acc(fx),
+        "a_lab": acc(float(np.hypot(lab[0], lab[1]))),
+        "N": acc(n) * p.m,
     }

@@ -76,6 +76,13 @@ def _x_minus_sin_over_cube(x: float) -> float:
     return total
 
 
+def _one_minus_sinc(x: float) -> float:
+    """1 - sin(x)/x, by its series x^2/3! - x^4/5! + ... for |x| <= 0.5 (no cancellation)."""
+    if abs(x) > 0.5:
+        return 1.0 - math.sin(x) / x
+    return x * x * _x_minus_sin_over_cube(x)
+
+
 def _sinc(x: float) -> float:
     return 1.0 if x == 0.0 else math.sin(x) / x
 
@@ -87,7 +94,12 @@ def analytic(p):
     eps = p.omega_E * T0
 
     def lost(tau):  # height lost over h at scaled time tau, minus 1
-        return tau * tau * (c * c + s * s * _sinc(eps * tau) ** 2) - 1.0
+        # (tau^2 - 1) - tau^2 s^2 (1 - sinc^2), not tau^2 (c^2 + s^2 sinc^2) - 1: c^2 + s^2 is 1 only to
+        # rounding, and where s^2 eps^2/3 is below it (eps = 4.5e-8, theta = 0.032: lost(1) = -7e-19) lost(1)
+        # came out +2.2e-16 and the root was not bracketed
+        x = eps * tau
+        m = _one_minus_sinc(x)
+        return (tau - 1.0) * (tau + 1.0) - tau * tau * s * s * m * (2.0 - m)
 
     if eps == 0.0:
         tau = 1.0

@@ -62,7 +62,10 @@ def analytic(p):
 
     M, R, l, I, g = p.M, p.R, p.l, p.I, p.g
     J0 = I + M * (R - l) ** 2
-    Mgl = M * g * l
+    # (M g l)^(1/2) and Omega as products of square roots: M g l / J0 in one piece leaves the floating-point
+    # range where its square root does not (l = 1e-300 m, g = 2e-4 m/s^2: the ratio ~1e-302 SI, 1e-379
+    # in the natural units of scales.py, gave Omega = 0 for 1.2e-151 rad/s)
+    root_Mgl = np.sqrt(M) * np.sqrt(g) * np.sqrt(l)
     k = np.sin(p.phi0 / 2.0)
     # cos(phi0/2) straight from the library: its argument reduction uses pi to far more
     # digits than (pi - phi0) in double precision would, which matters within 1e-8 of the top
@@ -79,8 +82,8 @@ def analytic(p):
     bend = np.arcsin(min(1.0, np.sqrt(J0 / B))) if B > 0 else np.pi / 2
     pts = [bend] if 0.0 < bend < np.pi / 2 else None
     rem, _ = quad(rest, 0.0, np.pi / 2, points=pts, epsabs=0.0, epsrel=1e-13, limit=400, vectorized=True)
-    quarter = (f1 * ellipkm1(kc**2) - B * rem) / np.sqrt(Mgl)
-    return {"Omega": np.sqrt(Mgl / J0), "period": 4.0 * quarter}
+    quarter = (f1 * ellipkm1(kc**2) - B * rem) / root_Mgl
+    return {"Omega": root_Mgl / np.sqrt(J0), "period": 4.0 * quarter}
 
 
 def _trig(phi0, dphi):

@@ -149,7 +149,7 @@ def numeric(p, run):
     return _slow_rate_and_outputs(p, run, x1, t_eps, y_eps, y_star)
 
 
-def _slow_rate_and_outputs(p, run, x1, t_eps, y_eps, y_star):
+def _slow_rate_and_outputs(p, run, x1, t_eps, y_eps, y_star, q_t=None):
     z, w0, rtol = p.zeta, p.omega0, run.rtol
     q_claim = exercise.tol_factor * rtol * 1e-3 * p.eps
     # slow rate: largest-magnitude eigenvalue of the inverse of the system matrix [[0, 1], [-1, -2 zeta]]
@@ -165,7 +165,7 @@ def _slow_rate_and_outputs(p, run, x1, t_eps, y_eps, y_star):
     run.claim("q_t", rel=exercise.tol_factor * rtol, abs=p.q0 * q_claim)
     return {
         "lambda_slow": lam,
-        "q_t": p.q0 * x1,
+        "q_t": p.q0 * x1 if q_t is None else q_t,
         "t_eps": t_eps / w0,
         "v_max": p.q0 * w0 * abs(y_star[1]),
     }
@@ -187,82 +187,122 @@ class _Flow:
 
 def _numeric_flow(p, run):
     """The stiff case (zeta > 5) without stepping: the equation of motion x'' + 2 zeta x' + x = 0 is linear
-    with constant coefficients, y' = A y, so the state at any tau is exp(A tau) y0, computed by scaling and
-    squaring (solvers/numerics/linear_flow; measured against 80-digit flows in tests/test_ex5_4.py within
-    ~1e-14 for zeta up to 1e6 and tau up to 1e7).  The events are roots of the flow's components, bracketed
-    on a geometric grid of tau from a hundredth of the fast time 1/||A|| (a factor 1.25 apart, 10 samples per
-    e-fold of tau: an implicit integrator's steps grow the same way) and polished by Brent's method to a
-    tenth of rtol in tau: the part of the answer that follows rtol, and what the rerun at rtol/10 checks.
-    The flow's rounding is monitored by the semigroup property Phi(a) Phi(b) = Phi(a + b)."""
-    from mech.solvers.numerics.linear_flow import expm
+    with constant coefficients, y' = A y, so the state at any tau is exp(A tau) y0 (scaling and squaring,
+    solvers/numerics/linear_flow).  exp(A h) is exact only to ~1e-16 of its largest entry, 1 at short h: in
+    one piece a state of size eps came out with an absolute error of 1e-16 (zeta 1e4, eps 1e-12: x 1.3e-4
+    off, t_eps 1.3e-6 off against a claim of 1e-7).  So the state is carried along a chain of hops, each
+    exp(A h) applied to the state reached so far, with h at most zeta: the slow mode (rate between
+    1/(2 zeta) and 1/zeta) falls by at most e^-1 per hop, so every hop keeps the state to a few units of
+    round-off relative to its own size, and the size is carried apart as a logarithm (no underflow).  The
+    hops grow geometrically from a hundredth of the fast time 1/||A|| (a factor 1.25 apart: an implicit
+    integrator's steps grow the same way) up to zeta.  The events are sign changes along the chain, polished
+    by Brent's method to a tenth of rtol in tau, x = eps as ln x = ln eps.  The flow's rounding is
+    monitored by the semigroup property: the state at t_eps reached again from the state at the largest
+    speed by hops of another length."""
+    from mech.solvers.numerics.linear_flow import expm, expm_many
     from mech.solvers.numerics.roots import brentq
     from mech.core import budget
 
     z, w0, eps = p.zeta, p.omega0, p.eps
     rtol = run.rtol
     A = np.array([[0.0, 1.0], [-1.0, -2.0 * z]])
-    y0 = np.array([1.0, 0.0])
-
-    def state(tau):
-        return expm(A * tau) @ y0
-
-    def reach(tau):  # x = eps, crossed downward
-        return state(tau)[0] - eps
-
-    def turn(tau):  # x'' = 0, crossed upward: the largest speed
-        x, v = state(tau)
-        return -2.0 * z * v - x
-
-    horizon = 1e3 * (2.0 * z + 1.0) * max(1.0, -math.log(eps))
+    log_eps = math.log(eps)
+    horizon = 1e3 * (2.0 * z + 1.0) * max(1.0, -log_eps)
     fast = float(np.max(np.sum(np.abs(A), axis=0)))
+    cap = z
+
     grid = [0.0]
     tau = 0.01 / fast
-    while tau < horizon:
+    while 0.25 * tau < cap:
         grid.append(tau)
         tau *= 1.25
-    grid.append(horizon)
-    flow = _Flow(A, y0, grid)
-    xs, vs = flow.y
-    accel = -2.0 * z * vs - xs
+    short = expm_many(A, np.diff(grid))
+    hop = expm(A * cap)
+    ys, logs = [np.array([1.0, 0.0])], [0.0]  # the state at grid[k] is ys[k] e^logs[k], max |ys[k]| = 1
+
+    def advance(matrix, y, log_size):
+        y = matrix @ y
+        size = float(np.max(np.abs(y)))
+        if size == 0.0:
+            raise NumericFailure("the flow's state vanished along the chain")
+        return y / size, log_size + math.log(size)
+
+    def reach_value(y, log_size):  # ln x - ln eps (x <= 0: a crossing of q = 0, far below)
+        return math.log(y[0]) + log_size - log_eps if y[0] > 0.0 else -math.inf
+
+    def accel(y):  # x'' (up to the positive scale), crossed upward at the largest speed
+        return -2.0 * z * y[1] - y[0]
+
     found = {}
-    for name, g, direction, fn in (("x = eps", xs - eps, -1, reach), ("x'' = 0", accel, 1, turn)):
-        budget.check("5.4 events")
-        sign = np.sign(g) * direction
-        crossed = (sign[1:] >= 0.0) & (sign[:-1] < 0.0)
-        if not np.any(crossed):
-            raise NumericFailure(f"{name} not reached by tau = {horizon:.3g}")
-        k = int(np.argmax(crossed))
-        a, b = grid[k], grid[k + 1]
-        found[name] = b if g[k + 1] == 0.0 else brentq(fn, a, b, xtol=1e-300, rtol=max(0.1 * rtol, 4.0 * np.finfo(float).eps))
-    t_eps, t_star = found["x = eps"], found["x'' = 0"]
-    y_eps, y_star = state(t_eps), state(t_star)
-    upto = np.asarray(grid) <= t_eps
-    if np.any(xs[upto] <= 0.0) or np.any(vs[upto][1:] > 0.0):
+    k = 0
+    while "x = eps" not in found or "x'' = 0" not in found:
+        if k % 1000 == 0:
+            budget.check("5.4 flow chain")
+        matrix = short[k] if k < len(short) else hop
+        if k >= len(short):
+            if grid[-1] >= horizon:
+                raise NumericFailure(f"x = eps not reached by tau = {horizon:.3g}")
+            grid.append(grid[-1] + cap)
+        y, log_size = advance(matrix, ys[-1], logs[-1])
+        ys.append(y)
+        logs.append(log_size)
+        k += 1
+        if "x = eps" not in found and reach_value(y, log_size) <= 0.0:
+            found["x = eps"] = k - 1
+        if "x'' = 0" not in found and accel(y) >= 0.0 and accel(ys[-2]) < 0.0:
+            found["x'' = 0"] = k - 1
+
+    def state_from(j, tau):  # (y, log size) at tau from the chain's node j <= tau
+        return advance(expm(A * (tau - grid[j])), ys[j], logs[j]) if tau > grid[j] else (ys[j], logs[j])
+
+    def polish(j, fn):
+        a, b = grid[j], grid[j + 1]
+        if fn(b) == 0.0:
+            return b
+        return brentq(fn, a, b, xtol=1e-300, rtol=max(0.1 * rtol, 4.0 * np.finfo(float).eps))
+
+    j_eps, j_star = found["x = eps"], found["x'' = 0"]
+    t_eps = polish(j_eps, lambda t: reach_value(*state_from(j_eps, t)))
+    t_star = polish(j_star, lambda t: accel(state_from(j_star, t)[0]))
+    y_eps, log_eps_state = state_from(j_eps, t_eps)
+    y_star, log_star = state_from(j_star, t_star)
+    upto = np.array([y for y, t in zip(ys, grid) if t <= t_eps])
+    if np.any(upto[:, 0] <= 0.0) or np.any(upto[1:, 1] > 0.0):
         raise NumericFailure("the oscillator crossed q = 0 or turned back: not aperiodic")
+
+    # q(t1): from the chain's last node at or before tau1, on by hops of `cap` while the state is representable
     tau1 = w0 * p.t1
-    if tau1 <= t_eps:
-        x1 = float(state(tau1)[0])
-    else:
-        # on from x = eps in spans of 100 zeta, each decaying by at most e^-100 (the slow rate lies between
-        # 1/(2 zeta) and 1/zeta): every product keeps the accuracy relative to the state's own size, where
-        # exp(A tau1) in one piece kept it only relative to q0 (1e-16 of q0 at tau1 = 9e7 and zeta = 600,
-        # where the state is 1e-32000 of q0: a draw of scripts/draws.py, seed 20261125); a few spans take it
-        # below the smallest double
-        y, left, span = y_eps, tau1 - t_eps, 100.0 * z
-        hop = expm(A * span)
-        while left > span and (y[0] != 0.0 or y[1] != 0.0):
-            budget.check("5.4 long decay")
-            y, left = hop @ y, left - span
-        x1 = float((expm(A * left) @ y)[0]) if (y[0] != 0.0 or y[1] != 0.0) else 0.0
-    # the rounding of the flow: the same state reached in one span and in two
-    via = expm(A * (t_eps - t_star)) @ y_star
-    run.invariant("semigroup Phi(a) Phi(b) = Phi(a + b)", float(np.max(np.abs(via - y_eps) / np.abs(y_eps))))
+    j1 = int(np.searchsorted(np.asarray(grid), tau1, side="right")) - 1
+    y1, log1, at = ys[j1], logs[j1], grid[j1]
+    floor = -800.0 - math.log(p.q0)  # q0 e^log below the smallest double: q(t1) = 0
+    while tau1 - at > cap and log1 > floor:
+        budget.check("5.4 long decay")
+        y1, log1 = advance(hop, y1, log1)
+        at += cap
+    q_t = 0.0
+    if log1 > floor:
+        if tau1 > at:
+            y1, log1 = advance(expm(A * (tau1 - at)), y1, log1)
+        q_t = p.q0 * y1[0] * math.exp(log1) if log1 + math.log(p.q0) > -800.0 else 0.0
+
+    # the rounding of the chain: the state at t_eps reached from the one at t_star by hops of another length
+    n = max(1, math.ceil((t_eps - t_star) / (0.7 * cap)))
+    again = expm(A * ((t_eps - t_star) / n))
+    via, log_via = y_star, log_star
+    for i in range(n):
+        if i % 1000 == 0:
+            budget.check("5.4 semigroup")
+        via, log_via = advance(again, via, log_via)
+    drift = float(np.max(np.abs(via * math.exp(log_via - log_eps_state) - y_eps)) / np.max(np.abs(y_eps)))
+    run.invariant("semigroup Phi(a) Phi(b) = Phi(a + b)", drift)
     if run.keep_trajectories:
         end = max(t_eps, tau1)
-        run.motion(_Flow(A, y0, [t for t in grid if t < end] + [end]), t_scale=1.0 / w0,
-                   y_scale=[p.q0, p.q0 * w0])
+        samples = [t for t in grid if t < end] + [end]
+        run.motion(_Flow(A, np.array([1.0, 0.0]), samples), t_scale=1.0 / w0, y_scale=[p.q0, p.q0 * w0])
     run.method = "exact flow exp(A t) + Brent events"
     run.info["grid_samples"] = len(grid)
-    if y_eps[1] >= 0.0 or x1 < 0.0:
+    if y_eps[1] >= 0.0 or q_t < 0.0:
         raise NumericFailure("the oscillator crossed q = 0 or turned back: not aperiodic")
-    return _slow_rate_and_outputs(p, run, x1, t_eps, y_eps, y_star)
+    y_star_si = y_star * math.exp(log_star)
+    return _slow_rate_and_outputs(p, run, q_t / p.q0, t_eps, y_eps, y_star_si, q_t=q_t)
+

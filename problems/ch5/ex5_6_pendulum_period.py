@@ -56,11 +56,23 @@ def analytic(p):
     w0 = math.sqrt(p.g / p.l)
     c = math.sin(_phi0(p.theta0) / 2.0)  # cos(theta0/2)
     K = float(ellipkm1(c * c))
-    # AGM(1, c) as 1 - alpha: track the deviations alpha, beta of a, b from 1
+    # AGM(1, c) as 1 - alpha: the means a, b and their deviations alpha, beta from 1 carried side by side,
+    # each new pair formed from whichever is accurate: while a b >= 1/2, 1 - sqrt(a b) from the deviations
+    # (a tiny shift is not lost in 1 - AGM); below, sqrt(a b) from the means themselves (near the top
+    # c = cos(theta0/2) ~ 1e-12, and 1 - a b formed from the deviations held c only to 1e-16/c: domega
+    # came out 6.5e-8 off at theta0 = pi - 3e-12)
+    a, b = 1.0, c
     alpha, beta = 0.0, 2.0 * math.sin(p.theta0 / 4.0) ** 2  # 1 - cos(theta0/2)
     for _ in range(60):
-        x = alpha + beta - alpha * beta  # 1 - a b
-        alpha, beta = 0.5 * (alpha + beta), x / (1.0 + math.sqrt(1.0 - x))
+        if a * b >= 0.5:
+            x = alpha + beta - alpha * beta  # 1 - a b
+            beta_next = x / (1.0 + math.sqrt(1.0 - x))
+            b_next = 1.0 - beta_next
+        else:
+            b_next = math.sqrt(a * b)
+            beta_next = 1.0 - b_next
+        a, alpha = 0.5 * (a + b), 0.5 * (alpha + beta)
+        b, beta = b_next, beta_next
         if abs(alpha - beta) <= 1e-17 * abs(alpha):
             break
     return {"T": 4.0 * K / w0, "T_ratio": 2.0 * K / math.pi, "domega": -w0 * alpha}

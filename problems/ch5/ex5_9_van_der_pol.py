@@ -67,8 +67,20 @@ MAX_EPS = 1e5
 def constraint(p):
     eps = p.mu / p.omega0
     if eps > MAX_EPS:
-        return (f"mu/omega0 = {eps:.3g} exceeds {MAX_EPS:g}: a relaxation oscillation whose jumps last "
-                f"~(omega0/mu)^2 = {eps**-2:.1e} of its slow phases, below what double precision resolves of a period")
+        # the ratio and its square as powers of ten: mu/omega0 itself overflows at mu = 1e290, omega0 = 1e-320
+        k = math.log10(p.mu) - math.log10(p.omega0)
+        return (f"mu/omega0 = {_power_of_ten(k)} exceeds {MAX_EPS:g}: a relaxation oscillation whose jumps last "
+                f"~(omega0/mu)^2 = {_power_of_ten(-2.0 * k)} of its slow phases, below what double precision "
+                "resolves of a period")
+
+
+def _power_of_ten(k: float) -> str:
+    """10^k written out (3 significant digits), also where it is beyond the doubles' range."""
+    e = math.floor(k)
+    m = 10.0 ** (k - e)
+    if m >= 9.995:
+        m, e = 1.0, e + 1
+    return f"{m:.3g}e{e:+d}" if abs(e) >= 5 else f"{10.0**k:.3g}"
 
 
 @exercise.analytic
