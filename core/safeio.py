@@ -21,7 +21,7 @@ import stat
 
 from mech.core.errors import BadInput
 
-__all__ = ["shown", "shown_path", "escape", "MAX_FILE_BYTES", "MAX_DEPTH", "MAX_KEY_PARTS", "read_text", "load_toml",
+__all__ = ["shown", "shown_path", "escape", "MAX_FILE_BYTES", "MAX_DEPTH", "MAX_KEY_PARTS", "read_text", "load_toml", "load_toml_text",
            "load_json", "check_output", "budget_seconds", "atomic_write", "columns", "normalize_columns", "MIN_COLUMNS"]
 
 SHOWN_CHARS = 80
@@ -139,6 +139,11 @@ def _key_parts(skeleton: str) -> int:
 
 def load_toml(path, what: str = "file") -> dict:
     """A TOML file, read and pre-scanned within the limits, parsed; BadInput naming the file otherwise."""
+    return load_toml_text(path, what)[0]
+
+
+def load_toml_text(path, what: str = "file") -> tuple[dict, str]:
+    """``load_toml``'s table and the text it was parsed from (read once)."""
     import tomllib
 
     text = read_text(path, what)
@@ -149,7 +154,7 @@ def load_toml(path, what: str = "file") -> dict:
     if _key_parts(skeleton) > MAX_KEY_PARTS:
         raise BadInput(f"{name}: malformed TOML: a dotted key of more than {MAX_KEY_PARTS} parts")
     try:
-        return tomllib.loads(text)
+        return tomllib.loads(text), text
     except tomllib.TOMLDecodeError as exc:
         raise BadInput(f"{name}: malformed TOML: {shown(exc, 200)}") from None
     except (ValueError, RecursionError, MemoryError) as exc:  # an integer over Python's 4300 digits

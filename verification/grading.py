@@ -180,10 +180,10 @@ def _entry_lines(text: str) -> list[int]:
 def load_answers(path: str) -> list[Entry]:
     """Read and check a whole grading file before anything is solved; BadFile listing every problem."""
     from mech.problems import registry
-    from mech.core.safeio import load_toml, read_text, shown, shown_path
+    from mech.core.safeio import load_toml_text, shown, shown_path
 
     name = shown_path(path)
-    data = load_toml(path, "answers file")  # BadInput naming the file: unreadable, too big, too deep, malformed
+    data, text = load_toml_text(path, "answers file")  # BadInput naming the file: unreadable, too big, too deep, malformed
     problems: list[str] = []
     for key in data:
         if key != "answer":
@@ -191,7 +191,7 @@ def load_answers(path: str) -> list[Entry]:
     answers = data.get("answer")
     if not isinstance(answers, list) or not answers or not all(isinstance(a, dict) for a in answers):
         raise BadFile(problems + [f"{name}: no [[answer]] tables"])
-    lines = _entry_lines(read_text(path, "answers file"))
+    lines = _entry_lines(text)
     entries = []
     for k, item in enumerate(answers, 1):
         line = lines[k - 1] if len(lines) == len(answers) else None
