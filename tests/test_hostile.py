@@ -566,7 +566,7 @@ def random_argv(rnd: _random.Random) -> list[str]:
         return ["show", ex_id] + (["--json"] if rnd.random() < 0.5 else [])
     if kind == "check-paths":  # the file options are refused before any check runs
         return ["check", "4.15", rnd.choice(["--junit", "--save-baseline", "--baseline"]),
-                rnd.choice(["", "/", "/dev/full", "/dev/zero", "/nonexistent/x", "\x1b[2J"])]
+                rnd.choice(["", "/", "/dev/full", "/dev/zero", "/nonexistent/x", "/nonexistent/\x1b[2J"])]
     args = [kind, ex_id if kind == "solve" else rnd.choice(["4.15", ex_id])]
     for _ in range(rnd.randint(0, 3)):
         name, text = rnd.choice(PARAMS), _text(rnd)
