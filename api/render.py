@@ -227,7 +227,8 @@ def _cells(q, expected: dict | None = None) -> dict:
         "numeric": Text(with_error(q.numeric, getattr(q, "numeric_err", None))),
         "rel. diff": Text(_small(q.rel_err)),
         "tol": Text(_tol_text(q)),
-        "agree": _agree_text(q.agree),
+        "agree": (Text("outside range", style="yellow") if getattr(q, "theory_valid", None) is False
+                  and q.agree is None else _agree_text(q.agree)),
     }
 
 
@@ -290,6 +291,16 @@ def _verdict(result) -> Text | None:
     has_n = any(q.numeric is not None for q in qs)
     if result.agree is False:
         return Text("CROSS-CHECK FAILED" if has_a and has_n else "FAILED", style="bold red")
+    outside = [q for q in qs if getattr(q, "theory_valid", None) is False and q.agree is None]
+    if has_a and has_n and outside:
+        # a leading-order theory outside its range is not compared: say which outputs and why
+        prefix = "leading-order theory outside its range: "
+        why = "; ".join(dict.fromkeys(q.notes[-1].removeprefix(prefix) for q in outside if q.notes))
+        compared = any(q.agree is True for q in qs)
+        head = "analytic and numeric agree on the rest; " if result.agree and compared else ""
+        return Text(f"{head}no theory compared for {', '.join(q.name for q in outside)}: the leading-order "
+                    f"theory is outside its range ({why}); the verified numeric values are the answers",
+                    style="yellow")
     if has_a and has_n:
         return Text("analytic and numeric agree", style="green") if result.agree else None
     if has_a:

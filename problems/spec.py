@@ -281,6 +281,32 @@ class BatchedRoute:
     analytic: Callable
     expected_error: Callable | None = None
     boundaries: dict = field(default_factory=dict)
+    # ``theory_range(P) -> {output: (label, array)}``: the expansion parameter of each leading-order output
+    # over the arrays (``Exercise.theory_range``'s batched form)
+    theory_range: Callable | None = None
+
+
+# A leading-order theory is outside its range where its expansion parameter reaches RANGE_LIMIT or its
+# neglect estimate (``expected_error``'s relative part) reaches NEGLECT_LIMIT: nothing is compared there
+RANGE_LIMIT = 1.0
+NEGLECT_LIMIT = 0.3
+
+
+def _outside_reason(label: str | None, value: float | None, neglect: float | None) -> str | None:
+    """Why a leading-order theory does not apply at a point, or None when it does."""
+    said = "" if label is None or value is None else f"{label} = {value:.2g}"
+    if value is not None and not value < RANGE_LIMIT:
+        return f"leading-order theory outside its range: {said}"
+    if neglect is not None and not neglect < NEGLECT_LIMIT:
+        return (f"leading-order theory outside its range: what it neglects is estimated at {neglect:.2g} "
+                f"relative" + (f" ({said})" if said else ""))
+    return None
+
+
+def _rel_part(e):
+    if isinstance(e, (tuple, list)):
+        e = e[0]
+    return None if e is None else float(e)
 
 
 def _load_catalogue(ex_id: str) -> dict:
@@ -349,6 +375,8 @@ class Exercise:
         self._hamiltonian: Callable | None = None
         self._scene: Callable | None = None
         self._batched: "BatchedRoute | None" = None
+        self._theory_range: Callable | None = None
+        self._approximations: Callable | None = None
         self.param_map = {p.name: p for p in self.params}
 
     # -- decorators -------------------------------------------------------
@@ -371,6 +399,19 @@ class Exercise:
         """For leading-order outputs: ``fn(p) -> {output: relative size of what the theory neglects}``; an
         output whose leading-order value can be zero gives ``(relative, absolute)`` instead (absolute in SI)."""
         self._expected_error = fn
+        return fn
+
+    def theory_range(self, fn: Callable[[Params], dict]) -> Callable:
+        """For leading-order outputs: ``fn(p) -> {output: (label, value)}``, the parameter the theory expands
+        in at ``p`` (the largest where there are several): ``{"omega": ("mu/omega0", 3.3)}``.  At a value of 1
+        or more the theory is outside its range (``theory_validity``)."""
+        self._theory_range = fn
+        return fn
+
+    def approximations(self, fn: Callable[[Params], dict]) -> Callable:
+        """Where the statement asks for an approximation next to an exact output: ``fn(p) -> {output:
+        [(value, "what it is"), ...]}`` (values in SI), e.g. the small-swing period next to the exact one."""
+        self._approximations = fn
         return fn
 
     def analytic_error(self, fn: Callable[[Params], dict]) -> Callable:
@@ -403,7 +444,8 @@ class Exercise:
         return self._scene(p, run), run
 
     def batched(self, outputs: tuple[str, ...], *, analytic: Callable, expected_error: Callable | None = None,
-                boundaries: Mapping[str, tuple[str, str]] | None = None) -> Callable:
+                boundaries: Mapping[str, tuple[str, str]] | None = None,
+                theory_range: Callable | None = None) -> Callable:
         """Register a batched numeric route for charts: ``fn(P, rtol, outputs[, memo]) -> {output: Column}``.
 
         ``P`` maps every parameter name to an array of N values (one per grid
@@ -415,7 +457,8 @@ class Exercise:
         ({output: Column} and {output: array}); tests hold them equal to the
         scalar ones.  ``boundaries`` maps a parameter to (output, label): the
         analytic value of that output is a boundary in that parameter (5.11's
-        mu = mu_th(omega)), drawn on maps over that parameter.  A ``memo`` keyword,
+        mu = mu_th(omega)), drawn on maps over that parameter.  ``theory_range(P)`` is ``theory_range``
+        over the arrays ({output: (label, array)}).  A ``memo`` keyword,
         if ``fn`` takes one, is a dict shared by all chunks of one sweep.
         """
         unknown = set(outputs) - {o.name for o in self.outputs}
@@ -423,7 +466,8 @@ class Exercise:
             raise ValueError(f"{self.id}: batched route names unknown outputs {sorted(unknown)}")
 
         def register(fn: Callable) -> Callable:
-            self._batched = BatchedRoute(fn, tuple(outputs), analytic, expected_error, dict(boundaries or {}))
+            self._batched = BatchedRoute(fn, tuple(outputs), analytic, expected_error, dict(boundaries or {}),
+                                         theory_range)
             return fn
 
         return register
@@ -494,6 +538,48 @@ class Exercise:
 
     def expected_errors(self, p: Params) -> dict:
         return dict(self._expected_error(p)) if self._expected_error else {}
+
+    def theory_ranges(self, p: Params) -> dict:
+        """{output: (label, value)}: the expansion parameter of each leading-order output at ``p``."""
+        return dict(self._theory_range(p)) if self._theory_range else {}
+
+    def theory_validity(self, p: Params, expected: dict | None = None) -> dict:
+        """{output: None | reason} for every leading-order output: the reason why its theory does not apply at
+        ``p`` (its expansion parameter reaches 1, or its neglect estimate 0.3 relative), None inside its range.
+        ``expected``: ``expected_errors(p)`` where the caller has it already."""
+        lead = [o.name for o in self.outputs if o.theory != "exact"]
+        if not lead:
+            return {}
+        ranges = self.theory_ranges(p)
+        expected = self.expected_errors(p) if expected is None else expected
+        out = {}
+        for name in lead:
+            label, value = ranges.get(name, (None, None))
+            out[name] = _outside_reason(label, None if value is None else float(value), _rel_part(expected.get(name)))
+        return out
+
+    def theory_validity_batch(self, P: Mapping, expected: dict) -> dict:
+        """The batched form: {output: (outside, reasons)}, a boolean array and a list of reasons ("" inside),
+        from the batched route's ``theory_range`` and the batched ``expected`` ({output: (rel, abs) arrays})."""
+        import numpy as np
+
+        route = self._batched
+        ranges = route.theory_range(P) if route is not None and route.theory_range else {}
+        out = {}
+        for name, (rel, _abs) in expected.items():
+            if next(o for o in self.outputs if o.name == name).theory == "exact":
+                continue
+            label, vals = ranges.get(name, (None, None))
+            rel = np.asarray(rel, dtype=float)
+            vals = None if vals is None else np.broadcast_to(np.asarray(vals, dtype=float), rel.shape)
+            reasons = [_outside_reason(label, None if vals is None or vals[k] != vals[k] else float(vals[k]),
+                                       None if rel[k] != rel[k] else float(rel[k])) or "" for k in range(rel.size)]
+            out[name] = (np.array([bool(r) for r in reasons], dtype=bool), reasons)
+        return out
+
+    def approximations_at(self, p: Params) -> dict:
+        """{output: [(value, text), ...]}: the approximations the statement asks for next to exact outputs."""
+        return dict(self._approximations(p)) if self._approximations else {}
 
     def analytic_errors(self, p: Params) -> dict:
         return dict(self._analytic_error(p)) if self._analytic_error else {}

@@ -255,7 +255,9 @@ def test_chunks_do_not_change_the_verdicts():
     b = batched_points(run_batched(ex, axes, {}, ("growth",)))
     for pa, pb in zip(a, b):
         qa, qb = pa["quantities"][0], pb["quantities"][0]
-        assert qa["agree"] is qb["agree"] is True
+        assert qa["agree"] is qb["agree"] and qa.get("theory_valid") == qb.get("theory_valid")
+        # agreement, or (near the zone's edge, where the next order is large) the theory outside its range
+        assert qa["agree"] is True or (qa["theory_valid"] is False and qa["agree"] is None)
         assert abs(qa["numeric"] - qb["numeric"]) <= qa["numeric_err"]
 
 

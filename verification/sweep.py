@@ -323,7 +323,7 @@ def grid_arrays(ex: Exercise, axes: Sequence[Axis], fixed: dict[str, float]) -> 
     return P
 
 
-def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter):
+def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter, outside=None):
     """The cross-check's rule over arrays: one output at every point -> dict of arrays and reasons.
 
     The same rule as ``crosscheck.cross_check``: tolerance = the numeric claim,
@@ -389,7 +389,13 @@ def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter):
         claim = rel * scale + tol_abs
         unreliable = chk & (verify_diff > claim)
         agree[unreliable] = 0
+    # a leading-order theory outside its range (``Exercise.theory_validity_batch``: mask, reasons) is not
+    # compared: no verdict there unless the numeric value itself fails
+    out_mask, out_why = (np.zeros(N, dtype=bool), [""] * N) if outside is None else outside
+    tol = np.where(out_mask, rel, tol)
+    agree[out_mask & ~unreliable & ~no_claim] = -1
     return {
+        "outside": out_mask, "outside_why": out_why,
         "analytic": np.where(a_num, a, np.nan), "numeric": np.where(n_num, n, np.nan),
         "a_und": a_und, "n_und": n_und, "n_fail": n_fail, "ver_fail": ver_fail,
         "abs_err": abs_err, "rel_err": rel_err, "tol": tol, "tol_abs": tol_abs, "agree": agree,
@@ -506,9 +512,12 @@ def run_batched(
         if progress:
             progress(sl.stop)
     judged = {}
+    expected = {o: np.concatenate(expected[o], axis=1) for o in outputs}
+    validity = ex.theory_validity_batch(P, {o: tuple(expected[o]) for o in outputs})
     for o in outputs:
-        judged[o] = _judge(ex, o, _concat_columns(analytic[o]), np.concatenate(expected[o], axis=1),
-                           _concat_columns(nums[o]), _concat_columns(vers[o]) if verify else None, rtol, tighter)
+        judged[o] = _judge(ex, o, _concat_columns(analytic[o]), expected[o],
+                           _concat_columns(nums[o]), _concat_columns(vers[o]) if verify else None, rtol, tighter,
+                           outside=validity.get(o))
     info = {"method": "DOP853 (batched)", "rtol": rtol, "verify_rtol": tighter if verify else None,
             "chunk": chunk, "chunks": stats["chunks"]}
     result = SweepResult(ex, list(axes), dict(fixed), None, 1, time.perf_counter() - t0)
@@ -567,6 +576,9 @@ def iter_batched_points(result: SweepResult):
                 q["expected_err"] = None if J["expected_err"] is None else _num(J["expected_err"][k])
                 if J["expected_err_abs"] is not None and J["expected_err_abs"][k] == J["expected_err_abs"][k]:
                     q["expected_err_abs"] = _num(J["expected_err_abs"][k])
+                q["theory_valid"] = not J["outside"][k]
+                if J["outside"][k]:
+                    notes.append(J["outside_why"][k])
             if q["numeric"] is not None:
                 q["numeric_err"] = _num(J["numeric_err"][k])
             if not (J["verify_diff"][k] != J["verify_diff"][k]):  # not NaN
@@ -584,7 +596,9 @@ def iter_batched_points(result: SweepResult):
             if notes:
                 q["note"] = "; ".join(dict.fromkeys(notes))
             quantities.append(q)
-        flags = [q["agree"] for q in quantities]
+        # outside a leading-order theory's range nothing is compared: a verified numeric value holds
+        flags = [True if q.get("theory_valid") is False and q["agree"] is None and "verify_diff" in q
+                 else q["agree"] for q in quantities]
         agree = False if errors or any(f is False for f in flags) else (None if all(f is None for f in flags)
                                                                           else True)
         pt = {"params": {n: cols[n][k] for n in names}, "quantities": quantities, "agree": agree,

@@ -58,6 +58,10 @@ six tops, so the coarse step is sized by (Om H)^3 = 2 rtol (and by
 the plain step needed (Om H)^2 = rtol.  On the bounds draw at rtol 1e-6 the
 steps are 13 nutation periods, 1.5e4 steps, 0.11 s, errors <= 3e-7 (rtol 1e-7:
 5e4 steps; the plain step there could not take coarse steps at all: 1e6 fine).
+
+Allowances (measured bounds; phi_lead's slip term derived, see ``expected_error``):
+  t_down 1.8 eps_g + eps_F + slip^2 + 100 eps_F^2;  t_up 0.6 eps_g + 0.4 eps_F + slip^2/3 + 40 eps_F^2;
+  phi_lead 1.2 slip/pi + 0.8 eps_g + 2 eps_F + 40 eps_F^2;  cos_min 2.5 (eps_g + eps_F)^2 + slip^2.
 """
 
 from __future__ import annotations
@@ -111,14 +115,36 @@ def constraint(p):
     return None
 
 
+@exercise.theory_range
+def theory_range(p):
+    """The fast-top picture expands in eps_g = I_A M g l/L3^2, eps_F = I_A l F/L3^2 and the slip of the
+    precession against the drive, eps_g M g/F (the largest shown)."""
+    eps_g, eps_F, slip = _small(p)
+    big = max([("I_A M g l/L3^2", eps_g), ("I_A l F/L3^2", eps_F), ("eps_g M g/F (slip)", slip)],
+              key=lambda c: c[1])
+    return {name: big for name in ("t_down", "t_up", "phi_lead", "cos_min")}
+
+
 @exercise.expected_error
 def expected_error(p):
+    """First-order sizes, measured against the numeric route at 11 tops (eps_g, eps_F = 1e-6 - 2e-3, slip
+    1e-9 - 0.07, I1 0.3e-3 - 1e-3) plus the defaults and hard cases; the nutation's phase at the event makes
+    the coefficients erratic below these bounds, so they are bounds, not a series:
+      t_down    1.8 eps_g + eps_F + slip^2 + 100 eps_F^2 (measured: -1.3 eps_g where the weight dominates,
+                up to +0.57 eps_F where the force does; the slip enters at second order);
+      t_up      a third of that (the same offset in time over three times the interval), 0.6 eps_g +
+                0.4 eps_F + slip^2/3 + 40 eps_F^2;
+      phi_lead  1.2 slip/pi + 0.8 eps_g + 2 eps_F + 40 eps_F^2 (1.25 eps_F measured on a draw with
+                I_A/I3 = 8000): in the frame turning with the drive the exact
+                precession runs fast by a eps_g cos(theta), which turns the axis sideways by slip sin^2(tau)/2,
+                so that it passes horizontal slip/2 rad further ahead (derived; 1.00 of the measured shift at
+                slip = 0.01 and 0.067, where it dominates);
+      cos_min   2.5 (eps_g + eps_F)^2 + slip^2: the first-order slip cancels at the bottom (see below)."""
     eps_g, eps_F, slip = _small(p)
-    first = 2.0 * (eps_g + eps_F)
     return {
-        "t_down": first + slip**2,
-        "t_up": first + slip**2,
-        "phi_lead": first + slip / (math.pi / 2),
+        "t_down": 1.8 * eps_g + eps_F + slip**2 + 100.0 * eps_F**2,
+        "t_up": 0.6 * eps_g + 0.4 * eps_F + slip**2 / 3.0 + 40.0 * eps_F**2,
+        "phi_lead": 1.2 * slip / math.pi + 0.8 * eps_g + 2.0 * eps_F + 40.0 * eps_F**2,
         # first-order slip cancels at the bottom (symmetric about it): second order.  The axis
         # nutates on a circle of radius ~eps about a guiding center itself ~eps off the
         # leading-order path, so it can pass 2 eps from straight down: 1 - cos(2 eps) ~ 2 eps^2
@@ -406,6 +432,19 @@ def _guiding_center(a, b, k, run):
 
 @exercise.numeric
 def numeric(p, run):
+    out = _numeric(p, run)
+    # cos_min is the least n_z: a direction error E (the claim, and what averaging neglects) moves it by
+    # E sin(angle from straight down) + E^2/2 at most, not by E (measured: the rerun at rtol/1000 moves it
+    # by <= 4e-12 where the claim E is 1e-5)
+    rel, ab = run.claims.get("cos_min", (None, None))
+    E = exercise.tol_factor * run.rtol if rel is None else rel
+    c = out["cos_min"]
+    if -1.0 <= c < 0.0:
+        run.claim("cos_min", rel=E * math.sqrt(2.0 * (1.0 + c)) + E * E, abs=ab)
+    return out
+
+
+def _numeric(p, run):
     IA = p.I1 + p.M * p.l**2
     L3 = p.I3 * p.omega_rot
     k = L3 / IA  # nutation rate (rad/s) for |L| = L3
@@ -419,8 +458,10 @@ def numeric(p, run):
     def averaged():
         run.method = "guiding-center (nutation-averaged) equations to first order in 1/k, DOP853"
         run.info["averaging_error"] = model_err
-        for q in ("t_down", "t_up", "phi_lead"):
-            run.claim(q, rel=exercise.tol_factor * run.rtol + model_err)
+        # the guiding-centre run's own error, measured at 79 draws (rtol 1e-6 against 1e-9): at most 0.25 rtol
+        # (t_down), 0.15 rtol (t_up), 0.019 rtol (phi_lead); claimed with a margin of 6-10
+        for q, f in (("t_down", 2.0), ("t_up", 1.0), ("phi_lead", 0.2)):
+            run.claim(q, rel=f * run.rtol + model_err)
         run.claim("cos_min", rel=exercise.tol_factor * run.rtol, abs=model_err)
         return _guiding_center(a, b, k, run)
 

@@ -33,6 +33,10 @@ weight exp(-1/(s(1 - s))) (a weighted Birkhoff average, converging faster than
 any power of the length) gives the mean of d, and beat = omega |<d>|/(2 pi).
 Two consecutive periods give two fits: their difference over 1 - exp(-mu T)
 bounds the transient left, and with the fit's residual makes the claim.
+
+Allowances (bounds, factor 3 over the neglected sizes): xi_lo, xi_hi  the free-frequency shift
+mu^2/(16 omega0) plus Delta ((Delta/mu)^2 + Delta/omega0); width  the latter with (mu/omega0)^2 (the shift
+moves both edges alike); beat  their effect through sqrt(xi^2 - Delta^2) plus (Delta/b)^2 xi/omega0.
 """
 
 from __future__ import annotations
@@ -109,14 +113,28 @@ def analytic(p):
 def expected_error(p):
     """Relative sizes: an edge moves by the uncertainty u (_edge_uncertainty) over Delta; the width loses
     the shift (it moves both edges alike) but keeps the rest; the beat b = sqrt(xi^2 - Delta^2) moves by
-    about (|xi| u + Delta u)/b, large near an edge.  Factor 3 over those sizes."""
+    about (|xi| u + Delta u)/b, large near an edge, and by (Delta/b)^2 xi/omega0 of itself through the
+    drive's coupling taken at omega0.  Factor 3 over those sizes."""
     D = _delta(p)
     u = _edge_uncertainty(p)
     rest = D * ((D / p.mu) ** 2 + D / p.omega0 + (p.mu / p.omega0) ** 2)
     xi = abs(p.omega - p.omega0)
     b2 = max((xi - D) * (xi + D), 0.0)
-    beat = 3.0 * (xi * u + D * u) / b2 + 3.0 * xi / p.omega0 if b2 > 0 else 0.0
+    # the drive's coupling f0/(2 omega A) is taken at omega0: relative xi/omega0 in Delta, which moves the
+    # beat by Delta^2 (xi/omega0)/b^2 of itself (not by xi/omega0: far from locking the beat is the plain
+    # difference of the two frequencies, 4e-11 off at xi = 0.16 omega0 in tests/test_ex5_10.py)
+    beat = 3.0 * (xi * u + D * u) / b2 + 3.0 * (D * D / b2) * xi / p.omega0 if b2 > 0 else 0.0
     return {"xi_lo": 3.0 * u / D, "xi_hi": 3.0 * u / D, "width": 3.0 * rest / D, "beat": beat}
+
+
+@exercise.theory_range
+def theory_range(p):
+    """The reduced equations expand in mu/omega0, the drive Delta/mu and the detuning |xi|/omega0 (the
+    largest shown)."""
+    cands = [("mu/omega0", p.mu / p.omega0), ("Delta/mu", _delta(p) / p.mu),
+             ("|omega - omega0|/omega0", abs(p.omega - p.omega0) / p.omega0)]
+    big = max(cands, key=lambda c: c[1])
+    return {name: big for name in ("xi_lo", "xi_hi", "width", "beat")}
 
 
 # ---------------------------------------------------------------------------------------------------------

@@ -37,6 +37,10 @@ The branch is only a path to a starting guess, so it is followed at rtol
 by Newton at fixed a (its last steps at the full rtol), both multipliers of H are checked to be inside the unit
 circle, and the largest |theta| on the orbit is found by event detection on
 theta' = 0.  Nothing waits for the slow transient.
+
+Allowances: a_th, growth  twice 5.11's next order of the same first zone (mu = a Omega^2/g) plus its floor;
+theta_st  a bound: the change of the leading-order swing when eps and the detuning move by their neglected
+sizes (no next order derived for the swing).
 """
 
 from __future__ import annotations
@@ -98,34 +102,69 @@ def analytic(p):
     return _lo(w0, p.delta, p.a * p.Omega / (2 * p.l), p.Omega / 2 - w0, p.l, p.Omega)
 
 
+def _small_swing_allowances(l, g, delta, a, Omega):
+    """{"a_th": rel, "growth": (rel, abs)} arrays for the small swings: their equation is 5.11's (stiffness
+    omega0^2 (1 - mu cos Omega t), mu = a Omega^2/g, omega0^2 = g/l, the response at Omega/2), so the first
+    zone's next order is 5.11's (``_second_order`` there: the zone's centre at a = 1 - k^2/8, sigma^2 kept
+    next to the detuning, the detuning not linearized, the third harmonics' coupling).  Allowances: twice
+    the next order plus the floors measured for 5.11 (growth 0.002 k^2 of the rate, a_th 0.005 mu_th^2 with
+    mu_th the threshold as a modulation depth), k = mu/2."""
+    from mech.problems.ch5.ex5_11_parametric_mathieu import _second_order
+
+    w0 = np.sqrt(g / l)
+    mu = a * Omega**2 / g
+    lo = _lo_batch(w0, delta, a * Omega / (2 * l), Omega / 2 - w0, l, Omega)
+    nx = _second_order(w0, delta, mu, Omega / 2.0)
+    k2 = (mu / 2.0) ** 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        g0 = lo["growth"]
+        g_abs = 2.0 * np.abs(nx["growth"] - g0) + 0.002 * k2 * (nx["growth"] + delta)
+        a_nx = nx["mu_th"] * g / Omega**2
+        mt = lo["a_th"] * Omega**2 / g  # the threshold as a modulation depth
+        return {"a_th": np.where(lo["a_th"] > 0, 2.0 * np.abs(a_nx / lo["a_th"] - 1.0) + 0.005 * mt**2, np.nan),
+                "growth": (np.where(g0 != 0, g_abs / np.abs(g0), 0.0), np.where(g0 != 0, np.nan, g_abs))}
+
+
 @exercise.expected_error
 def expected_error(p):
-    """Neglected: in eps, relative O(xi/omega0) and O(mu^2) (mu = a Omega^2/g) and,
-    for a swing, O(theta^2) (the drive couples through sin theta); in the
-    detuning, the zone's shift mu^2 omega0/64 + delta^2/(2 omega0) and O(xi^2/omega0);
-    in the swing's frequency, the next term of omega0 (1 - A^2/16 + O(A^4)).
-    Each output's expected error is its largest change when these move by
-    twice their size (finite changes, honest near threshold)."""
+    """Allowances, one line each:
+      a_th, growth  twice the next order of the first parametric zone (``_small_swing_allowances``, shared
+                    with 5.11: measured there against Floquet at 66 points) plus its measured floor;
+      theta_st      a bound: the largest change of the leading-order swing when eps moves by its
+                    neglected O(xi/omega0, mu^2, theta^2) and the detuning by the zone's shift
+                    mu^2 omega0/64 + delta^2/(2 omega0) + xi^2/omega0 + omega0 A^4/256 (the backbone's next term).
+    A zero theta_st (below the theory's threshold) has no relative error to give: it is compared as a zero,
+    so both methods must put a on the same side of the threshold."""
     w0 = math.sqrt(p.g / p.l)
     xi = p.Omega / 2 - w0
     eps = p.a * p.Omega / (2 * p.l)
     mu = p.a * p.Omega**2 / p.g
     base = _lo(w0, p.delta, eps, xi, p.l, p.Omega)
     A2 = base["theta_st"] ** 2
-    worst = {k: 0.0 for k in base}
-    # small swings (a_th, growth) carry no amplitude terms; the stationary swing does
-    for keys, amp in ((("a_th", "growth"), 0.0), (("theta_st",), A2)):
-        r = 2.0 * (abs(xi) / w0 + mu**2 / 16.0 + amp / 8.0)
-        s = 2.0 * (mu**2 * w0 / 64.0 + 0.5 * p.delta**2 / w0 + xi**2 / w0 + w0 * amp**2 / 256.0)
-        for se in (-1.0, 1.0):
-            for sx in (-1.0, 1.0):
-                alt = _lo(w0, p.delta, eps * (1 + se * r), xi + sx * s, p.l, p.Omega)
-                alt["a_th"] = 2.0 * p.l * math.hypot(p.delta, abs(xi) + s) / p.Omega / max(1.0 - r, 1e-3)
-                for k in keys:
-                    worst[k] = max(worst[k], abs(alt[k] - base[k]))
-    # A zero analytic value (theta_st below the theory's threshold) has no relative error to give:
-    # it is compared as a zero, so both methods must put a on the same side of the threshold.
-    return {k: (worst[k] / abs(base[k]) if base[k] != 0 else 0.0) for k in base}
+    worst = 0.0
+    r = abs(xi) / w0 + mu**2 / 16.0 + A2 / 8.0
+    s = mu**2 * w0 / 64.0 + 0.5 * p.delta**2 / w0 + xi**2 / w0 + w0 * A2**2 / 256.0
+    for se in (-1.0, 1.0):
+        for sx in (-1.0, 1.0):
+            alt = _lo(w0, p.delta, eps * (1 + se * r), xi + sx * s, p.l, p.Omega)
+            worst = max(worst, abs(alt["theta_st"] - base["theta_st"]))
+    small = _small_swing_allowances(*(np.float64(x) for x in (p.l, p.g, p.delta, p.a, p.Omega)))
+    rel, ab = (float(x) for x in small["growth"])
+    return {"a_th": float(small["a_th"]), "growth": rel if ab != ab else (rel, ab),
+            "theta_st": worst / base["theta_st"] if base["theta_st"] != 0 else 0.0}
+
+
+@exercise.theory_range
+def theory_range(p):
+    """The reduced equations expand in the pump's Mathieu parameter k = a Omega^2/(2 g), delta/omega0, the
+    detuning |Omega/2 - omega0|/omega0 and, for the swing, its amplitude theta_st^2/8 (the largest is shown)."""
+    w0 = math.sqrt(p.g / p.l)
+    cands = [("a Omega^2/(2 g)", p.a * p.Omega**2 / (2 * p.g)), ("delta/omega0", p.delta / w0),
+             ("|Omega/2 - omega0|/omega0", abs(p.Omega / 2 - w0) / w0)]
+    big = max(cands, key=lambda c: c[1])
+    th = _lo(w0, p.delta, p.a * p.Omega / (2 * p.l), p.Omega / 2 - w0, p.l, p.Omega)["theta_st"]
+    swing = max(cands + [("theta_st^2/8", th * th / 8.0)], key=lambda c: c[1])
+    return {"a_th": big, "growth": big, "theta_st": swing}
 
 
 def _linear(p, a, rtol, run):
@@ -347,23 +386,16 @@ def analytic_batch(P):
 
 def expected_error_batch(P):
     """``expected_error`` of the small-swing outputs over arrays of points."""
+    return _small_swing_allowances(*_arrays(P))
+
+
+def theory_range_batch(P):
+    """``theory_range`` of the small-swing outputs over arrays of points."""
     l, g, delta, a, Omega = _arrays(P)
     w0 = np.sqrt(g / l)
-    xi = Omega / 2 - w0
-    eps = a * Omega / (2 * l)
-    mu = a * Omega**2 / g
-    base = _lo_batch(w0, delta, eps, xi, l, Omega)
-    r = 2.0 * (np.abs(xi) / w0 + mu**2 / 16.0)
-    s = 2.0 * (mu**2 * w0 / 64.0 + 0.5 * delta**2 / w0 + xi**2 / w0)
-    worst = {"a_th": np.zeros_like(w0), "growth": np.zeros_like(w0)}
-    for se in (-1.0, 1.0):
-        for sx in (-1.0, 1.0):
-            alt = _lo_batch(w0, delta, eps * (1 + se * r), xi + sx * s, l, Omega)
-            alt["a_th"] = 2.0 * l * np.hypot(delta, np.abs(xi) + s) / Omega / np.maximum(1.0 - r, 1e-3)
-            for k in worst:
-                worst[k] = np.maximum(worst[k], np.abs(alt[k] - base[k]))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return {k: np.where(base[k] != 0, worst[k] / np.abs(base[k]), 0.0) for k in worst}
+    big = np.maximum(np.maximum(a * Omega**2 / (2 * g), delta / w0), np.abs(Omega / 2 - w0) / w0)
+    label = "max(a Omega^2/(2 g), delta/omega0, |Omega/2 - omega0|/omega0)"
+    return {"a_th": (label, big), "growth": (label, big)}
 
 
 def _trace_batch(l, g, delta, a, Omega, rtol):
@@ -430,6 +462,7 @@ def _threshold_batch(l, g, delta, Omega, rtol):
 
 
 @exercise.batched(("growth", "a_th"), analytic=analytic_batch, expected_error=expected_error_batch,
+                  theory_range=theory_range_batch,
                   boundaries={"a": ("a_th", "leading-order threshold a = a_th(Ω)")})
 def numeric_batch(P, rtol, outputs, memo=None):
     """growth and a_th at N points at once, from the linearized equation of motion (``_trace_batch``).

@@ -74,6 +74,15 @@ def constraint(p):
                 "is not resolved in double precision")
 
 
+@exercise.approximations
+def approximations(p):
+    """The statement relates Q to the loss per period (2 pi/Q for weak damping) and the resonance width
+    (omega0/Q)."""
+    Q = p.omega0 / (2.0 * p.delta)
+    return {"loss_per_cycle": [(2.0 * math.pi / Q, "the weak-damping loss per period 2 pi/Q")],
+            "bandwidth": [(p.omega0 / Q, "the weak-damping width omega0/Q")]}
+
+
 @exercise.analytic
 def analytic(p):
     w0, d = p.omega0, p.delta

@@ -49,6 +49,17 @@ def _phi0(theta0):
     return (math.pi - theta0) + PI_LO
 
 
+@exercise.approximations
+def approximations(p):
+    """The statement asks for the leading-order correction at small amplitude: T = T0 (1 + theta0^2/16),
+    the frequency shift -omega0 theta0^2/16."""
+    T0 = 2.0 * math.pi * math.sqrt(p.l / p.g)
+    c = p.theta0**2 / 16.0
+    return {"T": [(T0 * (1.0 + c), "the small-amplitude period 2 pi sqrt(l/g) (1 + theta0^2/16)")],
+            "T_ratio": [(1.0 + c, "the small-amplitude ratio 1 + theta0^2/16")],
+            "domega": [(-math.sqrt(p.g / p.l) * c, "the leading-order shift -omega0 theta0^2/16")]}
+
+
 @exercise.analytic
 def analytic(p):
     from mech.solvers.numerics.special import ellipkm1

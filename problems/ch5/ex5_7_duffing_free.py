@@ -95,6 +95,15 @@ def _agm_deviation(da, db):
     return 0.5 * (da + db)
 
 
+@exercise.approximations
+def approximations(p):
+    """The statement asks for the frequency first to leading order in alpha A^2/omega0^2 (the shift
+    3 alpha A^2/(8 omega0), Landau & Lifshitz, Mechanics, sec. 28), then exactly."""
+    shift = 3.0 * p.alpha * p.A**2 / (8.0 * p.omega0)
+    return {"omega": [(p.omega0 + shift, "the leading-order frequency omega0 + 3 alpha A^2/(8 omega0)")],
+            "domega": [(shift, "the leading-order shift 3 alpha A^2/(8 omega0)")]}
+
+
 @exercise.analytic
 def analytic(p):
     from mech.solvers.numerics.special import ellipk, ellipkm1
