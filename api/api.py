@@ -343,14 +343,8 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
     raise_on_failure = _flag("raise_on_failure", raise_on_failure)
     resolved = resolve_params(ex, dict(params or {}))
     expectations = _expectations(ex, expect, expect_rtol)
-    sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify)
-    if expectations is not None:
-        from mech.verification import grading
-
-        sol.expect_ok = grading.attach(sol.result, expectations)
-        sol._data = grading.solve_json(sol.result)
-        sol.quantities = [Quantity.from_dict(q) for q in sol._data["quantities"]]
-        sol._by_name = {q.name: q for q in sol.quantities}
+    sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify,
+                         expectations=expectations)
     if raise_on_failure and any("solver failed" in e for e in sol.errors):
         exc = NumericFailure(f"{ex.id}: " + "; ".join(sol.errors))
         exc.solution = sol
@@ -364,15 +358,15 @@ def _expectations(ex, expect: dict | None, expect_rtol):
         if expect_rtol is not None:
             raise BadInput("expect_rtol: given without any expected value")
         return None
-    from mech.verification import grading
-
     pairs = [f"{name}={_value_text(value)}" for name, value in expect.items()]
-    return grading.parse_expect_options(ex, pairs, None if expect_rtol is None else _value_text(expect_rtol))
+    return parse_expectations(ex, pairs, None if expect_rtol is None else _value_text(expect_rtol))
 
 
 def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None,
-                   verify: bool = True, budget_s: float | None = None) -> Solution:
-    """The cross-check at checked parameters: what ``mech.solve`` and ``mech solve`` both run."""
+                   verify: bool = True, expectations=None, budget_s: float | None = None) -> Solution:
+    """The cross-check at checked parameters: what ``mech.solve`` and ``mech solve`` both run;
+    ``expectations`` (``parse_expectations``) judges the user's own answers against it.  ``budget_s``: the
+    solve's budget (default ``MECH_BUDGET_S``), which the trajectory, when asked for, shares."""
     from mech.core import budget
     from mech.verification.crosscheck import cross_check
 
@@ -380,9 +374,23 @@ def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float |
     deadline = time.monotonic() + budget_s
     result = cross_check(ex, params, methods=tuple(methods), rtol=rtol, verify=verify and "numeric" in methods,
                          budget_s=budget_s)
-    sol = Solution(ex, result.as_json(), None, result)
-    sol._deadline = deadline  # the trajectory, when asked for, shares this budget
+    if expectations is None:
+        sol = Solution(ex, result.as_json(), None, result)
+    else:
+        from mech.verification import grading
+
+        expect_ok = grading.attach(result, expectations)
+        sol = Solution(ex, grading.solve_json(result), None, result)
+        sol.expect_ok = expect_ok
+    sol._deadline = deadline
     return sol
+
+
+def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None):
+    """``--expect NAME=VALUE`` texts (and ``--expect-rtol``) -> the judgements ``solve_resolved`` takes."""
+    from mech.verification import grading
+
+    return grading.parse_expect_options(ex, list(pairs), expect_rtol)
 
 
 # -- sweep -----------------------------------------------------------------------
@@ -564,24 +572,97 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     return Sweep(ex, axes, fixed, solutions, result.seconds, wanted)
 
 
+@dataclass(frozen=True)
+class SweepPlan:
+    """A validated sweep of ``mech sweep``: its axes and fixed values, the outputs asked, and whether it runs
+    through the exercise's batched route (``batched``: those outputs) or point by point (``points``)."""
+
+    exercise: Any
+    axes: list
+    fixed: dict
+    only: Any
+    batched: Any
+    points: Any
+    n_points: int
+
+
+def plan_sweep(ex, axes: list, fixed: dict, only=None) -> SweepPlan:
+    """Every point validated (bounds and joint checks, ``BadInput`` naming the first bad one) before any
+    solve; the batched route where the exercise has one for the outputs asked."""
+    from mech.verification.sweep import batched_outputs, validate, validate_grid
+
+    batched = batched_outputs(ex, only)
+    if batched:
+        validate_grid(ex, axes, fixed)
+        return SweepPlan(ex, axes, fixed, only, batched, None, math.prod(len(a.values) for a in axes))
+    points = validate(ex, axes, fixed)
+    return SweepPlan(ex, axes, fixed, only, None, points, len(points))
+
+
+def run_sweep_plan(plan: SweepPlan, *, rtol: float | None = None, verify: bool = True, jobs: int | None = None,
+                   progress=None, total_s: float | None = None):
+    """Run a planned sweep: ``progress(k)`` after every k-th point; returns ``verification.sweep``'s result.
+    ``total_s``: the sweep's wall-clock budget (default 600 s) for the point-by-point route."""
+    from mech.verification.sweep import run_batched, run_sweep
+
+    if plan.batched:
+        return run_batched(plan.exercise, plan.axes, plan.fixed, plan.batched, rtol=rtol, verify=verify,
+                           progress=progress)
+    return run_sweep(plan.exercise, plan.axes, plan.fixed, plan.points, rtol=rtol, verify=verify, jobs=jobs,
+                     progress=progress, only=plan.only, total_s=total_s)
+
+
+def check_figure_target(path) -> None:
+    """Fail (``BadUsage``, one line) before any work when ``path`` cannot take a figure or matplotlib is
+    missing."""
+    from mech.figures.common import check_target, need_matplotlib
+
+    need_matplotlib()
+    check_target(str(path))
+
+
+def save_sweep_figure(result, path) -> None:
+    """A sweep's outputs against its first swept parameter, or as a map over two, saved to ``path``."""
+    from mech.figures.common import save
+    from mech.figures.sweepfig import sweep_figure
+
+    save(sweep_figure(result), str(path))
+
+
 # -- grade, bench, plot ----------------------------------------------------------------
 
 def grade(path) -> dict:
     """``mech grade FILE --json``: every answer of a grading file held against mech."""
+    from mech.verification import grading
+
+    entries, seconds = grade_entries(path)
+    return grading.grade_json(str(path), entries, seconds)
+
+
+def grade_entries(path, total_s=None) -> tuple[list, float]:
+    """Every answer of a grading file, judged (``verification.grading.Entry``), and the seconds it took;
+    ``BadInput`` for a bad file, every fault at once (``BadFile.problems``, a line each).  ``total_s``: the
+    grading's wall-clock budget (default 600 s); answers not reached by then fail, saying so."""
     import time
 
     from mech.verification import grading
 
-    t0 = time.perf_counter()
     entries = grading.load_answers(str(path))
-    grading.grade(entries)
-    return grading.grade_json(str(path), entries, time.perf_counter() - t0)
+    t0 = time.perf_counter()
+    grading.grade(entries, total_s)
+    return entries, time.perf_counter() - t0
+
+
+def grade_json(path, entries: list, seconds: float) -> dict:
+    """The JSON report of judged grading entries (``mech grade --json``)."""
+    from mech.verification import grading
+
+    return grading.grade_json(str(path), entries, seconds)
 
 
 def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **options) -> dict:
     """``mech bench ID --json``: speed against error of the numeric solver(s)."""
     from mech.problems import registry
-    from mech.verification import bench as benching
 
     ex = registry.get(ex_id)
     resolved = resolve_params(ex, dict(params or {}))
@@ -594,7 +675,55 @@ def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **
             raise BadInput(f"tols: give a list of tolerances such as [1e-6, 1e-9], got {_shown(repr(tols))}") from None
         if not tols or not all(0 < t < 1 for t in tols):
             raise BadInput(f"tols: every tolerance must be in (0, 1), got {_shown(tols)}")
-    return benching.bench(ex, resolved, methods=methods, tols=tols, **options)
+    return bench_resolved(ex, resolved, methods=methods, tols=tols, **options)
+
+
+def bench_resolved(ex, params, *, methods=None, tols=None, **options) -> dict:
+    """The bench at checked parameters (``mech bench``); ``BadInput`` for an exercise without a solver pair
+    or an unknown method."""
+    from mech.verification import bench as benching
+
+    if not (ex.has_numeric and ex.has_analytic):
+        raise BadInput(f"{ex.id} has no numeric and analytic solver pair to bench")
+    try:
+        return benching.bench(ex, params, methods=methods, tols=list(tols) if tols else None, **options)
+    except ValueError as exc:
+        raise BadInput(str(exc)) from None
+
+
+def bench_methods(ex, params, text: str) -> list[str]:
+    """``--methods`` text -> the rows' canonical names, matched without case (``rk45`` is RK45); an unknown
+    name is ``BadInput`` with the nearest name and every known one."""
+    import difflib
+
+    from mech.verification import bench as machinery
+
+    names = list(dict.fromkeys(machinery.ODE_METHODS + machinery.OTHER_ODE + tuple(machinery.SYMPLECTIC)
+                               + (machinery.STUDENT, machinery.DEFAULT_ROW)))
+    by_lower = {n.lower(): n for n in names}
+    out = []
+    for raw in (m.strip() for m in text.split(",")):
+        if not raw:
+            continue
+        name = by_lower.get(raw.lower())
+        if name is None:
+            _, own = machinery.probe_route(ex, params)  # a route of the exercise's own (not an integrator)
+            if own and own.lower() == raw.lower():
+                name = own
+            else:
+                known = names + ([own] if own and own not in names else [])
+                close = difflib.get_close_matches(raw.lower(), [k.lower() for k in known], n=1, cutoff=0.6)
+                hint = f"; did you mean {by_lower.get(close[0], close[0])}?" if close else ""
+                raise BadInput(f"--methods: unknown method '{_shown(raw)}'{hint} (known: {', '.join(known)})")
+        out.append(name)
+    return out
+
+
+def json_safe(obj):
+    """An info structure (a bench, a sweep) made JSON-safe: non-finite numbers become null."""
+    from mech.verification.crosscheck import _clean
+
+    return _clean(obj)
 
 
 def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = None, params: dict | None = None):
@@ -617,9 +746,35 @@ def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = Non
     return fig
 
 
+def plot_resolved(ex, params, path, *, generic: bool = False, vary: str | None = None, n_numeric: int | None = None,
+                  rtol: float | None = None, dpi: float = 110, budgets: float = 2) -> None:
+    """``mech plot``: the exercise's figure at checked parameters, saved to ``path`` (its suffix chooses
+    the format; a bad target or no matplotlib fails before any solve).  Every numeric solve has its own
+    budget (a failed one is shown in the figure); the whole figure, the scene's own integrations included,
+    ends within ``budgets`` solve budgets or raises ``NumericFailure``."""
+    import warnings
+
+    from mech.core import budget
+    from mech.figures import draw
+    from mech.figures.common import check_target, need_matplotlib, save
+
+    check_target(str(path))
+    need_matplotlib()
+    options = {} if n_numeric is None else {"n_numeric": n_numeric}
+    with budget.limit(budgets * budget.default_seconds(), what=f"the figure of {ex.id}"), \
+            warnings.catch_warnings():
+        # numpy's overflow and division warnings are no message of the figure: a value that is not
+        # finite leaves a gap, and a numeric solver's failure is told in the caption
+        warnings.simplefilter("ignore", RuntimeWarning)
+        fig = draw(ex, params, generic=generic, vary=vary, rtol=rtol, **options)
+    save(fig, str(path), dpi=dpi)
+
+
 # -- check -------------------------------------------------------------------------
 
-def check(ids=None, hard: bool = False):
+def check(ids=None, hard: bool = False, *, jobs: int | None = None, started=None, finished=None):
+    """The report of ``mech check``.  ``started(case, n_cases)`` and ``finished(case)``, where given, are
+    called around every case (a progress bar); ``jobs``: processes (None: decided by the number of cases)."""
     from mech.verification.checking import run_check
     from mech.problems import registry
 
@@ -630,4 +785,25 @@ def check(ids=None, hard: bool = False):
         ids = [ids]
     hard = _flag("hard", hard)
     exercises = [registry.get(i) for i in ids] if ids else list(registry.all_exercises().values())
-    return run_check(exercises, hard=hard, progress=False)
+    return run_check(exercises, hard=hard, jobs=jobs, started=started, finished=finished)
+
+
+def check_against_baselines(ids=None, hard: bool = False, *, baseline: str | None = None,
+                            save_baseline: str | None = None, jobs: int | None = None, started=None,
+                            finished=None):
+    """``mech check`` with baselines: (the report, the comparison with ``baseline`` or None).  A bad
+    baseline file fails (``BadInput``) before any case runs; ``save_baseline`` records every checked value."""
+    if not (baseline or save_baseline):
+        return check(ids, hard, jobs=jobs, started=started, finished=finished), None
+    from mech.verification import grading
+
+    old = grading.open_baseline(baseline) if baseline else None
+    report = check(ids, hard, jobs=jobs, started=started, finished=finished)
+    return report, grading.baselines(report, hard, old, baseline, save_baseline)
+
+
+def plot_bench(result: dict, path) -> None:
+    """A bench's error against time and against evaluations, log-log, to ``path`` (needs matplotlib)."""
+    from mech.figures.benchfig import plot_bench as draw
+
+    draw(result, str(path))

@@ -52,19 +52,19 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
     warm-up with its spread, and right-hand-side evaluations.  Failed runs stay as
     failures.  Summary: the cheapest setting reaching 1e-6 and 1e-9, and a ranking.
     """
+    from mech import api
     from mech.cli.main import UsageFailure, _get
     from mech.cli.options import collect_params
-    from mech.problems.spec import BadInput
-    from mech.verification.bench import bench
+    from mech.core.errors import BadInput
 
     ex = _get(ex_id)
-    if ex._numeric is None or ex._analytic is None:
+    if not (ex.has_numeric and ex.has_analytic):
         raise UsageFailure(f"{ex.id} has no numeric and analytic solver pair to bench")
     try:
         params = ex.resolve(collect_params(ex, [], list(pairs)))
+        methods = api.bench_methods(ex, params, methods_text) if methods_text else None
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
-    methods = _canonical_methods(ex, params, methods_text) if methods_text else None
     tols = _float_list(tols_text, "--tols")
     if plot_file:
         try:
@@ -86,46 +86,16 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
                 c.print(f"  {pt['method']:>13}  rtol {pt['rtol']:.0e}", style="dim", end="\r")
 
     try:
-        result = bench(ex, params, methods=methods, tols=tols, repeats=repeats, budget_s=budget_s,
-                       max_seconds=max_seconds, progress=progress)
-    except ValueError as exc:
+        result = api.bench_resolved(ex, params, methods=methods, tols=tols, repeats=repeats, budget_s=budget_s,
+                                    max_seconds=max_seconds, progress=progress)
+    except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     if plot_file:
         plot_bench(result, plot_file)
     if as_json:
-        from mech.verification.crosscheck import _clean
-
-        click.echo(json.dumps(_clean(result), indent=2, allow_nan=False))
+        click.echo(json.dumps(api.json_safe(result), indent=2, allow_nan=False))
     else:
         _print(result, plot_file)
-
-
-def _canonical_methods(ex, params, text: str) -> list[str]:
-    """The rows asked for, by their canonical names: ``rk45`` is RK45 (names are matched without case)."""
-    from mech.cli.main import UsageFailure
-    from mech.verification import bench as machinery
-
-    names = list(dict.fromkeys(machinery.ODE_METHODS + machinery.OTHER_ODE + tuple(machinery.SYMPLECTIC)
-                               + (machinery.STUDENT, machinery.DEFAULT_ROW)))
-    by_lower = {n.lower(): n for n in names}
-    out = []
-    for raw in (m.strip() for m in text.split(",")):
-        if not raw:
-            continue
-        name = by_lower.get(raw.lower())
-        if name is None:
-            _, own = machinery.probe_route(ex, params)  # a route of the exercise's own (not an integrator)
-            if own and own.lower() == raw.lower():
-                name = own
-            else:
-                import difflib
-
-                known = names + ([own] if own and own not in names else [])
-                close = difflib.get_close_matches(raw.lower(), [k.lower() for k in known], n=1, cutoff=0.6)
-                hint = f"; did you mean {by_lower.get(close[0], close[0])}?" if close else ""
-                raise UsageFailure(f"--methods: unknown method '{shown(raw)}'{hint} (known: {', '.join(known)})")
-        out.append(name)
-    return out
 
 
 def _g(v, fmt=".2g"):
@@ -193,6 +163,6 @@ def _print(r: dict, plot_file: str | None) -> None:
 
 def plot_bench(r: dict, path: str) -> None:
     """Error against median time and against nfev, log-log, one line per method (figures/benchfig.py)."""
-    from mech.figures.benchfig import plot_bench as draw
+    from mech import api
 
-    draw(r, path)
+    api.plot_bench(r, path)

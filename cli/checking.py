@@ -1,12 +1,55 @@
-"""``mech check``'s JUnit report; the cases are run by ``mech.verification.checking``."""
+"""``mech check``'s progress bar and JUnit report; the cases are run by ``mech.api.check``."""
 
 from __future__ import annotations
 
 from xml.etree import ElementTree as ET
 
-from mech.verification.checking import Report
+from typing import TYPE_CHECKING
 
-__all__ = ["write_junit"]
+if TYPE_CHECKING:  # pragma: no cover
+    from mech.verification.checking import Report
+
+__all__ = ["progress_bar", "write_junit"]
+
+
+class progress_bar:
+    """A transient bar on a terminal's stderr, fed by ``mech.api.check``'s hooks: ``with progress_bar(on)
+    as bar: api.check(..., started=bar.started, finished=bar.finished)``.  Off (or stderr not a terminal):
+    the hooks do nothing.  No refresh thread (redrawn by hand around each case): the cross-check forks its
+    rerun, and the pool its workers, only from a single-threaded process."""
+
+    def __init__(self, on: bool):
+        import sys
+
+        self._on = on and sys.stderr.isatty()
+        self._bar = self._task = None
+
+    def __enter__(self):
+        return self
+
+    def started(self, case, n_cases: int) -> None:
+        if not self._on:
+            return
+        if self._bar is None:
+            from rich.console import Console
+            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+            self._bar = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                                 TimeElapsedColumn(), console=Console(stderr=True), transient=True,
+                                 auto_refresh=False)
+            self._bar.start()
+            self._task = self._bar.add_task("checking", total=n_cases)
+        self._bar.update(self._task, description=f"{case.exercise.id} {case.label}", refresh=True)
+
+    def finished(self, case) -> None:
+        if self._bar is not None:
+            self._bar.advance(self._task)
+            self._bar.refresh()
+
+    def __exit__(self, *exc):
+        if self._bar is not None:
+            self._bar.stop()
+        return False
 
 
 def write_junit(report: Report, path: str) -> None:

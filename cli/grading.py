@@ -1,17 +1,20 @@
 """``mech grade FILE`` and the printing of grades and baselines: tables, JUnit, exit status.
 
-The reading and judging is ``mech.verification.grading``.
+The reading and judging is ``mech.api.grade_entries`` (``mech.verification.grading``).
 """
 
 from __future__ import annotations
 
 import json
-import time
 
 import click
 
+from typing import TYPE_CHECKING
+
 from mech.core.errors import BadInput
-from mech.verification.grading import BadFile, Entry, grade, grade_json, load_answers
+
+if TYPE_CHECKING:  # pragma: no cover
+    from mech.verification.grading import Entry
 
 __all__ = ["grade_cmd", "write_grade_junit", "print_grade", "junit_baseline", "print_baseline"]
 
@@ -90,27 +93,24 @@ def grade_cmd(file, as_json, junit_file, total_s):
     from mech.cli.main import EXIT_DISAGREE, EXIT_OK, EXIT_USAGE, UsageFailure
     from mech.core.safeio import check_output, escape
 
+    from mech import api
+
     ctx = click.get_current_context()
     try:
         if junit_file is not None:
-            check_output(junit_file, "--junit")
-        entries = load_answers(file)
-    except BadFile as exc:  # every problem of the file, a line each
-        for line in exc.problems:
+            check_output(junit_file, "--junit")  # before the grading, not after
+        entries, seconds = api.grade_entries(file, total_s=total_s)
+    except BadInput as exc:
+        problems = getattr(exc, "problems", None)  # a bad answers file: every problem, a line each
+        if not problems:
+            raise UsageFailure(str(exc)) from None
+        for line in problems:
             click.echo(f"mech: error: {escape(' '.join(line.split()))}", err=True)
         ctx.exit(EXIT_USAGE)
-    except BadInput as exc:
-        raise UsageFailure(str(exc)) from None
-    t0 = time.perf_counter()
-    try:
-        grade(entries, total_s)
-    except BadInput as exc:
-        raise UsageFailure(str(exc)) from None
-    seconds = time.perf_counter() - t0
     if junit_file:
         write_grade_junit(file, entries, seconds, junit_file)
     if as_json:
-        click.echo(json.dumps(grade_json(file, entries, seconds), indent=2, allow_nan=False))
+        click.echo(json.dumps(api.grade_json(file, entries, seconds), indent=2, allow_nan=False))
     else:
         print_grade(entries, seconds)
     ok = all(e.ok for e in entries)

@@ -26,21 +26,19 @@ class UsageFailure(click.ClickException):
     exit_code = EXIT_USAGE
 
 
-def _registry():
-    from mech.problems import registry
-
-    return registry
-
-
 def _get(ex_id: str):
+    import mech
+
     try:
-        return _registry().get(ex_id)
+        return mech.exercise(ex_id)
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
 
 
 def _complete_ids(ctx, param, incomplete):
-    return [e.id for e in _registry().index() if e.id.startswith(incomplete)]
+    import mech
+
+    return [e.id for e in mech.exercises() if e.id.startswith(incomplete)]
 
 
 def _emit_json(obj) -> None:
@@ -231,10 +229,11 @@ def cli():
 def list_cmd(chapter, as_json):
     """List the registered exercises: id, title, topic, methods.
 
-    A mark (†) flags the exercises set for mech on the chapter's topics (5.4-5.13); the others are the
-    book's own.
+    A mark (†) flags the exercises set for mech on the chapter's topics; the others are the book's own.
     """
-    exercises = [e for e in _registry().index() if not chapter or e.chapter == int(chapter)]
+    import mech
+
+    exercises = mech.exercises(int(chapter) if chapter else None)
     if as_json:
         _emit_json([{"id": e.id, "title": e.title, "topic": e.topic, "methods": list(e.methods),
                      "from_book": e.from_book} for e in exercises])
@@ -252,11 +251,11 @@ def show_cmd(ex_id, as_json):
     """Show an exercise: statement, parameters, outputs, formulas, numeric route, hard cases."""
     ex = _get(ex_id)
     if as_json:
-        _emit_json({**ex.as_json(), "from_book": _registry().from_book(ex.id)})
+        _emit_json({**ex.as_json(), "from_book": ex.from_book})
     else:
         from mech import render
 
-        render.print_show(ex, from_book=_registry().from_book(ex.id))
+        render.print_show(ex, from_book=ex.from_book)
 
 
 def _takes_value(param) -> bool:
@@ -346,8 +345,8 @@ class SolveCommand(click.Command):
                 formatter.write_text(f"mech {self.name} ID --help lists the parameters of exercise ID.")
             return
         try:
-            ex = _registry().get(ex_id)
-        except BadInput as exc:
+            ex = _get(ex_id)
+        except UsageFailure as exc:
             with formatter.section("Parameters"):
                 formatter.write_text(str(exc))
             return
@@ -368,8 +367,8 @@ class SolveCommand(click.Command):
         ex_id = ctx.params.get("ex_id") or ctx.meta.get("mech_exercise_id")
         if ex_id and incomplete.startswith("-"):
             try:
-                ex = _registry().get(ex_id)
-            except BadInput:
+                ex = _get(ex_id)
+            except UsageFailure:
                 return items
             given = {a[2:].split("=", 1)[0].replace("-", "_") for a in ctx.meta.get("mech_param_args", [])}
             own = [CompletionItem(f"--{p.name}", help=f"{p.doc}; default {p.show(p.default)}")
@@ -413,29 +412,22 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
         raise UsageFailure("--trajectory needs the numeric method: drop --method analytic")
     if trajectory_file is not None:
         _check_output(trajectory_file, "--trajectory")
+    from mech import api
+
     try:
         given = collect_params(ex, ctx.meta.get("mech_param_args", []), list(pairs))
         params = ex.resolve(given)
         rtol = parse_rtol(rtol_text, ex)
-        grading = None
+        expectations = None
         if expects or expect_rtol is not None:
-            from mech.verification import grading
-
-            expectations = grading.parse_expect_options(ex, list(expects), expect_rtol)
+            expectations = api.parse_expectations(ex, list(expects), expect_rtol)
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     methods = ("analytic", "numeric") if method == "both" else (method,)
     verify = not no_verify and method != "analytic"
-    if trajectory_file:  # the Python API's Solution, whose trajectory is the numeric solve's motion
-        from mech.api import solve_resolved
-
-        sol = solve_resolved(ex, params, methods=methods, rtol=rtol, verify=verify, budget_s=_solve_budget())
-        result = sol.result
-    else:  # the same cross-check, without loading the API's module (7 ms to compile where .pyc are not kept)
-        from mech.verification.crosscheck import cross_check
-
-        result = cross_check(ex, params, methods=methods, rtol=rtol, verify=verify, budget_s=_solve_budget())
-    if trajectory_file:
+    sol = api.solve_resolved(ex, params, methods=methods, rtol=rtol, verify=verify, expectations=expectations,
+                             budget_s=_solve_budget())
+    if trajectory_file:  # the numeric solve's motion
         failed = any("solver failed" in e for e in sol.errors)
         try:
             trajectory = None if failed else sol.trajectory
@@ -451,14 +443,13 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
                 trajectory.to_csv(trajectory_file)
             except BadInput as exc:
                 raise UsageFailure(str(exc)) from None
-    expect_ok = grading.attach(result, expectations) if grading else True
     if as_json:
-        _emit_json(grading.solve_json(result) if grading else result.as_json())
+        _emit_json(sol.to_dict())
     else:
         from mech import render
 
-        render.print_solve(result)
-    ctx.exit(EXIT_DISAGREE if result.agree is False or not expect_ok else EXIT_OK)
+        render.print_solve(sol.result)
+    ctx.exit(EXIT_DISAGREE if sol.agree is False or sol.expect_ok is False else EXIT_OK)
 
 
 @cli.command("check")
@@ -476,24 +467,19 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
 
     Exit status 1 when any case fails: the CI regression command.
     """
-    from mech.cli.checking import write_junit
-    from mech.verification.checking import run_check
+    from mech import api
+    from mech.cli.checking import progress_bar, write_junit
 
-    exercises = [_get(i) for i in ids] if ids else list(_registry().all_exercises().values())
+    for i in ids:
+        _get(i)  # an unknown id: exit 2 before anything runs
     for path, what in ((junit_file, "--junit"), (save_baseline, "--save-baseline")):
         if path is not None:  # before the minutes of the check, not after
             _check_output(path, what)
-    grading = old = None
-    if save_baseline or baseline_file:
-        from mech.verification import grading
-
-        try:
-            old = grading.open_baseline(baseline_file) if baseline_file else None  # a bad file fails first
-        except BadInput as exc:
-            raise UsageFailure(str(exc)) from None
-    report = run_check(exercises, hard=hard, progress=not as_json, jobs=jobs)
     try:
-        moved = grading.baselines(report, hard, old, baseline_file, save_baseline) if grading else None
+        with progress_bar(not as_json) as bar:
+            report, moved = api.check_against_baselines(list(ids) or None, hard, baseline=baseline_file,
+                                                        save_baseline=save_baseline, jobs=jobs,
+                                                        started=bar.started, finished=bar.finished)
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     if junit_file:
@@ -508,7 +494,7 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
         from mech import render
 
         render.print_check(report)
-        if grading:
+        if baseline_file or save_baseline:
             from mech.cli.grading import print_baseline
 
             print_baseline(moved, save_baseline)

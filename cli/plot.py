@@ -7,7 +7,7 @@ import click
 from mech.cli.main import SolveCommand, UsageFailure, _complete_ids, _get
 from mech.cli.options import collect_params
 from mech.problems.values import param_name, parse_rtol
-from mech.problems.spec import BadInput
+from mech.core.errors import BadInput, NumericFailure
 
 FIGURE_BUDGETS = 2
 
@@ -42,7 +42,7 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
     Matplotlib comes with the plot extra; in mech's checkout:
     pip install -e '.[plot]'.
     """
-    from mech.figures.common import check_target, need_matplotlib, save
+    from mech import api
 
     ex = _get(ex_id)
     try:
@@ -57,24 +57,9 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
         raise UsageFailure("-o/--output: an empty file name; give a file to write, or leave it out for "
                            f"mech-{ex.id}.png")
     out = out or f"mech-{ex.id}.png"
-    check_target(out)
-    need_matplotlib()
-    import warnings
-
-    from mech.figures import draw
-    from mech.problems.spec import NumericFailure
-    from mech.core import budget
-
-    # every numeric solve has its own budget (a failed one is shown in the figure); the whole figure,
-    # the scene's own integrations included, ends within FIGURE_BUDGETS solve budgets or fails in one line
     try:
-        with budget.limit(FIGURE_BUDGETS * budget.default_seconds(), what=f"the figure of {ex.id}"), \
-                warnings.catch_warnings():
-            # numpy's overflow and division warnings are no message of the figure: a value that is not
-            # finite leaves a gap, and a numeric solver's failure is told in the caption
-            warnings.simplefilter("ignore", RuntimeWarning)
-            fig = draw(ex, params, generic=generic, vary=vary, n_numeric=n_numeric, rtol=rtol)
+        api.plot_resolved(ex, params, out, generic=generic, vary=vary, n_numeric=n_numeric, rtol=rtol, dpi=dpi,
+                          budgets=FIGURE_BUDGETS)
     except NumericFailure as exc:
         raise click.ClickException(f"cannot draw {ex.id}: {exc}") from None
-    save(fig, out, dpi=dpi)
     click.echo(f"wrote {out}", err=True)

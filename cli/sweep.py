@@ -22,7 +22,7 @@ from mech.core.safeio import columns
 from mech.problems.values import convert, parse_rtol
 from mech.core.units import ValueError_, to_si
 from mech.problems.spec import BadInput, Exercise
-from mech.verification.sweep import describe_point, validate, validate_grid
+from mech.verification.sweep import describe_point
 from mech.core.safeio import shown
 
 MAX_N = 10_000
@@ -292,7 +292,7 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
       mech sweep 5.11 --omega 7:13:200 --mu 0.005:0.5:200 --only growth --plot chart.png
     Exit status: 0 every point agrees, 1 a point failed, 2 bad input, 130 interrupted.
     """
-    from mech.verification.sweep import batched_outputs, run_batched, run_sweep
+    from mech import api
 
     if as_json and as_csv:
         raise UsageFailure("--json and --csv: choose one")
@@ -300,13 +300,7 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
     try:
         axes, fixed = collect(ex, ctx.meta.get("mech_param_args", []), list(pairs))
         only = parse_only(ex, only_text)
-        batched = batched_outputs(ex, only)
-        if batched:
-            validate_grid(ex, axes, fixed)
-            n_points = math.prod(len(a.values) for a in axes)
-        else:
-            params = validate(ex, axes, fixed)
-            n_points = len(params)
+        plan = api.plan_sweep(ex, axes, fixed, only)
         rtol = parse_rtol(rtol_text, ex)
         if total_s is not None:
             from mech.verification.sweep import check_total
@@ -315,10 +309,7 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     if plot_file:
-        from mech.figures.common import check_target, need_matplotlib
-
-        need_matplotlib()
-        check_target(plot_file)
+        api.check_figure_target(plot_file)
 
     done = [0]
 
@@ -328,11 +319,9 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
             if progress:
                 progress(k)
 
-        if batched:
-            return run_batched(ex, axes, fixed, batched, rtol=rtol, verify=not no_verify, progress=tick)
-        return run_sweep(ex, axes, fixed, params, rtol=rtol, verify=not no_verify, jobs=jobs, progress=tick,
-                         only=only, total_s=total_s)
+        return api.run_sweep_plan(plan, rtol=rtol, verify=not no_verify, jobs=jobs, progress=tick, total_s=total_s)
 
+    n_points = plan.n_points
     try:
         if sys.stderr.isatty():
             from rich.console import Console
@@ -353,10 +342,7 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
     result.fixed = {p.name: float(fixed.get(p.name, p.default)) for p in ex.params if p.name not in swept}
 
     if plot_file:
-        from mech.figures.common import save
-        from mech.figures.sweepfig import sweep_figure
-
-        save(sweep_figure(result), plot_file)
+        api.save_sweep_figure(result, plot_file)
     if as_json:
         result.write_json(sys.stdout)  # streamed: 100 000 points took 1.9 GB built whole
     elif as_csv:

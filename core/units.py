@@ -19,11 +19,12 @@ the SI unit of the parameter it is given for:
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from dataclasses import dataclass
 
-__all__ = ["ValueError_", "Quantity", "parse_quantity", "parse_unit", "to_si", "UNITS"]
+__all__ = ["ValueError_", "Quantity", "parse_quantity", "parse_unit", "si_exponents", "to_si", "UNITS"]
 
 
 class ValueError_(ValueError):
@@ -229,6 +230,17 @@ def parse_unit(unit: str) -> tuple[float, tuple]:
         return 1.0, _ONE
     q = parse_quantity(unit)
     return q.value, q.dim
+
+
+@functools.lru_cache(maxsize=512)
+def si_exponents(unit: str) -> tuple[int, int, int] | None:
+    """The (kg, m, s) exponents of a coherent SI catalogue unit ("kg*m^2" -> (1, 2, 0), "1/(m^2 s^2)",
+    "rad/s" -> (0, 0, -1): the radian counts as 1); None for a unit with a factor (cm) or not read."""
+    try:
+        factor, (length, mass, time, _angle) = parse_unit(unit)
+    except ValueError_:
+        return None
+    return (mass, length, time) if factor == 1.0 else None
 
 
 def to_si(text: str, unit: str) -> float:

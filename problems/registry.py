@@ -30,15 +30,13 @@ CHAPTER_PACKAGES = ("mech.problems.ch4", "mech.problems.ch5")
 _MODULE_NAME = re.compile(r"^ex(\d+)_(\d+)_\w+$")
 
 
-# The book's own exercises: all of chapter 4 and the first three of chapter 5; 5.4-5.13 were set for mech
-# on chapter 5's topics.
-BOOK_EXERCISES = {4: range(1, 37), 5: range(1, 4)}
-
-
 def from_book(ex_id: str) -> bool:
-    """True for an exercise that is the book's own, False for one set for mech on the chapter's topics."""
-    chapter, number = _id_key(ex_id)
-    return number in BOOK_EXERCISES.get(chapter, ())
+    """True for an exercise that is the book's own, False for one set for mech on the chapter's topics (the
+    catalogue file's ``from_book``)."""
+    for entry in index():
+        if entry.id == ex_id.strip():
+            return entry.from_book
+    raise BadInput(unknown_id_message(ex_id, list(_modules())))
 
 
 @dataclass(frozen=True)
@@ -49,14 +47,11 @@ class Entry:
     methods: tuple[str, ...]
     module: str
     integrates: bool = False  # its numeric route integrates declared equations of motion (a trajectory)
+    from_book: bool = True  # the book's own exercise (False: set for mech on the chapter's topics)
 
     @property
     def chapter(self) -> int:
         return int(self.id.split(".")[0])
-
-    @property
-    def from_book(self) -> bool:
-        return from_book(self.id)
 
 
 def _id_key(ex_id: str) -> tuple[int, ...]:
@@ -116,13 +111,15 @@ def index() -> list[Entry]:
     declared = _declared()
     for ex_id, (module, _origin) in _files().items():
         spec = _heading(catalogue.joinpath(f"{ex_id}.toml").read_text("utf-8"))
-        if "title" not in spec or "topic" not in spec:
+        if "title" not in spec or "topic" not in spec or "from_book" not in spec:
             spec = tomllib.loads(catalogue.joinpath(f"{ex_id}.toml").read_text("utf-8"))
+        if not isinstance(spec.get("from_book"), bool):
+            raise RuntimeError(f"problems/catalogue/{ex_id}.toml: from_book = true or false is missing")
         facts = declared.get(ex_id)
         if facts is None:  # a module index.toml does not know yet: ask the registration itself
             facts = declarations(_load(ex_id, module))
         entries.append(Entry(ex_id, spec["title"], spec["topic"], tuple(facts["methods"]), module,
-                             bool(facts.get("integrates", False))))
+                             bool(facts.get("integrates", False)), spec["from_book"]))
     return entries
 
 
@@ -172,7 +169,7 @@ def get(ex_id: str) -> Exercise:
 
 
 def _spans(ids: list[str]) -> str:
-    """``4.1-4.36, 5.1-5.13``: the registered ids by chapter, first and last."""
+    """The registered ids by chapter, each chapter as its first and last id joined by a dash."""
     chapters: dict[int, list[str]] = {}
     for i in ids:
         chapters.setdefault(_id_key(i)[0], []).append(i)

@@ -5,7 +5,9 @@ default, and mech owes such an input an answer within its error bar or a one-lin
 (or a scale the solve must form) beyond about 1e+-300 cannot be represented; this module finds that
 before anything is solved, for every exercise, from what the catalogue declares:
 
-* the units of the parameters and outputs give their dimensions in kg, m, s;
+* the units of the parameters and outputs give their dimensions in kg, m, s, read by the one unit
+  system (``core.units.si_exponents``, ``Param.dimension``, ``Output.dimension``); this module only does
+  the rescaling arithmetic on top;
 * a change of units by powers of two (exact in floating point) brings the parameters as near to their
   defaults as the dimensions allow (a least-squares fit of the three unit exponents, rounded to a
   multiple of ``QUANTUM`` bits so that parameters within 1e+-9 of their defaults keep the SI units);
@@ -26,6 +28,8 @@ from __future__ import annotations
 
 import math
 
+from mech.core.units import si_exponents
+
 __all__ = ["LOG10_LIMIT", "QUANTUM", "dims", "natural_units", "from_natural", "representable", "far_params",
            "out_of_range"]
 
@@ -33,15 +37,8 @@ LOG10_LIMIT = 290.0  # |log10 x| beyond this for a non-zero scale: outside the r
 QUANTUM = 64  # unit exponents (powers of two) are multiples of this: 2^64 ~ 1.8e19
 
 def dims(unit: str) -> tuple[int, int, int] | None:
-    """The (kg, m, s) exponents of a catalogue unit ("kg*m^2", "1/(m^2 s^2)", "rad/s"), read by the one unit
-    parser ``mech.core.units``; None if it is not a coherent SI unit."""
-    from mech.core.units import ValueError_, parse_unit
-
-    try:
-        factor, (length, mass, time, _angle) = parse_unit(unit)
-    except ValueError_:
-        return None
-    return (mass, length, time) if factor == 1.0 else None
+    """The (kg, m, s) exponents of a catalogue unit: the one unit system's ``core.units.si_exponents``."""
+    return si_exponents(unit)
 
 
 def _log2_dev(value: float, default: float) -> float | None:
@@ -55,16 +52,16 @@ def natural_units(ex, p) -> tuple[tuple[int, int, int], dict] | None:
     those units; None where the units are SI (no shift) or a unit cannot be read."""
     rows, rhs = [], []
     for prm in ex.params:
-        d = dims(prm.unit)
+        d = prm.dimension
         if d is None:
             return None
         dev = _log2_dev(p[prm.name], prm.default)
         if any(d) and dev is not None:
             rows.append(d)
             rhs.append(dev)
-    if any(dims(o.unit) is None for o in ex.outputs) or not rows:
+    if any(o.dimension is None for o in ex.outputs) or not rows:
         return None
-    fixed = [dims(unit) for unit in getattr(ex, "constants", {}).values()]
+    fixed = [si_exponents(unit) for unit in getattr(ex, "constants", {}).values()]
     if any(d is None for d in fixed):
         return None
     import numpy as np
@@ -100,7 +97,7 @@ def _shifted(ex, p, u) -> dict | None:
     """``p`` in the units ``u``; None when a non-zero parameter leaves the normal range of the doubles there."""
     values = {}
     for prm in ex.params:
-        k = sum(a * b for a, b in zip(dims(prm.unit), u))
+        k = sum(a * b for a, b in zip(prm.dimension, u))
         try:
             x = math.ldexp(p[prm.name], -k) if k else p[prm.name]
         except OverflowError:
@@ -112,7 +109,7 @@ def _shifted(ex, p, u) -> dict | None:
 
 
 def _unit_exponent(unit: str, u) -> int:
-    return sum(a * b for a, b in zip(dims(unit), u))
+    return sum(a * b for a, b in zip(si_exponents(unit), u))
 
 
 def from_natural(value: float, unit: str, u) -> float:
@@ -143,7 +140,7 @@ def representable(ex, p) -> str | None:
     """None when the analytic answer at ``p`` is representable, else the one-line reason for refusing."""
     from mech.problems.spec import Undefined
 
-    if ex._analytic is None:
+    if not ex.has_analytic:
         return None
     import numpy as np
 
@@ -155,7 +152,7 @@ def representable(ex, p) -> str | None:
     at = f" at {where}" if where else ""
     try:
         with np.errstate(over="raise", divide="raise", invalid="raise"):
-            out = ex._analytic(Params(values))
+            out = ex.analytic_solver(Params(values))
     except (OverflowError, ZeroDivisionError, FloatingPointError) as exc:
         if not where:
             return None  # no parameter is far from its default: a defect for the cross-check to report
@@ -205,7 +202,7 @@ def _log10_output_at(ex, p, o) -> float | None:
     u, values = nat if nat else (None, dict(p))
     try:
         with np.errstate(all="ignore"):
-            v = float(ex._analytic(Params(values))[o.name])
+            v = float(ex.analytic_solver(Params(values))[o.name])
     except Exception:
         return None
     if v == 0 or not math.isfinite(v):

@@ -37,9 +37,6 @@ class Undefined:
     why: str
 
 
-DISPLAY_FACTORS = {"deg": math.pi / 180.0}
-
-
 def _fmt(x: float) -> str:
     return f"{x:.6g}"
 
@@ -57,8 +54,19 @@ class Param:
     min_open: bool = False
     max_open: bool = False
 
+    @property
+    def dimension(self) -> tuple[int, int, int] | None:
+        """(kg, m, s) exponents of the unit, from the one unit system (``core.units.si_exponents``)."""
+        from mech.core.units import si_exponents
+
+        return si_exponents(self.unit)
+
     def to_display(self, value: float) -> float:
-        return value / DISPLAY_FACTORS[self.display] if self.display else value
+        if not self.display:
+            return value
+        from mech.core.units import parse_unit
+
+        return value / parse_unit(self.display)[0]  # the display unit's SI factor, from the one unit system
 
     def show(self, value: float) -> str:
         """The value as people read it: in the display unit where there is one."""
@@ -114,6 +122,13 @@ class Output:
     unit: str
     doc: str = ""
     theory: str = "exact"  # or "leading-order": the analytic value neglects higher orders
+
+    @property
+    def dimension(self) -> tuple[int, int, int] | None:
+        """(kg, m, s) exponents of the unit, from the one unit system (``core.units.si_exponents``)."""
+        from mech.core.units import si_exponents
+
+        return si_exponents(self.unit)
 
     def as_json(self) -> dict:
         d = {"name": self.name, "unit": self.unit, "doc": self.doc}
@@ -347,6 +362,7 @@ class Exercise:
         self.id = spec["id"]
         self.title = spec["title"]
         self.topic = spec["topic"]
+        self.from_book = bool(spec.get("from_book", False))  # the book's own, or set for mech on its topics
         self.statement = spec["statement"].strip()
         self.model = spec["model"].strip()
         self.numeric_route = spec.get("numeric", {}).get("route", "").strip()
@@ -471,6 +487,71 @@ class Exercise:
             return fn
 
         return register
+
+    # -- what is registered: read by verification, bench, sweeps and tests ----
+    @property
+    def analytic_solver(self) -> Callable | None:
+        """The registered analytic solver ``fn(p)`` (None without one); assigning registers another."""
+        return self._analytic
+
+    @analytic_solver.setter
+    def analytic_solver(self, fn: Callable | None) -> None:
+        self._analytic = fn
+
+    @property
+    def numeric_solver(self) -> Callable | None:
+        """The registered numeric solver ``fn(p, run)`` (None without one); assigning registers another."""
+        return self._numeric
+
+    @numeric_solver.setter
+    def numeric_solver(self, fn: Callable | None) -> None:
+        self._numeric = fn
+
+    @property
+    def has_analytic(self) -> bool:
+        return self._analytic is not None
+
+    @property
+    def has_numeric(self) -> bool:
+        return self._numeric is not None
+
+    @property
+    def has_hamiltonian(self) -> bool:
+        """Whether the exercise exposes its scene as a separable Hamiltonian (``mech bench``'s symplectic rows)."""
+        return self._hamiltonian is not None
+
+    def separable_hamiltonian(self, p: Params) -> Any:
+        """The registered ``@exercise.hamiltonian`` at ``p``: a ``symplectic.SeparableHamiltonian``."""
+        if self._hamiltonian is None:
+            raise ValueError(f"{self.id} exposes no separable Hamiltonian")
+        return self._hamiltonian(p)
+
+    @property
+    def has_constraints(self) -> bool:
+        """Whether joint checks beyond the bounds are registered (``@exercise.constraint``)."""
+        return bool(self._constraints)
+
+    def constraint_message(self, p: Any) -> str | None:
+        """The first joint check's one-line message that ``p`` fails (anything read as ``p.name``), or None."""
+        for check in self._constraints:
+            msg = check(p)
+            if msg:
+                return msg
+        return None
+
+    @property
+    def has_scene(self) -> bool:
+        """Whether the exercise draws a scene of its own (``@exercise.scene``, ``mech plot``)."""
+        return self._scene is not None
+
+    @property
+    def batched_route(self) -> "BatchedRoute | None":
+        """The chart's batched route (``@exercise.batched``), None without one; assigning replaces it."""
+        return self._batched
+
+    @batched_route.setter
+    def batched_route(self, route: "BatchedRoute | None") -> None:
+        self._batched = route
 
     # -- use --------------------------------------------------------------
     @property

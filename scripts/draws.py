@@ -3,7 +3,7 @@
 
 usage: python scripts/draws.py [--n N] [--seed S] [--timeout T] [--jobs J] [--markdown] [ID ...]
 
-For each exercise (or the named ones, by prefix: "4.2" takes 4.2 and 4.20-4.29), N parameter sets
+For each exercise (or the named ones, by prefix: "4.2" takes 4.2 and every 4.2x), N parameter sets
 are drawn over the whole declared range (mech.verification.draws, kind "whole": log-uniform, open ends
 at 1e-6..1e6 times the default; a draw the joint constraints refuse is redrawn), and each is run as
 ``mech solve ID --json -p NAME=VALUE ...`` in a fresh process, killed after T seconds as a CI

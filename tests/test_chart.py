@@ -1,4 +1,4 @@
-"""Charts: the batched integrator, the batched routes of 5.11-5.13 and `mech sweep`'s batched path.
+"""Charts: the batched integrator, the batched routes (5.11, 5.12, 5.13) and `mech sweep`'s batched path.
 
 Independent references: closed forms (harmonic oscillators), scipy's Radau over
 the full period of the undamped-substitution-free equation, and the exercises'
@@ -19,6 +19,8 @@ from mech.solvers.numerics.batch import integrate_batch
 from mech.verification.crosscheck import cross_check
 from mech.solvers.mechanics.floquet import even_hill_half_batch
 from mech.verification.sweep import Axis, batched_points, grid_points, run_batched
+
+BATCHED = [ex_id for ex_id, ex in registry.all_exercises().items() if ex.batched_route is not None]
 
 
 def run(*args):
@@ -81,7 +83,7 @@ def test_5_11_growth_against_radau_over_the_full_period():
     ex = registry.get("5.11")
     pts = [(10.0, 0.05, 0.05, 10.05), (10.0, 0.0, 0.3, 9.2), (10.0, 0.2, 0.6, 10.4), (3.0, 0.01, 0.2, 3.1)]
     P = {k: np.array([p[i] for p in pts]) for i, k in enumerate(("omega0", "delta", "mu", "omega"))}
-    got = ex._batched.numeric(P, 1e-12, ("growth",))["growth"].value
+    got = ex.batched_route.numeric(P, 1e-12, ("growth",))["growth"].value
     for (w0, d, mu, w), g in zip(pts, got):
         T = math.pi / w
         M = _radau_monodromy(2 * d, lambda t: w0**2 * (1 + mu * math.cos(2 * w * t)), T)
@@ -94,7 +96,7 @@ def test_5_12_growth_against_radau_over_the_full_period():
     ex = registry.get("5.12")
     pts = [(0.5, 9.81, 0.05, 0.008, 8.9), (0.5, 9.81, 0.05, 0.0125, 8.7), (1.0, 9.81, 0.3, 0.05, 6.5)]
     P = {k: np.array([p[i] for p in pts]) for i, k in enumerate(("l", "g", "delta", "a", "Omega"))}
-    got = ex._batched.numeric(P, 1e-11, ("growth",))["growth"].value
+    got = ex.batched_route.numeric(P, 1e-11, ("growth",))["growth"].value
     for (l, g, d, a, W), val in zip(pts, got):
         T = 2 * math.pi / W
         M = _radau_monodromy(2 * d, lambda t: (g - a * W * W * math.cos(W * t)) / l, T)
@@ -108,7 +110,7 @@ def test_5_13_slow_frequencies_against_radau():
     ex = registry.get("5.13")
     pts = [(0.2, 9.81, 0.01, 628.3185307179587), (0.2, 9.81, 0.002, 628.3185307179587), (0.2, 9.81, 0.065, 45.0)]
     P = {k: np.array([p[i] for p in pts]) for i, k in enumerate(("l", "g", "a", "Omega"))}
-    out = ex._batched.numeric(P, 1e-12, ("omega_inv", "omega_down"))
+    out = ex.batched_route.numeric(P, 1e-12, ("omega_inv", "omega_down"))
     for j, (l, g, a, W) in enumerate(pts):
         T = 2 * math.pi / W
         for name, sign in (("omega_down", 1.0), ("omega_inv", -1.0)):
@@ -121,7 +123,7 @@ def test_5_13_slow_frequencies_against_radau():
     assert out["omega_inv"].mask("undefined")[1] and not out["omega_inv"].mask("undefined")[0]
 
 
-@pytest.mark.parametrize("ex_id", ["5.11", "5.12", "5.13"])
+@pytest.mark.parametrize("ex_id", BATCHED)
 def test_vectorised_analytic_is_the_exercises_own(ex_id):
     """analytic_batch and expected_error_batch give, point by point, what the scalar solvers give."""
     ex = registry.get(ex_id)
@@ -140,8 +142,8 @@ def test_vectorised_analytic_is_the_exercises_own(ex_id):
         except Exception:
             continue
     P = {p.name: np.array([q[p.name] for q in pts]) for p in ex.params}
-    ana = ex._batched.analytic(P)
-    exp = ex._batched.expected_error(P)
+    ana = ex.batched_route.analytic(P)
+    exp = ex.batched_route.expected_error(P)
     for j, q in enumerate(pts):
         a = ex.solve_analytic(q)
         e = ex.expected_errors(q)
@@ -151,7 +153,7 @@ def test_vectorised_analytic_is_the_exercises_own(ex_id):
                 assert col.value[j] == pytest.approx(a[name], rel=1e-14, abs=1e-300)
             else:
                 assert col.mask("undefined")[j]
-        for name in ex._batched.outputs:
+        for name in ex.batched_route.outputs:
             # (relative, absolute) where the leading-order value can be zero; None and absent are NaN
             want = e.get(name)
             want = want if isinstance(want, tuple) else (want, None)
@@ -175,7 +177,7 @@ def test_vectorised_analytic_is_the_exercises_own(ex_id):
 def test_batched_points_match_single_cross_checks(ex_id, axes, fixed):
     """Each point's value within its error bar of `mech solve`'s, and the same verdict."""
     ex = registry.get(ex_id)
-    outs = ex._batched.outputs
+    outs = ex.batched_route.outputs
     res = run_batched(ex, axes, fixed, outs, chunk=5)
     pts = batched_points(res)
     grid = grid_points(axes, fixed)
@@ -232,7 +234,7 @@ def test_a_failing_route_fails_every_point_loudly(monkeypatch):
     def broken(P, rtol, outputs):
         raise NumericFailure("step size underflow (test)")
 
-    monkeypatch.setattr(ex, "_batched", dataclasses.replace(ex._batched, numeric=broken))
+    monkeypatch.setattr(ex, "batched_route", dataclasses.replace(ex.batched_route, numeric=broken))
     code, out, err = run("sweep", "5.11", "--omega", "9.8:10.2:2", "--mu", "0.01:0.1:2", "--only", "growth", "--json")
     assert code == 1
     d = json.loads(out)
@@ -278,7 +280,7 @@ def test_ctrl_c_ends_with_one_line_and_130(monkeypatch):
 
     ex = registry.get("5.11")
     calls = []
-    real = ex._batched.numeric
+    real = ex.batched_route.numeric
 
     def interrupted(P, rtol, outputs):
         calls.append(1)
@@ -286,7 +288,7 @@ def test_ctrl_c_ends_with_one_line_and_130(monkeypatch):
             raise KeyboardInterrupt
         return real(P, rtol, outputs)
 
-    monkeypatch.setattr(ex, "_batched", dataclasses.replace(ex._batched, numeric=interrupted))
+    monkeypatch.setattr(ex, "batched_route", dataclasses.replace(ex.batched_route, numeric=interrupted))
     monkeypatch.setattr(sweep, "CHUNK", 4)
     monkeypatch.setattr(sweep.run_batched, "__kwdefaults__", {**sweep.run_batched.__kwdefaults__, "chunk": 4})
     code, out, err = run("sweep", "5.11", "--omega", "9.8:10.2:3", "--mu", "0.01:0.1:3", "--only", "growth")
@@ -308,14 +310,14 @@ def test_illinois_finds_every_root():
     assert ok.all() and x[0] == pytest.approx(math.pi / 2, abs=1e-14)
 
 
-@pytest.mark.parametrize("ex_id", ["5.11", "5.12", "5.13"])
+@pytest.mark.parametrize("ex_id", BATCHED)
 def test_hard_cases_through_the_batched_route(ex_id):
     """The catalogue's hard cases, all in one batch: each within its error bar of `mech solve`, same verdict."""
     ex = registry.get(ex_id)
     cases = [ex.resolve(h["params"]) for h in ex.hard_cases] + [ex.resolve({})]
     P = {p.name: np.array([c[p.name] for c in cases]) for p in ex.params}
-    outs = ex._batched.outputs
-    num = ex._batched.numeric(P, ex.default_rtol, outs)
+    outs = ex.batched_route.outputs
+    num = ex.batched_route.numeric(P, ex.default_rtol, outs)
     for j, c in enumerate(cases):
         single = cross_check(ex, c).as_json()
         for name in outs:
@@ -340,7 +342,7 @@ def test_map_marks_failed_points_with_their_reason(monkeypatch):
     from mech.solvers.numerics.batch import Column
 
     ex = registry.get("5.11")
-    real = ex._batched.numeric
+    real = ex.batched_route.numeric
 
     def half_broken(P, rtol, outputs, memo=None):
         got = real(P, rtol, outputs, memo=memo)
@@ -350,7 +352,7 @@ def test_map_marks_failed_points_with_their_reason(monkeypatch):
                                failed=col.failed + [(bad, "step size underflow at t = 0.3 (test)")])
         return got
 
-    monkeypatch.setattr(ex, "_batched", dataclasses.replace(ex._batched, numeric=half_broken))
+    monkeypatch.setattr(ex, "batched_route", dataclasses.replace(ex.batched_route, numeric=half_broken))
     axes = [Axis("omega", (9.8, 10.0, 10.2, 10.4)), Axis("mu", (0.02, 0.06, 0.1))]
     res = run_batched(ex, axes, {}, ("growth",))
     res.fixed = {"omega0": 10.0, "delta": 0.05}

@@ -22,8 +22,8 @@ def _summary(report):
 
 def test_pooled_and_serial_checks_agree_to_the_bit():
     exercises = [registry.get(i) for i in IDS]
-    serial = checking.run_check(exercises, hard=True, progress=False, jobs=1)
-    pooled = checking.run_check(exercises, hard=True, progress=False, jobs=2)
+    serial = checking.run_check(exercises, hard=True, jobs=1)
+    pooled = checking.run_check(exercises, hard=True, jobs=2)
     assert len(serial.cases) >= checking.MIN_POOLED_CASES
     assert _summary(pooled) == _summary(serial)
     # the plan's order, whatever order the workers finished in: each exercise's defaults, then its hard cases
@@ -34,14 +34,14 @@ def test_pooled_and_serial_checks_agree_to_the_bit():
 
 def test_a_case_that_fails_in_a_worker_is_reported(monkeypatch):
     ex = registry.get("4.15")
-    good = ex._numeric
+    good = ex.numeric_solver
 
     def off_by_a_part_in_a_thousand(p, run):
         values = good(p, run)
         return {**values, "theta_c": values["theta_c"] * (1 + 1e-3)}
 
-    monkeypatch.setattr(ex, "_numeric", off_by_a_part_in_a_thousand)  # the fork carries the patch
-    report = checking.run_check([registry.get(i) for i in IDS[:1]] + [ex], hard=True, progress=False, jobs=2)
+    monkeypatch.setattr(ex, "numeric_solver", off_by_a_part_in_a_thousand)  # the fork carries the patch
+    report = checking.run_check([registry.get(i) for i in IDS[:1]] + [ex], hard=True, jobs=2)
     bad = [c for c in report.cases if not c.ok]
     assert bad and {c.exercise.id for c in bad} == {"4.15"}
     assert all("theta_c" in c.detail for c in bad)
@@ -66,9 +66,9 @@ def hangs_in_a_worker(p, run):
     if os.getpid() != parent:
         print("worker", flush=True)
         time.sleep(60)
-ex._numeric = hangs_in_a_worker
+ex.numeric_solver = hangs_in_a_worker
 checking.run_check([ex] * 1 + [registry.get(i) for i in ("4.1", "4.2", "4.3", "4.4", "4.6", "4.8", "4.9")],
-                   hard=True, progress=False, jobs=2)
+                   hard=True, jobs=2)
 """
 
 

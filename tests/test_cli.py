@@ -159,13 +159,13 @@ def test_check_json():
 
 def test_check_fails_loudly_when_a_solver_is_broken(monkeypatch, tmp_path):
     ex = registry.get("4.15")
-    good = ex._numeric
+    good = ex.numeric_solver
 
     def off_by_a_little(p, run_):
         values = good(p, run_)
         return {**values, "theta_c": values["theta_c"] * (1 + 1e-6)}
 
-    monkeypatch.setattr(ex, "_numeric", off_by_a_little)
+    monkeypatch.setattr(ex, "numeric_solver", off_by_a_little)
     junit = tmp_path / "report.xml"
     code, out, _ = run("check", "4.15", "--junit", str(junit))
     assert code == 1
@@ -179,7 +179,7 @@ def test_check_fails_when_a_solver_raises(monkeypatch):
     def broken(p, run_):
         raise ZeroDivisionError("on purpose")
 
-    monkeypatch.setattr(ex, "_numeric", broken)
+    monkeypatch.setattr(ex, "numeric_solver", broken)
     code, out, err = run("solve", "4.15", "--json")
     assert code == 1
     d = json.loads(out)
@@ -189,12 +189,12 @@ def test_check_fails_when_a_solver_raises(monkeypatch):
 
 def test_undefined_and_nonfinite_values_become_null_with_a_note(monkeypatch):
     ex = registry.get("4.15")
-    good = ex._analytic
-    monkeypatch.setattr(ex, "_analytic", lambda p: {**good(p), "omega_c": Undefined("no meaning here")})
+    good = ex.analytic_solver
+    monkeypatch.setattr(ex, "analytic_solver", lambda p: {**good(p), "omega_c": Undefined("no meaning here")})
     code, out, _ = run("solve", "4.15", "--json")
     q = json.loads(out)["quantities"][1]
     assert code == 1 and q["analytic"] is None and "no meaning here" in q["note"] and q["agree"] is False
-    monkeypatch.setattr(ex, "_analytic", lambda p: {**good(p), "omega_c": math.inf})
+    monkeypatch.setattr(ex, "analytic_solver", lambda p: {**good(p), "omega_c": math.inf})
     code, out, _ = run("solve", "4.15", "--json")
     assert code == 1 and json.loads(out)["quantities"][1]["analytic"] is None
 
@@ -293,7 +293,7 @@ def test_list_table_has_every_exercise_and_wraps_to_the_width():
         assert lines[-1] == f"{len(entries)} exercises"
         assert max(len(line) for line in lines) <= width
         starts = [line.split()[0] for line in lines[2:-1] if line[:6].strip() and not line.startswith(("†", "+"))]
-        # the exercises set for mech (5.4-5.13) carry the mark
+        # the exercises set for mech (from_book = false in their catalogue files) carry the mark
         assert starts == [e.id + ("" if e.from_book else "†") for e in entries]
     code, out, _ = run("list")
     assert code == 0 and out.rstrip().endswith(f"{len(entries)} exercises") and " 4.15 " in out
@@ -310,14 +310,14 @@ def test_numpy_warnings_are_kept_off_stderr_but_shown(monkeypatch):
     from mech.problems import registry
 
     ex = registry.get("4.15")
-    good = ex._numeric
+    good = ex.numeric_solver
 
     def overflows_on_the_way(p, run):
         with np.errstate(over="warn"):
             np.float64(1e308) * 10.0  # an intermediate that overflows and is not used
         return good(p, run)
 
-    monkeypatch.setattr(ex, "_numeric", overflows_on_the_way)
+    monkeypatch.setattr(ex, "numeric_solver", overflows_on_the_way)
     res = CliRunner().invoke(cli, ["solve", "4.15", "--no-verify", "--json"])
     assert res.exit_code == 0 and res.stderr == ""
     assert any("overflow" in w for w in json.loads(res.stdout)["numeric_info"]["fp_warnings"])

@@ -97,7 +97,7 @@ def test_analytic_is_unit_free():
     d = {p.name: p.default for p in ex.params}
     p = _params(ex, {"h": math.ldexp(d["h"], -200), "g": math.ldexp(d["g"], -200)})
     assert scales.natural_units(ex, p)[0] == (0, -192, 0)
-    natural, si, default = ex.solve_analytic(p), ex._analytic(p), ex.solve_analytic(_params(ex, {}))
+    natural, si, default = ex.solve_analytic(p), ex.analytic_solver(p), ex.solve_analytic(_params(ex, {}))
     assert math.isclose(natural["t_fall"], default["t_fall"], rel_tol=1e-14)
     assert math.isclose(natural["d_east"], math.ldexp(default["d_east"], -200), rel_tol=1e-14)
     assert math.isclose(natural["d_east"], si["d_east"], rel_tol=1e-14)

@@ -132,7 +132,7 @@ def test_kapitza_stability_edge_next_order_by_a_fit():
 
 def test_batched_validity_matches_the_scalar_one():
     ex = registry.get("5.13")
-    route = ex._batched
+    route = ex.batched_route
     # near a_min (omega_inv's neglect estimate grows past 0.3), at the defaults, and a fast drive
     pts = [{"a": 0.003153}, {}, {"a": 0.0032}, {"Omega": 18849.55592153876, "a": 0.0002}]
     params = [ex.resolve(g) for g in pts]

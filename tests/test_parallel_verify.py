@@ -42,14 +42,14 @@ def test_parallel_and_serial_reruns_agree_to_the_bit(ex_id, monkeypatch):
 
 def test_a_rerun_that_fails_is_reported_in_both_modes(monkeypatch):
     ex = registry.get("4.15")
-    good = ex._numeric
+    good = ex.numeric_solver
 
     def fails_when_tighter(p, run):
         if run.rtol < ex.default_rtol:
             raise ZeroDivisionError("only at the tighter tolerance")
         return good(p, run)
 
-    monkeypatch.setattr(ex, "_numeric", fails_when_tighter)
+    monkeypatch.setattr(ex, "numeric_solver", fails_when_tighter)
     par, ser = _both(ex, ex.resolve({}), monkeypatch)
     for d in (par, ser):
         assert d["agree"] is False
@@ -59,13 +59,13 @@ def test_a_rerun_that_fails_is_reported_in_both_modes(monkeypatch):
 
 def test_a_claim_the_rerun_does_not_earn_fails_in_both_modes(monkeypatch):
     ex = registry.get("4.15")
-    good = ex._numeric
+    good = ex.numeric_solver
 
     def drifts_with_rtol(p, run):
         values = good(p, run)
         return {**values, "theta_c": values["theta_c"] * (1 + 1e4 * run.rtol)}  # 100x its claim of 100 rtol
 
-    monkeypatch.setattr(ex, "_numeric", drifts_with_rtol)
+    monkeypatch.setattr(ex, "numeric_solver", drifts_with_rtol)
     par, ser = _both(ex, ex.resolve({}), monkeypatch)
     for d in (par, ser):
         q = next(q for q in d["quantities"] if q["name"] == "theta_c")
@@ -78,7 +78,7 @@ def test_a_failed_solve_leaves_no_rerun_running(monkeypatch):
     def broken(p, run):
         raise RuntimeError("the solve itself fails")
 
-    monkeypatch.setattr(ex, "_numeric", broken)
+    monkeypatch.setattr(ex, "numeric_solver", broken)
     monkeypatch.setattr(crosscheck, "_parallel_ok", lambda: True)
     d = crosscheck.cross_check(ex, ex.resolve({})).as_json()
     assert d["agree"] is False and "the solve itself fails" in d["errors"][0]
@@ -92,7 +92,7 @@ def _hang():
 
 
 def _misbehaving_in_the_child(ex, misbehave):
-    good = ex._numeric
+    good = ex.numeric_solver
     parent = os.getpid()
 
     def misbehaves_in_the_child(p, run):
@@ -106,7 +106,7 @@ def _misbehaving_in_the_child(ex, misbehave):
 def test_a_rerun_that_dies_is_done_serially(monkeypatch):
     """A child that dies without answering (as a crash would) is gone: the rerun is done here."""
     ex = registry.get("4.15")
-    monkeypatch.setattr(ex, "_numeric", _misbehaving_in_the_child(ex, lambda: os._exit(3)))
+    monkeypatch.setattr(ex, "numeric_solver", _misbehaving_in_the_child(ex, lambda: os._exit(3)))
     monkeypatch.setattr(crosscheck, "_parallel_ok", lambda: True)
     d = crosscheck.cross_check(ex, ex.resolve({})).as_json()
     assert d["agree"] is True and "did not answer" in d["numeric_info"]["verify_parallel_fallback"]
@@ -119,7 +119,7 @@ def test_a_rerun_that_hangs_fails_loudly_within_the_budget(monkeypatch):
     import time
 
     ex = registry.get("4.15")
-    monkeypatch.setattr(ex, "_numeric", _misbehaving_in_the_child(ex, _hang))
+    monkeypatch.setattr(ex, "numeric_solver", _misbehaving_in_the_child(ex, _hang))
     monkeypatch.setattr(crosscheck, "_parallel_ok", lambda: True)
     t0 = time.monotonic()
     d = crosscheck.cross_check(ex, ex.resolve({}), budget_s=1.0).as_json()
@@ -149,13 +149,13 @@ import os, sys, time
 from mech.problems import registry
 from mech.verification import crosscheck
 ex = registry.get("4.15")
-good = ex._numeric
+good = ex.numeric_solver
 parent = os.getpid()
 def slow(p, run):
     if os.getpid() != parent:
         time.sleep(60)
     return good(p, run)
-ex._numeric = slow
+ex.numeric_solver = slow
 crosscheck._parallel_ok = lambda: True
 print("ready", flush=True)
 crosscheck.cross_check(ex, ex.resolve({}))

@@ -157,7 +157,7 @@ class _GSlips:
             self._values = []
             ex, params = self.result.exercise, self.result.params
             g_param = getattr(ex, "param_map", {}).get("g")
-            if g_param is not None and g_param.unit == "m/s^2" and ex._analytic is not None:
+            if g_param is not None and g_param.unit == "m/s^2" and ex.has_analytic:
                 g = float(params["g"])
                 for phrase, g_slip in (("g left out (taken as 1)", 1.0), ("g doubled", 2.0 * g)):
                     if g_slip == g:

@@ -125,7 +125,7 @@ class _Runner:
             if method in SYMPLECTIC:
                 from mech.solvers.numerics.symplectic import solve_scene
 
-                values, res = solve_scene(ex._hamiltonian(p), rtol, SYMPLECTIC[method])
+                values, res = solve_scene(ex.separable_hamiltonian(p), rtol, SYMPLECTIC[method])
                 return values, res.nfev, method, None
             if method == STUDENT:
                 values, run = ex.solve_numeric(p, 1e-3, integrator=ode.STUDENT)
@@ -203,7 +203,7 @@ def bench(
         rows = [m for m in methods if m != STUDENT]
         extra = [(STUDENT, 1e-3)] if STUDENT in methods else []
     elif integrates:
-        rows = list(ODE_METHODS) + (list(SYMPLECTIC) if ex._hamiltonian else [])
+        rows = list(ODE_METHODS) + (list(SYMPLECTIC) if ex.has_hamiltonian else [])
     else:
         rows = [own_method]
     if not methods:
@@ -234,7 +234,7 @@ def bench(
             pt["note"] = f"not run: below the exercise's floor rtol {ex.min_rtol:g}"
             points.append(pt)
             continue
-        if method in SYMPLECTIC and ex._hamiltonian is None:
+        if method in SYMPLECTIC and not ex.has_hamiltonian:
             pt["note"] = "not run: the exercise exposes no separable Hamiltonian"
             points.append(pt)
             continue

@@ -139,42 +139,31 @@ def run_case(case: Case) -> Case:
     return case
 
 
-def run_check(exercises, hard: bool = False, progress: bool = True, jobs: int | None = None) -> Report:
+def run_check(exercises, hard: bool = False, jobs: int | None = None, started=None, finished=None) -> Report:
     """Every planned case, in plan order.  ``jobs``: processes to use (None: one per core when there are
-    enough cases to share, see ``plan_jobs``)."""
+    enough cases to share, see ``plan_jobs``).  ``started(case, n_cases)`` and ``finished(case)``, where
+    given, are called around every case, in this process and never from a thread (a progress bar: the
+    cross-check forks its rerun, and the pool its workers, only from a single-threaded process)."""
     cases = plan(exercises, hard)
     report = Report(cases=cases)
     t0 = time.perf_counter()
     workers = plan_jobs(len(cases), jobs)
-    show = progress and sys.stderr.isatty()
-    bar = None
-    if show:
-        from rich.console import Console
-        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-        # no refresh thread (auto_refresh off, redrawn by hand around each case): the cross-check forks its
-        # rerun, and the pool its workers, only from a single-threaded process
-        bar = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                       console=Console(stderr=True), transient=True, auto_refresh=False)
-    with bar if bar is not None else _nothing():
-        task = bar.add_task("checking", total=len(cases)) if bar is not None else None
+    def begin(case):
+        if started is not None:
+            started(case, len(cases))
 
-        def started(case):
-            if bar is not None:
-                bar.update(task, description=f"{case.exercise.id} {case.label}", refresh=True)
+    def end(case):
+        if finished is not None:
+            finished(case)
 
-        def finished(case):
-            if bar is not None:
-                bar.advance(task)
-                bar.refresh()
-
-        if workers > 1:
-            _run_pooled(cases, workers, started, finished)
-        else:
-            for case in cases:
-                started(case)
-                run_case(case)
-                finished(case)
+    if workers > 1:
+        _run_pooled(cases, workers, begin, end)
+    else:
+        for case in cases:
+            begin(case)
+            run_case(case)
+            end(case)
     report.seconds = time.perf_counter() - t0
     return report
 
@@ -244,11 +233,3 @@ def _remote_case(ex_id: str, label: str, given: dict):
     if result is not None:  # what a report uses travels back; the exercise is the parent's own
         result.exercise, result.run = None, None
     return case.ok, case.seconds, case.worst_ratio, case.detail, result
-
-
-class _nothing:
-    def __enter__(self):
-        return None
-
-    def __exit__(self, *exc):
-        return False

@@ -373,7 +373,7 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
     numeric: dict = {}
     run = None
 
-    if "analytic" in methods and ex._analytic is not None:
+    if "analytic" in methods and ex.has_analytic:
         t0 = time.perf_counter()
         try:
             analytic = ex.solve_analytic(params)
@@ -383,7 +383,7 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
 
     verify_values: dict = {}
     import_s = None
-    if "numeric" in methods and ex._numeric is not None:
+    if "numeric" in methods and ex.has_numeric:
         # the one-time load of the integrator and its tableau is start-up cost, not the solve: timed
         # apart (when this solve is the one that loads it) and taken out of the numeric time
         dop = sys.modules.get("mech.solvers.numerics.dop853")

@@ -468,7 +468,7 @@ def run_batched(
 
     from mech.problems.spec import NumericFailure
 
-    route = ex._batched
+    route = ex.batched_route
     rtol = float(rtol or ex.default_rtol)
     tighter = max(rtol / 10.0, ex.min_rtol)
     verify = verify and tighter < rtol
@@ -724,7 +724,7 @@ def validate_grid(ex: Exercise, axes, fixed) -> None:
     if total > MAX_POINTS:
         raise BadInput(f"the grid has {total} points; at most {MAX_POINTS} in one sweep")
     base = {p.name: float(fixed.get(p.name, p.default)) for p in ex.params}
-    if not ex._constraints:
+    if not ex.has_constraints:
         return
     import itertools
 
@@ -732,13 +732,12 @@ def validate_grid(ex: Exercise, axes, fixed) -> None:
     view = _PointView(base)
     for combo in itertools.product(*(a.values for a in axes)):
         view.__dict__.update(zip(names, combo))
-        for check in ex._constraints:
-            try:
-                msg = check(view)
-            except Exception:  # a check that needs more than attribute access: the real Params
-                msg = check(Params(dict(view.__dict__)))
-            if msg:
-                raise BadInput(f"sweep point {describe_point(ex, view.__dict__, names)}: {msg}")
+        try:
+            msg = ex.constraint_message(view)
+        except Exception:  # a check that needs more than attribute access: the real Params
+            msg = ex.constraint_message(Params(dict(view.__dict__)))
+        if msg:
+            raise BadInput(f"sweep point {describe_point(ex, view.__dict__, names)}: {msg}")
 
 
 class _PointView:
