@@ -16,6 +16,7 @@ from typing import Any, Iterator, Sequence
 import numpy as np
 
 from mech.problems.spec import BadInput, NumericFailure
+from mech.verification.result import Quantity, Solution
 
 __all__ = ["Quantity", "Solution", "Sweep", "Trajectory", "solve", "sweep", "check", "resolve_params"]
 
@@ -100,36 +101,6 @@ def _names(what: str, value) -> list[str]:
 
 # -- results ---------------------------------------------------------------------
 
-@dataclass(frozen=True)
-class Quantity:
-    """One output of a solution: both values, the numeric error bar, the tolerance, the verdict."""
-
-    name: str
-    unit: str
-    analytic: float | None
-    numeric: float | None
-    numeric_err: float | None
-    analytic_err: float | None
-    abs_err: float | None
-    rel_err: float | None
-    tol: float | None
-    agree: bool | None
-    theory: str = "exact"
-    note: str | None = None
-    expected: dict | None = None  # with mech.solve(..., expect=...): value, match, rel_err, hint
-
-    @classmethod
-    def from_dict(cls, d: dict) -> "Quantity":
-        return cls(d["name"], d["unit"], d.get("analytic"), d.get("numeric"), d.get("numeric_err"),
-                   d.get("analytic_err"), d.get("abs_err"), d.get("rel_err"), d.get("tol"), d.get("agree"),
-                   d.get("theory", "exact"), d.get("note"), d.get("expected"))
-
-    @property
-    def value(self) -> float | None:
-        """The numeric value where there is one, else the analytic one."""
-        return self.numeric if self.numeric is not None else self.analytic
-
-
 @dataclass
 class Trajectory:
     """The motion the numeric route integrated: ``y[i]`` is state ``names[i]`` (in ``units[i]``) at times ``t``.
@@ -192,144 +163,26 @@ def _trajectory(ex, run) -> Trajectory | None:
     return Trajectory(t=t[keep], y=y[:, keep], names=[s[0] for s in ex.states], units=[s[1] for s in ex.states])
 
 
-class Solution:
-    """The cross-check of one exercise at one set of parameters.
+def _motion(sol: Solution, deadline: float | None = None) -> Trajectory | None:
+    """A solution's trajectory (``Solution.trajectory``): the same numeric solve, run again with its motion
+    kept (dense output between steps may cost evaluations the answer does not need, so the answer's solve
+    keeps none: ``to_dict()`` stays what ``mech solve --json`` prints)."""
+    ex = sol.exercise
+    if ex is None or not ex.states or sol.run is None:
+        return None
+    if sol.solver_failed:
+        return None  # the numeric solve itself did not finish: no motion to hand over
+    from mech.problems.spec import Params
+    from mech.core import budget
 
-    ``sol["theta_c"]`` is a ``Quantity``; ``sol.agree`` the verdict (None where only one method ran);
-    ``sol.to_dict()`` the object ``mech solve --json`` prints; ``sol.trajectory`` the integrated motion
-    (None where the numeric route integrates no equations of motion).
-    """
-
-    def __init__(self, exercise, data: dict, trajectory: Trajectory | None = None, result=None):
-        self.exercise = exercise
-        self._data = data
-        self._trajectory = trajectory
-        self._trajectory_done = trajectory is not None
-        self.expect_ok: bool | None = data.get("expect_ok")
-        self._result = result
-        self._deadline: float | None = None  # the end of the solve's time budget (time.monotonic())
-        self.result = result  # the cross-check behind it (None for a sweep's points)
-        self.quantities = [Quantity.from_dict(q) for q in data["quantities"]]
-        self._by_name = {q.name: q for q in self.quantities}
-
-    @property
-    def id(self) -> str:
-        return self.exercise.id
-
-    @property
-    def trajectory(self) -> Trajectory | None:
-        """The motion the numeric route integrates, in SI (None where it integrates none).
-
-        Computed on first use by the same numeric solve, run again with its motion kept (dense output
-        between steps may cost evaluations the answer does not need, so the answer's solve keeps none:
-        ``to_dict()`` stays what ``mech solve --json`` prints)."""
-        if not self._trajectory_done:
-            self._trajectory_done = True
-            self._trajectory = self._motion()
-        return self._trajectory
-
-    def _motion(self) -> Trajectory | None:
-        ex = self.exercise
-        if not ex.states or self._result is None or self._result.run is None:
-            return None
-        if any("solver failed" in e for e in self.errors):
-            return None  # the numeric solve itself did not finish: no motion to hand over
-        from mech.problems.spec import Params
-        from mech.core import budget
-
-        info = self._data.get("numeric_info") or {}
-        # the solve's own budget, not a fresh one: what the cross-check left of it
-        left = budget.default_seconds() if self._deadline is None else self._deadline - time.monotonic()
-        if left <= 0:
-            raise budget.OutOfBudget(f"the trajectory of {ex.id}: the solve's time budget is spent")
-        with budget.limit(left, what=f"the trajectory of {ex.id}"):
-            _, run = ex.solve_numeric(Params(self._data["params"]), info.get("rtol"), keep_trajectories=True)
-        return _trajectory(ex, run)
-
-    @property
-    def params(self) -> dict[str, float]:
-        return dict(self._data["params"])
-
-    @property
-    def agree(self) -> bool | None:
-        return self._data["agree"]
-
-    @property
-    def errors(self) -> list[str]:
-        return list(self._data.get("errors", []))
-
-    @property
-    def timing(self) -> dict:
-        return dict(self._data.get("timing") or {})
-
-    @property
-    def numeric_info(self) -> dict | None:
-        return self._data.get("numeric_info")
-
-    def __getitem__(self, name: str) -> Quantity:
-        try:
-            return self._by_name[name]
-        except KeyError:
-            names = ", ".join(self._by_name)
-            raise KeyError(f"{self.exercise.id} has no output '{name}'; its outputs are: {names}") from None
-
-    def __iter__(self) -> Iterator[Quantity]:
-        return iter(self.quantities)
-
-    def __len__(self) -> int:
-        return len(self.quantities)
-
-    def keys(self) -> list[str]:
-        return list(self._by_name)
-
-    def to_dict(self) -> dict:
-        """Exactly what ``mech solve --json`` prints for the same exercise and parameters."""
-        import copy
-
-        return copy.deepcopy(self._data)
-
-    def __repr__(self) -> str:
-        parts = ", ".join(f"{q.name}={q.value:.6g}" if isinstance(q.value, float) else f"{q.name}=None"
-                          for q in self.quantities)
-        return f"<Solution {self.exercise.id}: {parts}; agree={self.agree}>"
-
-    def __rich__(self):
-        from mech import render
-
-        if self._result is not None:
-            return render.solve_table(self._result)
-        from rich.text import Text
-
-        return Text(repr(self))
-
-    def _repr_html_(self) -> str:
-        import html
-
-        esc = html.escape
-        ex = self.exercise
-        params = ", ".join(f"{esc(p.symbol or p.name)} = {esc(p.show(self._data['params'][p.name]))}"
-                           for p in ex.params)
-        head = "".join(f"<th>{c}</th>" for c in ("quantity", "unit", "analytic", "numeric", "± numeric",
-                                                 "rel. diff", "tol", "agree"))
-        rows = []
-        for q in self.quantities:
-            cells = [q.name + (" *" if q.theory != "exact" else ""), q.unit, _fmt(q.analytic), _fmt(q.numeric),
-                     _fmt(q.numeric_err, 2), _fmt(q.rel_err, 2), _fmt(q.tol, 2),
-                     "—" if q.agree is None else ("yes" if q.agree else "NO")]
-            rows.append("<tr>" + "".join(f"<td>{esc(str(c))}</td>" for c in cells) + "</tr>")
-        verdict = {True: "analytic and numeric agree", False: "CROSS-CHECK FAILED", None: ""}[self.agree]
-        errors = "".join(f"<p style='color:#b00'>{esc(e)}</p>" for e in self.errors)
-        return (f"<div><b>{esc(ex.id)}  {esc(ex.title)}</b><br><span>{params}</span>"
-                f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(rows)}</tbody></table>"
-                f"{errors}<p>{verdict}</p></div>")
-
-
-def _fmt(v, digits: int = 12) -> str:
-    if v is None:
-        return "—"
-    if isinstance(v, bool):
-        return str(v)
-    return f"{v:.{digits}g}"
+    info = sol.numeric_info or {}
+    # the solve's own budget, not a fresh one: what the cross-check left of it
+    left = budget.default_seconds() if deadline is None else deadline - time.monotonic()
+    if left <= 0:
+        raise budget.OutOfBudget(f"the trajectory of {ex.id}: the solve's time budget is spent")
+    with budget.limit(left, what=f"the trajectory of {ex.id}"):
+        _, run = ex.solve_numeric(Params(dict(sol.params)), info.get("rtol"), keep_trajectories=True)
+    return _trajectory(ex, run)
 
 
 # -- solve -----------------------------------------------------------------------
@@ -345,8 +198,8 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
     expectations = _expectations(ex, expect, expect_rtol)
     sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify,
                          expectations=expectations)
-    if raise_on_failure and any("solver failed" in e for e in sol.errors):
-        exc = NumericFailure(f"{ex.id}: " + "; ".join(sol.errors))
+    if raise_on_failure and sol.solver_failed:
+        exc = NumericFailure(f"{ex.id}: " + "; ".join(str(e) for e in sol.errors))
         exc.solution = sol
         raise exc
     return sol
@@ -370,20 +223,19 @@ def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float |
     from mech.core import budget
     from mech.verification.crosscheck import cross_check
 
+    import functools
+
     budget_s = budget.default_seconds() if budget_s is None else float(budget_s)
     deadline = time.monotonic() + budget_s
     result = cross_check(ex, params, methods=tuple(methods), rtol=rtol, verify=verify and "numeric" in methods,
                          budget_s=budget_s)
+    # the trajectory, when asked for, shares the solve's budget
+    result = result.replace(trajectory_of=functools.partial(_motion, deadline=deadline))
     if expectations is None:
-        sol = Solution(ex, result.as_json(), None, result)
-    else:
-        from mech.verification import grading
+        return result
+    from mech.verification import grading
 
-        expect_ok = grading.attach(result, expectations)
-        sol = Solution(ex, grading.solve_json(result), None, result)
-        sol.expect_ok = expect_ok
-    sol._deadline = deadline
-    return sol
+    return grading.attach(result, expectations)
 
 
 def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None):
@@ -464,8 +316,10 @@ class Sweep:
 
     def to_arrays(self) -> dict[str, np.ndarray]:
         """Flat arrays in grid order (the first swept parameter varies slowest; ``.reshape(sweep.shape)``
-        gives the grid): each swept parameter, then per output ``_analytic``, ``_numeric``,
-        ``_numeric_err`` and ``_agree`` (NaN or None where a value is missing)."""
+        gives the grid): each swept parameter, then per output ``_analytic``, ``_numeric`` and
+        ``_numeric_err`` (float, NaN where there is no value) and ``_agree`` (bool) with ``_agree_mask``
+        (bool, True where there is no verdict: nothing compared; ``_agree`` is False there), the
+        convention of ``numpy.ma``: ``np.ma.array(a["x_agree"], mask=a["x_agree_mask"])``."""
         out: dict[str, np.ndarray] = {}
         for axis in self.axes:
             out[axis.name] = np.array([p.params[axis.name] for p in self.points], float)
@@ -474,7 +328,8 @@ class Sweep:
             out[f"{name}_analytic"] = np.array([_nan(q.analytic) for q in qs], float)
             out[f"{name}_numeric"] = np.array([_nan(q.numeric) for q in qs], float)
             out[f"{name}_numeric_err"] = np.array([_nan(q.numeric_err) for q in qs], float)
-            out[f"{name}_agree"] = np.array([q.agree for q in qs], object)
+            out[f"{name}_agree"] = np.array([q.agree is True for q in qs], bool)
+            out[f"{name}_agree_mask"] = np.array([q.agree is None for q in qs], bool)
         return out
 
     def _columns(self) -> list[tuple[str, str]]:
@@ -486,7 +341,8 @@ class Sweep:
         return cols
 
     def to_csv(self, path) -> None:
-        """One row per point; the header gives each column's unit as ``name [unit]``."""
+        """One row per point; the header gives each column's unit as ``name [unit]``; an empty cell where
+        there is no value or no verdict."""
         import csv
 
         from mech.core.safeio import atomic_write
@@ -500,18 +356,31 @@ class Sweep:
                 row = []
                 for n, _ in cols:
                     v = arrays[n][k]
-                    row.append("" if v is None or (isinstance(v, float) and math.isnan(v)) else
-                               (str(v).lower() if isinstance(v, (bool, np.bool_)) else repr(float(v))))
+                    if n.endswith("_agree"):
+                        row.append("" if arrays[f"{n}_mask"][k] else str(bool(v)).lower())
+                    else:
+                        row.append("" if math.isnan(v) else repr(float(v)))
                 out.writerow(row)
 
     def to_pandas(self):
-        """A pandas DataFrame of ``to_arrays()`` (pandas is optional: ``pip install pandas``)."""
+        """A pandas DataFrame of ``to_arrays()`` (pandas is optional: ``pip install pandas``): the verdicts
+        as pandas' nullable boolean (``pd.NA`` where there is none), without the mask columns."""
         try:
             import pandas as pd
         except ImportError:
             raise ImportError("Sweep.to_pandas needs pandas, which mech does not install: pip install pandas") \
                 from None
-        return pd.DataFrame(self.to_arrays())
+        arrays = self.to_arrays()
+        columns = {}
+        for n, v in arrays.items():
+            if n.endswith("_agree_mask"):
+                continue
+            if n.endswith("_agree"):
+                columns[n] = pd.array([None if m else bool(x) for x, m in zip(v, arrays[f"{n}_mask"])],
+                                      dtype="boolean")
+            else:
+                columns[n] = v
+        return pd.DataFrame(columns)
 
     def __repr__(self) -> str:
         swept = ", ".join(f"{a.name}: {len(a.values)}" for a in self.axes)
@@ -519,13 +388,14 @@ class Sweep:
 
 
 def _nan(v) -> float:
-    return math.nan if v is None else float(v)
+    """A value as a float: NaN where there is none (None, or ``Undefined``)."""
+    return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else math.nan
 
 
 def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, only=None, jobs=None,
           ranges: dict | None = None) -> Sweep:
     from mech.problems import registry
-    from mech.verification.sweep import Axis, batched_outputs, batched_points, grid_points, run_batched, run_sweep
+    from mech.verification.sweep import Axis, batched_outputs, grid_points, run_batched, run_sweep
 
     ex = registry.get(ex_id)
     verify = _flag("verify", verify)
@@ -563,13 +433,10 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
 
         validate_grid(ex, axes, fixed)
         result = run_batched(ex, axes, fixed, batched, rtol=rtol_value, verify=verify)
-        data_points = batched_points(result)
     else:
         points = [ex.resolve(values) for values in grid_points(axes, fixed)]
         result = run_sweep(ex, axes, fixed, points, rtol=rtol_value, verify=verify, jobs=jobs, only=wanted)
-        data_points = result.points
-    solutions = [Solution(ex, {"id": ex.id, "title": ex.title, **data}) for data in data_points]
-    return Sweep(ex, axes, fixed, solutions, result.seconds, wanted)
+    return Sweep(ex, axes, fixed, result.solutions(), result.seconds, wanted)
 
 
 @dataclass(frozen=True)

@@ -210,7 +210,7 @@ def _columns(result) -> list[str]:
         cols += ["rel. diff", "tol", "agree"]
     elif has_n and any(q.agree is False for q in qs):
         cols += ["agree"]
-    if getattr(result, "expected", None):  # your own answers (mech solve --expect)
+    if result.expected:  # your own answers (mech solve --expect)
         cols += ["yours", "verdict"]
     return cols
 
@@ -246,7 +246,7 @@ def solve_table(result, width: int | None = None) -> Table | Group:
     """The results, one row per output; where that is wider than ``width``, the unit joins the name, and
     where it still is, one block of lines per output: never a cut number."""
     cols = _columns(result)
-    expected = getattr(result, "expected", None) or {}
+    expected = result.expected
     for merged in (False, True):
         t = Table(box=box.SIMPLE_HEAD, show_edge=False, pad_edge=False)
         shown = [c for c in cols if not (merged and c == "unit")]
@@ -342,13 +342,12 @@ def print_solve(result) -> None:
     for n in notes:
         parts.append(Text(n, style="yellow"))
     for e in result.errors:
-        parts.append(Text(e, style="bold red"))
+        parts.append(Text(str(e), style="bold red"))
     verdict = _verdict(result)
     if verdict is not None:
         parts.append(verdict)
-    if getattr(result, "expect_summary", None):
-        ok = all(j.match for j in result.expected.values())
-        parts.append(Text(result.expect_summary, style="green" if ok else "bold red"))
+    if result.expect_summary:
+        parts.append(Text(result.expect_summary, style="green" if result.expect_ok else "bold red"))
     emit(c, Group(*parts))
 
 

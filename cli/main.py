@@ -428,7 +428,7 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
     sol = api.solve_resolved(ex, params, methods=methods, rtol=rtol, verify=verify, expectations=expectations,
                              budget_s=_solve_budget())
     if trajectory_file:  # the numeric solve's motion
-        failed = any("solver failed" in e for e in sol.errors)
+        failed = sol.solver_failed
         try:
             trajectory = None if failed else sol.trajectory
         except Exception as exc:  # the motion's own solve ran out: said, never a traceback
@@ -448,7 +448,7 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
     else:
         from mech import render
 
-        render.print_solve(sol.result)
+        render.print_solve(sol)
     ctx.exit(EXIT_DISAGREE if sol.agree is False or sol.expect_ok is False else EXIT_OK)
 
 

@@ -24,7 +24,7 @@ import math
 import re
 from dataclasses import dataclass
 
-__all__ = ["ValueError_", "Quantity", "parse_quantity", "parse_unit", "si_exponents", "to_si", "UNITS"]
+__all__ = ["ValueError_", "Dimensioned", "parse_quantity", "parse_unit", "si_exponents", "to_si", "UNITS"]
 
 
 class ValueError_(ValueError):
@@ -67,20 +67,22 @@ _DIM_NAMES = {
 
 
 @dataclass(frozen=True)
-class Quantity:
+class Dimensioned:
+    """A parsed value with its dimension (the unit parser's, not an output of a solve)."""
+
     value: float  # in SI, angles in radians
     dim: tuple
     has_units: bool
 
 
-def _mul(a: Quantity, b: Quantity) -> Quantity:
-    return Quantity(a.value * b.value, tuple(x + y for x, y in zip(a.dim, b.dim)), a.has_units or b.has_units)
+def _mul(a: Dimensioned, b: Dimensioned) -> Dimensioned:
+    return Dimensioned(a.value * b.value, tuple(x + y for x, y in zip(a.dim, b.dim)), a.has_units or b.has_units)
 
 
-def _div(a: Quantity, b: Quantity) -> Quantity:
+def _div(a: Dimensioned, b: Dimensioned) -> Dimensioned:
     if b.value == 0:
         raise ValueError_("division by zero")
-    return Quantity(a.value / b.value, tuple(x - y for x, y in zip(a.dim, b.dim)), a.has_units or b.has_units)
+    return Dimensioned(a.value / b.value, tuple(x - y for x, y in zip(a.dim, b.dim)), a.has_units or b.has_units)
 
 
 _TOKEN = re.compile(
@@ -121,7 +123,7 @@ class _Parser:
         self.i += 1
         return tok
 
-    def parse(self) -> Quantity:
+    def parse(self) -> Dimensioned:
         if not self.toks:
             raise ValueError_("empty value")
         q = self.expr()
@@ -136,7 +138,7 @@ class _Parser:
             r = self.term()
             if r.dim != q.dim:
                 raise ValueError_("adding quantities of different dimensions")
-            q = Quantity(q.value + r.value if op == "+" else q.value - r.value, q.dim, q.has_units or r.has_units)
+            q = Dimensioned(q.value + r.value if op == "+" else q.value - r.value, q.dim, q.has_units or r.has_units)
         return q
 
     def term(self):
@@ -162,7 +164,7 @@ class _Parser:
         if val in ("-", "+"):
             self.take()
             q = self.factor()
-            return Quantity(-q.value if val == "-" else q.value, q.dim, q.has_units)
+            return Dimensioned(-q.value if val == "-" else q.value, q.dim, q.has_units)
         return self.power()
 
     def power(self):
@@ -183,19 +185,19 @@ class _Parser:
                 raise ValueError_("the power overflows") from None
             if isinstance(value, complex):
                 raise ValueError_("the power is not real")
-            return Quantity(value, tuple(d * int(e) for d in base.dim) if base.dim != _ONE else _ONE, base.has_units)
+            return Dimensioned(value, tuple(d * int(e) for d in base.dim) if base.dim != _ONE else _ONE, base.has_units)
         return base
 
     def atom(self):
         kind, val = self.take()
         if kind == "num":
-            return Quantity(float(val), _ONE, False)
+            return Dimensioned(float(val), _ONE, False)
         if kind == "name":
             if val in CONSTANTS:
-                return Quantity(CONSTANTS[val], _ONE, False)
+                return Dimensioned(CONSTANTS[val], _ONE, False)
             if val in UNITS:
                 factor, dim = UNITS[val]
-                return Quantity(factor, dim, True)
+                return Dimensioned(factor, dim, True)
             if val.lower() in ("nan", "inf", "infinity"):
                 raise ValueError_("not a finite number")
             raise ValueError_(f"unknown unit or name '{val}'")
@@ -209,7 +211,7 @@ class _Parser:
         raise ValueError_(f"unexpected '{val}'")
 
 
-def parse_quantity(text: str) -> Quantity:
+def parse_quantity(text: str) -> Dimensioned:
     text = str(text).strip()
     if len(text) > 200:
         raise ValueError_("value too long")

@@ -122,6 +122,8 @@ class Output:
     unit: str
     doc: str = ""
     theory: str = "exact"  # or "leading-order": the analytic value neglects higher orders
+    # the direction of an axis (an angle with no sense, 4.3's theta1): an answer is judged modulo pi
+    axis: bool = False
 
     @property
     def dimension(self) -> tuple[int, int, int] | None:
@@ -336,6 +338,7 @@ class Exercise:
     Parameters beyond the id:
       formulas      the analytic results as text, for ``mech show``
       leading_order names of outputs whose analytic value is a leading-order theory
+      axes          names of outputs that are the direction of an axis (no sense): answers judged modulo pi
       tol_factor    the numeric claim for every output is ``tol_factor * rtol`` unless
                     the solver claims otherwise; the cross-check uses that claim
       default_rtol  the numeric solver's default requested accuracy
@@ -347,6 +350,7 @@ class Exercise:
         *,
         formulas: list[str],
         leading_order: tuple[str, ...] = (),
+        axes: tuple[str, ...] = (),
         tol_factor: float = 100.0,
         default_rtol: float = 1e-10,
         min_rtol: float = 1e-13,
@@ -368,9 +372,10 @@ class Exercise:
         self.numeric_route = spec.get("numeric", {}).get("route", "").strip()
         self.params = [Param(**p) for p in spec["params"]]
         self.outputs = [
-            Output(**o, theory="leading-order" if o["name"] in leading_order else "exact") for o in spec["outputs"]
+            Output(**o, theory="leading-order" if o["name"] in leading_order else "exact", axis=o["name"] in axes)
+            for o in spec["outputs"]
         ]
-        unknown = set(leading_order) - {o.name for o in self.outputs}
+        unknown = (set(leading_order) | set(axes)) - {o.name for o in self.outputs}
         if unknown:
             raise ValueError(f"{id}: leading_order names unknown outputs {sorted(unknown)}")
         self.hard_cases = [{"params": dict(h["params"]), "why": h.get("why", "")} for h in spec.get("hard_cases", [])]

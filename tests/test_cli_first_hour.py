@@ -149,9 +149,11 @@ def test_solve_table_uses_numeric_err_when_the_crosscheck_gives_it(monkeypatch):
     from mech.verification.crosscheck import cross_check
 
     ex = registry.get("4.15")
+    import dataclasses
+
     result = cross_check(ex, ex.resolve({}), verify=False)
-    for q in result.quantities:
-        q.numeric_err = 1e-8 * abs(q.numeric)
+    result = result.replace(quantities=tuple(dataclasses.replace(q, numeric_err=1e-8 * abs(q.numeric))
+                                             for q in result.quantities))
     c = render.Console(width=200, color_system=None)
     with c.capture() as cap:
         c.print(render.solve_table(result, width=200))
@@ -237,9 +239,11 @@ def test_a_note_shared_by_outputs_is_said_once(monkeypatch):
     from mech.verification.crosscheck import cross_check
 
     ex = registry.get("4.15")
+    import dataclasses
+
     result = cross_check(ex, ex.resolve({}), verify=False)
-    for q in result.quantities:
-        q.notes.append("the same remark")
+    result = result.replace(quantities=tuple(dataclasses.replace(q, notes=q.notes + ("the same remark",))
+                                             for q in result.quantities))
     assert render._notes(result) == ["theta_c, omega_c: the same remark"]
 
 

@@ -18,7 +18,7 @@ from mech.verification.grading import _literal_precision, parse_expectation
 from mech.cli.main import cli
 from mech.problems.spec import BadInput, Output, Undefined
 from mech.verification.answers import judge
-from mech.verification.crosscheck import Quantity
+from mech.verification.result import Quantity
 
 THETA_C = math.asin(1 / math.sqrt(3))
 THETA_C_DEG = math.degrees(THETA_C)  # 35.2644
@@ -153,13 +153,14 @@ def _result(*quantities, errors=()):
     return SimpleNamespace(exercise=ex, params={}, quantities=list(quantities), errors=list(errors))
 
 
-def _q(name, unit, a, n=None, agree=True, theory="exact", expected_err=None, numeric_err=None):
+def _q(name, unit, a, n=None, agree=True, theory="exact", expected_err=None, numeric_err=None, theory_valid=None,
+       notes=()):
     n = a if n is None else n
-    q = Quantity(name, unit, analytic=a, numeric=n, agree=agree, theory=theory, tol=1e-8, verify_diff=0.0)
-    q.expected_err = expected_err
     if isinstance(n, float):
-        q.numeric_err = 1e-8 * abs(n) if numeric_err is None else numeric_err
-    return q
+        numeric_err = 1e-8 * abs(n) if numeric_err is None else numeric_err
+    return Quantity(name, unit, analytic=a, numeric=n, agree=agree, theory=theory, tol=1e-8, verify_diff=0.0,
+                    expected_err=expected_err, numeric_err=numeric_err, theory_valid=theory_valid,
+                    notes=tuple(notes))
 
 
 def _judge(q, *texts, others=()):
@@ -205,15 +206,36 @@ def test_no_judgement_without_a_trusted_reference():
     assert not j.match and "infinite" in j.verdict
 
 
-def test_leading_order_reference_is_the_numeric_value_with_the_neglected_part():
-    # theory 1.000, exact numeric 1.010, theory neglects 2 %: 1.000 is right within what it neglects,
-    # and judged against the numeric value
-    q = _q("x", "m", 1.000, 1.010, theory="leading-order", expected_err=0.02)
+def test_leading_order_answer_is_right_to_its_digits_against_either_value_never_a_band():
+    # theory 1.000, exact (numeric) 1.010, the theory neglects 2 %: 1.000 and 1.010 are right to their
+    # digits (half a unit: 0.0005); 1.005 lies inside the 2 % band but equals neither, so it is wrong
+    q = _q("x", "m", 1.000, 1.010, theory="leading-order", expected_err=0.02, theory_valid=True)
     (j,) = _judge(q, ("x", "1.000"))
-    assert j.match and j.reference == "numeric" and j.reference_value == 1.010
-    assert "leading-order theory neglects" in j.verdict
-    (j,) = _judge(q, ("x", "1.050"))  # 0.04 off, beyond 0.0005 + 0.0202
-    assert not j.match
+    assert j.match and j.matches == "leading-order" and j.reference_value == 1.010
+    # |1.010 - 1.000| / 1.010 = 0.0099
+    assert "right to leading order; the exact value is 0.99 % away here" in j.verdict
+    assert j.as_json()["matches"] == "leading-order"
+    (j,) = _judge(q, ("x", "1.010"))
+    assert j.match and j.matches == "exact" and j.verdict == "right: the exact value"
+    for text in ("1.005", "1.020"):
+        (j,) = _judge(q, ("x", text))
+        assert not j.match and j.matches is None and j.as_json()["matches"] is None
+
+
+def test_outside_its_range_only_the_exact_value_is_right():
+    q = _q("x", "m", 1.000, 1.300, theory="leading-order", expected_err=0.5, theory_valid=False,
+           notes=["leading-order theory outside its range: mu/omega0 = 3.3"])
+    (j,) = _judge(q, ("x", "1.000"))
+    assert not j.match and j.matches is None
+    assert "does not apply here (mu/omega0 = 3.3)" in j.verdict and "1.3" in j.verdict
+    assert j.hint.startswith("that is the leading-order value")
+    (j,) = _judge(q, ("x", "1.300"))
+    assert j.match and j.matches == "exact"
+
+
+def test_an_exact_output_has_no_matches_field():
+    (j,) = _judge(_q("x", "m", 1.0), ("x", "1.000"))
+    assert j.match and "matches" not in j.as_json()
 
 
 def test_mechs_error_bar_widens_the_tolerance():

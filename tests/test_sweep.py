@@ -107,9 +107,9 @@ def test_serial_and_parallel_give_the_same_numbers_in_grid_order():
     serial = run_sweep(ex, axes, {}, params, verify=False, jobs=1)
     parallel = run_sweep(ex, axes, {}, params, verify=False, jobs=2)
     assert serial.workers == 1 and parallel.workers == 2
-    strip = lambda r: [(p["params"], p["quantities"], p["agree"]) for p in r.points]  # noqa: E731
+    strip = lambda r: [(p["params"], p["quantities"], p["agree"]) for p in r.point_list()]  # noqa: E731
     assert strip(serial) == strip(parallel)
-    assert [p["params"]["theta0"] for p in parallel.points] == [0.3, 1.0, 2.0, 2.8]
+    assert [p["params"]["theta0"] for p in parallel.point_list()] == [0.3, 1.0, 2.0, 2.8]
 
 
 def test_pool_only_when_it_pays():

@@ -182,6 +182,12 @@ class Comparison:
                 "versions_then": self.versions_then, "versions_now": self.versions_now}
 
 
+def within(diff: float, allowed: float) -> bool:
+    from mech.verification.judge import within as judged_within
+
+    return bool(judged_within(diff, allowed))
+
+
 def _bar(o: dict, which: str) -> float:
     return float(o.get(f"{which}_err") or 0.0)
 
@@ -219,6 +225,6 @@ def compare(baseline: dict, records: list[dict], path: str = "") -> Comparison:
                     cmp.moved.append(Move(rec["id"], rec["case"], name, which, a, b, why=f"{which} {state}"))
                     continue
                 allowed = _bar(old, which) + _bar(new, which) + ROUND_OFF * max(abs(a), abs(b))
-                if abs(b - a) > allowed:
+                if not within(abs(b - a), allowed):
                     cmp.moved.append(Move(rec["id"], rec["case"], name, which, a, b, allowed))
     return cmp

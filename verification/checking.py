@@ -122,16 +122,16 @@ def run_case(case: Case) -> Case:
     result = cross_check(ex, params)
     case.result = result
     case.seconds = time.perf_counter() - t0
-    ratios = [q.abs_err / (q.tol * abs(q.analytic) + q.tol_abs) for q in result.quantities
-              if q.abs_err is not None and (q.tol * abs(q.analytic) + q.tol_abs) > 0]
-    zero_tol_miss = any(q.abs_err and (q.tol * abs(q.analytic) + q.tol_abs) == 0 for q in result.quantities)
+    # |numeric - analytic| over the allowance the judge held it to (its verdict is the case's)
+    ratios = [q.abs_err / q.allowed for q in result.quantities
+              if q.abs_err is not None and q.allowed and q.agree is not None]
     case.worst_ratio = max(ratios) if ratios else None
-    case.ok = result.agree is True and not zero_tol_miss
+    case.ok = result.agree is True
     bad = [q.name for q in result.quantities if q.agree is False]
     details = []
     if bad:
         details.append("disagree: " + ", ".join(bad))
-    details.extend(result.errors)
+    details.extend(str(e) for e in result.errors)
     for q in result.quantities:
         if q.agree is False and q.notes:
             details.append(f"{q.name}: {'; '.join(q.notes)}")
@@ -215,7 +215,7 @@ def _run_pooled(cases: list[Case], workers: int, started, finished) -> None:
             started(case)
             ok, seconds, ratio, detail, result = fut.result()
             if result is not None:
-                result.exercise = case.exercise
+                result = result.replace(exercise=case.exercise)
             case.ok, case.seconds, case.worst_ratio, case.detail, case.result = ok, seconds, ratio, detail, result
             finished(case)
     except BaseException:
@@ -231,5 +231,5 @@ def _remote_case(ex_id: str, label: str, given: dict):
     case = run_case(Case(registry.get(ex_id), label, given))
     result = case.result
     if result is not None:  # what a report uses travels back; the exercise is the parent's own
-        result.exercise, result.run = None, None
+        result = result.replace(exercise=None, run=None)
     return case.ok, case.seconds, case.worst_ratio, case.detail, result

@@ -43,8 +43,9 @@ from typing import Any
 
 from mech.problems.scales import LOG10_LIMIT, out_of_range
 from mech.problems.spec import BadInput, Exercise, NumericFailure, Params, Undefined
+from mech.verification.result import Failure, Quantity, Solution, _clean  # noqa: F401  (_clean: bench)
 
-__all__ = ["Quantity", "CrossCheck", "cross_check", "PARALLEL_VERIFY"]
+__all__ = ["Quantity", "Solution", "Failure", "cross_check", "combine_agree", "PARALLEL_VERIFY"]
 
 PARALLEL_VERIFY = True  # the rerun at rtol/10 in a forked child where there is a second core (see above)
 
@@ -208,7 +209,9 @@ def combine_agree(flags) -> bool | None:
 
 
 @dataclass
-class Quantity:
+class _Draft:
+    """An output while it is being judged; frozen into a ``result.Quantity`` at the end."""
+
     name: str
     unit: str
     analytic: float | Undefined | None = None
@@ -225,99 +228,27 @@ class Quantity:
     numeric_err: float | None = None  # the numeric value's earned error, absolute, SI
     analytic_err: float | None = None  # the analytic value's round-off from its conditioning, absolute, SI
     theory_valid: bool | None = None  # a leading-order output: is its theory inside its range here
+    allowed: float | None = None  # the absolute allowance |numeric - analytic| was held to (the judge's)
+    verdict: str = ""  # the judge's verdict (``judge.VERDICTS``)
     notes: list[str] = field(default_factory=list)
-
-    def as_json(self) -> dict:
-        d: dict[str, Any] = {"name": self.name, "unit": self.unit}
-        for key in ("analytic", "numeric"):
-            v = getattr(self, key)
-            if isinstance(v, Undefined):
-                d[key] = None
-                self._note(f"{key}: {v.why}")
-            else:
-                d[key] = _finite_or_none(v)
-        if _is_number(self.numeric):
-            d["numeric_err"] = _finite_or_none(self.numeric_err)
-        if self.analytic_err is not None and _is_number(self.analytic):
-            d["analytic_err"] = _finite_or_none(self.analytic_err)
-        d["abs_err"] = _finite_or_none(self.abs_err)
-        d["rel_err"] = _finite_or_none(self.rel_err)
-        d["tol"] = _finite_or_none(self.tol)
-        if self.tol_abs:
-            d["tol_abs"] = _finite_or_none(self.tol_abs)
-        d["agree"] = self.agree
-        if self.theory != "exact":
-            d["theory"] = self.theory
-            d["theory_valid"] = self.theory_valid is not False
-            d["expected_err"] = _finite_or_none(self.expected_err)
-            if self.expected_err_abs is not None:
-                d["expected_err_abs"] = _finite_or_none(self.expected_err_abs)
-        if self.verify_diff is not None:
-            d["verify_diff"] = _finite_or_none(self.verify_diff)
-        if self.notes:
-            d["note"] = "; ".join(dict.fromkeys(self.notes))
-        return d
 
     def _note(self, text: str) -> None:
         if text not in self.notes:
             self.notes.append(text)
 
+    def freeze(self) -> Quantity:
+        for key in ("analytic", "numeric"):
+            v = getattr(self, key)
+            if isinstance(v, Undefined):
+                self._note(f"{key}: {v.why}")
+        fields = {f: getattr(self, f) for f in self.__dataclass_fields__ if f != "notes"}
+        return Quantity(**fields, notes=tuple(self.notes))
 
-def _finite_or_none(v):
-    if v is None or isinstance(v, Undefined):
-        return None
+
+def _float_or_none(v) -> float | None:
+    """A judged array's element: None for NaN (nothing there)."""
     v = float(v)
-    return v if math.isfinite(v) else None
-
-
-@dataclass
-class CrossCheck:
-    exercise: Exercise
-    params: Params
-    quantities: list[Quantity]
-    timing: dict
-    numeric_info: dict | None
-    errors: list[str] = field(default_factory=list)
-    run: Any = field(default=None, repr=False)  # the numeric solve's Run (its recorded integrations)
-
-    @property
-    def agree(self) -> bool | None:
-        # a leading-order output outside its theory's range compares nothing; its numeric value, verified by
-        # the rerun, counts as holding (CONTRACT: every compared quantity agrees, every numeric value verified)
-        return False if self.errors else combine_agree(
-            True if q.theory_valid is False and q.agree is None and q.verify_diff is not None else q.agree
-            for q in self.quantities)
-
-    def as_json(self) -> dict:
-        d = {
-            "id": self.exercise.id,
-            "title": self.exercise.title,
-            "params": _clean(dict(self.params)),
-            "quantities": [q.as_json() for q in self.quantities],
-            "agree": self.agree,
-            "timing": _clean(self.timing),
-            "numeric_info": _clean(self.numeric_info),
-        }
-        if self.errors:
-            d["errors"] = self.errors
-        return d
-
-
-def _clean(obj):
-    """Make an info structure JSON-safe: non-finite numbers become null."""
-    if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, bool) or obj is None or isinstance(obj, str):
-        return obj
-    try:
-        f = float(obj)
-    except (TypeError, ValueError):
-        return str(obj)
-    if isinstance(obj, int) and not isinstance(obj, bool):
-        return obj
-    return f if math.isfinite(f) else None
+    return None if v != v else v
 
 
 def _is_number(v) -> bool:
@@ -341,7 +272,7 @@ def cross_check(
     verify: bool = True,
     budget_s: float | None = None,
     keep_trajectories: bool = False,
-) -> CrossCheck:
+) -> Solution:
     """Run the asked-for solvers and compare; solver failures become loud entries, never numbers.
 
     The numeric solve and its rerun share one wall-clock budget (``budget_s``, by default
@@ -364,11 +295,11 @@ def cross_check(
         caught.__exit__(None, None, None)
 
 
-def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings) -> CrossCheck:
+def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings) -> Solution:
     from mech.core import budget
 
     timing: dict[str, float | None] = {"analytic_s": None, "numeric_s": None}
-    errors: list[str] = []
+    errors: list[Failure] = []
     analytic: dict = {}
     numeric: dict = {}
     run = None
@@ -378,7 +309,7 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
         try:
             analytic = ex.solve_analytic(params)
         except Exception as exc:  # a broken solver is a failed check, reported, not a crash
-            errors.append(f"analytic solver failed: {_failure_text(exc)}")
+            errors.append(Failure("analytic", f"analytic solver failed: {_failure_text(exc)}"))
         timing["analytic_s"] = time.perf_counter() - t0
 
     verify_values: dict = {}
@@ -403,7 +334,7 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
                     rerun = None
                 if not isinstance(exc, Exception):
                     raise
-                errors.append(f"numeric solver failed: {_failure_text(exc)}")
+                errors.append(Failure("numeric", f"numeric solver failed: {_failure_text(exc)}"))
             timing["numeric_s"] = time.perf_counter() - t0
             dop = sys.modules.get("mech.solvers.numerics.dop853")
             load_s = dop.tableau_load_seconds() if dop is not None else None
@@ -427,45 +358,46 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
                     verify_values = payload
                     run.info["verify_rtol"] = tighter
                 else:
-                    errors.append(f"numeric solver failed at rtol={tighter:g}: {payload}")
+                    errors.append(Failure("rerun", f"numeric solver failed at rtol={tighter:g}: {payload}"))
             elif verify and run is not None and tighter < rtol:
                 try:
                     verify_values, vrun = ex.solve_numeric(params, tighter, shared=shared)
                     run.info["verify_rtol"] = tighter
                 except Exception as exc:
-                    errors.append(f"numeric solver failed at rtol={tighter:g}: {_failure_text(exc)}")
+                    errors.append(Failure("rerun", f"numeric solver failed at rtol={tighter:g}: {_failure_text(exc)}"))
 
     if run is not None:
         default_allowed = float(ex.tol_factor * rtol)
         for name, drift in run.invariants.items():
             allowed = run.invariant_allowed.get(name, default_allowed)
             if not (drift <= allowed):
-                errors.append(
-                    f"the invariant '{name}' drifts by {drift:.2g}, more than the {allowed:.2g} the method "
-                    "allows: the integration is not to be trusted"
-                )
+                errors.append(Failure(
+                    "invariant", f"the invariant '{name}' drifts by {drift:.2g}, more than the {allowed:.2g} the "
+                    "method allows: the integration is not to be trusted"))
+
+    from mech.verification import judge as judging
 
     expected = ex.expected_errors(params) if analytic and numeric else {}
     try:
-        validity = ex.theory_validity(params, expected if analytic and numeric else None)
+        validity = judging.theory_validity(ex, params, expected if analytic and numeric else None)
     except Exception as exc:
         validity = {}
-        errors.append(f"the leading-order theory's range failed: {_failure_text(exc)}")
+        errors.append(Failure("estimate", f"the leading-order theory's range failed: {_failure_text(exc)}"))
     try:
         analytic_errs = ex.analytic_errors(params) if analytic else {}
     except Exception as exc:
         analytic_errs = {}
-        errors.append(f"analytic error estimate failed: {_failure_text(exc)}")
+        errors.append(Failure("estimate", f"analytic error estimate failed: {_failure_text(exc)}"))
     quantities = []
+    rows = []  # the judge's arguments, one element per output
     for out in ex.outputs:
-        q = Quantity(out.name, out.unit, theory=out.theory)
+        q = _Draft(out.name, out.unit, theory=out.theory)
         q.analytic = analytic.get(out.name) if analytic else None
         q.numeric = numeric.get(out.name) if numeric else None
         rel_claim, abs_claim = (None, None)
         if run is not None:
             rel_claim, abs_claim = run.claims.get(out.name, (None, None))
         rel_claim = float(ex.tol_factor * rtol) if rel_claim is None else float(rel_claim)
-        tol = rel_claim
         q.tol_abs = float(abs_claim or 0.0)
         if out.theory != "exact":
             q.expected_err = expected.get(out.name)
@@ -479,86 +411,66 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
             if q.expected_err is None and analytic and numeric:
                 q._note("the exercise gives no size for what its leading-order theory neglects")
             elif q.expected_err is not None:
-                tol = max(tol, float(q.expected_err))
-        q.tol = tol
+                q.expected_err = float(q.expected_err)
+            q.theory_valid = validity.get(out.name) is None
 
         for key in ("analytic", "numeric"):
             v = getattr(q, key)
             if isinstance(v, float) and not math.isfinite(v):
                 q._note(f"{key} value is not finite ({v}): a solver defect")
                 setattr(q, key, Undefined(f"non-finite {key} value"))
-                errors.append(f"{out.name}: {key} value is not finite")
+                errors.append(Failure("non-finite", f"{out.name}: {key} value is not finite", out.name))
             elif isinstance(v, float) and out_of_range(v):
                 # beyond 1e+-290 a value has lost the room its own error needs (subnormal, or one
                 # operation from overflow): no number is better than one that cannot be trusted
                 q._note(f"{key} value {v:.3g} lies outside the floating-point range mech works in")
                 setattr(q, key, Undefined(f"{key} value outside the floating-point range"))
-                errors.append(f"{out.name}: the {key} value {v:.3g} {out.unit} lies outside the floating-point "
-                              f"range (1e-{LOG10_LIMIT:.0f}..1e{LOG10_LIMIT:.0f})")
-
+                errors.append(Failure("out-of-range", f"{out.name}: the {key} value {v:.3g} {out.unit} lies outside "
+                                      f"the floating-point range (1e-{LOG10_LIMIT:.0f}..1e{LOG10_LIMIT:.0f})", out.name))
         a, n = q.analytic, q.numeric
-        claim_finite = math.isfinite(rel_claim) and math.isfinite(q.tol_abs)
-        if _is_number(n):
-            # the claim, tested by the rerun below: relative to the value, plus the absolute part
-            q.numeric_err = rel_claim * abs(n) + q.tol_abs
         if _is_number(a) and out.name in analytic_errs:
             q.analytic_err = abs(float(analytic_errs[out.name]))
-        if a is None or n is None:
-            q.agree = None
-        elif isinstance(a, Undefined) and _is_number(n) and out.theory != "exact" and q.expected_err_abs:
-            # the leading-order theory finds no value, but what it neglects allows one this large
-            q.agree = bool(abs(n) <= q.expected_err_abs + (q.numeric_err or 0.0))
-            q._note(f"the leading-order theory finds no value; within what it neglects one up to "
-                    f"{q.expected_err_abs:.3g} may exist" + ("" if q.agree else ", and this one is larger"))
-        elif isinstance(a, Undefined) or isinstance(n, Undefined):
-            both = isinstance(a, Undefined) and isinstance(n, Undefined)
-            q.agree = both
-            if not both:
-                q._note("one method finds no finite value where the other does")
-        else:
-            q.abs_err = float(abs(n - a))
-            denom = abs(a) if a != 0 else abs(n)
-            q.rel_err = float(q.abs_err / denom) if denom > 0 else 0.0
-            allowed_abs = max(q.tol_abs, q.expected_err_abs or 0.0)
-            q.agree = bool(q.abs_err <= tol * abs(a) + allowed_abs + (q.analytic_err or 0.0))
-        numeric_bad = False  # the numeric value itself fails (no finite claim, or not earned at rtol/10)
-        if _is_number(n) and not claim_finite:
-            numeric_bad = True
-            # an error bar of infinity would agree with anything: no number at all is better
-            q._note("the numeric solver claims no finite accuracy for this value")
-            q.agree = False
-
-        if verify_values and _is_number(n) and _is_number(verify_values.get(out.name)):
-            q.verify_diff = float(abs(verify_values[out.name] - n))
-            scale = abs(a) if _is_number(a) and a != 0 else abs(n)
-            claim = rel_claim * scale + q.tol_abs
-            if q.verify_diff > claim:
-                q._note(
-                    f"unreliable: the numeric value moves by {q.verify_diff:.3g} at rtol/10, "
-                    f"more than its claimed accuracy {claim:.3g}"
-                )
-                q.agree = False
-                numeric_bad = True
-        if out.theory != "exact":
-            reason = validity.get(out.name)
-            q.theory_valid = reason is None
-            if reason is not None:
-                # outside its range the theory is not compared: the numeric value, verified, is the answer
-                q._note(reason)
-                q.tol = rel_claim
-                if not numeric_bad:
-                    q.agree = None
+        v = verify_values.get(out.name) if verify_values else None
+        rows.append(dict(
+            analytic=a if _is_number(a) else math.nan, numeric=n if _is_number(n) else math.nan,
+            a_undefined=isinstance(a, Undefined), n_undefined=isinstance(n, Undefined),
+            has_analytic=a is not None, has_numeric=n is not None, rel_claim=rel_claim, abs_claim=q.tol_abs,
+            analytic_err=q.analytic_err or 0.0, leading=out.theory != "exact",
+            expected_rel=math.nan if q.expected_err is None else q.expected_err,
+            expected_abs=math.nan if q.expected_err_abs is None else q.expected_err_abs,
+            verify=v if _is_number(v) else math.nan,
+            outside=out.theory != "exact" and validity.get(out.name) is not None,
+            outside_why=validity.get(out.name) or ""))
         quantities.append(q)
+
+    if rows:
+        import numpy as np
+
+        columns = {key: np.array([r[key] for r in rows]) for key in rows[0] if key != "outside_why"}
+        J = judging.judge(**{k: v for k, v in columns.items() if k != "verify"},
+                          verify=columns["verify"] if verify_values else None,
+                          outside_why=[r["outside_why"] for r in rows])
+        for k, q in enumerate(quantities):
+            q.agree = None if J.agree[k] < 0 else bool(J.agree[k])
+            q.verdict = judging.VERDICTS[int(J.verdict[k])]
+            q.tol = float(J.tol[k])
+            q.allowed = _float_or_none(J.allowed[k])
+            q.abs_err = _float_or_none(J.abs_err[k])
+            q.rel_err = _float_or_none(J.rel_err[k])
+            q.numeric_err = _float_or_none(J.numeric_err[k])
+            q.verify_diff = _float_or_none(J.verify_diff[k])
+            for text in judging.notes(J, k):
+                q._note(text)
 
     if run is not None and fp_warnings:
         run.info["fp_warnings"] = list(dict.fromkeys(f"{w.filename.rsplit('/', 1)[-1]}:{w.lineno}: {w.message}"
                                                      for w in fp_warnings))[:5]
-    return CrossCheck(
+    return Solution(
         exercise=ex,
         params=params,
-        quantities=quantities,
+        quantities=tuple(q.freeze() for q in quantities),
         timing=timing,
         numeric_info={**run.as_json(), "import_s": import_s} if run is not None else None,
-        errors=errors,
+        errors=tuple(errors),
         run=run,
     )

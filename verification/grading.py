@@ -18,7 +18,7 @@ from mech.core.units import CONSTANTS, ValueError_, tokens, to_si
 from mech.problems.spec import BadInput, Exercise
 from mech.core.safeio import shown
 
-__all__ = ["parse_expectation", "parse_expect_options", "attach", "solve_json", "Entry", "BadFile", "load_answers",
+__all__ = ["parse_expectation", "parse_expect_options", "attach", "Entry", "BadFile", "load_answers",
            "grade", "grade_json", "open_baseline", "check_records", "baselines"]
 
 
@@ -69,15 +69,40 @@ def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = No
     literals = [i for i, (k, _) in enumerate(toks) if k == "num"
                 and not (i > 0 and toks[i - 1][1] in ("^", "**"))
                 and not (i > 1 and toks[i - 1][1] in ("-", "+") and toks[i - 2][1] in ("^", "**"))]
-    exact = len(literals) != 1 or any(k == "name" and v in CONSTANTS for k, v in toks)
-    if exact:
-        return Expectation(name, text, value, 0.0, None, rtol)
+    if len(literals) != 1 or any(k == "name" and v in CONSTANTS for k, v in toks):
+        return _expression_expectation(name, text, value, [toks[i][1] for i in literals], rtol)
     try:
         half_unit, digits = _literal_precision(toks[literals[0]][1])
     except OverflowError:
         raise BadInput(f"{name}: cannot use '{shown(text)}': an exponent too large") from None
     factor, unit_text = _unit_factor(text, toks, literals[0], unit)
     return Expectation(name, text, value, half_unit * abs(factor), digits, rtol, unit_text, abs(factor))
+
+
+def _expression_expectation(name: str, text: str, value: float, literals: list[str], rtol) -> Expectation:
+    """An expression (``(9.81*0.866)^0.5``, ``2*pi/921.5``) is judged to the digits of its least precise
+    number, relative: a whole number written without a point or an exponent (the 2 of ``2*pi``) and
+    ``pi`` are exact, and an expression of exact numbers only is exact (no written tolerance)."""
+    from mech.verification.answers import Expectation
+
+    worst = None  # (relative half unit, digits, literal) of the least precise number
+    for lit in literals:
+        if not any(c in lit.lower() for c in ".e"):
+            continue
+        try:
+            half_unit, digits = _literal_precision(lit)
+            size = abs(float(lit))
+        except (OverflowError, ValueError):
+            continue
+        if not digits or not (size > 0 and math.isfinite(size)):
+            continue
+        rel = half_unit / size
+        if worst is None or rel > worst[0]:
+            worst = (rel, digits, lit)
+    if worst is None:
+        return Expectation(name, text, value, 0.0, None, rtol)
+    rel, digits, lit = worst
+    return Expectation(name, text, value, rel * abs(value), digits, rtol, least_precise=lit)
 
 
 def parse_rtol_value(text, what: str = "--expect-rtol") -> float:
@@ -109,31 +134,13 @@ def parse_expect_options(ex: Exercise, pairs: list[str], rtol_text: str | None) 
     return list(out.values())
 
 
-def attach(result, expectations: list[Expectation]) -> bool:
-    """Judge and hang the judgements on the cross-check result (``result.expected``, read by the table);
-    True when every expected value matches."""
+def attach(result, expectations: list[Expectation]):
+    """The solution with every expectation judged on its quantity (``Quantity.expected``) and the summary
+    line (``expect_summary``); ``.expect_ok`` says whether every expected value matches."""
     from mech.verification.answers import judge
 
-    judgements = judge(result, expectations)
-    result.expected = {j.name: j for j in judgements}
-    refs = sorted({j.reference for j in judgements if j.reference})
-    right = sum(j.match for j in judgements)
-    result.expect_summary = (f"your answers: {right} of {len(judgements)} right"
-                             + (f" (judged against mech's {', '.join(refs)} value{'s' if len(judgements) > 1 else ''})"
-                                if refs else ""))
-    return right == len(judgements)
+    return result.with_expected(judge(result, expectations))
 
-
-def solve_json(result) -> dict:
-    """``result.as_json()`` with each expected quantity's ``expected`` and the top-level ``expect_ok``."""
-    d = result.as_json()
-    expected = getattr(result, "expected", None)
-    if expected is not None:
-        for q in d["quantities"]:
-            if q["name"] in expected:
-                q["expected"] = expected[q["name"]].as_json()
-        d["expect_ok"] = all(j.match for j in expected.values())
-    return d
 
 
 # -- mech grade FILE ------------------------------------------------------------------------------------
@@ -278,6 +285,7 @@ def grade(entries: list[Entry], total_s: float | None = None) -> None:
     from mech.core import budget
     from mech.verification.answers import Judgement, judge
     from mech.verification.crosscheck import cross_check
+    from mech.verification.result import Failure
     from mech.verification.sweep import DEFAULT_TOTAL_S, check_total
 
     total_s = DEFAULT_TOTAL_S if total_s is None else check_total(total_s)
@@ -288,15 +296,15 @@ def grade(entries: list[Entry], total_s: float | None = None) -> None:
         left = deadline - time.monotonic()
         if left <= 0.05:
             why = f"not graded: the total budget of {total_s:g} s ran out (--budget SECONDS gives it more)"
-            entry.result = cross_check(entry.exercise, params, methods=("analytic",), verify=False)
-            entry.result.errors.append(f"numeric solver failed: {why}")
+            result = cross_check(entry.exercise, params, methods=("analytic",), verify=False)
+            result = result.replace(errors=tuple(result.errors) + (Failure("numeric", f"numeric solver failed: {why}"),))
             units = {o.name: o.unit for o in entry.exercise.outputs}
             entry.judgements = [Judgement(e.name, units.get(e.name, ""), e.text, e.value, False, None, verdict=why)
                                 for e in entry.expectations]
         else:
-            entry.result = cross_check(entry.exercise, params, budget_s=min(per_solve, left))
-            entry.judgements = judge(entry.result, entry.expectations)
-        entry.result.expected = {j.name: j for j in entry.judgements}
+            result = cross_check(entry.exercise, params, budget_s=min(per_solve, left))
+            entry.judgements = judge(result, entry.expectations)
+        entry.result = result.with_expected(entry.judgements)
 
 
 def grade_json(path: str, entries: list[Entry], seconds: float) -> dict:
@@ -305,7 +313,7 @@ def grade_json(path: str, entries: list[Entry], seconds: float) -> dict:
     return {
         "file": path,
         "entries": [{"exercise": e.exercise.id, "answer": e.number, "params": dict(e.result.params),
-                     "quantities": solve_json(e.result)["quantities"], "agree": e.result.agree, "ok": e.ok}
+                     "quantities": e.result.to_dict()["quantities"], "agree": e.result.agree, "ok": e.ok}
                     for e in entries],
         "ok": passed == len(judgements),
         "passed": passed,

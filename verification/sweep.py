@@ -31,7 +31,8 @@ from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
 from mech.core.errors import BadInput
-from mech.problems.spec import Exercise, Params
+from mech.problems.spec import Exercise, Params, Undefined
+from mech.verification.result import Failure, Quantity, Solution, to_json
 
 __all__ = ["MAX_POINTS", "describe_point", "validate_grid", "validate", "Axis", "SweepResult", "grid_points", "run_sweep", "plan_workers", "POOL_OVERHEAD_S", "MIN_PARALLEL_S",
            "pool_worker_init", "run_batched", "batched_outputs", "batched_points", "grid_arrays", "CHUNK"]
@@ -56,12 +57,13 @@ class SweepResult:
     exercise: Exercise
     axes: list[Axis]
     fixed: dict[str, float]
-    points: list[dict] | None  # one cross-check JSON object per grid point (without id and title), grid order;
-    # None for a batched sweep until ``point_list()`` builds them from its arrays
+    points: list | None  # one ``result.Solution`` per grid point, grid order; None for a batched sweep until
+    # ``solutions()`` builds them from its arrays
     workers: int = 1
     seconds: float = 0.0
     extra: dict = field(default_factory=dict)
     only: tuple[str, ...] | None = None  # the outputs asked for (None: all)
+    wall: list | None = None  # each point's wall time, s (point by point)
 
     @property
     def output_names(self) -> list[str]:
@@ -69,20 +71,42 @@ class SweepResult:
             return list(self.extra["outputs"])
         return list(self.only) if self.only else [o.name for o in self.exercise.outputs]
 
-    def point_list(self) -> list[dict]:
+    def solutions(self) -> list:
+        """One typed ``Solution`` per grid point, grid order."""
         if self.points is None:
-            self.points = batched_points(self)
+            self.points = batched_solutions(self)
         return self.points
 
+    def point_list(self) -> list[dict]:
+        """The points as the contract's solve objects (without id and title)."""
+        if "json" not in self.extra:
+            out = []
+            for k, sol in enumerate(self.solutions()):
+                d = to_json(sol)
+                d.pop("id", None)
+                d.pop("title", None)
+                if self.wall is not None:
+                    d["wall_s"] = self.wall[k]
+                out.append(d)
+            self.extra["json"] = out
+        return self.extra["json"]
+
     def iter_points(self):
-        """The points one at a time; a batched sweep's are built as they are read, never all held."""
-        if self.points is None:
-            return iter_batched_points(self)
-        return iter(self.points)
+        """The points as the contract's solve objects, one at a time (never all held as JSON)."""
+        if "json" in self.extra:
+            yield from self.extra["json"]
+            return
+        for k, sol in enumerate(self.solutions()):
+            d = to_json(sol)
+            d.pop("id", None)
+            d.pop("title", None)
+            if self.wall is not None:
+                d["wall_s"] = self.wall[k]
+            yield d
 
     def write_json(self, out) -> None:
         """``as_json()`` written to the text stream ``out`` as ``json.dumps(..., indent=2)`` would, its
-        points streamed: memory independent of the number of points."""
+        points streamed one at a time: neither the points' JSON objects nor the text are held whole."""
         import json
 
         head = self.as_json(points=False)
@@ -112,7 +136,7 @@ class SweepResult:
             for J in self.extra["judged"].values():
                 bad |= (J["agree"] == 0) | J["n_fail"] | J["ver_fail"]
             return int(bad.sum())
-        return sum(pt.get("agree") is False for pt in self.points)
+        return sum(pt.agree is False for pt in self.points)
 
     @property
     def agree(self) -> bool | None:
@@ -122,12 +146,13 @@ class SweepResult:
             judged = self.extra["judged"].values()
             if any((J["agree"] == 0).any() or J["n_fail"].any() or J["ver_fail"].any() for J in judged):
                 return False
-            if all((J["agree"] < 0).all() for J in judged):
+            # a leading-order output outside its range with a verified numeric value holds (``Solution.agree``)
+            if all(((J["agree"] < 0) & ~(J["outside"] & ~np.isnan(J["verify_diff"]))).all() for J in judged):
                 return None
             return True
         from mech.verification.crosscheck import combine_agree
 
-        return combine_agree(pt.get("agree") for pt in self.points)
+        return combine_agree(pt.agree for pt in self.points)
 
     def as_json(self, points: bool = True) -> dict:
         d = {
@@ -164,8 +189,9 @@ def pool_worker_init(parent: int | None = None) -> None:
 
 
 def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only=None,
-                deadline: float | None = None, total_s: float | None = None) -> dict:
-    """One grid point's cross-check as the contract's solve object (without id and title); picklable.
+                deadline: float | None = None, total_s: float | None = None):
+    """One grid point's cross-check: (its ``Solution`` without the exercise and the run, so that it
+    pickles; its wall time in s, without a one-time import).
 
     ``only``: the output names to keep (the solvers still compute all of them on this route).
     ``deadline``: the sweep's end (``time.monotonic()``, one clock for every process); the point's solve
@@ -181,25 +207,19 @@ def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only
     budget_s = budget.default_seconds()
     left = math.inf if deadline is None else deadline - time.monotonic()
     if left <= 0.05:
+        from mech.verification.result import Failure
+
         result = cross_check(ex, params, methods=("analytic",), rtol=rtol, verify=False)
-        d = result.as_json()
-        d["errors"] = list(d.get("errors") or []) + [
-            f"numeric solver failed: not run: the sweep's total budget of {total_s or 0:g} s ran out "
-            "(--budget SECONDS gives it more)"]
-        d["agree"] = False
+        why = (f"numeric solver failed: not run: the sweep's total budget of {total_s or 0:g} s ran out "
+               "(--budget SECONDS gives it more)")
+        result = result.replace(errors=tuple(result.errors) + (Failure("numeric", why),))
     else:
         result = cross_check(ex, params, rtol=rtol, verify=verify, budget_s=min(budget_s, left))
-        d = result.as_json()
-    d.pop("id", None)
-    d.pop("title", None)
-    import_s = (d.get("numeric_info") or {}).get("import_s") or 0.0
-    d["wall_s"] = time.perf_counter() - t0 - import_s
+    import_s = (result.numeric_info or {}).get("import_s") or 0.0
+    wall = time.perf_counter() - t0 - import_s
     if only:
-        d["quantities"] = [q for q in d["quantities"] if q["name"] in only]
-        flags = [q["agree"] for q in d["quantities"]]
-        d["agree"] = (False if d.get("errors") or any(f is False for f in flags)
-                      else None if all(f is None for f in flags) else True)
-    return d
+        result = result.replace(quantities=tuple(q for q in result.quantities if q.name in only))
+    return result.replace(exercise=None, run=None), wall
 
 
 DEFAULT_TOTAL_S = 600.0  # a sweep's or a grading's wall-clock budget: 10 minutes, a class's file at 6 s a answer
@@ -270,13 +290,13 @@ def run_sweep(
             progress(done)
 
     if not params:
-        return SweepResult(ex, list(axes), dict(fixed), [], 1, 0.0, only=only)
+        return SweepResult(ex, list(axes), dict(fixed), [], 1, 0.0, only=only, wall=[])
     only = tuple(only) if only else None
     # the first point here: it measures the cost per point
     points[0] = solve_point(ex.id, dict(params[0]), rtol, verify, only, deadline, total_s)
     tick()
     rest = list(range(1, len(params)))
-    workers = min(jobs, usable_cores()) if jobs is not None else plan_workers(len(rest), points[0]["wall_s"])
+    workers = min(jobs, usable_cores()) if jobs is not None else plan_workers(len(rest), points[0][1])
     workers = max(1, min(workers, len(rest))) if rest else 1
     if workers == 1:
         for i in rest:
@@ -292,7 +312,9 @@ def run_sweep(
             for fut in as_completed(futures):
                 points[futures[fut]] = fut.result()
                 tick()
-    return SweepResult(ex, list(axes), dict(fixed), points, workers, time.perf_counter() - t0, only=only)
+    solutions = [sol.replace(exercise=ex) for sol, _ in points]
+    return SweepResult(ex, list(axes), dict(fixed), solutions, workers, time.perf_counter() - t0, only=only,
+                       wall=[w for _, w in points])
 
 
 # -- charts: the batched route -----------------------------------------------------------------------
@@ -324,85 +346,44 @@ def grid_arrays(ex: Exercise, axes: Sequence[Axis], fixed: dict[str, float]) -> 
 
 
 def _judge(ex, name, a_col, e_rel, num, ver, rtol, tighter, outside=None):
-    """The cross-check's rule over arrays: one output at every point -> dict of arrays and reasons.
-
-    The same rule as ``crosscheck.cross_check``: tolerance = the numeric claim,
-    at least the expected error for a leading-order output; both undefined
-    agree, one undefined disagrees; a rerun at rtol/10 that moves the value by
-    more than the claim makes it unreliable (disagree).
-    """
+    """One output at every point of a batched sweep, judged by the one judge (``judge.judge``), with the
+    columns and reasons a chart and a point's solve object need.  ``outside``: (mask, reasons) where a
+    leading-order theory is outside its range."""
     import numpy as np
+
+    from mech.verification import judge as judging
 
     out = next(o for o in ex.outputs if o.name == name)
     a = a_col.value
-    a_und = a_col.mask("undefined")
-    n = num.value
-    n_und = num.mask("undefined")
-    n_fail = num.mask("failed")
-    N = n.size
+    N = a.size
     rel = np.broadcast_to(np.asarray(num.rel, dtype=float), (N,))
     rel = np.where(np.isnan(rel), ex.tol_factor * rtol, rel)  # no claim: the exercise's default one
     tol_abs = np.broadcast_to(np.asarray(num.abs, dtype=float), (N,))
-    tol = rel.copy()
     expected = expected_abs = None
-    allowed_abs = tol_abs
     if out.theory != "exact" and e_rel is not None:
         expected, expected_abs = (np.asarray(x, dtype=float) for x in e_rel)
         # an absolute part alone: the relative one is 0
         expected = np.where(np.isnan(expected) & ~np.isnan(expected_abs), 0.0, expected)
-        tol = np.where(np.isnan(expected), tol, np.fmax(tol, expected))
-        allowed_abs = np.fmax(tol_abs, np.nan_to_num(expected_abs, nan=0.0))
-    a_num = ~a_und & np.isfinite(a)
-    n_num = ~n_und & ~n_fail & np.isfinite(n)
-    both = a_num & n_num
-    abs_err = np.where(both, np.abs(n - a), np.nan)
-    denom = np.where(a != 0, np.abs(a), np.abs(n))
-    # the analytic value's own round-off (``Exercise.analytic_error``), where the batched analytic gives it
-    a_err = np.broadcast_to(np.asarray(a_col.abs, dtype=float), (N,))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rel_err = np.where(both, np.where(denom > 0, abs_err / denom, 0.0), np.nan)
-        agree_num = abs_err <= tol * np.abs(a) + allowed_abs + a_err
-    # 1 agree, 0 disagree, -1 no verdict (the numeric value failed: the point's error says why)
-    agree = np.full(N, -1, dtype=np.int8)
-    agree[both] = agree_num[both]
-    one = (a_und | n_und) & ~n_fail
-    agree[one] = (a_und & n_und)[one]
-    # the leading-order theory finds no value, but what it neglects allows one this large
-    numeric_err = np.where(n_num, rel * np.abs(n) + tol_abs, np.nan)
-    small = np.zeros(N, dtype=bool)
-    if expected_abs is not None:
-        small = a_und & n_num & (np.nan_to_num(expected_abs, nan=0.0) > 0)
-        agree[small] = (np.abs(n) <= expected_abs + numeric_err)[small]
-    # an error bar of infinity would agree with anything: no verdict but a failure
-    no_claim = n_num & ~(np.isfinite(rel) & np.isfinite(tol_abs))
-    agree[no_claim] = 0
-    verify_diff = np.full(N, np.nan)
-    unreliable = np.zeros(N, dtype=bool)
-    ver_fail = np.zeros(N, dtype=bool)
-    if ver is not None:
-        v = ver.value
-        v_num = ~ver.mask("undefined") & ~ver.mask("failed") & np.isfinite(v)
-        ver_fail = ver.mask("failed") & ~n_fail
-        chk = n_num & v_num
-        verify_diff = np.where(chk, np.abs(v - n), np.nan)
-        scale = np.where(a_num & (a != 0), np.abs(a), np.abs(n))
-        claim = rel * scale + tol_abs
-        unreliable = chk & (verify_diff > claim)
-        agree[unreliable] = 0
-    # a leading-order theory outside its range (``Exercise.theory_validity_batch``: mask, reasons) is not
-    # compared: no verdict there unless the numeric value itself fails
-    out_mask, out_why = (np.zeros(N, dtype=bool), [""] * N) if outside is None else outside
-    tol = np.where(out_mask, rel, tol)
-    agree[out_mask & ~unreliable & ~no_claim] = -1
+    ver_fail = np.zeros(N, dtype=bool) if ver is None else ver.mask("failed") & ~num.mask("failed")
+    J = judging.judge(
+        analytic=a, numeric=num.value, a_undefined=a_col.mask("undefined"), n_undefined=num.mask("undefined"),
+        n_failed=num.mask("failed"), rel_claim=rel, abs_claim=tol_abs,
+        analytic_err=np.broadcast_to(np.asarray(a_col.abs, dtype=float), (N,)), leading=out.theory != "exact",
+        expected_rel=np.nan if expected is None else expected,
+        expected_abs=np.nan if expected_abs is None else expected_abs,
+        verify=None if ver is None else np.where(ver.mask("undefined") | ver.mask("failed"), np.nan, ver.value),
+        outside=None if outside is None else outside[0], outside_why=None if outside is None else outside[1])
+    n_fail = num.mask("failed")
     return {
-        "outside": out_mask, "outside_why": out_why,
-        "analytic": np.where(a_num, a, np.nan), "numeric": np.where(n_num, n, np.nan),
-        "a_und": a_und, "n_und": n_und, "n_fail": n_fail, "ver_fail": ver_fail,
-        "abs_err": abs_err, "rel_err": rel_err, "tol": tol, "tol_abs": tol_abs, "agree": agree,
-        "expected_err": expected, "expected_err_abs": expected_abs, "small": small,
-        "verify_diff": verify_diff, "unreliable": unreliable,
-        "numeric_err": numeric_err, "a_col": a_col, "num": num, "ver": ver, "no_claim": no_claim,
-        "tighter": tighter,
+        "J": J, "outside": J.outside, "outside_why": J.outside_why,
+        "analytic": np.where(~a_col.mask("undefined") & np.isfinite(a), a, np.nan),
+        "numeric": np.where(~num.mask("undefined") & ~n_fail & np.isfinite(num.value), num.value, np.nan),
+        "a_und": a_col.mask("undefined"), "n_und": num.mask("undefined"), "n_fail": n_fail, "ver_fail": ver_fail,
+        "abs_err": J.abs_err, "rel_err": J.rel_err, "tol": J.tol, "tol_abs": tol_abs, "agree": J.agree,
+        "expected_err": expected, "expected_err_abs": expected_abs, "small": J.small,
+        "verify_diff": J.verify_diff, "unreliable": J.verdict == judging.UNRELIABLE,
+        "numeric_err": J.numeric_err, "a_col": a_col, "num": num, "ver": ver,
+        "no_claim": J.verdict == judging.NO_CLAIM, "tighter": tighter,
     }
 
 
@@ -511,9 +492,11 @@ def run_batched(
         stats["chunks"] += 1
         if progress:
             progress(sl.stop)
+    from mech.verification.judge import theory_validity_batch
+
     judged = {}
     expected = {o: np.concatenate(expected[o], axis=1) for o in outputs}
-    validity = ex.theory_validity_batch(P, {o: tuple(expected[o]) for o in outputs})
+    validity = theory_validity_batch(ex, P, {o: tuple(expected[o]) for o in outputs})
     for o in outputs:
         judged[o] = _judge(ex, o, _concat_columns(analytic[o]), expected[o],
                            _concat_columns(nums[o]), _concat_columns(vers[o]) if verify else None, rtol, tighter,
@@ -532,13 +515,11 @@ def _num(x):
     return x if _m.isfinite(x) else None
 
 
-def batched_points(result: SweepResult) -> list[dict]:
-    """The chart's per-point solve objects (as ``mech solve --json`` gives them, the asked outputs only)."""
-    return list(iter_batched_points(result))
+def batched_solutions(result: SweepResult) -> list[Solution]:
+    """The chart's per-point solutions (as ``mech solve`` gives them, the asked outputs only), built from the
+    judged arrays."""
+    from mech.verification.judge import notes as judge_notes
 
-
-def iter_batched_points(result: SweepResult):
-    """``batched_points`` one at a time: what streams 100 000 points to JSON without holding them."""
     ex = result.exercise
     P = result.extra["grid"]
     judged = result.extra["judged"]
@@ -547,65 +528,49 @@ def iter_batched_points(result: SweepResult):
     names = [p.name for p in ex.params]
     N = next(iter(P.values())).size
     cols = {k: P[k].tolist() for k in names}
+    points = []
     for k in range(N):
         quantities, errors = [], []
         for name, J in judged.items():
             o = units[name]
-            q = {"name": name, "unit": o.unit, "analytic": _num(J["analytic"][k]), "numeric": _num(J["numeric"][k])}
             notes = []
+            analytic, numeric = _num(J["analytic"][k]), _num(J["numeric"][k])
             if J["a_und"][k]:
-                notes.append(f"analytic: {J['a_col'].reason('undefined', k)}")
+                analytic = Undefined(J["a_col"].reason("undefined", k))
             if J["n_und"][k]:
-                notes.append(f"numeric: {J['num'].reason('undefined', k)}")
+                numeric = Undefined(J["num"].reason("undefined", k))
             if J["n_fail"][k]:
-                errors.append(J["num"].reason("failed", k) if J["num"].reason("failed", k).startswith("numeric")
-                              else f"numeric solver failed: {name}: {J['num'].reason('failed', k)}")
+                why = J["num"].reason("failed", k)
+                errors.append(Failure("numeric", why if why.startswith("numeric")
+                                      else f"numeric solver failed: {name}: {why}", name))
             if J["ver_fail"][k]:
                 why = J["ver"].reason("failed", k)
-                errors.append(why if why.startswith("numeric") else
-                              f"numeric solver failed at rtol={J['tighter']:g}: {name}: {why}")
-            q["abs_err"] = _num(J["abs_err"][k])
-            q["rel_err"] = _num(J["rel_err"][k])
-            q["tol"] = _num(J["tol"][k])
-            if J["tol_abs"][k]:
-                q["tol_abs"] = float(J["tol_abs"][k])
+                errors.append(Failure("rerun", why if why.startswith("numeric") else
+                                      f"numeric solver failed at rtol={J['tighter']:g}: {name}: {why}", name))
+            notes.extend(judge_notes(J["J"], k))
+            for key, v in (("analytic", analytic), ("numeric", numeric)):
+                if isinstance(v, Undefined):
+                    notes.append(f"{key}: {v.why}")
             ag = int(J["agree"][k])
-            q["agree"] = None if ag < 0 else bool(ag)
-            if o.theory != "exact":
-                q["theory"] = o.theory
-                q["expected_err"] = None if J["expected_err"] is None else _num(J["expected_err"][k])
-                if J["expected_err_abs"] is not None and J["expected_err_abs"][k] == J["expected_err_abs"][k]:
-                    q["expected_err_abs"] = _num(J["expected_err_abs"][k])
-                q["theory_valid"] = not J["outside"][k]
-                if J["outside"][k]:
-                    notes.append(J["outside_why"][k])
-            if q["numeric"] is not None:
-                q["numeric_err"] = _num(J["numeric_err"][k])
-            if not (J["verify_diff"][k] != J["verify_diff"][k]):  # not NaN
-                q["verify_diff"] = float(J["verify_diff"][k])
-            if J["small"][k]:
-                notes.append("the leading-order theory finds no value; within what it neglects one up to "
-                             f"{J['expected_err_abs'][k]:.3g} may exist" + ("" if ag else ", and this one is larger"))
-            elif (J["a_und"][k]) != (J["n_und"][k]) and not J["n_fail"][k]:
-                notes.append("one method finds no finite value where the other does")
-            if J["no_claim"][k]:
-                notes.append("the numeric solver claims no finite accuracy for this value")
-            if J["unreliable"][k]:
-                notes.append(f"unreliable: the numeric value moves by {J['verify_diff'][k]:.3g} at rtol/10, "
-                             f"more than its claimed accuracy")
-            if notes:
-                q["note"] = "; ".join(dict.fromkeys(notes))
-            quantities.append(q)
-        # outside a leading-order theory's range nothing is compared: a verified numeric value holds
-        flags = [True if q.get("theory_valid") is False and q["agree"] is None and "verify_diff" in q
-                 else q["agree"] for q in quantities]
-        agree = False if errors or any(f is False for f in flags) else (None if all(f is None for f in flags)
-                                                                          else True)
-        pt = {"params": {n: cols[n][k] for n in names}, "quantities": quantities, "agree": agree,
-              "numeric_info": dict(info)}
-        if errors:
-            pt["errors"] = list(dict.fromkeys(errors))
-        yield pt
+            leading = o.theory != "exact"
+            e_abs = None if J["expected_err_abs"] is None else _num(J["expected_err_abs"][k])
+            quantities.append(Quantity(
+                name, o.unit, analytic=analytic, numeric=numeric,
+                numeric_err=_num(J["numeric_err"][k]) if isinstance(numeric, float) else None,
+                abs_err=_num(J["abs_err"][k]), rel_err=_num(J["rel_err"][k]), tol=_num(J["tol"][k]),
+                tol_abs=float(J["tol_abs"][k]), agree=None if ag < 0 else bool(ag), theory=o.theory,
+                theory_valid=(not J["outside"][k]) if leading else None,
+                expected_err=_num(J["expected_err"][k]) if leading and J["expected_err"] is not None else None,
+                expected_err_abs=e_abs if leading else None, verify_diff=_num(J["verify_diff"][k]),
+                allowed=_num(J["J"].allowed[k]), notes=tuple(dict.fromkeys(notes))))
+        points.append(Solution(ex, {n: cols[n][k] for n in names}, tuple(quantities), timing={},
+                               numeric_info=dict(info), errors=tuple(dict.fromkeys(errors))))
+    return points
+
+
+def batched_points(result: SweepResult) -> list[dict]:
+    """The chart's per-point solve objects (as ``mech solve --json`` gives them, the asked outputs only)."""
+    return result.point_list()
 
 
 def output_arrays(result: SweepResult, name: str) -> dict:
@@ -623,7 +588,7 @@ def output_arrays(result: SweepResult, name: str) -> dict:
             reasons[k] = _reason_batched(result, int(k))
         return {"numeric": J["numeric"], "analytic": J["analytic"], "agree": J["agree"], "failed": pts_failed,
                 "reasons": reasons}
-    pts = result.points
+    pts = result.point_list()
     num = np.array([_nan(q["numeric"]) for pt in pts for q in pt["quantities"] if q["name"] == name])
     ana = np.array([_nan(q["analytic"]) for pt in pts for q in pt["quantities"] if q["name"] == name])
     agree = np.array([-1 if q["agree"] is None else int(q["agree"])

@@ -37,6 +37,7 @@ exercise = Exercise(
         "I3 = I1 + I2 = M (a² + b²)/18",
         "θ1 = (1/2) atan2(-ab, a² - b²)   (a = b: I1 = Ma²/36 along the hypotenuse, θ1 = -45°)",
     ],
+    axes=("theta1",),  # the direction of an axis, which has no sense: an answer is judged modulo pi
 )
 
 

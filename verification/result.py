@@ -1,0 +1,376 @@
+"""What a solve is: one typed, read-only value, and the plain functions that render it.
+
+* ``Quantity``: one output, both values, the error bars, the judge's verdict (``agree``), the notes, and
+  the judgement of your own answer (``expected``) where one was given;
+* ``Failure``: a loud failure, typed by ``kind`` (``FAILURE_KINDS``), with the output it concerns (if
+  one) and its message;
+* ``Solution``: the cross-check of one exercise at one set of parameters, a read-only Mapping from output
+  names to Quantities (``sol["theta_c"]``, ``list(sol)`` the names, ``.values()``, ``.items()``).
+
+``to_json`` (the object ``mech solve --json`` prints, fixed by the contract), ``to_text`` (the compact
+table a REPL shows) and ``to_html`` (Jupyter) render a Solution; ``mech.cli.render`` draws the rich table.
+Nothing here computes or judges: ``crosscheck`` builds a Solution, ``judge`` and ``answers`` decide.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any, Iterator
+
+from mech.problems.spec import Undefined
+
+__all__ = ["Failure", "Quantity", "Solution", "FAILURE_KINDS", "SOLVER_FAILURES", "to_json", "to_text", "to_html",
+           "to_rich", "quantity_json"]
+
+# what failed: a solver (analytic, numeric, the numeric rerun at rtol/10), an invariant's drift, a value
+# that is not finite or outside the floating-point range, an estimate (the analytic round-off, the theory's
+# range) that raised
+FAILURE_KINDS = ("analytic", "numeric", "rerun", "invariant", "non-finite", "out-of-range", "estimate")
+SOLVER_FAILURES = ("analytic", "numeric", "rerun")  # a solver that did not answer
+
+
+@dataclass(frozen=True)
+class Failure:
+    """A loud failure of a solve: ``kind`` (one of ``FAILURE_KINDS``), the ``output`` it concerns (None: the
+    whole solve) and the one-line ``message`` (``str(failure)``)."""
+
+    kind: str
+    message: str
+    output: str | None = None
+
+    def __post_init__(self):
+        if self.kind not in FAILURE_KINDS:
+            raise ValueError(f"unknown failure kind {self.kind!r}")
+
+    @property
+    def solver_failed(self) -> bool:
+        return self.kind in SOLVER_FAILURES
+
+    def __str__(self) -> str:
+        return self.message
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """One output of a solve.  ``analytic``/``numeric``: a float, ``Undefined`` (no finite value, with the
+    reason) or None (the method did not run); ``numeric_err``/``analytic_err``: absolute error bars, SI;
+    ``tol``: the relative tolerance the judge applied, ``allowed`` the absolute allowance; ``agree``:
+    True, False or None (nothing compared); ``verdict``: the judge's word for it; ``expected``: the
+    judgement of your answer (``answers.Judgement``) when one was given."""
+
+    name: str
+    unit: str
+    analytic: float | Undefined | None = None
+    numeric: float | Undefined | None = None
+    numeric_err: float | None = None
+    analytic_err: float | None = None
+    abs_err: float | None = None
+    rel_err: float | None = None
+    tol: float | None = None
+    tol_abs: float = 0.0
+    agree: bool | None = None
+    theory: str = "exact"
+    theory_valid: bool | None = None
+    expected_err: float | None = None
+    expected_err_abs: float | None = None
+    verify_diff: float | None = None
+    allowed: float | None = None
+    verdict: str = ""
+    notes: tuple[str, ...] = ()
+    expected: Any = None
+
+    def as_json(self) -> dict:
+        return quantity_json(self)
+
+    @property
+    def note(self) -> str | None:
+        return "; ".join(self.notes) if self.notes else None
+
+    @property
+    def value(self) -> float | None:
+        """The numeric value where there is one, else the analytic one (None where neither is a number)."""
+        for v in (self.numeric, self.analytic):
+            if _is_number(v):
+                return v
+        return None
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, float) and math.isfinite(v)
+
+
+def _finite_or_none(v):
+    if v is None or isinstance(v, Undefined):
+        return None
+    v = float(v)
+    return v if math.isfinite(v) else None
+
+
+def quantity_json(q: Quantity) -> dict:
+    """One quantity as the contract's JSON object."""
+    d: dict[str, Any] = {"name": q.name, "unit": q.unit}
+    for key in ("analytic", "numeric"):
+        d[key] = _finite_or_none(getattr(q, key))
+    if _is_number(q.numeric):
+        d["numeric_err"] = _finite_or_none(q.numeric_err)
+    if q.analytic_err is not None and _is_number(q.analytic):
+        d["analytic_err"] = _finite_or_none(q.analytic_err)
+    d["abs_err"] = _finite_or_none(q.abs_err)
+    d["rel_err"] = _finite_or_none(q.rel_err)
+    d["tol"] = _finite_or_none(q.tol)
+    if q.tol_abs:
+        d["tol_abs"] = _finite_or_none(q.tol_abs)
+    d["agree"] = q.agree
+    if q.theory != "exact":
+        d["theory"] = q.theory
+        d["theory_valid"] = q.theory_valid is not False
+        d["expected_err"] = _finite_or_none(q.expected_err)
+        if q.expected_err_abs is not None:
+            d["expected_err_abs"] = _finite_or_none(q.expected_err_abs)
+    if q.verify_diff is not None:
+        d["verify_diff"] = _finite_or_none(q.verify_diff)
+    if q.notes:
+        d["note"] = q.note
+    if q.expected is not None:
+        d["expected"] = q.expected.as_json()
+    return d
+
+
+@dataclass(frozen=True, eq=False)
+class Solution(Mapping):
+    """The cross-check of one exercise at one set of parameters: a read-only Mapping of output names to
+    ``Quantity`` objects.
+
+    ``agree``: True when every compared output agrees and nothing failed, False when anything failed,
+    None where nothing was compared; ``errors``: the ``Failure``s; ``expect_ok``: every expected value
+    right (None when none was given); ``to_dict()``: exactly what ``mech solve --json`` prints;
+    ``trajectory``: the integrated motion (``mech.api``; None where the route integrates none).
+    """
+
+    exercise: Any
+    params: Any
+    quantities: tuple[Quantity, ...]
+    timing: dict = field(default_factory=dict)
+    numeric_info: dict | None = None
+    errors: tuple[Failure, ...] = ()
+    run: Any = field(default=None, repr=False)  # the numeric solve's Run (its recorded integrations)
+    expect_ok: bool | None = None
+    expect_summary: str | None = None
+    trajectory_of: Any = field(default=None, repr=False)  # Solution -> its Trajectory (set by mech.api)
+
+    # -- the Mapping -----------------------------------------------------------------------------------
+    def __getitem__(self, name: str) -> Quantity:
+        for q in self.quantities:
+            if q.name == name:
+                return q
+        names = ", ".join(q.name for q in self.quantities)
+        ex_id = getattr(self.exercise, "id", "this exercise")
+        raise KeyError(f"{ex_id} has no output '{name}'; its outputs are: {names}")
+
+    def __iter__(self) -> Iterator[str]:
+        return (q.name for q in self.quantities)
+
+    def __len__(self) -> int:
+        return len(self.quantities)
+
+    def __contains__(self, name) -> bool:
+        return any(q.name == name for q in self.quantities)
+
+    # -- verdicts --------------------------------------------------------------------------------------
+    @property
+    def id(self) -> str:
+        return self.exercise.id
+
+    @property
+    def agree(self) -> bool | None:
+        """True when every compared output agrees and every numeric value is verified (an output whose
+        leading-order theory is outside its range compares nothing: its numeric value, verified by the
+        rerun, holds); False when anything failed; None where nothing was compared or verified."""
+        if self.errors:
+            return False
+        flags = [True if q.theory_valid is False and q.agree is None and q.verify_diff is not None else q.agree
+                 for q in self.quantities]
+        if any(f is False for f in flags):
+            return False
+        return None if all(f is None for f in flags) else True
+
+    @property
+    def solver_failed(self) -> bool:
+        """A solver did not answer (a typed failure of kind analytic, numeric or rerun)."""
+        return any(e.solver_failed for e in self.errors)
+
+    def replace(self, **changes) -> "Solution":
+        return dataclasses.replace(self, **changes)
+
+    def with_expected(self, judgements) -> "Solution":
+        """This solution with your answers' judgements (``answers.Judgement``) on their quantities."""
+        by_name = {j.name: j for j in judgements}
+        qs = tuple(dataclasses.replace(q, expected=by_name[q.name]) if q.name in by_name else q
+                   for q in self.quantities)
+        refs = sorted({j.reference for j in judgements if j.reference})
+        right = sum(j.match for j in judgements)
+        n = len(judgements)
+        summary = (f"your answers: {right} of {n} right"
+                   + (f" (judged against mech's {', '.join(refs)} value{'s' if n > 1 else ''})" if refs else ""))
+        return dataclasses.replace(self, quantities=qs, expect_ok=right == n, expect_summary=summary)
+
+    @property
+    def expected(self) -> dict:
+        """{output: judgement} of the answers given (empty when none was)."""
+        return {q.name: q.expected for q in self.quantities if q.expected is not None}
+
+    # -- renderings ------------------------------------------------------------------------------------
+    def as_json(self) -> dict:
+        return to_json(self)
+
+    def to_dict(self) -> dict:
+        """Exactly what ``mech solve --json`` prints for the same exercise and parameters."""
+        return to_json(self)
+
+    def __repr__(self) -> str:
+        return to_text(self)
+
+    def _repr_html_(self) -> str:
+        return to_html(self)
+
+    def __rich__(self):
+        return to_rich(self)
+
+    @functools.cached_property
+    def trajectory(self):
+        """The motion the numeric route integrates, in SI (None where it integrates none): computed on
+        first use by ``trajectory_of`` (the API's, which reruns the numeric solve with its motion kept)."""
+        return None if self.trajectory_of is None else self.trajectory_of(self)
+
+
+def _clean(obj):
+    """Make an info structure JSON-safe: non-finite numbers become null."""
+    if isinstance(obj, dict):
+        return {str(k): _clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, bool) or obj is None or isinstance(obj, str):
+        return obj
+    try:
+        f = float(obj)
+    except (TypeError, ValueError):
+        return str(obj)
+    if isinstance(obj, int) and not isinstance(obj, bool):
+        return obj
+    return f if math.isfinite(f) else None
+
+
+def to_json(sol: Solution) -> dict:
+    """The object ``mech solve --json`` prints (see the contract)."""
+    d = {
+        "id": sol.exercise.id,
+        "title": sol.exercise.title,
+        "params": _clean(dict(sol.params)),
+        "quantities": [quantity_json(q) for q in sol.quantities],
+        "agree": sol.agree,
+        "timing": _clean(sol.timing),
+        "numeric_info": _clean(sol.numeric_info),
+    }
+    if sol.errors:
+        d["errors"] = [str(e) for e in sol.errors]
+    if sol.expect_ok is not None:
+        d["expect_ok"] = sol.expect_ok
+    return d
+
+
+def _cell(v, digits: int = 10) -> str:
+    if isinstance(v, Undefined):
+        return "undefined"
+    if v is None:
+        return "—"
+    if isinstance(v, bool):
+        return "yes" if v else "NO"
+    return f"{v:.{digits}g}"
+
+
+def _rows(sol: Solution) -> tuple[list[str], list[list[str]]]:
+    head = ["quantity", "unit", "analytic", "numeric", "± numeric", "agree"]
+    rows = []
+    for q in sol.quantities:
+        agree = ("outside range" if q.theory_valid is False and q.agree is None else
+                 "—" if q.agree is None else ("yes" if q.agree else "NO"))
+        rows.append([q.name + (" *" if q.theory != "exact" else ""), q.unit, _cell(q.analytic), _cell(q.numeric),
+                     _cell(q.numeric_err, 2), agree])
+    return head, rows
+
+
+def _closing(sol: Solution) -> str:
+    verdict = {True: "analytic and numeric agree", False: "CROSS-CHECK FAILED", None: ""}[sol.agree]
+    has_a = any(q.analytic is not None for q in sol.quantities)
+    has_n = any(q.numeric is not None for q in sol.quantities)
+    if sol.agree is not False and not (has_a and has_n):
+        verdict = "analytic only" if has_a else "numeric only"
+    return verdict
+
+
+def to_text(sol: Solution) -> str:
+    """The compact table a plain REPL shows: one row per output, then the failures and the verdict."""
+    head, rows = _rows(sol)
+    widths = [max(len(r[k]) for r in [head, *rows]) for k in range(len(head))]
+    lines = [f"{sol.exercise.id}  {sol.exercise.title}"]
+    params = getattr(sol.exercise, "params", [])
+    if params:
+        lines.append(", ".join(f"{p.symbol or p.name} = {p.show(sol.params[p.name])}" for p in params
+                               if p.name in sol.params))
+    for r in [head, *rows]:
+        lines.append("  ".join(c.ljust(w) if k < 2 else c.rjust(w) for k, (c, w) in enumerate(zip(r, widths)))
+                     .rstrip())
+    lines.extend(str(e) for e in sol.errors)
+    if sol.expect_summary:
+        lines.append(sol.expect_summary)
+    closing = _closing(sol)
+    if closing:
+        lines.append(closing)
+    return "\n".join(lines)
+
+
+def to_html(sol: Solution) -> str:
+    """The table Jupyter shows."""
+    import html
+
+    esc = html.escape
+    ex = sol.exercise
+    params = ", ".join(f"{esc(p.symbol or p.name)} = {esc(p.show(sol.params[p.name]))}"
+                       for p in ex.params if p.name in sol.params)
+    head, rows = _rows(sol)
+    head_html = "".join(f"<th>{esc(c)}</th>" for c in head)
+    body = "".join("<tr>" + "".join(f"<td>{esc(c)}</td>" for c in r) + "</tr>" for r in rows)
+    errors = "".join(f"<p style='color:#b00'>{esc(str(e))}</p>" for e in sol.errors)
+    expect = f"<p>{esc(sol.expect_summary)}</p>" if sol.expect_summary else ""
+    return (f"<div><b>{esc(ex.id)}  {esc(ex.title)}</b><br><span>{params}</span>"
+            f"<table><thead><tr>{head_html}</tr></thead><tbody>{body}</tbody></table>"
+            f"{errors}{expect}<p>{esc(_closing(sol))}</p></div>")
+
+
+def to_rich(sol: Solution):
+    """The compact table as a rich renderable (``rich.print(sol)``); ``mech solve`` draws the full one."""
+    from rich import box
+    from rich.console import Group
+    from rich.table import Table
+    from rich.text import Text
+
+    head, rows = _rows(sol)
+    t = Table(box=box.SIMPLE_HEAD, show_edge=False, title=f"{sol.exercise.id}  {sol.exercise.title}",
+              title_justify="left")
+    for k, c in enumerate(head):
+        t.add_column(c, justify="left" if k < 2 else "right")
+    colour = {"yes": "green", "NO": "bold red", "outside range": "yellow"}
+    for r in rows:
+        t.add_row(*r[:-1], Text(r[-1], style=colour.get(r[-1], "")))
+    parts = [t]
+    parts.extend(Text(str(e), style="red") for e in sol.errors)
+    if sol.expect_summary:
+        parts.append(Text(sol.expect_summary, style="green" if sol.expect_ok else "bold red"))
+    closing = _closing(sol)
+    if closing:
+        parts.append(Text(closing, style={True: "green", False: "bold red"}.get(sol.agree, "")))
+    return Group(*parts)
