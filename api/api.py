@@ -129,38 +129,18 @@ class Trajectory:
         return f"Trajectory({', '.join(self.names)}; {self.t.size} times from {self.t[0]:g} to {self.t[-1]:g} s)"
 
 
-SAMPLES = 201  # a trajectory with a continuous extension is sampled at least this densely
-
-
 def _trajectory(ex, run) -> Trajectory | None:
     """The scene's motion as the numeric route marked it (``run.motion``), in SI, legs joined in time."""
-    if run is None or not ex.states or not run.motion_parts:
+    if run is None or not ex.states:
         return None
-    n = len(ex.states)
-    ts, ys = [], []
-    for traj, t_scale, t_offset, y_scale, rows in run.motion_parts:
-        t = np.asarray(traj.t, float)
-        sol = getattr(traj, "sol", None)
-        if sol is not None and t.size < SAMPLES:
-            # the integrator's own continuous extension between its steps: a smooth curve to plot
-            t = np.union1d(np.linspace(t.min(), t.max(), SAMPLES), t)
-            y = np.asarray(sol(t), float)
-        else:
-            y = np.asarray(traj.y, float)
-        y = y.reshape(-1, t.size)
-        if rows is not None:
-            y = y[rows]
-        if y.shape[0] != n:
-            raise RuntimeError(f"{ex.id}: the motion has {y.shape[0]} states, the exercise declares {n}")
-        scale = np.ones(n) if y_scale is None else np.broadcast_to(np.asarray(y_scale, float), (n,))
-        ts.append(t_offset + t_scale * t)
-        ys.append(y * scale[:, None])
-    t = np.concatenate(ts)
-    y = np.concatenate(ys, axis=1)
-    order = np.argsort(t, kind="stable")
-    t, y = t[order], y[:, order]
-    keep = np.concatenate(([True], np.diff(t) > 0))  # a time shared by two legs once
-    return Trajectory(t=t[keep], y=y[:, keep], names=[s[0] for s in ex.states], units=[s[1] for s in ex.states])
+    try:
+        joined = run.trajectory(len(ex.states))
+    except RuntimeError as exc:
+        raise RuntimeError(f"{ex.id}: {exc}") from None
+    if joined is None:
+        return None
+    t, y = joined
+    return Trajectory(t=t, y=y, names=[s[0] for s in ex.states], units=[s[1] for s in ex.states])
 
 
 def _motion(sol: Solution, deadline: float | None = None) -> Trajectory | None:

@@ -41,7 +41,7 @@ def _float_list(text: str | None, what: str) -> list[float] | None:
 @click.option("--max-seconds", default=55.0, show_default=True,
               help="Start no new point after this many seconds (the rest are kept as 'not run').")
 @click.option("--json", "as_json", is_flag=True,
-              help="Print the result as one JSON object on stdout (fields: the README's bench section).")
+              help="Print the result as one JSON object on stdout (fields: docs/json.md).")
 @click.option("--plot", "plot_file", type=click.Path(dir_okay=False, writable=True),
               help="Draw error against time and against evaluations (log-log) to this PNG (needs matplotlib).")
 def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seconds, as_json, plot_file):

@@ -246,7 +246,7 @@ def list_cmd(chapter, as_json):
 @cli.command("show")
 @click.argument("ex_id", metavar="ID", shell_complete=_complete_ids)
 @click.option("--json", "as_json", is_flag=True,
-              help="Print one JSON object with the exercise's fields instead (see the README's JSON section).")
+              help="Print one JSON object with the exercise's fields instead (fields: docs/json.md).")
 def show_cmd(ex_id, as_json):
     """Show an exercise: statement, parameters, outputs, formulas, numeric route, hard cases."""
     ex = _get(ex_id)
@@ -390,7 +390,7 @@ class SolveCommand(click.Command):
 @click.option("--rtol", "rtol_text", metavar="R", help="Requested accuracy of the numeric solver [exercise default].")
 @click.option("--no-verify", is_flag=True, help="Skip the rerun at rtol/10 that tests the numeric accuracy claim.")
 @click.option("--json", "as_json", is_flag=True,
-              help="Print the result as one JSON object on stdout (fields: the README's JSON section).")
+              help="Print the result as one JSON object on stdout (fields: docs/json.md).")
 @click.option("--expect", "expects", multiple=True, metavar="NAME=VALUE",
               help="Your answer for an output, judged to the digits written (repeatable): --expect theta_c=35.26deg.")
 @click.option("--expect-rtol", "expect_rtol", metavar="R", help="Judge --expect values to this relative tolerance.")

@@ -224,3 +224,14 @@ class SceneRun:
         """Where the numeric markers go over a parameter range: ``points - 1`` of them (the point
         itself is usually the last one), none when the figure spends no numeric solves."""
         return spread(lo, hi, max(self.points - 1, 1), log=log) if self.points > 0 else spread(lo, hi, 0)
+
+    def motion(self, p):
+        """The exercise's declared motion at ``p`` (``@exercise.motion``) integrated at the figure's
+        accuracy: ``(motion, path)``, the ``motion.Motion`` and the ``motion.Path`` it gave (its
+        ``traj.sol`` a continuous extension in the integrated variables; ``motion.si`` brings them to SI)."""
+        from mech.problems.spec import Run
+
+        m = self.exercise.motion_at(p)
+        if m is None:
+            raise RuntimeError(f"{self.exercise.id} declares no motion")
+        return m, Run(rtol=self.rtol).follow(m, dense=True)

@@ -195,13 +195,23 @@ class _Transformed:
 class Run:
     """What a numeric solver is given and what it reports back besides its answers.
 
-    ``rtol`` is the requested relative accuracy.  The solver records the cost of
-    what it integrated (``record``), the drift of the invariants it monitors
-    (``invariant``) and, where its accuracy differs from the exercise's default
-    claim, what it claims for an output (``claim``).
+    Given: ``rtol``, the requested relative accuracy; ``integrator``, the integrator every ODE
+    integration must use (``mech bench``: a method name, or "student" for solve_ivp's defaults; None
+    keeps each integration's own method and step settings; ``integrate`` applies it, a shared solver
+    takes it as ``integrator=run.integrator``); ``keep_trajectories``, whether the motion is kept;
+    ``shared``, a dict shared by the runs of one cross-check (the solve and its rerun at rtol/10),
+    where a solver may keep what it computed at a tolerance that does not depend on rtol, keyed by
+    everything it depends on (never in the JSON, new for every cross-check).
+
+    Reported: the method, the cost of what it integrated (``record``, ``cost``), the drift of the
+    invariants it monitors (``invariant``), per-output accuracy claims (``claim``), the scene's motion
+    (``motion``, ``follow``) and anything else worth showing (``info``).
     """
 
     rtol: float
+    integrator: str | None = None
+    keep_trajectories: bool = False
+    shared: dict = field(default_factory=dict, repr=False)
     method: str | None = None
     info: dict = field(default_factory=dict)
     claims: dict = field(default_factory=dict)
@@ -209,34 +219,38 @@ class Run:
     # name -> the drift the method allows for that invariant (None: the exercise's default claim,
     # tol_factor * rtol); a drift beyond it fails the cross-check
     invariant_allowed: dict = field(default_factory=dict)
-    nfev: int = 0
-    # shared by the runs of one cross-check (the solve and its rerun at rtol/10): a solver may keep there
-    # what it computed at a tolerance that does not depend on rtol, keyed by everything it depends on;
-    # never in the JSON, and new for every cross-check (so bench's timed repeats never share it)
-    shared: dict = field(default_factory=dict, repr=False)
-    # the scene's motion (``motion``), kept when the caller asks for it (a trajectory)
-    keep_trajectories: bool = False
+    # (evaluations, forced) of each recorded integration (forced: ``integrator`` was applied) or of a cost
+    # that is no integration (forced None)
+    costs: list = field(default_factory=list, repr=False)
     motion_parts: list = field(default_factory=list, repr=False)
-    # the integrator every ODE integration of the solve must use (``mech bench``): None keeps each
-    # integration's own method and step settings; a method name ("LSODA") replaces the method;
-    # "student" runs solve_ivp's defaults.  ``integrate`` applies it; a shared solver that integrates
-    # takes it as ``integrator=run.integrator``.
-    integrator: str | None = None
-    # recorded integrations that ran with ``integrator`` applied / with the exercise's own settings
-    forced_runs: int = 0
-    own_runs: int = 0
+
+    @property
+    def nfev(self) -> int:
+        """Right-hand-side (or model) evaluations of everything recorded."""
+        return sum(n for n, _ in self.costs)
+
+    @property
+    def forced_runs(self) -> int:
+        """Recorded integrations that ran with ``integrator`` applied."""
+        return sum(1 for _, forced in self.costs if forced)
+
+    @property
+    def own_runs(self) -> int:
+        """Recorded integrations that ran with the exercise's own settings."""
+        return sum(1 for _, forced in self.costs if forced is False)
 
     def record(self, result: Any, method: str | None = None) -> Any:
-        """Add the cost of an integration (anything with ``nfev`` and ``method``)."""
-        self.nfev += int(getattr(result, "nfev", 0) or 0)
+        """Add the cost of an integration (anything with ``nfev``, ``method`` and ``forced``: a trajectory,
+        an orbit map that integrated many)."""
         m = method or getattr(result, "method", None)
         if m and not self.method:
             self.method = m
-        if getattr(result, "forced", False):
-            self.forced_runs += 1
-        else:
-            self.own_runs += 1
+        self.costs.append((int(getattr(result, "nfev", 0) or 0), bool(getattr(result, "forced", False))))
         return result
+
+    def cost(self, nfev: int) -> None:
+        """Add evaluations of a route that integrates no ODE through ``ode`` (a splitting, a quadrature)."""
+        self.costs.append((int(nfev), None))
 
     def integrate(self, rhs: Callable, t_span, y0, **kwargs) -> Any:
         """``ode.integrate`` under the Run's integrator choice, recorded; the keywords are the exercise's own
@@ -253,6 +267,31 @@ class Run:
         self.record(traj)
         return t_ev, y_ev, traj
 
+    def follow(self, motion: Any, rtol: float | None = None, dense: bool = False) -> Any:
+        """Integrate a declared ``motion.Motion`` at ``rtol`` (the Run's by default): recorded, its invariants'
+        drifts reported, marked as the scene's motion.  Returns a ``motion.Path``."""
+        from mech.problems.motion import Path
+
+        rtol = self.rtol if rtol is None else rtol
+        opts = dict(motion.options)
+        if motion.y_size is not None:
+            size = motion.y_size
+            opts["atol"] = [rtol * 1e-3 * v for v in size] if hasattr(size, "__len__") else rtol * 1e-3 * size
+        if motion.event is not None:
+            t_end, y_end, traj = self.integrate_to_event(motion.rhs, motion.span, motion.y0, motion.event,
+                                                         rtol=rtol, **opts)
+        else:
+            if dense or self.keep_trajectories:
+                opts["dense_output"] = True  # a smooth trajectory; the steps are the same
+            traj = self.integrate(motion.rhs, motion.span, motion.y0, rtol=rtol, **opts)
+            t_end, y_end = float(traj.t[-1]), traj.y[:, -1]
+        for name, f in motion.invariants.items():
+            self.invariant(name, f(y_end) - f(motion.y0))
+        for name, g in motion.monitors.items():
+            self.invariant(name, g(traj.y))
+        self.motion(traj, t_scale=motion.t_scale, y_scale=motion.y_scale, transform=motion.to_states)
+        return Path(float(t_end), y_end, traj)
+
     def motion(self, traj: Any, *, t_scale: float = 1.0, t_offset: float = 0.0, y_scale=None,
                rows=None, transform: Callable | None = None) -> None:
         """Mark an integration (anything with ``t``, ``y`` and optionally a continuous extension ``sol``) as
@@ -266,6 +305,14 @@ class Run:
             if transform is not None:
                 traj = _Transformed(traj, transform)
             self.motion_parts.append((traj, float(t_scale), float(t_offset), y_scale, rows))
+
+    def trajectory(self, n: int, samples: int = 201):
+        """The motion marked (``motion``), in SI, legs joined in time: ``(t, y)``, or None when none was kept."""
+        if not self.motion_parts:
+            return None
+        from mech.problems.motion import join
+
+        return join(self.motion_parts, n, samples)
 
     def claim(self, name: str, rel: float | None = None, abs: float | None = None) -> None:
         """Declare the accuracy of one output: relative and/or absolute."""
@@ -395,6 +442,7 @@ class Exercise:
         self._analytic_error: Callable | None = None
         self._hamiltonian: Callable | None = None
         self._scene: Callable | None = None
+        self._motion: Callable | None = None
         self._batched: "BatchedRoute | None" = None
         self._theory_range: Callable | None = None
         self._approximations: Callable | None = None
@@ -448,6 +496,19 @@ class Exercise:
         (``mech bench`` adds that row).  It does not replace the numeric solver."""
         self._hamiltonian = fn
         return fn
+
+    def motion(self, fn: Callable[[Params], Any]) -> Callable:
+        """Register ``fn(p) -> mech.problems.motion.Motion``: the motion the numeric solve integrates, declared
+        once (right-hand side, start, span, event, invariants, scales to SI; rows are ``states``).  The
+        numeric solve follows it (``run.follow``), the scene takes it (``SceneRun.motion``)."""
+        if not self.states:
+            raise ValueError(f"{self.id}: a motion needs the exercise's states (names and units)")
+        self._motion = fn
+        return fn
+
+    def motion_at(self, p: Params) -> Any:
+        """The declared motion at ``p`` (``@exercise.motion``), None without one."""
+        return None if self._motion is None else self._motion(p)
 
     def scene(self, fn: Callable[[Params, Any], Any]) -> Callable:
         """Optional: ``fn(p, run) -> mech.problems.scene.Scene``, what ``mech plot`` draws for this
@@ -545,6 +606,11 @@ class Exercise:
         return None
 
     @property
+    def has_motion(self) -> bool:
+        """Whether the exercise declares its motion (``@exercise.motion``)."""
+        return self._motion is not None
+
+    @property
     def has_scene(self) -> bool:
         """Whether the exercise draws a scene of its own (``@exercise.scene``, ``mech plot``)."""
         return self._scene is not None
@@ -615,7 +681,7 @@ class Exercise:
                       keep_trajectories: bool = False, integrator: str | None = None) -> tuple[dict, Run]:
         """The numeric solver's answers and its Run; ``integrator`` forces every ODE integration onto one
         integrator (``mech bench``; see ``Run.integrator``)."""
-        run = Run(rtol=float(rtol or self.default_rtol), method=None, keep_trajectories=keep_trajectories,
+        run = Run(rtol=float(rtol or self.default_rtol), keep_trajectories=keep_trajectories,
                   integrator=integrator)
         if shared is not None:
             run.shared = shared

@@ -101,7 +101,7 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=20261124)
     ap.add_argument("--timeout", type=float, default=10.0, help="seconds before a run is killed [10]")
     ap.add_argument("--jobs", type=int, default=1, help="runs at once [1: timings stay honest]")
-    ap.add_argument("--markdown", action="store_true", help="a per-exercise table for the README")
+    ap.add_argument("--markdown", action="store_true", help="a per-exercise table in Markdown (docs/verification.md)")
     ap.add_argument("ids", nargs="*")
     args = ap.parse_args(argv)
 

@@ -170,7 +170,7 @@ def main(argv=None) -> int:
     ap.add_argument("--no-bytecode-cache", action="store_true",
                     help="compile mech's sources in every process (PYTHONDONTWRITEBYTECODE=1) instead of caching "
                          "them as an installed package does")
-    ap.add_argument("--markdown", action="store_true", help="also print the table as Markdown (for the README)")
+    ap.add_argument("--markdown", action="store_true", help="also print the table as Markdown (docs/performance.md)")
     ap.add_argument("--overhead", nargs="*", metavar="ID", help="profile the numeric solvers instead (see above)")
     a = ap.parse_args(argv)
     if a.overhead is not None:

@@ -12,6 +12,9 @@ import pytest
 
 from conftest import solve_both
 
+import mech
+from mech.problems import registry
+
 
 @pytest.mark.parametrize(
     "theta0, l, g, theta_c, omega_c",
@@ -65,3 +68,35 @@ def test_subnormal_start_angle_is_refused():
     ex = registry.get("4.15")
     with pytest.raises(BadInput, match="theta0 = .* below 1e-300"):
         ex.resolve(dict(theta0=5e-324))
+
+
+def test_the_declared_motion_starts_on_the_energy_path_below_upright():
+    """The start is declared once (``@exercise.motion``); the numeric solve, the trajectory and the
+    Hamiltonian for bench all take it from there.  By hand: with both ends in contact
+    θ'² = (3g/l)(sin θ₀ - sin θ), so UPRIGHT_NUDGE below upright θ' = -(3g/l (1 - cos 1e-6))^(1/2)."""
+    from mech.problems.ch4.ex4_15_sliding_ladder import UPRIGHT_NUDGE
+
+    ex = registry.get("4.15")
+    l, g = 2.0, 9.81
+    p = ex.resolve({"theta0": math.pi / 2, "l": l, "g": g})
+    theta, omega = ex.motion_at(p).start
+    assert theta == pytest.approx(math.pi / 2 - UPRIGHT_NUDGE, rel=1e-15)
+    # the program forms sin θ₀ - sin θ as a difference of two numbers near 1 (about 5e-13 apart): up to
+    # 2 ulp / 5e-13 ~ 1e-3 of it is round-off, half that in the square root
+    assert omega == pytest.approx(-math.sqrt(3 * g / l * 2 * math.sin(UPRIGHT_NUDGE / 2) ** 2), rel=1e-3)
+    tr = mech.solve("4.15", theta0=math.pi / 2, l=l, g=g).trajectory
+    assert tr.y[:, 0] == pytest.approx([theta, omega], rel=1e-12)
+    H = ex.separable_hamiltonian(p)
+    assert (H.q0, 3.0 * H.p0 * math.sqrt(g / l)) == pytest.approx((theta, omega), rel=1e-12)
+
+
+def test_the_scene_draws_the_declared_motion_to_the_wall_letting_go():
+    """The scene integrates nothing of its own: its curve ends where the numeric solve's event is, and the
+    wall's force there is zero (N ∝ cos θ ((3/2) sin θ - sin θ₀) from energy, by hand)."""
+    ex = registry.get("4.15")
+    p = ex.resolve({"theta0": 1.2})
+    scene, _ = ex.make_scene(p, points=0)
+    curve = scene.panels[0].items[0]
+    theta_c = math.asin(2.0 / 3.0 * math.sin(1.2))
+    assert math.radians(curve.x[-1]) == pytest.approx(theta_c, rel=1e-8)
+    assert abs(curve.y[-1]) < 1e-8 and curve.y[0] > 0.0

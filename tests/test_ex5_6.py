@@ -13,6 +13,7 @@ K(k^2)/omega0.  Independent values used below:
 
 import math
 
+import numpy as np
 import pytest
 
 from conftest import solve_both
@@ -54,6 +55,22 @@ def test_logarithmic_divergence_near_the_top():
     for v in (a, n):
         # (math.pi - phi0) is phi0 below the true pi to ~1e-9 relative in phi0
         assert v["T"] == pytest.approx(4 / w0 * math.log(8 / phi0), rel=1e-8)
+
+
+def test_the_scene_draws_the_declared_quarter_swing_and_its_mirror_images_on_one_energy_level():
+    """The phase portrait's swing is the numeric solve's declared motion (a quarter swing, here above 90
+    degrees where it is integrated from upright) mirrored by time reversal and parity: a closed curve on
+    θ'²/(2 ω0²) - cos θ = -cos θ0, written here, through (±θ0, 0) and (0, ±2 sin(θ0/2))."""
+    from mech.problems import registry
+
+    ex = registry.get("5.6")
+    theta0 = 2.5
+    scene, _ = ex.make_scene(ex.resolve({"theta0": theta0}), points=0)
+    swing = next(i for i in scene.panels[0].items if getattr(i, "kind", "") == "trajectory")
+    q, v = np.radians(swing.x), np.asarray(swing.y)
+    assert np.max(np.abs(0.5 * v**2 - np.cos(q) + math.cos(theta0))) < 1e-8
+    assert np.max(q) == pytest.approx(theta0, rel=1e-12) and np.min(q) == pytest.approx(-theta0, rel=1e-12)
+    assert np.max(np.abs(v)) == pytest.approx(2.0 * math.sin(theta0 / 2.0), rel=1e-6)
 
 
 def test_domega_next_to_the_top_against_a_100_digit_agm():

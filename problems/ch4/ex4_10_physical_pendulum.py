@@ -141,8 +141,9 @@ def _dlog_omega(body, x):
     return np.imag(body.omega(x + 1j * h)) / h
 
 
-def _period_omega(body, l, rtol, run):
-    """Omega from the period of the nonlinear swing at a tiny amplitude (crossings of phi = 0)."""
+def _period_omega(body, l, rtol, run, t_unit=1.0):
+    """Omega from the period of the nonlinear swing at a tiny amplitude (crossings of phi = 0); the swing,
+    in the body's units, is the scene's motion, brought to SI by the time unit ``t_unit``."""
     inertia = body.inertia_about_pivot(l)
 
     def rhs(t, y):
@@ -159,7 +160,7 @@ def _period_omega(body, l, rtol, run):
         max_step=guess / 16,
         dense_output=run.keep_trajectories,  # a smooth curve for the trajectory; the steps are the same
     )
-    run.motion(traj)
+    run.motion(traj, t_scale=t_unit, y_scale=[1.0, 1.0 / t_unit])
     crossings = traj.t_events[0]
     if len(crossings) < 2:
         raise NumericFailure("the small swing did not cross the vertical twice")
@@ -192,7 +193,8 @@ def numeric(p, run):
     omega = body.omega(lam)
     # the torque's sums are exact (see _Body), so the period check can run at the solve's own tolerance
     period_rtol = min(max(run.rtol, 1e-12), 1e-6)
-    omega_swing = _period_omega(body, lam, period_rtol, run)
+    # the time unit (rho/g)^(1/2), for the trajectory in SI
+    omega_swing = _period_omega(body, lam, period_rtol, run, math.sqrt(rho) / math.sqrt(p.g))
     mismatch = abs(omega_swing - omega) / omega
     rate = math.sqrt(p.g) / math.sqrt(rho)
     run.info["Omega_from_period"] = omega_swing * rate

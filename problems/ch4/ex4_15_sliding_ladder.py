@@ -20,7 +20,6 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise
-from mech.solvers.numerics.ode import integrate_to_event
 from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
@@ -82,29 +81,33 @@ def _accelerations(theta, omega, M, l, g):
 
 
 def _energy(theta, omega, M, l, g):
-    """T + U summed from the center's motion and the rotation about it."""
+    """T + U summed from the center's motion (speed l omega / 2) and the rotation about it."""
     v2 = (l / 2 * omega) ** 2
     return 0.5 * M * v2 + 0.5 * (M * l**2 / 12.0) * omega**2 + M * g * l / 2 * np.sin(theta)
 
 
-@exercise.numeric
-def numeric(p, run):
-    # Units M = l = g = 1: the mass cancels from every output and l, g only set the time unit
-    # (l/g)^(1/2), so the run is the same for every l and g (l = 1e-300 m included).  A small start
-    # angle falls for a time of order theta0^(1/2) and reaches speeds of that order: the state is
-    # integrated as (theta/theta0, omega/theta0^(1/2)) in time t/theta0^(1/2), each of order one
-    # for any theta0 (1e-300 rad included).
+def _start(theta0):
+    """(theta, omega) at the start, units M = l = g = 1: at rest at theta0, or, within UPRIGHT_NUDGE of
+    the upright equilibrium (which an integrator would never leave), UPRIGHT_NUDGE below it on the
+    energy-conserving path."""
+    if np.pi / 2 - theta0 >= UPRIGHT_NUDGE:
+        return theta0, 0.0
+    theta = theta0 - UPRIGHT_NUDGE
+    e0, u = _energy(theta0, 0.0, 1.0, 1.0, 1.0), _energy(theta, 0.0, 1.0, 1.0, 1.0)
+    return theta, -np.sqrt((e0 - u) / (_energy(theta, 1.0, 1.0, 1.0, 1.0) - u))
+
+
+@exercise.motion
+def motion(p):
+    """The ladder from its start until the wall lets go.  Units M = l = g = 1: the mass cancels from every
+    output and l, g only set the time unit (l/g)^(1/2), so the run is the same for every l and g.  A small
+    start angle falls for a time of order theta0^(1/2) at speeds of that order, so the state is integrated
+    as (theta/theta0, omega/theta0^(1/2)) in time t/theta0^(1/2), each of order one for any theta0."""
+    from mech.problems.motion import Motion
+
     M, l, g = 1.0, 1.0, 1.0
-    a_s = p.theta0
-    w_s = math.sqrt(p.theta0)
-    theta_start, omega_start = p.theta0, 0.0
-    if np.pi / 2 - p.theta0 < UPRIGHT_NUDGE:
-        theta_start = p.theta0 - UPRIGHT_NUDGE
-        # speed from energy conservation with the start at rest at theta0
-        e0 = _energy(p.theta0, 0.0, M, l, g)
-        u_start = _energy(theta_start, 0.0, M, l, g)
-        t_per_unit_omega2 = _energy(theta_start, 1.0, M, l, g) - u_start
-        omega_start = -np.sqrt((e0 - u_start) / t_per_unit_omega2)
+    a_s, w_s = p.theta0, math.sqrt(p.theta0)
+    theta_start, omega_start = _start(p.theta0)
 
     def rhs(t, y):
         # d(theta/a_s)/d(t/w_s) = omega/w_s, d(omega/w_s)/d(t/w_s) = theta'' (a_s = w_s^2)
@@ -113,28 +116,25 @@ def numeric(p, run):
     def wall_force(t, y):
         return _accelerations(a_s * y[0], w_s * y[1], M, l, g)[1] / a_s
 
-    # Integrator: DOP853 at rtol 1e-10 (tolerance 1e-8), kept after `mech bench 4.15`: 533 evaluations
-    # for 8.5e-12; LSODA needs 295 but reaches only 1.3e-10 (a margin of 80 under the tolerance, and its
-    # error stalls at 1e-11 below rtol 1e-11) and is no faster per step; RK45 needs 1484, Radau 5605.
-    t_ev, y_ev, traj = run.integrate_to_event(
-        rhs,
-        (0.0, 200.0),
-        [theta_start / a_s, omega_start / w_s],
-        Event(wall_force, direction=-1, name="N_wall = 0"),
-        rtol=run.rtol,
-    )
+    def energy(y):
+        """(T + U) / (theta0 M g l / 2): of order one for any theta0."""
+        return _energy(a_s * y[0], w_s * y[1], M, l, g) / a_s / (M * g * l / 2)
 
-    def energy_over_scale(y):
-        """(T + U) / a_s from the center's motion and the rotation about it, in the scaled state."""
-        v2 = (l / 2 * y[1]) ** 2
-        return 0.5 * M * v2 + 0.5 * (M * l**2 / 12.0) * y[1] ** 2 + M * g * l / 2 * math.sin(a_s * y[0]) / a_s
+    w_unit = math.sqrt(p.g) / math.sqrt(p.l)
+    # Integrator: DOP853 at rtol 1e-10 (tolerance 1e-8), kept after `mech bench 4.15`: fewest evaluations
+    # for an error well under the tolerance.
+    return Motion(rhs, [theta_start / a_s, omega_start / w_s], (0.0, 200.0),
+                  event=Event(wall_force, direction=-1, name="N_wall = 0"), invariants={"energy": energy},
+                  t_scale=w_s * math.sqrt(p.l) / math.sqrt(p.g), y_scale=[a_s, w_s * w_unit])
 
-    e_start = energy_over_scale([theta_start / a_s, omega_start / w_s])
-    run.invariant("energy", (energy_over_scale(y_ev) - e_start) / (M * g * l / 2))
-    t_unit = w_s * math.sqrt(p.l) / math.sqrt(p.g)
-    run.motion(traj, t_scale=t_unit, y_scale=[a_s, w_s * math.sqrt(p.g) / math.sqrt(p.l)])
-    run.info["t_c"] = t_ev * t_unit
-    return {"theta_c": a_s * y_ev[0], "omega_c": w_s * abs(y_ev[1]) * math.sqrt(p.g) / math.sqrt(p.l)}
+
+@exercise.numeric
+def numeric(p, run):
+    m = motion(p)
+    end = run.follow(m)
+    theta_c, omega_c = m.si(end.y_end)
+    run.info["t_c"] = end.t_end * m.t_scale
+    return {"theta_c": theta_c, "omega_c": abs(omega_c)}
 
 
 @exercise.hamiltonian
@@ -143,18 +143,15 @@ def hamiltonian(p):
     radius l/2, so T = (1/2)(M l²/4 + M l²/12) θ'² = (M l²/6) θ'² does not depend on θ: H = 3 p²/(2 M l²)
     + (M g l/2) sin θ is separable.  Units M = l = 1, τ = (g/l)^½ t: θ' = 3p, p' = -(1/2) cos θ.  The wall's
     force is M x'' with x = (l/2) cos θ: N ∝ -(sin θ θ'' + cos θ θ'²) = cos θ ((3/2) sin θ - θ'²), so the
-    event is (3/2) sin θ - θ'² falling through zero.  Started as the numeric solver starts (the nudge)."""
+    event is (3/2) sin θ - θ'² falling through zero.  Started where the declared motion starts."""
     from mech.solvers.numerics.symplectic import SeparableHamiltonian
 
-    theta, omega = p.theta0, 0.0
-    if np.pi / 2 - p.theta0 < UPRIGHT_NUDGE:
-        theta = p.theta0 - UPRIGHT_NUDGE
-        omega = -np.sqrt(3.0 * (np.sin(p.theta0) - np.sin(theta)))  # energy, scaled units
+    theta, omega = _start(p.theta0)
     w_unit = math.sqrt(p.g) / math.sqrt(p.l)
     return SeparableHamiltonian(
         velocity=lambda mom: 3.0 * mom,
         force=lambda q: -0.5 * np.cos(q),
-        energy=lambda q, mom: 1.5 * mom * mom + 0.5 * np.sin(q),
+        energy=lambda q, mom: _energy(q, 3.0 * mom, 1.0, 1.0, 1.0),
         q0=float(theta),
         p0=float(omega / 3.0),
         t_max=200.0,
@@ -168,27 +165,18 @@ def hamiltonian(p):
 
 @exercise.scene
 def scene(p, run):
-    """The wall's force against the angle, from the same Newton-Euler equations integrated from the same
-    start as the numeric solver, up to the loss of contact; and the ladder drawn at equal steps of angle."""
+    """The wall's force against the angle along the declared motion, up to the loss of contact; and the
+    ladder drawn at equal steps of angle."""
     from mech.problems.scene import Axis, Guide, Line, Markers, Note, Panel, Scene
 
-    M, l, g = 1.0, p.l, p.g
-    theta, omega = p.theta0, 0.0
-    if np.pi / 2 - p.theta0 < UPRIGHT_NUDGE:
-        theta = p.theta0 - UPRIGHT_NUDGE
-        e0, u = _energy(p.theta0, 0.0, M, l, g), _energy(theta, 0.0, M, l, g)
-        omega = -np.sqrt((e0 - u) / (_energy(theta, 1.0, M, l, g) - u))
-    t_unit = np.sqrt(l / g)
-    t_c, y_c, traj = integrate_to_event(
-        lambda t, y: np.array([y[1], _accelerations(y[0], y[1], M, l, g)[0]]),
-        (0.0, 200.0 * t_unit), [theta, omega],
-        Event(lambda t, y: _accelerations(y[0], y[1], M, l, g)[1], direction=-1, name="N_wall = 0"),
-        rtol=run.rtol, atol=[run.rtol * 1e-3 * p.theta0, run.rtol * 1e-3 * p.theta0 / t_unit],
-    )
+    l = p.l
+    m, path = run.motion(p)
     # the angle runs from theta0 down to theta_c; sample it evenly in angle, not in time (most of the
     # time is spent near the upright start)
-    ts = np.linspace(0.0, t_c, 4000)
-    th, w = traj.sol(ts)
+    ys = path.traj.sol(np.linspace(0.0, path.t_end, 4000))
+    (th, w), y_c = m.si(ys), m.si(path.y_end)
+    theta = th[0]
+    M, g = 1.0, p.g
     N = np.array([_accelerations(a, b, M, l, g)[1] for a, b in zip(th, w)]) / (M * g)
     deg = 180.0 / np.pi
     a = run.analytic(p)

@@ -331,7 +331,7 @@ def numeric(p, run):
             run.claim("T", rel=rel)
         else:
             # judged after the monitors: on an unstable steady motion (a nearly upright coin rolling
-            # slowly, issue 14: theta = 5.5e-7, R/r = 1.5e4) the axis falls over within the fit's 20
+            # slowly: theta = 5.5e-7, R/r = 1.5e4) the axis falls over within the fit's 20
             # spin turns and its azimuth is meaningless; the steady-state root then answers (below)
             T_s = None
 

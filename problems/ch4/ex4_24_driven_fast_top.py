@@ -16,48 +16,28 @@ about eps_g M g/F radians by t_down.
 
 Numeric: the exact equations of the symmetric top about the pivot,
 dn3/dt = L x n3/I_A, dL/dt = l n3 x (-M g z + F(t)), from n3 = z, L = L3 z, by a
-symmetric splitting: the free motion (L fixed, n3 turning about L at
-|L|/I_A, the nutation, done exactly by a rotation) alternates with kicks of L by
-the torque at fixed n3 (a composition of Strang steps, a fixed number of steps
-per nutation period set from rtol: Yoshida's 7-stage 6th-order one, or where it
-costs fewer stages for errors no larger, Kahan and Li's 17-stage 8th-order one;
-on the tops measured, eps ~ 3e-4 - 0.05, it needs 2.5-5.5 steps per nutation
-period where the 6th-order one needs 7-26).  This follows thousands of nutation
-periods at a fraction of the cost of an adaptive Runge-Kutta, and keeps L . n3
-exactly.  t_down and t_up: sign changes of n3 . z located by bisection on a
-partial step; phi_lead from the state there; cos_min: the lowest step, then a
-bounded minimization over partial steps around it.  Monitored: L3 = L . n3, |n3|,
-and the Jacobi integral of the frame turning with F.
+symmetric splitting: the free motion (L fixed, n3 turning about L at |L|/I_A,
+the nutation, done exactly by a rotation) alternates with kicks of L by the
+torque at fixed n3, composed into Yoshida's 7-stage 6th-order step or, where it
+costs fewer stages for the same error, Kahan and Li's 17-stage 8th-order one,
+a fixed number of steps per nutation period set from rtol.  This follows
+thousands of nutation periods at a fraction of the cost of an adaptive
+Runge-Kutta and keeps L . n3 exactly.  t_down and t_up: sign changes of n3 . z
+located on a partial step; phi_lead from the state there; cos_min: the lowest
+step, then a bounded minimization over partial steps around it.  Monitored:
+L3 = L . n3, |n3|, and the Jacobi integral of the frame turning with F.
 
 Very fast tops: away from the events, coarse kick-rotate-kick (Strang) steps of
-many nutation periods, the rotation k H on a root of x cot x = 1 (x = k H/2),
-where the kicks rebuild the forced nutation.  Scaled rates: k nutation,
+many nutation periods, the rotation k H on a root of x cot x = 1 (x = k H/2), so
+that the kicks rebuild the forced nutation.  Scaled rates: k nutation,
 a = M g l/L3 (weight), b = l F/L3 (force), Om = hypot(a, b), w = a the drive's.
-Splitting in the frame turning with F instead (kick by a n_z - b n_x', exact
-nutation, exact frame rotation about z) gives the same map to round-off
-(1e-14 over random states): the frame rotation commutes with the nutation and
-with a n_z.  So the plain step's error scales with Om H, not b H: on a
-weak-force top (the bounds draw: a/b = 29, eps = 1.3e-4, 1.8e5 nutation periods
-per overturn), against the fine splitting at rtol 1e-8, t_down was off by
-1.0e-4 at Om H = 0.029 (exponent of H 2.2-2.5), the same at 4x the force, ten
-times less at a/4.  Measured sources, each cancelled in the coarse kicks:
-(1) the slow turn of n about g = -a z + b f runs fast by
-(Om H)^2/12 (3 cos^2 - 1) (cos: n's angle to g; measured at tilts 0-3 with the
-weight alone): torque scaled by 1 - (H^2/12)(3 (g.n)^2 - Om^2), 100x smaller;
-(2) the force's part runs fast by (w H)^2/12 (t_down early by 7e-5 at
-a H = 0.029): b scaled by x/tan x, x = w H/2 (t_down error 7e-5 -> 3.6e-6 there);
-(3) what stays, a slip of the weight's precession ~ (b H)^2/3 (phi_lead off by
-~0.25 Om b H^2): a scaled by 1 - (b H)^2/3, an empirical coefficient that cuts
-phi_lead's error 4-100x on six tops with a/b = 0.8-233; (4) a step of size H
-holds L - n off the exact forced nutation by (H^2/4) dtau/dt (tau = n x g),
-which becomes a free nutation wherever the step size changes: L is moved by
-that much there (_retune: free nutation 4e-5 -> 2e-8 at a H = 0.029; t_down,
-t_up 10x closer on two tops).  What is left, relative: below 0.5 (Om H)^3 on all
-six tops, so the coarse step is sized by (Om H)^3 = 2 rtol (and by
-0.25 Om b H^2 = rtol, phi_lead's error before (3), kept as a second bound):
-the plain step needed (Om H)^2 = rtol.  On the bounds draw at rtol 1e-6 the
-steps are 13 nutation periods, 1.5e4 steps, 0.11 s, errors <= 3e-7 (rtol 1e-7:
-5e4 steps; the plain step there could not take coarse steps at all: 1e6 fine).
+The plain step's error grows as (Om H)^2; four corrections, each cancelling one
+term of it, leave (Om H)^3: the torque scaled by 1 - (H^2/12)(3 (g.n)^2 - Om^2)
+(the slow turn of n about g = -a z + b f), b by x/tan x with x = w H/2 (the
+force's turn), a by 1 - (b H)^2/3 (the weight's precession slip, an empirical
+coefficient), and L moved by (H^2/4) dtau/dt (tau = n x g) wherever the step
+size changes (``_retune``: else the offset becomes a free nutation).  The coarse
+step is sized by (Om H)^3 = 2 rtol and 0.25 Om b H^2 = rtol.
 
 Allowances (measured bounds; phi_lead's slip term derived, see ``expected_error``):
   t_down 1.8 eps_g + eps_F + slip^2 + 100 eps_F^2;  t_up 0.6 eps_g + 0.4 eps_F + slip^2/3 + 40 eps_F^2;
@@ -582,7 +562,7 @@ def _numeric(p, run):
             drift_J = max(drift_J, abs(jacobi(n2, L2, t2) - J0) / J_scale)
             drift_L3 = max(drift_L3, abs(n2[0] * L2[0] + n2[1] * L2[1] + n2[2] * L2[2] - 1.0))
         n, L, t = n2, L2, t2
-    run.nfev = nsteps * (len(weights) + 1) + ncoarse * 2
+    run.cost(nsteps * (len(weights) + 1) + ncoarse * 2)
     run.info["steps"] = nsteps + ncoarse
     run.info["steps_per_nutation_period"] = m
     if H:

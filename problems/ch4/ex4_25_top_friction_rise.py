@@ -187,8 +187,8 @@ def numeric(p, run):
     # rescaling; t becomes a state, integrated as k t).  In t the spin falls linearly to a stop
     # at t_stop while the tilt rate grows as 1/|L|: with the spin falling by up to e^25 the
     # solution has a log singularity just past the event, and DOP853's error control on
-    # (L_x', L_z') misses the error of the tilt there (omega_rise moved by 4e-4 between rtol
-    # and rtol/10 at a fall by e^12, issue 14).  In s, |L| decays exponentially at the rate
+    # (L_x', L_z') misses the error of the tilt there (omega_rise moves by 4e-4 between rtol
+    # and rtol/10 at a fall by e^12).  In s, |L| decays exponentially at the rate
     # (R/l)/(1 + R/l) and the axis turns at the rate 1/(1 + R/l): a smooth flow, controlled
     # relatively to the last digit however far the spin falls.
     k = p.mu * (1.0 + rl)

@@ -89,8 +89,9 @@ def _forces(y, k):
     return k * x + 2.0 * vy, k * yy - 2.0 * vx + n, n
 
 
-@exercise.numeric
-def numeric(p, run):
+def _units(p):
+    """(T0, k, L, V, tau_end): the time unit T0, k = omega T0, the length and velocity units and the run's
+    end in T0; L = 0 for a bead at rest on the axis."""
     w, t = p.omega, p.t
     # time unit T0: 1/omega, or t itself where |v0|/omega (or 1/omega) leaves the floating-point range in a run
     # shorter than 1/omega (omega = 1e-100 rad/s, v0 = 1e250 m/s, t = 1e-200 s: r ~ v0 t = 1e50 m); then
@@ -102,29 +103,51 @@ def numeric(p, run):
     if short:
         T0, k = t, w * t
         L = max(abs(p.r0), abs(p.v0) * T0)
-    if L == 0.0:  # at rest on the axis: an equilibrium
-        return {"r": 0.0, "a_rot": 0.0, "a_lab": 0.0, "N": 0.0}
+    if L == 0.0:
+        return T0, k, L, 0.0, 0.0
     V = L / T0 if short else L * w  # velocity unit
     if not (math.isfinite(L) and math.isfinite(V) and V > 0.0):
         raise NumericFailure(f"the length unit {L:.3g} m or velocity unit {V:.3g} m/s leaves the floating-point range")
-    tau_end = t / T0 if short else w * t
-    y0 = np.array([p.r0 / L, 0.0, p.v0 / V, 0.0])
+    return T0, k, L, V, t / T0 if short else w * t
+
+
+@exercise.motion
+def motion(p):
+    """The bead in the rotating frame, in units T0, L, V (``_units``): along the rod (x) and across it (y,
+    held at zero by the rod's reaction), from (r0, v0) for the time t.  None for a bead at rest on the axis
+    (an equilibrium)."""
+    from mech.problems.motion import Motion
+
+    T0, k, L, V, tau_end = _units(p)
+    if L == 0.0:
+        return None
 
     def rhs(t, y):
         fx, fy, _ = _forces(y, k)
         return np.array([y[2], y[3], k * fx, k * fy])
 
-    if tau_end > 0.0:
-        atol = run.rtol * 1e-3 * math.exp(-k * tau_end)
-        traj = run.integrate(rhs, (0.0, tau_end), y0, rtol=run.rtol, atol=atol, dense_output=run.keep_trajectories)
-        run.motion(traj, t_scale=T0, y_scale=[L, V], rows=[0, 2])  # across the rod: 0
-        y = traj.y_end
-        jac = 0.5 * (traj.y[2] ** 2 + traj.y[3] ** 2 - k * k * (traj.y[0] ** 2 + traj.y[1] ** 2))
-        size = 0.5 * (traj.y[2] ** 2 + traj.y[3] ** 2 + k * k * (traj.y[0] ** 2 + traj.y[1] ** 2))
-        run.invariant("jacobi", float(np.max(np.abs(jac - jac[0]) / np.maximum(size, np.finfo(float).tiny))))
-        run.invariant("constraint", float(np.max(np.abs(traj.y[1]))))
-    else:
-        y = y0
+    def jacobi(Y):
+        """The Jacobi integral (v^2 - k^2 r^2)/2 at every step, relative to (v^2 + k^2 r^2)/2 there."""
+        jac = 0.5 * (Y[2] ** 2 + Y[3] ** 2 - k * k * (Y[0] ** 2 + Y[1] ** 2))
+        size = 0.5 * (Y[2] ** 2 + Y[3] ** 2 + k * k * (Y[0] ** 2 + Y[1] ** 2))
+        return float(np.max(np.abs(jac - jac[0]) / np.maximum(size, np.finfo(float).tiny)))
+
+    # |d y/d tau| <= k |y| for this system, so |y| >= e^(-k tau) |y0|: an absolute tolerance below that
+    # keeps the error control relative all the way
+    return Motion(rhs, np.array([p.r0 / L, 0.0, p.v0 / V, 0.0]), (0.0, tau_end),
+                  monitors={"jacobi": jacobi, "constraint": lambda Y: float(np.max(np.abs(Y[1])))},
+                  t_scale=T0, y_scale=[L, V], to_states=lambda Y: Y[[0, 2]],  # across the rod: 0
+                  y_size=math.exp(-k * tau_end))
+
+
+@exercise.numeric
+def numeric(p, run):
+    w = p.omega
+    m = motion(p)
+    if m is None:  # at rest on the axis: an equilibrium
+        return {"r": 0.0, "a_rot": 0.0, "a_lab": 0.0, "N": 0.0}
+    T0, k, L, V, tau_end = _units(p)
+    y = run.follow(m).y_end if tau_end > 0.0 else m.y0
     fx, fy, n = _forces(y, k)
     lab = np.array([fx - 2.0 * y[3] - k * y[0], fy + 2.0 * y[2] - k * y[1]])  # over k, like the forces
     scale = max(abs(y[0]), abs(y[2]))

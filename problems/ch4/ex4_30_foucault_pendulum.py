@@ -78,6 +78,46 @@ def _line_angle(x, y):
     return math.atan2(y, x) if x >= 0.0 else math.atan2(-y, -x)
 
 
+@exercise.motion
+def motion(p):
+    """The small swing in the Earth's frame, x'' = -w0^2 x + 2 w_z y', y'' = -w0^2 y - 2 w_z x', released from
+    rest at (a, 0), over HALF_SWINGS half-swings, with its turning points (rho rho' = 0) recorded; time in
+    1/(w0 + |w_z|) (the faster rate sets the steps), lengths in a."""
+    from mech.problems.motion import Motion
+
+    w0 = math.sqrt(p.g / p.l)
+    wz = _omega_z(p)
+    rate = w0 + abs(wz)
+    c2 = (w0 / rate) ** 2  # scaled restoring coefficient
+    k = wz / rate  # scaled vertical rotation rate
+
+    def rhs(t, y):
+        return np.array([y[2], y[3], -c2 * y[0] + 2.0 * k * y[3], -c2 * y[1] - 2.0 * k * y[2]])
+
+    def rrdot(t, y):
+        return y[0] * y[2] + y[1] * y[3]
+
+    def energy(Y):
+        rho2 = Y[0] ** 2 + Y[1] ** 2
+        return float(np.max(np.abs(0.5 * (Y[2] ** 2 + Y[3] ** 2 + c2 * rho2) - 0.5 * c2))) / (0.5 * c2)
+
+    def ang_mom(Y):
+        """The inertial frame's angular momentum about the vertical, x y' - y x' + w_z rho^2 (scaled)."""
+        rho2 = Y[0] ** 2 + Y[1] ** 2
+        return float(np.max(np.abs(Y[0] * Y[3] - Y[1] * Y[2] + k * rho2 - k))) / (1.0 + abs(k))
+
+    far_ev = Event(rrdot, terminal=False, direction=-1.0, name="far turning point")
+    near_ev = Event(rrdot, terminal=False, direction=+1.0, name="near turning point")
+    # the swing frequency w' is at least rate/sqrt(2) (it is at least w0 and |w_z|)
+    tau_end = HALF_SWINGS * math.sqrt(2.0) * math.pi
+    # Speeds in the Earth frame stay below w0^2/rate (scaled: c2); with a fast rotation (|w_z| >> w0)
+    # that is 1e-7 of the positions' scale, and an absolute tolerance sized for the positions would
+    # leave the velocities, and with them the turning points (rho rho' = 0), at 1e-6 relative.
+    return Motion(rhs, [1.0, 0.0, 0.0, 0.0], (0.0, tau_end), monitors={"energy": energy, "L_inertial": ang_mom},
+                  t_scale=1.0 / rate, y_scale=[p.a, p.a, p.a * rate, p.a * rate],
+                  y_size=np.array([1.0, 1.0, c2, c2]), options={"events": [far_ev, near_ev]})
+
+
 @exercise.numeric
 def numeric(p, run):
     w0 = math.sqrt(p.g / p.l)
@@ -89,33 +129,9 @@ def numeric(p, run):
             f"|w_z|/w0 = {abs(wz) / w0:.3g}: the loops of the path (relative size w0^2/(4 w_z^2)) are "
             "below round-off, too small to resolve"
         )
-    rate = w0 + abs(wz)  # time unit 1/rate: the faster of the two rates sets the steps
-    c2 = (w0 / rate) ** 2  # scaled restoring coefficient
-    k = wz / rate  # scaled vertical rotation rate
-
-    def rhs(t, y):
-        return np.array([y[2], y[3], -c2 * y[0] + 2.0 * k * y[3], -c2 * y[1] - 2.0 * k * y[2]])
-
-    def rrdot(t, y):
-        return y[0] * y[2] + y[1] * y[3]
-
-    far_ev = Event(rrdot, terminal=False, direction=-1.0, name="far turning point")
-    near_ev = Event(rrdot, terminal=False, direction=+1.0, name="near turning point")
-    # the swing frequency w' is at least rate/sqrt(2) (it is at least w0 and |w_z|)
-    tau_end = HALF_SWINGS * math.sqrt(2.0) * math.pi
-    # Speeds in the Earth frame stay below w0^2/rate (scaled: c2); with a fast rotation (|w_z| >> w0)
-    # that is 1e-7 of the positions' scale, and an absolute tolerance sized for the positions would
-    # leave the velocities, and with them the turning points (rho rho' = 0), at 1e-6 relative.
-    atol = run.rtol * 1e-3 * np.array([1.0, 1.0, c2, c2])
-    traj = run.integrate(rhs, (0.0, tau_end), [1.0, 0.0, 0.0, 0.0], rtol=run.rtol, atol=atol, events=[far_ev, near_ev])
-    run.motion(traj, t_scale=1.0 / rate, y_scale=[p.a, p.a, p.a * rate, p.a * rate])
-
-    Y = traj.y
-    rho2 = Y[0] ** 2 + Y[1] ** 2
-    energy = 0.5 * (Y[2] ** 2 + Y[3] ** 2 + c2 * rho2)
-    ang_mom = Y[0] * Y[3] - Y[1] * Y[2] + k * rho2
-    run.invariant("energy", float(np.max(np.abs(energy - 0.5 * c2))) / (0.5 * c2))
-    run.invariant("L_inertial", float(np.max(np.abs(ang_mom - k))) / (1.0 + abs(k)))
+    m = motion(p)
+    traj = run.follow(m).traj
+    rate = w0 + abs(wz)  # the time unit of the motion: 1/rate
 
     t_far = np.concatenate([[0.0], traj.t_events[0]])
     y_far = np.vstack([[1.0, 0.0, 0.0, 0.0], traj.y_events[0]]) if len(traj.t_events[0]) else None

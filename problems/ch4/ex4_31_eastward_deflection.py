@@ -125,36 +125,39 @@ def analytic(p):
 METHOD = "DOP853"
 
 
-@exercise.numeric
-def numeric(p, run):
+@exercise.motion
+def motion(p):
+    """The fall in the Earth's rotating frame, dv/dt = g - 2 w x v (east, north, up), from rest at height h
+    to the ground, in lengths h and time T0 = (2h/g)^(1/2) (so g T0^2/h = 2)."""
+    from mech.problems.motion import Motion
+
     s, c = math.sin(p.theta), math.cos(p.theta)
     T0 = math.sqrt(2.0 * p.h / p.g)
     eps = p.omega_E * T0
-    wv = eps * np.array([0.0, s, c])  # scaled Earth angular velocity (east, north, up); g T0^2/h = 2
-
-    wn, wu = wv[1], wv[2]
+    wn, wu = eps * s, eps * c  # the scaled Earth angular velocity (0, wn, wu)
 
     def rhs(t, y):
         vx, vy, vz = y[3], y[4], y[5]
         # dv/dt = g - 2 w x v, with w = (0, wn, wu)
         return np.array([vx, vy, vz, -2.0 * (wn * vz - wu * vy), -2.0 * wu * vx, -2.0 - 2.0 * (-wn * vx)])
 
-    # per-component absolute tolerances on each component's own scale
-    small = max(eps * s, 1e-300)
-    base = run.rtol * 1e-3
-    atol = np.array([base * small, base * small, base, base * small, base * small, base])
-    t_ev, y_ev, traj = run.integrate_to_event(
-        rhs,
-        (0.0, 3.0),  # lands by tau = arcsin(eps)/eps <= 1.05 for eps <= 0.5
-        [0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
-        Event(lambda t, y: y[2], direction=-1, name="z = 0"),
-        rtol=run.rtol,
-        atol=atol,
-        method=METHOD,
-    )
-    run.motion(traj, t_scale=T0, y_scale=[p.h] * 3 + [p.h / T0] * 3)
-    e_end = 0.5 * float(np.dot(y_ev[3:], y_ev[3:])) + 2.0 * y_ev[2]
-    run.invariant("energy", (e_end - 2.0) / 2.0)
+    def energy(y):
+        """(v^2/2 + g z) / (g h), scaled: the Coriolis force does no work."""
+        return (0.5 * float(np.dot(y[3:], y[3:])) + 2.0 * y[2]) / 2.0
+
+    small = max(eps * s, 1e-300)  # the sideways components' own scale
+    return Motion(rhs, [0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
+                  (0.0, 3.0),  # lands by tau = arcsin(eps)/eps <= 1.05 for eps <= 0.5
+                  event=Event(lambda t, y: y[2], direction=-1, name="z = 0"), invariants={"energy": energy},
+                  t_scale=T0, y_scale=[p.h] * 3 + [p.h / T0] * 3,
+                  y_size=[small, small, 1.0, small, small, 1.0], options={"method": METHOD})
+
+
+@exercise.numeric
+def numeric(p, run):
+    m = motion(p)
+    end = run.follow(m)
+    t_ev, y_ev, T0 = end.t_end, end.y_end, m.t_scale
     run.info["north_deviation_m"] = y_ev[1] * p.h
     return {
         "t_fall": t_ev * T0,

@@ -37,7 +37,7 @@ import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.gravity import relative_gravity, relative_potential
-from mech.solvers.numerics.ode import Event, integrate
+from mech.solvers.numerics.ode import Event
 from mech.solvers.numerics.roots import minimize_bounded
 
 exercise = Exercise(
@@ -125,14 +125,12 @@ def numeric(p, run):
     def ydot(t, y):
         return y[3]
 
-    nfev = [0]
     opts = dict(rtol=run.rtol, atol=run.rtol * 1e-3, method="DOP853")
 
     def residual(v):
         """y where the path next crosses dx/dt = 0 (the far radial extreme)."""
-        tr = integrate(rhs, (0.0, 20.0), [sgn, 0.0, 0.0, v], events=[Event(xdot, direction=sgn, terminal=True)],
-                       max_step=0.25, integrator=run.integrator, **opts)
-        nfev[0] += tr.nfev
+        tr = run.integrate(rhs, (0.0, 20.0), [sgn, 0.0, 0.0, v], events=[Event(xdot, direction=sgn, terminal=True)],
+                           max_step=0.25, **opts)
         if len(tr.t_events[0]) == 0:
             raise NumericFailure(f"no radial turning point with v0 = {v:.6g} (scaled)")
         return tr.y_events[0][0][1]
@@ -144,9 +142,8 @@ def numeric(p, run):
     t_half = [None]
 
     def residual_keep(v):
-        tr = integrate(rhs, (0.0, 20.0), [sgn, 0.0, 0.0, v], events=[Event(xdot, direction=sgn, terminal=True)],
-                       max_step=0.25, integrator=run.integrator, **opts)
-        nfev[0] += tr.nfev
+        tr = run.integrate(rhs, (0.0, 20.0), [sgn, 0.0, 0.0, v], events=[Event(xdot, direction=sgn, terminal=True)],
+                           max_step=0.25, **opts)
         t_half[0] = tr.t_events[0][0]
         return tr.y_events[0][0][1]
 
@@ -166,7 +163,6 @@ def numeric(p, run):
         max_step=0.25, dense_output=run.keep_trajectories, **opts,  # dense: a smooth trajectory, same steps
     )
     run.motion(tr, t_scale=1.0 / W, y_scale=[L, L, L * W, L * W])
-    run.nfev += nfev[0]
     xs = [sgn] + [yy[0] for tt, yy in zip(tr.t_events[0], tr.y_events[0]) if tt > 1e-6]
     ys = [yy[1] for yy in tr.y_events[1]]
     if len(xs) < 2 or len(ys) < 2:

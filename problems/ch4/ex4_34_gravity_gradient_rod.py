@@ -32,8 +32,7 @@ expanded so that no order-one terms cancel (checked against the unexpanded
 form): otherwise round-off in the along-rod balance (x ~ 1) feeds the Coriolis
 term and errs by 1e-16/theta_amp (3e-9 at 1e-8 rad).  Not to the turning point: near the separatrix the arrival there
 is an approach to the unstable along-track orientation, where an energy error
-of 1e-13 shifts the turning time by 1e-6 (measured: the turning-point time
-moved by 3e-6 relative between rtol and rtol/10 at 89.99 degrees), whereas
+of 1e-13 shifts the turning time by 1e-6, whereas
 the departure from the exactly given start is well conditioned.  The Jacobi integral and the
 link length are monitored.  At theta_amp = 0 nothing moves:
 T = 2 pi/omega_pitch from (2).
@@ -154,6 +153,51 @@ def _linear_modes(q0):
 SMALL_SWING = 1e-9  # rad: below it the pitch period is the linear one to round-off
 
 
+@exercise.motion
+def motion(p):
+    """The finite pitch libration: one mass of the rod (the other mirrors it) in the orbit's frame, scaled
+    (lengths l/2, time 1/Omega), r'' = Coriolis + Hill - lambda r with the link tension lambda from the
+    constraint, from rest at theta_amp to the rod's passage through the local vertical, a quarter period.
+    The states are the pitch angle and its rate.  None below SMALL_SWING (the linear mode's period)."""
+    from mech.problems.motion import Motion
+
+    th = p.theta_amp
+    if th < SMALL_SWING:
+        return None
+    W = _omega(p)
+
+    def rhs(t, y):
+        # a = Coriolis + Hill - lambda r, lambda = (r.a_free + |v|^2)/|r|^2 keeping |r| fixed.
+        # With a_free = (2 vy + 3x, -2 vx), lambda = 3 + mu, mu = (2 (x vy - y vx) - 3 y^2 + |v|^2)/|r|^2;
+        # expanded so that no order-one terms cancel (x ~ 1 in a tiny swing, y ~ 1 near the separatrix):
+        x, yy, vx, vy = y
+        r2 = x * x + yy * yy
+        v2 = vx * vx + vy * vy
+        ax = (2 * vy * yy * yy + 2 * x * yy * vx + 3 * x * yy * yy - x * v2) / r2
+        ay = -(2 * vx * x * x + 3 * x * x * yy + 2 * x * yy * vy + yy * v2) / r2
+        return np.array([vx, vy, ax, ay])
+
+    def pitch_sine(t, y):
+        return y[1]  # the rod crosses the local vertical
+
+    def jacobi(y):
+        """The Jacobi integral relative to the depth 3/2 of the potential well."""
+        return (0.5 * (y[2] ** 2 + y[3] ** 2) + hill_potential([y[0], y[1], 0.0], 1.0)) / 1.5
+
+    # absolute tolerances scaled to the smallest offset: sin(theta_amp) for tiny swings, and
+    # cos(theta_amp), the distance from the unstable along-track orientation, near the separatrix
+    s = max(math.sin(th), 1e-150)
+    c = max(math.cos(th), 1e-150)
+    # Integrator: DOP853 at rtol 1e-10 (tolerance 1e-8), kept after `mech bench 4.34`: the fewest
+    # evaluations with an error well under the tolerance.
+    return Motion(rhs, [math.cos(th), math.sin(th), 0.0, 0.0], (0.0, 1e4),
+                  event=Event(pitch_sine, direction=-1, name="rod along the vertical"),
+                  invariants={"Jacobi integral": jacobi, "link length": lambda y: math.hypot(y[0], y[1])},
+                  t_scale=1.0 / W, y_scale=[1.0, W], y_size=[c, s, min(c, s), min(c, s)],
+                  to_states=lambda y: [np.arctan2(y[1], y[0]),
+                                       (y[0] * y[3] - y[1] * y[2]) / (y[0] ** 2 + y[1] ** 2)])
+
+
 @exercise.numeric
 def numeric(p, run):
     W = _omega(p)
@@ -216,16 +260,7 @@ def numeric(p, run):
         run.claim("T_pitch", rel=1e-9)
         run.info["T_pitch_from"] = "small-oscillation frequency (amplitude below 1e-9 rad)"
     else:
-        def rhs(t, y):
-            # a = Coriolis + Hill - lambda r, lambda = (r.a_free + |v|^2)/|r|^2 keeping |r| fixed.
-            # With a_free = (2 vy + 3x, -2 vx), lambda = 3 + mu, mu = (2 (x vy - y vx) - 3 y^2 + |v|^2)/|r|^2;
-            # expanded so that no order-one terms cancel (x ~ 1 in a tiny swing, y ~ 1 near the separatrix):
-            x, yy, vx, vy = y
-            r2 = x * x + yy * yy
-            v2 = vx * vx + vy * vy
-            ax = (2 * vy * yy * yy + 2 * x * yy * vx + 3 * x * yy * yy - x * v2) / r2
-            ay = -(2 * vx * x * x + 3 * x * x * yy + 2 * x * yy * vy + yy * v2) / r2
-            return np.array([vx, vy, ax, ay])
+        m = motion(p)
 
         def rhs_check(y):
             # the same accelerations from the unexpanded constrained form (shared field code)
@@ -235,35 +270,10 @@ def numeric(p, run):
             lam_t = (r @ a_free + v @ v) / (r @ r)
             return (a_free - lam_t * r)[:2]
 
-        def pitch_sine(t, y):
-            return y[1]  # the rod crosses the local vertical
-
-        th = p.theta_amp
-        # absolute tolerances scaled to the smallest offset: sin(theta_amp) for tiny swings, and
-        # cos(theta_amp), the distance from the unstable along-track orientation, near the separatrix
-        s = max(math.sin(th), 1e-150)
-        c = max(math.cos(th), 1e-150)
-        y0 = [math.cos(th), math.sin(th), 0.0, 0.0]
-        atol = run.rtol * 1e-3 * np.array([c, s, min(c, s), min(c, s)])
-        # Integrator: DOP853 at rtol 1e-10 (tolerance 1e-8), kept after `mech bench 4.34`: 152 evaluations
-        # for 3.4e-12; RK45 needs 326 (5.6e-12), LSODA 155 for 3.9e-11.
-        t_ev, y_ev, traj = run.integrate_to_event(
-            rhs, (0.0, 1e4), y0, Event(pitch_sine, direction=-1, name="rod along the vertical"),
-            rtol=run.rtol, atol=atol,
-        )
-        run.motion(traj, t_scale=1.0 / W, y_scale=[1.0, W], transform=lambda y: [
-            np.arctan2(y[1], y[0]), (y[0] * y[3] - y[1] * y[2]) / (y[0] ** 2 + y[1] ** 2)])
         probe = np.array([math.cos(0.7), math.sin(0.7), 0.3, -0.2])
-        if not np.allclose(rhs(0.0, probe)[2:], rhs_check(probe), rtol=1e-13, atol=1e-13):
+        if not np.allclose(m.rhs(0.0, probe)[2:], rhs_check(probe), rtol=1e-13, atol=1e-13):
             raise NumericFailure("the expanded accelerations disagree with the constrained form")
-
-        def jacobi(y):
-            return 0.5 * (y[2] ** 2 + y[3] ** 2) + hill_potential([y[0], y[1], 0.0], 1.0)
-
-        j0 = jacobi(y0)
-        # relative to the depth 3/2 of the potential well
-        run.invariant("Jacobi integral", (jacobi(y_ev) - j0) / 1.5)
-        run.invariant("link length", math.hypot(y_ev[0], y_ev[1]) - 1.0)
+        t_ev = run.follow(m).t_end
         run.info["quarter_period"] = t_ev / W
         T_pitch = 4.0 * t_ev
     return {

@@ -80,7 +80,7 @@ def numeric(p, run):
     T = 0.5 * M * float(w @ np.einsum("ni,ni->n", v, v))
 
     run.method = "product Gauss rule on the cone + least-squares rolling constraint"
-    run.nfev = len(w)
+    run.cost(len(w))
     mid = 0.5 * touch  # a point of the contact line halfway: must be at rest too
     run.info["contact_line_speed_rel"] = float(np.linalg.norm(np.cross(omega, mid)) / (abs(Om) * L))
     run.info["spin_rate"] = float(s)

@@ -42,7 +42,6 @@ moves both edges alike); beat  their effect through sqrt(xi^2 - Delta^2) plus (D
 from __future__ import annotations
 
 import math
-from types import SimpleNamespace
 
 import numpy as np
 
@@ -275,7 +274,7 @@ def numeric(p, run):
     run.info["fold_multipliers"] = [sorted(np.abs(np.linalg.eigvals(f.M)).tolist()) for f in folds]
     run.info["orbit_maps"] = om.calls
     run.info["orbit_maps_reused"] = om.memo_hits  # taken from the solve by its rerun (Run.shared)
-    run.record(SimpleNamespace(nfev=om.nfev, method="DOP853", forced=om.forced))
+    run.record(om, method="DOP853")  # every integration of the orbit map
 
     xi = p.omega - w0
     if xi_lo <= xi <= xi_hi:

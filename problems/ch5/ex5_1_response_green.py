@@ -19,7 +19,7 @@ folded onto w >= 0 and integrated with Fourier-weighted rules on numpy alone
 (Filon-type panels, f interpolated and its product with the exponential
 integrated exactly, on a window cut at the characteristic roots and their
 widths; the tail cycle by cycle, the alternating partial sums extrapolated by
-Wynn's epsilon algorithm); solvers/response.inverse_fourier.
+Wynn's epsilon algorithm); solvers/numerics/fourier.inverse_fourier.
 (2) chi(w) as the Fourier transform of the integrated impulse response
 (q = 0, q' = 1/m): the equation of motion's fundamental matrix with two
 accumulators of q exp(i w t) is integrated over one segment by mech's DOP853 or,
@@ -28,7 +28,7 @@ stepped: Phi(D) = exp(A D) by scaling and squaring and the accumulated transform
 by adaptive Gauss-Legendre quadrature at rtol/10 (numpy only; scipy's LSODA
 when mech bench forces an integrator), and
 the infinite decaying run is summed exactly by the semigroup property as a
-geometric series; solvers/response.impulse_spectrum (a drive much faster than
+geometric series; solvers/numerics/fourier.impulse_spectrum (a drive much faster than
 the oscillator gets segments of half its period).  Liouville's
 det Phi = exp(-2 delta t) is monitored.
 

@@ -16,7 +16,7 @@ non-terminal events x' = 0 (its turning points); absolute tolerances are
 scaled to the size of the state during the pulse, (omega0 T)^2 for x and
 omega0 T for x'.  A longer pulse is carried to its end by the exact flow of its
 linear equation, the matrix exponential of its generator in (x, x', 1)
-(solvers/linear_flow), never stepped through millions of periods.  The free
+(solvers/numerics/linear_flow), never stepped through millions of periods.  The free
 leg starts from the state at T: its amplitude is sqrt(x^2 + x'^2) there,
 checked against the largest |x| over one free period from events x' = 0; x at
 t1 > T is the free flow's matrix exponential over omega0 (t1 - T) applied to

@@ -21,7 +21,7 @@ Numeric: the full equation of motion with the drive as a state of its own,
 (q, q', C, S) with C = cos wt, S = sin wt (C' = -w S, S' = w C): an autonomous
 linear system, in the time unit 1/max(omega0, omega, delta).  q(t1), q'(t1):
 its exact flow from rest, the matrix exponential of the generator over t1
-(solvers/linear_flow: scaling and squaring, numpy only), never stepped through
+(solvers/numerics/linear_flow: scaling and squaring, numpy only), never stepped through
 1e6..1e11 rad; the claim carries the flow's round-off, u times its phase,
 entry by entry.  A_ss: the periodic orbit (I - M) x* = b of the one-period map
 x -> M x + b.  Near resonance (where M is close to I) the map is integrated by

@@ -116,11 +116,17 @@ def _period_excess(theta0):
     return 4.0 * val, 4.0 * err
 
 
-@exercise.numeric
-def numeric(p, run):
+@exercise.motion
+def motion(p):
+    """A quarter swing from rest at theta0 down to the bottom, in tau = omega0 t; above 90 degrees in the
+    deviation phi = pi - theta from upright (phi'' = sin phi, event phi = pi), which keeps a small
+    offset phi0 to full relative accuracy."""
+    from mech.problems.motion import Motion
+
     w0 = math.sqrt(p.g / p.l)
-    rtol = run.rtol
     th0 = p.theta0
+    # the energy range explored, U(theta0) - U(0) = 2 sin^2(theta0/2) in units m g l: the energy's scale
+    drop = 2.0 * math.sin(th0 / 2.0) ** 2
     if th0 <= math.pi / 2.0:
         def rhs(t, y):
             return np.array([y[1], -math.sin(y[0])])
@@ -128,7 +134,8 @@ def numeric(p, run):
         event = Event(lambda t, y: y[0], direction=-1, name="theta = 0")
         start = [th0, 0.0]
         scale = th0
-        energy = lambda y: 0.5 * y[1] ** 2 - math.cos(y[0])  # noqa: E731
+        energy = lambda y: (0.5 * y[1] ** 2 - math.cos(y[0])) / drop  # noqa: E731
+        to_states = None
     else:
         def rhs(t, y):
             return np.array([y[1], math.sin(y[0])])
@@ -136,19 +143,22 @@ def numeric(p, run):
         event = Event(lambda t, y: y[0] - math.pi, direction=1, name="phi = pi")
         start = [_phi0(th0), 0.0]
         scale = 1.0
-        energy = lambda y: 0.5 * y[1] ** 2 + math.cos(y[0])  # noqa: E731
+        energy = lambda y: (0.5 * y[1] ** 2 + math.cos(y[0])) / drop  # noqa: E731
+        to_states = lambda y: [math.pi - y[0], -y[1]]  # noqa: E731
     span = 8.0 * (math.pi + math.log(1.0 + 8.0 / _phi0(th0)))
-    atol = [rtol * 1e-3 * min(scale, start[0]), rtol * 1e-3 * scale]
-    # Integrator: DOP853 at rtol 1e-10 (tolerance 1e-8), kept after `mech bench 5.6`: 164 evaluations for
-    # 2e-11; RK45 needs 296 (9e-12), LSODA 143 but for 3.5e-9, too close to the tolerance for the
-    # verification at rtol/10.  (The symplectic Yoshida-6 row reaches 4e-13 in 0.6 ms: see `hamiltonian`.)
-    t_q, y_q, traj = run.integrate_to_event(rhs, (0.0, span), start, event, rtol=rtol, atol=atol)
-    # above pi/2 the state is phi = pi - theta and its rate
-    run.motion(traj, t_scale=1.0 / w0, y_scale=[1.0, w0],
-               transform=None if th0 <= math.pi / 2.0 else lambda y: [math.pi - y[0], -y[1]])
-    e0 = energy(np.array(start))
-    # relative to the energy range explored (~ theta0^2/2 for small swings)
-    run.invariant("energy", (energy(y_q) - e0) / max(0.5 * y_q[1] ** 2, 1e-300))
+    # Integrator: DOP853 at rtol 1e-10 (tolerance 1e-8), kept after `mech bench 5.6`: the fewest evaluations
+    # with an error well under the tolerance (the verification reruns at rtol/10).
+    return Motion(rhs, start, (0.0, span), event=event, invariants={"energy": energy},
+                  t_scale=1.0 / w0, y_scale=[1.0, w0], to_states=to_states,
+                  y_size=[min(scale, start[0]), scale])
+
+
+@exercise.numeric
+def numeric(p, run):
+    w0 = math.sqrt(p.g / p.l)
+    rtol = run.rtol
+    th0 = p.theta0
+    t_q = run.follow(motion(p)).t_end
     T = 4.0 * t_q / w0
     T0 = 2.0 * math.pi / w0
     out = {"T": T, "T_ratio": T / T0}
@@ -194,17 +204,19 @@ def hamiltonian(p):
 
 @exercise.scene
 def scene(p, run):
-    """The phase portrait (contours of the energy, the separatrix, the swing at theta0 integrated from the
-    exercise's own Hamiltonian) and the period's rise with the amplitude, angles in degrees throughout."""
+    """The phase portrait (contours of the energy, the separatrix, the swing at theta0: the declared quarter
+    swing and its mirror images, by time reversal and parity) and the period's rise with the amplitude,
+    angles in degrees throughout."""
     from mech.problems.scene import Axis, Line, Markers, Panel, Scene
-    from mech.solvers.numerics.ode import integrate
 
-    H = hamiltonian(p)  # H = p^2/2 - cos(theta) in tau = omega0 t: the equation of motion of this module
+    H = hamiltonian(p)  # H = p^2/2 - cos(theta) in tau = omega0 t: its energy draws the levels
     deg = 180.0 / math.pi
-    traj = integrate(lambda t, y: np.array([H.velocity(y[1]), H.force(y[0])]), (0.0, H.t_max), [H.q0, H.p0],
-                     rtol=run.rtol, atol=run.rtol * 1e-3, dense_output=True)
-    ts = np.linspace(0.0, traj.t[-1], 3000)
-    q, mom = traj.sol(ts)
+    w0 = math.sqrt(p.g / p.l)
+    m, path = run.motion(p)
+    q1, v1 = m.si(path.traj.sol(np.linspace(0.0, path.t_end, 750)))  # theta0 down to 0, theta' <= 0
+    v1 = v1 / w0
+    q = np.concatenate([q1, -q1[::-1], -q1, q1[::-1]])
+    mom = np.concatenate([v1, v1[::-1], -v1, -v1[::-1]])
     phase = Panel("phase portrait: levels of the energy", Axis("θ", "deg"), Axis("θ' / ω0"), legend="upper right")
     th = np.linspace(-1.25 * math.pi, 1.25 * math.pi, 400)
     u = np.array([H.energy(x, 0.0) for x in th])  # the potential energy

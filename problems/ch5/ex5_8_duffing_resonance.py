@@ -31,7 +31,6 @@ Allowances (``_harmonic_balance``, the next order: one harmonic without the rota
 from __future__ import annotations
 
 import math
-from types import SimpleNamespace
 
 import numpy as np
 
@@ -308,7 +307,7 @@ def numeric(p, run):
     for bp in [peak, *folds]:
         det_exact = math.exp(-4.0 * math.pi * p.delta / om.omega(bp.z[2]))
         run.invariant("Liouville det M", (float(np.linalg.det(monodromy(bp))) - det_exact) / det_exact)
-    run.record(SimpleNamespace(nfev=om.nfev, method="DOP853", forced=om.forced))
+    run.record(om, method="DOP853")  # every integration of the orbit map
     run.info["orbit_maps"] = om.calls
     run.info["orbit_maps_reused"] = om.memo_hits  # taken from the solve by its rerun (Run.shared)
 

@@ -1,0 +1,103 @@
+"""A motion an exercise integrates, declared once.
+
+An integrating exercise registers ``@exercise.motion def motion(p) -> Motion``: the
+right-hand side, the initial state, the span, the event that ends the motion and the
+conserved quantities, in the variables it integrates, with the scales that bring them
+to SI.  The state's names and units are the exercise's ``states``.  The numeric solve
+follows it (``run.follow(motion)``: integrated under the Run's integrator, so bench
+forces it too, its invariants' drifts reported, marked as the scene's motion); the API's
+trajectory and the scene (``SceneRun.motion``) take the same integration.  Nothing
+else writes the equations of motion, the start or the energy again.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping, Sequence
+
+__all__ = ["Motion", "Path", "join"]
+
+
+@dataclass(frozen=True)
+class Motion:
+    """``rhs(t, y)`` from ``y0`` over ``span`` in the integrated (often scaled) variables.
+
+    ``event``: an ``ode.Event`` that ends the motion (found and confirmed on the dense output);
+    ``invariants``: name -> ``f(y)``, a conserved quantity already divided by its scale, whose drift
+    ``f(y_end) - f(y0)`` the solve reports; ``monitors``: name -> ``g(Y)``, the worst relative drift of
+    a conserved quantity (or a constraint's violation) over the steps ``Y`` (n x N); ``t_scale``, ``y_scale``: SI time ``t_scale * t`` and
+    state ``y_scale * to_states(y)`` (a number or one per state), ``to_states`` mapping the integrated
+    variables (n x N) to the declared ones where they differ (an angle kept as its deviation from
+    upright); ``options``: the integration's own settings (``max_step``, ``method``) at any rtol,
+    overridden by a forced integrator; ``y_size``: the size of each integrated variable (a number or one
+    per variable; 1 by default), the absolute tolerance being ``1e-3 * rtol * y_size``."""
+
+    rhs: Callable
+    y0: Sequence[float]
+    span: tuple[float, float]
+    event: Any = None
+    invariants: Mapping[str, Callable] = field(default_factory=dict)
+    monitors: Mapping[str, Callable] = field(default_factory=dict)
+    t_scale: float = 1.0
+    y_scale: Any = None
+    options: Mapping[str, Any] = field(default_factory=dict)
+    y_size: Any = None
+    to_states: Callable | None = None
+
+    def si(self, y):
+        """A state (or n x N states) of the integrated variables, as the declared states in SI."""
+        import numpy as np
+
+        y = np.asarray(y, float)
+        if self.to_states is not None:
+            y = np.asarray(self.to_states(y), float)
+        if self.y_scale is None:
+            return y
+        scale = np.broadcast_to(np.asarray(self.y_scale, float), (y.shape[0],))
+        return y * (scale if y.ndim == 1 else scale[:, None])
+
+    @property
+    def start(self):
+        """The initial state in SI."""
+        return self.si(self.y0)
+
+
+@dataclass(frozen=True)
+class Path:
+    """What following a motion gives: its end (the event's time and state, or the span's end) in the
+    integrated variables, and the integration (``t``, ``y``, ``sol`` when dense)."""
+
+    t_end: float
+    y_end: Any
+    traj: Any
+
+
+def join(parts, n: int, samples: int = 201):
+    """The motion legs a solve marked (``Run.motion_parts``) in SI, joined in time order: ``(t, y)`` with y
+    n x N.  A leg with a continuous extension and fewer than ``samples`` steps is sampled at least that
+    densely (the integrator's own interpolant between its steps: a smooth curve to plot)."""
+    import numpy as np
+
+    ts, ys = [], []
+    for traj, t_scale, t_offset, y_scale, rows in parts:
+        t = np.asarray(traj.t, float)
+        sol = getattr(traj, "sol", None)
+        if sol is not None and t.size < samples:
+            t = np.union1d(np.linspace(t.min(), t.max(), samples), t)
+            y = np.asarray(sol(t), float)
+        else:
+            y = np.asarray(traj.y, float)
+        y = y.reshape(-1, t.size)
+        if rows is not None:
+            y = y[rows]
+        if y.shape[0] != n:
+            raise RuntimeError(f"the motion has {y.shape[0]} states, the exercise declares {n}")
+        scale = np.ones(n) if y_scale is None else np.broadcast_to(np.asarray(y_scale, float), (n,))
+        ts.append(t_offset + t_scale * t)
+        ys.append(y * scale[:, None])
+    t = np.concatenate(ts)
+    y = np.concatenate(ys, axis=1)
+    order = np.argsort(t, kind="stable")
+    t, y = t[order], y[:, order]
+    keep = np.concatenate(([True], np.diff(t) > 0))  # a time shared by two legs once
+    return t[keep], y[:, keep]

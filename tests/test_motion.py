@@ -1,0 +1,93 @@
+"""The declared motion (problems/motion.py) and what a Run reports of it, on the harmonic oscillator,
+whose motion is known in closed form: x = cos t, v = -sin t from (1, 0), a quarter period pi/2 to x = 0."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from mech.problems.motion import Motion, join
+from mech.problems.registry import all_exercises, get
+from mech.problems.spec import Run
+from mech.solvers.numerics.ode import Event
+
+
+def oscillator(**kw):
+    return Motion(lambda t, y: np.array([y[1], -y[0]]), [1.0, 0.0], (0.0, 10.0),
+                  event=Event(lambda t, y: y[0], direction=-1, name="x = 0"),
+                  invariants={"energy": lambda y: 0.5 * (y[0] ** 2 + y[1] ** 2) / 0.5}, **kw)
+
+
+def test_follow_ends_at_the_event_and_reports_the_energy_drift():
+    run = Run(rtol=1e-10)
+    end = run.follow(oscillator())
+    assert end.t_end == pytest.approx(math.pi / 2, rel=1e-9)
+    assert end.y_end == pytest.approx([0.0, -1.0], abs=1e-9)
+    assert 0.0 <= run.invariants["energy"] < 1e-8
+    assert run.nfev > 0 and run.method == "DOP853" and run.forced_runs == 0 and run.own_runs == 1
+
+
+def test_the_trajectory_is_the_followed_motion_in_si():
+    """Time scaled by T = 2 s and the state by (3 m, 1.5 m/s): x = 3 cos(t/2), v = -1.5 sin(t/2)."""
+    run = Run(rtol=1e-10, keep_trajectories=True)
+    run.follow(oscillator(t_scale=2.0, y_scale=[3.0, 1.5]))
+    t, y = run.trajectory(2)
+    assert t[0] == 0.0 and t[-1] == pytest.approx(math.pi, rel=1e-9) and t.size >= 201
+    assert np.allclose(y[0], 3.0 * np.cos(t / 2.0), atol=1e-8) and np.allclose(y[1], -1.5 * np.sin(t / 2.0), atol=1e-8)
+
+
+def test_to_states_maps_the_integrated_variables_before_the_scale():
+    """Integrated as the deviation u = x - 1 from the start: declared x = 1 + u."""
+    m = Motion(lambda t, u: np.array([u[1], -(1.0 + u[0])]), [0.0, 0.0], (0.0, 1.0), y_scale=[2.0, 2.0],
+               to_states=lambda u: [1.0 + u[0], u[1]])
+    assert m.start == pytest.approx([2.0, 0.0])
+    run = Run(rtol=1e-10, keep_trajectories=True)
+    end = run.follow(m)
+    assert m.si(end.y_end) == pytest.approx([2.0 * math.cos(1.0), -2.0 * math.sin(1.0)], rel=1e-8)
+    t, y = run.trajectory(2)
+    assert np.allclose(y[0], 2.0 * np.cos(t), atol=1e-8)
+
+
+def test_a_forced_integrator_runs_the_declared_motion():
+    run = Run(rtol=1e-8, integrator="RK45")
+    run.follow(oscillator())
+    assert run.forced_runs == 1 and run.own_runs == 0 and run.method == "RK45"
+
+
+def test_monitors_report_the_worst_drift_over_the_steps():
+    run = Run(rtol=1e-10)
+    m = Motion(lambda t, y: np.array([y[1], -y[0]]), [1.0, 0.0], (0.0, 20.0),
+               monitors={"energy": lambda Y: float(np.max(np.abs(Y[0] ** 2 + Y[1] ** 2 - 1.0)))})
+    end = run.follow(m)
+    assert end.t_end == 20.0 and end.y_end == pytest.approx([math.cos(20.0), -math.sin(20.0)], abs=1e-8)
+    assert 0.0 < run.invariants["energy"] < 1e-8
+
+
+def test_costs_are_recorded_not_set():
+    run = Run(rtol=1e-6)
+    run.cost(40)
+    assert run.nfev == 40 and run.own_runs == 0 and run.forced_runs == 0
+    with pytest.raises(AttributeError):
+        run.nfev = 3
+
+
+def test_join_orders_legs_in_time_and_drops_a_shared_time():
+    class Leg:
+        def __init__(self, t, y):
+            self.t, self.y, self.sol = np.array(t), np.array(y), None
+
+    t, y = join([(Leg([1.0, 2.0], [[1.0, 2.0]]), 1.0, 0.0, None, None),
+                 (Leg([0.0, 1.0], [[0.0, 1.0]]), 1.0, 0.0, None, None)], 1)
+    assert list(t) == [0.0, 1.0, 2.0] and list(y[0]) == [0.0, 1.0, 2.0]
+
+
+def test_a_declared_motion_matches_the_exercises_states():
+    """Every exercise that declares a motion has declared states, one per row its motion maps to."""
+    declared = [ex for ex in map(get, all_exercises()) if ex.has_motion]
+    assert {"4.15", "4.29", "4.30", "4.31", "4.34", "5.6"} <= {ex.id for ex in declared}
+    for ex in declared:
+        p = ex.resolve({})
+        m = ex.motion_at(p)
+        assert len(m.start) == len(ex.states), ex.id
