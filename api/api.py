@@ -9,7 +9,8 @@ as a ``Trajectory``.  A ``Sweep`` is many of them over a range or a grid.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+import time
+from dataclasses import dataclass
 from typing import Any, Iterator, Sequence
 
 import numpy as np
@@ -64,7 +65,38 @@ def _methods(method: str) -> tuple[str, ...]:
     try:
         return _METHODS[str(method).lower()]
     except KeyError:
-        raise BadInput(f"method: '{method}' is not one of both, analytic, numeric") from None
+        raise BadInput(f"method: '{_shown(method)}' is not one of both, analytic, numeric") from None
+
+
+def _shown(value) -> str:
+    from mech.core.safeio import shown
+
+    return shown(value)
+
+
+def _flag(name: str, value) -> bool:
+    """A True/False argument: a bool (numpy's too), never a string such as 'no' that would read as True."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise BadInput(f"{name}: give True or False, got {type(value).__name__} {_shown(repr(value))}")
+
+
+def _jobs(jobs):
+    """None (decide) or a whole number of processes, at least 1."""
+    if jobs is None:
+        return None
+    if isinstance(jobs, bool) or not isinstance(jobs, (int, np.integer)) or jobs < 1:
+        raise BadInput(f"jobs: give a whole number of processes, at least 1 (or None), got {_shown(repr(jobs))}")
+    return int(jobs)
+
+
+def _names(what: str, value) -> list[str]:
+    """A name or a sequence of names (strings)."""
+    if isinstance(value, str):
+        return [value]
+    if isinstance(value, (list, tuple)) and all(isinstance(v, str) for v in value):
+        return list(value)
+    raise BadInput(f"{what}: give a name or a list of names, got {_shown(repr(value))}")
 
 
 # -- results ---------------------------------------------------------------------
@@ -85,7 +117,9 @@ class Trajectory:
         """A header row ``t [s]`` then ``name [unit]`` per state, one row per time."""
         import csv
 
-        with open(path, "w", newline="", encoding="utf-8") as fh:
+        from mech.core.safeio import atomic_write
+
+        with atomic_write(str(path), "--trajectory", newline="") as fh:
             out = csv.writer(fh)
             out.writerow(["t [s]"] + [f"{n} [{u}]" for n, u in zip(self.names, self.units)])
             for k in range(self.t.size):
@@ -109,7 +143,7 @@ def _trajectory(ex, run) -> Trajectory | None:
     return Trajectory(t=t, y=y, names=[s[0] for s in ex.states], units=[s[1] for s in ex.states])
 
 
-def _motion(sol: Solution) -> Trajectory | None:
+def _motion(sol: Solution, deadline: float | None = None) -> Trajectory | None:
     """A solution's trajectory (``Solution.trajectory``): the same numeric solve, run again with its motion
     kept (dense output between steps may cost evaluations the answer does not need, so the answer's solve
     keeps none: ``to_dict()`` stays what ``mech solve --json`` prints)."""
@@ -122,7 +156,11 @@ def _motion(sol: Solution) -> Trajectory | None:
     from mech.core import budget
 
     info = sol.numeric_info or {}
-    with budget.limit(None, what=f"the trajectory of {ex.id}"):
+    # the solve's own budget, not a fresh one: what the cross-check left of it
+    left = budget.default_seconds() if deadline is None else deadline - time.monotonic()
+    if left <= 0:
+        raise budget.OutOfBudget(f"the trajectory of {ex.id}: the solve's time budget is spent")
+    with budget.limit(left, what=f"the trajectory of {ex.id}"):
         _, run = ex.solve_numeric(Params(dict(sol.params)), info.get("rtol"), keep_trajectories=True)
     return _trajectory(ex, run)
 
@@ -134,6 +172,8 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
     from mech.problems import registry
 
     ex = registry.get(ex_id)
+    verify = _flag("verify", verify)
+    raise_on_failure = _flag("raise_on_failure", raise_on_failure)
     resolved = resolve_params(ex, dict(params or {}))
     expectations = _expectations(ex, expect, expect_rtol)
     sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify,
@@ -156,13 +196,21 @@ def _expectations(ex, expect: dict | None, expect_rtol):
 
 
 def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None,
-                   verify: bool = True, expectations=None) -> Solution:
+                   verify: bool = True, expectations=None, budget_s: float | None = None) -> Solution:
     """The cross-check at checked parameters: what ``mech.solve`` and ``mech solve`` both run;
-    ``expectations`` (``parse_expectations``) judges the user's own answers against it."""
+    ``expectations`` (``parse_expectations``) judges the user's own answers against it.  ``budget_s``: the
+    solve's budget (default ``MECH_BUDGET_S``), which the trajectory, when asked for, shares."""
+    from mech.core import budget
     from mech.verification.crosscheck import cross_check
 
-    result = cross_check(ex, params, methods=tuple(methods), rtol=rtol, verify=verify and "numeric" in methods)
-    result = result.replace(trajectory_of=_motion)
+    import functools
+
+    budget_s = budget.default_seconds() if budget_s is None else float(budget_s)
+    deadline = time.monotonic() + budget_s
+    result = cross_check(ex, params, methods=tuple(methods), rtol=rtol, verify=verify and "numeric" in methods,
+                         budget_s=budget_s)
+    # the trajectory, when asked for, shares the solve's budget
+    result = result.replace(trajectory_of=functools.partial(_motion, deadline=deadline))
     if expectations is None:
         return result
     from mech.verification import grading
@@ -185,25 +233,38 @@ def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None, exp
 
 # -- sweep -----------------------------------------------------------------------
 
+MAX_N = 10_000  # values of one swept parameter, as on the command line
+MAX_POINTS = 100_000  # points of one sweep, as on the command line
+
+
 def _axis_values(ex, name: str, spec) -> tuple[list[float], bool]:
-    """A range tuple (start, stop, n[, "log"]) or a list of values -> SI values."""
+    """A range tuple (start, stop, n[, "log"]) or a list of values -> SI values, within the command line's
+    limits (checked before anything is allocated)."""
     if isinstance(spec, tuple) and len(spec) in (3, 4) and isinstance(spec[2], (int, np.integer)) \
             and not isinstance(spec[2], bool):
         log = len(spec) == 4 and str(spec[3]).lower() in ("log", "geom")
         if len(spec) == 4 and not log:
-            raise BadInput(f"{name}: a range is (start, stop, n) or (start, stop, n, 'log'), got {spec!r}")
-        start, stop = _convert(ex, name, spec[0]), _convert(ex, name, spec[1])
+            raise BadInput(f"{name}: a range is (start, stop, n) or (start, stop, n, 'log'), got {_shown(spec)}")
         n = int(spec[2])
-        if n < 1:
-            raise BadInput(f"{name}: n in {spec!r} must be at least 1")
+        if n < 1 or n > MAX_N:
+            raise BadInput(f"{name}: n in {_shown(spec)} must be between 1 and {MAX_N}")
+        start, stop = _convert(ex, name, spec[0]), _convert(ex, name, spec[1])
+        if n == 1 and start != stop:
+            raise BadInput(f"{name}: one point in {_shown(spec)} needs start = stop (or n >= 2)")
         if log:
             if start <= 0 or stop <= 0:
-                raise BadInput(f"{name}: a log range needs positive ends, got {spec!r}")
-            values = list(np.geomspace(start, stop, n))
+                raise BadInput(f"{name}: a log range needs positive ends, got {_shown(spec)}")
+            lo, hi = math.log(start), math.log(stop)  # not log(stop/start): 1e300/1e-300 overflows
+            values = [math.exp(lo + (hi - lo) * k / (n - 1)) for k in range(n)] if n > 1 else [start]
         else:
             values = list(np.linspace(start, stop, n))
         values[0], values[-1] = start, stop
         return [float(v) for v in values], log
+    if isinstance(spec, np.ndarray):
+        spec = spec.ravel().tolist() if spec.size <= MAX_N else spec
+    if len(spec) == 0 or len(spec) > MAX_N:
+        raise BadInput(f"{name}: give between 1 and {MAX_N} values, or a range (start, stop, n), "
+                       f"got {len(spec)} values")
     return [_convert(ex, name, v) for v in spec], False
 
 
@@ -270,9 +331,11 @@ class Sweep:
         there is no value or no verdict."""
         import csv
 
+        from mech.core.safeio import atomic_write
+
         arrays = self.to_arrays()
         cols = self._columns()
-        with open(path, "w", newline="", encoding="utf-8") as fh:
+        with atomic_write(str(path), "--csv", newline="") as fh:
             out = csv.writer(fh)
             out.writerow([f"{n} [{u}]" if u and u != "1" else n for n, u in cols])
             swept = {a.name for a in self.axes}
@@ -323,6 +386,8 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     from mech.verification.sweep import Axis, batched_outputs, grid_points, run_batched, run_sweep
 
     ex = registry.get(ex_id)
+    verify = _flag("verify", verify)
+    jobs = _jobs(jobs)
     axes, fixed = [], {}
     for name, spec in dict(ranges or {}).items():
         canon = name.replace("-", "_")
@@ -333,12 +398,16 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
             fixed[canon] = _convert(ex, name, spec)
     if not axes:
         raise BadInput(f"nothing to sweep: give a parameter of {ex.id} a range (start, stop, n) or a list")
+    total = math.prod(len(a.values) for a in axes)
+    if total > MAX_POINTS:
+        raise BadInput(f"the grid has {total} points; at most {MAX_POINTS} in one sweep")
     if only is not None:
-        wanted = [only] if isinstance(only, str) else list(only)
+        wanted = _names("only", only)
         known = {o.name for o in ex.outputs}
         for name in wanted:
             if name not in known:
-                raise BadInput(f"only: '{name}' is not an output of {ex.id}; its outputs are: {', '.join(known)}")
+                raise BadInput(f"only: '{_shown(name)}' is not an output of {ex.id}; its outputs are: "
+                               f"{', '.join(known)}")
     else:
         wanted = None
     methods = _methods(method)
@@ -386,15 +455,16 @@ def plan_sweep(ex, axes: list, fixed: dict, only=None) -> SweepPlan:
 
 
 def run_sweep_plan(plan: SweepPlan, *, rtol: float | None = None, verify: bool = True, jobs: int | None = None,
-                   progress=None):
-    """Run a planned sweep: ``progress(k)`` after every k-th point; returns ``verification.sweep``'s result."""
+                   progress=None, total_s: float | None = None):
+    """Run a planned sweep: ``progress(k)`` after every k-th point; returns ``verification.sweep``'s result.
+    ``total_s``: the sweep's wall-clock budget (default 600 s) for the point-by-point route."""
     from mech.verification.sweep import run_batched, run_sweep
 
     if plan.batched:
         return run_batched(plan.exercise, plan.axes, plan.fixed, plan.batched, rtol=rtol, verify=verify,
                            progress=progress)
     return run_sweep(plan.exercise, plan.axes, plan.fixed, plan.points, rtol=rtol, verify=verify, jobs=jobs,
-                     progress=progress, only=plan.only)
+                     progress=progress, only=plan.only, total_s=total_s)
 
 
 def check_figure_target(path) -> None:
@@ -424,16 +494,17 @@ def grade(path) -> dict:
     return grading.grade_json(str(path), entries, seconds)
 
 
-def grade_entries(path) -> tuple[list, float]:
+def grade_entries(path, total_s=None) -> tuple[list, float]:
     """Every answer of a grading file, judged (``verification.grading.Entry``), and the seconds it took;
-    ``BadInput`` for a bad file, every fault at once."""
+    ``BadInput`` for a bad file, every fault at once (``BadFile.problems``, a line each).  ``total_s``: the
+    grading's wall-clock budget (default 600 s); answers not reached by then fail, saying so."""
     import time
 
     from mech.verification import grading
 
     entries = grading.load_answers(str(path))
     t0 = time.perf_counter()
-    grading.grade(entries)
+    grading.grade(entries, total_s)
     return entries, time.perf_counter() - t0
 
 
@@ -457,8 +528,15 @@ def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **
 
     ex = registry.get(ex_id)
     resolved = resolve_params(ex, dict(params or {}))
-    if isinstance(methods, str):
-        methods = [m.strip() for m in methods.split(",")]
+    if methods is not None:
+        methods = _names("methods", [m.strip() for m in methods.split(",")] if isinstance(methods, str) else methods)
+    if tols is not None:
+        try:
+            tols = [float(t) for t in ([tols] if isinstance(tols, (int, float)) else tols)]
+        except (TypeError, ValueError):
+            raise BadInput(f"tols: give a list of tolerances such as [1e-6, 1e-9], got {_shown(repr(tols))}") from None
+        if not tols or not all(0 < t < 1 for t in tols):
+            raise BadInput(f"tols: every tolerance must be in (0, 1), got {_shown(tols)}")
     return bench_resolved(ex, resolved, methods=methods, tols=tols, **options)
 
 
@@ -498,7 +576,7 @@ def bench_methods(ex, params, text: str) -> list[str]:
                 known = names + ([own] if own and own not in names else [])
                 close = difflib.get_close_matches(raw.lower(), [k.lower() for k in known], n=1, cutoff=0.6)
                 hint = f"; did you mean {by_lower.get(close[0], close[0])}?" if close else ""
-                raise BadInput(f"--methods: unknown method '{raw}'{hint} (known: {', '.join(known)})")
+                raise BadInput(f"--methods: unknown method '{_shown(raw)}'{hint} (known: {', '.join(known)})")
         out.append(name)
     return out
 
@@ -519,6 +597,10 @@ def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = Non
 
     ex = registry.get(ex_id)
     resolved = resolve_params(ex, dict(params or {}))
+    if vary is not None:
+        if not isinstance(vary, str) or vary.replace("-", "_") not in ex.param_map:
+            raise BadInput(f"vary: '{_shown(vary)}' is not a parameter of {ex.id}; its parameters are: "
+                           f"{', '.join(ex.param_map)}")
     need_matplotlib()
     fig = draw(ex, resolved, generic=generic, vary=vary.replace("-", "_") if vary else None)
     if path is not None:
@@ -559,8 +641,12 @@ def check(ids=None, hard: bool = False, *, jobs: int | None = None, started=None
     from mech.verification.checking import run_check
     from mech.problems import registry
 
-    if ids is not None and not isinstance(ids, (list, tuple)):
-        ids = [ids]  # one id; a number among them is refused by registry.get
+    if ids is not None and not isinstance(ids, (str, list, tuple)):
+        registry.get(ids)  # a number: BadInput saying to quote it
+        raise BadInput(f"ids: give an id or a list of ids, got {_shown(repr(ids))}")
+    if isinstance(ids, str):
+        ids = [ids]
+    hard = _flag("hard", hard)
     exercises = [registry.get(i) for i in ids] if ids else list(registry.all_exercises().values())
     return run_check(exercises, hard=hard, jobs=jobs, started=started, finished=finished)
 

@@ -13,7 +13,6 @@ Three rules every rendering here keeps:
 from __future__ import annotations
 
 import math
-import os
 import sys
 
 from rich import box
@@ -28,8 +27,11 @@ PIPED_WIDTH = 160
 
 def console() -> Console:
     """A console for this command's output: the terminal's width, else ``COLUMNS``, else 160 columns."""
+    from mech.core.safeio import columns, normalize_columns
+
+    normalize_columns()  # rich reads COLUMNS itself: 0 would print nothing, 5 would drop rows
     probe = Console()
-    width = None if probe.is_terminal or os.environ.get("COLUMNS", "").isdigit() else PIPED_WIDTH
+    width = None if probe.is_terminal or columns() is not None else PIPED_WIDTH
     return Console(highlight=False, soft_wrap=False, width=width)
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import click
+from mech.core.safeio import shown
 
 __all__ = ["bench_cmd", "plot_bench"]
 
@@ -19,7 +20,7 @@ def _float_list(text: str | None, what: str) -> list[float] | None:
         try:
             v = float(part)
         except ValueError:
-            raise click.BadParameter(f"'{part}' is not a number", param_hint=what) from None
+            raise click.BadParameter(f"'{shown(part)}' is not a number", param_hint=what) from None
         if not (0.0 < v < 1.0):
             raise click.BadParameter(f"{part} is out of range; allowed (0, 1)", param_hint=what)
         out.append(v)
@@ -72,6 +73,9 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
             import matplotlib  # noqa: F401
         except ImportError:
             raise UsageFailure("--plot needs matplotlib: pip install -e '.[plot]' in mech's checkout") from None
+        from mech.figures.common import check_target
+
+        check_target(plot_file)  # before the bench's seconds of work
 
     progress = None
     if not as_json:

@@ -65,4 +65,7 @@ def write_junit(report: Report, path: str) -> None:
     root = ET.Element("testsuites", name="mech", tests=str(len(report.cases)), failures=str(report.failed))
     root.append(suite)
     ET.indent(root)
-    ET.ElementTree(root).write(path, encoding="utf-8", xml_declaration=True)
+    from mech.core.safeio import atomic_write
+
+    with atomic_write(path, "--junit", mode="wb") as fh:  # a failed write leaves the old report whole
+        ET.ElementTree(root).write(fh, encoding="utf-8", xml_declaration=True)

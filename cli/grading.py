@@ -24,27 +24,30 @@ def write_grade_junit(path: str, entries: list[Entry], seconds: float, out_file:
     viewers do not split "4.15" into a package 4 and a class 15."""
     from xml.etree import ElementTree as ET
 
+    from mech.core.safeio import atomic_write, shown, shown_path
+
     judgements = [(e, j) for e in entries for j in e.judgements]
     failed = sum(not j.match for _, j in judgements)
-    suite = ET.Element("testsuite", name=f"mech grade {path}", tests=str(len(judgements)), failures=str(failed),
-                       errors="0", time=f"{seconds:.3f}")
+    suite = ET.Element("testsuite", name=f"mech grade {shown_path(path)}", tests=str(len(judgements)),
+                       failures=str(failed), errors="0", time=f"{seconds:.3f}")
     for e, j in judgements:
         who = f"{e.student}: " if e.student else ""
         # an entry's cross-check time, shared by its expected values (the cases add up to the run)
         tc = ET.SubElement(suite, "testcase", classname=f"mech.ex{e.exercise.id.replace('.', '_')}",
-                           name=f"{who}{j.name} = {j.text} ({e.label()})",
+                           name=f"{who}{j.name} = {shown(j.text)} ({e.label()})",
                            time=f"{e.seconds / max(len(e.judgements), 1):.3f}")
         if e.student:
             props = ET.SubElement(tc, "properties")
             ET.SubElement(props, "property", name="student", value=e.student)
         if not j.match:
             fail = ET.SubElement(tc, "failure", message=j.verdict)
-            fail.text = (f"{e.exercise.id} {j.name}: yours {j.text}, mech {j.shown_reference or '—'}"
+            fail.text = (f"{e.exercise.id} {j.name}: yours {shown(j.text)}, mech {j.shown_reference or '—'}"
                          f" ({j.reference or 'no reference'}): {j.verdict}")
     root = ET.Element("testsuites", name="mech", tests=str(len(judgements)), failures=str(failed))
     root.append(suite)
     ET.indent(root)
-    ET.ElementTree(root).write(out_file, encoding="utf-8", xml_declaration=True)
+    with atomic_write(out_file, "--junit", mode="wb") as fh:
+        ET.ElementTree(root).write(fh, encoding="utf-8", xml_declaration=True)
 
 
 def print_grade(entries: list[Entry], seconds: float) -> None:
@@ -56,6 +59,7 @@ def print_grade(entries: list[Entry], seconds: float) -> None:
     from rich.text import Text
 
     from mech import render
+    from mech.core.safeio import shown
 
     students = any(e.student for e in entries)
     cols = [("#", "right")] + ([("student", "left")] if students else []) + [
@@ -71,9 +75,9 @@ def print_grade(entries: list[Entry], seconds: float) -> None:
             verdict = Text(j.verdict, style="green" if j.match else "bold red")
             first = i == 0
             t.add_row(*([str(e.number) if first else ""] + ([e.student or "" if first else ""] if students else [])
-                        + [where if first else "", j.name, j.text, j.shown_reference or "—", verdict]))
+                        + [where if first else "", j.name, shown(j.text), j.shown_reference or "—", verdict]))
             head = f"{e.number}  " + (f"{e.student}: " if e.student else "") + f"{where}: {j.name}"
-            blocks.append((head, [("yours", j.text), ("mech", j.shown_reference or "—"), ("verdict", verdict)]))
+            blocks.append((head, [("yours", shown(j.text)), ("mech", j.shown_reference or "—"), ("verdict", verdict)]))
     c = render.console()
     table = t if render.fits(c, t) else render._stacked("", blocks)
     judgements = [j for e in entries for j in e.judgements]
@@ -102,9 +106,11 @@ def _complete_files(ctx, param, incomplete):
 @click.command("grade")
 @click.argument("file", metavar="FILE", shell_complete=_complete_files)
 @click.option("--json", "as_json", is_flag=True, help="A JSON report on stdout.")
-@click.option("--junit", "junit_file", type=click.Path(dir_okay=False, writable=True),
+@click.option("--junit", "junit_file", metavar="FILE",
               help="Write a JUnit XML report: one test case per expected value.")
-def grade_cmd(file, as_json, junit_file):
+@click.option("--budget", "total_s", metavar="SECONDS", type=float,
+              help="Wall-clock budget of the whole grading [600]; answers not reached by then fail, saying so.")
+def grade_cmd(file, as_json, junit_file, total_s):
     """Hold a TOML file of answers against mech (each [[answer]]: exercise, params, expect, rtol).
 
     \b
@@ -117,14 +123,23 @@ def grade_cmd(file, as_json, junit_file):
     Values are judged to the digits written (or to rtol). Exit status: 0 all right,
     1 any wrong, 2 a bad file (one line naming the file, the answer and the field).
     """
-    from mech.cli.main import EXIT_DISAGREE, EXIT_OK, UsageFailure
+    from mech.cli.main import EXIT_DISAGREE, EXIT_OK, EXIT_USAGE, UsageFailure
+    from mech.core.safeio import check_output, escape
 
     from mech import api
 
+    ctx = click.get_current_context()
     try:
-        entries, seconds = api.grade_entries(file)
+        if junit_file is not None:
+            check_output(junit_file, "--junit")  # before the grading, not after
+        entries, seconds = api.grade_entries(file, total_s=total_s)
     except BadInput as exc:
-        raise UsageFailure(str(exc)) from None
+        problems = getattr(exc, "problems", None)  # a bad answers file: every problem, a line each
+        if not problems:
+            raise UsageFailure(str(exc)) from None
+        for line in problems:
+            click.echo(f"mech: error: {escape(' '.join(line.split()))}", err=True)
+        ctx.exit(EXIT_USAGE)
     if junit_file:
         write_grade_junit(file, entries, seconds, junit_file)
     if as_json:
@@ -155,7 +170,10 @@ def junit_baseline(junit_file: str, cmp) -> None:
     root.set("tests", str(int(root.get("tests", "0")) + len(cmp.points)))
     root.set("failures", str(int(root.get("failures", "0")) + len(moved)))
     ET.indent(root)
-    tree.write(junit_file, encoding="utf-8", xml_declaration=True)
+    from mech.core.safeio import atomic_write
+
+    with atomic_write(junit_file, "--junit", mode="wb") as fh:
+        tree.write(fh, encoding="utf-8", xml_declaration=True)
 
 
 def print_baseline(cmp, saved: str | None) -> None:

@@ -10,7 +10,6 @@ rich renderings use).
 
 from __future__ import annotations
 
-import os
 import shutil
 import sys
 import textwrap
@@ -61,9 +60,9 @@ def _rule() -> str:
 
 
 def print_list(exercises) -> None:
-    columns = os.environ.get("COLUMNS", "")
-    if columns.isdigit() and int(columns) > 0:
-        width = int(columns)
-    else:
+    from mech.core.safeio import columns
+
+    width = columns()
+    if width is None:
         width = shutil.get_terminal_size((160, 24)).columns if sys.stdout.isatty() else 160
     sys.stdout.write("\n".join(table_lines(exercises, width)) + "\n")

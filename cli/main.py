@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import re
 import sys
+import time
 
 import click
 
@@ -18,6 +19,7 @@ from mech.problems.values import parse_rtol
 from mech.core.errors import BadInput, BadUsage
 
 EXIT_OK, EXIT_DISAGREE, EXIT_USAGE = 0, 1, 2
+_STARTED = time.monotonic()  # the command's start (this module loads first): a solve's budget counts from here
 
 
 class UsageFailure(click.ClickException):
@@ -121,28 +123,105 @@ class MechGroup(click.Group):
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         code = EXIT_OK
         try:
+            _environment_checks()
             rv = super().main(args=args, prog_name=prog_name or "mech", complete_var=complete_var,
                               standalone_mode=False, **extra)
             code = rv if isinstance(rv, int) else EXIT_OK
+            _flush_stdout()
         except click.exceptions.Exit as exc:
             code = exc.exit_code
+            try:
+                _flush_stdout()
+            except OSError as err:
+                code = _stdout_failed(err)
         except click.ClickException as exc:
-            click.echo(f"mech: error: {_one_line(exc.format_message())}", err=True)
+            _error(exc.format_message())
             code = EXIT_USAGE if isinstance(exc, (click.UsageError, UsageFailure)) else exc.exit_code
-        except BadUsage as exc:
-            click.echo(f"mech: error: {_one_line(str(exc))}", err=True)
+        except (BadUsage, BadInput) as exc:  # bad input found below the command's own checks: exit 2, one line
+            _error(str(exc))
             code = EXIT_USAGE
         except click.Abort:
             click.echo("mech: aborted", err=True)
             code = 130
         except BrokenPipeError:
+            _quiet_stdout()
             code = EXIT_OK
+        except UnicodeEncodeError as exc:
+            _quiet_stdout()
+            bad = exc.object[exc.start:exc.end] if isinstance(exc.object, str) else "?"
+            _error(f"standard output cannot show {ascii(bad)} in its encoding ({exc.encoding}): set "
+                   "PYTHONIOENCODING=utf-8, or use --json")
+            code = EXIT_USAGE
+        except OSError as exc:
+            import errno
+
+            # files mech writes report their own failures (BadInput); what is left is standard output
+            if _stdout_broken() or exc.errno in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EIO, errno.EBADF):
+                code = _stdout_failed(exc)
+            else:
+                _error(f"internal error: {type(exc).__name__}: {exc}")
+                code = EXIT_DISAGREE
+        except RecursionError:
+            _error("input nested too deeply")
+            code = EXIT_USAGE
         except Exception as exc:  # a defect: say so in one line, never a traceback
-            click.echo(f"mech: internal error: {type(exc).__name__}: {_one_line(str(exc))}", err=True)
+            _error(f"internal error: {type(exc).__name__}: {exc}")
             code = EXIT_DISAGREE
         if standalone_mode:
             sys.exit(code)
         return code
+
+
+def _environment_checks() -> None:
+    """What the environment must give before a command runs: an open standard output, a usable
+    ``MECH_BUDGET_S``; ``COLUMNS`` read as the tables read it (below 60 as 60, zero or garbage unset)."""
+    from mech.core.safeio import budget_seconds, normalize_columns
+
+    normalize_columns()
+    if sys.stdout is None:
+        raise UsageFailure("standard output is closed: nothing could be reported (redirect it to a file "
+                           "or /dev/null)")
+    budget_seconds()
+
+
+def _error(text: str) -> None:
+    from mech.core.safeio import escape
+
+    line = escape(_one_line(text))
+    if len(line) > 2000:
+        line = line[:2000] + "..."
+    click.echo(f"mech: error: {line}" if not line.startswith("internal error") else f"mech: {line}", err=True)
+
+
+def _flush_stdout() -> None:
+    if sys.stdout is not None:
+        sys.stdout.flush()
+
+
+def _stdout_broken() -> bool:
+    try:
+        _flush_stdout()
+    except (OSError, ValueError):
+        return True
+    return False
+
+
+def _quiet_stdout() -> None:
+    """Point standard output at /dev/null, so that the interpreter's last flush finds nothing to fail on."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):
+        pass
+
+
+def _stdout_failed(exc: OSError) -> int:
+    _quiet_stdout()
+    _error(f"cannot write to standard output: {exc.strerror or exc}")
+    return EXIT_USAGE
 
 
 @click.group(cls=MechGroup, context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100})
@@ -355,6 +434,8 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
                            "motion: one-period maps, fundamental solutions, a radial profile): no trajectory")
     if trajectory_file and method == "analytic":
         raise UsageFailure("--trajectory needs the numeric method: drop --method analytic")
+    if trajectory_file is not None:
+        _check_output(trajectory_file, "--trajectory")
     from mech import api
 
     try:
@@ -370,7 +451,8 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
         raise UsageFailure(str(exc)) from None
     methods = ("analytic", "numeric") if method == "both" else (method,)
     verify = not no_verify and method != "analytic"
-    sol = api.solve_resolved(ex, params, methods=methods, rtol=rtol, verify=verify, expectations=expectations)
+    sol = api.solve_resolved(ex, params, methods=methods, rtol=rtol, verify=verify, expectations=expectations,
+                             budget_s=_solve_budget())
     if trajectory_file:  # the numeric solve's motion
         failed = sol.solver_failed
         try:
@@ -383,7 +465,10 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
                 "motion it integrates does not exist here)"
             click.echo(f"mech: no trajectory written: the numeric solve of {ex.id} {why}", err=True)
         else:
-            trajectory.to_csv(trajectory_file)
+            try:
+                trajectory.to_csv(trajectory_file)
+            except BadInput as exc:
+                raise UsageFailure(str(exc)) from None
     if as_json:
         _emit_json(sol.to_dict())
     else:
@@ -397,7 +482,7 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
 @click.argument("ids", nargs=-1, metavar="[ID]...", shell_complete=_complete_ids)
 @click.option("--hard", is_flag=True, help="Also run every exercise's hard cases.")
 @click.option("--json", "as_json", is_flag=True, help="Print a JSON report on stdout instead of the table.")
-@click.option("--junit", "junit_file", type=click.Path(dir_okay=False, writable=True), help="Write a JUnit XML report.")
+@click.option("--junit", "junit_file", metavar="FILE", help="Write a JUnit XML report.")
 @click.option("--save-baseline", "save_baseline", metavar="FILE", help="Record every checked value with its error bar.")
 @click.option("--baseline", "baseline_file", metavar="FILE", help="Fail when a value moved beyond its error bars since FILE.")
 @click.option("-j", "--jobs", type=click.IntRange(1, 256),
@@ -413,6 +498,9 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
 
     for i in ids:
         _get(i)  # an unknown id: exit 2 before anything runs
+    for path, what in ((junit_file, "--junit"), (save_baseline, "--save-baseline")):
+        if path is not None:  # before the minutes of the check, not after
+            _check_output(path, what)
     try:
         with progress_bar(not as_json) as bar:
             report, moved = api.check_against_baselines(list(ids) or None, hard, baseline=baseline_file,
@@ -439,9 +527,38 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
     ctx.exit(EXIT_OK if report.ok and (moved is None or moved.ok) else EXIT_DISAGREE)
 
 
+def _solve_budget() -> float:
+    """The solve's budget, counted from the command's start: MECH_BUDGET_S (8 s) covers the imports and
+    the analytic side too, so that a budget stop ends the command near 8 s, not 8.5 s after it began."""
+    from mech.core.safeio import budget_seconds
+
+    full = budget_seconds()
+    return max(0.5 * full, full - (time.monotonic() - _STARTED))
+
+
+def _check_output(path, what: str) -> None:
+    from mech.core.safeio import check_output
+
+    try:
+        check_output(path, what)
+    except BadInput as exc:
+        raise UsageFailure(str(exc)) from None
+
+
 def main(argv=None) -> None:
-    """Console-script entry point."""
-    cli.main(args=argv, prog_name="mech")
+    """Console-script entry point.  Leaves without the interpreter's teardown of numpy and scipy (0.3 s
+    on a loaded 2-core machine, after the answer is out): the streams are flushed here, and the only
+    processes mech starts die with it."""
+    import os
+
+    code = cli.main(args=argv, prog_name="mech", standalone_mode=False)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            if stream is not None:
+                stream.flush()
+        except (OSError, ValueError):
+            pass
+    os._exit(code if isinstance(code, int) else EXIT_OK)
 
 
 def _shorten(text: str, limit: int) -> str:

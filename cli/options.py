@@ -6,6 +6,7 @@ from typing import TYPE_CHECKING
 
 from mech.core.errors import BadInput
 from mech.problems.values import convert, param_name, parse_rtol
+from mech.core.safeio import shown
 
 if TYPE_CHECKING:  # pragma: no cover
     from mech.problems.spec import Exercise
@@ -24,14 +25,14 @@ def collect_texts(ex: Exercise, args: list[str], pairs: list[str],
     def put(raw_name: str, text: str) -> None:
         name = param_name(ex, raw_name)
         if name in texts:
-            raise BadInput(f"{name}: given more than once ('{texts[name]}' and '{text}'); give it once")
+            raise BadInput(f"{name}: given more than once ('{shown(texts[name])}' and '{shown(text)}'); give it once")
         texts[name] = text
 
     i = 0
     while i < len(args):
         arg = args[i]
         if not arg.startswith("--") or len(arg) <= 2:
-            raise BadInput(f"unexpected argument '{arg}'; parameters are given as {forms}")
+            raise BadInput(f"unexpected argument '{shown(arg)}'; parameters are given as {forms}")
         body = arg[2:]
         if "=" in body:
             name, text = body.split("=", 1)
@@ -46,7 +47,7 @@ def collect_texts(ex: Exercise, args: list[str], pairs: list[str],
         i += 1
     for pair in pairs:
         if "=" not in pair:
-            raise BadInput(f"-p takes NAME=VALUE, got '{pair}'")
+            raise BadInput(f"-p takes NAME=VALUE, got '{shown(pair)}'")
         put(*pair.split("=", 1))
     return texts
 

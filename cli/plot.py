@@ -53,6 +53,9 @@ def plot_cmd(ctx, ex_id, pairs, out, generic, vary, n_numeric, rtol_text, dpi):
             vary = param_name(ex, vary)
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
+    if out is not None and not out.strip():
+        raise UsageFailure("-o/--output: an empty file name; give a file to write, or leave it out for "
+                           f"mech-{ex.id}.png")
     out = out or f"mech-{ex.id}.png"
     try:
         api.plot_resolved(ex, params, out, generic=generic, vary=vary, n_numeric=n_numeric, rtol=rtol, dpi=dpi,

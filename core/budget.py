@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import contextlib
 import math
-import os
 import time
 
 from mech.core.errors import NumericFailure
@@ -26,7 +25,7 @@ __all__ = ["OutOfBudget", "check", "limit", "default_seconds", "remaining", "dea
 deadline = math.inf
 _seconds = math.inf
 _what = "the numeric solve"
-_GRACE_S = 1.0
+_GRACE_S = 0.25  # the backup timer: a loop that never calls check() stops this late
 
 
 class OutOfBudget(NumericFailure):
@@ -34,10 +33,11 @@ class OutOfBudget(NumericFailure):
 
 
 def default_seconds() -> float:
-    try:
-        return float(os.environ.get("MECH_BUDGET_S", "8"))
-    except ValueError:
-        return 8.0
+    """``MECH_BUDGET_S``, or 8 s; ``BadInput`` naming the variable when it is not a finite positive number
+    (``nan`` or ``inf`` would switch the budget off)."""
+    from mech.core.safeio import budget_seconds
+
+    return budget_seconds()
 
 
 def remaining() -> float:

@@ -197,8 +197,10 @@ class _Parser:
             if exp.dim != _ONE or exp.has_units:
                 raise ValueError_("an exponent must be a pure number")
             e = exp.value
-            if base.dim != _ONE and e != int(e):
-                raise ValueError_("a unit can only be raised to a whole power")
+            if not math.isfinite(e):
+                raise ValueError_("an exponent must be a finite number")
+            if base.dim != _ONE and (abs(e) > 64 or e != int(e)):
+                raise ValueError_("a unit can only be raised to a whole power, at most 64")
             try:
                 value = base.value**e
             except (OverflowError, ZeroDivisionError):

@@ -37,23 +37,33 @@ def need_matplotlib():
 
 def check_target(path: str) -> str:
     """The format of the output file, from its suffix; exit 2 for anything else or an unwritable place."""
-    ext = os.path.splitext(path)[1].lower()
+    from mech.core.errors import BadInput
+    from mech.core.safeio import check_output, shown
+
+    ext = os.path.splitext(str(path))[1].lower()
     if ext not in FORMATS:
-        raise _usage(f"cannot write '{path}': the file's suffix chooses the format, one of .png, .svg, .pdf")
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise _usage(f"cannot write '{path}': no folder {folder}")
+        raise _usage(f"cannot write '{shown(path)}': the file's suffix chooses the format, one of .png, .svg, .pdf")
+    try:
+        check_output(path, "--plot")
+    except BadInput as exc:
+        raise _usage(str(exc)) from None
     return FORMATS[ext]
 
 
 def save(fig, path: str, dpi: float = 110) -> None:
     import matplotlib.pyplot as plt
 
+    from mech.core.errors import BadInput
+    from mech.core.safeio import atomic_write
+
     fmt = check_target(path)
     meta = {"Software": "mech"} if fmt == "png" else None
     try:
         finish_legends(fig)
-        fig.savefig(path, format=fmt, dpi=dpi, metadata=meta)
+        with atomic_write(path, "--plot", mode="wb") as fh:
+            fig.savefig(fh, format=fmt, dpi=dpi, metadata=meta)
+    except BadInput as exc:
+        raise _usage(str(exc)) from None
     finally:
         plt.close(fig)
 

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
+from mech.core.safeio import shown
 from mech.problems.spec import BadInput, Exercise
 
 CHAPTER_PACKAGES = ("mech.problems.ch4", "mech.problems.ch5")
@@ -158,6 +159,9 @@ def all_exercises() -> dict[str, Exercise]:
     return {ex_id: _load(ex_id, module) for ex_id, module in _modules().items()}
 
 
+MAX_ID_CHARS = 12  # "exercise 4.15" is 13 with its word; anything longer is no id
+
+
 def get(ex_id: str) -> Exercise:
     check_id_type(ex_id)
     modules = _modules()
@@ -174,7 +178,7 @@ def check_id_type(ex_id) -> None:
     if isinstance(ex_id, (int, float)) or type(ex_id).__module__ == "numpy":
         raise BadInput(f"exercise id {ex_id} is a number; give it as a string, e.g. mech.solve(\"4.10\") "
                        f"(as numbers 4.10 and 4.1 are the same)")
-    raise BadInput(f"exercise id {ex_id!r} must be a string such as \"4.15\"")
+    raise BadInput(f"exercise id {shown(repr(ex_id))} must be a string such as \"4.15\"")
 
 
 def _spans(ids: list[str]) -> str:
@@ -189,7 +193,9 @@ def unknown_id_message(ex_id: str, ids: list[str]) -> str:
     """One line for an id that is not registered: the nearest id where one is close, else the ranges."""
     import difflib
 
-    text = ex_id.strip()
+    text = str(ex_id).strip()
+    if len(text) > MAX_ID_CHARS + 8:  # no hint for what is no id: building one would cost memory
+        return f"unknown exercise '{shown(text, 20)}' (registered: {_spans(ids)})"
     norm = re.sub(r"^(?:ex(?:ercise)?)\s*", "", text.lower()).replace(",", ".").replace("-", ".").replace("_", ".")
     m = re.fullmatch(r"(\d+)\.(\d+)", norm)
     close: list[str] = []
@@ -209,7 +215,7 @@ def unknown_id_message(ex_id: str, ids: list[str]) -> str:
     elif len(norm) >= 3:
         close = difflib.get_close_matches(norm, ids, n=1, cutoff=0.7)
     hint = f"; did you mean {close[0]}?" if close else ""
-    return f"unknown exercise '{text}'{hint} (registered: {_spans(ids)})"
+    return f"unknown exercise '{shown(text)}'{hint} (registered: {_spans(ids)})"
 
 
 if __name__ == "__main__":  # pragma: no cover

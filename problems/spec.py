@@ -100,7 +100,9 @@ class Param:
         if typed is None:
             said = self.show(value)
         else:
-            said = typed.strip()
+            from mech.core.safeio import shown
+
+            said = shown(typed.strip())
             if self.display and self.display not in said and math.isfinite(value):
                 said += f" (= {self.show(value)})"
         if not math.isfinite(value):

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 
 from mech.core.errors import BadInput
 from mech.core.units import ValueError_, to_si
+from mech.core.safeio import shown
 
 if TYPE_CHECKING:  # pragma: no cover
     from mech.problems.spec import Exercise
@@ -34,7 +35,7 @@ def unknown_param_message(ex: Exercise, raw: str) -> str:
     by_lower = {n.lower(): n for n in names}
     close = difflib.get_close_matches(name.lower(), list(by_lower), n=1, cutoff=0.6)
     hint = f"; did you mean {by_lower[close[0]]}?" if close else ""
-    return f"unknown parameter '{raw}' for {ex.id}{hint} (its parameters: {', '.join(names)})"
+    return f"unknown parameter '{shown(raw)}' for {ex.id}{hint} (its parameters: {', '.join(names)})"
 
 
 def convert(ex: Exercise, name: str, text: str) -> float:
@@ -43,7 +44,7 @@ def convert(ex: Exercise, name: str, text: str) -> float:
     try:
         value = to_si(text, param.unit)
     except ValueError_ as exc:
-        raise BadInput(f"{name}: cannot use '{text}': {exc}; allowed range {param.range_text()}") from None
+        raise BadInput(f"{name}: cannot use '{shown(text)}': {exc}; allowed range {param.range_text()}") from None
     param.check(value, typed=text)
     return value
 
@@ -55,7 +56,7 @@ def parse_rtol(text: str | None, ex: Exercise) -> float | None:
     try:
         value = to_si(text, "1")
     except ValueError_ as exc:
-        raise BadInput(f"rtol: cannot use '{text}': {exc}; allowed range [{ex.min_rtol:g}, 0.01]") from None
+        raise BadInput(f"rtol: cannot use '{shown(text)}': {exc}; allowed range [{ex.min_rtol:g}, 0.01]") from None
     if not (ex.min_rtol <= value <= 1e-2):
         raise BadInput(f"rtol: {value:g} is out of range; allowed [{ex.min_rtol:g}, 0.01]")
     return value

@@ -49,8 +49,10 @@ def test_a_case_that_fails_in_a_worker_is_reported(monkeypatch):
 
 def test_how_many_processes():
     assert checking.plan_jobs(3, None) == 1  # too few cases to share
-    assert checking.plan_jobs(3, 2) == 2 and checking.plan_jobs(3, 8) == 3  # as asked, never more than cases
     cores = len(os.sched_getaffinity(0))
+    # as asked, never more than the cases nor the cores
+    assert checking.plan_jobs(3, 2) == min(2, cores) and checking.plan_jobs(3, 8) == min(3, cores)
+    assert checking.plan_jobs(1000, 256) == cores
     assert checking.plan_jobs(100, None) == (min(cores, 100) if cores >= 2 else 1)
 
 

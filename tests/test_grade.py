@@ -110,16 +110,30 @@ HEAD = '[[answer]]\nexercise = "4.15"\n'
     ('x = 1\n', ["'x'", "unknown top-level key"]),
     ('', ["no [[answer]] tables"]),
 ])
-def test_a_bad_file_exits_2_with_one_line_naming_it(tmp_path, text, words):
+def test_a_bad_file_exits_2_with_a_line_per_problem_naming_it(tmp_path, text, words):
     path = tmp_path / "bad.toml"
     path.write_text(text, encoding="utf-8")
     code, out, err = run("grade", str(path))
     assert code == 2 and out == ""
     lines = err.strip().splitlines()
-    assert len(lines) == 1 and "Traceback" not in err
-    assert str(path) in lines[0]
-    for w in words:
-        assert w in lines[0]
+    assert lines and "Traceback" not in err
+    assert all(line.startswith("mech: error: ") and str(path) in line for line in lines)
+    assert any(all(w in line for w in words) for line in lines), lines
+
+
+def test_every_problem_of_a_file_at_once_each_with_its_entry_and_line(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text('[[answer]]\nexercise = "4.15"\nparams = { nosuch = 1 }\nexpect = { theta_c = "2 kg" }\n\n'
+                    '[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "35.26deg" }\n\n'
+                    '[[answer]]\nexercise = "9.99"\ncolour = "red"\nexpect = { x = 1 }\n', encoding="utf-8")
+    code, out, err = run("grade", str(path))
+    assert code == 2 and out == ""
+    lines = err.strip().splitlines()
+    # entry 1: two problems (line 1); entry 2 is good; entry 3: two problems (line 10)
+    assert len(lines) == 4, lines
+    assert "answer 1 (line 1): params.nosuch" in lines[0] and "answer 1 (line 1): expect.theta_c" in lines[1]
+    assert "answer 3 (line 10)" in lines[2] and "answer 3 (line 10)" in lines[3]
+    assert any("colour: unknown field" in ln for ln in lines[2:]) and any("9.99" in ln for ln in lines[2:])
 
 
 def test_a_missing_file_exits_2(tmp_path):
@@ -152,6 +166,7 @@ def test_fuzz_grading_files_never_crash(tmp_path_factory, exercise, pname, pval,
     assert result.exit_code in (0, 1, 2), result.stderr
     assert "Traceback" not in result.stderr and "internal error" not in result.stderr
     if result.exit_code == 2:
-        assert result.stdout == "" and len(result.stderr.strip().splitlines()) == 1
+        lines = result.stderr.strip().splitlines()
+        assert result.stdout == "" and lines and all(ln.startswith("mech: error: ") for ln in lines)
     else:
         json.loads(result.stdout)

@@ -47,16 +47,19 @@ def record_case(ex_id: str, label: str, params, ok: bool, quantities) -> dict:
             "ok": bool(ok), "outputs": outputs}
 
 
+DISTRIBUTION = "mech-likharev"  # mech's distribution name on the package index (the import name is mech)
+
+
 def versions() -> dict:
     """The versions the values were computed with (read from the installed metadata: no scipy import)."""
     from importlib import metadata
 
     out = {"python": platform.python_version()}
-    for dist in ("mech", "numpy", "scipy"):
+    for key, dist in (("mech", DISTRIBUTION), ("numpy", "numpy"), ("scipy", "scipy")):
         try:
-            out[dist] = metadata.version(dist)
+            out[key] = metadata.version(dist)
         except metadata.PackageNotFoundError:
-            out[dist] = None
+            out[key] = None
     return out
 
 
@@ -66,27 +69,73 @@ def make(records: list[dict], hard: bool) -> dict:
             "versions": versions(), "hard": bool(hard), "cases": records}
 
 
+def _number(v, *, nullable: bool = True, nonnegative: bool = False) -> str | None:
+    """What is wrong with a value that must be a finite JSON number (or null), or None."""
+    if v is None:
+        return None if nullable else "missing"
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        return f"not a number ({type(v).__name__})"
+    try:
+        x = float(v)
+    except OverflowError:
+        return "not a finite number (too large)"
+    if not math.isfinite(x):
+        return "not a finite number"
+    if nonnegative and x < 0:
+        return f"negative ({x:g}); an error bar is at least 0"
+    return None
+
+
 def validate(data) -> str | None:
-    """What is wrong with a loaded baseline (the field named), or None."""
+    """What is wrong with a loaded baseline (the field named), or None.  Every field a comparison reads is
+    checked here, before the check runs: its type, its presence, error bars non-negative."""
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         return f"format: not a mech baseline (no \"format\": \"{FORMAT}\")"
-    if data.get("version") != VERSION:
-        return f"version: {data.get('version')!r}, this mech reads version {VERSION}"
+    version = data.get("version")
+    if isinstance(version, bool) or version != VERSION:
+        return f"version: {str(version)[:40]!r}, this mech reads version {VERSION}"
+    vers = data.get("versions", {})
+    if not isinstance(vers, dict) or not all(isinstance(k, str) and (v is None or isinstance(v, str))
+                                             for k, v in vers.items()):
+        return "versions: not an object of version strings (such as {\"numpy\": \"2.1.0\"})"
+    if "hard" in data and not isinstance(data["hard"], bool):
+        return "hard: not true or false"
+    if "created" in data and not isinstance(data["created"], str):
+        return "created: not a string"
     cases = data.get("cases")
     if not isinstance(cases, list):
         return "cases: missing or not a list"
+    seen = set()
     for k, c in enumerate(cases):
         if not isinstance(c, dict) or not isinstance(c.get("id"), str) or not isinstance(c.get("case"), str):
-            return f"cases[{k}]: needs \"id\" and \"case\""
+            return f"cases[{k}]: needs \"id\" and \"case\" strings"
+        where = f"cases[{k}] ({c['id'][:20]} {c['case'][:40]})"
+        if (c["id"], c["case"]) in seen:
+            return f"{where}: given twice"
+        seen.add((c["id"], c["case"]))
         if not isinstance(c.get("params"), dict) or not isinstance(c.get("outputs"), dict):
-            return f"cases[{k}] ({c['id']} {c['case']}): needs \"params\" and \"outputs\" objects"
+            return f"{where}: needs \"params\" and \"outputs\" objects"
+        if "ok" in c and not isinstance(c["ok"], bool):
+            return f"{where}: ok: not true or false"
+        for name, v in c["params"].items():
+            problem = _number(v, nullable=False)
+            if problem:
+                return f"{where}: params.{str(name)[:40]}: {problem}"
+        if not c["outputs"] and c.get("ok", True):
+            return f"{where}: outputs: empty for a case that passed"
         for name, o in c["outputs"].items():
+            field_name = f"{where}: outputs.{str(name)[:40]}"
             if not isinstance(o, dict):
-                return f"cases[{k}] ({c['id']} {c['case']}): outputs.{name}: not an object"
+                return f"{field_name}: not an object"
+            if "unit" in o and not isinstance(o["unit"], str):
+                return f"{field_name}.unit: not a string"
             for key in ("analytic", "numeric", "numeric_err", "analytic_err"):
-                v = o.get(key)
-                if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v)):
-                    return f"cases[{k}] ({c['id']} {c['case']}): outputs.{name}.{key}: not a finite number"
+                problem = _number(o.get(key), nonnegative=key.endswith("_err"))
+                if problem:
+                    return f"{field_name}.{key}: {problem}"
+            for key in ("analytic", "numeric"):
+                if key not in o:
+                    return f"{field_name}.{key}: missing (null where there is no value)"
     return None
 
 

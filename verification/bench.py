@@ -197,7 +197,10 @@ def bench(
         known = ODE_METHODS + OTHER_ODE + tuple(SYMPLECTIC) + (STUDENT, DEFAULT_ROW, own_method)
         unknown = [m for m in methods if m not in known]
         if unknown:
-            raise ValueError(f"unknown method {unknown[0]!r}; known: {', '.join(known)}")
+            from mech.core.errors import BadInput
+            from mech.core.safeio import shown
+
+            raise BadInput(f"methods: unknown method '{shown(unknown[0])}'; known: {', '.join(dict.fromkeys(known))}")
         rows = [m for m in methods if m != STUDENT]
         extra = [(STUDENT, 1e-3)] if STUDENT in methods else []
     elif integrates:

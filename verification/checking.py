@@ -177,12 +177,11 @@ def plan_jobs(n_cases: int, jobs: int | None = None) -> int:
     Measured on a 2-core machine (``mech check --hard``, 162 cases): the cases one after the other, each
     with its rerun forked onto the second core, spend 3.4 s of CPU on the 162 forks alone; two workers,
     each running its cases' reruns after their solves, keep both cores busy with the work itself."""
-    if jobs is not None:
-        return max(1, min(jobs, n_cases))
-    try:
-        cores = len(os.sched_getaffinity(0))
-    except (AttributeError, OSError):
-        cores = os.cpu_count() or 1
+    from mech.verification.sweep import usable_cores
+
+    cores = usable_cores()
+    if jobs is not None:  # never more than the cores: -j 256 on 2 cores only thrashes
+        return max(1, min(jobs, n_cases, cores))
     if cores < 2 or n_cases < MIN_POOLED_CASES or not hasattr(os, "fork") or not sys.platform.startswith("linux"):
         return 1
     return min(cores, n_cases)

@@ -10,12 +10,13 @@ from __future__ import annotations
 import json
 import math
 import re
-import tomllib
+import time
 from dataclasses import dataclass, field
 
 
 from mech.core.units import CONSTANTS, ValueError_, tokens, to_si
 from mech.problems.spec import BadInput, Exercise
+from mech.core.safeio import shown
 
 __all__ = ["parse_expectation", "parse_expect_options", "attach", "Entry", "BadFile", "load_answers",
            "grade", "grade_json", "open_baseline", "check_records", "baselines"]
@@ -68,7 +69,7 @@ def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = No
         if formula is not None:
             return replace(formula, rtol=rtol)
         why = str(exc).replace("but the parameter is", f"but {name} is")
-        raise BadInput(f"{name}: cannot use '{text}': {why}" + ("" if why != str(exc) else f" ({name} is in {unit})")) from None
+        raise BadInput(f"{name}: cannot use '{shown(text)}': {why}" + ("" if why != str(exc) else f" ({name} is in {unit})")) from None
     # a value that names a parameter is a formula (``E=m*g*l``), unless it reads as a number of the
     # output's dimension and the formula would not have it (``x=3 m`` in 4.7, whose m is a mass)
     formula = _formula(ex, name, text, parameters_only=True, unit=unit)
@@ -83,7 +84,7 @@ def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = No
     try:
         half_unit, digits = _literal_precision(toks[literals[0]][1])
     except OverflowError:
-        raise BadInput(f"{name}: cannot use '{text}': an exponent too large") from None
+        raise BadInput(f"{name}: cannot use '{shown(text)}': an exponent too large") from None
     factor, unit_text = _unit_factor(text, toks, literals[0], unit)
     return Expectation(name, text, value, half_unit * abs(factor), digits, rtol, unit_text, abs(factor))
 
@@ -167,7 +168,7 @@ def parse_rtol_value(text, what: str = "--expect-rtol") -> float:
     try:
         value = to_si(str(text), "1") if not isinstance(text, bool) else math.nan
     except ValueError_ as exc:
-        raise BadInput(f"{what}: cannot use '{text}': {exc}; allowed (0, 1)") from None
+        raise BadInput(f"{what}: cannot use '{shown(text)}': {exc}; allowed (0, 1)") from None
     if not (0 < value < 1):
         raise BadInput(f"{what}: {text} is out of range; allowed (0, 1)")
     return value
@@ -181,7 +182,7 @@ def parse_expect_options(ex: Exercise, pairs: list[str], rtol_text: str | None) 
     out: dict[str, Expectation] = {}
     for pair in pairs:
         if "=" not in pair:
-            raise BadInput(f"--expect takes NAME=VALUE, got '{pair}'")
+            raise BadInput(f"--expect takes NAME=VALUE, got '{shown(pair)}'")
         try:
             e = parse_expectation(ex, *pair.split("=", 1), rtol=rtol)
         except BadInput as exc:
@@ -230,7 +231,15 @@ class Entry:
 
 
 class BadFile(BadInput):
-    """A grading file mech cannot use; the message names the file, the entry and the field."""
+    """A grading file mech cannot use.  ``problems``: every problem found, each one line naming the file,
+    the entry (and its line) and the field; the message is all of them, a line each."""
+
+    def __init__(self, problems):
+        self.problems = [problems] if isinstance(problems, str) else list(problems)
+        super().__init__("\n".join(self.problems))
+
+
+MAX_PROBLEMS = 50  # problems of a bad file listed before "... and N more"
 
 
 def _entry_lines(text: str) -> list[int]:
@@ -238,96 +247,110 @@ def _entry_lines(text: str) -> list[int]:
 
 
 def load_answers(path: str) -> list[Entry]:
-    """Read and check a whole grading file before anything is solved; BadFile on the first problem."""
+    """Read and check a whole grading file before anything is solved; BadFile listing every problem."""
     from mech.problems import registry
+    from mech.core.safeio import load_toml_text, shown, shown_path
 
-    try:
-        with open(path, "rb") as fh:
-            raw = fh.read()
-        text = raw.decode("utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise BadFile(f"{path}: cannot read: {getattr(exc, 'strerror', None) or exc}") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise BadFile(f"{path}: malformed TOML: {exc}") from None
+    name = shown_path(path)
+    data, text = load_toml_text(path, "answers file")  # BadInput naming the file: unreadable, too big, too deep, malformed
+    problems: list[str] = []
     for key in data:
         if key != "answer":
-            raise BadFile(f"{path}: '{key}': unknown top-level key; answers go in [[answer]] tables")
+            problems.append(f"{name}: '{shown(key)}': unknown top-level key; answers go in [[answer]] tables")
     answers = data.get("answer")
     if not isinstance(answers, list) or not answers or not all(isinstance(a, dict) for a in answers):
-        raise BadFile(f"{path}: no [[answer]] tables")
+        raise BadFile(problems + [f"{name}: no [[answer]] tables"])
     lines = _entry_lines(text)
     entries = []
     for k, item in enumerate(answers, 1):
         line = lines[k - 1] if len(lines) == len(answers) else None
-        where = f"{path}: answer {k}" + (f" (line {line})" if line else "")
+        where = f"{name}: answer {k}" + (f" (line {line})" if line else "")
+        found = len(problems)
 
-        def bad(fld: str, why: str):
-            return BadFile(f"{where}: {fld}: {why}")
+        def bad(fld: str, why: str) -> None:
+            problems.append(f"{where}: {shown(fld)}: {why}")
 
         for key in item:
             if key not in _ENTRY_KEYS:
-                raise bad(key, f"unknown field; an answer has {', '.join(_ENTRY_KEYS)}")
+                bad(key, f"unknown field; an answer has {', '.join(_ENTRY_KEYS)}")
         ex_id = item.get("exercise")
+        ex = None
         if not isinstance(ex_id, str):
-            raise bad("exercise", "missing, or not a string such as \"4.15\"")
-        try:
-            ex = registry.get(ex_id)
-        except BadInput as exc:
-            raise bad("exercise", str(exc)) from None
+            bad("exercise", "missing, or not a string such as \"4.15\"")
+        else:
+            try:
+                ex = registry.get(ex_id)
+            except BadInput as exc:
+                bad("exercise", str(exc))
         params = item.get("params", {})
         if not isinstance(params, dict):
-            raise bad("params", "not a table such as { theta0 = \"60deg\" }")
+            bad("params", "not a table such as { theta0 = \"60deg\" }")
+            params = {}
         given, written = {}, {}
         for raw_name, value in params.items():
-            name = raw_name.strip().replace("-", "_")
-            if name not in ex.param_map:
-                raise bad(f"params.{raw_name}", f"not a parameter of {ex.id}; its parameters are: "
-                          f"{', '.join(ex.param_map)}")
-            param = ex.param_map[name]
+            if ex is None:
+                break
+            pname = raw_name.strip().replace("-", "_")
+            if pname not in ex.param_map:
+                bad(f"params.{raw_name}", f"not a parameter of {ex.id}; its parameters are: {', '.join(ex.param_map)}")
+                continue
+            param = ex.param_map[pname]
             if isinstance(value, bool) or not isinstance(value, (str, int, float)):
-                raise bad(f"params.{raw_name}", "not a number or a string such as \"60deg\"")
+                bad(f"params.{raw_name}", "not a number or a string such as \"60deg\"")
+                continue
             try:
-                given[name] = to_si(str(value), param.unit)
-                param.check(given[name])
-            except (ValueError_, BadInput) as exc:
-                why = str(exc).removeprefix(f"{name}: ")
-                raise bad(f"params.{raw_name}", f"cannot use '{value}': {why}") from None
-            written[name] = value
-        try:
-            ex.resolve(given)
-        except BadInput as exc:
-            raise bad("params", str(exc)) from None
+                given[pname] = to_si(str(value), param.unit)
+                param.check(given[pname])
+            except (ValueError_, BadInput, OverflowError) as exc:
+                why = str(exc).removeprefix(f"{pname}: ")
+                bad(f"params.{raw_name}", f"cannot use '{shown(value)}': {why}")
+                given.pop(pname, None)
+                continue
+            written[pname] = shown(value, 40)
+        if ex is not None and len(problems) == found:
+            try:
+                ex.resolve(given)
+            except BadInput as exc:
+                bad("params", str(exc))
         rtol = None
         if "rtol" in item:
             try:
                 rtol = parse_rtol_value(item["rtol"], "rtol")
             except BadInput as exc:
-                raise BadFile(f"{where}: {exc}") from None
+                problems.append(f"{where}: {exc}")
         expect = item.get("expect")
-        if not isinstance(expect, dict) or not expect:
-            raise bad("expect", "missing or empty; give a table such as { theta_c = \"35.26deg\" }")
         expectations = []
-        for raw_name, value in expect.items():
+        if not isinstance(expect, dict) or not expect:
+            bad("expect", "missing or empty; give a table such as { theta_c = \"35.26deg\" }")
+        elif ex is not None:
+            for raw_name, value in expect.items():
+                try:
+                    expectations.append(parse_expectation(ex, raw_name, value, rtol))
+                except BadInput as exc:
+                    bad(f"expect.{raw_name}", str(exc).split(": ", 1)[-1])
+                    continue
+                if [e.name for e in expectations].count(expectations[-1].name) > 1:
+                    bad(f"expect.{raw_name}", "given more than once")
+        if ex is not None and len(problems) == found:
             try:
-                expectations.append(parse_expectation(ex, raw_name, value, rtol))
+                expectations = _formula_range(ex, item, expectations)
             except BadInput as exc:
-                raise bad(f"expect.{raw_name}", str(exc).split(": ", 1)[1]) from None
-            if [e.name for e in expectations].count(expectations[-1].name) > 1:
-                raise bad(f"expect.{raw_name}", "given more than once")
-        try:
-            expectations = _formula_range(ex, item, expectations)
-        except BadInput as exc:
-            raise BadFile(f"{where}: {exc}") from None
+                problems.append(f"{where}: {exc}")
         student = item.get("student")
         if student is not None:
             if not isinstance(student, str) or not student.strip() or len(student.strip()) > MAX_STUDENT \
                     or not student.strip().isprintable():
-                raise bad("student", f"not a name such as \"alice\" (a one-line string of 1 to {MAX_STUDENT} "
-                                     "characters)")
-            student = student.strip()
-        entries.append(Entry(k, line, ex, given, written, expectations, student=student))
+                bad("student", f"not a name such as \"alice\" (a one-line string of 1 to {MAX_STUDENT} "
+                               "characters)")
+                student = None
+            else:
+                student = student.strip()
+        if len(problems) == found and ex is not None:
+            entries.append(Entry(k, line, ex, given, written, expectations, student=student))
+    if problems:
+        if len(problems) > MAX_PROBLEMS:
+            problems = problems[:MAX_PROBLEMS] + [f"{name}: ... and {len(problems) - MAX_PROBLEMS} more problems"]
+        raise BadFile(problems)
     return entries
 
 
@@ -363,22 +386,39 @@ def per_student(entries: list[Entry]) -> list[dict]:
     return list(out.values())
 
 
-def grade(entries: list[Entry]) -> None:
-    from mech.verification.answers import judge
-
+def grade(entries: list[Entry], total_s: float | None = None) -> None:
+    """Cross-check and judge every entry, within a total wall-clock budget (``total_s``, default
+    ``DEFAULT_TOTAL_S``): each solve gets what is left when that is less than its own budget, and an
+    entry reached after the end is not graded: its answers fail, saying so."""
+    from mech.core import budget
+    from mech.verification.answers import Judgement, judge
     from mech.verification.crosscheck import cross_check
+    from mech.verification.result import Failure
+    from mech.verification.sweep import DEFAULT_TOTAL_S, check_total
 
-    import time
-
+    total_s = DEFAULT_TOTAL_S if total_s is None else check_total(total_s)
+    deadline = time.monotonic() + total_s
+    per_solve = budget.default_seconds()
     solved: dict = {}  # a class file answers the same exercise at the same parameters: one solve each
     for entry in entries:
         t0 = time.perf_counter()
         params = entry.exercise.resolve(entry.given)
         key = (entry.exercise.id, tuple(sorted(params.items())))
-        if key not in solved:
-            solved[key] = cross_check(entry.exercise, params)
-        entry.judgements = judge(solved[key], entry.expectations)
-        entry.result = solved[key].with_expected(entry.judgements)
+        left = deadline - time.monotonic()
+        if key in solved:
+            result = solved[key]
+            entry.judgements = judge(result, entry.expectations)
+        elif left <= 0.05:
+            why = f"not graded: the total budget of {total_s:g} s ran out (--budget SECONDS gives it more)"
+            result = cross_check(entry.exercise, params, methods=("analytic",), verify=False)
+            result = result.replace(errors=tuple(result.errors) + (Failure("numeric", f"numeric solver failed: {why}"),))
+            units = {o.name: o.unit for o in entry.exercise.outputs}
+            entry.judgements = [Judgement(e.name, units.get(e.name, ""), e.text, e.value, False, None, verdict=why)
+                                for e in entry.expectations]
+        else:
+            result = solved[key] = cross_check(entry.exercise, params, budget_s=min(per_solve, left))
+            entry.judgements = judge(result, entry.expectations)
+        entry.result = result.with_expected(entry.judgements)
         entry.seconds = time.perf_counter() - t0  # this entry's own work: its solve where it was the first
 
 
@@ -403,18 +443,13 @@ def grade_json(path: str, entries: list[Entry], seconds: float) -> dict:
 
 def open_baseline(path: str) -> dict:
     """A baseline file, read and checked before the run (BadInput: one line naming the file and field)."""
+    from mech.core.safeio import load_json, shown, shown_path
     from mech.verification import baseline
 
-    try:
-        with open(path, encoding="utf-8") as fh:
-            data = json.load(fh)
-    except (OSError, UnicodeDecodeError) as exc:
-        raise BadInput(f"{path}: cannot read: {getattr(exc, 'strerror', None) or exc}") from None
-    except json.JSONDecodeError as exc:
-        raise BadInput(f"{path}: malformed JSON: {exc}") from None
+    data = load_json(path, "baseline")  # a regular file under 10 MB, nesting bounded, finite numbers
     problem = baseline.validate(data)
     if problem:
-        raise BadInput(f"{path}: {problem}")
+        raise BadInput(f"{shown_path(path)}: {shown(problem, 300)}")
     return data
 
 
@@ -432,10 +467,9 @@ def baselines(report, hard: bool, old: dict | None, old_path: str | None, save_p
     records = check_records(report)
     cmp = baseline.compare(old, records, old_path or "") if old is not None else None
     if save_path:
-        try:
-            with open(save_path, "w", encoding="utf-8") as fh:
-                json.dump(baseline.make(records, hard), fh, indent=1, allow_nan=False)
-                fh.write("\n")
-        except OSError as exc:
-            raise BadInput(f"{save_path}: cannot write the baseline: {exc.strerror or exc}") from None
+        from mech.core.safeio import atomic_write
+
+        text = json.dumps(baseline.make(records, hard), indent=1, allow_nan=False) + "\n"
+        with atomic_write(save_path, "--save-baseline") as fh:  # a failed write leaves the old file whole
+            fh.write(text)
     return cmp

@@ -91,6 +91,36 @@ class SweepResult:
             self.extra["json"] = out
         return self.extra["json"]
 
+    def iter_points(self):
+        """The points as the contract's solve objects, one at a time (never all held as JSON)."""
+        if "json" in self.extra:
+            yield from self.extra["json"]
+            return
+        for k, sol in enumerate(self.solutions()):
+            d = to_json(sol)
+            d.pop("id", None)
+            d.pop("title", None)
+            if self.wall is not None:
+                d["wall_s"] = self.wall[k]
+            yield d
+
+    def write_json(self, out) -> None:
+        """``as_json()`` written to the text stream ``out`` as ``json.dumps(..., indent=2)`` would, its
+        points streamed one at a time: neither the points' JSON objects nor the text are held whole."""
+        import json
+
+        head = self.as_json(points=False)
+        text = json.dumps({**head, "points": None}, indent=2, allow_nan=False)
+        before, after = text.split('\n  "points": null', 1)
+        out.write(before + '\n  "points": [')
+        first = True
+        for pt in self.iter_points():
+            chunk = json.dumps(pt, indent=2, allow_nan=False).replace("\n", "\n    ")
+            out.write(("\n    " if first else ",\n    ") + chunk)
+            first = False
+        out.write("\n  ]" if not first else "]")
+        out.write(after + "\n")
+
     def __len__(self) -> int:
         if self.points is None:
             return int(next(iter(self.extra["grid"].values())).size)
@@ -124,14 +154,14 @@ class SweepResult:
 
         return combine_agree(pt.agree for pt in self.points)
 
-    def as_json(self) -> dict:
+    def as_json(self, points: bool = True) -> dict:
         d = {
             "id": self.exercise.id,
             "title": self.exercise.title,
             "swept": [{"name": a.name, "values": list(a.values), "log": a.log} for a in self.axes],
             "fixed": self.fixed,
             "outputs": self.output_names,
-            "points": self.point_list(),
+            "points": self.point_list() if points else None,
             "agree": self.agree,
             "workers": self.workers,
             "seconds": self.seconds,
@@ -158,18 +188,33 @@ def pool_worker_init(parent: int | None = None) -> None:
         crosscheck._die_with_parent(parent)
 
 
-def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only=None):
+def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only=None,
+                deadline: float | None = None, total_s: float | None = None):
     """One grid point's cross-check: (its ``Solution`` without the exercise and the run, so that it
     pickles; its wall time in s, without a one-time import).
 
-    ``only``: the output names to keep (the solvers still compute all of them on this route)."""
+    ``only``: the output names to keep (the solvers still compute all of them on this route).
+    ``deadline``: the sweep's end (``time.monotonic()``, one clock for every process); the point's solve
+    gets what is left of it when that is less than a solve's own budget, and a point reached after it is
+    not solved: it fails, saying so (its analytic value is still given)."""
     from mech.problems import registry
+    from mech.core import budget
     from mech.verification.crosscheck import cross_check
 
     ex = registry.get(ex_id)
     params = Params(values) if isinstance(values, dict) else values
     t0 = time.perf_counter()
-    result = cross_check(ex, params, rtol=rtol, verify=verify)
+    budget_s = budget.default_seconds()
+    left = math.inf if deadline is None else deadline - time.monotonic()
+    if left <= 0.05:
+        from mech.verification.result import Failure
+
+        result = cross_check(ex, params, methods=("analytic",), rtol=rtol, verify=False)
+        why = (f"numeric solver failed: not run: the sweep's total budget of {total_s or 0:g} s ran out "
+               "(--budget SECONDS gives it more)")
+        result = result.replace(errors=tuple(result.errors) + (Failure("numeric", why),))
+    else:
+        result = cross_check(ex, params, rtol=rtol, verify=verify, budget_s=min(budget_s, left))
     import_s = (result.numeric_info or {}).get("import_s") or 0.0
     wall = time.perf_counter() - t0 - import_s
     if only:
@@ -177,9 +222,34 @@ def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only
     return result.replace(exercise=None, run=None), wall
 
 
+DEFAULT_TOTAL_S = 600.0  # a sweep's or a grading's wall-clock budget: 10 minutes, a class's file at 6 s a answer
+MAX_TOTAL_S = 7 * 86_400.0
+
+
+def check_total(seconds) -> float:
+    """A total budget in seconds: finite, positive, at most a week; BadInput naming --budget otherwise."""
+    from mech.core.errors import BadInput
+
+    try:
+        value = float(seconds)
+    except (TypeError, ValueError):
+        value = math.nan
+    if isinstance(seconds, bool) or not (0 < value <= MAX_TOTAL_S):
+        raise BadInput(f"--budget: '{str(seconds)[:40]}' is not a number of seconds; allowed (0, {MAX_TOTAL_S:g}]")
+    return value
+
+
+def usable_cores() -> int:
+    """The cores this process may run on: a cap for -j (256 workers on 2 cores only thrash)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
+
+
 def plan_workers(n_left: int, seconds_per_point: float, cores: int | None = None) -> int:
     """How many processes the points left should use: 1 unless the serial work clearly pays a pool's start-up."""
-    cores = cores if cores is not None else (os.cpu_count() or 1)
+    cores = cores if cores is not None else usable_cores()
     if cores < 2 or n_left < 2:
         return 1
     serial = n_left * seconds_per_point
@@ -199,12 +269,17 @@ def run_sweep(
     jobs: int | None = None,
     progress: Callable[[int], None] | None = None,
     only: Sequence[str] | None = None,
+    total_s: float | None = None,
 ) -> SweepResult:
-    """Cross-check at every (already validated) point; ``jobs`` forces the number of processes (None: decide).
+    """Cross-check at every (already validated) point; ``jobs`` forces the number of processes (None: decide;
+    never more than the cores).
 
-    ``progress(k)`` is called after each finished point with the number done so far.
+    ``progress(k)`` is called after each finished point with the number done so far.  ``total_s``: the
+    sweep's wall-clock budget (None: ``DEFAULT_TOTAL_S``); points it leaves unsolved fail, saying so.
     """
     t0 = time.perf_counter()
+    total_s = DEFAULT_TOTAL_S if total_s is None else check_total(total_s)
+    deadline = time.monotonic() + total_s
     points: list[dict | None] = [None] * len(params)
     done = 0
 
@@ -218,19 +293,20 @@ def run_sweep(
         return SweepResult(ex, list(axes), dict(fixed), [], 1, 0.0, only=only, wall=[])
     only = tuple(only) if only else None
     # the first point here: it measures the cost per point
-    points[0] = solve_point(ex.id, dict(params[0]), rtol, verify, only)
+    points[0] = solve_point(ex.id, dict(params[0]), rtol, verify, only, deadline, total_s)
     tick()
     rest = list(range(1, len(params)))
-    workers = jobs if jobs is not None else plan_workers(len(rest), points[0][1])
+    workers = min(jobs, usable_cores()) if jobs is not None else plan_workers(len(rest), points[0][1])
     workers = max(1, min(workers, len(rest))) if rest else 1
     if workers == 1:
         for i in rest:
-            points[i] = solve_point(ex.id, dict(params[i]), rtol, verify, only)
+            points[i] = solve_point(ex.id, dict(params[i]), rtol, verify, only, deadline, total_s)
             tick()
     else:
         with ProcessPoolExecutor(max_workers=workers, initializer=pool_worker_init,
                                  initargs=(os.getpid(),)) as pool:
-            futures = {pool.submit(solve_point, ex.id, dict(params[i]), rtol, verify, only): i for i in rest}
+            futures = {pool.submit(solve_point, ex.id, dict(params[i]), rtol, verify, only, deadline, total_s): i
+                       for i in rest}
             from concurrent.futures import as_completed
 
             for fut in as_completed(futures):
