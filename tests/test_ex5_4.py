@@ -168,3 +168,17 @@ def test_a_small_eps_keeps_t_eps_to_its_claim():
     for name, value in want.items():
         assert n[name] == pytest.approx(value, rel=1e-9), name
     assert run.invariants["semigroup Phi(a) Phi(b) = Phi(a + b)"] < 1e-12
+
+
+@pytest.mark.parametrize("t1", [74208.0, 0.0018, 0.003])
+def test_a_reading_past_the_chains_last_node(t1):
+    # A draw of ../shared/tools/draws.py (seed 31337, 5.4#2): the event chain stops at t_eps (tau = 14.3)
+    # while its grid of short hops runs on to tau ~ 21; a t1 beyond the last computed node indexed past
+    # the chain (IndexError).  Held to the textbook closed form (q(t1) underflows to 0 at t1 = 74208 s).
+    given = {"omega0": 10468.0, "zeta": 5.41725, "q0": 9.80394, "t1": t1, "eps": 0.266483}
+    lam, q, t_eps, v_max = textbook(**given)
+    a, n, _ = solve_both("5.4", **given)
+    for vals in (a, n):
+        assert vals["q_t"] == pytest.approx(q, rel=1e-7, abs=1e-300)
+        assert vals["t_eps"] == pytest.approx(t_eps, rel=1e-7)
+        assert vals["v_max"] == pytest.approx(v_max, rel=1e-7)

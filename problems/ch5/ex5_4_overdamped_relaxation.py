@@ -272,7 +272,8 @@ def _numeric_flow(p, run):
 
     # q(t1): from the chain's last node at or before tau1, on by hops of `cap` while the state is representable
     tau1 = w0 * p.t1
-    j1 = int(np.searchsorted(np.asarray(grid), tau1, side="right")) - 1
+    # the chain stops at its second event: the grid of short hops may reach past its last node
+    j1 = min(int(np.searchsorted(np.asarray(grid), tau1, side="right")) - 1, len(ys) - 1)
     y1, log1, at = ys[j1], logs[j1], grid[j1]
     floor = -800.0 - math.log(p.q0)  # q0 e^log below the smallest double: q(t1) = 0
     while tau1 - at > cap and log1 > floor:
