@@ -8,6 +8,13 @@ follows it (``run.follow(motion)``: integrated under the Run's integrator, so be
 forces it too, its invariants' drifts reported, marked as the scene's motion); the API's
 trajectory and the scene (``SceneRun.motion``) take the same integration.  Nothing
 else writes the equations of motion, the start or the energy again.
+
+A motion in legs (a strike, then rolling; a forced stretch, then free swinging) declares its
+first leg with ``then``: a function of that leg's ``Path`` giving the next leg (or None), so
+``run.follow`` integrates the whole chain and marks every leg.  A route that integrates the same
+equations from other starts (a shooting, a settling run, a continuation) takes the declared
+motion and changes its start (``Motion.starting``), following it with ``mark=False`` where the
+integration is a tool and not the scene's motion.
 """
 
 from __future__ import annotations
@@ -30,7 +37,9 @@ class Motion:
     variables (n x N) to the declared ones where they differ (an angle kept as its deviation from
     upright); ``options``: the integration's own settings (``max_step``, ``method``) at any rtol,
     overridden by a forced integrator; ``y_size``: the size of each integrated variable (a number or one
-    per variable; 1 by default), the absolute tolerance being ``1e-3 * rtol * y_size``."""
+    per variable; 1 by default), the absolute tolerance being ``1e-3 * rtol * y_size``;
+    ``t_offset``: the SI time at which this leg starts (``t_offset + t_scale * t``); ``then``:
+    ``f(path) -> Motion | None``, the next leg from this one's end (a motion in legs)."""
 
     rhs: Callable
     y0: Sequence[float]
@@ -43,6 +52,19 @@ class Motion:
     options: Mapping[str, Any] = field(default_factory=dict)
     y_size: Any = None
     to_states: Callable | None = None
+    t_offset: float = 0.0
+    then: Callable | None = None
+
+    def starting(self, y0=None, span=None, **changes) -> "Motion":
+        """The same equations from another start (``y0``) or over another ``span`` (any other field by
+        keyword): a shooting's trial, a settling run, the next leg."""
+        from dataclasses import replace
+
+        if y0 is not None:
+            changes["y0"] = y0
+        if span is not None:
+            changes["span"] = (float(span[0]), float(span[1]))
+        return replace(self, **changes)
 
     def si(self, y):
         """A state (or n x N states) of the integrated variables, as the declared states in SI."""
@@ -65,11 +87,15 @@ class Motion:
 @dataclass(frozen=True)
 class Path:
     """What following a motion gives: its end (the event's time and state, or the span's end) in the
-    integrated variables, and the integration (``t``, ``y``, ``sol`` when dense)."""
+    integrated variables, and the integration (``t``, ``y``, ``sol`` when dense).  Following a motion in
+    legs gives the last leg's path; ``legs`` holds every leg's path in order (this one last) and
+    ``motion`` the leg it followed."""
 
     t_end: float
     y_end: Any
     traj: Any
+    motion: Any = None
+    legs: tuple = ()
 
 
 def join(parts, n: int, samples: int = 201):

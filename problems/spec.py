@@ -291,9 +291,22 @@ class Run:
         self.record(traj)
         return t_ev, y_ev, traj
 
-    def follow(self, motion: Any, rtol: float | None = None, dense: bool = False) -> Any:
+    def follow(self, motion: Any, rtol: float | None = None, dense: bool = False, mark: bool = True) -> Any:
         """Integrate a declared ``motion.Motion`` at ``rtol`` (the Run's by default): recorded, its invariants'
-        drifts reported, marked as the scene's motion.  Returns a ``motion.Path``."""
+        drifts reported, marked as the scene's motion (``mark=False``: an integration that is a tool, a
+        shooting's trial, not the motion to show).  A motion in legs (``Motion.then``) is followed leg by
+        leg.  Returns the last leg's ``motion.Path`` (``legs``: every leg's)."""
+        from mech.problems.motion import Path
+
+        legs = []
+        while motion is not None:
+            path = self._follow_leg(motion, rtol, dense, mark)
+            legs.append(path)
+            motion = None if motion.then is None else motion.then(path)
+        last = legs[-1]
+        return Path(last.t_end, last.y_end, last.traj, last.motion, tuple(legs[:-1]) + (last,))
+
+    def _follow_leg(self, motion: Any, rtol: float | None, dense: bool, mark: bool) -> Any:
         from mech.problems.motion import Path
 
         rtol = self.rtol if rtol is None else rtol
@@ -305,7 +318,7 @@ class Run:
             t_end, y_end, traj = self.integrate_to_event(motion.rhs, motion.span, motion.y0, motion.event,
                                                          rtol=rtol, **opts)
         else:
-            if dense or self.keep_trajectories:
+            if dense or (mark and self.keep_trajectories):
                 opts["dense_output"] = True  # a smooth trajectory; the steps are the same
             traj = self.integrate(motion.rhs, motion.span, motion.y0, rtol=rtol, **opts)
             t_end, y_end = float(traj.t[-1]), traj.y[:, -1]
@@ -313,8 +326,10 @@ class Run:
             self.invariant(name, f(y_end) - f(motion.y0))
         for name, g in motion.monitors.items():
             self.invariant(name, g(traj.y))
-        self.motion(traj, t_scale=motion.t_scale, y_scale=motion.y_scale, transform=motion.to_states)
-        return Path(float(t_end), y_end, traj)
+        if mark:
+            self.motion(traj, t_scale=motion.t_scale, t_offset=motion.t_offset, y_scale=motion.y_scale,
+                        transform=motion.to_states)
+        return Path(float(t_end), y_end, traj, motion)
 
     def motion(self, traj: Any, *, t_scale: float = 1.0, t_offset: float = 0.0, y_scale=None,
                rows=None, transform: Callable | None = None) -> None:

@@ -91,3 +91,35 @@ def test_a_declared_motion_matches_the_exercises_states():
         p = ex.resolve({})
         m = ex.motion_at(p)
         assert len(m.start) == len(ex.states), ex.id
+
+
+def test_a_motion_in_legs_is_followed_leg_by_leg_and_joined_in_time():
+    """Leg 1: the oscillator from (1, 0) to x = 0 at t = pi/2, v = -1.  Leg 2: free flight (no force) from
+    there for 1 s, declared with its own clock (t_offset pi/2 s): x = -(t - pi/2), v = -1."""
+    def flight(path):
+        x, v = path.y_end
+        return Motion(lambda t, y: np.array([y[1], 0.0]), [x, v], (0.0, 1.0), t_offset=path.t_end)
+
+    run = Run(rtol=1e-10, keep_trajectories=True)
+    end = run.follow(oscillator(then=flight))
+    assert len(end.legs) == 2 and end.legs[-1] is not end.legs[0]
+    assert end.legs[0].t_end == pytest.approx(math.pi / 2, rel=1e-9)
+    assert end.t_end == 1.0 and end.y_end == pytest.approx([-1.0, -1.0], abs=1e-8)
+    assert run.own_runs == 2
+    t, y = run.trajectory(2)
+    assert t[0] == 0.0 and t[-1] == pytest.approx(math.pi / 2 + 1.0, rel=1e-9)
+    first, second = t <= math.pi / 2, t > math.pi / 2
+    assert np.allclose(y[0][first], np.cos(t[first]), atol=1e-8)
+    assert np.allclose(y[0][second], -(t[second] - math.pi / 2), atol=1e-8)
+
+
+def test_a_tool_integration_is_not_the_scenes_motion():
+    """``starting`` changes the start of the same equations; ``mark=False`` keeps it out of the trajectory
+    (a shooting's trial), while its cost is still recorded."""
+    m = oscillator()
+    trial = m.starting(y0=[2.0, 0.0], span=(0.0, 5.0))
+    assert trial.rhs is m.rhs and trial.event is m.event and list(trial.y0) == [2.0, 0.0]
+    run = Run(rtol=1e-10, keep_trajectories=True)
+    end = run.follow(trial, mark=False)
+    assert end.y_end == pytest.approx([0.0, -2.0], abs=1e-8)
+    assert run.trajectory(2) is None and run.own_runs == 1
