@@ -310,6 +310,7 @@ class Run:
         from mech.problems.motion import Path
 
         rtol = self.rtol if rtol is None else rtol
+        mark = mark and motion.shown
         opts = dict(motion.options)
         if motion.y_size is not None:
             size = motion.y_size

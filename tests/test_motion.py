@@ -123,3 +123,19 @@ def test_a_tool_integration_is_not_the_scenes_motion():
     end = run.follow(trial, mark=False)
     assert end.y_end == pytest.approx([0.0, -2.0], abs=1e-8)
     assert run.trajectory(2) is None and run.own_runs == 1
+
+
+def test_a_leg_not_shown_is_followed_but_not_the_trajectory():
+    """A lead-in leg (shown=False: a strike before the phase the states describe): the oscillator from (1, 0)
+    to x = 0 is integrated and recorded, and only the free flight after it (x = -(t - pi/2), v = -1 from
+    t = pi/2) is the trajectory."""
+    def flight(path):
+        x, v = path.y_end
+        return Motion(lambda t, y: np.array([y[1], 0.0]), [x, v], (0.0, 1.0), t_offset=path.t_end)
+
+    run = Run(rtol=1e-10, keep_trajectories=True)
+    end = run.follow(oscillator(then=flight, shown=False))
+    assert len(end.legs) == 2 and run.own_runs == 2
+    t, y = run.trajectory(2)
+    assert t[0] == pytest.approx(math.pi / 2, rel=1e-9) and t[-1] == pytest.approx(math.pi / 2 + 1.0, rel=1e-9)
+    assert np.allclose(y[0], -(t - math.pi / 2), atol=1e-8) and np.allclose(y[1], -1.0, atol=1e-8)
