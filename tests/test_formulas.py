@@ -85,6 +85,55 @@ def test_length_and_depth_are_bounded():
     assert parse_formula("sqrt(" * 20 + "l" + ")" * 20, EX).dim is not None
 
 
+def test_one_tokenizer_and_grammar_read_values_and_formulas():
+    # formula_ast builds its tree with core.units' parser: it has no tokenizer or grammar of its own
+    import inspect
+    import re as re_module
+
+    from mech.core import units
+    from mech.verification import formula_ast
+
+    source = inspect.getsource(formula_ast)
+    assert "re.compile" not in source and "class _Parser" not in source and "def _tokens" not in source
+    assert formula_ast.parse is units.parse and formula_ast.tokens is units.tokens
+    assert re_module.search(r"^import re$", source, re_module.M) is None
+    # the same text read as a value and as a formula without parameters gives the same SI number:
+    # 3 km/h = 3000 m / 3600 s; 2 pi rad per 4 s; (2 ft)^2 = (0.6096 m)^2
+    for text, si in (("3 km/h", 3000 / 3600), ("2pi rad/(4 s)", math.pi / 2), ("(2 ft)^2", 0.6096**2),
+                     ("-2^2", -4.0), ("1/(2 cm)", 50.0)):
+        assert units.parse_quantity(text).value == pytest.approx(si, rel=1e-15)
+        assert _value(text) == pytest.approx(si, rel=1e-15)
+    # and the same grammar refuses the same slips, in the same words
+    for text in ("2 3", "(1", "1 +", "1 $"):
+        with pytest.raises(units.ValueError_) as as_value:
+            units.parse_quantity(text)
+        with pytest.raises(FormulaError) as as_formula:
+            parse_formula(text, EX)
+        assert str(as_value.value).replace("value", "formula") == str(as_formula.value)
+
+
+def test_the_grammar_takes_any_meaning_for_its_parts():
+    # core.units.parse with a builder that writes the expression back in prefix form: the precedence
+    # and associativity are the grammar's, whatever the builder (worked by hand)
+    from mech.core import units
+
+    class Prefix:
+        function = staticmethod(lambda name: 2 if name == "f" else None)
+        number = staticmethod(lambda text: text)
+        name = staticmethod(lambda text: text)
+        neg = staticmethod(lambda a: f"(neg {a})")
+        plus = staticmethod(lambda a: a)
+        binary = staticmethod(lambda op, a, b: f"({op} {a} {b})")
+        call = staticmethod(lambda fn, args: f"({fn} {' '.join(args)})")
+
+    assert units.parse("a - b - c", Prefix) == "(- (- a b) c)"
+    assert units.parse("-a^b^c", Prefix) == "(neg (^ a (^ b c)))"
+    assert units.parse("2 a b / c", Prefix) == "(/ (* (* 2 a) b) c)"
+    assert units.parse("f(a, b+1) x", Prefix) == "(* (f a (+ b 1)) x)"
+    with pytest.raises(units.ValueError_, match="nested too deeply"):
+        units.parse("(" * 30 + "a" + ")" * 30, Prefix, max_depth=20)
+
+
 # -- dimensions -----------------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("text, dim", [
