@@ -296,6 +296,40 @@ def test_references_are_computed_once_per_exercise_and_point():
     assert F.point_set(ex, p) is a
 
 
+def test_each_point_is_solved_once_and_a_right_formula_asks_for_no_hints(monkeypatch):
+    # 4.32 at R_E/r_S = 0.1, M_S/M_E = 1e-3: its analytic series is the costliest of the book (ms a point). The solve's own
+    # values stand at the given point; the hints' lines come back to the given point without solving it again
+    import mech
+
+    ex = registry.get("4.32")
+    calls = []
+    real = type(ex).solve_analytic
+
+    def counted(self, p):
+        if self is ex:
+            calls.append(dict(p))
+        return real(self, p)
+
+    F._CACHE.clear()
+    r_s, m_s = 10 * ex.param_map["R_E"].default, 1e-3 * ex.param_map["M_E"].default
+    sol = mech.solve("4.32", r_S=r_s, M_S=m_s, expect={"h_high": "M_S/M_E*R_E^4/r_S^3"}, expect_rtol=0.5)
+    monkeypatch.setattr(type(ex), "solve_analytic", counted)
+    F._CACHE.clear()
+    given = sol.params
+    ps = F.point_set(ex, given, known=F._known(sol))
+    assert len(calls) == len(ps) - 1 and dict(given) not in calls  # every point but the given one, once
+    # the leading-order tide, (M_S/M_E) R_E^4/r_S^3 at the sub-solar point, is within 50 % of the exact one
+    # at every point (the multipole sum alone is 1/(1 - R_E/r_S) <= 1/0.7 of it): right, with no hint work
+    q = sol["h_high"].expected
+    assert q.match is True and not ps.lines and not ps.depends
+    calls.clear()
+    line = F._line(ps, "M_S")
+    assert len(calls) == len(line) and all(c != dict(given) for c in calls)
+    calls.clear()
+    F._limits(parse_formula("M_S/M_E*R_E^4/r_S^3", ex), ps, "h_high")
+    assert dict(given) not in calls  # each limit line starts at the given point, known already
+
+
 # -- fuzz: any text, no traceback, no hang, bounded memory ----------------------------------------------
 
 _ATOMS = ["theta0", "l", "g", "θ₀", "2", "0.5", "1e-300", "1e300", "pi", "deg", "m", "(", ")", "+", "-", "*", "/",

@@ -296,6 +296,7 @@ class PointSet:
     lines: dict = field(default_factory=dict)  # parameter -> PointSet of one-at-a-time moves (lazy)
     in_range: bool = True  # the given point inside ``over``
     outside: dict = field(default_factory=dict)  # leading-order output -> bool array: its theory does not apply
+    memo: dict = field(default_factory=dict)  # parameter values -> mech's analytic values there (shared with lines)
 
     def __len__(self):
         return len(self.points)
@@ -304,19 +305,28 @@ class PointSet:
 _CACHE: dict = {}
 
 
-def _analytic_at(ex, pts: list) -> tuple[dict, dict, dict]:
+def _analytic_at(ex, pts: list, memo: dict) -> tuple[dict, dict, dict]:
+    """mech's analytic values and their error bars at ``pts`` (nan and the reason where it has none), each
+    point solved once: ``memo`` (parameter values -> (values, errors) or the failure's text) keeps them for
+    the lines and limits of the hints, which come back to the given point."""
     names = [o.name for o in ex.outputs]
     vals = {n: np.full(len(pts), np.nan) for n in names}
     errs = {n: np.zeros(len(pts)) for n in names}
     why = {n: [None] * len(pts) for n in names}
     for i, p in enumerate(pts):
-        try:
-            out = ex.solve_analytic(p)
-            aerr = ex.analytic_errors(p)
-        except Exception as exc:  # a point where the analytic route has no answer: not a point to judge at
+        key = _key(ex, p)
+        got = memo.get(key)
+        if got is None:
+            try:
+                got = (ex.solve_analytic(p), ex.analytic_errors(p))
+            except Exception as exc:  # a point where the analytic route has no answer: not a point to judge at
+                got = f"{type(exc).__name__}: {exc}"
+            memo[key] = got
+        if isinstance(got, str):
             for n in names:
-                why[n][i] = f"{type(exc).__name__}: {exc}"
+                why[n][i] = got
             continue
+        out, aerr = got
         for n in names:
             v = out.get(n)
             if isinstance(v, Undefined):
@@ -330,10 +340,15 @@ def _analytic_at(ex, pts: list) -> tuple[dict, dict, dict]:
     return vals, errs, why
 
 
-def _make(ex, pts: list, labels: list) -> PointSet:
+def _key(ex, p) -> tuple:
+    """A point's parameter values, exactly (``-0.0`` apart from ``0.0``), as the memo's key."""
+    return tuple(float(p[q.name]).hex() for q in ex.params)
+
+
+def _make(ex, pts: list, labels: list, memo: dict) -> PointSet:
     arrays = {p.name: np.array([pt[p.name] for pt in pts], dtype=float) for p in ex.params}
-    ps = PointSet(ex, pts, labels, arrays)
-    ps.analytic, ps.analytic_err, ps.undefined = _analytic_at(ex, pts)
+    ps = PointSet(ex, pts, labels, arrays, memo=memo)
+    ps.analytic, ps.analytic_err, ps.undefined = _analytic_at(ex, pts, memo)
     ps.outside = _outside_theory(ex, pts)
     return ps
 
@@ -357,26 +372,37 @@ def _outside_theory(ex, pts: list) -> dict:
 
 
 def point_set(ex, given: Params, n: int = DEFAULT_POINTS, seed: int = DEFAULT_SEED,
-              over: dict | None = None) -> PointSet:
-    """The given point, the defaults, the hard cases (those inside ``over``) and ``n`` drawn points."""
+              over: dict | None = None, known: dict | None = None) -> PointSet:
+    """The given point, the defaults, the hard cases (those inside ``over``) and ``n`` drawn points.
+
+    ``known``: the solve's analytic ``{output: (value, err)}`` at the given point (every output), used as
+    it is rather than solved again.  The defaults and the hard cases, like the draws, are taken on the
+    bounds and joint checks alone (``_accept``): ``resolve``'s representability test would solve the
+    analytic answer once more, and a point without a finite answer is not judged anyway."""
     key = (ex.id, tuple(sorted(given.items())), int(n), int(seed), tuple(sorted((over or {}).items())))
     hit = _CACHE.get(key)
     if hit is not None:
         return hit
     pts, labels = [given], ["given"]
-    defaults = _valid(ex, {})
+    defaults = _accept(ex, {})
     if defaults is not None and dict(defaults) != dict(given) and _in_over(defaults, over):
         pts.append(defaults)
         labels.append("defaults")
     for h in ex.hard_cases:
-        p = _valid(ex, _si(ex, h["params"]))
+        try:
+            p = _accept(ex, _si(ex, h["params"]))
+        except (ValueError, BadInput):
+            p = None
         if p is not None and _in_over(p, over) and all(dict(p) != dict(q) for q in pts):
             pts.append(p)
             labels.append("hard case")
     drawn = draw(ex, n, seed, over)
     pts += drawn
     labels += ["drawn"] * len(drawn)
-    ps = _make(ex, pts, labels)
+    memo = {}
+    if known is not None:
+        memo[_key(ex, given)] = ({n: v for n, (v, _) in known.items()}, {n: e for n, (_, e) in known.items()})
+    ps = _make(ex, pts, labels, memo)
     ps.in_range = _in_over(given, over)
     if len(_CACHE) > 256:
         _CACHE.clear()
@@ -410,7 +436,7 @@ def _line(ps: PointSet, name: str, m: int = 7) -> PointSet | None:
             p = _accept(ex, {**dict(given), name: v})
             if p is not None:
                 pts.append(p)
-    out = _make(ex, pts, [f"{name} moved"] * len(pts)) if len(pts) >= 2 else None
+    out = _make(ex, pts, [f"{name} moved"] * len(pts), ps.memo) if len(pts) >= 2 else None
     ps.lines[name] = out
     return out
 
@@ -576,7 +602,8 @@ def _limits(formula: Formula, ps: PointSet, output: str) -> list[tuple[str, str,
             key = ("limit", name, direction)
             if key not in ps.lines:  # mech's values along the line, once per point set (a class file)
                 pts = [q for q in (_accept(ex, {**dict(given), name: v}) for v in vals) if q is not None]
-                ps.lines[key] = _make(ex, [given] + pts, ["limit"] * (len(pts) + 1)) if len(pts) >= 3 else None
+                ps.lines[key] = (_make(ex, [given] + pts, ["limit"] * (len(pts) + 1), ps.memo)
+                                 if len(pts) >= 3 else None)
             line = ps.lines[key]
             if line is None:
                 continue
@@ -922,6 +949,17 @@ def _numeric_at(ex, ps: PointSet, i: int, name: str):
 
 # -- the seam with the answers judge --------------------------------------------------------------------
 
+def _known(result) -> dict | None:
+    """The solve's analytic values and error bars at its parameters, ``{output: (value, err)}``, when it
+    solved every output analytically (a value or an Undefined); else None (the point set solves them)."""
+    known = {}
+    for q in result.quantities:
+        if q.analytic is None or (result.errors and any(f.kind == "analytic" for f in result.errors)):
+            return None
+        known[q.name] = (q.analytic, q.analytic_err)
+    return known
+
+
 def judge_expectation(result, e, q, ref):
     """An ``answers.Judgement`` for the formula expectation ``e`` on output ``q`` of a cross-check
     ``result``, ``ref`` being the answers judge's reference at the given parameters."""
@@ -931,7 +969,7 @@ def judge_expectation(result, e, q, ref):
     output = {o.name: o for o in ex.outputs}[e.name]
     over = dict(e.over) if e.over else None
     ps = point_set(ex, given, e.points if e.points is not None else DEFAULT_POINTS,
-                   e.seed if e.seed is not None else DEFAULT_SEED, over)
+                   e.seed if e.seed is not None else DEFAULT_SEED, over, _known(result))
     lead = output.theory != "exact"
     if ref.value is None:
         given_ref, numeric_given = None, None
