@@ -50,8 +50,10 @@ CASES = [
     ("4.32", "h_high", "M_S/M_E*R_E^4/r_S^3", True, "exact", ("--expect-rtol", "0.5")),
     ("4.32", "h_high", "M_S/M_E*R_E^4/r_S^3", False, "exact"),
     # leading-order outputs of exercises with a batched route (item 6: references from the batch)
-    ("5.13", "omega_bot", "sqrt(g/l + a^2*omega^2/(2*l^2))", True, "leading-order"),
-    ("5.12", "mu_th", "4*delta/omega0", False, "leading-order"),
+    ("5.13", "omega_down", "sqrt(g/l + a^2*Omega^2/(2*l^2))", True, "leading-order"),
+    ("5.13", "omega_down", "sqrt(g/l)", False, "leading-order"),
+    ("5.12", "a_th", "2*l*delta/Omega", False, "leading-order"),
+    ("5.11", "growth", "-delta", False, "leading-order"),
 ]
 
 CLASS_ANSWERS = [  # what every student of the class file answers: 5 formulas over 3 exercises

@@ -7,6 +7,7 @@ force vanishing), never read off mech's solvers.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import subprocess
@@ -297,8 +298,8 @@ def test_references_are_computed_once_per_exercise_and_point():
 
 
 def test_each_point_is_solved_once_and_a_right_formula_asks_for_no_hints(monkeypatch):
-    # 4.32 at R_E/r_S = 0.1, M_S/M_E = 1e-3: its analytic series is the costliest of the book (ms a point). The solve's own
-    # values stand at the given point; the hints' lines come back to the given point without solving it again
+    # 4.32 at R_E/r_S = 0.1, M_S/M_E = 1e-3: its analytic series is the costliest of the book (ms a point).
+    # The solve's own values stand at the given point; the hints' lines come back to it without solving it again
     import mech
 
     ex = registry.get("4.32")
@@ -328,6 +329,73 @@ def test_each_point_is_solved_once_and_a_right_formula_asks_for_no_hints(monkeyp
     calls.clear()
     F._limits(parse_formula("M_S/M_E*R_E^4/r_S^3", ex), ps, "h_high")
     assert dict(given) not in calls  # each limit line starts at the given point, known already
+
+
+def test_batched_references_agree_with_the_point_by_point_numeric_route():
+    # 5.13's batched Floquet route against its scalar numeric solve (a different code path), point by point:
+    # each verified value within the sum of the two claims; and a point the batch cannot verify gets none
+    ex = registry.get("5.13")
+    F._CACHE.clear()
+    ps = F.point_set(ex, ex.resolve({}), 3, 5)
+    idx = list(range(1, len(ps)))
+    for name in ("omega_down", "omega_inv"):
+        F._batched_numeric(ex, ps, idx, name)
+        batched = {i: ps.numeric.pop((name, i)) for i in idx}
+        for i in idx:
+            scalar = F._numeric_at(ex, ps, i, name)
+            if batched[i] is None or scalar is None:
+                assert batched[i] is None and (scalar is None or not np.isfinite(ps.analytic[name][i])), (name, i)
+                continue
+            (b, eb), (a, ea) = batched[i], scalar
+            assert abs(b - a) <= eb + ea and 0 < eb < 1e-8 * abs(b), (name, i, b, a)
+
+
+def test_a_formula_beyond_leading_order_is_held_against_the_batched_route(monkeypatch):
+    # a "formula" that gives mech's scalar numeric value of 5.13's omega_down at every point (a student's
+    # exact answer), not the leading-order one: right at every point, its references at the drawn points
+    # from the batched route (the first point alone, then the rest at once), no point-by-point solve
+    ex = registry.get("5.13")
+    output = {o.name: o for o in ex.outputs}["omega_down"]
+    F._CACHE.clear()
+    ps = F.point_set(ex, ex.resolve({}), 3, 5)
+    exact = np.array([F._numeric_at(ex, ps, i, "omega_down")[0] for i in range(len(ps))])
+    ps.numeric.clear()
+    lead = ps.analytic["omega_down"]
+    assert np.all(np.abs(exact - lead) > 1e-9 * np.abs(lead))  # the leading-order value misses them all
+
+    class Exact:
+        names = frozenset()
+
+        def evaluate(self, env, dtype=np.float64):
+            return exact.astype(dtype), np.zeros(len(exact), dtype), []
+
+    route = ex.batched_route
+    calls = []
+    real = route.numeric
+
+    def counted(P, rtol, outputs, memo=None):
+        calls.append(len(next(iter(P.values()))))
+        return real(P, rtol, outputs, memo=memo)
+
+    monkeypatch.setattr(ex, "batched_route", dataclasses.replace(route, numeric=counted))
+    monkeypatch.setattr(type(ex), "solve_numeric", lambda *a, **k: pytest.fail("a point-by-point numeric solve"))
+    pj = F._judge_points(Exact(), ps, lead.copy(), ps.analytic_err["omega_down"].copy(), F.FORMULA_RTOL)
+    assert not pj.right.any()
+    notes = []
+    here = F._leading_order_numeric(Exact(), ex, output, ps, pj, F.FORMULA_RTOL, (exact[0], 1e-9 * exact[0]), notes)
+    assert here.all() and pj.right.all()
+    assert calls == [len(ps) - 1] * 2  # right at the given point: the others at once, at rtol and rtol/10
+    assert f"at {len(ps)} points it matches mech's numeric value" in notes[0]
+    # the given point outside the range the formula is meant for (not judged there): the first drawn point
+    # is asked alone (a wrong formula stops there), then the others
+    calls.clear()
+    ps.numeric.clear()
+    ps.batch_memo.clear()
+    pj = F._judge_points(Exact(), ps, lead.copy(), ps.analytic_err["omega_down"].copy(), F.FORMULA_RTOL)
+    pj.judged[0] = False
+    here = F._leading_order_numeric(Exact(), ex, output, ps, pj, F.FORMULA_RTOL, None, [])
+    assert here[1:].all() and not here[0]
+    assert calls == [1, 1, len(ps) - 2, len(ps) - 2]
 
 
 # -- fuzz: any text, no traceback, no hang, bounded memory ----------------------------------------------

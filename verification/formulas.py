@@ -297,6 +297,7 @@ class PointSet:
     in_range: bool = True  # the given point inside ``over``
     outside: dict = field(default_factory=dict)  # leading-order output -> bool array: its theory does not apply
     memo: dict = field(default_factory=dict)  # parameter values -> mech's analytic values there (shared with lines)
+    batch_memo: dict = field(default_factory=dict)  # the batched route's own memo (``Exercise.batched``)
 
     def __len__(self):
         return len(self.points)
@@ -896,12 +897,15 @@ def _worst(pj: PointJudgement, ref) -> int | None:
 def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, notes) -> np.ndarray:
     """A leading-order output: a point that misses the leading-order value is right when it matches the
     verified numeric value there (the given point: the cross-check's; elsewhere: solved here, within a
-    budget, stopping at the first point the numeric value does not confirm)."""
+    budget, stopping at the first point the numeric value does not confirm).  Where the exercise has a
+    batched route for the output, the references come from it: the first point alone (a wrong formula
+    stops there), then the rest at once."""
     name = output.name
     misses = [i for i in range(len(ps)) if pj.judged[i] and not pj.right[i] and math.isfinite(pj.yours[i])]
     t0 = time.perf_counter()
     confirmed = 0
     exact_here = np.zeros(len(ps), bool)
+    batched = _batchable(ex, name)
     for i in misses:
         if i == 0:
             if numeric_given is None:
@@ -911,6 +915,9 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
             if time.perf_counter() - t0 > NUMERIC_BUDGET_S:
                 notes.append("the numeric reference ran out of time")
                 break
+            if batched and (name, i) not in ps.numeric:
+                later = [j for j in misses if j >= i]
+                _batched_numeric(ex, ps, later[:1] if confirmed == 0 else later[:BATCH], name)
             got = _numeric_at(ex, ps, i, name)
             if got is None:
                 break
@@ -925,6 +932,55 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
         notes.append(f"at {confirmed} point{'s' if confirmed > 1 else ''} it matches mech's numeric value "
                      "rather than the leading-order one")
     return exact_here
+
+
+BATCH = 32  # points a batched numeric call takes at once (the budget is looked at between calls)
+
+
+def _batchable(ex, name: str) -> bool:
+    """Does ``ex`` have a batched route for ``name``, with a rerun tighter than its default rtol?"""
+    route = getattr(ex, "batched_route", None)
+    return (route is not None and name in route.outputs
+            and max(ex.default_rtol / 10.0, ex.min_rtol) < ex.default_rtol)
+
+
+def _batched_numeric(ex, ps: PointSet, idx: list[int], name: str) -> None:
+    """The verified numeric values of ``name`` at the points ``idx`` from the exercise's batched route, into
+    ``ps.numeric`` as ``_numeric_at`` keeps them: (value, its claim), or None where the route fails, finds
+    no value or its rerun moves the value beyond the claim (the judge's rule: ``judge.within``)."""
+    import inspect
+
+    from mech.verification.judge import within
+
+    idx = [i for i in idx if (name, i) not in ps.numeric]
+    if not idx:
+        return
+    route = ex.batched_route
+    rtol = ex.default_rtol
+    tighter = max(rtol / 10.0, ex.min_rtol)
+    P = {k: ps.arrays[k][idx] for k in ex.param_map}
+    takes_memo = "memo" in inspect.signature(route.numeric).parameters
+    try:
+        cols = [(route.numeric(P, tol, (name,), memo=ps.batch_memo) if takes_memo
+                 else route.numeric(P, tol, (name,)))[name] for tol in (rtol, tighter)]
+    except Exception:  # a failed batch: no verified value at these points (a point stays wrong)
+        for i in idx:
+            ps.numeric[(name, i)] = None
+        return
+    n, v = cols
+    shape = n.value.shape
+    rel = np.broadcast_to(np.asarray(n.rel, dtype=float), shape)
+    tol_abs = np.broadcast_to(np.asarray(n.abs, dtype=float), shape)
+    with np.errstate(all="ignore"):
+        a = ps.analytic[name][idx]
+        scale = np.where(np.isfinite(a) & (a != 0), np.abs(a), np.abs(n.value))
+        claim = rel * scale + tol_abs  # what the rerun may move it by (the judge's ``claim``)
+        err = rel * np.abs(n.value) + tol_abs  # its error bar (the judge's ``numeric_err``)
+        gone = n.mask("undefined") | n.mask("failed") | v.mask("undefined") | v.mask("failed")
+        ok = (~gone & np.isfinite(n.value) & np.isfinite(v.value) & np.isfinite(err)
+              & within(np.abs(v.value - n.value), claim))
+    for j, i in enumerate(idx):
+        ps.numeric[(name, i)] = (float(n.value[j]), float(err[j])) if ok[j] else None
 
 
 def _numeric_at(ex, ps: PointSet, i: int, name: str):
