@@ -246,6 +246,41 @@ def _judge(ex_id, out, text, **params):
     return expected.as_json() if hasattr(expected, "as_json") else expected
 
 
+def test_the_api_takes_the_number_of_points_and_their_seed():
+    import mech
+
+    def judged(**kw):
+        sol = mech.solve("4.15", expect={"theta_c": "asin(2/3*sin(theta0))"}, **kw)
+        return sol["theta_c"].expected
+
+    few, more = judged(expect_points=3, expect_seed=1), judged(expect_points=9, expect_seed=1)
+    assert few.match and more.match
+    # six more drawn points, the given point, defaults and hard cases the same
+    assert more.formula["points"]["checked"] - few.formula["points"]["checked"] == 6
+    assert "3 drawn across the range" in few.verdict and "9 drawn across the range" in more.verdict
+    # a wrong formula (the 4.15 slip: right at 90 deg only) fails at a drawn point that moves with the seed
+    # and repeats with it
+    def worst(seed):
+        sol = mech.solve("4.15", expect={"theta_c": "asin(2/3)"}, expect_points=4, expect_seed=seed)
+        e = sol["theta_c"].expected
+        assert not e.match
+        return e.formula["points"]["worst"]["params"]["theta0"]
+
+    assert worst(7) == worst(7) != worst(8)
+    # as the CLI's --expect-points/--expect-seed, validated, the error naming the argument and its range
+    for kw, why in ((dict(expect_points=0), "expect_points: cannot use '0'"),
+                    (dict(expect_points=2.5), "expect_points: cannot use '2.5'"),
+                    (dict(expect_points=10_001), "[1, 10000]"),
+                    (dict(expect_seed=-1), "expect_seed: cannot use '-1'"),
+                    (dict(expect_seed="x"), "expect_seed: cannot use 'x'"),
+                    (dict(expect_points=True), "expect_points: cannot use 'True'")):
+        with pytest.raises(mech.BadInput) as info:
+            judged(**kw)
+        assert why in str(info.value)
+    with pytest.raises(mech.BadInput, match="without any formula"):
+        mech.solve("4.15", expect_points=5)
+
+
 def test_cancellation_is_ill_conditioned_not_wrong():
     # zeta - sqrt(zeta^2 - 1) at zeta = 1e6 keeps ~6 of 16 digits; 1/(zeta + sqrt(zeta^2 - 1)) keeps all
     e = _judge("5.4", "lambda_slow", "omega0*(zeta - sqrt(zeta^2-1))", zeta="1e6")
