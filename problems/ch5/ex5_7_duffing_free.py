@@ -277,10 +277,9 @@ def _with_harmonic(m, xb, omega1, t_q):
 def numeric(p, run):
     w0, A = p.omega0, p.A
     eps = _eps(p)
-    rtol = run.rtol
     m = motion(p)
     end = run.follow(m)
-    t_q, y_q = end.t_end, end.y_end
+    t_q = end.t_end
 
     if eps > -0.5:
         S, a, b = _scaled(p)
