@@ -69,6 +69,26 @@ class Motion:
             changes["span"] = (float(span[0]), float(span[1]))
         return replace(self, **changes)
 
+    def with_variations(self, jac: Callable) -> "Motion":
+        """The same motion with its variational equations carried along (a monodromy run): the state y
+        (n rows) then d y/d y0 (n x n, row by row) from the identity, ``jac(t, y)`` the Jacobian of ``rhs``.
+        The entry d y_i/d y0_j has the size s_i/s_j (s: ``y_size``); ``to_states`` reads the first n rows,
+        so the declared states are the motion's own.  ``path.y_end[n:].reshape(n, n)`` is the matrix."""
+        import numpy as np
+
+        n = len(self.y0)
+        f = self.rhs
+
+        def rhs(t, z):
+            return np.concatenate([f(t, z[:n]), (jac(t, z[:n]) @ z[n:n + n * n].reshape(n, n)).ravel()])
+
+        s = np.ones(n) if self.y_size is None else np.broadcast_to(np.asarray(self.y_size, float), (n,))
+        base = self.to_states
+        return self.starting(y0=np.concatenate([np.asarray(self.y0, float), np.eye(n).ravel()]), rhs=rhs,
+                             y_size=np.concatenate([s, np.outer(s, 1.0 / s).ravel()]), event=None,
+                             invariants={}, monitors={}, then=None,
+                             to_states=(lambda z: z[:n]) if base is None else (lambda z: base(z[:n])))
+
     def si(self, y):
         """A state (or n x N states) of the integrated variables, as the declared states in SI."""
         import numpy as np

@@ -139,3 +139,16 @@ def test_a_leg_not_shown_is_followed_but_not_the_trajectory():
     t, y = run.trajectory(2)
     assert t[0] == pytest.approx(math.pi / 2, rel=1e-9) and t[-1] == pytest.approx(math.pi / 2 + 1.0, rel=1e-9)
     assert np.allclose(y[0], -(t - math.pi / 2), atol=1e-8) and np.allclose(y[1], -1.0, atol=1e-8)
+
+
+def test_with_variations_carries_the_monodromy_matrix_and_keeps_the_states():
+    """x'' = -x over t = 1: d(x, v)/d(x0, v0) = [[cos 1, sin 1], [-sin 1, cos 1]]; the trajectory is the
+    motion's own two states (x = 2 cos t from (2, 0)), not the 4 variational rows."""
+    m = Motion(lambda t, y: np.array([y[1], -y[0]]), [2.0, 0.0], (0.0, 1.0), y_size=[2.0, 2.0])
+    run = Run(rtol=1e-10, keep_trajectories=True)
+    end = run.follow(m.with_variations(lambda t, y: np.array([[0.0, 1.0], [-1.0, 0.0]])))
+    c, s = math.cos(1.0), math.sin(1.0)
+    assert end.y_end[:2] == pytest.approx([2.0 * c, -2.0 * s], abs=1e-9)
+    assert end.y_end[2:].reshape(2, 2) == pytest.approx(np.array([[c, s], [-s, c]]), abs=1e-9)
+    t, y = run.trajectory(2)
+    assert y.shape[0] == 2 and np.allclose(y[0], 2.0 * np.cos(t), atol=1e-8)
