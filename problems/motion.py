@@ -39,7 +39,9 @@ class Motion:
     overridden by a forced integrator; ``y_size``: the size of each integrated variable (a number or one
     per variable; 1 by default), the absolute tolerance being ``1e-3 * rtol * y_size``;
     ``t_offset``: the SI time at which this leg starts (``t_offset + t_scale * t``); ``then``:
-    ``f(path) -> Motion | None``, the next leg from this one's end (a motion in legs)."""
+    ``f(path) -> Motion | None``, the next leg from this one's end (a motion in legs); ``clock``: where
+    the integration's variable is not the time (a Sundman rescaling, the time carried as a state),
+    ``clock(y)`` gives the time (in units of ``t_scale``) of the states y (n x N)."""
 
     rhs: Callable
     y0: Sequence[float]
@@ -54,6 +56,7 @@ class Motion:
     to_states: Callable | None = None
     t_offset: float = 0.0
     then: Callable | None = None
+    clock: Callable | None = None
 
     def starting(self, y0=None, span=None, **changes) -> "Motion":
         """The same equations from another start (``y0``) or over another ``span`` (any other field by
