@@ -41,7 +41,9 @@ class Motion:
     ``t_offset``: the SI time at which this leg starts (``t_offset + t_scale * t``); ``then``:
     ``f(path) -> Motion | None``, the next leg from this one's end (a motion in legs); ``shown``: False for a
     leg that leads into the scene's motion without being part of it (a strike before the sliding the states
-    describe): followed and recorded, never marked."""
+    describe): followed and recorded, never marked; ``clock``: where the integration's variable is not the
+    time (a Sundman rescaling, the time carried as a state), ``clock(y)`` gives the time (in units of
+    ``t_scale``) of the states y (n x N)."""
 
     rhs: Callable
     y0: Sequence[float]
@@ -57,6 +59,7 @@ class Motion:
     t_offset: float = 0.0
     then: Callable | None = None
     shown: bool = True
+    clock: Callable | None = None
 
     def starting(self, y0=None, span=None, **changes) -> "Motion":
         """The same equations from another start (``y0``) or over another ``span`` (any other field by

@@ -152,3 +152,21 @@ def test_with_variations_carries_the_monodromy_matrix_and_keeps_the_states():
     assert end.y_end[2:].reshape(2, 2) == pytest.approx(np.array([[c, s], [-s, c]]), abs=1e-9)
     t, y = run.trajectory(2)
     assert y.shape[0] == 2 and np.allclose(y[0], 2.0 * np.cos(t), atol=1e-8)
+
+
+def test_a_motion_integrated_in_another_variable_is_seen_in_time():
+    """The oscillator in a variable s with dt/ds = 1 + x^2 (a Sundman rescaling, t carried as a third
+    state): seen through ``clock`` its trajectory is still x = cos t, v = -sin t, in times that increase to
+    the t reached at the span's end."""
+    def rhs(s, y):
+        f = 1.0 + y[0] ** 2
+        return np.array([f * y[1], -f * y[0], f])
+
+    m = Motion(rhs, [1.0, 0.0, 0.0], (0.0, 2.0), to_states=lambda y: y[:2], clock=lambda y: y[2],
+               t_scale=2.0, y_scale=[3.0, 1.5])
+    run = Run(rtol=1e-10, keep_trajectories=True)
+    end = run.follow(m)
+    t, y = run.trajectory(2)
+    assert t[0] == 0.0 and t[-1] == pytest.approx(2.0 * end.y_end[2], rel=1e-12) and t.size >= 201
+    assert np.all(np.diff(t) > 0)
+    assert np.allclose(y[0], 3.0 * np.cos(t / 2.0), atol=1e-8) and np.allclose(y[1], -1.5 * np.sin(t / 2.0), atol=1e-8)
