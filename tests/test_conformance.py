@@ -98,3 +98,21 @@ def test_the_light_index_matches_the_imported_modules():
         facts = registry.declarations(ex)
         heading = {"methods": list(e.methods), "integrates": e.integrates, "theory": e.theory}
         assert heading == facts, f"problems/catalogue/{e.id}.toml: its heading says {heading}, the module {facts}"
+
+
+@pytest.mark.parametrize("ex_id", REGISTERED)
+def test_an_exercise_integrates_only_through_its_declared_motion(ex_id):
+    """Every integration of an exercise is a ``run.follow`` of a ``Motion`` (problems/motion.py), so bench,
+    the trajectory and the invariants see it; no module calls the Run's raw integrators itself.  An exercise
+    with states declares its motion (``@exercise.motion``), whose start is the declared states' start."""
+    import importlib
+    import re
+
+    ex = registry.get(ex_id)
+    module = {e.id: e.module for e in registry.index()}[ex_id]
+    source = Path(importlib.import_module(module).__file__).read_text("utf-8")
+    assert not re.findall(r"\brun\.(integrate|integrate_to_event)\(", source)
+    if ex.states:
+        m = ex.motion_at(ex.resolve({}))
+        assert m is not None, f"{ex_id} declares states but no motion"
+        assert len(m.start) == len(ex.states)
