@@ -92,11 +92,14 @@ class SweepResult:
         return self.extra["json"]
 
     def iter_points(self):
-        """The points as the contract's solve objects, one at a time (never all held as JSON)."""
+        """The points as the contract's solve objects, one at a time: never all held as JSON, and on the
+        batched route never all held as typed solutions either (each is built from the arrays, written,
+        dropped), so the memory does not grow with the number of points."""
         if "json" in self.extra:
             yield from self.extra["json"]
             return
-        for k, sol in enumerate(self.solutions()):
+        sols = self.points if self.points is not None else iter_batched_solutions(self)
+        for k, sol in enumerate(sols):
             d = to_json(sol)
             d.pop("id", None)
             d.pop("title", None)
@@ -518,6 +521,12 @@ def _num(x):
 def batched_solutions(result: SweepResult) -> list[Solution]:
     """The chart's per-point solutions (as ``mech solve`` gives them, the asked outputs only), built from the
     judged arrays."""
+    return list(iter_batched_solutions(result))
+
+
+def iter_batched_solutions(result: SweepResult):
+    """``batched_solutions`` one point at a time, grid order: none is kept (``sweep --json`` writes each
+    as it is built)."""
     from mech.verification.judge import notes as judge_notes
 
     ex = result.exercise
@@ -527,8 +536,6 @@ def batched_solutions(result: SweepResult) -> list[Solution]:
     units = {o.name: o for o in ex.outputs}
     names = [p.name for p in ex.params]
     N = next(iter(P.values())).size
-    cols = {k: P[k].tolist() for k in names}
-    points = []
     for k in range(N):
         quantities, errors = [], []
         for name, J in judged.items():
@@ -563,9 +570,8 @@ def batched_solutions(result: SweepResult) -> list[Solution]:
                 expected_err=_num(J["expected_err"][k]) if leading and J["expected_err"] is not None else None,
                 expected_err_abs=e_abs if leading else None, verify_diff=_num(J["verify_diff"][k]),
                 allowed=_num(J["J"].allowed[k]), notes=tuple(dict.fromkeys(notes))))
-        points.append(Solution(ex, {n: cols[n][k] for n in names}, tuple(quantities), timing={},
-                               numeric_info=dict(info), errors=tuple(dict.fromkeys(errors))))
-    return points
+        yield Solution(ex, {n: float(P[n][k]) for n in names}, tuple(quantities), timing={},
+                       numeric_info=dict(info), errors=tuple(dict.fromkeys(errors)))
 
 
 def batched_points(result: SweepResult) -> list[dict]:
