@@ -534,6 +534,50 @@ def test_sweep_total_budget_and_jobs_cap():
     one_line_error(r, "--budget")
 
 
+def test_batched_sweep_honours_its_total_budget():
+    """The chart route (5.11) under --budget: the solves stop at the budget, each point fails saying so (exit 1,
+    the summary and one line per shown point, no traceback); --budget is checked on this route too."""
+    grid = ["sweep", "5.11", "--omega", "9.9:10.2:40", "--mu", "0.01:0.1:20"]  # 800 points, one chunk
+    t0 = time.monotonic()
+    r = CliRunner().invoke(cli, grid + ["--budget", "0.05"])
+    wall = time.monotonic() - t0
+    assert r.exit_code == 1, r.output
+    assert "Traceback" not in r.output and "internal error" not in r.output
+    assert "800 points FAILED" in r.output
+    lines = [ln for ln in r.output.splitlines() if ln.startswith("point ")]
+    assert len(lines) == 20 and all("the sweep's total budget of 0.05 s ran out" in ln for ln in lines)
+    assert "... and 780 more failed points" in r.output
+    assert wall < 0.05 + 5.0  # the analytic side and the judge of 800 points, without any solve
+
+    from mech.problems import registry
+    from mech.verification.sweep import Axis, batched_outputs, run_batched
+
+    ex = registry.get("5.11")
+    omegas = tuple(9.9 + 0.3 * k / 399 for k in range(400))
+    axes = [Axis("omega", omegas, False), Axis("mu", tuple(0.01 + 0.005 * k for k in range(20)), False)]
+    t0 = time.monotonic()
+    result = run_batched(ex, axes, {}, batched_outputs(ex, None), total_s=0.3)
+    assert time.monotonic() - t0 < 0.3 + 1.5  # a solve running at the end stops there (8000 points: ~1.5 s)
+    reasons = [str(e) for _, pt in result.failed_points() for e in pt["errors"]][:50]
+    assert all("the sweep's total budget of 0.3 s ran out" in why for why in reasons), reasons[:3]
+
+    r = CliRunner().invoke(cli, grid + ["--budget", "nan"])
+    assert r.exit_code == 2
+    one_line_error(r, "--budget")
+
+
+def test_a_failed_100000_point_batched_sweep_in_bounded_memory():
+    """Every point of the largest grid fails (its total budget spent at once): the table's failure lines
+    are built for the points shown, not for all (750 MB, 18 s when every point's JSON was built)."""
+    t0 = time.monotonic()
+    r = mech("sweep", "5.11", "--omega", "9.9:10.2:400", "--mu", "0.01:0.1:250", "--budget", "0.01",
+             limit_as=MEMORY_CAP)
+    assert r.returncode == 1, r.stderr[-500:]
+    assert "100000 points FAILED" in r.stdout and "... and 99980 more failed points" in r.stdout
+    assert "Traceback" not in r.stderr
+    assert time.monotonic() - t0 < 20
+
+
 def test_check_jobs_capped_by_the_cores():
     from mech.verification.checking import plan_jobs
     from mech.verification.sweep import usable_cores
