@@ -598,6 +598,53 @@ def test_a_loop_that_never_checks_is_stopped_by_the_timer_soon_after_the_deadlin
     assert time.monotonic() - t0 < 0.3 + 0.4
 
 
+# in-bounds inputs whose numeric solve runs long (scripts/budget_probe.py found them), one per kind of loop:
+# mech's DOP853 (5.10), a periodic orbit's one-period map (5.8), a DOP853 step costly in its right-hand
+# side (4.21 at omega3 = 4e8 rad/s), scipy's LSODA (5.9, which ran until the backup timer)
+LONG_SOLVES = [
+    ("5.8", {}),
+    ("5.10", {}),
+    ("4.21", {"omega3": 4e8}),
+    ("5.9", {"mu": 3e5}),
+]
+BUDGET_SLACK_S = 0.2  # what a check may come after the deadline: one step, one map (measured: <= 0.05 s)
+
+
+@pytest.mark.parametrize("ex_id, given", LONG_SOLVES)
+def test_every_long_loop_checks_the_budget(ex_id, given):
+    """Under a 0.3 s budget the solve stops at a budget.check() soon after the deadline, not by the backup
+    timer (which would say "stopped by the timer", 0.25 s late, and cannot stop a loop inside scipy)."""
+    import scipy.integrate  # noqa: F401  (an import is start-up, not a loop: loaded outside the budget)
+
+    from mech.core import budget
+    from mech.problems import registry
+
+    ex = registry.get(ex_id)
+    p = ex.resolve(given)
+    t0 = time.monotonic()
+    with pytest.raises(budget.OutOfBudget) as caught:
+        with budget.limit(0.3):
+            ex.solve_numeric(p)
+    wall = time.monotonic() - t0
+    assert "stopped by the timer" not in str(caught.value), str(caught.value)
+    assert 0.3 <= wall < 0.3 + BUDGET_SLACK_S, wall
+
+
+def test_a_budget_stop_on_the_command_line_is_one_line_and_exit_1():
+    """MECH_BUDGET_S=1 mech solve 5.8: the budget counts from the command's start, so it ends near 1 s (plus
+    the table's printing, and the start-up where that took more than half the budget); exit 1 (a loud
+    numeric failure: no answer is not an answer), one line naming the budget, no traceback."""
+    t0 = time.monotonic()
+    r = mech("solve", "5.8", env={"MECH_BUDGET_S": "1"})
+    wall = time.monotonic() - t0
+    assert r.returncode == 1, r.stderr[-500:]
+    out = r.stdout + r.stderr
+    lines = [ln for ln in out.splitlines() if "time budget" in ln]
+    assert len(lines) == 1 and "ran out of its" in lines[0], lines
+    assert "Traceback" not in out and "internal error" not in out
+    assert wall < 1.0 + 3.0  # start-up and printing on a loaded CI machine; measured 1.5-2.0 s
+
+
 def test_the_trajectory_shares_the_solves_budget(tmp_path):
     out = tmp_path / "t.csv"
     t0 = time.monotonic()
