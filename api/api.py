@@ -168,14 +168,15 @@ def _motion(sol: Solution, deadline: float | None = None) -> Trajectory | None:
 # -- solve -----------------------------------------------------------------------
 
 def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, raise_on_failure: bool = True,
-          params: dict | None = None, expect: dict | None = None, expect_rtol=None) -> Solution:
+          params: dict | None = None, expect: dict | None = None, expect_rtol=None, expect_points=None,
+          expect_seed=None) -> Solution:
     from mech.problems import registry
 
     ex = registry.get(ex_id)
     verify = _flag("verify", verify)
     raise_on_failure = _flag("raise_on_failure", raise_on_failure)
     resolved = resolve_params(ex, dict(params or {}))
-    expectations = _expectations(ex, expect, expect_rtol)
+    expectations = _expectations(ex, expect, expect_rtol, expect_points, expect_seed)
     sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify,
                          expectations=expectations)
     if raise_on_failure and sol.solver_failed:
@@ -185,14 +186,18 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
     return sol
 
 
-def _expectations(ex, expect: dict | None, expect_rtol):
-    """``expect={"theta_c": "35.26deg"}`` -> the command line's --expect judgements (None: nothing expected)."""
+def _expectations(ex, expect: dict | None, expect_rtol, expect_points=None, expect_seed=None):
+    """``expect={"theta_c": "35.26deg"}`` -> the command line's --expect judgements (None: nothing expected);
+    ``expect_points``/``expect_seed`` as ``--expect-points``/``--expect-seed``, named as the API names them."""
     if not expect:
         if expect_rtol is not None:
             raise BadInput("expect_rtol: given without any expected value")
+        if expect_points is not None or expect_seed is not None:
+            raise BadInput("expect_points/expect_seed: given without any formula in expect")
         return None
     pairs = [f"{name}={_value_text(value)}" for name, value in expect.items()]
-    return parse_expectations(ex, pairs, None if expect_rtol is None else _value_text(expect_rtol))
+    return parse_expectations(ex, pairs, None if expect_rtol is None else _value_text(expect_rtol),
+                              expect_points, expect_seed, names=("expect_points", "expect_seed"))
 
 
 def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None,
@@ -219,16 +224,21 @@ def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float |
 
 
 def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None, expect_points=None,
-                       expect_seed=None):
+                       expect_seed=None, names: tuple[str, str] = ("--expect-points", "--expect-seed")):
     """``--expect NAME=VALUE`` texts (and ``--expect-rtol``) -> the judgements ``solve_resolved`` takes;
-    ``expect_points``/``expect_seed``: how many parameter sets a formula is checked at, and their seed."""
+    ``expect_points``/``expect_seed``: how many parameter sets a formula is checked at, and their seed
+    (``names``: how an error names them)."""
     from mech.verification import grading
 
     out = grading.parse_expect_options(ex, list(pairs), expect_rtol)
-    if expect_points is not None or expect_seed is not None:
-        out = grading.with_range(out, grading.parse_count(expect_points, "--expect-points", 1, 10000),
-                                 grading.parse_count(expect_seed, "--expect-seed", 0, 2**63 - 1))
+    points = grading.parse_count(expect_points, names[0], 1, MAX_EXPECT_POINTS)
+    seed = grading.parse_count(expect_seed, names[1], 0, 2**63 - 1)
+    if points is not None or seed is not None:
+        out = grading.with_range(out, points, seed)
     return out
+
+
+MAX_EXPECT_POINTS = 10_000  # parameter sets a formula is checked at, at most
 
 
 # -- sweep -----------------------------------------------------------------------

@@ -1,5 +1,8 @@
 """Parse the values people type: ``90deg``, ``90 deg``, ``pi/3``, ``2.5 km``, ``3 m/s^2``, ``100 rpm``.
 
+The tokenizer and grammar here are the project's only ones: ``parse`` lends them to a student's formula
+(``verification.formula_ast`` gives the parts their meaning there: a tree to evaluate and dimension-check).
+
 A value is arithmetic (``+ - * / ^ **``, parentheses, ``pi``) over numbers and
 units; a factor written next to a name or a parenthesis multiplies (``2pi``,
 ``15 cm``, ``1/(m^2 s^2)``), but two numbers side by side are an error, not a
@@ -24,7 +27,8 @@ import math
 import re
 from dataclasses import dataclass
 
-__all__ = ["ValueError_", "Dimensioned", "parse_quantity", "parse_unit", "si_exponents", "to_si", "UNITS"]
+__all__ = ["ValueError_", "Dimensioned", "parse", "parse_quantity", "tokens", "parse_unit", "si_exponents", "to_si",
+           "UNITS"]
 
 
 class ValueError_(ValueError):
@@ -107,18 +111,37 @@ def _div(a: Dimensioned, b: Dimensioned) -> Dimensioned:
     return Dimensioned(a.value / b.value, tuple(x - y for x, y in zip(a.dim, b.dim)), a.has_units or b.has_units)
 
 
-_TOKEN = re.compile(
-    r"\s*(?:(?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)|(?P<name>[A-Za-z_]\w*)|(?P<op>\*\*|[-+*/^()])|(?P<bad>\S))"
-)
+_NUM = r"(?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)"
+# a value: ASCII names, no comma; a formula: names in any alphabet and commas between a function's arguments
+_TOKEN = re.compile(rf"\s*(?:{_NUM}|(?P<name>[A-Za-z_]\w*)|(?P<op>\*\*|[-+*/^()])|(?P<bad>\S))")
+_FORMULA_TOKEN = re.compile(rf"\s*(?:{_NUM}|(?P<name>[^\W\d]\w*)|(?P<op>\*\*|[-+*/^(),])|(?P<bad>\S))")
+_REPLACE = (("·", "*"), ("×", "*"), ("°", "deg"), ("π", "pi"), ("µ", "u"))
+_FORMULA_REPLACE = _REPLACE + (("−", "-"), ("√", "sqrt"), ("²", "^2"), ("³", "^3"), ("⁴", "^4"))
 
 
-def tokens(text: str) -> list[tuple[str, str]]:
-    """The (kind, text) tokens of a typed value: numbers, names, operators, parentheses."""
+def tokens(text: str, symbols: dict[str, str] | None = None, formula: bool = False) -> list[tuple[str, str]]:
+    """The (kind, text) tokens of a typed value: numbers, names, operators, parentheses.
+
+    ``formula``: the wider alphabet of a formula (names in any script, ``,``, ``−``, ``√``, ``²``); each
+    of ``symbols`` (``θ₀``, ``m'``, ``h/R``: symbol -> name) is then one name token, the name it stands for.
+    """
+    pattern, replace = (_FORMULA_TOKEN, _FORMULA_REPLACE) if formula else (_TOKEN, _REPLACE)
+    for a, b in replace:
+        text = text.replace(a, b)
+    syms = sorted((s for s in symbols or () if s), key=len, reverse=True)
     out = []
     pos = 0
-    text = text.replace("·", "*").replace("×", "*").replace("°", "deg").replace("π", "pi").replace("µ", "u")
-    while pos < len(text):
-        m = _TOKEN.match(text, pos)
+    n = len(text)
+    while pos < n:
+        if syms:
+            while pos < n and text[pos].isspace():
+                pos += 1
+            hit = _symbol_at(text, pos, syms)
+            if hit is not None:
+                out.append(("name", symbols[hit]))
+                pos += len(hit)
+                continue
+        m = pattern.match(text, pos)
         if not m or m.end() == pos:
             break
         pos = m.end()
@@ -129,13 +152,36 @@ def tokens(text: str) -> list[tuple[str, str]]:
     return out
 
 
-class _Parser:
-    """expr := term (('+'|'-') term)*; term := factor (('*'|'/'|adjacent) factor)*;
-    factor := ('-'|'+') factor | power; power := atom (('^'|'**') factor)?"""
+def _symbol_at(text: str, pos: int, syms: list[str]) -> str | None:
+    """The longest symbol starting a word at ``pos`` and ending one (``θ₀`` in ``2θ₀``, not in ``xθ₀``)."""
+    if pos >= len(text) or (pos > 0 and (text[pos - 1].isalnum() or text[pos - 1] == "_")):
+        return None
+    for s in syms:
+        end = pos + len(s)
+        if text.startswith(s, pos) and not (end < len(text) and (text[end].isalnum() or text[end] in "_'")):
+            return s
+    return None
 
-    def __init__(self, tokens):
+
+class _Parser:
+    """The one grammar of values and formulas:
+
+        expr := term (('+'|'-') term)*;  term := unary (('*'|'/'|adjacent) unary)*;
+        unary := ('-'|'+') unary | power;  power := atom (('^'|'**') unary)?;
+        atom := number | name | function '(' expr (',' expr)* ')' | '(' expr ')'
+
+    What the parts mean is the ``build``'s: a value's (``_Value``: a number with its dimension, computed as
+    it is read) or a formula's (a tree, ``verification.formula_ast``).  ``build.function(name)`` says whether
+    a name is a function and its number of arguments.  ``max_depth`` bounds the nesting (None: the length of
+    the text does)."""
+
+    def __init__(self, tokens, build, what: str = "value", max_depth: int | None = None):
         self.toks = tokens
         self.i = 0
+        self.build = build
+        self.what = what
+        self.max_depth = max_depth
+        self.depth = 0
 
     def peek(self):
         return self.toks[self.i] if self.i < len(self.toks) else (None, None)
@@ -145,34 +191,37 @@ class _Parser:
         self.i += 1
         return tok
 
-    def parse(self) -> Dimensioned:
+    def enter(self):
+        self.depth += 1
+        if self.max_depth is not None and self.depth > self.max_depth:
+            raise ValueError_(f"{self.what} nested too deeply (more than {self.max_depth} levels)")
+
+    def parse(self):
         if not self.toks:
-            raise ValueError_("empty value")
+            raise ValueError_(f"empty {self.what}")
         q = self.expr()
         if self.i != len(self.toks):
             raise ValueError_(f"unexpected '{self.peek()[1]}'")
         return q
 
     def expr(self):
+        self.enter()
         q = self.term()
         while self.peek()[1] in ("+", "-"):
             op = self.take()[1]
-            r = self.term()
-            if r.dim != q.dim:
-                raise ValueError_("adding quantities of different dimensions")
-            q = Dimensioned(q.value + r.value if op == "+" else q.value - r.value, q.dim, q.has_units or r.has_units)
+            q = self.build.binary(op, q, self.term())
+        self.depth -= 1
         return q
 
     def term(self):
-        q = self.factor()
+        q = self.unary()
         while True:
             kind, val = self.peek()
             if val in ("*", "/"):
                 self.take()
-                r = self.factor()
-                q = _mul(q, r) if val == "*" else _div(q, r)
+                q = self.build.binary(val, q, self.unary())
             elif kind == "name" or val == "(":
-                q = _mul(q, self.factor())
+                q = self.build.binary("*", q, self.unary())
             elif kind == "num":
                 prev_kind, prev = self.toks[self.i - 1]
                 what = "two numbers side by side" if prev_kind == "num" else "a number right after a factor"
@@ -181,56 +230,123 @@ class _Parser:
             else:
                 return q
 
-    def factor(self):
+    def unary(self):
+        self.enter()
         kind, val = self.peek()
         if val in ("-", "+"):
             self.take()
-            q = self.factor()
-            return Dimensioned(-q.value if val == "-" else q.value, q.dim, q.has_units)
-        return self.power()
+            q = self.unary()
+            q = self.build.neg(q) if val == "-" else self.build.plus(q)
+        else:
+            q = self.power()
+        self.depth -= 1
+        return q
 
     def power(self):
         base = self.atom()
         if self.peek()[1] in ("^", "**"):
             self.take()
-            exp = self.factor()
-            if exp.dim != _ONE or exp.has_units:
-                raise ValueError_("an exponent must be a pure number")
-            e = exp.value
-            if not math.isfinite(e):
-                raise ValueError_("an exponent must be a finite number")
-            if base.dim != _ONE and (abs(e) > 64 or e != int(e)):
-                raise ValueError_("a unit can only be raised to a whole power, at most 64")
-            try:
-                value = base.value**e
-            except (OverflowError, ZeroDivisionError):
-                raise ValueError_("the power overflows") from None
-            if isinstance(value, complex):
-                raise ValueError_("the power is not real")
-            return Dimensioned(value, tuple(d * int(e) for d in base.dim) if base.dim != _ONE else _ONE, base.has_units)
+            return self.build.binary("^", base, self.unary())
         return base
 
     def atom(self):
         kind, val = self.take()
         if kind == "num":
-            return Dimensioned(float(val), _ONE, False)
+            return self.build.number(val)
         if kind == "name":
-            if val in CONSTANTS:
-                return Dimensioned(CONSTANTS[val], _ONE, False)
-            if val in UNITS:
-                factor, dim = UNITS[val]
-                return Dimensioned(factor, dim, True)
-            if val.lower() in ("nan", "inf", "infinity"):
-                raise ValueError_("not a finite number")
-            raise ValueError_(f"unknown unit or name '{val}'{unit_hint(val)}")
+            arity = self.build.function(val)
+            if arity is None:
+                return self.build.name(val)
+            if self.peek()[1] != "(":
+                raise ValueError_(f"'{val}' is a function: write {val}(...)")
+            self.take()
+            args = [self.expr()]
+            while self.peek()[1] == ",":
+                self.take()
+                args.append(self.expr())
+            if self.take()[1] != ")":
+                raise ValueError_(f"missing ')' after the argument of {val}")
+            if len(args) != arity:
+                raise ValueError_(f"{val} takes {arity} argument{'s' if arity > 1 else ''}, got {len(args)}")
+            return self.build.call(val, args)
         if val == "(":
             q = self.expr()
             if self.take()[1] != ")":
                 raise ValueError_("missing ')'")
             return q
         if val is None:
-            raise ValueError_("the value ends too early")
+            raise ValueError_(f"the {self.what} ends too early")
         raise ValueError_(f"unexpected '{val}'")
+
+
+class _Value:
+    """What a value's parts mean: numbers with a dimension, computed as they are read."""
+
+    @staticmethod
+    def function(name):
+        return None  # a value has no functions: ``sqrt`` is an unknown name
+
+    @staticmethod
+    def number(text):
+        return Dimensioned(float(text), _ONE, False)
+
+    @staticmethod
+    def name(val):
+        if val in CONSTANTS:
+            return Dimensioned(CONSTANTS[val], _ONE, False)
+        if val in UNITS:
+            factor, dim = UNITS[val]
+            return Dimensioned(factor, dim, True)
+        if val.lower() in ("nan", "inf", "infinity"):
+            raise ValueError_("not a finite number")
+        raise ValueError_(f"unknown unit or name '{val}'{unit_hint(val)}")
+
+    @staticmethod
+    def neg(q):
+        return Dimensioned(-q.value, q.dim, q.has_units)
+
+    @staticmethod
+    def plus(q):
+        return q
+
+    @staticmethod
+    def binary(op, q, r):
+        if op in ("+", "-"):
+            if r.dim != q.dim:
+                raise ValueError_("adding quantities of different dimensions")
+            return Dimensioned(q.value + r.value if op == "+" else q.value - r.value, q.dim, q.has_units or r.has_units)
+        if op == "*":
+            return _mul(q, r)
+        if op == "/":
+            return _div(q, r)
+        return _power(q, r)
+
+
+def _power(base: Dimensioned, exp: Dimensioned) -> Dimensioned:
+    if exp.dim != _ONE or exp.has_units:
+        raise ValueError_("an exponent must be a pure number")
+    e = exp.value
+    if not math.isfinite(e):
+        raise ValueError_("an exponent must be a finite number")
+    if base.dim != _ONE and (abs(e) > 64 or e != int(e)):
+        raise ValueError_("a unit can only be raised to a whole power, at most 64")
+    try:
+        value = base.value**e
+    except (OverflowError, ZeroDivisionError):
+        raise ValueError_("the power overflows") from None
+    if isinstance(value, complex):
+        raise ValueError_("the power is not real")
+    return Dimensioned(value, tuple(d * int(e) for d in base.dim) if base.dim != _ONE else _ONE, base.has_units)
+
+
+def parse(text: str, build, what: str = "formula", max_depth: int | None = None, symbols=None):
+    """Read ``text`` with the one grammar, ``build`` giving its parts their meaning (see ``_Parser``);
+    ``ValueError_`` (one line) when it cannot be read.  The caller bounds the length."""
+    toks = tokens(text, symbols, formula=True)
+    try:
+        return _Parser(toks, build, what, max_depth).parse()
+    except RecursionError:
+        raise ValueError_(f"{what} nested too deeply (more than {max_depth} levels)") from None
 
 
 def parse_quantity(text: str) -> Dimensioned:
@@ -238,7 +354,7 @@ def parse_quantity(text: str) -> Dimensioned:
     if len(text) > 200:
         raise ValueError_("value too long")
     try:
-        q = _Parser(tokens(text)).parse()
+        q = _Parser(tokens(text), _Value).parse()
     except RecursionError:
         raise ValueError_("value nested too deeply") from None
     except OverflowError:

@@ -39,7 +39,11 @@ class Motion:
     overridden by a forced integrator; ``y_size``: the size of each integrated variable (a number or one
     per variable; 1 by default), the absolute tolerance being ``1e-3 * rtol * y_size``;
     ``t_offset``: the SI time at which this leg starts (``t_offset + t_scale * t``); ``then``:
-    ``f(path) -> Motion | None``, the next leg from this one's end (a motion in legs)."""
+    ``f(path) -> Motion | None``, the next leg from this one's end (a motion in legs); ``shown``: False for a
+    leg that leads into the scene's motion without being part of it (a strike before the sliding the states
+    describe): followed and recorded, never marked; ``clock``: where the integration's variable is not the
+    time (a Sundman rescaling, the time carried as a state), ``clock(y)`` gives the time (in units of
+    ``t_scale``) of the states y (n x N)."""
 
     rhs: Callable
     y0: Sequence[float]
@@ -54,6 +58,8 @@ class Motion:
     to_states: Callable | None = None
     t_offset: float = 0.0
     then: Callable | None = None
+    shown: bool = True
+    clock: Callable | None = None
 
     def starting(self, y0=None, span=None, **changes) -> "Motion":
         """The same equations from another start (``y0``) or over another ``span`` (any other field by
@@ -65,6 +71,26 @@ class Motion:
         if span is not None:
             changes["span"] = (float(span[0]), float(span[1]))
         return replace(self, **changes)
+
+    def with_variations(self, jac: Callable) -> "Motion":
+        """The same motion with its variational equations carried along (a monodromy run): the state y
+        (n rows) then d y/d y0 (n x n, row by row) from the identity, ``jac(t, y)`` the Jacobian of ``rhs``.
+        The entry d y_i/d y0_j has the size s_i/s_j (s: ``y_size``); ``to_states`` reads the first n rows,
+        so the declared states are the motion's own.  ``path.y_end[n:].reshape(n, n)`` is the matrix."""
+        import numpy as np
+
+        n = len(self.y0)
+        f = self.rhs
+
+        def rhs(t, z):
+            return np.concatenate([f(t, z[:n]), (jac(t, z[:n]) @ z[n:n + n * n].reshape(n, n)).ravel()])
+
+        s = np.ones(n) if self.y_size is None else np.broadcast_to(np.asarray(self.y_size, float), (n,))
+        base = self.to_states
+        return self.starting(y0=np.concatenate([np.asarray(self.y0, float), np.eye(n).ravel()]), rhs=rhs,
+                             y_size=np.concatenate([s, np.outer(s, 1.0 / s).ravel()]), event=None,
+                             invariants={}, monitors={}, then=None,
+                             to_states=(lambda z: z[:n]) if base is None else (lambda z: base(z[:n])))
 
     def si(self, y):
         """A state (or n x N states) of the integrated variables, as the declared states in SI."""

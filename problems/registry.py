@@ -2,14 +2,15 @@
 
 Two levels, so that the commands that only list stay fast:
 
-* ``index()`` reads the file names (``ex4_15_sliding_ladder.py`` is exercise 4.15), the
-  packaged catalogue (title, topic) and ``problems/index.toml``: what each exercise
-  registers (its methods, the states it integrates), written from the registrations
-  themselves by ``python -m mech.problems.registry --write-index``.  It imports no
-  exercise module, hence no numpy and no scipy.
+* ``index()`` reads the file names (``ex4_15_sliding_ladder.py`` is exercise 4.15) and the
+  heading of each packaged catalogue file: title, topic, ``from_book``, and what the
+  exercise's registration declares (``integrates``: it has states, a motion to show;
+  ``theory``: exact or leading-order).  It imports no exercise module, hence no numpy
+  and no scipy.
 * ``get(id)`` imports the one module asked for; ``all_exercises()`` imports them all.
 
-tests/test_conformance.py holds index.toml to what the imported modules really register.
+tests/test_conformance.py holds each catalogue heading to what the module really registers
+(``declarations``), so a new exercise is its module, its catalogue file and its test.
 """
 
 from __future__ import annotations
@@ -93,57 +94,36 @@ def _heading(text: str) -> dict:
 
 
 _HERE = Path(__file__).parent  # the package's data lies beside it (importlib.resources costs 4 ms of imports)
-
-
-@lru_cache(maxsize=1)
-def _declared() -> dict:
-    """problems/index.toml: per exercise, what its registration declares (see ``declarations``)."""
-    path = _HERE / "index.toml"
-    try:
-        return tomllib.loads(path.read_text("utf-8")).get("exercise", {})
-    except FileNotFoundError:
-        return {}
+_THEORIES = ("exact", "leading-order", "partly leading-order")
 
 
 @lru_cache(maxsize=1)
 def index() -> list[Entry]:
     entries = []
     catalogue = _HERE / "catalogue"
-    declared = _declared()
     for ex_id, (module, _origin) in _files().items():
-        spec = _heading(catalogue.joinpath(f"{ex_id}.toml").read_text("utf-8"))
-        if "title" not in spec or "topic" not in spec or "from_book" not in spec:
-            spec = tomllib.loads(catalogue.joinpath(f"{ex_id}.toml").read_text("utf-8"))
-        if not isinstance(spec.get("from_book"), bool):
-            raise RuntimeError(f"problems/catalogue/{ex_id}.toml: from_book = true or false is missing")
-        facts = declared.get(ex_id)
-        if facts is None:  # a module index.toml does not know yet: ask the registration itself
-            facts = declarations(_load(ex_id, module))
-        entries.append(Entry(ex_id, spec["title"], spec["topic"], tuple(facts["methods"]), module,
-                             bool(facts.get("integrates", False)), spec["from_book"],
-                             str(facts.get("theory", "exact"))))
+        text = catalogue.joinpath(f"{ex_id}.toml").read_text("utf-8")
+        spec = _heading(text)
+        if any(k not in spec for k in ("title", "topic", "from_book", "integrates", "theory")):
+            spec = tomllib.loads(text)
+        where = f"problems/catalogue/{ex_id}.toml"
+        for key in ("from_book", "integrates"):
+            if not isinstance(spec.get(key), bool):
+                raise RuntimeError(f"{where}: {key} = true or false is missing")
+        if spec.get("theory") not in _THEORIES:
+            raise RuntimeError(f"{where}: theory must be one of {', '.join(_THEORIES)}")
+        methods = tuple(spec.get("methods", ("analytic", "numeric")))
+        entries.append(Entry(ex_id, spec["title"], spec["topic"], methods, module, spec["integrates"],
+                             spec["from_book"], spec["theory"]))
     return entries
 
 
 def declarations(ex: Exercise) -> dict:
-    """What an exercise's registration declares, as index.toml records it."""
+    """What an exercise's registration declares, as its catalogue heading records it (``index``)."""
     leading = [o.name for o in ex.outputs if o.theory != "exact"]
     theory = "exact" if not leading else (
         "leading-order" if len(leading) == len(ex.outputs) else "partly leading-order")
     return {"methods": list(ex.methods), "integrates": bool(ex.states), "theory": theory}
-
-
-def index_text() -> str:
-    """index.toml as the registrations give it (``python -m mech.problems.registry --write-index``)."""
-    lines = ["# What each exercise's registration declares, for `mech list` (which imports no exercise).",
-             "# Written by `python -m mech.problems.registry --write-index`; tests/test_conformance.py",
-             "# fails when it no longer matches the registrations.", ""]
-    for ex_id, ex in all_exercises().items():
-        facts = declarations(ex)
-        methods = ", ".join(f'"{m}"' for m in facts["methods"])
-        lines += [f'[exercise."{ex_id}"]', f"methods = [{methods}]",
-                  f"integrates = {'true' if facts['integrates'] else 'false'}", f'theory = "{facts["theory"]}"', ""]
-    return "\n".join(lines)
 
 
 def _load(ex_id: str, module_name: str) -> Exercise:
@@ -216,15 +196,3 @@ def unknown_id_message(ex_id: str, ids: list[str]) -> str:
         close = difflib.get_close_matches(norm, ids, n=1, cutoff=0.7)
     hint = f"; did you mean {close[0]}?" if close else ""
     return f"unknown exercise '{shown(text)}'{hint} (registered: {_spans(ids)})"
-
-
-if __name__ == "__main__":  # pragma: no cover
-    import sys
-
-    if sys.argv[1:] == ["--write-index"]:
-        target = os.path.join(os.path.dirname(os.path.abspath(__file__)), "index.toml")
-        with open(target, "w", encoding="utf-8") as fh:
-            fh.write(index_text())
-        print(f"wrote {target}")
-    else:
-        print("usage: python -m mech.problems.registry --write-index")

@@ -215,6 +215,21 @@ class _Transformed:
         return np.asarray(self._transform(np.asarray(y, float).reshape(-1, n)), float)
 
 
+class _Clocked:
+    """An integration in another variable than the time, seen in time (``Run.motion``'s ``clock``): sampled on
+    its continuous extension at 201 even values of its variable and at its steps."""
+
+    sol = None
+
+    def __init__(self, traj: Any, clock: Callable):
+        import numpy as np
+
+        s = np.union1d(np.linspace(traj.t[0], traj.t[-1], 201), traj.t)
+        y = np.asarray(traj.sol(s), float).reshape(-1, s.size)
+        self.t = np.asarray(clock(y), float)
+        self.y = y
+
+
 @dataclass
 class Run:
     """What a numeric solver is given and what it reports back besides its answers.
@@ -310,6 +325,7 @@ class Run:
         from mech.problems.motion import Path
 
         rtol = self.rtol if rtol is None else rtol
+        mark = mark and motion.shown
         opts = dict(motion.options)
         if motion.y_size is not None:
             size = motion.y_size
@@ -328,19 +344,23 @@ class Run:
             self.invariant(name, g(traj.y))
         if mark:
             self.motion(traj, t_scale=motion.t_scale, t_offset=motion.t_offset, y_scale=motion.y_scale,
-                        transform=motion.to_states)
+                        transform=motion.to_states, clock=motion.clock)
         return Path(float(t_end), y_end, traj, motion)
 
     def motion(self, traj: Any, *, t_scale: float = 1.0, t_offset: float = 0.0, y_scale=None,
-               rows=None, transform: Callable | None = None) -> None:
+               rows=None, transform: Callable | None = None, clock: Callable | None = None) -> None:
         """Mark an integration (anything with ``t``, ``y`` and optionally a continuous extension ``sol``) as
         (a leg of) the scene's motion: its ``rows`` (all by default) are the exercise's declared ``states``.
         Scaled variables are brought to SI: time ``t_offset + t_scale * t``, state ``y_scale * y`` (a number
         or one per state).  Where the integrated variables are not the declared ones (an angle kept as its
         change, a branch's own variables), ``transform`` maps the state array (n x N, scaled) to them before
-        ``rows`` and ``y_scale``; it runs only when a trajectory was asked for.  Legs marked one after
+        ``rows`` and ``y_scale``; it runs only when a trajectory was asked for.  ``clock``: where the
+        integration's variable is not the time, the time (before ``t_scale``) from the states, read on the
+        continuous extension at 201 even values of the variable and at its steps.  Legs marked one after
         another are joined in time order."""
         if self.keep_trajectories:
+            if clock is not None:
+                traj = _Clocked(traj, clock)
             if transform is not None:
                 traj = _Transformed(traj, transform)
             self.motion_parts.append((traj, float(t_scale), float(t_offset), y_scale, rows))

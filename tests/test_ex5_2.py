@@ -123,3 +123,28 @@ def test_a_phase_without_significant_digits_is_refused():
 
     with pytest.raises(BadInput, match="carries no significant digit"):
         registry.get("5.2").resolve(dict(omega0=5e6, t1=3e9))
+
+
+@pytest.mark.parametrize("T, legs, end", [(0.4, 3, 0.4 + 2 * math.pi / 5.0), (30.0, 2, 2 * math.pi / 5.0)])
+def test_the_declared_motion_alone_is_the_pulse_then_the_free_swing(T, legs, end):
+    """``motion`` followed alone: q = q_st (1 - cos w0 t) up to T, then 2 q_st sin(w0 T/2) sin w0 (t - T/2) for
+    one free period (legs: to t1 = 0.2 s, to T, free).  A pulse longer than a free period declares only its first
+    free period (the motion repeats; legs: to t1, to 2 pi/w0)."""
+    import numpy as np
+
+    from mech.problems.registry import get
+    from mech.problems.spec import Run
+
+    m, w0, F0, t1 = 0.2, 5.0, 0.3, 0.2
+    ex = get("5.2")
+    p = ex.resolve({"m": m, "omega0": w0, "F0": F0, "T": T, "t1": t1})
+    run = Run(rtol=1e-10, keep_trajectories=True)
+    path = run.follow(ex.motion_at(p))
+    assert len(path.legs) == legs
+    t, (q, v) = run.trajectory(2)
+    qst = F0 / (m * w0 * w0)
+    on = t <= T
+    assert np.allclose(q[on], qst * (1 - np.cos(w0 * t[on])), rtol=0, atol=1e-9 * qst)
+    off = ~on
+    assert np.allclose(q[off], 2 * qst * math.sin(w0 * T / 2) * np.sin(w0 * (t[off] - T / 2)), rtol=0, atol=1e-9 * qst)
+    assert t[-1] == pytest.approx(end, rel=1e-12)

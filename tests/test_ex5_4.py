@@ -182,3 +182,26 @@ def test_a_reading_past_the_chains_last_node(t1):
         assert vals["q_t"] == pytest.approx(q, rel=1e-7, abs=1e-300)
         assert vals["t_eps"] == pytest.approx(t_eps, rel=1e-7)
         assert vals["v_max"] == pytest.approx(v_max, rel=1e-7)
+
+
+def test_the_declared_motion_alone_ends_at_q_eps():
+    """``motion`` followed alone at zeta = 2, t1 = 0.2 s (before q = eps q0): a leg to t1, then one on to
+    q = eps q0, which the two exponentials put at t_eps (a root of q0 (l+ e^(-l- t) - l- e^(-l+ t))/(l+ - l-))."""
+    import numpy as np
+
+    from mech.problems.registry import get
+    from mech.problems.spec import Run
+    from mech.solvers.numerics.roots import brentq
+
+    w0, z, q0, eps = 5.0, 2.0, 0.1, 0.01
+    ex = get("5.4")
+    p = ex.resolve({"omega0": w0, "zeta": z, "q0": q0, "t1": 0.2, "eps": eps})
+    run = Run(rtol=1e-10, keep_trajectories=True)
+    path = run.follow(ex.motion_at(p))
+    assert len(path.legs) == 2 and path.legs[0].t_end == pytest.approx(w0 * 0.2, rel=1e-15)  # tau1 = omega0 t1
+    lp, lm = w0 * (z + math.sqrt(z * z - 1)), w0 * (z - math.sqrt(z * z - 1))
+    q = lambda t: q0 * (lp * np.exp(-lm * t) - lm * np.exp(-lp * t)) / (lp - lm)  # noqa: E731
+    t_eps = brentq(lambda t: q(t) - eps * q0, 0.0, 10.0, xtol=1e-15)
+    t, y = run.trajectory(2)
+    assert t[-1] == pytest.approx(t_eps, rel=1e-8) and np.allclose(y[0], q(t), rtol=1e-8, atol=0)
+    assert run.invariants["E + dissipated work"] < 1e-8

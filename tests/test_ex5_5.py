@@ -108,3 +108,23 @@ def test_high_q_limit_width_is_omega0_over_q():
         assert v["bandwidth"] == pytest.approx(6e-9, rel=1e-9)
         assert v["loss_per_cycle"] == pytest.approx(4 * math.pi * 1e-9, rel=1e-8)
         assert v["E_ratio"] == pytest.approx(1.0, rel=1e-12)
+
+
+def test_the_declared_ringdown_alone_is_a_damped_cosine_over_five_quarter_cycles():
+    """``motion`` asked for alone measures its own cycle: 1.25 periods 2 pi/w_d of
+    q/q0 = e^(-d t) (cos w_d t + (d/w_d) sin w_d t), from rest at q0; none past delta = 0.9 omega0."""
+    import numpy as np
+
+    from mech.problems.registry import get
+    from mech.problems.spec import Run
+
+    w0, d = 10.0, 1.5
+    ex = get("5.5")
+    assert ex.motion_at(ex.resolve({"omega0": w0, "delta": 9.5})) is None
+    run = Run(rtol=1e-10, keep_trajectories=True)
+    run.follow(ex.motion_at(ex.resolve({"omega0": w0, "delta": d})))
+    t, (x, v) = run.trajectory(2)
+    wd = math.sqrt(w0 * w0 - d * d)
+    assert t[-1] == pytest.approx(1.25 * 2 * math.pi / wd, rel=1e-8)
+    assert np.allclose(x, np.exp(-d * t) * (np.cos(wd * t) + d / wd * np.sin(wd * t)), rtol=0, atol=1e-8)
+    assert run.invariants["E + dissipated work"] < 1e-8

@@ -7,6 +7,7 @@ force vanishing), never read off mech's solvers.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import subprocess
@@ -83,6 +84,55 @@ def test_length_and_depth_are_bounded():
     with pytest.raises(FormulaError, match="nested too deeply"):
         parse_formula("-" * (MAX_LENGTH - 10) + "l", EX)
     assert parse_formula("sqrt(" * 20 + "l" + ")" * 20, EX).dim is not None
+
+
+def test_one_tokenizer_and_grammar_read_values_and_formulas():
+    # formula_ast builds its tree with core.units' parser: it has no tokenizer or grammar of its own
+    import inspect
+    import re as re_module
+
+    from mech.core import units
+    from mech.verification import formula_ast
+
+    source = inspect.getsource(formula_ast)
+    assert "re.compile" not in source and "class _Parser" not in source and "def _tokens" not in source
+    assert formula_ast.parse is units.parse and formula_ast.tokens is units.tokens
+    assert re_module.search(r"^import re$", source, re_module.M) is None
+    # the same text read as a value and as a formula without parameters gives the same SI number:
+    # 3 km/h = 3000 m / 3600 s; 2 pi rad per 4 s; (2 ft)^2 = (0.6096 m)^2
+    for text, si in (("3 km/h", 3000 / 3600), ("2pi rad/(4 s)", math.pi / 2), ("(2 ft)^2", 0.6096**2),
+                     ("-2^2", -4.0), ("1/(2 cm)", 50.0)):
+        assert units.parse_quantity(text).value == pytest.approx(si, rel=1e-15)
+        assert _value(text) == pytest.approx(si, rel=1e-15)
+    # and the same grammar refuses the same slips, in the same words
+    for text in ("2 3", "(1", "1 +", "1 $"):
+        with pytest.raises(units.ValueError_) as as_value:
+            units.parse_quantity(text)
+        with pytest.raises(FormulaError) as as_formula:
+            parse_formula(text, EX)
+        assert str(as_value.value).replace("value", "formula") == str(as_formula.value)
+
+
+def test_the_grammar_takes_any_meaning_for_its_parts():
+    # core.units.parse with a builder that writes the expression back in prefix form: the precedence
+    # and associativity are the grammar's, whatever the builder (worked by hand)
+    from mech.core import units
+
+    class Prefix:
+        function = staticmethod(lambda name: 2 if name == "f" else None)
+        number = staticmethod(lambda text: text)
+        name = staticmethod(lambda text: text)
+        neg = staticmethod(lambda a: f"(neg {a})")
+        plus = staticmethod(lambda a: a)
+        binary = staticmethod(lambda op, a, b: f"({op} {a} {b})")
+        call = staticmethod(lambda fn, args: f"({fn} {' '.join(args)})")
+
+    assert units.parse("a - b - c", Prefix) == "(- (- a b) c)"
+    assert units.parse("-a^b^c", Prefix) == "(neg (^ a (^ b c)))"
+    assert units.parse("2 a b / c", Prefix) == "(/ (* (* 2 a) b) c)"
+    assert units.parse("f(a, b+1) x", Prefix) == "(* (f a (+ b 1)) x)"
+    with pytest.raises(units.ValueError_, match="nested too deeply"):
+        units.parse("(" * 30 + "a" + ")" * 30, Prefix, max_depth=20)
 
 
 # -- dimensions -----------------------------------------------------------------------------------------
@@ -196,6 +246,41 @@ def _judge(ex_id, out, text, **params):
     return expected.as_json() if hasattr(expected, "as_json") else expected
 
 
+def test_the_api_takes_the_number_of_points_and_their_seed():
+    import mech
+
+    def judged(**kw):
+        sol = mech.solve("4.15", expect={"theta_c": "asin(2/3*sin(theta0))"}, **kw)
+        return sol["theta_c"].expected
+
+    few, more = judged(expect_points=3, expect_seed=1), judged(expect_points=9, expect_seed=1)
+    assert few.match and more.match
+    # six more drawn points, the given point, defaults and hard cases the same
+    assert more.formula["points"]["checked"] - few.formula["points"]["checked"] == 6
+    assert "3 drawn across the range" in few.verdict and "9 drawn across the range" in more.verdict
+    # a wrong formula (the 4.15 slip: right at 90 deg only) fails at a drawn point that moves with the seed
+    # and repeats with it
+    def worst(seed):
+        sol = mech.solve("4.15", expect={"theta_c": "asin(2/3)"}, expect_points=4, expect_seed=seed)
+        e = sol["theta_c"].expected
+        assert not e.match
+        return e.formula["points"]["worst"]["params"]["theta0"]
+
+    assert worst(7) == worst(7) != worst(8)
+    # as the CLI's --expect-points/--expect-seed, validated, the error naming the argument and its range
+    for kw, why in ((dict(expect_points=0), "expect_points: cannot use '0'"),
+                    (dict(expect_points=2.5), "expect_points: cannot use '2.5'"),
+                    (dict(expect_points=10_001), "[1, 10000]"),
+                    (dict(expect_seed=-1), "expect_seed: cannot use '-1'"),
+                    (dict(expect_seed="x"), "expect_seed: cannot use 'x'"),
+                    (dict(expect_points=True), "expect_points: cannot use 'True'")):
+        with pytest.raises(mech.BadInput) as info:
+            judged(**kw)
+        assert why in str(info.value)
+    with pytest.raises(mech.BadInput, match="without any formula"):
+        mech.solve("4.15", expect_points=5)
+
+
 def test_cancellation_is_ill_conditioned_not_wrong():
     # zeta - sqrt(zeta^2 - 1) at zeta = 1e6 keeps ~6 of 16 digits; 1/(zeta + sqrt(zeta^2 - 1)) keeps all
     e = _judge("5.4", "lambda_slow", "omega0*(zeta - sqrt(zeta^2-1))", zeta="1e6")
@@ -245,6 +330,107 @@ def test_references_are_computed_once_per_exercise_and_point():
     F._CACHE.clear()
     a = F.point_set(ex, p)
     assert F.point_set(ex, p) is a
+
+
+def test_each_point_is_solved_once_and_a_right_formula_asks_for_no_hints(monkeypatch):
+    # 4.32 at R_E/r_S = 0.1, M_S/M_E = 1e-3: its analytic series is the costliest of the book (ms a point).
+    # The solve's own values stand at the given point; the hints' lines come back to it without solving it again
+    import mech
+
+    ex = registry.get("4.32")
+    calls = []
+    real = type(ex).solve_analytic
+
+    def counted(self, p):
+        if self is ex:
+            calls.append(dict(p))
+        return real(self, p)
+
+    F._CACHE.clear()
+    r_s, m_s = 10 * ex.param_map["R_E"].default, 1e-3 * ex.param_map["M_E"].default
+    sol = mech.solve("4.32", r_S=r_s, M_S=m_s, expect={"h_high": "M_S/M_E*R_E^4/r_S^3"}, expect_rtol=0.5)
+    monkeypatch.setattr(type(ex), "solve_analytic", counted)
+    F._CACHE.clear()
+    given = sol.params
+    ps = F.point_set(ex, given, known=F._known(sol))
+    assert len(calls) == len(ps) - 1 and dict(given) not in calls  # every point but the given one, once
+    # the leading-order tide, (M_S/M_E) R_E^4/r_S^3 at the sub-solar point, is within 50 % of the exact one
+    # at every point (the multipole sum alone is 1/(1 - R_E/r_S) <= 1/0.7 of it): right, with no hint work
+    q = sol["h_high"].expected
+    assert q.match is True and not ps.lines and not ps.depends
+    calls.clear()
+    line = F._line(ps, "M_S")
+    assert len(calls) == len(line) and all(c != dict(given) for c in calls)
+    calls.clear()
+    F._limits(parse_formula("M_S/M_E*R_E^4/r_S^3", ex), ps, "h_high")
+    assert dict(given) not in calls  # each limit line starts at the given point, known already
+
+
+def test_batched_references_agree_with_the_point_by_point_numeric_route():
+    # 5.13's batched Floquet route against its scalar numeric solve (a different code path), point by point:
+    # each verified value within the sum of the two claims; and a point the batch cannot verify gets none
+    ex = registry.get("5.13")
+    F._CACHE.clear()
+    ps = F.point_set(ex, ex.resolve({}), 3, 5)
+    idx = list(range(1, len(ps)))
+    for name in ("omega_down", "omega_inv"):
+        F._batched_numeric(ex, ps, idx, name)
+        batched = {i: ps.numeric.pop((name, i)) for i in idx}
+        for i in idx:
+            scalar = F._numeric_at(ex, ps, i, name)
+            if batched[i] is None or scalar is None:
+                assert batched[i] is None and (scalar is None or not np.isfinite(ps.analytic[name][i])), (name, i)
+                continue
+            (b, eb), (a, ea) = batched[i], scalar
+            assert abs(b - a) <= eb + ea and 0 < eb < 1e-8 * abs(b), (name, i, b, a)
+
+
+def test_a_formula_beyond_leading_order_is_held_against_the_batched_route(monkeypatch):
+    # a "formula" that gives mech's scalar numeric value of 5.13's omega_down at every point (a student's
+    # exact answer), not the leading-order one: right at every point, its references at the drawn points
+    # from the batched route (the first point alone, then the rest at once), no point-by-point solve
+    ex = registry.get("5.13")
+    output = {o.name: o for o in ex.outputs}["omega_down"]
+    F._CACHE.clear()
+    ps = F.point_set(ex, ex.resolve({}), 3, 5)
+    exact = np.array([F._numeric_at(ex, ps, i, "omega_down")[0] for i in range(len(ps))])
+    ps.numeric.clear()
+    lead = ps.analytic["omega_down"]
+    assert np.all(np.abs(exact - lead) > 1e-9 * np.abs(lead))  # the leading-order value misses them all
+
+    class Exact:
+        names = frozenset()
+
+        def evaluate(self, env, dtype=np.float64):
+            return exact.astype(dtype), np.zeros(len(exact), dtype), []
+
+    route = ex.batched_route
+    calls = []
+    real = route.numeric
+
+    def counted(P, rtol, outputs, memo=None):
+        calls.append(len(next(iter(P.values()))))
+        return real(P, rtol, outputs, memo=memo)
+
+    monkeypatch.setattr(ex, "batched_route", dataclasses.replace(route, numeric=counted))
+    monkeypatch.setattr(type(ex), "solve_numeric", lambda *a, **k: pytest.fail("a point-by-point numeric solve"))
+    pj = F._judge_points(Exact(), ps, lead.copy(), ps.analytic_err["omega_down"].copy(), F.FORMULA_RTOL)
+    assert not pj.right.any()
+    notes = []
+    here = F._leading_order_numeric(Exact(), ex, output, ps, pj, F.FORMULA_RTOL, (exact[0], 1e-9 * exact[0]), notes)
+    assert here.all() and pj.right.all()
+    assert calls == [len(ps) - 1] * 2  # right at the given point: the others at once, at rtol and rtol/10
+    assert f"at {len(ps)} points it matches mech's numeric value" in notes[0]
+    # the given point outside the range the formula is meant for (not judged there): the first drawn point
+    # is asked alone (a wrong formula stops there), then the others
+    calls.clear()
+    ps.numeric.clear()
+    ps.batch_memo.clear()
+    pj = F._judge_points(Exact(), ps, lead.copy(), ps.analytic_err["omega_down"].copy(), F.FORMULA_RTOL)
+    pj.judged[0] = False
+    here = F._leading_order_numeric(Exact(), ex, output, ps, pj, F.FORMULA_RTOL, None, [])
+    assert here[1:].all() and not here[0]
+    assert calls == [1, 1, len(ps) - 2, len(ps) - 2]
 
 
 # -- fuzz: any text, no traceback, no hang, bounded memory ----------------------------------------------

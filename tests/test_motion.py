@@ -123,3 +123,50 @@ def test_a_tool_integration_is_not_the_scenes_motion():
     end = run.follow(trial, mark=False)
     assert end.y_end == pytest.approx([0.0, -2.0], abs=1e-8)
     assert run.trajectory(2) is None and run.own_runs == 1
+
+
+def test_a_leg_not_shown_is_followed_but_not_the_trajectory():
+    """A lead-in leg (shown=False: a strike before the phase the states describe): the oscillator from (1, 0)
+    to x = 0 is integrated and recorded, and only the free flight after it (x = -(t - pi/2), v = -1 from
+    t = pi/2) is the trajectory."""
+    def flight(path):
+        x, v = path.y_end
+        return Motion(lambda t, y: np.array([y[1], 0.0]), [x, v], (0.0, 1.0), t_offset=path.t_end)
+
+    run = Run(rtol=1e-10, keep_trajectories=True)
+    end = run.follow(oscillator(then=flight, shown=False))
+    assert len(end.legs) == 2 and run.own_runs == 2
+    t, y = run.trajectory(2)
+    assert t[0] == pytest.approx(math.pi / 2, rel=1e-9) and t[-1] == pytest.approx(math.pi / 2 + 1.0, rel=1e-9)
+    assert np.allclose(y[0], -(t - math.pi / 2), atol=1e-8) and np.allclose(y[1], -1.0, atol=1e-8)
+
+
+def test_with_variations_carries_the_monodromy_matrix_and_keeps_the_states():
+    """x'' = -x over t = 1: d(x, v)/d(x0, v0) = [[cos 1, sin 1], [-sin 1, cos 1]]; the trajectory is the
+    motion's own two states (x = 2 cos t from (2, 0)), not the 4 variational rows."""
+    m = Motion(lambda t, y: np.array([y[1], -y[0]]), [2.0, 0.0], (0.0, 1.0), y_size=[2.0, 2.0])
+    run = Run(rtol=1e-10, keep_trajectories=True)
+    end = run.follow(m.with_variations(lambda t, y: np.array([[0.0, 1.0], [-1.0, 0.0]])))
+    c, s = math.cos(1.0), math.sin(1.0)
+    assert end.y_end[:2] == pytest.approx([2.0 * c, -2.0 * s], abs=1e-9)
+    assert end.y_end[2:].reshape(2, 2) == pytest.approx(np.array([[c, s], [-s, c]]), abs=1e-9)
+    t, y = run.trajectory(2)
+    assert y.shape[0] == 2 and np.allclose(y[0], 2.0 * np.cos(t), atol=1e-8)
+
+
+def test_a_motion_integrated_in_another_variable_is_seen_in_time():
+    """The oscillator in a variable s with dt/ds = 1 + x^2 (a Sundman rescaling, t carried as a third
+    state): seen through ``clock`` its trajectory is still x = cos t, v = -sin t, in times that increase to
+    the t reached at the span's end."""
+    def rhs(s, y):
+        f = 1.0 + y[0] ** 2
+        return np.array([f * y[1], -f * y[0], f])
+
+    m = Motion(rhs, [1.0, 0.0, 0.0], (0.0, 2.0), to_states=lambda y: y[:2], clock=lambda y: y[2],
+               t_scale=2.0, y_scale=[3.0, 1.5])
+    run = Run(rtol=1e-10, keep_trajectories=True)
+    end = run.follow(m)
+    t, y = run.trajectory(2)
+    assert t[0] == 0.0 and t[-1] == pytest.approx(2.0 * end.y_end[2], rel=1e-12) and t.size >= 201
+    assert np.all(np.diff(t) > 0)
+    assert np.allclose(y[0], 3.0 * np.cos(t / 2.0), atol=1e-8) and np.allclose(y[1], -1.5 * np.sin(t / 2.0), atol=1e-8)

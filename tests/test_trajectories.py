@@ -169,6 +169,22 @@ def test_4_23_the_rolling_coin_keeps_its_energy_height_and_circle():
     assert np.allclose(np.hypot(y[7], y[8]), c0[0], rtol=1e-6)
 
 
+def test_4_24_the_averaged_axis_falls_over_ninety_degrees_ahead_of_the_force():
+    """A spin of 1e19 nutation periods per overturn: the route follows the guiding center.  By hand (the
+    gyroscopic top in the frame turning with F): the axis turns about -x' at b = l F/L3 from z, so
+    c = (0, sin bt, cos bt), within eps = I_A l F/L3^2 ~ 1e-19; the start is z + (b/k) x' normalized,
+    k = L3/I_A; |c| = 1.  Tolerance: the claim 10 rtol = 1e-5 of the route's default rtol 1e-6."""
+    M, l, I1, I3, w, F, g = 0.0495024, 5.48317e-05, 1.46346e-05, 2.34304, 27467.0, 0.179372, 4.26266
+    sol, t, y = motion("4.24", M=M, l=l, I1=I1, I3=I3, omega_rot=w, F=F, g=g)
+    L3, IA = I3 * w, I1 + M * l * l
+    b, d = l * F / L3, l * F * IA / L3**2
+    assert t[0] == 0.0 and np.allclose(y[:, 0], np.array([d, 0.0, 1.0]) / math.hypot(d, 1.0), rtol=1e-15)
+    assert np.allclose(np.linalg.norm(y, axis=0), 1.0, atol=1e-5)
+    assert np.allclose(y[0], 0.0, atol=1e-5)
+    assert np.allclose(y[1], np.sin(b * t), atol=1e-5) and np.allclose(y[2], np.cos(b * t), atol=1e-5)
+    assert t[-1] == pytest.approx(12.0 / b, rel=1e-12) and t[-1] > out(sol, "t_up")
+
+
 def test_4_25_friction_brakes_the_spin_at_mu_M_g_R():
     M, I3, l, R, mu, w0, th0, th1, g = 0.1, 3.125e-5, 0.03, 1e-3, 0.05, 300.0, 0.5, 0.1, 9.81
     sol, t, y = motion("4.25", M=M, I3=I3, l=l, R=R, mu=mu, omega0=w0, theta0=th0, theta1=th1, g=g)

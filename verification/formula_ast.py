@@ -6,7 +6,8 @@ name multiplies) plus the exercise's parameter names and symbols and a few funct
     sqrt exp log sin cos tan asin acos atan atan2 sinh cosh tanh abs   (arcsin arccos arctan ln: aliases)
 
 A name is read, in order, as a parameter (name or symbol as ``mech show`` lists it), ``pi``, a function
-(followed by ``(``), a unit.  The parse gives a small tree of tuples; nothing of the text is ever executed.
+(followed by ``(``), a unit.  The tokenizer and grammar are those of values (``core.units.parse``, one
+parser for both); here they build a small tree of tuples; nothing of the text is ever executed.
 Length and depth are bounded (``MAX_LENGTH`` characters, ``MAX_DEPTH`` nested levels): an answers file is
 untrusted input.
 
@@ -22,13 +23,12 @@ one; the same tree evaluates in ``numpy.longdouble`` where double precision is n
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
 
-from mech.core.units import UNITS
+from mech.core.units import UNITS, ValueError_, parse, tokens
 
 __all__ = ["FormulaError", "Formula", "parse_formula", "looks_like_formula", "Dim", "dim_of_unit", "dim_text",
            "FUNCTIONS", "MAX_LENGTH", "MAX_DEPTH"]
@@ -88,179 +88,60 @@ def dim_text(d: Dim) -> str:
     return f"{top}/{den[0]}" if len(den) == 1 else f"{top}/({'*'.join(den)})"
 
 
-# -- tokens ---------------------------------------------------------------------------------------------
-
-_TOKEN = re.compile(
-    r"\s*(?:(?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)|(?P<name>[^\W\d]\w*)|(?P<op>\*\*|[-+*/^(),])|(?P<bad>\S))"
-)
-_REPLACE = (("·", "*"), ("×", "*"), ("−", "-"), ("°", "deg"), ("π", "pi"), ("µ", "u"), ("√", "sqrt"),
-            ("²", "^2"), ("³", "^3"), ("⁴", "^4"))
-
-
-def _tokens(text: str, symbols: dict[str, str]) -> list[tuple[str, str]]:
-    """Tokens ``(kind, text)``; an exercise symbol (``θ₀``, ``m'``, ``h/R``) is one name token."""
-    for a, b in _REPLACE:
-        text = text.replace(a, b)
-    syms = sorted((s for s in symbols if s), key=len, reverse=True)
-    out: list[tuple[str, str]] = []
-    pos = 0
-    n = len(text)
-    while pos < n:
-        while pos < n and text[pos].isspace():
-            pos += 1
-        if pos >= n:
-            break
-        prev_word = pos > 0 and (text[pos - 1].isalnum() or text[pos - 1] == "_")
-        hit = None
-        if not prev_word:
-            for s in syms:
-                if text.startswith(s, pos):
-                    end = pos + len(s)
-                    if end < n and (text[end].isalnum() or text[end] in "_'"):
-                        continue
-                    hit = s
-                    break
-        if hit is not None:
-            out.append(("name", symbols[hit]))
-            pos += len(hit)
-            continue
-        m = _TOKEN.match(text, pos)
-        if not m or m.end() == pos:
-            break
-        pos = m.end()
-        kind = m.lastgroup
-        if kind == "bad":
-            raise FormulaError(f"unexpected character '{m.group(kind)}'")
-        out.append((kind, m.group(kind)))
-    return out
-
-
 # -- the tree -------------------------------------------------------------------------------------------
-# ("num", value)  ("par", name)  ("neg", a)  ("add"|"sub"|"mul"|"div"|"pow", a, b)  ("fn", name, (args...))
+# Read by the one grammar of values and formulas (``core.units.parse``); ``_Tree`` gives its parts their
+# meaning here: ("num", value)  ("par", name)  ("unit", factor, dim, text)  ("neg", a)
+# ("add"|"sub"|"mul"|"div"|"pow", a, b)  ("fn", name, (args...))
+
+_OPS = {"+": "add", "-": "sub", "*": "mul", "/": "div", "^": "pow"}
 
 
-class _Parser:
-    """expr := term (('+'|'-') term)*;  term := unary (('*'|'/'|adjacent) unary)*;
-    unary := ('-'|'+') unary | power;  power := atom (('^'|'**') unary)?;
-    atom := number | name | function '(' expr (',' expr)? ')' | '(' expr ')'"""
+class _Tree:
+    """A formula's parts, for ``core.units.parse``: a name is, in order, a parameter, ``pi``, a function
+    (followed by ``(``), a unit."""
 
-    def __init__(self, toks, params: set[str]):
-        self.toks = toks
-        self.i = 0
+    def __init__(self, params: set[str]):
         self.params = params
-        self.depth = 0
-        self.used: set[str] = set()
 
-    def peek(self):
-        return self.toks[self.i] if self.i < len(self.toks) else (None, None)
+    def function(self, name):
+        if name in self.params or name not in FUNCTIONS:
+            return None
+        return 2 if FUNCTIONS[name] == "atan2" else 1
 
-    def take(self):
-        tok = self.peek()
-        self.i += 1
-        return tok
+    @staticmethod
+    def number(text):
+        v = float(text)
+        if not math.isfinite(v):
+            raise FormulaError(f"'{text}' is not a finite number")
+        return ("num", v)
 
-    def enter(self):
-        self.depth += 1
-        if self.depth > MAX_DEPTH:
-            raise FormulaError(f"formula nested too deeply (more than {MAX_DEPTH} levels)")
+    def name(self, val):
+        if val in self.params:
+            return ("par", val)
+        if val == "pi":
+            return ("num", math.pi)
+        if val in UNITS:
+            factor, d = UNITS[val]
+            return ("unit", factor, _from_unit_dim(d), val)
+        if val.lower() in ("nan", "inf", "infinity"):
+            raise FormulaError("not a finite number")
+        raise FormulaError(f"unknown name '{val}'; the parameters here are: {', '.join(sorted(self.params))}")
 
-    def parse(self):
-        if not self.toks:
-            raise FormulaError("empty formula")
-        node = self.expr()
-        if self.i != len(self.toks):
-            raise FormulaError(f"unexpected '{self.peek()[1]}'")
+    @staticmethod
+    def neg(node):
+        return ("neg", node)
+
+    @staticmethod
+    def plus(node):
         return node
 
-    def expr(self):
-        self.enter()
-        node = self.term()
-        while self.peek()[1] in ("+", "-"):
-            op = self.take()[1]
-            node = ("add" if op == "+" else "sub", node, self.term())
-        self.depth -= 1
-        return node
+    @staticmethod
+    def binary(op, a, b):
+        return (_OPS[op], a, b)
 
-    def term(self):
-        node = self.unary()
-        while True:
-            kind, val = self.peek()
-            if val in ("*", "/"):
-                self.take()
-                node = ("mul" if val == "*" else "div", node, self.unary())
-            elif kind == "name" or val == "(":
-                node = ("mul", node, self.unary())
-            elif kind == "num":
-                prev = self.toks[self.i - 1][1]
-                raise FormulaError(f"'{prev}' then '{val}' side by side; write an operator between them, such as '*'")
-            else:
-                return node
-
-    def unary(self):
-        self.enter()
-        kind, val = self.peek()
-        if val in ("-", "+"):
-            self.take()
-            inner = self.unary()
-            node = ("neg", inner) if val == "-" else inner
-        else:
-            node = self.power()
-        self.depth -= 1
-        return node
-
-    def power(self):
-        base = self.atom()
-        if self.peek()[1] in ("^", "**"):
-            self.take()
-            return ("pow", base, self.unary())
-        return base
-
-    def atom(self):
-        kind, val = self.take()
-        if kind == "num":
-            try:
-                v = float(val)
-            except OverflowError:  # pragma: no cover - float() returns inf, not raise
-                v = math.inf
-            if not math.isfinite(v):
-                raise FormulaError(f"'{val}' is not a finite number")
-            return ("num", v)
-        if kind == "name":
-            if val in self.params:
-                self.used.add(val)
-                return ("par", val)
-            if val == "pi":
-                return ("num", math.pi)
-            if val in FUNCTIONS:
-                if self.peek()[1] != "(":
-                    raise FormulaError(f"'{val}' is a function: write {val}(...)")
-                self.take()
-                args = [self.expr()]
-                while self.peek()[1] == ",":
-                    self.take()
-                    args.append(self.expr())
-                if self.take()[1] != ")":
-                    raise FormulaError(f"missing ')' after the argument of {val}")
-                fn = FUNCTIONS[val]
-                want = 2 if fn == "atan2" else 1
-                if len(args) != want:
-                    raise FormulaError(f"{val} takes {want} argument{'s' if want > 1 else ''}, got {len(args)}")
-                return ("fn", fn, tuple(args))
-            if val in UNITS:
-                factor, d = UNITS[val]
-                return ("unit", factor, _from_unit_dim(d), val)
-            if val.lower() in ("nan", "inf", "infinity"):
-                raise FormulaError("not a finite number")
-            known = ", ".join(sorted(self.params))
-            raise FormulaError(f"unknown name '{val}'; the parameters here are: {known}")
-        if val == "(":
-            node = self.expr()
-            if self.take()[1] != ")":
-                raise FormulaError("missing ')'")
-            return node
-        if val is None:
-            raise FormulaError("the formula ends too early")
-        raise FormulaError(f"unexpected '{val}'")
+    @staticmethod
+    def call(name, args):
+        return ("fn", FUNCTIONS[name], tuple(args))
 
 
 # -- dimensions -----------------------------------------------------------------------------------------
@@ -513,8 +394,8 @@ def looks_like_formula(text: str, ex, parameters_only: bool = False) -> bool:
     """Does ``text`` name any parameter of ``ex`` (by name or symbol) or (unless ``parameters_only``) a
     function?"""
     try:
-        toks = _tokens(str(text)[:MAX_LENGTH], parameter_symbols(ex))
-    except FormulaError:
+        toks = tokens(str(text)[:MAX_LENGTH], parameter_symbols(ex), formula=True)
+    except ValueError_:
         return False
     names = set(getattr(ex, "param_map", ()))
     return any(k == "name" and (v in names or (v in FUNCTIONS and not parameters_only)) for k, v in toks)
@@ -528,12 +409,12 @@ def parse_formula(text: str, ex) -> Formula:
     text = text.strip()
     if text.count("(") > MAX_DEPTH * 4:
         raise FormulaError(f"formula nested too deeply (more than {MAX_DEPTH} levels)")
-    toks = _tokens(text, parameter_symbols(ex))
-    parser = _Parser(toks, set(ex.param_map))
     try:
-        tree = parser.parse()
-    except RecursionError:
-        raise FormulaError(f"formula nested too deeply (more than {MAX_DEPTH} levels)") from None
+        tree = parse(text, _Tree(set(ex.param_map)), "formula", MAX_DEPTH, parameter_symbols(ex))
+    except FormulaError:
+        raise
+    except ValueError_ as exc:
+        raise FormulaError(str(exc)) from None
     pdims = {p.name: dim_of_unit(p.unit)[1] for p in ex.params}
     try:
         dim, why = _dim(tree, pdims), None

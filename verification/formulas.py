@@ -296,6 +296,8 @@ class PointSet:
     lines: dict = field(default_factory=dict)  # parameter -> PointSet of one-at-a-time moves (lazy)
     in_range: bool = True  # the given point inside ``over``
     outside: dict = field(default_factory=dict)  # leading-order output -> bool array: its theory does not apply
+    memo: dict = field(default_factory=dict)  # parameter values -> mech's analytic values there (shared with lines)
+    batch_memo: dict = field(default_factory=dict)  # the batched route's own memo (``Exercise.batched``)
 
     def __len__(self):
         return len(self.points)
@@ -304,19 +306,28 @@ class PointSet:
 _CACHE: dict = {}
 
 
-def _analytic_at(ex, pts: list) -> tuple[dict, dict, dict]:
+def _analytic_at(ex, pts: list, memo: dict) -> tuple[dict, dict, dict]:
+    """mech's analytic values and their error bars at ``pts`` (nan and the reason where it has none), each
+    point solved once: ``memo`` (parameter values -> (values, errors) or the failure's text) keeps them for
+    the lines and limits of the hints, which come back to the given point."""
     names = [o.name for o in ex.outputs]
     vals = {n: np.full(len(pts), np.nan) for n in names}
     errs = {n: np.zeros(len(pts)) for n in names}
     why = {n: [None] * len(pts) for n in names}
     for i, p in enumerate(pts):
-        try:
-            out = ex.solve_analytic(p)
-            aerr = ex.analytic_errors(p)
-        except Exception as exc:  # a point where the analytic route has no answer: not a point to judge at
+        key = _key(ex, p)
+        got = memo.get(key)
+        if got is None:
+            try:
+                got = (ex.solve_analytic(p), ex.analytic_errors(p))
+            except Exception as exc:  # a point where the analytic route has no answer: not a point to judge at
+                got = f"{type(exc).__name__}: {exc}"
+            memo[key] = got
+        if isinstance(got, str):
             for n in names:
-                why[n][i] = f"{type(exc).__name__}: {exc}"
+                why[n][i] = got
             continue
+        out, aerr = got
         for n in names:
             v = out.get(n)
             if isinstance(v, Undefined):
@@ -330,10 +341,15 @@ def _analytic_at(ex, pts: list) -> tuple[dict, dict, dict]:
     return vals, errs, why
 
 
-def _make(ex, pts: list, labels: list) -> PointSet:
+def _key(ex, p) -> tuple:
+    """A point's parameter values, exactly (``-0.0`` apart from ``0.0``), as the memo's key."""
+    return tuple(float(p[q.name]).hex() for q in ex.params)
+
+
+def _make(ex, pts: list, labels: list, memo: dict) -> PointSet:
     arrays = {p.name: np.array([pt[p.name] for pt in pts], dtype=float) for p in ex.params}
-    ps = PointSet(ex, pts, labels, arrays)
-    ps.analytic, ps.analytic_err, ps.undefined = _analytic_at(ex, pts)
+    ps = PointSet(ex, pts, labels, arrays, memo=memo)
+    ps.analytic, ps.analytic_err, ps.undefined = _analytic_at(ex, pts, memo)
     ps.outside = _outside_theory(ex, pts)
     return ps
 
@@ -357,26 +373,37 @@ def _outside_theory(ex, pts: list) -> dict:
 
 
 def point_set(ex, given: Params, n: int = DEFAULT_POINTS, seed: int = DEFAULT_SEED,
-              over: dict | None = None) -> PointSet:
-    """The given point, the defaults, the hard cases (those inside ``over``) and ``n`` drawn points."""
+              over: dict | None = None, known: dict | None = None) -> PointSet:
+    """The given point, the defaults, the hard cases (those inside ``over``) and ``n`` drawn points.
+
+    ``known``: the solve's analytic ``{output: (value, err)}`` at the given point (every output), used as
+    it is rather than solved again.  The defaults and the hard cases, like the draws, are taken on the
+    bounds and joint checks alone (``_accept``): ``resolve``'s representability test would solve the
+    analytic answer once more, and a point without a finite answer is not judged anyway."""
     key = (ex.id, tuple(sorted(given.items())), int(n), int(seed), tuple(sorted((over or {}).items())))
     hit = _CACHE.get(key)
     if hit is not None:
         return hit
     pts, labels = [given], ["given"]
-    defaults = _valid(ex, {})
+    defaults = _accept(ex, {})
     if defaults is not None and dict(defaults) != dict(given) and _in_over(defaults, over):
         pts.append(defaults)
         labels.append("defaults")
     for h in ex.hard_cases:
-        p = _valid(ex, _si(ex, h["params"]))
+        try:
+            p = _accept(ex, _si(ex, h["params"]))
+        except (ValueError, BadInput):
+            p = None
         if p is not None and _in_over(p, over) and all(dict(p) != dict(q) for q in pts):
             pts.append(p)
             labels.append("hard case")
     drawn = draw(ex, n, seed, over)
     pts += drawn
     labels += ["drawn"] * len(drawn)
-    ps = _make(ex, pts, labels)
+    memo = {}
+    if known is not None:
+        memo[_key(ex, given)] = ({n: v for n, (v, _) in known.items()}, {n: e for n, (_, e) in known.items()})
+    ps = _make(ex, pts, labels, memo)
     ps.in_range = _in_over(given, over)
     if len(_CACHE) > 256:
         _CACHE.clear()
@@ -410,7 +437,7 @@ def _line(ps: PointSet, name: str, m: int = 7) -> PointSet | None:
             p = _accept(ex, {**dict(given), name: v})
             if p is not None:
                 pts.append(p)
-    out = _make(ex, pts, [f"{name} moved"] * len(pts)) if len(pts) >= 2 else None
+    out = _make(ex, pts, [f"{name} moved"] * len(pts), ps.memo) if len(pts) >= 2 else None
     ps.lines[name] = out
     return out
 
@@ -576,7 +603,8 @@ def _limits(formula: Formula, ps: PointSet, output: str) -> list[tuple[str, str,
             key = ("limit", name, direction)
             if key not in ps.lines:  # mech's values along the line, once per point set (a class file)
                 pts = [q for q in (_accept(ex, {**dict(given), name: v}) for v in vals) if q is not None]
-                ps.lines[key] = _make(ex, [given] + pts, ["limit"] * (len(pts) + 1)) if len(pts) >= 3 else None
+                ps.lines[key] = (_make(ex, [given] + pts, ["limit"] * (len(pts) + 1), ps.memo)
+                                 if len(pts) >= 3 else None)
             line = ps.lines[key]
             if line is None:
                 continue
@@ -869,12 +897,15 @@ def _worst(pj: PointJudgement, ref) -> int | None:
 def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, notes) -> np.ndarray:
     """A leading-order output: a point that misses the leading-order value is right when it matches the
     verified numeric value there (the given point: the cross-check's; elsewhere: solved here, within a
-    budget, stopping at the first point the numeric value does not confirm)."""
+    budget, stopping at the first point the numeric value does not confirm).  Where the exercise has a
+    batched route for the output, the references come from it: the first point alone (a wrong formula
+    stops there), then the rest at once."""
     name = output.name
     misses = [i for i in range(len(ps)) if pj.judged[i] and not pj.right[i] and math.isfinite(pj.yours[i])]
     t0 = time.perf_counter()
     confirmed = 0
     exact_here = np.zeros(len(ps), bool)
+    batched = _batchable(ex, name)
     for i in misses:
         if i == 0:
             if numeric_given is None:
@@ -884,6 +915,9 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
             if time.perf_counter() - t0 > NUMERIC_BUDGET_S:
                 notes.append("the numeric reference ran out of time")
                 break
+            if batched and (name, i) not in ps.numeric:
+                later = [j for j in misses if j >= i]
+                _batched_numeric(ex, ps, later[:1] if confirmed == 0 else later[:BATCH], name)
             got = _numeric_at(ex, ps, i, name)
             if got is None:
                 break
@@ -898,6 +932,55 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
         notes.append(f"at {confirmed} point{'s' if confirmed > 1 else ''} it matches mech's numeric value "
                      "rather than the leading-order one")
     return exact_here
+
+
+BATCH = 32  # points a batched numeric call takes at once (the budget is looked at between calls)
+
+
+def _batchable(ex, name: str) -> bool:
+    """Does ``ex`` have a batched route for ``name``, with a rerun tighter than its default rtol?"""
+    route = getattr(ex, "batched_route", None)
+    return (route is not None and name in route.outputs
+            and max(ex.default_rtol / 10.0, ex.min_rtol) < ex.default_rtol)
+
+
+def _batched_numeric(ex, ps: PointSet, idx: list[int], name: str) -> None:
+    """The verified numeric values of ``name`` at the points ``idx`` from the exercise's batched route, into
+    ``ps.numeric`` as ``_numeric_at`` keeps them: (value, its claim), or None where the route fails, finds
+    no value or its rerun moves the value beyond the claim (the judge's rule: ``judge.within``)."""
+    import inspect
+
+    from mech.verification.judge import within
+
+    idx = [i for i in idx if (name, i) not in ps.numeric]
+    if not idx:
+        return
+    route = ex.batched_route
+    rtol = ex.default_rtol
+    tighter = max(rtol / 10.0, ex.min_rtol)
+    P = {k: ps.arrays[k][idx] for k in ex.param_map}
+    takes_memo = "memo" in inspect.signature(route.numeric).parameters
+    try:
+        cols = [(route.numeric(P, tol, (name,), memo=ps.batch_memo) if takes_memo
+                 else route.numeric(P, tol, (name,)))[name] for tol in (rtol, tighter)]
+    except Exception:  # a failed batch: no verified value at these points (a point stays wrong)
+        for i in idx:
+            ps.numeric[(name, i)] = None
+        return
+    n, v = cols
+    shape = n.value.shape
+    rel = np.broadcast_to(np.asarray(n.rel, dtype=float), shape)
+    tol_abs = np.broadcast_to(np.asarray(n.abs, dtype=float), shape)
+    with np.errstate(all="ignore"):
+        a = ps.analytic[name][idx]
+        scale = np.where(np.isfinite(a) & (a != 0), np.abs(a), np.abs(n.value))
+        claim = rel * scale + tol_abs  # what the rerun may move it by (the judge's ``claim``)
+        err = rel * np.abs(n.value) + tol_abs  # its error bar (the judge's ``numeric_err``)
+        gone = n.mask("undefined") | n.mask("failed") | v.mask("undefined") | v.mask("failed")
+        ok = (~gone & np.isfinite(n.value) & np.isfinite(v.value) & np.isfinite(err)
+              & within(np.abs(v.value - n.value), claim))
+    for j, i in enumerate(idx):
+        ps.numeric[(name, i)] = (float(n.value[j]), float(err[j])) if ok[j] else None
 
 
 def _numeric_at(ex, ps: PointSet, i: int, name: str):
@@ -922,6 +1005,17 @@ def _numeric_at(ex, ps: PointSet, i: int, name: str):
 
 # -- the seam with the answers judge --------------------------------------------------------------------
 
+def _known(result) -> dict | None:
+    """The solve's analytic values and error bars at its parameters, ``{output: (value, err)}``, when it
+    solved every output analytically (a value or an Undefined); else None (the point set solves them)."""
+    known = {}
+    for q in result.quantities:
+        if q.analytic is None or (result.errors and any(f.kind == "analytic" for f in result.errors)):
+            return None
+        known[q.name] = (q.analytic, q.analytic_err)
+    return known
+
+
 def judge_expectation(result, e, q, ref):
     """An ``answers.Judgement`` for the formula expectation ``e`` on output ``q`` of a cross-check
     ``result``, ``ref`` being the answers judge's reference at the given parameters."""
@@ -931,7 +1025,7 @@ def judge_expectation(result, e, q, ref):
     output = {o.name: o for o in ex.outputs}[e.name]
     over = dict(e.over) if e.over else None
     ps = point_set(ex, given, e.points if e.points is not None else DEFAULT_POINTS,
-                   e.seed if e.seed is not None else DEFAULT_SEED, over)
+                   e.seed if e.seed is not None else DEFAULT_SEED, over, _known(result))
     lead = output.theory != "exact"
     if ref.value is None:
         given_ref, numeric_given = None, None

@@ -146,27 +146,32 @@ def _dlog_omega(body, x):
     return np.imag(body.omega(x + 1j * h)) / h
 
 
-def _period_omega(body, l, rtol, run, t_unit=1.0):
-    """Omega from the period of the nonlinear swing at a tiny amplitude (crossings of phi = 0); the swing,
-    in the body's units, is the scene's motion, brought to SI by the time unit ``t_unit``."""
-    inertia = body.inertia_about_pivot(l)
+@exercise.motion
+def motion(p):
+    """The cross-check's small swing: released at rest at PERIOD_AMPLITUDE, over 1.5 small-oscillation
+    periods, its crossings of phi = 0 recorded.  Units M = rho = g = 1 (rho = (I/M)^(1/2)), brought to SI
+    by the time unit (rho/g)^(1/2); the torque about the pivot from the point masses."""
+    from mech.problems.motion import Motion
+
+    rho = math.sqrt(p.I) / math.sqrt(p.M)
+    lam = p.l / rho
+    body = _Body(1.0, 1.0, 1.0)
+    inertia = body.inertia_about_pivot(lam)
 
     def rhs(t, y):
-        return np.array([y[1], body.torque(l, y[0]) / inertia])
+        return np.array([y[1], body.torque(lam, y[0]) / inertia])
 
-    guess = 2 * np.pi / body.omega(l)  # only bounds the integration time
-    traj = run.integrate(
-        rhs,
-        (0.0, 1.5 * guess),
-        [PERIOD_AMPLITUDE, 0.0],
-        rtol=rtol,
-        atol=[rtol * PERIOD_AMPLITUDE * 1e-3, rtol * PERIOD_AMPLITUDE * 1e-3 / guess],
-        events=[Event(lambda t, y: y[0], terminal=False, name="phi = 0")],
-        max_step=guess / 16,
-        dense_output=run.keep_trajectories,  # a smooth curve for the trajectory; the steps are the same
-    )
-    run.motion(traj, t_scale=t_unit, y_scale=[1.0, 1.0 / t_unit])
-    crossings = traj.t_events[0]
+    guess = 2 * np.pi / body.omega(lam)  # only bounds the integration time
+    t_unit = math.sqrt(rho) / math.sqrt(p.g)
+    return Motion(rhs, [PERIOD_AMPLITUDE, 0.0], (0.0, 1.5 * guess), t_scale=t_unit, y_scale=[1.0, 1.0 / t_unit],
+                  options={"events": [Event(lambda t, y: y[0], terminal=False, name="phi = 0")],
+                           "max_step": guess / 16},
+                  y_size=[PERIOD_AMPLITUDE, PERIOD_AMPLITUDE / guess])
+
+
+def _period_omega(path):
+    """Omega from the period of the nonlinear swing at a tiny amplitude (crossings of phi = 0)."""
+    crossings = path.traj.t_events[0]
     if len(crossings) < 2:
         raise NumericFailure("the small swing did not cross the vertical twice")
     period = 2 * (crossings[1] - crossings[0])
@@ -198,8 +203,7 @@ def numeric(p, run):
     omega = body.omega(lam)
     # the torque's sums are exact (see _Body), so the period check can run at the solve's own tolerance
     period_rtol = min(max(run.rtol, 1e-12), 1e-6)
-    # the time unit (rho/g)^(1/2), for the trajectory in SI
-    omega_swing = _period_omega(body, lam, period_rtol, run, math.sqrt(rho) / math.sqrt(p.g))
+    omega_swing = _period_omega(run.follow(motion(p), rtol=period_rtol))
     mismatch = abs(omega_swing - omega) / omega
     rate = math.sqrt(p.g) / math.sqrt(rho)
     run.info["Omega_from_period"] = omega_swing * rate

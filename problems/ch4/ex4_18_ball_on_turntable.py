@@ -30,7 +30,6 @@ import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.inertia import ball, inertia_tensor
-from mech.solvers.numerics.ode import integrate
 
 exercise = Exercise(
     "4.18",
@@ -105,12 +104,42 @@ def _make_rhs(M, R, I, Om):
     return rhs, friction
 
 
-def _follow(rhs, v0, rtol, integrator=None):
-    """Integrate from the start (unit speed, scaled) and sample the path."""
-    t_eval = np.linspace(0.0, T_SCALED, N_SAMPLES)
-    y0 = np.concatenate([[0.0, 0.0], v0, [0.0, 0.0, 0.0]])
-    return integrate(rhs, (0.0, T_SCALED), y0, rtol=rtol, atol=rtol * 1e-3, t_eval=t_eval,
-                     integrator=integrator)
+def _drifts(v0, R_scaled):
+    """The no-slip residual (v - R w x z - Omega z x r = 0, its start subtracted exactly), the speed and the
+    vertical spin: the worst over the samples (scaled units)."""
+    def slip(Y):
+        d, v, dw = Y[0:2], Y[2:4], Y[4:7]
+        slip_x = (v[0] - v0[0]) - R_scaled * dw[1] + d[1]
+        slip_y = (v[1] - v0[1]) + R_scaled * dw[0] - d[0]
+        return np.max(np.hypot(slip_x, slip_y))
+
+    return {"no-slip residual": slip,
+            "speed": lambda Y: np.max(np.abs(np.hypot(Y[2], Y[3]) - 1.0)),
+            "vertical spin": lambda Y: np.max(np.abs(Y[6]))}
+
+
+@exercise.motion
+def motion(p):
+    """The ball over T_SCALED / Omega from its start, sampled N_SAMPLES times, in units of 1/Omega and
+    |v0|/Omega: the state is the displacement from (x0, y0) and the velocity at unit speed, so tiny, huge
+    and slow orbits are the same integration.  A ball at rest in the lab stays where it is (no friction)."""
+    from mech.problems.motion import Motion
+
+    M, R_scaled = 1.0, 1.0  # mass and radius drop out of the friction balance; kept as symbols in rhs
+    rhs, _ = _make_rhs(M, R_scaled, _ball_moment(M, R_scaled), 1.0)
+    speed = float(np.hypot(p.vx0, p.vy0))
+    samples = {"t_eval": np.linspace(0.0, T_SCALED, N_SAMPLES)}
+    if speed == 0.0:  # at rest in the lab: no friction, it stays at (x0, y0) (state in SI)
+        return Motion(rhs, np.array([p.x0, p.y0] + [0.0] * 5), (0.0, T_SCALED), t_scale=1.0 / p.Omega,
+                      options=samples, y_size=1.0)
+    v0 = np.array([p.vx0, p.vy0]) / speed
+    length = speed / p.Omega
+    # integrated as the displacement from (x0, y0), in speed / Omega
+    return Motion(rhs, np.concatenate([[0.0, 0.0], v0, [0.0, 0.0, 0.0]]), (0.0, T_SCALED),
+                  monitors=_drifts(v0, R_scaled), t_scale=1.0 / p.Omega,
+                  y_scale=[length] * 2 + [speed] * 2 + [speed / p.R] * 3,
+                  to_states=lambda y: [p.x0 / length + y[0], p.y0 / length + y[1], *y[2:]],
+                  options=samples, y_size=1.0)
 
 
 def _turn_rate(traj):
@@ -144,36 +173,26 @@ def _fit_circle(x, y):
 
 @exercise.numeric
 def numeric(p, run):
-    M, R_scaled = 1.0, 1.0  # mass and radius drop out of the friction balance; kept as symbols in rhs
+    M, R_scaled = 1.0, 1.0
     I = _ball_moment(M, R_scaled)
-    rhs, friction = _make_rhs(M, R_scaled, I, 1.0)
+    _, friction = _make_rhs(M, R_scaled, I, 1.0)
     speed = float(np.hypot(p.vx0, p.vy0))
     run.info["I_over_MR2"] = I / (M * R_scaled**2)
+    m = motion(p)
 
     if speed == 0.0:
         # at rest in the lab: no friction, so nothing moves; the rate comes from a probe
         f_rest = friction(np.zeros(2))
         if np.any(f_rest != 0.0):
             raise NumericFailure("a ball at rest in the lab feels a friction force: inconsistent model")
-        traj = run.record(_follow(rhs, np.array([1.0, 0.0]), run.rtol, run.integrator))
+        probe = m.starting(y0=np.array([0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0]))
+        traj = run.follow(probe, mark=False).traj  # a tool: the ball itself does not move
         run.info["probe_velocity"] = "unit speed along x (scaled)"
         return {"omega_orbit": _turn_rate(traj) * p.Omega, "r_orbit": 0.0, "xc": p.x0, "yc": p.y0}
 
-    v0 = np.array([p.vx0, p.vy0]) / speed
-    traj = run.record(_follow(rhs, v0, run.rtol, run.integrator))
+    traj = run.follow(m).traj
     length = speed / p.Omega
-    # integrated as the displacement from (x0, y0), in speed / Omega
-    run.motion(traj, t_scale=1.0 / p.Omega, y_scale=[length] * 2 + [speed] * 2 + [speed / p.R] * 3,
-               transform=lambda y: [p.x0 / length + y[0], p.y0 / length + y[1], *y[2:]])
-    d, v, dw = traj.y[0:2], traj.y[2:4], traj.y[4:7]
-    # monitored: the no-slip condition (v - R w x z - Omega z x r = 0, its start subtracted
-    # exactly), the speed and the vertical spin
-    slip_x = (v[0] - v0[0]) - R_scaled * dw[1] + d[1]
-    slip_y = (v[1] - v0[1]) + R_scaled * dw[0] - d[0]
-    run.invariant("no-slip residual", np.max(np.hypot(slip_x, slip_y)))
-    run.invariant("speed", np.max(np.abs(np.hypot(v[0], v[1]) - 1.0)))
-    run.invariant("vertical spin", np.max(np.abs(dw[2])))
-
+    d = traj.y[0:2]
     omega_scaled = _turn_rate(traj)
     xc, yc, r, spread = _fit_circle(d[0], d[1])
     run.info["circle_fit_max_residual"] = spread

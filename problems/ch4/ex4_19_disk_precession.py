@@ -23,11 +23,13 @@ bias is of order 1e-14) and theta_L from the untilted run itself.
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.frames import quat_aligning
-from mech.solvers.mechanics.freebody import free_invariants, integrate_free, lab_axes, phase_rate
+from mech.solvers.mechanics.freebody import free_invariants, free_rhs, lab_axes, phase_rate
 from mech.solvers.mechanics.inertia import disk, inertia_tensor
 
 exercise = Exercise(
@@ -69,24 +71,46 @@ def _disk_moments():
     return np.array([i_plane, i_plane, I[2]])
 
 
-def _follow(I, alpha, rtol, run, omega=None):
-    """Follow the disk in units omega = 1; return (Omega_body, omega_lab, theta_L) scaled."""
+def _start(I, alpha):
+    """The start in units omega = 1: omega (sin alpha, 0, cos alpha) in body axes and the attitude that puts
+    the initial L along lab z; and the size of each variable (the small tilt components of the quaternion
+    keep relative accuracy)."""
     sa, ca = np.sin(alpha), np.cos(alpha)
     w0 = np.array([sa, 0.0, ca])
     L_body = I * w0
     q0 = quat_aligning(L_body)                 # initial L along lab z
     tilt = np.arctan2(np.hypot(L_body[0], L_body[1]), L_body[2])  # from the numbers, for tolerances
     small = max(np.sin(tilt / 2), 1e-300)
-    atol = rtol * 1e-3 * np.array([max(sa, 1e-300), max(sa, 1e-300), max(abs(ca), 1e-300), 1.0, small, small, 1.0])
+    size = np.array([max(sa, 1e-300), max(sa, 1e-300), max(abs(ca), 1e-300), 1.0, small, small, 1.0])
+    return np.concatenate([w0, q0]), size
+
+
+def _drifts(I):
+    """Energy, |L|, the lab vector L and |q| - 1: the worst drift over the samples (n x N states)."""
+    def drift(name):
+        return lambda Y: free_invariants(I, SimpleNamespace(y=Y))[name]
+
+    return {name: drift(name) for name in ("energy", "|L|", "L (lab vector)", "|q| - 1")}
+
+
+@exercise.motion
+def motion(p):
+    """The free disk over SPINS spin periods from its tilt alpha, in units omega = 1, sampled
+    SAMPLES_PER_SPIN times a spin."""
+    from mech.problems.motion import Motion
+
+    I = _disk_moments()
+    y0, size = _start(I, p.alpha)
     t_end = SPINS * 2 * np.pi
     t_eval = np.linspace(0.0, t_end, int(SPINS * SAMPLES_PER_SPIN) + 1)
-    traj = run.record(integrate_free(I, w0, q0, t_end, rtol=rtol, atol=atol, t_eval=t_eval,
-                                        integrator=run.integrator))
-    if omega is not None:  # the scene's motion (not the probe's): SI
-        run.motion(traj, t_scale=1.0 / omega, y_scale=[omega] * 3 + [1.0] * 4)
-    for name, drift in free_invariants(I, traj).items():
-        run.invariant(name, drift)
+    return Motion(free_rhs(I), y0, (0.0, t_end), monitors=_drifts(I), t_scale=1.0 / p.omega,
+                  y_scale=[p.omega] * 3 + [1.0] * 4, options={"t_eval": t_eval}, y_size=size)
 
+
+def _readings(I, path, rtol):
+    """(Omega_body, omega_lab, theta_L) in units omega = 1 from the sampled free motion (``path``)."""
+    traj, w0 = path.traj, path.motion.y0[0:3]
+    L_body = I * w0
     # lab frame around the initial L
     L_lab0 = lab_axes(traj, L_body)[:, 0]
     ez = L_lab0 / np.linalg.norm(L_lab0)
@@ -98,7 +122,7 @@ def _follow(I, alpha, rtol, run, omega=None):
     theta = np.arctan2(np.hypot(a, b), c)
     if np.max(np.abs(theta - theta[0])) > 1e3 * rtol * max(theta[0], 1e-300) + 1e-15:
         raise NumericFailure("the angle between n3 and L does not stay constant")
-    if alpha == 0.0:
+    if w0[0] == 0.0:  # no tilt: the rates come from a probe
         return None, None, float(np.mean(theta))
     om_body, _ = phase_rate(traj.t, traj.y[0], traj.y[1])
     om_lab, _ = phase_rate(traj.t, a, b)
@@ -109,12 +133,13 @@ def _follow(I, alpha, rtol, run, omega=None):
 def numeric(p, run):
     I = _disk_moments()
     run.info["I3_over_I1"] = I[2] / I[0]
+    m = motion(p)
+    om_body, om_lab, theta_L = _readings(I, run.follow(m), run.rtol)
     if p.alpha == 0.0:
-        _, _, theta_L = _follow(I, 0.0, run.rtol, run, omega=p.omega)
-        om_body, om_lab, _ = _follow(I, PROBE_TILT, run.rtol, run)
+        y0, size = _start(I, PROBE_TILT)
+        probe = run.follow(m.starting(y0=y0, y_size=size), mark=False)  # the rates, not the scene's motion
+        om_body, om_lab, _ = _readings(I, probe, run.rtol)
         run.info["probe_tilt_rad"] = PROBE_TILT
-    else:
-        om_body, om_lab, theta_L = _follow(I, p.alpha, run.rtol, run, omega=p.omega)
     if om_lab <= 0:
         raise NumericFailure("the symmetry axis does not turn about +L")
     tol = exercise.tol_factor * run.rtol

@@ -15,7 +15,8 @@ that d -> 0 (T ~ (4/lambda_2) ln(4/k')) keeps its digits.
 Numeric: the Jacobian of the torque-free Euler equations at each steady
 rotation by central differences (exact for a quadratic right-hand side) and
 its eigenvalues: an imaginary pair gives Omega_1 or Omega_3, a real pair
-lambda_2 (checked).  T_period: the Euler equations (in units of omega0)
+lambda_2 (checked).  T_period: the Euler equations (in units of omega0; the
+declared motion, one leg per crossing, each confirmed with a bounded step)
 integrated with a relative error control reaching down to the size of
 the small components, from omega(0), timing the
 upward crossings of omega3 = 0 at T/2 and 3T/2; energy, |L|^2 and the orbit's
@@ -97,13 +98,15 @@ def analytic(p):
     }
 
 
-def _rates(I, omega0, run):
-    """Omega_1, lambda_2, Omega_3 from the Jacobian eigenvalues at the three steady rotations."""
+def _rates(I, omega0, run=None):
+    """Omega_1, lambda_2, Omega_3 from the Jacobian eigenvalues at the three steady rotations (the eigenvalues
+    and the claims reported to ``run`` when given)."""
     out = {}
     for k, name, kind in ((0, "Omega_1", "imag"), (1, "lambda_2", "real"), (2, "Omega_3", "imag")):
         la, lb, ev = steady_rotation_pair(I, k, omega0)
         mag = max(abs(la), abs(lb))
-        run.info[f"eigenvalues_n{k + 1}"] = [str(complex(e)) for e in ev]
+        if run is not None:
+            run.info[f"eigenvalues_n{k + 1}"] = [str(complex(e)) for e in ev]
         if kind == "imag":
             if max(abs(la.real), abs(lb.real)) > 1e-12 * mag or abs(la.imag + lb.imag) > 1e-12 * mag:
                 raise NumericFailure(f"the eigenvalues at n{k + 1} are not an imaginary pair: {la}, {lb}")
@@ -112,7 +115,8 @@ def _rates(I, omega0, run):
             if max(abs(la.imag), abs(lb.imag)) > 1e-12 * mag or abs(la.real + lb.real) > 1e-12 * mag:
                 raise NumericFailure(f"the eigenvalues at n{k + 1} are not a real pair +-lambda: {la}, {lb}")
             out[name] = 0.5 * (abs(la.real) + abs(lb.real))
-        run.claim(name, rel=1e-12)
+        if run is not None:
+            run.claim(name, rel=1e-12)
     return out
 
 
@@ -121,49 +125,71 @@ def _separatrix_distance(I, w):
     return I[0] * (I[1] - I[0]) * w[0] ** 2 + I[2] * (I[1] - I[2]) * w[2] ** 2
 
 
-def _period_by_integration(I, w0, rtol, run, slowest_rate, omega0=1.0):
-    """Times of the upward crossings of omega3 = 0 at T/2 and 3T/2 (units omega0 = 1)."""
+# the legs the period is timed by: the crossings of omega3 = 0 (direction, name)
+CROSSINGS = ((+1, "omega3 up (T/2)"), (-1, "omega3 down (T)"), (+1, "omega3 up (3T/2)"))
+
+
+@exercise.motion
+def motion(p, rtol=None):
+    """The flip from omega0 (sin delta, cos delta, 0) in units omega0 = 1, in three legs, each up to the next
+    crossing of omega3 = 0 (CROSSINGS: T/2, T, 3T/2), recorded as a non-terminal event beside the drift of
+    the separatrix distance beyond SEPARATRIX_DRIFT_LIMIT rtol, which ends the chain (the orbit's side of
+    the separatrix is no longer certain); ``rtol``: the accuracy it is followed at, the exercise's default
+    by default.  Relative error control down to the size of the small components near the saddle (they
+    carry the answer)."""
+    from mech.problems.motion import Motion
+
+    I = np.array([p.I1, p.I2, p.I3])
+    w0 = np.array([np.sin(p.delta), np.cos(p.delta), 0.0])
     rhs = euler_omega_rhs(I)
-    # relative control down to the size of the small components near the saddle (they carry the answer)
-    atol = 1e-3 * rtol * abs(w0[0]) * np.linalg.norm(w0)
+    # a generous bound on each leg: the slowest linear rate, times the logarithm of the initial tilt
+    t_max = 1e3 * (40.0 + abs(np.log(abs(w0[0]) + 1e-300))) / min(_rates(I, 1.0).values())
+    sep0 = _separatrix_distance(I, w0)
+    limit = SEPARATRIX_DRIFT_LIMIT * (exercise.default_rtol if rtol is None else rtol)
 
     def w3(t, y):
         return y[2]
 
-    # a generous bound on each leg: the slowest linear rate, times the logarithm of the initial tilt
-    t_max = 1e3 * (40.0 + abs(np.log(abs(w0[0]) + 1e-300))) / slowest_rate
-    times, state, t0 = [], np.asarray(w0, dtype=float), 0.0
-    states = [state]
-    sep0 = _separatrix_distance(I, state)
-    limit = SEPARATRIX_DRIFT_LIMIT * rtol
-
     def drift(t, y):
         return abs(_separatrix_distance(I, y) / sep0 - 1.0) - limit
 
-    def leg(t0, y0, direction, name, max_step=np.inf):
-        traj = run.integrate(
-            rhs, (t0, t0 + t_max), y0, rtol=rtol, atol=atol, max_step=max_step,
-            dense_output=run.keep_trajectories and max_step == np.inf,  # a smooth trajectory, the same steps
-            events=[Event(w3, direction=direction, name=name), Event(drift, direction=+1, name="drift")],
-        )
-        if max_step == np.inf:  # a leg of the motion (not its bounded-step confirmation)
-            run.motion(traj, t_scale=1.0 / omega0, y_scale=omega0)
-        if len(traj.t_events[1]):
-            return None  # the orbit's side of the separatrix is no longer certain
-        return first_event(traj, 0)
+    def leg(k, t0, y0):
+        direction, name = CROSSINGS[k]
 
-    for direction, name in ((+1, "omega3 up (T/2)"), (-1, "omega3 down (T)"), (+1, "omega3 up (3T/2)")):
-        hit = leg(t0, state, direction, name)
-        if hit is None:
+        def then(path):
+            if k + 1 == len(CROSSINGS) or len(path.traj.t_events[1]):
+                return None
+            t_ev, y_ev = first_event(path.traj, 0)
+            return leg(k + 1, t_ev, y_ev)
+
+        return Motion(rhs, y0, (t0, t0 + t_max), t_scale=1.0 / p.omega0, y_scale=p.omega0,
+                      options={"events": [Event(w3, direction=direction, name=name),
+                                          Event(drift, direction=+1, name="drift")]},
+                      y_size=abs(w0[0]) * np.linalg.norm(w0), then=then)
+
+    return leg(0, 0.0, w0)
+
+
+def _period_by_integration(I, m, rtol, run):
+    """Times of the upward crossings of omega3 = 0 at T/2 and 3T/2 (units omega0 = 1) along the declared
+    motion ``m``, each confirmed with a bounded step; and the invariants' drifts."""
+    end = run.follow(m)
+    times, states = [], [np.asarray(m.y0, dtype=float)]
+    sep0 = _separatrix_distance(I, states[0])
+    for path in end.legs:
+        if len(path.traj.t_events[1]):
             return times, {"separatrix distance 2EI2 - L^2": np.inf}
+        hit = first_event(path.traj, 0)
         # confirm with a bounded step: a crossing pair inside one step would be missed (scipy#9228)
-        check = leg(t0, state, direction, name, max_step=(hit[0] - t0) / 64)
-        if check is None or abs(check[0] - hit[0]) > 1e3 * rtol * (hit[0] - t0):
+        t0 = path.motion.span[0]
+        bounded = path.motion.starting(options={**path.motion.options, "max_step": (hit[0] - t0) / 64}, then=None)
+        check = run.follow(bounded, mark=False).traj
+        name = path.motion.options["events"][0].name
+        if len(check.t_events[1]) or abs(first_event(check, 0)[0] - hit[0]) > 1e3 * rtol * (hit[0] - t0):
             raise NumericFailure(f"crossing '{name}' not confirmed with a bounded step")
         t_ev, y_ev = hit
         times.append(t_ev)
         states.append(y_ev)
-        state, t0 = y_ev, t_ev
     sep_drift = max(abs(_separatrix_distance(I, y) / sep0 - 1) for y in states)
     E = [0.5 * np.dot(I, s * s) for s in states]
     L2 = [np.dot(I * s, I * s) for s in states]
@@ -235,7 +261,7 @@ def numeric(p, run):
     try:
         if w0[0] < 1e-4:
             raise NumericFailure(f"tilt {w0[0]:.3g} too close to the separatrix for an integration")
-        times, drifts = _period_by_integration(I, w0, run.rtol, run, min(out.values()), omega0=p.omega0)
+        times, drifts = _period_by_integration(I, motion(p, run.rtol), run.rtol, run)
         trusted = drifts["separatrix distance 2EI2 - L^2"] <= SEPARATRIX_DRIFT_LIMIT * run.rtol
         if trusted:
             for name, drift in drifts.items():

@@ -20,7 +20,7 @@ with L from the inertia tensor diag(I_A, I_A, I3) acting on the angular velocity
 split along the axis and normal to it (no cancellation when I_A >> I3), projected
 on z x n3: a bracketing root finder between 0 and the residual's maximum
 (located by a bounded scalar maximizer; the fast root lies beyond it).  The
-steady state is then integrated with the exact vector equations
+steady state is then followed as the declared motion, the exact vector equations
 dn3/dt = L x n3/I_A, dL/dt = l n3 x (-M g z) for one precession turn (at most
 60 nutation periods; steps of at most 2 radians of the nutation): the azimuth's
 rate is fitted and must match the root within the run's accuracy, the tilt
@@ -202,6 +202,71 @@ def _threshold(IA, I3, Mgl):
     return bracketed_root(lambda w: ONSET - _upright_growth(IA, Mgl, I3 * w), lo, hi)
 
 
+def _conserved(IA, Mgl, Ls):
+    """The conserved quantities of the exact motion, each a function of the states Y (n x N, L in units
+    Ls) giving its worst drift over them relative to its scale: the energy less its spin part, L_z, L3.
+
+    The energy less its spin part L3^2/(2 I3): that part is constant exactly when L3 is, and L3 is
+    monitored on its own.  Whole, the energy is ill-conditioned in the state for a thin fast rotor (its
+    derivative in L is the angular velocity, so an error rtol |L| moves it by omega3 rtol |L|, 2e6 rtol of E
+    at I3 = 1e-8 kg m^2, omega3 = 5600 rad/s on a 470 m arm).  The transverse part of L is the rejection
+    L - (n.L) n, not |L|^2 - L3^2, which cancels when the spin carries nearly all of L."""
+
+    def parts(Y):
+        n, L = Y[0:3], Y[3:6] * Ls
+        return n, L, np.sum(n * L, axis=0)
+
+    def energy(Y):
+        n, L, L3 = parts(Y)
+        L_perp = L - L3 * n
+        E = 0.5 * np.sum(L_perp * L_perp, axis=0) / IA + Mgl * n[2]
+        E_scale = 0.5 * float(np.sum(L_perp[:, 0] ** 2)) / IA + Mgl
+        return float(np.max(np.abs(E - E[0]))) / E_scale
+
+    def L_z(Y):
+        L = parts(Y)[1]
+        return float(np.max(np.abs(L[2] - L[2, 0]))) / Ls
+
+    def L_3(Y):
+        L3 = parts(Y)[2]
+        return float(np.max(np.abs(L3 - L3[0]))) / Ls
+
+    return {"energy less the spin's": energy, "L_z": L_z, "L3": L_3}
+
+
+@exercise.motion
+def motion(p, Om=None):
+    """The steady precession, integrated: from the axis at theta0 (azimuth 0) with the angular momentum
+    of the steady state turning at the slow root Om (found here when not given; None where there is
+    none), the exact vector equations dn3/dt = L x n3/I_A, dL/dt = l n3 x (-M g z) for one precession
+    turn, at most 60 nutation periods.  L is integrated in units of its size |L|."""
+    from mech.problems.motion import Motion
+
+    IA = p.I1 + p.M * p.l**2
+    Mgl = p.M * p.g * p.l
+    f, angular_momentum, n3 = _residual_factory(IA, p.I3, Mgl, p.theta0)
+    if Om is None:
+        Om = _slow_root(f, p.omega3, Mgl / (p.I3 * p.omega3))[0]
+        if Om is None:
+            return None
+    L0 = angular_momentum(Om, p.omega3)
+    Ls = float(np.linalg.norm(L0))
+
+    def torque(t, n):
+        return Mgl * np.array([-n[1], n[0], 0.0])  # l n x (-M g z) = M g l z x n
+
+    nu = Ls / IA  # fastest rate of the axis (nutation scale)
+    T = min(2 * math.pi / Om, 60.0 * 2 * math.pi / nu)
+    # The steady state is slow, so the step control alone lets the step grow to several radians of the
+    # nutation, where DOP853 no longer damps a round-off nutation: it grows until the error estimate sees
+    # it, whatever rtol is.  A step of 2 radians of the fastest rate of the linearized motion keeps it
+    # resolved.
+    fastest = nu + math.sqrt(Mgl / IA) + abs(Om)
+    return Motion(axis_rhs(IA, torque, L_scale=Ls), np.concatenate([n3, L0 / Ls]), (0.0, T),
+                  monitors=_conserved(IA, Mgl, Ls), y_scale=[1.0, 1.0, 1.0, Ls, Ls, Ls],
+                  y_size=min(1.0, math.sin(p.theta0)), options={"max_step": 2.0 / fastest})
+
+
 @exercise.numeric
 def numeric(p, run):
     from mech.solvers.numerics.roots import brentq
@@ -242,30 +307,13 @@ def numeric(p, run):
     if fmax is not None:
         run.info["residual_max"] = fmax
 
-    # confirm: integrate the exact motion from the steady state and measure the azimuth's rate
-    L0 = angular_momentum(Om, p.omega3)
-    Ls = float(np.linalg.norm(L0))
-    def torque(t, n):
-        return Mgl * np.array([-n[1], n[0], 0.0])  # l n x (-M g z) = M g l z x n
-
-    rhs = axis_rhs(IA, torque, L_scale=Ls)
-    nu = Ls / IA  # fastest rate of the axis (nutation scale)
+    # confirm: follow the exact motion from the steady state and measure the azimuth's rate
+    m = motion(p, Om)
+    traj = run.follow(m, dense=True).traj
     T_pre = 2 * math.pi / Om
-    T = min(T_pre, 60.0 * 2 * math.pi / nu)
-    y0 = np.concatenate([n3, L0 / Ls])
-    # The steady state is slow, so the step control alone lets the step grow to
-    # several radians of the nutation, where DOP853 no longer damps a round-off
-    # nutation: it grows until the error estimate sees it, whatever rtol is
-    # (tilt drift 1.3e-6 rad at rtol 1e-10 for omega3 = 453.266, the same nfev at
-    # rtol 1e-12).  A step of 2 radians of the fastest rate of the linearized
-    # motion keeps it resolved (drift 1e-14).
-    fastest = nu + math.sqrt(Mgl / IA) + abs(Om)
-    traj = run.integrate(rhs, (0.0, T), y0, rtol=run.rtol, atol=run.rtol * 1e-3 * min(1.0, math.sin(p.theta0)),
-                     dense_output=True, max_step=2.0 / fastest)
-    run.motion(traj, y_scale=[1.0, 1.0, 1.0, Ls, Ls, Ls])
+    T = m.span[1]
     ts = np.linspace(0.0, T, 401)
-    ys = traj.sol(ts)
-    n_t, L_t = ys[0:3], ys[3:6] * Ls
+    n_t = traj.sol(ts)[0:3]
     rate, rms = fit_rate(ts, azimuth(n_t))
     run.info["measured_precession_rate"] = rate
     run.info["integrated_turns"] = T / T_pre
@@ -273,21 +321,6 @@ def numeric(p, run):
     run.info["measured_vs_root"] = rate_err
     theta_dev = float(np.max(np.abs(polar_angle(n_t) - p.theta0)))
     run.invariant("tilt theta - theta0 (rad)", theta_dev)
-    # The energy less its spin part L3^2/(2 I3): that part is constant exactly when L3 is, and L3 is monitored
-    # on its own below.  Whole, the energy is ill-conditioned in the state for a thin fast rotor: its
-    # derivative in L is the angular velocity, so an error rtol |L| in L moves it by omega3 rtol |L|, which
-    # at I3 = 1e-8 kg m^2, omega3 = 5600 rad/s, |L| = 105 kg m^2/s (a 470 m arm) is 2e6 times rtol of E
-    # (a draw of scripts/draws.py, seed 1124, drifted 6.7e-5 while the tilt held to 1e-10 rad).
-    # The transverse part of L is taken as the rejection L - (n.L) n, not as |L|^2 - L3^2, which cancels when
-    # the spin carries nearly all of L (seed 20261125: L3 = 0.01, L_perp ~ 3e-17, Mgl ~ 1e-18: that form
-    # drifted by 0.08 of E from round-off alone).
-    L_perp = L_t - np.sum(n_t * L_t, axis=0) * n_t
-    E = 0.5 * np.sum(L_perp * L_perp, axis=0) / IA + Mgl * n_t[2]
-    E_scale = 0.5 * float(np.sum(L_perp[:, 0] ** 2)) / IA + Mgl
-    run.invariant("energy less the spin's", float(np.max(np.abs(E - E[0]))) / E_scale)
-    run.invariant("L_z", float(np.max(np.abs(L_t[2] - L_t[2, 0]))) / Ls)
-    L3_t = np.sum(n_t * L_t, axis=0)
-    run.invariant("L3", float(np.max(np.abs(L3_t - L3_t[0]))) / Ls)
     # The measured rate is a confirmation: its error is the integration's error in the
     # azimuth (absolute, about 1e3 rtol rad at most) over the angle run through
     angle_tol = max(1e-6, 1e4 * run.rtol) * Om * T + 1e3 * run.rtol

@@ -21,7 +21,7 @@ contact force, with the rolling constraint differentiated once (the contact
 point moves along the rim: its geometric velocity enters).  Omega is the root of
 the tilt acceleration d^2(n3 . z)/dt^2 in the steady initial state (center
 velocity from the turning, spin from the rolling condition, both solved
-numerically); the motion is then integrated from that state and T is the time
+numerically); the declared motion is then followed from that state and T is the time
 of one full turn of the axis's horizontal projection (event), or, when a turn
 is too long to integrate (many spin turns per orbit, R >> r), 2 pi over the
 azimuth's rate fitted over 20 spin turns; T's claim is at least 3 times its
@@ -263,13 +263,10 @@ class _Disk:
         return 0.5 * y[10:13] @ y[10:13] + 0.5 * omega @ I_lab @ omega - d[2]
 
 
-@exercise.numeric
-def numeric(p, run):
+def _turning_rate(body, theta, Rs):
+    """Omega (units r = g = 1): the root of the tilt acceleration in the steady state."""
     from mech.solvers.numerics.roots import brentq
 
-    Rs = p.R / p.r
-    theta = p.theta
-    body = _Disk()
     f = lambda Om: body.tilt_acceleration(theta, Rs, Om)  # noqa: E731
     # at rest the coin falls (the tilt grows): f(0) > 0; a root exists where turning holds it
     f0 = f(0.0)
@@ -282,35 +279,70 @@ def numeric(p, run):
         lo, hi = hi, 2.0 * hi
     else:
         raise NumericFailure("no turning rate holds the tilt")
-    Om = brentq(f, lo, hi, xtol=1e-300, rtol=1e-15, maxiter=500)
+    return brentq(f, lo, hi, xtol=1e-300, rtol=1e-15, maxiter=500)
+
+
+def _start(body, theta, Rs, Om):
+    """The steady state turning at Om and its spin (from the rolling condition)."""
+    y0, _, omega0 = body.steady_state(theta, Rs, Om)
+    return y0, float(np.linalg.norm(omega0 - Om * body.z))
+
+
+def _fallen(n3z0):
+    """The event that stops a run whose steady motion is lost for good (the tilt off by 1e-3)."""
+    return Event(lambda t, y: abs(quat_to_matrix(y[3:7])[2, 2] - n3z0) - 1e-3, terminal=True, direction=1,
+                 name="tilt lost")
+
+
+@exercise.motion
+def motion(p, Om=None):
+    """The steady rolling, integrated from the steady state turning at Omega (the root of the tilt
+    acceleration, found here when not given), units r = g = M = 1: one full turn of the axis's horizontal
+    projection (timed by the event of its azimuth passing 2 pi), or, when a turn has more than
+    MAX_SPIN_TURNS spin turns, 20 spin turns (the azimuth's rate is fitted).  Stopped where the tilt is
+    lost for good."""
+    from mech.problems.motion import Motion
+
+    Rs, theta, body = p.R / p.r, p.theta, _Disk()
+    if Om is None:
+        Om = _turning_rate(body, theta, Rs)
+    y0, spin0 = _start(body, theta, Rs, Om)
+    T_root = 2 * math.pi / Om
+    fall = _fallen(math.sin(theta))
+    if spin0 * T_root / (2 * math.pi) <= MAX_SPIN_TURNS:
+        # one full turn of the axis's projection: n3_y crosses zero upward again at azimuth 2 pi
+        turn = Event(lambda t, y: quat_to_matrix(y[3:7])[1, 2], terminal=False, direction=1,
+                     name="axis azimuth 2 pi")
+        span, events, max_step = (0.0, 1.3 * T_root), [turn, fall], T_root / 64
+    else:
+        t_run = 20.0 * 2 * math.pi / spin0
+        span, events, max_step = (0.0, t_run), [fall], t_run / 64
+    size = ([max(spin0, Om)] * 3 + [1.0] * 4 + [max(Rs, 1.0)] * 3 + [max(Om * Rs, Om, 1e-300)] * 3)
+    w_unit, v_unit = math.sqrt(p.g / p.r), math.sqrt(p.g * p.r)
+    return Motion(body.rhs, y0, span, t_scale=math.sqrt(p.r / p.g),
+                  y_scale=[w_unit] * 3 + [1.0] * 4 + [p.r] * 3 + [v_unit] * 3, y_size=size,
+                  options={"events": events, "max_step": max_step})
+
+
+@exercise.numeric
+def numeric(p, run):
+    Rs = p.R / p.r
+    theta = p.theta
+    body = _Disk()
+    Om = _turning_rate(body, theta, Rs)
     run.info["Omega_root_scaled"] = Om
     # the root's round-off: the tilt acceleration balances terms of size Om^2 Rs against the spin's
     # (Om Rs)^2, so it keeps a part in ~eps Rs of its digits (2.7e-8 at Rs = 1.7e9: 0.15 eps Rs)
     root_rel = max(exercise.tol_factor * run.rtol, 4e-16 * max(Rs, 1.0))
 
-    y0, Rm0, omega0 = body.steady_state(theta, Rs, Om)
-    spin0 = float(np.linalg.norm(omega0 - Om * body.z))
+    m = motion(p, Om)
+    y0, spin0 = _start(body, theta, Rs, Om)
     T_root = 2 * math.pi / Om
-    spin_turns = spin0 * T_root / (2 * math.pi)
     n3z0 = math.sin(theta)
     E0 = body.energy(y0)
-    scale = np.concatenate([np.full(3, max(spin0, Om)), np.ones(4), np.full(3, max(Rs, 1.0)),
-                            np.full(3, max(Om * Rs, Om, 1e-300))])
-    atol = run.rtol * 1e-3 * scale
+    traj = run.follow(m, dense=True).traj
 
-    def axis_y(t, y):
-        return quat_to_matrix(y[3:7])[1, 2]
-
-    def fallen(t, y):  # the steady motion is lost for good: stop
-        return abs(quat_to_matrix(y[3:7])[2, 2] - n3z0) - 1e-3
-
-    fall = Event(fallen, terminal=True, direction=1, name="tilt lost")
-
-    if spin_turns <= MAX_SPIN_TURNS:
-        # one full turn of the axis's projection: n3_y crosses zero upward again at azimuth 2 pi
-        traj = run.integrate(body.rhs, (0.0, 1.3 * T_root), y0, rtol=run.rtol, atol=atol,
-                         events=[Event(axis_y, terminal=False, direction=1, name="axis azimuth 2 pi"), fall],
-                         max_step=T_root / 64, dense_output=True)
+    if len(m.options["events"]) == 2:
         times = [t for t in traj.t_events[0] if t > 0.5 * T_root]
         if times:
             T_s = float(times[0])
@@ -320,9 +352,7 @@ def numeric(p, run):
             raise NumericFailure("the axis did not complete a turn")
     else:
         # too many spin turns per orbit: fit the azimuth's rate over 20 spin turns
-        t_run = 20.0 * 2 * math.pi / spin0
-        traj = run.integrate(body.rhs, (0.0, t_run), y0, rtol=run.rtol, atol=atol, dense_output=True, events=[fall],
-                         max_step=t_run / 64)
+        t_run = m.span[1]
         ts = np.linspace(0.0, t_run, 801)
         n_t = np.stack([quat_to_matrix(traj.sol(t)[3:7])[:, 2] for t in ts], axis=1)
         rate, rms = fit_rate(ts, azimuth(n_t))
@@ -339,9 +369,6 @@ def numeric(p, run):
             # slowly: theta = 5.5e-7, R/r = 1.5e4) the axis falls over within the fit's 20
             # spin turns and its azimuth is meaningless; the steady-state root then answers (below)
             T_s = None
-
-    t_unit, w_unit, v_unit = math.sqrt(p.r / p.g), math.sqrt(p.g / p.r), math.sqrt(p.g * p.r)
-    run.motion(traj, t_scale=t_unit, y_scale=[w_unit] * 3 + [1.0] * 4 + [p.r] * 3 + [v_unit] * 3)
 
     # monitors over the run
     ts = np.linspace(traj.t[0], traj.t[-1], 200)

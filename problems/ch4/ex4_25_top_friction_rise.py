@@ -156,90 +156,76 @@ def _tilt_torque(n, rl, mu):
     return fx * cx + fy * cy + fz * cz
 
 
-class _InTime:
-    """The motion of the s-integration in time: t = (k t)/k from the state, (L_x', L_z') its rows,
-    sampled on the run's dense output (201 even values of s up to the event, and the steps)."""
+@exercise.motion
+def motion(p):
+    """The rise from theta0 to theta1: L in the frame turning about z with the axis's azimuth, (L_x', L_z') in
+    units of I3 omega0, its azimuth phi alongside for the record, in the variable s of dt = |L| ds / k.
 
-    def __init__(self, traj, s_ev, k):
-        s = np.union1d(np.linspace(0.0, s_ev, 201), traj.t[traj.t <= s_ev])
-        y = np.asarray(traj.sol(s), float).reshape(-1, s.size)
-        self.t = y[2] / k
-        self.y = y[:2]
+    The forces see the axis only through its angle with the vertical, so in the frame turning with its
+    azimuth, dL'/dt = tau(L') - w z x L' with w = tau_y'/L_x' keeping L' in the x'z plane: the precession
+    (hundreds of turns at small mu) needs no resolving.  Not t but s (a Sundman rescaling, k = mu (1 + R/l);
+    t becomes a state, integrated as k t): in t the spin falls linearly to a stop while the tilt rate grows
+    as 1/|L|, a log singularity just past the event where DOP853's error control on (L_x', L_z') misses the
+    tilt's error (omega_rise moved by 4e-4 between rtol and rtol/10 at a fall by e^12).  In s, |L| decays
+    exponentially at the rate (R/l)/(1 + R/l) and the axis turns at the rate 1/(1 + R/l): a smooth flow.
+    Time in the precession time I3 omega0/(M g l)."""
+    from mech.problems.motion import Motion
 
-
-@exercise.numeric
-def numeric(p, run):
-    L0 = p.I3 * p.omega0
-    Mgl = p.M * p.g * p.l
-    t_unit = L0 / Mgl  # precession time scale
     rl = p.R / p.l
-    # L in units of L0, time in t_unit: dL/dt = torque / (M g l)
-    n0 = (math.sin(p.theta0), 0.0, math.cos(p.theta0))
-    omega_dot = -_axial_torque(n0, rl, p.mu) * Mgl / p.I3
-    rate_theta = -_tilt_torque(n0, rl, p.mu)  # dtheta/dt in units, |L| = 1 at t = 0
-    theta_dot0 = rate_theta * Mgl / L0
-    if rate_theta <= 0.0:
-        raise NumericFailure("the initial torque does not raise the axis")
-
-    # The forces depend on the axis only through its angle with z, so the vector
-    # equation is integrated in a frame turning about z with the axis's azimuth,
-    # dL'/dt = tau(L') - w z x L', with w = tau_y'/L_x' the azimuthal rate that
-    # keeps L' in the x'z plane: the state is (L_x', L_z') and the precession
-    # (hundreds of turns at small mu) needs no resolving.  Its angle phi is
-    # integrated alongside for the record.
-    #
-    # Independent variable: not t but s with dt = |L| ds / k, k = mu (1 + R/l) (a Sundman
-    # rescaling; t becomes a state, integrated as k t).  In t the spin falls linearly to a stop
-    # at t_stop while the tilt rate grows as 1/|L|: with the spin falling by up to e^25 the
-    # solution has a log singularity just past the event, and DOP853's error control on
-    # (L_x', L_z') misses the error of the tilt there (omega_rise moves by 4e-4 between rtol
-    # and rtol/10 at a fall by e^12).  In s, |L| decays exponentially at the rate
-    # (R/l)/(1 + R/l) and the axis turns at the rate 1/(1 + R/l): a smooth flow, controlled
-    # relatively to the last digit however far the spin falls.
-    k = p.mu * (1.0 + rl)
+    mu = p.mu
+    k = mu * (1.0 + rl)
 
     def rhs(s, y):
         Lx, Lz = y[0], y[1]
         Ln = math.hypot(Lx, Lz)
-        tx, ty, tz = _torque((Lx, 0.0, Lz), rl, p.mu)
+        tx, ty, tz = _torque((Lx, 0.0, Lz), rl, mu)
         f = Ln / k
         return (f * tx, f * tz, Ln, f * ty / Lx)
 
     def polar_minus_theta1(s, y):
         return math.atan2(y[0], y[1]) - p.theta1
 
-    # the rise's length in s: about (theta0 - theta1)/(the initial tilt rate in s); in s that rate
-    # stays constant in this model, but the solver does not rely on it: four times the estimate
-    s_end = 4.0 * (p.theta0 - p.theta1) * k / rate_theta
-    rtol = run.rtol
-    # L_x', L_z' stay positive (0 < theta < pi/2) and |L| may fall by up to e^25 (constraint):
-    # relative error control, with an absolute floor far below that.  k t grows from 0 at the rate
-    # |L| = exp(-a s), a <= 1, to at least (1 - 1/e) min(s_ev, 1) at the event: an absolute floor of
-    # rtol * 1e-3 * min(s_ev, 1) keeps it relative at the end (a relative control from 0 made
-    # DOP853 start with steps of 1e-16 and spend 250 evaluations on them).
-    floor = rtol * 1e-3 * math.exp(-30.0)
-    floor_t = rtol * 1e-3 * min(0.25 * s_end, 1.0)
-    s_ev, y_ev, traj = run.integrate_to_event(
-        rhs,
-        (0.0, s_end),
-        [n0[0], n0[2], 0.0, 0.0],
-        Event(polar_minus_theta1, direction=-1, name="theta = theta1"),
-        rtol=rtol,
-        atol=[floor, floor, floor_t, math.inf],  # phi is only recorded
-    )
-    t_ev = y_ev[2] / k
-    if run.keep_trajectories:
-        run.motion(_InTime(traj, s_ev, k), t_scale=t_unit, y_scale=L0)
-    # monitored: |L| + (mu R / l) t is constant (axial torque of the friction) in these units
-    Ls = np.hypot(traj.y[0], traj.y[1])
-    run.invariant("|L| + mu M g R t", float(np.max(np.abs(Ls + p.mu * rl * traj.y[2] / k - 1.0))))
-    run.info["precession_turns"] = float(y_ev[3] / (2 * math.pi))
+    def friction_torque(Y):
+        """|L| + mu M g R t is constant (the friction's axial torque), |L| + (mu R/l) t in these units."""
+        return float(np.max(np.abs(np.hypot(Y[0], Y[1]) + mu * rl * Y[2] / k - 1.0)))
+
+    n0 = (math.sin(p.theta0), 0.0, math.cos(p.theta0))
+    # the rise's length in s: about (theta0 - theta1)/(the initial tilt rate in s); in s that rate stays
+    # constant in this model, but the solver does not rely on it: four times the estimate
+    s_end = 4.0 * (p.theta0 - p.theta1) * k / -_tilt_torque(n0, rl, mu)
+    # L_x', L_z' stay positive (0 < theta < pi/2) and |L| may fall by up to e^25 (constraint): relative
+    # error control, with an absolute floor far below that.  k t grows from 0 at the rate |L| = exp(-a s),
+    # a <= 1, to at least (1 - 1/e) min(s_ev, 1) at the event: an absolute floor of rtol 1e-3 min(s_ev, 1)
+    # keeps it relative at the end (a relative control from 0 made DOP853 start with steps of 1e-16 and
+    # spend 250 evaluations on them).  phi is only recorded.
+    L0 = p.I3 * p.omega0
+    return Motion(rhs, [n0[0], n0[2], 0.0, 0.0], (0.0, s_end),
+                  event=Event(polar_minus_theta1, direction=-1, name="theta = theta1"),
+                  monitors={"|L| + mu M g R t": friction_torque}, t_scale=L0 / (p.M * p.g * p.l), y_scale=L0,
+                  y_size=[math.exp(-30.0), math.exp(-30.0), min(0.25 * s_end, 1.0), math.inf],
+                  to_states=lambda y: y[:2], clock=lambda y: y[2] / k)
+
+
+@exercise.numeric
+def numeric(p, run):
+    L0 = p.I3 * p.omega0
+    Mgl = p.M * p.g * p.l
+    rl = p.R / p.l
+    n0 = (math.sin(p.theta0), 0.0, math.cos(p.theta0))
+    omega_dot = -_axial_torque(n0, rl, p.mu) * Mgl / p.I3
+    rate_theta = -_tilt_torque(n0, rl, p.mu)  # dtheta/dt in units, |L| = 1 at t = 0
+    theta_dot0 = rate_theta * Mgl / L0
+    if rate_theta <= 0.0:
+        raise NumericFailure("the initial torque does not raise the axis")
+    m = motion(p)
+    end = run.follow(m)
+    run.info["precession_turns"] = float(end.y_end[3] / (2 * math.pi))
     # omega_dot, theta_dot0: projections of one torque, round-off exact
     run.claim("omega_dot", rel=1e-12)
     run.claim("theta_dot0", rel=1e-12)
     return {
         "omega_dot": omega_dot,
         "theta_dot0": theta_dot0,
-        "t_rise": t_ev * t_unit,
-        "omega_rise": float(math.hypot(y_ev[0], y_ev[1])) * p.omega0,
+        "t_rise": m.clock(end.y_end) * m.t_scale,
+        "omega_rise": float(math.hypot(end.y_end[0], end.y_end[1])) * p.omega0,
     }

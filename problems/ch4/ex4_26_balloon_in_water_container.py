@@ -107,20 +107,29 @@ def _rhs(s, y):
     return np.array([gp, 2.0 * g - gp, w, (gp * gp + 2.0 * g * g) * x, w * x * x, 3.0 * x**3])
 
 
+def _mode(p):
+    """The relative-motion mode (container at rest, balloon moving) as an integration: f'(b) = 0, so it is
+    shot inward from the wall (s = 0) to the balloon (s = ln(a/b)) with g = 1, g' = 0 (inward the dominant
+    solution 1/r^2 grows: no cancellation), with its three energy integrals.  Not a motion in time (the
+    variable is the radius): no states, followed as a tool."""
+    from mech.problems.motion import Motion
+
+    # lengths in units of b: the balloon at x = a/b, the wall at 1; s = ln x; s_a < 0, for a thin layer from
+    # a - b (exact), so the layer keeps its width
+    x_a = p.a / p.b
+    s_a = math.log1p((p.a - p.b) / p.b) if x_a > 0.5 else math.log(x_a)
+    # every state grows monotonically in magnitude from its start; absolute tolerances below those sizes
+    short = min(-s_a, 1.0)
+    return Motion(_rhs, [1.0, 0.0, 2.0, 0.0, 0.0, 0.0], (0.0, s_a),
+                  y_size=[1.0, 1e-3 * short, x_a, 1e-3 * short * x_a, 1e-3 * short * x_a**3, 1e-3 * short * x_a**3])
+
+
 @exercise.numeric
 def numeric(p, run):
-    # lengths in units of b: the balloon at x = a/b, the wall at 1; s = ln x
     x_a = p.a / p.b
-    # s_a < 0; for a thin layer from a - b (exact), so the layer keeps its width
-    s_a = math.log1p((p.a - p.b) / p.b) if x_a > 0.5 else math.log(x_a)
-    span = -s_a
-    # Relative-motion mode (container at rest, balloon moving): f'(b) = 0, so shoot inward from the
-    # wall with g = 1, g' = 0 (inward the dominant solution 1/r^2 grows: no cancellation).  Every
-    # state grows monotonically in magnitude from its start; absolute tolerances below those sizes.
-    short = min(span, 1.0)
-    atol = run.rtol * 1e-3 * np.array([1.0, 1e-3 * short, x_a, 1e-3 * short * x_a, 1e-3 * short * x_a**3,
-                                       1e-3 * short * x_a**3])
-    tv = run.integrate(_rhs, (0.0, s_a), [1.0, 0.0, 2.0, 0.0, 0.0, 0.0], rtol=run.rtol, atol=atol)
+    m = _mode(p)
+    span = -m.span[1]
+    tv = run.follow(m, mark=False)
     gv_a, gvp_a = tv.y_end[0], tv.y_end[1]
     Qvv, Qrv, Qrr = -tv.y_end[3], -tv.y_end[4], -tv.y_end[5]  # integrated inward: negated
     if not (gvp_a < 0.0 and Qvv > 0.0 and Qrr > 0.0):

@@ -30,6 +30,7 @@ is negative at 90 degrees, positive at the sub-solar point).
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -75,6 +76,12 @@ def constraint(p):
         )
 
 
+@functools.lru_cache(maxsize=64)
+def _gauss(n: int):
+    """Gauss-Legendre nodes and weights of order n, computed once per order (read only)."""
+    return L.leggauss(n)
+
+
 def _series(p):
     eps = p.R_E / p.r_S
     mu = p.M_S / p.M_E
@@ -92,15 +99,18 @@ def _series(p):
     S = L.Legendre(A)
     T = L.Legendre(nn * A)
     V = L.Legendre(0.5 * nn * (nn - 1) * A)
-    x, wts = L.leggauss(max(64, 2 * A.size + 8))
+    x, wts = _gauss(max(64, 2 * A.size + 8))
 
     def mean(poly):
         return 0.5 * np.sum(wts * poly(x))
 
-    c2 = -2 * mean(S * S) - mean(S * T)
-    c3 = -(10.0 / 3.0) * mean(S * S * S) - 5 * mean(S * S * T) - mean(S * T * T) - mean(S * S * V)
+    # each product once (the same operands in the same order: the same values as writing them out)
+    SS, ST = S * S, S * T
+    SSS, SST, STT, SSV = SS * S, SS * T, ST * T, SS * V
+    c2 = -2 * mean(SS) - mean(ST)
+    c3 = -(10.0 / 3.0) * mean(SSS) - 5 * mean(SST) - mean(STT) - mean(SSV)
     c = c2 + c3
-    u = c + S + S * S + S * T + c * (T + 2 * S) + S * S * S + 3 * S * S * T + S * T * T + S * S * V
+    u = c + S + SS + ST + c * (T + 2 * S) + SSS + 3 * S * S * T + STT + SSV
     return u, eps
 
 

@@ -24,8 +24,8 @@ without cancellation, plus centrifugal and Coriolis forces), in units |x0| and
 1/Omega, DOP853.  Shooting on v0 (Illinois regula falsi, bracket [-2.4, -1.7] in
 these units, checked for a sign change): the path closes when it crosses the x
 axis at right angles again, so the residual is y at the next zero of dx/dt
-(time-reversal symmetry), and T_rel is twice that time.  Then one full period
-with events dx/dt = 0 (radial extremes) and dy/dt = 0 (along-track extremes);
+(time-reversal symmetry), and T_rel is twice that time.  The declared motion is one full
+period with events dx/dt = 0 (radial extremes) and dy/dt = 0 (along-track extremes);
 the return to the start state is checked at its end.  The Jacobi integral is monitored.
 """
 
@@ -107,8 +107,28 @@ def analytic(p):
     }
 
 
-@exercise.numeric
-def numeric(p, run):
+def _xdot(t, y):
+    return y[2]
+
+
+def _ydot(t, y):
+    return y[3]
+
+
+@exercise.motion
+def motion(p, run=None):
+    """One period of the closed relative path: the exact relative equations in the satellite's rotating
+    frame, in units |x0| and 1/Omega, from (x0, 0) at the tangential speed v0 that closes the path, with
+    the events of its radial (dx/dt = 0) and along-track (dy/dt = 0) extremes.  v0 and the period are shot
+    through ``run`` (tool integrations of the same equations; a Run at the exercise's default accuracy when
+    none is given): the path closes when it crosses the x axis at right angles again (time-reversal
+    symmetry), so the residual is y at the next zero of dx/dt, bracketed in [-2.4, -1.7], and the period
+    is twice that time."""
+    from mech.problems.motion import Motion
+    from mech.problems.spec import Run
+    from mech.solvers.numerics.roots import brentq
+
+    run = Run(rtol=exercise.default_rtol) if run is None else run
     W = _orbit_rate(p.GM, p.R)
     L = abs(p.x0)
     sgn = 1.0 if p.x0 > 0 else -1.0
@@ -122,53 +142,45 @@ def numeric(p, run):
         return np.array([y[2], y[3], a[0] + y[0] + 2.0 * y[3], a[1] + y[1] - 2.0 * y[2]])
 
     def jacobi(y):
+        """The Jacobi integral, in its scale (Omega x0)^2 = 1."""
         r = np.array([y[0], y[1], 0.0])
         return 0.5 * (y[2] ** 2 + y[3] ** 2) + relative_potential(r, Rh, GMh) - 0.5 * (y[0] ** 2 + y[1] ** 2)
 
-    def xdot(t, y):
-        return y[2]
+    def path(v, t_end):
+        """From (x0, 0) at the tangential speed v until t_end."""
+        return Motion(rhs, [sgn, 0.0, 0.0, v], (0.0, t_end), invariants={"Jacobi integral": jacobi},
+                      t_scale=1.0 / W, y_scale=[L, L, L * W, L * W], y_size=1.0,
+                      options={"method": "DOP853", "max_step": 0.25,
+                               "events": [Event(_xdot, terminal=False, name="radial extremes"),
+                                          Event(_ydot, terminal=False, name="along-track extremes")]})
 
-    def ydot(t, y):
-        return y[3]
+    half = {"method": "DOP853", "max_step": 0.25, "events": [Event(_xdot, direction=sgn, terminal=True)]}
 
-    opts = dict(rtol=run.rtol, atol=run.rtol * 1e-3, method="DOP853")
-
-    def residual(v):
-        """y where the path next crosses dx/dt = 0 (the far radial extreme)."""
-        tr = run.integrate(rhs, (0.0, 20.0), [sgn, 0.0, 0.0, v], events=[Event(xdot, direction=sgn, terminal=True)],
-                           max_step=0.25, **opts)
+    def far_extreme(v):
+        """(y, t) where the path from (x0, 0) at speed v next crosses dx/dt = 0 (the far radial extreme)."""
+        tr = run.follow(path(v, 20.0).starting(invariants={}, options=half), mark=False).traj
         if len(tr.t_events[0]) == 0:
             raise NumericFailure(f"no radial turning point with v0 = {v:.6g} (scaled)")
-        return tr.y_events[0][0][1]
+        return tr.y_events[0][0][1], tr.t_events[0][0]
 
     lo, hi = sgn * -2.4, sgn * -1.7  # (-1.5: the circular orbit through the start, no radial turning)
-    flo, fhi = residual(lo), residual(hi)
+    flo, fhi = far_extreme(lo)[0], far_extreme(hi)[0]
     if not (flo > 0) != (fhi > 0):
         raise NumericFailure(f"v0 not bracketed: y residuals {flo:.3g}, {fhi:.3g}")
-    t_half = [None]
+    v0 = brentq(lambda v: far_extreme(v)[0], lo, hi, fa=flo, fb=fhi, xtol=1e-3 * run.rtol, maxiter=100)
+    return path(v0, 2.0 * far_extreme(v0)[1])
 
-    def residual_keep(v):
-        tr = run.integrate(rhs, (0.0, 20.0), [sgn, 0.0, 0.0, v], events=[Event(xdot, direction=sgn, terminal=True)],
-                           max_step=0.25, **opts)
-        t_half[0] = tr.t_events[0][0]
-        return tr.y_events[0][0][1]
 
-    from mech.solvers.numerics.roots import brentq
-
-    v0 = brentq(residual, lo, hi, fa=flo, fb=fhi, xtol=1e-3 * run.rtol, maxiter=100)
-    residual_keep(v0)
-
+@exercise.numeric
+def numeric(p, run):
+    W = _orbit_rate(p.GM, p.R)
+    L = abs(p.x0)
+    sgn = 1.0 if p.x0 > 0 else -1.0
     # one full period (twice the half period, by the same time-reversal symmetry): radial and
     # along-track extremes, and the closure of the path checked at its end
-    y0 = [sgn, 0.0, 0.0, v0]
-    T = 2.0 * t_half[0]
-    tr = run.integrate(
-        rhs, (0.0, T), y0,
-        events=[Event(xdot, terminal=False, name="radial extremes"),
-                Event(ydot, terminal=False, name="along-track extremes")],
-        max_step=0.25, dense_output=run.keep_trajectories, **opts,  # dense: a smooth trajectory, same steps
-    )
-    run.motion(tr, t_scale=1.0 / W, y_scale=[L, L, L * W, L * W])
+    m = motion(p, run)
+    y0, v0, T = m.y0, m.y0[3], m.span[1]
+    tr = run.follow(m).traj
     xs = [sgn] + [yy[0] for tt, yy in zip(tr.t_events[0], tr.y_events[0]) if tt > 1e-6]
     ys = [yy[1] for yy in tr.y_events[1]]
     if len(xs) < 2 or len(ys) < 2:
@@ -180,7 +192,6 @@ def numeric(p, run):
     run.info["closure_error"] = closure
     if closure > 1e4 * run.rtol:
         raise NumericFailure(f"the relative path does not close after 2 x the half period: miss {closure:.3g} x0")
-    run.invariant("Jacobi integral", (jacobi(yend) - jacobi(y0)) / 1.0)  # scale: (Omega x0)^2 = 1
     ratio = a_radial / a_along
     return {
         "v0": v0 * L * W,

@@ -18,7 +18,8 @@ relative) stays far below the claims; friction is off during the pulse, as in th
 model.  Then the 3D sliding ball: the contact slip u, w and the center's position with friction
 -mu M g u/|u| at the contact and its torque, integrated in scaled units to the event
 u . u0_hat = 0.  A slip below round-off plus the pulse's effect counts as rolling
-from the start.  Times count from the pulse's center, the impulsive instant.
+from the start.  Times count from the pulse's center, the impulsive instant.  The
+strike and the sliding are one motion in two legs; the states are the sliding's.
 """
 
 from __future__ import annotations
@@ -81,46 +82,114 @@ def _hit_point(h_over_R, b_over_R):
     return np.array([x, b_over_R, z])
 
 
-@exercise.numeric
-def numeric(p, run):
-    M, R, P, mu, g = p.M, p.R, p.P, p.mu, p.g
-    V0 = P / M  # velocity unit (not an answer: the pulse's integral is checked below)
+def _unit_ball():
+    """(I / (M R^2))^-1 of the unit ball of unit mass, from a Gauss quadrature: no scale of M or R (M R^2 can
+    leave the floating-point range at R = 1e+-200 times its default) enters the inertia; a sphere, so no
+    gyroscopic term."""
     pts, w = ball(6, 6, 12)
-    # the unit ball of unit mass: I / (M R^2), so that no scale of M or R (M R^2 can leave the floating-point
-    # range at R = 1e+-200 times its default) enters the inertia
     I_t = inertia_tensor(pts, w)
     moments = np.linalg.eigvalsh(I_t)
     if moments[-1] - moments[0] > 1e-12 * moments[-1]:
         raise NumericFailure(f"the ball quadrature is not isotropic: {moments}")
-    I_inv_MR2 = np.linalg.inv(I_t)  # (I / M R^2)^-1, a sphere: no gyroscopic term
+    return np.linalg.inv(I_t)
 
-    # --- the strike: force P (pi/2 tau) sin(pi t/tau) x at the body-fixed hit point ---
-    # far shorter than both the time to turn the ball (R/V0) and the sliding time (V0/mu g)
-    tau = 1e-3 * run.rtol * min(R / V0, V0 / (mu * g))
-    kappa = tau * V0 / R  # how far (in R) the ball moves or turns per unit scaled rate over the pulse
-    xhat = np.array([1.0, 0.0, 0.0])
 
-    def strike(sig, y):  # sigma = t/tau; V in V0, w in V0/R, hit point and center in R
+DOWN = np.array([0.0, 0.0, -1.0])  # the contact point from the center, in R
+XHAT = np.array([1.0, 0.0, 0.0])
+
+
+def _slip(V, om):
+    """The contact point's velocity V + w x (-R z) (scaled)."""
+    return V + _cross(om, DOWN)
+
+
+def _pulse(p, rtol):
+    """The strike's length tau: far shorter than both the time to turn the ball (R/V0) and the sliding time
+    (V0/mu g); and kappa = tau V0 / R, how far (in R) the ball moves or turns per unit scaled rate over it."""
+    V0 = p.P / p.M
+    tau = 1e-3 * rtol * min(p.R / V0, V0 / (p.mu * p.g))
+    return tau, tau * V0 / p.R
+
+
+def _after_strike(p, tau, kappa, y1):
+    """From the strike's end state: the slip u0 (in V0), the pulse's relative effect (|w0| tau + mu g tau / V0)
+    and the slip below which the ball counts as rolling (round-off of u plus what the pulse leaves)."""
+    V0 = p.P / p.M
+    eps_pulse = float(np.linalg.norm(y1[3:6])) * kappa + p.mu * p.g * tau / V0
+    return _slip(y1[0:3], y1[3:6]), eps_pulse, 1e-13 + 10.0 * eps_pulse
+
+
+def _L_contact(I_inv_MR2, y):
+    """The angular momentum about the contact point, in M R V0, of a sliding state (u, w, x)."""
+    velocity = y[0:3] - _cross(y[3:6], DOWN)
+    return np.linalg.solve(I_inv_MR2, y[3:6]) + _cross(-DOWN, velocity)
+
+
+@exercise.motion
+def motion(p, rtol=None):
+    """The strike, then sliding until the slip vanishes (none when the strike leaves no slip).  The strike,
+    a force P (pi / 2 tau) sin(pi t / tau) along x at the body-fixed hit point over sigma = t/tau in [0, 1]
+    (V in V0, w in V0/R, hit point and center in R), leads into the states and is not shown; its length
+    follows the accuracy ``rtol`` (the exercise's default by default).  Sliding: friction -mu M g u/|u|
+    at the contact, time in t_unit = V0/(mu g), lengths in V0 t_unit.  Times count from the pulse's
+    center, the impulsive instant."""
+    from mech.problems.motion import Motion
+
+    rtol = exercise.default_rtol if rtol is None else rtol
+    M, R, mu, g = p.M, p.R, p.mu, p.g
+    V0 = p.P / M  # velocity unit
+    I_inv_MR2 = _unit_ball()
+    tau, kappa = _pulse(p, rtol)
+    t_unit = V0 / (mu * g)
+
+    def strike(sig, y):
         V, om, rh = y[0:3], y[3:6], y[6:9]
         f = 0.5 * np.pi * np.sin(np.pi * sig)  # tau F / (M V0) along x
-        return np.concatenate([f * xhat, f * (I_inv_MR2 @ _cross(rh, xhat)), kappa * _cross(om, rh), kappa * V])
+        return np.concatenate([f * XHAT, f * (I_inv_MR2 @ _cross(rh, XHAT)), kappa * _cross(om, rh), kappa * V])
+
+    def sliding(path):
+        u0, _, u_tol = _after_strike(p, tau, kappa, path.y_end)
+        if np.linalg.norm(u0) <= u_tol:
+            return None  # rolls from the start
+        u0_hat = u0 / np.linalg.norm(u0)
+
+        # state (u, w, x): the slip itself is integrated (du/dt = dV/dt + dw/dt x r_contact),
+        # so a slip of 1e-7 V0 is not a small difference of O(1) velocities in round-off
+        def rhs(s, y):
+            u, om = y[0:3], y[3:6]
+            # -u/|u|, with |u| signed by u . u0_hat: the same law before the event, and its smooth
+            # continuation past it, so the step that brackets the event sees no jump in the force
+            F = -u / (np.linalg.norm(u) * np.sign(u @ u0_hat) or 1.0)  # in mu M g
+            dom = I_inv_MR2 @ _cross(DOWN, F)
+            return np.concatenate([F + _cross(dom, DOWN), dom, u - _cross(om, DOWN)])
+
+        return Motion(rhs, np.concatenate([u0, path.y_end[3:6], np.zeros(3)]),
+                      (0.0, 1e3 * max(1.0, float(np.linalg.norm(u0)))),
+                      event=Event(lambda s, y: y[0:3] @ u0_hat, direction=-1, name="slip = 0"),
+                      t_scale=t_unit, t_offset=0.5 * tau, y_scale=[V0] * 3 + [V0 / R] * 3 + [V0 * t_unit] * 3,
+                      y_size=[float(np.linalg.norm(u0))] * 3 + [1.0] * 6)
+
+    def as_states(y):  # (V, w, hit point, center) -> (slip, w, center)
+        return [y[0] - y[4], y[1] + y[3], y[2], y[3], y[4], y[5], y[9], y[10], y[11]]
 
     y0 = np.concatenate([np.zeros(6), _hit_point(p.h_over_R, p.b_over_R), np.zeros(3)])
-    pulse = run.integrate(strike, (0.0, 1.0), y0, rtol=run.rtol, atol=run.rtol * 1e-3, first_step=1e-3)
-    y1 = pulse.y_end
+    return Motion(strike, y0, (0.0, 1.0), t_scale=tau, t_offset=-0.5 * tau,
+                  y_scale=[V0] * 3 + [V0 / R] * 3 + [R] * 3, to_states=as_states,
+                  options={"first_step": 1e-3}, y_size=1.0, then=sliding, shown=False)
+
+
+@exercise.numeric
+def numeric(p, run):
+    M, R, mu, g = p.M, p.R, p.mu, p.g
+    V0 = p.P / M  # velocity unit (not an answer: the pulse's integral is checked below)
+    end = run.follow(motion(p, run.rtol))
+    tau, kappa = _pulse(p, run.rtol)
+    y1 = end.legs[0].y_end
     V1, om1, xc1 = y1[0:3], y1[3:6], y1[9:12]  # scaled
     run.info["pulse_tau_s"] = tau
     run.info["pulse_momentum_error"] = float(V1[0] - 1.0)  # M V / P - 1, from the integration
-    eps_pulse = float(np.linalg.norm(om1)) * kappa + mu * g * tau / V0
+    u0, eps_pulse, u_tol = _after_strike(p, tau, kappa, y1)
     run.info["pulse_effect_rel"] = eps_pulse
-
-    down = np.array([0.0, 0.0, -1.0])  # contact point from the center, in R
-
-    def slip(V, om):
-        return V + _cross(om, down)
-
-    u0 = slip(V1, om1)
-    u_tol = 1e-13 + 10.0 * eps_pulse  # in V0: round-off of u and what the pulse leaves
     t_unit = V0 / (mu * g)
     # absolute accuracy where outputs sit at the noise floor (zero slip, zero offset, h -> 0)
     run.claim("V_f", rel=100 * run.rtol, abs=V0 * u_tol)
@@ -128,46 +197,18 @@ def numeric(p, run):
     run.claim("x_roll", rel=100 * run.rtol, abs=V0 * t_unit * u_tol)
     run.claim("omega_z", rel=100 * run.rtol + 10 * eps_pulse, abs=V0 / R * u_tol)
 
-    if np.linalg.norm(u0) <= u_tol:
+    if len(end.legs) == 1:
         run.info["slip_after_strike"] = "below round-off: rolls from the start"
         return {"V_f": V0 * V1[0], "t_roll": 0.0, "x_roll": R * xc1[0], "omega_z": om1[2] * V0 / R}
 
-    # --- sliding: friction -mu M g u/|u| at the contact; time in t_unit, lengths in V0 t_unit ---
-    u0_hat = u0 / np.linalg.norm(u0)
-
-    # state (u, w, x): the slip itself is integrated (du/dt = dV/dt + dw/dt x r_contact),
-    # so a slip of 1e-7 V0 is not a small difference of O(1) velocities in round-off
-    def sliding(s, y):
-        u, om = y[0:3], y[3:6]
-        # -u/|u|, with |u| signed by u . u0_hat: the same law before the event, and its smooth
-        # continuation past it, so the step that brackets the event sees no jump in the force
-        F = -u / (np.linalg.norm(u) * np.sign(u @ u0_hat) or 1.0)  # in mu M g
-        dom = I_inv_MR2 @ _cross(down, F)
-        return np.concatenate([F + _cross(dom, down), dom, u - _cross(om, down)])
-
-    def velocity(y):
-        return y[0:3] - _cross(y[3:6], down)
-
-    def L_contact(y):  # angular momentum about the contact point, in M R V0
-        return np.linalg.solve(I_inv_MR2, y[3:6]) + _cross(-down, velocity(y))
-
-    ys = np.concatenate([u0, om1, np.zeros(3)])
-    s_ev, y_ev, traj = run.integrate_to_event(
-        sliding,
-        (0.0, 1e3 * max(1.0, float(np.linalg.norm(u0)))),
-        ys,
-        Event(lambda s, y: y[0:3] @ u0_hat, direction=-1, name="slip = 0"),
-        rtol=run.rtol,
-        atol=[run.rtol * 1e-3 * float(np.linalg.norm(u0))] * 3 + [run.rtol * 1e-3] * 6,
-    )
-    run.motion(traj, t_scale=t_unit, t_offset=0.5 * tau, y_scale=[V0] * 3 + [V0 / R] * 3 + [V0 * t_unit] * 3)
-    L0, L1 = L_contact(ys), L_contact(y_ev)
+    I_inv_MR2 = _unit_ball()
+    ys, s_ev, y_ev = end.motion.y0, end.t_end, end.y_end
     L_scale = float(np.linalg.norm(np.linalg.solve(I_inv_MR2, om1)) + np.linalg.norm(V1))
-    run.invariant("L_contact", np.linalg.norm(L1 - L0) / L_scale)
+    run.invariant("L_contact", np.linalg.norm(_L_contact(I_inv_MR2, y_ev) - _L_contact(I_inv_MR2, ys)) / L_scale)
     u_end = y_ev[0:3]
     if np.linalg.norm(u_end) > 1e-9 * float(np.linalg.norm(u0)):
         raise NumericFailure(f"slip left across its first direction at the event: {u_end}")
-    V_end = velocity(y_ev)
+    V_end = y_ev[0:3] - _cross(y_ev[3:6], DOWN)
     return {
         "V_f": V0 * V_end[0],
         "t_roll": 0.5 * tau + t_unit * s_ev,

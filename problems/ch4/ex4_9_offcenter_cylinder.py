@@ -132,17 +132,16 @@ def _energy(trig, w, M, R, l, I, g):
     return 0.5 * M * (vx**2 + vy**2) + 0.5 * I * w**2 + M * g * rise
 
 
-@exercise.numeric
-def numeric(p, run):
+def _omega(p):
+    """Omega = (-d phi''/d phi at 0)^(1/2) by Richardson central differences (phi'' is odd in phi), the step
+    halved until successive estimates agree; and that step."""
     M, R, l, I, g = p.M, p.R, p.l, p.I, p.g
-    phi0 = p.phi0
 
-    def acc(dphi, w, base=0.0):
-        return _phi_ddot(_trig(base, dphi), w, M, R, l, I, g)
+    def acc(phi):
+        return _phi_ddot(_trig(0.0, phi), 0.0, M, R, l, I, g)
 
-    # linear stiffness: -d phi''/d phi at 0, phi'' odd in phi
     def slope(h):
-        return -(acc(h, 0.0) - acc(-h, 0.0)) / (2.0 * h)
+        return -(acc(h) - acc(-h)) / (2.0 * h)
 
     h, prev, best = 1e-2, None, None
     while h > 1e-15:
@@ -155,36 +154,53 @@ def numeric(p, run):
         raise NumericFailure("the linearization did not converge as the step shrank")
     if not best > 0:
         raise NumericFailure(f"phi = 0 came out unstable: phi''/phi = {-best}")
-    Omega = np.sqrt(best)
-    run.info["linearization_step"] = h
+    return np.sqrt(best), h
 
-    # quarter swing in scaled time s = Omega t, state (phi - phi0, dphi/ds)
+
+@exercise.motion
+def motion(p):
+    """A quarter swing from rest at phi0 down to phi = 0, in time s = Omega t scaled by the numeric Omega,
+    the state holding (phi - phi0, dphi/ds) (a start next to the top keeps its digits)."""
+    from mech.problems.motion import Motion
+
+    M, R, l, I, g = p.M, p.R, p.l, p.I, p.g
+    phi0 = p.phi0
+    Omega, _ = _omega(p)
+
+    def acc(dphi, w):
+        return _phi_ddot(_trig(phi0, dphi), w, M, R, l, I, g)
+
     def rhs(s, y):
-        return np.array([y[1], acc(y[0], y[1] * Omega, phi0) / Omega**2])
+        return np.array([y[1], acc(y[0], y[1] * Omega) / Omega**2])
+
+    e0 = _energy(_trig(phi0, 0.0), 0.0, M, R, l, I, g)
+
+    def energy(y):
+        """The energy's change from the start, relative to it."""
+        return (_energy(_trig(phi0, y[0]), y[1] * Omega, M, R, l, I, g) - e0) / e0
 
     # an upper bound of the time, from the release acceleration (slow near the top)
-    t_release = np.sqrt(phi0 / abs(acc(0.0, 0.0, phi0)))
+    t_release = np.sqrt(phi0 / abs(acc(0.0, 0.0)))
     # Integrator: DOP853 (the default), kept after `mech bench 4.9` (rtol 1e-10, tolerance 1e-8): at the
     # defaults RK45 is a little cheaper (700 evaluations, 64 ms, error 1.3e-12, against 958, 75 ms,
     # 7.7e-12) but on the hard cases it costs 1.6x (tiny inertia: 3750 vs 4260 evaluations but 343 vs
     # 209 ms) and 4x (release 1e-6 rad from the top: 5320 vs 1834 evaluations); LSODA's 1.6e-10 and 9e-10
     # leave too little margin under the verification at rtol/10.
-    s_ev, y_ev, traj = run.integrate_to_event(
-        rhs,
-        (0.0, 1e4 * max(1.0, Omega * t_release)),
-        [0.0, 0.0],
-        Event(lambda s, y: phi0 + y[0], direction=-1, name="phi = 0"),
-        rtol=run.rtol,
-        # absolute errors relative to the smaller of the amplitude and the start's distance
-        # from the unstable top (2 cos(phi0/2) ~ pi - phi0): an error there sets the time spent
-        atol=run.rtol * 1e-4 * min(phi0, 2.0 * np.cos(phi0 / 2.0)),
-    )
-    # integrated as the change phi - phi0 (a start next to the top keeps its digits)
-    run.motion(traj, t_scale=1.0 / Omega, y_scale=[1.0, Omega], transform=lambda y: [phi0 + y[0], y[1]])
-    e0 = _energy(_trig(phi0, 0.0), 0.0, M, R, l, I, g)
-    e1 = _energy(_trig(phi0, y_ev[0]), y_ev[1] * Omega, M, R, l, I, g)
-    run.invariant("energy", (e1 - e0) / e0)
-    run.info["quarter_period_s"] = s_ev / Omega
+    # Absolute errors relative to the smaller of the amplitude and the start's distance from the unstable
+    # top (2 cos(phi0/2) ~ pi - phi0): an error there sets the time spent.
+    return Motion(rhs, [0.0, 0.0], (0.0, 1e4 * max(1.0, Omega * t_release)),
+                  event=Event(lambda s, y: phi0 + y[0], direction=-1, name="phi = 0"),
+                  invariants={"energy": energy}, t_scale=1.0 / Omega, y_scale=[1.0, Omega],
+                  to_states=lambda y: [phi0 + y[0], y[1]],
+                  y_size=0.1 * min(phi0, 2.0 * np.cos(phi0 / 2.0)))
+
+
+@exercise.numeric
+def numeric(p, run):
+    Omega, h = _omega(p)
+    run.info["linearization_step"] = h
+    end = run.follow(motion(p))
+    run.info["quarter_period_s"] = end.t_end / Omega
     # Omega: Richardson estimates agree to 1e-13; a small claim keeps the verification honest
     run.claim("Omega", rel=1e-11)
-    return {"Omega": Omega, "period": 4.0 * s_ev / Omega}
+    return {"Omega": Omega, "period": 4.0 * end.t_end / Omega}

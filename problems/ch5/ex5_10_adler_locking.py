@@ -33,6 +33,9 @@ weight exp(-1/(s(1 - s))) (a weighted Birkhoff average, converging faster than
 any power of the length) gives the mean of d, and beat = omega |<d>|/(2 pi).
 Two consecutive periods give two fits: their difference over 1 - exp(-mu T)
 bounds the transient left, and with the fit's residual makes the claim.
+The driven oscillator is the declared motion (``motion``), the copies its vectorized form;
+their two periods after settling are the trajectory (the first copy).  The orbit maps integrate
+in solvers/mechanics/continuation.py (integrator=run.integrator, recorded).
 
 Allowances (bounds, factor 3 over the neglected sizes): xi_lo, xi_hi  the free-frequency shift
 mu^2/(16 omega0) plus Delta ((Delta/mu)^2 + Delta/omega0); width  the latter with (mu/omega0)^2 (the shift
@@ -55,6 +58,9 @@ exercise = Exercise(
         "beat = (ξ² - Δ²)^(1/2) for |ξ| > Δ, else 0",
     ],
     leading_order=("xi_lo", "xi_hi", "width", "beat"),
+    # outside the locking range: one of the oscillators the beat is read from, on the torus, over the two
+    # drive periods after it settled (none inside the range: the beat is 0 there, nothing is integrated)
+    states=[("q", "m"), ("v", "m/s")],
 )
 
 MAX_EPS = 0.3  # mu/omega0: weakly nonlinear self-oscillator
@@ -306,10 +312,37 @@ def numeric(p, run):
     return {"xi_lo": xi_lo, "xi_hi": xi_hi, "width": xi_hi - xi_lo, "beat": beat}
 
 
+def _driven(p):
+    """The driven oscillator q'' = mu (1 - beta q^2) q' - omega0^2 q + f0 cos(omega t) (SI), for any number
+    of copies at once: y = (q_1 .. q_M, v_1 .. v_M), one vectorized system."""
+    mu, beta, w0, f0, w = p.mu, p.beta, p.omega0, p.f0, p.omega
+
+    def rhs(t, y):
+        M = len(y) // 2
+        q, v = y[:M], y[M:]
+        return np.concatenate([v, mu * (1.0 - beta * q * q) * v - w0 * w0 * q + f0 * math.cos(w * t)])
+
+    return rhs
+
+
+@exercise.motion
+def motion(p, copies=1):
+    """The driven oscillator (``_driven``) over one drive period from q = 2/sqrt(beta) at rest, about the free
+    cycle's swing; with ``copies`` > 1 that many at once (the first is the declared state), for the beat's
+    ensemble (``_beat`` gives them their own starts and spans)."""
+    from mech.problems.motion import Motion
+
+    Q = 1.0 / math.sqrt(p.beta)  # the unit of length
+    M = int(copies)
+    return Motion(_driven(p), np.concatenate([np.full(M, 2.0 * Q), np.zeros(M)]), (0.0, 2.0 * math.pi / p.omega),
+                  y_size=np.concatenate([np.full(M, Q), np.full(M, Q * p.omega0)]),
+                  to_states=None if M == 1 else (lambda y: y[[0, M]]))
+
+
 def _beat(p, run, amplitude):
     """|omega - mean oscillator frequency| from the circle map on the torus (see the module doc)."""
 
-    mu, beta, w0, f0, w = p.mu, p.beta, p.omega0, p.f0, p.omega
+    mu, w0, w = p.mu, p.omega0, p.omega
     M = N_COPIES
     T = 2.0 * math.pi / w
     n_settle = max(2, min(MAX_SETTLE, math.ceil(SETTLE_MU_T / (mu * T))))
@@ -319,25 +352,20 @@ def _beat(p, run, amplitude):
     # the same for the solve and its rerun at rtol/10, which then takes it from run.shared
     amplitude = float(f"{amplitude:.4g}")
     y0 = np.concatenate([amplitude * np.cos(th), -w0 * amplitude * np.sin(th)])
-
-    def rhs(t, y):
-        q, v = y[:M], y[M:]
-        return np.concatenate([v, mu * (1.0 - beta * q * q) * v - w0 * w0 * q + f0 * math.cos(w * t)])
-
-    aq = 1e-3 / math.sqrt(beta)
+    m = motion(p, copies=M)
     # the settling only has to land on the attracting torus: a looser tolerance, then the full one
     r_settle = max(run.rtol, 1e-6)
-    key = ("5.10 settle", mu, beta, w0, f0, w, amplitude, n_settle, r_settle)
+    key = ("5.10 settle", mu, p.beta, w0, p.f0, w, amplitude, n_settle, r_settle)
     y_settled = run.shared.get(key)
     if y_settled is None:
-        settle = run.integrate(rhs, (0.0, n_settle * T), y0, rtol=r_settle,
-                           atol=np.concatenate([np.full(M, aq), np.full(M, aq * w0)]) * r_settle)
+        settle = run.follow(m.starting(y0=y0, span=(0.0, n_settle * T)), rtol=r_settle, mark=False)
         y_settled = run.shared[key] = settle.y_end.copy()
     else:
         run.info["beat_settle_reused"] = True
-    traj = run.integrate(rhs, (n_settle * T, (n_settle + 2) * T), y_settled, rtol=run.rtol,
-                     atol=np.concatenate([np.full(M, aq), np.full(M, aq * w0)]) * run.rtol,
-                     t_eval=[n_settle * T, (n_settle + 1) * T, (n_settle + 2) * T])
+    # the motion: the next two drive periods, on the torus
+    sections = [n_settle * T, (n_settle + 1) * T, (n_settle + 2) * T]
+    traj = run.follow(m.starting(y0=y_settled, span=(n_settle * T, (n_settle + 2) * T),
+                                 options={"t_eval": sections})).traj
     Y = traj.y  # columns: the three section times
     phases = np.arctan2(-Y[M:, :] / w0, Y[:M, :])
     means = []

@@ -37,6 +37,9 @@ The branch is only a path to a starting guess, so it is followed at rtol
 by Newton at fixed a (its last steps at the full rtol), both multipliers of H are checked to be inside the unit
 circle, and the largest |theta| on the orbit is found by event detection on
 theta' = 0.  Nothing waits for the slow transient.
+The declared motion (``motion``) is the swing's full period, two pivot periods from z;
+the branch's and Newton's runs are tool runs of the same pendulum with its variational
+equations (``Motion.with_variations``).
 
 Allowances: a_th, growth  twice 5.11's next order of the same first zone (mu = a Omega^2/g) plus its floor;
 theta_st  a bound: the change of the leading-order swing when eps and the detuning move by their neglected
@@ -50,7 +53,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.mechanics.floquet import even_hill_half, flow_with_variations
+from mech.solvers.mechanics.floquet import even_hill_half
 from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
@@ -224,53 +227,86 @@ def numeric(p, run):
     return out
 
 
+def _stiffness(p):
+    """k(a, t) = (g - a Omega^2 cos Omega t)/l: gravity and the pivot's acceleration, per unit length."""
+    g, l, W = p.g, p.l, p.Omega
+    return lambda a, t: (g - a * W * W * math.cos(W * t)) / l
+
+
+def _pendulum(p, a):
+    """(f, jac): the damped pendulum with its pivot vibrated at the amplitude a, in theta and theta' (SI),
+    theta'' = -2 delta theta' - (g - a Omega^2 cos Omega t)/l sin theta, and its Jacobian."""
+    d2, k = 2.0 * p.delta, _stiffness(p)
+
+    def f(t, y):
+        return np.array([y[1], -d2 * y[1] - k(a, t) * math.sin(y[0])])
+
+    def jac(t, y):
+        return np.array([[0.0, 1.0], [-k(a, t) * math.cos(y[0]), -d2]])
+
+    return f, jac
+
+
+def _pendulum_in_a(p):
+    """``_pendulum`` with a carried as a constant third state, so that one run of the variational equations
+    gives d/dz and d/da of the half-map together (the branch's unknowns)."""
+    d2, W, l, k = 2.0 * p.delta, p.Omega, p.l, _stiffness(p)
+
+    def f3(t, y):
+        return np.array([y[1], -d2 * y[1] - k(y[2], t) * math.sin(y[0]), 0.0])
+
+    def jac3(t, y):
+        c = math.cos(W * t)
+        return np.array([[0.0, 1.0, 0.0],
+                         [-k(y[2], t) * math.cos(y[0]), -d2, W * W * c / l * math.sin(y[0])],
+                         [0.0, 0.0, 0.0]])
+
+    return f3, jac3
+
+
+def _pivot_period(p, a, z):
+    """The pendulum at the pivot amplitude a from z over one pivot period 2 pi/Omega."""
+    from mech.problems.motion import Motion
+
+    f, _ = _pendulum(p, a)
+    return Motion(f, z, (0.0, 2.0 * math.pi / p.Omega), y_size=[1.0, math.sqrt(p.g / p.l)])
+
+
+@exercise.motion
+def motion(p, z=(0.0, 0.0)):
+    """One full period of the stationary swing from z (the solve finds it): two pivot periods, the second
+    from where the first ends (the half-map's symmetry makes it the first's mirror, theta -> -theta), with
+    the turning points (theta' = 0) of each.  By default at rest, the stationary state below threshold."""
+    m = _pivot_period(p, p.a, list(z))
+    Tp = m.span[1]
+    turns = {"events": [Event(lambda t, y: y[1], terminal=False, name="theta' = 0")]}
+    return m.starting(options=turns,
+                      then=lambda path: m.starting(y0=path.y_end, span=(Tp, 2.0 * Tp), options=turns))
+
+
 def _stationary_swing(p, a_th, run):
     rtol = run.rtol
-    w0 = math.sqrt(p.g / p.l)
-    W, Tp, d2 = p.Omega, 2.0 * math.pi / p.Omega, 2.0 * p.delta
-    scale = [1.0, w0]
-
-    def f_a(a):
-        aW2 = a * W * W
-
-        def f(t, y):
-            return np.array([y[1], -d2 * y[1] - (p.g - aW2 * math.cos(W * t)) / p.l * math.sin(y[0])])
-
-        def jac(t, y):
-            return np.array([[0.0, 1.0], [-(p.g - aW2 * math.cos(W * t)) / p.l * math.cos(y[0]), -d2]])
-
-        return f, jac
+    scale = [1.0, math.sqrt(p.g / p.l)]
 
     # the branch is only followed to bring Newton close to the swing at the given a: a looser
     # tolerance is enough for that (the final Newton at fixed a below uses the full rtol)
     crude = max(rtol, 1e-8)
 
     def residual(z, a, tol=crude):
-        f, jac = f_a(a)
-        y, M, _, traj = flow_with_variations(f, jac, z, (0.0, Tp), rtol=tol, scale=scale,
-                                           integrator=run.integrator)
-        run.record(traj)
+        _, jac = _pendulum(p, a)
+        end = run.follow(_pivot_period(p, a, z).with_variations(jac), rtol=tol, mark=False)
+        y, M = end.y_end[:2], end.y_end[2:].reshape(2, 2)
         return z + y, np.eye(2) + M, M  # z - H(z), its Jacobian, and M
 
-    # along the branch a is an unknown too: carried as a constant third state, so that one run of
-    # the variational equations gives d/dz and d/da of the half-map together
-    def f3(t, y):
-        c = math.cos(W * t)
-        return np.array([y[1], -d2 * y[1] - (p.g - y[2] * W * W * c) / p.l * math.sin(y[0]), 0.0])
-
-    def jac3(t, y):
-        c = math.cos(W * t)
-        return np.array([[0.0, 1.0, 0.0],
-                         [-(p.g - y[2] * W * W * c) / p.l * math.cos(y[0]), -d2, W * W * c / p.l * math.sin(y[0])],
-                         [0.0, 0.0, 0.0]])
-
-    scale3 = [1.0, w0, a_th]
+    # along the branch a is an unknown too: carried as a constant third state (``_pendulum_in_a``)
+    f3, jac3 = _pendulum_in_a(p)
+    half_map_in_a = _pivot_period(p, a_th, [0.0, 0.0]).starting(rhs=f3, y_size=[*scale, a_th])
 
     def residual_a(z, a):
         """z - H(z) at a, its Jacobian in z and its derivative in a."""
-        y, M, _, traj = flow_with_variations(f3, jac3, [z[0], z[1], a], (0.0, Tp), rtol=crude, scale=scale3,
-                                           integrator=run.integrator)
-        run.record(traj)
+        end = run.follow(half_map_in_a.starting(y0=[z[0], z[1], a]).with_variations(jac3), rtol=crude,
+                         mark=False)
+        y, M = end.y_end[:3], end.y_end[3:].reshape(3, 3)
         return z + y[:2], np.eye(2) + M[:2, :2], M[:2, 2]
 
     # the critical direction at the bifurcation: M's eigenvector for the multiplier -1
@@ -354,15 +390,10 @@ def _stationary_swing(p, a_th, run):
     run.info["swing_multipliers_of_half_map"] = [float(m) for m in mult]
     if np.max(mult) >= 1.0:
         raise NumericFailure(f"the swing found is unstable (half-map multipliers {mult}): not the one a small swing grows into")
-    # largest |theta| on the orbit: extrema on theta' = 0 over one half-period (the other half mirrors it)
-    f, _ = f_a(target)
-    turn = Event(lambda t, y: y[1], terminal=False, name="theta' = 0")
-    traj = run.integrate(f, (0.0, Tp), z, rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3 * w0], events=[turn],
-                     dense_output=run.keep_trajectories)  # dense: a smooth trajectory, the same steps
-    run.motion(traj)
-    # the second pivot period mirrors the first (the half map solved above: theta -> -theta)
-    run.motion(traj, t_offset=Tp, transform=lambda y: -y)
-    ext = [abs(y[0]) for y in traj.y_events[0]] + [abs(z[0])]
+    # the swing's full period is the motion; its largest |theta|: the extrema on theta' = 0 over the first
+    # pivot period (the second mirrors it)
+    swing = run.follow(motion(p, z))
+    ext = [abs(y[0]) for y in swing.legs[0].traj.y_events[0]] + [abs(z[0])]
     return float(max(ext))
 
 

@@ -17,6 +17,9 @@ tr M - 2 = 4 y1' y2, so sin^2(nu pi/Omega) = -y1' y2 keeps its relative
 accuracy when nu << Omega; stable iff 0 < -y1' y2 < 1.  a_min is the root of
 y1' y2 in a for the inverted position (brentq after a geometric scan upward
 from a small a).
+The Hill equation is declared once (``_hill``, a Motion with its Wronskian) and followed as
+monodromy runs (mark=False): two fundamental solutions of the linearization, no single
+motion to show, so no states and no trajectory.
 
 Allowances (``_next_order``, from Mathieu's exponent to q^4, McLachlan sec. 4.70):
   a_min       twice 7 sk^2/16 + 2 sk^4;
@@ -142,8 +145,9 @@ def theory_range(p):
     return {"a_min": ("omega0/Omega", sk), "omega_down": big, "omega_inv": big}
 
 
-def _half(p, eps, sign, rtol, run):
-    """(y1, q1, y2, y2', S) at tau = pi (half a fast period) for y'' = sign (kappa - eps cos tau) y.
+def _hill(p, eps, sign):
+    """Half a fast period (tau from 0 to pi) of y'' = sign (kappa - eps cos tau) y, both fundamental
+    solutions at once (y1, q1, y2, y2') from (1, 0, 0, 1), the Wronskian conserved; and S.
 
     Time tau = Omega t, kappa = g/(l Omega^2) = sk^2 with sk = omega0/Omega, eps = a/l: the linearization
     about theta = pi (sign +1) or theta = 0 (sign -1).  The fast jitter is taken out exactly by
@@ -157,6 +161,8 @@ def _half(p, eps, sign, rtol, run):
     (a_min ~ 1e-200 l): it is carried as q1 = p1/D, whose equation holds only the ratios sk/S and eps/S
     (S = hypot(sk, eps), representable; D itself enters only where its product is beneath round-off).
     """
+    from mech.problems.motion import Motion
+
     sk = math.sqrt(p.g / p.l) / p.Omega
     S = math.hypot(sk, eps)
     D = S * S
@@ -170,10 +176,14 @@ def _half(p, eps, sign, rtol, run):
         return np.array([D * y[1] - es * y[0], k * y[0] + es * y[1],
                          y[3] - es * y[2], D * k * y[2] + es * y[3]])
 
-    atol = 1e-3 * rtol * np.ones(4)
-    traj = run.integrate(rhs, (0.0, math.pi), [1.0, 0.0, 0.0, 1.0], rtol=rtol, atol=atol)
-    y1, q1, y2, y2p = traj.y_end
-    run.invariant("Wronskian", y1 * y2p - D * q1 * y2 - 1.0)
+    return Motion(rhs, [1.0, 0.0, 0.0, 1.0], (0.0, math.pi), y_size=[1.0, 1.0, 1.0, 1.0],
+                  invariants={"Wronskian": lambda y: y[0] * y[3] - D * y[1] * y[2]}), S
+
+
+def _half(p, eps, sign, rtol, run):
+    """(y1, q1, y2, y2', S) at tau = pi (``_hill``): a monodromy run, a tool, not a motion to show."""
+    m, S = _hill(p, eps, sign)
+    y1, q1, y2, y2p = run.follow(m, rtol=rtol, mark=False).y_end
     return y1, q1, y2, y2p, S
 
 

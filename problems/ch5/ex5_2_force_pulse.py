@@ -20,8 +20,10 @@ linear equation, the matrix exponential of its generator in (x, x', 1)
 leg starts from the state at T: its amplitude is sqrt(x^2 + x'^2) there,
 checked against the largest |x| over one free period from events x' = 0; x at
 t1 > T is the free flow's matrix exponential over omega0 (t1 - T) applied to
-the state at T.  A phase Theta of 1e6..1e15 rad is known in floats to u Theta
-only, in both methods: the claims and ``analytic_error`` carry that round-off,
+the state at T.  The stepped pulse and the free leg are the declared motion
+(``motion``, in legs); after a longer pulse the free leg is followed as a check
+only.  A phase Theta of 1e6..1e15 rad is known in floats to u Theta only, in
+both methods: the claims and ``analytic_error`` carry that round-off,
 and a phase beyond 1e15 rad is refused.
 """
 
@@ -101,6 +103,60 @@ def analytic_error(p):
     return {"A_after": e_T, "q_max": e_T, "q_t": e_1 + e_T}
 
 
+_TURNING = Event(lambda t, y: y[1], terminal=False, name="x' = 0")  # the turning points of either leg
+
+
+def _free_leg(p, state):
+    """One free period after the pulse from the state (x, x') at tau = omega0 T, with its turning points."""
+    from mech.problems.motion import Motion
+
+    qst = p.F0 / (p.m * p.omega0**2)
+    tau_T = p.omega0 * p.T
+    amp = math.hypot(*state)
+    return Motion(_free, [state[0], state[1]], (tau_T, tau_T + 2.0 * math.pi), options={"events": [_TURNING]},
+                  y_size=max(amp, 1e-300), t_scale=1.0 / p.omega0, y_scale=[qst, qst * p.omega0])
+
+
+@exercise.motion
+def motion(p):
+    """From rest through the pulse, then one free period, in x = q/q_st and tau = omega0 t.  The forced leg
+    never steps across the switch-off at tau_T and is split at tau_1 when it falls inside (x is read there).
+    Only its first free period is stepped: the state then returns to rest and the motion repeats, so a
+    longer pulse is carried to its end by the exact flow (``numeric``) and its free leg is a check, not the
+    scene's motion (None follows the stepped pulse then)."""
+    from mech.problems.motion import Motion
+
+    qst = p.F0 / (p.m * p.omega0**2)
+    tau_T = p.omega0 * p.T
+    tau_1 = p.omega0 * p.t1
+    # size of the state during the pulse: x ~ min(2, tau^2/2), x' ~ min(1, tau)
+    # (for tau_T below 1e-145 the scale of x, tau_T^2/2, falls under 1e-290 of q_st: floored there, where x
+    # (with x' ~ tau_T beside it) no longer moves any answer; an absolute tolerance of 0 would shrink the
+    # steps without end)
+    sx = max(min(2.0, tau_T**2 / 2.0), 1e-290)
+    sv = min(1.0, tau_T)
+    period = 2.0 * math.pi
+    stepped = min(tau_T, period)
+    max_step = stepped / 8.0 if stepped < 1 else 1.0
+    stops = [0.0] + ([tau_1] if 0.0 < tau_1 < stepped else []) + [stepped]
+
+    def after_pulse(path):  # one free period from the state at T, unless the pulse outlasts the stepped part
+        return _free_leg(p, path.y_end) if tau_T <= period else None
+
+    def pulse(k, state):
+        then = after_pulse if k + 2 == len(stops) else (lambda path: pulse(k + 1, path.y_end))
+        return Motion(_forced, state, (stops[k], stops[k + 1]),
+                      options={"events": [_TURNING], "max_step": max_step}, y_size=[sx, sv],
+                      t_scale=1.0 / p.omega0, y_scale=[qst, qst * p.omega0], then=then)
+
+    return pulse(0, np.array([0.0, 0.0]))
+
+
+def _pulse_energy(x, v):
+    """x'^2/2 + (x - 1)^2/2 of the forced equation, relative to its value 1/2 at rest."""
+    return ((v**2 + (x - 1.0) ** 2) / 2.0 - 0.5) / 0.5
+
+
 @exercise.numeric
 def numeric(p, run):
     from mech.solvers.numerics.linear_flow import expm, rounding_bound
@@ -109,35 +165,21 @@ def numeric(p, run):
     tau_T = p.omega0 * p.T
     tau_1 = p.omega0 * p.t1
     rtol = run.rtol
-    # size of the state during the pulse: x ~ min(2, tau^2/2), x' ~ min(1, tau)
-    # (for tau_T below 1e-145 the scale of x, tau_T^2/2, falls under 1e-290 of q_st: floored there, where x
-    # (with x' ~ tau_T beside it) no longer moves any answer; an absolute tolerance of 0 would shrink the
-    # steps without end)
-    sx = max(min(2.0, tau_T**2 / 2.0), 1e-290)
-    sv = min(1.0, tau_T)
-    atol = [rtol * 1e-3 * sx, rtol * 1e-3 * sv]
-
-    # forced leg, never stepping across the switch-off at tau_T; split at tau_1 when it falls inside.
-    # Only its first free period is stepped: the state then returns to rest (checked below) and the
-    # motion repeats, so all its turning points are met there; a longer pulse is carried to its end
-    # by the exact flow of its linear equation.
-    turning = Event(lambda t, y: y[1], terminal=False, name="x' = 0")
     period = 2.0 * math.pi
-    stepped = min(tau_T, period)
-    max_step = stepped / 8.0 if stepped < 1 else 1.0
-    stops = [0.0] + ([tau_1] if 0.0 < tau_1 < stepped else []) + [stepped]
-    state = np.array([0.0, 0.0])
+
+    # the declared motion: the stepped pulse (its first free period at most) and, after a pulse that short,
+    # the free leg
+    path = run.follow(motion(p))
+    forced = [leg for leg in path.legs if leg.motion.rhs is _forced]
+    sx = forced[0].motion.y_size[0]  # the size of x during the pulse
     turn_x, x1 = [], (0.0 if tau_1 == 0.0 else None)
-    for a, b in zip(stops[:-1], stops[1:]):
-        leg1 = run.integrate(_forced, (a, b), state, rtol=rtol, atol=atol, events=[turning], max_step=max_step,
-                         dense_output=run.keep_trajectories)  # dense: a smooth trajectory, the same steps
-        run.motion(leg1, t_scale=1.0 / p.omega0, y_scale=[qst, qst * p.omega0])
-        if leg1.t_end != b:
+    for leg in forced:
+        if leg.t_end != leg.motion.span[1]:
             raise NumericFailure("the forced leg did not reach its end")
-        state = leg1.y_end
-        turn_x += [abs(y[0]) for y in leg1.y_events[0]] if leg1.y_events else []
-        if b == tau_1:
-            x1 = state[0]
+        turn_x += [abs(y[0]) for y in leg.traj.y_events[0]] if leg.traj.y_events else []
+        if leg.motion.span[1] == tau_1:
+            x1 = leg.y_end[0]
+    state = forced[-1].y_end
     x_max_pulse = max([abs(state[0])] + turn_x)
     err_T = err_1 = 0.0  # round-off of the states at T and t1 from the long-span flow, relative to q_st
     if tau_T > period:
@@ -148,19 +190,17 @@ def numeric(p, run):
         if x1 is None and tau_1 <= tau_T:
             x1 = (expm(_PULSE_GENERATOR * tau_1) @ np.array([0.0, 0.0, 1.0]))[0]
             err_1 = 3.0 * rounding_bound(_PULSE_GENERATOR, tau_1)
+        # the free leg from the flow's state at T: the amplitude's check, not joined to the stepped pulse
+        free = run.follow(_free_leg(p, [xT, vT]), mark=False)
     else:
         xT, vT = state
-    # invariant of the forced leg: x'^2/2 + (x - 1)^2/2, exact for the flow up to its round-off
-    run.invariant("energy (pulse)", ((vT**2 + (xT - 1.0) ** 2) / 2.0 - 0.5) / 0.5,
-                  allowed=exercise.tol_factor * rtol + err_T)
+        free = path
+    # invariant of the forced leg, exact for the flow up to its round-off
+    run.invariant("energy (pulse)", _pulse_energy(xT, vT), allowed=exercise.tol_factor * rtol + err_T)
 
     # free leg: amplitude from the state at T, checked over one free period
     amp = math.hypot(xT, vT)
-    leg2 = run.integrate(_free, (tau_T, tau_T + period), [xT, vT], rtol=rtol,
-                     atol=rtol * 1e-3 * max(amp, 1e-300), events=[turning], dense_output=run.keep_trajectories)
-    if tau_T <= period:  # joined to the forced legs (a longer pulse was carried by the flow map)
-        run.motion(leg2, t_scale=1.0 / p.omega0, y_scale=[qst, qst * p.omega0])
-    free_turns = [abs(y[0]) for y in leg2.y_events[0]] if leg2.y_events else []
+    free_turns = [abs(y[0]) for y in free.traj.y_events[0]] if free.traj.y_events else []
     tol_amp = 1e3 * rtol * sx + 1e3 * rtol * amp
     if amp > tol_amp:
         if not free_turns:

@@ -26,8 +26,9 @@ its exact flow from rest, the matrix exponential of the generator over t1
 entry by entry.  A_ss: the periodic orbit (I - M) x* = b of the one-period map
 x -> M x + b.  Near resonance (where M is close to I) the map is integrated by
 DOP853 in the exact variation-of-constants pair (u, w), q = u cos wt + w sin wt,
-q' = omega (w cos wt - u sin wt), with M - I integrated directly as the
-deviation of the unit states, so it keeps its relative accuracy however nearly
+q' = omega (w cos wt - u sin wt) (``_Rotating.one_period``, a tool followed
+unmarked: no motion is declared, q(t1) being the exact flow), with M - I
+integrated directly as the deviation of the unit states, so it keeps its relative accuracy however nearly
 resonant the drive; elsewhere M - I and b are the matrix exponential of the
 generator over one period, carried as exp - I.  Where that shooting is
 ill-conditioned (a slow mode that barely decays over a drive period amplifies
@@ -150,6 +151,12 @@ class _Rotating:
         a, force = self.coeffs(t)
         return np.concatenate([a @ (y[0:2] + (1.0, 0.0)), a @ (y[2:4] + (0.0, 1.0)), a @ y[4:6] + force])
 
+    def one_period(self, atol):
+        """The one-period map as a motion from (d1, d2, xp) = 0: a tool of the shooting, not the scene's motion."""
+        from mech.problems.motion import Motion
+
+        return Motion(self.rhs_period, np.zeros(6), (0.0, 2.0 * math.pi / self.w), options={"atol": atol})
+
     def to_qv(self, x, s):
         c, sn = math.cos(self.w * s), math.sin(self.w * s)
         return x[0] * c + x[1] * sn, self.w * (x[1] * c - x[0] * sn)
@@ -212,7 +219,7 @@ def _orbit_by_rotating_shooting(model, w, d, rtol, run):
     s_force = 1.0 / max(w * w, abs(model.det2) + w * w, 2.0 * d * w)
     scale = np.array([max(dev, 1e-300)] * 4 + [s_force] * 2)
     atol = np.maximum(scale * rtol * 1e-3, 1e-300)
-    one = run.integrate(model.rhs_period, (0.0, period), np.zeros(6), rtol=rtol, atol=atol)
+    one = run.follow(model.one_period(atol), rtol, mark=False).traj
     y = one.y_end
     i_minus_m = -np.array([[y[0], y[2]], [y[1], y[3]]])
     b = y[4:6]

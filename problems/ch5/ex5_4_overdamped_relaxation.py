@@ -16,9 +16,10 @@ zeta > 5 (stiffness ratio ~4 zeta^2) no integrator: the state is the exact flow
 exp(A tau) y0 (numpy scaling and squaring), the events roots of its components
 bracketed on a geometric grid and polished by Brent's method to rtol/10
 (``_numeric_flow``; scipy's Radau only when mech bench forces an integrator).
-Otherwise DOP853, carrying the dissipated energy
-W = int 2 zeta x'^2 dtau so that E + W is monitored; events x = eps (t_eps)
-and x'' = 0 crossing upward (largest speed); q(t1) from a leg ending at t1.
+Otherwise DOP853 on the declared motion (``motion``), carrying the dissipated
+energy W = int 2 zeta x'^2 dtau so that E + W is monitored; events x = eps
+(t_eps) and x'' = 0 crossing upward (largest speed); q(t1) from a leg ending at
+t1.  The flow's generator is the declared equations' Jacobian.
 lambda_slow: the reciprocal of the largest-magnitude eigenvalue of the inverse
 system matrix (numpy), whose accuracy near the defective critical case is
 limited to ~sqrt(machine eps) and claimed so; compared (info) with the
@@ -78,27 +79,42 @@ def analytic(p):
     return {"lambda_slow": lam, "q_t": q_t, "t_eps": t_eps, "v_max": v_max}
 
 
-@exercise.numeric
-def numeric(p, run):
+def _jac(z):
+    """The Jacobian of the equations in (x, x', W); its upper block [[0, 1], [-1, -2 zeta]] is the generator
+    of the linear flow in (x, x')."""
+    return lambda t, y: np.array([[0.0, 1.0, 0.0], [-1.0, -2.0 * z, 0.0], [0.0, 4.0 * z * y[1], 0.0]])
+
+
+def _balance(y):
+    """E + W relative to its value 1/2 at the start, (x^2 + x'^2)/2 + W - 1/2 over 1/2."""
+    return (0.5 * (y[0] ** 2 + y[1] ** 2) + y[2] - 0.5) / 0.5
+
+
+@exercise.motion
+def motion(p, rtol=None):
+    """The relaxation from rest at q0 in x = q/q0, tau = omega0 t, x'' + 2 zeta x' + x = 0, with the
+    dissipated work W = int 2 zeta x'^2 dtau carried as a third variable (E + W monitored at each leg's
+    end).  A first leg up to t1 (events x = eps, x'' = 0 upward, and a stop once the energy is below a tenth
+    of the claim on q(t1), which depends on ``rtol``: the Run's, the exercise's default when declared for a
+    scene), then, while x = eps is not met, a leg on to it."""
+    from mech.problems.motion import Motion
+
     z, w0, eps = p.zeta, p.omega0, p.eps
-    rtol = run.rtol
-    if z > 5.0 and run.integrator is None:
-        return _numeric_flow(p, run)
+    rtol = exercise.default_rtol if rtol is None else rtol
 
     def rhs(t, y):
         return np.array([y[1], -2.0 * z * y[1] - y[0], 2.0 * z * y[1] ** 2])
 
-    def jac(t, y):
-        return np.array([[0.0, 1.0, 0.0], [-1.0, -2.0 * z, 0.0], [0.0, 4.0 * z * y[1], 0.0]])
-
-    # sizes: x <= 1, |x'| <= 1/(2 zeta) roughly; resolve x well below eps
+    jac = _jac(z)
+    # sizes: x <= 1, |x'| <= 1/(2 zeta) roughly; resolve x well below eps (the absolute tolerances at this
+    # rtol as they always were, so given as an option rather than as y_size)
     atol = np.array([1e-3 * eps, 1e-3 * eps / (2.0 * z), 1e-3 * eps / (2.0 * z)]) * rtol
     reach = Event(lambda t, y: y[0] - eps, terminal=False, direction=-1, name="x = eps")
     reach_stop = Event(reach.fn, terminal=True, direction=-1, name="x = eps")
     turn = Event(lambda t, y: -2.0 * z * y[1] - y[0], terminal=False, direction=1, name="x'' = 0")
     tau1 = w0 * p.t1
     # stiffness ratio lambda_f/lambda_s ~ 4 zeta^2: explicit DOP853 only while it is mild (beyond, the
-    # exact flow above; Radau here only when mech bench forces an integrator, which replaces it anyway)
+    # exact flow in ``numeric``; Radau here only when mech bench forces an integrator, which replaces it)
     method = "DOP853" if z <= 5.0 else "Radau"
     # ... and even then its steps are kept well inside its stability region, |h lambda_fast| <= 3 (DOP853's
     # reaches about 6 on the negative axis): at the edge the step control hovers on stability, not accuracy,
@@ -108,39 +124,53 @@ def numeric(p, run):
     lam_fast = float(np.max(np.abs(np.linalg.eigvals(jac(0.0, np.zeros(3))[:2, :2]))))
     max_step = 3.0 / lam_fast if method == "DOP853" else np.inf
     horizon = max(tau1, 1e3 * (2.0 * z + 1.0) * max(1.0, -math.log(eps)))
-    found = {}
-    y = np.array([1.0, 0.0, 0.0])
-
-    def leg(t0, t1, y0, events):
-        tr = run.integrate(rhs, (t0, t1), y0, rtol=rtol, atol=atol, method=method, jac=jac, events=events,
-                       max_step=max_step, dense_output=run.keep_trajectories)  # dense: a smooth trajectory
-        run.motion(tr, t_scale=1.0 / w0, y_scale=[p.q0, p.q0 * w0], rows=[0, 1])  # not the dissipated work
-        for ev, times, states in zip(events, tr.t_events, tr.y_events):
-            if len(times) and ev.name not in found:
-                found[ev.name] = (float(times[0]), states[0])
-        yy = tr.y_end
-        run.invariant("E + dissipated work", (0.5 * (yy[0] ** 2 + yy[1] ** 2) + yy[2] - 0.5) / 0.5)
-        return yy, tr.t_end
-
-    # first leg ends exactly at t1 (read q there); a second one runs on to x = eps if not yet met.
     # The energy (x^2 + x'^2)/2 never grows under damping, so once (x^2 + x'^2)^(1/2) is below a tenth of
-    # the claim on q(t1), |x| stays below it up to t1: the leg stops there (a t1 of 1e5 decay times once
-    # took 6e5 steps) and q(t1) is 0 within its claim.
-    q_claim = exercise.tol_factor * rtol * 1e-3 * eps  # relative to q0, as claimed below
+    # the claim on q(t1), |x| stays below it up to t1: the first leg stops there (a t1 of 1e5 decay times
+    # once took 6e5 steps) and q(t1) is 0 within its claim.
+    q_claim = exercise.tol_factor * rtol * 1e-3 * eps  # relative to q0, as claimed in ``numeric``
     settled = Event(lambda t, y: math.hypot(y[0], y[1]) - 0.1 * q_claim, terminal=True, direction=-1,
                     name="energy below the claim")
-    x1 = y[0]
+
+    def leg(span, y0, events, then=None):
+        return Motion(rhs, y0, span, monitors={"E + dissipated work": lambda Y: _balance(Y[:, -1])},
+                      t_scale=1.0 / w0, y_scale=[p.q0, p.q0 * w0], to_states=lambda Y: Y[[0, 1]],  # not W
+                      options={"atol": atol, "method": method, "jac": jac, "events": events, "max_step": max_step},
+                      then=then)
+
+    def on_to_eps(path):  # the second leg, from t1 on, unless x = eps was met already
+        met = [ev.name for ev, times in zip(path.motion.options["events"], path.traj.t_events) if len(times)]
+        if "x = eps" in met:
+            return None
+        return leg((tau1, horizon), path.y_end, [reach_stop] + ([turn] if "x'' = 0" not in met else []))
+
+    start = np.array([1.0, 0.0, 0.0])
     if tau1 > 0.0:
-        y, t_end = leg(0.0, tau1, y, [reach, turn, settled])
-        x1 = y[0] if t_end >= tau1 else 0.0
-        if t_end < tau1:
-            run.info["q_t_settled_at_t"] = t_end / w0
-    if "x = eps" not in found:
-        y, _ = leg(tau1, horizon, y, [reach_stop] + ([turn] if "x'' = 0" not in found else []))
+        return leg((0.0, tau1), start, [reach, turn, settled], then=on_to_eps)
+    return leg((tau1, horizon), start, [reach_stop, turn])
+
+
+@exercise.numeric
+def numeric(p, run):
+    z, w0 = p.zeta, p.omega0
+    if z > 5.0 and run.integrator is None:
+        return _numeric_flow(p, run)
+    tau1 = w0 * p.t1
+    path = run.follow(motion(p, run.rtol))
+    found = {}
+    for leg in path.legs:
+        for ev, times, states in zip(leg.motion.options["events"], leg.traj.t_events, leg.traj.y_events):
+            if len(times) and ev.name not in found:
+                found[ev.name] = (float(times[0]), states[0])
+    x1 = 1.0
+    if tau1 > 0.0:
+        first = path.legs[0]
+        x1 = first.y_end[0] if first.t_end >= tau1 else 0.0
+        if first.t_end < tau1:
+            run.info["q_t_settled_at_t"] = first.t_end / w0
     t_eps, y_eps = found.get("x = eps", (None, None))
     t_star, y_star = found.get("x'' = 0", (None, None))
     if t_eps is None:
-        raise NumericFailure(f"x = eps not reached by tau = {horizon:.3g}")
+        raise NumericFailure(f"x = eps not reached by tau = {path.motion.span[1]:.3g}")
     if t_star is None:
         raise NumericFailure("the largest speed (x'' = 0) was not found")
     if y_eps[1] >= 0.0 or x1 < 0.0:
@@ -205,7 +235,7 @@ def _numeric_flow(p, run):
 
     z, w0, eps = p.zeta, p.omega0, p.eps
     rtol = run.rtol
-    A = np.array([[0.0, 1.0], [-1.0, -2.0 * z]])
+    A = _jac(z)(0.0, np.zeros(3))[:2, :2].copy()  # the generator of the declared equations in (x, x')
     log_eps = math.log(eps)
     horizon = 1e3 * (2.0 * z + 1.0) * max(1.0, -log_eps)
     fast = float(np.max(np.sum(np.abs(A), axis=0)))
@@ -299,7 +329,8 @@ def _numeric_flow(p, run):
     if run.keep_trajectories:
         end = max(t_eps, tau1)
         samples = [t for t in grid if t < end] + [end]
-        run.motion(_Flow(A, np.array([1.0, 0.0]), samples), t_scale=1.0 / w0, y_scale=[p.q0, p.q0 * w0])
+        m = motion(p, rtol)  # the declared motion's scales: the sampled flow is its trajectory
+        run.motion(_Flow(A, np.array([1.0, 0.0]), samples), t_scale=m.t_scale, y_scale=m.y_scale)
     run.method = "exact flow exp(A t) + Brent events"
     run.info["grid_samples"] = len(grid)
     if y_eps[1] >= 0.0 or q_t < 0.0:

@@ -19,8 +19,9 @@ Numeric (tau = omega0 t, zeta = delta/omega0, the full equation x'' + 2 zeta x' 
   doubled) gives the period T' between maxima and the log decrement of the energy
   directly (as l = ln(E)/zeta: no log of a ratio close to 1 is ever taken); then
   delta = -ln(E ratio)/(2 T'), omega0 = sqrt((2 pi/T')^2 + delta^2), Q = omega0/(2 delta).
-* Loss per cycle: (q, q') with the dissipated work W carried as a state, from rest at
-  x = 1 to the next maximum (event x' = 0, downward): W/E(0); E + W monitored.  Past
+* Loss per cycle: the declared motion (``motion``), (q, q') with the dissipated work W
+  carried as a state, from rest at x = 1 over 1.25 cycles; W/E(0) at the next maximum
+  (event x' = 0, downward); E + W monitored.  Past
   zeta = 0.9 (the motion dies by e^-13 within the cycle) -expm1 of the decrement above.
 * E_ratio: the same amplitude-phase flow; t1 = m half-cycles plus a remainder, the
   half-cycle shift of ln E taken from the cycle integration and the remainder
@@ -112,52 +113,64 @@ def analytic(p):
 
 
 # ---------------------------------------------------------------- ringdown
-def _cycle(z, om, rtol, integrator=None):
-    """(T', l) over half a cycle th: 0 -> pi, l = ln(E_end/E_start)/zeta; the trajectory.
+def _half_cycle(z, om):
+    """Half a cycle in amplitude-phase variables with th as the independent variable, th: 0 -> pi:
+    (T', l) with l = ln(E_end/E_start)/zeta.
 
     om = 1 - zeta, passed exactly so that 1 - zeta sin 2th = om + 2 zeta sin^2(th - pi/4)
     keeps its digits when zeta is close to 1.
     """
-    from mech.solvers.numerics.ode import integrate
+    from mech.problems.motion import Motion
 
     def rhs(th, y):
         g = om + 2.0 * z * math.sin(th - 0.25 * math.pi) ** 2  # 1 - zeta sin 2th
         s = math.sin(th)
         return np.array([1.0 / g, -4.0 * s * s / g])
 
-    tr = integrate(rhs, (0.0, math.pi), [0.0, 0.0], rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3],
-                   integrator=integrator)
-    return tr.y_end[0], tr.y_end[1], tr
+    return Motion(rhs, [0.0, 0.0], (0.0, math.pi), y_size=[1.0, 1.0])
 
 
-def _polar_in_time(z, tau, rtol, integrator=None):
-    """(th, l) after time tau from th = 0 (a maximum), l = ln(E ratio)/zeta."""
-    from mech.solvers.numerics.ode import integrate
+def _polar_in_time(z, tau):
+    """(th, l) over time tau from th = 0 (a maximum), l = ln(E ratio)/zeta."""
+    from mech.problems.motion import Motion
 
     def rhs(t, y):
         s = math.sin(y[0])
         return np.array([1.0 - z * math.sin(2.0 * y[0]), -4.0 * s * s])
 
-    tr = integrate(rhs, (0.0, tau), [0.0, 0.0], rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3],
-                   integrator=integrator)
-    return tr.y_end, tr
+    return Motion(rhs, [0.0, 0.0], (0.0, tau), y_size=[1.0, 1.0])
 
 
-def _ringdown_work(z, t_span, rtol, dense=False, integrator=None):
-    """From rest at x = 1 to the next maximum: (tau_max, x, x', w) with W = 2 zeta w; the trajectory."""
-    from mech.solvers.numerics.ode import Event, integrate
+@exercise.motion
+def motion(p, cycle=None):
+    """The free ringdown from rest at x = q/q0 = 1 over 1.25 cycles (tau = omega0 t), with the dissipated work
+    carried as W = 2 zeta w, w' = x'^2 (E + W conserved), and the maxima x' = 0 (downward) marked.  ``cycle``:
+    the cycle T' (in tau) the numeric solve measured in amplitude-phase variables (``_half_cycle``); measured
+    here at the default rtol when not given.  None past zeta = 0.9, where the motion dies within a cycle and
+    the loss comes from the decrement."""
+    from mech.problems.motion import Motion
+    from mech.solvers.numerics.ode import Event
+
+    w0 = p.omega0
+    z = p.delta / w0
+    if z > 0.9:
+        return None
+    if cycle is None:
+        from mech.problems.spec import Run
+
+        half = Run(rtol=exercise.default_rtol).follow(_half_cycle(z, (w0 - p.delta) / w0), mark=False)
+        cycle = 2.0 * half.y_end[0]
 
     def rhs(t, y):
         return np.array([y[1], -2.0 * z * y[1] - y[0], y[1] * y[1]])
 
+    def balance(y):  # E + W relative to E(0) = 1/2
+        return (0.5 * (y[0] ** 2 + y[1] ** 2) + 2.0 * z * y[2] - 0.5) / 0.5
+
     peak = Event(lambda t, y: y[1], terminal=False, direction=-1, name="x' = 0 (maximum)")
-    tr = integrate(rhs, (0.0, t_span), [1.0, 0.0, 0.0], rtol=rtol, atol=rtol * 1e-3, events=[peak],
-                   dense_output=dense, integrator=integrator)  # dense: a smooth trajectory, the same steps
-    later = [(t, y) for t, y in zip(tr.t_events[0], tr.y_events[0]) if t > 0.5 * t_span / 1.25]
-    if not later:
-        raise NumericFailure("the ringdown reached no maximum after the start within 1.25 periods")
-    t, y = later[0]
-    return float(t), y, tr
+    return Motion(rhs, [1.0, 0.0, 0.0], (0.0, 1.25 * cycle), invariants={"E + dissipated work": balance},
+                  t_scale=1.0 / w0, y_scale=[1.0, w0], to_states=lambda Y: Y[[0, 1]],  # not the work
+                  options={"events": [peak]})
 
 
 # ---------------------------------------------------------------- forced response
@@ -170,6 +183,8 @@ class _Resonance:
         self.cache = {}
 
     def amp2(self, u):
+        from mech.problems.motion import Motion
+
         if u in self.cache:
             return self.cache[u]
 
@@ -194,8 +209,8 @@ class _Resonance:
         dev = min(1.0, (abs(det2) + 2.0 * z * w) * period / w)
         force = period / w
         atol = np.array([dev] * 4 + [force] * 2) * self.rtol * 1e-3
-        tr = self.run.integrate(rhs, (0.0, period), np.zeros(6), rtol=self.rtol, atol=atol)
-        y = tr.y_end
+        y = self.run.follow(Motion(rhs, np.zeros(6), (0.0, period), options={"atol": atol}), self.rtol,
+                            mark=False).y_end
         d_m = np.array([[y[0], y[2]], [y[1], y[3]]])  # M - I
         # Liouville: det M = exp(-2 zeta period); det(I + D) - 1 = tr D + det D
         liou = (np.trace(d_m) + np.linalg.det(d_m)) - math.expm1(-2.0 * z * period)
@@ -208,14 +223,14 @@ class _Resonance:
 
     def static(self):
         """omega -> 0: the periodic orbit of x'' + 2 zeta x' + x = 1 (a constant force) over one free period."""
+        from mech.problems.motion import Motion
 
         z = self.z
 
         def rhs(t, y):
             return np.array([y[1], -2.0 * z * y[1] - y[0] + 1.0, y[3], -2.0 * z * y[3] - y[2], y[5], -2.0 * z * y[5] - y[4]])
 
-        tr = self.run.integrate(rhs, (0.0, 2.0 * math.pi), [0, 0, 1, 0, 0, 1], rtol=self.rtol, atol=self.rtol * 1e-3)
-        y = tr.y_end
+        y = self.run.follow(Motion(rhs, [0, 0, 1, 0, 0, 1], (0.0, 2.0 * math.pi)), self.rtol, mark=False).y_end
         m = np.array([[y[2], y[4]], [y[3], y[5]]])
         xs = np.linalg.solve(np.eye(2) - m, y[0:2])
         return float(xs[0] ** 2 + xs[1] ** 2)
@@ -286,9 +301,8 @@ def numeric(p, run):
     om = (w0 - d) / w0
     rtol = run.rtol
 
-    # ringdown in amplitude-phase variables: T' and ln(E) over one cycle
-    half_t, half_l, tr = _cycle(z, om, rtol, run.integrator)
-    run.record(tr)
+    # ringdown in amplitude-phase variables: T' and ln(E) over one cycle (a tool: th is its clock)
+    half_t, half_l = run.follow(_half_cycle(z, om), mark=False).y_end
     t_cyc = 2.0 * half_t
     log_dec = 2.0 * half_l * z  # ln(E(T')/E(0))
     d_meas = -log_dec / (2.0 * t_cyc)  # in units of omega0
@@ -296,18 +310,18 @@ def numeric(p, run):
     q_meas = w0_meas / (2.0 * d_meas)
     run.info["T_cycle_over_T0"] = t_cyc / (2.0 * math.pi)
 
-    # loss per cycle from the dissipated work
+    # loss per cycle from the dissipated work: the declared ringdown, from rest to the next maximum
     if z <= 0.9:
-        t_max, y, tr2 = _ringdown_work(z, 1.25 * t_cyc, rtol, dense=run.keep_trajectories,
-                                        integrator=run.integrator)
-        run.record(tr2)
-        run.motion(tr2, t_scale=1.0 / w0, y_scale=[1.0, w0], rows=[0, 1])
+        ring = run.follow(motion(p, cycle=t_cyc))
+        t_span = ring.motion.span[1]
+        later = [(t, y) for t, y in zip(ring.traj.t_events[0], ring.traj.y_events[0]) if t > 0.5 * t_span / 1.25]
+        if not later:
+            raise NumericFailure("the ringdown reached no maximum after the start within 1.25 periods")
+        t_max, y = later[0]
         work = 2.0 * z * y[2]
-        energy = 0.5 * (y[0] ** 2 + y[1] ** 2)
-        run.invariant("E + dissipated work", (energy + work - 0.5) / 0.5)
         loss = work / 0.5
         run.info["loss_route"] = "dissipated work over the cycle"
-        run.info["T_between_maxima_by_event_minus_by_phase"] = t_max - t_cyc
+        run.info["T_between_maxima_by_event_minus_by_phase"] = float(t_max) - t_cyc
     else:
         loss = -math.expm1(log_dec)
         run.info["loss_route"] = "-expm1 of the cycle's energy decrement"
@@ -320,9 +334,7 @@ def numeric(p, run):
         m, rem = m - 1, rem + half_t
     rem = min(rem, half_t)
     if rem > 0.0:
-        y_r, tr3 = _polar_in_time(z, rem, rtol, run.integrator)
-        run.record(tr3)
-        l_rem = y_r[1]
+        l_rem = run.follow(_polar_in_time(z, rem), mark=False).y_end[1]
     else:
         l_rem = 0.0
     log_e = z * (m * half_l + l_rem)

@@ -16,7 +16,8 @@ for |m| < 1e-8 the series c3 = A (m/16)(1 + m/2).  Leading order (Lindstedt):
 omega = omega0 + 3 alpha A^2/(8 omega0), c3 = alpha A^3/(32 omega0^2).  For alpha < 0
 the period diverges like ln(1/(1 + eps)) as A approaches the barrier omega0/sqrt(|alpha|).
 
-Numeric (units 1/omega0 and A: x'' = -x - eps x^3 from (1, 0)):
+Numeric (units 1/omega0 and A: x'' = -x - eps x^3 from (1, 0)); the quarter period is the
+declared motion (``motion``), the c3 integrals are tool runs of the same oscillator:
 * eps > -1/2: the quarter period by the event x = 0 (DOP853, energy monitored); for
   |eps| < 1/2 omega - omega0 instead from a quadrature of T - T0: energy
   conservation with x = cos th gives T/4 = int_0^{pi/2} dth/sqrt(1 + (eps/2)(1 + cos^2 th)),
@@ -189,36 +190,99 @@ def _quarter_excess(eps):
     return val, err
 
 
-@exercise.numeric
-def numeric(p, run):
+def _scaled(p):
+    """(S, a, b): the time sigma = S tau with S^2 = 1 + eps for a stiff spring (S = 1 below eps = 1/2), so
+    that one period is of order one however large eps, and x'' = -a x - b x^3 in it."""
+    eps = _eps(p)
+    S = math.sqrt(1.0 + eps) if eps >= 0.5 else 1.0
+    return S, 1.0 / (S * S), eps / (S * S)
+
+
+def _barrier(p):
+    """(x_b, s0): the barrier top 1/sqrt(-eps) and the start's distance from it, with 1 + eps exact."""
+    eps = _eps(p)
+    xb = 1.0 / math.sqrt(-eps)
+    return xb, _one_plus_eps(p) / ((-eps) * (xb + 1.0))
+
+
+@exercise.motion
+def motion(p):
+    """A quarter period from rest at q = A down to q = 0, in units A and 1/omega0 (x = q/A); for
+    eps > -1/2 in x against sigma = S omega0 t (``_scaled``), below in the distance s = x_b - x from the
+    barrier top (``_barrier``), which keeps the start's small offset from it to full relative accuracy."""
+    from mech.problems.motion import Motion
     from mech.solvers.numerics.ode import Event
 
     w0, A = p.omega0, p.A
     eps = _eps(p)
-    rtol = run.rtol
-
     if eps > -0.5:
-        # time sigma = S tau with S^2 = 1 + eps for a stiff spring (S = 1 below eps = 1/2),
-        # so that one period is of order one however large eps: x'' = -a x - b x^3
-        S = math.sqrt(1.0 + eps) if eps >= 0.5 else 1.0
-        a, b = 1.0 / (S * S), eps / (S * S)
+        S, a, b = _scaled(p)
 
         def rhs(t, y):
             return np.array([y[1], equation_of_motion(y[0], a, b)])
 
-        def energy(x, v):
-            # the statement's energy in units of (A omega0)^2: q = A x, dq/dt = A omega0 (S dx/dsigma)
-            return physical_energy(p, x, S * v)
+        # the statement's energy in units of (A omega0)^2: q = A x, dq/dt = A omega0 (S dx/dsigma)
+        e0 = physical_energy(p, 1.0, 0.0)
+        return Motion(rhs, [1.0, 0.0], (0.0, 8.0 * math.pi),
+                      event=Event(lambda t, y: y[0], direction=-1, name="x = 0"),
+                      invariants={"energy": lambda y: physical_energy(p, y[0], S * y[1]) / e0},
+                      t_scale=1.0 / (S * w0), y_scale=[A, A * S * w0], y_size=[1.0, math.sqrt(a + 0.5 * abs(b))])
+    xb, s0 = _barrier(p)
 
-        vmax = math.sqrt(a + 0.5 * abs(b))
-        span = 8.0 * math.pi
-        t_q, y_q, tr = run.integrate_to_event(
-            rhs, (0.0, span), [1.0, 0.0], Event(lambda t, y: y[0], direction=-1, name="x = 0"),
-            rtol=rtol, atol=[rtol * 1e-3, rtol * 1e-3 * vmax],
-        )
-        run.motion(tr, t_scale=1.0 / (S * w0), y_scale=[A, A * S * w0])
-        e0 = energy(1.0, 0.0)
-        run.invariant("energy", (energy(y_q[0], y_q[1]) - e0) / e0)
+    def rhs_s(t, y):
+        return np.array([y[1], barrier_equation_of_motion(y[0], xb, eps)])
+
+    # in units of (A omega0)^2 as above (q = A (x_b - s), dq/dt = -A omega0 ds/dtau), relative to the energy
+    # itself, the kinetic energy at x = 0: the range explored (the potential's round-off near the barrier top,
+    # 1/(-4 eps) in these units, is relative to that scale)
+    e0 = physical_energy(p, xb - s0, 0.0)
+    # the quarter period grows like ln(1/s0): bound the search generously
+    return Motion(rhs_s, [s0, 0.0], (0.0, 8.0 * (math.pi + math.log(1.0 + 1.0 / s0))),
+                  event=Event(lambda t, y: y[0] - xb, direction=1, name="x = 0"),
+                  invariants={"energy": lambda y: physical_energy(p, xb - y[0], -y[1]) / e0},
+                  t_scale=1.0 / w0, y_scale=[A, A * w0], to_states=lambda y: [xb - y[0], -y[1]], y_size=[s0, s0])
+
+
+def _deviation(p, ws, ws2ma):
+    """The same oscillator (eps > -1/2) as its deviation r = x - cos(ws sigma) from the harmonic motion at
+    its own frequency ws, with int r cos(3 ws sigma) d sigma carried along, over a quarter period from
+    r = r' = 0: r'' = x'' + ws^2 cos(ws sigma) = -ws^2 r + (ws^2 - a) x - b x^3 (the -a x of x'' split as
+    -ws^2 x + (ws^2 - a) x so that r stays small; ``ws2ma`` = ws^2 - a without cancellation)."""
+    from mech.problems.motion import Motion
+
+    _, _, b = _scaled(p)
+
+    def rhs_r(t, y):
+        c = math.cos(ws * t)
+        x = c + y[0]
+        return np.array([y[1], -ws * ws * y[0] + ws2ma * x + cubic_force(x, b), y[0] * math.cos(3.0 * ws * t)])
+
+    rs = min(max(abs(_eps(p)), 1e-300), 1.0)  # the size of r (|eps|/32 small, order one large)
+    tq = 0.5 * math.pi / ws
+    return Motion(rhs_r, [0.0, 0.0, 0.0], (0.0, tq), y_size=[rs, rs * ws, rs * tq])
+
+
+def _with_harmonic(m, xb, omega1, t_q):
+    """The barrier branch's quarter period ``m`` again, with int x cos(3 omega1 tau) d tau carried along."""
+    def rhs_c(t, y):
+        s, ds = m.rhs(t, y[:2])
+        return np.array([s, ds, (xb - y[0]) * math.cos(3.0 * omega1 * t)])
+
+    s0 = m.y0[0]
+    return m.starting(y0=[s0, 0.0, 0.0], span=(0.0, t_q), rhs=rhs_c, event=None, invariants={},
+                      to_states=None, y_size=[s0, s0, t_q])
+
+
+@exercise.numeric
+def numeric(p, run):
+    w0, A = p.omega0, p.A
+    eps = _eps(p)
+    m = motion(p)
+    end = run.follow(m)
+    t_q = end.t_end
+
+    if eps > -0.5:
+        S, a, b = _scaled(p)
         if abs(eps) < 0.5:
             excess, err = _quarter_excess(eps)
             dw = -excess / (0.5 * math.pi + excess)  # pi/(2 (pi/2 + excess)) - 1
@@ -236,60 +300,22 @@ def numeric(p, run):
         dw = omega1 - 1.0 if abs(eps) >= 0.5 else dw
 
         # c3 from the deviation r = x - cos(ws sigma)
-        def rhs_r(t, y):
-            # r'' = x'' + ws^2 cos(ws t) = -ws^2 r + (ws^2 - a) x - b x^3 (the -a x - b x^3 of x'' split as
-            # -ws^2 x + (ws^2 - a) x so that r stays small)
-            c = math.cos(ws * t)
-            x = c + y[0]
-            return np.array([y[1], -ws * ws * y[0] + ws2ma * x + cubic_force(x, b), y[0] * math.cos(3.0 * ws * t)])
-
-        rs = min(max(abs(eps), 1e-300), 1.0)  # the size of r (|eps|/32 small, order one large)
-        tq = 0.5 * math.pi / ws
-        tr2 = run.integrate(rhs_r, (0.0, tq), [0.0, 0.0, 0.0], rtol=rtol,
-                        atol=np.array([rs, rs * ws, rs * tq]) * rtol * 1e-3)
-        r_end, v_end, integral = tr2.y_end
+        h = run.follow(_deviation(p, ws, ws2ma), mark=False)
+        r_end, v_end, integral = h.y_end
+        tq = h.t_end
         x_end = r_end + math.cos(ws * tq)
-        run.invariant("energy", (energy(x_end, v_end - ws * math.sin(ws * tq)) - e0) / e0)
+        e0 = physical_energy(p, 1.0, 0.0)
+        run.invariant("energy", (physical_energy(p, x_end, S * (v_end - ws * math.sin(ws * tq))) - e0) / e0)
         run.info["x_at_quarter_period"] = x_end
         c3_over_a = 4.0 * ws / math.pi * integral
     else:
-        xb = 1.0 / math.sqrt(-eps)
-        g = _one_plus_eps(p)
-        s0 = g / ((-eps) * (xb + 1.0))
-
-        def rhs_s(t, y):
-            return np.array([y[1], barrier_equation_of_motion(y[0], xb, eps)])
-
-        def energy_s(s, ds):
-            # in units of (A omega0)^2: q = A (x_b - s), dq/dt = -A omega0 ds/dtau; relative to the barrier's energy
-            # omega0^4/(4 |alpha|), from which the motion starts only 1 + eps below
-            return physical_energy(p, xb - s, -ds)
-
-        # the quarter period grows like ln(1/s0): bound the search generously
-        span = 8.0 * (math.pi + math.log(1.0 + 1.0 / s0))
-        t_q, y_q, tr = run.integrate_to_event(
-            rhs_s, (0.0, span), [s0, 0.0], Event(lambda t, y: y[0] - xb, direction=1, name="x = 0"),
-            rtol=rtol, atol=[rtol * 1e-3 * s0, rtol * 1e-3 * s0],
-        )
-        # the state is the distance s = x_b - x from the barrier top and its rate
-        run.motion(tr, t_scale=1.0 / w0, y_scale=[A, A * w0], transform=lambda y: [xb - y[0], -y[1]])
-        e0 = energy_s(s0, 0.0)
-        # relative to the kinetic energy at x = 0, the energy range explored (the potential's round-off near
-        # the barrier top, where the energy is 1/(-4 eps) in units A^2 omega0^2, is relative to that scale)
-        scale = 0.5 * y_q[1] ** 2  # in units (A omega0)^2, as energy_s
-        run.invariant("energy", (energy_s(y_q[0], y_q[1]) - e0) / scale)
         omega1 = 0.5 * math.pi / t_q
         dw = omega1 - 1.0
         run.info["domega_route"] = "event x = 0 in the distance from the barrier top"
-
-        def rhs_c(t, y):
-            s = y[0]
-            return np.array([y[1], barrier_equation_of_motion(s, xb, eps), (xb - s) * math.cos(3.0 * omega1 * t)])
-
-        tr2 = run.integrate(rhs_c, (0.0, t_q), [s0, 0.0, 0.0], rtol=rtol,
-                        atol=np.array([s0, s0, t_q]) * rtol * 1e-3)
-        run.info["x_at_quarter_period"] = xb - tr2.y_end[0]
-        c3_over_a = 4.0 * omega1 / math.pi * tr2.y_end[2]
+        xb, _ = _barrier(p)
+        h = run.follow(_with_harmonic(m, xb, omega1, t_q), mark=False)
+        run.info["x_at_quarter_period"] = xb - h.y_end[0]
+        c3_over_a = 4.0 * omega1 / math.pi * h.y_end[2]
     if not math.isfinite(omega1) or not math.isfinite(c3_over_a):
         raise NumericFailure("non-finite frequency or harmonic")
     return {"omega": w0 * omega1, "domega": w0 * dw, "c3": A * c3_over_a}

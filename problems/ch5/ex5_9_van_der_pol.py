@@ -22,6 +22,9 @@ eps > 4 (relaxation oscillation): x and u = x'/eps against the slow time
 tau/eps with LSODA (stiff on the slow branches); from the maximum (2, 0) the
 cycle attracts by exp(-1.44 eps^2) per half cycle, and the second full cycle
 gives period, amplitude and exponent; its two halves must agree.
+The declared motion (``motion``) is one period of the converged cycle (followed with its
+variational equations: det M) or the relaxation's three legs; the search's returns are
+tool runs of the same oscillator.
 
 Allowances (leading-order outputs; outside mu/omega0 >= 1 nothing is compared):
   A          twice the next order eps^2/192 (Poincare-Lindstedt; fitted 0.005208);
@@ -36,7 +39,6 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.mechanics.floquet import flow_with_variations
 from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
@@ -54,8 +56,8 @@ The cycle is the root of the energy gained over one return from the section
 the slow time tau/eps replaces Radau, whose steps stalled at ~1e-6 of a
 cycle on the slow branches (30 s at eps = 100).
 """,
-    # one period of the limit cycle from its maximum (mu/omega0 <= 2); for a relaxation oscillation
-    # (mu/omega0 > 2) the cycle and a half from q = 2/beta^(1/2) at rest that settle onto it
+    # one period of the limit cycle from its maximum (mu/omega0 <= 4); for a relaxation oscillation
+    # (mu/omega0 > 4) the cycle and a half from q = 2/beta^(1/2) at rest that settle onto it
     states=[("q", "m"), ("v", "m/s")],
 )
 
@@ -121,31 +123,108 @@ def theory_range(p):
     return {"A": eps, "omega": eps, "lambda_lc": eps}
 
 
-def _return(X, eps, rtol, run):
-    """From the maximum (X, 0) to the next one, x'' = eps (1 - x^2) x' - x in tau = omega0 t.
+def _f(t, y, eps):
+    """The oscillator in x = sqrt(beta) q against tau = omega0 t: x'' = eps (1 - x^2) x' - x."""
+    return np.array([y[1], eps * (1.0 - y[0] ** 2) * y[1] - y[0]])
+
+
+def _jac(t, y, eps):
+    return np.array([[0.0, 1.0], [-2.0 * eps * y[0] * y[1] - 1.0, eps * (1.0 - y[0] ** 2)]])
+
+
+def _slow(eps):
+    """The same oscillator in x and u = x'/eps against the slow time s = tau/eps (a relaxation oscillation):
+    x_s = eps^2 u, u_s = eps^2 (1 - x^2) u - x, with int (1 - x^2) ds carried along; and its Jacobian."""
+    e2 = eps * eps
+
+    def rhs(s, z):
+        x, u = z[0], z[1]
+        d = 1.0 - x * x
+        return [e2 * u, e2 * d * u - x, d]
+
+    def jac(s, z):
+        x, u = z[0], z[1]
+        return [[0.0, e2, 0.0], [-2.0 * e2 * x * u - 1.0, e2 * (1.0 - x * x), 0.0], [-2.0 * x, 0.0, 0.0]]
+
+    return rhs, jac
+
+
+def _extrema(rhs, z, t, length, turns, missing, options=None, **fields):
+    """The motion from ``z`` at ``t`` on to the next extrema of x, one leg each: ``turns`` the (direction,
+    name) of each in order, a leg ending at its terminal event x' = 0 (found within ``length``, else
+    ``missing(name)`` fails), the next one starting there with x' = 0 exactly (on its section)."""
+    from mech.problems.motion import Motion
+
+    (direction, what), rest = turns[0], turns[1:]
+    ev = Event(lambda t, z: z[1], terminal=True, direction=direction, name=f"x' = 0, {what}")
+
+    def then(path):
+        t1, z1 = _turn(path, what, missing)
+        return _extrema(rhs, z1, t1, length, rest, missing, options, **fields) if rest else None
+
+    return Motion(rhs, z, (t, t + length), options={**(options or {}), "events": [ev]}, then=then, **fields)
+
+
+def _turn(path, what, missing):
+    """(t, z) of a leg's extremum, x' set to exactly 0."""
+    traj = path.traj
+    if len(traj.t_events[0]) == 0:
+        raise NumericFailure(missing(what))
+    t, z = float(traj.t_events[0][0]), np.array(traj.y_events[0][0])
+    z[1] = 0.0
+    return t, z
+
+
+@exercise.motion
+def motion(p, X=2.0, T=2.0 * math.pi):
+    """mu/omega0 <= 4: one period of the cycle from its maximum (X, 0) in x = sqrt(beta) q, tau = omega0 t
+    (the solve finds X and the period T; by default x = 2 over 2 pi, their limits as mu -> 0).  Above: the
+    relaxation oscillation in the slow time tau/eps from the maximum (2, 0), three legs, max -> min -> max
+    -> min, with int (1 - x^2) ds carried along (``_slow``)."""
+    from mech.problems.motion import Motion
+
+    eps = p.mu / p.omega0
+    qs = 1.0 / math.sqrt(p.beta)
+    if eps <= RELAX_EPS:
+        return Motion(lambda t, y: _f(t, y, eps), [X, 0.0], (0.0, T), t_scale=1.0 / p.omega0,
+                      y_scale=[qs, qs * p.omega0], y_size=[1.0, max(1.0, eps)])
+    rhs, jac = _slow(eps)
+    e2 = eps * eps
+
+    def missing(what):
+        return f"no {what} of x within 4 slow times (the relaxation cycle's half takes ~0.8)"
+
+    # u is ~1/eps^2 on the slow branches, ~1 in the jumps; LSODA switches to BDF on the stiff slow branches
+    return _extrema(rhs, np.array([2.0, 0.0, 0.0]), 0.0, 4.0, ((1.0, "minimum"), (-1.0, "maximum"), (1.0, "minimum")),
+                    missing, {"method": "LSODA", "jac": jac}, y_size=[1.0, 1.0 / e2, 1.0],
+                    t_scale=eps / p.omega0, y_scale=[qs, qs * p.omega0 * eps], to_states=lambda z: z[:2])
+
+
+def _return(m, X, eps, rtol, run):
+    """From the maximum (X, 0) to the next one, the declared oscillator ``m`` with int (1 - x^2) x'^2 dtau and
+    int (1 - x^2) dtau carried along: a tool run (a trial of the search), not the motion.
 
     Returns (X_next, period, int (1 - x^2) x'^2 dtau, int (1 - x^2) dtau).  The energy
     (x^2 + x'^2)/2 changes over the return by eps times the third: a periodic orbit is where
     that integral vanishes, a root that keeps its conditioning however small eps is (the
     return map itself, X -> X + eps (...), cannot resolve X better than rtol/eps)."""
     vs = max(1.0, eps)  # x' reaches ~eps in the fast parts for eps ~ 1
+    f = m.rhs
 
     def rhs(t, z):
         x, v = z[0], z[1]
         d = 1.0 - x * x
-        return [v, eps * d * v - x, d * v * v, d]
+        return np.concatenate([f(t, z[:2]), [d * v * v, d]])
 
-    atol = [1e-3 * rtol, 1e-3 * rtol * vs, 1e-3 * rtol * vs * vs, 1e-3 * rtol]
     t_max = 20.0 + 4.0 * eps  # a half period is pi at eps = 0 and ~4.5 at eps = 4
-    z, t = [X, 0.0, 0.0, 0.0], 0.0
+
+    def missing(what):
+        return f"no {what} of x within tau = {t_max:g} from X = {X:.6g}"
+
     # two legs: to the minimum (x' = 0 upward), then to the maximum; each starts on its other section
-    for direction, what in ((1.0, "minimum"), (-1.0, "maximum")):
-        ev = Event(lambda t, z: z[1], terminal=True, direction=direction, name=f"x' = 0, {what}")
-        traj = run.integrate(rhs, (t, t + t_max), z, rtol=rtol, atol=atol, events=[ev])
-        if len(traj.t_events[0]) == 0:
-            raise NumericFailure(f"no {what} of x within tau = {t_max:g} from X = {X:.6g}")
-        t, z = float(traj.t_events[0][0]), np.array(traj.y_events[0][0])
-        z[1] = 0.0
+    trial = _extrema(rhs, [X, 0.0, 0.0, 0.0], 0.0, t_max, ((1.0, "minimum"), (-1.0, "maximum")), missing,
+                     y_size=[1.0, vs, vs * vs, 1.0])
+    t, z = _turn(run.follow(trial, rtol=rtol, mark=False), "maximum", missing)
     return float(z[0]), t, float(z[2]), float(z[3])
 
 
@@ -157,9 +236,10 @@ def _energy_balance(p, run, eps):
     rtol = run.rtol
     r_search = max(rtol, 1e-7)  # the search runs cheaper; secant steps at rtol finish it
     seen = {}
+    m = motion(p)
 
     def gain(X, r):
-        seen[X, r] = _return(X, eps, r, run)
+        seen[X, r] = _return(m, X, eps, r, run)
         return seen[X, r][2] / (X * X)
 
     g_lo, g_hi = gain(1.0, r_search), gain(3.0, r_search)
@@ -187,27 +267,15 @@ def _energy_balance(p, run, eps):
     run.info["closure"] = X_next - X
     run.info["brent_evaluations"] = len(seen)
 
-    # Liouville: the second multiplier det M of the converged cycle is exp(eps int (1 - x^2) dtau)
-    f = lambda t, y: _f(t, y, eps)  # noqa: E731
-    jac = lambda t, y: _jac(t, y, eps)  # noqa: E731
-    _, M, _, traj = flow_with_variations(f, jac, [X, 0.0], (0.0, T), rtol=rtol, scale=[1.0, max(1.0, eps)],
-                                        integrator=run.integrator)
-    run.record(traj)
-    qs = 1.0 / math.sqrt(p.beta)
-    run.motion(traj, t_scale=1.0 / p.omega0, y_scale=[qs, qs * p.omega0], rows=[0, 1])  # not the variations
+    # Liouville: the second multiplier det M of the converged cycle is exp(eps int (1 - x^2) dtau); this
+    # period of the cycle, from its maximum, is the motion
+    cycle = run.follow(motion(p, X, T).with_variations(lambda t, y: _jac(t, y, eps)))
+    M = cycle.y_end[2:].reshape(2, 2)
     det = float(np.linalg.det(M))
     run.info["det_M"] = det
     if det > 1e3 * rtol:
         run.invariant("Liouville (ln det M - int div)", (math.log(det) - eps * int_div) / max(abs(eps * int_div), 1.0))
     return {"A": X / math.sqrt(p.beta), "omega": 2.0 * math.pi * p.omega0 / T, "lambda_lc": p.mu * int_div / T}
-
-
-def _f(t, y, eps):
-    return np.array([y[1], eps * (1.0 - y[0] ** 2) * y[1] - y[0]])
-
-
-def _jac(t, y, eps):
-    return np.array([[0.0, 1.0], [-2.0 * eps * y[0] * y[1] - 1.0, eps * (1.0 - y[0] ** 2)]])
 
 
 @exercise.numeric
@@ -219,39 +287,15 @@ def numeric(p, run):
 
 
 def _relaxation(p, run, eps):
-    """The stiff case in x and u = x'/eps against the slow time s = tau/eps:
-    x_s = eps^2 u, u_s = eps^2 (1 - x^2) u - x (the fast jumps take ~1/eps^2 in s, the slow
-    branches ~1), with LSODA (it switches to BDF on the stiff slow branches).  From the maximum
-    (2, 0) the cycle attracts by exp(-1.44 eps^2) per half cycle; three legs, max -> min -> max
-    -> min, and the last full cycle (min to min) gives the period, its maximum the amplitude and
-    the integral of the divergence the exponent.  Its two halves must agree (the cycle is
-    symmetric under x -> -x): the check that the start has settled."""
+    """The stiff case, the declared motion (``motion``): from the maximum (2, 0) the cycle attracts by
+    exp(-1.44 eps^2) per half cycle; of the three legs, max -> min -> max -> min, the last full cycle
+    (min to min) gives the period, its maximum the amplitude and the integral of the divergence the
+    exponent.  Its two halves must agree (the cycle is symmetric under x -> -x): the check that the start
+    has settled."""
     rtol = run.rtol
     e2 = eps * eps
-
-    def rhs(s, z):
-        x, u = z[0], z[1]
-        d = 1.0 - x * x
-        return [e2 * u, e2 * d * u - x, d]
-
-    def jac(s, z):
-        x, u = z[0], z[1]
-        return [[0.0, e2, 0.0], [-2.0 * e2 * x * u - 1.0, e2 * (1.0 - x * x), 0.0], [-2.0 * x, 0.0, 0.0]]
-
-    # u is ~1/eps^2 on the slow branches, ~1 in the jumps
-    atol = [1e-3 * rtol, 1e-3 * rtol / e2, 1e-3 * rtol]
-    z, s = np.array([2.0, 0.0, 0.0]), 0.0
-    marks = []
-    for direction, what in ((1.0, "minimum"), (-1.0, "maximum"), (1.0, "minimum")):
-        ev = Event(lambda t, z: z[1], terminal=True, direction=direction, name=f"x' = 0, {what}")
-        traj = run.integrate(rhs, (s, s + 4.0), z, rtol=rtol, atol=atol, method="LSODA", jac=jac, events=[ev])
-        qs = 1.0 / math.sqrt(p.beta)  # slow time s = omega0 t/eps, u = (dx/d(omega0 t))/eps
-        run.motion(traj, t_scale=eps / p.omega0, y_scale=[qs, qs * p.omega0 * eps], rows=[0, 1])
-        if len(traj.t_events[0]) == 0:
-            raise NumericFailure(f"no {what} of x within 4 slow times (the relaxation cycle's half takes ~0.8)")
-        s, z = float(traj.t_events[0][0]), np.array(traj.y_events[0][0])
-        z[1] = 0.0
-        marks.append((s, z.copy()))
+    path = run.follow(motion(p))
+    marks = [_turn(leg, what, None) for leg, what in zip(path.legs, ("minimum", "maximum", "minimum"))]
     (s1, z1), (s2, z2), (s3, z3) = marks
     T, h1, h2 = s3 - s1, s2 - s1, s3 - s2
     if abs(h1 - h2) > 100 * rtol * T or abs(z2[0] + z3[0]) > 100 * rtol * z2[0]:
