@@ -467,12 +467,12 @@ def plan_sweep(ex, axes: list, fixed: dict, only=None) -> SweepPlan:
 def run_sweep_plan(plan: SweepPlan, *, rtol: float | None = None, verify: bool = True, jobs: int | None = None,
                    progress=None, total_s: float | None = None):
     """Run a planned sweep: ``progress(k)`` after every k-th point; returns ``verification.sweep``'s result.
-    ``total_s``: the sweep's wall-clock budget (default 600 s) for the point-by-point route."""
+    ``total_s``: the sweep's wall-clock budget (default 600 s), on either route."""
     from mech.verification.sweep import run_batched, run_sweep
 
     if plan.batched:
         return run_batched(plan.exercise, plan.axes, plan.fixed, plan.batched, rtol=rtol, verify=verify,
-                           progress=progress)
+                           progress=progress, total_s=total_s)
     return run_sweep(plan.exercise, plan.axes, plan.fixed, plan.points, rtol=rtol, verify=verify, jobs=jobs,
                      progress=progress, only=plan.only, total_s=total_s)
 

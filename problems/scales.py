@@ -30,11 +30,12 @@ import math
 
 from mech.core.units import si_exponents
 
-__all__ = ["LOG10_LIMIT", "QUANTUM", "dims", "natural_units", "from_natural", "representable", "far_params",
-           "out_of_range"]
+__all__ = ["LOG10_LIMIT", "QUANTUM", "TINY", "dims", "natural_units", "from_natural", "to_natural", "representable",
+           "far_params", "out_of_range"]
 
 LOG10_LIMIT = 290.0  # |log10 x| beyond this for a non-zero scale: outside the range mech works in
 QUANTUM = 64  # unit exponents (powers of two) are multiples of this: 2^64 ~ 1.8e19
+TINY = 2.2250738585072014e-308  # the smallest normal double: below it a value has underflowed
 
 def dims(unit: str) -> tuple[int, int, int] | None:
     """The (kg, m, s) exponents of a catalogue unit: the one unit system's ``core.units.si_exponents``."""
@@ -116,6 +117,15 @@ def from_natural(value: float, unit: str, u) -> float:
     """A value in the natural units ``u`` brought back to SI (exact unless it leaves the range)."""
     k = _unit_exponent(unit, u)
     return math.ldexp(value, k) if k else value
+
+
+def to_natural(value: float, unit: str, u) -> float:
+    """An SI value in the natural units ``u`` (``from_natural``'s inverse; 0 where it underflows there)."""
+    k = _unit_exponent(unit, u)
+    try:
+        return math.ldexp(value, -k) if k else value
+    except OverflowError:
+        return math.copysign(math.inf, value)
 
 
 def far_params(ex, p, decades: float = 50.0) -> str:

@@ -746,7 +746,27 @@ class Exercise:
         u, values = nat
         out = self._finish(self._analytic(Params(values)), "analytic")
         units = {o.name: o.unit for o in self.outputs}
-        return {n: v if isinstance(v, Undefined) else scales.from_natural(v, units[n], u) for n, v in out.items()}
+        back = {n: v if isinstance(v, Undefined) else scales.from_natural(v, units[n], u) for n, v in out.items()}
+        # units that bring the parameters near their defaults can push an output below the doubles' range
+        # while its SI value is a normal number (4.29 at t = 2e-200 s: a_lab = 3.2e-200 m/s^2 is 7e-393 in
+        # units of 2^-320 s, computed as 0): there the SI solution's value stands, when in the natural
+        # units it too lies below the range (so that the 0 was its underflow, not a different answer)
+        lost = [n for n, v in out.items() if isinstance(v, float) and abs(v) < scales.TINY]
+        if lost:
+            try:
+                import warnings
+
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    si = self._finish(self._analytic(p), "analytic")
+            except Exception:  # the SI solution overflows or divides by zero: why natural units were taken
+                si = {}
+            for n in lost:
+                w = si.get(n)
+                if (isinstance(w, float) and math.isfinite(w) and abs(w) >= scales.TINY
+                        and abs(scales.to_natural(w, units[n], u)) < scales.TINY):
+                    back[n] = w
+        return back
 
     def solve_numeric(self, p: Params, rtol: float | None = None, shared: dict | None = None,
                       keep_trajectories: bool = False, integrator: str | None = None) -> tuple[dict, Run]:

@@ -98,3 +98,20 @@ def test_a_run_of_1e_minus_200_s_from_rest():
     assert n["a_lab"] == pytest.approx(3.2e-200, rel=1e-8, abs=0.0)
     assert n["N"] == pytest.approx(3.2e-201, rel=1e-8, abs=0.0)
     assert math.isfinite(run.invariants["jacobi"])
+
+
+@pytest.mark.parametrize("m, w, r0, t", [(0.1, 2.0, 0.1, 2e-200), (0.2, 3.0, -0.5, 1e-250)])
+def test_the_analytic_value_at_a_tiny_t(m, w, r0, t):
+    """Issue 26: mech solve 4.29 -p t=2e-200 gave the analytic a_lab and N as 0.  The solve takes units of
+    2^-320 s there (the parameters nearest their defaults), in which a_lab = 3.2e-200 m/s^2 is 7e-393: below
+    the doubles.  By hand, for w t << 1 from rest (v0 = 0): sinh(wt) = wt to 1e-400, cosh(wt) = 1, so
+    r = r0, r' = r0 w^2 t, a_rot = w^2 r0, a_lab = 2 w^3 |r0| t, N = 2 m w^3 r0 t
+    (0.1, 2, 0.1, 2e-200: a_lab = 3.2e-200 m/s^2, N = 3.2e-201 N; 0.2, 3, -0.5, 1e-250: 2.7e-249, -5.4e-250)."""
+    import mech
+
+    sol = mech.solve("4.29", m=m, omega=w, r0=r0, v0=0.0, t=t)
+    want = {"r": r0, "a_rot": w * w * r0, "a_lab": 2 * w**3 * abs(r0) * t, "N": 2 * m * w**3 * r0 * t}
+    for name, value in want.items():
+        assert sol[name].analytic == pytest.approx(value, rel=1e-14, abs=0.0), name
+        assert sol[name].numeric == pytest.approx(value, rel=1e-8, abs=0.0), name
+    assert sol.agree is True

@@ -470,8 +470,41 @@ def test_sweep_json_streams_its_points(tmp_path):
     buf = io.StringIO()
     result.write_json(buf)
     assert "json" not in result.extra  # the points' JSON objects are never all held: one at a time
+    assert result.points is None  # nor their typed solutions (batched route)
     expected = json.dumps(result.as_json(), indent=2, allow_nan=False) + "\n"
     assert buf.getvalue() == expected
+
+
+def test_batched_sweep_json_memory_does_not_grow_with_the_points():
+    """Writing a batched sweep's JSON holds one point at a time: the peak that writing adds is the same for
+    3200 points as for 200 (it was 3 kB a point, 10 MB at 3200, when every typed solution was kept)."""
+    import gc
+    import io
+    import tracemalloc
+
+    from mech.problems import registry
+    from mech.verification.sweep import Axis, batched_outputs, run_batched
+
+    class Null(io.TextIOBase):
+        def write(self, text):
+            return len(text)
+
+    ex = registry.get("5.11")
+    peaks = []
+    for n in (100, 1600):
+        omegas = tuple(9.9 + 0.3 * k / (n - 1) for k in range(n))
+        result = run_batched(ex, [Axis("omega", omegas, False), Axis("mu", (0.01, 0.05), False)], {},
+                             batched_outputs(ex, None))
+        gc.collect()
+        tracemalloc.start()
+        try:
+            start = tracemalloc.get_traced_memory()[0]
+            result.write_json(Null())
+            peaks.append(tracemalloc.get_traced_memory()[1] - start)
+        finally:
+            tracemalloc.stop()
+    assert peaks[1] < 1_000_000, peaks  # 3200 points
+    assert peaks[1] < peaks[0] + 500_000, peaks  # 16 times the points, not 16 times the memory
 
 
 def test_a_log_sweep_over_600_decades():
@@ -501,6 +534,50 @@ def test_sweep_total_budget_and_jobs_cap():
     one_line_error(r, "--budget")
 
 
+def test_batched_sweep_honours_its_total_budget():
+    """The chart route (5.11) under --budget: the solves stop at the budget, each point fails saying so (exit 1,
+    the summary and one line per shown point, no traceback); --budget is checked on this route too."""
+    grid = ["sweep", "5.11", "--omega", "9.9:10.2:40", "--mu", "0.01:0.1:20"]  # 800 points, one chunk
+    t0 = time.monotonic()
+    r = CliRunner().invoke(cli, grid + ["--budget", "0.05"])
+    wall = time.monotonic() - t0
+    assert r.exit_code == 1, r.output
+    assert "Traceback" not in r.output and "internal error" not in r.output
+    assert "800 points FAILED" in r.output
+    lines = [ln for ln in r.output.splitlines() if ln.startswith("point ")]
+    assert len(lines) == 20 and all("the sweep's total budget of 0.05 s ran out" in ln for ln in lines)
+    assert "... and 780 more failed points" in r.output
+    assert wall < 0.05 + 5.0  # the analytic side and the judge of 800 points, without any solve
+
+    from mech.problems import registry
+    from mech.verification.sweep import Axis, batched_outputs, run_batched
+
+    ex = registry.get("5.11")
+    omegas = tuple(9.9 + 0.3 * k / 399 for k in range(400))
+    axes = [Axis("omega", omegas, False), Axis("mu", tuple(0.01 + 0.005 * k for k in range(20)), False)]
+    t0 = time.monotonic()
+    result = run_batched(ex, axes, {}, batched_outputs(ex, None), total_s=0.3)
+    assert time.monotonic() - t0 < 0.3 + 1.5  # a solve running at the end stops there (8000 points: ~1.5 s)
+    reasons = [str(e) for _, pt in result.failed_points() for e in pt["errors"]][:50]
+    assert all("the sweep's total budget of 0.3 s ran out" in why for why in reasons), reasons[:3]
+
+    r = CliRunner().invoke(cli, grid + ["--budget", "nan"])
+    assert r.exit_code == 2
+    one_line_error(r, "--budget")
+
+
+def test_a_failed_100000_point_batched_sweep_in_bounded_memory():
+    """Every point of the largest grid fails (its total budget spent at once): the table's failure lines
+    are built for the points shown, not for all (750 MB, 18 s when every point's JSON was built)."""
+    t0 = time.monotonic()
+    r = mech("sweep", "5.11", "--omega", "9.9:10.2:400", "--mu", "0.01:0.1:250", "--budget", "0.01",
+             limit_as=MEMORY_CAP)
+    assert r.returncode == 1, r.stderr[-500:]
+    assert "100000 points FAILED" in r.stdout and "... and 99980 more failed points" in r.stdout
+    assert "Traceback" not in r.stderr
+    assert time.monotonic() - t0 < 20
+
+
 def test_check_jobs_capped_by_the_cores():
     from mech.verification.checking import plan_jobs
     from mech.verification.sweep import usable_cores
@@ -519,6 +596,60 @@ def test_a_loop_that_never_checks_is_stopped_by_the_timer_soon_after_the_deadlin
             while True:  # never calls budget.check()
                 sum(range(1000))
     assert time.monotonic() - t0 < 0.3 + 0.4
+
+
+# in-bounds inputs whose numeric solve runs long (scripts/budget_probe.py found them; unbudgeted times on the
+# quiet 2-core machine), one per kind of loop, each with a budget well below its time: mech's DOP853 (5.8 far
+# out: 0.95 s; 4.23 nearly upright: > 20 s), DOP853's loop of rejected steps (4.9 far out: endless, ran until
+# the backup timer), scipy's LSODA (5.9: 0.17 s, ran until the timer), a root of a maximum (4.21 with a
+# tiny mass: 0.8 s, ran until the timer), the batched integrator of 5.11 (0.46 s)
+LONG_SOLVES = [
+    ("5.8", {"omega0": 41239.3, "delta": 5.18067e-08, "alpha": -1.22763e08, "f0": 1.78134e-07}, 0.1),
+    ("4.23", {"theta": 1e-30}, 0.1),
+    ("4.9", {"M": 1.17199e95, "R": 1.26867e28, "l": 5.61857e-38, "I": 6.19556e-90, "phi0": 2.42484e-184,
+             "g": 3.71034e-125}, 0.1),
+    ("5.9", {"mu": 3e5}, 0.03),
+    ("4.21", {"M": 1e-101}, 0.1),
+    ("5.11", {"omega0": 1e-99, "delta": 5e-102, "mu": 5e-102, "omega": 1.005e-99}, 0.1),
+]
+BUDGET_SLACK_S = 0.2  # how late a check may come after the deadline: one step, one pass (measured: <= 0.05 s)
+
+
+@pytest.mark.filterwarnings("ignore::RuntimeWarning")  # far inputs overflow in intermediates (judged elsewhere)
+@pytest.mark.parametrize("ex_id, given, seconds", LONG_SOLVES)
+def test_every_long_loop_checks_the_budget(ex_id, given, seconds):
+    """Under a budget well below its time the solve stops at a budget.check() soon after the deadline, not by
+    the backup timer (which says "stopped by the timer", 0.25 s late, and cannot stop a loop inside scipy)."""
+    import scipy.integrate  # noqa: F401  (an import is start-up, not a loop: loaded outside the budget)
+
+    from mech.core import budget
+    from mech.problems import registry
+
+    ex = registry.get(ex_id)
+    p = ex.resolve(given)
+    t0 = time.monotonic()
+    with pytest.raises(budget.OutOfBudget) as caught:
+        with budget.limit(seconds):
+            ex.solve_numeric(p)
+    wall = time.monotonic() - t0
+    assert "stopped by the timer" not in str(caught.value), str(caught.value)
+    assert seconds <= wall < seconds + BUDGET_SLACK_S, wall
+
+
+def test_a_budget_stop_on_the_command_line_is_one_line_and_exit_1():
+    """MECH_BUDGET_S=1 mech solve 4.23 -p theta=1e-30 (a nearly upright coin: over 20 s unbudgeted): the
+    budget counts from the command's start, so it ends near 1 s (plus the table's printing, and the start-up
+    where that took more than half the budget); exit 1 (a loud numeric failure), one line naming the
+    budget, no traceback."""
+    t0 = time.monotonic()
+    r = mech("solve", "4.23", "-p", "theta=1e-30", env={"MECH_BUDGET_S": "1"})
+    wall = time.monotonic() - t0
+    assert r.returncode == 1, r.stderr[-500:]
+    out = r.stdout + r.stderr
+    lines = [ln for ln in out.splitlines() if "time budget" in ln]
+    assert len(lines) == 1 and "ran out of its" in lines[0], lines
+    assert "Traceback" not in out and "internal error" not in out
+    assert wall < 1.0 + 3.0  # start-up and printing on a loaded CI machine; measured 1.1 s (quiet), 2.0 (loaded)
 
 
 def test_the_trajectory_shares_the_solves_budget(tmp_path):

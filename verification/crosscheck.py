@@ -31,6 +31,7 @@ like a serial rerun that runs out of time.  Linux only.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import pickle
@@ -38,7 +39,6 @@ import sys
 import time
 import traceback
 import warnings
-from dataclasses import dataclass, field
 from typing import Any
 
 from mech.problems.scales import LOG10_LIMIT, out_of_range
@@ -208,29 +208,21 @@ def combine_agree(flags) -> bool | None:
     return True
 
 
-@dataclass
 class _Draft:
-    """An output while it is being judged; frozen into a ``result.Quantity`` at the end."""
+    """An output while it is being judged: ``result.Quantity``'s fields, mutable, frozen into a
+    ``Quantity`` at the end.  The fields are declared once, on ``Quantity``; the slots reject a name that
+    is not one of them."""
 
-    name: str
-    unit: str
-    analytic: float | Undefined | None = None
-    numeric: float | Undefined | None = None
-    abs_err: float | None = None
-    rel_err: float | None = None
-    tol: float | None = None
-    tol_abs: float = 0.0
-    agree: bool | None = None
-    theory: str = "exact"
-    expected_err: float | None = None
-    expected_err_abs: float | None = None  # an absolute part, for a leading-order value that can be zero
-    verify_diff: float | None = None
-    numeric_err: float | None = None  # the numeric value's earned error, absolute, SI
-    analytic_err: float | None = None  # the analytic value's round-off from its conditioning, absolute, SI
-    theory_valid: bool | None = None  # a leading-order output: is its theory inside its range here
-    allowed: float | None = None  # the absolute allowance |numeric - analytic| was held to (the judge's)
-    verdict: str = ""  # the judge's verdict (``judge.VERDICTS``)
-    notes: list[str] = field(default_factory=list)
+    __slots__ = tuple(f.name for f in dataclasses.fields(Quantity))
+
+    def __init__(self, name: str, unit: str, **given) -> None:
+        for f in dataclasses.fields(Quantity):
+            if f.default is not dataclasses.MISSING:
+                setattr(self, f.name, f.default)
+        self.name, self.unit = name, unit
+        self.notes = []  # a list while judging, a tuple once frozen
+        for key, value in given.items():
+            setattr(self, key, value)
 
     def _note(self, text: str) -> None:
         if text not in self.notes:
@@ -241,8 +233,8 @@ class _Draft:
             v = getattr(self, key)
             if isinstance(v, Undefined):
                 self._note(f"{key}: {v.why}")
-        fields = {f: getattr(self, f) for f in self.__dataclass_fields__ if f != "notes"}
-        return Quantity(**fields, notes=tuple(self.notes))
+        values = {f.name: getattr(self, f.name) for f in dataclasses.fields(Quantity) if f.name != "notes"}
+        return Quantity(**values, notes=tuple(self.notes))
 
 
 def _float_or_none(v) -> float | None:

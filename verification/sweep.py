@@ -92,17 +92,37 @@ class SweepResult:
         return self.extra["json"]
 
     def iter_points(self):
-        """The points as the contract's solve objects, one at a time (never all held as JSON)."""
+        """The points as the contract's solve objects, one at a time: never all held as JSON, and on the
+        batched route never all held as typed solutions either (each is built from the arrays, written,
+        dropped), so the memory does not grow with the number of points."""
         if "json" in self.extra:
             yield from self.extra["json"]
             return
-        for k, sol in enumerate(self.solutions()):
+        sols = self.points if self.points is not None else iter_batched_solutions(self)
+        for k, sol in enumerate(sols):
             d = to_json(sol)
             d.pop("id", None)
             d.pop("title", None)
             if self.wall is not None:
                 d["wall_s"] = self.wall[k]
             yield d
+
+    def failed_points(self):
+        """(grid index, solve object) of every point that failed the cross-check, grid order, one at a time;
+        on the batched route only those points are built."""
+        if self.points is None:
+            import numpy as np
+
+            ks = [int(k) for k in np.flatnonzero(self._failed_mask())]
+            for k, sol in zip(ks, iter_batched_solutions(self, ks)):
+                d = to_json(sol)
+                d.pop("id", None)
+                d.pop("title", None)
+                yield k, d
+            return
+        for k, d in enumerate(self.iter_points()):
+            if d.get("agree") is False:
+                yield k, d
 
     def write_json(self, out) -> None:
         """``as_json()`` written to the text stream ``out`` as ``json.dumps(..., indent=2)`` would, its
@@ -130,13 +150,17 @@ class SweepResult:
     def n_failed(self) -> int:
         """How many points failed the cross-check."""
         if self.points is None:
-            import numpy as np
-
-            bad = np.zeros(len(self), dtype=bool)
-            for J in self.extra["judged"].values():
-                bad |= (J["agree"] == 0) | J["n_fail"] | J["ver_fail"]
-            return int(bad.sum())
+            return int(self._failed_mask().sum())
         return sum(pt.agree is False for pt in self.points)
+
+    def _failed_mask(self):
+        """The batched route's failed points, as a boolean array over the grid."""
+        import numpy as np
+
+        bad = np.zeros(len(self), dtype=bool)
+        for J in self.extra["judged"].values():
+            bad |= (J["agree"] == 0) | J["n_fail"] | J["ver_fail"]
+        return bad
 
     @property
     def agree(self) -> bool | None:
@@ -437,16 +461,22 @@ def run_batched(
     verify: bool = True,
     chunk: int = CHUNK,
     progress: Callable[[int], None] | None = None,
+    total_s: float | None = None,
 ) -> SweepResult:
     """The chart route: every (validated) grid point through the exercise's batched route, chunk by chunk.
 
     Both solves (at rtol and at rtol/10) and the analytic side run over the
     chunk's arrays; each point gets its own verdict by the cross-check's rule.
     A chunk whose integration fails (step underflow, the time budget) fails
-    its points loudly with the reason; the others stand.
+    its points loudly with the reason; the others stand.  ``total_s``: the
+    sweep's wall-clock budget (None: ``DEFAULT_TOTAL_S``), as on the point by
+    point route: a solve still running at its end stops and fails its chunk,
+    a solve reached after it is not run and fails its chunk, saying so (the
+    analytic values are still given).
     """
     import numpy as np
 
+    from mech.core import budget
     from mech.problems.spec import NumericFailure
 
     route = ex.batched_route
@@ -454,6 +484,9 @@ def run_batched(
     tighter = max(rtol / 10.0, ex.min_rtol)
     verify = verify and tighter < rtol
     t0 = time.perf_counter()
+    total_s = DEFAULT_TOTAL_S if total_s is None else check_total(total_s)
+    deadline = time.monotonic() + total_s
+    spent = (f"the sweep's total budget of {total_s:g} s ran out (--budget SECONDS gives it more)")
     P = grid_arrays(ex, axes, fixed)
     N = next(iter(P.values())).size
     nums = {o: [] for o in outputs}
@@ -472,12 +505,19 @@ def run_batched(
         Pc = {k: v[sl] for k, v in P.items()}
         m = sl.stop - sl.start
         for tol, store in ((rtol, nums), (tighter, vers)) if verify else ((rtol, nums),):
+            failed = f"numeric solver failed{'' if tol == rtol else f' at rtol={tol:g}'}: "
+            left = deadline - time.monotonic()
             try:
-                got = (route.numeric(Pc, tol, tuple(outputs), memo=memo) if takes_memo
-                       else route.numeric(Pc, tol, tuple(outputs)))
+                if left <= 0.05:
+                    raise budget.OutOfBudget(f"not run: {spent}")
+                with budget.limit(left, what=f"the batched sweep of {ex.id}"):
+                    got = (route.numeric(Pc, tol, tuple(outputs), memo=memo) if takes_memo
+                           else route.numeric(Pc, tol, tuple(outputs)))
+            except budget.OutOfBudget as exc:
+                why = str(exc) if str(exc).startswith("not run") else spent
+                got = {o: _failed_column(m, failed + why) for o in outputs}
             except NumericFailure as exc:
-                why = f"numeric solver failed{'' if tol == rtol else f' at rtol={tol:g}'}: {exc}"
-                got = {o: _failed_column(m, why) for o in outputs}
+                got = {o: _failed_column(m, failed + str(exc)) for o in outputs}
             for o in outputs:
                 store[o].append(got[o])
         a = route.analytic(Pc)
@@ -518,6 +558,12 @@ def _num(x):
 def batched_solutions(result: SweepResult) -> list[Solution]:
     """The chart's per-point solutions (as ``mech solve`` gives them, the asked outputs only), built from the
     judged arrays."""
+    return list(iter_batched_solutions(result))
+
+
+def iter_batched_solutions(result: SweepResult, indices=None):
+    """``batched_solutions`` one point at a time, grid order: none is kept (``sweep --json`` writes each
+    as it is built).  ``indices``: only these points (grid order)."""
     from mech.verification.judge import notes as judge_notes
 
     ex = result.exercise
@@ -527,9 +573,7 @@ def batched_solutions(result: SweepResult) -> list[Solution]:
     units = {o.name: o for o in ex.outputs}
     names = [p.name for p in ex.params]
     N = next(iter(P.values())).size
-    cols = {k: P[k].tolist() for k in names}
-    points = []
-    for k in range(N):
+    for k in range(N) if indices is None else indices:
         quantities, errors = [], []
         for name, J in judged.items():
             o = units[name]
@@ -563,9 +607,14 @@ def batched_solutions(result: SweepResult) -> list[Solution]:
                 expected_err=_num(J["expected_err"][k]) if leading and J["expected_err"] is not None else None,
                 expected_err_abs=e_abs if leading else None, verify_diff=_num(J["verify_diff"][k]),
                 allowed=_num(J["J"].allowed[k]), notes=tuple(dict.fromkeys(notes))))
-        points.append(Solution(ex, {n: cols[n][k] for n in names}, tuple(quantities), timing={},
-                               numeric_info=dict(info), errors=tuple(dict.fromkeys(errors))))
-    return points
+        # a failure of the whole chunk (a solve that ran out of time) reads the same for every output: once,
+        # for the whole solve
+        once: dict = {}
+        for e in errors:
+            key = (e.kind, e.message)
+            once[key] = Failure(e.kind, e.message) if key in once else e
+        yield Solution(ex, {n: float(P[n][k]) for n in names}, tuple(quantities), timing={},
+                       numeric_info=dict(info), errors=tuple(once.values()))
 
 
 def batched_points(result: SweepResult) -> list[dict]:

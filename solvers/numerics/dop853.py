@@ -273,6 +273,8 @@ def solve(
             break
         step_rejected = False
         while True:
+            if time.monotonic() > budget.deadline:
+                budget.check("DOP853 step")  # a run of rejected steps too (4.9 far out: until the timer)
             if h_abs < min_step:
                 status, message = -1, "Required step size is less than spacing between numbers."
                 break

@@ -16,6 +16,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from mech.core import budget
 from mech.core.errors import NumericFailure
 
 __all__ = ["Event", "Trajectory", "integrate", "integrate_to_event", "first_event", "apply_integrator", "STUDENT"]
@@ -153,6 +154,16 @@ def integrate(
 
         if method == "scipy-DOP853":
             kwargs["method"] = "DOP853"
+        if math.isfinite(budget.deadline):
+            # scipy's integrators never look at the budget (5.9's LSODA ran until the backup timer): the
+            # right-hand side does, at every evaluation (a clock read, ~0.1 us against the call's ~10 us)
+            inner, where = rhs, f"{kwargs['method']} step"
+
+            def rhs(t, y):
+                if time.monotonic() > budget.deadline:
+                    budget.check(where)
+                return inner(t, y)
+
         start = time.perf_counter()
         res = solve_ivp(rhs, t_span, y0, **kwargs)
         wall = time.perf_counter() - start

@@ -20,10 +20,12 @@ from __future__ import annotations
 
 import math
 import struct
+import time
 from dataclasses import dataclass
 from types import SimpleNamespace
 from typing import Callable
 
+from mech.core import budget
 from mech.core.errors import NumericFailure
 
 __all__ = ["brentq", "bracketed_root", "walk_to_sign_change", "minimize_bounded", "minimize_scalar", "RootResult"]
@@ -37,6 +39,13 @@ class RootResult:
     iterations: int
     function_calls: int
     converged: bool = True
+
+
+def _tick(where: str) -> None:
+    """The time budget, checked at every pass of a search (each pass may call an integration, or a whole
+    nested search: 4.21's root of a maximum ran until the backup timer)."""
+    if time.monotonic() > budget.deadline:
+        budget.check(where)
 
 
 def brentq(
@@ -76,6 +85,7 @@ def brentq(
     c, fc = a, fa
     d = e = b - a
     for it in range(1, maxiter + 1):
+        _tick("root search")
         if (fb > 0) == (fc > 0):
             c, fc = a, fa
             d = e = b - a
@@ -123,6 +133,7 @@ def walk_to_sign_change(
     (halving toward a body, doubling toward infinity).  Failing to get there is a failure, not a guess."""
     x = start
     for _ in range(max_steps):
+        _tick("walk to a sign change")
         v = f(x)
         if v != 0.0 and math.copysign(1.0, v) == sign:
             return x
@@ -167,6 +178,7 @@ def bracketed_root(f: Callable[[float], float], lo: float, hi: float) -> float:
     fa_pos = (flo > 0) if not neg else (fhi > 0)
     ka, kb = _float_key(a), _float_key(b)
     while kb - ka > 1:
+        _tick("bisection")
         km = (ka + kb) // 2
         m = _key_float(km)
         fm = f(-m if neg else m)
@@ -200,6 +212,7 @@ def minimize_bounded(
     calls = 1
     d = e = 0.0
     for _ in range(maxiter):
+        _tick("minimum search")
         mid = 0.5 * (a + b)
         tol1 = math.sqrt(_EPS) * abs(x) + xatol / 3.0
         tol2 = 2.0 * tol1
@@ -258,6 +271,7 @@ def golden_min(f: Callable[[float], float], a: float, b: float, *, xtol: float,
     if stop is not None and stop(best[1]):
         return best[0], best[1], True
     while b - a > xtol:
+        _tick("golden-section search")
         if fc < fd:
             b, d, fd = d, c, fc
             c = b - g * (b - a)
