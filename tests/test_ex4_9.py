@@ -100,3 +100,19 @@ def test_a_center_of_mass_1e300_from_the_axis_keeps_omega():
     assert n["Omega"] == pytest.approx(omega, rel=1e-11, abs=0.0)
     assert a["period"] == pytest.approx(period, rel=1e-12)
     assert n["period"] == pytest.approx(period, rel=1e-8)
+
+
+def test_a_release_at_1e_184_rad_keeps_its_energy_check():
+    """phi0 = 2.4e-184 rad squares to 0 in doubles; the energy check divides by the amplitude first, so the
+    drift is a number and the cross-check stands (it failed on a NaN drift before).  By hand, small
+    oscillations: Omega^2 = M g l / (I + M (R - l)^2)."""
+    import math
+
+    import mech
+
+    M, R, l, I, g = 1.2e95, 0.1, 5.6e-38, 0.004, 9.81
+    sol = mech.solve("4.9", M=M, l=l, phi0=2.4e-184)
+    assert sol.agree is True
+    drift = sol.to_dict()["numeric_info"]["invariants"]["energy"]
+    assert math.isfinite(drift) and drift < 1e-8
+    assert sol["Omega"].numeric == pytest.approx(math.sqrt(M * g * l / (I + M * (R - l) ** 2)), rel=1e-9)

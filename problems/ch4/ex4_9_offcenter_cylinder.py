@@ -125,11 +125,14 @@ def _phi_ddot(trig, w, M, R, l, I, g):
     return (h * F0 - l * s * N0) / (I - h * F1 + l * s * N1)
 
 
-def _energy(trig, w, M, R, l, I, g):
+def _energy(trig, w, M, R, l, I, g, unit=1.0):
+    """The energy above the lowest position, divided by unit^2: the rate and sin(phi/2) are divided by
+    ``unit`` (the amplitude) before they are squared, so that a release at 1e-184 rad is not squared to 0."""
     s, _, half = trig
-    rise = 2.0 * l * half**2  # height of the center of mass above its lowest
-    vx, vy = -((R - l) + rise) * w, l * s * w
-    return 0.5 * M * (vx**2 + vy**2) + 0.5 * I * w**2 + M * g * rise
+    w_u, half_u = w / unit, half / unit
+    rise_u = 2.0 * l * half_u**2  # height of the center of mass above its lowest, over unit^2
+    vx_u, vy_u = -((R - l) + rise_u * unit * unit) * w_u, l * s * w_u  # velocity over unit
+    return 0.5 * M * (vx_u**2 + vy_u**2) + 0.5 * I * w_u**2 + M * g * rise_u
 
 
 def _omega(p):
@@ -173,11 +176,11 @@ def motion(p):
     def rhs(s, y):
         return np.array([y[1], acc(y[0], y[1] * Omega) / Omega**2])
 
-    e0 = _energy(_trig(phi0, 0.0), 0.0, M, R, l, I, g)
+    e0 = _energy(_trig(phi0, 0.0), 0.0, M, R, l, I, g, phi0)
 
     def energy(y):
         """The energy's change from the start, relative to it."""
-        return (_energy(_trig(phi0, y[0]), y[1] * Omega, M, R, l, I, g) - e0) / e0
+        return (_energy(_trig(phi0, y[0]), y[1] * Omega, M, R, l, I, g, phi0) - e0) / e0
 
     # an upper bound of the time, from the release acceleration (slow near the top)
     t_release = np.sqrt(phi0 / abs(acc(0.0, 0.0)))
