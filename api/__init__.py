@@ -77,17 +77,21 @@ def solve(ex_id: str, method: str = "both", rtol: float | str | None = None, ver
 
 
 def sweep(ex_id: str, method: str = "both", rtol: float | str | None = None, verify: bool = True,
-          *, only: list[str] | str | None = None, jobs: int | None = None, **ranges: Any) -> "Sweep":
+          *, only: list[str] | str | None = None, jobs: int | None = None, budget: float | None = None,
+          **ranges: Any) -> "Sweep":
     """Solve over a range or a grid, as ``mech sweep`` does.
 
     Each keyword is a parameter: a tuple ``(start, stop, n)`` or ``(start, stop, n, "log")`` sweeps it
     (ends in SI numbers or strings with units), a list or array gives its values, a single value holds
     it fixed.  Several swept parameters make a grid (the first varies slowest).  ``only`` names the
-    outputs wanted (all by default); ``jobs`` the number of processes (default: decided by the cost).
+    outputs wanted (all by default); ``jobs`` the number of processes (default: decided by the cost);
+    ``budget`` the sweep's wall-clock budget in seconds (``--budget``, default 600): points not reached
+    by then fail, saying so.
     """
     from mech import api
 
-    return api.sweep(ex_id, method=method, rtol=rtol, verify=verify, only=only, jobs=jobs, ranges=ranges)
+    return api.sweep(ex_id, method=method, rtol=rtol, verify=verify, only=only, jobs=jobs, ranges=ranges,
+                     budget=budget)
 
 
 def check(ids: list[str] | str | None = None, hard: bool = False):
@@ -100,11 +104,12 @@ def check(ids: list[str] | str | None = None, hard: bool = False):
     return api.check(ids, hard=hard)
 
 
-def grade(path) -> dict:
-    """Hold a TOML file of answers against mech, as ``mech grade FILE --json`` does."""
+def grade(path, budget: float | None = None) -> dict:
+    """Hold a TOML file of answers against mech, as ``mech grade FILE --json`` does (``budget``: its
+    wall-clock budget in seconds, as ``--budget``; default 600)."""
     from mech import api
 
-    return api.grade(path)
+    return api.grade(path, budget=budget)
 
 
 def bench(ex_id: str, *, methods=None, tols=None, repeats: int = 5, max_seconds: float = 55.0,

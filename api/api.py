@@ -391,13 +391,14 @@ def _nan(v) -> float:
 
 
 def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, only=None, jobs=None,
-          ranges: dict | None = None) -> Sweep:
+          ranges: dict | None = None, budget=None) -> Sweep:
     from mech.problems import registry
-    from mech.verification.sweep import Axis, batched_outputs, grid_points, run_batched, run_sweep
+    from mech.verification.sweep import Axis, batched_outputs, check_total, grid_points, run_batched, run_sweep
 
     ex = registry.get(ex_id)
     verify = _flag("verify", verify)
     jobs = _jobs(jobs)
+    total_s = None if budget is None else check_total(budget, "budget")
     axes, fixed = [], {}
     for name, spec in dict(ranges or {}).items():
         canon = name.replace("-", "_")
@@ -430,10 +431,11 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
         from mech.verification.sweep import validate_grid
 
         validate_grid(ex, axes, fixed)
-        result = run_batched(ex, axes, fixed, batched, rtol=rtol_value, verify=verify)
+        result = run_batched(ex, axes, fixed, batched, rtol=rtol_value, verify=verify, total_s=total_s)
     else:
         points = [ex.resolve(values) for values in grid_points(axes, fixed)]
-        result = run_sweep(ex, axes, fixed, points, rtol=rtol_value, verify=verify, jobs=jobs, only=wanted)
+        result = run_sweep(ex, axes, fixed, points, rtol=rtol_value, verify=verify, jobs=jobs, only=wanted,
+                           total_s=total_s)
     return Sweep(ex, axes, fixed, result.solutions(), result.seconds, wanted)
 
 
@@ -496,11 +498,13 @@ def save_sweep_figure(result, path) -> None:
 
 # -- grade, bench, plot ----------------------------------------------------------------
 
-def grade(path) -> dict:
-    """``mech grade FILE --json``: every answer of a grading file held against mech."""
+def grade(path, budget=None) -> dict:
+    """``mech grade FILE --json``: every answer of a grading file held against mech; ``budget``: the
+    grading's wall-clock budget in seconds (``--budget``; default 600 s)."""
     from mech.verification import grading
+    from mech.verification.sweep import check_total
 
-    entries, seconds = grade_entries(path)
+    entries, seconds = grade_entries(path, None if budget is None else check_total(budget, "budget"))
     return grading.grade_json(str(path), entries, seconds)
 
 

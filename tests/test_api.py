@@ -257,3 +257,19 @@ def test_import_mech_from_the_folder_holding_a_checkout_named_mech(tmp_path):
                          env={k: v for k, v in os.environ.items() if k != "PYTHONPATH"})
     assert run.returncode == 0, run.stderr[-600:]
     assert float(run.stdout) == pytest.approx(THETA_C_60, rel=1e-8)
+
+
+def test_sweep_and_grade_take_a_total_budget_like_the_command_line(tmp_path):
+    """``budget=`` is the API's ``--budget``: points not reached by then fail, saying so; a budget that is
+    no finite positive number is BadInput naming it, before any solve."""
+    sw = mech.sweep("4.15", theta0=("10deg", "80deg", 40), budget=0.001, jobs=1)
+    last = sw.points[-1]
+    assert last.solver_failed and "total budget of 0.001 s ran out" in str(last.errors[0])
+    for bad in (float("nan"), 0, -1, "abc", True):
+        with pytest.raises(mech.BadInput, match="^budget: "):
+            mech.sweep("4.15", theta0=("10deg", "80deg", 3), budget=bad)
+    answers = tmp_path / "a.toml"
+    answers.write_text('[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "41.81deg" }\n')  # asin(2/3)
+    with pytest.raises(mech.BadInput, match="^budget: "):
+        mech.grade(answers, budget=float("inf"))
+    assert mech.grade(answers, budget=60)["ok"] is True

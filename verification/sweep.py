@@ -250,8 +250,8 @@ DEFAULT_TOTAL_S = 600.0  # a sweep's or a grading's wall-clock budget: 10 minute
 MAX_TOTAL_S = 7 * 86_400.0
 
 
-def check_total(seconds) -> float:
-    """A total budget in seconds: finite, positive, at most a week; BadInput naming --budget otherwise."""
+def check_total(seconds, name: str = "--budget") -> float:
+    """A total budget in seconds: finite, positive, at most a week; BadInput naming it (``name``) otherwise."""
     from mech.core.errors import BadInput
 
     try:
@@ -259,7 +259,7 @@ def check_total(seconds) -> float:
     except (TypeError, ValueError):
         value = math.nan
     if isinstance(seconds, bool) or not (0 < value <= MAX_TOTAL_S):
-        raise BadInput(f"--budget: '{str(seconds)[:40]}' is not a number of seconds; allowed (0, {MAX_TOTAL_S:g}]")
+        raise BadInput(f"{name}: '{str(seconds)[:40]}' is not a number of seconds; allowed (0, {MAX_TOTAL_S:g}]")
     return value
 
 
