@@ -133,7 +133,7 @@ def test_solve_check_sweeps_and_grade_give_the_same_verdicts(ex_id, given, outsi
     assert entries[0].result.agree == solved["agree"]
 
     batch_q = {}
-    if ex._batched is not None:
+    if ex.batched_route is not None:
         batched = api.sweep(ex_id, ranges={name: [float(params[name])], **fixed})
         assert len(batched.points) == 1 and batched.points[0].agree == solved["agree"]
         batch_q = {q.name: q for q in batched.points[0].quantities}

@@ -41,3 +41,21 @@ def test_the_linter_sees_a_broken_floor(tmp_path, monkeypatch):
     run = subprocess.run([str(linter), str(ROOT / "pyproject.toml"), "--no-cache"], cwd=tree, capture_output=True,
                          text=True, env={"PYTHONPATH": str(tree), "PATH": ""}, timeout=300)
     assert run.returncode != 0 and "mech.core.errors -> mech.cli.main" in run.stdout, run.stdout[-2000:]
+
+
+def test_no_one_outside_problems_reads_an_exercises_private_parts():
+    """The exercise contract is its public methods (``analytic_solver``, ``constraint_message``, ...); no module
+    outside problems/, tests included, reads an exercise's private solver, constraint or route attributes."""
+    import re
+
+    private = re.compile(r"\._(analytic|numeric|constraints|hamiltonian|batched|motion|scene)\b")
+    found = []
+    for path in ROOT.rglob("*.py"):
+        rel = path.relative_to(ROOT)
+        if rel.parts[0] in ("problems", "build") or rel.name == "test_layers.py" or \
+                any(p.startswith(".") for p in rel.parts):
+            continue
+        for n, line in enumerate(path.read_text("utf-8").splitlines(), 1):
+            if private.search(line):
+                found.append(f"{rel}:{n}: {line.strip()}")
+    assert not found, "\n".join(found)

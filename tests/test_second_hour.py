@@ -20,7 +20,7 @@ def run(*args, env=None):
 
 def test_every_exercise_with_a_joint_check_states_its_limits(exercises):
     for ex in exercises.values():
-        assert bool(ex._constraints) == bool(ex.joint_limits), ex.id
+        assert ex.has_constraints == bool(ex.joint_limits), ex.id
 
 
 def test_show_states_433s_offset_limit_and_solve_keeps_to_it():

@@ -159,13 +159,10 @@ def _allowed(ex, values: dict) -> bool:
         if p.max is not None and (v > p.max or (p.max_open and v == p.max)):
             return False
     params = Params({p.name: float(values.get(p.name, p.default)) for p in ex.params})
-    for check in ex._constraints:
-        try:
-            if check(params):
-                return False
-        except (ArithmeticError, ValueError):
-            return False
-    return True
+    try:
+        return not ex.constraint_message(params)
+    except (ArithmeticError, ValueError):
+        return False
 
 
 def _interval_around(ex, x: dict, r: _Range, t_ok: float, t_bad: float) -> float:
@@ -918,7 +915,7 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
             if batched and (name, i) not in ps.numeric:
                 later = [j for j in misses if j >= i]
                 _batched_numeric(ex, ps, later[:1] if confirmed == 0 else later[:BATCH], name)
-            got = _numeric_at(ex, ps, i, name)
+            got = _verified_at(ex, ps, i, name)
             if got is None:
                 break
             n, err = got
@@ -946,7 +943,7 @@ def _batchable(ex, name: str) -> bool:
 
 def _batched_numeric(ex, ps: PointSet, idx: list[int], name: str) -> None:
     """The verified numeric values of ``name`` at the points ``idx`` from the exercise's batched route, into
-    ``ps.numeric`` as ``_numeric_at`` keeps them: (value, its claim), or None where the route fails, finds
+    ``ps.numeric`` as ``_verified_at`` keeps them: (value, its claim), or None where the route fails, finds
     no value or its rerun moves the value beyond the claim (the judge's rule: ``judge.within``)."""
     import inspect
 
@@ -983,7 +980,7 @@ def _batched_numeric(ex, ps: PointSet, idx: list[int], name: str) -> None:
         ps.numeric[(name, i)] = (float(n.value[j]), float(err[j])) if ok[j] else None
 
 
-def _numeric_at(ex, ps: PointSet, i: int, name: str):
+def _verified_at(ex, ps: PointSet, i: int, name: str):
     key = (name, i)
     if key in ps.numeric:
         return ps.numeric[key]
