@@ -183,7 +183,15 @@ def motion(p):
         return (_energy(_trig(phi0, y[0]), y[1] * Omega, M, R, l, I, g, phi0) - e0) / e0
 
     # an upper bound of the time, from the release acceleration (slow near the top)
-    t_release = np.sqrt(phi0 / abs(acc(0.0, 0.0)))
+    a0 = abs(acc(0.0, 0.0))
+    lever = (l / R) * abs(np.sin(phi0))  # the restoring torque's arm, over R
+    tiny = np.finfo(float).tiny
+    if not (np.isfinite(a0) and np.isfinite(Omega) and a0 >= tiny and lever >= tiny):
+        # far out in the bounds (l/R ~ 1e-150 with phi0 ~ 1e-230) the torque of the swing leaves the range of
+        # doubles: said at once, not after a motion that cannot start
+        raise NumericFailure(f"the swing's torque arm (l/R) sin(phi0) = {lever:.3g} or its release acceleration "
+                             f"{a0:.3g} rad/s^2 is beyond double precision here; the swing cannot be integrated")
+    t_release = np.sqrt(phi0 / a0)
     # Integrator: DOP853 (the default), kept after `mech bench 4.9` (rtol 1e-10, tolerance 1e-8): at the
     # defaults RK45 is a little cheaper (700 evaluations, 64 ms, error 1.3e-12, against 958, 75 ms,
     # 7.7e-12) but on the hard cases it costs 1.6x (tiny inertia: 3750 vs 4260 evaluations but 343 vs
