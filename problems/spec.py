@@ -236,7 +236,7 @@ class Run:
 
     Given: ``rtol``, the requested relative accuracy; ``integrator``, the integrator every ODE
     integration must use (``mech bench``: a method name, or "student" for solve_ivp's defaults; None
-    keeps each integration's own method and step settings; ``integrate`` applies it, a shared solver
+    keeps each integration's own method and step settings; ``follow`` applies it, a shared solver
     takes it as ``integrator=run.integrator``); ``keep_trajectories``, whether the motion is kept;
     ``shared``, a dict shared by the runs of one cross-check (the solve and its rerun at rtol/10),
     where a solver may keep what it computed at a tolerance that does not depend on rtol, keyed by
@@ -291,14 +291,14 @@ class Run:
         """Add evaluations of a route that integrates no ODE through ``ode`` (a splitting, a quadrature)."""
         self.costs.append((int(nfev), None))
 
-    def integrate(self, rhs: Callable, t_span, y0, **kwargs) -> Any:
+    def _integrate(self, rhs: Callable, t_span, y0, **kwargs) -> Any:
         """``ode.integrate`` under the Run's integrator choice, recorded; the keywords are the exercise's own
         choice (method, step bounds), used when no integrator is forced."""
         from mech.solvers.numerics.ode import integrate
 
         return self.record(integrate(rhs, t_span, y0, integrator=self.integrator, **kwargs))
 
-    def integrate_to_event(self, rhs: Callable, t_span, y0, event, **kwargs) -> tuple:
+    def _integrate_to_event(self, rhs: Callable, t_span, y0, event, **kwargs) -> tuple:
         """``ode.integrate_to_event`` under the Run's integrator choice; the trajectory is recorded."""
         from mech.solvers.numerics.ode import integrate_to_event
 
@@ -331,12 +331,12 @@ class Run:
             size = motion.y_size
             opts["atol"] = [rtol * 1e-3 * v for v in size] if hasattr(size, "__len__") else rtol * 1e-3 * size
         if motion.event is not None:
-            t_end, y_end, traj = self.integrate_to_event(motion.rhs, motion.span, motion.y0, motion.event,
+            t_end, y_end, traj = self._integrate_to_event(motion.rhs, motion.span, motion.y0, motion.event,
                                                          rtol=rtol, **opts)
         else:
             if dense or (mark and self.keep_trajectories):
                 opts["dense_output"] = True  # a smooth trajectory; the steps are the same
-            traj = self.integrate(motion.rhs, motion.span, motion.y0, rtol=rtol, **opts)
+            traj = self._integrate(motion.rhs, motion.span, motion.y0, rtol=rtol, **opts)
             t_end, y_end = float(traj.t[-1]), traj.y[:, -1]
         for name, f in motion.invariants.items():
             self.invariant(name, f(y_end) - f(motion.y0))

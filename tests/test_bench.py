@@ -136,9 +136,11 @@ def test_lean_event_catches_a_stepped_over_crossing():
 def test_lean_event_obeys_the_runs_integrator():
     from mech.problems.spec import Run
 
+    from mech.problems.motion import Motion
+
     rhs, ev = _pendulum()
     run = Run(rtol=1e-8, integrator="LSODA")
-    _, _, tr = run.integrate_to_event(rhs, (0.0, 50.0), [1.0, 0.0], ev, rtol=1e-8, method="DOP853")
+    tr = run.follow(Motion(rhs, [1.0, 0.0], (0.0, 50.0), event=ev, options={"method": "DOP853"})).traj
     assert tr.method == "LSODA" and tr.forced
     assert (run.forced_runs, run.own_runs, run.nfev) == (1, 0, tr.nfev)
 
@@ -147,8 +149,10 @@ def test_the_student_integrator_drops_the_exercises_settings():
     """"student": solve_ivp's defaults (RK45, rtol 1e-3, atol 1e-6, no step bound), whatever the call asked."""
     from mech.problems.spec import Run
 
+    from mech.problems.motion import Motion
+
     run = Run(rtol=1e-10, integrator="student")
-    tr = run.integrate(lambda t, y: -y, (0.0, 1.0), [1.0], rtol=1e-10, atol=1e-14, max_step=1e-3)
+    tr = run.follow(Motion(lambda t, y: -y, [1.0], (0.0, 1.0), options={"atol": 1e-14, "max_step": 1e-3})).traj
     assert (tr.method, tr.rtol, tr.forced) == ("RK45", 1e-3, True)
     # RK45 at rtol 1e-3 over one decay time takes a handful of steps, not the 1000 the step bound forces
     assert len(tr.t) < 20
@@ -157,8 +161,10 @@ def test_the_student_integrator_drops_the_exercises_settings():
 def test_no_integrator_keeps_the_exercises_own_choice():
     from mech.problems.spec import Run
 
+    from mech.problems.motion import Motion
+
     run = Run(rtol=1e-9)
-    tr = run.integrate(lambda t, y: -y, (0.0, 1.0), [1.0], rtol=1e-9, method="DOP853")
+    tr = run.follow(Motion(lambda t, y: -y, [1.0], (0.0, 1.0), options={"method": "DOP853"})).traj
     assert (tr.method, tr.forced, run.forced_runs, run.own_runs, run.method) == ("DOP853", False, 0, 1, "DOP853")
 
 
