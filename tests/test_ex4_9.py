@@ -116,3 +116,22 @@ def test_a_release_at_1e_184_rad_keeps_its_energy_check():
     drift = sol.to_dict()["numeric_info"]["invariants"]["energy"]
     assert math.isfinite(drift) and drift < 1e-8
     assert sol["Omega"].numeric == pytest.approx(math.sqrt(M * g * l / (I + M * (R - l) ** 2)), rel=1e-9)
+
+
+@pytest.mark.parametrize("M, R, l, I, phi0, g", [
+    (1.17199e95, 1.26867e28, 5.61857e-38, 6.19556e-90, 2.42484e-184, 3.71034e-125),
+    (9.07183e-288, 1.03238e117, 2.1478e-46, 2.80894e-191, 9.71968e-66, 8.6113e77),
+])
+def test_far_apart_si_values_are_solved_in_the_routes_own_units(M, R, l, I, phi0, g):
+    """In-bounds inputs 300 decades from the defaults (hostile2's budget probe): in SI the swing's products
+    (M l sin phi, Omega^2 phi0) underflow and the solve ran until its budget.  In units of M, R and
+    sqrt(R/g) they do not.  By hand, small oscillations: Omega^2 = M g l / (I + M (R - l)^2) = (g/R) (l/R) /
+    (I/(M R^2) + (1 - l/R)^2), each factor representable."""
+    import math
+
+    import mech
+
+    sol = mech.solve("4.9", M=M, R=R, l=l, I=I, phi0=phi0, g=g)
+    assert sol.agree is True
+    omega = math.sqrt(g / R) * math.sqrt((l / R) / (I / M / R / R + (1 - l / R) ** 2))
+    assert sol["Omega"].numeric == pytest.approx(omega, rel=1e-9)

@@ -600,14 +600,12 @@ def test_a_loop_that_never_checks_is_stopped_by_the_timer_soon_after_the_deadlin
 
 # in-bounds inputs whose numeric solve runs long (scripts/budget_probe.py found them; unbudgeted times on the
 # quiet 2-core machine), one per kind of loop, each with a budget well below its time: mech's DOP853 (5.8 far
-# out: 0.95 s; 4.23 nearly upright: > 20 s), DOP853's steps (4.9 far out, 300 decades from its defaults:
-# endless, ran until the backup timer; the first such input found now fails at once, see below), scipy's LSODA (5.9: 0.17 s, ran until the timer), a root of a maximum (4.21 with a
+# out: 0.95 s; 4.23 nearly upright: > 20 s), DOP853's loop of rejected steps (4.9 far out ran there until
+# the backup timer; 4.9 now answers those inputs, so a rough right-hand side stands in below), scipy's LSODA (5.9: 0.17 s, ran until the timer), a root of a maximum (4.21 with a
 # tiny mass: 0.8 s, ran until the timer), the batched integrator of 5.11 (0.46 s)
 LONG_SOLVES = [
     ("5.8", {"omega0": 41239.3, "delta": 5.18067e-08, "alpha": -1.22763e08, "f0": 1.78134e-07}, 0.1),
     ("4.23", {"theta": 1e-30}, 0.1),
-    ("4.9", {"M": 9.07183e-288, "R": 1.03238e+117, "l": 2.1478e-46, "I": 2.80894e-191, "phi0": 9.71968e-66,
-             "g": 8.6113e+77}, 0.1),
     ("5.9", {"mu": 3e5}, 0.03),
     ("4.21", {"M": 1e-101}, 0.1),
     ("5.11", {"omega0": 1e-99, "delta": 5e-102, "mu": 5e-102, "omega": 1.005e-99}, 0.1),
@@ -636,15 +634,42 @@ def test_every_long_loop_checks_the_budget(ex_id, given, seconds):
     assert seconds <= wall < seconds + BUDGET_SLACK_S, wall
 
 
+def test_dop853s_rejected_steps_check_the_budget():
+    """A right-hand side of size 1e100 that changes at every scale (sin(1e300 t)): every step is rejected
+    until h ~ 1e-112, about 150 rejections of 12 slow evaluations (1 ms each) away.  Under a 0.1 s budget the
+    loop of rejections stops at its own check, not by the timer."""
+    import math
+
+    import numpy as np
+
+    from mech.core import budget
+    from mech.solvers.numerics import dop853
+
+    calls = []
+
+    def rough(t, y):
+        calls.append(t)
+        time.sleep(0.001)
+        return np.array([1e100 * math.sin(1e300 * t + 1.0)])
+
+    t0 = time.monotonic()
+    with pytest.raises(budget.OutOfBudget) as caught:
+        with budget.limit(0.1):
+            dop853.solve(rough, (0.0, 1.0), [0.0], rtol=1e-8, atol=1e-12)
+    assert "stopped by the timer" not in str(caught.value) and "DOP853 step" in str(caught.value)
+    assert 0.1 <= time.monotonic() - t0 < 0.1 + BUDGET_SLACK_S
+    assert len(calls) < 150 * 12  # still rejecting: no step of the 1e-112 it needs was reached
+
+
 def test_a_swing_beyond_double_precision_fails_at_once():
-    """4.9 with the release acceleration Omega^2 phi0 ~ 1e-218 x 2.4e-184 = 0 in doubles: the motion cannot
-    start, so the numeric solve says so at once (it ran until the budget before), in one line."""
+    """4.9 with the torque arm (l/R) sin(phi0) = 4e-136 x 2e-235 = 0 in doubles: the motion cannot start,
+    so the numeric solve says so at once (it ran until the budget before), in one line."""
     from mech.core.errors import NumericFailure
     from mech.problems import registry
 
     ex = registry.get("4.9")
-    p = ex.resolve({"M": 1.17199e95, "R": 1.26867e28, "l": 5.61857e-38, "I": 6.19556e-90, "phi0": 2.42484e-184,
-                    "g": 3.71034e-125})
+    p = ex.resolve({"M": 1.2226e-68, "R": 8.57539e+52, "l": 3.58394e-83, "I": 1.01709e-48, "phi0": 1.9886e-235,
+                    "g": 7.13236e+129})
     t0 = time.monotonic()
     with pytest.raises(NumericFailure, match="beyond double precision"):
         ex.solve_numeric(p)

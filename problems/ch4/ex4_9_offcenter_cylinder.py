@@ -24,7 +24,8 @@ halved until successive estimates agree (the nonlinearity scale can be 1e-3 rad)
 Period: a quarter swing from rest at phi0 to phi = 0 (event), times 4, in time
 scaled by the numeric Omega, the state holding phi - phi0 (so a start 1e-9 from
 the top is not rounded away) with absolute tolerances scaled by the distance
-from the top; the energy is monitored.
+from the top; the energy is monitored.  The route works in units of M, R and
+sqrt(R/g), so that far-apart SI values do not underflow in its products.
 """
 
 from __future__ import annotations
@@ -135,10 +136,17 @@ def _energy(trig, w, M, R, l, I, g, unit=1.0):
     return 0.5 * M * (vx_u**2 + vy_u**2) + 0.5 * I * w_u**2 + M * g * rise_u
 
 
+def _natural(p):
+    """The numeric route's units: mass M, length R, time sqrt(R/g), so that M = R = g = 1 and the parameters
+    left are l/R and I/(M R^2) (far-apart SI values, M ~ 1e-288 kg with R ~ 1e117 m, would otherwise
+    underflow in the products of the swing); and the unit of rate sqrt(g/R) in 1/s."""
+    return (1.0, 1.0, p.l / p.R, p.I / p.M / p.R / p.R, 1.0), np.sqrt(p.g) / np.sqrt(p.R)
+
+
 def _omega(p):
     """Omega = (-d phi''/d phi at 0)^(1/2) by Richardson central differences (phi'' is odd in phi), the step
-    halved until successive estimates agree; and that step."""
-    M, R, l, I, g = p.M, p.R, p.l, p.I, p.g
+    halved until successive estimates agree; and that step.  In the route's units (``_natural``)."""
+    (M, R, l, I, g), _ = _natural(p)
 
     def acc(phi):
         return _phi_ddot(_trig(0.0, phi), 0.0, M, R, l, I, g)
@@ -166,9 +174,9 @@ def motion(p):
     the state holding (phi - phi0, dphi/ds) (a start next to the top keeps its digits)."""
     from mech.problems.motion import Motion
 
-    M, R, l, I, g = p.M, p.R, p.l, p.I, p.g
+    (M, R, l, I, g), nu = _natural(p)
     phi0 = p.phi0
-    Omega, _ = _omega(p)
+    Omega, _ = _omega(p)  # in units of nu
 
     def acc(dphi, w):
         return _phi_ddot(_trig(phi0, dphi), w, M, R, l, I, g)
@@ -184,13 +192,13 @@ def motion(p):
 
     # an upper bound of the time, from the release acceleration (slow near the top)
     a0 = abs(acc(0.0, 0.0))
-    lever = (l / R) * abs(np.sin(phi0))  # the restoring torque's arm, over R
+    lever = l * abs(np.sin(phi0))  # the restoring torque's arm, over R
     tiny = np.finfo(float).tiny
     if not (np.isfinite(a0) and np.isfinite(Omega) and a0 >= tiny and lever >= tiny):
         # far out in the bounds (l/R ~ 1e-150 with phi0 ~ 1e-230) the torque of the swing leaves the range of
         # doubles: said at once, not after a motion that cannot start
         raise NumericFailure(f"the swing's torque arm (l/R) sin(phi0) = {lever:.3g} or its release acceleration "
-                             f"{a0:.3g} rad/s^2 is beyond double precision here; the swing cannot be integrated")
+                             f"{a0:.3g} g/R is beyond double precision here; the swing cannot be integrated")
     t_release = np.sqrt(phi0 / a0)
     # Integrator: DOP853 (the default), kept after `mech bench 4.9` (rtol 1e-10, tolerance 1e-8): at the
     # defaults RK45 is a little cheaper (700 evaluations, 64 ms, error 1.3e-12, against 958, 75 ms,
@@ -201,14 +209,15 @@ def motion(p):
     # top (2 cos(phi0/2) ~ pi - phi0): an error there sets the time spent.
     return Motion(rhs, [0.0, 0.0], (0.0, 1e4 * max(1.0, Omega * t_release)),
                   event=Event(lambda s, y: phi0 + y[0], direction=-1, name="phi = 0"),
-                  invariants={"energy": energy}, t_scale=1.0 / Omega, y_scale=[1.0, Omega],
+                  invariants={"energy": energy}, t_scale=1.0 / (Omega * nu), y_scale=[1.0, Omega * nu],
                   to_states=lambda y: [phi0 + y[0], y[1]],
                   y_size=0.1 * min(phi0, 2.0 * np.cos(phi0 / 2.0)))
 
 
 @exercise.numeric
 def numeric(p, run):
-    Omega, h = _omega(p)
+    Omega_n, h = _omega(p)
+    Omega = Omega_n * _natural(p)[1]
     run.info["linearization_step"] = h
     end = run.follow(motion(p))
     run.info["quarter_period_s"] = end.t_end / Omega
