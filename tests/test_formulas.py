@@ -433,6 +433,32 @@ def test_a_formula_beyond_leading_order_is_held_against_the_batched_route(monkey
     assert calls == [1, 1, len(ps) - 2, len(ps) - 2]
 
 
+def test_a_batch_that_fails_leaves_its_points_to_the_point_by_point_route(monkeypatch):
+    # 5.13's batched route raising: the exact answer (the scalar numeric values) is still right at every
+    # point, verified one point at a time, never called wrong for want of a reference
+    ex = registry.get("5.13")
+    output = {o.name: o for o in ex.outputs}["omega_down"]
+    F._CACHE.clear()
+    ps = F.point_set(ex, ex.resolve({}), 3, 5)
+    exact = np.array([F._verified_at(ex, ps, i, "omega_down")[0] for i in range(len(ps))])
+    ps.numeric.clear()
+    lead = ps.analytic["omega_down"]
+
+    class Exact:
+        names = frozenset()
+
+        def evaluate(self, env, dtype=np.float64):
+            return exact.astype(dtype), np.zeros(len(exact), dtype), []
+
+    def broken(P, rtol, outputs, memo=None):
+        raise FloatingPointError("the batch failed")
+
+    monkeypatch.setattr(ex, "batched_route", dataclasses.replace(ex.batched_route, numeric=broken))
+    pj = F._judge_points(Exact(), ps, lead.copy(), ps.analytic_err["omega_down"].copy(), F.FORMULA_RTOL)
+    here = F._leading_order_numeric(Exact(), ex, output, ps, pj, F.FORMULA_RTOL, (exact[0], 1e-9 * exact[0]), [])
+    assert here.all() and pj.right.all()
+
+
 # -- fuzz: any text, no traceback, no hang, bounded memory ----------------------------------------------
 
 _ATOMS = ["theta0", "l", "g", "θ₀", "2", "0.5", "1e-300", "1e300", "pi", "deg", "m", "(", ")", "+", "-", "*", "/",

@@ -550,11 +550,13 @@ def _ratio_constant(formula: Formula, line: PointSet, output: str, rtol: float) 
     use = np.isfinite(pj.yours) & np.isfinite(ref)
     if use.sum() < 2:
         return None
+    from mech.verification.judge import within
+
     y, r, t = pj.yours[use], ref[use], pj.tol[use]
     if np.all(r != 0):
         c = float(np.median(y / r))
-        return bool(np.all(np.abs(y - c * r) <= t * max(1.0, abs(c))))
-    return bool(np.all(np.abs(y - r) <= t))
+        return bool(np.all(within(np.abs(y - c * r), t * max(1.0, abs(c)))))
+    return bool(np.all(within(np.abs(y - r), t)))
 
 
 def _follows(formula: Formula, ps: PointSet, output: str, rtol: float) -> tuple[list, list]:
@@ -943,8 +945,9 @@ def _batchable(ex, name: str) -> bool:
 
 def _batched_numeric(ex, ps: PointSet, idx: list[int], name: str) -> None:
     """The verified numeric values of ``name`` at the points ``idx`` from the exercise's batched route, into
-    ``ps.numeric`` as ``_verified_at`` keeps them: (value, its claim), or None where the route fails, finds
-    no value or its rerun moves the value beyond the claim (the judge's rule: ``judge.within``)."""
+    ``ps.numeric`` as ``_verified_at`` keeps them: (value, its claim), or None where the route finds no value
+    or its rerun moves the value beyond the claim (the judge's rule: ``judge.within``); a batch that fails
+    as a whole leaves its points to ``_verified_at``."""
     import inspect
 
     from mech.verification.judge import within
@@ -960,9 +963,7 @@ def _batched_numeric(ex, ps: PointSet, idx: list[int], name: str) -> None:
     try:
         cols = [(route.numeric(P, tol, (name,), memo=ps.batch_memo) if takes_memo
                  else route.numeric(P, tol, (name,)))[name] for tol in (rtol, tighter)]
-    except Exception:  # a failed batch: no verified value at these points (a point stays wrong)
-        for i in idx:
-            ps.numeric[(name, i)] = None
+    except Exception:  # a failed batch: these points are verified one by one instead (``_verified_at``)
         return
     n, v = cols
     shape = n.value.shape
@@ -984,15 +985,19 @@ def _verified_at(ex, ps: PointSet, i: int, name: str):
     key = (name, i)
     if key in ps.numeric:
         return ps.numeric[key]
+    from mech.verification.judge import within
+
     got = None
     try:
         rtol = ex.default_rtol
         v1, run = ex.solve_numeric(ps.points[i], rtol)
-        v2, _ = ex.solve_numeric(ps.points[i], rtol / 10)
+        v2, _ = ex.solve_numeric(ps.points[i], max(rtol / 10, ex.min_rtol))
         a, b = v1.get(name), v2.get(name)
         if isinstance(a, float) and isinstance(b, float) and math.isfinite(a) and math.isfinite(b):
-            claim = ex.tol_factor * rtol * abs(a)
-            if abs(a - b) <= claim:
+            # the output's own claim where the solve declared one (an abs claim for a value that can be 0)
+            rel, ab = run.claims.get(name, (None, None))
+            claim = (ex.tol_factor * rtol if rel is None else rel) * abs(a) + (ab or 0.0)
+            if within(abs(a - b), claim):
                 got = (a, claim)
     except Exception:  # a numeric failure there: no verified value, the point stays wrong
         got = None
