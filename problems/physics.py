@@ -97,6 +97,14 @@ def derive(ex) -> "Derivation":
 # ---------------------------------------------------------------------------------------------- declaring
 
 
+@dataclass(frozen=True)
+class Rate:
+    """A state that is a quadrature (dissipated energy): not a function of the coordinates and speeds, its
+    rate is ``expr`` (``Declaration.rate``)."""
+
+    expr: Any
+
+
 class Declaration:
     """What a physics declaration states (see the module docstring); built by calling its methods."""
 
@@ -125,6 +133,7 @@ class Declaration:
         self.nonholonomic: list = []
         self.state_exprs: list | None = None
         self.inverse_fn: Callable | None = None
+        self.within: Callable | None = None
         self.event_expr = None
         self.jacobian_fn: Callable | None = None
         self.sizes: dict = {}
@@ -166,9 +175,9 @@ class Declaration:
 
     def constant(self, name: str, value: float, unit: str, why: str):
         """A constant that is not a parameter, with the value the module's run takes (its unit of mass, the
-        book's number), its unit and why that value."""
-        sym = self._sp.Symbol(name, positive=value > 0) if value != 0 else self._sp.Symbol(name, real=True)
-        self.constant_values[sym] = (float(value), unit, why)
+        book's number; or ``f(p)``, a model constant the parameters set), its unit and why that value."""
+        sym = self._sp.Symbol(name, real=True)
+        self.constant_values[sym] = (value if callable(value) else float(value), unit, why)
         return sym
 
     # -- the physics
@@ -199,15 +208,23 @@ class Declaration:
         self.nonholonomic = list(velocity_constraints)
 
     # -- what the module integrates
-    def states(self, exprs, inverse: Callable | None = None, sizes: dict | None = None):
+    def states(self, exprs, inverse: Callable | None = None, sizes: dict | None = None,
+               within: Callable | None = None):
         """The exercise's declared ``states``, in order and in SI, as expressions in t, the coordinates and the
         speeds (q-dot for Lagrange's method); ``inverse(x, values) -> {symbol: value}`` the coordinates and
         independent speeds of an SI state vector x (not needed when the states are the coordinates then
         their rates).  ``sizes``: name -> the typical size of a coordinate or speed for the draws around the
-        start (a number, or ``f(p, value)``: a lean kept off the flat disk)."""
+        start (a number, or ``f(p, value)``: a lean kept off the flat disk).  ``within(x, x0) -> bool``: whether
+        the SI state x lies where the module's equations describe this motion (started at x0); draws outside
+        are drawn again."""
+        self.within = within
         self.state_exprs = list(exprs)
         self.inverse_fn = inverse
         self.sizes = dict(sizes or {})
+
+    def rate(self, expr) -> Rate:
+        """A state given by its rate alone (a quadrature: the energy dissipated), for ``states``."""
+        return Rate(expr)
 
     def event(self, expr):
         """What the motion's (first) event function measures, in SI: an expression in t, q, u and the
@@ -229,11 +246,12 @@ class Declaration:
 # ---------------------------------------------------------------------------------------------- deriving
 
 
-def _tidy(e, most: int = 400):
-    """``e`` simplified where it is small enough for that to be quick, else as derived."""
+def _tidy(e, most: int = 60):
+    """``e`` simplified where it is small enough for that to be quick (simplify takes seconds on Kane's
+    equations of the rolling coin), else with its common factors taken out."""
     import sympy as sp
 
-    return sp.simplify(e) if sp.count_ops(e) <= most else e
+    return sp.simplify(e) if sp.count_ops(e) <= most else sp.factor_terms(e)
 
 
 class Derivation:
@@ -357,7 +375,7 @@ class Derivation:
         if len(d.state_exprs) != len(ex.states):
             raise ValueError(f"{ex.id}: the declaration gives {len(d.state_exprs)} states, the exercise {len(ex.states)}")
         kdd = self.km.kindiffdict() if d.method == "Kane" else {}
-        S = sp.Matrix([plain(me.msubs(e, kdd)) for e in d.state_exprs])
+        S = sp.Matrix([0 if isinstance(e, Rate) else plain(me.msubs(sp.sympify(e), kdd)) for e in d.state_exprs])
         self.S_plain = S
         self._S = sp.lambdify(args, S, modules="mpmath")
         if d.method == "Lagrange":
@@ -367,6 +385,9 @@ class Derivation:
             qdot = [self.rate_syms[self.kane_q_order.index(i)] for i in range(n)]
             udot = [self.rate_syms[len(q) + self.kane_u_order.index(i)] for i in range(len(U))]
         Sdot = S.diff(args[0]) + S.jacobian(Q) * sp.Matrix(qdot) + S.jacobian(U) * sp.Matrix(udot)
+        for i, e in enumerate(d.state_exprs):  # a quadrature: its rate as declared
+            if isinstance(e, Rate):
+                Sdot[i] = plain(me.msubs(sp.sympify(e.expr), kdd))
         self._Sdot = sp.lambdify(args + self.rate_syms, Sdot, modules="mpmath")
         self._event = (sp.lambdify(args + self.rate_syms, plain(d.event_expr), modules="mpmath")
                        if d.event_expr is not None else None)
@@ -381,7 +402,8 @@ class Derivation:
             if sym in self.d.param_symbols:
                 out.append(mpmath.mpf(float(p[self.d.param_symbols[sym]])))
             else:
-                out.append(mpmath.mpf(self.d.constant_values[sym][0]))
+                v = self.d.constant_values[sym][0]
+                out.append(mpmath.mpf(float(v(p)) if callable(v) else v))
         return out
 
     def full(self, t, q_ind, u_ind, pv):
@@ -413,7 +435,7 @@ class Derivation:
                 Uv[k] = sol[j]
         return tv, Qv, Uv
 
-    def evaluate(self, p, t, q_ind, u_ind):
+    def evaluate(self, p, t, q_ind, u_ind, rates: bool = True):
         """(x, x', event) in SI at the independent coordinates and speeds, in mpmath at DIGITS digits: the
         states, their rates from the derived equations, and the event's value (None without one)."""
         import mpmath
@@ -421,7 +443,9 @@ class Derivation:
         with mpmath.workdps(DIGITS):
             pv = self.values(p)
             tv, Qv, Uv = self.full(t, q_ind, u_ind, pv)
-            a = list(tv for tv in [tv]) + Qv + Uv + pv
+            a = [tv] + Qv + Uv + pv
+            if not rates:
+                return [v for v in mpmath.matrix(self._S(*a))], None, None
             A = mpmath.matrix(self._A(*a))
             b = mpmath.matrix(self._b(*a))
             r = mpmath.lu_solve(A, b)
@@ -438,6 +462,7 @@ class Derivation:
             vals = self.d.inverse_fn([float(v) for v in x], p)
             return vals
         k = len(self.indep)
+        x = [v for v, e in zip(x, self.d.state_exprs) if not isinstance(e, Rate)]
         if len(x) != 2 * k:
             raise ValueError(f"{self.ex.id}: states are not (q, q-dot): the declaration needs an inverse")
         return [float(v) for v in x[:k]], [float(v) for v in x[k:]]
@@ -446,6 +471,7 @@ class Derivation:
     def sections(self, latex: bool = False) -> list[tuple[str, list[str]]]:
         """(heading, lines) of the declaration and the derived equations, pretty-printed or as LaTeX."""
         import sympy as sp
+        from sympy.physics import mechanics as me
         from sympy.physics.vector import vlatex
 
         from sympy.physics.vector.printing import VectorPrettyPrinter
@@ -478,7 +504,7 @@ class Derivation:
             out.append(("kinematic differential equations (= 0)", [fmt(sp.Eq(k, 0)) for k in d.kinematics]))
             if d.nonholonomic:
                 out.append(("nonholonomic constraints (= 0), fixing " + ", ".join(str(u.func) for u in d.u_dependent),
-                            [fmt(sp.Eq(_tidy(c), 0)) for c in d.nonholonomic]))
+                            [fmt(sp.Eq(_tidy(me.msubs(c, self.km.kindiffdict())), 0)) for c in d.nonholonomic]))
             out.append(("equations of motion (Kane's, Fr + Fr* = 0)",
                         [fmt(sp.Eq(_tidy(e), 0)) for e in self.eom]))
         solved = self.solved()
@@ -486,10 +512,19 @@ class Derivation:
             out.append(("solved for the accelerations", [fmt(sp.Eq(k, v)) for k, v in solved]))
         for heading, e in d.shown.items():
             out.append((heading, [fmt(e)]))
-        out.append(("states integrated (SI)", [fmt(sp.Eq(sp.Symbol(name), e)) for (name, _), e in zip(self.ex.states, d.state_exprs)]))
+        out.append(("states integrated (SI)", [
+            fmt(sp.Eq(sp.Symbol(f"d{name}/dt") if isinstance(e, Rate) else sp.Symbol(name), e.expr if isinstance(e, Rate) else e))
+            for (name, _), e in zip(self.ex.states, d.state_exprs)]))
         if d.notes and not latex:
             out.append(("notes", d.notes))
         return out
+
+    def symbol(self, name: str):
+        """The declaration's symbol of a parameter or constant, by name."""
+        for sym in self.P:
+            if str(sym) == name:
+                return sym
+        raise KeyError(name)
 
     def declared(self) -> list[str]:
         """The method, coordinates, speeds, parameters and constants, as plain text."""
@@ -501,7 +536,7 @@ class Derivation:
         if d.param_symbols:
             head.append("parameters: " + ", ".join(str(s) for s in d.param_symbols))
         for sym, (v, unit, why) in d.constant_values.items():
-            head.append(f"constant {sym} = {v:g} {unit}: {why}")
+            head.append(f"constant {sym}" + ("" if callable(v) else f" = {v:g}") + f" [{unit}]: {why}")
         return head
 
     def solved(self, most: int = 5):
@@ -540,7 +575,7 @@ class Derivation:
                 "coordinates": [str(qi.func) for qi in d.q],
                 "speeds": [str(ui.func) for ui in d.u] if self.method == "Kane" else [],
                 "parameters": [str(s) for s in d.param_symbols],
-                "constants": [{"name": str(sym), "value": v, "unit": unit, "why": why}
+                "constants": [{"name": str(sym), "value": None if callable(v) else v, "unit": unit, "why": why}
                               for sym, (v, unit, why) in d.constant_values.items()],
                 "notes": list(d.notes),
                 "sections": [{"heading": h, "latex": lines} for h, lines in self.sections(latex=True)
@@ -581,6 +616,22 @@ class Comparison:
         return max(errs)
 
 
+def compared_motion(ex, p):
+    """The motion the declared states describe at ``p``: the declared motion, or, where that is a lead-in
+    leg not shown (4.8's strike), the first shown leg after it (the chain followed at the exercise's
+    default accuracy); None where the exercise has no motion at ``p``."""
+    m = ex.motion_at(p)
+    if m is None or m.shown:
+        return m
+    from mech.problems.spec import Run
+
+    path = Run(rtol=ex.default_rtol).follow(m, mark=False)
+    for leg in path.legs:
+        if leg.motion is not None and leg.motion.shown:
+            return leg.motion
+    return None
+
+
 def state_sizes(motion) -> list[float]:
     """The SI size of each declared state: ``y_size`` (1 by default) through ``to_states`` and ``y_scale``."""
     import numpy as np
@@ -605,6 +656,7 @@ def draw_states(der, p, motion, rng, n: int, spread: float = 0.3):
     sizes = state_sizes(motion)
     k = len(q0)
     if der.d.inverse_fn is None:
+        sizes = [v for v, e in zip(sizes, der.d.state_exprs) if not isinstance(e, Rate)]
         sq, su = np.asarray(sizes[:k]), np.asarray(sizes[k:])
     else:
         named = {str(s.func) if hasattr(s, "func") else str(s): v for s, v in der.d.sizes.items()}
@@ -618,10 +670,16 @@ def draw_states(der, p, motion, rng, n: int, spread: float = 0.3):
         su = np.array([size(nm, v, u0) for nm, v in zip(un, u0)])
     out = []
     lo, hi = motion.span
-    for _ in range(n):
+    for _ in range(50 * n):
+        if len(out) == n:
+            break
         tt = motion.t_offset + motion.t_scale * rng.uniform(min(lo, hi), max(lo, hi))
         q = q0 + spread * sq * rng.standard_normal(k)
         u = u0 + spread * su * rng.standard_normal(u0.size)
+        if der.d.within is not None:
+            x = [float(v) for v in der.evaluate(p, tt, list(q), list(u), rates=False)[0]]
+            if not der.d.within(x, list(x0)):
+                continue
         out.append((float(tt), list(q), list(u)))
     return out
 
@@ -692,3 +750,54 @@ def jacobian_error(der, p, motion, t, y, jac) -> float:
         row = max(float(np.max(np.abs(J[i]))), 1e-300)
         err = max(err, float(np.max(np.abs(J_hand[i] - J[i]))) / row)
     return err
+
+
+# ---------------------------------------------------------------------------------------------- attitudes
+# shared by the declarations whose modules integrate an attitude quaternion (scalar first, body -> lab)
+
+
+def quaternion_product(a, b):
+    """The Hamilton product of two quaternions (scalar first), on sympy expressions or numbers."""
+    a0, a1, a2, a3 = a
+    b0, b1, b2, b3 = b
+    return (a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3, a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
+            a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1, a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0)
+
+
+def turn_quaternion(angle, axis: int):
+    """The quaternion of a turn by ``angle`` about the coordinate axis 0, 1 or 2 (sympy)."""
+    import sympy as sp
+
+    v = [0, 0, 0]
+    v[axis] = sp.sin(angle / 2)
+    return (sp.cos(angle / 2), *v)
+
+
+def body_xyz_quaternion(a, b, c):
+    """The quaternion of sympy's ``orientnew(..., "Body", [a, b, c], "XYZ")``: turns about x, then the new
+    y, then the newest z (R = Rx(a) Ry(b) Rz(c))."""
+    return quaternion_product(quaternion_product(turn_quaternion(a, 0), turn_quaternion(b, 1)),
+                              turn_quaternion(c, 2))
+
+
+def body_xyz_angles(Rm):
+    """(a, b, c) with Rx(a) Ry(b) Rz(c) = Rm (|b| < pi/2), the inverse of ``body_xyz_quaternion``'s matrix."""
+    return (math.atan2(-Rm[1][2], Rm[2][2]), math.asin(max(-1.0, min(1.0, Rm[0][2]))),
+            math.atan2(-Rm[0][1], Rm[0][0]))
+
+
+def turn_matrix(axis: int, angle: float):
+    """The rotation matrix (numpy) of a turn by ``angle`` about the coordinate axis 0, 1 or 2."""
+    import numpy as np
+
+    c, s = math.cos(angle), math.sin(angle)
+    i, j = (axis + 1) % 3, (axis + 2) % 3
+    Rm = np.eye(3)
+    Rm[i, i], Rm[i, j], Rm[j, i], Rm[j, j] = c, -s, s, c
+    return Rm
+
+
+def body_xyz_matrix(a: float, b: float, c: float):
+    """The matrix (numpy) whose columns are the axes of sympy's ``orientnew(..., "Body", [a, b, c], "XYZ")``
+    frame in its parent's components: Rx(a) Ry(b) Rz(c)."""
+    return turn_matrix(0, a) @ turn_matrix(1, b) @ turn_matrix(2, c)

@@ -36,7 +36,8 @@ DECLARED = [i for i in INTEGRATING if physics.why_not(registry.get(i)) is None]
 # the reduced or averaged models no Lagrangian gives; they say so
 WITHHELD = {"4.24", "4.25"}
 # what this branch declares; the count the issue asks for is 23 of the 25 integrating exercises
-MUST_DECLARE = {"4.15", "4.23", "5.12"}
+MUST_DECLARE = {"4.7", "4.8", "4.9", "4.10", "4.15", "4.18", "4.19", "4.20", "4.21", "4.23", "4.29", "4.30",
+                "4.31", "4.33", "4.34", "5.12"}
 
 
 def test_declared_cover_what_they_must():
@@ -50,7 +51,9 @@ def _cases(ex, seed: int):
     ps = [ex.resolve({})] + draw(ex, N_PARAMS, seed)
     rng = np.random.default_rng(seed)
     for p in ps:
-        motion = ex.motion_at(p)
+        motion = physics.compared_motion(ex, p)
+        if motion is None:  # no motion at these parameters (4.21 without a steady precession)
+            continue
         for t, q, u in physics.draw_states(ex.derive(), p, motion, rng, N_STATES):
             yield p, motion, t, q, u
 
@@ -59,13 +62,16 @@ def worst_over_draws(ex, motion_of=None, seed: int = 7):
     """The worst relative error over the draws, and where."""
     der = ex.derive()
     worst, where = 0.0, None
+    n = 0
     for p, motion, t, q, u in _cases(ex, seed):
+        n += 1
         if motion_of is not None:
             motion = motion_of(p)
         jac = der.d.jacobian_fn(p) if der.d.jacobian_fn is not None else None
         cmp = physics.compare(der, p, motion, t, q, u, jac=jac)
         if cmp.worst() > worst or where is None:
             worst, where = cmp.worst(), (dict(p), cmp)
+    assert n >= N_STATES * 3, f"{ex.id}: only {n} states compared"
     return worst, where
 
 
@@ -77,13 +83,17 @@ def test_derived_equations_match_the_hand_written_ones(ex_id):
     assert worst <= TOL, f"{ex_id} at {p}, t = {cmp.t}: blocks {cmp.blocks}, event {cmp.event}, jac {cmp.jacobian}"
 
 
-@pytest.mark.parametrize("ex_id", [i for i in DECLARED if physics.derive(registry.get(i)).d.inverse_fn is not None])
+@pytest.mark.parametrize("ex_id", DECLARED)
 def test_declared_inverse_maps_the_start_back(ex_id):
     """The declaration's inverse, then its states, give the motion's start back (a quaternion up to its sign)."""
     ex = registry.get(ex_id)
     der = ex.derive()
+    if der.d.inverse_fn is None:
+        pytest.skip("the states are the coordinates and their rates")
     for p in [ex.resolve({})] + draw(ex, 2, 3):
-        motion = ex.motion_at(p)
+        motion = physics.compared_motion(ex, p)
+        if motion is None:
+            continue
         x0 = np.asarray(motion.start, float)
         q, u = der.independent_of(p, x0)
         x, _, _ = der.evaluate(p, motion.t_offset, q, u)
@@ -159,8 +169,7 @@ def test_4_15_lagrangian_and_equation_by_hand():
     der = registry.get("4.15").derive()
     t = _t()
     theta, x, y = der.d.q
-    l, g = sympy.symbols("l g", positive=True)
-    M = sympy.Symbol("M", positive=True)
+    l, g, M = (der.symbol(name) for name in ("l", "g", "M"))
     w = theta.diff(t)
     reduced = der.d.L.subs({x.diff(t): sympy.diff(l / 2 * sympy.cos(theta), t),
                             y.diff(t): sympy.diff(l / 2 * sympy.sin(theta), t)}).subs(
@@ -178,8 +187,7 @@ def test_5_12_lagrangian_and_equation_by_hand():
     der = registry.get("5.12").derive()
     t = _t()
     [theta] = der.d.q
-    l, g, delta, a, W = sympy.symbols("l g delta a Omega", positive=True)
-    M = sympy.Symbol("M", positive=True)
+    l, g, delta, a, W, M = (der.symbol(name) for name in ("l", "g", "delta", "a", "Omega", "M"))
     w = theta.diff(t)
     T = M / 2 * (l**2 * w**2 - 2 * a * W * l * sympy.sin(W * t) * sympy.sin(theta) * w
                  + a**2 * W**2 * sympy.sin(W * t) ** 2)

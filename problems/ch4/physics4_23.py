@@ -2,7 +2,7 @@
 
 A thin uniform disk (mass M, radius r) rolling without slipping on a horizontal floor in uniform gravity,
 by Kane's method.  Coordinates: the yaw psi of its ground tangent about the vertical, its lean phi
-from the vertical (about that tangent), its spin about its own normal, and the contact point (x, y) on
+from the vertical (about that tangent), its spin angle chi about its own normal, and the contact point (x, y) on
 the floor.  Speeds: the disk's angular velocity in the leaning frame (u1, u2, u3) and the contact point's
 velocity (u4, u5), the last two fixed by the rolling condition (nonholonomic): the material point at the
 contact is at rest.  Friction does no work and needs no load; gravity acts at the center.
@@ -21,26 +21,13 @@ import sympy as sp
 from sympy.physics.mechanics import Point, ReferenceFrame, RigidBody, dot, inertia
 
 from mech.problems.ch4.ex4_23_rolling_coin import exercise
+from mech.problems.physics import quaternion_product, turn_quaternion
 from mech.solvers.mechanics.frames import quat_to_matrix
-
-
-def _qmul(a, b):
-    a0, a1, a2, a3 = a
-    b0, b1, b2, b3 = b
-    return (a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3, a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
-            a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1, a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0)
-
-
-def _about(angle, axis):
-    """The quaternion of a turn by ``angle`` about a coordinate axis (0, 1, 2)."""
-    v = [0, 0, 0]
-    v[axis] = sp.sin(angle / 2)
-    return (sp.cos(angle / 2), *v)
 
 
 @exercise.physics
 def physics(d):
-    psi, phi, spin, x, y = d.coordinates("psi phi spin x y")
+    psi, phi, chi, x, y = d.coordinates("psi phi chi x y")
     u1, u2, u3, u4, u5 = d.speeds("u1 u2 u3 u4 u5")
     r, g = d.params("r g")
     M = d.constant("M", 1.0, "kg", "the coin's mass drops out of the motion")
@@ -48,7 +35,7 @@ def physics(d):
     N = ReferenceFrame("N")                                   # the floor, z up
     Y = N.orientnew("Y", "Axis", [psi, N.z])                  # Y.x: the ground tangent
     L = Y.orientnew("L", "Axis", [phi, Y.x])                  # L.y: the disk's normal, L.z: contact -> center
-    D = L.orientnew("D", "Axis", [spin, L.y])                 # the disk itself
+    D = L.orientnew("D", "Axis", [chi, L.y])                 # the disk itself
     O = Point("O")
     O.set_vel(N, 0)
     P = O.locatenew("P", x * N.x + y * N.y)                   # the contact point (geometric)
@@ -56,7 +43,7 @@ def physics(d):
     C = P.locatenew("C", r * L.z)                             # the center
     C.set_vel(N, P.vel(N) + (r * L.z).dt(N))
     # the speeds: the disk's angular velocity (from the angles' rates) in L, and the contact point's velocity
-    w = L.ang_vel_in(N) + spin.diff(t) * L.y
+    w = L.ang_vel_in(N) + chi.diff(t) * L.y
     kin = [u1 - dot(w, L.x), u2 - dot(w, L.y), u3 - dot(w, L.z), u4 - x.diff(t), u5 - y.diff(t)]
     D.set_ang_vel(N, u1 * L.x + u2 * L.y + u3 * L.z)
     contact = C.locatenew("Pd", -r * L.z)                     # the disk's material point at the contact
@@ -72,11 +59,12 @@ def physics(d):
     body = (D.z, D.x, D.y)
     rates = [dot(w_vec, e) for e in body]
     q_fix = (sp.Rational(1, 2), -sp.Rational(1, 2), -sp.Rational(1, 2), -sp.Rational(1, 2))  # D's axes -> body axes
-    quat = _qmul(_qmul(_qmul(_about(psi, 2), _about(phi, 0)), _about(spin, 1)), q_fix)
+    quat = quaternion_product(quaternion_product(quaternion_product(turn_quaternion(psi, 2), turn_quaternion(phi, 0)),
+                                                   turn_quaternion(chi, 1)), q_fix)
     center = [dot(C.pos_from(O), e) for e in (N.x, N.y, N.z)]
     v_center = w_vec.cross(r * L.z)
     d.states(rates + list(quat) + center + [dot(v_center, e) for e in (N.x, N.y, N.z)],
-             inverse=_inverse, sizes={"phi": _lean_size, "psi": 1.0, "spin": 1.0})
+             inverse=_inverse, sizes={"phi": _lean_size, "psi": 1.0, "chi": 1.0})
 
 
 def _lean_size(p, phi):
@@ -93,7 +81,7 @@ def _inverse(xs, p):
     psi = math.atan2(-n[0], n[1])
     Lx = np.array([math.cos(psi), math.sin(psi), 0.0])
     Lz = np.array([math.sin(psi) * math.sin(phi), -math.cos(psi) * math.sin(phi), math.cos(phi)])
-    spin = math.atan2(e1 @ Lx, e1 @ Lz)
+    chi = math.atan2(e1 @ Lx, e1 @ Lz)
     w = Rm @ w_body
     contact = c - p.r * Lz
-    return [psi, phi, spin, contact[0], contact[1]], [w @ Lx, w @ n, w @ Lz]
+    return [psi, phi, chi, contact[0], contact[1]], [w @ Lx, w @ n, w @ Lz]
