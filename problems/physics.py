@@ -373,7 +373,8 @@ class Derivation:
         if d.state_exprs is None:
             raise ValueError(f"{ex.id}: the declaration gives no states")
         if len(d.state_exprs) != len(ex.states):
-            raise ValueError(f"{ex.id}: the declaration gives {len(d.state_exprs)} states, the exercise {len(ex.states)}")
+            raise ValueError(f"{ex.id}: the declaration gives {len(d.state_exprs)} states, "
+                             f"the exercise {len(ex.states)}")
         kdd = self.km.kindiffdict() if d.method == "Kane" else {}
         S = sp.Matrix([0 if isinstance(e, Rate) else plain(me.msubs(sp.sympify(e), kdd)) for e in d.state_exprs])
         self.S_plain = S
@@ -512,8 +513,14 @@ class Derivation:
             out.append(("solved for the accelerations", [fmt(sp.Eq(k, v)) for k, v in solved]))
         for heading, e in d.shown.items():
             out.append((heading, [fmt(e)]))
+        def named(name, e):  # the state's own name as plain text (sympy would read its underscores)
+            body = fmt(sp.sympify(e))
+            if latex:
+                return r"\mathrm{" + name.replace("_", r"\_") + "} = " + body
+            return f"{name} = {body}" if "\n" not in body else f"{name} =\n{body}"
+
         out.append(("states integrated (SI)", [
-            fmt(sp.Eq(sp.Symbol(f"d{name}/dt") if isinstance(e, Rate) else sp.Symbol(name), e.expr if isinstance(e, Rate) else e))
+            named(f"d{name}/dt", e.expr) if isinstance(e, Rate) else named(name, e)
             for (name, _), e in zip(self.ex.states, d.state_exprs)]))
         if d.notes and not latex:
             out.append(("notes", d.notes))
@@ -566,6 +573,24 @@ class Derivation:
                 e = e.subs({k.diff(t): sp.diff(v, t)}).subs({k: v})
             out.append((w, sp.simplify(e)))
         return out
+
+    @property
+    def latex(self) -> dict:
+        """Heading -> the LaTeX strings of that part (Lagrangian, constraints, equations of motion, ...)."""
+        return {h: lines for h, lines in self.sections(latex=True)}
+
+    @property
+    def text(self) -> str:
+        """What ``mech show ID --derive`` prints after its title: the declaration and the equations."""
+        out = ["declared:", *self.declared()]
+        for heading, lines in self.sections():
+            out += ["", f"{heading}:", *lines]
+        return "\n".join(out)
+
+    def _repr_latex_(self) -> str:  # a notebook shows the equations of motion
+        eqs = [line for h, lines in self.sections(latex=True) if h.startswith(("equations", "solved"))
+               for line in lines]
+        return "$$" + r" \\ ".join(eqs) + "$$" if eqs else ""
 
     def as_json(self) -> dict:
         """The declaration and the derived equations for ``show --derive --json``: names as text, every

@@ -32,12 +32,13 @@ def _entry(matrix: int, i: int, j: int):
 def physics(d):
     X, Y, theta, bx, by = d.coordinates("X Y theta bx by")
     m, l, m_b = d.params("m l m_b")
-    K = [[d.constant(f"K{i}{j}", _entry(0, min(i, j), max(i, j)), "N/m", "the contact's stiffness (module)")
-          if i <= j else None for j in range(2)] for i in range(2)]
-    C = [[d.constant(f"C{i}{j}", _entry(1, min(i, j), max(i, j)), "N*s/m", "the contact's damping (module)")
-          if i <= j else None for j in range(2)] for i in range(2)]
-    K = sp.Matrix([[K[0][0], K[0][1]], [K[0][1], K[1][1]]])
-    C = sp.Matrix([[C[0][0], C[0][1]], [C[0][1], C[1][1]]])
+    why = "the contact's {}: the module's, critically damped over the pulse"
+    k00, k01, k11 = (d.constant(f"K{i}{j}", _entry(0, i, j), "N/m", why.format("stiffness"))
+                     for i, j in ((0, 0), (0, 1), (1, 1)))
+    c00, c01, c11 = (d.constant(f"C{i}{j}", _entry(1, i, j), "N*s/m", why.format("damping"))
+                     for i, j in ((0, 0), (0, 1), (1, 1)))
+    K = sp.Matrix([[k00, k01], [k01, k11]])
+    C = sp.Matrix([[c00, c01], [c01, c11]])
     t = d.t
     N = ReferenceFrame("N")
     rod_frame = N.orientnew("rod", "Axis", [theta, N.z])
