@@ -56,12 +56,12 @@ def find_declaration(ex):
     None and why there is none."""
     if ex._physics is None and ex._physics_withheld is None:
         chapter, number = ex.id.split(".")
+        name = f"mech.problems.ch{chapter}.physics{chapter}_{number}"
         try:
-            importlib.import_module(f"mech.problems.ch{chapter}.physics{chapter}_{number}")
-        except ModuleNotFoundError as exc:
-            if exc.name != f"mech.problems.ch{chapter}.physics{chapter}_{number}":
-                if exc.name == "sympy":
-                    raise BadUsage(f"--derive {INSTALL_HINT}") from None
+            importlib.import_module(name)
+        except ImportError as exc:
+            if getattr(exc, "name", None) != name:  # the declaration is there but cannot load
+                _sympy()  # BadUsage with how to install it, where sympy is what is missing
                 raise
     if ex._physics is not None:
         return ex._physics, None
@@ -83,10 +83,10 @@ def derive(ex) -> "Derivation":
     ``BadUsage`` when sympy is missing, ``LookupError`` (with the reason) when nothing is declared."""
     if ex.id in _CACHE:
         return _CACHE[ex.id]
-    _sympy()
-    fn, reason = find_declaration(ex)
+    fn, reason = find_declaration(ex)  # why there is none is said with or without sympy
     if fn is None:
         raise LookupError(reason)
+    _sympy()
     d = Declaration(ex)
     fn(d)
     der = Derivation(ex, d)
@@ -456,6 +456,18 @@ class Derivation:
             ev = self._event(*a, *rates) if self._event is not None else None
             return x, xd, ev
 
+    def rates(self, p, t, q_ind, u_ind) -> dict:
+        """The solved unknowns at a state, by name: the accelerations and multipliers (Lagrange) or the
+        coordinates' and speeds' rates (Kane), floats from the mpmath solve."""
+        import mpmath
+
+        with mpmath.workdps(DIGITS):
+            pv = self.values(p)
+            tv, Qv, Uv = self.full(t, q_ind, u_ind, pv)
+            a = [tv] + Qv + Uv + pv
+            r = mpmath.lu_solve(mpmath.matrix(self._A(*a)), mpmath.matrix(self._b(*a)))
+            return {str(k): float(r[i]) for i, k in enumerate(self.unknowns)}
+
     def independent_of(self, p, x):
         """(q_ind, u_ind) of the SI state vector x: the declaration's inverse, or the states themselves when
         they are the independent coordinates then their rates."""
@@ -639,22 +651,6 @@ class Comparison:
         if self.jacobian is not None:
             errs.append(self.jacobian)
         return max(errs)
-
-
-def compared_motion(ex, p):
-    """The motion the declared states describe at ``p``: the declared motion, or, where that is a lead-in
-    leg not shown (4.8's strike), the first shown leg after it (the chain followed at the exercise's
-    default accuracy); None where the exercise has no motion at ``p``."""
-    m = ex.motion_at(p)
-    if m is None or m.shown:
-        return m
-    from mech.problems.spec import Run
-
-    path = Run(rtol=ex.default_rtol).follow(m, mark=False)
-    for leg in path.legs:
-        if leg.motion is not None and leg.motion.shown:
-            return leg.motion
-    return None
 
 
 def state_sizes(motion) -> list[float]:
