@@ -894,3 +894,49 @@ def test_fuzz_hostile_answers_files(rnd, tmp_path):
 @given(rnd=st.randoms(use_true_random=False))
 def test_fuzz_hostile_baselines(rnd, tmp_path, good_baseline):
     run_baseline(random_baseline(rnd, good_baseline), tmp_path)
+
+
+@pytest.mark.parametrize("args", [["list"], ["list", "--json"], ["show", "4.15"]])
+def test_a_reader_that_stops_at_once_is_not_a_failure(args):
+    """``mech list | head -c0``: the reader closes the pipe before mech writes; mech exits 0, silent."""
+    p = subprocess.Popen([sys.executable, "-c", "from mech.cli.main import main; main()", *args],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    p.stdout.close()  # before the child has started: its first write meets a closed pipe
+    err = p.stderr.read()
+    assert p.wait(timeout=60) == 0
+    assert err == b""
+
+
+def test_a_killed_write_leaves_nothing_after_the_next_one(tmp_path):
+    """kill -9 during a write leaves its temporary file; the next write of that file removes it (its writer
+    is gone), and keeps another live writer's."""
+    target = tmp_path / "report.xml"
+    child = subprocess.Popen([sys.executable, "-c", textwrap.dedent(f"""
+        import os, sys, time
+        from mech.core.safeio import atomic_write
+        with atomic_write({str(target)!r}) as fh:
+            fh.write("half")
+            fh.flush()
+            print("writing", flush=True)
+            time.sleep(60)
+        """)], stdout=subprocess.PIPE, text=True)
+    assert child.stdout.readline().strip() == "writing"
+    child.kill()
+    child.wait(timeout=30)
+    left = [p.name for p in tmp_path.iterdir()]
+    assert len(left) == 1 and left[0].startswith(".report.xml.mech") and left[0].endswith(".tmp"), left
+    live = tmp_path / f".report.xml.mech{os.getpid()}-other.tmp"  # a writer that still runs (this process)
+    live.write_text("")
+    with safeio.atomic_write(str(target)) as fh:
+        fh.write("whole")
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["report.xml", live.name])
+    assert target.read_text() == "whole"
+
+
+@pytest.mark.parametrize("ch", ["\u200b", "\ufeff", "\u00ad", "\u2060", "\u200d"])
+def test_invisible_characters_are_echoed_as_escapes(ch):
+    """A character a terminal shows as nothing is echoed as its escape, in errors as anywhere."""
+    r = CliRunner().invoke(cli, ["solve", "4.15", "--expect", f"theta_c=1{ch}"])
+    assert r.exit_code == 2
+    assert ch not in r.stderr
+    assert (f"\\u{ord(ch):04x}" if ord(ch) > 0xff else f"\\x{ord(ch):02x}") in r.stderr
