@@ -153,6 +153,58 @@ def test_a_planted_jacobian_error_is_caught():
     assert physics.compare(der, p, motion, t, q, u, jac=bad).jacobian > 1e-3
 
 
+# chapter 5's motions in legs: every leg after the first (a different right-hand side after 5.2's pulse)
+CHAINED = ["5.2", "5.4", "5.9"]
+
+
+@pytest.mark.parametrize("ex_id", CHAINED)
+def test_every_leg_of_a_motion_in_legs(ex_id):
+    """The legs after the first, reached by following the chain at the exercise's default rtol, compared as
+    the first is (states drawn around each leg's start, times over its span)."""
+    from mech.problems.spec import Run
+
+    ex = registry.get(ex_id)
+    der = ex.derive()
+    rng = np.random.default_rng(11)
+    worst, legs = 0.0, 0
+    for p in [ex.resolve({})] + [ex.resolve(b) for b in BRANCHES.get(ex_id, [])] + draw(ex, 2, 11):
+        first = ex.motion_at(p)
+        if first is None or first.then is None:
+            continue
+        path = Run(rtol=ex.default_rtol).follow(first, mark=False)
+        jac = der.d.jacobian_fn(p) if der.d.jacobian_fn is not None else None
+        for leg in path.legs[1:]:
+            legs += 1
+            for t, q, u in physics.draw_states(der, p, leg.motion, rng, 2):
+                worst = max(worst, physics.compare(der, p, leg.motion, t, q, u, jac=jac).worst())
+    print(f"{ex_id}: {legs} legs, worst {worst:.2e}")
+    assert legs > 0 and worst <= TOL
+
+
+def test_5_2_exact_flows_match_the_derived_equations():
+    """5.2 carries a pulse longer than one free period, and x at t1 after it, by the exact flow of its linear
+    equations (a matrix exponential, no ODE stepped): their generators, in (x, x', 1) during the pulse and
+    (x, x') after it, as right-hand sides of the pulse leg's variables (the constant row left out), against
+    the derived equations over the pulse and after it."""
+    from mech.problems.ch5.ex5_2_force_pulse import _FREE_GENERATOR, _PULSE_GENERATOR
+
+    ex = registry.get("5.2")
+    der = ex.derive()
+    rng = np.random.default_rng(13)
+    worst = 0.0
+    for p in [ex.resolve({})] + draw(ex, N_PARAMS, 13):
+        pulse = ex.motion_at(p)
+        flows = [pulse.starting(y0=[0.0, 0.0, 1.0], rhs=lambda t, y: _PULSE_GENERATOR @ y,
+                                to_states=lambda y: y[:2], idle_rows=(2,), y_size=list(pulse.y_size) + [1.0], then=None),
+                 pulse.starting(span=(p.omega0 * p.T, p.omega0 * p.T + 10.0), rhs=lambda t, y: _FREE_GENERATOR @ y,
+                                then=None)]
+        for flow in flows:
+            for t, q, u in physics.draw_states(der, p, flow, rng, N_STATES):
+                worst = max(worst, physics.compare(der, p, flow, t, q, u).worst())
+    print(f"5.2 exact flows: worst {worst:.2e}")
+    assert worst <= TOL
+
+
 def test_5_5_amplitude_phase_flows_match_the_derived_equations():
     """5.5's ringdown in amplitude and phase (x = r cos th, x' = -r sin th in tau = omega0 t, l = ln(r^2)/zeta
     from r = 1, zeta = delta/omega0), in time and with th as the clock (T and l against th), against the

@@ -5,10 +5,12 @@ an external force that is F0 from t = 0 until t = T and zero otherwise: a rectan
 function of the time entering as the generalized force on the one coordinate q (the displacement from the
 spring's rest length).
 
-The declared motion the comparison reads is the module's first leg, the pulse itself (drawn times fall
-inside 0 < t < min(T, t1, 2 pi/omega0)), in the scaled x = q/q_st, tau = omega0 t; the free leg after it
-(``then=``) and the exact linear flow that carries a pulse longer than one free period (a matrix
-exponential of the same equation's generator, no ODE stepped) are not compared here.
+The generic comparison reads the module's first leg, the pulse itself (drawn times fall inside
+0 < t < min(T, t1, 2 pi/omega0)), in the scaled x = q/q_st, tau = omega0 t; tests/test_physics_derived.py
+also follows the chain to the free leg after a short pulse (``then=``).  A pulse longer than one free
+period, and x at t1 after it, the module carries by the exact flow of its linear equations (a matrix
+exponential, no ODE stepped): that route has no right-hand side to compare, but its generators do, as
+right-hand sides in (x, x', 1) and (x, x'), and the test compares them with the derived equations too.
 """
 
 from __future__ import annotations
