@@ -205,6 +205,42 @@ def test_5_2_exact_flows_match_the_derived_equations():
     assert worst <= TOL
 
 
+def test_5_7_deviation_from_the_harmonic_matches_the_derived_equations():
+    """5.7's c3 integrals follow r = x - cos(ws s) (x = q/A, s = S omega0 t), r'' = -ws^2 r + (ws^2 - a) x
+    - b x^3: a map that moves with the time, x = cos(ws s) + r, x' = -ws sin(ws s) + r'.  So r'' = x'' +
+    ws^2 cos(ws s), with x'' from the derived equation (in SI, over (S omega0)^2 A); any ws will do (the
+    module's is its measured frequency)."""
+    import math
+
+    import mpmath
+
+    from mech.problems.ch5.ex5_7_duffing_free import _deviation, _eps, _scaled
+
+    ex = registry.get("5.7")
+    der = ex.derive()
+    rng = np.random.default_rng(17)
+    worst = 0.0
+    for p in [ex.resolve({}), ex.resolve({"alpha": 6.0})] + draw(ex, N_PARAMS, 17):
+        if _eps(p) <= -0.5:  # the barrier branch integrates x itself (``test_derived_equations...``)
+            continue
+        S, a, _ = _scaled(p)
+        ws = 1.0 + 0.1 * rng.standard_normal()
+        rhs = _deviation(p, ws, ws * ws - a).rhs
+        for _ in range(N_STATES):
+            s_, r, dr = rng.uniform(0.0, 2.0), 0.3 * rng.standard_normal(), 0.3 * rng.standard_normal()
+            with mpmath.workdps(40):
+                k = mpmath.mpf(S) * mpmath.mpf(p.omega0)  # ds/dt
+                ph = mpmath.mpf(ws) * mpmath.mpf(s_)
+                x = mpmath.cos(ph) + r
+                v = -mpmath.mpf(ws) * mpmath.sin(ph) + dr
+                _, xd, _ = der.evaluate(p, float(s_ / k), [float(x * p.A)], [float(v * k * p.A)])
+                want = xd[1] / (k * k * mpmath.mpf(p.A)) + mpmath.mpf(ws) ** 2 * mpmath.cos(ph)
+            got = rhs(s_, np.array([r, dr, 0.0]))[1]
+            worst = max(worst, abs(got - float(want)) / max(abs(float(want)), 1.0))
+    print(f"5.7 deviation: worst {worst:.2e}")
+    assert worst <= TOL
+
+
 def test_5_5_amplitude_phase_flows_match_the_derived_equations():
     """5.5's ringdown in amplitude and phase (x = r cos th, x' = -r sin th in tau = omega0 t, l = ln(r^2)/zeta
     from r = 1, zeta = delta/omega0), in time and with th as the clock (T and l against th), against the

@@ -7,7 +7,9 @@ alpha < 0; no damping, no drive.  One coordinate, the displacement q.
 The module integrates x = q/A against sigma = S omega0 t (S^2 = 1 + alpha A^2/omega0^2 for a stiff spring),
 and near the softening barrier the distance s = x_b - x from its top (an affine map of the declared
 states, inverted from the motion's ``to_states``); both are compared.  Its c3 integrals are tool runs of
-the same oscillator in the deviation from cos(omega t), a time-dependent map the comparison does not take.
+the same oscillator in the deviation r = x - cos(ws s) from the harmonic motion, a map that moves with the
+time (the affine comparison does not take it): tests/test_physics_derived.py maps the derived equation
+through it by hand (r'' = x'' + ws^2 cos(ws s)) and compares their right-hand side too.
 """
 
 from __future__ import annotations
