@@ -241,6 +241,14 @@ def test_5_7_deviation_from_the_harmonic_matches_the_derived_equations():
     assert worst <= TOL
 
 
+@pytest.mark.skip(reason="5.10's one-period orbit maps (the edges of the locking range) integrate force "
+                         "functions written inside its numeric route (closures no test reaches), and below "
+                         "mu/omega0 = 5e-3 in the frame turning with the drive, a map that moves with the time; "
+                         "its declared motion, the driven oscillator the beat is read from, is compared")
+def test_5_10_orbit_maps_match_the_derived_equations():
+    """Not compared (see the skip's reason); the declaration (physics5_10.py) says so too."""
+
+
 def test_5_5_amplitude_phase_flows_match_the_derived_equations():
     """5.5's ringdown in amplitude and phase (x = r cos th, x' = -r sin th in tau = omega0 t, l = ln(r^2)/zeta
     from r = 1, zeta = delta/omega0), in time and with th as the clock (T and l against th), against the

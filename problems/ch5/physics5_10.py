@@ -5,10 +5,12 @@ omega0 (potential M omega0^2 q^2/2), a nonlinear friction force M mu (1 - beta q
 in while q^2 < 1/beta and takes it out beyond (negative damping at small amplitude: no Rayleigh function
 gives it, so it is a generalized force), and the drive M f0 cos(omega t), an explicit function of the time.
 
-The comparison reads the declared motion, one drive period of the driven oscillator in SI.  The orbit maps
-of the continuation (solvers/mechanics/continuation.py), which for mu/omega0 < 5e-3 integrate the slow
-amplitude and phase in the frame turning with the drive (a time-dependent map of the states), are not
-compared here.
+The comparison reads the declared motion, one drive period of the driven oscillator in SI (the ensemble
+the beat is read from is its vectorized form).  The one-period orbit maps that find the edges of the
+locking range are not compared: they integrate force functions written inside the numeric route (closures
+no test reaches) through solvers/mechanics/continuation.py, and below mu/omega0 = 5e-3 in the frame
+turning with the drive (slow amplitude and phase, a map that moves with the time).  The test's skip says
+so too.
 """
 
 from __future__ import annotations
