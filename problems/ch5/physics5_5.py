@@ -8,9 +8,10 @@ exercise's states are q/q0 and its rate).
 The comparison reads the declared motion, the ringdown in x against tau = omega0 t with the dissipated
 work carried as a third row (a quadrature: left out); past delta = 0.9 omega0 the module declares no
 motion (the loss then comes from the decrement), and those draws are skipped.  The amplitude-phase flows
-(x = r cos th, x' = -r sin th, in time or with th as the clock) and the resonance curve's orbit maps are
-tool runs of the same oscillator; the first two are compared through their map in
-tests/test_physics_derived.py.
+(x = r cos th, x' = -r sin th, in time or with th as the clock) are tool runs of the same oscillator,
+compared through that map (by the chain rule) in tests/test_physics_derived.py.  The resonance curve's
+orbit maps are not compared: they integrate the oscillator driven at a frequency the search varies (not a
+parameter of the exercise, so not in this declaration), in variation-of-constants variables.
 """
 
 from __future__ import annotations
