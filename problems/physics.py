@@ -739,7 +739,8 @@ def jacobian_error(der, p, motion, t, y, jac) -> float:
     """The hand-written Jacobian of the motion's rhs (integrated variables) against the derived rates'
     Jacobian, by central differences in mpmath at DIGITS digits (the states must be (q, q-dot) or the
     declaration's inverse exact in mpmath arithmetic: an affine map), each row against its largest entry
-    times the state's size."""
+    times the state's size.  Rows no state depends on (``idle_rows``, or a zero column of the map: a
+    quadrature carried beside the states) are left out; their columns are compared (zero on the derived side)."""
     import mpmath
     import numpy as np
 
@@ -749,6 +750,8 @@ def jacobian_error(der, p, motion, t, y, jac) -> float:
     b, A = motion.states_map(y)
     scale = np.ones(len(der.ex.states)) if motion.y_scale is None else np.broadcast_to(
         np.asarray(motion.y_scale, float), (len(der.ex.states),))
+    used = [j for j in range(n) if j not in motion.idle_rows and np.any(A[:, j])]
+    back = np.linalg.pinv(A[:, used])  # the states' rates back to y's (a signed permutation: exact)
     J = np.zeros((n, n))
     with mpmath.workdps(DIGITS):
         for j in range(n):
@@ -762,12 +765,13 @@ def jacobian_error(der, p, motion, t, y, jac) -> float:
                 xs = [xs[i] * mpmath.mpf(scale[i]) for i in range(len(xs))]
                 k_ = len(der.indep)
                 _, xd, _ = der.evaluate(p, t, xs[:k_], xs[k_:])
-                ydot = [xd[i] / mpmath.mpf(scale[i]) * mpmath.mpf(motion.t_scale) for i in range(len(xd))]
+                xdot = [xd[i] / mpmath.mpf(scale[i]) * mpmath.mpf(motion.t_scale) for i in range(len(xd))]
+                ydot = [sum(mpmath.mpf(back[r, i]) * xdot[i] for i in range(len(xdot))) for r in range(len(used))]
                 cols.append(ydot)
-            for i in range(n):
-                J[i, j] = float((cols[0][i] - cols[1][i]) / (2 * h))
+            for r, i in enumerate(used):
+                J[i, j] = float((cols[0][r] - cols[1][r]) / (2 * h))
     err = 0.0
-    for i in range(n):
+    for i in used:
         row = max(float(np.max(np.abs(J[i]))), 1e-300)
         err = max(err, float(np.max(np.abs(J_hand[i] - J[i]))) / row)
     return err

@@ -24,7 +24,9 @@ from hypothesis import strategies as st
 from mech.verification import grading
 from mech.problems import registry
 from mech.problems.spec import BadInput
+from mech.verification import explain as X
 from mech.verification import formulas as F
+from mech.verification import points as P
 from mech.verification.formula_ast import (MAX_DEPTH, MAX_LENGTH, FormulaError, dim_text, parse_formula)
 
 EX = registry.get("4.15")
@@ -159,7 +161,7 @@ def test_clashing_dimensions_are_named(text, why):
 @pytest.mark.parametrize("ex_id", ["5.10", "5.8", "5.11", "5.12", "4.24", "4.20"])
 def test_draws_stay_inside_joint_constraints_and_spread(ex_id):
     ex = registry.get(ex_id)
-    pts = F.draw(ex, 24, F.DEFAULT_SEED)
+    pts = P.draw(ex, 24, F.DEFAULT_SEED)
     assert len(pts) == 24
     for p in pts:
         ex.resolve(dict(p))  # accepted by the exercise's own checks
@@ -169,20 +171,20 @@ def test_draws_stay_inside_joint_constraints_and_spread(ex_id):
 
 
 def test_draws_repeat_with_the_seed_and_change_with_it():
-    a = F.draw(EX, 8, 1)
-    assert [dict(p) for p in a] == [dict(p) for p in F.draw(EX, 8, 1)]
-    assert [dict(p) for p in a] != [dict(p) for p in F.draw(EX, 8, 2)]
+    a = P.draw(EX, 8, 1)
+    assert [dict(p) for p in a] == [dict(p) for p in P.draw(EX, 8, 1)]
+    assert [dict(p) for p in a] != [dict(p) for p in P.draw(EX, 8, 2)]
 
 
 def test_over_narrows_the_range():
-    over = F.parse_over(EX, {"theta0": "10deg:60deg"})
+    over = P.parse_over(EX, {"theta0": "10deg:60deg"})
     assert over["theta0"] == pytest.approx((math.radians(10), math.radians(60)))
-    pts = F.draw(EX, 24, 3, over)
+    pts = P.draw(EX, 24, 3, over)
     assert all(math.radians(10) <= p.theta0 <= math.radians(60) for p in pts)
     with pytest.raises(BadInput, match="out of range"):
-        F.parse_over(EX, {"theta0": "10deg:100deg"})
+        P.parse_over(EX, {"theta0": "10deg:100deg"})
     with pytest.raises(BadInput, match="LO:HI"):
-        F.parse_over(EX, {"theta0": "10deg"})
+        P.parse_over(EX, {"theta0": "10deg"})
 
 
 # -- verdicts through the command line (the issue's done-when) --------------------------------------------
@@ -327,9 +329,9 @@ def test_grade_file_with_formulas_and_junit(tmp_path):
 def test_references_are_computed_once_per_exercise_and_point():
     ex = registry.get("4.10")
     p = ex.resolve({})
-    F._CACHE.clear()
-    a = F.point_set(ex, p)
-    assert F.point_set(ex, p) is a
+    P._CACHE.clear()
+    a = P.point_set(ex, p)
+    assert P.point_set(ex, p) is a
 
 
 def test_each_point_is_solved_once_and_a_right_formula_asks_for_no_hints(monkeypatch):
@@ -346,23 +348,23 @@ def test_each_point_is_solved_once_and_a_right_formula_asks_for_no_hints(monkeyp
             calls.append(dict(p))
         return real(self, p)
 
-    F._CACHE.clear()
+    P._CACHE.clear()
     r_s, m_s = 10 * ex.param_map["R_E"].default, 1e-3 * ex.param_map["M_E"].default
     sol = mech.solve("4.32", r_S=r_s, M_S=m_s, expect={"h_high": "M_S/M_E*R_E^4/r_S^3"}, expect_rtol=0.5)
     monkeypatch.setattr(type(ex), "solve_analytic", counted)
-    F._CACHE.clear()
+    P._CACHE.clear()
     given = sol.params
-    ps = F.point_set(ex, given, known=F._known(sol))
+    ps = P.point_set(ex, given, known=F.known(sol))
     assert len(calls) == len(ps) - 1 and dict(given) not in calls  # every point but the given one, once
     # the leading-order tide, (M_S/M_E) R_E^4/r_S^3 at the sub-solar point, is within 50 % of the exact one
     # at every point (the multipole sum alone is 1/(1 - R_E/r_S) <= 1/0.7 of it): right, with no hint work
     q = sol["h_high"].expected
     assert q.match is True and not ps.lines and not ps.depends
     calls.clear()
-    line = F._line(ps, "M_S")
+    line = P.line_of(ps, "M_S")
     assert len(calls) == len(line) and all(c != dict(given) for c in calls)
     calls.clear()
-    F._limits(parse_formula("M_S/M_E*R_E^4/r_S^3", ex), ps, "h_high")
+    X._limits(parse_formula("M_S/M_E*R_E^4/r_S^3", ex), ps, "h_high")
     assert dict(given) not in calls  # each limit line starts at the given point, known already
 
 
@@ -370,8 +372,8 @@ def test_batched_references_agree_with_the_point_by_point_numeric_route():
     # 5.13's batched Floquet route against its scalar numeric solve (a different code path), point by point:
     # each verified value within the sum of the two claims; and a point the batch cannot verify gets none
     ex = registry.get("5.13")
-    F._CACHE.clear()
-    ps = F.point_set(ex, ex.resolve({}), 3, 5)
+    P._CACHE.clear()
+    ps = P.point_set(ex, ex.resolve({}), 3, 5)
     idx = list(range(1, len(ps)))
     for name in ("omega_down", "omega_inv"):
         F._batched_numeric(ex, ps, idx, name)
@@ -391,8 +393,8 @@ def test_a_formula_beyond_leading_order_is_held_against_the_batched_route(monkey
     # from the batched route (the first point alone, then the rest at once), no point-by-point solve
     ex = registry.get("5.13")
     output = {o.name: o for o in ex.outputs}["omega_down"]
-    F._CACHE.clear()
-    ps = F.point_set(ex, ex.resolve({}), 3, 5)
+    P._CACHE.clear()
+    ps = P.point_set(ex, ex.resolve({}), 3, 5)
     exact = np.array([F._verified_at(ex, ps, i, "omega_down")[0] for i in range(len(ps))])
     ps.numeric.clear()
     lead = ps.analytic["omega_down"]
@@ -414,7 +416,7 @@ def test_a_formula_beyond_leading_order_is_held_against_the_batched_route(monkey
 
     monkeypatch.setattr(ex, "batched_route", dataclasses.replace(route, numeric=counted))
     monkeypatch.setattr(type(ex), "solve_numeric", lambda *a, **k: pytest.fail("a point-by-point numeric solve"))
-    pj = F._judge_points(Exact(), ps, lead.copy(), ps.analytic_err["omega_down"].copy(), F.FORMULA_RTOL)
+    pj = P.judge_points(Exact(), ps, lead.copy(), ps.analytic_err["omega_down"].copy(), F.FORMULA_RTOL)
     assert not pj.right.any()
     notes = []
     here = F._leading_order_numeric(Exact(), ex, output, ps, pj, F.FORMULA_RTOL, (exact[0], 1e-9 * exact[0]), notes)
@@ -426,7 +428,7 @@ def test_a_formula_beyond_leading_order_is_held_against_the_batched_route(monkey
     calls.clear()
     ps.numeric.clear()
     ps.batch_memo.clear()
-    pj = F._judge_points(Exact(), ps, lead.copy(), ps.analytic_err["omega_down"].copy(), F.FORMULA_RTOL)
+    pj = P.judge_points(Exact(), ps, lead.copy(), ps.analytic_err["omega_down"].copy(), F.FORMULA_RTOL)
     pj.judged[0] = False
     here = F._leading_order_numeric(Exact(), ex, output, ps, pj, F.FORMULA_RTOL, None, [])
     assert here[1:].all() and not here[0]
@@ -438,8 +440,8 @@ def test_a_batch_that_fails_leaves_its_points_to_the_point_by_point_route(monkey
     # point, verified one point at a time, never called wrong for want of a reference
     ex = registry.get("5.13")
     output = {o.name: o for o in ex.outputs}["omega_down"]
-    F._CACHE.clear()
-    ps = F.point_set(ex, ex.resolve({}), 3, 5)
+    P._CACHE.clear()
+    ps = P.point_set(ex, ex.resolve({}), 3, 5)
     exact = np.array([F._verified_at(ex, ps, i, "omega_down")[0] for i in range(len(ps))])
     ps.numeric.clear()
     lead = ps.analytic["omega_down"]
@@ -454,7 +456,7 @@ def test_a_batch_that_fails_leaves_its_points_to_the_point_by_point_route(monkey
         raise FloatingPointError("the batch failed")
 
     monkeypatch.setattr(ex, "batched_route", dataclasses.replace(ex.batched_route, numeric=broken))
-    pj = F._judge_points(Exact(), ps, lead.copy(), ps.analytic_err["omega_down"].copy(), F.FORMULA_RTOL)
+    pj = P.judge_points(Exact(), ps, lead.copy(), ps.analytic_err["omega_down"].copy(), F.FORMULA_RTOL)
     here = F._leading_order_numeric(Exact(), ex, output, ps, pj, F.FORMULA_RTOL, (exact[0], 1e-9 * exact[0]), [])
     assert here.all() and pj.right.all()
 
@@ -480,7 +482,7 @@ def test_fuzz_formulas_never_crash(text):
         assert y.shape == (3,) and err.shape == (3,)
         if f.dim is not None:
             out = EX.outputs[0]
-            ps = F.point_set(EX, EX.resolve({}), 6, 1)
+            ps = P.point_set(EX, EX.resolve({}), 6, 1)
             v = F.judge_formula(f, EX, out, ps, (float(ps.analytic["theta_c"][0]), 0.0), None)
             assert isinstance(v.verdict, str) and v.verdict
     assert time.perf_counter() - t0 < 5.0
@@ -501,11 +503,11 @@ def test_points_beyond_a_leading_order_theory_are_left_out(monkeypatch):
     ex = registry.get("5.9")
     monkeypatch.setattr(ex, "theory_validity", lambda p: {o: ("too strong" if p.mu / p.omega0 > 0.3 else None)
                                                            for o in ("A", "omega", "lambda_lc")}, raising=False)
-    ps = F.point_set(ex, ex.resolve({}), 24, 11)
+    ps = P.point_set(ex, ex.resolve({}), 24, 11)
     out = next(o for o in ex.outputs if o.name == "A")
     n_out = int(ps.outside["A"].sum())
     assert 0 < n_out < len(ps)
     f = parse_formula("2/sqrt(beta)", ex)  # A = 2/sqrt(beta), the limit cycle's amplitude to leading order
     v = F.judge_formula(f, ex, out, ps, (float(ps.analytic["A"][0]), 0.0), None)
     assert v.match and v.points["checked"] == len(ps) - n_out and "not judged" in v.verdict
-    F._CACHE.clear()
+    P._CACHE.clear()

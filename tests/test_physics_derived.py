@@ -2,15 +2,17 @@
 from its declared physics (problems/chN/physicsN_M.py), against the module's hand-written right-hand side.
 
 For each exercise with a declaration: parameter sets drawn inside the bounds and the joint constraints
-(``verification.formulas.draw``, seeded) and the defaults; at each, states drawn around the motion's start
+(``verification.points.draw``, seeded) and the defaults; at each, states drawn around the motion's start
 (``physics.draw_states``); the derived rates evaluated in mpmath at 40 digits (the mass matrix solved
 there), the hand-written ones in floats through the motion's maps to SI (``Motion.integrated``,
 ``Motion.states_rate``); block by block (rows sharing a unit), the worst difference against the block's
 size (its largest derived rate, floored at its states' sizes over the motion's time scale).  The event
-function (``Motion.event_scale``) and the hand-written Jacobians (5.9, 5.12) are compared the same way.
+function (``Motion.event_scale``) and the hand-written Jacobians (5.4, 5.9, 5.12) are compared the same way.
 
 TOL: the hand-written side is evaluated in floats; the worst measured over these draws was 2e-15 of a
-block's size (``pytest tests/test_physics_derived.py -s`` prints each exercise's worst).  1e-11 leaves room
+block's size, 2.4e-14 for 5.7 next to its barrier top, where the map from q to the distance s from the top
+rounds (1e-16 of x_b against s ~ 5e-4) (``pytest tests/test_physics_derived.py -s`` prints each
+exercise's worst).  1e-11 leaves room
 for the conditioning of a few terms and fails on any error in a term that matters to 1e-11 of the rates.
 """
 
@@ -26,7 +28,7 @@ sympy = pytest.importorskip("sympy")
 
 from mech.problems import physics, registry  # noqa: E402
 from mech.problems.spec import Run  # noqa: E402
-from mech.verification.formulas import draw  # noqa: E402
+from mech.verification.points import draw  # noqa: E402
 
 TOL = 1e-11
 N_PARAMS = 4  # drawn parameter sets, beside the defaults
@@ -38,7 +40,15 @@ DECLARED = [i for i in INTEGRATING if physics.why_not(registry.get(i)) is None]
 WITHHELD = {"4.24", "4.25"}
 # what this branch declares; the count the issue asks for is 23 of the 25 integrating exercises
 MUST_DECLARE = {"4.7", "4.8", "4.9", "4.10", "4.15", "4.18", "4.19", "4.20", "4.21", "4.23", "4.29", "4.30",
-                "4.31", "4.33", "4.34", "5.12"}
+                "4.31", "4.33", "4.34", "5.2", "5.4", "5.5", "5.6", "5.7", "5.9", "5.10", "5.12"}
+# parameter sets compared beside the defaults and the draws, so that every branch of a module's motion is
+# (the draws may miss one)
+BRANCHES = {
+    "5.6": [{"theta0": 2.5}, {"theta0": 3.14}],  # above 90 degrees: the deviation from upright
+    "5.4": [{"zeta": 1.0}, {"zeta": 40.0}],  # critical damping; far above it, the exact flow's generator
+    "5.7": [{"alpha": 6.0}, {"alpha": -3.6, "A": 1.0}, {"alpha": -3.996, "A": 1.0}],  # stiff; near the barrier
+    "5.9": [{"mu": 12.0}, {"mu": 12.3}, {"mu": 3000.0}],  # both sides of mu/omega0 = 4; the slow time
+}
 
 
 def test_declared_cover_what_they_must():
@@ -63,11 +73,12 @@ def compared_motion(ex, p):
 
 
 def _cases(ex, seed: int):
-    ps = [ex.resolve({})] + draw(ex, N_PARAMS, seed)
+    ps = [ex.resolve({})] + [ex.resolve(b) for b in BRANCHES.get(ex.id, [])] + draw(ex, N_PARAMS, seed)
     rng = np.random.default_rng(seed)
     for p in ps:
         motion = compared_motion(ex, p)
-        if motion is None:  # no motion at these parameters (4.21 without a steady precession)
+        if motion is None:  # no motion at these parameters (4.21 without a steady precession; 5.5 past
+                            # delta = 0.9 omega0): nothing to compare
             continue
         for t, q, u in physics.draw_states(ex.derive(), p, motion, rng, N_STATES):
             yield p, motion, t, q, u
@@ -166,6 +177,146 @@ def test_a_planted_jacobian_error_is_caught():
 
     assert physics.compare(der, p, motion, t, q, u, jac=good).jacobian <= TOL
     assert physics.compare(der, p, motion, t, q, u, jac=bad).jacobian > 1e-3
+
+
+# chapter 5's motions in legs: every leg after the first (a different right-hand side after 5.2's pulse)
+CHAINED = ["5.2", "5.4", "5.9"]
+
+
+@pytest.mark.parametrize("ex_id", CHAINED)
+def test_every_leg_of_a_motion_in_legs(ex_id):
+    """The legs after the first, reached by following the chain at the exercise's default rtol, compared as
+    the first is (states drawn around each leg's start, times over its span)."""
+    from mech.problems.spec import Run
+
+    ex = registry.get(ex_id)
+    der = ex.derive()
+    rng = np.random.default_rng(11)
+    worst, legs = 0.0, 0
+    for p in [ex.resolve({})] + [ex.resolve(b) for b in BRANCHES.get(ex_id, [])] + draw(ex, 2, 11):
+        first = ex.motion_at(p)
+        if first is None or first.then is None:
+            continue
+        path = Run(rtol=ex.default_rtol).follow(first, mark=False)
+        jac = der.d.jacobian_fn(p) if der.d.jacobian_fn is not None else None
+        for leg in path.legs[1:]:
+            legs += 1
+            for t, q, u in physics.draw_states(der, p, leg.motion, rng, 2):
+                worst = max(worst, physics.compare(der, p, leg.motion, t, q, u, jac=jac).worst())
+    print(f"{ex_id}: {legs} legs, worst {worst:.2e}")
+    assert legs > 0 and worst <= TOL
+
+
+def test_5_2_exact_flows_match_the_derived_equations():
+    """5.2 carries a pulse longer than one free period, and x at t1 after it, by the exact flow of its linear
+    equations (a matrix exponential, no ODE stepped): their generators, in (x, x', 1) during the pulse and
+    (x, x') after it, as right-hand sides of the pulse leg's variables (the constant row left out), against
+    the derived equations over the pulse and after it."""
+    from mech.problems.ch5.ex5_2_force_pulse import _FREE_GENERATOR, _PULSE_GENERATOR
+
+    ex = registry.get("5.2")
+    der = ex.derive()
+    rng = np.random.default_rng(13)
+    worst = 0.0
+    for p in [ex.resolve({})] + draw(ex, N_PARAMS, 13):
+        pulse = ex.motion_at(p)
+        flows = [pulse.starting(y0=[0.0, 0.0, 1.0], rhs=lambda t, y: _PULSE_GENERATOR @ y,
+                                to_states=lambda y: y[:2], idle_rows=(2,), y_size=list(pulse.y_size) + [1.0], then=None),
+                 pulse.starting(span=(p.omega0 * p.T, p.omega0 * p.T + 10.0), rhs=lambda t, y: _FREE_GENERATOR @ y,
+                                then=None)]
+        for flow in flows:
+            for t, q, u in physics.draw_states(der, p, flow, rng, N_STATES):
+                worst = max(worst, physics.compare(der, p, flow, t, q, u).worst())
+    print(f"5.2 exact flows: worst {worst:.2e}")
+    assert worst <= TOL
+
+
+def test_5_7_deviation_from_the_harmonic_matches_the_derived_equations():
+    """5.7's c3 integrals follow r = x - cos(ws s) (x = q/A, s = S omega0 t), r'' = -ws^2 r + (ws^2 - a) x
+    - b x^3: a map that moves with the time, x = cos(ws s) + r, x' = -ws sin(ws s) + r'.  So r'' = x'' +
+    ws^2 cos(ws s), with x'' from the derived equation (in SI, over (S omega0)^2 A); any ws will do (the
+    module's is its measured frequency)."""
+    import math
+
+    import mpmath
+
+    from mech.problems.ch5.ex5_7_duffing_free import _deviation, _eps, _scaled
+
+    ex = registry.get("5.7")
+    der = ex.derive()
+    rng = np.random.default_rng(17)
+    worst = 0.0
+    for p in [ex.resolve({}), ex.resolve({"alpha": 6.0})] + draw(ex, N_PARAMS, 17):
+        if _eps(p) <= -0.5:  # the barrier branch integrates x itself (``test_derived_equations...``)
+            continue
+        S, a, _ = _scaled(p)
+        ws = 1.0 + 0.1 * rng.standard_normal()
+        rhs = _deviation(p, ws, ws * ws - a).rhs
+        for _ in range(N_STATES):
+            s_, r, dr = rng.uniform(0.0, 2.0), 0.3 * rng.standard_normal(), 0.3 * rng.standard_normal()
+            with mpmath.workdps(40):
+                k = mpmath.mpf(S) * mpmath.mpf(p.omega0)  # ds/dt
+                ph = mpmath.mpf(ws) * mpmath.mpf(s_)
+                x = mpmath.cos(ph) + r
+                v = -mpmath.mpf(ws) * mpmath.sin(ph) + dr
+                _, xd, _ = der.evaluate(p, float(s_ / k), [float(x * p.A)], [float(v * k * p.A)])
+                want = xd[1] / (k * k * mpmath.mpf(p.A)) + mpmath.mpf(ws) ** 2 * mpmath.cos(ph)
+            got = rhs(s_, np.array([r, dr, 0.0]))[1]
+            worst = max(worst, abs(got - float(want)) / max(abs(float(want)), 1.0))
+    print(f"5.7 deviation: worst {worst:.2e}")
+    assert worst <= TOL
+
+
+@pytest.mark.skip(reason="5.10's one-period orbit maps (the edges of the locking range) integrate force "
+                         "functions written inside its numeric route (closures no test reaches), and below "
+                         "mu/omega0 = 5e-3 in the frame turning with the drive, a map that moves with the time; "
+                         "its declared motion, the driven oscillator the beat is read from, is compared")
+def test_5_10_orbit_maps_match_the_derived_equations():
+    """Not compared (see the skip's reason); the declaration (physics5_10.py) says so too."""
+
+
+def test_5_5_amplitude_phase_flows_match_the_derived_equations():
+    """5.5's ringdown in amplitude and phase (x = r cos th, x' = -r sin th in tau = omega0 t, l = ln(r^2)/zeta
+    from r = 1, zeta = delta/omega0), in time and with th as the clock (T and l against th), against the
+    derived equation through that map, by the chain rule: th' = (v x' - x v')/r^2 and
+    (ln r^2)' = 2 (x x' + v v')/r^2, with x' = v and v' the derived rate; in time, and divided by th' with
+    th as the clock.  Each rate against its size (th' and dl/dth are of order 1, l' of order 4)."""
+    import math
+
+    import mpmath
+
+    from mech.problems.ch5.ex5_5_q_factor import _half_cycle, _polar_in_time
+
+    ex = registry.get("5.5")
+    der = ex.derive()
+    rng = np.random.default_rng(5)
+    worst = 0.0
+    for p in [ex.resolve({}), ex.resolve({"delta": 0.9 * 2764.0})] + draw(ex, N_PARAMS, 5):
+        z = p.delta / p.omega0
+        in_time = _polar_in_time(z, 1.0).rhs
+        by_phase = _half_cycle(z, (p.omega0 - p.delta) / p.omega0).rhs
+        for _ in range(N_STATES):
+            # the SI state (x, x_t) exactly as the derived side takes it; (th, l) of it for the module
+            x, v_si = rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0) * p.omega0
+            th = math.atan2(-v_si / p.omega0, x)
+            lv = math.log(x * x + (v_si / p.omega0) ** 2) / z
+            _, xd, _ = der.evaluate(p, 0.0, [x], [v_si])
+            with mpmath.workdps(40):
+                x_, v_ = mpmath.mpf(x), mpmath.mpf(v_si) / mpmath.mpf(p.omega0)
+                w0 = mpmath.mpf(p.omega0)
+                dx, dv = xd[0] / w0, xd[1] / w0**2  # per tau
+                r2 = x_ * x_ + v_ * v_
+                th_rate = (v_ * dx - x_ * dv) / r2
+                l_rate = 2 * (x_ * dx + v_ * dv) / r2 / z
+                want_time = [float(th_rate), float(l_rate)]
+                want_phase = [float(1 / th_rate), float(l_rate / th_rate)]
+            got_time = np.asarray(in_time(0.0, [th, lv]), float)
+            got_phase = np.asarray(by_phase(th, [0.0, lv]), float)
+            for got, want, size in ((got_time, want_time, [1.0, 4.0]), (got_phase, want_phase, [1.0, 4.0])):
+                for g, w, s in zip(got, want, size):
+                    worst = max(worst, abs(g - w) / max(abs(w), s))
+    print(f"5.5 amplitude-phase: worst {worst:.2e}")
+    assert worst <= TOL
 
 
 # --------------------------------------------------------------------------- the forms derived by hand

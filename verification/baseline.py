@@ -17,7 +17,7 @@ import platform
 from dataclasses import dataclass, field
 
 from mech.problems.spec import Undefined
-from mech.verification.answers import ROUND_OFF, analytic_err
+from mech.verification.judge import ROUND_OFF, allowance, analytic_err, within
 
 __all__ = ["FORMAT", "record_case", "make", "validate", "compare", "Comparison", "Move"]
 
@@ -182,12 +182,6 @@ class Comparison:
                 "versions_then": self.versions_then, "versions_now": self.versions_now}
 
 
-def within(diff: float, allowed: float) -> bool:
-    from mech.verification.judge import within as judged_within
-
-    return bool(judged_within(diff, allowed))
-
-
 def _bar(o: dict, which: str) -> float:
     return float(o.get(f"{which}_err") or 0.0)
 
@@ -224,7 +218,7 @@ def compare(baseline: dict, records: list[dict], path: str = "") -> Comparison:
                     state = "now has a finite value" if a is None else "no longer has a finite value"
                     cmp.moved.append(Move(rec["id"], rec["case"], name, which, a, b, why=f"{which} {state}"))
                     continue
-                allowed = _bar(old, which) + _bar(new, which) + ROUND_OFF * max(abs(a), abs(b))
-                if not within(abs(b - a), allowed):
-                    cmp.moved.append(Move(rec["id"], rec["case"], name, which, a, b, allowed))
+                held = dict(scale=max(abs(a), abs(b)), bars=(_bar(old, which), _bar(new, which)), round_off=ROUND_OFF)
+                if not within(abs(b - a), **held):
+                    cmp.moved.append(Move(rec["id"], rec["case"], name, which, a, b, allowance(**held)))
     return cmp

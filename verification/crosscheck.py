@@ -358,16 +358,16 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
                 except Exception as exc:
                     errors.append(Failure("rerun", f"numeric solver failed at rtol={tighter:g}: {_failure_text(exc)}"))
 
+    from mech.verification import judge as judging
+
     if run is not None:
         default_allowed = float(ex.tol_factor * rtol)
         for name, drift in run.invariants.items():
             allowed = run.invariant_allowed.get(name, default_allowed)
-            if not (drift <= allowed):
+            if not judging.within(drift, bars=(allowed,)):
                 errors.append(Failure(
                     "invariant", f"the invariant '{name}' drifts by {drift:.2g}, more than the {allowed:.2g} the "
                     "method allows: the integration is not to be trusted"))
-
-    from mech.verification import judge as judging
 
     expected = ex.expected_errors(params) if analytic and numeric else {}
     try:

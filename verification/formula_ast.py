@@ -29,6 +29,7 @@ from fractions import Fraction
 import numpy as np
 
 from mech.core.units import UNITS, ValueError_, parse, tokens
+from mech.verification.judge import within
 
 __all__ = ["FormulaError", "Formula", "parse_formula", "looks_like_formula", "Dim", "dim_of_unit", "dim_text",
            "FUNCTIONS", "MAX_LENGTH", "MAX_DEPTH"]
@@ -202,7 +203,7 @@ def _dim(node, pdims: dict[str, Dim]) -> Dim:
         if e is None or not math.isfinite(e):
             raise DimensionError("an exponent is not a finite number")
         frac = Fraction(e).limit_denominator(12)
-        if abs(float(frac) - e) > 1e-12 * max(1.0, abs(e)):
+        if not within(abs(float(frac) - e), scale=max(1.0, abs(e)), round_off=1e-12):
             raise DimensionError(f"{dim_text(a)} is raised to the power {e:g}")
         return tuple(x * frac for x in a)
     if k == "fn":

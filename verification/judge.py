@@ -32,11 +32,13 @@ The rule, for one element:
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Judged", "judge", "within", "notes", "theory_validity", "theory_validity_batch", "approximations",
+__all__ = ["Judged", "judge", "within", "allowance", "ROUND_OFF", "numeric_err", "analytic_err", "notes",
+           "theory_validity", "theory_validity_batch", "approximations",
            "AGREE", "DISAGREE", "UNRELIABLE", "NO_CLAIM", "ONE_UNDEFINED", "OUTSIDE", "ANALYTIC_ONLY",
            "NUMERIC_ONLY", "FAILED", "VERDICTS"]
 
@@ -47,10 +49,54 @@ VERDICTS = {AGREE: "agree", DISAGREE: "disagree", UNRELIABLE: "unreliable", NO_C
             ANALYTIC_ONLY: "analytic only", NUMERIC_ONLY: "numeric only", FAILED: "numeric solve failed"}
 
 
-def within(diff, allowed):
-    """The inequality of every comparison mech makes between two values: ``diff <= allowed`` (arrays or
-    numbers; NaN is never within)."""
-    return diff <= allowed
+# floating-point slack of a value computed through a formula of a few dozen operations (relative)
+ROUND_OFF = 1e-12
+
+
+def _some(x) -> bool:
+    """A term that is there: not the scalar 0 (0 times an infinite scale would make NaN of nothing)."""
+    return not (np.ndim(x) == 0 and x == 0)
+
+
+def allowance(scale=0.0, *, rel=0.0, bars=(), round_off=0.0, own=0.0):
+    """What a value is held to, absolute: ``rel |scale| + each error bar + round_off |scale| + own``.
+
+    ``scale``: the size the relative parts apply to (the reference, or the larger of two values);
+    ``rel``: the relative tolerance (a claim, the digits an answer earns, a test's rtol); ``bars``: the
+    absolute error bars of both sides (and any absolute allowance), summed in the order given;
+    ``round_off``: the relative round-off of the comparison; ``own``: a value's own absolute round-off
+    (a formula's, carried through its evaluation).  Numbers or arrays.
+    """
+    s = np.abs(scale)
+    out = rel * s if _some(rel) else 0.0
+    for bar in bars:
+        out = out + bar
+    if _some(round_off):
+        out = out + round_off * s
+    if _some(own):
+        out = out + own
+    return out
+
+
+def within(diff, *, scale=0.0, rel=0.0, bars=(), round_off=0.0, own=0.0):
+    """The rule of every comparison mech makes between two values: ``diff`` (their distance, >= 0) is within
+    what the value is held to (``allowance``, same arguments).  Arrays or numbers; NaN is never within."""
+    return diff <= allowance(scale, rel=rel, bars=bars, round_off=round_off, own=own)
+
+
+def numeric_err(q) -> float:
+    """A cross-checked output's numeric error bar, absolute: the cross-check's ``numeric_err`` where it gives
+    one, else the numeric claim (``tol`` relative plus ``tol_abs``)."""
+    err = getattr(q, "numeric_err", None)
+    if err is not None and math.isfinite(err):
+        return float(err)
+    return float(allowance(q.numeric, rel=float(q.tol or 0.0), bars=(float(q.tol_abs or 0.0),)))
+
+
+def analytic_err(q) -> float:
+    """A cross-checked output's analytic error bar (its round-off, absolute; 0 where none is declared)."""
+    err = getattr(q, "analytic_err", None)
+    return float(err) if err is not None and math.isfinite(err) else 0.0
 
 
 @dataclass
@@ -128,15 +174,15 @@ def _judge(analytic, numeric, a_undefined, n_undefined, n_failed, has_analytic, 
     abs_err = np.where(both, np.abs(n - a), np.nan)
     denom = np.where(a != 0, np.abs(a), np.abs(n))
     rel_err = np.where(both, np.where(denom > 0, abs_err / denom, 0.0), np.nan)
-    allowed = np.where(both, tol * np.abs(a) + allowed_abs + a_err, np.nan)
-    numeric_err = np.where(n_num, rel * np.abs(n) + tol_abs, np.nan)
+    allowed = np.where(both, allowance(a, rel=tol, bars=(allowed_abs, a_err)), np.nan)
+    numeric_err = np.where(n_num, allowance(n, rel=rel, bars=(tol_abs,)), np.nan)
 
     agree = np.full(N, -1, np.int8)
     verdict = np.full(N, FAILED, np.int8)
     verdict[~has_a & has_n] = NUMERIC_ONLY
     verdict[has_a & ~has_n] = ANALYTIC_ONLY
     verdict[~has_a & ~has_n] = FAILED
-    ok = within(abs_err, allowed)
+    ok = within(abs_err, bars=(allowed,))
     agree[both] = ok[both]
     verdict[both] = np.where(ok, AGREE, DISAGREE)[both]
     # one method finds no finite value where the other does (or both find none: they agree)
@@ -145,7 +191,7 @@ def _judge(analytic, numeric, a_undefined, n_undefined, n_failed, has_analytic, 
     verdict[one] = np.where(a_und & n_und, AGREE, ONE_UNDEFINED)[one]
     # the leading-order theory finds no value, but what it neglects allows one this large
     small = lead & ~out_mask & a_und & n_num & (np.nan_to_num(e_abs, nan=0.0) > 0)
-    ok_small = within(np.abs(n), e_abs + numeric_err)
+    ok_small = within(np.abs(n), bars=(e_abs, numeric_err))
     agree[small] = ok_small[small]
     verdict[small] = np.where(ok_small, AGREE, DISAGREE)[small]
     # a leading-order theory outside its range: nothing compared
@@ -165,8 +211,8 @@ def _judge(analytic, numeric, a_undefined, n_undefined, n_failed, has_analytic, 
         chk = n_num & v_num
         verify_diff = np.where(chk, np.abs(v - n), np.nan)
         scale = np.where(a_num & (a != 0), np.abs(a), np.abs(n))
-        claim = np.where(chk, rel * scale + tol_abs, np.nan)
-        moved = chk & ~within(verify_diff, claim)
+        claim = np.where(chk, allowance(scale, rel=rel, bars=(tol_abs,)), np.nan)
+        moved = chk & ~within(verify_diff, bars=(claim,))
         agree[moved] = 0
         verdict[moved] = UNRELIABLE
     return Judged(agree, verdict, tol, allowed, abs_err, rel_err, numeric_err, verify_diff, claim, small,

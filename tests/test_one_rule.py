@@ -1,0 +1,70 @@
+"""One rule decides every verdict: the allowance inequality is written in verification/judge.py only.
+
+The rule (``judge.within``): a distance is within ``rel |scale| + each error bar + round_off |scale| + own``.
+Every other module of the verdict floors (verification/, api/, cli/) calls it with what it holds a value
+to; this test reads their source for a comparison of a distance or of a tolerance sum written by hand.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mech.verification import judge as J
+
+ROOT = Path(__file__).resolve().parents[1]
+FLOORS = ("verification", "api", "cli")
+
+# |x - y| compared with anything, or anything compared with a sum of tolerances and error bars
+DISTANCE = re.compile(r"abs\([^()#]*(\([^()]*\))?[^()#]*-[^()#]*\)\)?\s*(<=|<|>=|>)")
+# ... or a distance compared with a tolerance computed on an earlier line
+HELD = re.compile(r"(?<![-=<>])(<=|>=|<|>)\s*(tol|\w+_tol|allowed|claim|allowance)\b(?!\s*[(.\[])")
+TOLERANCE = re.compile(r"(?<![-=<>])(<=|>=|<|>)\s*[^#\"]*\b(tol|rtol|\w+_err|claim|allowed|ROUND_OFF)\b\s*(\*|\+)")
+
+
+def _offenders():
+    out = []
+    for floor in FLOORS:
+        for path in sorted((ROOT / floor).rglob("*.py")):
+            rel = path.relative_to(ROOT).as_posix()
+            if rel == "verification/judge.py":
+                continue
+            for i, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+                code = line.split("#", 1)[0]
+                if "``" in code or code.strip().startswith(('"', "'")):
+                    continue  # prose in a docstring
+                if DISTANCE.search(code) or TOLERANCE.search(code) or HELD.search(code):
+                    out.append(f"{rel}:{i}: {line.strip()}")
+    return out
+
+
+def test_the_allowance_inequality_is_written_in_the_judge_only():
+    assert _offenders() == []
+
+
+def test_the_grep_finds_a_hand_written_allowance(tmp_path):
+    # the patterns must catch the forms the rule replaced (else the test above could not fail)
+    for text in ("if abs(a - b) <= tol * abs(a) + err:", "ok = np.abs(y - ref) <= rtol * np.abs(ref) + ref_err",
+                 "if diff <= own_tol + ref_err + ROUND_OFF * abs(v):", "moved = d > claim + 1",
+                 "right = has_ref & (d <= tol)", "if not (drift <= allowed):"):
+        assert DISTANCE.search(text) or TOLERANCE.search(text) or HELD.search(text), text
+
+
+def test_the_allowance_adds_what_a_value_is_held_to():
+    # by hand: 1e-3 * 200 + 0.5 + 0.25 + 1e-12 * 200 + 0.125
+    got = J.allowance(-200.0, rel=1e-3, bars=(0.5, 0.25), round_off=1e-12, own=0.125)
+    assert got == pytest.approx(0.2 + 0.5 + 0.25 + 2e-10 + 0.125, rel=1e-15)
+    assert J.allowance(5.0) == 0.0
+    # no relative part: an infinite scale adds nothing (not NaN)
+    assert J.allowance(math.inf, bars=(1.0,)) == 1.0
+
+
+def test_within_is_the_inequality_on_arrays_and_nan_is_never_within():
+    d = np.array([0.0, 0.3, 0.31, np.nan])
+    assert J.within(d, scale=10.0, rel=0.01, bars=(0.2,)).tolist() == [True, True, False, False]
+    assert bool(J.within(1.0, bars=(1.0,)))  # the edge is within
+    assert not bool(J.within(1.0 + 1e-15, bars=(1.0,)))

@@ -1,0 +1,519 @@
+"""The points a formula is judged at: parameter sets drawn across an exercise's declared range, mech's
+analytic values there, and a formula's values held against them by the judge's rule.
+
+The points are the given parameters, the defaults, the catalogue's hard cases and ``n`` parameter sets drawn
+across every parameter's declared bounds (log-uniform on a positive range), inside the exercise's joint
+constraints.  Where an exercise refuses most of its box, a draw it refuses is repaired one parameter at a
+time: with the others held, that parameter's allowed interval is found on a grid and refined by bisection,
+and the value is drawn inside it.
+
+A point is right when ``|yours - mech| <= rtol |mech| + mech's error bar + 4 x your formula's own
+round-off`` (a first-order bound carried through the evaluation), the judge's rule (``judge.within``).
+Where that round-off decides, the formula is evaluated again in extended precision (``numpy.longdouble``):
+a right formula that only loses digits to cancellation is then said to be ill-conditioned there, not wrong.
+
+The point set and mech's values are computed once per exercise, given point and range (``_CACHE``): a class
+file judges every student's formula against the same arrays.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mech.problems.spec import BadInput, Params, Undefined
+from mech.verification.formula_ast import Formula
+from mech.verification.judge import allowance, within
+
+__all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "PointSet", "PointJudgement", "point_set", "draw", "ranges",
+           "parse_over", "depends", "line_of", "accept", "make", "judge_points", "yours_at_given", "describe_point",
+           "problem_text", "in_over"]
+
+DEFAULT_POINTS = 24
+
+DEFAULT_SEED = 20240524
+
+
+# -- the ranges and the draws ---------------------------------------------------------------------------
+
+
+@dataclass
+class _Range:
+    name: str
+    kind: str  # "log": log-uniform on [lo, hi] > 0; "lin": uniform; "signed": +-, log-uniform magnitude
+    lo: float
+    hi: float
+
+    def to_t(self, v: float) -> float:
+        if self.kind == "log":
+            return math.log(v)
+        if self.kind == "signed":
+            return math.copysign(math.log(abs(v) / self.lo + 1.0), v)  # monotone over the reals
+        return v
+
+    def from_t(self, t: float) -> float:
+        if self.kind == "log":
+            return math.exp(t)
+        if self.kind == "signed":
+            return math.copysign(self.lo * math.expm1(abs(t)), t)
+        return t
+
+    def t_bounds(self) -> tuple[float, float]:
+        if self.kind == "signed":
+            m = math.log(self.hi / self.lo + 1.0)
+            return -m, m
+        return self.to_t(self.lo), self.to_t(self.hi)
+
+    def draw(self, rng) -> float:
+        if self.kind == "signed":
+            mag = math.exp(rng.uniform(math.log(self.lo), math.log(self.hi)))
+            return mag if rng.random() < 0.5 else -mag
+        a, b = self.t_bounds()
+        return self.from_t(rng.uniform(a, b))
+
+
+def _scale_for(ex, p) -> float:
+    """A typical size of a parameter whose default is 0: another parameter's in the same unit, else 1."""
+    if p.default != 0:
+        return abs(p.default)
+    same = [abs(q.default) for q in ex.params if q.unit == p.unit and q.default != 0]
+    return max(same) if same else 1.0
+
+
+def _inward(lo: float, hi: float, lo_open: bool, hi_open: bool) -> tuple[float, float]:
+    span = hi - lo
+    if lo_open:
+        lo = lo + 1e-9 * span if lo == 0 else lo + 1e-9 * max(span, abs(lo))
+    if hi_open:
+        hi = hi - 1e-9 * max(span, abs(hi))
+    return lo, hi
+
+
+def ranges(ex, over: dict | None = None) -> dict[str, _Range]:
+    """The range each parameter is drawn from: its declared bounds (a decade or two around the default
+    where a bound is open-ended), narrowed to ``over`` (name -> (lo, hi), SI) where given."""
+    out = {}
+    for p in ex.params:
+        d, s = p.default, _scale_for(ex, p)
+        if over and p.name in over:
+            lo, hi = over[p.name]
+            kind = "log" if lo > 0 and hi / lo > 10 else "lin"
+            out[p.name] = _Range(p.name, kind, lo, hi)
+            continue
+        if p.min is not None and p.max is not None:
+            lo, hi = _inward(p.min, p.max, p.min_open, p.max_open)
+            if p.unit == "rad" or lo < 0:  # an angle, or a range through zero: uniform
+                kind = "lin"
+            else:  # a positive range: log-uniform, over three decades below the top when it starts at 0
+                lo = max(lo, hi * 1e-3) if p.min == 0 else lo
+                kind = "log" if lo > 0 and hi / lo > 10 else "lin"
+            out[p.name] = _Range(p.name, kind, lo, hi)
+        elif p.min is not None:  # [min, inf)
+            if p.min > 0:
+                lo, hi = p.min * (1 + 1e-9 * p.min_open), max(p.min, d) * 100.0
+            else:
+                lo, hi = s / 100.0, s * 100.0
+                lo = max(lo, p.min)
+            out[p.name] = _Range(p.name, "log", lo, hi)
+        elif p.max is not None:  # (-inf, max]: rare; draw below max over a span of the default's size
+            out[p.name] = _Range(p.name, "lin", p.max - 100.0 * s, p.max)
+        else:
+            out[p.name] = _Range(p.name, "signed", s / 100.0, s * 100.0)
+    return out
+
+
+def _valid(ex, values: dict) -> Params | None:
+    """The resolved parameters (bounds, joint checks, representable answers), or None where refused."""
+    try:
+        return ex.resolve(values)
+    except (BadInput, ValueError, OverflowError, ZeroDivisionError):
+        return None
+
+
+def accept(ex, values: dict) -> Params | None:
+    """The parameters when the bounds and joint checks accept them (not ``resolve``'s representability
+    test, which solves the analytic answer once more: a point whose answer overflows gets no reference
+    where mech's values are computed, and is not judged)."""
+    if not _allowed(ex, values):
+        return None
+    return Params({p.name: float(values.get(p.name, p.default)) for p in ex.params})
+
+
+def _allowed(ex, values: dict) -> bool:
+    """The bounds and the joint checks only, without their messages' use or the analytic solve of
+    ``resolve`` (which also asks that the answer be representable): the cheap test the draws bisect on."""
+    for p in ex.params:
+        v = values.get(p.name, p.default)
+        if not math.isfinite(v):
+            return False
+        if p.min is not None and (v < p.min or (p.min_open and v == p.min)):
+            return False
+        if p.max is not None and (v > p.max or (p.max_open and v == p.max)):
+            return False
+    params = Params({p.name: float(values.get(p.name, p.default)) for p in ex.params})
+    try:
+        return not ex.constraint_message(params)
+    except (ArithmeticError, ValueError):
+        return False
+
+
+def _interval_around(ex, x: dict, r: _Range, t_ok: float, t_bad: float) -> float:
+    """Bisect (in the range's own coordinate) between an accepted and a refused value of one parameter."""
+    for _ in range(16):
+        mid = 0.5 * (t_ok + t_bad)
+        if mid in (t_ok, t_bad):
+            break
+        if _allowed(ex, {**x, r.name: r.from_t(mid)}):
+            t_ok = mid
+        else:
+            t_bad = mid
+    return t_ok
+
+
+def _repair(ex, x: dict, rs: dict[str, _Range], rng) -> Params | None:
+    """Bring a refused draw inside the joint constraints by moving one parameter at a time within the
+    interval the others allow, found on a grid and refined by bisection."""
+    names = list(rs)
+    for k in rng.permutation(len(names)):
+        r = rs[names[int(k)]]
+        a, b = r.t_bounds()
+        grid = np.linspace(a, b, 17)
+        ok = [_allowed(ex, {**x, r.name: r.from_t(t)}) for t in grid]
+        good = [i for i, v in enumerate(ok) if v]
+        if not good:
+            continue
+        i = good[int(rng.integers(len(good)))]
+        j = i
+        while j > 0 and ok[j - 1]:
+            j -= 1
+        lo_t = grid[j] if j == 0 else _interval_around(ex, x, r, grid[j], grid[j - 1])
+        j = i
+        while j < len(grid) - 1 and ok[j + 1]:
+            j += 1
+        hi_t = grid[j] if j == len(grid) - 1 else _interval_around(ex, x, r, grid[j], grid[j + 1])
+        t = rng.uniform(lo_t, hi_t) if hi_t > lo_t else grid[i]
+        p = accept(ex, {**x, r.name: r.from_t(t)})
+        if p is None:
+            p = accept(ex, {**x, r.name: r.from_t(grid[i])})
+        if p is not None:
+            return p
+    return None
+
+
+def _toward(ex, base: dict, x: dict, rs: dict[str, _Range], rng) -> Params | None:
+    """Last resort: a point on the segment from an accepted point ``base`` toward the draw ``x``."""
+    tb = {k: rs[k].to_t(base[k]) if _representable(rs[k], base[k]) else None for k in rs}
+    tx = {k: rs[k].to_t(x[k]) for k in rs}
+
+    def at(s):
+        return {k: (rs[k].from_t(tb[k] + s * (tx[k] - tb[k])) if tb[k] is not None else base[k]) for k in rs}
+
+    s_ok, s_bad = 0.0, 1.0
+    for _ in range(30):
+        mid = 0.5 * (s_ok + s_bad)
+        if _allowed(ex, at(mid)):
+            s_ok = mid
+        else:
+            s_bad = mid
+    return accept(ex, at(rng.uniform(0.0, s_ok))) or accept(ex, base)
+
+
+def _representable(r: _Range, v: float) -> bool:
+    return not (r.kind == "log" and v <= 0)
+
+
+def in_over(p: Params, over: dict | None) -> bool:
+    return not over or all(lo <= p[k] <= hi for k, (lo, hi) in over.items())
+
+
+def draw(ex, n: int, seed: int, over: dict | None = None) -> list[Params]:
+    """``n`` accepted parameter sets across the declared ranges (seeded, so verdicts repeat)."""
+    rng = np.random.default_rng(seed)
+    rs = ranges(ex, over)
+    base = dict(ex.resolve({}))
+    out: list[Params] = []
+    for _ in range(4 * n + 8):
+        if len(out) >= n:
+            break
+        x = {k: r.draw(rng) for k, r in rs.items()}
+        p = accept(ex, x) or _repair(ex, x, rs, rng) or _toward(ex, base, x, rs, rng)
+        if p is not None and in_over(p, over):
+            out.append(p)
+    return out
+
+
+def parse_over(ex, over: dict) -> dict[str, tuple[float, float]]:
+    """``{"theta0": "10deg:60deg"}`` -> ``{"theta0": (lo, hi)}`` in SI, each inside the declared bounds."""
+    from mech.core.units import ValueError_, to_si
+
+    out = {}
+    for raw, text in over.items():
+        name = str(raw).strip().replace("-", "_")
+        if name not in ex.param_map:
+            raise BadInput(f"over.{raw}: not a parameter of {ex.id}; its parameters are: {', '.join(ex.param_map)}")
+        p = ex.param_map[name]
+        if not isinstance(text, str) or text.count(":") != 1:
+            raise BadInput(f"over.{raw}: give a range LO:HI such as \"10deg:60deg\"")
+        lo_s, hi_s = text.split(":")
+        try:
+            lo, hi = to_si(lo_s, p.unit), to_si(hi_s, p.unit)
+            p.check(lo, lo_s)
+            p.check(hi, hi_s)
+        except (ValueError_, BadInput) as exc:
+            raise BadInput(f"over.{raw}: {str(exc).removeprefix(name + ': ')}") from None
+        if not lo < hi:
+            raise BadInput(f"over.{raw}: {text}: the low end must be below the high end")
+        out[name] = (lo, hi)
+    return out
+
+
+# -- the point set and its references, computed once ---------------------------------------------------
+
+
+@dataclass
+class PointSet:
+    """The points a formula is judged at (index 0: the given parameters) and mech's analytic values there."""
+
+    ex: object
+    points: list  # Params
+    labels: list  # "given", "defaults", "hard case", "drawn"
+    arrays: dict  # parameter -> np.ndarray over the points
+    analytic: dict = field(default_factory=dict)  # output -> np.ndarray (nan where undefined)
+    analytic_err: dict = field(default_factory=dict)  # output -> np.ndarray (absolute)
+    undefined: dict = field(default_factory=dict)  # output -> list of reasons (None where defined)
+    numeric: dict = field(default_factory=dict)  # (output, index) -> (value, err) or None: the verified numeric
+    depends: dict = field(default_factory=dict)  # output -> list of parameters its value changes with
+    lines: dict = field(default_factory=dict)  # parameter -> PointSet of one-at-a-time moves (lazy)
+    in_range: bool = True  # the given point inside ``over``
+    outside: dict = field(default_factory=dict)  # leading-order output -> bool array: its theory does not apply
+    memo: dict = field(default_factory=dict)  # parameter values -> mech's analytic values there (shared with lines)
+    batch_memo: dict = field(default_factory=dict)  # the batched route's own memo (``Exercise.batched``)
+
+    def __len__(self):
+        return len(self.points)
+
+
+_CACHE: dict = {}
+
+
+def _analytic_at(ex, pts: list, memo: dict) -> tuple[dict, dict, dict]:
+    """mech's analytic values and their error bars at ``pts`` (nan and the reason where it has none), each
+    point solved once: ``memo`` (parameter values -> (values, errors) or the failure's text) keeps them for
+    the lines and limits of the hints, which come back to the given point."""
+    names = [o.name for o in ex.outputs]
+    vals = {n: np.full(len(pts), np.nan) for n in names}
+    errs = {n: np.zeros(len(pts)) for n in names}
+    why = {n: [None] * len(pts) for n in names}
+    for i, p in enumerate(pts):
+        key = _key(ex, p)
+        got = memo.get(key)
+        if got is None:
+            try:
+                got = (ex.solve_analytic(p), ex.analytic_errors(p))
+            except Exception as exc:  # a point where the analytic route has no answer: not a point to judge at
+                got = f"{type(exc).__name__}: {exc}"
+            memo[key] = got
+        if isinstance(got, str):
+            for n in names:
+                why[n][i] = got
+            continue
+        out, aerr = got
+        for n in names:
+            v = out.get(n)
+            if isinstance(v, Undefined):
+                why[n][i] = v.why
+            elif v is not None and math.isfinite(v):
+                vals[n][i] = v
+                e = aerr.get(n, 0.0)
+                errs[n][i] = float(e) if e is not None and math.isfinite(e) else 0.0
+            else:
+                why[n][i] = "not finite"
+    return vals, errs, why
+
+
+def _key(ex, p) -> tuple:
+    """A point's parameter values, exactly (``-0.0`` apart from ``0.0``), as the memo's key."""
+    return tuple(float(p[q.name]).hex() for q in ex.params)
+
+
+def make(ex, pts: list, labels: list, memo: dict) -> PointSet:
+    arrays = {p.name: np.array([pt[p.name] for pt in pts], dtype=float) for p in ex.params}
+    ps = PointSet(ex, pts, labels, arrays, memo=memo)
+    ps.analytic, ps.analytic_err, ps.undefined = _analytic_at(ex, pts, memo)
+    ps.outside = _outside_theory(ex, pts)
+    return ps
+
+
+def _outside_theory(ex, pts: list) -> dict:
+    """For each leading-order output, where its theory does not apply (``Exercise.theory_validity``, where
+    the exercise declares its theory's range): there a leading-order formula is not judged."""
+    lead = [o.name for o in ex.outputs if o.theory != "exact"]
+    validity = getattr(ex, "theory_validity", None)
+    out = {n: np.zeros(len(pts), bool) for n in lead}
+    if not lead or validity is None:
+        return out
+    for i, p in enumerate(pts):
+        try:
+            why = validity(p)
+        except Exception:  # no range to read here: the point is judged like any other
+            continue
+        for n in lead:
+            out[n][i] = bool(why.get(n))
+    return out
+
+
+def point_set(ex, given: Params, n: int = DEFAULT_POINTS, seed: int = DEFAULT_SEED,
+              over: dict | None = None, known: dict | None = None) -> PointSet:
+    """The given point, the defaults, the hard cases (those inside ``over``) and ``n`` drawn points.
+
+    ``known``: the solve's analytic ``{output: (value, err)}`` at the given point (every output), used as
+    it is rather than solved again.  The defaults and the hard cases, like the draws, are taken on the
+    bounds and joint checks alone (``accept``): ``resolve``'s representability test would solve the
+    analytic answer once more, and a point without a finite answer is not judged anyway."""
+    key = (ex.id, tuple(sorted(given.items())), int(n), int(seed), tuple(sorted((over or {}).items())))
+    hit = _CACHE.get(key)
+    if hit is not None:
+        return hit
+    pts, labels = [given], ["given"]
+    defaults = accept(ex, {})
+    if defaults is not None and dict(defaults) != dict(given) and in_over(defaults, over):
+        pts.append(defaults)
+        labels.append("defaults")
+    for h in ex.hard_cases:
+        try:
+            p = accept(ex, _si(ex, h["params"]))
+        except (ValueError, BadInput):
+            p = None
+        if p is not None and in_over(p, over) and all(dict(p) != dict(q) for q in pts):
+            pts.append(p)
+            labels.append("hard case")
+    drawn = draw(ex, n, seed, over)
+    pts += drawn
+    labels += ["drawn"] * len(drawn)
+    memo = {}
+    if known is not None:
+        memo[_key(ex, given)] = ({n: v for n, (v, _) in known.items()}, {n: e for n, (_, e) in known.items()})
+    ps = make(ex, pts, labels, memo)
+    ps.in_range = in_over(given, over)
+    if len(_CACHE) > 256:
+        _CACHE.clear()
+    _CACHE[key] = ps
+    return ps
+
+
+def _si(ex, params: dict) -> dict:
+    from mech.core.units import to_si
+
+    return {k: (float(v) if isinstance(v, (int, float)) else to_si(str(v), ex.param_map[k].unit))
+            for k, v in params.items()}
+
+
+def line_of(ps: PointSet, name: str, m: int = 7) -> PointSet | None:
+    """Points that move only ``name`` from the given point across its range (the others held)."""
+    if name in ps.lines:
+        return ps.lines[name]
+    ex, given = ps.ex, ps.points[0]
+    r = ranges(ex)[name]
+    a, b = r.t_bounds()
+    pts = []
+    for t in np.linspace(a, b, m + 2)[1:-1]:
+        p = accept(ex, {**dict(given), name: r.from_t(float(t))})
+        if p is not None:
+            pts.append(p)
+    if len(pts) < 2:
+        # the constraints pin it near the given value: move it by a few percent instead
+        for f in (0.9, 0.95, 1.05, 1.1):
+            v = given[name] * f if given[name] != 0 else (f - 1.0) * _scale_for(ex, ex.param_map[name])
+            p = accept(ex, {**dict(given), name: v})
+            if p is not None:
+                pts.append(p)
+    out = make(ex, pts, [f"{name} moved"] * len(pts), ps.memo) if len(pts) >= 2 else None
+    ps.lines[name] = out
+    return out
+
+
+def depends(ps: PointSet, output: str) -> list[str]:
+    """The parameters mech's value of ``output`` changes with, from one-at-a-time moves (its analytic value)."""
+    if output in ps.depends:
+        return ps.depends[output]
+    r0 = ps.analytic[output][0]
+    out = []
+    for name in ps.ex.param_map:
+        line = line_of(ps, name)
+        if line is None or not math.isfinite(r0):
+            continue
+        v = line.analytic[output]
+        v = v[np.isfinite(v)]
+        scale = max(abs(r0), float(np.max(np.abs(v))) if v.size else 0.0)
+        if v.size and not within(np.max(np.abs(v - r0)), scale=scale, bars=(1e-300,), round_off=1e-9):
+            out.append(name)
+    ps.depends[output] = out
+    return out
+
+
+# -- one formula at the points --------------------------------------------------------------------------
+
+
+@dataclass
+class PointJudgement:
+    yours: np.ndarray
+    ref: np.ndarray
+    right: np.ndarray  # bool
+    judged: np.ndarray  # bool: a point with a reference and a finite value of yours, or a domain error
+    ill: np.ndarray  # bool: right only in extended precision (ill-conditioned in double)
+    problems: list
+    tol: np.ndarray
+
+
+def judge_points(formula: Formula, ps: PointSet, ref: np.ndarray, ref_err: np.ndarray, rtol: float,
+                 alt: dict | None = None) -> PointJudgement:
+    env = {k: ps.arrays[k] for k in formula.names}
+    y, e, problems = formula.evaluate(env, np.float64) if env else formula.evaluate({"_": np.zeros(len(ps))})
+    has_ref = np.isfinite(ref)
+    d = np.abs(y - ref)
+    eps4 = 4 * np.finfo(float).eps
+    base = allowance(ref, rel=rtol, bars=(ref_err,), round_off=eps4)
+    tol = allowance(ref, rel=rtol, bars=(ref_err,), round_off=eps4, own=4 * e)
+    right = has_ref & np.isfinite(y) & within(d, bars=(tol,))
+    leans = right & (4 * e > base)  # right only through its own round-off: confirm in extended precision
+    retry = (has_ref & np.isfinite(y) & ~right & (e > 0)) | leans
+    ill = np.zeros(len(ps), bool)
+    if np.any(retry) and np.finfo(np.longdouble).eps < np.finfo(float).eps:
+        yl, el, _ = formula.evaluate(env if env else {"_": np.zeros(len(ps))}, np.longdouble)
+        dl = np.abs(yl - ref.astype(np.longdouble)).astype(float)
+        el = el.astype(float)
+        ok_l = within(dl, scale=ref, rel=rtol, bars=(ref_err,), round_off=eps4, own=4 * el)
+        right = np.where(retry, ok_l, right)
+        ill = retry & ok_l & (4 * e > base)
+    judged = has_ref & (np.isfinite(y) | _masked(problems, len(ps)))
+    return PointJudgement(y, ref, right & judged, judged, ill, problems, tol)
+
+
+def _masked(problems, n) -> np.ndarray:
+    m = np.zeros(n, bool)
+    for pr in problems:
+        m |= np.asarray(pr.mask)
+    return m
+
+
+def yours_at_given(formula: Formula, ps: PointSet) -> float:
+    env = {k: ps.arrays[k][:1] for k in formula.names} or {"_": np.zeros(1)}
+    return float(formula.evaluate(env)[0][0])
+
+
+def problem_text(pj: PointJudgement, ps: PointSet, i: int) -> str | None:
+    for pr in pj.problems:
+        if pr.mask[i]:
+            x = float(pr.args[i]) if np.ndim(pr.args) else float(pr.args)
+            return pr.what.replace("{x}", f"{x:.6g}")
+    return None
+
+
+def describe_point(ps: PointSet, i: int) -> str:
+    ex, p, g = ps.ex, ps.points[i], ps.points[0]
+    if i == 0:
+        return "at the given parameters"
+    moved = [q for q in ex.params if p[q.name] != g[q.name]]
+    return "at " + ", ".join(f"{q.name} = {q.show(p[q.name])}" for q in (moved or ex.params))
