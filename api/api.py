@@ -296,9 +296,9 @@ class Sweep:
 
     @property
     def agree(self) -> bool | None:
-        from mech.verification.crosscheck import combine_agree
+        from mech.verification.judge import conclude
 
-        return combine_agree(p.agree for p in self.points)
+        return conclude(p.agree for p in self.points)
 
     @property
     def shape(self) -> tuple[int, ...]:

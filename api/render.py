@@ -127,10 +127,12 @@ def _small(v) -> str:
     return "—" if v is None else f"{v:.2g}"
 
 
-def _agree_text(flag) -> Text:
-    if flag is None:
-        return Text("—", style="dim")
-    return Text("yes", style="green") if flag else Text("NO", style="bold red")
+AGREE_STYLE = {"yes": "green", "NO": "bold red", "outside range": "yellow", "—": "dim"}
+
+
+def _agree_text(cell: str) -> Text:
+    """A verdict's cell (``Quantity.cell``), coloured."""
+    return Text(cell, style=AGREE_STYLE.get(cell, ""))
 
 
 # -- mech show -------------------------------------------------------------------------------------------
@@ -235,8 +237,7 @@ def _cells(q, expected: dict | None = None) -> dict:
         "numeric": Text(with_error(q.numeric, getattr(q, "numeric_err", None))),
         "rel. diff": Text(_small(q.rel_err)),
         "tol": Text(_tol_text(q)),
-        "agree": (Text("outside range", style="yellow") if getattr(q, "theory_valid", None) is False
-                  and q.agree is None else _agree_text(q.agree)),
+        "agree": _agree_text(q.cell),
     }
 
 
@@ -313,11 +314,10 @@ def _verdict(result) -> Text | None:
     has_n = any(q.numeric is not None for q in qs)
     if result.agree is False:
         return Text("CROSS-CHECK FAILED" if has_a and has_n else "FAILED", style="bold red")
-    outside = [q for q in qs if getattr(q, "theory_valid", None) is False and q.agree is None]
+    outside = [q for q in qs if q.outside]
     if has_a and has_n and outside:
         # a leading-order theory outside its range is not compared: say which outputs and why
-        prefix = "leading-order theory outside its range: "
-        why = "; ".join(dict.fromkeys(q.notes[-1].removeprefix(prefix) for q in outside if q.notes))
+        why = "; ".join(dict.fromkeys(q.reason for q in outside if q.reason))
         compared = any(q.agree is True for q in qs)
         head = "analytic and numeric agree on the rest; " if result.agree and compared else ""
         return Text(f"{head}no theory compared for {', '.join(q.name for q in outside)}: the leading-order "
@@ -383,7 +383,8 @@ def print_check(report) -> None:
         t.add_column(col, justify=just, no_wrap=col != "detail")
     rows = []
     for case in report.cases:
-        res = Text("pass", style="green") if case.ok else Text("FAIL", style="bold red")
+        res = (Text("pass", style="green") if case.agree else Text("FAIL", style="bold red") if not case.ok
+               else Text("no verdict", style="yellow"))
         ratio = "—" if case.worst_ratio is None else f"{case.worst_ratio:.2g}"
         rows.append((case.exercise.id, case.description, res, ratio, f"{case.seconds:.2f} s", case.detail))
         t.add_row(Text(case.exercise.id), Text(case.description), res, Text(ratio), Text(f"{case.seconds:.2f} s"),

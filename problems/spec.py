@@ -368,13 +368,13 @@ NEGLECT_LIMIT = 0.3
 
 
 def _outside_reason(label: str | None, value: float | None, neglect: float | None) -> str | None:
-    """Why a leading-order theory does not apply at a point, or None when it does."""
+    """Why a leading-order theory does not apply at a point (``mu/omega0 = 3.3``; the judge words it), or None
+    when it does."""
     said = "" if label is None or value is None else f"{label} = {value:.2g}"
     if value is not None and not value < RANGE_LIMIT:
-        return f"leading-order theory outside its range: {said}"
+        return said or f"its expansion parameter reaches {RANGE_LIMIT:g}"
     if neglect is not None and not neglect < NEGLECT_LIMIT:
-        return (f"leading-order theory outside its range: what it neglects is estimated at {neglect:.2g} "
-                f"relative" + (f" ({said})" if said else ""))
+        return f"what it neglects is estimated at {neglect:.2g} relative" + (f" ({said})" if said else "")
     return None
 
 

@@ -30,12 +30,29 @@ def test_the_rule_on_arrays():
                 expected_rel=[np.nan, np.nan, 1e-3, 1e-3, np.nan, np.nan],
                 analytic_err=[0, 0, 0, 0, 2e-4, 0], verify=n + [0, 0, 0, 0, 0, 2e-5],
                 outside=[False, False, False, True, False, False],
-                outside_why=["", "", "", "leading-order theory outside its range: x = 2", "", ""])
+                outside_why=["", "", "", "x = 2", "", ""])
     assert r.agree.tolist() == [1, 0, 1, -1, 1, 0]
     assert r.verdict.tolist() == [J.AGREE, J.DISAGREE, J.AGREE, J.OUTSIDE, J.AGREE, J.UNRELIABLE]
     assert r.tol.tolist() == [1e-5, 1e-5, 1e-3, 1e-5, 1e-5, 1e-5]
     assert r.numeric_err[1] == pytest.approx(1e-5 * 1.0001, rel=1e-12)
-    assert "x = 2" in J.notes(r, 3)[0] and J.notes(r, 5)[0].startswith("unreliable")
+    assert J.notes(r, 3)[0] == "leading-order theory outside its range: x = 2"
+    assert J.notes(r, 5)[0].startswith("unreliable")
+    # the typed verdicts: what each concludes, and the words every renderer shows
+    assert [J.Verdict(v).agree for v in r.verdict] == [True, False, True, None, True, False]
+    assert [J.Verdict(v).cell for v in r.verdict] == ["yes", "NO", "yes", "outside range", "yes", "NO"]
+
+
+def test_the_one_overall_rule():
+    V = J.Verdict
+    # outside its theory's range a verified numeric value holds; unverified it is no verdict
+    assert J.holds(V.OUTSIDE, verified=True) is True and J.holds(V.OUTSIDE) is None
+    assert J.holds(V.UNRELIABLE, verified=True) is False and J.holds(None, agree=False) is False
+    assert J.conclude([True, None]) is True and J.conclude([None, None]) is None
+    assert J.conclude([True, False, None]) is False and J.conclude([True], failed=True) is False
+    assert J.conclude([]) is None
+    got = J.conclude_arrays(np.array([1, 0, -1, -1, 1], np.int8), np.array([0, 0, 1, 0, 0], bool),
+                            np.array([0, 0, 0, 0, 1], bool))
+    assert got.tolist() == [1, 0, 1, -1, 0]
 
 
 def test_undefined_missing_and_failed_values():

@@ -46,6 +46,28 @@ def test_the_allowance_inequality_is_written_in_the_judge_only():
     assert _offenders() == []
 
 
+# a verdict read back from its words: a note searched, split or stripped of a verdict's words
+FROM_WORDS = re.compile(r"([\"']\s+in\s+(\w+\.)?notes?\b|\.notes?\[|removeprefix\(prefix|\.split\(\"outside|\"outside its range\" in|"
+                        r"\.why\.(startswith|replace)\(|note\.split\()")
+
+
+def test_no_verdict_is_read_back_from_its_words():
+    found = []
+    for floor in FLOORS:
+        for path in sorted((ROOT / floor).rglob("*.py")):
+            for i, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+                code = line.split("#", 1)[0]
+                if FROM_WORDS.search(code):
+                    found.append(f"{path.relative_to(ROOT).as_posix()}:{i}: {line.strip()}")
+    assert found == []
+
+
+def test_the_words_grep_finds_what_it_replaced():
+    for text in ('if "outside its range" in note:', "notes = str(q.note).split(\"; \")", 'if "unreliable" in note:',
+                 "q.notes[-1].removeprefix(prefix)", 'ref.why.startswith("mech finds no finite value")'):
+        assert FROM_WORDS.search(text) or "split(" in text, text
+
+
 def test_the_grep_finds_a_hand_written_allowance(tmp_path):
     # the patterns must catch the forms the rule replaced (else the test above could not fail)
     for text in ("if abs(a - b) <= tol * abs(a) + err:", "ok = np.abs(y - ref) <= rtol * np.abs(ref) + ref_err",

@@ -45,7 +45,7 @@ from mech.problems.scales import LOG10_LIMIT, out_of_range
 from mech.problems.spec import BadInput, Exercise, NumericFailure, Params, Undefined
 from mech.verification.result import Failure, Quantity, Solution, _clean  # noqa: F401  (_clean: bench)
 
-__all__ = ["Quantity", "Solution", "Failure", "cross_check", "combine_agree", "PARALLEL_VERIFY"]
+__all__ = ["Quantity", "Solution", "Failure", "cross_check", "PARALLEL_VERIFY"]
 
 PARALLEL_VERIFY = True  # the rerun at rtol/10 in a forked child where there is a second core (see above)
 
@@ -196,16 +196,6 @@ def _abandon_rerun(handle) -> None:
         os.waitpid(pid, 0)
     except ChildProcessError:
         pass
-
-
-def combine_agree(flags) -> bool | None:
-    """Several verdicts as one: False if any is False, None if none was judged (all None), else True."""
-    flags = list(flags)
-    if any(f is False for f in flags):
-        return False
-    if all(f is None for f in flags):
-        return None
-    return True
 
 
 class _Draft:
@@ -444,7 +434,8 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
                           outside_why=[r["outside_why"] for r in rows])
         for k, q in enumerate(quantities):
             q.agree = None if J.agree[k] < 0 else bool(J.agree[k])
-            q.verdict = judging.VERDICTS[int(J.verdict[k])]
+            q.verdict = judging.Verdict(int(J.verdict[k]))
+            q.reason = J.outside_why[k] if q.verdict is judging.Verdict.OUTSIDE else ""
             q.tol = float(J.tol[k])
             q.allowed = _float_or_none(J.allowed[k])
             q.abs_err = _float_or_none(J.abs_err[k])

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 from typing import Any, Iterator
 
 from mech.problems.spec import Undefined
+from mech.verification.judge import Verdict, conclude, holds
 
 __all__ = ["Failure", "Quantity", "Solution", "FAILURE_KINDS", "SOLVER_FAILURES", "to_json", "to_text", "to_html",
            "to_rich", "quantity_json"]
@@ -59,8 +60,9 @@ class Quantity:
     """One output of a solve.  ``analytic``/``numeric``: a float, ``Undefined`` (no finite value, with the
     reason) or None (the method did not run); ``numeric_err``/``analytic_err``: absolute error bars, SI;
     ``tol``: the relative tolerance the judge applied, ``allowed`` the absolute allowance; ``agree``:
-    True, False or None (nothing compared); ``verdict``: the judge's word for it; ``expected``: the
-    judgement of your answer (``answers.Judgement``) when one was given."""
+    True, False or None (nothing compared); ``verdict``: the judge's typed verdict (``judge.Verdict``; None
+    where no judge ran) and ``reason`` why (a leading-order theory outside its range: the exercise's reason);
+    ``expected``: the judgement of your answer (``answers.Judgement``) when one was given."""
 
     name: str
     unit: str
@@ -79,7 +81,8 @@ class Quantity:
     expected_err_abs: float | None = None
     verify_diff: float | None = None
     allowed: float | None = None
-    verdict: str = ""
+    verdict: Verdict | None = None
+    reason: str = ""
     notes: tuple[str, ...] = ()
     expected: Any = None
 
@@ -89,6 +92,23 @@ class Quantity:
     @property
     def note(self) -> str | None:
         return "; ".join(self.notes) if self.notes else None
+
+    @property
+    def outside(self) -> bool:
+        """A leading-order theory outside its range here: nothing was compared (``Verdict.OUTSIDE``)."""
+        return self.verdict is Verdict.OUTSIDE
+
+    @property
+    def holds(self) -> bool | None:
+        """What this output concludes (``judge.holds``): True, False, or None (no verdict)."""
+        return holds(self.verdict, self.agree, verified=self.verify_diff is not None)
+
+    @property
+    def cell(self) -> str:
+        """The verdict in a table's agree column (``Verdict.cell``)."""
+        if self.verdict is not None:
+            return Verdict(self.verdict).cell
+        return "—" if self.agree is None else ("yes" if self.agree else "NO")
 
     @property
     def value(self) -> float | None:
@@ -192,13 +212,7 @@ class Solution(Mapping):
         """True when every compared output agrees and every numeric value is verified (an output whose
         leading-order theory is outside its range compares nothing: its numeric value, verified by the
         rerun, holds); False when anything failed; None where nothing was compared or verified."""
-        if self.errors:
-            return False
-        flags = [True if q.theory_valid is False and q.agree is None and q.verify_diff is not None else q.agree
-                 for q in self.quantities]
-        if any(f is False for f in flags):
-            return False
-        return None if all(f is None for f in flags) else True
+        return conclude((q.holds for q in self.quantities), failed=bool(self.errors))
 
     @property
     def solver_failed(self) -> bool:
@@ -298,8 +312,7 @@ def _rows(sol: Solution) -> tuple[list[str], list[list[str]]]:
     head = ["quantity", "unit", "analytic", "numeric", "± numeric", "agree"]
     rows = []
     for q in sol.quantities:
-        agree = ("outside range" if q.theory_valid is False and q.agree is None else
-                 "—" if q.agree is None else ("yes" if q.agree else "NO"))
+        agree = q.cell
         rows.append([q.name + (" *" if q.theory != "exact" else ""), q.unit, _cell(q.analytic), _cell(q.numeric),
                      _cell(q.numeric_err, 2), agree])
     return head, rows

@@ -167,16 +167,18 @@ class SweepResult:
         if self.points is None:
             import numpy as np
 
-            judged = self.extra["judged"].values()
-            if any((J["agree"] == 0).any() or J["n_fail"].any() or J["ver_fail"].any() for J in judged):
-                return False
-            # a leading-order output outside its range with a verified numeric value holds (``Solution.agree``)
-            if all(((J["agree"] < 0) & ~(J["outside"] & ~np.isnan(J["verify_diff"]))).all() for J in judged):
-                return None
-            return True
-        from mech.verification.crosscheck import combine_agree
+            from mech.verification.judge import conclude, conclude_arrays
 
-        return combine_agree(pt.agree for pt in self.points)
+            # the one rule (``judge.conclude``) over every output's values, per output at once
+            flags = []
+            for J in self.extra["judged"].values():
+                got = conclude_arrays(J["agree"], J["outside"] & ~np.isnan(J["verify_diff"]),
+                                      J["n_fail"] | J["ver_fail"])
+                flags += [False] if (got == 0).any() else [True] if (got == 1).any() else [None]
+            return conclude(flags)
+        from mech.verification.judge import conclude
+
+        return conclude(pt.agree for pt in self.points)
 
     def as_json(self, points: bool = True) -> dict:
         d = {
@@ -564,6 +566,7 @@ def batched_solutions(result: SweepResult) -> list[Solution]:
 def iter_batched_solutions(result: SweepResult, indices=None):
     """``batched_solutions`` one point at a time, grid order: none is kept (``sweep --json`` writes each
     as it is built).  ``indices``: only these points (grid order)."""
+    from mech.verification.judge import Verdict
     from mech.verification.judge import notes as judge_notes
 
     ex = result.exercise
@@ -603,6 +606,8 @@ def iter_batched_solutions(result: SweepResult, indices=None):
                 numeric_err=_num(J["numeric_err"][k]) if isinstance(numeric, float) else None,
                 abs_err=_num(J["abs_err"][k]), rel_err=_num(J["rel_err"][k]), tol=_num(J["tol"][k]),
                 tol_abs=float(J["tol_abs"][k]), agree=None if ag < 0 else bool(ag), theory=o.theory,
+                verdict=Verdict(int(J["J"].verdict[k])),
+                reason=J["outside_why"][k] if J["J"].verdict[k] == Verdict.OUTSIDE else "",
                 theory_valid=(not J["outside"][k]) if leading else None,
                 expected_err=_num(J["expected_err"][k]) if leading and J["expected_err"] is not None else None,
                 expected_err_abs=e_abs if leading else None, verify_diff=_num(J["verify_diff"][k]),
@@ -643,7 +648,8 @@ def output_arrays(result: SweepResult, name: str) -> dict:
     agree = np.array([-1 if q["agree"] is None else int(q["agree"])
                       for pt in pts for q in pt["quantities"] if q["name"] == name], dtype=np.int8)
     failed = np.array([pt.get("agree") is False for pt in pts])
-    reasons = np.array([_reason_point(pt) if pt.get("agree") is False else "" for pt in pts], dtype=object)
+    reasons = np.array([_reason_point(sol) if sol.agree is False else "" for sol in result.solutions()],
+                       dtype=object)
     return {"numeric": num, "analytic": ana, "agree": agree, "failed": failed, "reasons": reasons}
 
 
@@ -659,17 +665,19 @@ def failure_kind(text: str) -> str:
     return head or text
 
 
-def _reason_point(pt: dict) -> str:
-    if pt.get("errors"):
-        return pt["errors"][0]
-    for q in pt["quantities"]:
-        if q["agree"] is False:
-            note = q.get("note") or ""
-            if "unreliable" in note:
-                return f"{q['name']}: unreliable (the rerun at rtol/10 moved it beyond its claim)"
-            if "no finite value" in note:
-                return f"{q['name']}: one method finds no finite value where the other does"
-            return f"{q['name']}: analytic and numeric differ beyond the error bars"
+def _reason_point(sol: Solution) -> str:
+    """Why a point failed, from its first failure or its typed verdicts (``judge.Verdict``)."""
+    from mech.verification.judge import Verdict
+
+    if sol.errors:
+        return str(sol.errors[0])
+    for q in sol.quantities:
+        if q.agree is False:
+            if q.verdict == Verdict.UNRELIABLE:
+                return f"{q.name}: unreliable (the rerun at rtol/10 moved it beyond its claim)"
+            if q.verdict == Verdict.ONE_UNDEFINED:
+                return f"{q.name}: one method finds no finite value where the other does"
+            return f"{q.name}: analytic and numeric differ beyond the error bars"
     return "failed"
 
 
