@@ -145,6 +145,15 @@ class MechGroup(click.Group):
         except BrokenPipeError:
             _quiet_stdout()
             code = EXIT_OK
+        except SystemExit as exc:
+            # click answers a closed pipe (``mech list | head -c0``) with sys.exit(1) after pacifying
+            # standard output: the reader stopped early, which is not a failure
+            from click.utils import PacifyFlushWrapper
+
+            if not isinstance(sys.stdout, PacifyFlushWrapper):
+                raise
+            _quiet_stdout()
+            code = EXIT_OK if exc.code in (0, 1, None) else exc.code
         except UnicodeEncodeError as exc:
             _quiet_stdout()
             bad = exc.object[exc.start:exc.end] if isinstance(exc.object, str) else "?"

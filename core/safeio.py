@@ -31,8 +31,10 @@ MAX_DEPTH = 32  # nesting of arrays and tables; an answers file needs 3, a basel
 MAX_KEY_PARTS = 32  # parts of a dotted TOML key; an answers file needs 2
 MIN_COLUMNS = 60
 
-# C0 and C1 controls, DEL, and the bidirectional overrides that reorder what a terminal shows
-_CONTROL = re.compile("[\x00-\x1f\x7f-\x9f\u200e\u200f\u202a-\u202e\u2066-\u2069]")
+# C0 and C1 controls, DEL, the bidirectional overrides that reorder what a terminal shows, and the
+# characters a terminal shows as nothing (zero-width spaces and joiners, the byte-order mark, the soft
+# hyphen, line and paragraph separators): echoed as escapes, so what is shown is what was typed
+_CONTROL = re.compile("[\x00-\x1f\x7f-\x9f\xad\u180e\u200b-\u200f\u2028-\u202e\u2060-\u2069\ufeff]")
 
 
 def _escape_one(m: re.Match) -> str:
@@ -224,7 +226,9 @@ def atomic_write(path, what: str = "output", mode: str = "w", newline: str | Non
     text = check_output(path, what)
     _ignore_file_size_signal()
     folder = os.path.dirname(os.path.abspath(text))
-    fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(text)}.", suffix=".tmp", dir=folder)
+    _remove_stale(folder, os.path.basename(text))
+    fd, tmp = tempfile.mkstemp(prefix=f"{_tmp_prefix(os.path.basename(text), os.getpid())}", suffix=".tmp",
+                               dir=folder)
     try:
         kwargs = {} if "b" in mode else {"encoding": "utf-8", "newline": newline}
         with os.fdopen(fd, mode, **kwargs) as fh:
@@ -244,6 +248,40 @@ def atomic_write(path, what: str = "output", mode: str = "w", newline: str | Non
         if tmp is not None:
             with contextlib.suppress(OSError):
                 os.unlink(tmp)
+
+
+def _tmp_prefix(base: str, pid: int) -> str:
+    """The name a temporary file of ``atomic_write`` starts with: the target's, and the writer's process."""
+    return f".{base}.mech{pid}-"
+
+
+def _remove_stale(folder: str, base: str) -> None:
+    """Remove the temporary files of ``base`` left by a writer that was killed (kill -9 leaves no chance to
+    clean up): files of mech's own naming whose process no longer runs.  A live writer's file is kept."""
+    head = f".{base}.mech"
+    try:
+        names = [n for n in os.listdir(folder) if n.startswith(head) and n.endswith(".tmp")]
+    except OSError:
+        return
+    for name in names[:1000]:
+        pid_text = name[len(head):].split("-", 1)[0]
+        if not pid_text.isdigit() or len(pid_text) > 10:
+            continue
+        pid = int(pid_text)
+        if pid == os.getpid() or _alive(pid):
+            continue
+        with contextlib.suppress(OSError):
+            os.unlink(os.path.join(folder, name))
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError, OSError):
+        return True  # someone else's process, or a number the system cannot take: leave its file alone
+    return True
 
 
 def _umask() -> int:

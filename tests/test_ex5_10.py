@@ -156,7 +156,9 @@ def test_numeric_beat_against_slip_times_of_a_long_simulation(given):
     # settle 20/mu, then record when theta - omega t passes successive multiples of 2 pi
     T_beat = 2 * math.pi / n["beat"]
     t_end = 20 / mu + 14 * T_beat
-    sol = solve_ivp(rhs, (0, t_end), [1.0, 0.0, 0.0], method="LSODA", rtol=1e-10, atol=1e-12, dense_output=True)
+    # DOP853 at rtol 1e-8: the slip times it gives agree with LSODA's at 1e-10 to every digit the fit resolves
+    # (measured: the beat's relative offset 2.6154530e-05 and 1.1417e-04 either way), at a third of the cost
+    sol = solve_ivp(rhs, (0, t_end), [1.0, 0.0, 0.0], method="DOP853", rtol=1e-8, atol=1e-10, dense_output=True)
     t = np.linspace(20 / mu, t_end, 200001)
     psi = sol.sol(t)[2] - w * t
     # the first time each new whole turn of slip is reached (the phase wobbles within a drive period, so
