@@ -166,7 +166,7 @@ def _unit_of(result, name):
 def _summary(result) -> tuple[str, bool]:
     n = len(result)
     n_bad = result.n_failed
-    route = " (batched)" if result.extra.get("route") == "batched" else ""
+    route = " (batched)" if result.batched is not None else ""
     text = (f"{n} points, {result.seconds:.2f} s{route} on {result.workers} "
             f"process{'es' if result.workers > 1 else ''}; "
             + ("analytic and numeric agree at every point" if n_bad == 0 else f"{n_bad} points FAILED the cross-check"))
