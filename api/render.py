@@ -21,6 +21,7 @@ from rich.table import Table
 from rich.text import Text
 
 from mech.problems.spec import Undefined
+from mech.verification.result import STYLE, closing
 
 PIPED_WIDTH = 160
 
@@ -127,12 +128,9 @@ def _small(v) -> str:
     return "—" if v is None else f"{v:.2g}"
 
 
-AGREE_STYLE = {"yes": "green", "NO": "bold red", "outside range": "yellow", "—": "dim"}
-
-
 def _agree_text(cell: str) -> Text:
     """A verdict's cell (``Quantity.cell``), coloured."""
-    return Text(cell, style=AGREE_STYLE.get(cell, ""))
+    return Text(cell, style=STYLE.get(cell, ""))
 
 
 # -- mech show -------------------------------------------------------------------------------------------
@@ -309,31 +307,8 @@ def _notes(result) -> list[str]:
 
 
 def _verdict(result) -> Text | None:
-    qs = result.quantities
-    has_a = any(q.analytic is not None for q in qs)
-    has_n = any(q.numeric is not None for q in qs)
-    if result.agree is False:
-        return Text("CROSS-CHECK FAILED" if has_a and has_n else "FAILED", style="bold red")
-    outside = [q for q in qs if q.outside]
-    if has_a and has_n and outside:
-        # a leading-order theory outside its range is not compared: say which outputs and why
-        why = "; ".join(dict.fromkeys(q.reason for q in outside if q.reason))
-        compared = any(q.agree is True for q in qs)
-        head = "analytic and numeric agree on the rest; " if result.agree and compared else ""
-        return Text(f"{head}no theory compared for {', '.join(q.name for q in outside)}: the leading-order "
-                    f"theory is outside its range ({why}); the verified numeric values are the answers",
-                    style="yellow")
-    if has_a and has_n:
-        return Text("analytic and numeric agree", style="green") if result.agree else None
-    if has_a:
-        return Text("analytic solver only: nothing was cross-checked (leave out --method to compare)",
-                    style="yellow")
-    if has_n:
-        verified = (result.numeric_info or {}).get("verify_rtol")
-        how = f"its accuracy claim held at rtol {verified:g}" if verified else "its accuracy claim was not re-tested"
-        return Text(f"numeric solver only: {how}; nothing was cross-checked (leave out --method to compare)",
-                    style="yellow")
-    return None
+    said = closing(result)
+    return None if said is None else Text(said[0], style=STYLE[said[1]])
 
 
 def print_solve(result) -> None:

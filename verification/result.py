@@ -318,13 +318,42 @@ def _rows(sol: Solution) -> tuple[list[str], list[list[str]]]:
     return head, rows
 
 
-def _closing(sol: Solution) -> str:
-    verdict = {True: "analytic and numeric agree", False: "CROSS-CHECK FAILED", None: ""}[sol.agree]
-    has_a = any(q.analytic is not None for q in sol.quantities)
-    has_n = any(q.numeric is not None for q in sol.quantities)
-    if sol.agree is not False and not (has_a and has_n):
-        verdict = "analytic only" if has_a else "numeric only"
-    return verdict
+# the colours of a verdict's words in every rich rendering (``to_rich`` and ``mech.render``'s tables): a
+# table's agree cell (``Quantity.cell``) and a closing line's tone (``closing``)
+STYLE = {"yes": "green", "NO": "bold red", "outside range": "yellow", "—": "dim",
+         "ok": "green", "fail": "bold red", "warn": "yellow"}
+
+
+def closing(sol: Solution) -> tuple[str, str] | None:
+    """The line that closes every table of a solve (the REPL's, Jupyter's and ``mech solve``'s): what it
+    concludes, in words, and its tone ("ok", "fail", "warn"); None where there is nothing to say."""
+    qs = sol.quantities
+    has_a = any(q.analytic is not None for q in qs)
+    has_n = any(q.numeric is not None for q in qs)
+    if sol.agree is False:
+        return ("CROSS-CHECK FAILED" if has_a and has_n else "FAILED"), "fail"
+    outside = [q for q in qs if q.outside]
+    if has_a and has_n and outside:
+        # a leading-order theory outside its range is not compared: say which outputs and why
+        why = "; ".join(dict.fromkeys(q.reason for q in outside if q.reason))
+        compared = any(q.agree is True for q in qs)
+        head = "analytic and numeric agree on the rest; " if sol.agree and compared else ""
+        return (f"{head}no theory compared for {', '.join(q.name for q in outside)}: the leading-order "
+                f"theory is outside its range ({why}); the verified numeric values are the answers"), "warn"
+    if has_a and has_n:
+        return ("analytic and numeric agree", "ok") if sol.agree else None
+    if has_a:
+        return "analytic solver only: nothing was cross-checked (leave out --method to compare)", "warn"
+    if has_n:
+        verified = (sol.numeric_info or {}).get("verify_rtol")
+        how = f"its accuracy claim held at rtol {verified:g}" if verified else "its accuracy claim was not re-tested"
+        return f"numeric solver only: {how}; nothing was cross-checked (leave out --method to compare)", "warn"
+    return None
+
+
+def _closing_text(sol: Solution) -> str:
+    said = closing(sol)
+    return "" if said is None else said[0]
 
 
 def to_text(sol: Solution) -> str:
@@ -342,9 +371,9 @@ def to_text(sol: Solution) -> str:
     lines.extend(str(e) for e in sol.errors)
     if sol.expect_summary:
         lines.append(sol.expect_summary)
-    closing = _closing(sol)
-    if closing:
-        lines.append(closing)
+    said = _closing_text(sol)
+    if said:
+        lines.append(said)
     return "\n".join(lines)
 
 
@@ -363,7 +392,7 @@ def to_html(sol: Solution) -> str:
     expect = f"<p>{esc(sol.expect_summary)}</p>" if sol.expect_summary else ""
     return (f"<div><b>{esc(ex.id)}  {esc(ex.title)}</b><br><span>{params}</span>"
             f"<table><thead><tr>{head_html}</tr></thead><tbody>{body}</tbody></table>"
-            f"{errors}{expect}<p>{esc(_closing(sol))}</p></div>")
+            f"{errors}{expect}<p>{esc(_closing_text(sol))}</p></div>")
 
 
 def to_rich(sol: Solution):
@@ -378,14 +407,13 @@ def to_rich(sol: Solution):
               title_justify="left")
     for k, c in enumerate(head):
         t.add_column(c, justify="left" if k < 2 else "right")
-    colour = {"yes": "green", "NO": "bold red", "outside range": "yellow"}
     for r in rows:
-        t.add_row(*r[:-1], Text(r[-1], style=colour.get(r[-1], "")))
+        t.add_row(*r[:-1], Text(r[-1], style=STYLE.get(r[-1], "")))
     parts = [t]
     parts.extend(Text(str(e), style="red") for e in sol.errors)
     if sol.expect_summary:
         parts.append(Text(sol.expect_summary, style="green" if sol.expect_ok else "bold red"))
-    closing = _closing(sol)
-    if closing:
-        parts.append(Text(closing, style={True: "green", False: "bold red"}.get(sol.agree, "")))
+    said = closing(sol)
+    if said is not None:
+        parts.append(Text(said[0], style=STYLE[said[1]]))
     return Group(*parts)
