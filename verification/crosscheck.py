@@ -254,11 +254,14 @@ def cross_check(
     verify: bool = True,
     budget_s: float | None = None,
     keep_trajectories: bool = False,
+    fork_rerun: bool = True,
 ) -> Solution:
     """Run the asked-for solvers and compare; solver failures become loud entries, never numbers.
 
     The numeric solve and its rerun share one wall-clock budget (``budget_s``, by default
-    ``budget.default_seconds()``): past it the solve fails loudly instead of running on.
+    ``budget.default_seconds()``): past it the solve fails loudly instead of running on.  ``fork_rerun``:
+    False runs the rerun after the solve in this process (many short solves: a fork costs more than it
+    saves); the numbers are the same either way.
     """
     from mech.core import budget
 
@@ -272,12 +275,14 @@ def cross_check(
     fp_warnings = caught.__enter__()
     warnings.simplefilter("always", RuntimeWarning)
     try:
-        return _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings)
+        return _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings,
+                            fork_rerun)
     finally:
         caught.__exit__(None, None, None)
 
 
-def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings) -> Solution:
+def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings,
+                 fork_rerun=True) -> Solution:
     from mech.core import budget
 
     timing: dict[str, float | None] = {"analytic_s": None, "numeric_s": None}
@@ -303,7 +308,7 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
         loaded_before = dop is not None and dop.tableau_load_seconds() is not None
         tighter = max(rtol / 10.0, ex.min_rtol)
         rerun = None
-        if verify and tighter < rtol and _parallel_ok():
+        if verify and tighter < rtol and fork_rerun and _parallel_ok():
             rerun = _start_rerun(ex, params, tighter, budget_s)  # on the second core, while the solve runs here
         t0 = time.perf_counter()
         shared: dict = {}  # what a serial rerun may reuse of the solve (see Run.shared)
