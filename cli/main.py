@@ -275,10 +275,20 @@ def list_cmd(chapter, as_json):
 @click.argument("ex_id", metavar="ID", shell_complete=_complete_ids)
 @click.option("--json", "as_json", is_flag=True,
               help="Print one JSON object with the exercise's fields instead (fields: docs/json.md).")
-def show_cmd(ex_id, as_json):
+@click.option("--derive", "derive", is_flag=True,
+              help="Show the declared physics (Lagrangian or bodies and loads, forces, constraints) and the "
+                   "equations of motion sympy derives from it (needs the 'derive' extra; docs/derive.md).")
+@click.option("--latex", is_flag=True, help="With --derive: print the expressions as LaTeX.")
+def show_cmd(ex_id, as_json, derive, latex):
     """Show an exercise: statement, parameters, outputs, formulas, numeric route, hard cases."""
+    if latex and not derive:
+        raise UsageFailure("--latex goes with --derive (mech show ID --derive --latex)")
     ex = _get(ex_id)
-    if as_json:
+    if derive:
+        from mech.cli import listing
+
+        listing.print_derivation(ex, latex=latex, as_json=as_json)
+    elif as_json:
         _emit_json({**ex.as_json(), "from_book": ex.from_book})
     else:
         from mech import render

@@ -455,6 +455,8 @@ class Exercise:
         self._hamiltonian: Callable | None = None
         self._scene: Callable | None = None
         self._motion: Callable | None = None
+        self._physics: Callable | None = None  # @exercise.physics: the symbolic declaration (problems/physics.py)
+        self._physics_withheld: str | None = None
         self._batched: "BatchedRoute | None" = None
         self._theory_range: Callable | None = None
         self._approximations: Callable | None = None
@@ -539,7 +541,29 @@ class Exercise:
         m = self.motion_at(p)
         if m is None:
             return None, None
-        return m, Run(rtol=rtol).follow(m, dense=True)
+        return m, self.follow(m, rtol, dense=True)
+
+    def follow(self, motion, rtol: float | None = None, **options):
+        """``motion`` integrated by a fresh ``Run`` at ``rtol`` (``Run.follow``'s options): for the modules
+        above the contract (scene, physics) that integrate a declared motion without importing it."""
+        return Run(rtol=rtol).follow(motion, **options)
+
+    def physics(self, fn: Callable[[Any], None]) -> Callable:
+        """Register ``fn(d)``: the exercise's physics declared for sympy (``mech.problems.physics``), kept in
+        ``physicsN_M.py`` beside the module and imported only by ``derive()``."""
+        self._physics = fn
+        return fn
+
+    def physics_withheld(self, why: str) -> None:
+        """Say why the motion has no declaration (a reduced or averaged model no Lagrangian gives)."""
+        self._physics_withheld = " ".join(why.split())
+
+    def derive(self):
+        """The declared physics with its equations derived (sympy: the ``derive`` extra); LookupError says
+        why there is none."""
+        from mech.problems.physics import derive
+
+        return derive(self)
 
     def scene(self, fn: Callable[[Params, Any], Any]) -> Callable:
         """Optional: ``fn(p, run) -> mech.problems.scene.Scene``, what ``mech plot`` draws for this
