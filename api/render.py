@@ -369,4 +369,6 @@ def print_check(report) -> None:
                            + ([("detail", detail)] if detail else []))
                           for i, label, res, ratio, secs, detail in rows])
     style = "green" if report.ok else "bold red"
-    emit(c, Group(t, Text(f"{report.passed} passed, {report.failed} failed in {report.seconds:.1f} s", style=style)))
+    none = len(report.cases) - report.passed - report.failed
+    said = f"{report.passed} passed, " + (f"{none} no verdict, " if none else "") + f"{report.failed} failed"
+    emit(c, Group(t, Text(f"{said} in {report.seconds:.1f} s", style=style)))

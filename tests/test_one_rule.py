@@ -90,3 +90,33 @@ def test_within_is_the_inequality_on_arrays_and_nan_is_never_within():
     assert J.within(d, scale=10.0, rel=0.01, bars=(0.2,)).tolist() == [True, True, False, False]
     assert bool(J.within(1.0, bars=(1.0,)))  # the edge is within
     assert not bool(J.within(1.0 + 1e-15, bars=(1.0,)))
+
+
+# -- "no verdict" means the same in solve, sweep and check: no failure ----------------------------------------
+
+def test_no_verdict_is_no_failure_in_solve_and_check(capsys):
+    from click.testing import CliRunner
+
+    from mech.render import print_check
+    from mech.cli.main import cli
+    from mech.problems import registry
+    from mech.verification import checking
+
+    # solve with one method: nothing compared, exit 0
+    r = CliRunner().invoke(cli, ["solve", "4.15", "--method", "analytic", "--json"])
+    assert r.exit_code == 0 and '"agree": null' in r.stdout
+    # a check case with one method registered: no verdict, counted neither passed nor failed, the run holds
+    ex = registry.get("4.15")
+
+    class OneMethod:
+        methods = ("numeric",)
+
+        def __getattr__(self, name):
+            return getattr(ex, name)
+
+    case = checking.run_case(checking.Case(OneMethod(), "defaults", {}))
+    report = checking.Report(cases=[case])
+    assert case.agree is None and case.ok and (report.passed, report.failed, report.ok) == (0, 0, True)
+    print_check(report)
+    out = capsys.readouterr().out
+    assert "no verdict" in out and "0 passed, 1 no verdict, 0 failed" in out
