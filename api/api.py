@@ -498,28 +498,44 @@ def save_sweep_figure(result, path) -> None:
 
 # -- grade, bench, plot ----------------------------------------------------------------
 
-def grade(path, budget=None) -> dict:
-    """``mech grade FILE --json``: every answer of a grading file held against mech; ``budget``: the
-    grading's wall-clock budget in seconds (``--budget``; default 600 s)."""
-    from mech.verification import grading
+def grade(path, budget=None, *, strict: bool = False, jobs: int | None = None, params=None):
+    """``mech grade FILE``: every answer of a grading file (TOML, or CSV) held against mech, as a
+    ``GradeReport`` (``.to_dict()`` is ``--json``; ``report["ok"]`` reads it).  ``budget``: the grading's
+    wall-clock budget in seconds (``--budget``; default 600); ``strict``: BadInput for any entry that
+    cannot be read, before anything is graded (else it is graded invalid); ``jobs``: processes;
+    ``params``: a CSV's parameters from an assignment's template (``--params``)."""
     from mech.verification.sweep import check_total
 
-    entries, seconds = grade_entries(path, None if budget is None else check_total(budget, "budget"))
-    return grading.grade_json(str(path), entries, seconds)
+    return grade_report(path, None if budget is None else check_total(budget, "budget"), strict=strict,
+                        jobs=jobs, params=params)
+
+
+def grade_report(path, total_s=None, *, strict: bool = False, jobs: int | None = None, params=None,
+                 started: float | None = None):
+    """The ``GradeReport`` of a grading file; ``started``: the ``time.perf_counter()`` the reported wall
+    time counts from (default: now, reading the file included)."""
+    import time
+
+    from mech.verification import grading
+
+    t0 = time.perf_counter() if started is None else started
+    if params is not None and not str(path).lower().endswith(".csv"):
+        raise BadInput("--params: only for answers read from a CSV file")
+    if str(path).lower().endswith(".csv"):
+        entries = grading.load_answers_csv(str(path), strict=strict,
+                                           params_path=None if params is None else str(params))
+    else:
+        entries = grading.load_answers(str(path), strict=strict)
+    grading.grade(entries, total_s, jobs=jobs)
+    return grading.GradeReport(str(path), tuple(entries), time.perf_counter() - t0)
 
 
 def grade_entries(path, total_s=None) -> tuple[list, float]:
     """Every answer of a grading file, judged (``verification.grading.Entry``), and the seconds it took;
     ``BadInput`` for a bad file, every fault at once (``BadFile.problems``, a line each).  ``total_s``: the
     grading's wall-clock budget (default 600 s); answers not reached by then fail, saying so."""
-    import time
-
-    from mech.verification import grading
-
-    entries = grading.load_answers(str(path))
-    t0 = time.perf_counter()
-    grading.grade(entries, total_s)
-    return entries, time.perf_counter() - t0
+    report = grade_report(path, total_s, strict=True)
+    return list(report.entries), report.seconds
 
 
 def grade_students(entries: list) -> list[dict]:

@@ -511,7 +511,7 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
     if junit_file:
         write_junit(report, junit_file)
         if moved:
-            from mech.cli.grading import junit_baseline
+            from mech.cli.baseline import junit_baseline
 
             junit_baseline(junit_file, moved)
     if as_json:
@@ -521,7 +521,7 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
 
         render.print_check(report)
         if baseline_file or save_baseline:
-            from mech.cli.grading import print_baseline
+            from mech.cli.baseline import print_baseline
 
             print_baseline(moved, save_baseline)
     ctx.exit(EXIT_OK if report.ok and (moved is None or moved.ok) else EXIT_DISAGREE)
