@@ -76,6 +76,8 @@ class MechGroup(click.Group):
     # sentence of each command's help, tests/test_cli_first_hour.py holds them equal) are listed by
     # `mech --help` without importing them
     LAZY = {
+        "assign": ("mech.cli.assign", "assign_cmd",
+                   "Personal variants for a class: each student's parameters drawn, rounded and verified, with the key."),
         "bench": ("mech.cli.bench", "bench_cmd", "Speed against error of exercise ID's numeric solver."),
         "grade": ("mech.cli.grading", "grade_cmd",
                   "Hold a TOML file of answers against mech (each [[answer]]: exercise, params, expect, rtol)."),
