@@ -722,8 +722,8 @@ _POOL: dict = {}  # what a forked worker inherits: the entries and the budget
 
 def _remote_group(indices: list[int]):
     """One group of entries graded in a pool worker; what travels back pickles (no exercise, no run)."""
-    todo, deadline, total_s, per_solve = _POOL["args"]
-    solved: dict = {}
+    todo, deadline, total_s, per_solve, presolved = _POOL["args"]
+    solved: dict = dict(presolved)
     out = []
     for i in indices:
         e = todo[i]
@@ -747,24 +747,66 @@ def grade(entries: list[Entry], total_s: float | None = None, jobs: int | None =
     per_solve = budget.default_seconds()
     todo = [e for e in entries if e.invalid is None and e.expectations]
     groups = _solve_groups(todo)
+    # a class file answers the same exercise at the same parameters: one solve each; an exercise with a
+    # batched route solves all its variants at once, here, before the workers start (they inherit them)
+    solved: dict = _batched(todo, groups, deadline)
     workers = plan_jobs(len(groups), jobs)
     if workers > 1:
-        _grade_pooled(todo, groups, workers, deadline, total_s, per_solve)
+        _grade_pooled(todo, groups, workers, deadline, total_s, per_solve, solved)
         return
-    solved: dict = {}  # a class file answers the same exercise at the same parameters: one solve each
     for g in groups:
         for i in g:
             _grade_one(todo[i], deadline, total_s, per_solve, solved)
 
 
-def _grade_pooled(todo, groups, workers, deadline, total_s, per_solve) -> None:
+MIN_BATCHED = 4  # variants of one exercise from which its batched route solves them (below: one by one)
+
+
+def _batched(todo: list[Entry], groups: list[list[int]], deadline: float) -> dict:
+    """The cross-checks of every variant of each exercise whose batched route (the charts') gives all its
+    outputs, solved at once: both solves (at rtol and rtol/10) over the variants' arrays and each variant
+    judged by the cross-check's rule (``sweep.run_batched``).  {(exercise id, params): Solution}; an
+    exercise whose batch fails is left to the one-by-one cross-check."""
+    import numpy as np
+
+    from mech.verification.sweep import iter_batched_solutions, run_batched
+
+    by_ex: dict = {}
+    for g in groups:
+        e = todo[g[0]]
+        route = getattr(e.exercise, "batched_route", None)
+        if route is None or set(route.outputs) != {o.name for o in e.exercise.outputs}:
+            continue
+        if max(e.exercise.default_rtol / 10.0, e.exercise.min_rtol) >= e.exercise.default_rtol:
+            continue  # no tighter rerun to verify with: the cross-check says so point by point
+        by_ex.setdefault(e.exercise.id, []).append(e)
+    out: dict = {}
+    for firsts in by_ex.values():
+        if len(firsts) < MIN_BATCHED:
+            continue
+        ex = firsts[0].exercise
+        try:
+            params = [ex.resolve(e.given) for e in firsts]
+            P = {p.name: np.array([float(q[p.name]) for q in params]) for p in ex.params}
+            left = deadline - time.monotonic()
+            if left <= 1.0:
+                continue
+            result = run_batched(ex, [], {}, tuple(o.name for o in ex.outputs), total_s=left, points=P)
+            for q, sol in zip(params, iter_batched_solutions(result)):
+                out[(ex.id, tuple(sorted(q.items())))] = sol
+        except Exception:  # noqa: BLE001  the batch failed as a whole: each variant is cross-checked alone
+            continue
+    return out
+
+
+def _grade_pooled(todo, groups, workers, deadline, total_s, per_solve, solved) -> None:
     import multiprocessing
     import os
     from concurrent.futures import ProcessPoolExecutor
 
     from mech.verification.sweep import pool_worker_init
 
-    _POOL["args"] = (todo, deadline, total_s, per_solve)
+    _POOL["args"] = (todo, deadline, total_s, per_solve, solved)
     # a few groups a task: fewer round trips, and still the work shared out to the end
     size = max(1, min(8, len(groups) // (8 * workers)))
     tasks = [sum(groups[k:k + size], []) for k in range(0, len(groups), size)]
