@@ -35,5 +35,5 @@ def assign_cmd(ids, students, n, seed, out, over, digits, jobs):
     key = api.assign(list(ids), seed=seed, out=out, students=students, n=n, over=list(over), digits=digits,
                      jobs=jobs)
     n_students = len({v["student"] for v in key["variants"]})
-    click.echo(f"{len(key['variants'])} variants ({n_students} students x {len(ids)} exercises), each verified, "
+    click.echo(f"{len(key['variants'])} variants ({n_students} students x {len(ids)} exercise{'' if len(ids) == 1 else 's'}), each verified, "
                f"written to {shown_path(out)}: handout.md, answers.toml, key.json")

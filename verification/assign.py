@@ -173,6 +173,8 @@ def _round_text(p, value: float, digits: int) -> str:
     text = f"{shown_v:.{digits}g}"
     if unit == "1":
         return text
+    if unit.startswith("1/"):
+        return f"{text}{unit[1:]}"  # "0.07/s": "0.07 1/s" would read as two numbers
     return f"{text}{unit}" if unit == "deg" else f"{text} {unit}"
 
 
@@ -264,10 +266,15 @@ def make(exercises: list, students: list[str], seed: int, overs: dict | None = N
                                    + (" and --over" if over else "") + "; widen --over")
                 drawn_n = len(pts)
                 want = size
+                kept = 0
                 for p in new:
                     got = _rounded(ex, p, digits, over)
                     if got is not None:
                         pool.append(got)
+                        kept += 1
+                if kept == 0 and len(new) >= 16:  # rounding throws every draw out: say so, at once
+                    raise BadInput(f"{ex.id}: every drawn variant rounded to {digits} digits leaves the "
+                                   "parameters' bounds or joint constraints; give more --digits or narrow --over")
             batch = []
             for i in waiting:
                 texts, params = pool[cursor]

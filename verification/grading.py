@@ -750,8 +750,11 @@ def grade(entries: list[Entry], total_s: float | None = None, jobs: int | None =
     # a class file answers the same exercise at the same parameters: one solve each; an exercise with a
     # batched route solves all its variants at once, here, before the workers start (they inherit them)
     solved: dict = _batched(todo, groups, deadline)
+    import threading
+
     workers = plan_jobs(len(groups), jobs)
-    if workers > 1:
+    # fork only a single-threaded process (a lock another thread holds would stay held in the workers)
+    if workers > 1 and threading.active_count() == 1:
         _grade_pooled(todo, groups, workers, deadline, total_s, per_solve, solved)
         return
     for g in groups:
