@@ -265,9 +265,11 @@ def _blank(value) -> bool:
     return isinstance(value, str) and not value.strip()
 
 
-def _read_entry(k: int, item: dict, line: int | None, where: str, keys=_ENTRY_KEYS) -> tuple[Entry, list[str]]:
+def _read_entry(k: int, item: dict, line: int | None, where: str, keys=_ENTRY_KEYS,
+                memo: dict | None = None) -> tuple[Entry, list[str]]:
     """One answer, read and checked: the Entry (``invalid`` set when anything is wrong) and its problems,
-    each one line naming ``where`` (the file and the entry), the field and the reason."""
+    each one line naming ``where`` (the file and the entry), the field and the reason.  ``memo``: values
+    already read in this file (a class writes the same formula many times), by exercise, name and text."""
     from mech.problems import registry
 
     problems: list[str] = []
@@ -342,11 +344,19 @@ def _read_entry(k: int, item: dict, line: int | None, where: str, keys=_ENTRY_KE
             if name in outputs and _blank(value):
                 unanswered.append(name)  # left for the student: not graded
                 continue
-            try:
-                expectations.append(parse_expectation(ex, raw_name, value, rtol))
-            except BadInput as exc:
-                bad(f"expect.{raw_name}", str(exc).split(": ", 1)[-1])
+            mkey = (ex.id, str(raw_name), type(value).__name__, str(value), rtol)
+            got = memo.get(mkey) if memo is not None else None
+            if got is None:
+                try:
+                    got = parse_expectation(ex, raw_name, value, rtol)
+                except BadInput as exc:
+                    got = BadInput(str(exc))
+                if memo is not None and len(memo) < 10000:
+                    memo[mkey] = got
+            if isinstance(got, BadInput):
+                bad(f"expect.{raw_name}", str(got).split(": ", 1)[-1])
                 continue
+            expectations.append(got)
     if ex is not None and not problems and expectations:
         try:
             expectations = _formula_range(ex, item, expectations)
@@ -403,10 +413,11 @@ def load_answers(path: str, strict: bool = True) -> list[Entry]:
         _refuse(name, problems)
     lines = _entry_lines(text)
     entries = []
+    memo: dict = {}
     for k, item in enumerate(answers, 1):
         line = lines[k - 1] if len(lines) == len(answers) else None
         where = f"{name}: answer {k}" + (f" (line {line})" if line else "")
-        entry, found = _read_entry(k, item, line, where)
+        entry, found = _read_entry(k, item, line, where, memo=memo)
         problems += found
         entries.append(entry)
     if problems and strict:
@@ -545,6 +556,7 @@ def load_answers_csv(path: str, strict: bool = True, params_path: str | None = N
     s_col = header.index("student")
     entries: list[Entry] = []
     all_problems: list[str] = []
+    memo: dict = {}
     for line, row in body:
         row = row + [""] * (len(header) - len(row))
         student = row[s_col].strip()
@@ -573,7 +585,7 @@ def load_answers_csv(path: str, strict: bool = True, params_path: str | None = N
                 extra.append(f"{len(row) - len(header)} cells beyond the header's columns")
             k = len(entries) + 1
             where = f"{name}: line {line}, {ex_id}"
-            entry, found = _read_entry(k, item, line, where)
+            entry, found = _read_entry(k, item, line, where, memo=memo)
             if extra:
                 found = [f"{where}: {x}" for x in extra] + found
                 text = "; ".join(extra)
@@ -720,10 +732,14 @@ def _solve_groups(todo: list[Entry]) -> list[list[int]]:
 _POOL: dict = {}  # what a forked worker inherits: the entries and the budget
 
 
-def _remote_group(indices: list[int]):
-    """One group of entries graded in a pool worker; what travels back pickles (no exercise, no run)."""
-    todo, deadline, total_s, per_solve, presolved = _POOL["args"]
-    solved: dict = dict(presolved)
+def _remote_group(indices: list[int], presolved: dict | None = None):
+    """Entries graded in a pool worker (``presolved``: {key: Solution without its exercise}, from a batch);
+    what travels back pickles (no exercise, no run)."""
+    todo, deadline, total_s, per_solve = _POOL["args"]
+    solved: dict = {}
+    for key, sol in (presolved or {}).items():
+        solved[key] = sol.replace(exercise=todo[indices[0]].exercise) if sol is not None else None
+    solved = {k: v for k, v in solved.items() if v is not None}
     out = []
     for i in indices:
         e = todo[i]
@@ -733,11 +749,20 @@ def _remote_group(indices: list[int]):
     return out
 
 
+def _remote_batch(firsts: list[int]) -> dict:
+    """A batched exercise's variants solved in a pool worker: {key: Solution without its exercise}."""
+    todo, deadline, _total_s, _per_solve = _POOL["args"]
+    got = _batched_solve([todo[i] for i in firsts], deadline)
+    return {k: v.replace(exercise=None, run=None) for k, v in got.items()}
+
+
 def grade(entries: list[Entry], total_s: float | None = None, jobs: int | None = None) -> None:
     """Cross-check and judge every readable entry, within a total wall-clock budget (``total_s``, default
     ``DEFAULT_TOTAL_S``): each solve gets what is left when that is less than its own budget, and an
     entry reached after the end is not graded: its answers fail, saying so.  ``jobs``: processes (None:
     one per core once there are enough entries; each worker runs a cross-check's rerun after its solve)."""
+    import threading
+
     from mech.core import budget
     from mech.verification.checking import plan_jobs
     from mech.verification.sweep import DEFAULT_TOTAL_S, check_total
@@ -748,15 +773,16 @@ def grade(entries: list[Entry], total_s: float | None = None, jobs: int | None =
     todo = [e for e in entries if e.invalid is None and e.expectations]
     groups = _solve_groups(todo)
     # a class file answers the same exercise at the same parameters: one solve each; an exercise with a
-    # batched route solves all its variants at once, here, before the workers start (they inherit them)
-    solved: dict = _batched(todo, groups, deadline)
-    import threading
-
+    # batched route solves all its variants at once
+    plan = _batch_plan(todo, groups)
     workers = plan_jobs(len(groups), jobs)
     # fork only a single-threaded process (a lock another thread holds would stay held in the workers)
     if workers > 1 and threading.active_count() == 1:
-        _grade_pooled(todo, groups, workers, deadline, total_s, per_solve, solved)
+        _grade_pooled(todo, groups, workers, deadline, total_s, per_solve, plan)
         return
+    solved: dict = {}
+    for gidx in plan.values():
+        solved.update(_batched_solve([todo[groups[g][0]] for g in gidx], deadline))
     for g in groups:
         for i in g:
             _grade_one(todo[i], deadline, total_s, per_solve, solved)
@@ -765,62 +791,90 @@ def grade(entries: list[Entry], total_s: float | None = None, jobs: int | None =
 MIN_BATCHED = 4  # variants of one exercise from which its batched route solves them (below: one by one)
 
 
-def _batched(todo: list[Entry], groups: list[list[int]], deadline: float) -> dict:
-    """The cross-checks of every variant of each exercise whose batched route (the charts') gives all its
-    outputs, solved at once: both solves (at rtol and rtol/10) over the variants' arrays and each variant
-    judged by the cross-check's rule (``sweep.run_batched``).  {(exercise id, params): Solution}; an
-    exercise whose batch fails is left to the one-by-one cross-check."""
+def _batch_plan(todo: list[Entry], groups: list[list[int]]) -> dict:
+    """{exercise id: the indices of its groups} for each exercise whose batched route (the charts') gives
+    all its outputs, with a tighter rerun to verify by, and at least ``MIN_BATCHED`` variants."""
+    by_ex: dict = {}
+    for k, g in enumerate(groups):
+        ex = todo[g[0]].exercise
+        route = getattr(ex, "batched_route", None)
+        if route is None or set(route.outputs) != {o.name for o in ex.outputs}:
+            continue
+        if max(ex.default_rtol / 10.0, ex.min_rtol) >= ex.default_rtol:
+            continue  # no tighter rerun to verify with: the cross-check says so point by point
+        by_ex.setdefault(ex.id, []).append(k)
+    return {i: ks for i, ks in by_ex.items() if len(ks) >= MIN_BATCHED}
+
+
+def _batched_solve(firsts: list[Entry], deadline: float) -> dict:
+    """The cross-checks of the variants of one exercise (an entry at each), solved at once: both solves
+    (at rtol and rtol/10) over the variants' arrays and each variant judged by the cross-check's rule
+    (``sweep.run_batched``).  {(exercise id, params): Solution}; empty when the batch fails as a whole
+    (each variant is then cross-checked alone)."""
     import numpy as np
 
     from mech.verification.sweep import iter_batched_solutions, run_batched
 
-    by_ex: dict = {}
-    for g in groups:
-        e = todo[g[0]]
-        route = getattr(e.exercise, "batched_route", None)
-        if route is None or set(route.outputs) != {o.name for o in e.exercise.outputs}:
-            continue
-        if max(e.exercise.default_rtol / 10.0, e.exercise.min_rtol) >= e.exercise.default_rtol:
-            continue  # no tighter rerun to verify with: the cross-check says so point by point
-        by_ex.setdefault(e.exercise.id, []).append(e)
     out: dict = {}
-    for firsts in by_ex.values():
-        if len(firsts) < MIN_BATCHED:
-            continue
-        ex = firsts[0].exercise
-        try:
-            params = [ex.resolve(e.given) for e in firsts]
-            P = {p.name: np.array([float(q[p.name]) for q in params]) for p in ex.params}
-            left = deadline - time.monotonic()
-            if left <= 1.0:
-                continue
-            result = run_batched(ex, [], {}, tuple(o.name for o in ex.outputs), total_s=left, points=P)
-            for q, sol in zip(params, iter_batched_solutions(result)):
-                out[(ex.id, tuple(sorted(q.items())))] = sol
-        except Exception:  # noqa: BLE001  the batch failed as a whole: each variant is cross-checked alone
-            continue
+    ex = firsts[0].exercise
+    try:
+        params = [ex.resolve(e.given) for e in firsts]
+        P = {p.name: np.array([float(q[p.name]) for q in params]) for p in ex.params}
+        left = deadline - time.monotonic()
+        if left <= 1.0:
+            return out
+        result = run_batched(ex, [], {}, tuple(o.name for o in ex.outputs), total_s=left, points=P)
+        for q, sol in zip(params, iter_batched_solutions(result)):
+            out[(ex.id, tuple(sorted(q.items())))] = sol
+    except Exception:  # noqa: BLE001  the batch failed as a whole: each variant is cross-checked alone
+        return {}
     return out
 
 
-def _grade_pooled(todo, groups, workers, deadline, total_s, per_solve, solved) -> None:
+def _grade_pooled(todo, groups, workers, deadline, total_s, per_solve, plan) -> None:
+    """The groups over a pool of ``workers``: a batched exercise's variants are solved by one worker while
+    the others grade the rest, then its groups are graded with the batch's solutions."""
     import multiprocessing
     import os
-    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
     from mech.verification.sweep import pool_worker_init
 
-    _POOL["args"] = (todo, deadline, total_s, per_solve, solved)
+    _POOL["args"] = (todo, deadline, total_s, per_solve)
+    batched = {k for ks in plan.values() for k in ks}
+    rest = [g for k, g in enumerate(groups) if k not in batched]
     # a few groups a task: fewer round trips, and still the work shared out to the end
     size = max(1, min(8, len(groups) // (8 * workers)))
-    tasks = [sum(groups[k:k + size], []) for k in range(0, len(groups), size)]
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
                                initializer=pool_worker_init, initargs=(os.getpid(),))
+
+    def take(got):
+        for i, result, judgements, seconds in got:
+            e = todo[i]
+            e.judgements, e.seconds = judgements, seconds
+            e.result = result.replace(exercise=e.exercise) if result is not None else None
+
     try:
-        for got in pool.map(_remote_group, tasks):
-            for i, result, judgements, seconds in got:
-                e = todo[i]
-                e.judgements, e.seconds = judgements, seconds
-                e.result = result.replace(exercise=e.exercise) if result is not None else None
+        pending = {}
+        for ex_id, ks in plan.items():
+            pending[pool.submit(_remote_batch, [groups[k][0] for k in ks])] = ks
+        for k in range(0, len(rest), size):
+            pending[pool.submit(_remote_group, sum(rest[k:k + size], []))] = None
+        while pending:
+            done, _ = wait(list(pending), return_when=FIRST_COMPLETED)
+            for fut in done:
+                ks = pending.pop(fut)
+                if ks is None:
+                    take(fut.result())
+                    continue
+                solved = fut.result()  # the batch: now its groups, a few a task, each with its solution
+                for k in range(0, len(ks), size):
+                    chunk = ks[k:k + size]
+                    indices = sum((groups[j] for j in chunk), [])
+                    keys = {(todo[groups[j][0]].exercise.id, tuple(sorted(todo[groups[j][0]].exercise.resolve(
+                        todo[groups[j][0]].given).items()))) for j in chunk}
+                    pre = {key: solved[key] for key in keys if key in solved}
+                    pending[pool.submit(_remote_group, indices, pre)] = None
     except BaseException:
         pool.shutdown(wait=False, cancel_futures=True)
         raise
