@@ -1,14 +1,17 @@
 #!/usr/bin/env python3
 """What grading a class costs when every student has their own parameters: wall time of whole commands.
 
-    python scripts/perf_grade.py [--students 30,300] [--repeats N] [--jobs 1,0] [--shared] [--markdown]
+    python scripts/perf_grade.py [--students 30,300] [--repeats N] [--jobs 1,0] [--shared]
+                                 [--before OTHER/.venv/bin/mech] [--markdown]
 
 A class file is written for each class size: every student answers one formula in each of five exercises
 (4.15, 4.10, 5.4, 4.23, 5.11: the last two the slowest to cross-check), at their own parameters drawn
 across the declared ranges (``formulas.draw``, seeded, so the file is the same every time).  Each file is
 graded by ``mech grade FILE`` in a fresh process, ``--repeats`` times; the median wall time is reported,
 for each ``--jobs`` value side by side (0: the default, one worker per core).  ``--shared`` also grades
-the same answers with every student at one shared point (references solved once).
+the same answers with every student at one shared point (references solved once).  ``--before`` also
+grades each file with another checkout's ``mech`` (its default options), just before this one's; the
+CPU time (user + system) moves less with the machine's load than the wall time does.
 
 Budgets (issue 32): 300 students x 5 formulas in at most 20 s, 30 in at most 3 s, on a 2-core machine.
 The 1-minute load average before and after each measurement is printed: this machine is shared, and a
@@ -75,7 +78,7 @@ def load() -> float:
     return os.getloadavg()[0]
 
 
-def timed(args: list[str], repeats: int) -> tuple[float, float, float, int, float, float]:
+def timed(args: list[str], repeats: int, exe: list[str] | None = None) -> tuple[float, float, float, int, float, float]:
     """Median wall time, median CPU (user + system of the children), median time grade reported, the exit
     status, and the load average before and after."""
     walls, cpus, said, rc = [], [], [], 0
@@ -83,7 +86,7 @@ def timed(args: list[str], repeats: int) -> tuple[float, float, float, int, floa
     for _ in range(repeats):
         r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
         t0 = time.perf_counter()
-        r = subprocess.run(mech_exe() + args, capture_output=True, text=True, env={**os.environ, "COLUMNS": "200"})
+        r = subprocess.run((exe or mech_exe()) + args, capture_output=True, text=True, env={**os.environ, "COLUMNS": "200"})
         walls.append(time.perf_counter() - t0)
         r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
         cpus.append(r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime)
@@ -99,6 +102,7 @@ def main() -> int:
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--jobs", default="1,0", help="comma-separated -j values; 0 is the default (one per core)")
     ap.add_argument("--shared", action="store_true", help="also grade at one shared point")
+    ap.add_argument("--before", metavar="MECH", help="another checkout's mech executable, measured beside this one")
     ap.add_argument("--markdown", action="store_true")
     a = ap.parse_args()
     sizes = [int(s) for s in a.students.split(",")]
@@ -111,6 +115,12 @@ def main() -> int:
             for shared in ([False, True] if a.shared else [False]):
                 path = class_file(n, shared, Path(tmp))
                 cells = []
+                if a.before:
+                    wall, cpu, said, rc, l0, l1 = timed(["grade", str(path)], a.repeats, [a.before])
+                    cells.append(("before", wall, cpu, said, rc, l0, l1))
+                    print(f"{n:4d} students x 5 {'shared' if shared else 'own   '} before    : "
+                          f"median wall {wall:6.1f} s, CPU {cpu:6.1f} s, grade said {said:6.1f} s, exit {rc}, "
+                          f"load {l0:.1f} -> {l1:.1f}", flush=True)
                 for j in jobs:
                     args = ["grade", str(path)] + ([] if j == 0 else ["-j", str(j)])
                     wall, cpu, said, rc, l0, l1 = timed(args, a.repeats)
@@ -123,9 +133,10 @@ def main() -> int:
                           f"load {l0:.1f} -> {l1:.1f}" + (f"  (budget {budget:g} s)" if budget else ""), flush=True)
                 rows.append((n, shared, cells))
     if a.markdown:
-        head = " | ".join(f"-j {j or 'default'} wall / CPU" for j in jobs)
+        cols = (["before"] if a.before else []) + [f"-j {j or 'default'}" for j in jobs]
+        head = " | ".join(f"{c} wall / CPU" for c in cols)
         print(f"\n| class | params | {head} | load (1 min) |")
-        print("|---|---|" + "---|" * len(jobs) + "---|")
+        print("|---|---|" + "---|" * len(cols) + "---|")
         for n, shared, cells in rows:
             vals = " | ".join(f"{w:.1f} s / {c:.1f} s" for _, w, c, *_ in cells)
             loads = ", ".join(f"{l0:.1f}-{l1:.1f}" for *_, l0, l1 in cells)
