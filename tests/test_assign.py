@@ -174,3 +174,15 @@ def test_version_is_pyprojects():
 
     text = (pathlib.Path(__file__).parent.parent / "pyproject.toml").read_text()
     assert re.search(r'^version = "([^"]+)"', text, re.M).group(1) == mech.__version__
+
+
+def test_assign_from_python(tmp_path):
+    import mech
+
+    key = mech.assign(["4.15"], seed=1, students=["ann", "bob"], out=tmp_path / "o", over={"theta0": "20deg:40deg"})
+    assert [v["student"] for v in key["variants"]] == ["ann", "bob"]
+    assert json.loads((tmp_path / "o" / "key.json").read_text()) == key
+    for v in key["variants"]:
+        assert 20 <= _num(v["params"]["theta0"]) <= 40
+    with pytest.raises(mech.BadInput):
+        mech.assign(["4.15"], seed=1, out=tmp_path / "p")  # neither students nor n
