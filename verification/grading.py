@@ -546,7 +546,8 @@ def load_answers_csv(path: str, strict: bool = True, params_path: str | None = N
         columns[i] = (ex.id, col, kind)
         if ex.id not in order:
             order.append(ex.id)
-    if header.count("student") > 1 or len(set(header)) != len(header):
+    named = [h for h in header if h]
+    if len(set(named)) != len(named):
         problems.append(f"{name}: line 1: a column is named twice")
     if not any(kind == "output" for _, _, kind in columns.values()):
         problems.append(f"{name}: line 1: no ID:output column holding answers")
