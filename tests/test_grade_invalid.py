@@ -181,3 +181,36 @@ def test_the_api_report_is_typed_and_its_dict_is_the_json(tmp_path):
     assert {k: v for k, v in api_json.items() if k != "entries"} == {k: v for k, v in cli_json.items() if k != "entries"}
     with pytest.raises(mech.BadInput):
         mech.grade(path, strict=True)
+
+
+def test_a_worker_that_dies_fails_its_entries_not_the_class(tmp_path, monkeypatch):
+    """A pool worker killed while grading one entry (forced here): those entries are "not graded", the
+    others keep their verdicts, and the report is written; never a traceback."""
+    import os
+
+    from mech.verification import grading
+
+    parent = os.getpid()
+    real = grading._grade_one
+
+    def dying(entry, *args, **kw):
+        if abs(entry.given.get("theta0", 0) - 0.5235987755982988) < 1e-12:  # 30 deg
+            if os.getpid() != parent:
+                os._exit(9)  # a worker killed (out of memory, a signal)
+            raise RuntimeError("forced in the parent")  # one process: an internal error, that entry's verdict
+        return real(entry, *args, **kw)
+
+    monkeypatch.setattr(grading, "_grade_one", dying)
+    parts = [f'[[answer]]\nstudent = "s{d}"\nexercise = "4.15"\nparams = {{ theta0 = "{d}deg" }}\n'
+             f'expect = {{ theta_c = "asin(2/3*sin(theta0))" }}\n' for d in range(10, 101, 10) if d <= 90]
+    path = tmp_path / "a.toml"
+    path.write_text("\n".join(parts))
+    code, out, err = run("grade", path, "--json", "-j", "2")
+    assert code == 1 and "Traceback" not in err
+    d = json.loads(out)
+    by = {e["student"]: e for e in d["entries"]}
+    verdict = by["s30"]["quantities"][0]["expected"]["verdict"]
+    assert verdict.startswith("not graded"), verdict
+    for e in d["entries"]:
+        v = e["quantities"][0]["expected"]
+        assert v["match"] is True or v["verdict"].startswith("not graded"), v

@@ -855,27 +855,40 @@ def _grade_pooled(todo, groups, workers, deadline, total_s, per_solve, plan) -> 
             e.judgements, e.seconds = judgements, seconds
             e.result = result.replace(exercise=e.exercise) if result is not None else None
 
+    from concurrent.futures.process import BrokenProcessPool
+
+    pending: dict = {}  # future -> ("batch", group indices) or ("grade", entry indices)
     try:
-        pending = {}
         for ex_id, ks in plan.items():
-            pending[pool.submit(_remote_batch, [groups[k][0] for k in ks])] = ks
+            pending[pool.submit(_remote_batch, [groups[k][0] for k in ks])] = ("batch", ks)
         for k in range(0, len(rest), size):
-            pending[pool.submit(_remote_group, sum(rest[k:k + size], []))] = None
+            indices = sum(rest[k:k + size], [])
+            pending[pool.submit(_remote_group, indices)] = ("grade", indices)
         while pending:
             done, _ = wait(list(pending), return_when=FIRST_COMPLETED)
             for fut in done:
-                ks = pending.pop(fut)
-                if ks is None:
-                    take(fut.result())
+                kind, ks = pending[fut]
+                got = fut.result()  # a dead worker raises here, its entries still pending
+                del pending[fut]
+                if kind == "grade":
+                    take(got)
                     continue
-                solved = fut.result()  # the batch: now its groups, a few a task, each with its solution
+                solved = got  # the batch: now its groups, a few a task, each with its solution
                 for k in range(0, len(ks), size):
                     chunk = ks[k:k + size]
                     indices = sum((groups[j] for j in chunk), [])
                     keys = {(todo[groups[j][0]].exercise.id, tuple(sorted(todo[groups[j][0]].exercise.resolve(
                         todo[groups[j][0]].given).items()))) for j in chunk}
                     pre = {key: solved[key] for key in keys if key in solved}
-                    pending[pool.submit(_remote_group, indices, pre)] = None
+                    pending[pool.submit(_remote_group, indices, pre)] = ("grade", indices)
+    except BrokenProcessPool as exc:  # a worker died (killed, out of memory): its entries say so, not the class
+        why = f"not graded: the process grading it stopped ({shown(exc, 100) or 'killed'}); grade again with -j 1"
+        for kind, ks in pending.values():
+            indices = ks if kind == "grade" else sum((groups[j] for j in ks), [])
+            for i in indices:
+                if not todo[i].judgements:
+                    todo[i].judgements = _not_graded(todo[i], why)
+        pool.shutdown(wait=False, cancel_futures=True)
     except BaseException:
         pool.shutdown(wait=False, cancel_futures=True)
         raise
