@@ -543,75 +543,11 @@ def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=N
     answers.toml and key.json (atomically; an output that is an input is refused); returns the key.
     ``students``: a roster file's path or a list of identifiers; ``n``: s1 ... sN instead; ``over``:
     {name or "ID:name": "LO:HI"} or ["NAME=LO:HI", ...]; ``digits``: significant digits printed."""
-    import os
-
-    from mech.core.safeio import atomic_write, check_output, shown_path
-    from mech.problems import registry
-    from mech.verification import assign as A
-    from mech.verification.grading import parse_count
-
-    if isinstance(ids, str):
-        ids = [ids]
-    exercises = []
-    for i in ids:
-        ex = registry.get(i)  # a number for an id is refused there, naming the quoted form
-        if ex.id in [e.id for e in exercises]:
-            raise BadInput(f"{ex.id}: named twice")
-        exercises.append(ex)
-    if not exercises:
-        raise BadInput("assign: name at least one exercise")
-    seed_v = parse_count(seed, "--seed", 0, 2**63 - 1)
-    if seed_v is None:
-        raise BadInput("--seed: required (a whole number: the same seed gives the same variants)")
-    digits_v = parse_count(digits, "--digits", A.MIN_DIGITS, A.MAX_DIGITS)
-    inputs = []
-    if (students is None) == (n is None):
-        raise BadInput("give the class as --students FILE or --n N (one of the two)")
-    if n is not None:
-        count = parse_count(n, "--n", 1, A.MAX_STUDENTS)
-        roster = [f"s{k}" for k in range(1, count + 1)]
-    elif isinstance(students, (list, tuple)):
-        roster = [str(s).strip() for s in students]
-        if len(roster) > A.MAX_STUDENTS or len(set(roster)) != len(roster) or not all(roster):
-            raise BadInput(f"students: give 1 to {A.MAX_STUDENTS} distinct, non-empty identifiers")
-    else:
-        roster = A.read_roster(str(students))
-        inputs.append(str(students))
-    if over is None:
-        pairs = []
-    elif isinstance(over, dict):
-        pairs = [f"{k}={v}" for k, v in over.items()]
-    else:
-        pairs = [str(p) for p in over]
-    overs = A.parse_overs(exercises, pairs)
-    folder = str(out)
-    if folder.strip() == "":
-        raise BadInput("--out: an empty folder name")
-    if os.path.exists(folder) and not os.path.isdir(folder):
-        raise BadInput(f"--out {shown_path(folder)}: not a folder")
-    try:
-        os.makedirs(folder, exist_ok=True)
-    except OSError as exc:
-        raise BadInput(f"--out {shown_path(folder)}: cannot create the folder: {exc.strerror or exc}") from None
-    names = {"handout.md": None, "answers.toml": None, "key.json": None}
-    for name in names:
-        path = os.path.join(folder, name)
-        for given in inputs:
-            try:
-                same = os.path.samefile(path, given)
-            except OSError:
-                same = os.path.abspath(path) == os.path.abspath(given)
-            if same:
-                raise BadInput(f"--out {shown_path(folder)}: {name} would overwrite the input {shown_path(given)}")
-        names[name] = check_output(path, "--out")
     import mech
+    from mech.verification import assign as A
 
-    a = A.make(exercises, roster, seed_v, overs, digits_v, jobs=jobs, version=mech.__version__)
-    texts = {"handout.md": a.handout_md(), "answers.toml": a.answers_toml(), "key.json": a.key_json()}
-    for name, path in names.items():
-        with atomic_write(path, "--out", newline="") as fh:
-            fh.write(texts[name])
-    return a.key()
+    return A.assign(ids, seed=seed, out=out, students=students, n=n, over=over, digits=digits, jobs=jobs,
+                    version=mech.__version__)
 
 
 def grade_students(entries: list) -> list[dict]:

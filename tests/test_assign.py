@@ -186,3 +186,17 @@ def test_assign_from_python(tmp_path):
         assert 20 <= _num(v["params"]["theta0"]) <= 40
     with pytest.raises(mech.BadInput):
         mech.assign(["4.15"], seed=1, out=tmp_path / "p")  # neither students nor n
+
+
+@pytest.mark.parametrize("text, words", [
+    ("ann\nbob\nann\n", ["line 3", "'ann' is already line 1"]),
+    ("ann\nb\x1bb\n", ["line 2", "not an identifier", "\\x1b"]),
+    ("# nobody\n\n", ["no students"]),
+    ("x" * 81 + "\n", ["line 1", "not an identifier"]),
+])
+def test_a_bad_roster_is_one_line_exit_2(tmp_path, text, words):
+    roster = tmp_path / "r.txt"
+    roster.write_text(text)
+    code, out, err = run("assign", "4.15", "--students", roster, "--seed", "1", "--out", tmp_path / "o")
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1 and "\x1b" not in err
+    assert all(w in err for w in words), err

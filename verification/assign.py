@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 from mech.core.errors import BadInput
 from mech.core.safeio import shown
 
-__all__ = ["Assignment", "Variant", "read_roster", "parse_overs", "make", "MAX_STUDENTS"]
+__all__ = ["Assignment", "Variant", "read_roster", "parse_overs", "make", "assign", "MAX_STUDENTS"]
 
 MAX_STUDENTS = 2000
 MAX_ROSTER_BYTES = 256 * 1024
@@ -102,20 +102,24 @@ def read_roster(path: str) -> list[str]:
     """One identifier a line (blank lines and ``#`` comments skipped): printable, at most 80 characters,
     each once; BadInput naming the file and the line otherwise."""
     from mech.core.safeio import read_text, shown_path
-    from mech.verification.grading import MAX_STUDENT
 
     name = shown_path(path)
     text = read_text(path, "roster", limit=MAX_ROSTER_BYTES).lstrip("\ufeff")
+    lines = [(i, raw.strip()) for i, raw in enumerate(text.splitlines(), 1)]
+    return _check_roster([(i, s) for i, s in lines if s and not s.startswith("#")], name, "line")
+
+
+def _check_roster(items: list[tuple[int, str]], name: str, what: str) -> list[str]:
+    from mech.verification.grading import MAX_STUDENT
+
     out, seen = [], {}
-    for i, raw in enumerate(text.splitlines(), 1):
-        s = raw.strip()
-        if not s or s.startswith("#"):
-            continue
-        if len(s) > MAX_STUDENT or not s.isprintable():
-            raise BadInput(f"{name}: line {i}: '{shown(s, 40)}' is not an identifier (a printable line of 1 to "
-                           f"{MAX_STUDENT} characters)")
+    for i, s in items:
+        s = s.strip()
+        if not s or len(s) > MAX_STUDENT or not s.isprintable():
+            raise BadInput(f"{name}: {what} {i}: '{shown(s, 40)}' is not an identifier (a printable line of 1 "
+                           f"to {MAX_STUDENT} characters)")
         if s in seen:
-            raise BadInput(f"{name}: line {i}: '{shown(s, 40)}' is already on line {seen[s]}")
+            raise BadInput(f"{name}: {what} {i}: '{shown(s, 40)}' is already {what} {seen[s]}")
         seen[s] = i
         out.append(s)
         if len(out) > MAX_STUDENTS:
@@ -296,3 +300,74 @@ def make(exercises: list, students: list[str], seed: int, overs: dict | None = N
             waiting = still
     ordered = [variants[(i, k)] for i in range(n) for k in range(len(exercises))]
     return Assignment(seed, digits, version, ordered)
+
+
+# -- the command ----------------------------------------------------------------------------------------
+
+def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=None, version: str = "") -> dict:
+    """Check every input before any work (BadInput, one line), draw and verify the variants, write
+    ``out``/handout.md, answers.toml and key.json atomically (an output that is an input is refused), and
+    return the key."""
+    import os
+
+    from mech.core.safeio import atomic_write, check_output, shown_path
+    from mech.problems import registry
+    from mech.verification.grading import parse_count
+
+    if isinstance(ids, str):
+        ids = [ids]
+    exercises = []
+    for i in ids:
+        ex = registry.get(i)  # a number for an id is refused there, naming the quoted form
+        if ex.id in [e.id for e in exercises]:
+            raise BadInput(f"{ex.id}: named twice")
+        exercises.append(ex)
+    if not exercises:
+        raise BadInput("assign: name at least one exercise")
+    seed_v = parse_count(seed, "--seed", 0, 2**63 - 1)
+    if seed_v is None:
+        raise BadInput("--seed: required (a whole number: the same seed gives the same variants)")
+    digits_v = parse_count(digits, "--digits", MIN_DIGITS, MAX_DIGITS)
+    inputs = []
+    if (students is None) == (n is None):
+        raise BadInput("give the class as --students FILE or --n N (one of the two)")
+    if n is not None:
+        roster = [f"s{k}" for k in range(1, parse_count(n, "--n", 1, MAX_STUDENTS) + 1)]
+    elif isinstance(students, (list, tuple)):
+        roster = _check_roster([(k, str(s)) for k, s in enumerate(students, 1)], "students", "item")
+    else:
+        roster = read_roster(str(students))
+        inputs.append(str(students))
+    if over is None:
+        pairs = []
+    elif isinstance(over, dict):
+        pairs = [f"{k}={v}" for k, v in over.items()]
+    else:
+        pairs = [str(p) for p in over]
+    overs = parse_overs(exercises, pairs)
+    folder = str(out)
+    if folder.strip() == "":
+        raise BadInput("--out: an empty folder name")
+    if os.path.exists(folder) and not os.path.isdir(folder):
+        raise BadInput(f"--out {shown_path(folder)}: not a folder")
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as exc:
+        raise BadInput(f"--out {shown_path(folder)}: cannot create the folder: {exc.strerror or exc}") from None
+    paths = {}
+    for name in ("handout.md", "answers.toml", "key.json"):
+        path = os.path.join(folder, name)
+        for given in inputs:
+            try:
+                same = os.path.samefile(path, given)
+            except OSError:
+                same = os.path.abspath(path) == os.path.abspath(given)
+            if same:
+                raise BadInput(f"--out {shown_path(folder)}: {name} would overwrite the input {shown_path(given)}")
+        paths[name] = check_output(path, "--out")
+    a = make(exercises, roster, seed_v, overs, digits_v, jobs=jobs, version=version)
+    texts = {"handout.md": a.handout_md(), "answers.toml": a.answers_toml(), "key.json": a.key_json()}
+    for name, path in paths.items():
+        with atomic_write(path, "--out", newline="") as fh:
+            fh.write(texts[name])
+    return a.key()
