@@ -514,20 +514,9 @@ def grade_report(path, total_s=None, *, strict: bool = False, jobs: int | None =
                  started: float | None = None):
     """The ``GradeReport`` of a grading file; ``started``: the ``time.perf_counter()`` the reported wall
     time counts from (default: now, reading the file included)."""
-    import time
-
     from mech.verification import grading
 
-    t0 = time.perf_counter() if started is None else started
-    if params is not None and not str(path).lower().endswith(".csv"):
-        raise BadInput("--params: only for answers read from a CSV file")
-    if str(path).lower().endswith(".csv"):
-        entries = grading.load_answers_csv(str(path), strict=strict,
-                                           params_path=None if params is None else str(params))
-    else:
-        entries = grading.load_answers(str(path), strict=strict)
-    grading.grade(entries, total_s, jobs=jobs)
-    return grading.GradeReport(str(path), tuple(entries), time.perf_counter() - t0)
+    return grading.grade_file(path, total_s, strict=strict, jobs=jobs, params=params, started=started)
 
 
 def grade_entries(path, total_s=None) -> tuple[list, float]:

@@ -19,7 +19,7 @@ from mech.problems.spec import BadInput, Exercise
 from mech.core.safeio import shown
 
 __all__ = ["parse_expectation", "parse_expect_options", "attach", "Entry", "BadFile", "load_answers",
-           "load_answers_csv", "grade", "grade_json", "GradeReport", "gradebook_csv", "csv_safe", "open_baseline", "check_records", "baselines"]
+           "load_answers_csv", "grade", "grade_file", "grade_json", "GradeReport", "gradebook_csv", "csv_safe", "open_baseline", "check_records", "baselines"]
 
 
 # -- one expected value ---------------------------------------------------------------------------------
@@ -973,6 +973,23 @@ class GradeReport:
 
     def __getitem__(self, key):
         return self.to_dict()[key]
+
+
+def grade_file(path, total_s=None, *, strict: bool = False, jobs: int | None = None, params=None,
+               started: float | None = None) -> GradeReport:
+    """A grading file (TOML, or CSV: by its name) read, graded and reported; ``params``: a CSV's parameters
+    from an assignment's template; ``started``: the ``time.perf_counter()`` the reported wall time counts
+    from (default: now, reading the file included)."""
+    t0 = time.perf_counter() if started is None else started
+    csv_file = str(path).lower().endswith(".csv")
+    if params is not None and not csv_file:
+        raise BadInput("--params: only for answers read from a CSV file")
+    if csv_file:
+        entries = load_answers_csv(str(path), strict=strict, params_path=None if params is None else str(params))
+    else:
+        entries = load_answers(str(path), strict=strict)
+    grade(entries, total_s, jobs=jobs)
+    return GradeReport(str(path), tuple(entries), time.perf_counter() - t0)
 
 
 # -- mech check --save-baseline / --baseline ------------------------------------------------------------
