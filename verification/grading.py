@@ -373,7 +373,7 @@ def _read_entry(k: int, item: dict, line: int | None, where: str, keys=_ENTRY_KE
         else:
             student = student.strip()
     entry = Entry(k, line, ex, given, written, expectations, student=student, unanswered=unanswered,
-                  exercise_text=shown(ex_id if isinstance(ex_id, str) else "?", 20), columns=columns)
+                  exercise_text=shown("?" if ex_id is None else str(ex_id), 20), columns=columns)
     if problems:
         from mech.core.safeio import escape
 
