@@ -318,8 +318,9 @@ def motion(p, Om=None):
         t_run = 20.0 * 2 * math.pi / spin0
         span, events, max_step = (0.0, t_run), [fall], t_run / 64
     size = ([max(spin0, Om)] * 3 + [1.0] * 4 + [max(Rs, 1.0)] * 3 + [max(Om * Rs, Om, 1e-300)] * 3)
-    w_unit, v_unit = math.sqrt(p.g / p.r), math.sqrt(p.g * p.r)
-    return Motion(body.rhs, y0, span, t_scale=math.sqrt(p.r / p.g),
+    # square roots taken apart: r/g overflows for g below 1e-308 where its root does not
+    w_unit, v_unit = math.sqrt(p.g) / math.sqrt(p.r), math.sqrt(p.g) * math.sqrt(p.r)
+    return Motion(body.rhs, y0, span, t_scale=math.sqrt(p.r) / math.sqrt(p.g),
                   y_scale=[w_unit] * 3 + [1.0] * 4 + [p.r] * 3 + [v_unit] * 3, y_size=size,
                   options={"events": events, "max_step": max_step})
 
@@ -404,7 +405,7 @@ def numeric(p, run):
         run.claims.clear()
         run.claim("Omega", rel=root_rel)
         run.claim("omega_spin", rel=root_rel)
-        t_unit = math.sqrt(p.r / p.g)
+        t_unit = math.sqrt(p.r) / math.sqrt(p.g)
         return {"T": T_root * t_unit, "Omega": Om / t_unit, "omega_spin": spin0 / t_unit}
     if T_s is None:
         raise NumericFailure("the axis does not turn")
@@ -444,5 +445,5 @@ def numeric(p, run):
     # largest slip speed times the run's length (5e-8 at R/r = 50, theta = 0.54, rtol 1e-8)
     slip_integral = roll_dev * max(Om * Rs, Om, spin0) * float(traj.t[-1] - traj.t[0])
     run.invariant("contact height / r", height_dev, allowed=max(T_claim, slip_integral))
-    t_unit = math.sqrt(p.r / p.g)
+    t_unit = math.sqrt(p.r) / math.sqrt(p.g)
     return {"T": T_s * t_unit, "Omega": Om / t_unit, "omega_spin": spin0 / t_unit}

@@ -249,7 +249,9 @@ def _strang(k, a, b, w):
         c = 0.5 * hh
         q = hh * hh / 12.0
         x = 0.5 * w * hh
-        b = b0 * x / math.tan(x) if x else b0
+        # x/tan x: for |x| < 1e-8 it is 1 - x^2/3 = 1 to double precision, which tan would not give for a
+        # subnormal x (M 1e-320 times the default: tan(x) ulps are a part in 1e3 of x)
+        b = b0 * x / math.tan(x) if abs(x) > 1e-8 else b0
         a = a0 * (1.0 - (b0 * hh) ** 2 / 3.0)
         Om2 = a * a + b * b
         fx, fy = b * math.cos(w * t), b * math.sin(w * t)

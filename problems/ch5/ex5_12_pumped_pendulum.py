@@ -388,6 +388,10 @@ def _stationary_swing(p, a_th, run):
     r, J, M = residual(z, target, rtol)
     mult = np.abs(np.linalg.eigvals(-M))
     run.info["swing_multipliers_of_half_map"] = [float(m) for m in mult]
+    if 1.0 <= np.max(mult) < 1.0 + 1e-9:
+        # delta T/2 below round-off (delta = 1e-300): the decay per half period is not a double's digit
+        raise NumericFailure(f"the swing's half-map multipliers are 1 to rounding ({np.max(mult):.12g}): the damping "
+                             "is too weak for double precision to tell the stable swing from a neutral one")
     if np.max(mult) >= 1.0:
         raise NumericFailure(f"the swing found is unstable (half-map multipliers {mult}): not the one a small swing grows into")
     # the swing's full period is the motion; its largest |theta|: the extrema on theta' = 0 over the first

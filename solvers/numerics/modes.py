@@ -9,6 +9,8 @@ suits the problem.
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
 from typing import Callable, Sequence
 
@@ -121,6 +123,13 @@ def normal_modes(M: np.ndarray, K: np.ndarray) -> Modes:
 _U = 2.0**-53
 
 
+def _pow2(x: float) -> float:
+    """The power of two nearest below ``x`` (1 for 0, infinite or NaN ``x``): a scale that divides exactly."""
+    if not (x > 0.0 and math.isfinite(x)):
+        return 1.0
+    return math.ldexp(1.0, math.frexp(x)[1] - 1)
+
+
 def pair_shapes(M: np.ndarray, K: np.ndarray, omega2: Sequence[float], omega2_err: Sequence[float]) -> np.ndarray:
     """The two mode shapes of a 2x2 problem K a = omega^2 M a, each from one row of (K - omega^2 M) a = 0.
 
@@ -138,9 +147,13 @@ def pair_shapes(M: np.ndarray, K: np.ndarray, omega2: Sequence[float], omega2_er
     for k, (lam, dlam) in enumerate(zip(omega2, omega2_err)):
         best = None
         for i in range(2):
-            r = K[i] - lam * M[i]
+            # the row scaled by a power of two near its size (exact, so no digit moves): a row of omega^2 M
+            # near 1e-300 (4.11's block 1e300 times the cylinder) would lose its small entry to underflow
+            c = _pow2(max(float(np.max(np.abs(K[i]))), abs(lam) * float(np.max(np.abs(M[i])))))
+            r = K[i] / c - (lam / c) * M[i]
             size = float(np.max(np.abs(r)))
-            err = 4.0 * _U * float(np.max(np.abs(K[i]) + abs(lam) * np.abs(M[i]))) + dlam * float(np.max(np.abs(M[i])))
+            err = (4.0 * _U * float(np.max(np.abs(K[i]) / c + abs(lam / c) * np.abs(M[i])))
+                   + (dlam / c) * float(np.max(np.abs(M[i]))))
             if size == 0.0 or not np.isfinite(size):
                 continue
             score = err / size
