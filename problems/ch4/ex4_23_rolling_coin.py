@@ -325,24 +325,11 @@ def motion(p, Om=None):
                   options={"events": events, "max_step": max_step})
 
 
-@exercise.numeric
-def numeric(p, run):
-    Rs = p.R / p.r
-    theta = p.theta
-    body = _Disk()
-    Om = _turning_rate(body, theta, Rs)
-    run.info["Omega_root_scaled"] = Om
-    # the root's round-off: the tilt acceleration balances terms of size Om^2 Rs against the spin's
-    # (Om Rs)^2, so it keeps a part in ~eps Rs of its digits (2.7e-8 at Rs = 1.7e9: 0.15 eps Rs)
-    root_rel = max(exercise.tol_factor * run.rtol, 4e-16 * max(Rs, 1.0))
-
-    m = motion(p, Om)
-    y0, spin0 = _start(body, theta, Rs, Om)
-    T_root = 2 * math.pi / Om
-    n3z0 = math.sin(theta)
-    E0 = body.energy(y0)
-    traj = run.follow(m, dense=True).traj
-
+def _timed_turn(m, traj, T_root, run):
+    """(T_s, the state at its end): the time of one full turn of the axis by its event, or (too many spin
+    turns per orbit) from the azimuth's rate fitted over 20 spin turns; T_s None where the axis falls over
+    within the fit (judged after the monitors)."""
+    T_s = y_end = None
     if len(m.options["events"]) == 2:
         times = [t for t in traj.t_events[0] if t > 0.5 * T_root]
         if times:
@@ -370,11 +357,14 @@ def numeric(p, run):
             # slowly: theta = 5.5e-7, R/r = 1.5e4) the axis falls over within the fit's 20
             # spin turns and its azimuth is meaningless; the steady-state root then answers (below)
             T_s = None
+    return T_s, y_end
 
-    # monitors over the run
+
+def _monitors(body, traj, n3z0, tilt_tol, scale, E0):
+    """The worst drifts over the run (tilt, slip speed over ``scale``, contact height, energy) and the time
+    the tilt left its value by tilt_tol (None: it never did)."""
     ts = np.linspace(traj.t[0], traj.t[-1], 200)
     tilt_dev, roll_dev, height_dev, e_dev = 0.0, 0.0, 0.0, 0.0
-    tilt_tol = max(1e-7, 1e3 * run.rtol)
     t_lost = None
     for t in ts:
         y = traj.sol(t)
@@ -386,9 +376,33 @@ def numeric(p, run):
             break
         tilt_dev = max(tilt_dev, abs(n[2] - n3z0))
         vP = y[10:13] + np.cross(omega, d)
-        roll_dev = max(roll_dev, float(np.linalg.norm(vP)) / max(Om * Rs, Om, spin0))
+        roll_dev = max(roll_dev, float(np.linalg.norm(vP)) / scale)
         height_dev = max(height_dev, abs(y[9] + d[2]))
         e_dev = max(e_dev, abs(body.energy(y) - E0) / max(abs(E0), 1.0))
+    return tilt_dev, roll_dev, height_dev, e_dev, t_lost
+
+
+@exercise.numeric
+def numeric(p, run):
+    Rs = p.R / p.r
+    theta = p.theta
+    body = _Disk()
+    Om = _turning_rate(body, theta, Rs)
+    run.info["Omega_root_scaled"] = Om
+    # the root's round-off: the tilt acceleration balances terms of size Om^2 Rs against the spin's
+    # (Om Rs)^2, so it keeps a part in ~eps Rs of its digits (2.7e-8 at Rs = 1.7e9: 0.15 eps Rs)
+    root_rel = max(exercise.tol_factor * run.rtol, 4e-16 * max(Rs, 1.0))
+
+    m = motion(p, Om)
+    y0, spin0 = _start(body, theta, Rs, Om)
+    T_root = 2 * math.pi / Om
+    n3z0 = math.sin(theta)
+    E0 = body.energy(y0)
+    traj = run.follow(m, dense=True).traj
+
+    T_s, y_end = _timed_turn(m, traj, T_root, run)
+    tilt_tol = max(1e-7, 1e3 * run.rtol)
+    tilt_dev, roll_dev, height_dev, e_dev, t_lost = _monitors(body, traj, n3z0, tilt_tol, max(Om * Rs, Om, spin0), E0)
     invariants = {"energy": e_dev, "rolling (slip speed)": roll_dev, "contact height / r": height_dev}
     for name, drift in invariants.items():
         run.invariant(name, drift)
