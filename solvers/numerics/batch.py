@@ -58,6 +58,25 @@ def _tableau():
     return dop853._TABLEAU
 
 
+def _starting_step(f, t0, y, fy, direction, span, rtol, atol, first_step) -> float:
+    """``first_step``, or Hairer's starting step with the worst point's norms."""
+    if first_step is not None:
+        h_abs = min(abs(float(first_step)), span)
+    else:
+        # Hairer's starting step, with the worst point's norms
+        scale = atol + np.abs(y) * rtol
+        d0 = np.sqrt(np.mean((y / scale) ** 2, axis=0))
+        d1 = np.sqrt(np.mean((fy / scale) ** 2, axis=0))
+        ratio = np.where((d0 < 1e-5) | (d1 < 1e-5), 1e-6, 0.01 * d0 / np.maximum(d1, 1e-300))
+        h0 = min(float(ratio.min()), span)
+        f1 = f(t0 + direction * h0, y + direction * h0 * fy)
+        d2 = float(np.max(np.sqrt(np.mean(((f1 - fy) / scale) ** 2, axis=0)))) / h0
+        dm = max(float(d1.max()), d2)
+        h1 = max(1e-6, h0 * 1e-3) if dm <= 1e-15 else (0.01 / dm) ** (1.0 / 8.0)
+        h_abs = min(100.0 * h0, h1, span)
+    return h_abs
+
+
 def integrate_batch(
     rhs: Callable[[float, np.ndarray], np.ndarray],
     t_span: tuple[float, float],
@@ -95,21 +114,7 @@ def integrate_batch(
         return np.asarray(rhs(t, yy), dtype=float)
 
     fy = f(t0, y)
-    span = abs(t_end - t0)
-    if first_step is not None:
-        h_abs = min(abs(float(first_step)), span)
-    else:
-        # Hairer's starting step, with the worst point's norms
-        scale = atol + np.abs(y) * rtol
-        d0 = np.sqrt(np.mean((y / scale) ** 2, axis=0))
-        d1 = np.sqrt(np.mean((fy / scale) ** 2, axis=0))
-        ratio = np.where((d0 < 1e-5) | (d1 < 1e-5), 1e-6, 0.01 * d0 / np.maximum(d1, 1e-300))
-        h0 = min(float(ratio.min()), span)
-        f1 = f(t0 + direction * h0, y + direction * h0 * fy)
-        d2 = float(np.max(np.sqrt(np.mean(((f1 - fy) / scale) ** 2, axis=0)))) / h0
-        dm = max(float(d1.max()), d2)
-        h1 = max(1e-6, h0 * 1e-3) if dm <= 1e-15 else (0.01 / dm) ** (1.0 / 8.0)
-        h_abs = min(100.0 * h0, h1, span)
+    h_abs = _starting_step(f, t0, y, fy, direction, abs(t_end - t0), rtol, atol, first_step)
 
     K = np.empty((13, n, N))
     K2 = K.reshape(13, n * N)
