@@ -120,3 +120,4 @@ def test_pair_shapes_keep_a_component_far_below_the_rows():
     modes = balanced_modes(np.array([[m + 0.5, -0.5], [-0.5, 1.5]]), np.array([[1.0, 0.0], [0.0, 0.0]]))
     shape = modes.shapes[:, 1] / modes.shapes[0, 1]
     assert shape[1] == pytest.approx(1 / 3, rel=1e-12)
+

@@ -40,6 +40,7 @@ import numpy as np
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.frames import quat_from_matrix, quat_to_matrix, skew
 from mech.solvers.mechanics.inertia import disk, inertia_tensor
+from mech.solvers.numerics.modes import solve3
 from mech.solvers.numerics.ode import Event
 from mech.solvers.mechanics.tops import azimuth, fit_rate
 
@@ -91,21 +92,6 @@ def analytic(p):
 
 
 # --------------------------------------------------------------------------- numeric
-
-
-def _solve3(K, b):
-    """K^-1 b for a 3 x 3 system by the adjugate (K is symmetric positive definite here)."""
-    (k00, k01, k02), (k10, k11, k12), (k20, k21, k22) = K.tolist() if hasattr(K, "tolist") else K
-    c00 = k11 * k22 - k12 * k21
-    c01 = k12 * k20 - k10 * k22
-    c02 = k10 * k21 - k11 * k20
-    det = k00 * c00 + k01 * c01 + k02 * c02
-    b0, b1, b2 = b
-    return (
-        (c00 * b0 + (k02 * k21 - k01 * k22) * b1 + (k01 * k12 - k02 * k11) * b2) / det,
-        (c01 * b0 + (k00 * k22 - k02 * k20) * b1 + (k02 * k10 - k00 * k12) * b2) / det,
-        (c02 * b0 + (k01 * k20 - k00 * k21) * b1 + (k00 * k11 - k01 * k10) * b2) / det,
-    )
 
 
 class _Disk:
@@ -197,7 +183,7 @@ class _Disk:
             (dI * ny * nx - dy * dx, di + dI * ny * ny - dy * dy, dI * ny * nz - dy * dz),
             (dI * nz * nx - dz * dx, dI * nz * ny - dz * dy, di + dI * nz * nz - dz * dz),
         )
-        al = _solve3(K, b)
+        al = solve3(K, b)
         # a = d x alpha - omega x d'
         ax = dy * al[2] - dz * al[1] - cx
         ay = dz * al[0] - dx * al[2] - cy

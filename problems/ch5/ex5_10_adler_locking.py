@@ -49,6 +49,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.numerics.circle_map import fourier_fit, rotation_number
 
 exercise = Exercise(
     "5.10",
@@ -398,9 +399,9 @@ def _beat(p, run, amplitude):
     for k in (0, 1):
         th0, th1 = phases[:, k], phases[:, k + 1]
         d = np.mod(th1 - th0 + math.pi, 2.0 * math.pi) - math.pi  # the advance beyond one full turn
-        coef, resid = _fit(th0, d)
+        coef, resid = fourier_fit(th0, d, N_MODES)
         fit_err = max(fit_err, resid)
-        means.append(_rotation(coef))
+        means.append(rotation_number(coef, N_MODES))
     mean_d = means[1]
     if mean_d == 0.0:
         raise NumericFailure("the fitted circle map has no mean drift: the oscillator looks locked outside the range")
@@ -413,46 +414,3 @@ def _beat(p, run, amplitude):
     run.info["beat_fit_residual"] = fit_err
     run.info["beat_two_fits_rel_diff"] = abs(means[1] - means[0]) / abs(mean_d)
     return beat, err
-
-
-def _basis(theta, K=N_MODES):
-    k = np.arange(1, K + 1)
-    ang = np.outer(np.atleast_1d(theta), k)
-    return np.hstack([np.ones((ang.shape[0], 1)), np.cos(ang), np.sin(ang)])
-
-
-def _fit(theta, d):
-    B = _basis(theta)
-    coef, *_ = np.linalg.lstsq(B, d, rcond=None)
-    resid = float(np.max(np.abs(B @ coef - d)))
-    return coef, resid
-
-
-def _rotation(coef):
-    """Weighted Birkhoff average of d along an orbit of theta -> theta + d(theta) (mod 2 pi)."""
-    K = N_MODES
-    c0 = float(coef[0])
-    # sum_k a_k cos k theta + b_k sin k theta = Re sum_k (a_k - i b_k) e^(i k theta): Horner in e^(i theta),
-    # a few complex products per iterate instead of numpy calls on K-vectors (the loop below runs
-    # thousands of times)
-    c = [complex(float(coef[k]), -float(coef[K + k])) for k in range(1, K + 1)]
-
-    def d(theta):
-        z = complex(math.cos(theta), math.sin(theta))
-        acc = 0j
-        for ck in reversed(c):
-            acc = (acc + ck) * z
-        return c0 + acc.real
-
-    # the orbit's quasi-period in iterations is about 2 pi/|c0| (c0 ~ the mean of d); many of them are needed
-    slip = 2.0 * math.pi / max(abs(c0), 1e-12)
-    n = int(min(max(400.0, 25.0 * slip), 200000))
-    theta, num, den = 0.0, 0.0, 0.0
-    for i in range(n):
-        s = (i + 0.5) / n
-        wgt = math.exp(-1.0 / (s * (1.0 - s)))
-        dd = d(theta)
-        num += wgt * dd
-        den += wgt
-        theta = math.fmod(theta + dd, 2.0 * math.pi)
-    return num / den

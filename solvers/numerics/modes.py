@@ -18,7 +18,7 @@ import numpy as np
 
 from mech.core.errors import NumericFailure
 
-__all__ = ["mass_matrix", "hessian", "gradient", "normal_modes", "Modes", "pair_shapes", "pair_roots"]
+__all__ = ["mass_matrix", "hessian", "gradient", "normal_modes", "Modes", "pair_shapes", "pair_roots", "solve3"]
 
 
 def mass_matrix(T: Callable[[np.ndarray, np.ndarray], float], q0: Sequence[float]) -> np.ndarray:
@@ -209,3 +209,20 @@ def pair_roots(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     small = C / (A * big)
     err_small = (dC + C * (dA / A + rel_big + 2 * _U)) / (A * big)
     return np.array([small, big]), np.array([err_small, rel_big * big])
+
+
+def solve3(K, b):
+    """K^-1 b for a 3 x 3 system by the adjugate (cofactors in plain floats: a fraction of numpy.linalg.solve's
+    call overhead in a right-hand side evaluated thousands of times); K well conditioned (symmetric positive
+    definite in 4.23)."""
+    (k00, k01, k02), (k10, k11, k12), (k20, k21, k22) = K.tolist() if hasattr(K, "tolist") else K
+    c00 = k11 * k22 - k12 * k21
+    c01 = k12 * k20 - k10 * k22
+    c02 = k10 * k21 - k11 * k20
+    det = k00 * c00 + k01 * c01 + k02 * c02
+    b0, b1, b2 = b
+    return (
+        (c00 * b0 + (k02 * k21 - k01 * k22) * b1 + (k01 * k12 - k02 * k11) * b2) / det,
+        (c01 * b0 + (k00 * k22 - k02 * k20) * b1 + (k02 * k10 - k00 * k12) * b2) / det,
+        (c02 * b0 + (k01 * k20 - k00 * k21) * b1 + (k00 * k11 - k01 * k10) * b2) / det,
+    )
