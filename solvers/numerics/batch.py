@@ -247,6 +247,33 @@ def illinois(f, a, b, fa, fb, *, xtol, rtol, max_iter: int = 200):
 __all__ += ["illinois"]
 
 
+def scan_up(f, lo, hi, *, factor: float, limit):
+    """Brackets of the first sign change of N functions from positive to non-positive, scanning up: per
+    point, [lo, hi] moves to [hi, factor hi] while f(hi) > 0, until hi passes ``limit`` (no root there).
+    ``f(idx, x)`` evaluates the points ``idx`` at x.  Returns (lo, hi, f(lo) (NaN where lo was never
+    evaluated), f(hi), no_root)."""
+    lo, hi = np.array(lo, dtype=float), np.array(hi, dtype=float)
+    limit = np.broadcast_to(np.asarray(limit, dtype=float), lo.shape)
+    n = lo.size
+    flo, fhi = np.full(n, np.nan), np.full(n, np.nan)
+    scan = np.ones(n, dtype=bool)
+    no_root = np.zeros(n, dtype=bool)
+    while scan.any():
+        idx = np.flatnonzero(scan)
+        fhi[idx] = f(idx, hi[idx])
+        up = fhi[idx] > 0.0
+        grow = idx[up]
+        lo[grow], flo[grow], hi[grow] = hi[grow], fhi[grow], factor * hi[grow]
+        over = grow[hi[grow] > limit[grow]]
+        no_root[over] = True
+        scan[idx[~up]] = False
+        scan[over] = False
+    return lo, hi, flo, fhi, no_root
+
+
+__all__ += ["scan_up"]
+
+
 def by_rows(memo: dict, key, arrays, compute):
     """``compute`` once for each distinct row of ``arrays`` (the parameters an output depends on), the
     results kept in ``memo[key]`` for later calls (a sweep's later chunks); returns them for every point.
