@@ -37,7 +37,6 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.numerics.roots import golden_min
 from mech.solvers.mechanics.mathieu import first_zone_next_order
 from mech.solvers.mechanics.floquet import even_hill_half
 
@@ -77,24 +76,25 @@ def constraint(p):
 
 
 def _lo(omega0, delta, mu, xi):
-    """The leading-order answers as functions of the theory's own parameters."""
+    """The leading-order answers as functions of the theory's own parameters, over arrays (NaN marks an
+    undefined edge: eps <= delta)."""
     eps = mu * omega0 / 4.0
     s2 = eps * eps - xi * xi
-    growth = -delta + math.sqrt(s2) if s2 > 0 else -delta
-    mu_th = 4.0 * math.hypot(delta, xi) / omega0
+    growth = np.where(s2 > 0, -delta + np.sqrt(np.maximum(s2, 0.0)), -delta)
     h2 = eps * eps - delta * delta
-    if h2 > 0:
-        h = math.sqrt(h2)
-        lo, hi = -h, h
-    else:
-        lo = hi = Undefined(f"eps = mu omega0/4 = {eps:.6g} 1/s does not exceed delta = {delta:.6g} 1/s: "
-                            "the rest state is stable at every detuning")
-    return {"mu_th": mu_th, "growth": growth, "xi_lo": lo, "xi_hi": hi}
+    h = np.where(h2 > 0, np.sqrt(np.maximum(h2, 0.0)), np.nan)
+    return {"mu_th": 4.0 * np.hypot(delta, xi) / omega0, "growth": growth, "xi_lo": -h, "xi_hi": h}
 
 
 @exercise.analytic
 def analytic(p):
-    return _lo(p.omega0, p.delta, p.mu, p.omega - p.omega0)
+    out = {k: float(v) for k, v in _lo(p.omega0, p.delta, p.mu, p.omega - p.omega0).items()}
+    if math.isnan(out["xi_hi"]):
+        eps = p.mu * p.omega0 / 4.0
+        out["xi_lo"] = out["xi_hi"] = Undefined(
+            f"eps = mu omega0/4 = {eps:.6g} 1/s does not exceed delta = {p.delta:.6g} 1/s: the rest state is stable "
+            "at every detuning")
+    return out
 
 
 def _allowances(omega0, delta, mu, omega):
@@ -104,7 +104,7 @@ def _allowances(omega0, delta, mu, omega):
     Relative where the leading value is not zero; the growth at threshold, 0, gets an absolute one; edges the
     theory does not find (eps <= delta) get the absolute width a zone may still have."""
     omega0, delta, mu, omega = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (omega0, delta, mu, omega)))
-    lo = _lo_batch(omega0, delta, mu, omega - omega0)
+    lo = _lo(omega0, delta, mu, omega - omega0)
     nx = first_zone_next_order(omega0, delta, mu, omega)
     k2, d2 = (mu / 2.0) ** 2, (delta / omega0) ** 2
     out = {}
@@ -122,7 +122,7 @@ def _allowances(omega0, delta, mu, omega):
             rel = np.where(np.isnan(nx[name]), 1.0, rel)  # the next order closes the zone: all of it
             # no zone in the theory: one may still open, no wider than the next order's, or the coupling
             # eps (1 + k^2/4) gives
-            widest = np.fmax(np.abs(nx[name]), _lo_batch(omega0, delta, mu * (1.0 + k2 / 2.0), 0.0 * mu)["xi_hi"])
+            widest = np.fmax(np.abs(nx[name]), _lo(omega0, delta, mu * (1.0 + k2 / 2.0), 0.0 * mu)["xi_hi"])
             ab = np.where(np.isnan(h), 2.0 * widest + (mu**2 / 32.0 + d2) * omega0, np.nan)
             out[name] = (np.where(np.isnan(h), np.nan, rel), ab)
     return out
@@ -170,9 +170,14 @@ def _half(p, omega, mu, rtol, run):
     )
     run.record(traj)
     run.invariant("Wronskian", y1 * y2p - y1p * y2 - 1.0)
-    # DOP853's global error on unit solutions: ~rtol plus 0.06 rtol per radian (measured for 5.3's maps);
-    # taken as 2 rtol plus 0.2 rtol per radian of omega0 T/2 (y1, y2' ~ 1; y1' ~ omega0; y2 ~ 1/omega0)
-    return y1, y1p, y2, y2p, rtol * (2.0 + 0.2 * p.omega0 * 0.5 * T)
+    return y1, y1p, y2, y2p, _half_error(rtol, p.omega0, T)
+
+
+def _half_error(rtol, omega0, T):
+    """The absolute error of the unit-sized half-period values y1, y2': DOP853's global error on unit
+    solutions, ~rtol plus 0.06 rtol per radian (measured for 5.3's maps), taken as 2 rtol plus 0.2 rtol per
+    radian of omega0 T/2 (y1, y2' ~ 1; y1' ~ omega0; y2 ~ 1/omega0)."""
+    return rtol * (2.0 + 0.2 * omega0 * 0.5 * T)
 
 
 def _minus_one_scaled(y1, y1p, y2, y2p, e, dT, omega0):
@@ -192,15 +197,8 @@ def _minus_one_scaled(y1, y1p, y2, y2p, e, dT, omega0):
     return prod + extra, err + 4.0 * 2.0**-53 * (np.abs(prod) + extra)
 
 
-def _minus_one(p, omega, mu, rtol, run):
-    """(F, its error) of ``_minus_one_scaled`` at this omega and mu: F < 0 inside the first zone."""
-    y1, y1p, y2, y2p, e = _half(p, omega, mu, rtol, run)
-    F, err = _minus_one_scaled(y1, y1p, y2, y2p, e, p.delta * math.pi / omega, p.omega0)
-    return float(F), float(err)
-
-
-def _growth(p, rtol, run):
-    """(growth, its absolute error) of the full damped equation at the given mu and omega.
+def _growth(y1, y1p, y2, y2p, e, omega0, delta, T):
+    """(growth, its absolute error) of the full damped equation from its half-period solutions, over arrays.
 
     growth = ln(lambda_y)/T - delta with lambda_y the largest |multiplier| of the Hill equation for
     y = exp(delta t) q.  Near the zone's edge and near threshold lambda_y is close to 1, and the
@@ -208,112 +206,66 @@ def _growth(p, rtol, run):
     h = (|tr M| - 2)/2 without cancellation: with the half-period solutions (y1 even, y2 odd) and the
     Wronskian y1 y2' - y1' y2 = 1, tr M + 2 = 4 y1 y2' and tr M - 2 = 4 y1' y2, and
     arccosh(1 + h) = log1p(h + (h (h + 2))^(1/2)).  Its error is that of the four half-period
-    values, propagated through h and the square root (which amplifies it near the zone's edge)."""
-    T = math.pi / p.omega
-    y1, y1p, y2, y2p, e = _half(p, p.omega, p.mu, rtol, run)
+    values (e each), propagated through h and the square root (which amplifies it near the zone's edge)."""
     tr = 2.0 * (y1 * y2p + y1p * y2)
-    # |tr| - 2 from the product that does not cancel: -(tr + 2) for tr < 0, tr - 2 for tr > 0
-    h = -2.0 * y1 * y2p if tr < 0 else 2.0 * y1p * y2
-    dh = 2.0 * e * ((abs(y1) + abs(y2p)) if tr < 0 else (abs(y1p) / p.omega0 + abs(y2) * p.omega0))
-    if h > 0:
-        ln_lam = math.log1p(h + math.sqrt(h * (h + 2.0)))
-        d_ln = dh / math.sqrt(h * (h + 2.0)) if h > dh else math.sqrt(2.0 * (h + dh))
-    else:
-        ln_lam = 0.0  # |tr| <= 2: both multipliers of y on the unit circle
-        d_ln = math.sqrt(2.0 * dh) if -h < dh else 0.0
-    growth = ln_lam / T - p.delta
-    return growth, d_ln / T + 4.0 * 2.0**-53 * (ln_lam / T + p.delta)
+    neg = tr < 0  # |tr| - 2 from the product that does not cancel: -(tr + 2) for tr < 0, tr - 2 for tr > 0
+    h = np.where(neg, -2.0 * y1 * y2p, 2.0 * y1p * y2)
+    dh = 2.0 * e * np.where(neg, np.abs(y1) + np.abs(y2p), np.abs(y1p) / omega0 + np.abs(y2) * omega0)
+    hp = np.maximum(h, 0.0)
+    root = np.sqrt(hp * (hp + 2.0))
+    ln_lam = np.where(h > 0, np.log1p(hp + root), 0.0)  # |tr| <= 2: both multipliers of y on the unit circle
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d_pos = np.where(h > dh, dh / np.where(root > 0, root, 1.0), np.sqrt(2.0 * np.maximum(h + dh, 0.0)))
+    d_neg = np.where(-h < dh, np.sqrt(2.0 * dh), 0.0)
+    d_ln = np.where(h > 0, d_pos, d_neg)
+    return ln_lam / T - delta, d_ln / T + 4.0 * 2.0**-53 * (ln_lam / T + delta)
+
+
+def _half_at(p, run):
+    """``_MinusOne``'s half-period values at this one point, by ``_half`` (the Run's integrator, its records
+    and the Wronskian as an invariant)."""
+    def half(omega0, delta, mu, omega, rtol):
+        y = _half(p, float(omega[0]), float(mu[0]), rtol, run)[:4]
+        return tuple(np.array([v]) for v in y), np.zeros(1)
+    return half
 
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.numerics.roots import brentq
-
+    """The batched route (``numeric_batch``) at this one point: growth from the half-period solutions,
+    mu_th by ``_threshold_batch``, the edges by ``_edges_batch``, each with its claims."""
     rtol = run.rtol
-    out = {}
-
-    # growth at the given mu and omega; its error is absolute (a cancellation of two rates)
-    out["growth"], err = _growth(p, rtol, run)
-    run.claim("growth", rel=100 * rtol, abs=err)
-
-    # threshold at the given omega: the first sign change of F(mu) (det(M + I), scaled) scanning upward
-    def F_mu(mu):
-        return _minus_one(p, p.omega, mu, rtol, run)
-
-    f0, e0 = F_mu(0.0)
-    if f0 <= e0:
-        # exact resonance without damping: any modulation excites.  Near it F(0) ~ (pi xi/omega0)^2 and
-        # mu_th ~ 4 |xi|/omega0 = (4/pi) F(0)^(1/2): a value of F(0) within e0 leaves mu_th below 2 e0^(1/2)
-        out["mu_th"] = 0.0
-        run.claim("mu_th", rel=100 * rtol, abs=2.0 * math.sqrt(e0))
-    else:
-        lo, hi = 0.0, 1e-3
-        if F_mu(hi)[0] < 0.0:
-            # a threshold below 1e-3 (delta and xi small): bracket it within a factor 4, so that the root's
-            # tolerance below is relative to it
-            while hi > 1e-15 and F_mu(0.25 * hi)[0] < 0.0:
-                hi *= 0.25
-            lo = 0.25 * hi if hi > 1e-15 else 0.0
-        while F_mu(hi)[0] > 0.0:
-            lo, hi = hi, 4.0 * hi
-            if hi > 10.0:
-                raise NumericFailure("no multiplier reaches -1 for mu < 10: no first-zone threshold found")
-        xtol = 1e-15 * hi
-        mu_th = brentq(lambda m: F_mu(m)[0], lo, hi, xtol=xtol, rtol=1e-13)
-        dmu = 1e-4 * mu_th
-        f1, e1 = F_mu(mu_th + dmu)
-        slope = abs(f1) / dmu
-        out["mu_th"] = mu_th
-        run.claim("mu_th", rel=max(100 * rtol, (e1 / slope + xtol) / mu_th))
-
-    # zone edges at the given mu: roots of F(omega) on both sides of its minimum
-    seen = {}
-
-    def F_w(w):
-        if w not in seen:
-            seen[w] = _minus_one(p, w, p.mu, rtol, run)
-        return seen[w][0]
-
-    grid = np.linspace(0.55 * p.omega0, 1.6 * p.omega0, 9)
-    vals = np.array([F_w(w) for w in grid])
-    if vals[0] <= 0 or vals[-1] <= 0:
-        raise NumericFailure("the first zone reaches the end of the omega search window")
-    k = int(np.argmin(vals))
-    if vals[k] < 0:
-        w_in = grid[k]
-    else:
-        # golden-section search for the minimum, stopped as soon as F < 0 is seen
-        a, b = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
-        w_min, fmin, inside = golden_min(F_w, a, b, xtol=1e-11 * p.omega0, stop=lambda F: F < 0)
-        w_in = w_min if inside else None
-        if w_in is None:
-            emin = seen[w_min][1]
-            if fmin <= emin:
-                # the minimum is within the error of F: a zone narrower than the search can resolve may be
-                # there, so "no zone" would be a guess
-                raise NumericFailure(
-                    f"min over omega of det(M + I) exp(delta T) = {fmin:.3g} is within its accuracy {emin:.1g}: "
-                    "whether a zone exists at this mu is not resolved")
-            why = Undefined(f"min over omega of det(M + I) = {fmin * math.exp(-p.delta * math.pi / w_min):.3g} "
-                            f">= 0: no multiplier passes -1 at mu = {p.mu:g}")
-            out["xi_lo"] = out["xi_hi"] = why
-            return out
-    run.info["omega_inside_zone"] = w_in
-    below, above = grid[grid < w_in], grid[grid > w_in]
-    left = below[vals[: below.size] > 0][-1]
-    right = above[vals[grid.size - above.size :] > 0][0]
-    xtol = 1e-15 * p.omega0
-    for name, a, b, sgn in (("xi_lo", left, w_in, -1.0), ("xi_hi", w_in, right, 1.0)):
-        w = brentq(F_w, a, b, xtol=xtol, rtol=4 * 2.0**-52)
-        F_w(w)
-        # the slope over a step well inside the zone's half-width (a zone may be 1e-7 omega0 wide)
-        dw = min(1e-7 * p.omega0, 1e-2 * abs(w - w_in))
-        f1 = F_w(w + sgn * dw)
-        slope = abs(f1) / dw
-        out[name] = w - p.omega0
-        # F's error at the root over the slope, and the root's own tolerance (w is a number near omega0)
-        run.claim(name, rel=100 * rtol, abs=seen[w][1] / slope + 2.0 * xtol + 8 * 2.0**-52 * p.omega0)
+    T = math.pi / p.omega
+    growth, err = _growth(*_half(p, p.omega, p.mu, rtol, run), p.omega0, p.delta, T)
+    run.claim("growth", rel=100 * rtol, abs=float(err))
+    out = {"growth": float(growth)}
+    omega0, delta, mu, omega = (np.array([float(p[k])]) for k in ("omega0", "delta", "mu", "omega"))
+    half = _half_at(p, run)
+    mu_th, rel, ab, no_root, unconv, _ = _threshold_batch(omega0, delta, omega, rtol, half=half)
+    if no_root[0] or unconv[0]:
+        raise NumericFailure(NO_THRESHOLD if no_root[0] else "the root search for the threshold did not converge")
+    out["mu_th"] = float(mu_th[0])
+    run.claim("mu_th", rel=float(rel[0]), **({"abs": float(ab[0])} if ab[0] else {}))
+    edges, window, none, unresolved, _ = _edges_batch(omega0, delta, mu, rtol, half=half)
+    if window[0] or unresolved[0]:
+        raise NumericFailure(NO_WINDOW if window[0] else UNRESOLVED)
+    if none[0]:
+        out["xi_lo"] = out["xi_hi"] = Undefined(f"min over omega of det(M + I) >= 0: no multiplier passes -1 at "
+                                                f"mu = {p.mu:g}")
+        return out
+    for name in ("xi_lo", "xi_hi"):
+        value, rel, ab, unconv = edges[name]
+        if unconv[0]:
+            raise NumericFailure("the root search for the zone's edge did not converge")
+        out[name] = float(value[0])
+        run.claim(name, rel=float(rel[0]), abs=float(ab[0]))
     return out
+
+
+NO_THRESHOLD = "no multiplier reaches -1 for mu < 10: no first-zone threshold found"
+NO_WINDOW = "the first zone reaches the end of the omega search window"
+UNRESOLVED = ("min over omega of det(M + I) exp(delta T) is within its accuracy: whether a zone exists at "
+              "this mu is not resolved")
 
 
 @exercise.scene
@@ -362,22 +314,12 @@ def scene(p, run):
 _NO_ZONE = "eps = mu omega0/4 does not exceed delta: the rest state is stable at every detuning"
 
 
-def _lo_batch(omega0, delta, mu, xi):
-    """``_lo`` over arrays (NaN marks an undefined edge)."""
-    eps = mu * omega0 / 4.0
-    s2 = eps * eps - xi * xi
-    growth = np.where(s2 > 0, -delta + np.sqrt(np.maximum(s2, 0.0)), -delta)
-    h2 = eps * eps - delta * delta
-    h = np.where(h2 > 0, np.sqrt(np.maximum(h2, 0.0)), np.nan)
-    return {"mu_th": 4.0 * np.hypot(delta, xi) / omega0, "growth": growth, "xi_lo": -h, "xi_hi": h}
-
-
 def analytic_batch(P):
     """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
     from mech.solvers.numerics.batch import Column
 
     omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
-    lo = _lo_batch(omega0, delta, mu, omega - omega0)
+    lo = _lo(omega0, delta, mu, omega - omega0)
     out = {k: Column(v) for k, v in lo.items()}
     for k in ("xi_lo", "xi_hi"):
         out[k].undefined.append((np.isnan(lo[k]), _NO_ZONE))
@@ -419,52 +361,38 @@ def _half_batch(omega0, delta, mu, omega, rtol):
 
 
 def _growth_batch(omega0, delta, mu, omega, rtol):
-    """``_growth`` at N points at once: (growth, its absolute error, |Wronskian drift|), by the same
-    cancellation-free logarithm and the same error propagation."""
+    """``_growth`` at N points at once: (growth, its absolute error, |Wronskian drift|)."""
     (y1, y1p, y2, y2p), drift = _half_batch(omega0, delta, mu, omega, rtol)
     T = math.pi / omega
-    tr = 2.0 * (y1 * y2p + y1p * y2)
-    neg = tr < 0
-    h = np.where(neg, -2.0 * y1 * y2p, 2.0 * y1p * y2)
-    e = rtol * (2.0 + 0.2 * omega0 * 0.5 * T)
-    dh = 2.0 * e * np.where(neg, np.abs(y1) + np.abs(y2p), np.abs(y1p) / omega0 + np.abs(y2) * omega0)
-    hp = np.maximum(h, 0.0)
-    root = np.sqrt(hp * (hp + 2.0))
-    ln_lam = np.where(h > 0, np.log1p(hp + root), 0.0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        d_pos = np.where(h > dh, dh / np.where(root > 0, root, 1.0), np.sqrt(2.0 * np.maximum(h + dh, 0.0)))
-    d_neg = np.where(-h < dh, np.sqrt(2.0 * dh), 0.0)
-    d_ln = np.where(h > 0, d_pos, d_neg)
-    growth = ln_lam / T - delta
-    return growth, d_ln / T + 4.0 * 2.0**-53 * (ln_lam / T + delta), drift
+    return (*_growth(y1, y1p, y2, y2p, _half_error(rtol, omega0, T), omega0, delta, T), drift)
 
 
 class _MinusOne:
     """(F, its error) of ``_minus_one_scaled`` (det(M + I) exp(delta T)) at points (omega0, delta, mu, omega),
     any one of mu or omega varied; the largest Wronskian drift of each point kept."""
 
-    def __init__(self, omega0, delta, mu, omega, rtol):
+    def __init__(self, omega0, delta, mu, omega, rtol, half=None):
         self.omega0, self.delta, self.mu, self.omega, self.rtol = omega0, delta, mu, omega, rtol
+        self.half = half or _half_batch  # (half-period values, |Wronskian drift|) at points
         self.drift = np.zeros(omega0.size)
 
     def __call__(self, idx, mu=None, omega=None):
         mu = self.mu[idx] if mu is None else mu
         omega = self.omega[idx] if omega is None else omega
         omega0, delta = self.omega0[idx], self.delta[idx]
-        (y1, y1p, y2, y2p), w = _half_batch(omega0, delta, mu, omega, self.rtol)
+        (y1, y1p, y2, y2p), w = self.half(omega0, delta, mu, omega, self.rtol)
         self.drift[idx] = np.maximum(self.drift[idx], w)
         T = math.pi / omega
-        e = self.rtol * (2.0 + 0.2 * omega0 * 0.5 * T)
-        return _minus_one_scaled(y1, y1p, y2, y2p, e, delta * T, omega0)
+        return _minus_one_scaled(y1, y1p, y2, y2p, _half_error(self.rtol, omega0, T), delta * T, omega0)
 
 
-def _threshold_batch(omega0, delta, omega, rtol):
+def _threshold_batch(omega0, delta, omega, rtol, half=None):
     """``numeric``'s mu_th at N points: the first sign change of F(mu) scanning upward (downward first
     where F(1e-3) < 0), then the root."""
     from mech.solvers.numerics.batch import illinois
 
     n = omega.size
-    P = _MinusOne(omega0, delta, np.zeros(n), omega, rtol)
+    P = _MinusOne(omega0, delta, np.zeros(n), omega, rtol, half)
     allp = np.arange(n)
     p0, e0 = P(allp, mu=np.zeros(n))
     zero = p0 <= e0  # exact resonance without damping: any modulation excites
@@ -522,13 +450,13 @@ def _threshold_batch(omega0, delta, omega, rtol):
     return mu_th, rel, ab, no_root, ~conv, P.drift
 
 
-def _edges_batch(omega0, delta, mu, rtol):
+def _edges_batch(omega0, delta, mu, rtol, half=None):
     """``numeric``'s zone edges at N points: F(omega) on a grid, its minimum by golden section until P < 0,
     the roots on both sides."""
     from mech.solvers.numerics.batch import illinois
 
     n = mu.size
-    P = _MinusOne(omega0, delta, mu, np.ones(n), rtol)
+    P = _MinusOne(omega0, delta, mu, np.ones(n), rtol, half)
     allp = np.arange(n)
     grid = np.linspace(0.55, 1.6, 9)[None, :] * omega0[:, None]
     vals = np.stack([P(allp, omega=grid[:, j])[0] for j in range(9)], axis=1)
@@ -640,7 +568,7 @@ def numeric_batch(P, rtol, outputs, memo=None):
         v, rel, ab, no_root, unconv, drift = by_rows(memo, ("mu_th", rtol), (omega0, delta, omega),
                                                       lambda a, b, c: _threshold_batch(a, b, c, rtol))
         out["mu_th"] = Column(v, rel=rel, abs=ab, failed=[
-            (no_root, "no multiplier reaches -1 for mu < 10: no first-zone threshold found"),
+            (no_root, NO_THRESHOLD),
             (unconv, "the root search for the threshold did not converge"),
             (drift > allowed, drifted)])
     if {"xi_lo", "xi_hi"} & set(outputs):
@@ -656,9 +584,7 @@ def numeric_batch(P, rtol, outputs, memo=None):
                 v, rel, ab, unconv = got[4 * k: 4 * k + 4]
                 out[name] = Column(v, rel=rel, abs=ab, undefined=[
                     (none, "min over omega of det(M + I) >= 0: no multiplier passes -1 at this mu")],
-                    failed=[(window, "the first zone reaches the end of the omega search window"),
-                            (unresolved, "min over omega of det(M + I) exp(delta T) is within its accuracy: "
-                                         "whether a zone exists at this mu is not resolved"),
+                    failed=[(window, NO_WINDOW), (unresolved, UNRESOLVED),
                             (unconv, "the root search for the zone's edge did not converge"),
                             (drift > allowed, drifted)])
     return out
