@@ -22,12 +22,8 @@ of the growth rate.  P is formed as exp(-delta T) F with F from half-period
 products that do not cancel (``_minus_one_scaled``), so a zone 1e-7 omega0
 wide (|P| ~ 1e-14) is still resolved.
 
-Allowances (``first_zone_next_order`` in solvers.mechanics.mathieu, ``_allowances``): twice the next order of the first zone (centre at
-a = 1 - k^2/8, sigma^2 kept, detuning not linearized, third harmonics' coupling), plus a floor measured
-against Floquet at 66 points:
-  mu_th   + 0.005 mu_th^2;   growth  + 0.002 k^2 of the rate (absolute at threshold);
-  xi_lo, xi_hi  + 0.005 k^2 + 0.01 (delta/omega0)^2 (absolute, the width a zone may have, where the theory
-  finds none).
+The one-point route is the batched route of the charts (``numeric_batch``) at one point, with the
+Run's integrator.  Allowances: ``_allowances`` (twice the next order, solvers.mechanics.mathieu, plus a floor).
 """
 
 from __future__ import annotations
@@ -38,7 +34,7 @@ import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
 from mech.solvers.mechanics.mathieu import first_zone_next_order
-from mech.solvers.mechanics.floquet import even_hill_half
+from mech.solvers.mechanics.floquet import even_hill_half, half_period_growth, half_period_minus_one
 
 exercise = Exercise(
     "5.11",
@@ -130,12 +126,8 @@ def _allowances(omega0, delta, mu, omega):
 
 @exercise.expected_error
 def expected_error(p):
-    """What the reduced equations neglect (``_allowances``), one line per output:
-      mu_th   twice the next order (the zone's centre at a = 1 - k^2/8, sigma^2 kept next to the detuning,
-              the detuning not linearized) plus 0.005 mu_th^2;
-      growth  twice the next order plus 0.002 k^2 of the rate omega sigma (k = mu/2); absolute at threshold;
-      xi_lo, xi_hi  twice the next order plus 0.005 k^2 + 0.01 (delta/omega0)^2; where the theory finds no zone,
-              the width one may still have, absolute."""
+    """What the reduced equations neglect: ``_allowances`` at the point (mu_th + 0.005 mu_th^2, growth + 0.002
+    k^2 of the rate, the edges + 0.005 k^2 + 0.01 (delta/omega0)^2 over twice the next order)."""
     allow = _allowances(p.omega0, p.delta, p.mu, p.omega)
     out = {}
     for name, (rel, ab) in allow.items():
@@ -180,47 +172,6 @@ def _half_error(rtol, omega0, T):
     return rtol * (2.0 + 0.2 * omega0 * 0.5 * T)
 
 
-def _minus_one_scaled(y1, y1p, y2, y2p, e, dT, omega0):
-    """(F, its absolute error) with F = det(M + I) / exp(-delta T), M the monodromy matrix of q; dT = delta T.
-
-    With the multipliers of q equal to exp(-delta T) times those of y, det(M + I) = 1 + exp(-dT) tr M_y +
-    exp(-2 dT), so F = 2 cosh dT + tr M_y.  Near a multiplier -1 (tr M_y near -2) that sum cancels almost
-    completely (a narrow zone: F ~ -(eps^2 - delta^2) T^2 ~ 1e-14 while tr M_y ~ 2 carries an error ~rtol),
-    so it is formed from the half-period products that do not cancel: tr M_y + 2 = 4 y1 y2' gives
-    F = 4 y1 y2' + 4 sinh^2(dT/2); tr M_y - 2 = 4 y1' y2 gives F = 4 y1' y2 + 4 cosh^2(dT/2) (used when
-    tr M_y > 0, where F is far from 0).  The error is that of the product from the errors e of its two
-    unit-sized factors, plus the round-off of the sum."""
-    neg = y1 * y2p + y1p * y2 < 0  # tr M_y < 0
-    prod = 4.0 * np.where(neg, y1 * y2p, y1p * y2)
-    extra = np.where(neg, 4.0 * np.sinh(0.5 * dT) ** 2, 4.0 * np.cosh(0.5 * dT) ** 2)
-    err = 4.0 * e * (np.where(neg, np.abs(y1) + np.abs(y2p), np.abs(y1p) / omega0 + np.abs(y2) * omega0) + e)
-    return prod + extra, err + 4.0 * 2.0**-53 * (np.abs(prod) + extra)
-
-
-def _growth(y1, y1p, y2, y2p, e, omega0, delta, T):
-    """(growth, its absolute error) of the full damped equation from its half-period solutions, over arrays.
-
-    growth = ln(lambda_y)/T - delta with lambda_y the largest |multiplier| of the Hill equation for
-    y = exp(delta t) q.  Near the zone's edge and near threshold lambda_y is close to 1, and the
-    growth a difference of two nearly equal rates, so ln(lambda_y) = arccosh(1 + h) is formed from
-    h = (|tr M| - 2)/2 without cancellation: with the half-period solutions (y1 even, y2 odd) and the
-    Wronskian y1 y2' - y1' y2 = 1, tr M + 2 = 4 y1 y2' and tr M - 2 = 4 y1' y2, and
-    arccosh(1 + h) = log1p(h + (h (h + 2))^(1/2)).  Its error is that of the four half-period
-    values (e each), propagated through h and the square root (which amplifies it near the zone's edge)."""
-    tr = 2.0 * (y1 * y2p + y1p * y2)
-    neg = tr < 0  # |tr| - 2 from the product that does not cancel: -(tr + 2) for tr < 0, tr - 2 for tr > 0
-    h = np.where(neg, -2.0 * y1 * y2p, 2.0 * y1p * y2)
-    dh = 2.0 * e * np.where(neg, np.abs(y1) + np.abs(y2p), np.abs(y1p) / omega0 + np.abs(y2) * omega0)
-    hp = np.maximum(h, 0.0)
-    root = np.sqrt(hp * (hp + 2.0))
-    ln_lam = np.where(h > 0, np.log1p(hp + root), 0.0)  # |tr| <= 2: both multipliers of y on the unit circle
-    with np.errstate(divide="ignore", invalid="ignore"):
-        d_pos = np.where(h > dh, dh / np.where(root > 0, root, 1.0), np.sqrt(2.0 * np.maximum(h + dh, 0.0)))
-    d_neg = np.where(-h < dh, np.sqrt(2.0 * dh), 0.0)
-    d_ln = np.where(h > 0, d_pos, d_neg)
-    return ln_lam / T - delta, d_ln / T + 4.0 * 2.0**-53 * (ln_lam / T + delta)
-
-
 def _half_at(p, run):
     """``_MinusOne``'s half-period values at this one point, by ``_half`` (the Run's integrator, its records
     and the Wronskian as an invariant)."""
@@ -236,14 +187,14 @@ def numeric(p, run):
     mu_th by ``_threshold_batch``, the edges by ``_edges_batch``, each with its claims."""
     rtol = run.rtol
     T = math.pi / p.omega
-    growth, err = _growth(*_half(p, p.omega, p.mu, rtol, run), p.omega0, p.delta, T)
+    growth, err = half_period_growth(*_half(p, p.omega, p.mu, rtol, run), p.omega0, p.delta, T)
     run.claim("growth", rel=100 * rtol, abs=float(err))
     out = {"growth": float(growth)}
     omega0, delta, mu, omega = (np.array([float(p[k])]) for k in ("omega0", "delta", "mu", "omega"))
     half = _half_at(p, run)
     mu_th, rel, ab, no_root, unconv, _ = _threshold_batch(omega0, delta, omega, rtol, half=half)
     if no_root[0] or unconv[0]:
-        raise NumericFailure(NO_THRESHOLD if no_root[0] else "the root search for the threshold did not converge")
+        raise NumericFailure(NO_THRESHOLD if no_root[0] else UNCONVERGED)
     out["mu_th"] = float(mu_th[0])
     run.claim("mu_th", rel=float(rel[0]), **({"abs": float(ab[0])} if ab[0] else {}))
     edges, window, none, unresolved, _ = _edges_batch(omega0, delta, mu, rtol, half=half)
@@ -263,6 +214,7 @@ def numeric(p, run):
 
 
 NO_THRESHOLD = "no multiplier reaches -1 for mu < 10: no first-zone threshold found"
+UNCONVERGED = "the root search for the threshold did not converge"
 NO_WINDOW = "the first zone reaches the end of the omega search window"
 UNRESOLVED = ("min over omega of det(M + I) exp(delta T) is within its accuracy: whether a zone exists at "
               "this mu is not resolved")
@@ -341,15 +293,9 @@ def theory_range_batch(P):
 
 
 def _half_batch(omega0, delta, mu, omega, rtol):
-    """(y1, y1', y2, y2') at half the period, in the time t as ``even_hill_half`` gives them, and the
-    |Wronskian drift|, at N points at once.
-
-    q = exp(-delta t) y leaves y'' + (omega0^2 (1 + mu cos 2 omega t) - delta^2) y = 0;
-    in the time s = omega t every point's modulation period pi/omega becomes
-    pi, so all points integrate the even Hill equation
-    y'' + ((omega0/omega)^2 (1 + mu cos 2s) - (delta/omega)^2) y = 0 over the
-    same half period [0, pi/2].
-    """
+    """``_half``'s (y1, y1', y2, y2') in the time t and the |Wronskian drift|, at N points at once: in the time
+    s = omega t all points integrate y'' + ((omega0/omega)^2 (1 + mu cos 2s) - (delta/omega)^2) y = 0 over
+    the same half period [0, pi/2]."""
     from mech.solvers.mechanics.floquet import even_hill_half_batch
 
     r2 = (omega0 / omega) ** 2
@@ -358,13 +304,6 @@ def _half_batch(omega0, delta, mu, omega, rtol):
                                                   rtol=rtol, vscale=omega0 / omega)
     # back to the time t: d/dt = omega d/ds, and y2 (y2'(0) = 1) is 1/omega of its scaled self
     return (y1, omega * y1p, y2 / omega, y2p), np.abs(y1 * y2p - y1p * y2 - 1.0)
-
-
-def _growth_batch(omega0, delta, mu, omega, rtol):
-    """``_growth`` at N points at once: (growth, its absolute error, |Wronskian drift|)."""
-    (y1, y1p, y2, y2p), drift = _half_batch(omega0, delta, mu, omega, rtol)
-    T = math.pi / omega
-    return (*_growth(y1, y1p, y2, y2p, _half_error(rtol, omega0, T), omega0, delta, T), drift)
 
 
 class _MinusOne:
@@ -383,13 +322,13 @@ class _MinusOne:
         (y1, y1p, y2, y2p), w = self.half(omega0, delta, mu, omega, self.rtol)
         self.drift[idx] = np.maximum(self.drift[idx], w)
         T = math.pi / omega
-        return _minus_one_scaled(y1, y1p, y2, y2p, _half_error(self.rtol, omega0, T), delta * T, omega0)
+        return half_period_minus_one(y1, y1p, y2, y2p, _half_error(self.rtol, omega0, T), delta * T, omega0)
 
 
 def _threshold_batch(omega0, delta, omega, rtol, half=None):
     """``numeric``'s mu_th at N points: the first sign change of F(mu) scanning upward (downward first
     where F(1e-3) < 0), then the root."""
-    from mech.solvers.numerics.batch import illinois
+    from mech.solvers.numerics.batch import illinois, scan_down, scan_up
 
     n = omega.size
     P = _MinusOne(omega0, delta, np.zeros(n), omega, rtol, half)
@@ -402,33 +341,16 @@ def _threshold_batch(omega0, delta, omega, rtol, half=None):
     if idx.size:
         fhi[idx] = P(idx, mu=hi[idx])[0]
     # a threshold below 1e-3: bracket it within a factor 4 (the root's tolerance is relative to it)
-    down = ~zero & (fhi < 0.0)
-    while down.any():
-        idx = np.flatnonzero(down)
-        f4 = P(idx, mu=0.25 * hi[idx])[0]
-        neg = f4 < 0.0
-        stepped = idx[neg]
-        hi[stepped], fhi[stepped] = 0.25 * hi[stepped], f4[neg]
-        floor = stepped[hi[stepped] <= 1e-15]
-        down[idx[~neg]] = False
-        down[floor] = False
-        ok = idx[~neg]
-        lo[ok], flo[ok] = 0.25 * hi[ok], f4[~neg]
-    scan = ~zero & (fhi > 0.0)
+    d = np.flatnonzero(~zero & (fhi < 0.0))
+    if d.size:
+        lo_d, hi[d], flo_d, fhi[d] = scan_down(lambda i, m: P(d[i], mu=m)[0], hi[d], fhi[d], factor=0.25, floor=1e-15)
+        set_lo = ~np.isnan(flo_d)
+        lo[d[set_lo]], flo[d[set_lo]] = lo_d[set_lo], flo_d[set_lo]
+    u = np.flatnonzero(~zero & (fhi > 0.0))
     no_root = np.zeros(n, dtype=bool)
-    while scan.any():
-        idx = np.flatnonzero(scan)
-        up = fhi[idx] > 0.0
-        grow = idx[up]
-        lo[grow], flo[grow], hi[grow] = hi[grow], fhi[grow], 4.0 * hi[grow]
-        over = grow[hi[grow] > 10.0]
-        no_root[over] = True
-        scan[idx[~up]] = False
-        scan[over] = False
-        idx = np.flatnonzero(scan)
-        if idx.size:
-            fhi[idx] = P(idx, mu=hi[idx])[0]
-            scan[idx[fhi[idx] <= 0.0]] = False
+    if u.size:
+        lo[u], hi[u], flo[u], fhi[u], no_root[u] = scan_up(lambda i, m: P(u[i], mu=m)[0], lo[u], hi[u], factor=4.0,
+                                                           limit=10.0, flo=flo[u], fhi=fhi[u])
     go = np.flatnonzero(~zero & ~no_root)
     mu_th = np.zeros(n)
     conv = np.ones(n, dtype=bool)
@@ -451,91 +373,16 @@ def _threshold_batch(omega0, delta, omega, rtol, half=None):
 
 
 def _edges_batch(omega0, delta, mu, rtol, half=None):
-    """``numeric``'s zone edges at N points: F(omega) on a grid, its minimum by golden section until P < 0,
-    the roots on both sides."""
-    from mech.solvers.numerics.batch import illinois
+    """``numeric``'s zone edges at N points: the region of omega where det(M + I) < 0 around its minimum
+    (solvers.numerics.zones), searched over 0.55 - 1.6 omega0."""
+    from mech.solvers.numerics.zones import negative_region
 
     n = mu.size
     P = _MinusOne(omega0, delta, mu, np.ones(n), rtol, half)
-    allp = np.arange(n)
     grid = np.linspace(0.55, 1.6, 9)[None, :] * omega0[:, None]
-    vals = np.stack([P(allp, omega=grid[:, j])[0] for j in range(9)], axis=1)
-    window = (vals[:, 0] <= 0) | (vals[:, -1] <= 0)
-    k = np.argmin(vals, axis=1)
-    w_in = grid[allp, k]
-    p_in = vals[allp, k]
-    found = (p_in < 0) & ~window
-    none = np.zeros(n, dtype=bool)
-    unresolved = np.zeros(n, dtype=bool)  # the minimum is within the error of F: whether a zone exists is open
-    # golden-section search for the minimum, stopped as soon as F < 0 is seen
-    g = 0.5 * (math.sqrt(5.0) - 1.0)
-    a = grid[allp, np.maximum(k - 1, 0)]
-    b = grid[allp, np.minimum(k + 1, 8)]
-    c, d = b - g * (b - a), a + g * (b - a)
-    active = ~found & ~window
-    fc, fd = np.full(n, np.inf), np.full(n, np.inf)
-    ec, ed = np.zeros(n), np.zeros(n)
-    idx = np.flatnonzero(active)
-    if idx.size:
-        fc[idx], ec[idx] = P(idx, omega=c[idx])
-        fd[idx], ed[idx] = P(idx, omega=d[idx])
-    while active.any():
-        idx = np.flatnonzero(active)
-        hit = np.minimum(fc[idx], fd[idx]) < 0
-        h = idx[hit]
-        use_c = fc[h] < fd[h]
-        w_in[h] = np.where(use_c, c[h], d[h])
-        p_in[h] = np.where(use_c, fc[h], fd[h])
-        found[h] = True
-        active[h] = False
-        idx = idx[~hit]
-        narrow = b[idx] - a[idx] <= 1e-11 * omega0[idx]
-        nn = idx[narrow]
-        resolved = np.where(fc[nn] < fd[nn], fc[nn] > ec[nn], fd[nn] > ed[nn])
-        none[nn[resolved]] = True
-        unresolved[nn[~resolved]] = True
-        active[idx[narrow]] = False
-        idx = idx[~narrow]
-        if not idx.size:
-            break
-        left = fc[idx] < fd[idx]
-        L, R = idx[left], idx[~left]
-        b[L], d[L], fd[L], ed[L] = d[L], c[L], fc[L], ec[L]
-        c[L] = b[L] - g * (b[L] - a[L])
-        a[R], c[R], fc[R], ec[R] = c[R], d[R], fd[R], ed[R]
-        d[R] = a[R] + g * (b[R] - a[R])
-        x = np.where(left, c[idx], d[idx])
-        fx, ex = P(idx, omega=x)
-        fc[L], fd[R] = fx[left], fx[~left]
-        ec[L], ed[R] = ex[left], ex[~left]
-    out = {}
-    go = np.flatnonzero(found)
-    for name, sgn in (("xi_lo", -1.0), ("xi_hi", 1.0)):
-        value, rel, ab = np.full(n, np.nan), np.full(n, 100.0 * rtol), np.zeros(n)
-        conv = np.ones(n, dtype=bool)
-        if go.size:
-            gg, vv, wi = grid[go], vals[go], w_in[go]
-            if sgn < 0:  # the last grid point below w_in where P > 0
-                m = (gg < wi[:, None]) & (vv > 0)
-                j = 8 - np.argmax(m[:, ::-1], axis=1)
-                end, fend = gg[np.arange(go.size), j], vv[np.arange(go.size), j]
-                lo_, hi_, flo, fhi = end, wi, fend, p_in[go]
-            else:  # the first grid point above w_in where P > 0
-                m = (gg > wi[:, None]) & (vv > 0)
-                j = np.argmax(m, axis=1)
-                end, fend = gg[np.arange(go.size), j], vv[np.arange(go.size), j]
-                lo_, hi_, flo, fhi = wi, end, p_in[go], fend
-            xtol = 1e-15 * omega0[go]
-            w, ok = illinois(lambda x, i: P(go[i], omega=x)[0], lo_, hi_, flo, fhi, xtol=xtol, rtol=4 * 2.0**-52)
-            # the slope over a step well inside the zone's half-width (a zone may be 1e-7 omega0 wide)
-            dw = np.minimum(1e-7 * omega0[go], 1e-2 * np.abs(w - wi))
-            ew = P(go, omega=w)[1]
-            slope = np.abs(P(go, omega=w + sgn * dw)[0]) / dw
-            value[go] = w - omega0[go]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                ab[go] = ew / slope + 2.0 * xtol + 8 * 2.0**-52 * omega0[go]
-            conv[go] = ok
-        out[name] = (value, rel, ab, ~conv)
+    ends, window, none, unresolved = negative_region(lambda idx, w: P(idx, omega=w), grid, omega0)
+    out = {name: (w - omega0, np.full(n, 100.0 * rtol), ab, unconv)
+           for name, (w, ab, unconv) in zip(("xi_lo", "xi_hi"), ends)}
     return out, window, none, unresolved, P.drift
 
 
@@ -546,14 +393,9 @@ _CHART_OUTPUTS = ("growth", "mu_th", "xi_lo", "xi_hi")
                   theory_range=theory_range_batch,
                   boundaries={"mu": ("mu_th", "leading-order zone edge μ = μ_th(ω)")})
 def numeric_batch(P, rtol, outputs, memo=None):
-    """``numeric`` at N points at once, from the same equation of motion (see ``_half_batch``).
-
-    growth at every point; mu_th once for each distinct (omega0, delta, omega)
-    and the edges once for each distinct (omega0, delta, mu), the parameters
-    they depend on (a grid over omega and mu needs 200 thresholds, not 40 000),
-    kept in ``memo`` (one dict for the whole sweep) across its chunks.
-    The same scans, roots, claims and Wronskian check as the one-point route.
-    """
+    """The route at N points at once: growth at every point; mu_th once per distinct (omega0, delta, omega) and
+    the edges once per distinct (omega0, delta, mu) (a grid over omega and mu needs 200 thresholds, not
+    40 000), kept in ``memo`` (one dict for the whole sweep) across its chunks."""
     from mech.solvers.numerics.batch import Column, by_rows
 
     omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
@@ -562,23 +404,22 @@ def numeric_batch(P, rtol, outputs, memo=None):
     drifted = f"the Wronskian drifted by more than {allowed:.3g}"
     out = {}
     if "growth" in outputs:
-        growth, err, wronski = _growth_batch(omega0, delta, mu, omega, rtol)
+        (y1, y1p, y2, y2p), wronski = _half_batch(omega0, delta, mu, omega, rtol)
+        T = math.pi / omega
+        growth, err = half_period_growth(y1, y1p, y2, y2p, _half_error(rtol, omega0, T), omega0, delta, T)
         out["growth"] = Column(growth, rel=100 * rtol, abs=err, failed=[(wronski > allowed, drifted)])
     if "mu_th" in outputs:
         v, rel, ab, no_root, unconv, drift = by_rows(memo, ("mu_th", rtol), (omega0, delta, omega),
                                                       lambda a, b, c: _threshold_batch(a, b, c, rtol))
-        out["mu_th"] = Column(v, rel=rel, abs=ab, failed=[
-            (no_root, NO_THRESHOLD),
-            (unconv, "the root search for the threshold did not converge"),
-            (drift > allowed, drifted)])
+        out["mu_th"] = Column(v, rel=rel, abs=ab, failed=[(no_root, NO_THRESHOLD), (unconv, UNCONVERGED),
+                                                          (drift > allowed, drifted)])
     if {"xi_lo", "xi_hi"} & set(outputs):
         def edges(a, b, c):
             e, window, none, unresolved, drift = _edges_batch(a, b, c, rtol)
             return (*e["xi_lo"], *e["xi_hi"], window, none, unresolved, drift)
 
         got = by_rows(memo, ("edges", rtol), (omega0, delta, mu), edges)
-        window, none, unresolved, drift = got[8], got[9].astype(bool), got[10].astype(bool), got[11]
-        window = window.astype(bool)
+        window, none, unresolved, drift = got[8].astype(bool), got[9].astype(bool), got[10].astype(bool), got[11]
         for k, name in enumerate(("xi_lo", "xi_hi")):
             if name in outputs:
                 v, rel, ab, unconv = got[4 * k: 4 * k + 4]

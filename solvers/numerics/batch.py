@@ -247,20 +247,25 @@ def illinois(f, a, b, fa, fb, *, xtol, rtol, max_iter: int = 200):
 __all__ += ["illinois"]
 
 
-def scan_up(f, lo, hi, *, factor: float, limit):
+def scan_up(f, lo, hi, *, factor: float, limit, flo=None, fhi=None):
     """Brackets of the first sign change of N functions from positive to non-positive, scanning up: per
     point, [lo, hi] moves to [hi, factor hi] while f(hi) > 0, until hi passes ``limit`` (no root there).
-    ``f(idx, x)`` evaluates the points ``idx`` at x.  Returns (lo, hi, f(lo) (NaN where lo was never
-    evaluated), f(hi), no_root)."""
+    ``f(idx, x)`` evaluates the points ``idx`` at x; ``flo``, ``fhi``: values already known at lo and hi
+    (else NaN, and f(hi) is evaluated first).  Returns (lo, hi, f(lo) (NaN where lo was never evaluated),
+    f(hi), no_root)."""
     lo, hi = np.array(lo, dtype=float), np.array(hi, dtype=float)
     limit = np.broadcast_to(np.asarray(limit, dtype=float), lo.shape)
     n = lo.size
-    flo, fhi = np.full(n, np.nan), np.full(n, np.nan)
+    flo = np.full(n, np.nan) if flo is None else np.array(flo, dtype=float)
+    known = fhi is not None
+    fhi = np.full(n, np.nan) if fhi is None else np.array(fhi, dtype=float)
     scan = np.ones(n, dtype=bool)
     no_root = np.zeros(n, dtype=bool)
     while scan.any():
         idx = np.flatnonzero(scan)
-        fhi[idx] = f(idx, hi[idx])
+        if not known:
+            fhi[idx] = f(idx, hi[idx])
+        known = False
         up = fhi[idx] > 0.0
         grow = idx[up]
         lo[grow], flo[grow], hi[grow] = hi[grow], fhi[grow], factor * hi[grow]
@@ -272,6 +277,30 @@ def scan_up(f, lo, hi, *, factor: float, limit):
 
 
 __all__ += ["scan_up"]
+
+
+def scan_down(f, hi, fhi, *, factor: float, floor: float):
+    """Brackets within a factor 1/``factor`` of a sign change below hi, for N functions negative at hi:
+    per point hi moves to factor hi while f(factor hi) < 0 (down to ``floor``).  Returns (lo, hi, f(lo),
+    f(hi)); lo is 0 with f(lo) NaN where the floor was reached."""
+    hi, fhi = np.array(hi, dtype=float), np.array(fhi, dtype=float)
+    n = hi.size
+    lo, flo = np.zeros(n), np.full(n, np.nan)
+    down = np.ones(n, dtype=bool)
+    while down.any():
+        idx = np.flatnonzero(down)
+        f4 = f(idx, factor * hi[idx])
+        neg = f4 < 0.0
+        stepped = idx[neg]
+        hi[stepped], fhi[stepped] = factor * hi[stepped], f4[neg]
+        down[idx[~neg]] = False
+        down[stepped[hi[stepped] <= floor]] = False
+        ok = idx[~neg]
+        lo[ok], flo[ok] = factor * hi[ok], f4[~neg]
+    return lo, hi, flo, fhi
+
+
+__all__ += ["scan_down"]
 
 
 def by_rows(memo: dict, key, arrays, compute):
