@@ -3,8 +3,9 @@
 A module forms scales from its parameters (a torque M g l, a rate (g/l)^(1/2), a mass fraction): beyond
 some decades one of them, or a square or a product of it, leaves the doubles (overflows to inf or
 underflows to 0 or a subnormal with fewer digits), and the route's answer is then noise.  A module
-declares each such scale as a product of powers of parameters (times an optional dimensionless factor,
-a sine of an angle, say) with the decades it may span:
+declares each such scale as a product of powers of parameters (times an optional factor, a sine of an
+angle, say, given by value or, where the value itself could overflow, by its log10) with the decades it may
+span:
 
     ranges.declare(exercise, Scale("(g/R)^(1/2)", {"g": 0.5, "R": -0.5}, "the frequencies"))
 
@@ -34,6 +35,7 @@ class Scale:
     low: float = -300.0
     high: float = 300.0
     factor: Callable | None = field(default=None, compare=False)
+    log_factor: Callable | None = field(default=None, compare=False)  # log10 of a factor, formed in logs
 
     def log10(self, p) -> float:
         """log10 of the scale at ``p`` (-inf for a zero factor or parameter)."""
@@ -42,6 +44,8 @@ class Scale:
         if self.factor is not None:
             f = abs(self.factor(p))
             parts.append(math.log10(f) if f else -math.inf)
+        if self.log_factor is not None:
+            parts.append(self.log_factor(p))
         return math.fsum(parts) if all(math.isfinite(x) for x in parts) else sum(parts)
 
     def limit(self) -> str:
