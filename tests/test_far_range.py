@@ -52,6 +52,7 @@ def test_4_24_subnormal_mass_agrees(M):
 
 @pytest.mark.parametrize("ex_id, given", [
     ("4.29", {"v0": 1.79e308}),                     # the distance overflows: refused
+    ("4.11", {"M": 1e-320}), ("4.11", {"M": 5e-324}),  # the mass ratio M'/M beyond the doubles
     ("4.21", {"omega3": 5e-324}), ("4.21", {"theta0": 5e-324}), ("4.21", {"M": 1e200}),
     ("4.22", {"R": 1e-200}), ("4.22", {"l": 1e200}),
     ("5.2", {"omega0": 1e-200}), ("5.3", {"delta": 1e200}),
