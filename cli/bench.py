@@ -89,7 +89,7 @@ def bench_cmd(ex_id, pairs, methods_text, tols_text, repeats, budget_s, max_seco
 
     try:
         result = api.bench_resolved(ex, params, methods=methods, tols=tols, repeats=repeats, budget_s=budget_s,
-                                    max_seconds=max_seconds, progress=progress)
+                                    max_seconds=max_seconds, progress=progress).to_dict()
     except BadInput as exc:
         raise UsageFailure(str(exc)) from None
     if plot_file:

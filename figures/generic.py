@@ -168,6 +168,64 @@ def _panels(ex, at_point) -> list[list]:
     return panels
 
 
+def _panel_values(group, rows, num_rows, at_point, has_numeric):
+    """Each output's values on the line, at the numeric points and at the point itself, round-off of zero
+    set to zero; the panel's unit and its factor from SI (hours where a time runs to days)."""
+    lines = {}
+    for o in group:
+        ys = np.array([r[o.name] for r in rows], float)
+        ny = np.array([r[o.name] for r in num_rows], float) if has_numeric else np.array([])
+        y0 = at_point.get(o.name, math.nan)
+        fin = ys[np.isfinite(ys)]
+        ref = float(np.max(np.abs(fin))) if fin.size else 0.0
+        ys, ny = _zero_round_off(ys, ref), _zero_round_off(ny, ref)
+        y0 = float(_zero_round_off(np.array([y0]), ref)[0])
+        lines[o.name] = (ys, ny, y0)
+    unit = group[0].unit
+    shown = np.concatenate([np.abs(v[0][np.isfinite(v[0])]) for v in lines.values()] + [np.zeros(0)])
+    factor = 1.0
+    if unit == "s" and shown.size and float(np.median(shown)) > HOURS_FROM_S:
+        unit, factor = "h", 1.0 / 3600.0
+    return lines, unit, factor
+
+
+def _panel_scales(ax, xs, lines, every, log, n_outputs):
+    """Log or linear axes for a panel: a power law on log-log axes, a proportional one on linear axes, a
+    constant's round-off kept from filling the axis."""
+    slopes = [_power_law_slope(xs, v[0]) for v in lines.values()]
+    power_laws = log and all(s is not None for s in slopes)
+    proportional = power_laws and all(abs(s - 1.0) < 0.02 for s in slopes)
+    log_x = log and not proportional  # proportional to the parameter: a straight line on linear axes
+    if log_x:
+        ax.set_xscale("log")
+    if n_outputs == 1 and len(every) and np.ptp(every) <= 1e-9 * max(np.max(np.abs(every)), 1e-300):
+        # a constant: round-off in the numeric markers must not fill the axis
+        c0 = float(every[0])
+        half = abs(c0) * 0.05 if c0 != 0 else 1.0
+        ax.set_ylim(c0 - half, c0 + half)
+    elif not proportional and len(every) and np.all(every > 0) and (
+            every.max() / every.min() > 300 or _skewed(every)
+            or (power_laws and log_x and every.max() / every.min() > 3)):
+        ax.set_yscale("log")  # a power law on log-log axes is a straight line
+    for axis, scale_name in ((ax.xaxis, ax.get_xscale()), (ax.yaxis, ax.get_yscale())):
+        if scale_name == "log":
+            plain_log_ticks(axis)
+
+
+def _caption(ex, groups, coincident_notes, failures, n_points):
+    """The figure's note: leading-order theory, lines and circles, coincident outputs, numeric failures."""
+    extra = ""
+    if any(o.theory != "exact" for o in ex.outputs):
+        extra = "* leading-order analytic theory"
+    if any(len(g) > 1 for g in groups):
+        extra += ("; " if extra else "") + "lines analytic, circles numeric"
+    if coincident_notes:
+        extra += ("; " if extra else "") + "coincide (dashed over): " + ", ".join(coincident_notes)
+    if failures:
+        extra += ("; " if extra else "") + f"numeric failed at {len(failures)} of {n_points} points"
+    return extra
+
+
 def generic_figure(ex, params, *, vary: str | None = None, n_numeric: int = 5, rtol: float | None = None):
     cost = _analytic_cost(ex, params)
     name = vary or choose_param(ex, params, cost)
@@ -200,22 +258,7 @@ def generic_figure(ex, params, *, vary: str | None = None, n_numeric: int = 5, r
     for j, group in enumerate(groups):
         ax = axes[j // ncols][j % ncols]
         every = []
-        # each output's values, round-off of zero set to zero, in hours where a time runs to days
-        lines = {}
-        for o in group:
-            ys = np.array([r[o.name] for r in rows], float)
-            ny = np.array([r[o.name] for r in num_rows], float) if has_numeric else np.array([])
-            y0 = at_point.get(o.name, math.nan)
-            fin = ys[np.isfinite(ys)]
-            ref = float(np.max(np.abs(fin))) if fin.size else 0.0
-            ys, ny = _zero_round_off(ys, ref), _zero_round_off(ny, ref)
-            y0 = float(_zero_round_off(np.array([y0]), ref)[0])
-            lines[o.name] = (ys, ny, y0)
-        unit = group[0].unit
-        shown = np.concatenate([np.abs(v[0][np.isfinite(v[0])]) for v in lines.values()] + [np.zeros(0)])
-        factor = 1.0
-        if unit == "s" and shown.size and float(np.median(shown)) > HOURS_FROM_S:
-            unit, factor = "h", 1.0 / 3600.0
+        lines, unit, factor = _panel_values(group, rows, num_rows, at_point, has_numeric)
         drawn: list[tuple[str, np.ndarray]] = []
         for c, o in enumerate(group):
             color = f"C{c % 10}"
@@ -245,25 +288,7 @@ def generic_figure(ex, params, *, vary: str | None = None, n_numeric: int = 5, r
                 ax.plot([x0 * scale], [y0], marker="*", color="k", ms=10, ls="none", zorder=5)
         ax.plot([], [], marker="*", color="k", ms=10, ls="none", label=f"this point, {p.symbol or p.name} = {p.show(x0)}")
         ax.axvline(x0 * scale, **POINT)
-        every = np.array(every)
-        slopes = [_power_law_slope(xs, v[0]) for v in lines.values()]
-        power_laws = log and all(s is not None for s in slopes)
-        proportional = power_laws and all(abs(s - 1.0) < 0.02 for s in slopes)
-        log_x = log and not proportional  # proportional to the parameter: a straight line on linear axes
-        if log_x:
-            ax.set_xscale("log")
-        if len(group) == 1 and len(every) and np.ptp(every) <= 1e-9 * max(np.max(np.abs(every)), 1e-300):
-            # a constant: round-off in the numeric markers must not fill the axis
-            c0 = float(every[0])
-            half = abs(c0) * 0.05 if c0 != 0 else 1.0
-            ax.set_ylim(c0 - half, c0 + half)
-        elif not proportional and len(every) and np.all(every > 0) and (
-                every.max() / every.min() > 300 or _skewed(every)
-                or (power_laws and log_x and every.max() / every.min() > 3)):
-            ax.set_yscale("log")  # a power law on log-log axes is a straight line
-        for axis, scale_name in ((ax.xaxis, ax.get_xscale()), (ax.yaxis, ax.get_yscale())):
-            if scale_name == "log":
-                plain_log_ticks(axis)
+        _panel_scales(ax, xs, lines, np.array(every), log, len(group))
         ylabel = label(group[0].name + (" *" if group[0].theory != "exact" else ""), unit) if len(group) == 1 \
             else ("[" + unit + "]" if unit not in ("1", "") else "dimensionless")
         ax.set_xlabel(label(f"{p.symbol or p.name}", p.display or p.unit), fontsize=FONT["label"])
@@ -274,15 +299,7 @@ def generic_figure(ex, params, *, vary: str | None = None, n_numeric: int = 5, r
             legends.append((ax, dict(fontsize=FONT["legend"], framealpha=0.85, ncol=2 if len(group) > 4 else 1)))
     for j in range(k, nrows * ncols):
         axes[j // ncols][j % ncols].set_visible(False)
-    extra = ""
-    if any(o.theory != "exact" for o in ex.outputs):
-        extra = "* leading-order analytic theory"
-    if any(len(g) > 1 for g in groups):
-        extra += ("; " if extra else "") + "lines analytic, circles numeric"
-    if coincident_notes:
-        extra += ("; " if extra else "") + "coincide (dashed over): " + ", ".join(coincident_notes)
-    if failures:
-        extra += ("; " if extra else "") + f"numeric failed at {len(failures)} of {len(num_p)} points"
+    extra = _caption(ex, groups, coincident_notes, failures, len(num_p))
     title(fig, ex, params, skip=(name,), extra=extra)
     for ax, kw in legends:
         defer_legend(ax, None, **kw)

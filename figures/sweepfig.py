@@ -100,12 +100,62 @@ def _edges(v, log):
     return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
 
 
-def map_figure(result):
+def _colour_scale(Z):
+    """(colour map, norm): diverging about 0 where the values change sign, else viridis; grey for no value."""
+    import matplotlib
     import matplotlib.colors as mcolors
+
+    finite_z = Z[np.isfinite(Z)]
+    norm = None
+    if finite_z.size and finite_z.min() < 0 < finite_z.max():
+        cmap = matplotlib.colormaps["RdBu_r"]
+        norm = mcolors.TwoSlopeNorm(vmin=finite_z.min(), vcenter=0.0, vmax=finite_z.max())
+    else:
+        cmap = matplotlib.colormaps["viridis"]
+    return cmap.with_extremes(bad="0.82"), norm
+
+
+def _overlays(ax, result, o, arr, Z, x, y, fx, fy, curves, y_name, diverging):
+    """What is drawn over a map (zero and grey-region contours, the boundary curves, the failed points) and
+    its legend's handles."""
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    from mech.verification.sweep import boundary_curves, failure_kind, output_arrays
+    from mech.verification.sweep import failure_kind
+
+    handles = []
+    if x.size > 1 and y.size > 1:
+        if diverging:
+            ax.contour(x, y, Z, levels=[0.0], colors="k", linewidths=1.3)
+            handles.append(Line2D([], [], color="k", lw=1.3, label=f"{o.name} = 0 (numeric, exact)"))
+        undefined = ~np.isfinite(Z)
+        if undefined.any() and not undefined.all():
+            ax.contour(x, y, undefined.astype(float), levels=[0.5], colors="k", linewidths=1.3)
+            handles.append(Line2D([], [], color="k", lw=1.3, label="edge of the grey region (numeric, exact)"))
+    if np.isnan(Z).any():
+        handles.append(Patch(facecolor="0.82", edgecolor="none", label=_grey_label(result, o.name)))
+    for axis_name, xs, ys, text in curves:
+        if axis_name == y_name:
+            ax.plot(xs / fx, ys / fy, color="k", ls="--", lw=1.5)
+        else:
+            ax.plot(ys / fx, xs / fy, color="k", ls="--", lw=1.5)
+        handles.append(Line2D([], [], color="k", ls="--", lw=1.5, label=text))
+    bad = arr["failed"]
+    if bad.any():
+        X, Y = np.meshgrid(x, y, indexing="ij")
+        kinds = Counter(failure_kind(r) for r in arr["reasons"][bad])
+        ax.plot(X.ravel()[bad], Y.ravel()[bad], "x", color="m", ms=4, mew=1.0)
+        for kind, count in kinds.most_common(3):
+            handles.append(Line2D([], [], color="m", marker="x", ls="none",
+                                  label=f"FAILED ({count} points): {kind}"))
+        if len(kinds) > 3:
+            handles.append(Line2D([], [], color="m", marker="x", ls="none",
+                                  label=f"FAILED: {len(kinds) - 3} other reasons (see --json)"))
+    return handles
+
+
+def map_figure(result):
+    from mech.verification.sweep import boundary_curves, output_arrays
 
     ex = result.exercise
     ax_x, ax_y = result.axes
@@ -128,19 +178,7 @@ def map_figure(result):
         ax = axes[j // ncols][j % ncols]
         arr = output_arrays(result, o.name)
         Z = arr["numeric"].reshape(shape).T  # rows: y, columns: x
-        finite_z = Z[np.isfinite(Z)]
-        cmap = None
-        norm = None
-        if finite_z.size and finite_z.min() < 0 < finite_z.max():
-            import matplotlib
-
-            cmap = matplotlib.colormaps["RdBu_r"]
-            norm = mcolors.TwoSlopeNorm(vmin=finite_z.min(), vcenter=0.0, vmax=finite_z.max())
-        else:
-            import matplotlib
-
-            cmap = matplotlib.colormaps["viridis"]
-        cmap = cmap.with_extremes(bad="0.82")
+        cmap, norm = _colour_scale(Z)
         smooth = coarse and bool(np.all(np.isfinite(Z)))
         if smooth:
             # a coarse grid as flat cells is a mosaic of blocks: colour linearly between the computed points
@@ -161,34 +199,7 @@ def map_figure(result):
             cb.set_ticks(sorted(set(down + up + [norm.vmin])))
         cb.set_label(label(f"{o.name} (numeric)", o.unit), fontsize=9)
         cb.ax.tick_params(labelsize=8)
-        handles = []
-        if x.size > 1 and y.size > 1:
-            if norm is not None:
-                ax.contour(x, y, Z, levels=[0.0], colors="k", linewidths=1.3)
-                handles.append(Line2D([], [], color="k", lw=1.3, label=f"{o.name} = 0 (numeric, exact)"))
-            undefined = ~np.isfinite(Z)
-            if undefined.any() and not undefined.all():
-                ax.contour(x, y, undefined.astype(float), levels=[0.5], colors="k", linewidths=1.3)
-                handles.append(Line2D([], [], color="k", lw=1.3, label="edge of the grey region (numeric, exact)"))
-        if np.isnan(Z).any():
-            handles.append(Patch(facecolor="0.82", edgecolor="none", label=_grey_label(result, o.name)))
-        for axis_name, xs, ys, text in curves:
-            if axis_name == ax_y.name:
-                ax.plot(xs / fx, ys / fy, color="k", ls="--", lw=1.5)
-            else:
-                ax.plot(ys / fx, xs / fy, color="k", ls="--", lw=1.5)
-            handles.append(Line2D([], [], color="k", ls="--", lw=1.5, label=text))
-        bad = arr["failed"]
-        if bad.any():
-            X, Y = np.meshgrid(x, y, indexing="ij")
-            kinds = Counter(failure_kind(r) for r in arr["reasons"][bad])
-            ax.plot(X.ravel()[bad], Y.ravel()[bad], "x", color="m", ms=4, mew=1.0)
-            for kind, count in kinds.most_common(3):
-                handles.append(Line2D([], [], color="m", marker="x", ls="none",
-                                      label=f"FAILED ({count} points): {kind}"))
-            if len(kinds) > 3:
-                handles.append(Line2D([], [], color="m", marker="x", ls="none",
-                                      label=f"FAILED: {len(kinds) - 3} other reasons (see --json)"))
+        handles = _overlays(ax, result, o, arr, Z, x, y, fx, fy, curves, ax_y.name, norm is not None)
         if smooth:
             ax.set_xlim(x[0], x[-1])
             ax.set_ylim(y[0], y[-1])

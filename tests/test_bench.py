@@ -178,3 +178,25 @@ def test_probe_sees_whether_the_forced_integrator_ran(ex_id, applies):
     ex = registry.get(ex_id)
     integrates, _ = probe_route(ex, ex.resolve({}))
     assert integrates is applies
+
+
+# --- issue 34: bench returns a typed result whose to_dict() is the contract's JSON ---------------------
+
+def test_bench_result_is_typed_frozen_and_its_dict_is_the_json():
+    import dataclasses
+
+    from mech.verification.bench import BenchResult
+
+    ex = registry.get("4.15")
+    r = bench(ex, methods=["DOP853"], tols=[1e-6], repeats=1, budget_s=1.0)
+    assert isinstance(r, BenchResult)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        r.id = "4.16"
+    d = r.to_dict()
+    # the contract's keys, in the order mech bench --json has always printed them
+    assert list(d) == ["id", "title", "params", "reference", "error_measure", "measured_outputs",
+                       "skipped_outputs", "left_out_outputs", "route", "default", "points", "summary", "timing",
+                       "ranking", "student_vs_default"]
+    assert all(isinstance(d[k], list) for k in ("points", "summary", "ranking", "measured_outputs"))
+    assert d["id"] == r.id == r["id"] == "4.15" and d["points"][0]["method"] == "DOP853"
+    json.dumps(d)  # plain JSON types all the way down

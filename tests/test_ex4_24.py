@@ -85,8 +85,9 @@ def test_against_adaptive_runge_kutta():
 def _fine_only(monkeypatch):
     """Force the solver onto its fine splitting at every step (validated above against DOP853)."""
     import mech.problems.ch4.ex4_24_driven_fast_top as mod
+    import mech.solvers.mechanics.top_splitting as splitting
 
-    monkeypatch.setattr(mod, "_tan_root", lambda j: math.inf)
+    monkeypatch.setattr(splitting, "tan_root", lambda j: math.inf)
     monkeypatch.setattr(mod, "MAX_STEPS", 10**7)
 
 
@@ -146,17 +147,18 @@ def test_fine_splittings_have_their_orders():
     from a tilted, nutating state (eps ~ 0.04, where the kicks matter): against 16 substeps of the same
     scheme, a step's error is O(H^(p+1)), so halving H divides it by 2^7 = 128 for Yoshida's 6th-order
     composition and by 2^9 = 512 for Kahan and Li's 8th-order one.  A wrong weight drops the order."""
-    import mech.problems.ch4.ex4_24_driven_fast_top as mod
+    from mech.solvers.mechanics.top_splitting import fine_stepper
+    from mech.solvers.numerics.splitting import KAHAN_LI8, YOSHIDA6
 
     k, a, b, w = 60.0, 2.6, 2.7, 2.6
     n0 = (math.sin(0.7) * math.cos(0.3), math.sin(0.7) * math.sin(0.3), math.cos(0.7))
     L0 = (n0[0] + 0.02, n0[1] - 0.01, n0[2] - (0.02 * n0[0] - 0.01 * n0[1]) / n0[2])  # L . n = 1
-    for weights, ratio in ((mod._W6, 128.0), (mod._K8, 512.0)):
+    for weights, ratio in ((YOSHIDA6, 128.0), (KAHAN_LI8, 512.0)):
         assert sum(weights) == pytest.approx(1.0, abs=1e-15)
         errs = []
         for H in (1.6 / k, 0.8 / k, 0.4 / k):
-            one = mod._stepper(k, a, b, w, H, weights)(n0, L0, 0.3, H)
-            sub = mod._stepper(k, a, b, w, H / 16, weights)
+            one = fine_stepper(k, a, b, w, H, weights)(n0, L0, 0.3, H)
+            sub = fine_stepper(k, a, b, w, H / 16, weights)
             s = (n0, L0, 0.3)
             for _ in range(16):
                 s = sub(*s, H / 16)

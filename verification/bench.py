@@ -53,10 +53,11 @@ import threading
 import time
 import warnings
 from contextlib import contextmanager
+from dataclasses import dataclass, fields
 
 from mech.problems.spec import Exercise, Params, Undefined
 
-__all__ = ["DEFAULT_TOLS", "ODE_METHODS", "STUDENT", "bench", "summarize", "error_against"]
+__all__ = ["BenchResult", "DEFAULT_TOLS", "ODE_METHODS", "STUDENT", "bench", "summarize", "error_against"]
 
 DEFAULT_TOLS = tuple(10.0 ** -k for k in range(3, 13))
 ODE_METHODS = ("RK45", "DOP853", "LSODA", "Radau")
@@ -154,45 +155,69 @@ def probe_route(ex: Exercise, params: Params) -> tuple[bool, str]:
     return integrates, own.method or "own route"
 
 
-def bench(
-    ex: Exercise,
-    params: Params | None = None,
-    *,
-    methods: list[str] | None = None,
-    tols: list[float] | None = None,
-    repeats: int = 5,
-    budget_s: float = 45.0,
-    run_limit_s: float = 10.0,
-    slow_s: float = 3.0,
-    max_seconds: float = 55.0,
-    progress=None,
-) -> dict:
-    """The bench of one exercise as the contract's JSON object (see the module docstring)."""
-    import scipy.integrate  # noqa: F401  (imported before any timing)
+@dataclass(frozen=True)
+class BenchResult:
+    """The bench of one exercise (see the module docstring): ``to_dict()`` is the contract's JSON object that
+    ``mech bench --json`` prints; ``result[key]`` reads one of its keys."""
 
-    started = time.perf_counter()
-    params = params if params is not None else ex.resolve({})
-    tols = sorted({float(t) for t in (tols or DEFAULT_TOLS)}, reverse=True)
-    integrates, own_method = probe_route(ex, params)
+    id: str
+    title: str
+    params: dict
+    reference: str
+    error_measure: str
+    measured_outputs: tuple[str, ...]
+    skipped_outputs: tuple[str, ...]
+    left_out_outputs: tuple[str, ...]
+    route: str
+    default: dict
+    points: tuple[dict, ...]
+    summary: tuple[dict, ...]
+    timing: dict
+    ranking: tuple[str, ...]
+    student_vs_default: dict | None
 
-    # reference and error measure
+    def to_dict(self) -> dict:
+        d = {f.name: getattr(self, f.name) for f in fields(self)}
+        for key in ("measured_outputs", "skipped_outputs", "left_out_outputs", "points", "summary", "ranking"):
+            d[key] = list(d[key])
+        return d
+
+    def __getitem__(self, key: str):
+        return self.to_dict()[key]
+
+
+@dataclass(frozen=True)
+class _Reference:
+    """What a bench's errors are measured against: the values, the outputs measured and how it says so."""
+
+    values: dict
+    kind: str
+    names: list[str]
+    skipped: list[str]
+    left_out: list[str]
+    measure: str
+
+
+def _reference(ex: Exercise, params: Params, own_method: str) -> _Reference:
+    """The exact analytic outputs, or (every output leading-order) the own route at its tightest rtol."""
     exact = [o.name for o in ex.outputs if o.theory == "exact"]
     if exact:
-        ref_values = ex.solve_analytic(params)
-        reference = "analytic"
-        names = exact
+        values, kind, names = ex.solve_analytic(params), "analytic", exact
     else:
         r = max(ex.min_rtol, 1e-13)
-        ref_values, _ = ex.solve_numeric(params, r)
-        reference = f"numeric ({own_method}, rtol {r:g}): every output's analytic value is leading-order"
+        values, _ = ex.solve_numeric(params, r)
+        kind = f"numeric ({own_method}, rtol {r:g}): every output's analytic value is leading-order"
         names = [o.name for o in ex.outputs]
-    skipped = [n for n in names if not _num(ref_values.get(n)) or ref_values.get(n) == 0.0]
-    left_out = [o.name for o in ex.outputs if o.name not in names]
-    measure = "max over outputs of |numeric - analytic| / |analytic|"
-    if reference != "analytic":
-        measure = "max over outputs of |numeric - reference| / |reference|"
+    skipped = [n for n in names if not _num(values.get(n)) or values.get(n) == 0.0]
+    measure = ("max over outputs of |numeric - analytic| / |analytic|" if kind == "analytic"
+               else "max over outputs of |numeric - reference| / |reference|")
+    return _Reference(values, kind, names, skipped, [o.name for o in ex.outputs if o.name not in names], measure)
 
-    # rows
+
+def _plan(ex: Exercise, methods: list[str] | None, tols: list[float], integrates: bool,
+          own_method: str) -> list[tuple[str, float]]:
+    """The (method, rtol) points in the order they run: tolerance-major, so that when the wall-time cap
+    stops the sweep every method has its looser points; then the student and default rows."""
     if methods:
         known = ODE_METHODS + OTHER_ODE + tuple(SYMPLECTIC) + (STUDENT, DEFAULT_ROW, own_method)
         unknown = [m for m in methods if m not in known]
@@ -205,120 +230,149 @@ def bench(
         extra = [(STUDENT, 1e-3)] if STUDENT in methods else []
     elif integrates:
         rows = list(ODE_METHODS) + (list(SYMPLECTIC) if ex.has_hamiltonian else [])
-    else:
-        rows = [own_method]
-    if not methods:
-        extra = []
-    if integrates and not methods:
         extra = [(STUDENT, 1e-3), (DEFAULT_ROW, ex.default_rtol)]
-    # tolerance-major: when the wall-time cap stops the sweep, every method has its looser points
-    plan = [(m, t) for t in tols for m in rows] + extra
+    else:
+        rows, extra = [own_method], []
+    return [(m, t) for t in tols for m in rows] + extra
+
+
+def _skip_note(ex: Exercise, method: str, rtol: float, too_slow: dict, started: float,
+               max_seconds: float) -> str | None:
+    """Why a point is not run (kept as a failed point with that note), or None."""
+    if method in too_slow:
+        return too_slow[method]
+    if time.perf_counter() - started > max_seconds and method not in (STUDENT, DEFAULT_ROW):
+        return f"not run: the bench's {max_seconds:g} s were spent (--max-seconds)"
+    if rtol < ex.min_rtol and method not in SYMPLECTIC:
+        return f"not run: below the exercise's floor rtol {ex.min_rtol:g}"
+    if method in SYMPLECTIC and not ex.has_hamiltonian:
+        return "not run: the exercise exposes no separable Hamiltonian"
+    return None
+
+
+def _timed(runner: _Runner, method: str, rtol: float, ref: _Reference, repeats: int, share: float,
+           run_limit_s: float):
+    """One warm-up run (its values give the error), then repeats while they fit in ``share`` seconds:
+    (error, worst output, values, nfev, integrator used, Run, the times)."""
+    times = []
+    with _time_limit(run_limit_s):
+        t0 = time.perf_counter()
+        values, nfev, used, run = runner(method, rtol)
+        times.append(time.perf_counter() - t0)
+    err, worst = error_against(values, ref.values, ref.names)
+    while len(times) < repeats + 1 and sum(times) + times[0] <= share:
+        t0 = time.perf_counter()
+        runner(method, rtol)
+        times.append(time.perf_counter() - t0)
+    return err, worst, values, nfev, used, run, times
+
+
+def _annotate(pt: dict, method: str, err: float, worst, values: dict, ref: _Reference, used, run) -> None:
+    """The notes of a measured point: a fixed step, a partial route, an undefined output, a forced
+    integrator that never ran or ran on part of the route."""
+    if worst:
+        pt["worst_output"] = worst
+    if method in SYMPLECTIC:
+        # no error control on a fixed-step row: the rtol asked for only picks the step
+        pt["fixed_step"] = True
+        pt["note"] = (f"fixed step: rtol sets h = 0.5 tau rtol^(1/{SYMPLECTIC[method]}) "
+                      "(tau the motion's time scale); no error control")
+    partial = [n for n in ref.names if n not in values and n not in ref.skipped]
+    if partial:
+        pt["note"] = f"this route gives {', '.join(n for n in ref.names if n in values)} only"
+    if not math.isfinite(err):
+        pt["note"] = f"failed: numeric {worst} undefined where the analytic value is finite"
+    if run is not None and method in ODE_METHODS + OTHER_ODE + (STUDENT,):
+        if run.forced_runs == 0:
+            # no integration of the route took the forced integrator (it integrates with a scheme of
+            # its own, or not at all): this point measures nothing about it (never a silent row)
+            pt.update(ok=False, error=None, applies=False,
+                      note=f"not applicable: this route integrates with its own scheme ({used}); "
+                           f"{method} never ran")
+        elif run.own_runs and "note" not in pt:
+            pt["note"] = (f"{method} ran {run.forced_runs} of the route's {run.forced_runs + run.own_runs} "
+                          "recorded integrations; the others are the route's own")
+
+
+def _point(runner: _Runner, method: str, rtol: float, ref: _Reference, too_slow: dict, *, own_method: str,
+           repeats: int, share: float, run_limit_s: float, slow_s: float, skip: str | None) -> dict:
+    """One (method, rtol) point of the table; a failed or skipped run is a point with a note."""
+    pt = {"method": method, "rtol": rtol, "error": None, "time_s": None, "time_min_s": None,
+          "time_max_s": None, "nfev": None, "ok": False}
+    if method == DEFAULT_ROW:
+        pt["integrator"] = own_method
+    if skip:
+        pt["note"] = skip
+        return pt
+    try:
+        err, worst, values, nfev, used, run, times = _timed(runner, method, rtol, ref, repeats, share, run_limit_s)
+    except _Timeout as exc:
+        pt["note"] = f"failed: {exc}"
+        too_slow[method] = f"not run: a looser tolerance already took over {run_limit_s:g} s"
+        return pt
+    except Exception as exc:  # noqa: BLE001 - a failed run is a point, not a crash
+        pt["note"] = f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:200]}"
+        return pt
+    timed = times[1:] if len(times) > 1 else times
+    pt.update(error=err if math.isfinite(err) else None, time_s=statistics.median(timed), time_min_s=min(timed),
+              time_max_s=max(timed), nfev=int(nfev), ok=math.isfinite(err), timed_runs=len(timed))
+    _annotate(pt, method, err, worst, values, ref, used, run)
+    if timed[0] > slow_s and method not in (STUDENT, DEFAULT_ROW):
+        too_slow[method] = f"not run: a looser tolerance already took {timed[0]:.2g} s"
+    return pt
+
+
+def bench(
+    ex: Exercise,
+    params: Params | None = None,
+    *,
+    methods: list[str] | None = None,
+    tols: list[float] | None = None,
+    repeats: int = 5,
+    budget_s: float = 45.0,
+    run_limit_s: float = 10.0,
+    slow_s: float = 3.0,
+    max_seconds: float = 55.0,
+    progress=None,
+) -> BenchResult:
+    """The bench of one exercise (see the module docstring): reference, plan, points, summary."""
+    import scipy.integrate  # noqa: F401  (imported before any timing)
+
+    started = time.perf_counter()
+    params = params if params is not None else ex.resolve({})
+    tols = sorted({float(t) for t in (tols or DEFAULT_TOLS)}, reverse=True)
+    integrates, own_method = probe_route(ex, params)
+    ref = _reference(ex, params, own_method)
+    plan = _plan(ex, methods, tols, integrates, own_method)
     share = budget_s / max(len(plan), 1)
     runner = _Runner(ex, params)
 
     points = []
     too_slow: dict[str, str] = {}
     for method, rtol in plan:
-        pt = {"method": method, "rtol": rtol, "error": None, "time_s": None, "time_min_s": None,
-              "time_max_s": None, "nfev": None, "ok": False}
-        if method == DEFAULT_ROW:
-            pt["integrator"] = own_method
-        if method in too_slow:
-            pt["note"] = too_slow[method]
-            points.append(pt)
-            continue
-        if time.perf_counter() - started > max_seconds and method not in (STUDENT, DEFAULT_ROW):
-            pt["note"] = f"not run: the bench's {max_seconds:g} s were spent (--max-seconds)"
-            points.append(pt)
-            continue
-        if rtol < ex.min_rtol and method not in SYMPLECTIC:
-            pt["note"] = f"not run: below the exercise's floor rtol {ex.min_rtol:g}"
-            points.append(pt)
-            continue
-        if method in SYMPLECTIC and not ex.has_hamiltonian:
-            pt["note"] = "not run: the exercise exposes no separable Hamiltonian"
-            points.append(pt)
-            continue
-        times = []
-        try:
-            with _time_limit(run_limit_s):
-                t0 = time.perf_counter()
-                values, nfev, used, run = runner(method, rtol)
-                times.append(time.perf_counter() - t0)
-            err, worst = error_against(values, ref_values, names)
-            while len(times) < repeats + 1 and sum(times) + times[0] <= share:
-                t0 = time.perf_counter()
-                runner(method, rtol)
-                times.append(time.perf_counter() - t0)
-        except _Timeout as exc:
-            pt["note"] = f"failed: {exc}"
-            too_slow[method] = f"not run: a looser tolerance already took over {run_limit_s:g} s"
-            points.append(pt)
-            continue
-        except Exception as exc:  # noqa: BLE001 - a failed run is a point, not a crash
-            pt["note"] = f"failed: {type(exc).__name__}: {' '.join(str(exc).split())[:200]}"
-            points.append(pt)
-            continue
-        timed = times[1:] if len(times) > 1 else times
-        pt.update(
-            error=err if math.isfinite(err) else None,
-            time_s=statistics.median(timed),
-            time_min_s=min(timed),
-            time_max_s=max(timed),
-            nfev=int(nfev),
-            ok=math.isfinite(err),
-            timed_runs=len(timed),
-        )
-        if worst:
-            pt["worst_output"] = worst
-        if method in SYMPLECTIC:
-            # no error control on a fixed-step row: the rtol asked for only picks the step
-            pt["fixed_step"] = True
-            pt["note"] = (f"fixed step: rtol sets h = 0.5 tau rtol^(1/{SYMPLECTIC[method]}) "
-                          "(tau the motion's time scale); no error control")
-        partial = [n for n in names if n not in values and n not in skipped]
-        if partial:
-            pt["note"] = f"this route gives {', '.join(n for n in names if n in values)} only"
-        if not math.isfinite(err):
-            pt["note"] = f"failed: numeric {worst} undefined where the analytic value is finite"
-        if run is not None and method in ODE_METHODS + OTHER_ODE + (STUDENT,):
-            if run.forced_runs == 0:
-                # no integration of the route took the forced integrator (it integrates with a scheme of
-                # its own, or not at all): this point measures nothing about it (never a silent row)
-                pt.update(ok=False, error=None, applies=False,
-                          note=f"not applicable: this route integrates with its own scheme ({used}); "
-                               f"{method} never ran")
-            elif run.own_runs and "note" not in pt:
-                pt["note"] = (f"{method} ran {run.forced_runs} of the route's {run.forced_runs + run.own_runs} "
-                              "recorded integrations; the others are the route's own")
-        if timed[0] > slow_s and method not in (STUDENT, DEFAULT_ROW):
-            too_slow[method] = f"not run: a looser tolerance already took {timed[0]:.2g} s"
+        skip = _skip_note(ex, method, rtol, too_slow, started, max_seconds)
+        pt = _point(runner, method, rtol, ref, too_slow, own_method=own_method, repeats=repeats, share=share,
+                    run_limit_s=run_limit_s, slow_s=slow_s, skip=skip)
         points.append(pt)
-        if progress:
+        if progress and "timed_runs" in pt:  # a point that ran to the end
             progress(pt)
 
     order = {m: k for k, m in enumerate(dict.fromkeys([m for m, _ in plan]))}
     points.sort(key=lambda p: (order[p["method"]], -p["rtol"]))
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
-    result = {
-        "id": ex.id,
-        "title": ex.title,
-        "params": dict(params),
-        "reference": reference,
-        "error_measure": measure,
-        "measured_outputs": [n for n in names if n not in skipped],
-        "skipped_outputs": skipped,
-        "left_out_outputs": left_out,
-        "route": "ode" if integrates else f"no ODE integration: the sweep is over rtol of the exercise's own route ({own_method})",
-        "default": {"method": own_method, "rtol": ex.default_rtol, "tol_factor": ex.tol_factor},
-        "points": points,
-        "summary": summarize(points),
-        "timing": {"repeats_max": repeats, "budget_s": budget_s, "max_seconds": max_seconds, "seconds": time.perf_counter() - started,
-                   "load_1min": load, "cpus": os.cpu_count()},
-    }
-    result["ranking"] = [s["method"] for s in sorted(result["summary"], key=lambda s: s["rank"])]
-    result["student_vs_default"] = student_vs_default(points, own_method, ex.default_rtol)
-    return result
+    summary = summarize(points)
+    return BenchResult(
+        id=ex.id, title=ex.title, params=dict(params), reference=ref.kind, error_measure=ref.measure,
+        measured_outputs=tuple(n for n in ref.names if n not in ref.skipped), skipped_outputs=tuple(ref.skipped),
+        left_out_outputs=tuple(ref.left_out),
+        route="ode" if integrates else f"no ODE integration: the sweep is over rtol of the exercise's own route ({own_method})",
+        default={"method": own_method, "rtol": ex.default_rtol, "tol_factor": ex.tol_factor},
+        points=tuple(points), summary=tuple(summary),
+        timing={"repeats_max": repeats, "budget_s": budget_s, "max_seconds": max_seconds,
+                "seconds": time.perf_counter() - started, "load_1min": load, "cpus": os.cpu_count()},
+        ranking=tuple(s["method"] for s in sorted(summary, key=lambda s: s["rank"])),
+        student_vs_default=student_vs_default(points, own_method, ex.default_rtol),
+    )
 
 
 def student_vs_default(points: list[dict], own_method: str, default_rtol: float) -> dict | None:

@@ -29,6 +29,7 @@ import math
 
 import numpy as np
 
+from mech.problems import ranges
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.numerics.ode import Event
 
@@ -48,21 +49,9 @@ PERIOD_AMPLITUDE = 1e-4
 _ALPHA = 0.4137  # orientation of the four-mass cross relative to the pivot line
 
 
-def _log10_l_over_rho(p):
-    return math.log10(p.l) - 0.5 * (math.log10(p.I) - math.log10(p.M))
-
-
-exercise.declare_limits(
-    "|log10(l / (I/M)^(1/2))| <= 150: the two pivot distances within the floating-point range",
-)
-
-
-@exercise.constraint
-def constraint(p):
-    k = _log10_l_over_rho(p)
-    if abs(k) > 150:
-        return (f"l / (I/M)^(1/2) = 10^{k:.0f}: the pivot distances l and l_conj differ by 10^{2 * abs(k):.0f}, "
-                "and the inertia about the farther one, M (l^2 + I/M), leaves the floating-point range")
+# the inertia about the farther pivot, M (l^2 + I/M), is formed: l and (I/M)^(1/2) within 150 decades of each other
+ranges.declare(exercise, ranges.Scale("l / (I/M)^(1/2)", {"l": 1, "I": -0.5, "M": 0.5}, "the two pivot distances",
+                                      low=-150.0, high=150.0))
 
 
 @exercise.analytic

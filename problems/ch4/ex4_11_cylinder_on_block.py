@@ -20,8 +20,11 @@ keeps x/X = 1/3, which an eigenvector in balanced coordinates carries as 1e-100 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
+from mech.problems import ranges
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.inertia import disk
 from mech.solvers.mechanics.rolling import balanced_modes, plane_kinetic_energy, rolling_spin
@@ -35,6 +38,9 @@ exercise = Exercise(
         "ω² = κ / (M' + M/3)",
     ],
 )
+
+# the route works in units of M: the block's mass is the ratio M'/M, which must be a double
+ranges.declare(exercise, ranges.Scale("M'/M", {"M_prime": 1, "M": -1}, "the mass ratio", low=-math.inf, high=307.0))
 
 
 @exercise.analytic

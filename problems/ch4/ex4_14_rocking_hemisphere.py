@@ -27,6 +27,7 @@ import math
 
 import numpy as np
 
+from mech.problems import ranges
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.inertia import gauss_legendre, periodic
 from mech.solvers.mechanics.frames import cross_z, rotate2
@@ -43,16 +44,7 @@ exercise = Exercise(
 )
 
 
-exercise.declare_limits(
-    "|log10((g/R)^(1/2))| <= 300: the frequencies within the floating-point range",
-)
-
-
-@exercise.constraint
-def constraint(p):
-    k = 0.5 * (math.log10(p.g) - math.log10(p.R))
-    if abs(k) > 300:
-        return f"(g/R)^(1/2) = 10^{k:.0f} rad/s: the frequencies leave the floating-point range"
+ranges.declare(exercise, ranges.Scale("(g/R)^(1/2)", {"g": 0.5, "R": -0.5}, "the frequencies"))
 
 
 @exercise.analytic

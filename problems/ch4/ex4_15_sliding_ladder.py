@@ -19,6 +19,7 @@ import math
 
 import numpy as np
 
+from mech.problems import ranges
 from mech.problems.spec import Exercise
 from mech.solvers.numerics.ode import Event
 
@@ -37,26 +38,13 @@ exercise = Exercise(
 UPRIGHT_NUDGE = 1e-6
 
 
-def _log10_rates(p):
-    """log10 of (g/l)^(1/2) and of omega_c = (g sin theta0 / l)^(1/2), summed in logs: no overflow."""
-    unit = 0.5 * (math.log10(p.g) - math.log10(p.l))
-    return unit, unit + 0.5 * math.log10(math.sin(p.theta0))
-
-
-exercise.declare_limits(
-    "theta0 >= 1e-300 rad",
-    "(g/l)^(1/2) and omega_c between 1e-300 and 1e300: the rates within the floating-point range",
+ranges.declare(
+    exercise,
+    ranges.Scale("theta0", {"theta0": 1}, "the angles", high=math.inf),
+    ranges.Scale("(g/l)^(1/2)", {"g": 0.5, "l": -0.5}, "the rates"),
+    ranges.Scale("omega_c = (g sin(theta0)/l)^(1/2)", {"g": 0.5, "l": -0.5}, "the rates",
+                 log_factor=lambda p: 0.5 * math.log10(math.sin(p.theta0))),
 )
-
-
-@exercise.constraint
-def constraint(p):
-    if p.theta0 < 1e-300:
-        return f"theta0 = {p.theta0:.3g} rad is below 1e-300: the angles leave the floating-point range"
-    unit, omega_c = _log10_rates(p)
-    if abs(unit) > 300 or abs(omega_c) > 300:
-        return (f"(g/l)^(1/2) = 10^{unit:.0f} 1/s, omega_c = 10^{omega_c:.0f} rad/s: "
-                "the rates leave the floating-point range")
 
 
 @exercise.analytic

@@ -28,6 +28,7 @@ import math
 
 import numpy as np
 
+from mech.problems import ranges
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.frames import rotation
 from mech.solvers.mechanics.inertia import gauss_legendre, inertia_tensor
@@ -43,25 +44,15 @@ exercise = Exercise(
 )
 
 
-def _log10_torque_scale(p):
-    """log10 of rho a1 a2 a3 (a1^2 + a2^2 + a3^2) omega^2, the natural size of the torque, in logs."""
+def _log10_squares(p):
+    """log10(a1^2 + a2^2 + a3^2), summed in logs (no square overflows)."""
     a = sorted((p.a1, p.a2, p.a3))
-    d2_over_max2 = 1.0 + (a[0] / a[2]) ** 2 + (a[1] / a[2]) ** 2
-    return (math.log10(p.rho) + math.log10(p.a1) + math.log10(p.a2) + math.log10(p.a3)
-            + 2 * math.log10(a[2]) + math.log10(d2_over_max2) + 2 * math.log10(p.omega))
+    return 2 * math.log10(a[2]) + math.log10(1.0 + (a[0] / a[2]) ** 2 + (a[1] / a[2]) ** 2)
 
 
-exercise.declare_limits(
-    "rho a1 a2 a3 (a1^2 + a2^2 + a3^2) omega^2 between 1e-290 and 1e290 N m: the torque scale within the floating-point range",
-)
-
-
-@exercise.constraint
-def constraint(p):
-    k = _log10_torque_scale(p)
-    if abs(k) > 290:
-        return (f"the torque scale rho a1 a2 a3 (a1^2 + a2^2 + a3^2) omega^2 = 10^{k:.0f} N m "
-                "lies outside the floating-point range")
+ranges.declare(exercise, ranges.Scale(
+    "rho a1 a2 a3 (a1^2 + a2^2 + a3^2) omega^2", {"rho": 1, "a1": 1, "a2": 1, "a3": 1, "omega": 2},
+    "the torque scale", low=-290.0, high=290.0, log_factor=_log10_squares))
 
 
 def _unit(p):

@@ -37,6 +37,7 @@ import math
 
 import numpy as np
 
+from mech.problems import ranges
 from mech.problems.spec import Exercise, NumericFailure, Undefined
 from mech.solvers.numerics.roots import bracketed_root
 from mech.solvers.mechanics.tops import axis_rhs, azimuth, fit_rate, polar_angle
@@ -54,6 +55,17 @@ exercise = Exercise(
     # angular momentum about the support, lab components, z up
     states=[("n_x", "1"), ("n_y", "1"), ("n_z", "1"), ("L_x", "kg*m^2/s"), ("L_y", "kg*m^2/s"),
             ("L_z", "kg*m^2/s")],
+)
+
+# the torque, the spin's angular momentum and the fast-top ratio I_A M g l/(I3 omega3)^2 (whose square
+# the growth rates form) in doubles: beyond, the residual divides by an underflowed torque
+ranges.declare(
+    exercise,
+    ranges.Scale("M g l sin(theta0)", {"M": 1, "g": 1, "l": 1}, "the torque", factor=lambda p: math.sin(p.theta0)),
+    ranges.Scale("I3 omega3", {"I3": 1, "omega3": 1}, "the spin's angular momentum"),
+    ranges.Scale("(I1 + M l^2) M g l/(I3 omega3)^2", {"M": 1, "g": 1, "l": 1, "I3": -2, "omega3": -2},
+                 "the rates of the precession and the nutation", low=-150, high=150,
+                 factor=lambda p: p.I1 + p.M * p.l**2),
 )
 
 

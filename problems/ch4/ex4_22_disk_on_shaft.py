@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mech.problems import ranges
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.frames import skew
 from mech.solvers.mechanics.inertia import disk
@@ -38,6 +39,14 @@ exercise = Exercise(
         "δN = N - M g = M R Ω² / 2  (dL/dt of the spin's horizontal angular momentum = torque about the joint)",
         "N = M g + M R Ω² / 2",
     ],
+)
+
+# the route squares the lengths and the spin rate (R^2 in the rolling condition, s^2 in the accelerations)
+ranges.declare(
+    exercise,
+    ranges.Scale("R", {"R": 1}, "the disk's radius and its square", low=-150, high=150),
+    ranges.Scale("l", {"l": 1}, "the shaft's length and its square", low=-150, high=150),
+    ranges.Scale("Omega l/R", {"Omega": 1, "l": 1, "R": -1}, "the spin rate and its square", low=-150, high=150),
 )
 
 

@@ -40,6 +40,7 @@ import numpy as np
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.frames import quat_from_matrix, quat_to_matrix, skew
 from mech.solvers.mechanics.inertia import disk, inertia_tensor
+from mech.solvers.numerics.modes import solve3
 from mech.solvers.numerics.ode import Event
 from mech.solvers.mechanics.tops import azimuth, fit_rate
 
@@ -91,21 +92,6 @@ def analytic(p):
 
 
 # --------------------------------------------------------------------------- numeric
-
-
-def _solve3(K, b):
-    """K^-1 b for a 3 x 3 system by the adjugate (K is symmetric positive definite here)."""
-    (k00, k01, k02), (k10, k11, k12), (k20, k21, k22) = K.tolist() if hasattr(K, "tolist") else K
-    c00 = k11 * k22 - k12 * k21
-    c01 = k12 * k20 - k10 * k22
-    c02 = k10 * k21 - k11 * k20
-    det = k00 * c00 + k01 * c01 + k02 * c02
-    b0, b1, b2 = b
-    return (
-        (c00 * b0 + (k02 * k21 - k01 * k22) * b1 + (k01 * k12 - k02 * k11) * b2) / det,
-        (c01 * b0 + (k00 * k22 - k02 * k20) * b1 + (k02 * k10 - k00 * k12) * b2) / det,
-        (c02 * b0 + (k01 * k20 - k00 * k21) * b1 + (k00 * k11 - k01 * k10) * b2) / det,
-    )
 
 
 class _Disk:
@@ -197,7 +183,7 @@ class _Disk:
             (dI * ny * nx - dy * dx, di + dI * ny * ny - dy * dy, dI * ny * nz - dy * dz),
             (dI * nz * nx - dz * dx, dI * nz * ny - dz * dy, di + dI * nz * nz - dz * dz),
         )
-        al = _solve3(K, b)
+        al = solve3(K, b)
         # a = d x alpha - omega x d'
         ax = dy * al[2] - dz * al[1] - cx
         ay = dz * al[0] - dx * al[2] - cy
@@ -318,30 +304,18 @@ def motion(p, Om=None):
         t_run = 20.0 * 2 * math.pi / spin0
         span, events, max_step = (0.0, t_run), [fall], t_run / 64
     size = ([max(spin0, Om)] * 3 + [1.0] * 4 + [max(Rs, 1.0)] * 3 + [max(Om * Rs, Om, 1e-300)] * 3)
-    w_unit, v_unit = math.sqrt(p.g / p.r), math.sqrt(p.g * p.r)
-    return Motion(body.rhs, y0, span, t_scale=math.sqrt(p.r / p.g),
+    # square roots taken apart: r/g overflows for g below 1e-308 where its root does not
+    w_unit, v_unit = math.sqrt(p.g) / math.sqrt(p.r), math.sqrt(p.g) * math.sqrt(p.r)
+    return Motion(body.rhs, y0, span, t_scale=math.sqrt(p.r) / math.sqrt(p.g),
                   y_scale=[w_unit] * 3 + [1.0] * 4 + [p.r] * 3 + [v_unit] * 3, y_size=size,
                   options={"events": events, "max_step": max_step})
 
 
-@exercise.numeric
-def numeric(p, run):
-    Rs = p.R / p.r
-    theta = p.theta
-    body = _Disk()
-    Om = _turning_rate(body, theta, Rs)
-    run.info["Omega_root_scaled"] = Om
-    # the root's round-off: the tilt acceleration balances terms of size Om^2 Rs against the spin's
-    # (Om Rs)^2, so it keeps a part in ~eps Rs of its digits (2.7e-8 at Rs = 1.7e9: 0.15 eps Rs)
-    root_rel = max(exercise.tol_factor * run.rtol, 4e-16 * max(Rs, 1.0))
-
-    m = motion(p, Om)
-    y0, spin0 = _start(body, theta, Rs, Om)
-    T_root = 2 * math.pi / Om
-    n3z0 = math.sin(theta)
-    E0 = body.energy(y0)
-    traj = run.follow(m, dense=True).traj
-
+def _timed_turn(m, traj, T_root, run):
+    """(T_s, the state at its end): the time of one full turn of the axis by its event, or (too many spin
+    turns per orbit) from the azimuth's rate fitted over 20 spin turns; T_s None where the axis falls over
+    within the fit (judged after the monitors)."""
+    T_s = y_end = None
     if len(m.options["events"]) == 2:
         times = [t for t in traj.t_events[0] if t > 0.5 * T_root]
         if times:
@@ -369,11 +343,14 @@ def numeric(p, run):
             # slowly: theta = 5.5e-7, R/r = 1.5e4) the axis falls over within the fit's 20
             # spin turns and its azimuth is meaningless; the steady-state root then answers (below)
             T_s = None
+    return T_s, y_end
 
-    # monitors over the run
+
+def _monitors(body, traj, n3z0, tilt_tol, scale, E0):
+    """The worst drifts over the run (tilt, slip speed over ``scale``, contact height, energy) and the time
+    the tilt left its value by tilt_tol (None: it never did)."""
     ts = np.linspace(traj.t[0], traj.t[-1], 200)
     tilt_dev, roll_dev, height_dev, e_dev = 0.0, 0.0, 0.0, 0.0
-    tilt_tol = max(1e-7, 1e3 * run.rtol)
     t_lost = None
     for t in ts:
         y = traj.sol(t)
@@ -385,9 +362,33 @@ def numeric(p, run):
             break
         tilt_dev = max(tilt_dev, abs(n[2] - n3z0))
         vP = y[10:13] + np.cross(omega, d)
-        roll_dev = max(roll_dev, float(np.linalg.norm(vP)) / max(Om * Rs, Om, spin0))
+        roll_dev = max(roll_dev, float(np.linalg.norm(vP)) / scale)
         height_dev = max(height_dev, abs(y[9] + d[2]))
         e_dev = max(e_dev, abs(body.energy(y) - E0) / max(abs(E0), 1.0))
+    return tilt_dev, roll_dev, height_dev, e_dev, t_lost
+
+
+@exercise.numeric
+def numeric(p, run):
+    Rs = p.R / p.r
+    theta = p.theta
+    body = _Disk()
+    Om = _turning_rate(body, theta, Rs)
+    run.info["Omega_root_scaled"] = Om
+    # the root's round-off: the tilt acceleration balances terms of size Om^2 Rs against the spin's
+    # (Om Rs)^2, so it keeps a part in ~eps Rs of its digits (2.7e-8 at Rs = 1.7e9: 0.15 eps Rs)
+    root_rel = max(exercise.tol_factor * run.rtol, 4e-16 * max(Rs, 1.0))
+
+    m = motion(p, Om)
+    y0, spin0 = _start(body, theta, Rs, Om)
+    T_root = 2 * math.pi / Om
+    n3z0 = math.sin(theta)
+    E0 = body.energy(y0)
+    traj = run.follow(m, dense=True).traj
+
+    T_s, y_end = _timed_turn(m, traj, T_root, run)
+    tilt_tol = max(1e-7, 1e3 * run.rtol)
+    tilt_dev, roll_dev, height_dev, e_dev, t_lost = _monitors(body, traj, n3z0, tilt_tol, max(Om * Rs, Om, spin0), E0)
     invariants = {"energy": e_dev, "rolling (slip speed)": roll_dev, "contact height / r": height_dev}
     for name, drift in invariants.items():
         run.invariant(name, drift)
@@ -404,7 +405,7 @@ def numeric(p, run):
         run.claims.clear()
         run.claim("Omega", rel=root_rel)
         run.claim("omega_spin", rel=root_rel)
-        t_unit = math.sqrt(p.r / p.g)
+        t_unit = math.sqrt(p.r) / math.sqrt(p.g)
         return {"T": T_root * t_unit, "Omega": Om / t_unit, "omega_spin": spin0 / t_unit}
     if T_s is None:
         raise NumericFailure("the axis does not turn")
@@ -444,5 +445,5 @@ def numeric(p, run):
     # largest slip speed times the run's length (5e-8 at R/r = 50, theta = 0.54, rtol 1e-8)
     slip_integral = roll_dev * max(Om * Rs, Om, spin0) * float(traj.t[-1] - traj.t[0])
     run.invariant("contact height / r", height_dev, allowed=max(T_claim, slip_integral))
-    t_unit = math.sqrt(p.r / p.g)
+    t_unit = math.sqrt(p.r) / math.sqrt(p.g)
     return {"T": T_s * t_unit, "Omega": Om / t_unit, "omega_spin": spin0 / t_unit}

@@ -28,11 +28,15 @@ the friction's power F . (n3 x (P - C)) (no cancellation when R << l).
 Monitored: |L| + mu M g R t, which the friction's axial torque keeps constant
 in this model.
 
-The model integrated is reduced: the fast top's L kept along its axis (no
-transverse inertia, so no nutation) under the sliding friction at the tip,
-in a turning frame and a rescaled time.  No Lagrangian gives that first-order
-flow, so it has no symbolic declaration (``mech show 4.25 --derive`` says so,
-problems/ch4/physics4_25.py).
+Which model it integrates, and why no Lagrangian.  The reduced (gyroscopic) model
+of the statement, L = I3 omega3 n3 (the transverse angular momentum and the
+nutation dropped), driven by the torque about C of the weight and the sliding
+friction: dL/dt = torque, three first-order equations for L alone.  It is not
+derived from a Lagrangian because neither part has one: sliding (Coulomb)
+friction is a dissipative force with no potential (its direction follows the
+slip velocity), and the gyroscopic model is a limit of Euler's equations (L along
+the axis), not the Euler-Lagrange equations of a Lagrangian in the axis's angles.
+(``mech show 4.25 --derive`` says so; problems/ch4/physics4_25.py.)
 """
 
 from __future__ import annotations

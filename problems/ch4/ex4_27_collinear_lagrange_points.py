@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 
+from mech.problems import ranges
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.frames import mass_fractions
 from mech.solvers.numerics.roots import bracketed_root, brentq, walk_to_sign_change
@@ -41,7 +42,6 @@ exercise = Exercise(
 
 exercise.declare_limits(
     "M2 <= M1: L3 lies beyond the heavier body M1",
-    "M2/(M1 + M2) >= 1e-290",
 )
 
 
@@ -49,8 +49,10 @@ exercise.declare_limits(
 def constraint(p):
     if p.M2 > p.M1:
         return f"M2 = {p.M2:g} kg must not exceed M1 = {p.M1:g} kg (L3 lies beyond the heavier body M1)"
-    if p.M2 / (p.M1 + p.M2) < 1e-290:
-        return f"M2/M1 = {p.M2 / p.M1:.3g} is below 1e-290: the mass fraction leaves the floating-point range"
+
+
+ranges.declare(exercise, ranges.Scale("M2/(M1 + M2)", {"M2": 1, "M1": -1}, "the mass fraction", low=-290.0,
+                                      high=math.inf, log_factor=lambda p: -math.log10(1.0 + p.M2 / p.M1)))
 
 
 def _horner(coeffs, x):

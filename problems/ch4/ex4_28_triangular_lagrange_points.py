@@ -31,6 +31,7 @@ import math
 
 import numpy as np
 
+from mech.problems import ranges
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.frames import (
     characteristic_exponents,
@@ -56,15 +57,10 @@ exercise = Exercise(
 )
 
 
-exercise.declare_limits(
-    "min(M1, M2)/(M1 + M2) >= 1e-290",
-)
-
-
-@exercise.constraint
-def constraint(p):
-    if min(p.M1, p.M2) / (p.M1 + p.M2) < 1e-290:
-        return "the mass ratio is below 1e-290: the smaller mass fraction leaves the floating-point range"
+ranges.declare(exercise, ranges.Scale(
+    "min(M1, M2)/(M1 + M2)", {}, "the smaller mass fraction", low=-290.0, high=math.inf,
+    log_factor=lambda p: math.log10(min(p.M1, p.M2)) - math.log10(max(p.M1, p.M2))
+    - math.log10(1.0 + min(p.M1, p.M2) / max(p.M1, p.M2))))
 
 
 def _omega(p):

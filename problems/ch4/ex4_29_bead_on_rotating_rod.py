@@ -31,6 +31,7 @@ import math
 
 import numpy as np
 
+from mech.problems import ranges
 from mech.problems.spec import Exercise, NumericFailure
 
 exercise = Exercise(
@@ -44,6 +45,11 @@ exercise = Exercise(
     # the bead from 0 to t (when it moves): its coordinate along the rod and its velocity relative to it
     states=[("r", "m"), ("r_dot", "m/s")],
 )
+
+# the distance r <= (|r0| + |v0| t) e^(omega t): beyond 1e306 m it (or omega^2 r) soon is no double
+ranges.declare(exercise, ranges.Scale(
+    "(|r0| + |v0| t) e^(omega t)", {}, "the bead's distance", low=-math.inf, high=306.0,
+    factor=lambda p: (abs(p.r0) + abs(p.v0) * p.t) * math.exp(min(p.omega * p.t, 1000.0))))
 
 MAX_OMEGA_T = 100.0
 

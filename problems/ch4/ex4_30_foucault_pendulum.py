@@ -87,7 +87,7 @@ def motion(p):
     1/(w0 + |w_z|) (the faster rate sets the steps), lengths in a."""
     from mech.problems.motion import Motion
 
-    w0 = math.sqrt(p.g / p.l)
+    w0 = math.sqrt(p.g) / math.sqrt(p.l)  # roots apart: g/l leaves the range where w0 does not
     wz = _omega_z(p)
     rate = w0 + abs(wz)
     c2 = (w0 / rate) ** 2  # scaled restoring coefficient
@@ -122,7 +122,7 @@ def motion(p):
 
 @exercise.numeric
 def numeric(p, run):
-    w0 = math.sqrt(p.g / p.l)
+    w0 = math.sqrt(p.g) / math.sqrt(p.l)  # roots apart: g/l leaves the range where w0 does not
     wz = _omega_z(p)
     if abs(wz) > 1e8 * w0:
         # the Earth-frame path is a slow drift with loops of relative size w0^2 / (4 w_z^2) < 2.5e-17:

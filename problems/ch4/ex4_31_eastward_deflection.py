@@ -114,7 +114,9 @@ def analytic(p):
         m = _one_minus_sinc(x)
         return (tau - 1.0) * (tau + 1.0) - tau * tau * s * s * m * (2.0 - m)
 
-    if eps == 0.0:
+    if eps < 1e-100:
+        # tau - 1 ~ s^2 eps^2/6 is below 1e-200, far under an ulp of 1: tau is 1 in doubles (and pi/(2 eps)
+        # would leave the range for a subnormal eps)
         tau = 1.0
     else:
         # lost(1) <= 0 (sinc <= 1); at eps tau = pi/2 it is >= 1/eps^2 - 1 > 0 for eps <= 0.5

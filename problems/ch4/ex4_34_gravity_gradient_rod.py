@@ -63,7 +63,7 @@ exercise = Exercise(
 
 def _omega(p):
     # the orbital rate (GM/R^3)^(1/2), formed without R^3 (which leaves the range at R = 1e+-200 times 7e6 m)
-    return math.sqrt(p.GM / p.R) / p.R
+    return math.sqrt(p.GM) / math.sqrt(p.R) / p.R  # nor GM/R, which underflows for GM near 5e-324
 
 
 @exercise.analytic

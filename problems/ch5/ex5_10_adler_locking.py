@@ -49,6 +49,7 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.numerics.circle_map import fourier_fit, rotation_number
 
 exercise = Exercise(
     "5.10",
@@ -164,14 +165,12 @@ PHASE_STEP = math.pi / 3.0  # steps around the locked loop that bracket its fold
 MAX_SETTLE = 300  # drive periods at most (very small mu): the claim then carries the transient left over
 
 
-@exercise.numeric
-def numeric(p, run):
-    from mech.solvers.mechanics.continuation import OrbitMap, RotatingOrbitMap, solve_on_plane
-    from mech.solvers.numerics.roots import brentq
+def _orbit_map(p, run):
+    """The one-period map of the oscillator in units of the swing Q and of the detuning W, and the scale
+    of its increments (1, or mu/omega0 where the rotating map computes them to rtol of themselves)."""
+    from mech.solvers.mechanics.continuation import OrbitMap, RotatingOrbitMap
 
-    rtol = run.rtol
     mu, beta, w0, f0 = p.mu, p.beta, p.omega0, p.f0
-
     Q = 1.0 / math.sqrt(beta)  # unit of length (the cycle's swing is about 2 Q)
     W = f0 * math.sqrt(beta) / w0  # unit of detuning: the drive's strength over the swing, by dimensions
     memo_key = ("5.10", *(float(p[k]) for k in p))
@@ -192,6 +191,119 @@ def numeric(p, run):
         om = RotatingOrbitMap(remainder, f0, Q, w0, W, scale, memo=run.shared, memo_key=memo_key,
                               integrator=run.integrator)
     run.info["orbit_map"] = type(om).__name__
+    return om, Q, W, scale
+
+
+# The locked orbits form a closed loop around the w axis, parametrized by their phase against the drive:
+# on the plane normal to the circle's tangent at the angle th, n = (-sin th, cos th, 0), Newton solves
+# for the swing and the frequency (w).  That is well posed however weak the drive: the swing's
+# direction is stiff (relaxation mu per unit time), and w enters the phase's closing directly.  At a
+# fixed frequency instead, Newton's first step along the nearly neutral phase (stiffness ~ Delta,
+# against mu along the swing) overshoots from a far start, and a continuation in w steers by tangents
+# that the Jacobian of a point off the branch by more than ~Delta/mu in swing gets wrong.
+def _on_branch(om, th, known, r, fresh=True):
+    """The locked orbit of phase th, Newton started from the solved point ``known`` = (th', bp) moved
+    along the branch's tangent (first order in th - th'; at a start, bp = None: a swing of 2 Q, w = 0).
+    ``fresh``: its Jacobian evaluated at the converged point (det(M - I) needs it), else that of Newton's
+    last iterate (the converged z is the same)."""
+    from mech.solvers.mechanics.continuation import solve_on_plane
+
+    R, w = 2.0, 0.0
+    if known[1] is not None:
+        t_known, bp = known
+        z, tg = bp.z, bp.tangent
+        R = math.hypot(z[0], z[1])
+        w = z[2]
+        dth = (z[0] * tg[1] - z[1] * tg[0]) / (R * R)  # d(phase)/ds along the tangent
+        if abs(dth) * R > 1e-3 * np.linalg.norm(tg):
+            R += (z[0] * tg[0] + z[1] * tg[1]) / R / dth * (th - t_known)
+            w += tg[2] / dth * (th - t_known)
+    c, sn = math.cos(th), math.sin(th)
+    bp = solve_on_plane(om, [R * c, R * sn, w], [-sn, c, 0.0], 0.0, rtol=r, tol=1e-9, max_iter=12,
+                        fresh=fresh, monotone=False)
+    if bp is None or not bp.A > 1.0:  # not the small unstable orbit near rest
+        raise NumericFailure(f"no locked orbit found at the phase {th:.4g} rad: Newton did not converge")
+    return bp
+
+
+
+def _fold_brackets(om, rs):
+    """Phases bracketing the two folds: from the phase where the drive pushes the swing outward (the centre
+    of the range, w ~ 0), in steps of PHASE_STEP each way round until w turns back: the edges are the
+    folds, where det(M - I), the w-component of the branch's tangent, changes sign.  Adler's loop is
+    w ~ -(Delta/W) cos(phase) with the folds a quarter turn either side, moved by ~Delta/mu rad by the
+    drive's push on the swing (at most 0.25 rad, half a step).  Not all the way round: where the drive
+    pushes the swing inward and 4 Delta/mu exceeds 4/(3 sqrt 3), no locked orbit of a large swing has that
+    phase (the loop turns through small swings there)."""
+    th0 = 0.5 * math.pi
+    start = _on_branch(om, th0, (th0, None), rs)
+    brackets = []
+    for direction in (+1.0, -1.0):
+        prev = (th0, start)
+        for k in range(1, 4):
+            th = th0 + direction * k * PHASE_STEP
+            bp = _on_branch(om, th, prev, rs)
+            if np.sign(bp.tangent[2]) != np.sign(prev[1].tangent[2]):
+                brackets.append(sorted([prev, (th, bp)], key=lambda u: u[0]))
+                break
+            prev = (th, bp)
+        else:
+            raise NumericFailure("w did not turn back within half a turn of phase from the centre of the range")
+    return brackets
+
+
+def _folds(om, brackets, rr, r_search, edge_claim):
+    """Each fold refined by Brent's method on det(M - I) over the phase (see ``numeric`` for the search's
+    tolerance), then solved at rr; sorted by w, highest first."""
+    from mech.solvers.numerics.roots import brentq
+
+    folds = []
+    for (ta, ba), (tb, bb) in brackets:
+        near = {ta: ba, tb: bb}
+
+        def det(th):
+            t0 = min(near, key=lambda t: abs(t - th))
+            bp = near[th] = _on_branch(om, th, (t0, near[t0]), r_search)
+            return bp.tangent[2]
+
+        root = brentq(det, ta, tb, xtol=0.1 * math.sqrt(edge_claim), rtol=1e-15, maxiter=100,
+                      fa=ba.tangent[2], fb=bb.tangent[2])
+        fold = near.get(root) if rr == r_search else None
+        if fold is None:
+            t0 = min(near, key=lambda t: abs(t - root))
+            # the edge is z's w: the Jacobian of the last iterate is enough (fold_multipliers, the swing)
+            fold = _on_branch(om, root, (t0, near[t0]), rr, fresh=False)
+        folds.append(fold)
+    folds.sort(key=lambda f: f.z[2], reverse=True)
+    return folds
+
+
+def _beat_at(p, run, folds, Q, xi_lo, xi_hi):
+    """The beat and its claim: 0 inside the locking range, else from a settling run."""
+    xi = p.omega - p.omega0
+    if xi_lo <= xi <= xi_hi:
+        # the locked orbit exists here: the oscillator runs at exactly omega
+        run.claim("beat", rel=0.0, abs=0.0)
+        run.info["locked"] = True
+        return 0.0
+    near = folds[0] if xi > xi_hi else folds[1]
+    beat, err = _beat(p, run, amplitude=near.A * Q)
+    rel = max(10.0 * err, 100.0 * run.rtol * p.omega / beat)
+    if rel >= 1.0:
+        # outside the range the beat is positive; an error bar as large as the beat itself is no answer
+        # (just outside a range far narrower than omega0's round-off, the settling run cannot resolve it)
+        raise NumericFailure(f"the beat {beat:.2g} rad/s is not resolved: its error bar would be {rel:.1g} "
+                             f"times its value (omega is {abs(xi - (xi_hi if xi > xi_hi else xi_lo)):.2g} "
+                             f"rad/s outside a locking range {xi_hi - xi_lo:.2g} rad/s wide)")
+    run.claim("beat", rel=rel)
+    run.info["locked"] = False
+    return beat
+
+
+@exercise.numeric
+def numeric(p, run):
+    rtol, w0 = run.rtol, p.omega0
+    om, Q, W, scale = _orbit_map(p, run)
     # the map's increments are computed to about rtol of ``scale``; a unit of w moves the orbit's phase per
     # period by T W (T = 2 pi/omega0), the swing relaxes by mu T
     T = 2.0 * math.pi / w0
@@ -203,58 +315,7 @@ def numeric(p, run):
     edge_claim = max(exercise.tol_factor * rtol, 100.0 * rr * w0 * scale / W)
     for name in ("xi_lo", "xi_hi", "width"):
         run.claim(name, rel=edge_claim)
-
-    # The locked orbits form a closed loop around the w axis, parametrized by their phase against the drive:
-    # on the plane normal to the circle's tangent at the angle th, n = (-sin th, cos th, 0), Newton solves
-    # for the swing and the frequency (w).  That is well posed however weak the drive: the swing's
-    # direction is stiff (relaxation mu per unit time), and w enters the phase's closing directly.  At a
-    # fixed frequency instead, Newton's first step along the nearly neutral phase (stiffness ~ Delta,
-    # against mu along the swing) overshoots from a far start, and a continuation in w steers by tangents
-    # that the Jacobian of a point off the branch by more than ~Delta/mu in swing gets wrong.
-    def on_branch(th, known, r, fresh=True):
-        """The locked orbit of phase th, Newton started from the solved point ``known`` = (th', bp) moved
-        along the branch's tangent (first order in th - th'; at a start, bp = None: a swing of 2 Q, w = 0).
-        ``fresh``: its Jacobian evaluated at the converged point (det(M - I) needs it), else that of Newton's
-        last iterate (the converged z is the same)."""
-        R, w = 2.0, 0.0
-        if known[1] is not None:
-            t_known, bp = known
-            z, tg = bp.z, bp.tangent
-            R = math.hypot(z[0], z[1])
-            w = z[2]
-            dth = (z[0] * tg[1] - z[1] * tg[0]) / (R * R)  # d(phase)/ds along the tangent
-            if abs(dth) * R > 1e-3 * np.linalg.norm(tg):
-                R += (z[0] * tg[0] + z[1] * tg[1]) / R / dth * (th - t_known)
-                w += tg[2] / dth * (th - t_known)
-        c, sn = math.cos(th), math.sin(th)
-        bp = solve_on_plane(om, [R * c, R * sn, w], [-sn, c, 0.0], 0.0, rtol=r, tol=1e-9, max_iter=12,
-                            fresh=fresh, monotone=False)
-        if bp is None or not bp.A > 1.0:  # not the small unstable orbit near rest
-            raise NumericFailure(f"no locked orbit found at the phase {th:.4g} rad: Newton did not converge")
-        return bp
-
-    # from the phase where the drive pushes the swing outward (the centre of the range, w ~ 0), in steps of
-    # PHASE_STEP each way round until w turns back: the edges are the folds, where det(M - I), the
-    # w-component of the branch's tangent, changes sign.  Adler's loop is w ~ -(Delta/W) cos(phase) with
-    # the folds a quarter turn either side, moved by ~Delta/mu rad by the drive's push on the swing (at most
-    # 0.25 rad, half a step).  Not all the way round: where the drive pushes the swing inward and 4 Delta/mu
-    # exceeds 4/(3 sqrt 3), no locked orbit of a large swing has that phase (the loop turns through small
-    # swings there)
-    th0 = 0.5 * math.pi
-    start = on_branch(th0, (th0, None), rs)
-    brackets = []
-    for direction in (+1.0, -1.0):
-        prev = (th0, start)
-        for k in range(1, 4):
-            th = th0 + direction * k * PHASE_STEP
-            bp = on_branch(th, prev, rs)
-            if np.sign(bp.tangent[2]) != np.sign(prev[1].tangent[2]):
-                brackets.append(sorted([prev, (th, bp)], key=lambda u: u[0]))
-                break
-            prev = (th, bp)
-        else:
-            raise NumericFailure("w did not turn back within half a turn of phase from the centre of the range")
-
+    brackets = _fold_brackets(om, rs)
     # each fold refined by Brent's method on det(M - I) over the phase.  Near it the phase multiplier is
     # 1 + T D s (Adler: per period T = 2 pi/omega0 the phase direction contracts by T D sin phi, D the
     # half-width ~ W/4, s the phase from the fold): M's error c rtol_s (c ~ 3 measured, in units of the
@@ -263,24 +324,7 @@ def numeric(p, run):
     # a tenth of the claim (and so tightens with rtol, which the rerun then sees)
     r_search = min(rs, max(rr, 0.1 * sens * math.sqrt(0.1 * edge_claim / 8.0)))
     run.info["rtol_fold_search"] = r_search
-    folds = []
-    for (ta, ba), (tb, bb) in brackets:
-        near = {ta: ba, tb: bb}
-
-        def det(th):
-            t0 = min(near, key=lambda t: abs(t - th))
-            bp = near[th] = on_branch(th, (t0, near[t0]), r_search)
-            return bp.tangent[2]
-
-        root = brentq(det, ta, tb, xtol=0.1 * math.sqrt(edge_claim), rtol=1e-15, maxiter=100,
-                      fa=ba.tangent[2], fb=bb.tangent[2])
-        fold = near.get(root) if rr == r_search else None
-        if fold is None:
-            t0 = min(near, key=lambda t: abs(t - root))
-            # the edge is z's w: the Jacobian of the last iterate is enough (fold_multipliers, the swing)
-            fold = on_branch(root, (t0, near[t0]), rr, fresh=False)
-        folds.append(fold)
-    folds.sort(key=lambda f: f.z[2], reverse=True)
+    folds = _folds(om, brackets, rr, r_search, edge_claim)
     xi_hi, xi_lo = folds[0].z[2] * W, folds[1].z[2] * W
     if not xi_lo < xi_hi:
         raise NumericFailure("the edges came out in the wrong order")
@@ -290,25 +334,7 @@ def numeric(p, run):
     run.info["orbit_maps"] = om.calls
     run.info["orbit_maps_reused"] = om.memo_hits  # taken from the solve by its rerun (Run.shared)
     run.record(om, method="DOP853")  # every integration of the orbit map
-
-    xi = p.omega - w0
-    if xi_lo <= xi <= xi_hi:
-        # the locked orbit exists here: the oscillator runs at exactly omega
-        run.claim("beat", rel=0.0, abs=0.0)
-        run.info["locked"] = True
-        beat = 0.0
-    else:
-        near = folds[0] if xi > xi_hi else folds[1]
-        beat, err = _beat(p, run, amplitude=near.A * Q)
-        rel = max(10.0 * err, 100.0 * rtol * p.omega / beat)
-        if rel >= 1.0:
-            # outside the range the beat is positive; an error bar as large as the beat itself is no answer
-            # (just outside a range far narrower than omega0's round-off, the settling run cannot resolve it)
-            raise NumericFailure(f"the beat {beat:.2g} rad/s is not resolved: its error bar would be {rel:.1g} "
-                                 f"times its value (omega is {abs(xi - (xi_hi if xi > xi_hi else xi_lo)):.2g} "
-                                 f"rad/s outside a locking range {xi_hi - xi_lo:.2g} rad/s wide)")
-        run.claim("beat", rel=rel)
-        run.info["locked"] = False
+    beat = _beat_at(p, run, folds, Q, xi_lo, xi_hi)
     return {"xi_lo": xi_lo, "xi_hi": xi_hi, "width": xi_hi - xi_lo, "beat": beat}
 
 
@@ -373,9 +399,9 @@ def _beat(p, run, amplitude):
     for k in (0, 1):
         th0, th1 = phases[:, k], phases[:, k + 1]
         d = np.mod(th1 - th0 + math.pi, 2.0 * math.pi) - math.pi  # the advance beyond one full turn
-        coef, resid = _fit(th0, d)
+        coef, resid = fourier_fit(th0, d, N_MODES)
         fit_err = max(fit_err, resid)
-        means.append(_rotation(coef))
+        means.append(rotation_number(coef, N_MODES))
     mean_d = means[1]
     if mean_d == 0.0:
         raise NumericFailure("the fitted circle map has no mean drift: the oscillator looks locked outside the range")
@@ -388,46 +414,3 @@ def _beat(p, run, amplitude):
     run.info["beat_fit_residual"] = fit_err
     run.info["beat_two_fits_rel_diff"] = abs(means[1] - means[0]) / abs(mean_d)
     return beat, err
-
-
-def _basis(theta, K=N_MODES):
-    k = np.arange(1, K + 1)
-    ang = np.outer(np.atleast_1d(theta), k)
-    return np.hstack([np.ones((ang.shape[0], 1)), np.cos(ang), np.sin(ang)])
-
-
-def _fit(theta, d):
-    B = _basis(theta)
-    coef, *_ = np.linalg.lstsq(B, d, rcond=None)
-    resid = float(np.max(np.abs(B @ coef - d)))
-    return coef, resid
-
-
-def _rotation(coef):
-    """Weighted Birkhoff average of d along an orbit of theta -> theta + d(theta) (mod 2 pi)."""
-    K = N_MODES
-    c0 = float(coef[0])
-    # sum_k a_k cos k theta + b_k sin k theta = Re sum_k (a_k - i b_k) e^(i k theta): Horner in e^(i theta),
-    # a few complex products per iterate instead of numpy calls on K-vectors (the loop below runs
-    # thousands of times)
-    c = [complex(float(coef[k]), -float(coef[K + k])) for k in range(1, K + 1)]
-
-    def d(theta):
-        z = complex(math.cos(theta), math.sin(theta))
-        acc = 0j
-        for ck in reversed(c):
-            acc = (acc + ck) * z
-        return c0 + acc.real
-
-    # the orbit's quasi-period in iterations is about 2 pi/|c0| (c0 ~ the mean of d); many of them are needed
-    slip = 2.0 * math.pi / max(abs(c0), 1e-12)
-    n = int(min(max(400.0, 25.0 * slip), 200000))
-    theta, num, den = 0.0, 0.0, 0.0
-    for i in range(n):
-        s = (i + 0.5) / n
-        wgt = math.exp(-1.0 / (s * (1.0 - s)))
-        dd = d(theta)
-        num += wgt * dd
-        den += wgt
-        theta = math.fmod(theta + dd, 2.0 * math.pi)
-    return num / den

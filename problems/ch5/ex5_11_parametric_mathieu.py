@@ -22,12 +22,8 @@ of the growth rate.  P is formed as exp(-delta T) F with F from half-period
 products that do not cancel (``_minus_one_scaled``), so a zone 1e-7 omega0
 wide (|P| ~ 1e-14) is still resolved.
 
-Allowances (``_second_order``, ``_allowances``): twice the next order of the first zone (centre at
-a = 1 - k^2/8, sigma^2 kept, detuning not linearized, third harmonics' coupling), plus a floor measured
-against Floquet at 66 points:
-  mu_th   + 0.005 mu_th^2;   growth  + 0.002 k^2 of the rate (absolute at threshold);
-  xi_lo, xi_hi  + 0.005 k^2 + 0.01 (delta/omega0)^2 (absolute, the width a zone may have, where the theory
-  finds none).
+The one-point route is the batched route of the charts (``numeric_batch``) at one point, with the
+Run's integrator.  Allowances: ``_allowances`` (twice the next order, solvers.mechanics.mathieu, plus a floor).
 """
 
 from __future__ import annotations
@@ -37,8 +33,8 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.numerics.roots import golden_min
-from mech.solvers.mechanics.floquet import even_hill_half
+from mech.solvers.mechanics.mathieu import first_zone_next_order
+from mech.solvers.mechanics.floquet import even_hill_half, half_period_growth, half_period_minus_one
 
 exercise = Exercise(
     "5.11",
@@ -76,97 +72,36 @@ def constraint(p):
 
 
 def _lo(omega0, delta, mu, xi):
-    """The leading-order answers as functions of the theory's own parameters."""
+    """The leading-order answers as functions of the theory's own parameters, over arrays (NaN marks an
+    undefined edge: eps <= delta)."""
     eps = mu * omega0 / 4.0
     s2 = eps * eps - xi * xi
-    growth = -delta + math.sqrt(s2) if s2 > 0 else -delta
-    mu_th = 4.0 * math.hypot(delta, xi) / omega0
+    growth = np.where(s2 > 0, -delta + np.sqrt(np.maximum(s2, 0.0)), -delta)
     h2 = eps * eps - delta * delta
-    if h2 > 0:
-        h = math.sqrt(h2)
-        lo, hi = -h, h
-    else:
-        lo = hi = Undefined(f"eps = mu omega0/4 = {eps:.6g} 1/s does not exceed delta = {delta:.6g} 1/s: "
-                            "the rest state is stable at every detuning")
-    return {"mu_th": mu_th, "growth": growth, "xi_lo": lo, "xi_hi": hi}
+    h = np.where(h2 > 0, np.sqrt(np.maximum(h2, 0.0)), np.nan)
+    return {"mu_th": 4.0 * np.hypot(delta, xi) / omega0, "growth": growth, "xi_lo": -h, "xi_hi": h}
 
 
 @exercise.analytic
 def analytic(p):
-    return _lo(p.omega0, p.delta, p.mu, p.omega - p.omega0)
-
-
-def _second_order(omega0, delta, mu, omega):
-    """The first zone to the next order, over arrays: {output: value} (NaN: no zone).
-
-    With y = exp(delta t) q and s = omega t the equation is Mathieu's, y'' + (a - 2 k cos 2s) y = 0,
-    a = (omega0/omega)^2 - (delta/omega)^2, k = mu (omega0/omega)^2/2.  Keeping the harmonics
-    exp(+-i s) and their neighbours exp(+-3i s) (which shift the zone's centre to a = 1 - k^2/8, Landau &
-    Lifshitz, Mechanics, sec. 27, problem 1; Nayfeh & Mook, Nonlinear Oscillations, sec. 5.3) the
-    exponent sigma of y obeys  (sigma^2 + a')^2 + 4 sigma^2 = k^2,  a' = a - 1 + k^2/(9 - a):
-    the leading order drops sigma^2 next to a' and linearizes a in the detuning.  So
-        growth = omega sigma - delta,
-        mu_th:  k^2 = (omega0^2/omega^2 - 1 + k^2/(9 - a))^2 + 4 (delta/omega)^2   (sigma = delta/omega),
-        edges:  the two roots u = (omega0/omega)^2 of the same at the given mu, omega = omega0/sqrt(u).
-    Measured against Floquet at 66 points: what this leaves is below 2e-5 relative for mu, delta/omega0 <~
-    0.05, at most 2e-4 k^2 (growth), 0.002 k^2 (edges), 0.0016 mu_th^2 (threshold) elsewhere."""
-    omega0, delta, mu, omega = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (omega0, delta, mu, omega)))
-    W2 = (omega0 / omega) ** 2
-    d = delta / omega
-    k = mu * W2 / 2.0
-    a = W2 - d * d
-    ap = a - 1.0 + k * k / (9.0 - a)
-    B, c = 4.0 + 2.0 * ap, ap * ap - k * k
-    with np.errstate(invalid="ignore", divide="ignore"):
-        s2 = np.where(c < 0, 2.0 * (k * k - ap * ap) / (B + np.sqrt(np.maximum(B * B - 4.0 * c, 0.0))), 0.0)
-    # then the neighbours' coupling k^2/((sigma + 3i)^2 + a) in full (its phase matters where sigma ~ k):
-    # Newton steps on |(sigma + i)^2 + a - k^2/((sigma + 3i)^2 + a)|^2 = k^2 from that root
-    sg = np.sqrt(s2)
-    for _ in range(4):
-        c3 = k * k / ((sg + 3j) ** 2 + a)
-        al, be = a - 1.0 - c3.real, c3.imag
-        h = (sg * sg + al) ** 2 + (2.0 * sg - be) ** 2 - k * k
-        dh = 4.0 * sg * (sg * sg + al) + 4.0 * (2.0 * sg - be)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            step = np.where((s2 > 0) & (dh != 0), h / dh, 0.0)
-        sg = np.maximum(sg - step, 0.0)
-    growth = omega * sg - delta
-    def E2(sig, a, k):  # |(sig + i)^2 + a - k^2/((sig + 3i)^2 + a)|^2 - k^2: zero on the zone's edge (sig = d)
-        c3 = k * k / ((sig + 3j) ** 2 + a)
-        return (sig * sig + a - 1.0 - c3.real) ** 2 + (2.0 * sig - c3.imag) ** 2 - k * k
-
-    kt = np.sqrt((W2 - 1.0) ** 2 + 4.0 * d * d)
-    for _ in range(10):  # contracts by ~|W2 - 1|/2 <= 0.5 per step
-        kt = np.sqrt(np.maximum(E2(d, a, kt) + kt * kt, 0.0))
-    mu_th = 2.0 * kt / W2
-
-    def F(u):  # > 0 outside the zone, < 0 inside, at the given mu (u = (omega0/omega)^2)
-        du = delta * np.sqrt(u) / omega0
-        return E2(du, u - du * du, mu * u / 2.0)
-
-    uc = 1.0 - (mu / 2.0) ** 2 / 8.0
-    zone = F(uc) < 0
-    edges = []
-    for side in (1.0, -1.0):  # u above the centre: the lower edge in omega
-        lo, hi = uc.copy(), uc + side * 2.0 * mu
-        for _ in range(60):
-            mid = 0.5 * (lo + hi)
-            inside = F(mid) < 0
-            lo, hi = np.where(inside, mid, lo), np.where(inside, hi, mid)
-        u = 0.5 * (lo + hi)
-        edges.append(np.where(zone, omega0 / np.sqrt(np.maximum(u, 1e-300)) - omega0, np.nan))
-    return {"growth": growth, "mu_th": mu_th, "xi_lo": edges[0], "xi_hi": edges[1]}
+    out = {k: float(v) for k, v in _lo(p.omega0, p.delta, p.mu, p.omega - p.omega0).items()}
+    if math.isnan(out["xi_hi"]):
+        eps = p.mu * p.omega0 / 4.0
+        out["xi_lo"] = out["xi_hi"] = Undefined(
+            f"eps = mu omega0/4 = {eps:.6g} 1/s does not exceed delta = {p.delta:.6g} 1/s: the rest state is stable "
+            "at every detuning")
+    return out
 
 
 def _allowances(omega0, delta, mu, omega):
-    """{output: (relative, absolute)} arrays: twice the next order (``_second_order`` minus the leading
+    """{output: (relative, absolute)} arrays: twice the next order (``first_zone_next_order`` minus the leading
     order) plus a floor from the order after it (measured at 66 points against Floquet: growth <= 2e-4 k^2 of
     omega sigma, mu_th <= 0.0016 mu_th^2, edges <= 0.002 k^2), with k = mu/2 the pump's Mathieu parameter.
     Relative where the leading value is not zero; the growth at threshold, 0, gets an absolute one; edges the
     theory does not find (eps <= delta) get the absolute width a zone may still have."""
     omega0, delta, mu, omega = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (omega0, delta, mu, omega)))
-    lo = _lo_batch(omega0, delta, mu, omega - omega0)
-    nx = _second_order(omega0, delta, mu, omega)
+    lo = _lo(omega0, delta, mu, omega - omega0)
+    nx = first_zone_next_order(omega0, delta, mu, omega)
     k2, d2 = (mu / 2.0) ** 2, (delta / omega0) ** 2
     out = {}
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -183,7 +118,7 @@ def _allowances(omega0, delta, mu, omega):
             rel = np.where(np.isnan(nx[name]), 1.0, rel)  # the next order closes the zone: all of it
             # no zone in the theory: one may still open, no wider than the next order's, or the coupling
             # eps (1 + k^2/4) gives
-            widest = np.fmax(np.abs(nx[name]), _lo_batch(omega0, delta, mu * (1.0 + k2 / 2.0), 0.0 * mu)["xi_hi"])
+            widest = np.fmax(np.abs(nx[name]), _lo(omega0, delta, mu * (1.0 + k2 / 2.0), 0.0 * mu)["xi_hi"])
             ab = np.where(np.isnan(h), 2.0 * widest + (mu**2 / 32.0 + d2) * omega0, np.nan)
             out[name] = (np.where(np.isnan(h), np.nan, rel), ab)
     return out
@@ -191,12 +126,8 @@ def _allowances(omega0, delta, mu, omega):
 
 @exercise.expected_error
 def expected_error(p):
-    """What the reduced equations neglect (``_allowances``), one line per output:
-      mu_th   twice the next order (the zone's centre at a = 1 - k^2/8, sigma^2 kept next to the detuning,
-              the detuning not linearized) plus 0.005 mu_th^2;
-      growth  twice the next order plus 0.002 k^2 of the rate omega sigma (k = mu/2); absolute at threshold;
-      xi_lo, xi_hi  twice the next order plus 0.005 k^2 + 0.01 (delta/omega0)^2; where the theory finds no zone,
-              the width one may still have, absolute."""
+    """What the reduced equations neglect: ``_allowances`` at the point (mu_th + 0.005 mu_th^2, growth + 0.002
+    k^2 of the rate, the edges + 0.005 k^2 + 0.01 (delta/omega0)^2 over twice the next order)."""
     allow = _allowances(p.omega0, p.delta, p.mu, p.omega)
     out = {}
     for name, (rel, ab) in allow.items():
@@ -231,150 +162,62 @@ def _half(p, omega, mu, rtol, run):
     )
     run.record(traj)
     run.invariant("Wronskian", y1 * y2p - y1p * y2 - 1.0)
-    # DOP853's global error on unit solutions: ~rtol plus 0.06 rtol per radian (measured for 5.3's maps);
-    # taken as 2 rtol plus 0.2 rtol per radian of omega0 T/2 (y1, y2' ~ 1; y1' ~ omega0; y2 ~ 1/omega0)
-    return y1, y1p, y2, y2p, rtol * (2.0 + 0.2 * p.omega0 * 0.5 * T)
+    return y1, y1p, y2, y2p, _half_error(rtol, p.omega0, T)
 
 
-def _minus_one_scaled(y1, y1p, y2, y2p, e, dT, omega0):
-    """(F, its absolute error) with F = det(M + I) / exp(-delta T), M the monodromy matrix of q; dT = delta T.
-
-    With the multipliers of q equal to exp(-delta T) times those of y, det(M + I) = 1 + exp(-dT) tr M_y +
-    exp(-2 dT), so F = 2 cosh dT + tr M_y.  Near a multiplier -1 (tr M_y near -2) that sum cancels almost
-    completely (a narrow zone: F ~ -(eps^2 - delta^2) T^2 ~ 1e-14 while tr M_y ~ 2 carries an error ~rtol),
-    so it is formed from the half-period products that do not cancel: tr M_y + 2 = 4 y1 y2' gives
-    F = 4 y1 y2' + 4 sinh^2(dT/2); tr M_y - 2 = 4 y1' y2 gives F = 4 y1' y2 + 4 cosh^2(dT/2) (used when
-    tr M_y > 0, where F is far from 0).  The error is that of the product from the errors e of its two
-    unit-sized factors, plus the round-off of the sum."""
-    neg = y1 * y2p + y1p * y2 < 0  # tr M_y < 0
-    prod = 4.0 * np.where(neg, y1 * y2p, y1p * y2)
-    extra = np.where(neg, 4.0 * np.sinh(0.5 * dT) ** 2, 4.0 * np.cosh(0.5 * dT) ** 2)
-    err = 4.0 * e * (np.where(neg, np.abs(y1) + np.abs(y2p), np.abs(y1p) / omega0 + np.abs(y2) * omega0) + e)
-    return prod + extra, err + 4.0 * 2.0**-53 * (np.abs(prod) + extra)
+def _half_error(rtol, omega0, T):
+    """The absolute error of the unit-sized half-period values y1, y2': DOP853's global error on unit
+    solutions, ~rtol plus 0.06 rtol per radian (measured for 5.3's maps), taken as 2 rtol plus 0.2 rtol per
+    radian of omega0 T/2 (y1, y2' ~ 1; y1' ~ omega0; y2 ~ 1/omega0)."""
+    return rtol * (2.0 + 0.2 * omega0 * 0.5 * T)
 
 
-def _minus_one(p, omega, mu, rtol, run):
-    """(F, its error) of ``_minus_one_scaled`` at this omega and mu: F < 0 inside the first zone."""
-    y1, y1p, y2, y2p, e = _half(p, omega, mu, rtol, run)
-    F, err = _minus_one_scaled(y1, y1p, y2, y2p, e, p.delta * math.pi / omega, p.omega0)
-    return float(F), float(err)
-
-
-def _growth(p, rtol, run):
-    """(growth, its absolute error) of the full damped equation at the given mu and omega.
-
-    growth = ln(lambda_y)/T - delta with lambda_y the largest |multiplier| of the Hill equation for
-    y = exp(delta t) q.  Near the zone's edge and near threshold lambda_y is close to 1, and the
-    growth a difference of two nearly equal rates, so ln(lambda_y) = arccosh(1 + h) is formed from
-    h = (|tr M| - 2)/2 without cancellation: with the half-period solutions (y1 even, y2 odd) and the
-    Wronskian y1 y2' - y1' y2 = 1, tr M + 2 = 4 y1 y2' and tr M - 2 = 4 y1' y2, and
-    arccosh(1 + h) = log1p(h + (h (h + 2))^(1/2)).  Its error is that of the four half-period
-    values, propagated through h and the square root (which amplifies it near the zone's edge)."""
-    T = math.pi / p.omega
-    y1, y1p, y2, y2p, e = _half(p, p.omega, p.mu, rtol, run)
-    tr = 2.0 * (y1 * y2p + y1p * y2)
-    # |tr| - 2 from the product that does not cancel: -(tr + 2) for tr < 0, tr - 2 for tr > 0
-    h = -2.0 * y1 * y2p if tr < 0 else 2.0 * y1p * y2
-    dh = 2.0 * e * ((abs(y1) + abs(y2p)) if tr < 0 else (abs(y1p) / p.omega0 + abs(y2) * p.omega0))
-    if h > 0:
-        ln_lam = math.log1p(h + math.sqrt(h * (h + 2.0)))
-        d_ln = dh / math.sqrt(h * (h + 2.0)) if h > dh else math.sqrt(2.0 * (h + dh))
-    else:
-        ln_lam = 0.0  # |tr| <= 2: both multipliers of y on the unit circle
-        d_ln = math.sqrt(2.0 * dh) if -h < dh else 0.0
-    growth = ln_lam / T - p.delta
-    return growth, d_ln / T + 4.0 * 2.0**-53 * (ln_lam / T + p.delta)
+def _half_at(p, run):
+    """``_MinusOne``'s half-period values at this one point, by ``_half`` (the Run's integrator, its records
+    and the Wronskian as an invariant)."""
+    def half(omega0, delta, mu, omega, rtol):
+        y = _half(p, float(omega[0]), float(mu[0]), rtol, run)[:4]
+        return tuple(np.array([v]) for v in y), np.zeros(1)
+    return half
 
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.numerics.roots import brentq
-
+    """The batched route (``numeric_batch``) at this one point: growth from the half-period solutions,
+    mu_th by ``_threshold_batch``, the edges by ``_edges_batch``, each with its claims."""
     rtol = run.rtol
-    out = {}
-
-    # growth at the given mu and omega; its error is absolute (a cancellation of two rates)
-    out["growth"], err = _growth(p, rtol, run)
-    run.claim("growth", rel=100 * rtol, abs=err)
-
-    # threshold at the given omega: the first sign change of F(mu) (det(M + I), scaled) scanning upward
-    def F_mu(mu):
-        return _minus_one(p, p.omega, mu, rtol, run)
-
-    f0, e0 = F_mu(0.0)
-    if f0 <= e0:
-        # exact resonance without damping: any modulation excites.  Near it F(0) ~ (pi xi/omega0)^2 and
-        # mu_th ~ 4 |xi|/omega0 = (4/pi) F(0)^(1/2): a value of F(0) within e0 leaves mu_th below 2 e0^(1/2)
-        out["mu_th"] = 0.0
-        run.claim("mu_th", rel=100 * rtol, abs=2.0 * math.sqrt(e0))
-    else:
-        lo, hi = 0.0, 1e-3
-        if F_mu(hi)[0] < 0.0:
-            # a threshold below 1e-3 (delta and xi small): bracket it within a factor 4, so that the root's
-            # tolerance below is relative to it
-            while hi > 1e-15 and F_mu(0.25 * hi)[0] < 0.0:
-                hi *= 0.25
-            lo = 0.25 * hi if hi > 1e-15 else 0.0
-        while F_mu(hi)[0] > 0.0:
-            lo, hi = hi, 4.0 * hi
-            if hi > 10.0:
-                raise NumericFailure("no multiplier reaches -1 for mu < 10: no first-zone threshold found")
-        xtol = 1e-15 * hi
-        mu_th = brentq(lambda m: F_mu(m)[0], lo, hi, xtol=xtol, rtol=1e-13)
-        dmu = 1e-4 * mu_th
-        f1, e1 = F_mu(mu_th + dmu)
-        slope = abs(f1) / dmu
-        out["mu_th"] = mu_th
-        run.claim("mu_th", rel=max(100 * rtol, (e1 / slope + xtol) / mu_th))
-
-    # zone edges at the given mu: roots of F(omega) on both sides of its minimum
-    seen = {}
-
-    def F_w(w):
-        if w not in seen:
-            seen[w] = _minus_one(p, w, p.mu, rtol, run)
-        return seen[w][0]
-
-    grid = np.linspace(0.55 * p.omega0, 1.6 * p.omega0, 9)
-    vals = np.array([F_w(w) for w in grid])
-    if vals[0] <= 0 or vals[-1] <= 0:
-        raise NumericFailure("the first zone reaches the end of the omega search window")
-    k = int(np.argmin(vals))
-    if vals[k] < 0:
-        w_in = grid[k]
-    else:
-        # golden-section search for the minimum, stopped as soon as F < 0 is seen
-        a, b = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
-        w_min, fmin, inside = golden_min(F_w, a, b, xtol=1e-11 * p.omega0, stop=lambda F: F < 0)
-        w_in = w_min if inside else None
-        if w_in is None:
-            emin = seen[w_min][1]
-            if fmin <= emin:
-                # the minimum is within the error of F: a zone narrower than the search can resolve may be
-                # there, so "no zone" would be a guess
-                raise NumericFailure(
-                    f"min over omega of det(M + I) exp(delta T) = {fmin:.3g} is within its accuracy {emin:.1g}: "
-                    "whether a zone exists at this mu is not resolved")
-            why = Undefined(f"min over omega of det(M + I) = {fmin * math.exp(-p.delta * math.pi / w_min):.3g} "
-                            f">= 0: no multiplier passes -1 at mu = {p.mu:g}")
-            out["xi_lo"] = out["xi_hi"] = why
-            return out
-    run.info["omega_inside_zone"] = w_in
-    below, above = grid[grid < w_in], grid[grid > w_in]
-    left = below[vals[: below.size] > 0][-1]
-    right = above[vals[grid.size - above.size :] > 0][0]
-    xtol = 1e-15 * p.omega0
-    for name, a, b, sgn in (("xi_lo", left, w_in, -1.0), ("xi_hi", w_in, right, 1.0)):
-        w = brentq(F_w, a, b, xtol=xtol, rtol=4 * 2.0**-52)
-        F_w(w)
-        # the slope over a step well inside the zone's half-width (a zone may be 1e-7 omega0 wide)
-        dw = min(1e-7 * p.omega0, 1e-2 * abs(w - w_in))
-        f1 = F_w(w + sgn * dw)
-        slope = abs(f1) / dw
-        out[name] = w - p.omega0
-        # F's error at the root over the slope, and the root's own tolerance (w is a number near omega0)
-        run.claim(name, rel=100 * rtol, abs=seen[w][1] / slope + 2.0 * xtol + 8 * 2.0**-52 * p.omega0)
+    T = math.pi / p.omega
+    growth, err = half_period_growth(*_half(p, p.omega, p.mu, rtol, run), p.omega0, p.delta, T)
+    run.claim("growth", rel=100 * rtol, abs=float(err))
+    out = {"growth": float(growth)}
+    omega0, delta, mu, omega = (np.array([float(p[k])]) for k in ("omega0", "delta", "mu", "omega"))
+    half = _half_at(p, run)
+    mu_th, rel, ab, no_root, unconv, _ = _threshold_batch(omega0, delta, omega, rtol, half=half)
+    if no_root[0] or unconv[0]:
+        raise NumericFailure(NO_THRESHOLD if no_root[0] else UNCONVERGED)
+    out["mu_th"] = float(mu_th[0])
+    run.claim("mu_th", rel=float(rel[0]), **({"abs": float(ab[0])} if ab[0] else {}))
+    edges, window, none, unresolved, _ = _edges_batch(omega0, delta, mu, rtol, half=half)
+    if window[0] or unresolved[0]:
+        raise NumericFailure(NO_WINDOW if window[0] else UNRESOLVED)
+    if none[0]:
+        out["xi_lo"] = out["xi_hi"] = Undefined(f"min over omega of det(M + I) >= 0: no multiplier passes -1 at "
+                                                f"mu = {p.mu:g}")
+        return out
+    for name in ("xi_lo", "xi_hi"):
+        value, rel, ab, unconv = edges[name]
+        if unconv[0]:
+            raise NumericFailure("the root search for the zone's edge did not converge")
+        out[name] = float(value[0])
+        run.claim(name, rel=float(rel[0]), abs=float(ab[0]))
     return out
+
+
+NO_THRESHOLD = "no multiplier reaches -1 for mu < 10: no first-zone threshold found"
+UNCONVERGED = "the root search for the threshold did not converge"
+NO_WINDOW = "the first zone reaches the end of the omega search window"
+UNRESOLVED = ("min over omega of det(M + I) exp(delta T) is within its accuracy: whether a zone exists at "
+              "this mu is not resolved")
 
 
 @exercise.scene
@@ -423,22 +266,12 @@ def scene(p, run):
 _NO_ZONE = "eps = mu omega0/4 does not exceed delta: the rest state is stable at every detuning"
 
 
-def _lo_batch(omega0, delta, mu, xi):
-    """``_lo`` over arrays (NaN marks an undefined edge)."""
-    eps = mu * omega0 / 4.0
-    s2 = eps * eps - xi * xi
-    growth = np.where(s2 > 0, -delta + np.sqrt(np.maximum(s2, 0.0)), -delta)
-    h2 = eps * eps - delta * delta
-    h = np.where(h2 > 0, np.sqrt(np.maximum(h2, 0.0)), np.nan)
-    return {"mu_th": 4.0 * np.hypot(delta, xi) / omega0, "growth": growth, "xi_lo": -h, "xi_hi": h}
-
-
 def analytic_batch(P):
     """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
     from mech.solvers.numerics.batch import Column
 
     omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
-    lo = _lo_batch(omega0, delta, mu, omega - omega0)
+    lo = _lo(omega0, delta, mu, omega - omega0)
     out = {k: Column(v) for k, v in lo.items()}
     for k in ("xi_lo", "xi_hi"):
         out[k].undefined.append((np.isnan(lo[k]), _NO_ZONE))
@@ -460,15 +293,9 @@ def theory_range_batch(P):
 
 
 def _half_batch(omega0, delta, mu, omega, rtol):
-    """(y1, y1', y2, y2') at half the period, in the time t as ``even_hill_half`` gives them, and the
-    |Wronskian drift|, at N points at once.
-
-    q = exp(-delta t) y leaves y'' + (omega0^2 (1 + mu cos 2 omega t) - delta^2) y = 0;
-    in the time s = omega t every point's modulation period pi/omega becomes
-    pi, so all points integrate the even Hill equation
-    y'' + ((omega0/omega)^2 (1 + mu cos 2s) - (delta/omega)^2) y = 0 over the
-    same half period [0, pi/2].
-    """
+    """``_half``'s (y1, y1', y2, y2') in the time t and the |Wronskian drift|, at N points at once: in the time
+    s = omega t all points integrate y'' + ((omega0/omega)^2 (1 + mu cos 2s) - (delta/omega)^2) y = 0 over
+    the same half period [0, pi/2]."""
     from mech.solvers.mechanics.floquet import even_hill_half_batch
 
     r2 = (omega0 / omega) ** 2
@@ -479,53 +306,32 @@ def _half_batch(omega0, delta, mu, omega, rtol):
     return (y1, omega * y1p, y2 / omega, y2p), np.abs(y1 * y2p - y1p * y2 - 1.0)
 
 
-def _growth_batch(omega0, delta, mu, omega, rtol):
-    """``_growth`` at N points at once: (growth, its absolute error, |Wronskian drift|), by the same
-    cancellation-free logarithm and the same error propagation."""
-    (y1, y1p, y2, y2p), drift = _half_batch(omega0, delta, mu, omega, rtol)
-    T = math.pi / omega
-    tr = 2.0 * (y1 * y2p + y1p * y2)
-    neg = tr < 0
-    h = np.where(neg, -2.0 * y1 * y2p, 2.0 * y1p * y2)
-    e = rtol * (2.0 + 0.2 * omega0 * 0.5 * T)
-    dh = 2.0 * e * np.where(neg, np.abs(y1) + np.abs(y2p), np.abs(y1p) / omega0 + np.abs(y2) * omega0)
-    hp = np.maximum(h, 0.0)
-    root = np.sqrt(hp * (hp + 2.0))
-    ln_lam = np.where(h > 0, np.log1p(hp + root), 0.0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        d_pos = np.where(h > dh, dh / np.where(root > 0, root, 1.0), np.sqrt(2.0 * np.maximum(h + dh, 0.0)))
-    d_neg = np.where(-h < dh, np.sqrt(2.0 * dh), 0.0)
-    d_ln = np.where(h > 0, d_pos, d_neg)
-    growth = ln_lam / T - delta
-    return growth, d_ln / T + 4.0 * 2.0**-53 * (ln_lam / T + delta), drift
-
-
 class _MinusOne:
     """(F, its error) of ``_minus_one_scaled`` (det(M + I) exp(delta T)) at points (omega0, delta, mu, omega),
     any one of mu or omega varied; the largest Wronskian drift of each point kept."""
 
-    def __init__(self, omega0, delta, mu, omega, rtol):
+    def __init__(self, omega0, delta, mu, omega, rtol, half=None):
         self.omega0, self.delta, self.mu, self.omega, self.rtol = omega0, delta, mu, omega, rtol
+        self.half = half or _half_batch  # (half-period values, |Wronskian drift|) at points
         self.drift = np.zeros(omega0.size)
 
     def __call__(self, idx, mu=None, omega=None):
         mu = self.mu[idx] if mu is None else mu
         omega = self.omega[idx] if omega is None else omega
         omega0, delta = self.omega0[idx], self.delta[idx]
-        (y1, y1p, y2, y2p), w = _half_batch(omega0, delta, mu, omega, self.rtol)
+        (y1, y1p, y2, y2p), w = self.half(omega0, delta, mu, omega, self.rtol)
         self.drift[idx] = np.maximum(self.drift[idx], w)
         T = math.pi / omega
-        e = self.rtol * (2.0 + 0.2 * omega0 * 0.5 * T)
-        return _minus_one_scaled(y1, y1p, y2, y2p, e, delta * T, omega0)
+        return half_period_minus_one(y1, y1p, y2, y2p, _half_error(self.rtol, omega0, T), delta * T, omega0)
 
 
-def _threshold_batch(omega0, delta, omega, rtol):
+def _threshold_batch(omega0, delta, omega, rtol, half=None):
     """``numeric``'s mu_th at N points: the first sign change of F(mu) scanning upward (downward first
     where F(1e-3) < 0), then the root."""
-    from mech.solvers.numerics.batch import illinois
+    from mech.solvers.numerics.batch import illinois, scan_down, scan_up
 
     n = omega.size
-    P = _MinusOne(omega0, delta, np.zeros(n), omega, rtol)
+    P = _MinusOne(omega0, delta, np.zeros(n), omega, rtol, half)
     allp = np.arange(n)
     p0, e0 = P(allp, mu=np.zeros(n))
     zero = p0 <= e0  # exact resonance without damping: any modulation excites
@@ -535,33 +341,16 @@ def _threshold_batch(omega0, delta, omega, rtol):
     if idx.size:
         fhi[idx] = P(idx, mu=hi[idx])[0]
     # a threshold below 1e-3: bracket it within a factor 4 (the root's tolerance is relative to it)
-    down = ~zero & (fhi < 0.0)
-    while down.any():
-        idx = np.flatnonzero(down)
-        f4 = P(idx, mu=0.25 * hi[idx])[0]
-        neg = f4 < 0.0
-        stepped = idx[neg]
-        hi[stepped], fhi[stepped] = 0.25 * hi[stepped], f4[neg]
-        floor = stepped[hi[stepped] <= 1e-15]
-        down[idx[~neg]] = False
-        down[floor] = False
-        ok = idx[~neg]
-        lo[ok], flo[ok] = 0.25 * hi[ok], f4[~neg]
-    scan = ~zero & (fhi > 0.0)
+    d = np.flatnonzero(~zero & (fhi < 0.0))
+    if d.size:
+        lo_d, hi[d], flo_d, fhi[d] = scan_down(lambda i, m: P(d[i], mu=m)[0], hi[d], fhi[d], factor=0.25, floor=1e-15)
+        set_lo = ~np.isnan(flo_d)
+        lo[d[set_lo]], flo[d[set_lo]] = lo_d[set_lo], flo_d[set_lo]
+    u = np.flatnonzero(~zero & (fhi > 0.0))
     no_root = np.zeros(n, dtype=bool)
-    while scan.any():
-        idx = np.flatnonzero(scan)
-        up = fhi[idx] > 0.0
-        grow = idx[up]
-        lo[grow], flo[grow], hi[grow] = hi[grow], fhi[grow], 4.0 * hi[grow]
-        over = grow[hi[grow] > 10.0]
-        no_root[over] = True
-        scan[idx[~up]] = False
-        scan[over] = False
-        idx = np.flatnonzero(scan)
-        if idx.size:
-            fhi[idx] = P(idx, mu=hi[idx])[0]
-            scan[idx[fhi[idx] <= 0.0]] = False
+    if u.size:
+        lo[u], hi[u], flo[u], fhi[u], no_root[u] = scan_up(lambda i, m: P(u[i], mu=m)[0], lo[u], hi[u], factor=4.0,
+                                                           limit=10.0, flo=flo[u], fhi=fhi[u])
     go = np.flatnonzero(~zero & ~no_root)
     mu_th = np.zeros(n)
     conv = np.ones(n, dtype=bool)
@@ -583,92 +372,17 @@ def _threshold_batch(omega0, delta, omega, rtol):
     return mu_th, rel, ab, no_root, ~conv, P.drift
 
 
-def _edges_batch(omega0, delta, mu, rtol):
-    """``numeric``'s zone edges at N points: F(omega) on a grid, its minimum by golden section until P < 0,
-    the roots on both sides."""
-    from mech.solvers.numerics.batch import illinois
+def _edges_batch(omega0, delta, mu, rtol, half=None):
+    """``numeric``'s zone edges at N points: the region of omega where det(M + I) < 0 around its minimum
+    (solvers.numerics.zones), searched over 0.55 - 1.6 omega0."""
+    from mech.solvers.numerics.zones import negative_region
 
     n = mu.size
-    P = _MinusOne(omega0, delta, mu, np.ones(n), rtol)
-    allp = np.arange(n)
+    P = _MinusOne(omega0, delta, mu, np.ones(n), rtol, half)
     grid = np.linspace(0.55, 1.6, 9)[None, :] * omega0[:, None]
-    vals = np.stack([P(allp, omega=grid[:, j])[0] for j in range(9)], axis=1)
-    window = (vals[:, 0] <= 0) | (vals[:, -1] <= 0)
-    k = np.argmin(vals, axis=1)
-    w_in = grid[allp, k]
-    p_in = vals[allp, k]
-    found = (p_in < 0) & ~window
-    none = np.zeros(n, dtype=bool)
-    unresolved = np.zeros(n, dtype=bool)  # the minimum is within the error of F: whether a zone exists is open
-    # golden-section search for the minimum, stopped as soon as F < 0 is seen
-    g = 0.5 * (math.sqrt(5.0) - 1.0)
-    a = grid[allp, np.maximum(k - 1, 0)]
-    b = grid[allp, np.minimum(k + 1, 8)]
-    c, d = b - g * (b - a), a + g * (b - a)
-    active = ~found & ~window
-    fc, fd = np.full(n, np.inf), np.full(n, np.inf)
-    ec, ed = np.zeros(n), np.zeros(n)
-    idx = np.flatnonzero(active)
-    if idx.size:
-        fc[idx], ec[idx] = P(idx, omega=c[idx])
-        fd[idx], ed[idx] = P(idx, omega=d[idx])
-    while active.any():
-        idx = np.flatnonzero(active)
-        hit = np.minimum(fc[idx], fd[idx]) < 0
-        h = idx[hit]
-        use_c = fc[h] < fd[h]
-        w_in[h] = np.where(use_c, c[h], d[h])
-        p_in[h] = np.where(use_c, fc[h], fd[h])
-        found[h] = True
-        active[h] = False
-        idx = idx[~hit]
-        narrow = b[idx] - a[idx] <= 1e-11 * omega0[idx]
-        nn = idx[narrow]
-        resolved = np.where(fc[nn] < fd[nn], fc[nn] > ec[nn], fd[nn] > ed[nn])
-        none[nn[resolved]] = True
-        unresolved[nn[~resolved]] = True
-        active[idx[narrow]] = False
-        idx = idx[~narrow]
-        if not idx.size:
-            break
-        left = fc[idx] < fd[idx]
-        L, R = idx[left], idx[~left]
-        b[L], d[L], fd[L], ed[L] = d[L], c[L], fc[L], ec[L]
-        c[L] = b[L] - g * (b[L] - a[L])
-        a[R], c[R], fc[R], ec[R] = c[R], d[R], fd[R], ed[R]
-        d[R] = a[R] + g * (b[R] - a[R])
-        x = np.where(left, c[idx], d[idx])
-        fx, ex = P(idx, omega=x)
-        fc[L], fd[R] = fx[left], fx[~left]
-        ec[L], ed[R] = ex[left], ex[~left]
-    out = {}
-    go = np.flatnonzero(found)
-    for name, sgn in (("xi_lo", -1.0), ("xi_hi", 1.0)):
-        value, rel, ab = np.full(n, np.nan), np.full(n, 100.0 * rtol), np.zeros(n)
-        conv = np.ones(n, dtype=bool)
-        if go.size:
-            gg, vv, wi = grid[go], vals[go], w_in[go]
-            if sgn < 0:  # the last grid point below w_in where P > 0
-                m = (gg < wi[:, None]) & (vv > 0)
-                j = 8 - np.argmax(m[:, ::-1], axis=1)
-                end, fend = gg[np.arange(go.size), j], vv[np.arange(go.size), j]
-                lo_, hi_, flo, fhi = end, wi, fend, p_in[go]
-            else:  # the first grid point above w_in where P > 0
-                m = (gg > wi[:, None]) & (vv > 0)
-                j = np.argmax(m, axis=1)
-                end, fend = gg[np.arange(go.size), j], vv[np.arange(go.size), j]
-                lo_, hi_, flo, fhi = wi, end, p_in[go], fend
-            xtol = 1e-15 * omega0[go]
-            w, ok = illinois(lambda x, i: P(go[i], omega=x)[0], lo_, hi_, flo, fhi, xtol=xtol, rtol=4 * 2.0**-52)
-            # the slope over a step well inside the zone's half-width (a zone may be 1e-7 omega0 wide)
-            dw = np.minimum(1e-7 * omega0[go], 1e-2 * np.abs(w - wi))
-            ew = P(go, omega=w)[1]
-            slope = np.abs(P(go, omega=w + sgn * dw)[0]) / dw
-            value[go] = w - omega0[go]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                ab[go] = ew / slope + 2.0 * xtol + 8 * 2.0**-52 * omega0[go]
-            conv[go] = ok
-        out[name] = (value, rel, ab, ~conv)
+    ends, window, none, unresolved = negative_region(lambda idx, w: P(idx, omega=w), grid, omega0)
+    out = {name: (w - omega0, np.full(n, 100.0 * rtol), ab, unconv)
+           for name, (w, ab, unconv) in zip(("xi_lo", "xi_hi"), ends)}
     return out, window, none, unresolved, P.drift
 
 
@@ -679,14 +393,9 @@ _CHART_OUTPUTS = ("growth", "mu_th", "xi_lo", "xi_hi")
                   theory_range=theory_range_batch,
                   boundaries={"mu": ("mu_th", "leading-order zone edge μ = μ_th(ω)")})
 def numeric_batch(P, rtol, outputs, memo=None):
-    """``numeric`` at N points at once, from the same equation of motion (see ``_half_batch``).
-
-    growth at every point; mu_th once for each distinct (omega0, delta, omega)
-    and the edges once for each distinct (omega0, delta, mu), the parameters
-    they depend on (a grid over omega and mu needs 200 thresholds, not 40 000),
-    kept in ``memo`` (one dict for the whole sweep) across its chunks.
-    The same scans, roots, claims and Wronskian check as the one-point route.
-    """
+    """The route at N points at once: growth at every point; mu_th once per distinct (omega0, delta, omega) and
+    the edges once per distinct (omega0, delta, mu) (a grid over omega and mu needs 200 thresholds, not
+    40 000), kept in ``memo`` (one dict for the whole sweep) across its chunks."""
     from mech.solvers.numerics.batch import Column, by_rows
 
     omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
@@ -695,31 +404,28 @@ def numeric_batch(P, rtol, outputs, memo=None):
     drifted = f"the Wronskian drifted by more than {allowed:.3g}"
     out = {}
     if "growth" in outputs:
-        growth, err, wronski = _growth_batch(omega0, delta, mu, omega, rtol)
+        (y1, y1p, y2, y2p), wronski = _half_batch(omega0, delta, mu, omega, rtol)
+        T = math.pi / omega
+        growth, err = half_period_growth(y1, y1p, y2, y2p, _half_error(rtol, omega0, T), omega0, delta, T)
         out["growth"] = Column(growth, rel=100 * rtol, abs=err, failed=[(wronski > allowed, drifted)])
     if "mu_th" in outputs:
         v, rel, ab, no_root, unconv, drift = by_rows(memo, ("mu_th", rtol), (omega0, delta, omega),
                                                       lambda a, b, c: _threshold_batch(a, b, c, rtol))
-        out["mu_th"] = Column(v, rel=rel, abs=ab, failed=[
-            (no_root, "no multiplier reaches -1 for mu < 10: no first-zone threshold found"),
-            (unconv, "the root search for the threshold did not converge"),
-            (drift > allowed, drifted)])
+        out["mu_th"] = Column(v, rel=rel, abs=ab, failed=[(no_root, NO_THRESHOLD), (unconv, UNCONVERGED),
+                                                          (drift > allowed, drifted)])
     if {"xi_lo", "xi_hi"} & set(outputs):
         def edges(a, b, c):
             e, window, none, unresolved, drift = _edges_batch(a, b, c, rtol)
             return (*e["xi_lo"], *e["xi_hi"], window, none, unresolved, drift)
 
         got = by_rows(memo, ("edges", rtol), (omega0, delta, mu), edges)
-        window, none, unresolved, drift = got[8], got[9].astype(bool), got[10].astype(bool), got[11]
-        window = window.astype(bool)
+        window, none, unresolved, drift = got[8].astype(bool), got[9].astype(bool), got[10].astype(bool), got[11]
         for k, name in enumerate(("xi_lo", "xi_hi")):
             if name in outputs:
                 v, rel, ab, unconv = got[4 * k: 4 * k + 4]
                 out[name] = Column(v, rel=rel, abs=ab, undefined=[
                     (none, "min over omega of det(M + I) >= 0: no multiplier passes -1 at this mu")],
-                    failed=[(window, "the first zone reaches the end of the omega search window"),
-                            (unresolved, "min over omega of det(M + I) exp(delta T) is within its accuracy: "
-                                         "whether a zone exists at this mu is not resolved"),
+                    failed=[(window, NO_WINDOW), (unresolved, UNRESOLVED),
                             (unconv, "the root search for the zone's edge did not converge"),
                             (drift > allowed, drifted)])
     return out

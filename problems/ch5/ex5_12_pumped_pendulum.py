@@ -14,36 +14,21 @@ Where the theory puts a below its threshold, theta_st = 0 has no relative
 error to give (expected error 0): it is compared as a zero, so both methods
 must put a on the same side of the threshold.
 
-Numeric: a_th and growth from the monodromy matrix of the linearized
-equation over one pivot period (q = exp(-delta t) y leaves an even Hill
-equation: half a period of DOP853); a_th is the root in a of det(M + I)
-(bracketed by a scan up from a = 1e-4 l in factors of 2, to 4 l at most).  The
-exact threshold is not small where the detuning is: at |xi| = 0.3 omega0 (the
-largest allowed) it lies at 0.64 l (0.75 l with delta = 0.2 omega0), well above
-the leading-order 0.43 l, so the scan must not stop at l/2; the first zone then
-reaches past 2.3 l, so a factor-2 scan cannot step over it.  theta_st: the stationary swing
-has period 4 pi/Omega and the symmetry theta(t + 2 pi/Omega) = -theta(t), so
-its start z is a fixed point of the half-map H(z) = -phi_{2 pi/Omega}(z).
-From the bifurcation at a_th (where H has the multiplier +1 with eigenvector e)
-the branch of fixed points is continued with the amplitude s = |z| (in
-the scaled state (theta, theta'/omega0)) as parameter and (z, a) as unknowns (Newton with the variational equations,
-a carried as a constant third state so that d/da comes with d/dz), until a
-reaches the given value.  For Omega < 2 omega0 the bifurcation is subcritical:
-the branch first runs down in a to a fold near eps = delta, a sharp turn when
-delta is small, then up through the given a; the step in s is halved wherever
-the corrector fails, and the corrector gives up as soon as a leaves (0, 10 max(a, a_th)).
-The branch is only a path to a starting guess, so it is followed at rtol
-1e-8; there z is refined
-by Newton at fixed a (its last steps at the full rtol), both multipliers of H are checked to be inside the unit
-circle, and the largest |theta| on the orbit is found by event detection on
-theta' = 0.  Nothing waits for the slow transient.
-The declared motion (``motion``) is the swing's full period, two pivot periods from z;
-the branch's and Newton's runs are tool runs of the same pendulum with its variational
-equations (``Motion.with_variations``).
-
-Allowances: a_th, growth  twice 5.11's next order of the same first zone (mu = a Omega^2/g) plus its floor;
-theta_st  a bound: the change of the leading-order swing when eps and the detuning move by their neglected
-sizes (no next order derived for the swing).
+Numeric: a_th and growth from the monodromy matrix of the linearized equation over one pivot period
+(q = exp(-delta t) y leaves an even Hill equation: half a period of DOP853); a_th is the root in a of
+det(M + I), bracketed by a scan up from a = 1e-4 l in factors of 2 to 4 l at most (at |xi| = 0.3 omega0
+the exact threshold lies at 0.64 l, well above the leading-order 0.43 l, and the zone reaches past 2.3 l:
+a factor-2 scan cannot step over it).  The one-point route is the batched one (``numeric_batch``) at one
+point, with the Run's integrator.  theta_st: the stationary swing has period 4 pi/Omega and
+theta(t + 2 pi/Omega) = -theta(t), so its start z is a fixed point of the half-map
+H(z) = -phi_{2 pi/Omega}(z).  From the bifurcation at a_th (H's multiplier +1, eigenvector e) the branch
+of fixed points is followed by its amplitude s = |z| in (theta, theta'/omega0) with (z, a) as unknowns
+(solvers.numerics.branch; a carried as a constant third state, so that the variational equations give
+d/da with d/dz): for Omega < 2 omega0 the bifurcation is subcritical and the branch first runs down in a
+to a fold near eps = delta, then up through the given a.  The branch is only a path to a guess (rtol
+1e-8); z is then refined by Newton at fixed a (its last steps at the full rtol), both multipliers of H are
+checked inside the unit circle, and the largest |theta| on the orbit is found by events on theta' = 0.
+The declared motion (``motion``) is the swing's full period, two pivot periods from z.
 """
 
 from __future__ import annotations
@@ -53,7 +38,9 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.numerics.branch import follow, newton, on_branch
 from mech.solvers.mechanics.floquet import even_hill_half
+from mech.solvers.mechanics.mathieu import first_zone_next_order
 from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
@@ -96,35 +83,34 @@ def constraint(p):
 
 
 def _lo(w0, delta, eps, xi, l, Omega):
+    """The leading-order answers, over arrays of points (or at one, as 0-d arrays)."""
     s2 = eps * eps - xi * xi
-    growth = -delta + math.sqrt(s2) if s2 > 0 else -delta
-    theta2 = 16.0 * (math.sqrt(max(eps * eps - delta * delta, 0.0)) - xi) / w0 if growth > 0 else 0.0
-    return {
-        "a_th": 2.0 * l * math.hypot(delta, xi) / Omega,
-        "growth": growth,
-        "theta_st": math.sqrt(max(theta2, 0.0)),
-    }
+    growth = np.where(s2 > 0, -delta + np.sqrt(np.maximum(s2, 0.0)), -delta)
+    theta2 = np.where(growth > 0, 16.0 * (np.sqrt(np.maximum(eps * eps - delta * delta, 0.0)) - xi) / w0, 0.0)
+    return {"a_th": 2.0 * l * np.hypot(delta, xi) / Omega, "growth": growth,
+            "theta_st": np.sqrt(np.maximum(theta2, 0.0))}
+
+
+def _lo_at(p, eps_factor=1.0, xi_shift=0.0):
+    """``_lo`` at the point p (floats), with eps and the detuning moved as ``expected_error`` asks."""
+    w0 = math.sqrt(p.g / p.l)
+    lo = _lo(w0, p.delta, p.a * p.Omega / (2 * p.l) * eps_factor, p.Omega / 2 - w0 + xi_shift, p.l, p.Omega)
+    return {k: float(v) for k, v in lo.items()}
 
 
 @exercise.analytic
 def analytic(p):
-    w0 = math.sqrt(p.g / p.l)
-    return _lo(w0, p.delta, p.a * p.Omega / (2 * p.l), p.Omega / 2 - w0, p.l, p.Omega)
+    return _lo_at(p)
 
 
 def _small_swing_allowances(l, g, delta, a, Omega):
-    """{"a_th": rel, "growth": (rel, abs)} arrays for the small swings: their equation is 5.11's (stiffness
-    omega0^2 (1 - mu cos Omega t), mu = a Omega^2/g, omega0^2 = g/l, the response at Omega/2), so the first
-    zone's next order is 5.11's (``_second_order`` there: the zone's centre at a = 1 - k^2/8, sigma^2 kept
-    next to the detuning, the detuning not linearized, the third harmonics' coupling).  Allowances: twice
-    the next order plus the floors measured for 5.11 (growth 0.002 k^2 of the rate, a_th 0.005 mu_th^2 with
-    mu_th the threshold as a modulation depth), k = mu/2."""
-    from mech.problems.ch5.ex5_11_parametric_mathieu import _second_order
-
+    """{"a_th": rel, "growth": (rel, abs)} arrays for the small swings, whose equation is 5.11's (mu = a Omega^2/g,
+    omega0^2 = g/l, the response at Omega/2): twice the first zone's next order (solvers.mechanics.mathieu)
+    plus the floors measured for 5.11 (growth 0.002 k^2 of the rate, a_th 0.005 mu_th^2), k = mu/2."""
     w0 = np.sqrt(g / l)
     mu = a * Omega**2 / g
-    lo = _lo_batch(w0, delta, a * Omega / (2 * l), Omega / 2 - w0, l, Omega)
-    nx = _second_order(w0, delta, mu, Omega / 2.0)
+    lo = _lo(w0, delta, a * Omega / (2 * l), Omega / 2 - w0, l, Omega)
+    nx = first_zone_next_order(w0, delta, mu, Omega / 2.0)
     k2 = (mu / 2.0) ** 2
     with np.errstate(divide="ignore", invalid="ignore"):
         g0 = lo["growth"]
@@ -149,14 +135,14 @@ def expected_error(p):
     xi = p.Omega / 2 - w0
     eps = p.a * p.Omega / (2 * p.l)
     mu = p.a * p.Omega**2 / p.g
-    base = _lo(w0, p.delta, eps, xi, p.l, p.Omega)
+    base = _lo_at(p)
     A2 = base["theta_st"] ** 2
     worst = 0.0
     r = abs(xi) / w0 + mu**2 / 16.0 + A2 / 8.0
     s = mu**2 * w0 / 64.0 + 0.5 * p.delta**2 / w0 + xi**2 / w0 + w0 * A2**2 / 256.0
     for se in (-1.0, 1.0):
         for sx in (-1.0, 1.0):
-            alt = _lo(w0, p.delta, eps * (1 + se * r), xi + sx * s, p.l, p.Omega)
+            alt = _lo_at(p, 1 + se * r, sx * s)
             worst = max(worst, abs(alt["theta_st"] - base["theta_st"]))
     small = _small_swing_allowances(*(np.float64(x) for x in (p.l, p.g, p.delta, p.a, p.Omega)))
     rel, ab = (float(x) for x in small["growth"])
@@ -172,13 +158,13 @@ def theory_range(p):
     cands = [("a Omega^2/(2 g)", p.a * p.Omega**2 / (2 * p.g)), ("delta/omega0", p.delta / w0),
              ("|Omega/2 - omega0|/omega0", abs(p.Omega / 2 - w0) / w0)]
     big = max(cands, key=lambda c: c[1])
-    th = _lo(w0, p.delta, p.a * p.Omega / (2 * p.l), p.Omega / 2 - w0, p.l, p.Omega)["theta_st"]
+    th = _lo_at(p)["theta_st"]
     swing = max(cands + [("theta_st^2/8", th * th / 8.0)], key=lambda c: c[1])
     return {"a_th": big, "growth": big, "theta_st": swing}
 
 
-def _linear(p, a, rtol, run):
-    """(largest |multiplier|, det(M + I), tr M_y) of the linearization about theta = 0 over 2 pi/Omega."""
+def _trace(p, a, rtol, run):
+    """tr M_y of the linearization about theta = 0 over 2 pi/Omega (theta = exp(-delta t) y), at this a."""
     T = 2.0 * math.pi / p.Omega
     g_l, aW2_l, W, d2 = p.g / p.l, a * p.Omega**2 / p.l, p.Omega, p.delta**2
     (y1, y1p, y2, y2p), traj = even_hill_half(
@@ -187,37 +173,67 @@ def _linear(p, a, rtol, run):
     )
     run.record(traj)
     run.invariant("Wronskian", y1 * y2p - y1p * y2 - 1.0)
-    tr = 2.0 * (y1 * y2p + y1p * y2)
-    damp = math.exp(-p.delta * T)
+    return 2.0 * (y1 * y2p + y1p * y2)
+
+
+def _growth(tr, delta, Omega, rtol):
+    """(growth rate, its absolute error) from tr M_y: the largest |multiplier| exp(-delta T) (|tr| + (tr^2 -
+    4)^(1/2))/2 (1 on the unit circle), its error the noise of tr amplified near |tr| = 2."""
+    T = 2.0 * math.pi / Omega
     disc = tr * tr - 4.0
-    lam = 0.5 * (abs(tr) + math.sqrt(disc)) if disc > 0 else 1.0
-    return damp * lam, 1.0 + damp * tr + damp * damp, tr
+    lam = np.where(disc > 0, 0.5 * (np.abs(tr) + np.sqrt(np.maximum(disc, 0.0))), 1.0)
+    noise = 10.0 * rtol
+    amplify = 1.0 + np.abs(tr) / np.sqrt(np.maximum(disc, noise))
+    return np.log(np.exp(-delta * T) * lam) / T, noise * amplify / T
+
+
+def _threshold(P, l, rtol):
+    """a_th at N points, P(idx, a) = det(M + I) there: the scan up from 1e-4 l in factors of 2 to a sign
+    change, then the root (Illinois), its claim from the slope.  (a_th, rel, no root, not converged)."""
+    from mech.solvers.numerics.batch import illinois, scan_up
+
+    n = l.size
+    noise = 10.0 * rtol
+    lo, hi, flo, fhi, no_root = scan_up(P, np.zeros(n), 1e-4 * l, factor=2.0, limit=4.0 * l)
+    first = np.isnan(flo)  # the bracket starts at a = 0
+    idx0 = np.flatnonzero(first & ~no_root)
+    if idx0.size:
+        flo[idx0] = P(idx0, np.zeros(idx0.size))
+    go = np.flatnonzero(~no_root)
+    a_th, conv = np.full(n, np.nan), np.ones(n, dtype=bool)
+    rel = np.full(n, 100.0 * rtol)
+    if go.size:
+        x, ok = illinois(lambda x, i: P(go[i], x), lo[go], hi[go], flo[go], fhi[go], xtol=1e-16 * l[go], rtol=1e-14)
+        a_th[go], conv[go] = x, ok
+        da = 1e-5 * x
+        slope = np.abs(P(go, x + da)) / da
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rel[go] = np.maximum(100.0 * rtol, noise / (slope * x))
+    a_th[~conv] = np.nan
+    return a_th, rel, no_root, ~conv
+
+
+NO_ROOT = "no pivot amplitude below 4 l brings a multiplier to -1"
+UNCONVERGED = "the root search for the threshold did not converge"
 
 
 @exercise.numeric
 def numeric(p, run):
-    from mech.solvers.numerics.roots import brentq
-
+    """The batched route (``numeric_batch``) at this one point, with the Run's integrator and records."""
     rtol = run.rtol
-    noise = 10.0 * rtol
-    T = 2.0 * math.pi / p.Omega
-    lam, _, tr = _linear(p, p.a, rtol, run)
-    growth = math.log(lam) / T
-    amplify = 1.0 + abs(tr) / math.sqrt(max(tr * tr - 4.0, noise))
-    run.claim("growth", rel=100 * rtol, abs=noise * amplify / T)
+    g, err = _growth(_trace(p, p.a, rtol, run), p.delta, p.Omega, rtol)
+    growth = float(g)
+    run.claim("growth", rel=100 * rtol, abs=float(err))
+    damp = math.exp(-p.delta * 2.0 * math.pi / p.Omega)
 
-    def P(a):
-        return _linear(p, a, rtol, run)[1]
+    def P(idx, a):  # det(M + I) = 1 + exp(-delta T) tr M_y + exp(-2 delta T)
+        return np.array([1.0 + damp * _trace(p, float(a[0]), rtol, run) + damp * damp])
 
-    lo, hi = 0.0, 1e-4 * p.l
-    while P(hi) > 0.0:
-        lo, hi = hi, 2.0 * hi
-        if hi > 4.0 * p.l:
-            raise NumericFailure("no pivot amplitude below 4 l brings a multiplier to -1")
-    a_th = brentq(P, lo, hi, xtol=1e-16 * p.l, rtol=1e-14)
-    da = 1e-5 * a_th
-    slope = abs(P(a_th + da)) / da
-    run.claim("a_th", rel=max(100 * rtol, noise / (slope * a_th)))
+    a_th, rel, no_root, unconv = _threshold(P, np.array([p.l]), rtol)
+    if no_root[0] or unconv[0]:
+        raise NumericFailure(NO_ROOT if no_root[0] else UNCONVERGED)
+    a_th = float(a_th[0])
+    run.claim("a_th", rel=float(rel[0]))
     out = {"a_th": a_th, "growth": growth}
     if growth <= 0.0:
         out["theta_st"] = 0.0
@@ -319,75 +335,30 @@ def _stationary_swing(p, a_th, run):
 
     a_big = 10.0 * max(a_th, p.a)
 
-    def corrector(z, a, s):
-        """(z, a) on the branch at amplitude s, or None when Newton leaves the neighbourhood."""
-        for _ in range(10):
-            if not (0.0 < a < a_big) or np.linalg.norm(z / scale) > 2.0 * s + 0.5:
-                return None  # heading off (a < 0 past a fold): give up before the integrations get stiff
-            r, J, ra = residual_a(z, a)
-            zs = z / scale
-            F = np.array([r[0], r[1], 0.5 * (np.dot(zs, zs) - s * s)])
-            Jf = np.array([[J[0, 0], J[0, 1], ra[0]], [J[1, 0], J[1, 1], ra[1]],
-                           [zs[0] / scale[0], zs[1] / scale[1], 0.0]])
-            du = np.linalg.solve(Jf, -F)
-            z, a = z + du[:2], a + du[2]
-            if np.linalg.norm(du[:2] / scale) < 10 * crude and abs(du[2]) < 10 * crude * a_th:
-                return (z, a) if a > 0.0 else None
-        return None
-
     # For Omega < 2 omega0 the bifurcation is subcritical: the branch first runs down in a to a fold
-    # near eps = delta (a sharp turn when delta is small) and then up through the given a.  The step
-    # in s is halved wherever the corrector fails (the secant predictor overshoots such a turn).
+    # near eps = delta (a sharp turn when delta is small) and then up through the given a (followed by its
+    # amplitude, solvers.numerics.branch)
     target = p.a
-    s, ds = 0.0, 0.02
-    z_prev, a_prev, s_prev = np.zeros(2), a_th, 0.0
-    z_cur, a_cur, s_cur = np.zeros(2), a_th, 0.0
-    steps = tries = 0
-    while True:
-        s = s_cur + ds
-        # secant predictor along the branch
-        if steps == 0:
-            z_guess, a_guess = s * e_phys, a_th
-        else:
-            t = (s - s_cur) / (s_cur - s_prev)
-            z_guess = z_cur + t * (z_cur - z_prev)
-            a_guess = max(a_cur + t * (a_cur - a_prev), 0.5 * a_cur)
-        tries += 1
-        if tries > 200 or s > 3.0:
-            raise NumericFailure("the branch of stationary swings does not reach the given a (swing over the top?)")
-        found = corrector(z_guess, a_guess, s)
-        if found is None:
-            ds *= 0.5
-            if ds < 1e-6:
-                raise NumericFailure(f"the branch of stationary swings could not be followed at s = {s:.3g}")
-            continue
-        z_new, a_new = found
-        steps += 1
-        if (a_new - target) * (a_cur - target) <= 0.0 and steps > 1 or (steps == 1 and a_new >= target > a_th):
-            break
-        z_prev, a_prev, s_prev = z_cur, a_cur, s_cur
-        z_cur, a_cur, s_cur = z_new, a_new, s
-        ds = min(1.5 * ds, 0.1)
+    try:
+        (z_cur, a_cur), (z_new, a_new), (tries, steps) = follow(
+            lambda z, a, s: on_branch(residual_a, z, a, s, scale, crude, a_th, a_big), e_phys, a_th, target)
+    except NumericFailure as exc:
+        raise NumericFailure(f"the branch of stationary swings: {exc} (a swing over the top?)") from None
     run.info["continuation_tries"] = tries
     run.info["continuation_steps"] = steps
     # interpolate to the target and refine z at fixed a
     w = (target - a_cur) / (a_new - a_cur) if a_new != a_cur else 1.0
     z = z_cur + w * (z_new - z_cur)
-    tol = crude  # Newton's first steps at the loose tolerance, the last ones at rtol
-    for _ in range(30):
-        r, J, M = residual(z, target, tol)
-        dz = np.linalg.solve(J, -r)
-        z = z + dz
-        step = np.linalg.norm(dz / scale)
-        if tol == rtol and step < rtol:
-            break
-        if step < 1e3 * crude:
-            tol = rtol
-    else:
+    z = newton(lambda z, tol: residual(z, target, tol)[:2], z, scale, crude, rtol)
+    if z is None:
         raise NumericFailure("Newton's method for the stationary swing did not converge")
     r, J, M = residual(z, target, rtol)
     mult = np.abs(np.linalg.eigvals(-M))
     run.info["swing_multipliers_of_half_map"] = [float(m) for m in mult]
+    if 1.0 <= np.max(mult) < 1.0 + 1e-9:
+        # delta T/2 below round-off (delta = 1e-300): the decay per half period is not a double's digit
+        raise NumericFailure(f"the swing's half-map multipliers are 1 to rounding ({np.max(mult):.12g}): the damping "
+                             "is too weak for double precision to tell the stable swing from a neutral one")
     if np.max(mult) >= 1.0:
         raise NumericFailure(f"the swing found is unstable (half-map multipliers {mult}): not the one a small swing grows into")
     # the swing's full period is the motion; its largest |theta|: the extrema on theta' = 0 over the first
@@ -399,15 +370,6 @@ def _stationary_swing(p, a_th, run):
 
 # -- charts: the small-swing growth rate over many points at once ----------------------------------------
 
-def _lo_batch(w0, delta, eps, xi, l, Omega):
-    """``_lo`` over arrays."""
-    s2 = eps * eps - xi * xi
-    growth = np.where(s2 > 0, -delta + np.sqrt(np.maximum(s2, 0.0)), -delta)
-    theta2 = np.where(growth > 0, 16.0 * (np.sqrt(np.maximum(eps * eps - delta * delta, 0.0)) - xi) / w0, 0.0)
-    return {"a_th": 2.0 * l * np.hypot(delta, xi) / Omega, "growth": growth,
-            "theta_st": np.sqrt(np.maximum(theta2, 0.0))}
-
-
 def _arrays(P):
     return (np.asarray(P[k], dtype=float) for k in ("l", "g", "delta", "a", "Omega"))
 
@@ -418,7 +380,7 @@ def analytic_batch(P):
 
     l, g, delta, a, Omega = _arrays(P)
     w0 = np.sqrt(g / l)
-    lo = _lo_batch(w0, delta, a * Omega / (2 * l), Omega / 2 - w0, l, Omega)
+    lo = _lo(w0, delta, a * Omega / (2 * l), Omega / 2 - w0, l, Omega)
     return {k: Column(v) for k, v in lo.items()}
 
 
@@ -437,14 +399,9 @@ def theory_range_batch(P):
 
 
 def _trace_batch(l, g, delta, a, Omega, rtol):
-    """(tr M_y, |Wronskian drift|) of ``_linear``'s Hill equation at N points at once.
-
-    theta'' + 2 delta theta' + (g - a Omega^2 cos Omega t)/l theta = 0 with
-    theta = exp(-delta t) y is an even Hill equation; in the time s = Omega t
-    every point's pivot period becomes 2 pi, so all points integrate
-    y'' + ((g/l - delta^2)/Omega^2 - (a/l) cos s) y = 0 over the same half
-    period [0, pi].
-    """
+    """(tr M_y, |Wronskian drift|) of ``_trace``'s Hill equation at N points at once: in the time s = Omega t
+    every pivot period is 2 pi, so all points integrate y'' + ((g/l - delta^2)/Omega^2 - (a/l) cos s) y = 0
+    over the same half period [0, pi]."""
     from mech.solvers.mechanics.floquet import even_hill_half_batch
 
     c0, c1 = (g / l - delta**2) / Omega**2, a / l
@@ -454,9 +411,7 @@ def _trace_batch(l, g, delta, a, Omega, rtol):
 
 
 def _threshold_batch(l, g, delta, Omega, rtol):
-    """``numeric``'s a_th at N points: the scan up from 1e-4 l in factors of 2, then the root of det(M + I)."""
-    from mech.solvers.numerics.batch import illinois
-
+    """``_threshold`` at N points with the batched trace; the largest Wronskian drift of each point kept."""
     n = Omega.size
     drift = np.zeros(n)
     damp = np.exp(-delta * 2.0 * math.pi / Omega)
@@ -466,49 +421,15 @@ def _threshold_batch(l, g, delta, Omega, rtol):
         drift[idx] = np.maximum(drift[idx], w)
         return 1.0 + damp[idx] * tr + damp[idx] ** 2
 
-    noise = 10.0 * rtol
-    lo, hi = np.zeros(n), 1e-4 * l
-    flo, fhi = np.full(n, np.nan), np.full(n, np.nan)
-    scan = np.ones(n, dtype=bool)
-    no_root = np.zeros(n, dtype=bool)
-    while scan.any():
-        idx = np.flatnonzero(scan)
-        fhi[idx] = P(idx, hi[idx])
-        up = fhi[idx] > 0.0
-        grow = idx[up]
-        lo[grow], flo[grow], hi[grow] = hi[grow], fhi[grow], 2.0 * hi[grow]
-        over = grow[hi[grow] > 4.0 * l[grow]]
-        no_root[over] = True
-        scan[idx[~up]] = False
-        scan[over] = False
-    first = np.isnan(flo)  # the bracket starts at a = 0
-    idx0 = np.flatnonzero(first & ~no_root)
-    if idx0.size:
-        flo[idx0] = P(idx0, np.zeros(idx0.size))
-    go = np.flatnonzero(~no_root)
-    a_th, conv = np.full(n, np.nan), np.ones(n, dtype=bool)
-    rel = np.full(n, 100.0 * rtol)
-    if go.size:
-        x, ok = illinois(lambda x, i: P(go[i], x), lo[go], hi[go], flo[go], fhi[go], xtol=1e-16 * l[go], rtol=1e-14)
-        a_th[go], conv[go] = x, ok
-        da = 1e-5 * x
-        slope = np.abs(P(go, x + da)) / da
-        with np.errstate(divide="ignore", invalid="ignore"):
-            rel[go] = np.maximum(100.0 * rtol, noise / (slope * x))
-    a_th[~conv] = np.nan
-    return a_th, rel, no_root, ~conv, drift
+    return (*_threshold(P, l, rtol), drift)
 
 
 @exercise.batched(("growth", "a_th"), analytic=analytic_batch, expected_error=expected_error_batch,
                   theory_range=theory_range_batch,
                   boundaries={"a": ("a_th", "leading-order threshold a = a_th(Ω)")})
 def numeric_batch(P, rtol, outputs, memo=None):
-    """growth and a_th at N points at once, from the linearized equation of motion (``_trace_batch``).
-
-    a_th once for each distinct (l, g, delta, Omega), kept in ``memo`` across
-    a sweep's chunks.  Claims and the Wronskian check as in ``numeric``; the
-    stationary swing (a continuation per point) has no batched route.
-    """
+    """growth and a_th at N points at once (``_trace_batch``; a_th once per distinct (l, g, delta, Omega), kept
+    in ``memo`` across a sweep's chunks); the stationary swing (a continuation per point) has no batched route."""
     from mech.solvers.numerics.batch import Column, by_rows
 
     l, g, delta, a, Omega = _arrays(P)
@@ -518,18 +439,10 @@ def numeric_batch(P, rtol, outputs, memo=None):
     out = {}
     if "growth" in outputs:
         tr, wronski = _trace_batch(l, g, delta, a, Omega, rtol)
-        T = 2.0 * math.pi / Omega
-        disc = tr * tr - 4.0
-        lam = np.where(disc > 0, 0.5 * (np.abs(tr) + np.sqrt(np.maximum(disc, 0.0))), 1.0)
-        noise = 10.0 * rtol
-        amplify = 1.0 + np.abs(tr) / np.sqrt(np.maximum(disc, noise))
-        out["growth"] = Column(np.log(np.exp(-delta * T) * lam) / T, rel=100 * rtol, abs=noise * amplify / T,
-                               failed=[(wronski > allowed, drifted)])
+        growth, err = _growth(tr, delta, Omega, rtol)
+        out["growth"] = Column(growth, rel=100 * rtol, abs=err, failed=[(wronski > allowed, drifted)])
     if "a_th" in outputs:
         v, rel, no_root, unconv, drift = by_rows(memo, ("a_th", rtol), (l, g, delta, Omega),
                                                  lambda *c: _threshold_batch(*c, rtol))
-        out["a_th"] = Column(v, rel=rel, failed=[
-            (no_root, "no pivot amplitude below 4 l brings a multiplier to -1"),
-            (unconv, "the root search for the threshold did not converge"),
-            (drift > allowed, drifted)])
+        out["a_th"] = Column(v, rel=rel, failed=[(no_root, NO_ROOT), (unconv, UNCONVERGED), (drift > allowed, drifted)])
     return out

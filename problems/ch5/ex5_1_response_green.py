@@ -140,6 +140,55 @@ def _characteristic_roots(d):
     return np.array([complex(-d, w1), complex(-d, -w1)])
 
 
+def _segment_length(lam, w):
+    """The segment of the impulse response's transform (one segment plus the exact geometric sum), whether
+    the system is stiff, its slow rate, and the amplification of a segment map's error at a length D."""
+    # impulse response, transformed: one segment plus the exact geometric sum
+    slow, fast = np.min(-lam.real), np.max(-lam.real)
+    osc = np.max(np.abs(lam.imag))
+    stiff = fast / slow > 50.0
+    # one segment: up to one slow decay time, at most four oscillation periods; when stiff, at most four
+    # periods of the drive too (the implicit method crosses the fast transient in a few steps).  A
+    # segment cut at the fast transient (50 fast decay times) left the slow mode at exp(-25/(2 d^2))
+    # = 1 - 1e-15 (d = 1e8): the geometric sum's 1 - exp(i w D) mu amplified its error by up to 1e7
+    segment = min(1.0 / slow, 8.0 * math.pi / osc if osc > 0 else math.inf,
+                  8.0 * math.pi / w if stiff and w > 0 else math.inf)
+    if w > 4.0 * max(1.0, float(np.max(np.abs(lam)))) and w * segment > math.pi:
+        # a fast drive: half a period of exp(i w t) per segment (exp(i w D) = -1 keeps the sum well
+        # conditioned) instead of resolving hundreds of its periods in one segment
+        segment = math.pi / w
+
+    def amplification(D):
+        # the segment map's error is amplified by 1/|1 - exp(i w D) mu| (mu = exp(lam D): its eigenvalues)
+        return 1.0 / np.min(np.abs(1.0 - np.exp(1j * w * D) * np.exp(lam * D)))
+
+    # avoid a segment whose length makes exp(i (w -+ w1) D) = 1 by accident (not a physical resonance)
+    segment = min((segment * f for f in (1.0, 0.9, 0.8, 0.7, 0.6, 0.5)), key=lambda D: (amplification(D), -D))
+    return segment, stiff, slow, amplification
+
+
+def _impulse_slope(poles, t):
+    """A bound on |q'| at the scaled time t after a unit impulse (see ``numeric``'s phase round-off)."""
+    # and the scaled time t = tau w0 is rounded: the integral is G at t (1 + u), off by u t |G'(t)|.  The
+    # slope is bounded by the velocity after a unit impulse: |q'| <= 1 (the energy 1/2 never grows) and,
+    # from the residues at the poles (slowest decay rate s, fastest f), |q'| <= e^{-s t} (1 + s t + s/(f - s))
+    # (the last term only when the rates differ: overdamped).  A long phase of a weakly damped oscillator
+    # (t of 1e11, phase known to 1e-5 rad) makes this the largest part
+    rates = sorted(-z.imag for z in poles)
+    # the slow rate of a strongly overdamped oscillator is rounded relative to the fast one (the roots'
+    # product is 1 in these units, so 1/f gives it to full precision); the smaller keeps the bound safe
+    f_fast = rates[-1]
+    s_slow = min(rates[0], 1.0 / f_fast)
+    spread = s_slow / (f_fast - s_slow) if f_fast - s_slow > 1e-8 * f_fast else 0.0
+    slope = min(1.0, math.exp(-s_slow * t) * (1.0 + s_slow * t + spread))
+    if f_fast - s_slow > 1e-8 * f_fast:
+        # distinct real rates (overdamped): q = (e^{-s t} - e^{-f t})/(f - s) exactly, so
+        # |q'| <= (s e^{-s t} + f e^{-f t})/(f - s): ~ s/f = 1/(4 d^2) once the fast transient is over
+        # (the bound above, ~1, claimed 1.7e-7 of G at d = 5.4e7)
+        slope = min(slope, (s_slow * math.exp(-s_slow * t) + f_fast * math.exp(-f_fast * t)) / (f_fast - s_slow))
+    return slope
+
+
 @exercise.numeric
 def numeric(p, run):
     m, w0 = p.m, p.omega0
@@ -168,27 +217,7 @@ def numeric(p, run):
     Gp = inverse_fourier(chi_local, t, poles, epsrel=eps_q, vectorized=True, local=True)
     Gm = inverse_fourier(chi_local, -t, poles, epsrel=eps_q, vectorized=True, local=True)
 
-    # impulse response, transformed: one segment plus the exact geometric sum
-    slow, fast = np.min(-lam.real), np.max(-lam.real)
-    osc = np.max(np.abs(lam.imag))
-    stiff = fast / slow > 50.0
-    # one segment: up to one slow decay time, at most four oscillation periods; when stiff, at most four
-    # periods of the drive too (the implicit method crosses the fast transient in a few steps).  A
-    # segment cut at the fast transient (50 fast decay times) left the slow mode at exp(-25/(2 d^2))
-    # = 1 - 1e-15 (d = 1e8): the geometric sum's 1 - exp(i w D) mu amplified its error by up to 1e7
-    segment = min(1.0 / slow, 8.0 * math.pi / osc if osc > 0 else math.inf,
-                  8.0 * math.pi / w if stiff and w > 0 else math.inf)
-    if w > 4.0 * max(1.0, float(np.max(np.abs(lam)))) and w * segment > math.pi:
-        # a fast drive: half a period of exp(i w t) per segment (exp(i w D) = -1 keeps the sum well
-        # conditioned) instead of resolving hundreds of its periods in one segment
-        segment = math.pi / w
-
-    def amplification(D):
-        # the segment map's error is amplified by 1/|1 - exp(i w D) mu| (mu = exp(lam D): its eigenvalues)
-        return 1.0 / np.min(np.abs(1.0 - np.exp(1j * w * D) * np.exp(lam * D)))
-
-    # avoid a segment whose length makes exp(i (w -+ w1) D) = 1 by accident (not a physical resonance)
-    segment = min((segment * f for f in (1.0, 0.9, 0.8, 0.7, 0.6, 0.5)), key=lambda D: (amplification(D), -D))
+    segment, stiff, slow, amplification = _segment_length(lam, w)
     method = FLOW if stiff else "DOP853"
     atol = None
     if stiff:
@@ -221,23 +250,8 @@ def numeric(p, run):
     # eps_q times the pieces' summed sizes, that small too, and 100 eps_q claimed 2e-9 of G at d = 1e8)
     g_scale = min(1.0, max(Gp.target, Gm.target) / eps_q) if d > 1.0 else 1.0
     g_abs = float(100.0 * eps_q * g_scale + 10.0 * (Gp.abserr + Gm.abserr))
-    # and the scaled time t = tau w0 is rounded: the integral is G at t (1 + u), off by u t |G'(t)|.  The
-    # slope is bounded by the velocity after a unit impulse: |q'| <= 1 (the energy 1/2 never grows) and,
-    # from the residues at the poles (slowest decay rate s, fastest f), |q'| <= e^{-s t} (1 + s t + s/(f - s))
-    # (the last term only when the rates differ: overdamped).  A long phase of a weakly damped oscillator
-    # (t of 1e11, phase known to 1e-5 rad) makes this the largest part
-    rates = sorted(-z.imag for z in poles)
-    # the slow rate of a strongly overdamped oscillator is rounded relative to the fast one (the roots'
-    # product is 1 in these units, so 1/f gives it to full precision); the smaller keeps the bound safe
-    f_fast = rates[-1]
-    s_slow = min(rates[0], 1.0 / f_fast)
-    spread = s_slow / (f_fast - s_slow) if f_fast - s_slow > 1e-8 * f_fast else 0.0
-    slope = min(1.0, math.exp(-s_slow * t) * (1.0 + s_slow * t + spread))
-    if f_fast - s_slow > 1e-8 * f_fast:
-        # distinct real rates (overdamped): q = (e^{-s t} - e^{-f t})/(f - s) exactly, so
-        # |q'| <= (s e^{-s t} + f e^{-f t})/(f - s): ~ s/f = 1/(4 d^2) once the fast transient is over
-        # (the bound above, ~1, claimed 1.7e-7 of G at d = 5.4e7)
-        slope = min(slope, (s_slow * math.exp(-s_slow * t) + f_fast * math.exp(-f_fast * t)) / (f_fast - s_slow))
+    # and the scaled time t = tau w0 is rounded: the integral is G at t (1 + u), off by u t |G'(t)|
+    slope = _impulse_slope(poles, t)
     g_phase = 2.0 * 2.0**-53 * t * slope
     run.info["G_phase_roundoff"] = g_phase / (m * w0)
     run.claim("G", rel=100.0 * eps_q, abs=(g_abs + g_phase) / (m * w0))

@@ -33,6 +33,7 @@ import math
 
 import numpy as np
 
+from mech.problems import ranges
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.numerics.ode import Event
 
@@ -48,6 +49,9 @@ exercise = Exercise(
     # repeats) and one free period after it
     states=[("q", "m"), ("v", "m/s")],
 )
+
+# the static displacement is the route's unit of length (and the error estimate's)
+ranges.declare(exercise, ranges.Scale("F0/(m omega0^2)", {"F0": 1, "m": -1, "omega0": -2}, "the static displacement"))
 
 
 @exercise.analytic

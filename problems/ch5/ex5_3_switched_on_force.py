@@ -49,6 +49,7 @@ import math
 
 import numpy as np
 
+from mech.problems import ranges
 from mech.problems.spec import Exercise, NumericFailure, Undefined
 
 exercise = Exercise(
@@ -67,6 +68,10 @@ exercise = Exercise(
         "ill-conditioned (a slow mode under a fast drive)."
     ),
 )
+
+# the route's time unit is the fastest rate, whose square scales the displacements back
+ranges.declare(exercise, ranges.Scale("max(omega0, omega, delta)", {}, "the fastest rate and its square", low=-150,
+                                      high=150, factor=lambda p: max(p.omega0, p.omega, p.delta)))
 
 
 def _nodes(w0, d, w):

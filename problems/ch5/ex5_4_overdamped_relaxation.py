@@ -215,6 +215,96 @@ class _Flow:
         return (expm_many(self._A, np.atleast_1d(ts)) @ self._y0).T
 
 
+def _advance(matrix, y, log_size):
+    """One hop of the flow on a state kept as (y, log size), max |y| = 1."""
+    y = matrix @ y
+    size = float(np.max(np.abs(y)))
+    if size == 0.0:
+        raise NumericFailure("the flow's state vanished along the chain")
+    return y / size, log_size + math.log(size)
+
+
+def _flow_chain(A, z, cap, horizon, log_eps):
+    """The chain of hops (see ``_numeric_flow``) up to both events: (grid, states, log sizes, found), found
+    mapping each event to the chain's last node before it."""
+    from mech.solvers.numerics.linear_flow import expm, expm_many
+    from mech.core import budget
+
+    fast = float(np.max(np.sum(np.abs(A), axis=0)))
+    grid = [0.0]
+    tau = 0.01 / fast
+    while 0.25 * tau < cap:
+        grid.append(tau)
+        tau *= 1.25
+    short = expm_many(A, np.diff(grid))
+    hop = expm(A * cap)
+    ys, logs = [np.array([1.0, 0.0])], [0.0]  # the state at grid[k] is ys[k] e^logs[k], max |ys[k]| = 1
+    found = {}
+    k = 0
+    while "x = eps" not in found or "x'' = 0" not in found:
+        if k % 1000 == 0:
+            budget.check("5.4 flow chain")
+        matrix = short[k] if k < len(short) else hop
+        if k >= len(short):
+            if grid[-1] >= horizon:
+                raise NumericFailure(f"x = eps not reached by tau = {horizon:.3g}")
+            grid.append(grid[-1] + cap)
+        y, log_size = _advance(matrix, ys[-1], logs[-1])
+        ys.append(y)
+        logs.append(log_size)
+        k += 1
+        if "x = eps" not in found and _reach_value(y, log_size, log_eps) <= 0.0:
+            found["x = eps"] = k - 1
+        if "x'' = 0" not in found and _accel(y, z) >= 0.0 and _accel(ys[-2], z) < 0.0:
+            found["x'' = 0"] = k - 1
+    return grid, ys, logs, found, hop
+
+
+def _reach_value(y, log_size, log_eps):  # ln x - ln eps (x <= 0: a crossing of q = 0, far below)
+    return math.log(y[0]) + log_size - log_eps if y[0] > 0.0 else -math.inf
+
+
+def _accel(y, z):  # x'' (up to the positive scale), crossed upward at the largest speed
+    return -2.0 * z * y[1] - y[0]
+
+
+def _q_at(p, A, grid, ys, logs, hop, cap):
+    """q(t1): from the chain's last node at or before tau1, on by hops of ``cap`` while the state is
+    representable (the chain stops at its second event: the grid of short hops may reach past its last node)."""
+    from mech.solvers.numerics.linear_flow import expm
+    from mech.core import budget
+
+    tau1 = p.omega0 * p.t1
+    j1 = min(int(np.searchsorted(np.asarray(grid), tau1, side="right")) - 1, len(ys) - 1)
+    y1, log1, at = ys[j1], logs[j1], grid[j1]
+    floor = -800.0 - math.log(p.q0)  # q0 e^log below the smallest double: q(t1) = 0
+    while tau1 - at > cap and log1 > floor:
+        budget.check("5.4 long decay")
+        y1, log1 = _advance(hop, y1, log1)
+        at += cap
+    q_t = 0.0
+    if log1 > floor:
+        if tau1 > at:
+            y1, log1 = _advance(expm(A * (tau1 - at)), y1, log1)
+        q_t = p.q0 * y1[0] * math.exp(log1) if log1 + math.log(p.q0) > -800.0 else 0.0
+    return q_t
+
+
+def _semigroup_drift(A, cap, t_eps, t_star, y_star, log_star, y_eps, log_eps_state):
+    """The rounding of the chain: the state at t_eps reached from the one at t_star by hops of another length."""
+    from mech.solvers.numerics.linear_flow import expm
+    from mech.core import budget
+
+    n = max(1, math.ceil((t_eps - t_star) / (0.7 * cap)))
+    again = expm(A * ((t_eps - t_star) / n))
+    via, log_via = y_star, log_star
+    for i in range(n):
+        if i % 1000 == 0:
+            budget.check("5.4 semigroup")
+        via, log_via = _advance(again, via, log_via)
+    return float(np.max(np.abs(via * math.exp(log_via - log_eps_state) - y_eps)) / np.max(np.abs(y_eps)))
+
+
 def _numeric_flow(p, run):
     """The stiff case (zeta > 5) without stepping: the equation of motion x'' + 2 zeta x' + x = 0 is linear
     with constant coefficients, y' = A y, so the state at any tau is exp(A tau) y0 (scaling and squaring,
@@ -229,61 +319,19 @@ def _numeric_flow(p, run):
     by Brent's method to a tenth of rtol in tau, x = eps as ln x = ln eps.  The flow's rounding is
     monitored by the semigroup property: the state at t_eps reached again from the state at the largest
     speed by hops of another length."""
-    from mech.solvers.numerics.linear_flow import expm, expm_many
+    from mech.solvers.numerics.linear_flow import expm
     from mech.solvers.numerics.roots import brentq
-    from mech.core import budget
 
     z, w0, eps = p.zeta, p.omega0, p.eps
     rtol = run.rtol
     A = _jac(z)(0.0, np.zeros(3))[:2, :2].copy()  # the generator of the declared equations in (x, x')
     log_eps = math.log(eps)
     horizon = 1e3 * (2.0 * z + 1.0) * max(1.0, -log_eps)
-    fast = float(np.max(np.sum(np.abs(A), axis=0)))
     cap = z
-
-    grid = [0.0]
-    tau = 0.01 / fast
-    while 0.25 * tau < cap:
-        grid.append(tau)
-        tau *= 1.25
-    short = expm_many(A, np.diff(grid))
-    hop = expm(A * cap)
-    ys, logs = [np.array([1.0, 0.0])], [0.0]  # the state at grid[k] is ys[k] e^logs[k], max |ys[k]| = 1
-
-    def advance(matrix, y, log_size):
-        y = matrix @ y
-        size = float(np.max(np.abs(y)))
-        if size == 0.0:
-            raise NumericFailure("the flow's state vanished along the chain")
-        return y / size, log_size + math.log(size)
-
-    def reach_value(y, log_size):  # ln x - ln eps (x <= 0: a crossing of q = 0, far below)
-        return math.log(y[0]) + log_size - log_eps if y[0] > 0.0 else -math.inf
-
-    def accel(y):  # x'' (up to the positive scale), crossed upward at the largest speed
-        return -2.0 * z * y[1] - y[0]
-
-    found = {}
-    k = 0
-    while "x = eps" not in found or "x'' = 0" not in found:
-        if k % 1000 == 0:
-            budget.check("5.4 flow chain")
-        matrix = short[k] if k < len(short) else hop
-        if k >= len(short):
-            if grid[-1] >= horizon:
-                raise NumericFailure(f"x = eps not reached by tau = {horizon:.3g}")
-            grid.append(grid[-1] + cap)
-        y, log_size = advance(matrix, ys[-1], logs[-1])
-        ys.append(y)
-        logs.append(log_size)
-        k += 1
-        if "x = eps" not in found and reach_value(y, log_size) <= 0.0:
-            found["x = eps"] = k - 1
-        if "x'' = 0" not in found and accel(y) >= 0.0 and accel(ys[-2]) < 0.0:
-            found["x'' = 0"] = k - 1
+    grid, ys, logs, found, hop = _flow_chain(A, z, cap, horizon, log_eps)
 
     def state_from(j, tau):  # (y, log size) at tau from the chain's node j <= tau
-        return advance(expm(A * (tau - grid[j])), ys[j], logs[j]) if tau > grid[j] else (ys[j], logs[j])
+        return _advance(expm(A * (tau - grid[j])), ys[j], logs[j]) if tau > grid[j] else (ys[j], logs[j])
 
     def polish(j, fn):
         a, b = grid[j], grid[j + 1]
@@ -292,42 +340,18 @@ def _numeric_flow(p, run):
         return brentq(fn, a, b, xtol=1e-300, rtol=max(0.1 * rtol, 4.0 * np.finfo(float).eps))
 
     j_eps, j_star = found["x = eps"], found["x'' = 0"]
-    t_eps = polish(j_eps, lambda t: reach_value(*state_from(j_eps, t)))
-    t_star = polish(j_star, lambda t: accel(state_from(j_star, t)[0]))
+    t_eps = polish(j_eps, lambda t: _reach_value(*state_from(j_eps, t), log_eps))
+    t_star = polish(j_star, lambda t: _accel(state_from(j_star, t)[0], z))
     y_eps, log_eps_state = state_from(j_eps, t_eps)
     y_star, log_star = state_from(j_star, t_star)
     upto = np.array([y for y, t in zip(ys, grid) if t <= t_eps])
     if np.any(upto[:, 0] <= 0.0) or np.any(upto[1:, 1] > 0.0):
         raise NumericFailure("the oscillator crossed q = 0 or turned back: not aperiodic")
-
-    # q(t1): from the chain's last node at or before tau1, on by hops of `cap` while the state is representable
-    tau1 = w0 * p.t1
-    # the chain stops at its second event: the grid of short hops may reach past its last node
-    j1 = min(int(np.searchsorted(np.asarray(grid), tau1, side="right")) - 1, len(ys) - 1)
-    y1, log1, at = ys[j1], logs[j1], grid[j1]
-    floor = -800.0 - math.log(p.q0)  # q0 e^log below the smallest double: q(t1) = 0
-    while tau1 - at > cap and log1 > floor:
-        budget.check("5.4 long decay")
-        y1, log1 = advance(hop, y1, log1)
-        at += cap
-    q_t = 0.0
-    if log1 > floor:
-        if tau1 > at:
-            y1, log1 = advance(expm(A * (tau1 - at)), y1, log1)
-        q_t = p.q0 * y1[0] * math.exp(log1) if log1 + math.log(p.q0) > -800.0 else 0.0
-
-    # the rounding of the chain: the state at t_eps reached from the one at t_star by hops of another length
-    n = max(1, math.ceil((t_eps - t_star) / (0.7 * cap)))
-    again = expm(A * ((t_eps - t_star) / n))
-    via, log_via = y_star, log_star
-    for i in range(n):
-        if i % 1000 == 0:
-            budget.check("5.4 semigroup")
-        via, log_via = advance(again, via, log_via)
-    drift = float(np.max(np.abs(via * math.exp(log_via - log_eps_state) - y_eps)) / np.max(np.abs(y_eps)))
+    q_t = _q_at(p, A, grid, ys, logs, hop, cap)
+    drift = _semigroup_drift(A, cap, t_eps, t_star, y_star, log_star, y_eps, log_eps_state)
     run.invariant("semigroup Phi(a) Phi(b) = Phi(a + b)", drift)
     if run.keep_trajectories:
-        end = max(t_eps, tau1)
+        end = max(t_eps, w0 * p.t1)
         samples = [t for t in grid if t < end] + [end]
         m = motion(p, rtol)  # the declared motion's scales: the sampled flow is its trajectory
         run.motion(_Flow(A, np.array([1.0, 0.0]), samples), t_scale=m.t_scale, y_scale=m.y_scale)

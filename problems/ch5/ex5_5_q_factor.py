@@ -44,6 +44,7 @@ import math
 
 import numpy as np
 
+from mech.problems import ranges
 from mech.problems.spec import Exercise, NumericFailure, Undefined
 
 exercise = Exercise(
@@ -66,7 +67,6 @@ LOW_FLOOR = 0.02  # lowest drive frequency (in omega0) shot for the lower half-p
 
 exercise.declare_limits(
     "delta < omega0: damped oscillations",
-    f"delta >= {ZETA_MIN:g} omega0",
     f"omega0 t1 <= {MAX_PHASE:g}: the phase at t1 resolved in double precision",
 )
 
@@ -75,11 +75,14 @@ exercise.declare_limits(
 def constraint(p):
     if p.delta >= p.omega0:
         return f"delta = {p.delta:g} 1/s must be below omega0 = {p.omega0:g} rad/s (damped oscillations)"
-    if p.delta < ZETA_MIN * p.omega0:
-        return f"delta/omega0 = {p.delta / p.omega0:.3g} is below {ZETA_MIN:g}: Q above 5e149 (the resonance peak |a|^2 per unit force overflows)"
     if p.omega0 * p.t1 > MAX_PHASE:
         return (f"omega0 t1 = {p.omega0 * p.t1:.3g} exceeds {MAX_PHASE:g}: the phase at t1, on which E(t1) depends, "
                 "is not resolved in double precision")
+
+
+# Q above 5e149: the resonance peak |a|^2 ~ 1/(4 zeta^2) per unit force overflows
+ranges.declare(exercise, ranges.Scale("delta/omega0", {"delta": 1, "omega0": -1}, "the resonance peak's width",
+                                      low=math.log10(ZETA_MIN), high=math.inf))
 
 
 @exercise.approximations

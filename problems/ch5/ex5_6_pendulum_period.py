@@ -64,7 +64,7 @@ def approximations(p):
 def analytic(p):
     from mech.solvers.numerics.special import ellipkm1
 
-    w0 = math.sqrt(p.g / p.l)
+    w0 = math.sqrt(p.g) / math.sqrt(p.l)  # roots apart: g/l leaves the range where w0 does not
     c = math.sin(_phi0(p.theta0) / 2.0)  # cos(theta0/2)
     K = float(ellipkm1(c * c))
     # AGM(1, c) as 1 - alpha: the means a, b and their deviations alpha, beta from 1 carried side by side,
@@ -123,7 +123,7 @@ def motion(p):
     offset phi0 to full relative accuracy."""
     from mech.problems.motion import Motion
 
-    w0 = math.sqrt(p.g / p.l)
+    w0 = math.sqrt(p.g) / math.sqrt(p.l)  # roots apart: g/l leaves the range where w0 does not
     th0 = p.theta0
     # the energy range explored, U(theta0) - U(0) = 2 sin^2(theta0/2) in units m g l: the energy's scale
     drop = 2.0 * math.sin(th0 / 2.0) ** 2
@@ -155,7 +155,7 @@ def motion(p):
 
 @exercise.numeric
 def numeric(p, run):
-    w0 = math.sqrt(p.g / p.l)
+    w0 = math.sqrt(p.g) / math.sqrt(p.l)  # roots apart: g/l leaves the range where w0 does not
     rtol = run.rtol
     th0 = p.theta0
     t_q = run.follow(motion(p)).t_end
@@ -181,7 +181,7 @@ def hamiltonian(p):
     to the first downward passage through θ = 0, a quarter period; T, T/T₀ and δω read from it."""
     from mech.solvers.numerics.symplectic import SeparableHamiltonian
 
-    w0 = math.sqrt(p.g / p.l)
+    w0 = math.sqrt(p.g) / math.sqrt(p.l)  # roots apart: g/l leaves the range where w0 does not
 
     def readout(t, q, mom):
         T = 4.0 * t / w0
@@ -211,7 +211,7 @@ def scene(p, run):
 
     H = hamiltonian(p)  # H = p^2/2 - cos(theta) in tau = omega0 t: its energy draws the levels
     deg = 180.0 / math.pi
-    w0 = math.sqrt(p.g / p.l)
+    w0 = math.sqrt(p.g) / math.sqrt(p.l)  # roots apart: g/l leaves the range where w0 does not
     m, path = run.motion(p)
     q1, v1 = m.si(path.traj.sol(np.linspace(0.0, path.t_end, 750)))  # theta0 down to 0, theta' <= 0
     v1 = v1 / w0

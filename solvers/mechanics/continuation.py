@@ -459,60 +459,20 @@ def sweep(
     s_total = 0.0
     while out.steps < max_steps:
         budget.check("continuation of a periodic orbit")
-        # a secant prediction of where det(M - I) (the tangent's w-component) vanishes caps the step,
-        # so that a narrow fold pair (an S of the curve) is not stepped over
-        h_try = min(h, h_max)
-        wt = abs(bp.w_turn)
-        if prev_turn is not None:
-            s_prev, wt_prev = prev_turn
-            slope = (wt - wt_prev) / max(s_total - s_prev, 1e-300)
-            if slope < 0:
-                d0 = wt / -slope
-                h_try = min(h_try, max(1.3 * d0, 0.05 * h_try))
-        pred = bp.z + h_try * t
-        new = solve_on_plane(omap, pred, t, t @ bp.z + h_try, rtol=rtol, tol=min(newton_tol, 0.05 * corrector_max * h_try),
-                             max_iter=5, fresh=False)
-        ok = new is not None
-        if ok:
-            move = float(np.max(np.abs(new.z - pred)))
-            t_new = _unit(new.tangent)
-            if t_new @ t < 0:
-                t_new = -t_new
-            angle = math.acos(max(-1.0, min(1.0, float(t_new @ t))))
-            # the state's correction is also capped absolutely: a step may not jump to another branch of the
-            # curve however long it is along w
-            move_xy = float(np.max(np.abs((new.z - pred)[:2])))
-            ok = angle <= angle_max and move <= corrector_max * h_try and move_xy <= max_state_move
-        if not ok:
+        h_try = _capped_step(bp, min(h, h_max), prev_turn, s_total)
+        new, t_new, angle = _corrected(omap, bp, t, h_try, rtol, newton_tol, corrector_max, angle_max,
+                                       max_state_move)
+        if new is None:
             out.rejected += 1
             h = 0.4 * h_try
             if h < h_min:
                 raise NumericFailure(f"continuation stalled at w = {bp.z[2]:.10g} (step below {h_min:g})")
             continue
         out.steps += 1
-        # the cross-product tangent is continuous along the branch: a sign change of its w-component is a fold
-        if np.sign(new.tangent[2]) != np.sign(bp.tangent[2]) and new.tangent[2] != 0.0:
-            # the loosely converged points carry the Jacobian of their last iterate: confirm at the points
-            new, bp_fresh = omap.evaluate(new.z, rtol), omap.evaluate(bp.z, rtol)
-            out.points[-1] = bp_fresh
-            if np.sign(new.tangent[2]) != np.sign(bp_fresh.tangent[2]):
-                out.points.append(new)
-                out.fold_bracket = (bp_fresh, new)
-                return out
-        # the same fold seen geometrically: w moved backward (the det test can miss it when the loosely
-        # converged points carry Jacobians from off the branch); it lies between the point before the last
-        # one and the new one
-        if (new.z[2] - bp.z[2]) * direction < 0 and len(out.points) >= 2:
-            fresh = [omap.evaluate(q.z, rtol) for q in (out.points[-2], new)]
-            out.points.append(new)
-            out.fold_bracket = (fresh[0], fresh[1])
+        stop, new = _stopped(out, omap, bp, new, direction, watch, rtol)
+        if stop:
             return out
-        if watch is not None and np.sign(watch(new)) != np.sign(watch(bp)):
-            out.points.append(new)
-            out.fold_bracket = (bp, new)
-            out.watched = True
-            return out
-        prev_turn = (s_total, wt)
+        prev_turn = (s_total, abs(bp.w_turn))
         s_total += h_try
         out.points.append(new)
         bp, t = new, t_new
@@ -521,6 +481,70 @@ def sweep(
             return out
         h = h_try * (1.6 if angle < 0.4 * angle_max else 1.0)
     raise NumericFailure(f"no fold and w = {bp.z[2]:.6g} short of {w_stop:.6g} after {max_steps} steps")
+
+
+def _capped_step(bp, h_try, prev_turn, s_total):
+    """The step, capped by a secant prediction of where det(M - I) (the tangent's w-component) vanishes, so
+    that a narrow fold pair (an S of the curve) is not stepped over."""
+    wt = abs(bp.w_turn)
+    if prev_turn is not None:
+        s_prev, wt_prev = prev_turn
+        slope = (wt - wt_prev) / max(s_total - s_prev, 1e-300)
+        if slope < 0:
+            d0 = wt / -slope
+            h_try = min(h_try, max(1.3 * d0, 0.05 * h_try))
+    return h_try
+
+
+def _corrected(omap, bp, t, h_try, rtol, newton_tol, corrector_max, angle_max, max_state_move):
+    """The predictor's point corrected onto the branch, with its tangent and the angle turned: (point,
+    tangent, angle), or (None, None, None) where the step is rejected (Newton failed, or the corrector moved
+    too far, or the tangent turned too much)."""
+    pred = bp.z + h_try * t
+    new = solve_on_plane(omap, pred, t, t @ bp.z + h_try, rtol=rtol, tol=min(newton_tol, 0.05 * corrector_max * h_try),
+                         max_iter=5, fresh=False)
+    if new is None:
+        return None, None, None
+    move = float(np.max(np.abs(new.z - pred)))
+    t_new = _unit(new.tangent)
+    if t_new @ t < 0:
+        t_new = -t_new
+    angle = math.acos(max(-1.0, min(1.0, float(t_new @ t))))
+    # the state's correction is also capped absolutely: a step may not jump to another branch of the
+    # curve however long it is along w
+    move_xy = float(np.max(np.abs((new.z - pred)[:2])))
+    if angle <= angle_max and move <= corrector_max * h_try and move_xy <= max_state_move:
+        return new, t_new, angle
+    return None, None, None
+
+
+def _stopped(out, omap, bp, new, direction, watch, rtol):
+    """(whether the sweep ends at the accepted point ``new``, that point): a fold (det(M - I) changes sign,
+    or w moved backward) or a sign change of ``watch``; the bracket is set on ``out``.  Where a fold seen by
+    the loose tangents is not confirmed, the point goes on re-evaluated at the branch."""
+    # the cross-product tangent is continuous along the branch: a sign change of its w-component is a fold
+    if np.sign(new.tangent[2]) != np.sign(bp.tangent[2]) and new.tangent[2] != 0.0:
+        # the loosely converged points carry the Jacobian of their last iterate: confirm at the points
+        new, bp_fresh = omap.evaluate(new.z, rtol), omap.evaluate(bp.z, rtol)
+        out.points[-1] = bp_fresh
+        if np.sign(new.tangent[2]) != np.sign(bp_fresh.tangent[2]):
+            out.points.append(new)
+            out.fold_bracket = (bp_fresh, new)
+            return True, new
+    # the same fold seen geometrically: w moved backward (the det test can miss it when the loosely
+    # converged points carry Jacobians from off the branch); it lies between the point before the last
+    # one and the new one
+    if (new.z[2] - bp.z[2]) * direction < 0 and len(out.points) >= 2:
+        fresh = [omap.evaluate(q.z, rtol) for q in (out.points[-2], new)]
+        out.points.append(new)
+        out.fold_bracket = (fresh[0], fresh[1])
+        return True, new
+    if watch is not None and np.sign(watch(new)) != np.sign(watch(bp)):
+        out.points.append(new)
+        out.fold_bracket = (bp, new)
+        out.watched = True
+        return True, new
+    return False, new
 
 
 def refine_root(

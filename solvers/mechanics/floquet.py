@@ -25,6 +25,8 @@ import numpy as np
 from mech.solvers.numerics.ode import Trajectory, integrate
 
 __all__ = [
+    "half_period_minus_one",
+    "half_period_growth",
     "linear_monodromy",
     "flow_with_variations",
     "multipliers",
@@ -210,3 +212,48 @@ def even_hill_half_batch(
     res = integrate_batch(rhs, (0.0, t_half), y0, rtol=rtol, atol=atol)
     y1, y1p, y2, y2p = res.y_end
     return (y1, y1p, y2 / vs, y2p / vs), res
+
+
+def half_period_minus_one(y1, y1p, y2, y2p, e, dT, omega0):
+    """(F, its absolute error) with F = det(M + I) / exp(-delta T), M the monodromy matrix of q over the period
+    T of a damped even Hill equation q'' + 2 delta q' + k(t) q = 0, from the half-period solutions (y1 even,
+    y2 odd) of its undamped form for y = exp(delta t) q, each with the absolute error e (y1, y2' unit-sized,
+    y1' ~ omega0, y2 ~ 1/omega0); dT = delta T.  Over arrays.
+
+    With the multipliers of q equal to exp(-delta T) times those of y, det(M + I) = 1 + exp(-dT) tr M_y +
+    exp(-2 dT), so F = 2 cosh dT + tr M_y.  Near a multiplier -1 (tr M_y near -2) that sum cancels almost
+    completely (a narrow zone: F ~ -(eps^2 - delta^2) T^2 ~ 1e-14 while tr M_y ~ 2 carries an error ~rtol),
+    so it is formed from the half-period products that do not cancel: tr M_y + 2 = 4 y1 y2' gives
+    F = 4 y1 y2' + 4 sinh^2(dT/2); tr M_y - 2 = 4 y1' y2 gives F = 4 y1' y2 + 4 cosh^2(dT/2) (used when
+    tr M_y > 0, where F is far from 0).  The error is that of the product from the errors e of its two
+    unit-sized factors, plus the round-off of the sum."""
+    neg = y1 * y2p + y1p * y2 < 0  # tr M_y < 0
+    prod = 4.0 * np.where(neg, y1 * y2p, y1p * y2)
+    extra = np.where(neg, 4.0 * np.sinh(0.5 * dT) ** 2, 4.0 * np.cosh(0.5 * dT) ** 2)
+    err = 4.0 * e * (np.where(neg, np.abs(y1) + np.abs(y2p), np.abs(y1p) / omega0 + np.abs(y2) * omega0) + e)
+    return prod + extra, err + 4.0 * 2.0**-53 * (np.abs(prod) + extra)
+
+
+def half_period_growth(y1, y1p, y2, y2p, e, omega0, delta, T):
+    """(growth, its absolute error) of the damped even Hill equation (as ``half_period_minus_one``) from its
+    half-period solutions, over arrays.
+
+    growth = ln(lambda_y)/T - delta with lambda_y the largest |multiplier| of the Hill equation for
+    y = exp(delta t) q.  Near the zone's edge and near threshold lambda_y is close to 1, and the
+    growth a difference of two nearly equal rates, so ln(lambda_y) = arccosh(1 + h) is formed from
+    h = (|tr M| - 2)/2 without cancellation: with the half-period solutions (y1 even, y2 odd) and the
+    Wronskian y1 y2' - y1' y2 = 1, tr M + 2 = 4 y1 y2' and tr M - 2 = 4 y1' y2, and
+    arccosh(1 + h) = log1p(h + (h (h + 2))^(1/2)).  Its error is that of the four half-period
+    values (e each), propagated through h and the square root (which amplifies it near the zone's edge)."""
+    tr = 2.0 * (y1 * y2p + y1p * y2)
+    neg = tr < 0  # |tr| - 2 from the product that does not cancel: -(tr + 2) for tr < 0, tr - 2 for tr > 0
+    h = np.where(neg, -2.0 * y1 * y2p, 2.0 * y1p * y2)
+    dh = 2.0 * e * np.where(neg, np.abs(y1) + np.abs(y2p), np.abs(y1p) / omega0 + np.abs(y2) * omega0)
+    hp = np.maximum(h, 0.0)
+    root = np.sqrt(hp * (hp + 2.0))
+    ln_lam = np.where(h > 0, np.log1p(hp + root), 0.0)  # |tr| <= 2: both multipliers of y on the unit circle
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d_pos = np.where(h > dh, dh / np.where(root > 0, root, 1.0), np.sqrt(2.0 * np.maximum(h + dh, 0.0)))
+    d_neg = np.where(-h < dh, np.sqrt(2.0 * dh), 0.0)
+    d_ln = np.where(h > 0, d_pos, d_neg)
+    return ln_lam / T - delta, d_ln / T + 4.0 * 2.0**-53 * (ln_lam / T + delta)

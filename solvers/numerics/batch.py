@@ -58,6 +58,25 @@ def _tableau():
     return dop853._TABLEAU
 
 
+def _starting_step(f, t0, y, fy, direction, span, rtol, atol, first_step) -> float:
+    """``first_step``, or Hairer's starting step with the worst point's norms."""
+    if first_step is not None:
+        h_abs = min(abs(float(first_step)), span)
+    else:
+        # Hairer's starting step, with the worst point's norms
+        scale = atol + np.abs(y) * rtol
+        d0 = np.sqrt(np.mean((y / scale) ** 2, axis=0))
+        d1 = np.sqrt(np.mean((fy / scale) ** 2, axis=0))
+        ratio = np.where((d0 < 1e-5) | (d1 < 1e-5), 1e-6, 0.01 * d0 / np.maximum(d1, 1e-300))
+        h0 = min(float(ratio.min()), span)
+        f1 = f(t0 + direction * h0, y + direction * h0 * fy)
+        d2 = float(np.max(np.sqrt(np.mean(((f1 - fy) / scale) ** 2, axis=0)))) / h0
+        dm = max(float(d1.max()), d2)
+        h1 = max(1e-6, h0 * 1e-3) if dm <= 1e-15 else (0.01 / dm) ** (1.0 / 8.0)
+        h_abs = min(100.0 * h0, h1, span)
+    return h_abs
+
+
 def integrate_batch(
     rhs: Callable[[float, np.ndarray], np.ndarray],
     t_span: tuple[float, float],
@@ -95,21 +114,7 @@ def integrate_batch(
         return np.asarray(rhs(t, yy), dtype=float)
 
     fy = f(t0, y)
-    span = abs(t_end - t0)
-    if first_step is not None:
-        h_abs = min(abs(float(first_step)), span)
-    else:
-        # Hairer's starting step, with the worst point's norms
-        scale = atol + np.abs(y) * rtol
-        d0 = np.sqrt(np.mean((y / scale) ** 2, axis=0))
-        d1 = np.sqrt(np.mean((fy / scale) ** 2, axis=0))
-        ratio = np.where((d0 < 1e-5) | (d1 < 1e-5), 1e-6, 0.01 * d0 / np.maximum(d1, 1e-300))
-        h0 = min(float(ratio.min()), span)
-        f1 = f(t0 + direction * h0, y + direction * h0 * fy)
-        d2 = float(np.max(np.sqrt(np.mean(((f1 - fy) / scale) ** 2, axis=0)))) / h0
-        dm = max(float(d1.max()), d2)
-        h1 = max(1e-6, h0 * 1e-3) if dm <= 1e-15 else (0.01 / dm) ** (1.0 / 8.0)
-        h_abs = min(100.0 * h0, h1, span)
+    h_abs = _starting_step(f, t0, y, fy, direction, abs(t_end - t0), rtol, atol, first_step)
 
     K = np.empty((13, n, N))
     K2 = K.reshape(13, n * N)
@@ -240,6 +245,62 @@ def illinois(f, a, b, fa, fb, *, xtol, rtol, max_iter: int = 200):
 
 
 __all__ += ["illinois"]
+
+
+def scan_up(f, lo, hi, *, factor: float, limit, flo=None, fhi=None):
+    """Brackets of the first sign change of N functions from positive to non-positive, scanning up: per
+    point, [lo, hi] moves to [hi, factor hi] while f(hi) > 0, until hi passes ``limit`` (no root there).
+    ``f(idx, x)`` evaluates the points ``idx`` at x; ``flo``, ``fhi``: values already known at lo and hi
+    (else NaN, and f(hi) is evaluated first).  Returns (lo, hi, f(lo) (NaN where lo was never evaluated),
+    f(hi), no_root)."""
+    lo, hi = np.array(lo, dtype=float), np.array(hi, dtype=float)
+    limit = np.broadcast_to(np.asarray(limit, dtype=float), lo.shape)
+    n = lo.size
+    flo = np.full(n, np.nan) if flo is None else np.array(flo, dtype=float)
+    known = fhi is not None
+    fhi = np.full(n, np.nan) if fhi is None else np.array(fhi, dtype=float)
+    scan = np.ones(n, dtype=bool)
+    no_root = np.zeros(n, dtype=bool)
+    while scan.any():
+        idx = np.flatnonzero(scan)
+        if not known:
+            fhi[idx] = f(idx, hi[idx])
+        known = False
+        up = fhi[idx] > 0.0
+        grow = idx[up]
+        lo[grow], flo[grow], hi[grow] = hi[grow], fhi[grow], factor * hi[grow]
+        over = grow[hi[grow] > limit[grow]]
+        no_root[over] = True
+        scan[idx[~up]] = False
+        scan[over] = False
+    return lo, hi, flo, fhi, no_root
+
+
+__all__ += ["scan_up"]
+
+
+def scan_down(f, hi, fhi, *, factor: float, floor: float):
+    """Brackets within a factor 1/``factor`` of a sign change below hi, for N functions negative at hi:
+    per point hi moves to factor hi while f(factor hi) < 0 (down to ``floor``).  Returns (lo, hi, f(lo),
+    f(hi)); lo is 0 with f(lo) NaN where the floor was reached."""
+    hi, fhi = np.array(hi, dtype=float), np.array(fhi, dtype=float)
+    n = hi.size
+    lo, flo = np.zeros(n), np.full(n, np.nan)
+    down = np.ones(n, dtype=bool)
+    while down.any():
+        idx = np.flatnonzero(down)
+        f4 = f(idx, factor * hi[idx])
+        neg = f4 < 0.0
+        stepped = idx[neg]
+        hi[stepped], fhi[stepped] = factor * hi[stepped], f4[neg]
+        down[idx[~neg]] = False
+        down[stepped[hi[stepped] <= floor]] = False
+        ok = idx[~neg]
+        lo[ok], flo[ok] = factor * hi[ok], f4[~neg]
+    return lo, hi, flo, fhi
+
+
+__all__ += ["scan_down"]
 
 
 def by_rows(memo: dict, key, arrays, compute):

@@ -35,6 +35,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from mech.core import budget
+from mech.core.errors import NumericFailure
 
 __all__ = ["available", "tableau_load_seconds", "solve", "DenseSolution", "Result"]
 
@@ -175,6 +176,158 @@ def _rms(v):
     return math.sqrt(float(v @ v) / v.size)
 
 
+def _starting_step(f, t0: float, t_end: float, y, fy, direction: float, rtol: float, atol, max_step: float,
+                   first_step) -> float:
+    """The first step's size: ``first_step`` or Hairer's heuristic (a step on which the solution changes by
+    about 1% of its scale).  A ``NumericFailure`` where the error scale atol + rtol |y| is so small against
+    the derivative that their ratio leaves the floating-point range (no step could be measured)."""
+    if first_step is not None:
+        h_abs = min(abs(float(first_step)), abs(t_end - t0))
+    else:
+        scale = atol + np.abs(y) * rtol
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            d0, d1 = _rms(y / scale), _rms(fy / scale)
+        h0 = 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
+        h0 = min(h0, abs(t_end - t0))
+        if not (h0 > 0.0 and math.isfinite(d0) and math.isfinite(d1)):
+            raise NumericFailure(
+                f"DOP853 cannot start: the error scale atol + rtol |y| (down to {float(np.min(scale)):.3g}) is too "
+                f"small for the derivative (up to {float(np.max(np.abs(fy))):.3g}): their ratio leaves the "
+                "floating-point range")
+        y1 = y + direction * h0 * fy
+        f1 = f(t0 + direction * h0, y1)
+        with np.errstate(over="ignore", invalid="ignore"):
+            d2 = _rms((f1 - fy) / scale) / h0
+        if d1 <= 1e-15 and d2 <= 1e-15:
+            h1 = max(1e-6, h0 * 1e-3)
+        else:
+            h1 = (0.01 / max(d1, d2)) ** (1.0 / 8.0)
+        h_abs = min(100.0 * h0, h1, abs(t_end - t0))
+    return min(h_abs, max_step)
+
+
+class _Stepper:
+    """The stages of one step of the pair and their step control (``attempt``), with the evaluations
+    counted in ``nfev``; ``segment`` gives the step's continuous extension (three more stages)."""
+
+    __slots__ = ("call", "fun", "n", "K", "A", "Cl", "B", "EE", "D", "rtol", "atol", "max_step", "nfev")
+
+    def __init__(self, fun, call, n, tab, rtol, atol, max_step):
+        self.fun, self.call, self.n = fun, call, n
+        self.K = np.empty((16, n))
+        self.A, self.Cl, self.B, self.D = tab["A"], tab["C"].tolist(), tab["B"], tab["D"]
+        self.EE = np.vstack([tab["E5"], tab["E3"]])
+        self.rtol, self.atol, self.max_step = rtol, atol, max_step
+        self.nfev = 0
+
+    def f(self, t, yy):
+        self.nfev += 1
+        out = np.asarray(self.fun(t, yy), dtype=float)
+        return out if out.ndim == 1 else out.ravel()
+
+    def attempt(self, t, y, fy, h_abs, direction, t_end):
+        """Steps from (t, y) until one is accepted: (t_new, h, y_new, f_new, h_next), or None where the
+        step would fall below the spacing of the numbers near t (status -1)."""
+        K, call, A, Cl, B, n = self.K, self.call, self.A, self.Cl, self.B, self.n
+        min_step = 10.0 * abs(math.nextafter(t, direction * math.inf) - t)
+        step_rejected = False
+        while True:
+            if time.monotonic() > budget.deadline:
+                budget.check("DOP853 step")  # a run of rejected steps too (4.9 far out: until the timer)
+            if h_abs < min_step:
+                return None
+            t_new, h, h_abs = step_to(t, h_abs, direction, t_end)
+            K[0] = fy
+            hA = h * A  # the step's tableau: one product instead of one per stage
+            for s in range(1, 12):
+                # fun's value goes straight into K (numpy converts a list); the count is kept below
+                K[s] = call(t + Cl[s] * h, y + hA[s, :s] @ K[:s])
+            self.nfev += 11
+            y_new = y + h * (B @ K[:12])
+            f_new = self.f(t_new, y_new)
+            K[12] = f_new
+            scale = self.atol + np.maximum(np.abs(y), np.abs(y_new)) * self.rtol
+            ee = self.EE @ K[:13]  # the 5th- and 3rd-order error estimates, in one product
+            ee /= scale
+            n5, n3 = (ee * ee).sum(axis=1).tolist()
+            if n5 == 0.0:
+                err = 0.0  # err is proportional to n5 (and 0.01 n3 can underflow to 0: a division by zero)
+            else:
+                err = abs(h) * n5 / math.sqrt(n * (n5 + 0.01 * n3))
+            if not math.isfinite(err) or not math.isfinite(float(np.add.reduce(y_new))):
+                h_abs *= MIN_FACTOR
+                step_rejected = True
+                continue
+            if err < 1.0:
+                factor = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * err ** ERR_EXP)
+                if step_rejected:
+                    factor = min(1.0, factor)
+                return t_new, h, y_new, f_new, min(h_abs * factor, self.max_step)
+            h_abs *= max(MIN_FACTOR, SAFETY * err ** ERR_EXP)
+            step_rejected = True
+
+    def segment(self, t, h, y, fy, y_new, f_new):
+        """The continuous extension of the step just accepted (its stages are still in K)."""
+        K, call, Cl = self.K, self.call, self.Cl
+        hA = h * self.A
+        for s in range(13, 16):
+            K[s] = call(t + Cl[s] * h, y + hA[s, :s] @ K[:s])
+        self.nfev += 3
+        dy = y_new - y
+        F = np.empty((7, self.n))
+        F[0] = dy
+        F[1] = h * fy - dy
+        F[2] = 2.0 * dy - h * (fy + f_new)
+        F[3:] = h * (self.D @ K)
+        return _Segment(t, h, y.copy(), F)
+
+
+def _events_in_step(events, g_old, t, t_new, y_new, segment, res):
+    """The events whose functions change sign in their direction over the step, located on its continuous
+    extension and recorded in ``res``, in the order of time: (their values at t_new, the terminal event's
+    (time, state) or None)."""
+    g_new = [float(ev(t_new, y_new)) for ev in events]
+    found = []
+    for k, ev in enumerate(events):
+        a, b = g_old[k], g_new[k]
+        up, down = a <= 0.0 <= b, a >= 0.0 >= b
+        dirn = getattr(ev, "direction", 0.0)
+        if (up and dirn > 0) or (down and dirn < 0) or ((up or down) and dirn == 0):
+            sg = segment()
+            comp = getattr(ev, "component", None)
+            if comp is not None:
+                if b != y_new[comp]:
+                    raise ValueError(f"an event declared as component {comp} of the state is not it")
+                root = _event_root(sg.component(comp), t, t_new)
+            else:
+                root = _event_root(lambda tt: float(ev(tt, sg(tt))), t, t_new)
+            found.append((root, k))
+    direction = 1.0 if t_new >= t else -1.0
+    found.sort(key=lambda rk: rk[0] * direction)
+    for root, k in found:
+        y_root = segment()(root)
+        res.t_events[k] = np.append(res.t_events[k], root)
+        res.y_events[k] = np.vstack([res.y_events[k], y_root])
+        if getattr(events[k], "terminal", False):
+            return g_new, (root, y_root)
+    return g_new, None
+
+
+def _new_result(n_events: int, n: int) -> Result:
+    res = Result()
+    res.t_events = [np.empty(0) for _ in range(n_events)]
+    res.y_events = [np.empty((0, n)) for _ in range(n_events)]
+    res.sol = None
+    return res
+
+
+def _passed(t_eval, i: int, t_stop: float, direction: float) -> int:
+    """The index of the first output time beyond ``t_stop``, from ``i`` on."""
+    while i < t_eval.size and (t_eval[i] - t_stop) * direction <= 0:
+        i += 1
+    return i
+
+
 def solve(
     fun: Callable,
     t_span: tuple[float, float],
@@ -197,180 +350,65 @@ def solve(
     """
     if not available():
         raise RuntimeError("DOP853 tableau unavailable")
-    tab = _TABLEAU
-    C, A, B, E3, E5, D = tab["C"], tab["A"], tab["B"], tab["E3"], tab["E5"], tab["D"]
     t0, t_end = float(t_span[0]), float(t_span[1])
     y = np.array(y0, dtype=float).ravel()
     n = y.size
     direction = 1.0 if t_end >= t0 else -1.0
     atol = np.asarray(atol, float)
-    nfev = 0
 
-    def f(t, yy):
-        nonlocal nfev
-        nfev += 1
-        out = np.asarray(fun(t, yy), dtype=float)
-        return out if out.ndim == 1 else out.ravel()
-
-    EE = np.vstack([E5, E3])
-    Cl = C.tolist()
-
-    res = Result()
-    res.t_events = [np.empty(0) for _ in events]
-    res.y_events = [np.empty((0, n)) for _ in events]
-    res.sol = None
+    res = _new_result(len(events), n)
     ts, ys = [t0], [y.copy()]
     t_eval_arr = None
     if t_eval is not None:
         t_eval_arr = np.asarray(t_eval, float)
         ts, ys = [], []
-        keep = (t_eval_arr - t0) * direction >= 0
-        t_eval_arr = t_eval_arr[keep]
+        t_eval_arr = t_eval_arr[(t_eval_arr - t0) * direction >= 0]
         i_eval = 0
     segments, seg_ends = ([], [t0]) if dense_output else (None, None)
 
     raw = np.asarray(fun(t0, y), dtype=float)
-    nfev += 1
     fy = raw.ravel()
     # the stages write fun's value straight into K when it comes as n numbers in a row; anything else
     # (a column, say) is flattened on the way
     call = fun if raw.ndim <= 1 else (lambda tt, yy: np.asarray(fun(tt, yy), dtype=float).ravel())
+    st = _Stepper(fun, call, n, _TABLEAU, rtol, atol, abs(max_step))
+    st.nfev = 1
     if t_end == t0:
-        res.t, res.y, res.nfev, res.status = np.array([t0]), y[:, None], nfev, 0
+        res.t, res.y, res.nfev, res.status = np.array([t0]), y[:, None], st.nfev, 0
         res.message = "The solver successfully reached the end of the integration interval."
         return res
+    h_abs = _starting_step(st.f, t0, t_end, y, fy, direction, rtol, atol, abs(max_step), first_step)
 
-    # the starting step (Hairer's heuristic: a step on which the solution changes by about 1% of its scale)
-    max_step = abs(max_step)
-    if first_step is not None:
-        h_abs = min(abs(float(first_step)), abs(t_end - t0))
-    else:
-        scale = atol + np.abs(y) * rtol
-        d0, d1 = _rms(y / scale), _rms(fy / scale)
-        h0 = 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
-        h0 = min(h0, abs(t_end - t0))
-        y1 = y + direction * h0 * fy
-        f1 = f(t0 + direction * h0, y1)
-        d2 = _rms((f1 - fy) / scale) / h0
-        if d1 <= 1e-15 and d2 <= 1e-15:
-            h1 = max(1e-6, h0 * 1e-3)
-        else:
-            h1 = (0.01 / max(d1, d2)) ** (1.0 / 8.0)
-        h_abs = min(100.0 * h0, h1, abs(t_end - t0))
-    h_abs = min(h_abs, max_step)
-
-    K = np.empty((16, n))
     g_old = [float(ev(t0, y)) for ev in events]
     t = t0
     status, message = 0, "The solver successfully reached the end of the integration interval."
-    rejected_last = False
     while (t_end - t) * direction > 0:
         if time.monotonic() > budget.deadline:
             budget.check("DOP853 step")
-        min_step = 10.0 * abs(math.nextafter(t, direction * math.inf) - t)
-        if h_abs < min_step:
+        step = st.attempt(t, y, fy, h_abs, direction, t_end)
+        if step is None:
             status, message = -1, "Required step size is less than spacing between numbers."
             break
-        step_rejected = False
-        while True:
-            if time.monotonic() > budget.deadline:
-                budget.check("DOP853 step")  # a run of rejected steps too (4.9 far out: until the timer)
-            if h_abs < min_step:
-                status, message = -1, "Required step size is less than spacing between numbers."
-                break
-            t_new, h, h_abs = step_to(t, h_abs, direction, t_end)
-            K[0] = fy
-            hA = h * A  # the step's tableau: one product instead of one per stage
-            for s in range(1, 12):
-                # fun's value goes straight into K (numpy converts a list); the count is kept below
-                K[s] = call(t + Cl[s] * h, y + hA[s, :s] @ K[:s])
-            nfev += 11
-            y_new = y + h * (B @ K[:12])
-            f_new = f(t_new, y_new)
-            K[12] = f_new
-            scale = atol + np.maximum(np.abs(y), np.abs(y_new)) * rtol
-            ee = EE @ K[:13]  # the 5th- and 3rd-order error estimates, in one product
-            ee /= scale
-            n5, n3 = (ee * ee).sum(axis=1).tolist()
-            if n5 == 0.0:
-                err = 0.0  # err is proportional to n5 (and 0.01 n3 can underflow to 0: a division by zero)
-            else:
-                err = abs(h) * n5 / math.sqrt(n * (n5 + 0.01 * n3))
-            if not math.isfinite(err) or not math.isfinite(float(np.add.reduce(y_new))):
-                h_abs *= MIN_FACTOR
-                step_rejected = True
-                continue
-            if err < 1.0:
-                if err == 0.0:
-                    factor = MAX_FACTOR
-                else:
-                    factor = min(MAX_FACTOR, SAFETY * err ** ERR_EXP)
-                if step_rejected:
-                    factor = min(1.0, factor)
-                h_next = min(h_abs * factor, max_step)
-                break
-            h_abs *= max(MIN_FACTOR, SAFETY * err ** ERR_EXP)
-            step_rejected = True
-        if status == -1:
-            break
-        rejected_last = step_rejected  # noqa: F841 (kept for clarity of the control's memory)
-
+        t_new, h, y_new, f_new, h_next = step
         seg = None
 
         def segment():
-            nonlocal seg, nfev
+            nonlocal seg
             if seg is None:
-                hA = h * A
-                for s in range(13, 16):
-                    K[s] = call(t + Cl[s] * h, y + hA[s, :s] @ K[:s])
-                nfev += 3
-                dy = y_new - y
-                F = np.empty((7, n))
-                F[0] = dy
-                F[1] = h * fy - dy
-                F[2] = 2.0 * dy - h * (fy + f_new)
-                F[3:] = h * (D @ K)
-                seg = _Segment(t, h, y.copy(), F)
+                seg = st.segment(t, h, y, fy, y_new, f_new)
             return seg
 
         stop_at = None
         if events:
-            g_new = [float(ev(t_new, y_new)) for ev in events]
-            found = []
-            for k, ev in enumerate(events):
-                a, b = g_old[k], g_new[k]
-                up, down = a <= 0.0 <= b, a >= 0.0 >= b
-                dirn = getattr(ev, "direction", 0.0)
-                if (up and dirn > 0) or (down and dirn < 0) or ((up or down) and dirn == 0):
-                    sg = segment()
-                    comp = getattr(ev, "component", None)
-                    if comp is not None:
-                        if b != y_new[comp]:
-                            raise ValueError(f"an event declared as component {comp} of the state is not it")
-                        root = _event_root(sg.component(comp), t, t_new)
-                    else:
-                        root = _event_root(lambda tt: float(ev(tt, sg(tt))), t, t_new)
-                    found.append((root, k))
-            found.sort(key=lambda rk: rk[0] * direction)
-            for root, k in found:
-                y_root = segment()(root)
-                res.t_events[k] = np.append(res.t_events[k], root)
-                res.y_events[k] = np.vstack([res.y_events[k], y_root])
-                if getattr(events[k], "terminal", False):
-                    stop_at = (root, y_root)
-                    break
-            g_old = g_new
+            g_old, stop_at = _events_in_step(events, g_old, t, t_new, y_new, segment, res)
         t_stop, y_stop = (stop_at if stop_at is not None else (t_new, y_new))
 
         if t_eval_arr is not None:
-            lo = i_eval
-            while i_eval < t_eval_arr.size and (t_eval_arr[i_eval] - t_stop) * direction <= 0:
-                i_eval += 1
+            lo, i_eval = i_eval, _passed(t_eval_arr, i_eval, t_stop, direction)
             if i_eval > lo:
                 pts = t_eval_arr[lo:i_eval]
-                vals = segment()(pts)
                 ts.extend(pts.tolist())
-                ys.extend(vals.T)
+                ys.extend(segment()(pts).T)
         else:
             ts.append(t_stop)
             ys.append(y_stop)  # a fresh array every step (never written to afterwards)
@@ -384,7 +422,7 @@ def solve(
 
     res.t = np.asarray(ts, float)
     res.y = np.asarray(ys, float).T if ys else np.empty((n, 0))
-    res.nfev = nfev
+    res.nfev = st.nfev
     res.status, res.message = status, message
     if dense_output and segments:
         res.sol = DenseSolution(segments, seg_ends, direction)

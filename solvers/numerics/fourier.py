@@ -134,8 +134,18 @@ _TWO_PI = (float.fromhex("0x1.921fb54000000p+2"), float.fromhex("0x1.10b46118000
 
 
 def _two_product(a: float, b: float):
-    """(p, e) with p = fl(a b) and p + e = a b exactly (Dekker's splitting)."""
+    """(p, e) with p = fl(a b) and p + e = a b exactly (Dekker's splitting).  A factor above 2^995, whose
+    split would overflow, is split at 2^-60 of itself and the pair scaled back (powers of two: exact);
+    a product beyond the floating-point range is a ``NumericFailure`` (a phase no double can hold)."""
     p = a * b
+    if not math.isfinite(p):
+        raise NumericFailure(f"Fourier quadrature: the phase {a:.3g} x {b:.3g} leaves the floating-point range")
+    if abs(a) > 2.0**995 or abs(b) > 2.0**995:
+        k = 60 * ((abs(a) > 2.0**995) + (abs(b) > 2.0**995))
+        sa = math.ldexp(a, -60) if abs(a) > 2.0**995 else a
+        sb = math.ldexp(b, -60) if abs(b) > 2.0**995 else b
+        q, e = _two_product(sa, sb)
+        return p, math.ldexp(e, k)
     t = _SPLIT * a
     ah = t - (t - a)
     al = a - ah

