@@ -541,12 +541,7 @@ class Exercise:
         m = self.motion_at(p)
         if m is None:
             return None, None
-        return m, self.follow(m, rtol, dense=True)
-
-    def follow(self, motion, rtol: float | None = None, **options):
-        """``motion`` integrated by a fresh ``Run`` at ``rtol`` (``Run.follow``'s options): for the modules
-        above the contract (scene, physics) that integrate a declared motion without importing it."""
-        return Run(rtol=rtol).follow(motion, **options)
+        return m, Run(rtol=rtol).follow(m, dense=True)
 
     def physics(self, fn: Callable[[Any], None]) -> Callable:
         """Register ``fn(d)``: the exercise's physics declared for sympy (``mech.problems.physics``), kept in
