@@ -196,8 +196,20 @@ def _expectations(ex, expect: dict | None, expect_rtol, expect_points=None, expe
             raise BadInput("expect_points/expect_seed: given without any formula in expect")
         return None
     pairs = [f"{name}={_value_text(value)}" for name, value in expect.items()]
-    return parse_expectations(ex, pairs, None if expect_rtol is None else _value_text(expect_rtol),
-                              expect_points, expect_seed, names=("expect_points", "expect_seed"))
+    try:
+        return parse_expectations(ex, pairs, None if expect_rtol is None else _value_text(expect_rtol),
+                                  expect_points, expect_seed, names=("expect_points", "expect_seed"))
+    except BadInput as exc:  # named as the API names them: the keyword, not the command-line flag
+        raise BadInput(_api_words(str(exc))) from None
+
+
+def _api_words(message: str) -> str:
+    """``--expect theta_c: ...`` -> ``expect["theta_c"]: ...``; ``--expect-rtol`` -> ``expect_rtol``."""
+    import re
+
+    message = message.replace("--expect-rtol", "expect_rtol")
+    message = re.sub(r"^--expect ([A-Za-z_][A-Za-z0-9_]*):", r'expect["\1"]:', message)
+    return message.replace("--expect NAME=VALUE", "expect={NAME: VALUE}").replace("--expect", "expect=")
 
 
 def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None,
@@ -293,6 +305,7 @@ class Sweep:
         self.points = points
         self.seconds = seconds
         self.outputs = list(only) if only else [o.name for o in exercise.outputs]
+        self.result = None  # the sweep's own result (``verification.sweep``), for ``plot``
 
     @property
     def agree(self) -> bool | None:
@@ -380,6 +393,19 @@ class Sweep:
                 columns[n] = v
         return pd.DataFrame(columns)
 
+    def plot(self, path=None):
+        """The sweep's figure, as ``mech sweep --plot`` draws it (needs matplotlib): the outputs against the
+        first swept parameter, or a map over two; returns the matplotlib Figure, saved to ``path`` if given."""
+        from mech.figures.common import save
+        from mech.figures.sweepfig import sweep_figure
+
+        if self.result is None:
+            raise BadInput("plot: this sweep keeps no result to draw; make it with mech.sweep(...)")
+        fig = sweep_figure(self.result)
+        if path is not None:
+            save(fig, str(path))
+        return fig
+
     def __repr__(self) -> str:
         swept = ", ".join(f"{a.name}: {len(a.values)}" for a in self.axes)
         return f"<Sweep {self.exercise.id} over {swept}; {len(self.points)} points; agree={self.agree}>"
@@ -436,7 +462,9 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
         points = [ex.resolve(values) for values in grid_points(axes, fixed)]
         result = run_sweep(ex, axes, fixed, points, rtol=rtol_value, verify=verify, jobs=jobs, only=wanted,
                            total_s=total_s)
-    return Sweep(ex, axes, fixed, result.solutions(), result.seconds, wanted)
+    sw = Sweep(ex, axes, fixed, result.solutions(), result.seconds, wanted)
+    sw.result = result  # what ``.plot()`` draws, as ``mech sweep --plot`` does
+    return sw
 
 
 @dataclass(frozen=True)
