@@ -160,6 +160,8 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
         if lead:
             matches = ("beyond-leading-order" if any(n.startswith("beyond leading order") for n in notes)
                        else "exact" if any("numeric value rather" in n for n in notes) else "leading-order")
+            if matches == "beyond-leading-order":  # the verdict says so first
+                text = "right beyond leading order, " + text.removeprefix("right ")
         return FormulaVerdict(True, text, None, y0, r0, rel0, float(pj.tol[0]), points=points, matches=matches,
                               **base)
     # wrong: find what a student can act on
