@@ -50,7 +50,7 @@ def test_the_body_s_inertia_left_out_is_not_leading_order():
     # 4.10: Omega^2 = M g l/(I + M l^2); sqrt(g/l) is that with I = 0
     j = _judge("4.10", "Omega", "sqrt(g/l)")
     assert not j.match and "leading-order" not in j.verdict and "approximation" not in j.verdict
-    assert "I left out (taken as 0)" in j.verdict
+    assert "I left out (taken as 0" in j.verdict
 
 
 def test_another_output_s_formula_is_named():
@@ -114,7 +114,7 @@ def test_a_sign_slip_inside_a_declared_approximation():
 def test_a_term_left_out_is_named_where_the_formula_evaluates():
     # 5.11: growth = -delta + sqrt(eps^2 - xi^2), eps = mu omega0/4; outside the zone there is no sqrt
     j = _judge("5.11", "growth", "sqrt((mu*omega0/4)^2-(omega-omega0)^2)")
-    assert "delta left out (taken as 0)" in j.verdict and "cannot be evaluated" in j.verdict
+    assert "delta left out (taken as 0" in j.verdict and "cannot be evaluated" in j.verdict
 
 
 def test_a_piecewise_answer_right_on_one_branch_names_no_slip():

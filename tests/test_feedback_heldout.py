@@ -29,7 +29,7 @@ CASES: dict[str, list[tuple[str, str, str | None]]] = {
     "4.10": [  # physical pendulum: Omega^2 = M g l / (I + M l^2); l_ef = l + I/(M l); l_conj = I/(M l)
         ("Omega", "sqrt(M g l/(I + M l^2))", R), ("Omega", "(g*l/(I/M + l^2))^0.5", R),
         ("l_ef", "l+I/M/l", R), ("l_opt", "sqrt(I/M)", R), ("Omega_max", "sqrt(g/(2*sqrt(I/M)))", R),
-        ("Omega", "sqrt(g/l)", "I left out (taken as 0)"),
+        ("Omega", "sqrt(g/l)", "I left out (taken as 0"),
         ("Omega", "sqrt(M*g*l/(I+M*l^2))/(2*pi)", "factor 1/(2 pi)"),
         ("Omega", "M*g*l/(I+M*l^2)", "is it the square?"),
         ("Omega", "sqrt(M*l/(I+M*l^2))", "g is missing"),
@@ -41,7 +41,7 @@ CASES: dict[str, list[tuple[str, str, str | None]]] = {
         ("Omega_max", "sqrt(g/sqrt(I/M))", "sqrt(2)"),
         ("l_ef", "l + I/(2*M*l)", "halved"),
         # numbers at the defaults: Omega = sqrt(1.962/0.06) = 5.7184 rad/s
-        ("Omega", "32.70", "squared"), ("Omega", "0.9101", "1/(2 pi)"), ("Omega", "7.004", "I left out (taken as 0)"),
+        ("Omega", "32.70", "squared"), ("Omega", "0.9101", "1/(2 pi)"), ("Omega", "7.004", "I left out (taken as 0"),
         ("Omega", "5.718 rad/s", R), ("Omega", "11.44", "factor 2"),
     ],
     "4.14": [  # solid hemisphere: d = 3R/8; rolling 15 g/(26 R), frictionless 120 g/(83 R)
@@ -83,7 +83,7 @@ CASES: dict[str, list[tuple[str, str, str | None]]] = {
         ("delta_N", "-M*R*Omega^2/2", "wrong sign"),
         ("delta_N", "M*R*Omega^2", "factor 2"),
         ("omega_spin", "Omega*R/l", "swapped"),
-        ("N", "M*g", "left out (taken as 0)"),
+        ("N", "M*g", "left out (taken as 0"),
         ("omega_spin", "2*pi*Omega*l/R", "2 pi"),
     ],
     "4.12": [  # wind chime: l l' w^4 - g (4 l + 6 l') w^2 + 6 g^2 = 0
@@ -104,7 +104,7 @@ CASES: dict[str, list[tuple[str, str, str | None]]] = {
     "4.34": [  # gravity-gradient satellite: pitch sqrt(3) n, roll 2 n, n^2 = GM/R^3
         ("omega_pitch", "sqrt(3*GM/R^3)", R), ("omega_roll", "2*(GM/R^3)^0.5", R),
         # T_pitch is the period at the amplitude theta_amp: the small-oscillation period leaves it out
-        ("T_pitch", "2*pi*sqrt(R^3/(3*GM))", "theta_amp left out (taken as 0)"),
+        ("T_pitch", "2*pi*sqrt(R^3/(3*GM))", "theta_amp left out (taken as 0"),
         ("omega_roll", "sqrt(3*GM/R^3)", "that is mech's omega_pitch"),
         ("omega_pitch", "3*GM/R^3", "is it the square?"),
         ("omega_roll", "sqrt(2*GM/R^3)", "1/sqrt(2)"),
@@ -161,7 +161,7 @@ CASES: dict[str, list[tuple[str, str, str | None]]] = {
         ("mu_th", "4*sqrt(delta^2+(omega-omega0)^2)/omega0", R),
         ("xi_hi", "sqrt((mu*omega0/4)^2-delta^2)", R),
         ("mu_th", "2/omega0*sqrt(delta^2+(omega-omega0)^2)", "factor 1/2"),
-        ("growth", "sqrt((mu*omega0/4)^2-(omega-omega0)^2)", "delta left out (taken as 0)"),
+        ("growth", "sqrt((mu*omega0/4)^2-(omega-omega0)^2)", "delta left out (taken as 0"),
         ("xi_lo", "sqrt((mu*omega0/4)^2-delta^2)", "wrong sign"),
         ("mu_th", "16*(delta^2+(omega-omega0)^2)/omega0^2", "squared"),
     ],
@@ -171,7 +171,7 @@ CASES: dict[str, list[tuple[str, str, str | None]]] = {
         ("a_min", "sqrt(2*g*l)/(2*pi*Omega)", "1/(2 pi)"),
         ("a_min", "2*g*l/Omega^2", "is it the square?"),
         ("omega_down", "sqrt(a^2*Omega^2/(2*l^2) - g/l)", "omega_inv"),
-        ("omega_down", "sqrt(g/l)", "a left out (taken as 0)"),
+        ("omega_down", "sqrt(g/l)", "a left out (taken as 0"),
         ("a_min", "sqrt(2*l)/Omega", "g is missing"),
     ],
 }

@@ -87,7 +87,10 @@ class GSlips:
             import warnings
 
             base = {q.name: float(params[q.name]) for q in ex.params}
-            for phrase, change in _param_slips(ex):
+            clock = _SlipClock()
+            for phrase, change, far in _param_slips(ex):
+                if not clock.more(far):
+                    break
                 try:
                     with warnings.catch_warnings(), np.errstate(all="ignore"):
                         warnings.simplefilter("ignore")
@@ -95,11 +98,11 @@ class GSlips:
                         if slipped == base:
                             continue
                         try:
-                            values = ex.solve_analytic(Params(slipped))
+                            values = clock.timed(_solve_slipped, ex, slipped)
                         except Exception:  # another output divides by it: its limit (``_zeroed``)
                             if not _zeroed(base, slipped):
                                 raise
-                            values = ex.solve_analytic(Params(_zeroed(base, slipped)))
+                            values = clock.timed(_solve_slipped, ex, _zeroed(base, slipped))
                         self._values.append((phrase, values))
                 except Exception:  # no answer there: that slip cannot be named
                     continue
@@ -263,51 +266,85 @@ def _analytic_at(ps: PointSet, values: dict) -> dict | None:
     cache = ps.lines.setdefault(("explain", "analytic"), {})
     key = tuple(float(values[q.name]).hex() for q in ps.ex.params)
     if key not in cache:
-        import warnings
-
         try:
-            with warnings.catch_warnings(), np.errstate(all="ignore"):
-                warnings.simplefilter("ignore")
-                cache[key] = ps.ex.solve_analytic(Params({k: float(v) for k, v in values.items()}))
-        except Exception:  # no answer there: that slip cannot be named
+            cache[key] = _solve_slipped(ps.ex, values)
+        except Exception:  # no answer there (or not within its budget): that slip cannot be named
             cache[key] = None
     return cache[key]
 
 
-def _param_slips(ex) -> list[tuple[str, object]]:
-    """(phrase, change): the parameter slips, each a change of the parameters (dict -> dict)."""
-    out = []
+SLIP_SOLVE_S = 0.05  # one analytic solve at a slipped point (4.32's series never ends with M_S = 0)
+
+
+def _solve_slipped(ex, values: dict) -> dict:
+    """mech's analytic answers at a slipped point, within ``SLIP_SOLVE_S`` (``budget.limit``), quietly."""
+    import warnings
+
+    from mech.core import budget
+
+    with warnings.catch_warnings(), np.errstate(all="ignore"), budget.limit(SLIP_SOLVE_S, "a slip's analytic solve"):
+        warnings.simplefilter("ignore")
+        return ex.solve_analytic(Params({k: float(v) for k, v in values.items()}))
+
+
+def _param_slips(ex) -> list[tuple[str, object, bool]]:
+    """(phrase, change, far): the parameter slips, each a change of the parameters (dict -> dict); ``far``
+    for those that take a parameter to 0 or to a difference of two, where an analytic solver may leave its
+    usual range (4.32's series runs for seconds with M_S = 0): listed last, tried only where every solve
+    before them was fast (``_SlipClock``)."""
+    near, far = [], []
     params = list(ex.params)
     for p in params:
         if p.unit not in ("1", "rad"):  # a parameter left out: taken as 1 in SI
-            out.append((f"{p.name} left out (taken as 1)", lambda d, k=p.name: {**d, k: 1.0}))
-        out.append((f"{p.name} left out (taken as 0)", lambda d, k=p.name: {**d, k: 0.0}))
-        out.append((f"{p.name} doubled", lambda d, k=p.name: {**d, k: 2.0 * d[k]}))
-        out.append((f"{p.name} halved", lambda d, k=p.name: {**d, k: 0.5 * d[k]}))
+            near.append((f"{p.name} left out (taken as 1)", lambda d, k=p.name: {**d, k: 1.0}))
+        # taken as 0: where 0 is outside its bounds, at its limit there (1e-30 of its value: 4.32's series
+        # runs for seconds at M_S = 0 exactly)
+        zero_ok = p.min is None or p.min < 0 or (p.min == 0 and not p.min_open)
+        far.append((f"{p.name} left out (taken as 0: it agrees with mech only in the limit of small {p.name})",
+                     lambda d, k=p.name, z=zero_ok: {**d, k: 0.0 if z else 1e-30 * d[k]}))
+        near.append((f"{p.name} doubled", lambda d, k=p.name: {**d, k: 2.0 * d[k]}))
+        near.append((f"{p.name} halved", lambda d, k=p.name: {**d, k: 0.5 * d[k]}))
     for i, a in enumerate(params):
         for b in params[i + 1:]:
             if not (a.unit == b.unit or (a.unit not in ("1", "rad") and _same_dim(a.unit, b.unit))):
                 continue
-            out.append((f"{a.name} and {b.name} swapped", lambda d, x=a.name, y=b.name: {**d, x: d[y], y: d[x]}))
-            out.append((f"{a.name} and {b.name} - {a.name} swapped",
-                        lambda d, x=a.name, y=b.name: {**d, x: d[y] - d[x]}))
-            out.append((f"{b.name} and {a.name} - {b.name} swapped",
-                        lambda d, x=a.name, y=b.name: {**d, y: d[x] - d[y]}))
+            near.append((f"{a.name} and {b.name} swapped", lambda d, x=a.name, y=b.name: {**d, x: d[y], y: d[x]}))
+            # a difference (l for R - l): only where the exercise's joint limits hold (4.32's series diverges
+            # with R_E near r_S)
+            far.append((f"{a.name} and {b.name} - {a.name} swapped",
+                        lambda d, x=a.name, y=b.name: _jointly(ex, {**d, x: d[y] - d[x]})))
+            far.append((f"{b.name} and {a.name} - {b.name} swapped",
+                        lambda d, x=a.name, y=b.name: _jointly(ex, {**d, y: d[x] - d[y]})))
     for p in params:
         if p.unit == "rad":  # an angle read in degrees (tan(theta*pi/180)) or turned to degrees
-            out.append((f"{p.name} converted as if it were in degrees (x pi/180)",
-                        lambda d, k=p.name: {**d, k: d[k] * _PI / 180}))
-            out.append((f"{p.name} converted to degrees (x 180/pi)", lambda d, k=p.name: {**d, k: d[k] * 180 / _PI}))
+            near.append((f"{p.name} converted as if it were in degrees (x pi/180)",
+                         lambda d, k=p.name: {**d, k: d[k] * _PI / 180}))
+            near.append((f"{p.name} converted to degrees (x 180/pi)", lambda d, k=p.name: {**d, k: d[k] * 180 / _PI}))
         if p.unit == "rad/s":
-            out.append((f"{p.name} taken in Hz (divided by 2 pi)", lambda d, k=p.name: {**d, k: d[k] / (2 * _PI)}))
-    return out
+            near.append((f"{p.name} taken in Hz (divided by 2 pi)", lambda d, k=p.name: {**d, k: d[k] / (2 * _PI)}))
+    return [(ph, ch, False) for ph, ch in near] + [(ph, ch, True) for ph, ch in far]
+
+
+class _Refused(ValueError):
+    """A slipped point beyond the exercise's joint limits, where a difference slip is not evaluated."""
+
+
+def _jointly(ex, values: dict) -> dict:
+    """``values`` where the exercise's joint limits accept them; else ValueError (no slip there)."""
+    try:
+        why = ex.constraint_message(Params(values))
+    except (ArithmeticError, ValueError):
+        why = "no"
+    if why:
+        raise _Refused("outside the joint limits")
+    return values
 
 
 def _zeroed(base: dict, slipped: dict) -> dict | None:
     """A parameter taken as 0 where mech's solver refuses 0 (another output divides by it): the same slip
-    as its limit, the parameter at 1e-100 of its value (None when no parameter was taken as 0)."""
+    as its limit, the parameter at 1e-30 of its value (None when no parameter was taken as 0)."""
     zero = [k for k, v in slipped.items() if v == 0.0 and base.get(k, 0.0) != 0.0]
-    return {**slipped, **{k: 1e-100 * base[k] for k in zero}} if zero else None
+    return {**slipped, **{k: 1e-30 * base[k] for k in zero}} if zero else None
 
 
 class _Points:
@@ -336,14 +373,21 @@ class _Points:
         # 28 points); a slip that only matters in part of the range (delta halved off resonance) stays named
         if not self.wrong or 2 * len(self.wrong) < len(self.order):
             return False
+        self.skipped = 0
+        wrong_checked = False
         for i in self.order:
             try:
                 v = at(i)
+            except _Refused:  # a difference beyond the joint limits: not evaluated there, and said so
+                self.skipped += 1
+                continue
             except Exception:  # a slip with no value at a point: not named
                 return False
+            wrong_checked = wrong_checked or i in self.wrong
             if not self.near(i, float(v) if v is not None else math.nan):
                 return False
-        return True
+        checked = len(self.order) - self.skipped
+        return 2 * checked >= len(self.order) and wrong_checked
 
     def analytic(self, i: int, change, output: str | None = None) -> float:
         base = dict(self.ps.points[i])
@@ -373,7 +417,9 @@ def _slips(pts: _Points, unit: str, limit: int = 2) -> list[str]:
 
     def tried(phrase, at) -> bool:
         if phrase not in found and pts.fits(at):
-            found.append(phrase)
+            k = getattr(pts, "skipped", 0)
+            found.append(phrase + (f" (at the {len(pts.order) - k} of {len(pts.order)} points inside the "
+                                   "exercise's joint limits)" if k else ""))
         return len(found) >= limit
 
     # a constant factor, a sign, both
@@ -416,10 +462,40 @@ def _slips(pts: _Points, unit: str, limit: int = 2) -> list[str]:
             if tried(f"the leading-order result with {phrase}", at):
                 return found
     # a parameter left out, doubled or halved, two swapped, an angle read in degrees
-    for phrase, change in _param_slips(ps.ex):
-        if tried(phrase, lambda i, ch=change: pts.analytic(i, ch)):
+    clock = _SlipClock()
+    for phrase, change, far in _param_slips(ps.ex):
+        if not clock.more(far):
+            break
+        if tried(phrase, lambda i, ch=change: clock.timed(pts.analytic, i, ch)):
             return found
     return found
+
+
+class _SlipClock:
+    """The parameter slips cost one analytic solve each (a point more when one fits).  A safety net, never
+    reached by an exercise at its usual cost (40 slips at 1.5 ms at most; 4.32's series, the costliest, at
+    a few ms): a solve slower than SLOW_S, or BUDGET_S in all, ends the search, so that a hint stays within
+    the formula's budget however an analytic solver behaves at a slipped point."""
+
+    SLOW_S = 0.25
+    BUDGET_S = 1.0
+
+    def __init__(self):
+        import time
+
+        self.now = time.perf_counter
+        self.start = self.now()
+        self.slowest = 0.0
+
+    def more(self, far: bool = False) -> bool:
+        return self.slowest <= self.SLOW_S and self.now() - self.start < self.BUDGET_S
+
+    def timed(self, f, *args):
+        t = self.now()
+        try:
+            return f(*args)
+        finally:
+            self.slowest = max(self.slowest, self.now() - t)
 
 
 def _corrections(pts: _Points, unit: str, value) -> list:
