@@ -214,6 +214,9 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
     misses = [i for i in range(len(ps)) if pj.judged[i] and not pj.right[i] and math.isfinite(pj.yours[i])]
     t0 = time.perf_counter()
     outside_theory = ps.outside.get(name, np.zeros(len(ps), bool))
+    # the points inside the theory's range first: there a miss decides the verdict; beyond it a miss is
+    # left out, and the budget is spent there last
+    misses.sort(key=lambda i: (bool(outside_theory[i]), i))
     confirmed = beyond = 0
     exact_here = np.zeros(len(ps), bool)
     batched = _batchable(ex, name)
