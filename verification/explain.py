@@ -268,21 +268,18 @@ def _analytic_at(ps: PointSet, values: dict) -> dict | None:
     if key not in cache:
         try:
             cache[key] = _solve_slipped(ps.ex, values)
-        except Exception:  # no answer there (or not within its budget): that slip cannot be named
+        except Exception:  # no answer there: that slip cannot be named
             cache[key] = None
     return cache[key]
 
 
-SLIP_SOLVE_S = 0.05  # one analytic solve at a slipped point (4.32's series never ends with M_S = 0)
-
-
 def _solve_slipped(ex, values: dict) -> dict:
-    """mech's analytic answers at a slipped point, within ``SLIP_SOLVE_S`` (``budget.limit``), quietly."""
+    """mech's analytic answers at a slipped point, quietly (no warning escapes).  Not under a timer: a
+    timer's signal can land anywhere (a garbage collector's callback); the slips are chosen so that the
+    solvers stay in their usual range (``_param_slips``), and ``_SlipClock`` ends a search that costs."""
     import warnings
 
-    from mech.core import budget
-
-    with warnings.catch_warnings(), np.errstate(all="ignore"), budget.limit(SLIP_SOLVE_S, "a slip's analytic solve"):
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
         return ex.solve_analytic(Params({k: float(v) for k, v in values.items()}))
 
@@ -472,10 +469,10 @@ def _slips(pts: _Points, unit: str, limit: int = 2) -> list[str]:
 
 
 class _SlipClock:
-    """The parameter slips cost one analytic solve each (a point more when one fits).  A safety net, never
-    reached by an exercise at its usual cost (40 slips at 1.5 ms at most; 4.32's series, the costliest, at
-    a few ms): a solve slower than SLOW_S, or BUDGET_S in all, ends the search, so that a hint stays within
-    the formula's budget however an analytic solver behaves at a slipped point."""
+    """The parameter slips cost one analytic solve each (a point more when one fits).  A safety net, not
+    reached by an exercise at its usual cost on an idle machine (40 slips at 1.5 ms at most; 4.32's series,
+    the costliest, at a few ms): after a solve slower than SLOW_S, or BUDGET_S in all, no further slip is
+    tried (a solve already running is not stopped)."""
 
     SLOW_S = 0.25
     BUDGET_S = 1.0
@@ -683,9 +680,10 @@ def _const_ratio(yours, ref, tol, mask) -> float | None:
     c = float(np.median(ratios))
     if c == 1.0 or c == 0.0 or not math.isfinite(c):
         return None
-    with np.errstate(all="ignore"):
-        if np.all(within(np.abs(yours[use] - c * ref[use]), bars=(tol[use] * max(1.0, abs(c)),))):
-            return c
+    with np.errstate(over="ignore"):  # a huge factor: its bound is infinite, as it was before it overflowed
+        held = within(np.abs(yours[use] - c * ref[use]), bars=(tol[use] * max(1.0, abs(c)),))
+    if np.all(held):
+        return c
     return None
 
 
