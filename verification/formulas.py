@@ -30,10 +30,12 @@ from mech.verification.explain import dimension_hint, formula_hint
 from mech.verification.formula_ast import Formula, dim_of_unit, dim_text
 from mech.verification.judge import Verdict, judge, within
 from mech.verification.points import (DEFAULT_POINTS, DEFAULT_SEED, PointJudgement, PointSet, describe_point,
-                                      judge_points, parse_over, point_set)
+                                      draw, judge_points, parse_over, point_set)
 
+# ``draw`` is re-exported: verification/assign.py, scripts/perf_grade.py and tests/test_grade_speed.py read it
+# here (it moved to ``points`` with the split of the formula path)
 __all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "FORMULA_RTOL", "PointSet", "point_set", "judge_formula",
-           "FormulaVerdict", "parse_over", "show_value", "show_pair", "known"]
+           "FormulaVerdict", "parse_over", "show_value", "show_pair", "known", "draw"]
 
 FORMULA_RTOL = 1e-9  # a formula is exact: its numbers are as written
 
