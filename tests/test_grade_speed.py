@@ -18,7 +18,7 @@ WRONG = "4*delta/omega0"
 
 def class_file(tmp_path, n=6):
     from mech.problems import registry
-    from mech.verification.formulas import draw
+    from mech.verification.points import draw
 
     pts = draw(registry.get("5.11"), n, 3)
     parts = []

@@ -132,7 +132,7 @@ def _check_roster(items: list[tuple[int, str]], name: str, what: str) -> list[st
 def parse_overs(exercises: list, pairs: list[str]) -> dict:
     """``--over NAME=LO:HI`` (every exercise with that parameter) or ``--over ID:NAME=LO:HI`` (one) ->
     {exercise id: {name: (lo, hi)}} in SI; BadInput naming the option otherwise."""
-    from mech.verification.formulas import parse_over
+    from mech.verification.points import parse_over
 
     out: dict = {ex.id: {} for ex in exercises}
     for pair in pairs:
@@ -246,7 +246,7 @@ def _solve_all(todo: list[tuple[str, dict]], jobs: int | None) -> list:
 def make(exercises: list, students: list[str], seed: int, overs: dict | None = None, digits: int = 3,
          jobs: int | None = None, version: str = "") -> Assignment:
     """Every student's verified variant of every exercise (see the module's docstring)."""
-    from mech.verification.formulas import draw
+    from mech.verification.points import draw
 
     overs = overs or {}
     n = len(students)

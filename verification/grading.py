@@ -428,7 +428,7 @@ def load_answers(path: str, strict: bool = True) -> list[Entry]:
 def _formula_range(ex: Exercise, item: dict, expectations: list) -> list:
     """An answer's optional ``points``, ``seed`` and ``over`` (the range its formulas are meant to hold
     in), given to its formula expectations; BadInput naming the field."""
-    from mech.verification.formulas import parse_over
+    from mech.verification.points import parse_over
 
     if not any(k in item for k in ("points", "seed", "over")):
         return expectations
