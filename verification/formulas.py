@@ -30,19 +30,17 @@ from mech.verification.explain import dimension_hint, formula_hint
 from mech.verification.formula_ast import Formula, dim_of_unit, dim_text
 from mech.verification.judge import Verdict, judge, within
 from mech.verification.points import (DEFAULT_POINTS, DEFAULT_SEED, PointJudgement, PointSet, describe_point,
-                                      draw, judge_points, parse_over, point_set)
+                                      judge_points, parse_over, point_set)
 
-# ``draw`` is re-exported: verification/assign.py, scripts/perf_grade.py and tests/test_grade_speed.py read it
-# here (it moved to ``points`` with the split of the formula path)
 __all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "FORMULA_RTOL", "PointSet", "point_set", "judge_formula",
-           "FormulaVerdict", "parse_over", "show_value", "show_pair", "known", "draw"]
+           "FormulaVerdict", "parse_over", "show_value", "show_pair", "known"]
 
 FORMULA_RTOL = 1e-9  # a formula is exact: its numbers are as written
 
 
-NUMERIC_BUDGET_S = 4.0
+NUMERIC_BUDGET_S = 4.0  # for the numeric reference of a leading-order output at drawn points
 
-BEYOND = 3.0  # how much closer than the leading-order value a next-order answer must be to the exact one  # for the numeric reference of a leading-order output at drawn points
+BEYOND = 3.0  # how much closer than the leading-order value a next-order answer must be to the exact one
 
 
 def show_value(v: float, unit: str, digits: int = 6) -> str:
