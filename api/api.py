@@ -8,6 +8,7 @@ as a ``Trajectory``.  A ``Sweep`` is many of them over a range or a grid.
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from dataclasses import dataclass
@@ -197,8 +198,20 @@ def _expectations(ex, expect: dict | None, expect_rtol, expect_points=None, expe
             raise BadInput("expect_points/expect_seed: given without any formula in expect")
         return None
     pairs = [f"{name}={_value_text(value)}" for name, value in expect.items()]
-    return parse_expectations(ex, pairs, None if expect_rtol is None else _value_text(expect_rtol),
-                              expect_points, expect_seed, names=("expect_points", "expect_seed"))
+    try:
+        return parse_expectations(ex, pairs, None if expect_rtol is None else _value_text(expect_rtol),
+                                  expect_points, expect_seed, names=("expect_points", "expect_seed"))
+    except BadInput as exc:  # named as the API names them: the keyword, not the command-line flag
+        raise BadInput(_api_words(str(exc))) from None
+
+
+def _api_words(message: str) -> str:
+    """``--expect theta_c: ...`` -> ``expect["theta_c"]: ...``; ``--expect-rtol`` -> ``expect_rtol``."""
+    import re
+
+    message = message.replace("--expect-rtol", "expect_rtol")
+    message = re.sub(r"^--expect ([A-Za-z_][A-Za-z0-9_]*):", r'expect["\1"]:', message)
+    return message.replace("--expect NAME=VALUE", "expect={NAME: VALUE}").replace("--expect", "expect=")
 
 
 def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None,
@@ -321,7 +334,21 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     result = run_sweep_plan(plan_sweep(ex, axes, fixed, wanted), rtol=rtol_value, verify=verify, jobs=jobs,
                             total_s=total_s)
     result.solutions()  # ``.points``: one typed Solution per point, on either route
+    # ``.plot(path=None)``: the figure ``mech sweep --plot`` draws (figures sit above verification's floor)
+    result.plot = functools.partial(plot_sweep, result)
     return result
+
+
+def plot_sweep(result, path=None):
+    """A sweep's figure, as ``mech sweep --plot`` draws it (needs matplotlib): the outputs against the first
+    swept parameter, or a map over two; returns the matplotlib Figure, saved to ``path`` if given."""
+    from mech.figures.common import save
+    from mech.figures.sweepfig import sweep_figure
+
+    fig = sweep_figure(result)
+    if path is not None:
+        save(fig, str(path))
+    return fig
 
 
 @dataclass(frozen=True)

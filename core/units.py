@@ -222,6 +222,9 @@ class _Parser:
                 q = self.build.binary(val, q, self.unary())
             elif kind == "name" or val == "(":
                 q = self.build.binary("*", q, self.unary())
+            elif kind == "num" and val == "1" and self._unit_after_one():
+                # a unit as mech prints it after a number: ``0.0643 1/s`` is 0.0643 (1/s)
+                q = self.build.binary("*", q, self.unary())
             elif kind == "num":
                 prev_kind, prev = self.toks[self.i - 1]
                 what = "two numbers side by side" if prev_kind == "num" else "a number right after a factor"
@@ -229,6 +232,11 @@ class _Parser:
                                   f"write an operator between them, such as '*'")
             else:
                 return q
+
+    def _unit_after_one(self) -> bool:
+        """``1/s``, ``1/(m^2 s)`` after a number: a ``1`` followed by ``/`` and a name or a parenthesis."""
+        nxt = self.toks[self.i + 1:self.i + 3]
+        return len(nxt) == 2 and nxt[0][1] == "/" and (nxt[1][0] == "name" or nxt[1][1] == "(")
 
     def unary(self):
         self.enter()

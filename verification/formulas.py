@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mech.verification.explain import formula_hint
+from mech.verification.explain import dimension_hint, formula_hint
 from mech.verification.formula_ast import Formula, dim_of_unit, dim_text
 from mech.verification.judge import Verdict, judge, within
 from mech.verification.points import (DEFAULT_POINTS, DEFAULT_SEED, PointJudgement, PointSet, describe_point,
@@ -39,6 +39,8 @@ FORMULA_RTOL = 1e-9  # a formula is exact: its numbers are as written
 
 
 NUMERIC_BUDGET_S = 4.0  # for the numeric reference of a leading-order output at drawn points
+
+BEYOND = 3.0  # how much closer than the leading-order value a next-order answer must be to the exact one
 
 
 def show_value(v: float, unit: str, digits: int = 6) -> str:
@@ -76,6 +78,7 @@ class FormulaVerdict:
     points: dict
     depends: list
     formula: str
+    matches: str | None = None  # a leading-order output: "beyond-leading-order" for a next-order answer
 
 
 def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: float | None,
@@ -96,6 +99,11 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
                if formula.dim is not None else f"your formula mixes dimensions: {formula.dim_error}")
         if formula.dim is None:
             dimension["error"] = formula.dim_error
+        else:  # a slip that explains the dimension, when it reproduces the formula at every point
+            with np.errstate(all="ignore"):
+                slip = dimension_hint(formula, ps, output, FORMULA_RTOL if rtol is None else rtol)
+            if slip:
+                why = f"{why}: {slip}"
         return FormulaVerdict(False, f"wrong dimension: {why}", why, math.nan, None, None, None,
                               points={"checked": 0, "right": 0}, **base)
     rtol = FORMULA_RTOL if rtol is None else rtol
@@ -148,7 +156,14 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
             text += (f"; ill-conditioned in double precision {describe_point(ps, ill[0])} (right in extended "
                      "precision)")
         text += "".join(f"; {n}" for n in notes)
-        return FormulaVerdict(True, text, None, y0, r0, rel0, float(pj.tol[0]), points=points, **base)
+        matches = None
+        if lead:
+            matches = ("beyond-leading-order" if any(n.startswith("beyond leading order") for n in notes)
+                       else "exact" if any("numeric value rather" in n for n in notes) else "leading-order")
+            if matches == "beyond-leading-order":  # the verdict says so first
+                text = "right beyond leading order, " + text.removeprefix("right ")
+        return FormulaVerdict(True, text, None, y0, r0, rel0, float(pj.tol[0]), points=points, matches=matches,
+                              **base)
     # wrong: find what a student can act on
     found = formula_hint(formula, ps, output, pj, ref, rtol)
     hint, i_fail = found.hint, found.at
@@ -198,7 +213,11 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
     name = output.name
     misses = [i for i in range(len(ps)) if pj.judged[i] and not pj.right[i] and math.isfinite(pj.yours[i])]
     t0 = time.perf_counter()
-    confirmed = 0
+    outside_theory = ps.outside.get(name, np.zeros(len(ps), bool))
+    # the points inside the theory's range first: there a miss decides the verdict; beyond it a miss is
+    # left out, and the budget is spent there last
+    misses.sort(key=lambda i: (bool(outside_theory[i]), i))
+    confirmed = beyond = 0
     exact_here = np.zeros(len(ps), bool)
     batched = _batchable(ex, name)
     for i in misses:
@@ -217,15 +236,26 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
             if got is None:
                 break
             n, err = got
+        lead_i = ps.analytic[name][i]
         if within(abs(pj.yours[i] - n), scale=n, rel=rtol, bars=(err,), round_off=4 * np.finfo(float).eps):
             pj.right[i] = True
             exact_here[i] = True
             confirmed += 1
+        elif math.isfinite(lead_i) and BEYOND * (abs(pj.yours[i] - n) + err) <= abs(lead_i - n):
+            # a next-order answer: closer to the verified exact value than the leading-order value, by 3x
+            pj.right[i] = True
+            exact_here[i] = True
+            beyond += 1
+        elif outside_theory[i]:
+            continue  # beyond the theory's range a miss of the exact value is left out, not judged wrong
         else:
             break
     if confirmed:
         notes.append(f"at {confirmed} point{'s' if confirmed > 1 else ''} it matches mech's numeric value "
                      "rather than the leading-order one")
+    if beyond:
+        notes.append(f"beyond leading order: at {beyond} point{'s' if beyond > 1 else ''} closer to mech's verified "
+                     f"exact value than the leading-order value is, by {BEYOND:g}x at least")
     return exact_here
 
 

@@ -118,6 +118,13 @@ class Quantity:
                 return v
         return None
 
+    def __float__(self) -> float:
+        """``float(sol["T"])``: ``value``; a ValueError naming the output where it has none."""
+        v = self.value
+        if v is None:
+            raise ValueError(f"{self.name} has no finite value here")
+        return float(v)
+
 
 def _is_number(v) -> bool:
     return isinstance(v, float) and math.isfinite(v)
@@ -371,6 +378,7 @@ def to_text(sol: Solution) -> str:
     lines.extend(str(e) for e in sol.errors)
     if sol.expect_summary:
         lines.append(sol.expect_summary)
+        lines.extend(expect_lines(sol))
     said = _closing_text(sol)
     if said:
         lines.append(said)
@@ -389,7 +397,8 @@ def to_html(sol: Solution) -> str:
     head_html = "".join(f"<th>{esc(c)}</th>" for c in head)
     body = "".join("<tr>" + "".join(f"<td>{esc(c)}</td>" for c in r) + "</tr>" for r in rows)
     errors = "".join(f"<p style='color:#b00'>{esc(str(e))}</p>" for e in sol.errors)
-    expect = f"<p>{esc(sol.expect_summary)}</p>" if sol.expect_summary else ""
+    expect = (f"<p>{esc(sol.expect_summary)}</p>" + "".join(f"<p>{esc(x)}</p>" for x in expect_lines(sol))
+              if sol.expect_summary else "")
     return (f"<div><b>{esc(ex.id)}  {esc(ex.title)}</b><br><span>{params}</span>"
             f"<table><thead><tr>{head_html}</tr></thead><tbody>{body}</tbody></table>"
             f"{errors}{expect}<p>{esc(_closing_text(sol))}</p></div>")
@@ -413,7 +422,13 @@ def to_rich(sol: Solution):
     parts.extend(Text(str(e), style="red") for e in sol.errors)
     if sol.expect_summary:
         parts.append(Text(sol.expect_summary, style="green" if sol.expect_ok else "bold red"))
+        parts.extend(Text(x) for x in expect_lines(sol))
     said = closing(sol)
     if said is not None:
         parts.append(Text(said[0], style=STYLE[said[1]]))
     return Group(*parts)
+
+
+def expect_lines(sol: Solution) -> list[str]:
+    """One line per answer given: ``  omega_c = 5.83 rad/s: wrong: off by a factor 2 (mech: 2.9147 rad/s)``."""
+    return [f"  {name} = {j.text}: {j.verdict}" for name, j in sol.expected.items()]
