@@ -220,7 +220,9 @@ def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float |
         return result
     from mech.verification import grading
 
-    return grading.attach(result, expectations)
+    # the formulas' points, references and judging share the solve's budget: what the cross-check left
+    with budget.limit(max(deadline - time.monotonic(), 1e-3), what="checking the expected values"):
+        return grading.attach(result, expectations)
 
 
 def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None, expect_points=None,

@@ -98,6 +98,31 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
             dimension["error"] = formula.dim_error
         return FormulaVerdict(False, f"wrong dimension: {why}", why, math.nan, None, None, None,
                               points={"checked": 0, "right": 0}, **base)
+    from mech.core import budget
+
+    try:
+        # the points drawn only once the dimension is right, and everything within the budget: the solve's
+        # (what its cross-check left), grade's, or MECH_BUDGET_S for this formula alone
+        with budget.limit(budget.default_seconds(), what="checking the formula"), np.errstate(all="ignore"):
+            if callable(ps):
+                ps = ps()
+            return _judge_at_points(formula, ex, output, ps, given_ref, rtol, numeric_given, given_in_range,
+                                    base)
+    except budget.OutOfBudget as exc:
+        return _not_graded(exc, **base)
+    except MemoryError:
+        return FormulaVerdict(False, "not graded: too many points for the memory at hand (ask for fewer points)",
+                              None, math.nan, None, None, None, points={"checked": 0, "right": 0}, **base)
+
+
+def _not_graded(exc, **base) -> FormulaVerdict:
+    from mech.core.safeio import shown
+
+    return FormulaVerdict(False, f"not graded (budget): {shown(exc, 160)}", None, math.nan, None, None, None,
+                          points={"checked": 0, "right": 0}, **base)
+
+
+def _judge_at_points(formula, ex, output, ps, given_ref, rtol, numeric_given, given_in_range, base):
     rtol = FORMULA_RTOL if rtol is None else rtol
     name = output.name
     lead = output.theory != "exact"
@@ -119,6 +144,13 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
             pj.right = pj.right & ~outside
             k = int(outside.sum())
             notes.append(f"{k} point{'s' if k > 1 else ''} outside the leading-order theory's range not judged")
+    if pj.skipped:
+        notes.append(f"{pj.skipped} point{'s' if pj.skipped > 1 else ''} not worked out in high precision once "
+                     "wrong ones were found")
+    overflow = np.array([w == "not finite" for w in ps.undefined.get(name, [])], bool)
+    if overflow.size == len(ps) and overflow[1:].any():
+        k = int(overflow[1:].sum())
+        notes.append(f"{k} point{'s' if k > 1 else ''} where mech's own value overflows left out")
     judged = pj.judged
     wrong = judged & ~pj.right
     n_checked, n_right = int(judged.sum()), int(pj.right.sum())
@@ -257,7 +289,8 @@ def _batched_numeric(ex, ps: PointSet, idx: list[int], name: str) -> None:
     try:
         cols = [(route.numeric(P, tol, (name,), memo=ps.batch_memo) if takes_memo
                  else route.numeric(P, tol, (name,)))[name] for tol in (rtol, tighter)]
-    except Exception:  # a failed batch: these points are verified one by one instead (``_verified_at``)
+    except Exception as exc:  # a failed batch: these points are verified one by one instead (``_verified_at``)
+        _budget_out(exc)
         return
     n, v = cols
     shape = n.value.shape
@@ -273,6 +306,14 @@ def _batched_numeric(ex, ps: PointSet, idx: list[int], name: str) -> None:
               & within(np.abs(v.value - n.value), bars=(claim,)))
     for j, i in enumerate(idx):
         ps.numeric[(name, i)] = (float(n.value[j]), float(err[j])) if ok[j] else None
+
+
+def _budget_out(exc) -> None:
+    """Re-raise ``exc`` when it is the formula's budget running out (not one point's failure)."""
+    from mech.core import budget
+
+    if isinstance(exc, budget.OutOfBudget) and budget.remaining() <= 0:
+        raise exc
 
 
 def _verified_at(ex, ps: PointSet, i: int, name: str):
@@ -291,7 +332,8 @@ def _verified_at(ex, ps: PointSet, i: int, name: str):
             claim = allowance(a, rel=ex.tol_factor * rtol if rel is None else rel, bars=(ab or 0.0,))
             if within(abs(a - b), bars=(claim,)):
                 got = (a, claim)
-    except Exception:  # a numeric failure there: no verified value, the point stays wrong
+    except Exception as exc:  # a numeric failure there: no verified value, the point stays wrong
+        _budget_out(exc)
         got = None
     ps.numeric[key] = got
     return got

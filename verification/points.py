@@ -23,8 +23,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mech.core import budget
 from mech.problems.spec import BadInput, Params, Undefined
-from mech.verification.formula_ast import Formula
+from mech.verification.formula_ast import MAX_PREC, Formula, Problem
 from mech.verification.judge import allowance, within
 
 __all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "PointSet", "PointJudgement", "point_set", "draw", "ranges",
@@ -237,6 +238,7 @@ def draw(ex, n: int, seed: int, over: dict | None = None) -> list[Params]:
     for _ in range(4 * n + 8):
         if len(out) >= n:
             break
+        budget.check("drawing the points")
         x = {k: r.draw(rng) for k, r in rs.items()}
         p = accept(ex, x) or _repair(ex, x, rs, rng) or _toward(ex, base, x, rs, rng)
         if p is not None and in_over(p, over):
@@ -310,8 +312,11 @@ def _analytic_at(ex, pts: list, memo: dict) -> tuple[dict, dict, dict]:
         key = _key(ex, p)
         got = memo.get(key)
         if got is None:
+            budget.check("mech's values at the points")
             try:
                 got = (ex.solve_analytic(p), ex.analytic_errors(p))
+            except budget.OutOfBudget:
+                raise
             except Exception as exc:  # a point where the analytic route has no answer: not a point to judge at
                 got = f"{type(exc).__name__}: {exc}"
             memo[key] = got
@@ -357,6 +362,8 @@ def _outside_theory(ex, pts: list) -> dict:
     for i, p in enumerate(pts):
         try:
             why = validity(p)
+        except budget.OutOfBudget:
+            raise
         except Exception:  # no range to read here: the point is judged like any other
             continue
         for n in lead:
@@ -465,30 +472,120 @@ class PointJudgement:
     ill: np.ndarray  # bool: right only in extended precision (ill-conditioned in double)
     problems: list
     tol: np.ndarray
+    skipped: int = 0  # points left unjudged: double precision could not decide them, and others were wrong
 
 
 def judge_points(formula: Formula, ps: PointSet, ref: np.ndarray, ref_err: np.ndarray, rtol: float,
                  alt: dict | None = None) -> PointJudgement:
+    """Hold ``formula`` against ``ref`` (with its error bars ``ref_err``) at every point of ``ps``.
+
+    In double precision where the formula's own round-off bound is small against the tolerance (at most
+    what the reference is held to: the allowance then at most doubles, whatever the formula's terms);
+    elsewhere, and where the double value is not a finite number, in as many bits as the point needs
+    (``_precise``): the exact value at the point decides."""
     env = {k: ps.arrays[k] for k in formula.names}
-    y, e, problems = formula.evaluate(env, np.float64) if env else formula.evaluate({"_": np.zeros(len(ps))})
+    n = len(ps)
+    y, e, problems = formula.evaluate(env, np.float64) if env else formula.evaluate({"_": np.zeros(n)})
     has_ref = np.isfinite(ref)
-    d = np.abs(y - ref)
     eps4 = 4 * np.finfo(float).eps
     base = allowance(ref, rel=rtol, bars=(ref_err,), round_off=eps4)
-    tol = allowance(ref, rel=rtol, bars=(ref_err,), round_off=eps4, own=4 * e)
-    right = has_ref & np.isfinite(y) & within(d, bars=(tol,))
-    leans = right & (4 * e > base)  # right only through its own round-off: confirm in extended precision
-    retry = (has_ref & np.isfinite(y) & ~right & (e > 0)) | leans
-    ill = np.zeros(len(ps), bool)
-    if np.any(retry) and np.finfo(np.longdouble).eps < np.finfo(float).eps:
-        yl, el, _ = formula.evaluate(env if env else {"_": np.zeros(len(ps))}, np.longdouble)
-        dl = np.abs(yl - ref.astype(np.longdouble)).astype(float)
-        el = el.astype(float)
-        ok_l = within(dl, scale=ref, rel=rtol, bars=(ref_err,), round_off=eps4, own=4 * el)
-        right = np.where(retry, ok_l, right)
-        ill = retry & ok_l & (4 * e > base)
-    judged = has_ref & (np.isfinite(y) | _masked(problems, len(ps)))
-    return PointJudgement(y, ref, right & judged, judged, ill, problems, tol)
+    with np.errstate(all="ignore"):
+        d = np.abs(y - ref)
+        sure = has_ref & np.isfinite(y) & np.isfinite(e) & within(4 * e, bars=(base,))
+    right = sure & within(d, bars=(base,), own=4 * e)
+    tol = np.where(sure, allowance(ref, rel=rtol, bars=(ref_err,), round_off=eps4, own=4 * e), base)
+    ill = np.zeros(n, bool)
+    undecided = np.zeros(n, bool)
+    fixed = np.zeros(n, bool)
+    yours = y.copy()
+    names = sorted(formula.names)
+    todo = np.flatnonzero(has_ref & ~sure)
+    skipped = np.zeros(n, bool)
+    for j, i in enumerate(todo):
+        if j and j % PRECISE_BATCH == 0 and np.any(fixed & ~right):
+            # found wrong in exact arithmetic already: the rest need not cost the budget
+            skipped[todo[j:]] = True
+            break
+        budget.check("judging a formula in high precision")
+        point = {k: float(ps.arrays[k][i]) for k in names}
+        got = _precise(formula, point, float(ref[i]), float(base[i]), float(e[i]) if np.isfinite(e[i]) else math.inf)
+        if got is None:  # no precision up to MAX_PREC decides it: not right
+            undecided[i] = True
+            yours[i] = np.nan
+            continue
+        value, ok, domain = got
+        if domain is not None:
+            if np.isfinite(y[i]):  # exactly, there is no real value here: a domain error, named
+                problems.append(_problem_at(n, i, domain, value))
+            yours[i] = np.nan
+            continue
+        fixed[i] = True
+        yours[i] = value
+        right[i] = ok
+        ill[i] = ok and not (np.isfinite(y[i]) and within(d[i], bars=(base[i],)))
+    for pr in problems:  # where the exact value exists, the double's failure there was round-off
+        if np.any(pr.mask & fixed):
+            pr.mask = np.asarray(pr.mask) & ~fixed
+    if undecided.any():
+        problems.append(Problem(undecided, "a value no precision up to "
+                                f"{MAX_PREC} bits decides", np.zeros(n)))
+    judged = has_ref & (np.isfinite(yours) | fixed | _masked(problems, n)) & ~skipped
+    return PointJudgement(yours, ref, right & judged, judged, ill, problems, tol, int(skipped.sum()))
+
+
+PRECISE_BATCH = 64  # points judged in high precision before looking whether one was found wrong
+
+
+def _problem_at(n: int, i: int, what: str, arg) -> Problem:
+    mask = np.zeros(n, bool)
+    mask[i] = True
+    args = np.zeros(n)
+    args[i] = float(arg) if arg is not None else np.nan
+    return Problem(mask, what, args)
+
+
+def _precise(formula: Formula, point: dict, ref: float, base: float, e: float):
+    """(value, right, domain) of ``formula`` at one point in high precision, or None when no precision up
+    to ``MAX_PREC`` bits decides it.
+
+    Right when ``|value - ref| + 4 x its round-off bound <= base + sens``: ``sens``, what rounding each
+    parameter to a double (half an ulp) moves the exact value by, is computed exactly too (the values at
+    the moved points), so that a term cancelling in exact arithmetic moves nothing.  Wrong when
+    ``|value - ref| - 4 x bound > base + sens``.  Between the two the precision doubles."""
+    import mpmath
+
+    mp = mpmath.mp
+    # the bits that bring the double's round-off bound well under the tolerance, to start with
+    ratio = (4 * e) / base if base > 0 else math.inf
+    prec = 128 if not math.isfinite(ratio) or ratio < 1 else int(53 + math.log2(ratio) + 24)
+    prec = max(128, min(prec, MAX_PREC))
+    sens = None
+    while True:
+        budget.check("judging a formula in high precision")
+        p = formula.evaluate_precise(point, prec)
+        if p.domain is not None:
+            return math.nan, False, p.domain
+        if p.value is None:  # an argument too large to reduce at any precision
+            return None
+        if True:
+            with mp.workprec(prec):
+                d = abs(p.value - mp.mpf(ref))
+                b4 = 4 * p.bound
+                if sens is None and d + b4 > base:
+                    sens = mp.zero
+                    for k in point:
+                        if point[k] != 0:
+                            q = formula.evaluate_precise(point, prec, moved=k)
+                            if q.value is not None:  # past a branch point: no allowance from it
+                                sens += abs(q.value - p.value) + 4 * q.bound
+                allowed = mp.mpf(base) + (sens if sens is not None else 0)
+                if d + b4 <= allowed:
+                    return float(p.value), True, None
+                if d - b4 > allowed:
+                    return float(p.value), False, None
+        if prec >= MAX_PREC:
+            return None
+        prec = min(2 * prec, MAX_PREC)
 
 
 def _masked(problems, n) -> np.ndarray:
