@@ -221,7 +221,7 @@ def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float |
     from mech.verification import grading
 
     # the formulas' points, references and judging share the solve's budget: what the cross-check left
-    with budget.limit(max(deadline - time.monotonic(), 1e-3), what="checking the expected values"):
+    with budget.limit(max(deadline - time.monotonic(), 1e-3), what="the solve (MECH_BUDGET_S gives it more)"):
         return grading.attach(result, expectations)
 
 
@@ -240,7 +240,7 @@ def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None, exp
     return out
 
 
-MAX_EXPECT_POINTS = 10_000  # parameter sets a formula is checked at, at most
+from mech.verification.points import MAX_POINTS as MAX_EXPECT_POINTS  # noqa: E402  parameter sets a formula is checked at, at most
 
 
 # -- sweep -----------------------------------------------------------------------

@@ -132,6 +132,9 @@ def grade_cmd(file, as_json, junit_file, total_s):
     try:
         if junit_file is not None:
             check_output(junit_file, "--junit")  # before the grading, not after
+        from mech.core.safeio import check_apart
+
+        check_apart([(junit_file, "--junit")], [(file, "the answers file")])
         entries, seconds = api.grade_entries(file, total_s=total_s)
     except BadInput as exc:
         problems = getattr(exc, "problems", None)  # a bad answers file: every problem, a line each

@@ -115,8 +115,8 @@ _NUM = r"(?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)"
 # a value: ASCII names, no comma; a formula: names in any alphabet and commas between a function's arguments
 _TOKEN = re.compile(rf"\s*(?:{_NUM}|(?P<name>[A-Za-z_]\w*)|(?P<op>\*\*|[-+*/^()])|(?P<bad>\S))")
 _FORMULA_TOKEN = re.compile(rf"\s*(?:{_NUM}|(?P<name>[^\W\d]\w*)|(?P<op>\*\*|[-+*/^(),])|(?P<bad>\S))")
-_REPLACE = (("·", "*"), ("×", "*"), ("°", "deg"), ("π", "pi"), ("µ", "u"))
-_FORMULA_REPLACE = _REPLACE + (("−", "-"), ("√", "sqrt"), ("²", "^2"), ("³", "^3"), ("⁴", "^4"))
+_REPLACE = (("·", "*"), ("×", "*"), ("°", "deg"), ("π", " pi "), ("µ", "u"))  # 2π√x: a name apiece
+_FORMULA_REPLACE = _REPLACE + (("−", "-"), ("√", " sqrt "), ("²", "^2"), ("³", "^3"), ("⁴", "^4"))
 
 
 def tokens(text: str, symbols: dict[str, str] | None = None, formula: bool = False) -> list[tuple[str, str]]:

@@ -125,3 +125,94 @@ def test_property_hidden_slips_are_wrong_and_right_formulas_right():
             bad_wrong.append((ex_id, output, text, v.verdict))
     assert not bad_right, bad_right[:3]
     assert not bad_wrong, (len(bad_wrong), bad_wrong[:3])
+
+
+# -- the functions of the printed formulas --------------------------------------------------------------
+
+# the printed formulas' functions that the formula language spells otherwise
+_SPELLED = {"K": "ellipk", "E": "ellipe", "AGM": "agm", "ln": "ln"}
+# printed functions that are not the language's, and why
+_NOT_FUNCTIONS = {
+    "cn": "Jacobi's elliptic function: 5.7's exact motion, not an answer's closed form",
+    "P₂": "the Legendre polynomial (3x² - 1)/2: written out in an answer",
+    "O": "order of the neglected terms",
+    "max": "a maximum over the orbit (4.33)",
+}
+
+
+def _printed_functions():
+    """{name: (exercise, formula)}: every ``name(`` of every exercise's printed formulas whose name is a run
+    of two or more letters (a superscript dropped), or K/E before a parenthesis (the elliptic integrals),
+    that is not one of the exercise's parameters, symbols or outputs (a product such as ``M (a² + b²)``)."""
+    import re
+
+    from mech.verification.formula_ast import parameter_symbols
+
+    found = {}
+    for ex in registry.all_exercises().values():
+        names = set(ex.param_map) | set(parameter_symbols(ex)) | {o.name for o in ex.outputs}
+        for text in ex.formulas:
+            for m in re.finditer(r"([^\W\d][\w₀-₉]*?)[²³⁴]?\s*\(", text):
+                name = m.group(1)
+                if name in names or name.split("_")[0] in names:
+                    continue
+                base = name.split("_")[0]
+                if base in ("K", "E") and m.start() > 0 and not text[m.start() - 1].isalpha():
+                    found.setdefault(base, (ex.id, text))
+                elif re.fullmatch(r"[A-Za-z]{2,}\d*|[A-Za-z]₂|cn|O", base) \
+                        and (base in ("ln", "cn") or not re.fullmatch(r"[a-z]_?[a-z]", base)):  # not ab(...)
+                    found.setdefault(base, (ex.id, text))
+    return found
+
+
+def test_every_function_of_the_printed_formulas_is_accepted():
+    from mech.verification.formula_ast import FUNCTIONS
+
+    found = _printed_functions()
+    # the walk finds what the formulas print (checked by hand on mech show's formulas)
+    assert {"sin", "cos", "atan2", "exp", "expm1", "sinh", "ln", "AGM", "K"} <= set(found), sorted(found)
+    missing = {}
+    for name, where in found.items():
+        if name in _NOT_FUNCTIONS:
+            continue
+        if _SPELLED.get(name, name) not in FUNCTIONS:
+            missing[name] = where
+    assert not missing, missing
+    ex = registry.get("4.20")
+    # and they evaluate: K(1/2) = 1.854074677301372 (A&S table 17.1), E(1/2) = 1.350643881047676,
+    # AGM(1, sqrt 2): Gauss's iteration, done here by hand
+    a, b = 1.0, math.sqrt(2.0)
+    for _ in range(8):
+        a, b = (a + b) / 2, math.sqrt(a * b)
+    one = {"_": np.zeros(1)}
+    assert parse_formula("ellipk(0.5)", ex).evaluate(one)[0][0] == pytest.approx(1.854074677301372, rel=1e-14)
+    assert parse_formula("ellipe(0.5)", ex).evaluate(one)[0][0] == pytest.approx(1.350643881047676, rel=1e-14)
+    assert parse_formula("expm1(1e-10)", ex).evaluate(one)[0][0] == pytest.approx(1.00000000005e-10, rel=1e-15)
+    ex = registry.get("5.6")
+    f = parse_formula("AGM(l, sqrt(2)*l)", ex)
+    assert f.dim == parse_formula("l", ex).dim
+    assert f.evaluate({"l": np.array([1.0])})[0][0] == pytest.approx(a, rel=1e-15)
+    assert parse_formula("agm(l, g)", ex).dim is None  # m and m/s^2: refused as mixing dimensions
+
+
+def test_ellipe_against_scipy():
+    import scipy.special as sc
+
+    from mech.solvers.numerics.special import ellipe
+
+    ms = np.concatenate([-np.logspace(-300, 308, 200), np.linspace(-5, 1, 601), 1 - np.logspace(-300, 0, 200),
+                         [0.0, 1.0]])
+    got = np.array([ellipe(m) for m in ms])
+    assert np.allclose(got, sc.ellipe(ms), rtol=1e-13, atol=0)
+    assert math.isnan(ellipe(1.5)) and math.isnan(ellipe(math.nan))
+
+
+def test_the_5_6_frequency_shift_as_an_agm_formula_is_right():
+    # 5.6: delta_omega = omega0 (AGM(1, cos(theta0/2)) - 1) (the exact pendulum period 2 pi / (omega0 AGM))
+    # (omega0 = sqrt(g/l): 5.6 has l and g)
+    v = _verdict("5.6", "domega", "sqrt(g/l)*(AGM(1, cos(theta0/2)) - 1)")
+    assert v.match, v.verdict
+    v = _verdict("5.6", "T", "4*ellipk(sin(theta0/2)^2)*sqrt(l/g)")
+    assert v.match, v.verdict
+    v = _verdict("5.6", "domega", "-sqrt(g/l)*theta0^2/16")
+    assert not v.match

@@ -3,9 +3,9 @@
 The grammar is that of values (numbers, units, ``pi``, ``+ - * / ^ **``, parentheses, a factor next to a
 name multiplies) plus the exercise's parameter names and symbols and a few functions::
 
-    sqrt exp log sin cos tan asin acos atan atan2 sinh cosh tanh abs   (arcsin arccos arctan ln: aliases)
+    sqrt exp expm1 log sin cos tan asin acos atan atan2 sinh cosh tanh abs   (arcsin arccos arctan ln: aliases)
     ellipk(m) ellipe(m)   complete elliptic integrals K and E of the parameter m = k^2 (scipy's convention)
-    agm(a, b)             the arithmetic-geometric mean
+    agm(a, b)             the arithmetic-geometric mean (AGM: alias)
 
 A name is read, in order, as a parameter (name or symbol as ``mech show`` lists it), ``pi``, a function
 (followed by ``(``), a unit.  The tokenizer and grammar are those of values (``core.units.parse``, one
@@ -49,7 +49,7 @@ FUNCTIONS = {
     "sqrt": "sqrt", "exp": "exp", "log": "log", "ln": "log", "sin": "sin", "cos": "cos", "tan": "tan",
     "asin": "asin", "arcsin": "asin", "acos": "acos", "arccos": "acos", "atan": "atan", "arctan": "atan",
     "atan2": "atan2", "arctan2": "atan2", "sinh": "sinh", "cosh": "cosh", "tanh": "tanh", "abs": "abs",
-    "ellipk": "ellipk", "ellipe": "ellipe", "agm": "agm",
+    "ellipk": "ellipk", "ellipe": "ellipe", "agm": "agm", "AGM": "agm", "expm1": "expm1",
 }
 _ARITY = {"atan2": 2, "agm": 2}
 MAX_DIM_POWER = 1000  # a dimension's exponent, at most (in size and denominator): l^1e300 is refused
@@ -289,7 +289,7 @@ def _ellip(fn):
 
 _FN = {"sqrt": np.sqrt, "exp": np.exp, "log": np.log, "sin": np.sin, "cos": np.cos, "tan": np.tan,
        "asin": np.arcsin, "acos": np.arccos, "atan": np.arctan, "sinh": np.sinh, "cosh": np.cosh,
-       "tanh": np.tanh, "abs": np.abs}
+       "tanh": np.tanh, "abs": np.abs, "expm1": np.expm1}
 
 
 def _fn(fn, x):
@@ -302,8 +302,8 @@ def _deriv(fn, x, y):
     """|f'(x)| for the error propagation (inf where it is infinite)."""
     if fn == "sqrt":
         return 0.5 / np.abs(y)
-    if fn in ("exp", "cosh"):
-        return np.abs(np.exp(x) if fn == "exp" else np.sinh(x))
+    if fn in ("exp", "cosh", "expm1"):
+        return np.abs(np.sinh(x) if fn == "cosh" else np.exp(x))
     if fn == "log":
         return 1.0 / np.abs(x)
     if fn == "sin":
@@ -540,16 +540,17 @@ def _mp_eval(node, env: dict, mp, eps):
         x, ex = vals[0]
         if fn in ("sin", "cos", "tan") and x != 0 and mp.mag(x) > _TRIG_MAG:
             raise _Undecided(f"{fn} of a huge argument")
-        if fn in ("exp", "sinh", "cosh") and x != 0 and mp.mag(x) > 24:
-            if fn == "exp" and x < 0:
-                return mp.zero, mp.zero
+        if fn in ("exp", "expm1", "sinh", "cosh") and x != 0 and mp.mag(x) > 24:
+            if fn in ("exp", "expm1") and x < 0:
+                return (mp.zero if fn == "exp" else -mp.one), mp.zero
             raise _Domain(f"{fn} of {{x}}")
         if fn in ("ellipk", "ellipe") and x != 0 and mp.mag(x) > _TRIG_MAG:
             raise _Undecided(f"{fn} of a huge argument")
         try:
             y = {"sqrt": mp.sqrt, "exp": mp.exp, "log": mp.log, "sin": mp.sin, "cos": mp.cos, "tan": mp.tan,
                  "asin": mp.asin, "acos": mp.acos, "atan": mp.atan, "sinh": mp.sinh, "cosh": mp.cosh,
-                 "tanh": mp.tanh, "abs": abs, "ellipk": mp.ellipk, "ellipe": mp.ellipe}[fn](x)
+                 "tanh": mp.tanh, "abs": abs, "ellipk": mp.ellipk, "ellipe": mp.ellipe,
+                 "expm1": mp.expm1}[fn](x)
         except (ZeroDivisionError, ValueError):
             raise _Domain(f"{fn} of {{x}}") from None
         if isinstance(y, mp.mpc) or not mp.isfinite(y):
@@ -567,8 +568,8 @@ def _mp_deriv(fn, x, y, mp):
     try:
         if fn == "sqrt":
             return 0.5 / abs(y)
-        if fn in ("exp", "cosh"):
-            return abs(mp.exp(x) if fn == "exp" else mp.sinh(x))
+        if fn in ("exp", "cosh", "expm1"):
+            return abs(mp.sinh(x) if fn == "cosh" else mp.exp(x))
         if fn == "log":
             return 1 / abs(x)
         if fn == "sin":

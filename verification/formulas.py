@@ -118,7 +118,9 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
 def _not_graded(exc, **base) -> FormulaVerdict:
     from mech.core.safeio import shown
 
-    return FormulaVerdict(False, f"not graded (budget): {shown(exc, 160)}", None, math.nan, None, None, None,
+    what, where = getattr(exc, "what", None), getattr(exc, "where", "")
+    text = (f"{what} ran out of time" + (f" while {where}" if where else "")) if what else str(exc)
+    return FormulaVerdict(False, f"not graded (budget): {shown(text, 160)}", None, math.nan, None, None, None,
                           points={"checked": 0, "right": 0}, **base)
 
 

@@ -364,7 +364,9 @@ def _formula_range(ex: Exercise, item: dict, expectations: list) -> list:
     if not any(e.formula is not None for e in expectations):
         raise BadInput(f"{next(k for k in ('points', 'seed', 'over') if k in item)}: only for formulas, and "
                        "this answer has none")
-    points = parse_count(item["points"], "points", 1, 10000) if "points" in item else None
+    from mech.verification.points import MAX_POINTS
+
+    points = parse_count(item["points"], "points", 1, MAX_POINTS) if "points" in item else None
     seed = parse_count(item["seed"], "seed", 0, 2**63 - 1) if "seed" in item else None
     over = item.get("over")
     if over is not None:
@@ -407,7 +409,9 @@ def grade(entries: list[Entry], total_s: float | None = None) -> None:
         left = deadline - time.monotonic()
         if key in solved:
             result = solved[key]
-            entry.judgements = judge(result, entry.expectations)
+            left = max(deadline - time.monotonic(), 1e-3)
+            with budget.limit(left, what="grading (--budget gives it more)"):  # formulas too
+                entry.judgements = judge(result, entry.expectations)
         elif left <= 0.05:
             why = f"not graded: the total budget of {total_s:g} s ran out (--budget SECONDS gives it more)"
             result = cross_check(entry.exercise, params, methods=("analytic",), verify=False)
@@ -417,7 +421,9 @@ def grade(entries: list[Entry], total_s: float | None = None) -> None:
                                 for e in entry.expectations]
         else:
             result = solved[key] = cross_check(entry.exercise, params, budget_s=min(per_solve, left))
-            entry.judgements = judge(result, entry.expectations)
+            left = max(deadline - time.monotonic(), 1e-3)
+            with budget.limit(left, what="grading (--budget gives it more)"):  # formulas too
+                entry.judgements = judge(result, entry.expectations)
         entry.result = result.with_expected(entry.judgements)
         entry.seconds = time.perf_counter() - t0  # this entry's own work: its solve where it was the first
 

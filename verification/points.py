@@ -24,15 +24,19 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mech.core import budget
+from mech.core.safeio import shown
 from mech.problems.spec import BadInput, Params, Undefined
 from mech.verification.formula_ast import MAX_PREC, Formula, Problem
 from mech.verification.judge import allowance, within
 
-__all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "PointSet", "PointJudgement", "point_set", "draw", "ranges",
+__all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "MAX_POINTS", "CACHE_BYTES", "PointSet", "PointJudgement", "point_set", "draw", "ranges",
            "parse_over", "depends", "line_of", "accept", "make", "judge_points", "yours_at_given", "describe_point",
            "problem_text", "in_over"]
 
 DEFAULT_POINTS = 24
+# parameter sets a formula may ask to be judged at (``--expect-points``, ``points =``): drawing them, mech's
+# values there and the judging all run under the budget, which cuts a check that would run longer
+MAX_POINTS = 10_000
 
 DEFAULT_SEED = 20240524
 
@@ -254,20 +258,24 @@ def parse_over(ex, over: dict) -> dict[str, tuple[float, float]]:
     for raw, text in over.items():
         name = str(raw).strip().replace("-", "_")
         if name not in ex.param_map:
-            raise BadInput(f"over.{raw}: not a parameter of {ex.id}; its parameters are: {', '.join(ex.param_map)}")
+            raise BadInput(f"over.{shown(raw, 40)}: not a parameter of {ex.id}; its parameters are: {', '.join(ex.param_map)}")
         p = ex.param_map[name]
         if not isinstance(text, str) or text.count(":") != 1:
-            raise BadInput(f"over.{raw}: give a range LO:HI such as \"10deg:60deg\"")
+            raise BadInput(f"over.{shown(raw, 40)}: give a range LO:HI such as \"10deg:60deg\"")
         lo_s, hi_s = text.split(":")
         try:
             lo, hi = to_si(lo_s, p.unit), to_si(hi_s, p.unit)
             p.check(lo, lo_s)
             p.check(hi, hi_s)
         except (ValueError_, BadInput) as exc:
-            raise BadInput(f"over.{raw}: {str(exc).removeprefix(name + ': ')}") from None
+            raise BadInput(f"over.{shown(raw, 40)}: {shown(str(exc).removeprefix(name + ': '), 120)}") from None
         if not lo < hi:
-            raise BadInput(f"over.{raw}: {text}: the low end must be below the high end")
+            raise BadInput(f"over.{shown(raw, 40)}: {shown(text, 40)}: the low end must be below the high end")
         out[name] = (lo, hi)
+    if out and not draw(ex, 1, DEFAULT_SEED, out):  # a range the joint limits leave empty: a bad input
+        ranges_text = ", ".join(f"{shown(k, 20)} = {shown(v, 40)}" for k, v in over.items())
+        raise BadInput(f"over: no parameters of {ex.id} inside {ranges_text} meet its joint limits "
+                       "(mech show lists them)")
     return out
 
 
@@ -297,7 +305,30 @@ class PointSet:
         return len(self.points)
 
 
-_CACHE: dict = {}
+_CACHE: dict = {}  # key -> PointSet, oldest first; bounded in bytes (``CACHE_BYTES``), not in entries
+CACHE_BYTES = 64 * 2**20
+
+
+def size_of(ps: PointSet) -> int:
+    """An upper estimate of a point set's memory, bytes: per point its Params, its arrays, its memo entry
+    (measured with tracemalloc: 1.1 kB a point for 4.15's 3 parameters and 2 outputs, 1.3 kB for 4.32's 4
+    and 3; this says 1.65 and 2.15 kB)."""
+    width = len(ps.arrays) + len(ps.analytic)
+    return len(ps) * (400 + 250 * width)
+
+
+def _remember(key, ps: PointSet) -> None:
+    """Keep ``ps`` for the next formula judged at the same points, dropping the oldest beyond
+    ``CACHE_BYTES``; a point set larger than the whole cache is not kept."""
+    size = size_of(ps)
+    if size > CACHE_BYTES:
+        return
+    total = sum(size_of(v) for v in _CACHE.values()) + size
+    for old in list(_CACHE):
+        if total <= CACHE_BYTES:
+            break
+        total -= size_of(_CACHE.pop(old))
+    _CACHE[key] = ps
 
 
 def _analytic_at(ex, pts: list, memo: dict) -> tuple[dict, dict, dict]:
@@ -312,7 +343,7 @@ def _analytic_at(ex, pts: list, memo: dict) -> tuple[dict, dict, dict]:
         key = _key(ex, p)
         got = memo.get(key)
         if got is None:
-            budget.check("mech's values at the points")
+            budget.check("working out mech's values at the points")
             try:
                 got = (ex.solve_analytic(p), ex.analytic_errors(p))
             except budget.OutOfBudget:
@@ -380,8 +411,9 @@ def point_set(ex, given: Params, n: int = DEFAULT_POINTS, seed: int = DEFAULT_SE
     bounds and joint checks alone (``accept``): ``resolve``'s representability test would solve the
     analytic answer once more, and a point without a finite answer is not judged anyway."""
     key = (ex.id, tuple(sorted(given.items())), int(n), int(seed), tuple(sorted((over or {}).items())))
-    hit = _CACHE.get(key)
+    hit = _CACHE.pop(key, None)
     if hit is not None:
+        _CACHE[key] = hit  # the most recent last
         return hit
     pts, labels = [given], ["given"]
     defaults = accept(ex, {})
@@ -404,9 +436,7 @@ def point_set(ex, given: Params, n: int = DEFAULT_POINTS, seed: int = DEFAULT_SE
         memo[_key(ex, given)] = ({n: v for n, (v, _) in known.items()}, {n: e for n, (_, e) in known.items()})
     ps = make(ex, pts, labels, memo)
     ps.in_range = in_over(given, over)
-    if len(_CACHE) > 256:
-        _CACHE.clear()
-    _CACHE[key] = ps
+    _remember(key, ps)
     return ps
 
 
@@ -506,7 +536,7 @@ def judge_points(formula: Formula, ps: PointSet, ref: np.ndarray, ref_err: np.nd
             # found wrong in exact arithmetic already: the rest need not cost the budget
             skipped[todo[j:]] = True
             break
-        budget.check("judging a formula in high precision")
+        budget.check("judging the formula in high precision")
         point = {k: float(ps.arrays[k][i]) for k in names}
         got = _precise(formula, point, float(ref[i]), float(base[i]), float(e[i]) if np.isfinite(e[i]) else math.inf)
         if got is None:  # no precision up to MAX_PREC decides it: not right
@@ -561,7 +591,7 @@ def _precise(formula: Formula, point: dict, ref: float, base: float, e: float):
     prec = max(128, min(prec, MAX_PREC))
     sens = None
     while True:
-        budget.check("judging a formula in high precision")
+        budget.check("judging the formula in high precision")
         p = formula.evaluate_precise(point, prec)
         if p.domain is not None:
             return math.nan, False, p.domain
