@@ -147,7 +147,8 @@ def tokens(text: str, symbols: dict[str, str] | None = None, formula: bool = Fal
         pos = m.end()
         kind = m.lastgroup
         if kind == "bad":
-            raise ValueError_(f"unexpected character '{m.group(kind)}'")
+            ch = m.group(kind)
+            raise ValueError_(f"unexpected character '{ch if ch.isprintable() else ascii(ch)[1:-1]}'")
         out.append((kind, m.group(kind)))
     return out
 

@@ -216,3 +216,77 @@ def test_the_5_6_frequency_shift_as_an_agm_formula_is_right():
     assert v.match, v.verdict
     v = _verdict("5.6", "domega", "-sqrt(g/l)*theta0^2/16")
     assert not v.match
+
+
+# -- the API: every user-caused failure is BadInput or NumericFailure, its message cut and escaped ------
+
+_BAD = [10**400, -10**400, 10**5000, float("nan"), float("inf"), "a\x00b", "\x1f\x85\u200b1", "x" * 100000, [],
+        {}, ["theta_c"], object(), b"bytes", True, -1, 1e308, (1, 2), {"a": 1}]
+
+
+def _api_calls(b, tmp):
+    import mech
+
+    yield "exercise", lambda: mech.exercise(b)
+    yield "exercises", lambda: mech.exercises(b)
+    yield "solve id", lambda: mech.solve(b)
+    yield "solve param", lambda: mech.solve("4.15", theta0=b, method="analytic")
+    for kw in ("method", "rtol", "verify", "raise_on_failure", "expect", "expect_rtol"):
+        yield f"solve {kw}", lambda kw=kw: mech.solve("4.15", method="analytic", **{kw: b}) if kw != "method" \
+            else mech.solve("4.15", method=b)
+    yield "solve expect value", lambda: mech.solve("4.15", method="analytic", expect={"theta_c": b})
+    try:
+        hash(b)
+        yield "solve expect key", lambda: mech.solve("4.15", method="analytic", expect={b: "1"})
+    except TypeError:
+        pass
+    f = {"theta_c": "asin(2/3*sin(theta0))"}
+    yield "solve expect_points", lambda: mech.solve("4.15", method="analytic", expect=f, expect_points=b)
+    yield "solve expect_seed", lambda: mech.solve("4.15", method="analytic", expect=f, expect_seed=b)
+    yield "sweep param", lambda: mech.sweep("4.1", M=b)
+    yield "sweep tuple", lambda: mech.sweep("4.1", M=(1, 2, b))
+    for kw in ("only", "jobs", "budget", "method", "rtol", "verify"):
+        yield f"sweep {kw}", lambda kw=kw: mech.sweep("4.1", M=(1, 2, 2), **{kw: b})
+    yield "check ids", lambda: mech.check(b)
+    yield "check hard", lambda: mech.check("4.1", hard=b)
+    yield "grade path", lambda: mech.grade(b)
+    yield "grade budget", lambda: mech.grade(str(tmp / "none.toml"), budget=b)
+    for kw in ("methods", "tols", "max_seconds"):
+        yield f"bench {kw}", lambda kw=kw: mech.bench("4.15", **{kw: b, "max_seconds": 1, "repeats": 1}) \
+            if kw != "max_seconds" else mech.bench("4.15", max_seconds=b, repeats=1)
+    yield "bench param", lambda: mech.bench("4.15", l=b, max_seconds=1, repeats=1)
+    yield "plot id", lambda: mech.plot(b)
+    yield "plot path", lambda: mech.plot("4.1", b if not isinstance(b, str) else str(tmp / b[:50]))
+    yield "plot vary", lambda: mech.plot("4.1", str(tmp / "p.png"), vary=b)
+
+
+def test_api_raises_bad_input_for_every_bad_argument(tmp_path):
+    import warnings
+
+    from mech import BadInput, NumericFailure
+
+    wrong = []
+    for b in _BAD:
+        for label, call in _api_calls(b, tmp_path):
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("error")
+                    call()
+            except (BadInput, NumericFailure) as exc:
+                text = str(exc)
+                if len(text) > 400 or not text.isprintable():
+                    wrong.append((label, repr(b)[:30], "message", text[:100]))
+            except Exception as exc:  # noqa: BLE001  what the test is for
+                wrong.append((label, repr(b)[:30], type(exc).__name__, str(exc)[:100]))
+    assert not wrong, wrong[:10]
+
+
+def test_a_flat_sum_is_bounded_by_length_not_depth():
+    import mech
+
+    text = "asin(2/3*sin(theta0))" + "+0" * 988  # 1997 characters, one level: exactly mech's theta_c
+    sol = mech.solve("4.15", method="analytic", expect={"theta_c": text})
+    assert sol["theta_c"].expected.verdict.startswith("right"), sol["theta_c"].expected.verdict
+    text = "0*theta0" + "+1" * 995  # 995 rad: wrong, not "nested too deeply"
+    sol = mech.solve("4.15", method="analytic", expect={"theta_c": text})
+    assert sol["theta_c"].expected.verdict.startswith("wrong"), sol["theta_c"].expected.verdict

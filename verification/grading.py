@@ -130,11 +130,11 @@ def parse_count(text, what: str, lo: int, hi: int) -> int | None:
     if text is None:
         return None
     try:
-        value = int(str(text).strip()) if not isinstance(text, bool) else None
+        value = None if isinstance(text, bool) else text if isinstance(text, int) else int(str(text).strip()[:40])
     except ValueError:
         value = None
     if value is None or not lo <= value <= hi:
-        raise BadInput(f"{what}: cannot use '{text}': allowed a whole number in [{lo}, {hi}]")
+        raise BadInput(f"{what}: cannot use '{shown(text, 40)}': allowed a whole number in [{lo}, {hi}]")
     return value
 
 
