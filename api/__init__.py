@@ -57,7 +57,7 @@ def exercise(ex_id: str):
     """One exercise: ``.id .title .statement .model .params .outputs .formulas .hard_cases``."""
     from mech.problems import registry
 
-    if not isinstance(ex_id, str):
+    if not isinstance(ex_id, str) and not (isinstance(ex_id, (int, float)) and abs(ex_id) < 1e6):
         from mech.core.errors import BadInput
         from mech.core.safeio import shown
 

@@ -117,6 +117,15 @@ def _screen(name: str, value, *kinds: str):
     return value
 
 
+def _exercise(ex_id):
+    """The exercise of an API id: a string (a number, such as 4.15, gets the message asking to quote it)."""
+    from mech.problems import registry
+
+    if _ARG_KINDS["number"](ex_id) and abs(ex_id) < 1e6:
+        return registry.get(ex_id)
+    return registry.get(_screen("exercise id", ex_id, "str"))
+
+
 def _screen_params(params: dict) -> dict:
     for k, v in params.items():
         _screen(_shown(k), v, "number", "str")
@@ -221,7 +230,7 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
           expect_seed=None) -> Solution:
     from mech.problems import registry
 
-    ex = registry.get(_screen("exercise id", ex_id, "str"))
+    ex = _exercise(ex_id)
     _screen("method", method, "str")
     _screen("rtol", rtol, "none", "number", "str")
     _screen("expect", expect, "none", "dict")
@@ -458,7 +467,7 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     from mech.problems import registry
     from mech.verification.sweep import Axis, batched_outputs, check_total, grid_points, run_batched, run_sweep
 
-    ex = registry.get(_screen("exercise id", ex_id, "str"))
+    ex = _exercise(ex_id)
     _screen("method", method, "str")
     _screen("rtol", rtol, "none", "number", "str")
     _screen("only", only, "none", "names")
@@ -614,7 +623,7 @@ def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **
     """``mech bench ID --json``: speed against error of the numeric solver(s)."""
     from mech.problems import registry
 
-    ex = registry.get(_screen("exercise id", ex_id, "str"))
+    ex = _exercise(ex_id)
     _screen("methods", methods, "none", "names")
     _screen("tols", tols, "none", "number", "numbers")
     for k in ("repeats",):
@@ -694,7 +703,7 @@ def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = Non
     from mech.figures.common import need_matplotlib, save
     from mech.problems import registry
 
-    ex = registry.get(_screen("exercise id", ex_id, "str"))
+    ex = _exercise(ex_id)
     _screen("path", path, "none", "path")
     _screen("vary", vary, "none", "str")
     generic = _flag("generic", generic)
@@ -752,8 +761,9 @@ def check(ids=None, hard: bool = False, *, jobs: int | None = None, started=None
     from mech.problems import registry
 
     if ids is not None and not _ARG_KINDS["names"](ids):
-        if _ARG_KINDS["number"](ids) and abs(ids) < 1e6:
-            registry.get(ids)  # a number: BadInput saying to quote it
+        for i in ids if isinstance(ids, (list, tuple)) else [ids]:
+            if _ARG_KINDS["number"](i) and abs(i) < 1e6:
+                registry.get(i)  # a number: BadInput saying to quote it
         raise BadInput(f"ids: give an id or a list of ids, got {_kind(ids)} {_shown(ids)}")
     if isinstance(ids, str):
         ids = [ids]

@@ -125,6 +125,9 @@ def tokens(text: str, symbols: dict[str, str] | None = None, formula: bool = Fal
     ``formula``: the wider alphabet of a formula (names in any script, ``,``, ``−``, ``√``, ``²``); each
     of ``symbols`` (``θ₀``, ``m'``, ``h/R``: symbol -> name) is then one name token, the name it stands for.
     """
+    for ch in text:  # a control or invisible character (U+001F, U+0085, U+200B) is never part of a value
+        if not ch.isprintable() and ch not in " \t":
+            raise ValueError_(f"unexpected character '{ascii(ch)[1:-1]}'")
     pattern, replace = (_FORMULA_TOKEN, _FORMULA_REPLACE) if formula else (_TOKEN, _REPLACE)
     for a, b in replace:
         text = text.replace(a, b)
@@ -351,7 +354,7 @@ def parse(text: str, build, what: str = "formula", max_depth: int | None = None,
 
 
 def parse_quantity(text: str) -> Dimensioned:
-    text = str(text).strip()
+    text = str(text).strip(" \t")  # not str.strip(): a control character is refused, not dropped
     if len(text) > 200:
         raise ValueError_("value too long")
     try:

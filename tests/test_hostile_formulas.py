@@ -290,3 +290,171 @@ def test_a_flat_sum_is_bounded_by_length_not_depth():
     text = "0*theta0" + "+1" * 995  # 995 rad: wrong, not "nested too deeply"
     sol = mech.solve("4.15", method="analytic", expect={"theta_c": text})
     assert sol["theta_c"].expected.verdict.startswith("wrong"), sol["theta_c"].expected.verdict
+
+
+# -- budgets and memory -----------------------------------------------------------------------------------
+
+def test_solve_budget_covers_the_formula_check():
+    import time
+
+    t0 = time.monotonic()
+    r = _mech("solve", "4.32", "--expect", "h_high=M_S/M_E*R_E^4/r_S^3", "--expect-points", "10000",
+              env={"MECH_BUDGET_S": "1"})
+    assert time.monotonic() - t0 < 10, r.stdout  # was 35 s
+    assert r.returncode == 1, r.stdout + r.stderr
+    assert "not graded (budget)" in r.stdout and "Traceback" not in r.stderr
+
+
+def test_grade_budget_covers_the_formula_checks(tmp_path):
+    import time
+
+    hw = tmp_path / "hw.toml"
+    hw.write_text("".join('[[answer]]\nexercise = "4.32"\npoints = 10000\n'
+                          'expect = { h_high = "M_S/M_E*R_E^4/r_S^3" }\n\n' for _ in range(6)))
+    t0 = time.monotonic()
+    r = _mech("grade", str(hw), "--budget", "2")
+    assert time.monotonic() - t0 < 15, r.stdout  # was 37 s, every entry graded
+    assert r.returncode == 1 and "not graded" in r.stdout, r.stdout + r.stderr
+
+
+def test_a_wrong_dimension_draws_no_point(monkeypatch):
+    calls = []
+    monkeypatch.setattr(P, "draw", lambda *a, **k: calls.append(a) or [])
+    ex = registry.get("4.15")
+    out = ex.outputs[0]
+    from mech.verification import answers
+
+    f = parse_formula("l*theta0", ex)
+    v = judge_formula(f, ex, out, lambda: P.point_set(ex, ex.resolve({}), 10000, 5), (0.7, 0.0), None)
+    assert v.verdict.startswith("wrong dimension") and not calls
+    assert answers  # the answers judge hands the point set over the same way (a callable)
+
+
+def test_cache_is_bounded_in_bytes():
+    ex = registry.get("4.15")
+    P._CACHE.clear()
+    for seed in range(40):
+        P.point_set(ex, ex.resolve({}), 2000, 1000 + seed)
+    assert sum(P.size_of(v) for v in P._CACHE.values()) <= P.CACHE_BYTES
+    assert 0 < len(P._CACHE) < 40
+    P._CACHE.clear()
+
+
+def test_class_file_of_10000_points_under_500_mb(tmp_path):
+    hw = tmp_path / "hw.toml"
+    hw.write_text("".join(f'[[answer]]\nexercise = "4.15"\npoints = 10000\nseed = {k}\n'
+                          'expect = { theta_c = "asin(2/3*sin(theta0))" }\n\n' for k in range(100)))
+    code = ("import resource, sys; resource.setrlimit(resource.RLIMIT_AS, (500 * 2**20, 500 * 2**20)); "
+            "from mech.cli.main import main; sys.argv = ['mech', 'grade', sys.argv[1], '--budget', '12']; main()")
+    r = subprocess.run([sys.executable, "-c", code, str(hw)], capture_output=True, text=True, timeout=120,
+                       env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
+    assert "Traceback" not in r.stderr and "MemoryError" not in r.stderr, r.stderr[-2000:]
+    assert r.returncode == 1, r.stderr[-500:]
+    assert "answers right" in r.stdout and "(100 entries)" in r.stdout, r.stdout[-500:]
+
+
+def test_memory_error_is_one_line(tmp_path):
+    code = ("import sys; import mech.cli.main as m; from mech import api; "
+            "api.solve_resolved = lambda *a, **k: (_ for _ in ()).throw(MemoryError()); "
+            "sys.argv = ['mech', 'solve', '4.15']; m.main()")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    lines = r.stderr.strip().splitlines()
+    assert r.returncode in (2, 3) and len(lines) == 1 and "out of memory" in lines[0], r.stderr
+
+
+# -- one entry never decides the class ----------------------------------------------------------------------
+
+def test_the_two_internal_errors_are_verdicts_inside_a_class_file(tmp_path):
+    nested = "(" * 15 + "l" + "^1e300)" * 15 + "/l"
+    hw = tmp_path / "hw.toml"
+    hw.write_text(f'''
+[[answer]]
+exercise = "4.15"
+expect = {{ theta_c = "asin(2/3*sin(theta0))*1e307" }}
+
+[[answer]]
+exercise = "4.15"
+expect = {{ theta_c = "{nested}" }}
+
+[[answer]]
+exercise = "4.15"
+expect = {{ theta_c = "asin(2/3*sin(theta0))" }}
+''')
+    junit = tmp_path / "out.xml"
+    r = _mech("grade", str(hw), "--junit", str(junit))
+    assert r.returncode == 1 and "internal error" not in r.stdout + r.stderr, r.stdout + r.stderr
+    assert "1 of 3 answers right" in r.stdout, r.stdout
+    assert "off by a constant factor" in r.stdout and "wrong dimension" in r.stdout
+    assert junit.exists()
+
+
+def test_junit_onto_the_answers_file_is_refused(tmp_path):
+    hw = tmp_path / "hw.toml"
+    text = '[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "41.81deg" }\n'
+    hw.write_text(text)
+    r = _mech("grade", str(hw), "--junit", str(hw))
+    assert r.returncode == 2 and "the same file" in r.stderr, r.stderr
+    assert hw.read_text() == text
+    os.link(hw, tmp_path / "link.toml")
+    r = _mech("grade", str(hw), "--junit", str(tmp_path / "link.toml"))
+    assert r.returncode == 2 and hw.read_text() == text
+    base = tmp_path / "b.json"
+    base.write_text("{}")
+    r = _mech("check", "4.1", "--baseline", str(base), "--save-baseline", str(tmp_path / "." / "b.json"))
+    assert r.returncode == 2 and "the same file" in r.stderr and base.read_text() == "{}"
+    r = _mech("check", "4.1", "--junit", str(tmp_path / "j.xml"), "--save-baseline", str(tmp_path / "j.xml"))
+    assert r.returncode == 2 and "the same file" in r.stderr
+
+
+# -- edges ------------------------------------------------------------------------------------------------
+
+def test_over_with_no_admissible_point_is_a_bad_file(tmp_path):
+    hw = tmp_path / "hw.toml"
+    hw.write_text('[[answer]]\nexercise = "4.13"\nover = { R = "1:2", R_prime = "0.01:0.5" }\n'
+                  'expect = { omega = "sqrt(g/R)" }\n')  # R' > R cannot hold there
+    r = _mech("grade", str(hw))
+    assert r.returncode == 2 and "over" in r.stderr and "R_prime = 0.01:0.5" in r.stderr, r.stderr
+
+
+def test_reference_overflow_points_are_left_out_and_counted():
+    ex = registry.get("4.15")
+    over = P.parse_over(ex, {"l": "1e-300:1e300", "g": "1e-300:1e300"})
+    ps = P.point_set(ex, ex.resolve({}), 60, 3, over)
+    gone = sum(w == "not finite" for w in ps.undefined["omega_c"][1:])
+    f = parse_formula("sqrt(g*sin(theta0)/l)", ex)
+    given = (float(ps.analytic["omega_c"][0]), float(ps.analytic_err["omega_c"][0]))
+    v = judge_formula(f, ex, ex.outputs[1], ps, given, None)
+    assert v.match, v.verdict  # l^2-like overflow in the formula: judged in exact arithmetic
+    if gone:
+        assert "overflows left out" in v.verdict
+
+
+def test_juxtaposed_pi_and_root_read_as_a_product():
+    ex = registry.get("5.6")
+    f = parse_formula("2π√(l/g)", ex)
+    assert f.evaluate({"l": np.array([1.0]), "g": np.array([9.81])})[0][0] == pytest.approx(
+        2 * math.pi * math.sqrt(1 / 9.81), rel=1e-15)
+    with pytest.raises(FormulaError, match="side by side"):
+        parse_formula("pisqrt(l/g)", ex)
+
+
+def test_formula_followed_by_its_own_unit_is_never_squared():
+    ex = registry.get("5.6")
+    f = parse_formula("2*pi*sqrt(l/g) s", ex)
+    assert f.dim == parse_formula("sqrt(l/g)", ex).dim  # s, not s^2
+    with pytest.raises(FormulaError, match="unit 'ms'"):
+        parse_formula("2*pi*sqrt(l/g) ms", ex)
+
+
+def test_control_characters_never_reach_the_yours_column():
+    for ch in ("\x1f", "\x85", "\u200b"):
+        r = _mech("solve", "4.15", "--expect", f"theta_c=asin(2/3*sin(theta0)){ch}")
+        assert r.returncode == 2, r.stdout
+        assert ch not in r.stdout + r.stderr and ascii(ch)[1:-1] in r.stderr, r.stderr
+
+
+def test_runtime_warnings_never_reach_stderr():
+    r = _mech("solve", "5.11", "--expect", "mu_th=4*delta/omega0", "--expect-seed", "5")
+    assert "Warning" not in r.stderr and r.returncode in (0, 1), r.stderr
+    r = _mech("solve", "4.15", "--expect", "theta_c=asin(2/3*sin(theta0))*1e308*10")
+    assert "Warning" not in r.stderr and r.returncode == 1 and "internal error" not in r.stderr, r.stderr

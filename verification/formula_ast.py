@@ -332,6 +332,8 @@ def _deriv(fn, x, y):
 def _eval(node, env: dict, dtype, problems: list | None):
     """(value, round-off bound) arrays of ``node`` over the points in ``env`` (name -> array)."""
     eps = float(np.finfo(dtype).eps)
+    # an operation whose result underflows loses it whole: each adds the smallest subnormal, absolute
+    tiny = float(np.finfo(dtype).smallest_subnormal)
     k = node[0]
     if k == "num":
         v = dtype(node[1])
@@ -355,7 +357,7 @@ def _eval(node, env: dict, dtype, problems: list | None):
         for s, t in rest:
             b, eb = _eval(t, env, dtype, problems)
             y = y + b if s > 0 else y - b
-            err = err + eb + eps * np.abs(y)
+            err = err + eb + eps * np.abs(y) + tiny
         return y, err
     if k == "prod":
         y, err = _eval(node[1][0][1], env, dtype, problems)
@@ -366,7 +368,7 @@ def _eval(node, env: dict, dtype, problems: list | None):
             a, ea = y, err
             if s > 0:
                 y = a * b
-                err = np.abs(b) * ea + np.abs(a) * eb + eps * np.abs(y)
+                err = np.abs(b) * ea + np.abs(a) * eb + eps * np.abs(y) + tiny
                 continue
             y = a / b
             if problems is not None:
@@ -374,7 +376,7 @@ def _eval(node, env: dict, dtype, problems: list | None):
                 if np.any(bad):
                     problems.append(Problem(np.broadcast_to(bad, np.shape(y)), "a division by zero",
                                             np.zeros(np.shape(y))))
-            err = (ea + np.abs(y) * eb) / np.abs(b) + eps * np.abs(y)
+            err = (ea + np.abs(y) * eb) / np.abs(b) + eps * np.abs(y) + tiny
         return y, err
     if k == "pow":
         a, ea = _eval(node[1], env, dtype, problems)
@@ -387,7 +389,7 @@ def _eval(node, env: dict, dtype, problems: list | None):
                 what = "a negative number to a fractional power" if np.all(neg[bad]) else "a power that overflows or divides by zero"
                 problems.append(Problem(np.broadcast_to(bad, np.shape(y)), what, np.broadcast_to(a, np.shape(y))))
         la = np.log(np.abs(a))
-        err = np.abs(y) * (np.abs(b) * ea / np.abs(a) + np.abs(la) * eb) + eps * np.abs(y)
+        err = np.abs(y) * (np.abs(b) * ea / np.abs(a) + np.abs(la) * eb) + eps * np.abs(y) + tiny
         err = np.where(np.isfinite(err) | ~np.isfinite(y), err, 0.0)
         return y, err
     if k == "fn":
@@ -419,7 +421,7 @@ def _eval(node, env: dict, dtype, problems: list | None):
             if np.any(bad):
                 problems.append(Problem(np.broadcast_to(bad, np.shape(y)), f"{fn} of {{x}}", np.broadcast_to(x, np.shape(y))))
         d = _deriv(fn, x, y)
-        err = d * ex + (4 if fn.startswith("ellip") else 1) * eps * np.abs(y)
+        err = d * ex + (4 if fn.startswith("ellip") else 1) * eps * np.abs(y) + tiny
         # at a branch point (asin(1), sqrt(0)) the first-order bound is infinite; second order is sqrt(ex)
         inf = ~np.isfinite(err) & np.isfinite(y)
         if np.any(inf):
@@ -681,8 +683,8 @@ def looks_like_formula(text: str, ex, parameters_only: bool = False) -> bool:
     function?"""
     try:
         toks = tokens(str(text)[:MAX_LENGTH], parameter_symbols(ex), formula=True)
-    except ValueError_:
-        return False
+    except ValueError_ as exc:  # a character no value has: the formula's parser names it
+        return "unexpected character" in str(exc) and not parameters_only
     names = set(getattr(ex, "param_map", ()))
     return any(k == "name" and (v in names or (v in FUNCTIONS and not parameters_only)) for k, v in toks)
 
@@ -692,7 +694,7 @@ def parse_formula(text: str, ex) -> Formula:
     text = str(text)
     if len(text) > MAX_LENGTH:
         raise FormulaError(f"formula too long ({len(text)} characters; at most {MAX_LENGTH})")
-    text = text.strip()
+    text = text.strip(" \t")  # a control character is refused by the tokenizer, not dropped
     if text.count("(") > MAX_DEPTH * 4:
         raise FormulaError(f"formula nested too deeply (more than {MAX_DEPTH} levels)")
     try:

@@ -106,7 +106,7 @@ def _formula(ex: Exercise, name: str, text: str, parameters_only: bool = False, 
     except FormulaError as exc:
         if parameters_only:
             return None
-        raise BadInput(f"{name}: cannot use the formula '{_short(text)}': {exc}") from None
+        raise BadInput(f"{name}: cannot use the formula '{shown(text, 60)}': {exc}") from None
     if parameters_only and (not f.names or f.dim != dim_of_unit(unit)[1]):
         return None
     return Expectation(name, text, math.nan, formula=f)

@@ -597,22 +597,21 @@ def _precise(formula: Formula, point: dict, ref: float, base: float, e: float):
             return math.nan, False, p.domain
         if p.value is None:  # an argument too large to reduce at any precision
             return None
-        if True:
-            with mp.workprec(prec):
-                d = abs(p.value - mp.mpf(ref))
-                b4 = 4 * p.bound
-                if sens is None and d + b4 > base:
-                    sens = mp.zero
-                    for k in point:
-                        if point[k] != 0:
-                            q = formula.evaluate_precise(point, prec, moved=k)
-                            if q.value is not None:  # past a branch point: no allowance from it
-                                sens += abs(q.value - p.value) + 4 * q.bound
-                allowed = mp.mpf(base) + (sens if sens is not None else 0)
-                if d + b4 <= allowed:
-                    return float(p.value), True, None
-                if d - b4 > allowed:
-                    return float(p.value), False, None
+        with mp.workprec(prec):
+            d = abs(p.value - mp.mpf(ref))
+            b4 = 4 * p.bound
+            if sens is None and not within(d + b4, bars=(mp.mpf(base),)):
+                sens = mp.zero
+                for k in point:
+                    if point[k] != 0:
+                        q = formula.evaluate_precise(point, prec, moved=k)
+                        if q.value is not None:  # past a branch point: no allowance from it
+                            sens += abs(q.value - p.value) + 4 * q.bound
+            bars = (mp.mpf(base), sens if sens is not None else mp.zero)
+            if within(d + b4, bars=bars):  # right, whatever the round-off left
+                return float(p.value), True, None
+            if not within(d - b4, bars=bars):  # wrong, whatever the round-off left
+                return float(p.value), False, None
         if prec >= MAX_PREC:
             return None
         prec = min(2 * prec, MAX_PREC)
