@@ -11,12 +11,13 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
-from typing import Any, Iterator, Sequence
+from typing import Any
 
 import numpy as np
 
 from mech.problems.spec import BadInput, NumericFailure
 from mech.verification.result import Quantity, Solution
+from mech.verification.sweep import Sweep
 
 __all__ = ["Quantity", "Solution", "Sweep", "Trajectory", "solve", "sweep", "check", "resolve_params"]
 
@@ -354,118 +355,10 @@ def _is_swept(spec) -> bool:
     return isinstance(spec, (tuple, list, np.ndarray))
 
 
-class Sweep:
-    """Solutions over a range or a grid: ``.points``, ``.to_arrays()``, ``.to_csv(path)``, ``.to_pandas()``."""
-
-    def __init__(self, exercise, axes: list, fixed: dict, points: list[Solution], seconds: float = 0.0,
-                 only: Sequence[str] | None = None):
-        self.exercise = exercise
-        self.axes = axes
-        self.fixed = fixed
-        self.points = points
-        self.seconds = seconds
-        self.outputs = list(only) if only else [o.name for o in exercise.outputs]
-
-    @property
-    def agree(self) -> bool | None:
-        from mech.verification.crosscheck import combine_agree
-
-        return combine_agree(p.agree for p in self.points)
-
-    @property
-    def shape(self) -> tuple[int, ...]:
-        return tuple(len(a.values) for a in self.axes)
-
-    def __len__(self) -> int:
-        return len(self.points)
-
-    def __iter__(self) -> Iterator[Solution]:
-        return iter(self.points)
-
-    def to_arrays(self) -> dict[str, np.ndarray]:
-        """Flat arrays in grid order (the first swept parameter varies slowest; ``.reshape(sweep.shape)``
-        gives the grid): each swept parameter, then per output ``_analytic``, ``_numeric`` and
-        ``_numeric_err`` (float, NaN where there is no value) and ``_agree`` (bool) with ``_agree_mask``
-        (bool, True where there is no verdict: nothing compared; ``_agree`` is False there), the
-        convention of ``numpy.ma``: ``np.ma.array(a["x_agree"], mask=a["x_agree_mask"])``."""
-        out: dict[str, np.ndarray] = {}
-        for axis in self.axes:
-            out[axis.name] = np.array([p.params[axis.name] for p in self.points], float)
-        for name in self.outputs:
-            qs = [p[name] for p in self.points]
-            out[f"{name}_analytic"] = np.array([_nan(q.analytic) for q in qs], float)
-            out[f"{name}_numeric"] = np.array([_nan(q.numeric) for q in qs], float)
-            out[f"{name}_numeric_err"] = np.array([_nan(q.numeric_err) for q in qs], float)
-            out[f"{name}_agree"] = np.array([q.agree is True for q in qs], bool)
-            out[f"{name}_agree_mask"] = np.array([q.agree is None for q in qs], bool)
-        return out
-
-    def _columns(self) -> list[tuple[str, str]]:
-        cols = [(a.name, self.exercise.param_map[a.name].unit) for a in self.axes]
-        units = {o.name: o.unit for o in self.exercise.outputs}
-        for name in self.outputs:
-            cols += [(f"{name}_analytic", units[name]), (f"{name}_numeric", units[name]),
-                     (f"{name}_numeric_err", units[name]), (f"{name}_agree", "")]
-        return cols
-
-    def to_csv(self, path) -> None:
-        """One row per point; the header gives each column's unit as ``name [unit]``; an empty cell where
-        there is no value or no verdict."""
-        import csv
-
-        from mech.core.safeio import atomic_write
-
-        arrays = self.to_arrays()
-        cols = self._columns()
-        with atomic_write(str(path), "--csv", newline="") as fh:
-            out = csv.writer(fh)
-            out.writerow([f"{n} [{u}]" if u and u != "1" else n for n, u in cols])
-            swept = {a.name for a in self.axes}
-            for k in range(len(self.points)):
-                row = []
-                for n, _ in cols:
-                    v = arrays[n][k]
-                    if n.endswith("_agree"):
-                        row.append("" if arrays[f"{n}_mask"][k] else str(bool(v)).lower())
-                    else:
-                        # a swept value to 15 digits: 0.3 from linspace, not 0.30000000000000004
-                        row.append("" if math.isnan(v) else f"{float(v):.15g}" if n in swept else repr(float(v)))
-                out.writerow(row)
-
-    def to_pandas(self):
-        """A pandas DataFrame of ``to_arrays()`` (pandas is optional: ``pip install pandas``): the verdicts
-        as pandas' nullable boolean (``pd.NA`` where there is none), without the mask columns."""
-        try:
-            import pandas as pd
-        except ImportError:
-            raise ImportError("Sweep.to_pandas needs pandas, which mech does not install: pip install pandas") \
-                from None
-        arrays = self.to_arrays()
-        columns = {}
-        for n, v in arrays.items():
-            if n.endswith("_agree_mask"):
-                continue
-            if n.endswith("_agree"):
-                columns[n] = pd.array([None if m else bool(x) for x, m in zip(v, arrays[f"{n}_mask"])],
-                                      dtype="boolean")
-            else:
-                columns[n] = v
-        return pd.DataFrame(columns)
-
-    def __repr__(self) -> str:
-        swept = ", ".join(f"{a.name}: {len(a.values)}" for a in self.axes)
-        return f"<Sweep {self.exercise.id} over {swept}; {len(self.points)} points; agree={self.agree}>"
-
-
-def _nan(v) -> float:
-    """A value as a float: NaN where there is none (None, or ``Undefined``)."""
-    return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else math.nan
-
-
 def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, only=None, jobs=None,
           ranges: dict | None = None, budget=None) -> Sweep:
     from mech.problems import registry
-    from mech.verification.sweep import Axis, batched_outputs, check_total, grid_points, run_batched, run_sweep
+    from mech.verification.sweep import Axis, check_total
 
     ex = _exercise(ex_id)
     _screen("method", method, "str")
@@ -506,18 +399,10 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     if methods != ("analytic", "numeric"):
         raise BadInput("sweep runs both methods, cross-checked: method='both'")
     rtol_value = _rtol(ex, rtol)
-    batched = batched_outputs(ex, wanted)
-    if batched:
-        # the chart route: every point integrated at once, each with its own verdict and error bar
-        from mech.verification.sweep import validate_grid
-
-        validate_grid(ex, axes, fixed)
-        result = run_batched(ex, axes, fixed, batched, rtol=rtol_value, verify=verify, total_s=total_s)
-    else:
-        points = [ex.resolve(values) for values in grid_points(axes, fixed)]
-        result = run_sweep(ex, axes, fixed, points, rtol=rtol_value, verify=verify, jobs=jobs, only=wanted,
-                           total_s=total_s)
-    return Sweep(ex, axes, fixed, result.solutions(), result.seconds, wanted)
+    result = run_sweep_plan(plan_sweep(ex, axes, fixed, wanted), rtol=rtol_value, verify=verify, jobs=jobs,
+                            total_s=total_s)
+    result.solutions()  # ``.points``: one typed Solution per point, on either route
+    return result
 
 
 @dataclass(frozen=True)

@@ -21,6 +21,7 @@ from rich.table import Table
 from rich.text import Text
 
 from mech.problems.spec import Undefined
+from mech.verification.result import STYLE, closing
 
 PIPED_WIDTH = 160
 
@@ -127,10 +128,9 @@ def _small(v) -> str:
     return "—" if v is None else f"{v:.2g}"
 
 
-def _agree_text(flag) -> Text:
-    if flag is None:
-        return Text("—", style="dim")
-    return Text("yes", style="green") if flag else Text("NO", style="bold red")
+def _agree_text(cell: str) -> Text:
+    """A verdict's cell (``Quantity.cell``), coloured."""
+    return Text(cell, style=STYLE.get(cell, ""))
 
 
 # -- mech show -------------------------------------------------------------------------------------------
@@ -235,8 +235,7 @@ def _cells(q, expected: dict | None = None) -> dict:
         "numeric": Text(with_error(q.numeric, getattr(q, "numeric_err", None))),
         "rel. diff": Text(_small(q.rel_err)),
         "tol": Text(_tol_text(q)),
-        "agree": (Text("outside range", style="yellow") if getattr(q, "theory_valid", None) is False
-                  and q.agree is None else _agree_text(q.agree)),
+        "agree": _agree_text(q.cell),
     }
 
 
@@ -308,32 +307,8 @@ def _notes(result) -> list[str]:
 
 
 def _verdict(result) -> Text | None:
-    qs = result.quantities
-    has_a = any(q.analytic is not None for q in qs)
-    has_n = any(q.numeric is not None for q in qs)
-    if result.agree is False:
-        return Text("CROSS-CHECK FAILED" if has_a and has_n else "FAILED", style="bold red")
-    outside = [q for q in qs if getattr(q, "theory_valid", None) is False and q.agree is None]
-    if has_a and has_n and outside:
-        # a leading-order theory outside its range is not compared: say which outputs and why
-        prefix = "leading-order theory outside its range: "
-        why = "; ".join(dict.fromkeys(q.notes[-1].removeprefix(prefix) for q in outside if q.notes))
-        compared = any(q.agree is True for q in qs)
-        head = "analytic and numeric agree on the rest; " if result.agree and compared else ""
-        return Text(f"{head}no theory compared for {', '.join(q.name for q in outside)}: the leading-order "
-                    f"theory is outside its range ({why}); the verified numeric values are the answers",
-                    style="yellow")
-    if has_a and has_n:
-        return Text("analytic and numeric agree", style="green") if result.agree else None
-    if has_a:
-        return Text("analytic solver only: nothing was cross-checked (leave out --method to compare)",
-                    style="yellow")
-    if has_n:
-        verified = (result.numeric_info or {}).get("verify_rtol")
-        how = f"its accuracy claim held at rtol {verified:g}" if verified else "its accuracy claim was not re-tested"
-        return Text(f"numeric solver only: {how}; nothing was cross-checked (leave out --method to compare)",
-                    style="yellow")
-    return None
+    said = closing(result)
+    return None if said is None else Text(said[0], style=STYLE[said[1]])
 
 
 def print_solve(result) -> None:
@@ -383,7 +358,8 @@ def print_check(report) -> None:
         t.add_column(col, justify=just, no_wrap=col != "detail")
     rows = []
     for case in report.cases:
-        res = Text("pass", style="green") if case.ok else Text("FAIL", style="bold red")
+        res = (Text("pass", style="green") if case.agree else Text("FAIL", style="bold red") if not case.ok
+               else Text("no verdict", style="yellow"))
         ratio = "—" if case.worst_ratio is None else f"{case.worst_ratio:.2g}"
         rows.append((case.exercise.id, case.description, res, ratio, f"{case.seconds:.2f} s", case.detail))
         t.add_row(Text(case.exercise.id), Text(case.description), res, Text(ratio), Text(f"{case.seconds:.2f} s"),
@@ -393,4 +369,6 @@ def print_check(report) -> None:
                            + ([("detail", detail)] if detail else []))
                           for i, label, res, ratio, secs, detail in rows])
     style = "green" if report.ok else "bold red"
-    emit(c, Group(t, Text(f"{report.passed} passed, {report.failed} failed in {report.seconds:.1f} s", style=style)))
+    none = len(report.cases) - report.passed - report.failed
+    said = f"{report.passed} passed, " + (f"{none} no verdict, " if none else "") + f"{report.failed} failed"
+    emit(c, Group(t, Text(f"{said} in {report.seconds:.1f} s", style=style)))

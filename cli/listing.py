@@ -66,3 +66,31 @@ def print_list(exercises) -> None:
     if width is None:
         width = shutil.get_terminal_size((160, 24)).columns if sys.stdout.isatty() else 160
     sys.stdout.write("\n".join(table_lines(exercises, width)) + "\n")
+
+
+def print_derivation(ex, latex: bool = False, as_json: bool = False) -> None:
+    """``mech show ID --derive``: the declared physics and the derived equations (``ex.derive()``), as
+    terminal text, LaTeX, or JSON carrying the LaTeX strings; an exercise without a declaration says why
+    (exit 0).  Without sympy, ``ex.derive()`` raises BadUsage (exit 2, how to install it)."""
+    import json
+
+    try:
+        der = ex.derive()
+    except LookupError as exc:
+        why = str(exc.args[0]) if exc.args else "nothing is declared"
+        if as_json:
+            sys.stdout.write(json.dumps({"id": ex.id, "derived": False, "why": why}, indent=2) + "\n")
+        else:
+            sys.stdout.write(f"{ex.id}: no derivation: {why}\n")
+        return
+    if as_json:
+        sys.stdout.write(json.dumps({"id": ex.id, "derived": True, **der.as_json()}, indent=2) + "\n")
+        return
+    rule = _rule()
+    out = [f"{ex.id} {ex.title}: physics declared, equations derived by sympy.physics.mechanics", "",
+           f"{rule * 2} declared", *der.declared()]
+    for heading, lines in der.sections(latex=latex):
+        out.append("")
+        out.append(f"{rule * 2} {heading}")
+        out.extend(row.rstrip() for line in lines for row in line.split("\n"))
+    sys.stdout.write("\n".join(out) + "\n")

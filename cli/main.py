@@ -17,8 +17,7 @@ import click
 from mech.cli.options import collect_params
 from mech.problems.values import parse_rtol
 from mech.core.errors import BadInput, BadUsage
-
-EXIT_OK, EXIT_DISAGREE, EXIT_USAGE = 0, 1, 2
+from mech.core.exits import EXIT_DISAGREE, EXIT_INTERNAL, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, internal_error
 _STARTED = time.monotonic()  # the command's start (this module loads first): a solve's budget counts from here
 
 
@@ -142,7 +141,7 @@ class MechGroup(click.Group):
             code = EXIT_USAGE
         except click.Abort:
             click.echo("mech: aborted", err=True)
-            code = 130
+            code = EXIT_INTERRUPTED
         except BrokenPipeError:
             _quiet_stdout()
             code = EXIT_OK
@@ -168,8 +167,8 @@ class MechGroup(click.Group):
             if _stdout_broken() or exc.errno in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EIO, errno.EBADF):
                 code = _stdout_failed(exc)
             else:
-                _error(f"internal error: {type(exc).__name__}: {exc}")
-                code = EXIT_DISAGREE
+                _error(internal_error(exc))
+                code = EXIT_INTERNAL
         except RecursionError:
             _error("input nested too deeply")
             code = EXIT_USAGE
@@ -177,8 +176,8 @@ class MechGroup(click.Group):
             _out_of_memory()
             code = EXIT_USAGE
         except Exception as exc:  # a defect: say so in one line, never a traceback
-            _error(f"internal error: {type(exc).__name__}: {exc}")
-            code = EXIT_DISAGREE
+            _error(internal_error(exc))
+            code = EXIT_INTERNAL
         if standalone_mode:
             sys.exit(code)
         return code
@@ -291,10 +290,20 @@ def list_cmd(chapter, as_json):
 @click.argument("ex_id", metavar="ID", shell_complete=_complete_ids)
 @click.option("--json", "as_json", is_flag=True,
               help="Print one JSON object with the exercise's fields instead (fields: docs/json.md).")
-def show_cmd(ex_id, as_json):
+@click.option("--derive", "derive", is_flag=True,
+              help="Show the declared physics (Lagrangian or bodies and loads, forces, constraints) and the "
+                   "equations of motion sympy derives from it (needs the 'derive' extra; docs/derive.md).")
+@click.option("--latex", is_flag=True, help="With --derive: print the expressions as LaTeX.")
+def show_cmd(ex_id, as_json, derive, latex):
     """Show an exercise: statement, parameters, outputs, formulas, numeric route, hard cases."""
+    if latex and not derive:
+        raise UsageFailure("--latex goes with --derive (mech show ID --derive --latex)")
     ex = _get(ex_id)
-    if as_json:
+    if derive:
+        from mech.cli import listing
+
+        listing.print_derivation(ex, latex=latex, as_json=as_json)
+    elif as_json:
         _emit_json({**ex.as_json(), "from_book": ex.from_book})
     else:
         from mech import render

@@ -16,7 +16,8 @@ import sys
 
 import click
 
-from mech.cli.main import EXIT_DISAGREE, EXIT_OK, SolveCommand, UsageFailure, _complete_ids, _get
+from mech.cli.main import SolveCommand, UsageFailure, _complete_ids, _get
+from mech.core.exits import EXIT_DISAGREE, EXIT_INTERRUPTED, EXIT_OK
 from mech.cli.options import collect_texts
 from mech.core.safeio import columns
 from mech.problems.values import convert, parse_rtol
@@ -165,7 +166,7 @@ def _unit_of(result, name):
 def _summary(result) -> tuple[str, bool]:
     n = len(result)
     n_bad = result.n_failed
-    route = " (batched)" if result.extra.get("route") == "batched" else ""
+    route = " (batched)" if result.batched is not None else ""
     text = (f"{n} points, {result.seconds:.2f} s{route} on {result.workers} "
             f"process{'es' if result.workers > 1 else ''}; "
             + ("analytic and numeric agree at every point" if n_bad == 0 else f"{n_bad} points FAILED the cross-check"))
@@ -333,7 +334,7 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
       mech sweep 5.6 --theta0 0.1:3:12 --csv > period.csv
       mech sweep 4.10 --l 1cm:1m:20:log --plot omega.png
       mech sweep 5.11 --omega 7:13:200 --mu 0.005:0.5:200 --only growth --plot chart.png
-    Exit status: 0 every point agrees, 1 a point failed, 2 bad input, 130 interrupted.
+    Exit status: 0 every point agrees, 1 a point failed, 2 bad input, 3 internal error, 130 interrupted.
     """
     from mech import api
 
@@ -379,7 +380,7 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
             result = run()
     except KeyboardInterrupt:
         click.echo(f"mech: interrupted after {done[0]} of {n_points} points; nothing written", err=True)
-        ctx.exit(130)
+        ctx.exit(EXIT_INTERRUPTED)
     # the fixed part of the table's title: every parameter that does not sweep, defaults included
     swept = {a.name for a in axes}
     result.fixed = {p.name: float(fixed.get(p.name, p.default)) for p in ex.params if p.name not in swept}

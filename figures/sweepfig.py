@@ -223,7 +223,7 @@ def map_figure(result):
 def _grey_label(result, name):
     """What a grey cell means: the numeric method's reason for having no value there."""
     if result.points is None:
-        J = result.extra["judged"][name]
+        J = result.batched.judged[name]
         reasons = [why for _, why in J["num"].undefined]
         if reasons:
             return f"no value: {reasons[0]}"

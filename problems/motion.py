@@ -43,7 +43,15 @@ class Motion:
     leg that leads into the scene's motion without being part of it (a strike before the sliding the states
     describe): followed and recorded, never marked; ``clock``: where the integration's variable is not the
     time (a Sundman rescaling, the time carried as a state), ``clock(y)`` gives the time (in units of
-    ``t_scale``) of the states y (n x N)."""
+    ``t_scale``) of the states y (n x N).
+
+    For the comparison with the derived equations (``mech.problems.physics``, tests/test_physics_derived.py):
+    ``from_states``: the exact inverse of ``to_states`` (declared states before ``y_scale`` -> y), needed only
+    where ``to_states`` is not affine (an affine one is inverted from its offset and matrix; a non-affine one
+    is differentiated numerically, to about 1e-13); ``event_scale``:
+    the SI value of the event function is ``event_scale * event(t, y)``; ``idle_rows``: rows of y the
+    right-hand side carries beside the states (a clock, a constant, a quadrature) that no declared state
+    depends on, left out of the comparison."""
 
     rhs: Callable
     y0: Sequence[float]
@@ -60,6 +68,9 @@ class Motion:
     then: Callable | None = None
     shown: bool = True
     clock: Callable | None = None
+    from_states: Callable | None = None
+    event_scale: Any = None
+    idle_rows: tuple = ()
 
     def starting(self, y0=None, span=None, **changes) -> "Motion":
         """The same equations from another start (``y0``) or over another ``span`` (any other field by
@@ -103,6 +114,59 @@ class Motion:
             return y
         scale = np.broadcast_to(np.asarray(self.y_scale, float), (y.shape[0],))
         return y * (scale if y.ndim == 1 else scale[:, None])
+
+    def states_map(self, y):
+        """(b, A): ``to_states`` near y as offset and matrix, to_states(y + dy) = b + A (y + dy), each column
+        from a unit step (exact for an affine map, the
+        only kind the comparison takes)."""
+        import numpy as np
+
+        y = np.asarray(y, float)
+        if self.to_states is None:
+            return np.zeros(y.size), np.eye(y.size)
+        f = lambda z: np.asarray(self.to_states(z), float)  # noqa: E731
+        f0 = f(y)
+        A = np.stack([f(y + e) - f0 for e in np.eye(y.size)], axis=1)
+        return f0 - A @ y, A
+
+    def integrated(self, x, y_fill=None):
+        """The integrated variables y of the SI declared states x: ``from_states`` where given, else the affine
+        ``to_states`` inverted (rows it ignores, ``idle_rows``, taken from ``y_fill``, the start by default)."""
+        import numpy as np
+
+        x = np.asarray(x, float)
+        if self.y_scale is not None:
+            x = x / np.broadcast_to(np.asarray(self.y_scale, float), x.shape)
+        if self.from_states is not None:
+            return np.asarray(self.from_states(x), float)
+        fill = np.asarray(self.y0 if y_fill is None else y_fill, float).copy()
+        b, A = self.states_map(fill)
+        used = [j for j in range(fill.size) if j not in self.idle_rows]
+        sol = np.linalg.lstsq(A[:, used], x - b - A[:, self.idle_rows] @ fill[list(self.idle_rows)], rcond=None)[0]
+        fill[used] = sol
+        return fill
+
+    def states_rate(self, t, y):
+        """The declared states' rates in SI at the SI time t and integrated state y, from ``rhs``."""
+        import numpy as np
+
+        y = np.asarray(y, float)
+        dy = np.asarray(self.rhs((t - self.t_offset) / self.t_scale, y), float)
+        if self.to_states is None:
+            rate = dy[:y.size]
+        elif self.from_states is None:  # affine
+            rate = self.states_map(y)[1] @ dy
+        else:  # the derivative of to_states along dy: 5 points and Richardson, error ~ 1e-13 of the rate
+            f = lambda h: np.asarray(self.to_states(y + h * dy), float)  # noqa: E731
+            step = 1e-3 * max(np.max(np.abs(y)), 1e-300) / max(np.max(np.abs(dy)), 1e-300)
+
+            def central(h):
+                return (8.0 * (f(h) - f(-h)) - (f(2 * h) - f(-2 * h))) / (12.0 * h)
+
+            c1, c2 = central(step), central(step / 2)
+            rate = c2 + (c2 - c1) / 15.0
+        scale = 1.0 if self.y_scale is None else np.broadcast_to(np.asarray(self.y_scale, float), rate.shape)
+        return rate * scale / self.t_scale
 
     @property
     def start(self):

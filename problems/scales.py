@@ -29,6 +29,7 @@ from __future__ import annotations
 import math
 
 from mech.core.units import si_exponents
+from mech.problems.params import Params, Undefined
 
 __all__ = ["LOG10_LIMIT", "QUANTUM", "TINY", "dims", "natural_units", "from_natural", "to_natural", "representable",
            "far_params", "out_of_range"]
@@ -148,16 +149,12 @@ def _log10_si(value: float, unit: str, u) -> float:
 
 def representable(ex, p) -> str | None:
     """None when the analytic answer at ``p`` is representable, else the one-line reason for refusing."""
-    from mech.problems.spec import Undefined
-
     if not ex.has_analytic:
         return None
     import numpy as np
 
     nat = natural_units(ex, p)
     u, values = nat if nat else (None, dict(p))
-    from mech.problems.spec import Params
-
     where = far_params(ex, p)
     at = f" at {where}" if where else ""
     try:
@@ -206,8 +203,6 @@ def _log10_output_at(ex, p, o) -> float | None:
     undefined or the solution fails there."""
     import numpy as np
 
-    from mech.problems.spec import Params
-
     nat = natural_units(ex, p)
     u, values = nat if nat else (None, dict(p))
     try:
@@ -228,8 +223,6 @@ def _underflowed(ex, p, o, steps: int = 6) -> float | None:
     t = 1/2, 1/4, ..., and the output's log size at t and t/2 extrapolated linearly in t to t = 1 (exact for a
     power law, which the dimensional analysis makes of most answers).  An output that is 0 at those points
     too is 0 by the physics (a symmetry, a parameter at 0), and stays 0."""
-    from mech.problems.spec import Params
-
     far = {prm.name: prm.default for prm in ex.params
            if (dev := _log2_dev(p[prm.name], prm.default)) is not None and abs(dev) * math.log10(2) >= 50.0}
     if not far:

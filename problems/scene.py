@@ -18,6 +18,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
+from mech.core.errors import BadInput
+
 __all__ = ["Axis", "Band", "Guide", "Line", "Map", "Markers", "Note", "Panel", "Scene", "SceneRun", "spread"]
 
 
@@ -204,8 +206,6 @@ class SceneRun:
         or has no value): the analytic solver's, or (``numeric=True``) the numeric solver's."""
         import numpy as np
 
-        from mech.problems.spec import BadInput
-
         out = {o.name: np.full(len(xs), math.nan) for o in self.exercise.outputs}
         for i, x in enumerate(xs):
             try:
@@ -229,9 +229,7 @@ class SceneRun:
         """The exercise's declared motion at ``p`` (``@exercise.motion``) integrated at the figure's
         accuracy: ``(motion, path)``, the ``motion.Motion`` and the ``motion.Path`` it gave (its
         ``traj.sol`` a continuous extension in the integrated variables; ``motion.si`` brings them to SI)."""
-        from mech.problems.spec import Run
-
-        m = self.exercise.motion_at(p)
+        m, path = self.exercise.motion_path(p, self.rtol)
         if m is None:
             raise RuntimeError(f"{self.exercise.id} declares no motion")
-        return m, Run(rtol=self.rtol).follow(m, dense=True)
+        return m, path

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any, Callable, Mapping
 
 from mech.core.errors import BadInput, NumericFailure
+from mech.problems.params import Params, Undefined
 
 __all__ = [
     "BadInput",
@@ -28,19 +29,6 @@ __all__ = [
     "Undefined",
     "NumericFailure",
 ]
-
-
-@dataclass(frozen=True)
-class Undefined:
-    """An output that has no finite value for these parameters, with the reason; ``infinite`` when the
-    physics makes it infinite (a period of a plane that stops turning), not meaningless."""
-
-    why: str
-    infinite: bool = False
-
-    @property
-    def word(self) -> str:
-        return "infinite" if self.infinite else "undefined"
 
 
 def _fmt(x: float) -> str:
@@ -161,42 +149,6 @@ class Output:
         if self.theory != "exact":
             d["theory"] = self.theory
         return d
-
-
-class Params(Mapping[str, float]):
-    """Resolved parameter values in SI, readable as ``p.theta0`` or ``p["theta0"]``."""
-
-    def __init__(self, values: Mapping[str, float]):
-        object.__setattr__(self, "_values", dict(values))
-
-    def __getattr__(self, name: str) -> float:
-        if name.startswith("__"):
-            raise AttributeError(name)  # copy and pickle probe dunders before ``_values`` exists
-        try:
-            return self._values[name]
-        except KeyError:
-            raise AttributeError(name) from None
-
-    def __setattr__(self, name, value):
-        raise AttributeError("Params are read-only")
-
-    def __reduce__(self):
-        return (Params, (self._values,))
-
-    def __getitem__(self, key: str) -> float:
-        return self._values[key]
-
-    def __iter__(self):
-        return iter(self._values)
-
-    def __len__(self) -> int:
-        return len(self._values)
-
-    def replace(self, **changes: float) -> "Params":
-        return Params({**self._values, **changes})
-
-    def __repr__(self) -> str:
-        return f"Params({self._values!r})"
 
 
 class _Transformed:
@@ -416,13 +368,13 @@ NEGLECT_LIMIT = 0.3
 
 
 def _outside_reason(label: str | None, value: float | None, neglect: float | None) -> str | None:
-    """Why a leading-order theory does not apply at a point, or None when it does."""
+    """Why a leading-order theory does not apply at a point (``mu/omega0 = 3.3``; the judge words it), or None
+    when it does."""
     said = "" if label is None or value is None else f"{label} = {value:.2g}"
     if value is not None and not value < RANGE_LIMIT:
-        return f"leading-order theory outside its range: {said}"
+        return said or f"its expansion parameter reaches {RANGE_LIMIT:g}"
     if neglect is not None and not neglect < NEGLECT_LIMIT:
-        return (f"leading-order theory outside its range: what it neglects is estimated at {neglect:.2g} "
-                f"relative" + (f" ({said})" if said else ""))
+        return f"what it neglects is estimated at {neglect:.2g} relative" + (f" ({said})" if said else "")
     return None
 
 
@@ -503,6 +455,8 @@ class Exercise:
         self._hamiltonian: Callable | None = None
         self._scene: Callable | None = None
         self._motion: Callable | None = None
+        self._physics: Callable | None = None  # @exercise.physics: the symbolic declaration (problems/physics.py)
+        self._physics_withheld: str | None = None
         self._batched: "BatchedRoute | None" = None
         self._theory_range: Callable | None = None
         self._approximations: Callable | None = None
@@ -580,6 +534,36 @@ class Exercise:
     def motion_at(self, p: Params) -> Any:
         """The declared motion at ``p`` (``@exercise.motion``), None without one."""
         return None if self._motion is None else self._motion(p)
+
+    def motion_path(self, p: Params, rtol: float | None = None) -> tuple:
+        """The declared motion at ``p`` integrated at ``rtol`` with its continuous extension: ``(motion,
+        path)`` (``motion.Motion``, ``motion.Path``), (None, None) without one."""
+        m = self.motion_at(p)
+        if m is None:
+            return None, None
+        return m, self.follow(m, rtol, dense=True)
+
+    def follow(self, motion, rtol: float | None = None, **options):
+        """``motion`` integrated by a fresh ``Run`` at ``rtol`` (``Run.follow``'s options): for the modules
+        above the contract (scene, physics) that integrate a declared motion without importing it."""
+        return Run(rtol=rtol).follow(motion, **options)
+
+    def physics(self, fn: Callable[[Any], None]) -> Callable:
+        """Register ``fn(d)``: the exercise's physics declared for sympy (``mech.problems.physics``), kept in
+        ``physicsN_M.py`` beside the module and imported only by ``derive()``."""
+        self._physics = fn
+        return fn
+
+    def physics_withheld(self, why: str) -> None:
+        """Say why the motion has no declaration (a reduced or averaged model no Lagrangian gives)."""
+        self._physics_withheld = " ".join(why.split())
+
+    def derive(self):
+        """The declared physics with its equations derived (sympy: the ``derive`` extra); LookupError says
+        why there is none."""
+        from mech.problems.physics import derive
+
+        return derive(self)
 
     def scene(self, fn: Callable[[Params, Any], Any]) -> Callable:
         """Optional: ``fn(p, run) -> mech.problems.scene.Scene``, what ``mech plot`` draws for this

@@ -80,10 +80,10 @@ def main():
     # the loop over points drawn from the same grid
     rng = np.random.default_rng(args.seed)
     idx = rng.choice(N, size=min(args.loop_points, N), replace=False)
-    om = res.extra["grid"]["omega"][idx]
-    mu = res.extra["grid"]["mu"][idx]
+    om = res.batched.grid["omega"][idx]
+    mu = res.batched.grid["mu"][idx]
     loop_vals, t_loop = scipy_loop(list(zip(om, mu)))
-    J = res.extra["judged"]["growth"]
+    J = res.batched.judged["growth"]
     diff = np.abs(loop_vals - J["numeric"][idx])
     per_chart, per_loop = t_chart / N, t_loop / len(idx)
     print(f"chart  (batched, rtol 1e-12 + rerun 1e-13, verdicts): {N} points in {t_chart:.2f} s = "

@@ -18,6 +18,7 @@ from mech.verification.grading import _literal_precision, parse_expectation
 from mech.cli.main import cli
 from mech.problems.spec import BadInput, Output, Undefined
 from mech.verification.answers import judge
+from mech.verification.judge import Verdict
 from mech.verification.result import Quantity
 
 THETA_C = math.asin(1 / math.sqrt(3))
@@ -154,13 +155,13 @@ def _result(*quantities, errors=()):
 
 
 def _q(name, unit, a, n=None, agree=True, theory="exact", expected_err=None, numeric_err=None, theory_valid=None,
-       notes=()):
+       notes=(), verdict=None, reason=""):
     n = a if n is None else n
     if isinstance(n, float):
         numeric_err = 1e-8 * abs(n) if numeric_err is None else numeric_err
     return Quantity(name, unit, analytic=a, numeric=n, agree=agree, theory=theory, tol=1e-8, verify_diff=0.0,
                     expected_err=expected_err, numeric_err=numeric_err, theory_valid=theory_valid,
-                    notes=tuple(notes))
+                    notes=tuple(notes), verdict=verdict, reason=reason)
 
 
 def _judge(q, *texts, others=()):
@@ -223,8 +224,9 @@ def test_leading_order_answer_is_right_to_its_digits_against_either_value_never_
 
 
 def test_outside_its_range_only_the_exact_value_is_right():
-    q = _q("x", "m", 1.000, 1.300, theory="leading-order", expected_err=0.5, theory_valid=False,
-           notes=["leading-order theory outside its range: mu/omega0 = 3.3"])
+    q = _q("x", "m", 1.000, 1.300, agree=None, theory="leading-order", expected_err=0.5, theory_valid=False,
+           notes=["leading-order theory outside its range: mu/omega0 = 3.3"], verdict=Verdict.OUTSIDE,
+           reason="mu/omega0 = 3.3")
     (j,) = _judge(q, ("x", "1.000"))
     assert not j.match and j.matches is None
     assert "does not apply here (mu/omega0 = 3.3)" in j.verdict and "1.3" in j.verdict

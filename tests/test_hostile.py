@@ -469,7 +469,7 @@ def test_sweep_json_streams_its_points(tmp_path):
     result = run_batched(ex, axes, {}, batched_outputs(ex, None))
     buf = io.StringIO()
     result.write_json(buf)
-    assert "json" not in result.extra  # the points' JSON objects are never all held: one at a time
+    assert result._json is None  # the points' JSON objects are never all held: one at a time
     assert result.points is None  # nor their typed solutions (batched route)
     expected = json.dumps(result.as_json(), indent=2, allow_nan=False) + "\n"
     assert buf.getvalue() == expected

@@ -30,12 +30,29 @@ def test_the_rule_on_arrays():
                 expected_rel=[np.nan, np.nan, 1e-3, 1e-3, np.nan, np.nan],
                 analytic_err=[0, 0, 0, 0, 2e-4, 0], verify=n + [0, 0, 0, 0, 0, 2e-5],
                 outside=[False, False, False, True, False, False],
-                outside_why=["", "", "", "leading-order theory outside its range: x = 2", "", ""])
+                outside_why=["", "", "", "x = 2", "", ""])
     assert r.agree.tolist() == [1, 0, 1, -1, 1, 0]
     assert r.verdict.tolist() == [J.AGREE, J.DISAGREE, J.AGREE, J.OUTSIDE, J.AGREE, J.UNRELIABLE]
     assert r.tol.tolist() == [1e-5, 1e-5, 1e-3, 1e-5, 1e-5, 1e-5]
     assert r.numeric_err[1] == pytest.approx(1e-5 * 1.0001, rel=1e-12)
-    assert "x = 2" in J.notes(r, 3)[0] and J.notes(r, 5)[0].startswith("unreliable")
+    assert J.notes(r, 3)[0] == "leading-order theory outside its range: x = 2"
+    assert J.notes(r, 5)[0].startswith("unreliable")
+    # the typed verdicts: what each concludes, and the words every renderer shows
+    assert [J.Verdict(v).agree for v in r.verdict] == [True, False, True, None, True, False]
+    assert [J.Verdict(v).cell for v in r.verdict] == ["yes", "NO", "yes", "outside range", "yes", "NO"]
+
+
+def test_the_one_overall_rule():
+    V = J.Verdict
+    # outside its theory's range a verified numeric value holds; unverified it is no verdict
+    assert J.holds(V.OUTSIDE, verified=True) is True and J.holds(V.OUTSIDE) is None
+    assert J.holds(V.UNRELIABLE, verified=True) is False and J.holds(None, agree=False) is False
+    assert J.conclude([True, None]) is True and J.conclude([None, None]) is None
+    assert J.conclude([True, False, None]) is False and J.conclude([True], failed=True) is False
+    assert J.conclude([]) is None
+    got = J.conclude_arrays(np.array([1, 0, -1, -1, 1], np.int8), np.array([0, 0, 1, 0, 0], bool),
+                            np.array([0, 0, 0, 0, 1], bool))
+    assert got.tolist() == [1, 0, 1, -1, 0]
 
 
 def test_undefined_missing_and_failed_values():
@@ -119,18 +136,46 @@ def test_solve_check_sweeps_and_grade_give_the_same_verdicts(ex_id, given, outsi
     name = next(iter(given), ex.params[0].name)
     axis = Axis(name, (float(params[name]),))
     fixed = {k: v for k, v in params.items() if k != name}
-    pointwise = run_sweep(ex, [axis], fixed, [params], verify=True, jobs=1).point_list()[0]
+    swept = run_sweep(ex, [axis], fixed, [params], verify=True, jobs=1)
+    pointwise = swept.point_list()[0]
     point_q = {q["name"]: q for q in pointwise["quantities"]}
+
+    # --expect numbers: mech's own values, to 17 digits, as a student's answers; grade holds the same ones
+    mine = {o: (q["numeric"] if q["numeric"] is not None and (q.get("theory") or q["analytic"] is None)
+                else q["analytic"]) for o, q in solve_q.items()}
+    mine = {o: v for o, v in mine.items() if v is not None}
+    expects = [a for o, v in mine.items() for a in ("--expect", f"{o}={v!r}")]
+    r = CliRunner().invoke(cli, ["solve", ex_id, *args, "--json", *expects])
+    expected_solve = {q["name"]: q["expected"] for q in json.loads(r.stdout)["quantities"] if "expected" in q}
 
     answers = tmp_path / "a.toml"
     lines = ", ".join(f'{k} = {v!r}' for k, v in given.items())
-    expect = ", ".join(f'{o.name} = "1"' for o in ex.outputs)
+    expect = ", ".join(f'{o} = "{v!r}"' for o, v in mine.items()) or f'{ex.outputs[0].name} = "1"'
     answers.write_text(f'[[answer]]\nexercise = "{ex_id}"\nparams = {{ {lines} }}\nexpect = {{ {expect} }}\n',
                        encoding="utf-8")
     entries = load_answers(str(answers))
     grade(entries)
     grade_q = {q.name: q.as_json() for q in entries[0].result.quantities}
     assert entries[0].result.agree == solved["agree"]
+    # the same answers, the same verdicts: right exactly where mech has a trusted value (a failed output has
+    # none), from solve --expect and from grade alike
+    for j in entries[0].judgements:
+        if j.name in mine:
+            e = expected_solve[j.name]
+            assert (j.match, j.verdict, j.reference) == (e["match"], e["verdict"], e["reference"]), j.name
+            trusted = solve_q[j.name]["agree"] is not False and not solved.get("errors")
+            assert j.match == trusted, (j.name, j.verdict)
+
+    # baselines: the check case's record against the grade's and the point sweep's, value by value, held to
+    # the judge's rule with both error bars: nothing moved, every value compared
+    from mech.verification import baseline
+
+    rec = baseline.record_case(ex_id, "here", params, case.ok, case.result.quantities)
+    for other in (entries[0].result.quantities, swept.solutions()[0].quantities):
+        now = baseline.record_case(ex_id, "here", params, True, other)
+        cmp = baseline.compare(baseline.make([rec], hard=False), [now])
+        assert cmp.ok and not cmp.moved and cmp.compared == sum(
+            (o["analytic"] is not None) + (o["numeric"] is not None) for o in rec["outputs"].values())
 
     batch_q = {}
     if ex.batched_route is not None:

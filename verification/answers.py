@@ -206,13 +206,13 @@ def judge_expectation(result, e, q, ref):
     else:
         given_ref, numeric_given = (float(ref.value), float(ref.err)), None
     in_range = in_over(given, over)
-    undefined_here = ref.value is None and ref.why.startswith("mech finds no finite value")
+    undefined_here = ref.value is None and ref.undefined is not None
     if undefined_here:  # judged at the other points; the given one has no value to hold it against
         in_range = False
     with np.errstate(all="ignore"):  # a formula may overflow anywhere in the range: judged, not warned
         v = judge_formula(e.formula, ex, output, ps, given_ref, e.rtol, numeric_given, in_range)
     if undefined_here:
-        v.verdict += f" ({ref.why.replace('mech finds no finite value here', 'not at the given parameters')})"
+        v.verdict += f" (not at the given parameters: {ref.undefined})"
     verdict = v.verdict
     if given_ref is None and not v.hint and not undefined_here:
         verdict = f"cannot judge: {ref.why or 'mech has no trusted value here'}"

@@ -16,12 +16,17 @@ class Case:
     exercise: Exercise
     label: str
     given: dict
-    ok: bool = False
+    agree: bool | None = False  # the case's conclusion (``judge.conclude``): None no verdict, never a failure
     seconds: float = 0.0
     worst_ratio: float | None = None
     detail: str = ""
     result: object = None
     same_as: list = field(default_factory=list)  # hard cases (numbers) that resolve to this case's parameters
+
+    @property
+    def ok(self) -> bool:
+        """The case did not fail: it agrees, or has no verdict (nothing could be compared)."""
+        return self.agree is not False
 
     @property
     def description(self) -> str:
@@ -49,11 +54,11 @@ class Report:
 
     @property
     def passed(self) -> int:
-        return sum(c.ok for c in self.cases)
+        return sum(c.agree is True for c in self.cases)
 
     @property
     def failed(self) -> int:
-        return len(self.cases) - self.passed
+        return sum(c.agree is False for c in self.cases)
 
     @property
     def ok(self) -> bool:
@@ -112,10 +117,11 @@ def run_case(case: Case) -> Case:
         params = ex.resolve(case.given)
     except BadInput as exc:
         case.detail = f"bad parameters: {exc}"
-        case.ok = False
+        case.agree = False
         case.seconds = time.perf_counter() - t0
         return case
     if len(ex.methods) < 2:
+        case.agree = None  # nothing to compare: no verdict
         case.detail = f"only {', '.join(ex.methods) or 'no'} solver registered"
         case.seconds = time.perf_counter() - t0
         return case
@@ -126,7 +132,7 @@ def run_case(case: Case) -> Case:
     ratios = [q.abs_err / q.allowed for q in result.quantities
               if q.abs_err is not None and q.allowed and q.agree is not None]
     case.worst_ratio = max(ratios) if ratios else None
-    case.ok = result.agree is True
+    case.agree = result.agree
     bad = [q.name for q in result.quantities if q.agree is False]
     details = []
     if bad:
@@ -213,10 +219,10 @@ def _run_pooled(cases: list[Case], workers: int, started, finished) -> None:
         for fut in as_completed(futures):
             case = cases[futures[fut]]
             started(case)
-            ok, seconds, ratio, detail, result = fut.result()
+            agree, seconds, ratio, detail, result = fut.result()
             if result is not None:
                 result = result.replace(exercise=case.exercise)
-            case.ok, case.seconds, case.worst_ratio, case.detail, case.result = ok, seconds, ratio, detail, result
+            case.agree, case.seconds, case.worst_ratio, case.detail, case.result = agree, seconds, ratio, detail, result
             finished(case)
     except BaseException:
         pool.shutdown(wait=False, cancel_futures=True)
@@ -232,4 +238,4 @@ def _remote_case(ex_id: str, label: str, given: dict):
     result = case.result
     if result is not None:  # what a report uses travels back; the exercise is the parent's own
         result = result.replace(exercise=None, run=None)
-    return case.ok, case.seconds, case.worst_ratio, case.detail, result
+    return case.agree, case.seconds, case.worst_ratio, case.detail, result

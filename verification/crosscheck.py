@@ -45,7 +45,7 @@ from mech.problems.scales import LOG10_LIMIT, out_of_range
 from mech.problems.spec import BadInput, Exercise, NumericFailure, Params, Undefined
 from mech.verification.result import Failure, Quantity, Solution, _clean  # noqa: F401  (_clean: bench)
 
-__all__ = ["Quantity", "Solution", "Failure", "cross_check", "combine_agree", "PARALLEL_VERIFY"]
+__all__ = ["Quantity", "Solution", "Failure", "cross_check", "PARALLEL_VERIFY"]
 
 PARALLEL_VERIFY = True  # the rerun at rtol/10 in a forked child where there is a second core (see above)
 
@@ -198,16 +198,6 @@ def _abandon_rerun(handle) -> None:
         pass
 
 
-def combine_agree(flags) -> bool | None:
-    """Several verdicts as one: False if any is False, None if none was judged (all None), else True."""
-    flags = list(flags)
-    if any(f is False for f in flags):
-        return False
-    if all(f is None for f in flags):
-        return None
-    return True
-
-
 class _Draft:
     """An output while it is being judged: ``result.Quantity``'s fields, mutable, frozen into a
     ``Quantity`` at the end.  The fields are declared once, on ``Quantity``; the slots reject a name that
@@ -264,11 +254,14 @@ def cross_check(
     verify: bool = True,
     budget_s: float | None = None,
     keep_trajectories: bool = False,
+    fork_rerun: bool = True,
 ) -> Solution:
     """Run the asked-for solvers and compare; solver failures become loud entries, never numbers.
 
     The numeric solve and its rerun share one wall-clock budget (``budget_s``, by default
-    ``budget.default_seconds()``): past it the solve fails loudly instead of running on.
+    ``budget.default_seconds()``): past it the solve fails loudly instead of running on.  ``fork_rerun``:
+    False runs the rerun after the solve in this process (many short solves: a fork costs more than it
+    saves); the numbers are the same either way.
     """
     from mech.core import budget
 
@@ -282,12 +275,14 @@ def cross_check(
     fp_warnings = caught.__enter__()
     warnings.simplefilter("always", RuntimeWarning)
     try:
-        return _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings)
+        return _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings,
+                            fork_rerun)
     finally:
         caught.__exit__(None, None, None)
 
 
-def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings) -> Solution:
+def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings,
+                 fork_rerun=True) -> Solution:
     from mech.core import budget
 
     timing: dict[str, float | None] = {"analytic_s": None, "numeric_s": None}
@@ -313,7 +308,7 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
         loaded_before = dop is not None and dop.tableau_load_seconds() is not None
         tighter = max(rtol / 10.0, ex.min_rtol)
         rerun = None
-        if verify and tighter < rtol and _parallel_ok():
+        if verify and tighter < rtol and fork_rerun and _parallel_ok():
             rerun = _start_rerun(ex, params, tighter, budget_s)  # on the second core, while the solve runs here
         t0 = time.perf_counter()
         shared: dict = {}  # what a serial rerun may reuse of the solve (see Run.shared)
@@ -444,7 +439,8 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
                           outside_why=[r["outside_why"] for r in rows])
         for k, q in enumerate(quantities):
             q.agree = None if J.agree[k] < 0 else bool(J.agree[k])
-            q.verdict = judging.VERDICTS[int(J.verdict[k])]
+            q.verdict = judging.Verdict(int(J.verdict[k]))
+            q.reason = J.outside_why[k] if q.verdict is judging.Verdict.OUTSIDE else ""
             q.tol = float(J.tol[k])
             q.allowed = _float_or_none(J.allowed[k])
             q.abs_err = _float_or_none(J.abs_err[k])

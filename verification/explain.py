@@ -270,7 +270,9 @@ def _const_ratio(yours, ref, tol, mask) -> float | None:
     c = float(np.median(ratios))
     if c == 1.0 or c == 0.0 or not math.isfinite(c):
         return None
-    if np.all(within(np.abs(yours[use] - c * ref[use]), bars=(tol[use] * max(1.0, abs(c)),))):
+    with np.errstate(over="ignore"):  # a huge factor: its bound is infinite, as it was before it overflowed
+        held = within(np.abs(yours[use] - c * ref[use]), bars=(tol[use] * max(1.0, abs(c)),))
+    if np.all(held):
         return c
     return None
 

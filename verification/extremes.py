@@ -13,6 +13,8 @@ from __future__ import annotations
 import json
 import math
 
+from mech.core.exits import EXIT_INTERNAL
+
 __all__ = ["FACTORS", "open_ended", "extreme_points", "classify", "TIDY"]
 
 FACTORS = (1e-200, 1e200)
@@ -59,10 +61,10 @@ def classify(code: int, out: str, err: str) -> tuple[str, str]:
     loud      exit 1 with the solvers' failures named in ``errors`` (or an unearned claim), nothing on stderr
     disagree  exit 1 where both methods answered and some quantity disagrees
     warning   anything written to stderr by a run that did not refuse (a numpy warning, say)
-    internal  an internal error, a traceback, a refusal of more than one line, JSON not the contract's
+    internal  exit 3 (an internal error), a traceback, a refusal of more than one line, JSON not the contract's
     """
     err_lines = [line for line in err.splitlines() if line.strip()]
-    if "internal error" in err or "Traceback" in err:
+    if code == EXIT_INTERNAL or "Traceback" in err:
         return "internal", err_lines[-1] if err_lines else "internal error"
     if code == 2:
         if len(err_lines) != 1:

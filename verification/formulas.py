@@ -28,7 +28,7 @@ import numpy as np
 
 from mech.verification.explain import formula_hint
 from mech.verification.formula_ast import Formula, dim_of_unit, dim_text
-from mech.verification.judge import allowance, within
+from mech.verification.judge import Verdict, judge, within
 from mech.verification.points import (DEFAULT_POINTS, DEFAULT_SEED, PointJudgement, PointSet, describe_point,
                                       judge_points, parse_over, point_set)
 
@@ -274,10 +274,10 @@ def _batchable(ex, name: str) -> bool:
 
 
 def _batched_numeric(ex, ps: PointSet, idx: list[int], name: str) -> None:
-    """The verified numeric values of ``name`` at the points ``idx`` from the exercise's batched route, into
-    ``ps.numeric`` as ``_verified_at`` keeps them: (value, its claim), or None where the route finds no value
-    or its rerun moves the value beyond the claim (the judge's rule: ``judge.within``); a batch that fails
-    as a whole leaves its points to ``_verified_at``."""
+    """The verified numeric values of ``name`` at the points ``idx`` from the exercise's batched route (at
+    its rtol and rtol/10), judged by the judge as a numeric-only cross-check judges them (``_verified_at``),
+    into ``ps.numeric``: (value, its error bar), or None where the route finds no value or the judge finds
+    it unverified; a batch that fails as a whole leaves its points to ``_verified_at``."""
     import inspect
 
     idx = [i for i in idx if (name, i) not in ps.numeric]
@@ -295,19 +295,17 @@ def _batched_numeric(ex, ps: PointSet, idx: list[int], name: str) -> None:
         _budget_out(exc)
         return
     n, v = cols
-    shape = n.value.shape
-    rel = np.broadcast_to(np.asarray(n.rel, dtype=float), shape)
-    tol_abs = np.broadcast_to(np.asarray(n.abs, dtype=float), shape)
-    with np.errstate(all="ignore"):
-        a = ps.analytic[name][idx]
-        scale = np.where(np.isfinite(a) & (a != 0), np.abs(a), np.abs(n.value))
-        claim = allowance(scale, rel=rel, bars=(tol_abs,))  # what the rerun may move it by (the judge's ``claim``)
-        err = allowance(n.value, rel=rel, bars=(tol_abs,))  # its error bar (the judge's ``numeric_err``)
-        gone = n.mask("undefined") | n.mask("failed") | v.mask("undefined") | v.mask("failed")
-        ok = (~gone & np.isfinite(n.value) & np.isfinite(v.value) & np.isfinite(err)
-              & within(np.abs(v.value - n.value), bars=(claim,)))
+    J = judge(analytic=np.nan, numeric=n.value, has_analytic=False, n_undefined=n.mask("undefined"),
+              n_failed=n.mask("failed"), rel_claim=n.rel, abs_claim=n.abs, verify=v.value,
+              v_number=~(v.mask("undefined") | v.mask("failed")))
+    ok = _verified(J.verdict, J.verify_diff, J.numeric_err)
     for j, i in enumerate(idx):
-        ps.numeric[(name, i)] = (float(n.value[j]), float(err[j])) if ok[j] else None
+        ps.numeric[(name, i)] = (float(n.value[j]), float(J.numeric_err[j])) if ok[j] else None
+
+
+def _verified(verdict, verify_diff, err) -> np.ndarray:
+    """A numeric-only value the judge finds verified: its rerun at rtol/10 ran and held it to its claim."""
+    return (np.asarray(verdict) == Verdict.NUMERIC_ONLY) & np.isfinite(verify_diff) & np.isfinite(err)
 
 
 def _budget_out(exc) -> None:
@@ -319,21 +317,23 @@ def _budget_out(exc) -> None:
 
 
 def _verified_at(ex, ps: PointSet, i: int, name: str):
+    """mech's verified numeric value of ``name`` at point ``i`` and its error bar, from the cross-check
+    (numeric only: the value, its rerun at rtol/10, the judge's verdict), or None where it has none."""
     key = (name, i)
     if key in ps.numeric:
         return ps.numeric[key]
+    from mech.verification.crosscheck import cross_check
+
     got = None
     try:
-        rtol = ex.default_rtol
-        v1, run = ex.solve_numeric(ps.points[i], rtol)
-        v2, _ = ex.solve_numeric(ps.points[i], max(rtol / 10, ex.min_rtol))
-        a, b = v1.get(name), v2.get(name)
-        if isinstance(a, float) and isinstance(b, float) and math.isfinite(a) and math.isfinite(b):
-            # the output's own claim where the solve declared one (an abs claim for a value that can be 0)
-            rel, ab = run.claims.get(name, (None, None))
-            claim = allowance(a, rel=ex.tol_factor * rtol if rel is None else rel, bars=(ab or 0.0,))
-            if within(abs(a - b), bars=(claim,)):
-                got = (a, claim)
+        sol = cross_check(ex, ps.points[i], methods=("numeric",), fork_rerun=False)
+        q = sol[name]
+        # a failure of the theory's range estimate says nothing about the numeric value; any other does
+        failed = any(e.kind != "estimate" for e in sol.errors)
+        if not failed and isinstance(q.numeric, float) and q.numeric_err is not None:
+            verify_diff = math.nan if q.verify_diff is None else q.verify_diff
+            if _verified(q.verdict, verify_diff, q.numeric_err):
+                got = (float(q.numeric), float(q.numeric_err))
     except Exception as exc:  # a numeric failure there: no verified value, the point stays wrong
         _budget_out(exc)
         got = None

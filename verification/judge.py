@@ -32,21 +32,94 @@ The rule, for one element:
 
 from __future__ import annotations
 
+import enum
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Judged", "judge", "within", "allowance", "ROUND_OFF", "numeric_err", "analytic_err", "notes",
+__all__ = ["Verdict", "holds", "conclude", "conclude_arrays", "outside_text", "Judged", "judge", "within", "allowance", "ROUND_OFF", "numeric_err", "analytic_err", "notes",
            "theory_validity", "theory_validity_batch", "approximations",
            "AGREE", "DISAGREE", "UNRELIABLE", "NO_CLAIM", "ONE_UNDEFINED", "OUTSIDE", "ANALYTIC_ONLY",
            "NUMERIC_ONLY", "FAILED", "VERDICTS"]
 
-# what was found, one code per element (``Judged.verdict``)
-AGREE, DISAGREE, UNRELIABLE, NO_CLAIM, ONE_UNDEFINED, OUTSIDE, ANALYTIC_ONLY, NUMERIC_ONLY, FAILED = range(9)
+class Verdict(enum.IntEnum):
+    """What was found for one value, with its words; an ``int8`` code in ``Judged.verdict``'s arrays and the
+    typed ``Quantity.verdict`` every renderer reads (its reason, for ``OUTSIDE``: ``Quantity.reason``)."""
+
+    AGREE = 0
+    DISAGREE = 1
+    UNRELIABLE = 2
+    NO_CLAIM = 3
+    ONE_UNDEFINED = 4
+    OUTSIDE = 5  # a leading-order theory outside its range: nothing compared
+    ANALYTIC_ONLY = 6
+    NUMERIC_ONLY = 7
+    FAILED = 8  # the numeric solve failed (the failure is loud)
+
+    @property
+    def word(self) -> str:
+        """What the verdict says, in words (``mech solve``'s notes, JSON reasons)."""
+        return VERDICTS[self]
+
+    @property
+    def agree(self) -> bool | None:
+        """True agree, False a failure, None no verdict (nothing compared)."""
+        return True if self is Verdict.AGREE else None if self in _NO_VERDICT else False
+
+    @property
+    def cell(self) -> str:
+        """The verdict in a table's agree column: ``yes``, ``NO``, ``outside range`` or ``—``."""
+        return "outside range" if self is Verdict.OUTSIDE else {True: "yes", False: "NO", None: "—"}[self.agree]
+
+
+_NO_VERDICT = frozenset({Verdict.OUTSIDE, Verdict.ANALYTIC_ONLY, Verdict.NUMERIC_ONLY, Verdict.FAILED})
+
+# the codes as module names (``J.verdict == judge.UNRELIABLE`` on arrays)
+AGREE, DISAGREE, UNRELIABLE, NO_CLAIM, ONE_UNDEFINED, OUTSIDE, ANALYTIC_ONLY, NUMERIC_ONLY, FAILED = Verdict
 VERDICTS = {AGREE: "agree", DISAGREE: "disagree", UNRELIABLE: "unreliable", NO_CLAIM: "no finite claim",
             ONE_UNDEFINED: "one method finds no value", OUTSIDE: "theory outside its range",
             ANALYTIC_ONLY: "analytic only", NUMERIC_ONLY: "numeric only", FAILED: "numeric solve failed"}
+OUTSIDE_WORDS = "leading-order theory outside its range"
+
+
+def outside_text(reason: str) -> str:
+    """The note of an ``OUTSIDE`` verdict: its words and its reason (``Exercise.theory_validity``'s)."""
+    return f"{OUTSIDE_WORDS}: {reason}" if reason else OUTSIDE_WORDS
+
+
+# -- the one overall rule: what a solve, a sweep point, a check case concludes from its verdicts ------------
+
+def holds(verdict: Verdict | None, agree: bool | None = None, verified: bool = False) -> bool | None:
+    """What one value concludes: True it holds (agrees; or, outside its leading-order theory's range, its
+    numeric value is verified by the rerun, so it is the answer), False it fails, None no verdict (nothing
+    compared or verified).  ``verdict`` None (a value judged elsewhere): ``agree`` as it is."""
+    if verdict is None:
+        return agree
+    if verdict is Verdict.OUTSIDE and verified:
+        return True
+    return Verdict(verdict).agree
+
+
+def conclude(flags, failed: bool = False) -> bool | None:
+    """Several values' conclusions (``holds``) as one: False when anything failed (``failed``: a failure
+    beside the values, a solver's or a rerun's), None when nothing holds or fails (no verdict), else True.
+    "No verdict" is no failure: ``mech solve``, ``sweep`` and ``check`` exit 0 on it (``core.exits``)."""
+    if failed:
+        return False
+    flags = list(flags)
+    if any(f is False for f in flags):
+        return False
+    return None if all(f is None for f in flags) else True
+
+
+def conclude_arrays(agree, outside_verified, failed) -> np.ndarray:
+    """``holds`` on a batched sweep's arrays, per output: int8 1 holds, 0 fails, -1 no verdict (``agree``:
+    the judge's int8; ``outside_verified``: outside the theory's range and verified; ``failed``: a solve
+    failed there)."""
+    out = np.where(outside_verified & (agree < 0), 1, agree).astype(np.int8)
+    out[np.asarray(failed, bool)] = 0
+    return out
 
 
 # floating-point slack of a value computed through a formula of a few dozen operations (relative)
@@ -232,8 +305,8 @@ def notes(J: Judged, k: int) -> list[str]:
     if J.verdict[k] == UNRELIABLE:
         out.append(f"unreliable: the numeric value moves by {J.verify_diff[k]:.3g} at rtol/10, "
                    f"more than its claimed accuracy {J.verify_claim[k]:.3g}")
-    if J.outside[k] and J.outside_why[k]:
-        out.append(J.outside_why[k])
+    if J.outside[k]:
+        out.append(outside_text(J.outside_why[k]))
     return out
 
 

@@ -22,7 +22,7 @@ import math
 from dataclasses import dataclass
 
 from mech.problems.spec import Undefined
-from mech.verification.judge import ROUND_OFF, allowance, analytic_err, numeric_err
+from mech.verification.judge import ROUND_OFF, Verdict, allowance, analytic_err, numeric_err
 
 __all__ = ["Expectation", "Reference", "reference", "allowed"]
 
@@ -76,24 +76,12 @@ class Reference:
     err: float = 0.0  # absolute error bar, SI (numeric_err or analytic_err)
     label: str | None = None
     why: str = ""  # when there is no value to judge against
+    undefined: str | None = None  # mech finds no finite value here: why (the method's ``Undefined.why``)
     unit: str = ""
     leading: float | None = None  # a leading-order value inside its theory's range (right to its digits too)
     leading_err: float = 0.0
     outside: str | None = None  # why the leading-order theory does not apply here
     outside_value: float | None = None  # the leading-order value there (named, never right)
-
-
-def _outside_reason(q) -> str | None:
-    """Why the leading-order theory of ``q`` does not apply at its parameters, or None where it does."""
-    if getattr(q, "theory_valid", None) is not False:
-        return None
-    notes = list(getattr(q, "notes", None) or [])
-    if not notes and getattr(q, "note", None):
-        notes = str(q.note).split("; ")
-    for note in notes:
-        if "outside its range" in note:
-            return note.split("outside its range", 1)[1].lstrip(": ") or "outside its range"
-    return "outside its range"
 
 
 def reference(q, errors: list[str]) -> Reference:
@@ -104,12 +92,13 @@ def reference(q, errors: list[str]) -> Reference:
         return Reference(None, why=f"no trusted value: {why}")
     for v in (a, n):
         if isinstance(v, Undefined):
-            return Reference(None, why=f"mech finds no finite value here: {v.why}")
+            return Reference(None, why=f"mech finds no finite value here: {v.why}", undefined=v.why)
     if number(n) and (q.theory != "exact" or not number(a)):
         label = "numeric" if getattr(q, "verify_diff", None) is not None else "numeric (not verified)"
         ref = Reference(n, numeric_err(q), label, unit=q.unit)
         if q.theory != "exact" and number(a):
-            ref.outside = _outside_reason(q)
+            # the judge's typed verdict says whether the theory applies here, and why not
+            ref.outside = (q.reason or "outside its range") if q.verdict is Verdict.OUTSIDE else None
             if ref.outside is None:
                 ref.leading, ref.leading_err = a, analytic_err(q)
             else:

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 from typing import Any, Iterator
 
 from mech.problems.spec import Undefined
+from mech.verification.judge import Verdict, conclude, holds
 
 __all__ = ["Failure", "Quantity", "Solution", "FAILURE_KINDS", "SOLVER_FAILURES", "to_json", "to_text", "to_html",
            "to_rich", "quantity_json"]
@@ -59,8 +60,9 @@ class Quantity:
     """One output of a solve.  ``analytic``/``numeric``: a float, ``Undefined`` (no finite value, with the
     reason) or None (the method did not run); ``numeric_err``/``analytic_err``: absolute error bars, SI;
     ``tol``: the relative tolerance the judge applied, ``allowed`` the absolute allowance; ``agree``:
-    True, False or None (nothing compared); ``verdict``: the judge's word for it; ``expected``: the
-    judgement of your answer (``answers.Judgement``) when one was given."""
+    True, False or None (nothing compared); ``verdict``: the judge's typed verdict (``judge.Verdict``; None
+    where no judge ran) and ``reason`` why (a leading-order theory outside its range: the exercise's reason);
+    ``expected``: the judgement of your answer (``answers.Judgement``) when one was given."""
 
     name: str
     unit: str
@@ -79,7 +81,8 @@ class Quantity:
     expected_err_abs: float | None = None
     verify_diff: float | None = None
     allowed: float | None = None
-    verdict: str = ""
+    verdict: Verdict | None = None
+    reason: str = ""
     notes: tuple[str, ...] = ()
     expected: Any = None
 
@@ -89,6 +92,23 @@ class Quantity:
     @property
     def note(self) -> str | None:
         return "; ".join(self.notes) if self.notes else None
+
+    @property
+    def outside(self) -> bool:
+        """A leading-order theory outside its range here: nothing was compared (``Verdict.OUTSIDE``)."""
+        return self.verdict is Verdict.OUTSIDE
+
+    @property
+    def holds(self) -> bool | None:
+        """What this output concludes (``judge.holds``): True, False, or None (no verdict)."""
+        return holds(self.verdict, self.agree, verified=self.verify_diff is not None)
+
+    @property
+    def cell(self) -> str:
+        """The verdict in a table's agree column (``Verdict.cell``)."""
+        if self.verdict is not None:
+            return Verdict(self.verdict).cell
+        return "—" if self.agree is None else ("yes" if self.agree else "NO")
 
     @property
     def value(self) -> float | None:
@@ -192,13 +212,7 @@ class Solution(Mapping):
         """True when every compared output agrees and every numeric value is verified (an output whose
         leading-order theory is outside its range compares nothing: its numeric value, verified by the
         rerun, holds); False when anything failed; None where nothing was compared or verified."""
-        if self.errors:
-            return False
-        flags = [True if q.theory_valid is False and q.agree is None and q.verify_diff is not None else q.agree
-                 for q in self.quantities]
-        if any(f is False for f in flags):
-            return False
-        return None if all(f is None for f in flags) else True
+        return conclude((q.holds for q in self.quantities), failed=bool(self.errors))
 
     @property
     def solver_failed(self) -> bool:
@@ -298,20 +312,48 @@ def _rows(sol: Solution) -> tuple[list[str], list[list[str]]]:
     head = ["quantity", "unit", "analytic", "numeric", "± numeric", "agree"]
     rows = []
     for q in sol.quantities:
-        agree = ("outside range" if q.theory_valid is False and q.agree is None else
-                 "—" if q.agree is None else ("yes" if q.agree else "NO"))
+        agree = q.cell
         rows.append([q.name + (" *" if q.theory != "exact" else ""), q.unit, _cell(q.analytic), _cell(q.numeric),
                      _cell(q.numeric_err, 2), agree])
     return head, rows
 
 
-def _closing(sol: Solution) -> str:
-    verdict = {True: "analytic and numeric agree", False: "CROSS-CHECK FAILED", None: ""}[sol.agree]
-    has_a = any(q.analytic is not None for q in sol.quantities)
-    has_n = any(q.numeric is not None for q in sol.quantities)
-    if sol.agree is not False and not (has_a and has_n):
-        verdict = "analytic only" if has_a else "numeric only"
-    return verdict
+# the colours of a verdict's words in every rich rendering (``to_rich`` and ``mech.render``'s tables): a
+# table's agree cell (``Quantity.cell``) and a closing line's tone (``closing``)
+STYLE = {"yes": "green", "NO": "bold red", "outside range": "yellow", "—": "dim",
+         "ok": "green", "fail": "bold red", "warn": "yellow"}
+
+
+def closing(sol: Solution) -> tuple[str, str] | None:
+    """The line that closes every table of a solve (the REPL's, Jupyter's and ``mech solve``'s): what it
+    concludes, in words, and its tone ("ok", "fail", "warn"); None where there is nothing to say."""
+    qs = sol.quantities
+    has_a = any(q.analytic is not None for q in qs)
+    has_n = any(q.numeric is not None for q in qs)
+    if sol.agree is False:
+        return ("CROSS-CHECK FAILED" if has_a and has_n else "FAILED"), "fail"
+    outside = [q for q in qs if q.outside]
+    if has_a and has_n and outside:
+        # a leading-order theory outside its range is not compared: say which outputs and why
+        why = "; ".join(dict.fromkeys(q.reason for q in outside if q.reason))
+        compared = any(q.agree is True for q in qs)
+        head = "analytic and numeric agree on the rest; " if sol.agree and compared else ""
+        return (f"{head}no theory compared for {', '.join(q.name for q in outside)}: the leading-order "
+                f"theory is outside its range ({why}); the verified numeric values are the answers"), "warn"
+    if has_a and has_n:
+        return ("analytic and numeric agree", "ok") if sol.agree else None
+    if has_a:
+        return "analytic solver only: nothing was cross-checked (leave out --method to compare)", "warn"
+    if has_n:
+        verified = (sol.numeric_info or {}).get("verify_rtol")
+        how = f"its accuracy claim held at rtol {verified:g}" if verified else "its accuracy claim was not re-tested"
+        return f"numeric solver only: {how}; nothing was cross-checked (leave out --method to compare)", "warn"
+    return None
+
+
+def _closing_text(sol: Solution) -> str:
+    said = closing(sol)
+    return "" if said is None else said[0]
 
 
 def to_text(sol: Solution) -> str:
@@ -329,9 +371,9 @@ def to_text(sol: Solution) -> str:
     lines.extend(str(e) for e in sol.errors)
     if sol.expect_summary:
         lines.append(sol.expect_summary)
-    closing = _closing(sol)
-    if closing:
-        lines.append(closing)
+    said = _closing_text(sol)
+    if said:
+        lines.append(said)
     return "\n".join(lines)
 
 
@@ -350,7 +392,7 @@ def to_html(sol: Solution) -> str:
     expect = f"<p>{esc(sol.expect_summary)}</p>" if sol.expect_summary else ""
     return (f"<div><b>{esc(ex.id)}  {esc(ex.title)}</b><br><span>{params}</span>"
             f"<table><thead><tr>{head_html}</tr></thead><tbody>{body}</tbody></table>"
-            f"{errors}{expect}<p>{esc(_closing(sol))}</p></div>")
+            f"{errors}{expect}<p>{esc(_closing_text(sol))}</p></div>")
 
 
 def to_rich(sol: Solution):
@@ -365,14 +407,13 @@ def to_rich(sol: Solution):
               title_justify="left")
     for k, c in enumerate(head):
         t.add_column(c, justify="left" if k < 2 else "right")
-    colour = {"yes": "green", "NO": "bold red", "outside range": "yellow"}
     for r in rows:
-        t.add_row(*r[:-1], Text(r[-1], style=colour.get(r[-1], "")))
+        t.add_row(*r[:-1], Text(r[-1], style=STYLE.get(r[-1], "")))
     parts = [t]
     parts.extend(Text(str(e), style="red") for e in sol.errors)
     if sol.expect_summary:
         parts.append(Text(sol.expect_summary, style="green" if sol.expect_ok else "bold red"))
-    closing = _closing(sol)
-    if closing:
-        parts.append(Text(closing, style={True: "green", False: "bold red"}.get(sol.agree, "")))
+    said = closing(sol)
+    if said is not None:
+        parts.append(Text(said[0], style=STYLE[said[1]]))
     return Group(*parts)

@@ -28,13 +28,13 @@ import os
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
+from typing import Callable, Iterator, Sequence
 
 from mech.core.errors import BadInput
 from mech.problems.spec import Exercise, Params, Undefined
 from mech.verification.result import Failure, Quantity, Solution, to_json
 
-__all__ = ["MAX_POINTS", "describe_point", "validate_grid", "validate", "Axis", "SweepResult", "grid_points", "run_sweep", "plan_workers", "POOL_OVERHEAD_S", "MIN_PARALLEL_S",
+__all__ = ["MAX_POINTS", "describe_point", "validate_grid", "validate", "Axis", "Sweep", "grid_points", "run_sweep", "plan_workers", "POOL_OVERHEAD_S", "MIN_PARALLEL_S",
            "pool_worker_init", "run_batched", "batched_outputs", "batched_points", "grid_arrays", "CHUNK"]
 
 POOL_OVERHEAD_S = 0.15  # start-up of one worker process and its first imports (fork), measured
@@ -53,7 +53,21 @@ class Axis:
 
 
 @dataclass
-class SweepResult:
+class Batched:
+    """A batched sweep's arrays: the outputs its route ran, the grid (parameter -> array over the points,
+    grid order), each output's judged columns (``_judge``'s dict) and the route's numeric info."""
+
+    outputs: list[str]
+    grid: dict
+    judged: dict
+    info: dict
+
+
+@dataclass
+class Sweep:
+    """Solutions over a range or a grid, the one sweep type of ``mech sweep`` and the API (``mech.Sweep``):
+    ``.points`` (or ``.solutions()``), ``.agree``, ``.to_arrays()``, ``.to_csv(path)``, ``.to_pandas()``."""
+
     exercise: Exercise
     axes: list[Axis]
     fixed: dict[str, float]
@@ -61,14 +75,15 @@ class SweepResult:
     # ``solutions()`` builds them from its arrays
     workers: int = 1
     seconds: float = 0.0
-    extra: dict = field(default_factory=dict)
+    batched: Batched | None = None  # the batched route's arrays (None: solved point by point)
     only: tuple[str, ...] | None = None  # the outputs asked for (None: all)
     wall: list | None = None  # each point's wall time, s (point by point)
+    _json: list | None = field(default=None, repr=False)  # the points' solve objects, once built
 
     @property
     def output_names(self) -> list[str]:
-        if self.extra.get("route") == "batched":
-            return list(self.extra["outputs"])
+        if self.batched is not None:
+            return list(self.batched.outputs)
         return list(self.only) if self.only else [o.name for o in self.exercise.outputs]
 
     def solutions(self) -> list:
@@ -79,7 +94,7 @@ class SweepResult:
 
     def point_list(self) -> list[dict]:
         """The points as the contract's solve objects (without id and title)."""
-        if "json" not in self.extra:
+        if self._json is None:
             out = []
             for k, sol in enumerate(self.solutions()):
                 d = to_json(sol)
@@ -88,15 +103,15 @@ class SweepResult:
                 if self.wall is not None:
                     d["wall_s"] = self.wall[k]
                 out.append(d)
-            self.extra["json"] = out
-        return self.extra["json"]
+            self._json = out
+        return self._json
 
     def iter_points(self):
         """The points as the contract's solve objects, one at a time: never all held as JSON, and on the
         batched route never all held as typed solutions either (each is built from the arrays, written,
         dropped), so the memory does not grow with the number of points."""
-        if "json" in self.extra:
-            yield from self.extra["json"]
+        if self._json is not None:
+            yield from self._json
             return
         sols = self.points if self.points is not None else iter_batched_solutions(self)
         for k, sol in enumerate(sols):
@@ -143,7 +158,7 @@ class SweepResult:
 
     def __len__(self) -> int:
         if self.points is None:
-            return int(next(iter(self.extra["grid"].values())).size)
+            return int(next(iter(self.batched.grid.values())).size)
         return len(self.points)
 
     @property
@@ -158,7 +173,7 @@ class SweepResult:
         import numpy as np
 
         bad = np.zeros(len(self), dtype=bool)
-        for J in self.extra["judged"].values():
+        for J in self.batched.judged.values():
             bad |= (J["agree"] == 0) | J["n_fail"] | J["ver_fail"]
         return bad
 
@@ -167,16 +182,107 @@ class SweepResult:
         if self.points is None:
             import numpy as np
 
-            judged = self.extra["judged"].values()
-            if any((J["agree"] == 0).any() or J["n_fail"].any() or J["ver_fail"].any() for J in judged):
-                return False
-            # a leading-order output outside its range with a verified numeric value holds (``Solution.agree``)
-            if all(((J["agree"] < 0) & ~(J["outside"] & ~np.isnan(J["verify_diff"]))).all() for J in judged):
-                return None
-            return True
-        from mech.verification.crosscheck import combine_agree
+            from mech.verification.judge import conclude, conclude_arrays
 
-        return combine_agree(pt.agree for pt in self.points)
+            # the one rule (``judge.conclude``) over every output's values, per output at once
+            flags = []
+            for J in self.batched.judged.values():
+                got = conclude_arrays(J["agree"], J["outside"] & ~np.isnan(J["verify_diff"]),
+                                      J["n_fail"] | J["ver_fail"])
+                flags += [False] if (got == 0).any() else [True] if (got == 1).any() else [None]
+            return conclude(flags)
+        from mech.verification.judge import conclude
+
+        return conclude(pt.agree for pt in self.points)
+
+    @property
+    def outputs(self) -> list[str]:
+        """The outputs swept (``output_names``)."""
+        return self.output_names
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(len(a.values) for a in self.axes)
+
+    def __iter__(self) -> Iterator[Solution]:
+        return iter(self.solutions())
+
+    def to_arrays(self) -> dict:
+        """Flat arrays in grid order (the first swept parameter varies slowest; ``.reshape(sweep.shape)``
+        gives the grid): each swept parameter, then per output ``_analytic``, ``_numeric`` and
+        ``_numeric_err`` (float, NaN where there is no value) and ``_agree`` (bool) with ``_agree_mask``
+        (bool, True where there is no verdict: nothing compared; ``_agree`` is False there), the
+        convention of ``numpy.ma``: ``np.ma.array(a["x_agree"], mask=a["x_agree_mask"])``."""
+        import numpy as np
+
+        points = self.solutions()
+        out: dict = {}
+        for axis in self.axes:
+            out[axis.name] = np.array([p.params[axis.name] for p in points], float)
+        for name in self.outputs:
+            qs = [p[name] for p in points]
+            out[f"{name}_analytic"] = np.array([_value(q.analytic) for q in qs], float)
+            out[f"{name}_numeric"] = np.array([_value(q.numeric) for q in qs], float)
+            out[f"{name}_numeric_err"] = np.array([_value(q.numeric_err) for q in qs], float)
+            out[f"{name}_agree"] = np.array([q.agree is True for q in qs], bool)
+            out[f"{name}_agree_mask"] = np.array([q.agree is None for q in qs], bool)
+        return out
+
+    def _columns(self) -> list[tuple[str, str]]:
+        cols = [(a.name, self.exercise.param_map[a.name].unit) for a in self.axes]
+        units = {o.name: o.unit for o in self.exercise.outputs}
+        for name in self.outputs:
+            cols += [(f"{name}_analytic", units[name]), (f"{name}_numeric", units[name]),
+                     (f"{name}_numeric_err", units[name]), (f"{name}_agree", "")]
+        return cols
+
+    def to_csv(self, path) -> None:
+        """One row per point; the header gives each column's unit as ``name [unit]``; an empty cell where
+        there is no value or no verdict."""
+        import csv
+
+        from mech.core.safeio import atomic_write
+
+        arrays = self.to_arrays()
+        cols = self._columns()
+        with atomic_write(str(path), "--csv", newline="") as fh:
+            out = csv.writer(fh)
+            out.writerow([f"{n} [{u}]" if u and u != "1" else n for n, u in cols])
+            swept = {a.name for a in self.axes}
+            for k in range(len(self)):
+                row = []
+                for n, _ in cols:
+                    v = arrays[n][k]
+                    if n.endswith("_agree"):
+                        row.append("" if arrays[f"{n}_mask"][k] else str(bool(v)).lower())
+                    else:
+                        # a swept value to 15 digits: 0.3 from linspace, not 0.30000000000000004
+                        row.append("" if math.isnan(v) else f"{float(v):.15g}" if n in swept else repr(float(v)))
+                out.writerow(row)
+
+    def to_pandas(self):
+        """A pandas DataFrame of ``to_arrays()`` (pandas is optional: ``pip install pandas``): the verdicts
+        as pandas' nullable boolean (``pd.NA`` where there is none), without the mask columns."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Sweep.to_pandas needs pandas, which mech does not install: pip install pandas") \
+                from None
+        arrays = self.to_arrays()
+        columns = {}
+        for n, v in arrays.items():
+            if n.endswith("_agree_mask"):
+                continue
+            if n.endswith("_agree"):
+                columns[n] = pd.array([None if m else bool(x) for x, m in zip(v, arrays[f"{n}_mask"])],
+                                      dtype="boolean")
+            else:
+                columns[n] = v
+        return pd.DataFrame(columns)
+
+    def __repr__(self) -> str:
+        swept = ", ".join(f"{a.name}: {len(a.values)}" for a in self.axes)
+        return f"<Sweep {self.exercise.id} over {swept}; {len(self)} points; agree={self.agree}>"
 
     def as_json(self, points: bool = True) -> dict:
         d = {
@@ -190,10 +296,15 @@ class SweepResult:
             "workers": self.workers,
             "seconds": self.seconds,
         }
-        if self.extra.get("route") == "batched":
+        if self.batched is not None:
             d["route"] = "batched"
-            d["numeric_info"] = self.extra["info"]
+            d["numeric_info"] = self.batched.info
         return d
+
+
+def _value(v) -> float:
+    """A value as a float: NaN where there is none (None, or ``Undefined``)."""
+    return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else math.nan
 
 
 def grid_points(axes: Sequence[Axis], fixed: dict[str, float]) -> list[dict[str, float]]:
@@ -296,7 +407,7 @@ def run_sweep(
     progress: Callable[[int], None] | None = None,
     only: Sequence[str] | None = None,
     total_s: float | None = None,
-) -> SweepResult:
+) -> Sweep:
     """Cross-check at every (already validated) point; ``jobs`` forces the number of processes (None: decide;
     never more than the cores).
 
@@ -316,7 +427,7 @@ def run_sweep(
             progress(done)
 
     if not params:
-        return SweepResult(ex, list(axes), dict(fixed), [], 1, 0.0, only=only, wall=[])
+        return Sweep(ex, list(axes), dict(fixed), [], 1, 0.0, only=only, wall=[])
     only = tuple(only) if only else None
     # the first point here: it measures the cost per point
     points[0] = solve_point(ex.id, dict(params[0]), rtol, verify, only, deadline, total_s)
@@ -339,7 +450,7 @@ def run_sweep(
                 points[futures[fut]] = fut.result()
                 tick()
     solutions = [sol.replace(exercise=ex) for sol, _ in points]
-    return SweepResult(ex, list(axes), dict(fixed), solutions, workers, time.perf_counter() - t0, only=only,
+    return Sweep(ex, list(axes), dict(fixed), solutions, workers, time.perf_counter() - t0, only=only,
                        wall=[w for _, w in points])
 
 
@@ -464,7 +575,7 @@ def run_batched(
     chunk: int = CHUNK,
     progress: Callable[[int], None] | None = None,
     total_s: float | None = None,
-) -> SweepResult:
+) -> Sweep:
     """The chart route: every (validated) grid point through the exercise's batched route, chunk by chunk.
 
     Both solves (at rtol and at rtol/10) and the analytic side run over the
@@ -545,9 +656,8 @@ def run_batched(
                            outside=validity.get(o))
     info = {"method": "DOP853 (batched)", "rtol": rtol, "verify_rtol": tighter if verify else None,
             "chunk": chunk, "chunks": stats["chunks"]}
-    result = SweepResult(ex, list(axes), dict(fixed), None, 1, time.perf_counter() - t0)
-    result.extra = {"route": "batched", "outputs": list(outputs), "grid": P, "judged": judged, "info": info}
-    return result
+    return Sweep(ex, list(axes), dict(fixed), None, 1, time.perf_counter() - t0,
+                 batched=Batched(list(outputs), P, judged, info))
 
 
 def _num(x):
@@ -557,21 +667,22 @@ def _num(x):
     return x if _m.isfinite(x) else None
 
 
-def batched_solutions(result: SweepResult) -> list[Solution]:
+def batched_solutions(result: Sweep) -> list[Solution]:
     """The chart's per-point solutions (as ``mech solve`` gives them, the asked outputs only), built from the
     judged arrays."""
     return list(iter_batched_solutions(result))
 
 
-def iter_batched_solutions(result: SweepResult, indices=None):
+def iter_batched_solutions(result: Sweep, indices=None):
     """``batched_solutions`` one point at a time, grid order: none is kept (``sweep --json`` writes each
     as it is built).  ``indices``: only these points (grid order)."""
+    from mech.verification.judge import Verdict
     from mech.verification.judge import notes as judge_notes
 
     ex = result.exercise
-    P = result.extra["grid"]
-    judged = result.extra["judged"]
-    info = result.extra["info"]
+    P = result.batched.grid
+    judged = result.batched.judged
+    info = result.batched.info
     units = {o.name: o for o in ex.outputs}
     names = [p.name for p in ex.params]
     N = next(iter(P.values())).size
@@ -605,6 +716,8 @@ def iter_batched_solutions(result: SweepResult, indices=None):
                 numeric_err=_num(J["numeric_err"][k]) if isinstance(numeric, float) else None,
                 abs_err=_num(J["abs_err"][k]), rel_err=_num(J["rel_err"][k]), tol=_num(J["tol"][k]),
                 tol_abs=float(J["tol_abs"][k]), agree=None if ag < 0 else bool(ag), theory=o.theory,
+                verdict=Verdict(int(J["J"].verdict[k])),
+                reason=J["outside_why"][k] if J["J"].verdict[k] == Verdict.OUTSIDE else "",
                 theory_valid=(not J["outside"][k]) if leading else None,
                 expected_err=_num(J["expected_err"][k]) if leading and J["expected_err"] is not None else None,
                 expected_err_abs=e_abs if leading else None, verify_diff=_num(J["verify_diff"][k]),
@@ -619,20 +732,20 @@ def iter_batched_solutions(result: SweepResult, indices=None):
                        numeric_info=dict(info), errors=tuple(once.values()))
 
 
-def batched_points(result: SweepResult) -> list[dict]:
+def batched_points(result: Sweep) -> list[dict]:
     """The chart's per-point solve objects (as ``mech solve --json`` gives them, the asked outputs only)."""
     return result.point_list()
 
 
-def output_arrays(result: SweepResult, name: str) -> dict:
+def output_arrays(result: Sweep, name: str) -> dict:
     """One output over the grid as arrays in grid order: numeric, analytic (NaN where none), agree
     (1, 0, -1 for no verdict), failed (the point's verdict is a failure) and the reason of each failure."""
     import numpy as np
 
     if result.points is None:
-        J = result.extra["judged"][name]
+        J = result.batched.judged[name]
         pts_failed = np.zeros(J["agree"].size, dtype=bool)
-        for other in result.extra["judged"].values():
+        for other in result.batched.judged.values():
             pts_failed |= (other["agree"] == 0) | other["n_fail"] | other["ver_fail"]
         reasons = np.full(J["agree"].size, "", dtype=object)
         for k in np.flatnonzero(pts_failed):
@@ -645,7 +758,8 @@ def output_arrays(result: SweepResult, name: str) -> dict:
     agree = np.array([-1 if q["agree"] is None else int(q["agree"])
                       for pt in pts for q in pt["quantities"] if q["name"] == name], dtype=np.int8)
     failed = np.array([pt.get("agree") is False for pt in pts])
-    reasons = np.array([_reason_point(pt) if pt.get("agree") is False else "" for pt in pts], dtype=object)
+    reasons = np.array([_reason_point(sol) if sol.agree is False else "" for sol in result.solutions()],
+                       dtype=object)
     return {"numeric": num, "analytic": ana, "agree": agree, "failed": failed, "reasons": reasons}
 
 
@@ -661,27 +775,29 @@ def failure_kind(text: str) -> str:
     return head or text
 
 
-def _reason_point(pt: dict) -> str:
-    if pt.get("errors"):
-        return pt["errors"][0]
-    for q in pt["quantities"]:
-        if q["agree"] is False:
-            note = q.get("note") or ""
-            if "unreliable" in note:
-                return f"{q['name']}: unreliable (the rerun at rtol/10 moved it beyond its claim)"
-            if "no finite value" in note:
-                return f"{q['name']}: one method finds no finite value where the other does"
-            return f"{q['name']}: analytic and numeric differ beyond the error bars"
+def _reason_point(sol: Solution) -> str:
+    """Why a point failed, from its first failure or its typed verdicts (``judge.Verdict``)."""
+    from mech.verification.judge import Verdict
+
+    if sol.errors:
+        return str(sol.errors[0])
+    for q in sol.quantities:
+        if q.agree is False:
+            if q.verdict == Verdict.UNRELIABLE:
+                return f"{q.name}: unreliable (the rerun at rtol/10 moved it beyond its claim)"
+            if q.verdict == Verdict.ONE_UNDEFINED:
+                return f"{q.name}: one method finds no finite value where the other does"
+            return f"{q.name}: analytic and numeric differ beyond the error bars"
     return "failed"
 
 
-def _reason_batched(result: SweepResult, k: int) -> str:
-    for name, J in result.extra["judged"].items():
+def _reason_batched(result: Sweep, k: int) -> str:
+    for name, J in result.batched.judged.items():
         if J["n_fail"][k]:
             return f"{name}: {J['num'].reason('failed', k)}"
         if J["ver_fail"][k]:
             return f"{name}: at rtol/10: {J['ver'].reason('failed', k)}"
-    for name, J in result.extra["judged"].items():
+    for name, J in result.batched.judged.items():
         if J["agree"][k] == 0:
             if J["unreliable"][k]:
                 return f"{name}: unreliable (the rerun at rtol/10 moved it beyond its claim)"
@@ -691,7 +807,7 @@ def _reason_batched(result: SweepResult, k: int) -> str:
     return "failed"
 
 
-def boundary_curves(result: SweepResult) -> list[tuple[str, "object", "object", str]]:
+def boundary_curves(result: Sweep) -> list[tuple[str, "object", "object", str]]:
     """The leading-order boundaries the exercise declares for a map over its two swept parameters.
 
     Returns (axis name the curve gives, values along the other axis, boundary values, label): the

@@ -131,7 +131,8 @@ def motion(p):
     # for an error well under the tolerance.
     return Motion(rhs, [theta_start / a_s, omega_start / w_s], (0.0, 200.0),
                   event=Event(wall_force, direction=-1, name="N_wall = 0"), invariants={"energy": energy},
-                  t_scale=w_s * math.sqrt(p.l) / math.sqrt(p.g), y_scale=[a_s, w_s * w_unit])
+                  t_scale=w_s * math.sqrt(p.l) / math.sqrt(p.g), y_scale=[a_s, w_s * w_unit],
+                  event_scale=a_s * p.g)  # the wall's force in SI for a mass of 1 kg
 
 
 @exercise.numeric

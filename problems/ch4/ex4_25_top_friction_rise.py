@@ -27,6 +27,12 @@ initial rates are the initial torque projected on dn3/dtheta and, for the spin,
 the friction's power F . (n3 x (P - C)) (no cancellation when R << l).
 Monitored: |L| + mu M g R t, which the friction's axial torque keeps constant
 in this model.
+
+The model integrated is reduced: the fast top's L kept along its axis (no
+transverse inertia, so no nutation) under the sliding friction at the tip,
+in a turning frame and a rescaled time.  No Lagrangian gives that first-order
+flow, so it has no symbolic declaration (``mech show 4.25 --derive`` says so,
+problems/ch4/physics4_25.py).
 """
 
 from __future__ import annotations

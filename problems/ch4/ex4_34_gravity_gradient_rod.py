@@ -195,7 +195,8 @@ def motion(p):
                   invariants={"Jacobi integral": jacobi, "link length": lambda y: math.hypot(y[0], y[1])},
                   t_scale=1.0 / W, y_scale=[1.0, W], y_size=[c, s, min(c, s), min(c, s)],
                   to_states=lambda y: [np.arctan2(y[1], y[0]),
-                                       (y[0] * y[3] - y[1] * y[2]) / (y[0] ** 2 + y[1] ** 2)])
+                                       (y[0] * y[3] - y[1] * y[2]) / (y[0] ** 2 + y[1] ** 2)],
+                  from_states=lambda x: [np.cos(x[0]), np.sin(x[0]), -np.sin(x[0]) * x[1], np.cos(x[0]) * x[1]])
 
 
 @exercise.numeric
