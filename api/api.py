@@ -236,8 +236,6 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
     _screen("rtol", rtol, "none", "number", "str")
     _screen("expect", expect, "none", "dict")
     _screen("expect_rtol", expect_rtol, "none", "number", "str")
-    _screen("expect_points", expect_points, "none", "int", "str")
-    _screen("expect_seed", expect_seed, "none", "int", "str")
     verify = _flag("verify", verify)
     raise_on_failure = _flag("raise_on_failure", raise_on_failure)
     resolved = resolve_params(ex, _screen_params(dict(params or {})))
