@@ -179,8 +179,8 @@ def _judge_at_points(formula, ex, output, ps, given_ref, rtol, numeric_given, gi
     if not wrong.any():
         text = f"right at all {n_checked} points ({kinds})"
         if ill:
-            text += (f"; ill-conditioned in double precision {describe_point(ps, ill[0])} (right in extended "
-                     "precision)")
+            text += (f"; ill-conditioned in double precision {describe_point(ps, ill[0])} (right in exact "
+                     "arithmetic)")
         text += "".join(f"; {n}" for n in notes)
         return FormulaVerdict(True, text, None, y0, r0, rel0, float(pj.tol[0]), points=points, **base)
     # wrong: find what a student can act on

@@ -7,13 +7,17 @@ constraints.  Where an exercise refuses most of its box, a draw it refuses is re
 time: with the others held, that parameter's allowed interval is found on a grid and refined by bisection,
 and the value is drawn inside it.
 
-A point is right when ``|yours - mech| <= rtol |mech| + mech's error bar + 4 x your formula's own
-round-off`` (a first-order bound carried through the evaluation), the judge's rule (``judge.within``).
-Where that round-off decides, the formula is evaluated again in extended precision (``numpy.longdouble``):
-a right formula that only loses digits to cancellation is then said to be ill-conditioned there, not wrong.
+A point is right when its exact value is: in double precision where the formula's own round-off bound
+(first order, carried through the evaluation) is small against ``base = rtol |mech| + mech's error bar + 4
+ulp``, so that the allowance is at most ``2 base``; elsewhere with mpmath at as many bits as the point needs
+(``_precise``), the only allowance beside ``base`` being what rounding the parameters to doubles moves the
+exact value by, itself computed exactly.  No allowance grows with terms that cancel.  A right formula that
+only loses digits in double is said to be ill-conditioned there; always by the judge's rule
+(``judge.within``).
 
-The point set and mech's values are computed once per exercise, given point and range (``_CACHE``): a class
-file judges every student's formula against the same arrays.
+The point set and mech's values are computed once per exercise, given point and range (``_CACHE``, bounded
+in bytes: ``CACHE_BYTES``): a class file judges every student's formula against the same arrays.  Every
+loop looks at the budget (``core.budget.check``).
 """
 
 from __future__ import annotations
@@ -499,7 +503,7 @@ class PointJudgement:
     ref: np.ndarray
     right: np.ndarray  # bool
     judged: np.ndarray  # bool: a point with a reference and a finite value of yours, or a domain error
-    ill: np.ndarray  # bool: right only in extended precision (ill-conditioned in double)
+    ill: np.ndarray  # bool: right in exact arithmetic, not within base in double (ill-conditioned there)
     problems: list
     tol: np.ndarray
     skipped: int = 0  # points left unjudged: double precision could not decide them, and others were wrong
