@@ -24,7 +24,11 @@ from mech.core.errors import BadInput, NumericFailure
 if TYPE_CHECKING:  # pragma: no cover
     from mech.api import Solution, Sweep, Trajectory
 
+__version__ = "0.1.0"  # as pyproject.toml's (tests/test_assign.py holds them equal); key.json records it
+
 __all__ = [
+    "__version__",
+    "assign",
     "BadInput",
     "NumericFailure",
     "Solution",
@@ -114,12 +118,23 @@ def check(ids: list[str] | str | None = None, hard: bool = False):
     return api.check(ids, hard=hard)
 
 
-def grade(path, budget: float | None = None) -> dict:
-    """Hold a TOML file of answers against mech, as ``mech grade FILE --json`` does (``budget``: its
-    wall-clock budget in seconds, as ``--budget``; default 600)."""
+def grade(path, budget: float | None = None, *, strict: bool = False, jobs: int | None = None, params=None):
+    """Hold a file of answers (TOML, or CSV) against mech, as ``mech grade FILE`` does: a ``GradeReport``
+    (``.to_dict()`` is ``--json``; ``report["ok"]``, ``.passed``, ``.failed``, ``.invalid``, ``.gradebook()``).
+    ``budget``: its wall-clock budget in seconds (``--budget``; default 600); ``strict``: BadInput for any
+    entry that cannot be read (``--strict``), else it is graded invalid; ``jobs``: processes (``-j``);
+    ``params``: a CSV's parameters from an assignment's template (``--params``)."""
     from mech import api
 
-    return api.grade(path, budget=budget)
+    return api.grade(path, budget=budget, strict=strict, jobs=jobs, params=params)
+
+
+def assign(ids, *, seed: int, out, students=None, n: int | None = None, over=None, digits: int = 3) -> dict:
+    """Personal variants for a class, as ``mech assign`` does: writes ``out``/handout.md, answers.toml and
+    key.json and returns the key (``students``: identifiers, or ``n``: s1 ... sN; ``over``: {name: "LO:HI"})."""
+    from mech import api
+
+    return api.assign(ids, seed=seed, out=out, students=students, n=n, over=over, digits=digits)
 
 
 def bench(ex_id: str, *, methods=None, tols=None, repeats: int = 5, max_seconds: float = 55.0,

@@ -462,30 +462,50 @@ def save_sweep_figure(result, path) -> None:
 
 # -- grade, bench, plot ----------------------------------------------------------------
 
-def grade(path, budget=None) -> dict:
-    """``mech grade FILE --json``: every answer of a grading file held against mech; ``budget``: the
-    grading's wall-clock budget in seconds (``--budget``; default 600 s)."""
-    from mech.verification import grading
+def grade(path, budget=None, *, strict: bool = False, jobs: int | None = None, params=None):
+    """``mech grade FILE``: every answer of a grading file (TOML, or CSV) held against mech, as a
+    ``GradeReport`` (``.to_dict()`` is ``--json``; ``report["ok"]`` reads it).  ``budget``: the grading's
+    wall-clock budget in seconds (``--budget``; default 600); ``strict``: BadInput for any entry that
+    cannot be read, before anything is graded (else it is graded invalid); ``jobs``: processes;
+    ``params``: a CSV's parameters from an assignment's template (``--params``)."""
     from mech.verification.sweep import check_total
 
     _screen("path", path, "path")
     _screen("budget", budget, "none", "number", "str")
-    entries, seconds = grade_entries(path, None if budget is None else check_total(budget, "budget"))
-    return grading.grade_json(str(path), entries, seconds)
+    _screen("params", params, "none", "path")
+    strict = _flag("strict", strict)
+    jobs = _jobs(jobs)
+    return grade_report(path, None if budget is None else check_total(budget, "budget"), strict=strict,
+                        jobs=jobs, params=params)
+
+
+def grade_report(path, total_s=None, *, strict: bool = False, jobs: int | None = None, params=None,
+                 started: float | None = None):
+    """The ``GradeReport`` of a grading file; ``started``: the ``time.perf_counter()`` the reported wall
+    time counts from (default: now, reading the file included)."""
+    from mech.verification import grading
+
+    return grading.grade_file(path, total_s, strict=strict, jobs=jobs, params=params, started=started)
 
 
 def grade_entries(path, total_s=None) -> tuple[list, float]:
     """Every answer of a grading file, judged (``verification.grading.Entry``), and the seconds it took;
     ``BadInput`` for a bad file, every fault at once (``BadFile.problems``, a line each).  ``total_s``: the
     grading's wall-clock budget (default 600 s); answers not reached by then fail, saying so."""
-    import time
+    report = grade_report(path, total_s, strict=True)
+    return list(report.entries), report.seconds
 
-    from mech.verification import grading
 
-    entries = grading.load_answers(str(path))
-    t0 = time.perf_counter()
-    grading.grade(entries, total_s)
-    return entries, time.perf_counter() - t0
+def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=None) -> dict:
+    """``mech assign``: each student's verified variant of each exercise, written to ``out``/handout.md,
+    answers.toml and key.json (atomically; an output that is an input is refused); returns the key.
+    ``students``: a roster file's path or a list of identifiers; ``n``: s1 ... sN instead; ``over``:
+    {name or "ID:name": "LO:HI"} or ["NAME=LO:HI", ...]; ``digits``: significant digits printed."""
+    import mech
+    from mech.verification import assign as A
+
+    return A.assign(ids, seed=seed, out=out, students=students, n=n, over=over, digits=digits, jobs=jobs,
+                    version=mech.__version__)
 
 
 def grade_students(entries: list) -> list[dict]:

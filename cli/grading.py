@@ -1,11 +1,14 @@
-"""``mech grade FILE`` and the printing of grades and baselines: tables, JUnit, exit status.
+"""``mech grade FILE`` and the printing of grades: table, JSON, JUnit, the gradebook CSV, exit status.
 
-The reading and judging is ``mech.api.grade_entries`` (``mech.verification.grading``).
+The reading and judging is ``mech.api.grade_report`` (``mech.verification.grading``).  Exit status: 0
+every answer right; 1 any wrong or any entry invalid; 2 a file that cannot be read at all (and, with
+``--strict``, any invalid entry, before anything is graded).
 """
 
 from __future__ import annotations
 
 import json
+import time
 
 import click
 
@@ -14,45 +17,79 @@ from typing import TYPE_CHECKING
 from mech.core.errors import BadInput
 
 if TYPE_CHECKING:  # pragma: no cover
-    from mech.verification.grading import Entry
+    from mech.verification.grading import Entry, GradeReport
 
-__all__ = ["grade_cmd", "write_grade_junit", "print_grade", "junit_baseline", "print_baseline"]
+__all__ = ["grade_cmd", "write_grade_junit", "print_grade", "write_gradebook"]
+
+EXIT_OK, EXIT_WRONG, EXIT_USAGE = 0, 1, 2  # the contract's exit statuses (as ``mech.cli.main``'s)
+
+
+def _classname(e: Entry) -> str:
+    return f"mech.ex{e.ex_id.replace('.', '_')}"
 
 
 def write_grade_junit(path: str, entries: list[Entry], seconds: float, out_file: str) -> None:
-    """One test case per expected value; the classname ``mech.ex4_15`` has no dot inside the id, so CI
-    viewers do not split "4.15" into a package 4 and a class 15."""
+    """One test case per expected value (a wrong one a ``<failure>``), one per invalid entry (an
+    ``<error>``) and one per answer left empty (``<skipped>``); the classname ``mech.ex4_15`` has no dot
+    inside the id, so CI viewers do not split "4.15" into a package 4 and a class 15."""
     from xml.etree import ElementTree as ET
 
     from mech.core.safeio import atomic_write, shown, shown_path
 
     judgements = [(e, j) for e in entries for j in e.judgements]
+    invalid = [e for e in entries if e.invalid is not None]
+    skipped = [(e, name) for e in entries if e.invalid is None for name in e.unanswered]
     failed = sum(not j.match for _, j in judgements)
-    suite = ET.Element("testsuite", name=f"mech grade {shown_path(path)}", tests=str(len(judgements)),
-                       failures=str(failed), errors="0", time=f"{seconds:.3f}")
-    for e, j in judgements:
+    tests = len(judgements) + len(invalid) + len(skipped)
+    suite = ET.Element("testsuite", name=f"mech grade {shown_path(path)}", tests=str(tests),
+                       failures=str(failed), errors=str(len(invalid)), skipped=str(len(skipped)),
+                       time=f"{seconds:.3f}")
+
+    def case(e: Entry, name: str, seconds_each: float):
         who = f"{e.student}: " if e.student else ""
-        # an entry's cross-check time, shared by its expected values (the cases add up to the run)
-        tc = ET.SubElement(suite, "testcase", classname=f"mech.ex{e.exercise.id.replace('.', '_')}",
-                           name=f"{who}{j.name} = {shown(j.text)} ({e.label()})",
-                           time=f"{e.seconds / max(len(e.judgements), 1):.3f}")
+        tc = ET.SubElement(suite, "testcase", classname=_classname(e), name=f"{who}{name} ({e.label()})",
+                           time=f"{seconds_each:.3f}")
         if e.student:
             props = ET.SubElement(tc, "properties")
             ET.SubElement(props, "property", name="student", value=e.student)
-        if not j.match:
-            fail = ET.SubElement(tc, "failure", message=j.verdict)
-            fail.text = (f"{e.exercise.id} {j.name}: yours {shown(j.text)}, mech {j.shown_reference or '—'}"
-                         f" ({j.reference or 'no reference'}): {j.verdict}")
-    root = ET.Element("testsuites", name="mech", tests=str(len(judgements)), failures=str(failed))
+        return tc
+
+    for e in entries:
+        if e.invalid is not None:
+            tc = case(e, f"{e.ex_id}: invalid entry", 0.0)
+            err = ET.SubElement(tc, "error", message=e.invalid, type="invalid")
+            err.text = f"answer {e.number}: {e.invalid}"
+            continue
+        for j in e.judgements:
+            # an entry's cross-check time, shared by its expected values (the cases add up to the run)
+            tc = case(e, f"{j.name} = {shown(j.text)}", e.seconds / max(len(e.judgements), 1))
+            if not j.match:
+                fail = ET.SubElement(tc, "failure", message=j.verdict)
+                fail.text = (f"{e.ex_id} {j.name}: yours {shown(j.text)}, mech {j.shown_reference or '—'}"
+                             f" ({j.reference or 'no reference'}): {j.verdict}")
+        for name in e.unanswered:
+            tc = case(e, f"{name} (not answered)", 0.0)
+            ET.SubElement(tc, "skipped", message="not answered")
+    root = ET.Element("testsuites", name="mech", tests=str(tests), failures=str(failed),
+                      errors=str(len(invalid)))
     root.append(suite)
     ET.indent(root)
     with atomic_write(out_file, "--junit", mode="wb") as fh:
         ET.ElementTree(root).write(fh, encoding="utf-8", xml_declaration=True)
 
 
+def write_gradebook(report: GradeReport, out_file: str) -> None:
+    """``--csv FILE``: one row per student, ``student, points, max`` and a column per ``ID:output``."""
+    from mech.core.safeio import atomic_write
+
+    text = report.gradebook()
+    with atomic_write(out_file, "--csv", newline="") as fh:
+        fh.write(text)
+
+
 def print_grade(entries: list[Entry], seconds: float) -> None:
-    """One row per expected value; where the table does not fit the width, one block per value (the
-    stacking rule of the other commands); piped, no trailing spaces."""
+    """One row per expected value, one per invalid entry; where the table does not fit the width, one
+    block per value (the stacking rule of the other commands); piped, no trailing spaces."""
     from rich import box
     from rich.console import Group
     from rich.table import Table
@@ -60,6 +97,7 @@ def print_grade(entries: list[Entry], seconds: float) -> None:
 
     from mech import render
     from mech.core.safeio import shown
+    from mech.verification.grading import per_student
 
     students = any(e.student for e in entries)
     cols = [("#", "right")] + ([("student", "left")] if students else []) + [
@@ -70,29 +108,36 @@ def print_grade(entries: list[Entry], seconds: float) -> None:
     blocks = []
     for e in entries:
         given = ", ".join(f"{k}={v}" for k, v in e.written.items())
-        where = f"{e.exercise.id}" + (f" ({given})" if given else "")
-        for i, j in enumerate(e.judgements):
-            verdict = Text(j.verdict, style="green" if j.match else "bold red")
+        where = f"{e.ex_id}" + (f" ({given})" if given else "")
+        rows = [(j.name, shown(j.text), j.shown_reference or "—", Text(j.verdict, style="green" if j.match else "bold red"))
+                for j in e.judgements]
+        if e.invalid is not None:
+            rows = [("—", "—", "—", Text(f"invalid: {e.invalid}", style="bold red"))]
+        rows += [(name, "", "—", Text("not answered", style="dim")) for name in e.unanswered if e.invalid is None]
+        for i, (name, yours, ref, verdict) in enumerate(rows):
             first = i == 0
             t.add_row(*([str(e.number) if first else ""] + ([e.student or "" if first else ""] if students else [])
-                        + [where if first else "", j.name, shown(j.text), j.shown_reference or "—", verdict]))
-            head = f"{e.number}  " + (f"{e.student}: " if e.student else "") + f"{where}: {j.name}"
-            blocks.append((head, [("yours", shown(j.text)), ("mech", j.shown_reference or "—"), ("verdict", verdict)]))
+                        + [where if first else "", name, yours, ref, verdict]))
+            head = f"{e.number}  " + (f"{e.student}: " if e.student else "") + f"{where}: {name}"
+            blocks.append((head, [("yours", yours), ("mech", ref), ("verdict", verdict)]))
     c = render.console()
     table = t if render.fits(c, t) else render._stacked("", blocks)
     judgements = [j for e in entries for j in e.judgements]
     right = sum(j.match for j in judgements)
+    invalid = sum(e.invalid is not None for e in entries)
+    unanswered = sum(len(e.unanswered) for e in entries if e.invalid is None)
     lines = []
     if students:
-        from mech import api
-
-        for s in api.grade_students(entries):
+        for s in per_student(entries):
             n = s["passed"] + s["failed"]
-            lines.append(Text(f"{s['student'] or '(no student named)'}: {s['passed']} of {n} right",
-                              style="green" if s["failed"] == 0 else "bold red"))
-    lines.append(Text(f"{right} of {len(judgements)} answers right, {len(judgements) - right} wrong"
+            bad = f", {s['invalid']} invalid entr{'y' if s['invalid'] == 1 else 'ies'}" if s["invalid"] else ""
+            lines.append(Text(f"{s['student'] or '(no student named)'}: {s['passed']} of {n} right{bad}",
+                              style="green" if s["failed"] == 0 and not s["invalid"] else "bold red"))
+    extra = (f", {invalid} invalid entr{'y' if invalid == 1 else 'ies'}" if invalid else "") + \
+        (f", {unanswered} not answered" if unanswered else "")
+    lines.append(Text(f"{right} of {len(judgements)} answers right, {len(judgements) - right} wrong{extra}"
                       f" ({len(entries)} entr{'y' if len(entries) == 1 else 'ies'}) in {seconds:.1f} s",
-                      style="green" if right == len(judgements) else "bold red"))
+                      style="green" if right == len(judgements) and not invalid else "bold red"))
     render.emit(c, Group(table, *lines))
 
 
@@ -107,10 +152,18 @@ def _complete_files(ctx, param, incomplete):
 @click.argument("file", metavar="FILE", shell_complete=_complete_files)
 @click.option("--json", "as_json", is_flag=True, help="A JSON report on stdout.")
 @click.option("--junit", "junit_file", metavar="FILE",
-              help="Write a JUnit XML report: one test case per expected value.")
+              help="Write a JUnit XML report: one test case per expected value, an <error> per invalid entry.")
+@click.option("--csv", "csv_file", metavar="FILE",
+              help="Write the gradebook: a row per student (student, points, max, a column per ID:output).")
+@click.option("--strict", is_flag=True,
+              help="Refuse the whole file (exit 2, before grading) when any entry cannot be read.")
+@click.option("--params", "params_file", metavar="FILE",
+              help="For a CSV of answers: each student's parameters from this assignment template (answers.toml).")
+@click.option("-j", "--jobs", type=click.IntRange(1, 256), metavar="N",
+              help="Processes to grade with [one per core].")
 @click.option("--budget", "total_s", metavar="SECONDS", type=float,
               help="Wall-clock budget of the whole grading [600]; answers not reached by then fail, saying so.")
-def grade_cmd(file, as_json, junit_file, total_s):
+def grade_cmd(file, as_json, junit_file, csv_file, strict, params_file, jobs, total_s):
     """Hold a TOML file of answers against mech (each [[answer]]: exercise, params, expect, rtol).
 
     \b
@@ -120,84 +173,40 @@ def grade_cmd(file, as_json, junit_file, total_s):
     params = { theta0 = "60deg" }
     expect = { theta_c = "35.26deg", omega_c = "2.91 rad/s" }
 
-    Values are judged to the digits written (or to rtol). Exit status: 0 all right,
-    1 any wrong, 2 a bad file (one line naming the file, the answer and the field).
+    FILE may also be a CSV (a student column, ID:output columns). Values are judged to the digits
+    written (or to rtol); an empty answer is not graded. An entry that cannot be read is graded
+    invalid and the rest is graded. Exit status: 0 all right, 1 any wrong or invalid, 2 a file that
+    cannot be read (with --strict: any invalid entry, one line each naming the file, entry and field).
     """
-    from mech.cli.main import EXIT_DISAGREE, EXIT_OK, EXIT_USAGE, UsageFailure
     from mech.core.safeio import check_output, escape
 
     from mech import api
 
+    started = time.perf_counter()
     ctx = click.get_current_context()
-    try:
-        if junit_file is not None:
-            check_output(junit_file, "--junit")  # before the grading, not after
-        from mech.core.safeio import check_apart
+    from mech.cli.checking import check_apart
 
-        check_apart([(junit_file, "--junit")], [(file, "the answers file")])
-        entries, seconds = api.grade_entries(file, total_s=total_s)
+    outputs = [(p, w) for p, w in ((junit_file, "--junit"), (csv_file, "--csv")) if p is not None]
+    # an output never overwrites the answers, the template, or another output (exit 2, before any work)
+    check_apart(outputs, [(file, "FILE"), (params_file, "--params")])
+    for path, what in outputs:
+        check_output(path, what)  # before the grading, not after
+    try:
+        report = api.grade_report(file, total_s, strict=strict, jobs=jobs, params=params_file, started=started)
     except BadInput as exc:
         problems = getattr(exc, "problems", None)  # a bad answers file: every problem, a line each
         if not problems:
-            raise UsageFailure(str(exc)) from None
+            raise
         for line in problems:
             click.echo(f"mech: error: {escape(' '.join(line.split()))}", err=True)
         ctx.exit(EXIT_USAGE)
+    entries = list(report.entries)
     if junit_file:
-        write_grade_junit(file, entries, seconds, junit_file)
+        write_grade_junit(file, entries, report.seconds, junit_file)
+    if csv_file:
+        write_gradebook(report, csv_file)
     if as_json:
-        click.echo(json.dumps(api.grade_json(file, entries, seconds), indent=2, allow_nan=False))
+        click.echo(json.dumps(report.to_dict(), indent=2, allow_nan=False))
     else:
-        print_grade(entries, seconds)
-    ok = all(e.ok for e in entries)
-    click.get_current_context().exit(EXIT_OK if ok else EXIT_DISAGREE)
-
-
-def junit_baseline(junit_file: str, cmp) -> None:
-    """Add to ``mech check``'s JUnit report a suite with one test case per point compared with the
-    baseline, failed when any of its values moved: CI shows what moved, not only the exit status."""
-    from xml.etree import ElementTree as ET
-
-    tree = ET.parse(junit_file)
-    root = tree.getroot()
-    moved: dict[tuple[str, str], list[str]] = {}
-    for m in cmp.moved:
-        moved.setdefault((m.id, m.case), []).append(m.text())
-    suite = ET.SubElement(root, "testsuite", name=f"mech baseline {cmp.path}", tests=str(len(cmp.points)),
-                          failures=str(len(moved)), errors="0")
-    for ex_id, case in cmp.points:
-        tc = ET.SubElement(suite, "testcase", classname=f"mech.baseline.ex{ex_id.replace('.', '_')}", name=case)
-        if (ex_id, case) in moved:
-            fail = ET.SubElement(tc, "failure", message="moved beyond its error bars since the baseline")
-            fail.text = "\n".join(moved[(ex_id, case)])
-    root.set("tests", str(int(root.get("tests", "0")) + len(cmp.points)))
-    root.set("failures", str(int(root.get("failures", "0")) + len(moved)))
-    ET.indent(root)
-    from mech.core.safeio import atomic_write
-
-    with atomic_write(junit_file, "--junit", mode="wb") as fh:
-        tree.write(fh, encoding="utf-8", xml_declaration=True)
-
-
-def print_baseline(cmp, saved: str | None) -> None:
-    from rich.text import Text
-
-    from mech import render
-
-    c = render.console()
-    if cmp is not None:
-        then = cmp.versions_then
-        changed = [f"{k} {then.get(k)} -> {v}" for k, v in cmp.versions_now.items() if then.get(k) != v]
-        since = f" (since: {', '.join(changed)})" if changed else ""
-        if cmp.ok:
-            c.print(Text(f"baseline {cmp.path}: {cmp.compared} values, none moved beyond its error bars{since}",
-                         style="green"))
-        else:
-            c.print(Text(f"baseline {cmp.path}: {len(cmp.moved)} of {cmp.compared} values moved beyond their "
-                         f"error bars{since}:", style="bold red"))
-            for m in cmp.moved:
-                c.print(Text(f"  {m.text()}", style="red"))
-        if cmp.not_in_baseline:
-            c.print(Text(f"not in the baseline: {', '.join(cmp.not_in_baseline)}", style="yellow"))
-    if saved:
-        c.print(Text(f"baseline saved to {saved}", style="dim"))
+        print_grade(entries, report.seconds)
+    ctx.exit(EXIT_OK if report.ok else EXIT_WRONG)

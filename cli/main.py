@@ -75,6 +75,8 @@ class MechGroup(click.Group):
     # sentence of each command's help, tests/test_cli_first_hour.py holds them equal) are listed by
     # `mech --help` without importing them
     LAZY = {
+        "assign": ("mech.cli.assign", "assign_cmd",
+                   "Personal variants for a class: each student's parameters drawn, rounded and verified, with the key."),
         "bench": ("mech.cli.bench", "bench_cmd", "Speed against error of exercise ID's numeric solver."),
         "grade": ("mech.cli.grading", "grade_cmd",
                   "Hold a TOML file of answers against mech (each [[answer]]: exercise, params, expect, rtol)."),
@@ -547,7 +549,7 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
     if junit_file:
         write_junit(report, junit_file)
         if moved:
-            from mech.cli.grading import junit_baseline
+            from mech.cli.baseline import junit_baseline
 
             junit_baseline(junit_file, moved)
     if as_json:
@@ -557,7 +559,7 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
 
         render.print_check(report)
         if baseline_file or save_baseline:
-            from mech.cli.grading import print_baseline
+            from mech.cli.baseline import print_baseline
 
             print_baseline(moved, save_baseline)
     ctx.exit(EXIT_OK if report.ok and (moved is None or moved.ok) else EXIT_DISAGREE)

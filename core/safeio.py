@@ -232,16 +232,16 @@ def check_apart(outputs, inputs=()) -> None:
             pass
         return out
 
-    seen = [(ident(p), p, w) for p, w in inputs if p is not None and str(p) != ""]
+    seen = [(ident(p), p, w, "input") for p, w in inputs if p is not None and str(p) != ""]
     for path, what in outputs:
         if path is None or str(path) == "":
             continue
         mine = ident(path)
-        for other, opath, owhat in seen:
+        for other, opath, owhat, kind in seen:
             if mine & other:
                 raise BadInput(f"{what} {shown_path(path)}: the same file as {owhat} {shown_path(opath)}; "
-                               "an output never overwrites an input or another output")
-        seen.append((mine, path, what))
+                               f"it would overwrite the {kind}")
+        seen.append((mine, path, what, "other output"))
 
 
 @contextlib.contextmanager

@@ -139,6 +139,7 @@ class Declaration:
         self.sizes: dict = {}
         self.notes: list[str] = []
         self.shown: dict = {}  # heading -> expression shown beside the equations (an energy, a potential)
+        self.solve_shown = True  # False: the equations solved for the accelerations are not printed
 
     # -- symbols
     def coordinates(self, names: str):
@@ -234,6 +235,12 @@ class Declaration:
     def jacobian(self, fn: Callable):
         """``fn(p) -> jac(t, y)``: the module's hand-written Jacobian of its right-hand side, to compare."""
         self.jacobian_fn = fn
+
+    def unsolved(self, why: str):
+        """Print the equations of motion without solving them for the accelerations (a closed form too long to
+        read, or to simplify in a few seconds), and say why."""
+        self.solve_shown = False
+        self.note(why)
 
     def note(self, text: str):
         self.notes.append(" ".join(text.split()))
@@ -564,8 +571,10 @@ class Derivation:
         unknowns (their closed form is no help to read)."""
         import sympy as sp
 
-        if len(self.unknowns) > most:
+        if len(self.unknowns) > most or not self.d.solve_shown:
             return []
+        if getattr(self, "_solved", None) is not None:
+            return self._solved
         if self.method == "Lagrange":
             eqs = list(self.eom) + [sp.diff(c, self.d.t, 2) for c in self.d.holonomic]
             unknowns = list(self.unknowns)
@@ -584,6 +593,7 @@ class Derivation:
                 t = self.d.t
                 e = e.subs({k.diff(t): sp.diff(v, t)}).subs({k: v})
             out.append((w, sp.simplify(e)))
+        self._solved = out
         return out
 
     @property

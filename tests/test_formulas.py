@@ -322,7 +322,7 @@ def test_grade_file_with_formulas_and_junit(tmp_path):
     assert junit.read_text().count("<testcase") == 3
     bad = tmp_path / "bad.toml"
     bad.write_text('[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "0.7" }\npoints = 10\n')
-    r = _mech("grade", str(bad))
+    r = _mech("grade", str(bad), "--strict")  # without --strict: graded invalid, exit 1 (test_grade_invalid.py)
     assert r.returncode == 2 and "points: only for formulas" in r.stderr
 
 

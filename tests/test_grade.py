@@ -113,7 +113,7 @@ HEAD = '[[answer]]\nexercise = "4.15"\n'
 def test_a_bad_file_exits_2_with_a_line_per_problem_naming_it(tmp_path, text, words):
     path = tmp_path / "bad.toml"
     path.write_text(text, encoding="utf-8")
-    code, out, err = run("grade", str(path))
+    code, out, err = run("grade", str(path), "--strict")  # without: tests/test_grade_invalid.py
     assert code == 2 and out == ""
     lines = err.strip().splitlines()
     assert lines and "Traceback" not in err
@@ -126,7 +126,7 @@ def test_every_problem_of_a_file_at_once_each_with_its_entry_and_line(tmp_path):
     path.write_text('[[answer]]\nexercise = "4.15"\nparams = { nosuch = 1 }\nexpect = { theta_c = "2 kg" }\n\n'
                     '[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "35.26deg" }\n\n'
                     '[[answer]]\nexercise = "9.99"\ncolour = "red"\nexpect = { x = 1 }\n', encoding="utf-8")
-    code, out, err = run("grade", str(path))
+    code, out, err = run("grade", str(path), "--strict")
     assert code == 2 and out == ""
     lines = err.strip().splitlines()
     # entry 1: two problems (line 1); entry 2 is good; entry 3: two problems (line 10)

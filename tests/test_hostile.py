@@ -294,8 +294,10 @@ def test_grade_and_baseline_refuse_what_is_not_a_regular_file(tmp_path, path):
 
 def test_grade_escapes_what_it_echoes(tmp_path):
     f = _answers(tmp_path, '[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "0.73\\u001b[2J" }\n')
-    r = CliRunner().invoke(cli, ["grade", f])
+    r = CliRunner().invoke(cli, ["grade", f, "--strict"])
     assert r.exit_code == 2 and "\x1b" not in r.output and "\\x1b" in r.output
+    r = CliRunner().invoke(cli, ["grade", f])  # graded invalid: the reason in the table, escaped too
+    assert r.exit_code == 1 and "\x1b" not in r.output and "\\x1b" in r.output
 
 
 def test_grade_total_budget_fails_what_it_did_not_reach(tmp_path):

@@ -223,8 +223,10 @@ def test_grade_names_the_student_in_table_json_and_junit(class_file, tmp_path):
     assert "alice: 2 of 2 right" in out and "bob: 0 of 1 right" in out
     data = json.loads(run("grade", str(class_file), "--json")[1])
     assert [e["student"] for e in data["entries"]] == ["alice", "bob"]
-    assert data["students"] == [{"student": "alice", "passed": 2, "failed": 0, "entries": 1},
-                                {"student": "bob", "passed": 0, "failed": 1, "entries": 1}]
+    assert data["students"] == [{"student": "alice", "passed": 2, "failed": 0, "entries": 1, "invalid": 0,
+                                 "points": 2, "max": 2},
+                                {"student": "bob", "passed": 0, "failed": 1, "entries": 1, "invalid": 0,
+                                 "points": 0, "max": 1}]
     cases = ET.parse(junit).getroot().iter("testcase")
     seen = []
     for tc in cases:
@@ -238,7 +240,7 @@ def test_grade_names_the_student_in_table_json_and_junit(class_file, tmp_path):
 def test_a_bad_student_name_is_refused_in_one_line(tmp_path, bad):
     path = tmp_path / "bad.toml"
     path.write_text(f'[[answer]]\nstudent = {bad}\nexercise = "4.15"\nexpect = {{ theta_c = "41.8deg" }}\n')
-    code, out, err = run("grade", str(path))
+    code, out, err = run("grade", str(path), "--strict")
     assert code == 2 and len(err.strip().splitlines()) == 1 and "student" in err
 
 

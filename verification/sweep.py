@@ -575,6 +575,7 @@ def run_batched(
     chunk: int = CHUNK,
     progress: Callable[[int], None] | None = None,
     total_s: float | None = None,
+    points: dict | None = None,
 ) -> Sweep:
     """The chart route: every (validated) grid point through the exercise's batched route, chunk by chunk.
 
@@ -585,7 +586,8 @@ def run_batched(
     sweep's wall-clock budget (None: ``DEFAULT_TOTAL_S``), as on the point by
     point route: a solve still running at its end stops and fails its chunk,
     a solve reached after it is not run and fails its chunk, saying so (the
-    analytic values are still given).
+    analytic values are still given).  ``points``: every parameter as an array (scattered points, such as
+    a class's personal variants) instead of the grid of ``axes`` and ``fixed``.
     """
     import numpy as np
 
@@ -600,7 +602,7 @@ def run_batched(
     total_s = DEFAULT_TOTAL_S if total_s is None else check_total(total_s)
     deadline = time.monotonic() + total_s
     spent = (f"the sweep's total budget of {total_s:g} s ran out (--budget SECONDS gives it more)")
-    P = grid_arrays(ex, axes, fixed)
+    P = grid_arrays(ex, axes, fixed) if points is None else points
     N = next(iter(P.values())).size
     nums = {o: [] for o in outputs}
     vers = {o: [] for o in outputs}
