@@ -412,8 +412,10 @@ def test_over_with_no_admissible_point_is_a_bad_file(tmp_path):
     hw = tmp_path / "hw.toml"
     hw.write_text('[[answer]]\nexercise = "4.13"\nover = { R = "1:2", R_prime = "0.01:0.5" }\n'
                   'expect = { omega = "sqrt(g/R)" }\n')  # R' > R cannot hold there
-    r = _mech("grade", str(hw))
+    r = _mech("grade", str(hw), "--strict")
     assert r.returncode == 2 and "over" in r.stderr and "R_prime = 0.01:0.5" in r.stderr, r.stderr
+    r = _mech("grade", str(hw))  # the class's tolerant grading: that entry invalid, naming it
+    assert r.returncode == 1 and "invalid" in r.stdout and "R_prime = 0.01:0.5" in r.stdout, r.stdout
 
 
 def test_reference_overflow_points_are_left_out_and_counted():
