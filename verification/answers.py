@@ -208,8 +208,10 @@ def judge_expectation(result, e, q, ref):
     ex, given = result.exercise, result.params
     output = {o.name: o for o in ex.outputs}[e.name]
     over = dict(e.over) if e.over else None
-    ps = point_set(ex, given, e.points if e.points is not None else DEFAULT_POINTS,
-                   e.seed if e.seed is not None else DEFAULT_SEED, over, known(result))
+    def ps():  # drawn once the dimension is found right (``judge_formula``)
+        return point_set(ex, given, e.points if e.points is not None else DEFAULT_POINTS,
+                         e.seed if e.seed is not None else DEFAULT_SEED, over, known(result))
+
     lead = output.theory != "exact"
     if ref.value is None:
         given_ref, numeric_given = None, None

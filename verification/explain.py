@@ -653,6 +653,8 @@ def _nice_factor(c: float) -> str:
              (180 / math.pi, " 180/pi (degrees for radians)", ""))
     fits = []
     for k, (val, after, alone) in enumerate(bases):
+        if not math.isfinite(c / val):  # a factor beyond the floating-point range (issue 33)
+            continue
         f = Fraction(c / val).limit_denominator(64)
         if f != 0 and abs(f.numerator) <= 64 and within(abs(float(f) * val - c), scale=c, round_off=1e-9):
             fits.append((abs(f.numerator) + f.denominator, k, f))

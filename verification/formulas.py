@@ -106,6 +106,33 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
                 why = f"{why}: {slip}"
         return FormulaVerdict(False, f"wrong dimension: {why}", why, math.nan, None, None, None,
                               points={"checked": 0, "right": 0}, **base)
+    from mech.core import budget
+
+    try:
+        # the points drawn only once the dimension is right, and everything within the budget: the solve's
+        # (what its cross-check left), grade's, or MECH_BUDGET_S for this formula alone
+        with budget.limit(budget.default_seconds(), what="checking the formula"), np.errstate(all="ignore"):
+            if callable(ps):
+                ps = ps()
+            return _judge_at_points(formula, ex, output, ps, given_ref, rtol, numeric_given, given_in_range,
+                                    base)
+    except budget.OutOfBudget as exc:
+        return _not_graded(exc, **base)
+    except MemoryError:
+        return FormulaVerdict(False, "not graded: too many points for the memory at hand (ask for fewer points)",
+                              None, math.nan, None, None, None, points={"checked": 0, "right": 0}, **base)
+
+
+def _not_graded(exc, **base) -> FormulaVerdict:
+    from mech.core.safeio import shown
+
+    what, where = getattr(exc, "what", None), getattr(exc, "where", "")
+    text = (f"{what} ran out of time" + (f" while {where}" if where else "")) if what else str(exc)
+    return FormulaVerdict(False, f"not graded (budget): {shown(text, 160)}", None, math.nan, None, None, None,
+                          points={"checked": 0, "right": 0}, **base)
+
+
+def _judge_at_points(formula, ex, output, ps, given_ref, rtol, numeric_given, given_in_range, base):
     rtol = FORMULA_RTOL if rtol is None else rtol
     name = output.name
     lead = output.theory != "exact"
@@ -127,6 +154,13 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
             pj.right = pj.right & ~outside
             k = int(outside.sum())
             notes.append(f"{k} point{'s' if k > 1 else ''} outside the leading-order theory's range not judged")
+    if pj.skipped:
+        notes.append(f"{pj.skipped} point{'s' if pj.skipped > 1 else ''} not worked out in high precision once "
+                     "wrong ones were found")
+    overflow = np.array([w == "not finite" for w in ps.undefined.get(name, [])], bool)
+    if overflow.size == len(ps) and overflow[1:].any():
+        k = int(overflow[1:].sum())
+        notes.append(f"{k} point{'s' if k > 1 else ''} where mech's own value overflows left out")
     judged = pj.judged
     wrong = judged & ~pj.right
     n_checked, n_right = int(judged.sum()), int(pj.right.sum())
@@ -153,8 +187,8 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
     if not wrong.any():
         text = f"right at all {n_checked} points ({kinds})"
         if ill:
-            text += (f"; ill-conditioned in double precision {describe_point(ps, ill[0])} (right in extended "
-                     "precision)")
+            text += (f"; ill-conditioned in double precision {describe_point(ps, ill[0])} (right in exact "
+                     "arithmetic)")
         text += "".join(f"; {n}" for n in notes)
         matches = None
         if lead:
@@ -287,7 +321,8 @@ def _batched_numeric(ex, ps: PointSet, idx: list[int], name: str) -> None:
     try:
         cols = [(route.numeric(P, tol, (name,), memo=ps.batch_memo) if takes_memo
                  else route.numeric(P, tol, (name,)))[name] for tol in (rtol, tighter)]
-    except Exception:  # a failed batch: these points are verified one by one instead (``_verified_at``)
+    except Exception as exc:  # a failed batch: these points are verified one by one instead (``_verified_at``)
+        _budget_out(exc)
         return
     n, v = cols
     J = judge(analytic=np.nan, numeric=n.value, has_analytic=False, n_undefined=n.mask("undefined"),
@@ -301,6 +336,14 @@ def _batched_numeric(ex, ps: PointSet, idx: list[int], name: str) -> None:
 def _verified(verdict, verify_diff, err) -> np.ndarray:
     """A numeric-only value the judge finds verified: its rerun at rtol/10 ran and held it to its claim."""
     return (np.asarray(verdict) == Verdict.NUMERIC_ONLY) & np.isfinite(verify_diff) & np.isfinite(err)
+
+
+def _budget_out(exc) -> None:
+    """Re-raise ``exc`` when it is the formula's budget running out (not one point's failure)."""
+    from mech.core import budget
+
+    if isinstance(exc, budget.OutOfBudget) and budget.remaining() <= 0:
+        raise exc
 
 
 def _verified_at(ex, ps: PointSet, i: int, name: str):
@@ -321,7 +364,8 @@ def _verified_at(ex, ps: PointSet, i: int, name: str):
             verify_diff = math.nan if q.verify_diff is None else q.verify_diff
             if _verified(q.verdict, verify_diff, q.numeric_err):
                 got = (float(q.numeric), float(q.numeric_err))
-    except Exception:  # a numeric failure there: no verified value, the point stays wrong
+    except Exception as exc:  # a numeric failure there: no verified value, the point stays wrong
+        _budget_out(exc)
         got = None
     ps.numeric[key] = got
     return got

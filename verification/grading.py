@@ -106,7 +106,7 @@ def _formula(ex: Exercise, name: str, text: str, parameters_only: bool = False, 
     except FormulaError as exc:
         if parameters_only:
             return None
-        raise BadInput(f"{name}: cannot use the formula '{_short(text)}': {exc}") from None
+        raise BadInput(f"{name}: cannot use the formula '{shown(text, 60)}': {exc}") from None
     if parameters_only and (not f.names or f.dim != dim_of_unit(unit)[1]):
         return None
     return Expectation(name, text, math.nan, formula=f)
@@ -130,11 +130,11 @@ def parse_count(text, what: str, lo: int, hi: int) -> int | None:
     if text is None:
         return None
     try:
-        value = int(str(text).strip()) if not isinstance(text, bool) else None
+        value = None if isinstance(text, bool) else text if isinstance(text, int) else int(str(text).strip()[:40])
     except ValueError:
         value = None
     if value is None or not lo <= value <= hi:
-        raise BadInput(f"{what}: cannot use '{text}': allowed a whole number in [{lo}, {hi}]")
+        raise BadInput(f"{what}: cannot use '{shown(text, 40)}': allowed a whole number in [{lo}, {hi}]")
     return value
 
 
@@ -435,7 +435,9 @@ def _formula_range(ex: Exercise, item: dict, expectations: list) -> list:
     if not any(e.formula is not None for e in expectations):
         raise BadInput(f"{next(k for k in ('points', 'seed', 'over') if k in item)}: only for formulas, and "
                        "this answer has none")
-    points = parse_count(item["points"], "points", 1, 10000) if "points" in item else None
+    from mech.verification.points import MAX_POINTS
+
+    points = parse_count(item["points"], "points", 1, MAX_POINTS) if "points" in item else None
     seed = parse_count(item["seed"], "seed", 0, 2**63 - 1) if "seed" in item else None
     over = item.get("over")
     if over is not None:
@@ -688,6 +690,7 @@ def _not_graded(entry: Entry, why: str):
 def _grade_one(entry: Entry, deadline: float, total_s: float, per_solve: float, solved: dict) -> None:
     """One entry, cross-checked and judged; whatever goes wrong in it (an overflow, a bug in mech) is
     this entry's verdict, never the rest of the class's."""
+    from mech.core import budget
     from mech.verification.answers import judge
     from mech.verification.crosscheck import cross_check
     from mech.verification.result import Failure
@@ -699,7 +702,9 @@ def _grade_one(entry: Entry, deadline: float, total_s: float, per_solve: float, 
         left = deadline - time.monotonic()
         if key in solved:
             result = solved[key]
-            entry.judgements = judge(result, entry.expectations)
+            left = max(deadline - time.monotonic(), 1e-3)
+            with budget.limit(left, what="grading (--budget gives it more)"):  # formulas too
+                entry.judgements = judge(result, entry.expectations)
         elif left <= 0.05:
             why = f"not graded: the total budget of {total_s:g} s ran out (--budget SECONDS gives it more)"
             result = cross_check(entry.exercise, params, methods=("analytic",), verify=False)
@@ -707,7 +712,9 @@ def _grade_one(entry: Entry, deadline: float, total_s: float, per_solve: float, 
             entry.judgements = _not_graded(entry, why)
         else:
             result = solved[key] = cross_check(entry.exercise, params, budget_s=min(per_solve, left))
-            entry.judgements = judge(result, entry.expectations)
+            left = max(deadline - time.monotonic(), 1e-3)
+            with budget.limit(left, what="grading (--budget gives it more)"):  # formulas too
+                entry.judgements = judge(result, entry.expectations)
         entry.result = result.with_expected(entry.judgements)
     except (BadInput, ArithmeticError, ValueError) as exc:  # this entry's numbers: its own verdict
         entry.result = None
