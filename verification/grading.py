@@ -231,8 +231,18 @@ class Entry:
     columns: list = field(default_factory=list)  # the outputs asked (answered or not), for the gradebook
 
     @property
+    def conclusion(self) -> bool | None:
+        """What the entry concludes, by the one overall rule (``judge.conclude``): False when it cannot be
+        read or an answer is wrong, None when nothing was judged (no verdict: every answer left empty),
+        else True."""
+        from mech.verification.judge import conclude, holds
+
+        return conclude((holds(None, j.match) for j in self.judgements), failed=self.invalid is not None)
+
+    @property
     def ok(self) -> bool:
-        return self.invalid is None and all(j.match for j in self.judgements)
+        """No failure: "no verdict" is none (as in ``mech solve``, ``sweep`` and ``check``)."""
+        return self.conclusion is not False
 
     @property
     def ex_id(self) -> str:
