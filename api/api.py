@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from mech.problems.spec import BadInput, NumericFailure
-from mech.verification.result import Quantity, Solution
+from mech.verification.result import Quantity, Solution, Trajectory  # the API's one motion type
 from mech.verification.sweep import Sweep
 
 __all__ = ["Quantity", "Solution", "Sweep", "Trajectory", "solve", "sweep", "check", "resolve_params"]
@@ -160,34 +160,6 @@ def _names(what: str, value) -> list[str]:
 
 
 # -- results ---------------------------------------------------------------------
-
-@dataclass
-class Trajectory:
-    """The motion the numeric route integrated: ``y[i]`` is state ``names[i]`` (in ``units[i]``) at times ``t``.
-
-    ``y`` has shape (n_states, n_times), as scipy's ``OdeResult``; ``t`` is increasing.
-    """
-
-    t: np.ndarray
-    y: np.ndarray
-    names: list[str]
-    units: list[str]
-
-    def to_csv(self, path) -> None:
-        """A header row ``t [s]`` then ``name [unit]`` per state, one row per time."""
-        import csv
-
-        from mech.core.safeio import atomic_write
-
-        with atomic_write(str(path), "--trajectory", newline="") as fh:
-            out = csv.writer(fh)
-            out.writerow(["t [s]"] + [f"{n} [{u}]" for n, u in zip(self.names, self.units)])
-            for k in range(self.t.size):
-                out.writerow([repr(float(self.t[k]))] + [repr(float(v)) for v in self.y[:, k]])
-
-    def __repr__(self) -> str:
-        return f"Trajectory({', '.join(self.names)}; {self.t.size} times from {self.t[0]:g} to {self.t[-1]:g} s)"
-
 
 def _trajectory(ex, run) -> Trajectory | None:
     """The scene's motion as the numeric route marked it (``run.motion``), in SI, legs joined in time."""

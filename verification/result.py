@@ -19,13 +19,16 @@ import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, Iterator
+from typing import TYPE_CHECKING, Any, Callable, Iterator
 
 from mech.problems.spec import Undefined
 from mech.verification.judge import Verdict, conclude, holds
 
-__all__ = ["Failure", "Quantity", "Solution", "FAILURE_KINDS", "SOLVER_FAILURES", "to_json", "to_text", "to_html",
-           "to_rich", "quantity_json"]
+if TYPE_CHECKING:
+    import numpy as np
+
+__all__ = ["Failure", "Quantity", "Solution", "Trajectory", "FAILURE_KINDS", "SOLVER_FAILURES", "to_json", "to_text",
+           "to_html", "to_rich", "quantity_json"]
 
 # what failed: a solver (analytic, numeric, the numeric rerun at rtol/10), an invariant's drift, a value
 # that is not finite or outside the floating-point range, an estimate (the analytic round-off, the theory's
@@ -169,6 +172,37 @@ def quantity_json(q: Quantity) -> dict:
     return d
 
 
+@dataclass
+class Trajectory:
+    """The motion the numeric route integrated: ``y[i]`` is state ``names[i]`` (in ``units[i]``) at times ``t``.
+
+    ``y`` has shape (n_states, n_times), as scipy's ``OdeResult``; ``t`` is increasing.  The one trajectory
+    type of the API (``mech.Trajectory``, ``Solution.trajectory``): the integrator's own result
+    (``solvers.numerics.ode.Trajectory``, one leg with its cost) is converted to it by ``mech.api``, in SI
+    with the legs joined, and never handed out.
+    """
+
+    t: np.ndarray
+    y: np.ndarray
+    names: list[str]
+    units: list[str]
+
+    def to_csv(self, path) -> None:
+        """A header row ``t [s]`` then ``name [unit]`` per state, one row per time."""
+        import csv
+
+        from mech.core.safeio import atomic_write
+
+        with atomic_write(str(path), "--trajectory", newline="") as fh:
+            out = csv.writer(fh)
+            out.writerow(["t [s]"] + [f"{n} [{u}]" for n, u in zip(self.names, self.units)])
+            for k in range(self.t.size):
+                out.writerow([repr(float(self.t[k]))] + [repr(float(v)) for v in self.y[:, k]])
+
+    def __repr__(self) -> str:
+        return f"Trajectory({', '.join(self.names)}; {self.t.size} times from {self.t[0]:g} to {self.t[-1]:g} s)"
+
+
 @dataclass(frozen=True, eq=False)
 class Solution(Mapping):
     """The cross-check of one exercise at one set of parameters: a read-only Mapping of output names to
@@ -189,7 +223,8 @@ class Solution(Mapping):
     run: Any = field(default=None, repr=False)  # the numeric solve's Run (its recorded integrations)
     expect_ok: bool | None = None
     expect_summary: str | None = None
-    trajectory_of: Any = field(default=None, repr=False)  # Solution -> its Trajectory (set by mech.api)
+    # Solution -> its Trajectory (set by mech.api, which reruns the numeric solve with its motion kept)
+    trajectory_of: Callable[[Solution], Trajectory | None] | None = field(default=None, repr=False)
 
     # -- the Mapping -----------------------------------------------------------------------------------
     def __getitem__(self, name: str) -> Quantity:
@@ -264,7 +299,7 @@ class Solution(Mapping):
         return to_rich(self)
 
     @functools.cached_property
-    def trajectory(self):
+    def trajectory(self) -> Trajectory | None:
         """The motion the numeric route integrates, in SI (None where it integrates none): computed on
         first use by ``trajectory_of`` (the API's, which reruns the numeric solve with its motion kept)."""
         return None if self.trajectory_of is None else self.trajectory_of(self)
