@@ -204,3 +204,14 @@ def test_sweep_results_plot(tmp_path):
     path = tmp_path / "sweep.png"
     fig = sw.plot(path)
     assert path.stat().st_size > 1000 and fig is not None
+
+
+def test_5_7_leading_order_third_harmonic_as_a_number_is_named():
+    """By hand at the defaults (omega0 = 2, alpha = 0.8, A = 0.5): Lindstedt's c3 = alpha A^3/(32 omega0^2)
+    = 0.1/128 = 7.8125e-4 m, which a student rounds to 7.81e-4; the exact c3 is some 3.7 % lower.  The
+    number is wrong (the exact value is asked for) and its hint names the declared approximation."""
+    sol = mech.solve("5.7", expect={"c3": "7.81e-4"})
+    e = sol["c3"].expected
+    assert e.match is False
+    assert "leading-order third harmonic" in e.hint
+    assert e.verdict.startswith("wrong")
