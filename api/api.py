@@ -18,7 +18,7 @@ import numpy as np
 
 from mech.problems.spec import BadInput, NumericFailure
 from mech.verification.result import Quantity, Solution, Trajectory  # the API's one motion type
-from mech.verification.sweep import Sweep
+from mech.studies.sweep import Sweep
 
 __all__ = ["Quantity", "Solution", "Sweep", "Trajectory", "solve", "sweep", "check", "resolve_params"]
 
@@ -272,7 +272,7 @@ def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float |
     result = result.replace(trajectory_of=functools.partial(_motion, deadline=deadline))
     if expectations is None:
         return result
-    from mech.verification import grading
+    from mech.students import grading
 
     # the formulas' points, references and judging share the solve's budget: what the cross-check left
     with budget.limit(max(deadline - time.monotonic(), 1e-3), what="the solve (MECH_BUDGET_S gives it more)"):
@@ -284,7 +284,7 @@ def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None, exp
     """``--expect NAME=VALUE`` texts (and ``--expect-rtol``) -> the judgements ``solve_resolved`` takes;
     ``expect_points``/``expect_seed``: how many parameter sets a formula is checked at, and their seed
     (``names``: how an error names them)."""
-    from mech.verification import grading
+    from mech.students import grading
 
     out = grading.parse_expect_options(ex, list(pairs), expect_rtol)
     points = grading.parse_count(expect_points, names[0], 1, MAX_EXPECT_POINTS)
@@ -294,7 +294,7 @@ def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None, exp
     return out
 
 
-from mech.verification.points import MAX_POINTS as MAX_EXPECT_POINTS  # noqa: E402  parameter sets a formula is checked at, at most
+from mech.students.points import MAX_POINTS as MAX_EXPECT_POINTS  # noqa: E402  parameter sets a formula is checked at, at most
 
 
 # -- sweep -----------------------------------------------------------------------
@@ -341,7 +341,7 @@ def _is_swept(spec) -> bool:
 def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, only=None, jobs=None,
           ranges: dict | None = None, budget=None) -> Sweep:
     from mech.problems import registry
-    from mech.verification.sweep import Axis, check_total
+    from mech.studies.sweep import Axis, check_total
 
     ex = _exercise(ex_id)
     _screen("method", method, "str")
@@ -419,7 +419,7 @@ class SweepPlan:
 def plan_sweep(ex, axes: list, fixed: dict, only=None) -> SweepPlan:
     """Every point validated (bounds and joint checks, ``BadInput`` naming the first bad one) before any
     solve; the batched route where the exercise has one for the outputs asked."""
-    from mech.verification.sweep import batched_outputs, validate, validate_grid
+    from mech.studies.sweep import batched_outputs, validate, validate_grid
 
     batched = batched_outputs(ex, only)
     if batched:
@@ -431,9 +431,9 @@ def plan_sweep(ex, axes: list, fixed: dict, only=None) -> SweepPlan:
 
 def run_sweep_plan(plan: SweepPlan, *, rtol: float | None = None, verify: bool = True, jobs: int | None = None,
                    progress=None, total_s: float | None = None):
-    """Run a planned sweep: ``progress(k)`` after every k-th point; returns ``verification.sweep``'s result.
+    """Run a planned sweep: ``progress(k)`` after every k-th point; returns ``studies.sweep``'s result.
     ``total_s``: the sweep's wall-clock budget (default 600 s), on either route."""
-    from mech.verification.sweep import run_batched, run_sweep
+    from mech.studies.sweep import run_batched, run_sweep
 
     if plan.batched:
         return run_batched(plan.exercise, plan.axes, plan.fixed, plan.batched, rtol=rtol, verify=verify,
@@ -467,7 +467,7 @@ def grade(path, budget=None, *, strict: bool = False, jobs: int | None = None, p
     wall-clock budget in seconds (``--budget``; default 600); ``strict``: BadInput for any entry that
     cannot be read, before anything is graded (else it is graded invalid); ``jobs``: processes;
     ``params``: a CSV's parameters from an assignment's template (``--params``)."""
-    from mech.verification.sweep import check_total
+    from mech.studies.sweep import check_total
 
     _screen("path", path, "path")
     _screen("budget", budget, "none", "number", "str")
@@ -482,13 +482,13 @@ def grade_report(path, total_s=None, *, strict: bool = False, jobs: int | None =
                  started: float | None = None):
     """The ``GradeReport`` of a grading file; ``started``: the ``time.perf_counter()`` the reported wall
     time counts from (default: now, reading the file included)."""
-    from mech.verification import grading
+    from mech.students import grading
 
     return grading.grade_file(path, total_s, strict=strict, jobs=jobs, params=params, started=started)
 
 
 def grade_entries(path, total_s=None) -> tuple[list, float]:
-    """Every answer of a grading file, judged (``verification.grading.Entry``), and the seconds it took;
+    """Every answer of a grading file, judged (``students.grading.Entry``), and the seconds it took;
     ``BadInput`` for a bad file, every fault at once (``BadFile.problems``, a line each).  ``total_s``: the
     grading's wall-clock budget (default 600 s); answers not reached by then fail, saying so."""
     report = grade_report(path, total_s, strict=True)
@@ -501,7 +501,7 @@ def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=N
     ``students``: a roster file's path or a list of identifiers; ``n``: s1 ... sN instead; ``over``:
     {name or "ID:name": "LO:HI"} or ["NAME=LO:HI", ...]; ``digits``: significant digits printed."""
     import mech
-    from mech.verification import assign as A
+    from mech.students import assign as A
 
     return A.assign(ids, seed=seed, out=out, students=students, n=n, over=over, digits=digits, jobs=jobs,
                     version=mech.__version__)
@@ -509,14 +509,14 @@ def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=N
 
 def grade_students(entries: list) -> list[dict]:
     """Per student named in a grading file (entries without a name under None): passed, failed, entries."""
-    from mech.verification import grading
+    from mech.students import grading
 
     return grading.per_student(entries)
 
 
 def grade_json(path, entries: list, seconds: float) -> dict:
     """The JSON report of judged grading entries (``mech grade --json``)."""
-    from mech.verification import grading
+    from mech.students import grading
 
     return grading.grade_json(str(path), entries, seconds)
 
@@ -553,7 +553,7 @@ def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **
 def bench_resolved(ex, params, *, methods=None, tols=None, **options) -> dict:
     """The bench at checked parameters (``mech bench``); ``BadInput`` for an exercise without a solver pair
     or an unknown method."""
-    from mech.verification import bench as benching
+    from mech.studies import bench as benching
 
     if not (ex.has_numeric and ex.has_analytic):
         raise BadInput(f"{ex.id} has no numeric and analytic solver pair to bench")
@@ -568,7 +568,7 @@ def bench_methods(ex, params, text: str) -> list[str]:
     name is ``BadInput`` with the nearest name and every known one."""
     import difflib
 
-    from mech.verification import bench as machinery
+    from mech.studies import bench as machinery
 
     names = list(dict.fromkeys(machinery.ODE_METHODS + machinery.OTHER_ODE + tuple(machinery.SYMPLECTIC)
                                + (machinery.STUDENT, machinery.DEFAULT_ROW)))
@@ -659,7 +659,7 @@ def plot_resolved(ex, params, path, *, generic: bool = False, vary: str | None =
 def check(ids=None, hard: bool = False, *, jobs: int | None = None, started=None, finished=None):
     """The report of ``mech check``.  ``started(case, n_cases)`` and ``finished(case)``, where given, are
     called around every case (a progress bar); ``jobs``: processes (None: decided by the number of cases)."""
-    from mech.verification.checking import run_check
+    from mech.studies.checking import run_check
     from mech.problems import registry
 
     if ids is not None and not _ARG_KINDS["names"](ids):
@@ -681,7 +681,7 @@ def check_against_baselines(ids=None, hard: bool = False, *, baseline: str | Non
     baseline file fails (``BadInput``) before any case runs; ``save_baseline`` records every checked value."""
     if not (baseline or save_baseline):
         return check(ids, hard, jobs=jobs, started=started, finished=finished), None
-    from mech.verification import grading
+    from mech.students import grading
 
     old = grading.open_baseline(baseline) if baseline else None
     report = check(ids, hard, jobs=jobs, started=started, finished=finished)

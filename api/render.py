@@ -184,7 +184,7 @@ def print_show(ex, from_book: bool | None = None) -> None:
 
 def case_params_text(ex, values: dict) -> str:
     """``theta0 = 1 deg, l = 2 m``: parameter values as people read them."""
-    from mech.verification.checking import case_text
+    from mech.studies.checking import case_text
 
     return case_text(ex, values)
 

@@ -1,6 +1,6 @@
 """``mech assign``: personal variants for a class, with their handout, answers template and key.
 
-The drawing and verifying is ``mech.verification.assign`` (through ``mech.api.assign``).
+The drawing and verifying is ``mech.students.assign`` (through ``mech.api.assign``).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""``mech bench ID``: speed against error of an exercise's numeric solver (machinery in mech.verification.bench)."""
+"""``mech bench ID``: speed against error of an exercise's numeric solver (machinery in mech.studies.bench)."""
 
 from __future__ import annotations
 

@@ -7,7 +7,7 @@ from xml.etree import ElementTree as ET
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # pragma: no cover
-    from mech.verification.checking import Report
+    from mech.studies.checking import Report
 
 __all__ = ["progress_bar", "write_junit", "check_apart"]
 

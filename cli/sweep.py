@@ -23,7 +23,7 @@ from mech.core.safeio import columns
 from mech.problems.values import convert, parse_rtol
 from mech.core.units import ValueError_, to_si
 from mech.problems.spec import BadInput, Exercise
-from mech.verification.sweep import describe_point
+from mech.studies.sweep import describe_point
 from mech.core.safeio import shown
 
 MAX_N = 10_000
@@ -31,7 +31,7 @@ MAX_N = 10_000
 
 def parse_range(ex: Exercise, name: str, text: str):
     """``START:STOP:N[:log]`` -> Axis; every value within the parameter's bounds."""
-    from mech.verification.sweep import Axis
+    from mech.studies.sweep import Axis
 
     param = ex.param_map[name]
     parts = [s.strip() for s in text.split(":")]
@@ -347,7 +347,7 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
         plan = api.plan_sweep(ex, axes, fixed, only)
         rtol = parse_rtol(rtol_text, ex)
         if total_s is not None:
-            from mech.verification.sweep import check_total
+            from mech.studies.sweep import check_total
 
             total_s = check_total(total_s)
     except BadInput as exc:

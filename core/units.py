@@ -1,7 +1,7 @@
 """Parse the values people type: ``90deg``, ``90 deg``, ``pi/3``, ``2.5 km``, ``3 m/s^2``, ``100 rpm``.
 
 The tokenizer and grammar here are the project's only ones: ``parse`` lends them to a student's formula
-(``verification.formula_ast`` gives the parts their meaning there: a tree to evaluate and dimension-check).
+(``students.formula_ast`` gives the parts their meaning there: a tree to evaluate and dimension-check).
 
 A value is arithmetic (``+ - * / ^ **``, parentheses, ``pi``) over numbers and
 units; a factor written next to a name or a parenthesis multiplies (``2pi``,
@@ -175,7 +175,7 @@ class _Parser:
         atom := number | name | function '(' expr (',' expr)* ')' | '(' expr ')'
 
     What the parts mean is the ``build``'s: a value's (``_Value``: a number with its dimension, computed as
-    it is read) or a formula's (a tree, ``verification.formula_ast``).  ``build.function(name)`` says whether
+    it is read) or a formula's (a tree, ``students.formula_ast``).  ``build.function(name)`` says whether
     a name is a function and its number of arguments.  ``max_depth`` bounds the nesting (None: the length of
     the text does)."""
 

@@ -121,7 +121,7 @@ def _overlays(ax, result, o, arr, Z, x, y, fx, fy, curves, y_name, diverging):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    from mech.verification.sweep import failure_kind
+    from mech.studies.sweep import failure_kind
 
     handles = []
     if x.size > 1 and y.size > 1:
@@ -155,7 +155,7 @@ def _overlays(ax, result, o, arr, Z, x, y, fx, fy, curves, y_name, diverging):
 
 
 def map_figure(result):
-    from mech.verification.sweep import boundary_curves, output_arrays
+    from mech.studies.sweep import boundary_curves, output_arrays
 
     ex = result.exercise
     ax_x, ax_y = result.axes

@@ -33,7 +33,7 @@ import numpy as np
 
 def chart(n: int):
     from mech.problems import registry
-    from mech.verification.sweep import Axis, run_batched
+    from mech.studies.sweep import Axis, run_batched
 
     ex = registry.get("5.11")
     axes = [Axis("omega", tuple(np.linspace(7.0, 13.0, n))), Axis("mu", tuple(np.linspace(0.005, 0.5, n)))]

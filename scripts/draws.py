@@ -4,10 +4,10 @@
 usage: python scripts/draws.py [--n N] [--seed S] [--timeout T] [--jobs J] [--markdown] [ID ...]
 
 For each exercise (or the named ones, by prefix: "4.2" takes 4.2 and every 4.2x), N parameter sets
-are drawn over the whole declared range (mech.verification.draws, kind "whole": log-uniform, open ends
+are drawn over the whole declared range (mech.studies.draws, kind "whole": log-uniform, open ends
 at 1e-6..1e6 times the default; a draw the joint constraints refuse is redrawn), and each is run as
 ``mech solve ID --json -p NAME=VALUE ...`` in a fresh process, killed after T seconds as a CI
-timeout would.  Each run is classified (mech.verification.extremes.classify, shared with
+timeout would.  Each run is classified (mech.studies.extremes.classify, shared with
 scripts/extremes.py):
 
   agree     exit 0 and every quantity agrees
@@ -89,7 +89,7 @@ def run_one(ex_id: str, given: dict, timeout: float) -> dict:
             pass
     detail = ""
     if kind is None:
-        from mech.verification.extremes import classify  # the one classification of a run
+        from mech.studies.extremes import classify  # the one classification of a run
 
         kind, detail = classify(proc.returncode, out, err)
     return {"id": ex_id, "given": given, "kind": kind, "seconds": seconds, "orphans": len(left), "detail": detail}
@@ -106,7 +106,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
 
     from mech.problems import registry
-    from mech.verification.draws import draws
+    from mech.studies.draws import draws
 
     exercises = [ex for i, ex in registry.all_exercises().items()
                  if not args.ids or any(i == p or i.startswith(p) for p in args.ids)]

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Every exercise at extreme inputs, run as a user would: each positive open-ended parameter at 1e-200 and
-1e+200 times its default, one at a time, then all together (mech.verification.extremes).
+1e+200 times its default, one at a time, then all together (mech.studies.extremes).
 
 usage: python scripts/extremes.py [--timeout T] [--jobs J] [--all] [ID ...]
 
@@ -29,7 +29,7 @@ def _mech_command() -> list[str]:
 
 
 def run_one(ex_id: str, label: str, given: dict, timeout: float) -> dict:
-    from mech.verification.extremes import classify
+    from mech.studies.extremes import classify
 
     cmd = _mech_command() + ["solve", ex_id, "--json"]
     for name, value in given.items():
@@ -55,7 +55,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
 
     from mech.problems import registry
-    from mech.verification.extremes import TIDY, extreme_points
+    from mech.studies.extremes import TIDY, extreme_points
 
     exercises = [ex for i, ex in registry.all_exercises().items()
                  if not args.ids or any(i == p or i.startswith(p + ".") or i == p for p in args.ids)]

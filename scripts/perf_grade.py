@@ -45,7 +45,7 @@ CASES = [
 
 def class_file(n: int, shared: bool, folder: Path) -> Path:
     from mech.problems import registry
-    from mech.verification.points import draw
+    from mech.students.points import draw
 
     rows: list[tuple[int, int, str]] = []
     for k, (ex_id, out, formula) in enumerate(CASES):

@@ -11,7 +11,7 @@ from click.testing import CliRunner
 
 from mech.cli.main import cli
 from mech.problems import registry
-from mech.verification.bench import STUDENT, bench, error_against, summarize
+from mech.studies.bench import STUDENT, bench, error_against, summarize
 
 POINT_KEYS = {"method", "rtol", "error", "time_s", "time_min_s", "time_max_s", "nfev", "ok"}
 
@@ -173,7 +173,7 @@ def test_probe_sees_whether_the_forced_integrator_ran(ex_id, applies):
     """The probe forces LSODA on the Run: an exercise that integrates (directly, through floquet, through the
     orbit continuation) reports it ran; a closed-form route (4.1: integrals over the mass) does not."""
     from mech.problems import registry
-    from mech.verification.bench import probe_route
+    from mech.studies.bench import probe_route
 
     ex = registry.get(ex_id)
     integrates, _ = probe_route(ex, ex.resolve({}))
@@ -185,7 +185,7 @@ def test_probe_sees_whether_the_forced_integrator_ran(ex_id, applies):
 def test_bench_result_is_typed_frozen_and_its_dict_is_the_json():
     import dataclasses
 
-    from mech.verification.bench import BenchResult
+    from mech.studies.bench import BenchResult
 
     ex = registry.get("4.15")
     r = bench(ex, methods=["DOP853"], tols=[1e-6], repeats=1, budget_s=1.0)

@@ -1,6 +1,6 @@
 """Every exercise cross-checked at parameters drawn across its bounds, not only its defaults.
 
-Two kinds of draw (mech.verification.draws): near the default (log-uniform within a factor 30,
+Two kinds of draw (mech.studies.draws): near the default (log-uniform within a factor 30,
 MECH_BOUNDS_POINTS per exercise, 2 by default) and across the whole declared range
 (MECH_BOUNDS_WHOLE_POINTS, 3 by default).  Joint constraints may refuse a draw, which is then
 redrawn.  The draws are seeded, so the test is deterministic; set MECH_BOUNDS_SEED and the two
@@ -11,9 +11,9 @@ import os
 
 import pytest
 
-from mech.verification.checking import Case, run_case
+from mech.studies.checking import Case, run_case
 from mech.problems import registry
-from mech.verification.draws import draws
+from mech.studies.draws import draws
 
 POINTS = int(os.environ.get("MECH_BOUNDS_POINTS", "2"))
 WHOLE_POINTS = int(os.environ.get("MECH_BOUNDS_WHOLE_POINTS", "3"))

@@ -18,7 +18,7 @@ from mech.problems.spec import NumericFailure
 from mech.solvers.numerics.batch import integrate_batch
 from mech.verification.crosscheck import cross_check
 from mech.solvers.mechanics.floquet import even_hill_half_batch
-from mech.verification.sweep import Axis, batched_points, grid_points, run_batched
+from mech.studies.sweep import Axis, batched_points, grid_points, run_batched
 
 BATCHED = [ex_id for ex_id, ex in registry.all_exercises().items() if ex.batched_route is not None]
 
@@ -276,7 +276,7 @@ def test_ctrl_c_ends_with_one_line_and_130(monkeypatch):
     """The second chunk is interrupted: exit 130, one line on stderr saying how far it got, nothing on stdout."""
     import dataclasses
 
-    import mech.verification.sweep as sweep
+    import mech.studies.sweep as sweep
 
     ex = registry.get("5.11")
     calls = []

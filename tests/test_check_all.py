@@ -5,7 +5,7 @@ Each case is its own test, so a failure names the exercise and the case.
 
 import pytest
 
-from mech.verification.checking import plan, run_case
+from mech.studies.checking import plan, run_case
 from mech.problems import registry
 
 CASES = plan(list(registry.all_exercises().values()), hard=True)

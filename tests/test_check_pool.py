@@ -6,7 +6,7 @@ import os
 import pytest
 from conftest import killed_leaves_nothing
 
-from mech.verification import checking
+from mech.studies import checking
 from mech.problems import registry
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "fork") or not os.path.isdir("/proc"),
@@ -58,7 +58,7 @@ def test_how_many_processes():
 
 _CHECK_THEN_HANG = """
 import os, sys, time
-from mech.verification import checking
+from mech.studies import checking
 from mech.problems import registry
 ex = registry.get("4.15")
 parent = os.getpid()

@@ -88,7 +88,7 @@ def test_unstable_slow_upright_rolling_is_reported():
 def test_issue_draws_earn_their_claims(draw):
     """Omega^2 = 4 g tan(theta)/(6 R - 5 r sin(theta)) and omega_spin = Omega R/r (the module
     docstring's torque balance, by hand); the cross-check with its rerun at rtol/10 must pass."""
-    from mech.verification.checking import Case, run_case
+    from mech.studies.checking import Case, run_case
     from mech.problems import registry
 
     d = draw
@@ -107,7 +107,7 @@ def test_upright_coin_on_a_huge_circle_falls_within_the_fit():
     Omega R = 6.0e-4 m/s is far below sqrt(g r) = 8.1e-3 m/s), the coin falls over within the fit's
     20 spin turns and its azimuth does not advance: the answer is the steady-state root, by hand
     Omega^2 = 4 g tan(theta)/(6 R - 5 r sin(theta)) (it used to fail "the axis does not turn")."""
-    from mech.verification.checking import Case, run_case
+    from mech.studies.checking import Case, run_case
     from mech.problems import registry
 
     d = dict(r=5.57175e-07, theta=5.45819e-07, R=0.00862358, g=116.477)

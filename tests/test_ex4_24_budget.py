@@ -16,7 +16,7 @@ DRAW = dict(M=0.6000231974089424, l=0.006956882923720818, I1=0.00106870546190895
 
 
 def test_weak_force_draw_within_budget():
-    from mech.verification.checking import Case, run_case
+    from mech.studies.checking import Case, run_case
     from mech.problems import registry
 
     case = run_case(Case(registry.all_exercises()["4.24"], "draw", DRAW))
@@ -100,7 +100,7 @@ def test_spin_of_1e19_nutation_periods_per_overturn_is_averaged():
     dict(M=847.533, l=37.1639, I1=3.27378e-05, I3=74.8502, omega_rot=2.7943e+08, F=46326.1, g=57038.5),
 ])
 def test_slow_overturn_draws_answer_and_earn_their_claim(draw):
-    from mech.verification.checking import Case, run_case
+    from mech.studies.checking import Case, run_case
     from mech.problems import registry
 
     case = run_case(Case(registry.all_exercises()["4.24"], "draw", draw))

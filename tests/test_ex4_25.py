@@ -111,7 +111,7 @@ def test_strong_spin_down_converges(draw):
     x = (theta0 - theta1) R/l, and the spin falls linearly: t_rise = (omega0 - omega_rise)/omega_dot,
     omega_dot = mu M g R/I3.  The numeric value must hold its 1e-8 claim at rtol 1e-10 and 1e-11
     and pass the cross-check with its rerun."""
-    from mech.verification.checking import Case, run_case
+    from mech.studies.checking import Case, run_case
     from mech.problems import registry
 
     d = draw

@@ -14,10 +14,10 @@ from types import SimpleNamespace
 import pytest
 from click.testing import CliRunner
 
-from mech.verification.grading import _literal_precision, parse_expectation
+from mech.students.grading import _literal_precision, parse_expectation
 from mech.cli.main import cli
 from mech.problems.spec import BadInput, Output, Undefined
-from mech.verification.answers import judge
+from mech.students.answers import judge
 from mech.verification.judge import Verdict
 from mech.verification.result import Quantity
 

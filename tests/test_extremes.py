@@ -1,7 +1,7 @@
 """Extreme inputs inside the declared bounds: every positive open-ended parameter at 1e-200 and 1e+200 times its
 default (one at a time, then all together), through the command line.  Each run must be tidy: an answer
 that agrees, a one-line refusal (exit 2), or a one-line loud failure (exit 1), never a disagreement, a
-warning on stderr, an internal error or a traceback (mech.verification.extremes.classify).
+warning on stderr, an internal error or a traceback (mech.studies.extremes.classify).
 
 The scale module is tested against values worked by hand: the dimensions of the catalogue's units, the
 exact power-of-two change of units, and the refusal of an answer whose SI size leaves 1e+-290.
@@ -17,7 +17,7 @@ from click.testing import CliRunner
 from mech.cli.main import cli
 from mech.problems import registry, scales
 from mech.problems.spec import BadInput
-from mech.verification.extremes import TIDY, classify, extreme_points
+from mech.studies.extremes import TIDY, classify, extreme_points
 
 # Untidy today, each a per-exercise numeric defect (a solve that loses a tiny or huge ratio), reported for
 # its own fix; strict, so that a fix is noticed.

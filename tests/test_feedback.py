@@ -15,8 +15,8 @@ import pytest
 import mech
 from mech.problems import registry
 from mech.problems.spec import BadInput
-from mech.verification import grading
-from mech.verification.answers import judge
+from mech.students import grading
+from mech.students.answers import judge
 from mech.verification.crosscheck import cross_check
 
 _RESULTS: dict = {}

@@ -18,8 +18,8 @@ from __future__ import annotations
 import pytest
 
 from mech.problems import registry
-from mech.verification import grading
-from mech.verification.answers import judge
+from mech.students import grading
+from mech.students.answers import judge
 from mech.verification.crosscheck import cross_check
 
 R = None  # a right answer

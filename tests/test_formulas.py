@@ -21,13 +21,13 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mech.verification import grading
+from mech.students import grading
 from mech.problems import registry
 from mech.problems.spec import BadInput
-from mech.verification import explain as X
-from mech.verification import formulas as F
-from mech.verification import points as P
-from mech.verification.formula_ast import (MAX_DEPTH, MAX_LENGTH, FormulaError, dim_text, parse_formula)
+from mech.students import explain as X
+from mech.students import formulas as F
+from mech.students import points as P
+from mech.students.formula_ast import (MAX_DEPTH, MAX_LENGTH, FormulaError, dim_text, parse_formula)
 
 EX = registry.get("4.15")
 
@@ -94,7 +94,7 @@ def test_one_tokenizer_and_grammar_read_values_and_formulas():
     import re as re_module
 
     from mech.core import units
-    from mech.verification import formula_ast
+    from mech.students import formula_ast
 
     source = inspect.getsource(formula_ast)
     assert "re.compile" not in source and "class _Parser" not in source and "def _tokens" not in source

@@ -17,9 +17,9 @@ from __future__ import annotations
 
 import pytest
 
-from mech.verification import grading
+from mech.students import grading
 from mech.problems import registry
-from mech.verification.answers import judge
+from mech.students.answers import judge
 from mech.verification.crosscheck import cross_check
 
 R = None  # right: no hint expected

@@ -123,7 +123,7 @@ def test_an_unreadable_file_is_exit_2(tmp_path):
 
 def test_an_internal_error_in_one_entry_is_that_entrys_verdict(tmp_path, monkeypatch):
     """A bug met while judging one entry (here forced) fails that entry, saying so; the others are graded."""
-    from mech.verification import answers
+    from mech.students import answers
 
     real = answers.judge
 
@@ -161,7 +161,7 @@ def test_an_empty_answer_is_not_graded(tmp_path):
 
 def test_the_api_report_is_typed_and_its_dict_is_the_json(tmp_path):
     import mech
-    from mech.verification.grading import GradeReport
+    from mech.students.grading import GradeReport
 
     path = class_file(tmp_path, n=3, bad_at=2)
     report = mech.grade(path)
@@ -188,7 +188,7 @@ def test_a_worker_that_dies_fails_its_entries_not_the_class(tmp_path, monkeypatc
     others keep their verdicts, and the report is written; never a traceback."""
     import os
 
-    from mech.verification import grading
+    from mech.students import grading
 
     parent = os.getpid()
     real = grading._grade_one

@@ -18,7 +18,7 @@ WRONG = "4*delta/omega0"
 
 def class_file(tmp_path, n=6):
     from mech.problems import registry
-    from mech.verification.points import draw
+    from mech.students.points import draw
 
     pts = draw(registry.get("5.11"), n, 3)
     parts = []
@@ -41,7 +41,7 @@ def verdicts(out):
 
 
 def test_batched_and_pooled_grading_give_the_verdicts_of_one_by_one(tmp_path, monkeypatch):
-    from mech.verification import grading
+    from mech.students import grading
 
     path = class_file(tmp_path)
     fast = CliRunner().invoke(cli, ["grade", str(path), "--json"])  # batched 5.11, pooled workers

@@ -464,7 +464,7 @@ def test_sweep_json_streams_its_points(tmp_path):
     import io
 
     from mech.problems import registry
-    from mech.verification.sweep import Axis, batched_outputs, run_batched
+    from mech.studies.sweep import Axis, batched_outputs, run_batched
 
     ex = registry.get("5.11")
     axes = [Axis("omega", (9.9, 10.0, 10.1), False), Axis("mu", (0.01, 0.05), False)]
@@ -485,7 +485,7 @@ def test_batched_sweep_json_memory_does_not_grow_with_the_points():
     import tracemalloc
 
     from mech.problems import registry
-    from mech.verification.sweep import Axis, batched_outputs, run_batched
+    from mech.studies.sweep import Axis, batched_outputs, run_batched
 
     class Null(io.TextIOBase):
         def write(self, text):
@@ -518,7 +518,7 @@ def test_a_log_sweep_over_600_decades():
 
 def test_sweep_total_budget_and_jobs_cap():
     from mech.problems import registry
-    from mech.verification.sweep import Axis, grid_points, run_sweep, usable_cores
+    from mech.studies.sweep import Axis, grid_points, run_sweep, usable_cores
 
     ex = registry.get("4.15")
     axes = [Axis("theta0", (0.2, 0.4, 0.6, 0.8), False)]
@@ -552,7 +552,7 @@ def test_batched_sweep_honours_its_total_budget():
     assert wall < 0.05 + 5.0  # the analytic side and the judge of 800 points, without any solve
 
     from mech.problems import registry
-    from mech.verification.sweep import Axis, batched_outputs, run_batched
+    from mech.studies.sweep import Axis, batched_outputs, run_batched
 
     ex = registry.get("5.11")
     omegas = tuple(9.9 + 0.3 * k / 399 for k in range(400))
@@ -581,8 +581,8 @@ def test_a_failed_100000_point_batched_sweep_in_bounded_memory():
 
 
 def test_check_jobs_capped_by_the_cores():
-    from mech.verification.checking import plan_jobs
-    from mech.verification.sweep import usable_cores
+    from mech.studies.checking import plan_jobs
+    from mech.studies.sweep import usable_cores
 
     assert plan_jobs(1000, 256) == min(256, usable_cores())
 

@@ -21,9 +21,9 @@ import numpy as np
 import pytest
 
 from mech.problems import registry
-from mech.verification import points as P
-from mech.verification.formula_ast import FormulaError, parse_formula
-from mech.verification.formulas import judge_formula
+from mech.students import points as P
+from mech.students.formula_ast import FormulaError, parse_formula
+from mech.students.formulas import judge_formula
 
 HERE = pathlib.Path(__file__).parent
 
@@ -146,7 +146,7 @@ def _printed_functions():
     that is not one of the exercise's parameters, symbols or outputs (a product such as ``M (a² + b²)``)."""
     import re
 
-    from mech.verification.formula_ast import parameter_symbols
+    from mech.students.formula_ast import parameter_symbols
 
     found = {}
     for ex in registry.all_exercises().values():
@@ -166,7 +166,7 @@ def _printed_functions():
 
 
 def test_every_function_of_the_printed_formulas_is_accepted():
-    from mech.verification.formula_ast import FUNCTIONS
+    from mech.students.formula_ast import FUNCTIONS
 
     found = _printed_functions()
     # the walk finds what the formulas print (checked by hand on mech show's formulas)
@@ -322,7 +322,7 @@ def test_a_wrong_dimension_draws_no_point(monkeypatch):
     monkeypatch.setattr(P, "draw", lambda *a, **k: calls.append(a) or [])
     ex = registry.get("4.15")
     out = ex.outputs[0]
-    from mech.verification import answers
+    from mech.students import answers
 
     f = parse_formula("l*theta0", ex)
     v = judge_formula(f, ex, out, lambda: P.point_set(ex, ex.resolve({}), 10000, 5), (0.7, 0.0), None)

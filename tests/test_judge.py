@@ -1,4 +1,4 @@
-"""The one judge (solvers/verification/judge.py) and the verdicts every caller draws from it.
+"""The one judge (verification/judge.py) and the verdicts every caller draws from it.
 
 Hand values: each element below is built so its verdict follows from the rule in the judge's docstring,
 |n - a| <= tol |a| + allowance + analytic_err, with tol = max(claim, neglect) for a leading-order value.
@@ -114,9 +114,9 @@ POINTS = [("5.11", {}, ()), ("5.11", {"delta": 0.001, "mu": 0.000404, "omega": 1
 def test_solve_check_sweeps_and_grade_give_the_same_verdicts(ex_id, given, outside, tmp_path):
     from mech import api
     from mech.problems import registry
-    from mech.verification.checking import Case, run_case
-    from mech.verification.grading import grade, load_answers
-    from mech.verification.sweep import Axis, run_sweep
+    from mech.studies.checking import Case, run_case
+    from mech.students.grading import grade, load_answers
+    from mech.studies.sweep import Axis, run_sweep
 
     ex = registry.get(ex_id)
     params = ex.resolve(given)
@@ -246,7 +246,7 @@ def test_an_expression_is_judged_to_its_least_precise_number():
 
 
 def test_an_expression_of_exact_numbers_stays_exact():
-    from mech.verification.grading import parse_expectation
+    from mech.students.grading import parse_expectation
     from mech.problems import registry
 
     ex = registry.get("4.15")

@@ -43,6 +43,24 @@ def test_the_linter_sees_a_broken_floor(tmp_path, monkeypatch):
     assert run.returncode != 0 and "mech.core.errors -> mech.cli.main" in run.stdout, run.stdout[-2000:]
 
 
+def test_the_judge_importing_a_room_above_it_breaks_a_contract(tmp_path):
+    """The verdict's room (mech.verification) imports neither a student's answers nor the studies: an import
+    of mech.studies.sweep planted in a copy of the judge breaks the contracts."""
+    sys.path.insert(0, str(ROOT / "scripts"))
+    try:
+        import lint_layers
+    finally:
+        sys.path.remove(str(ROOT / "scripts"))
+    tree = lint_layers.build_tree(tmp_path)
+    judge = tree / "mech" / "verification" / "judge.py"
+    judge.write_text(judge.read_text("utf-8") + "\nimport mech.studies.sweep\n", encoding="utf-8")
+    linter = Path(sys.executable).with_name("lint-imports")
+    run = subprocess.run([str(linter), str(ROOT / "pyproject.toml"), "--no-cache"], cwd=tree, capture_output=True,
+                         text=True, env={"PYTHONPATH": str(tree), "PATH": ""}, timeout=300)
+    assert run.returncode != 0 and "mech.verification.judge -> mech.studies.sweep" in run.stdout, run.stdout[-2000:]
+    assert "neither a student's answers nor the studies BROKEN" in run.stdout
+
+
 def test_no_one_outside_problems_reads_an_exercises_private_parts():
     """The exercise contract is its public methods (``analytic_solver``, ``constraint_message``, ...); no module
     outside problems/, tests included, reads an exercise's private solver, constraint or route attributes."""

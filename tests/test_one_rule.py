@@ -1,7 +1,7 @@
 """One rule decides every verdict: the allowance inequality is written in verification/judge.py only.
 
 The rule (``judge.within``): a distance is within ``rel |scale| + each error bar + round_off |scale| + own``.
-Every other module of the verdict floors (verification/, api/, cli/) calls it with what it holds a value
+Every other module of the verdict floors (verification/, students/, studies/, api/, cli/) calls it with what it holds a value
 to; this test reads their source for a comparison of a distance or of a tolerance sum written by hand.
 """
 
@@ -17,7 +17,7 @@ import pytest
 from mech.verification import judge as J
 
 ROOT = Path(__file__).resolve().parents[1]
-FLOORS = ("verification", "api", "cli")
+FLOORS = ("verification", "students", "studies", "api", "cli")
 
 # |x - y| compared with anything, or anything compared with a sum of tolerances and error bars
 DISTANCE = re.compile(r"abs\([^()#]*(\([^()]*\))?[^()#]*-[^()#]*\)\)?\s*(<=|<|>=|>)")
@@ -100,7 +100,7 @@ def test_no_verdict_is_no_failure_in_solve_and_check(capsys):
     from mech.render import print_check
     from mech.cli.main import cli
     from mech.problems import registry
-    from mech.verification import checking
+    from mech.studies import checking
 
     # solve with one method: nothing compared, exit 0
     r = CliRunner().invoke(cli, ["solve", "4.15", "--method", "analytic", "--json"])
@@ -131,7 +131,7 @@ def test_grade_and_solve_conclude_alike_on_no_verdict(tmp_path):
 
     from mech.cli.main import cli
     from mech.problems import registry
-    from mech.verification import grading
+    from mech.students import grading
     from mech.verification.crosscheck import cross_check
 
     ex = registry.get("4.15")

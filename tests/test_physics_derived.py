@@ -2,7 +2,7 @@
 from its declared physics (problems/chN/physicsN_M.py), against the module's hand-written right-hand side.
 
 For each exercise with a declaration: parameter sets drawn inside the bounds and the joint constraints
-(``verification.points.draw``, seeded) and the defaults; at each, states drawn around the motion's start
+(``students.points.draw``, seeded) and the defaults; at each, states drawn around the motion's start
 (``physics.draw_states``); the derived rates evaluated in mpmath at 40 digits (the mass matrix solved
 there), the hand-written ones in floats through the motion's maps to SI (``Motion.integrated``,
 ``Motion.states_rate``); block by block (rows sharing a unit), the worst difference against the block's
@@ -29,7 +29,7 @@ sympy = pytest.importorskip("sympy")
 
 from mech.problems import physics, registry  # noqa: E402
 from mech.problems.spec import Run  # noqa: E402
-from mech.verification.points import draw  # noqa: E402
+from mech.students.points import draw  # noqa: E402
 
 TOL = 1e-11
 N_PARAMS = 4  # drawn parameter sets, beside the defaults

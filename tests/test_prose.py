@@ -37,7 +37,7 @@ def _blocks() -> set[tuple[int, int, int]]:
 
 def _prose_files() -> list[Path]:
     files = [ROOT / "README.md", ROOT / "DEVELOPING.md", *sorted((ROOT / "docs").glob("*.md"))]
-    for folder in ("api", "cli", "core", "figures", "problems", "scripts", "solvers", "tests", "verification"):
+    for folder in ("api", "cli", "core", "figures", "problems", "scripts", "solvers", "studies", "students", "tests", "verification"):
         files += sorted((ROOT / folder).rglob("*.py"))
     return [f for f in files if f.is_file()]
 

@@ -66,7 +66,7 @@ def _pt(method, rtol, error, time_s, nfev):
 
 
 def test_bench_ranks_by_evaluations_and_by_time_separately():
-    from mech.verification.bench import summarize
+    from mech.studies.bench import summarize
 
     # 5.6 as measured: Yoshida6 reaches 1e-9 in 274 evaluations and 0.13 ms (a cheap Python loop),
     # DOP853 in 164 evaluations and 1.3 ms; per evaluation DOP853 is the better method

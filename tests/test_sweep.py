@@ -10,7 +10,7 @@ from click.testing import CliRunner
 
 from mech.cli.main import cli
 from mech.problems import registry
-from mech.verification.sweep import Axis, grid_points, plan_workers, run_sweep
+from mech.studies.sweep import Axis, grid_points, plan_workers, run_sweep
 
 
 def run(*args):

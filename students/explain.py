@@ -25,12 +25,12 @@ from fractions import Fraction
 import numpy as np
 
 from mech.problems.spec import Params
-from mech.verification.formula_ast import Formula, dim_of_unit
+from mech.students.formula_ast import Formula, dim_of_unit
 from mech.verification.judge import ROUND_OFF, allowance, within
 from mech.verification.judge import approximations as declared
-from mech.verification.points import (PointJudgement, PointSet, accept, depends, describe_point, judge_points,
+from mech.students.points import (PointJudgement, PointSet, accept, depends, describe_point, judge_points,
                                       line_of, make, problem_text, yours_at_given)
-from mech.verification.reference import Expectation, Reference, allowed, number
+from mech.students.reference import Expectation, Reference, allowed, number
 
 __all__ = ["GSlips", "approximations", "distance", "number_hint", "percent", "FormulaHint", "formula_hint", "dimension_hint"]
 

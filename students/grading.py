@@ -1,7 +1,7 @@
 """Checking your own answers: expected values (``--expect``), answers files (``mech grade FILE``) and
 ``mech check`` baselines, read and judged.
 
-Reading the files and values; the judging is ``mech.verification.answers``, the baseline comparison
+Reading the files and values; the judging is ``mech.students.answers``, the baseline comparison
 ``mech.verification.baseline``; printing them is ``mech.cli.grading``'s.
 """
 
@@ -49,7 +49,7 @@ def _unit_factor(text: str, toks: list[tuple[str, str]], i: int, unit: str) -> t
 
 def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = None) -> Expectation:
     """``theta_c``, ``35.26deg`` -> an Expectation in SI; BadInput naming the output otherwise."""
-    from mech.verification.answers import Expectation
+    from mech.students.answers import Expectation
 
     name = str(raw_name).strip().replace("-", "_")
     outputs = {o.name: o for o in ex.outputs}
@@ -93,8 +93,8 @@ def _formula(ex: Exercise, name: str, text: str, parameters_only: bool = False, 
     """An Expectation holding a formula when ``text`` is one (it names a parameter or a function), else
     None; BadInput (one line) when it is a formula mech cannot read.  ``parameters_only``: for a text that
     also reads as a number: a formula only if it names a parameter and has the dimension of ``unit``."""
-    from mech.verification.answers import Expectation
-    from mech.verification.formula_ast import (MAX_LENGTH, FormulaError, dim_of_unit, looks_like_formula,
+    from mech.students.answers import Expectation
+    from mech.students.formula_ast import (MAX_LENGTH, FormulaError, dim_of_unit, looks_like_formula,
                                                parse_formula)
 
     if len(text) > MAX_LENGTH:
@@ -142,7 +142,7 @@ def _expression_expectation(name: str, text: str, value: float, literals: list[s
     """An expression (``(9.81*0.866)^0.5``, ``2*pi/921.5``) is judged to the digits of its least precise
     number, relative: a whole number written without a point or an exponent (the 2 of ``2*pi``) and
     ``pi`` are exact, and an expression of exact numbers only is exact (no written tolerance)."""
-    from mech.verification.answers import Expectation
+    from mech.students.answers import Expectation
 
     worst = None  # (relative half unit, digits, literal) of the least precise number
     for lit in literals:
@@ -196,7 +196,7 @@ def parse_expect_options(ex: Exercise, pairs: list[str], rtol_text: str | None) 
 def attach(result, expectations: list[Expectation]):
     """The solution with every expectation judged on its quantity (``Quantity.expected``) and the summary
     line (``expect_summary``); ``.expect_ok`` says whether every expected value matches."""
-    from mech.verification.answers import judge
+    from mech.students.answers import judge
 
     return result.with_expected(judge(result, expectations))
 
@@ -471,14 +471,14 @@ def load_answers(path: str, strict: bool = True) -> list[Entry]:
 def _formula_range(ex: Exercise, item: dict, expectations: list) -> list:
     """An answer's optional ``points``, ``seed`` and ``over`` (the range its formulas are meant to hold
     in), given to its formula expectations; BadInput naming the field."""
-    from mech.verification.points import parse_over
+    from mech.students.points import parse_over
 
     if not any(k in item for k in ("points", "seed", "over")):
         return expectations
     if not any(e.formula is not None for e in expectations):
         raise BadInput(f"{next(k for k in ('points', 'seed', 'over') if k in item)}: only for formulas, and "
                        "this answer has none")
-    from mech.verification.points import MAX_POINTS
+    from mech.students.points import MAX_POINTS
 
     points = parse_count(item["points"], "points", 1, MAX_POINTS) if "points" in item else None
     seed = parse_count(item["seed"], "seed", 0, 2**63 - 1) if "seed" in item else None
@@ -723,7 +723,7 @@ def gradebook_csv(entries: list[Entry]) -> str:
 
 def _not_graded(entry: Entry, why: str):
     """Judgements saying why ``entry``'s answers were not graded (each wrong: mech has no verdict)."""
-    from mech.verification.answers import Judgement
+    from mech.students.answers import Judgement
 
     units = {o.name: o.unit for o in entry.exercise.outputs}
     return [Judgement(e.name, units.get(e.name, ""), e.text, e.value, False, None, verdict=why)
@@ -734,7 +734,7 @@ def _grade_one(entry: Entry, deadline: float, total_s: float, per_solve: float, 
     """One entry, cross-checked and judged; whatever goes wrong in it (an overflow, a bug in mech) is
     this entry's verdict, never the rest of the class's."""
     from mech.core import budget
-    from mech.verification.answers import judge
+    from mech.students.answers import judge
     from mech.verification.crosscheck import cross_check
     from mech.verification.result import Failure
 
@@ -815,8 +815,8 @@ def grade(entries: list[Entry], total_s: float | None = None, jobs: int | None =
     import threading
 
     from mech.core import budget
-    from mech.verification.checking import plan_jobs
-    from mech.verification.sweep import DEFAULT_TOTAL_S, check_total
+    from mech.studies.checking import plan_jobs
+    from mech.studies.sweep import DEFAULT_TOTAL_S, check_total
 
     total_s = DEFAULT_TOTAL_S if total_s is None else check_total(total_s)
     deadline = time.monotonic() + total_s
@@ -864,7 +864,7 @@ def _batched_solve(firsts: list[Entry], deadline: float) -> dict:
     (each variant is then cross-checked alone)."""
     import numpy as np
 
-    from mech.verification.sweep import iter_batched_solutions, run_batched
+    from mech.studies.sweep import iter_batched_solutions, run_batched
 
     out: dict = {}
     ex = firsts[0].exercise
@@ -889,7 +889,7 @@ def _grade_pooled(todo, groups, workers, deadline, total_s, per_solve, plan) -> 
     import os
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
-    from mech.verification.sweep import pool_worker_init
+    from mech.studies.sweep import pool_worker_init
 
     _POOL["args"] = (todo, deadline, total_s, per_solve)
     batched = {k for ks in plan.values() for k in ks}
@@ -984,7 +984,7 @@ def grade_json(path: str, entries: list[Entry], seconds: float) -> dict:
 
 @dataclass(frozen=True)
 class GradeReport:
-    """What ``mech grade`` found: every entry judged (``verification.grading.Entry``), the wall time it
+    """What ``mech grade`` found: every entry judged (``students.grading.Entry``), the wall time it
     took, and the totals.  ``to_dict()`` is ``mech grade --json``; ``report["ok"]`` reads it too."""
 
     file: str

@@ -30,7 +30,7 @@ import numpy as np
 from mech.core import budget
 from mech.core.safeio import shown
 from mech.problems.spec import BadInput, Params, Undefined
-from mech.verification.formula_ast import MAX_PREC, Formula, Problem
+from mech.students.formula_ast import MAX_PREC, Formula, Problem
 from mech.verification.judge import allowance, within
 
 __all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "MAX_POINTS", "CACHE_BYTES", "PointSet", "PointJudgement", "point_set", "draw", "ranges",

@@ -183,7 +183,7 @@ def plan_jobs(n_cases: int, jobs: int | None = None) -> int:
     Measured on a 2-core machine (``mech check --hard``, 162 cases): the cases one after the other, each
     with its rerun forked onto the second core, spend 3.4 s of CPU on the 162 forks alone; two workers,
     each running its cases' reruns after their solves, keep both cores busy with the work itself."""
-    from mech.verification.sweep import usable_cores
+    from mech.studies.sweep import usable_cores
 
     cores = usable_cores()
     if jobs is not None:  # never more than the cores: -j 256 on 2 cores only thrashes
@@ -207,7 +207,7 @@ def _run_pooled(cases: list[Case], workers: int, started, finished) -> None:
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    from mech.verification.sweep import pool_worker_init
+    from mech.studies.sweep import pool_worker_init
 
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
                                initializer=pool_worker_init, initargs=(os.getpid(),))

@@ -110,7 +110,7 @@ def read_roster(path: str) -> list[str]:
 
 
 def _check_roster(items: list[tuple[int, str]], name: str, what: str) -> list[str]:
-    from mech.verification.grading import MAX_STUDENT
+    from mech.students.grading import MAX_STUDENT
 
     out, seen = [], {}
     for i, s in items:
@@ -132,7 +132,7 @@ def _check_roster(items: list[tuple[int, str]], name: str, what: str) -> list[st
 def parse_overs(exercises: list, pairs: list[str]) -> dict:
     """``--over NAME=LO:HI`` (every exercise with that parameter) or ``--over ID:NAME=LO:HI`` (one) ->
     {exercise id: {name: (lo, hi)}} in SI; BadInput naming the option otherwise."""
-    from mech.verification.points import parse_over
+    from mech.students.points import parse_over
 
     out: dict = {ex.id: {} for ex in exercises}
     for pair in pairs:
@@ -225,8 +225,8 @@ def _record(result) -> dict | None:
 
 def _solve_all(todo: list[tuple[str, dict]], jobs: int | None) -> list:
     """Cross-check each (exercise id, SI params); the Solutions in order (pooled over the cores)."""
-    from mech.verification.checking import plan_jobs
-    from mech.verification.sweep import solve_point
+    from mech.studies.checking import plan_jobs
+    from mech.studies.sweep import solve_point
 
     workers = plan_jobs(len(todo), jobs)
     if workers <= 1:
@@ -235,7 +235,7 @@ def _solve_all(todo: list[tuple[str, dict]], jobs: int | None) -> list:
     import os
     from concurrent.futures import ProcessPoolExecutor
 
-    from mech.verification.sweep import pool_worker_init
+    from mech.studies.sweep import pool_worker_init
 
     with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
                              initializer=pool_worker_init, initargs=(os.getpid(),)) as pool:
@@ -246,7 +246,7 @@ def _solve_all(todo: list[tuple[str, dict]], jobs: int | None) -> list:
 def make(exercises: list, students: list[str], seed: int, overs: dict | None = None, digits: int = 3,
          jobs: int | None = None, version: str = "") -> Assignment:
     """Every student's verified variant of every exercise (see the module's docstring)."""
-    from mech.verification.points import draw
+    from mech.students.points import draw
 
     overs = overs or {}
     n = len(students)
@@ -312,7 +312,7 @@ def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=N
 
     from mech.core.safeio import atomic_write, check_apart, check_output, shown_path
     from mech.problems import registry
-    from mech.verification.grading import parse_count
+    from mech.students.grading import parse_count
 
     if isinstance(ids, str):
         ids = [ids]

@@ -35,11 +35,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mech.verification.explain import GSlips, approximations, distance, number_hint, percent
-from mech.verification.formulas import DEFAULT_POINTS, DEFAULT_SEED, judge_formula, known, point_set, show_value
+from mech.students.explain import GSlips, approximations, distance, number_hint, percent
+from mech.students.formulas import DEFAULT_POINTS, DEFAULT_SEED, judge_formula, known, point_set, show_value
 from mech.verification.judge import ROUND_OFF, numeric_err, within
-from mech.verification.points import in_over
-from mech.verification.reference import Expectation, Reference, allowed, reference
+from mech.students.points import in_over
+from mech.students.reference import Expectation, Reference, allowed, reference
 
 __all__ = ["Expectation", "Judgement", "judge", "numeric_err", "ROUND_OFF"]
 

@@ -26,10 +26,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mech.verification.explain import dimension_hint, formula_hint
-from mech.verification.formula_ast import Formula, dim_of_unit, dim_text
+from mech.students.explain import dimension_hint, formula_hint
+from mech.students.formula_ast import Formula, dim_of_unit, dim_text
 from mech.verification.judge import Verdict, judge, within
-from mech.verification.points import (DEFAULT_POINTS, DEFAULT_SEED, PointJudgement, PointSet, describe_point,
+from mech.students.points import (DEFAULT_POINTS, DEFAULT_SEED, PointJudgement, PointSet, describe_point,
                                       judge_points, parse_over, point_set)
 
 __all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "FORMULA_RTOL", "PointSet", "point_set", "judge_formula",
