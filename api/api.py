@@ -234,8 +234,8 @@ def _expectations(ex, expect: dict | None, expect_rtol, expect_points=None, expe
     outputs = [o.name for o in ex.outputs]
     for name, value in expect.items():
         if not isinstance(name, str) or name.strip().replace("-", "_") not in outputs:
-            raise BadInput(f"expect: {_shown(name)} is not an output of {ex.id}; its outputs are: "
-                           f"{', '.join(outputs)}")
+            key = f'expect["{_shown(name)}"]' if isinstance(name, str) else f"expect[{_shown(name)}]"
+            raise BadInput(f"{key}: not an output of {ex.id}; its outputs are: {', '.join(outputs)}")
         _screen(f"expect[{name!r}]", value, "number", "str")
     pairs = [f"{name}={_value_text(value)}" for name, value in expect.items()]
     try:

@@ -208,8 +208,9 @@ def judge_expectation(result, e, q, ref):
     ex, given = result.exercise, result.params
     output = {o.name: o for o in ex.outputs}[e.name]
     over = dict(e.over) if e.over else None
-    def ps():  # drawn once the dimension is found right (``judge_formula``)
-        return point_set(ex, given, e.points if e.points is not None else DEFAULT_POINTS,
+    def ps(at_most=None):  # drawn once the dimension is found right (``judge_formula``), or, at most
+        n = e.points if e.points is not None else DEFAULT_POINTS  # ``at_most``, to name a dimension's slip
+        return point_set(ex, given, n if at_most is None else min(n, at_most),
                          e.seed if e.seed is not None else DEFAULT_SEED, over, known(result))
 
     lead = output.theory != "exact"

@@ -32,7 +32,8 @@ from mech.students.points import (PointJudgement, PointSet, accept, depends, des
                                       line_of, make, problem_text, yours_at_given)
 from mech.students.reference import Expectation, Reference, allowed, number
 
-__all__ = ["GSlips", "approximations", "distance", "number_hint", "percent", "FormulaHint", "formula_hint", "dimension_hint"]
+__all__ = ["GSlips", "approximations", "distance", "number_hint", "percent", "FormulaHint", "formula_hint", "dimension_hint",
+           "dimension_could_be_a_slip"]
 
 
 # -- a number -------------------------------------------------------------------------------------------
@@ -518,6 +519,19 @@ def _dimension_power(formula_dim, out_dim, param_dim) -> Fraction | None:
         return None
     k = ks.pop()
     return k if k != 0 else None
+
+
+def dimension_could_be_a_slip(formula: Formula, output, params) -> bool:
+    """Whether the dimensions alone leave one of ``dimension_hint``'s slips possible (no point needed): the
+    formula has the dimension of the output squared or of its square root, or differs from it by a power
+    of one parameter's dimension (``params``: the exercise's)."""
+    if formula.dim is None:
+        return False
+    _, out_dim = dim_of_unit(output.unit)
+    if formula.dim in (tuple(2 * x for x in out_dim), tuple(x / 2 for x in out_dim)):
+        return True
+    return any(_dimension_power(formula.dim, out_dim, dim_of_unit(p.unit)[1]) is not None
+               for p in params)
 
 
 def dimension_hint(formula: Formula, ps: PointSet, output, rtol: float) -> str | None:

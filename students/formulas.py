@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mech.students.explain import dimension_hint, formula_hint
+from mech.students.explain import dimension_could_be_a_slip, dimension_hint, formula_hint
 from mech.students.formula_ast import Formula, dim_of_unit, dim_text
 from mech.verification.judge import Verdict, judge, within
 from mech.students.points import (DEFAULT_POINTS, DEFAULT_SEED, PointJudgement, PointSet, describe_point,
@@ -100,8 +100,7 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
         if formula.dim is None:
             dimension["error"] = formula.dim_error
         else:  # a slip that explains the dimension, when it reproduces the formula at every point
-            with np.errstate(all="ignore"):
-                slip = dimension_hint(formula, ps, output, FORMULA_RTOL if rtol is None else rtol)
+            slip = _dimension_slip(formula, ex, output, ps, FORMULA_RTOL if rtol is None else rtol)
             if slip:
                 why = f"{why}: {slip}"
         return FormulaVerdict(False, f"wrong dimension: {why}", why, math.nan, None, None, None,
@@ -121,6 +120,24 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
     except MemoryError:
         return FormulaVerdict(False, "not graded: too many points for the memory at hand (ask for fewer points)",
                               None, math.nan, None, None, None, points={"checked": 0, "right": 0}, **base)
+
+
+def _dimension_slip(formula: Formula, ex, output, ps, rtol: float) -> str | None:
+    """The slip that explains a wrong dimension (a square, a square root, a parameter left out), checked at
+    points drawn only when the dimensions leave such a slip possible (``explain.dimension_could_be_a_slip``),
+    at most ``DEFAULT_POINTS`` of them whatever the entry asked for, and within the budget: a formula of the
+    wrong dimension never pays for the points its right-dimension check would draw."""
+    from mech.core import budget
+
+    if not dimension_could_be_a_slip(formula, output, ex.params):
+        return None
+    try:
+        with budget.limit(budget.default_seconds(), what="naming the slip behind the dimension"), \
+                np.errstate(all="ignore"):
+            points = ps(DEFAULT_POINTS) if callable(ps) else ps
+            return dimension_hint(formula, points, output, rtol)
+    except (budget.OutOfBudget, MemoryError):
+        return None
 
 
 def _not_graded(exc, **base) -> FormulaVerdict:

@@ -324,10 +324,26 @@ def test_a_wrong_dimension_draws_no_point(monkeypatch):
     out = ex.outputs[0]
     from mech.students import answers
 
-    f = parse_formula("l*theta0", ex)
+    # m^3/s^2 for an angle: no square, square root or parameter left out explains it, so no point is drawn
+    f = parse_formula("l^2*g", ex)
     v = judge_formula(f, ex, out, lambda: P.point_set(ex, ex.resolve({}), 10000, 5), (0.7, 0.0), None)
     assert v.verdict.startswith("wrong dimension") and not calls
     assert answers  # the answers judge hands the point set over the same way (a callable)
+
+
+def test_a_wrong_dimension_names_its_slip_at_no_more_than_the_default_points():
+    """l*theta0 for an angle could be an l too many: that slip is tried at the default number of points,
+    never the 10000 the entry asked for."""
+    asked = []
+    ex = registry.get("4.15")
+
+    def ps(at_most=None):
+        asked.append(at_most)
+        return P.point_set(ex, ex.resolve({}), 10000 if at_most is None else min(10000, at_most), 5)
+
+    v = judge_formula(parse_formula("l*theta0", ex), ex, ex.outputs[0], ps, (0.7, 0.0), None)
+    assert v.verdict.startswith("wrong dimension")
+    assert asked == [P.DEFAULT_POINTS]
 
 
 def test_cache_is_bounded_in_bytes():
