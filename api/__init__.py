@@ -49,13 +49,23 @@ def exercises(chapter: int | None = None) -> list:
     """Every registered exercise (id, title, topic, methods, from_book), without importing any."""
     from mech.problems import registry
 
-    return [e for e in registry.index() if chapter is None or e.chapter == int(chapter)]
+    if chapter is not None and (isinstance(chapter, bool) or not isinstance(chapter, int) or chapter not in (4, 5)):
+        from mech.core.errors import BadInput
+        from mech.core.safeio import shown
+
+        raise BadInput(f"chapter: give 4 or 5 (or None), got {shown(chapter)}")
+    return [e for e in registry.index() if chapter is None or e.chapter == chapter]
 
 
 def exercise(ex_id: str):
     """One exercise: ``.id .title .statement .model .params .outputs .formulas .hard_cases``."""
     from mech.problems import registry
 
+    if not isinstance(ex_id, str) and not (isinstance(ex_id, (int, float)) and abs(ex_id) < 1e6):
+        from mech.core.errors import BadInput
+        from mech.core.safeio import shown
+
+        raise BadInput(f"exercise id: give a string such as '4.15', got {type(ex_id).__name__} {shown(ex_id)}")
     return registry.get(ex_id)
 
 
@@ -143,6 +153,13 @@ def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = Non
 
 
 def __getattr__(name: str):
+    if name == "__version__":  # the installed distribution's version, read when asked
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:
+            return version("mech-likharev")
+        except PackageNotFoundError:
+            return "unknown"
     if name in ("Solution", "Sweep", "Trajectory", "Quantity"):
         from mech import api
 

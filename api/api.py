@@ -8,6 +8,7 @@ as a ``Trajectory``.  A ``Sweep`` is many of them over a range or a grid.
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from dataclasses import dataclass
@@ -16,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from mech.problems.spec import BadInput, NumericFailure
-from mech.verification.result import Quantity, Solution
+from mech.verification.result import Quantity, Solution, Trajectory  # the API's one motion type
 from mech.verification.sweep import Sweep
 
 __all__ = ["Quantity", "Solution", "Sweep", "Trajectory", "solve", "sweep", "check", "resolve_params"]
@@ -29,8 +30,12 @@ def _value_text(value: Any) -> str:
     if isinstance(value, str):
         return value
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise BadInput(f"cannot use {value!r}: give a number (SI) or a string with a unit, e.g. '60deg'")
-    return repr(float(value))
+        raise BadInput(f"cannot use {_shown(_kind(value))} {_shown(value)}: give a number (SI) or a string with "
+                       "a unit, e.g. '60deg'")
+    try:
+        return repr(float(value))
+    except OverflowError:
+        raise BadInput(f"cannot use {_shown(value)}: beyond the floating-point range") from None
 
 
 def _convert(ex, name: str, value: Any) -> float:
@@ -75,11 +80,65 @@ def _shown(value) -> str:
     return shown(value)
 
 
+def _kind(value) -> str:
+    return "None" if value is None else type(value).__name__
+
+
+_ARG_KINDS = {
+    "none": lambda v: v is None,
+    "str": lambda v: isinstance(v, str),
+    "number": lambda v: isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, (bool, np.bool_)),
+    "bool": lambda v: isinstance(v, (bool, np.bool_)),
+    "int": lambda v: isinstance(v, (int, np.integer)) and not isinstance(v, (bool, np.bool_)),
+    "dict": lambda v: isinstance(v, dict),
+    "names": lambda v: isinstance(v, str) or (isinstance(v, (list, tuple)) and all(isinstance(x, str) for x in v)),
+    "path": lambda v: isinstance(v, str) or hasattr(v, "__fspath__"),
+    "numbers": lambda v: isinstance(v, (list, tuple, np.ndarray)),
+}
+_KIND_TEXT = {"none": "None", "str": "a string", "number": "a number", "bool": "True or False",
+              "int": "a whole number", "dict": "a dict", "names": "a name or a list of names",
+              "path": "a file name", "numbers": "a list of numbers"}
+
+
+def _screen(name: str, value, *kinds: str):
+    """An API argument of one of ``kinds``, checked before anything is done with it; BadInput naming it
+    (the value shown escaped and cut) otherwise: a number beyond the floating-point range or not finite,
+    a string with a NUL (a file name), a wrong type.  Returns the value."""
+    if not any(_ARG_KINDS[k](value) for k in kinds):
+        raise BadInput(f"{name}: give {' or '.join(_KIND_TEXT[k] for k in kinds)}, got {_kind(value)} "
+                       f"{_shown(value)}")
+    if _ARG_KINDS["number"](value):
+        try:
+            finite = math.isfinite(float(value))
+        except OverflowError:
+            finite = False
+        if not finite:
+            raise BadInput(f"{name}: {_shown(value)} is not a finite number in the floating-point range")
+    if isinstance(value, str) and "path" in kinds and "\x00" in value:
+        raise BadInput(f"{name}: {_shown(value)}: a file name with a NUL character")
+    return value
+
+
+def _exercise(ex_id):
+    """The exercise of an API id: a string (a number, such as 4.15, gets the message asking to quote it)."""
+    from mech.problems import registry
+
+    if _ARG_KINDS["number"](ex_id) and abs(ex_id) < 1e6:
+        return registry.get(ex_id)
+    return registry.get(_screen("exercise id", ex_id, "str"))
+
+
+def _screen_params(params: dict) -> dict:
+    for k, v in params.items():
+        _screen(_shown(k), v, "number", "str")
+    return params
+
+
 def _flag(name: str, value) -> bool:
     """A True/False argument: a bool (numpy's too), never a string such as 'no' that would read as True."""
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
-    raise BadInput(f"{name}: give True or False, got {type(value).__name__} {_shown(repr(value))}")
+    raise BadInput(f"{name}: give True or False, got {_kind(value)} {_shown(value)}")
 
 
 def _jobs(jobs):
@@ -87,7 +146,7 @@ def _jobs(jobs):
     if jobs is None:
         return None
     if isinstance(jobs, bool) or not isinstance(jobs, (int, np.integer)) or jobs < 1:
-        raise BadInput(f"jobs: give a whole number of processes, at least 1 (or None), got {_shown(repr(jobs))}")
+        raise BadInput(f"jobs: give a whole number of processes, at least 1 (or None), got {_shown(jobs)}")
     return int(jobs)
 
 
@@ -97,38 +156,10 @@ def _names(what: str, value) -> list[str]:
         return [value]
     if isinstance(value, (list, tuple)) and all(isinstance(v, str) for v in value):
         return list(value)
-    raise BadInput(f"{what}: give a name or a list of names, got {_shown(repr(value))}")
+    raise BadInput(f"{what}: give a name or a list of names, got {_kind(value)} {_shown(value)}")
 
 
 # -- results ---------------------------------------------------------------------
-
-@dataclass
-class Trajectory:
-    """The motion the numeric route integrated: ``y[i]`` is state ``names[i]`` (in ``units[i]``) at times ``t``.
-
-    ``y`` has shape (n_states, n_times), as scipy's ``OdeResult``; ``t`` is increasing.
-    """
-
-    t: np.ndarray
-    y: np.ndarray
-    names: list[str]
-    units: list[str]
-
-    def to_csv(self, path) -> None:
-        """A header row ``t [s]`` then ``name [unit]`` per state, one row per time."""
-        import csv
-
-        from mech.core.safeio import atomic_write
-
-        with atomic_write(str(path), "--trajectory", newline="") as fh:
-            out = csv.writer(fh)
-            out.writerow(["t [s]"] + [f"{n} [{u}]" for n, u in zip(self.names, self.units)])
-            for k in range(self.t.size):
-                out.writerow([repr(float(self.t[k]))] + [repr(float(v)) for v in self.y[:, k]])
-
-    def __repr__(self) -> str:
-        return f"Trajectory({', '.join(self.names)}; {self.t.size} times from {self.t[0]:g} to {self.t[-1]:g} s)"
-
 
 def _trajectory(ex, run) -> Trajectory | None:
     """The scene's motion as the numeric route marked it (``run.motion``), in SI, legs joined in time."""
@@ -173,10 +204,14 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
           expect_seed=None) -> Solution:
     from mech.problems import registry
 
-    ex = registry.get(ex_id)
+    ex = _exercise(ex_id)
+    _screen("method", method, "str")
+    _screen("rtol", rtol, "none", "number", "str")
+    _screen("expect", expect, "none", "dict")
+    _screen("expect_rtol", expect_rtol, "none", "number", "str")
     verify = _flag("verify", verify)
     raise_on_failure = _flag("raise_on_failure", raise_on_failure)
-    resolved = resolve_params(ex, dict(params or {}))
+    resolved = resolve_params(ex, _screen_params(dict(params or {})))
     expectations = _expectations(ex, expect, expect_rtol, expect_points, expect_seed)
     sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify,
                          expectations=expectations)
@@ -196,9 +231,27 @@ def _expectations(ex, expect: dict | None, expect_rtol, expect_points=None, expe
         if expect_points is not None or expect_seed is not None:
             raise BadInput("expect_points/expect_seed: given without any formula in expect")
         return None
+    outputs = [o.name for o in ex.outputs]
+    for name, value in expect.items():
+        if not isinstance(name, str) or name.strip().replace("-", "_") not in outputs:
+            key = f'expect["{_shown(name)}"]' if isinstance(name, str) else f"expect[{_shown(name)}]"
+            raise BadInput(f"{key}: not an output of {ex.id}; its outputs are: {', '.join(outputs)}")
+        _screen(f"expect[{name!r}]", value, "number", "str")
     pairs = [f"{name}={_value_text(value)}" for name, value in expect.items()]
-    return parse_expectations(ex, pairs, None if expect_rtol is None else _value_text(expect_rtol),
-                              expect_points, expect_seed, names=("expect_points", "expect_seed"))
+    try:
+        return parse_expectations(ex, pairs, None if expect_rtol is None else _value_text(expect_rtol),
+                                  expect_points, expect_seed, names=("expect_points", "expect_seed"))
+    except BadInput as exc:  # named as the API names them: the keyword, not the command-line flag
+        raise BadInput(_api_words(str(exc))) from None
+
+
+def _api_words(message: str) -> str:
+    """``--expect theta_c: ...`` -> ``expect["theta_c"]: ...``; ``--expect-rtol`` -> ``expect_rtol``."""
+    import re
+
+    message = message.replace("--expect-rtol", "expect_rtol")
+    message = re.sub(r"^--expect ([A-Za-z_][A-Za-z0-9_]*):", r'expect["\1"]:', message)
+    return message.replace("--expect NAME=VALUE", "expect={NAME: VALUE}").replace("--expect", "expect=")
 
 
 def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float | None = None,
@@ -221,7 +274,9 @@ def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float |
         return result
     from mech.verification import grading
 
-    return grading.attach(result, expectations)
+    # the formulas' points, references and judging share the solve's budget: what the cross-check left
+    with budget.limit(max(deadline - time.monotonic(), 1e-3), what="the solve (MECH_BUDGET_S gives it more)"):
+        return grading.attach(result, expectations)
 
 
 def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None, expect_points=None,
@@ -239,7 +294,7 @@ def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None, exp
     return out
 
 
-MAX_EXPECT_POINTS = 10_000  # parameter sets a formula is checked at, at most
+from mech.verification.points import MAX_POINTS as MAX_EXPECT_POINTS  # noqa: E402  parameter sets a formula is checked at, at most
 
 
 # -- sweep -----------------------------------------------------------------------
@@ -288,7 +343,16 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     from mech.problems import registry
     from mech.verification.sweep import Axis, check_total
 
-    ex = registry.get(ex_id)
+    ex = _exercise(ex_id)
+    _screen("method", method, "str")
+    _screen("rtol", rtol, "none", "number", "str")
+    _screen("only", only, "none", "names")
+    _screen("budget", budget, "none", "number", "str")
+    for k, v in dict(ranges or {}).items():
+        _screen(_shown(k), v, "number", "str", "numbers")
+        if isinstance(v, (list, tuple, np.ndarray)):
+            for x in v:
+                _screen(_shown(k), x, "number", "str")
     verify = _flag("verify", verify)
     jobs = _jobs(jobs)
     total_s = None if budget is None else check_total(budget, "budget")
@@ -321,7 +385,21 @@ def sweep(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, o
     result = run_sweep_plan(plan_sweep(ex, axes, fixed, wanted), rtol=rtol_value, verify=verify, jobs=jobs,
                             total_s=total_s)
     result.solutions()  # ``.points``: one typed Solution per point, on either route
+    # ``.plot(path=None)``: the figure ``mech sweep --plot`` draws (figures sit above verification's floor)
+    result.plot = functools.partial(plot_sweep, result)
     return result
+
+
+def plot_sweep(result, path=None):
+    """A sweep's figure, as ``mech sweep --plot`` draws it (needs matplotlib): the outputs against the first
+    swept parameter, or a map over two; returns the matplotlib Figure, saved to ``path`` if given."""
+    from mech.figures.common import save
+    from mech.figures.sweepfig import sweep_figure
+
+    fig = sweep_figure(result)
+    if path is not None:
+        save(fig, str(path))
+    return fig
 
 
 @dataclass(frozen=True)
@@ -391,6 +469,11 @@ def grade(path, budget=None, *, strict: bool = False, jobs: int | None = None, p
     ``params``: a CSV's parameters from an assignment's template (``--params``)."""
     from mech.verification.sweep import check_total
 
+    _screen("path", path, "path")
+    _screen("budget", budget, "none", "number", "str")
+    _screen("params", params, "none", "path")
+    strict = _flag("strict", strict)
+    jobs = _jobs(jobs)
     return grade_report(path, None if budget is None else check_total(budget, "budget"), strict=strict,
                         jobs=jobs, params=params)
 
@@ -442,15 +525,26 @@ def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **
     """``mech bench ID --json``: speed against error of the numeric solver(s)."""
     from mech.problems import registry
 
-    ex = registry.get(ex_id)
-    resolved = resolve_params(ex, dict(params or {}))
+    ex = _exercise(ex_id)
+    _screen("methods", methods, "none", "names")
+    _screen("tols", tols, "none", "number", "numbers")
+    for k in ("repeats",):
+        if k in options:
+            _screen(k, options[k], "int")
+            if not 1 <= options[k] <= 1000:
+                raise BadInput(f"{k}: {_shown(options[k])}: allowed a whole number in [1, 1000]")
+    if "max_seconds" in options:
+        _screen("max_seconds", options["max_seconds"], "number")
+        if not 0 < options["max_seconds"] <= 3600:
+            raise BadInput(f"max_seconds: {_shown(options['max_seconds'])}: allowed (0, 3600]")
+    resolved = resolve_params(ex, _screen_params(dict(params or {})))
     if methods is not None:
         methods = _names("methods", [m.strip() for m in methods.split(",")] if isinstance(methods, str) else methods)
     if tols is not None:
         try:
             tols = [float(t) for t in ([tols] if isinstance(tols, (int, float)) else tols)]
-        except (TypeError, ValueError):
-            raise BadInput(f"tols: give a list of tolerances such as [1e-6, 1e-9], got {_shown(repr(tols))}") from None
+        except (TypeError, ValueError, OverflowError):
+            raise BadInput(f"tols: give a list of tolerances such as [1e-6, 1e-9], got {_shown(tols)}") from None
         if not tols or not all(0 < t < 1 for t in tols):
             raise BadInput(f"tols: every tolerance must be in (0, 1), got {_shown(tols)}")
     return bench_resolved(ex, resolved, methods=methods, tols=tols, **options)
@@ -511,8 +605,19 @@ def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = Non
     from mech.figures.common import need_matplotlib, save
     from mech.problems import registry
 
-    ex = registry.get(ex_id)
-    resolved = resolve_params(ex, dict(params or {}))
+    ex = _exercise(ex_id)
+    _screen("path", path, "none", "path")
+    _screen("vary", vary, "none", "str")
+    generic = _flag("generic", generic)
+    resolved = resolve_params(ex, _screen_params(dict(params or {})))
+    if path is not None:
+        from mech.core.errors import BadUsage
+        from mech.figures.common import check_target
+
+        try:
+            check_target(str(path))
+        except BadUsage as exc:
+            raise BadInput(str(exc)) from None
     if vary is not None:
         if not isinstance(vary, str) or vary.replace("-", "_") not in ex.param_map:
             raise BadInput(f"vary: '{_shown(vary)}' is not a parameter of {ex.id}; its parameters are: "
@@ -557,9 +662,11 @@ def check(ids=None, hard: bool = False, *, jobs: int | None = None, started=None
     from mech.verification.checking import run_check
     from mech.problems import registry
 
-    if ids is not None and not isinstance(ids, (str, list, tuple)):
-        registry.get(ids)  # a number: BadInput saying to quote it
-        raise BadInput(f"ids: give an id or a list of ids, got {_shown(repr(ids))}")
+    if ids is not None and not _ARG_KINDS["names"](ids):
+        for i in ids if isinstance(ids, (list, tuple)) else [ids]:
+            if _ARG_KINDS["number"](i) and abs(i) < 1e6:
+                registry.get(i)  # a number: BadInput saying to quote it
+        raise BadInput(f"ids: give an id or a list of ids, got {_kind(ids)} {_shown(ids)}")
     if isinstance(ids, str):
         ids = [ids]
     hard = _flag("hard", hard)

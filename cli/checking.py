@@ -9,7 +9,21 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:  # pragma: no cover
     from mech.verification.checking import Report
 
-__all__ = ["progress_bar", "write_junit"]
+__all__ = ["progress_bar", "write_junit", "check_apart"]
+
+
+def check_apart(outputs, inputs=()) -> None:
+    """Exit 2 (one line), before any work, when an output is the same file as an input or another output
+    (``core.safeio.check_apart``): ``mech check`` and ``mech grade`` call it with their files."""
+    import click
+
+    from mech.core.errors import BadInput
+    from mech.core.safeio import check_apart as apart
+
+    try:
+        apart(outputs, inputs)
+    except BadInput as exc:
+        raise click.UsageError(str(exc)) from None
 
 
 class progress_bar:

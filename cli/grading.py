@@ -148,15 +148,6 @@ def _complete_files(ctx, param, incomplete):
     return [CompletionItem(incomplete, type="file")]
 
 
-def _same_file(a: str, b: str) -> bool:
-    import os
-
-    try:
-        return os.path.samefile(a, b)
-    except OSError:
-        return os.path.abspath(a) == os.path.abspath(b)
-
-
 @click.command("grade")
 @click.argument("file", metavar="FILE", shell_complete=_complete_files)
 @click.option("--json", "as_json", is_flag=True, help="A JSON report on stdout.")
@@ -187,20 +178,19 @@ def grade_cmd(file, as_json, junit_file, csv_file, strict, params_file, jobs, to
     invalid and the rest is graded. Exit status: 0 all right, 1 any wrong or invalid, 2 a file that
     cannot be read (with --strict: any invalid entry, one line each naming the file, entry and field).
     """
-    from mech.core.safeio import check_output, escape, shown_path
+    from mech.core.safeio import check_output, escape
 
     from mech import api
 
     started = time.perf_counter()
     ctx = click.get_current_context()
+    from mech.cli.checking import check_apart
+
     outputs = [(p, w) for p, w in ((junit_file, "--junit"), (csv_file, "--csv")) if p is not None]
+    # an output never overwrites the answers, the template, or another output (exit 2, before any work)
+    check_apart(outputs, [(file, "FILE"), (params_file, "--params")])
     for path, what in outputs:
-        for given, gwhat in ((file, "FILE"), (params_file, "--params")):
-            if given is not None and _same_file(path, given):
-                raise BadInput(f"{what} {shown_path(path)}: the same file as {gwhat}; it would be overwritten")
         check_output(path, what)  # before the grading, not after
-    if junit_file is not None and csv_file is not None and _same_file(junit_file, csv_file):
-        raise BadInput(f"--csv {shown_path(csv_file)}: the same file as --junit")
     try:
         report = api.grade_report(file, total_s, strict=strict, jobs=jobs, params=params_file, started=started)
     except BadInput as exc:

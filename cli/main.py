@@ -174,6 +174,9 @@ class MechGroup(click.Group):
         except RecursionError:
             _error("input nested too deeply")
             code = EXIT_USAGE
+        except MemoryError:  # one line, written without allocating much; the input asked for too much
+            _out_of_memory()
+            code = EXIT_USAGE
         except Exception as exc:  # a defect: say so in one line, never a traceback
             _error(internal_error(exc))
             code = EXIT_INTERNAL
@@ -192,6 +195,18 @@ def _environment_checks() -> None:
         raise UsageFailure("standard output is closed: nothing could be reported (redirect it to a file "
                            "or /dev/null)")
     budget_seconds()
+
+
+def _out_of_memory() -> None:
+    import gc
+    import os
+
+    gc.collect()
+    try:
+        os.write(2, b"mech: error: out of memory: the input asks for more than this machine gives "
+                    b"(fewer points, entries or values)\n")
+    except OSError:
+        pass
 
 
 def _error(text: str) -> None:
@@ -521,6 +536,9 @@ def check_cmd(ctx, ids, hard, as_json, junit_file, save_baseline, baseline_file,
     for path, what in ((junit_file, "--junit"), (save_baseline, "--save-baseline")):
         if path is not None:  # before the minutes of the check, not after
             _check_output(path, what)
+    from mech.cli.checking import check_apart
+
+    check_apart([(junit_file, "--junit"), (save_baseline, "--save-baseline")], [(baseline_file, "--baseline")])
     try:
         with progress_bar(not as_json) as bar:
             report, moved = api.check_against_baselines(list(ids) or None, hard, baseline=baseline_file,

@@ -53,7 +53,9 @@ def check(where: str = "") -> None:
 
 def _raise(where: str = ""):
     place = f" ({where})" if where else ""
-    raise OutOfBudget(f"{_what} ran out of its {_seconds:g} s time budget{place}")
+    exc = OutOfBudget(f"{_what} ran out of its {_seconds:g} s time budget{place}")
+    exc.what, exc.where = _what, where
+    raise exc
 
 
 def _on_alarm(signum, frame):

@@ -21,7 +21,7 @@ import stat
 
 from mech.core.errors import BadInput
 
-__all__ = ["shown", "shown_path", "escape", "MAX_FILE_BYTES", "MAX_DEPTH", "MAX_KEY_PARTS", "read_text", "load_toml", "load_toml_text",
+__all__ = ["shown", "shown_path", "escape", "check_apart", "MAX_FILE_BYTES", "MAX_DEPTH", "MAX_KEY_PARTS", "read_text", "load_toml", "load_toml_text",
            "load_json", "check_output", "budget_seconds", "atomic_write", "columns", "normalize_columns", "MIN_COLUMNS"]
 
 SHOWN_CHARS = 80
@@ -56,6 +56,9 @@ def shown_path(path) -> str:
 def shown(value, limit: int = SHOWN_CHARS) -> str:
     """A value from input as it is echoed: control characters escaped, at most ``limit`` characters
     (then "...").  The one function every echo of input goes through."""
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 4 * limit * 3.33:
+        # str() of an int past 4300 digits raises: say its size instead
+        return f"an integer of {int(value.bit_length() * 0.30103) + 1} digits"
     text = str(value)
     if len(text) > 4 * limit:  # escape no more than is shown
         text = text[:4 * limit]
@@ -213,6 +216,32 @@ def check_output(path, what: str = "output") -> str:
     except OSError as exc:
         raise BadInput(f"{what} {name}: cannot write in {shown_path(folder)}: {exc.strerror or exc}") from None
     return text
+
+
+def check_apart(outputs, inputs=()) -> None:
+    """Refuse, before any work, an output that is the same file as one of ``inputs`` or as another of
+    ``outputs`` (each a list of ``(path, what)``; a None path is skipped): an output never overwrites an
+    input (``grade hw.toml --junit hw.toml``), nor two outputs each other.  The same file: the same real
+    path, or the same device and inode (a hard link)."""
+    def ident(path) -> set:
+        out = {("path", os.path.realpath(os.path.abspath(str(path))))}
+        try:
+            st = os.stat(str(path))
+            out.add(("inode", st.st_dev, st.st_ino))
+        except (OSError, ValueError):
+            pass
+        return out
+
+    seen = [(ident(p), p, w, "input") for p, w in inputs if p is not None and str(p) != ""]
+    for path, what in outputs:
+        if path is None or str(path) == "":
+            continue
+        mine = ident(path)
+        for other, opath, owhat, kind in seen:
+            if mine & other:
+                raise BadInput(f"{what} {shown_path(path)}: the same file as {owhat} {shown_path(opath)}; "
+                               f"it would overwrite the {kind}")
+        seen.append((mine, path, what, "other output"))
 
 
 @contextlib.contextmanager

@@ -115,8 +115,8 @@ _NUM = r"(?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)"
 # a value: ASCII names, no comma; a formula: names in any alphabet and commas between a function's arguments
 _TOKEN = re.compile(rf"\s*(?:{_NUM}|(?P<name>[A-Za-z_]\w*)|(?P<op>\*\*|[-+*/^()])|(?P<bad>\S))")
 _FORMULA_TOKEN = re.compile(rf"\s*(?:{_NUM}|(?P<name>[^\W\d]\w*)|(?P<op>\*\*|[-+*/^(),])|(?P<bad>\S))")
-_REPLACE = (("·", "*"), ("×", "*"), ("°", "deg"), ("π", "pi"), ("µ", "u"))
-_FORMULA_REPLACE = _REPLACE + (("−", "-"), ("√", "sqrt"), ("²", "^2"), ("³", "^3"), ("⁴", "^4"))
+_REPLACE = (("·", "*"), ("×", "*"), ("°", "deg"), ("π", " pi "), ("µ", "u"))  # 2π√x: a name apiece
+_FORMULA_REPLACE = _REPLACE + (("−", "-"), ("√", " sqrt "), ("²", "^2"), ("³", "^3"), ("⁴", "^4"))
 
 
 def tokens(text: str, symbols: dict[str, str] | None = None, formula: bool = False) -> list[tuple[str, str]]:
@@ -125,6 +125,9 @@ def tokens(text: str, symbols: dict[str, str] | None = None, formula: bool = Fal
     ``formula``: the wider alphabet of a formula (names in any script, ``,``, ``−``, ``√``, ``²``); each
     of ``symbols`` (``θ₀``, ``m'``, ``h/R``: symbol -> name) is then one name token, the name it stands for.
     """
+    for ch in text:  # a control or invisible character (U+001F, U+0085, U+200B) is never part of a value
+        if not ch.isprintable() and ch not in " \t":
+            raise ValueError_(f"unexpected character '{ascii(ch)[1:-1]}'")
     pattern, replace = (_FORMULA_TOKEN, _FORMULA_REPLACE) if formula else (_TOKEN, _REPLACE)
     for a, b in replace:
         text = text.replace(a, b)
@@ -147,7 +150,8 @@ def tokens(text: str, symbols: dict[str, str] | None = None, formula: bool = Fal
         pos = m.end()
         kind = m.lastgroup
         if kind == "bad":
-            raise ValueError_(f"unexpected character '{m.group(kind)}'")
+            ch = m.group(kind)
+            raise ValueError_(f"unexpected character '{ch if ch.isprintable() else ascii(ch)[1:-1]}'")
         out.append((kind, m.group(kind)))
     return out
 
@@ -222,6 +226,9 @@ class _Parser:
                 q = self.build.binary(val, q, self.unary())
             elif kind == "name" or val == "(":
                 q = self.build.binary("*", q, self.unary())
+            elif kind == "num" and val == "1" and self._unit_after_one():
+                # a unit as mech prints it after a number: ``0.0643 1/s`` is 0.0643 (1/s)
+                q = self.build.binary("*", q, self.unary())
             elif kind == "num":
                 prev_kind, prev = self.toks[self.i - 1]
                 what = "two numbers side by side" if prev_kind == "num" else "a number right after a factor"
@@ -229,6 +236,11 @@ class _Parser:
                                   f"write an operator between them, such as '*'")
             else:
                 return q
+
+    def _unit_after_one(self) -> bool:
+        """``1/s``, ``1/(m^2 s)`` after a number: a ``1`` followed by ``/`` and a name or a parenthesis."""
+        nxt = self.toks[self.i + 1:self.i + 3]
+        return len(nxt) == 2 and nxt[0][1] == "/" and (nxt[1][0] == "name" or nxt[1][1] == "(")
 
     def unary(self):
         self.enter()
@@ -350,7 +362,7 @@ def parse(text: str, build, what: str = "formula", max_depth: int | None = None,
 
 
 def parse_quantity(text: str) -> Dimensioned:
-    text = str(text).strip()
+    text = str(text).strip(" \t")  # not str.strip(): a control character is refused, not dropped
     if len(text) > 200:
         raise ValueError_("value too long")
     try:

@@ -266,10 +266,8 @@ class Derivation:
 
     def __init__(self, ex, d: Declaration):
         import sympy as sp
-        from sympy.physics import mechanics as me
 
         self.ex, self.d = ex, d
-        t = d.t
         self.method = d.method
         if d.method is None:
             raise ValueError(f"{ex.id}: the declaration states no Lagrangian and no bodies")
@@ -278,73 +276,9 @@ class Derivation:
         # plain symbols for the numeric side: q_i, their rates (or the speeds) and their derivatives
         Q = [sp.Symbol(f"q{i}_", real=True) for i in range(n)]
         if d.method == "Lagrange":
-            speeds = [qi.diff(t) for qi in q]
-            self.lm = me.LagrangesMethod(d.L, q, forcelist=d.loads or None, frame=d.frame,
-                                         hol_coneqs=d.holonomic or None)
-            eom = self.lm.form_lagranges_equations()
-            for i, qi in enumerate(q):
-                if qi in d.generalized_forces:
-                    eom[i] -= d.generalized_forces[qi]
-                if d.rayleigh is not None:
-                    eom[i] += sp.diff(d.rayleigh, speeds[i])
-            self.eom = eom
-            lam = list(self.lm.lam_vec) if d.holonomic else []
-            acc = [qi.diff(t, 2) for qi in q]
-            unknowns = acc + lam
-            rows = list(eom) + [sp.diff(c, t, 2) for c in d.holonomic]
-            A = sp.Matrix(rows).jacobian(unknowns)
-            b = -sp.Matrix(rows).xreplace({x: 0 for x in unknowns})
-            self.unknowns = unknowns
-            indep = [qi for qi in q if qi not in d.dependent]
-            u_ind = [qi.diff(t) for qi in indep]
-            # the dependent coordinates from the constraints
-            dep_sol = {}
-            if d.dependent:
-                sols = sp.solve(d.holonomic, d.dependent, dict=True)
-                if len(sols) != 1:
-                    raise ValueError(f"{ex.id}: the constraints do not fix the dependent coordinates once")
-                dep_sol = sols[0]
-            self.dep_sol = dep_sol
-            U = [sp.Symbol(f"u{i}_", real=True) for i in range(n)]
-            to_plain = {}
-            for i, qi in enumerate(q):
-                to_plain[qi.diff(t, 2)] = sp.Symbol(f"a{i}_", real=True)
-                to_plain[qi.diff(t)] = U[i]
-                to_plain[qi] = Q[i]
-            self.all_speeds = U
-            self.rate_syms = [to_plain[a] for a in acc] + [sp.Symbol(f"lam{j}_", real=True) for j in range(len(lam))]
-            to_plain.update({lv: self.rate_syms[n + j] for j, lv in enumerate(lam)})
-            self.qdot_from = None
+            A, b, U, to_plain, indep, u_ind = self._lagrange(q, Q)
         else:  # Kane
-            u = list(d.u)
-            u_ind = [ui for ui in u if ui not in d.u_dependent]
-            self.km = me.KanesMethod(d.frame, q_ind=q, u_ind=u_ind, kd_eqs=d.kinematics,
-                                     u_dependent=d.u_dependent or None,
-                                     velocity_constraints=d.nonholonomic or None)
-            fr, frstar = self.km.kanes_equations(d.bodies, d.loads)
-            self.fr, self.frstar = fr, frstar
-            self.eom = fr + frstar
-            m = len(u)
-            A = self.km.mass_matrix_full
-            b = self.km.forcing_full
-            U = [sp.Symbol(f"u{i}_", real=True) for i in range(m)]
-            to_plain = {}
-            rates = [qi.diff(t) for qi in self.km.q] + [ui.diff(t) for ui in self.km.u]
-            self.rate_syms = [sp.Symbol(f"r{i}_", real=True) for i in range(len(rates))]
-            for ri, rs in zip(rates, self.rate_syms):
-                to_plain[ri] = rs
-            order_q, order_u = list(self.km.q), list(self.km.u)
-            for i, qi in enumerate(order_q):
-                to_plain[qi] = Q[q.index(qi)]
-            for i, ui in enumerate(order_u):
-                to_plain[ui] = U[u.index(ui)]
-            self.kane_q_order = [q.index(qi) for qi in order_q]
-            self.kane_u_order = [u.index(ui) for ui in order_u]
-            indep = q
-            dep_sol = {}
-            self.dep_sol = dep_sol
-            self.all_speeds = U
-            self.unknowns = rates
+            A, b, U, to_plain, indep, u_ind = self._kane(q, Q)
         self.q, self.n = q, n
         self.Q, self.U, self.to_plain = Q, U, to_plain
         self.indep = indep
@@ -353,7 +287,102 @@ class Derivation:
         self.P = P
         args = [sp.Symbol("t_", real=True)] + Q + U + P
         self.args = args
-        to_plain[t] = args[0]
+        to_plain[d.t] = args[0]
+        self._numeric_side(A, b)
+        self._states()
+
+    def _lagrange(self, q, Q):
+        """Lagrange's equations (with the declared generalized forces, dissipation and holonomic constraints),
+        solved for the accelerations and multipliers: (A, b, speeds, plain symbols, independent coordinates,
+        their rates)."""
+        import sympy as sp
+        from sympy.physics import mechanics as me
+
+        d, t, n = self.d, self.d.t, len(q)
+        speeds = [qi.diff(t) for qi in q]
+        self.lm = me.LagrangesMethod(d.L, q, forcelist=d.loads or None, frame=d.frame,
+                                     hol_coneqs=d.holonomic or None)
+        eom = self.lm.form_lagranges_equations()
+        for i, qi in enumerate(q):
+            if qi in d.generalized_forces:
+                eom[i] -= d.generalized_forces[qi]
+            if d.rayleigh is not None:
+                eom[i] += sp.diff(d.rayleigh, speeds[i])
+        self.eom = eom
+        lam = list(self.lm.lam_vec) if d.holonomic else []
+        acc = [qi.diff(t, 2) for qi in q]
+        unknowns = acc + lam
+        rows = list(eom) + [sp.diff(c, t, 2) for c in d.holonomic]
+        A = sp.Matrix(rows).jacobian(unknowns)
+        b = -sp.Matrix(rows).xreplace({x: 0 for x in unknowns})
+        self.unknowns = unknowns
+        indep = [qi for qi in q if qi not in d.dependent]
+        u_ind = [qi.diff(t) for qi in indep]
+        # the dependent coordinates from the constraints
+        dep_sol = {}
+        if d.dependent:
+            sols = sp.solve(d.holonomic, d.dependent, dict=True)
+            if len(sols) != 1:
+                raise ValueError(f"{self.ex.id}: the constraints do not fix the dependent coordinates once")
+            dep_sol = sols[0]
+        self.dep_sol = dep_sol
+        U = [sp.Symbol(f"u{i}_", real=True) for i in range(n)]
+        to_plain = {}
+        for i, qi in enumerate(q):
+            to_plain[qi.diff(t, 2)] = sp.Symbol(f"a{i}_", real=True)
+            to_plain[qi.diff(t)] = U[i]
+            to_plain[qi] = Q[i]
+        self.all_speeds = U
+        self.rate_syms = [to_plain[a] for a in acc] + [sp.Symbol(f"lam{j}_", real=True) for j in range(len(lam))]
+        to_plain.update({lv: self.rate_syms[n + j] for j, lv in enumerate(lam)})
+        self.qdot_from = None
+        return A, b, U, to_plain, indep, u_ind
+
+    def _kane(self, q, Q):
+        """Kane's equations of the declared bodies and loads (with nonholonomic constraints): the full mass
+        matrix and forcing, as ``_lagrange`` returns them."""
+        import sympy as sp
+        from sympy.physics import mechanics as me
+
+        d = self.d
+        u = list(d.u)
+        u_ind = [ui for ui in u if ui not in d.u_dependent]
+        self.km = me.KanesMethod(d.frame, q_ind=q, u_ind=u_ind, kd_eqs=d.kinematics,
+                                 u_dependent=d.u_dependent or None,
+                                 velocity_constraints=d.nonholonomic or None)
+        fr, frstar = self.km.kanes_equations(d.bodies, d.loads)
+        self.fr, self.frstar = fr, frstar
+        self.eom = fr + frstar
+        m = len(u)
+        A = self.km.mass_matrix_full
+        b = self.km.forcing_full
+        U = [sp.Symbol(f"u{i}_", real=True) for i in range(m)]
+        to_plain = {}
+        rates = [qi.diff(d.t) for qi in self.km.q] + [ui.diff(d.t) for ui in self.km.u]
+        self.rate_syms = [sp.Symbol(f"r{i}_", real=True) for i in range(len(rates))]
+        for ri, rs in zip(rates, self.rate_syms):
+            to_plain[ri] = rs
+        order_q, order_u = list(self.km.q), list(self.km.u)
+        for i, qi in enumerate(order_q):
+            to_plain[qi] = Q[q.index(qi)]
+        for i, ui in enumerate(order_u):
+            to_plain[ui] = U[u.index(ui)]
+        self.kane_q_order = [q.index(qi) for qi in order_q]
+        self.kane_u_order = [u.index(ui) for ui in order_u]
+        indep = q
+        dep_sol = {}
+        self.dep_sol = dep_sol
+        self.all_speeds = U
+        self.unknowns = rates
+        return A, b, U, to_plain, indep, u_ind
+
+    def _numeric_side(self, A, b) -> None:
+        """The equations in plain symbols, compiled (mpmath): A x = b, the dependent coordinates and speeds,
+        the velocity constraints."""
+        import sympy as sp
+        from sympy.physics import mechanics as me
+
+        d, t, q, U, args, to_plain = self.d, self.d.t, self.q, self.U, self.args, self.to_plain
 
         def plain(e):
             return me.msubs(e, to_plain) if not isinstance(e, (int, float)) else e
@@ -363,9 +392,9 @@ class Derivation:
         self._A = sp.lambdify(args, self.A_plain, modules="mpmath")
         self._b = sp.lambdify(args, self.b_plain, modules="mpmath")
         # dependent coordinates and speeds
-        if d.method == "Lagrange" and dep_sol:
+        if d.method == "Lagrange" and self.dep_sol:
             self._dep = [(q.index(k), sp.lambdify(args, plain(v), modules="mpmath"),
-                          sp.lambdify(args, plain(sp.diff(v, t)), modules="mpmath")) for k, v in dep_sol.items()]
+                          sp.lambdify(args, plain(sp.diff(v, t)), modules="mpmath")) for k, v in self.dep_sol.items()]
         else:
             self._dep = []
         if d.method == "Kane" and d.u_dependent:
@@ -376,7 +405,15 @@ class Derivation:
             self._udep_idx = [d.u.index(ui) for ui in d.u_dependent]
         else:
             self._vc_A = None
-        # the states and their rates: x' = dS/dt + dS/dq q' + dS/du u' (u' in terms of the solved unknowns)
+
+    def _states(self) -> None:
+        """The exercise's states and their rates, compiled: x' = dS/dt + dS/dq q' + dS/du u' (u' in terms of
+        the solved unknowns; a quadrature's rate as declared), and the declared event."""
+        import sympy as sp
+        from sympy.physics import mechanics as me
+
+        ex, d, plain, args = self.ex, self.d, self._plain, self.args
+        Q, U, n = self.Q, self.U, self.n
         if d.state_exprs is None:
             raise ValueError(f"{ex.id}: the declaration gives no states")
         if len(d.state_exprs) != len(ex.states):
@@ -391,7 +428,7 @@ class Derivation:
             udot = self.rate_syms[:n]
         else:
             qdot = [self.rate_syms[self.kane_q_order.index(i)] for i in range(n)]
-            udot = [self.rate_syms[len(q) + self.kane_u_order.index(i)] for i in range(len(U))]
+            udot = [self.rate_syms[len(self.q) + self.kane_u_order.index(i)] for i in range(len(U))]
         Sdot = S.diff(args[0]) + S.jacobian(Q) * sp.Matrix(qdot) + S.jacobian(U) * sp.Matrix(udot)
         for i, e in enumerate(d.state_exprs):  # a quadrature: its rate as declared
             if isinstance(e, Rate):

@@ -186,7 +186,7 @@ def test_each_slip_is_named_against_a_reference_of_1(text, hint):
 def test_a_slip_is_named_only_when_it_explains_the_value():
     # 2.02 is 0.02 from 2 * 1.0: beyond half a unit (0.005) of its last digit
     (j,) = _judge(_q("x", "m", 1.0), ("x", "2.02"))
-    assert not j.match and j.hint is None and j.verdict.startswith("off by 102 %")
+    assert not j.match and j.hint is None and j.verdict.startswith("wrong: off by 102 %")
 
 
 def test_angle_slips_only_for_angles():

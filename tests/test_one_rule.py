@@ -120,3 +120,57 @@ def test_no_verdict_is_no_failure_in_solve_and_check(capsys):
     print_check(report)
     out = capsys.readouterr().out
     assert "no verdict" in out and "0 passed, 1 no verdict, 0 failed" in out
+
+
+def test_grade_and_solve_conclude_alike_on_no_verdict(tmp_path):
+    """A cross-check with no verdict (one method: nothing compared) fails neither ``mech solve --expect`` nor a
+    grade entry; a wrong answer fails both; an entry with nothing judged has no verdict, which is no failure."""
+    import math
+
+    from click.testing import CliRunner
+
+    from mech.cli.main import cli
+    from mech.problems import registry
+    from mech.verification import grading
+    from mech.verification.crosscheck import cross_check
+
+    ex = registry.get("4.15")
+
+    class NumericOnly:  # 4.15 with its analytic solver taken away: the numeric value is all there is
+        has_analytic = False
+        methods = ("numeric",)
+
+        def __getattr__(self, name):
+            return getattr(ex, name)
+
+    # by hand: the ladder leaves the wall at sin(theta_c) = (2/3) sin(theta0); theta0 = 60 deg gives asin(1/sqrt 3)
+    right = math.degrees(math.asin(1 / math.sqrt(3)))
+    assert f"{right:.6g}" == "35.2644"
+    for answer, fails in (("35.2644deg", False), ("40deg", True)):
+        r = CliRunner().invoke(cli, ["solve", "4.15", "--method", "numeric", "--theta0", "60deg",
+                                     "--expect", f"theta_c={answer}", "--json"])
+        assert r.exit_code == (1 if fails else 0), r.output
+        assert '"agree": null' in r.stdout
+        # the same answer in a grading file, graded against the numeric route alone
+        path = tmp_path / "answers.toml"
+        path.write_text(f'[[answer]]\nexercise = "4.15"\nparams = {{ theta0 = "60deg" }}\n'
+                        f'expect = {{ theta_c = "{answer}", omega_c = "" }}\n', encoding="utf-8")
+        entries = grading.load_answers(str(path))
+        entries[0].exercise = NumericOnly()
+        grading.grade(entries, jobs=1)
+        e = entries[0]
+        assert e.result.agree is None  # the cross-check itself: no verdict
+        sol = grading.attach(cross_check(NumericOnly(), ex.resolve(e.given)), e.expectations)
+        assert sol.agree is None and sol.expect_ok is (not fails)
+        assert e.ok is (not fails) and e.conclusion is (False if fails else True)
+        assert J.conclude([sol.agree, sol.expect_ok]) is e.conclusion
+    # nothing judged (every answer left for the student): no verdict, as a solve with nothing compared
+    path.write_text('[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "" }\n', encoding="utf-8")
+    entries = grading.load_answers(str(path))
+    grading.grade(entries, jobs=1)
+    assert entries[0].judgements == [] and entries[0].conclusion is None and entries[0].ok
+    # an unreadable entry fails, whatever its answers say
+    path.write_text('[[answer]]\nexercise = "4.15"\nparams = { theta0 = "500deg" }\nexpect = { theta_c = "1" }\n',
+                    encoding="utf-8")
+    entries = grading.load_answers(str(path), strict=False)
+    assert entries[0].invalid and entries[0].conclusion is False and not entries[0].ok

@@ -360,3 +360,23 @@ def test_every_exercise_with_states_has_its_motion_tested():
             continue
         own = tests / f"test_ex{ex_id.replace('.', '_')}.py"
         assert own.exists() and ".trajectory" in own.read_text("utf-8"), f"{ex_id}: its motion is tested nowhere"
+
+
+def test_the_api_hands_out_one_trajectory_type():
+    # one typed Trajectory in the API: mech.Trajectory is Solution.trajectory's declared type and what it
+    # returns; the integrator's own result (ode.Trajectory, one leg with its cost) is never handed out
+    import typing
+
+    from mech.solvers.numerics import ode
+    from mech.verification import result
+
+    assert mech.Trajectory is mech.api.Trajectory is result.Trajectory
+    hints = typing.get_type_hints(result.Solution.trajectory.func, vars(result))
+    assert hints["return"] == typing.Optional[result.Trajectory]
+    sol, t, y = motion("4.15", theta0="60deg")
+    tr = sol.trajectory
+    assert type(tr) is mech.Trajectory and not isinstance(tr, ode.Trajectory)
+    assert not any(v is ode.Trajectory for m in (mech, mech.api) for v in vars(m).values())
+    # by hand: the ladder leaves the wall at asin((2/3) sin 60deg) = asin(1/sqrt 3): where the motion ends
+    assert y[0, 0] == pytest.approx(math.radians(60), rel=1e-6)
+    assert y[0, -1] == pytest.approx(math.asin(1 / math.sqrt(3)), rel=1e-6)

@@ -167,18 +167,39 @@ def judge(result, expectations: list[Expectation]) -> list[Judgement]:
                                      tol=lead_tol, verdict=verdict, shown_reference=shown,
                                      matches="leading-order"))
                 continue
+        if ref.leading is not None and _beyond_leading_order(e, ref, axis):
+            gain = abs(ref.leading - ref.value) / max(distance(e, ref.value, axis), 1e-300)
+            verdict = (f"right beyond leading order: {gain:.3g}x closer to the exact value than the "
+                       f"leading-order value is (mech: {shown})")
+            out.append(Judgement(**base, match=True, reference_value=ref.value, rel_err=rel_err, tol=tol,
+                                 verdict=verdict, shown_reference=shown, matches="beyond-leading-order"))
+            continue
         if approx is None:
             approx = approximations(result)
         hint = number_hint(e, q, ref, refs, by_name, gslips, approx.get(e.name, []), axis)
         if hint == "degrees given as radians":
-            # the value was meant in degrees: mech's value in degrees first, then as it was read
-            shown = f"{math.degrees(ref.value):.{_digits(e)}g} deg = {shown}{'' if e.unit_text else ' rad'}"
-        verdict = f"{hint or _verdict_off(e, ref, rel_err)} (mech: {shown})"
+            # the value was meant in degrees: mech's value in degrees first, then as it was read (the unit's
+            # time part kept: deg/s = rad/s)
+            deg_unit = q.unit.replace("rad", "deg", 1) if "rad" in q.unit else "deg"
+            rad_unit = "" if e.unit_text else (f" {q.unit}" if "rad" in q.unit else " rad")
+            shown = f"{math.degrees(ref.value):.{_digits(e)}g} {deg_unit} = {shown}{rad_unit}"
+        verdict = f"wrong: {hint or _verdict_off(e, ref, rel_err)} (mech: {shown})"
         if ref.outside is not None:
             verdict += f"; the leading-order theory does not apply here ({ref.outside}): the exact value is the answer"
         out.append(Judgement(**base, match=False, reference_value=ref.value, rel_err=rel_err, tol=tol, hint=hint,
                              verdict=verdict, shown_reference=shown, matches=None))
     return out
+
+
+BEYOND = 3.0  # how much closer than the leading-order value a next-order answer must be to the exact one
+
+
+def _beyond_leading_order(e: Expectation, ref: Reference, axis: bool) -> bool:
+    """A next-order answer on a leading-order output, inside its theory's range: closer to the verified exact
+    value than the leading-order value is, by ``BEYOND`` at least, the error bars counted against it."""
+    gap = distance(Expectation("", "", ref.leading), ref.value, axis)
+    miss = distance(e, ref.value, axis)
+    return bool(math.isfinite(gap) and gap > 0 and BEYOND * (miss + ref.err + ref.leading_err) <= gap)
 
 
 def judge_expectation(result, e, q, ref):
@@ -187,8 +208,11 @@ def judge_expectation(result, e, q, ref):
     ex, given = result.exercise, result.params
     output = {o.name: o for o in ex.outputs}[e.name]
     over = dict(e.over) if e.over else None
-    ps = point_set(ex, given, e.points if e.points is not None else DEFAULT_POINTS,
-                   e.seed if e.seed is not None else DEFAULT_SEED, over, known(result))
+    def ps(at_most=None):  # drawn once the dimension is found right (``judge_formula``), or, at most
+        n = e.points if e.points is not None else DEFAULT_POINTS  # ``at_most``, to name a dimension's slip
+        return point_set(ex, given, n if at_most is None else min(n, at_most),
+                         e.seed if e.seed is not None else DEFAULT_SEED, over, known(result))
+
     lead = output.theory != "exact"
     if ref.value is None:
         given_ref, numeric_given = None, None
@@ -215,7 +239,7 @@ def judge_expectation(result, e, q, ref):
     if given_ref is None and not v.hint and not undefined_here:
         verdict = f"cannot judge: {ref.why or 'mech has no trusted value here'}"
     return Judgement(
-        name=e.name, unit=q.unit, text=e.text, value=v.value, match=v.match, theory=q.theory,
+        name=e.name, unit=q.unit, text=e.text, value=v.value, match=v.match, theory=q.theory, matches=v.matches,
         reference=(ref.label if ref.value is not None else None), reference_value=v.reference_value,
         rel_err=v.rel_err, tol=v.tol, hint=v.hint, verdict=verdict,
         shown_reference=show_value(v.reference_value, q.unit) if v.reference_value is not None else "",

@@ -310,7 +310,7 @@ def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=N
     return the key."""
     import os
 
-    from mech.core.safeio import atomic_write, check_output, shown_path
+    from mech.core.safeio import atomic_write, check_apart, check_output, shown_path
     from mech.problems import registry
     from mech.verification.grading import parse_count
 
@@ -357,13 +357,7 @@ def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=N
     paths = {}
     for name in ("handout.md", "answers.toml", "key.json"):
         path = os.path.join(folder, name)
-        for given in inputs:
-            try:
-                same = os.path.samefile(path, given)
-            except OSError:
-                same = os.path.abspath(path) == os.path.abspath(given)
-            if same:
-                raise BadInput(f"--out {shown_path(folder)}: {name} would overwrite the input {shown_path(given)}")
+        check_apart([(path, "--out")], [(given, "the input") for given in inputs])  # never over an input
         paths[name] = check_output(path, "--out")
     a = make(exercises, roster, seed_v, overs, digits_v, jobs=jobs, version=version)
     texts = {"handout.md": a.handout_md(), "answers.toml": a.answers_toml(), "key.json": a.key_json()}

@@ -283,14 +283,37 @@ def cross_check(
 
 def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings,
                  fork_rerun=True) -> Solution:
-    from mech.core import budget
-
+    """The steps of ``cross_check``: run the solvers, check the invariants, draft every output and judge
+    them all at once."""
     timing: dict[str, float | None] = {"analytic_s": None, "numeric_s": None}
-    errors: list[Failure] = []
-    analytic: dict = {}
-    numeric: dict = {}
-    run = None
+    errors: list[Failure] = []  # in the order found: analytic, numeric, rerun, invariants, estimates, values
+    analytic = _run_analytic(ex, params, methods, timing, errors)
+    numeric, run, verify_values, import_s = {}, None, {}, None
+    if "numeric" in methods and ex.has_numeric:
+        numeric, run, verify_values, import_s = _run_numeric(ex, params, rtol, verify, budget_s,
+                                                             keep_trajectories, fork_rerun, timing, errors)
+    if run is not None:
+        _check_invariants(ex, run, rtol, errors)
+    quantities, rows = _draft_outputs(ex, params, rtol, analytic, numeric, run, verify_values, errors)
+    if rows:
+        _judge_outputs(quantities, rows, bool(verify_values))
+    if run is not None and fp_warnings:
+        run.info["fp_warnings"] = list(dict.fromkeys(f"{w.filename.rsplit('/', 1)[-1]}:{w.lineno}: {w.message}"
+                                                     for w in fp_warnings))[:5]
+    return Solution(
+        exercise=ex,
+        params=params,
+        quantities=tuple(q.freeze() for q in quantities),
+        timing=timing,
+        numeric_info={**run.as_json(), "import_s": import_s} if run is not None else None,
+        errors=tuple(errors),
+        run=run,
+    )
 
+
+def _run_analytic(ex, params, methods, timing: dict, errors: list) -> dict:
+    """The analytic solver's answers ({} when it is not asked for, or fails: the failure is in ``errors``)."""
+    analytic: dict = {}
     if "analytic" in methods and ex.has_analytic:
         t0 = time.perf_counter()
         try:
@@ -298,71 +321,88 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
         except Exception as exc:  # a broken solver is a failed check, reported, not a crash
             errors.append(Failure("analytic", f"analytic solver failed: {_failure_text(exc)}"))
         timing["analytic_s"] = time.perf_counter() - t0
+    return analytic
 
+
+def _run_numeric(ex, params, rtol, verify, budget_s, keep_trajectories, fork_rerun, timing: dict,
+                 errors: list):
+    """The numeric solve and its rerun at rtol/10 (forked beside the solve, or after it), under one budget:
+    (answers, run, the rerun's answers, the integrator's one-time load in seconds or None)."""
+    from mech.core import budget
+
+    numeric: dict = {}
+    run = None
     verify_values: dict = {}
     import_s = None
-    if "numeric" in methods and ex.has_numeric:
-        # the one-time load of the integrator and its tableau is start-up cost, not the solve: timed
-        # apart (when this solve is the one that loads it) and taken out of the numeric time
-        dop = sys.modules.get("mech.solvers.numerics.dop853")
-        loaded_before = dop is not None and dop.tableau_load_seconds() is not None
-        tighter = max(rtol / 10.0, ex.min_rtol)
-        rerun = None
-        if verify and tighter < rtol and fork_rerun and _parallel_ok():
-            rerun = _start_rerun(ex, params, tighter, budget_s)  # on the second core, while the solve runs here
-        t0 = time.perf_counter()
-        shared: dict = {}  # what a serial rerun may reuse of the solve (see Run.shared)
-        with budget.limit(budget_s, what=f"the numeric solve of {ex.id}"):
-            try:
-                numeric, run = ex.solve_numeric(params, rtol, shared=shared, keep_trajectories=keep_trajectories)
-            except BaseException as exc:
-                if rerun is not None:
-                    _abandon_rerun(rerun)
-                    rerun = None
-                if not isinstance(exc, Exception):
-                    raise
-                errors.append(Failure("numeric", f"numeric solver failed: {_failure_text(exc)}"))
-            timing["numeric_s"] = time.perf_counter() - t0
-            dop = sys.modules.get("mech.solvers.numerics.dop853")
-            load_s = dop.tableau_load_seconds() if dop is not None else None
-            if not loaded_before and load_s is not None:
-                import_s = load_s
-                timing["numeric_s"] = max(0.0, timing["numeric_s"] - import_s)
-            answer = None
+    # the one-time load of the integrator and its tableau is start-up cost, not the solve: timed
+    # apart (when this solve is the one that loads it) and taken out of the numeric time
+    dop = sys.modules.get("mech.solvers.numerics.dop853")
+    loaded_before = dop is not None and dop.tableau_load_seconds() is not None
+    tighter = max(rtol / 10.0, ex.min_rtol)
+    rerun = None
+    if verify and tighter < rtol and fork_rerun and _parallel_ok():
+        rerun = _start_rerun(ex, params, tighter, budget_s)  # on the second core, while the solve runs here
+    t0 = time.perf_counter()
+    shared: dict = {}  # what a serial rerun may reuse of the solve (see Run.shared)
+    with budget.limit(budget_s, what=f"the numeric solve of {ex.id}"):
+        try:
+            numeric, run = ex.solve_numeric(params, rtol, shared=shared, keep_trajectories=keep_trajectories)
+        except BaseException as exc:
             if rerun is not None:
-                # the child runs under the same budget; one that has not answered by then is stopped
-                # (a child can never hang the command) and the rerun is done here with what is left
-                try:
-                    answer = _finish_rerun(rerun, wait_s=max(0.5, budget_s - timing["numeric_s"]) + 2.0)
-                except budget.OutOfBudget as exc:
-                    _abandon_rerun(rerun)
-                    answer = ("error", str(exc))
-                if answer is None:
-                    run.info["verify_parallel_fallback"] = "the forked rerun did not answer: rerun after the solve"
-            if answer is not None:
-                status, payload = answer
-                if status == "ok":
-                    verify_values = payload
-                    run.info["verify_rtol"] = tighter
-                else:
-                    errors.append(Failure("rerun", f"numeric solver failed at rtol={tighter:g}: {payload}"))
-            elif verify and run is not None and tighter < rtol:
-                try:
-                    verify_values, vrun = ex.solve_numeric(params, tighter, shared=shared)
-                    run.info["verify_rtol"] = tighter
-                except Exception as exc:
-                    errors.append(Failure("rerun", f"numeric solver failed at rtol={tighter:g}: {_failure_text(exc)}"))
+                _abandon_rerun(rerun)
+                rerun = None
+            if not isinstance(exc, Exception):
+                raise
+            errors.append(Failure("numeric", f"numeric solver failed: {_failure_text(exc)}"))
+        timing["numeric_s"] = time.perf_counter() - t0
+        dop = sys.modules.get("mech.solvers.numerics.dop853")
+        load_s = dop.tableau_load_seconds() if dop is not None else None
+        if not loaded_before and load_s is not None:
+            import_s = load_s
+            timing["numeric_s"] = max(0.0, timing["numeric_s"] - import_s)
+        answer = None
+        if rerun is not None:
+            # the child runs under the same budget; one that has not answered by then is stopped
+            # (a child can never hang the command) and the rerun is done here with what is left
+            try:
+                answer = _finish_rerun(rerun, wait_s=max(0.5, budget_s - timing["numeric_s"]) + 2.0)
+            except budget.OutOfBudget as exc:
+                _abandon_rerun(rerun)
+                answer = ("error", str(exc))
+            if answer is None:
+                run.info["verify_parallel_fallback"] = "the forked rerun did not answer: rerun after the solve"
+        if answer is not None:
+            status, payload = answer
+            if status == "ok":
+                verify_values = payload
+                run.info["verify_rtol"] = tighter
+            else:
+                errors.append(Failure("rerun", f"numeric solver failed at rtol={tighter:g}: {payload}"))
+        elif verify and run is not None and tighter < rtol:
+            try:
+                verify_values, vrun = ex.solve_numeric(params, tighter, shared=shared)
+                run.info["verify_rtol"] = tighter
+            except Exception as exc:
+                errors.append(Failure("rerun", f"numeric solver failed at rtol={tighter:g}: {_failure_text(exc)}"))
+    return numeric, run, verify_values, import_s
 
+
+def _check_invariants(ex, run, rtol, errors: list) -> None:
+    """A monitored invariant drifting by more than the method allows is a failure."""
     from mech.verification import judge as judging
 
-    if run is not None:
-        default_allowed = float(ex.tol_factor * rtol)
-        for name, drift in run.invariants.items():
-            allowed = run.invariant_allowed.get(name, default_allowed)
-            if not judging.within(drift, bars=(allowed,)):
-                errors.append(Failure(
-                    "invariant", f"the invariant '{name}' drifts by {drift:.2g}, more than the {allowed:.2g} the "
-                    "method allows: the integration is not to be trusted"))
+    default_allowed = float(ex.tol_factor * rtol)
+    for name, drift in run.invariants.items():
+        allowed = run.invariant_allowed.get(name, default_allowed)
+        if not judging.within(drift, bars=(allowed,)):
+            errors.append(Failure(
+                "invariant", f"the invariant '{name}' drifts by {drift:.2g}, more than the {allowed:.2g} the "
+                "method allows: the integration is not to be trusted"))
+
+
+def _draft_outputs(ex, params, rtol, analytic, numeric, run, verify_values, errors: list):
+    """Every output's draft quantity and the judge's arguments for it (one row each)."""
+    from mech.verification import judge as judging
 
     expected = ex.expected_errors(params) if analytic and numeric else {}
     try:
@@ -387,33 +427,8 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
         rel_claim = float(ex.tol_factor * rtol) if rel_claim is None else float(rel_claim)
         q.tol_abs = float(abs_claim or 0.0)
         if out.theory != "exact":
-            q.expected_err = expected.get(out.name)
-            if isinstance(q.expected_err, (tuple, list)):
-                # (relative, absolute): what the theory neglects where its value can be zero
-                rel_part, abs_part = q.expected_err
-                q.expected_err = None if rel_part is None else float(rel_part)
-                q.expected_err_abs = None if abs_part is None else abs(float(abs_part))
-                if q.expected_err is None and q.expected_err_abs is not None:
-                    q.expected_err = 0.0
-            if q.expected_err is None and analytic and numeric:
-                q._note("the exercise gives no size for what its leading-order theory neglects")
-            elif q.expected_err is not None:
-                q.expected_err = float(q.expected_err)
-            q.theory_valid = validity.get(out.name) is None
-
-        for key in ("analytic", "numeric"):
-            v = getattr(q, key)
-            if isinstance(v, float) and not math.isfinite(v):
-                q._note(f"{key} value is not finite ({v}): a solver defect")
-                setattr(q, key, Undefined(f"non-finite {key} value"))
-                errors.append(Failure("non-finite", f"{out.name}: {key} value is not finite", out.name))
-            elif isinstance(v, float) and out_of_range(v):
-                # beyond 1e+-290 a value has lost the room its own error needs (subnormal, or one
-                # operation from overflow): no number is better than one that cannot be trusted
-                q._note(f"{key} value {v:.3g} lies outside the floating-point range mech works in")
-                setattr(q, key, Undefined(f"{key} value outside the floating-point range"))
-                errors.append(Failure("out-of-range", f"{out.name}: the {key} value {v:.3g} {out.unit} lies outside "
-                                      f"the floating-point range (1e-{LOG10_LIMIT:.0f}..1e{LOG10_LIMIT:.0f})", out.name))
+            _draft_leading(q, expected.get(out.name), bool(analytic and numeric), validity.get(out.name))
+        _undefine_bad_values(q, out, errors)
         a, n = q.analytic, q.numeric
         if _is_number(a) and out.name in analytic_errs:
             q.analytic_err = abs(float(analytic_errs[out.name]))
@@ -429,36 +444,63 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
             outside=out.theory != "exact" and validity.get(out.name) is not None,
             outside_why=validity.get(out.name) or ""))
         quantities.append(q)
+    return quantities, rows
 
-    if rows:
-        import numpy as np
 
-        columns = {key: np.array([r[key] for r in rows]) for key in rows[0] if key != "outside_why"}
-        J = judging.judge(**{k: v for k, v in columns.items() if k != "verify"},
-                          verify=columns["verify"] if verify_values else None,
-                          outside_why=[r["outside_why"] for r in rows])
-        for k, q in enumerate(quantities):
-            q.agree = None if J.agree[k] < 0 else bool(J.agree[k])
-            q.verdict = judging.Verdict(int(J.verdict[k]))
-            q.reason = J.outside_why[k] if q.verdict is judging.Verdict.OUTSIDE else ""
-            q.tol = float(J.tol[k])
-            q.allowed = _float_or_none(J.allowed[k])
-            q.abs_err = _float_or_none(J.abs_err[k])
-            q.rel_err = _float_or_none(J.rel_err[k])
-            q.numeric_err = _float_or_none(J.numeric_err[k])
-            q.verify_diff = _float_or_none(J.verify_diff[k])
-            for text in judging.notes(J, k):
-                q._note(text)
+def _draft_leading(q, expected_err, both: bool, invalid_why) -> None:
+    """A leading-order output: the size of what its theory neglects (relative, and absolute where its value
+    can be zero), and whether the theory applies here (``invalid_why`` None)."""
+    q.expected_err = expected_err
+    if isinstance(q.expected_err, (tuple, list)):
+        # (relative, absolute): what the theory neglects where its value can be zero
+        rel_part, abs_part = q.expected_err
+        q.expected_err = None if rel_part is None else float(rel_part)
+        q.expected_err_abs = None if abs_part is None else abs(float(abs_part))
+        if q.expected_err is None and q.expected_err_abs is not None:
+            q.expected_err = 0.0
+    if q.expected_err is None and both:
+        q._note("the exercise gives no size for what its leading-order theory neglects")
+    elif q.expected_err is not None:
+        q.expected_err = float(q.expected_err)
+    q.theory_valid = invalid_why is None
 
-    if run is not None and fp_warnings:
-        run.info["fp_warnings"] = list(dict.fromkeys(f"{w.filename.rsplit('/', 1)[-1]}:{w.lineno}: {w.message}"
-                                                     for w in fp_warnings))[:5]
-    return Solution(
-        exercise=ex,
-        params=params,
-        quantities=tuple(q.freeze() for q in quantities),
-        timing=timing,
-        numeric_info={**run.as_json(), "import_s": import_s} if run is not None else None,
-        errors=tuple(errors),
-        run=run,
-    )
+
+def _undefine_bad_values(q, out, errors: list) -> None:
+    """A non-finite value, or one outside the floating-point range, becomes Undefined and a failure."""
+    for key in ("analytic", "numeric"):
+        v = getattr(q, key)
+        if isinstance(v, float) and not math.isfinite(v):
+            q._note(f"{key} value is not finite ({v}): a solver defect")
+            setattr(q, key, Undefined(f"non-finite {key} value"))
+            errors.append(Failure("non-finite", f"{out.name}: {key} value is not finite", out.name))
+        elif isinstance(v, float) and out_of_range(v):
+            # beyond 1e+-290 a value has lost the room its own error needs (subnormal, or one
+            # operation from overflow): no number is better than one that cannot be trusted
+            q._note(f"{key} value {v:.3g} lies outside the floating-point range mech works in")
+            setattr(q, key, Undefined(f"{key} value outside the floating-point range"))
+            errors.append(Failure("out-of-range", f"{out.name}: the {key} value {v:.3g} {out.unit} lies outside "
+                                  f"the floating-point range (1e-{LOG10_LIMIT:.0f}..1e{LOG10_LIMIT:.0f})", out.name))
+
+
+def _judge_outputs(quantities, rows, verified: bool) -> None:
+    """The judge, once over every output's row; its verdicts and figures written on the drafts."""
+    import numpy as np
+
+    from mech.verification import judge as judging
+
+    columns = {key: np.array([r[key] for r in rows]) for key in rows[0] if key != "outside_why"}
+    J = judging.judge(**{k: v for k, v in columns.items() if k != "verify"},
+                      verify=columns["verify"] if verified else None,
+                      outside_why=[r["outside_why"] for r in rows])
+    for k, q in enumerate(quantities):
+        q.agree = None if J.agree[k] < 0 else bool(J.agree[k])
+        q.verdict = judging.Verdict(int(J.verdict[k]))
+        q.reason = J.outside_why[k] if q.verdict is judging.Verdict.OUTSIDE else ""
+        q.tol = float(J.tol[k])
+        q.allowed = _float_or_none(J.allowed[k])
+        q.abs_err = _float_or_none(J.abs_err[k])
+        q.rel_err = _float_or_none(J.rel_err[k])
+        q.numeric_err = _float_or_none(J.numeric_err[k])
+        q.verify_diff = _float_or_none(J.verify_diff[k])
+        for text in judging.notes(J, k):
+            q._note(text)

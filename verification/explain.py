@@ -24,6 +24,7 @@ from fractions import Fraction
 
 import numpy as np
 
+from mech.problems.spec import Params
 from mech.verification.formula_ast import Formula, dim_of_unit
 from mech.verification.judge import ROUND_OFF, allowance, within
 from mech.verification.judge import approximations as declared
@@ -31,7 +32,8 @@ from mech.verification.points import (PointJudgement, PointSet, accept, depends,
                                       line_of, make, problem_text, yours_at_given)
 from mech.verification.reference import Expectation, Reference, allowed, number
 
-__all__ = ["GSlips", "approximations", "distance", "number_hint", "percent", "FormulaHint", "formula_hint"]
+__all__ = ["GSlips", "approximations", "distance", "number_hint", "percent", "FormulaHint", "formula_hint", "dimension_hint",
+           "dimension_could_be_a_slip"]
 
 
 # -- a number -------------------------------------------------------------------------------------------
@@ -70,7 +72,8 @@ def _has_angle(unit: str) -> bool:
 
 
 class GSlips:
-    """The exercise's own analytic answers with g left out (g = 1 in SI) or doubled, computed once."""
+    """The exercise's own analytic answers at the given parameters with one parameter slip made (left out,
+    doubled, halved, two swapped, an angle read in degrees: ``_param_slips``), computed once, on a miss."""
 
     def __init__(self, result):
         self.result = result
@@ -80,17 +83,30 @@ class GSlips:
         if self._values is None:
             self._values = []
             ex, params = self.result.exercise, self.result.params
-            g_param = getattr(ex, "param_map", {}).get("g")
-            if g_param is not None and g_param.unit == "m/s^2" and ex.has_analytic:
-                g = float(params["g"])
-                for phrase, g_slip in (("g left out (taken as 1)", 1.0), ("g doubled", 2.0 * g)):
-                    if g_slip == g:
-                        continue
-                    try:
-                        slipped = ex.resolve({**dict(params), "g": g_slip})
-                        self._values.append((phrase, ex.solve_analytic(slipped)))
-                    except Exception:  # out of bounds, or no answer there: that slip cannot be named
-                        continue
+            if not getattr(ex, "has_analytic", False):
+                return self._values
+            import warnings
+
+            base = {q.name: float(params[q.name]) for q in ex.params}
+            clock = _SlipClock()
+            for phrase, change, far in _param_slips(ex):
+                if not clock.more(far):
+                    break
+                try:
+                    with warnings.catch_warnings(), np.errstate(all="ignore"):
+                        warnings.simplefilter("ignore")
+                        slipped = change(dict(base))
+                        if slipped == base:
+                            continue
+                        try:
+                            values = clock.timed(_solve_slipped, ex, slipped)
+                        except Exception:  # another output divides by it: its limit (``_zeroed``)
+                            if not _zeroed(base, slipped):
+                                raise
+                            values = clock.timed(_solve_slipped, ex, _zeroed(base, slipped))
+                        self._values.append((phrase, values))
+                except Exception:  # no answer there: that slip cannot be named
+                    continue
         return self._values
 
 
@@ -138,6 +154,7 @@ def number_hint(e: Expectation, q, ref: Reference, refs: dict, expectations: dic
     scalings = _SCALINGS + _power_scalings(q.unit) + (_ANGLE_SCALINGS if _has_angle(q.unit) else [])
     for factor, phrase in scalings:
         candidates.append((phrase, factor * ref.value, ref.err * abs(factor)))
+    n_scalings = len(candidates)  # a constant factor is named with the last digit rounded too; the rest not
     if axis:
         # the perpendicular axis: where it coincides with another slip (a sign at 45 deg), it is the one named
         perpendicular = ref.value + _PI / 2
@@ -150,26 +167,406 @@ def number_hint(e: Expectation, q, ref: Reference, refs: dict, expectations: dic
         swapped = o_exp is not None and within(abs(o_exp.value - ref.value), bars=(allowed(o_exp, ref.value, ref.err),))
         phrase = f"swapped with {other}" if swapped else f"that is mech's {other}"
         candidates.append((phrase, oref.value, oref.err))
+    if ref.value > 0:
+        candidates.append((f"this is mech's {q.name} squared", ref.value**2, 2 * ref.err * ref.value))
+        candidates.append((f"this is the square root of mech's {q.name}", math.sqrt(ref.value),
+                           0.5 * ref.err / math.sqrt(ref.value)))
+    for value, what in approx:
+        if not number(value):
+            continue
+        what = what if what.startswith(("the ", "a ", "an ")) else f"the {what}"
+        for factor, phrase in _factors(q.unit):
+            candidates.append((f"{what} (a leading-order approximation), {phrase}", factor * value, 0.0))
+        for p in params_of_unit(gslips, q.unit):
+            base = float(gslips.result.params[p])
+            for c, phrase in [(-1.0, "the wrong sign")] + [(c, f"a factor {t}") for c, t in _NAMED_FACTORS]:
+                candidates.append((f"{what} (a leading-order approximation) with {phrase} in its correction to "
+                                   f"{p}", base + c * (value - base), 0.0))
     for phrase, values in gslips.values():
         v = values.get(q.name)
         if number(v) and ref.value != 0:
             candidates.append((phrase, v, ref.err * abs(v / ref.value)))
     fits = []
-    for phrase, slipped, err in candidates:
+    for k, (phrase, slipped, err) in enumerate(candidates):
         if not number(slipped):
             continue
-        # a unit in the last written digit: a slip together with a rounding of that digit is still named
-        # (from 3 digits written on: one or two digits leave too wide a window to name anything by)
-        own = e.own_tol(slipped) * (2.0 if e.rtol is None and (e.digits or 0) >= 3 else 1.0)
+        # a constant factor: a unit in the last written digit, a slip together with a rounding of that digit
+        # (from 3 digits written on: one or two digits leave too wide a window to name anything by); any
+        # other slip only to the digits written
+        wide = e.rtol is None and (e.digits or 0) >= 3 and k < n_scalings
+        own = e.own_tol(slipped) * (2.0 if wide else 1.0)
         tol = allowance(slipped, bars=(own, err), round_off=ROUND_OFF)
         if within(distance(Expectation("", "", ref.value), slipped, axis), bars=(tol,)):
             continue  # a slip that leaves mech's value where it is (g where the answer has none) explains nothing
         miss = distance(e, slipped, axis)
         if within(miss, bars=(tol,)):
-            fits.append((miss / tol if tol > 0 else 0.0, phrase))
-    # two slips can give the same value (g doubled and a factor sqrt(2) in sqrt(g/l)): name both
-    phrases = list(dict.fromkeys(phrase for _, phrase in sorted(fits)))
-    return " or ".join(phrases[:2]) or None
+            plain = allowance(slipped, bars=(e.own_tol(slipped), err), round_off=ROUND_OFF)
+            fits.append((miss / tol if tol > 0 else 0.0, phrase, bool(within(miss, bars=(plain,)))))
+    # two slips can give the same value (g doubled and a factor sqrt(2) in sqrt(g/l)): the second is named
+    # only when it, too, gives the value to the digits written (not only with the last digit rounded)
+    fits.sort(key=lambda f: f[0])
+    phrases = [fits[0][1]] if fits else []
+    for _, phrase, plain in fits[1:]:
+        if plain and phrase not in phrases:
+            phrases.append(phrase)
+            break
+    return " or ".join(phrases) or None
+
+
+def params_of_unit(gslips: GSlips, unit: str) -> list[str]:
+    """The exercise's parameters in ``unit`` (the base a leading-order correction is added to)."""
+    return [p.name for p in gslips.result.exercise.params if p.unit == unit]
+
+
+# -- the slips searched: transformations of mech's reference ----------------------------------------------
+#
+# Each slip is a transformation of mech's own answer (a factor, a power, a parameter left out, doubled or
+# swapped, another output, degrees for radians, a declared approximation and a slip inside it), evaluated
+# at the points the answer is judged at: at one point for a number, at the formula's point set for a
+# formula.  A slip is named only when it gives the answer at every one of them.
+
+_NAMED_FACTORS = [
+    (2.0, "2"), (0.5, "1/2"), (_PI, "pi"), (1 / _PI, "1/pi"), (2 * _PI, "2 pi"), (1 / (2 * _PI), "1/(2 pi)"),
+    (math.sqrt(2.0), "sqrt(2)"), (1 / math.sqrt(2.0), "1/sqrt(2)"), (4.0, "4"), (0.25, "1/4"),
+]
+_ANGLE_FACTORS = [(180 / _PI, "degrees given as radians"), (_PI / 180, "radians given as degrees")]
+
+
+def _factor_phrase(c: float, text: str, unit: str) -> str:
+    phrase = f"off by a factor {text}"
+    if unit == "rad/s" and text in ("1/(2 pi)", "2 pi"):
+        phrase += (": a frequency in Hz (turns per second) given for rad/s" if text == "1/(2 pi)"
+                   else ": rad/s given for a frequency in Hz")
+    return phrase
+
+
+def _factors(unit: str) -> list[tuple[float, str]]:
+    """(factor, phrase): a sign, the named factors and their negatives, degrees for radians on an angle."""
+    out = [(-1.0, "wrong sign")]
+    for c, text in _NAMED_FACTORS:
+        out.append((c, _factor_phrase(c, text, unit)))
+    for c, text in _NAMED_FACTORS:
+        out.append((-c, "wrong sign and " + _factor_phrase(c, text, unit)))
+    if _has_angle(unit) and "/" not in unit.replace("rad/s", "rad"):
+        out += _ANGLE_FACTORS
+    elif unit.startswith("rad/"):
+        out += [(c, f"{p} (the angle's unit)") for c, p in _ANGLE_FACTORS]
+    return out
+
+
+def _same_dim(a: str, b: str) -> bool:
+    try:
+        return dim_of_unit(a)[1] == dim_of_unit(b)[1]
+    except Exception:  # a unit the formula language cannot read: not compared
+        return False
+
+
+def _analytic_at(ps: PointSet, values: dict) -> dict | None:
+    """mech's analytic answers at ``values`` (any parameters its analytic solver accepts, inside the bounds
+    and constraints or not: a swap may leave them), once per point set; None where it gives none."""
+    cache = ps.lines.setdefault(("explain", "analytic"), {})
+    key = tuple(float(values[q.name]).hex() for q in ps.ex.params)
+    if key not in cache:
+        try:
+            cache[key] = _solve_slipped(ps.ex, values)
+        except Exception:  # no answer there: that slip cannot be named
+            cache[key] = None
+    return cache[key]
+
+
+def _solve_slipped(ex, values: dict) -> dict:
+    """mech's analytic answers at a slipped point, quietly (no warning escapes).  Not under a timer: a
+    timer's signal can land anywhere (a garbage collector's callback); the slips are chosen so that the
+    solvers stay in their usual range (``_param_slips``), and ``_SlipClock`` ends a search that costs."""
+    import warnings
+
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        return ex.solve_analytic(Params({k: float(v) for k, v in values.items()}))
+
+
+def _param_slips(ex) -> list[tuple[str, object, bool]]:
+    """(phrase, change, far): the parameter slips, each a change of the parameters (dict -> dict); ``far``
+    for those that take a parameter to 0 or to a difference of two, where an analytic solver may leave its
+    usual range (4.32's series runs for seconds with M_S = 0): listed last, tried only where every solve
+    before them was fast (``_SlipClock``)."""
+    near, far = [], []
+    params = list(ex.params)
+    for p in params:
+        if p.unit not in ("1", "rad"):  # a parameter left out: taken as 1 in SI
+            near.append((f"{p.name} left out (taken as 1)", lambda d, k=p.name: {**d, k: 1.0}))
+        # taken as 0: where 0 is outside its bounds, at its limit there (1e-30 of its value: 4.32's series
+        # runs for seconds at M_S = 0 exactly)
+        zero_ok = p.min is None or p.min < 0 or (p.min == 0 and not p.min_open)
+        far.append((f"{p.name} left out (taken as 0: it agrees with mech only in the limit of small {p.name})",
+                     lambda d, k=p.name, z=zero_ok: {**d, k: 0.0 if z else 1e-30 * d[k]}))
+        near.append((f"{p.name} doubled", lambda d, k=p.name: {**d, k: 2.0 * d[k]}))
+        near.append((f"{p.name} halved", lambda d, k=p.name: {**d, k: 0.5 * d[k]}))
+    for i, a in enumerate(params):
+        for b in params[i + 1:]:
+            if not (a.unit == b.unit or (a.unit not in ("1", "rad") and _same_dim(a.unit, b.unit))):
+                continue
+            near.append((f"{a.name} and {b.name} swapped", lambda d, x=a.name, y=b.name: {**d, x: d[y], y: d[x]}))
+            # a difference (l for R - l): only where the exercise's joint limits hold (4.32's series diverges
+            # with R_E near r_S)
+            far.append((f"{a.name} and {b.name} - {a.name} swapped",
+                        lambda d, x=a.name, y=b.name: _jointly(ex, {**d, x: d[y] - d[x]})))
+            far.append((f"{b.name} and {a.name} - {b.name} swapped",
+                        lambda d, x=a.name, y=b.name: _jointly(ex, {**d, y: d[x] - d[y]})))
+    for p in params:
+        if p.unit == "rad":  # an angle read in degrees (tan(theta*pi/180)) or turned to degrees
+            near.append((f"{p.name} converted as if it were in degrees (x pi/180)",
+                         lambda d, k=p.name: {**d, k: d[k] * _PI / 180}))
+            near.append((f"{p.name} converted to degrees (x 180/pi)", lambda d, k=p.name: {**d, k: d[k] * 180 / _PI}))
+        if p.unit == "rad/s":
+            near.append((f"{p.name} taken in Hz (divided by 2 pi)", lambda d, k=p.name: {**d, k: d[k] / (2 * _PI)}))
+    return [(ph, ch, False) for ph, ch in near] + [(ph, ch, True) for ph, ch in far]
+
+
+class _Refused(ValueError):
+    """A slipped point beyond the exercise's joint limits, where a difference slip is not evaluated."""
+
+
+def _jointly(ex, values: dict) -> dict:
+    """``values`` where the exercise's joint limits accept them; else ValueError (no slip there)."""
+    try:
+        why = ex.constraint_message(Params(values))
+    except (ArithmeticError, ValueError):
+        why = "no"
+    if why:
+        raise _Refused("outside the joint limits")
+    return values
+
+
+def _zeroed(base: dict, slipped: dict) -> dict | None:
+    """A parameter taken as 0 where mech's solver refuses 0 (another output divides by it): the same slip
+    as its limit, the parameter at 1e-30 of its value (None when no parameter was taken as 0)."""
+    zero = [k for k, v in slipped.items() if v == 0.0 and base.get(k, 0.0) != 0.0]
+    return {**slipped, **{k: 1e-30 * base[k] for k in zero}} if zero else None
+
+
+class _Points:
+    """The points a slip is tried at (those judged where the answer has a value), the answer and mech's
+    values there.  A slip (``at(i)``: its value at point i) fits when it gives the answer at every one,
+    tried first at the points where the answer is wrong."""
+
+    def __init__(self, ps: PointSet, output, yours, ref, tol, use, rtol: float):
+        self.ps, self.output, self.name = ps, output, output.name
+        self.yours, self.ref, self.tol, self.rtol = yours, ref, tol, rtol
+        idx = [int(i) for i in np.flatnonzero(use & np.isfinite(yours) & np.isfinite(ref))]
+        self.wrong = [i for i in idx if not self.near(i, ref[i])]
+        self.order = self.wrong + [i for i in idx if i not in self.wrong]
+
+    def near(self, i: int, v: float) -> bool:
+        if not (isinstance(v, float) and math.isfinite(v)):
+            return False
+        r = self.ref[i]
+        grow = max(1.0, abs(v / r)) if r else 1.0
+        return bool(within(abs(self.yours[i] - v), scale=v, rel=self.rtol, bars=(self.tol[i] * grow,),
+                           round_off=4 * np.finfo(float).eps))
+
+    def fits(self, at) -> bool:
+        # an answer right at most of its points is no slip of a whole formula: a slip that also gives it
+        # there only moves a piecewise answer onto its other branch (5.11's growth = -delta, right at 23 of
+        # 28 points); a slip that only matters in part of the range (delta halved off resonance) stays named
+        if not self.wrong or 2 * len(self.wrong) < len(self.order):
+            return False
+        self.skipped = 0
+        wrong_checked = False
+        for i in self.order:
+            try:
+                v = at(i)
+            except _Refused:  # a difference beyond the joint limits: not evaluated there, and said so
+                self.skipped += 1
+                continue
+            except Exception:  # a slip with no value at a point: not named
+                return False
+            wrong_checked = wrong_checked or i in self.wrong
+            if not self.near(i, float(v) if v is not None else math.nan):
+                return False
+        checked = len(self.order) - self.skipped
+        return 2 * checked >= len(self.order) and wrong_checked
+
+    def analytic(self, i: int, change, output: str | None = None) -> float:
+        base = dict(self.ps.points[i])
+        slipped = change(dict(base))
+        got = _analytic_at(self.ps, slipped)
+        if got is None and _zeroed(base, slipped):  # an answer that divides by it elsewhere: its limit
+            got = _analytic_at(self.ps, _zeroed(base, slipped))
+        v = got.get(output or self.name) if got else None
+        return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else math.nan
+
+    def approx(self, i: int) -> list:
+        cache = self.ps.lines.setdefault(("explain", "approx", self.name), {})
+        if i not in cache:
+            try:
+                cache[i] = [(float(v), d) for v, d in (self.ps.ex.approximations_at(self.ps.points[i]).get(self.name)
+                                                       or []) if isinstance(v, (int, float))]
+            except Exception:  # an approximation with no value here
+                cache[i] = []
+        return cache[i]
+
+
+def _slips(pts: _Points, unit: str, limit: int = 2) -> list[str]:
+    """The slips that give the answer at every point, in the order a student most likely made them (at most
+    ``limit``: a second one is named only when it, too, reproduces the answer)."""
+    ps, name, ref = pts.ps, pts.name, pts.ref
+    found: list[str] = []
+
+    def tried(phrase, at) -> bool:
+        if phrase not in found and pts.fits(at):
+            k = getattr(pts, "skipped", 0)
+            found.append(phrase + (f" (at the {len(pts.order) - k} of {len(pts.order)} points inside the "
+                                   "exercise's joint limits)" if k else ""))
+        return len(found) >= limit
+
+    # a constant factor, a sign, both
+    for c, phrase in _factors(unit):
+        if tried(phrase, lambda i, c=c: c * ref[i]):
+            return found
+    # another output of the exercise, itself or with its sign flipped
+    for o in ps.ex.outputs:
+        if o.name != name and _same_dim(o.unit, unit):
+            other = ps.analytic[o.name]
+            if tried(f"that is mech's {o.name}, not its {name}", lambda i, a=other: a[i]):
+                return found
+            if tried(f"that is minus mech's {o.name}", lambda i, a=other: -a[i]):
+                return found
+    # the square or the square root of the answer
+    if tried(f"this is mech's {name} squared", lambda i: ref[i] ** 2):
+        return found
+    if tried(f"this is the square root of mech's {name}", lambda i: math.sqrt(ref[i]) if ref[i] >= 0 else math.nan):
+        return found
+    # a declared approximation, a factor or a sign slip in it, and the sign or size of its correction
+    declared = getattr(ps.ex, "_approximations", None) is not None
+    if declared and pts.order and pts.approx(pts.order[0]):
+        for k, (_, what) in enumerate(pts.approx(pts.order[0])):
+            what = what if what.startswith(("the ", "a ", "an ")) else f"the {what}"
+
+            def av(i, k=k):
+                a = pts.approx(i)
+                return a[k][0] if len(a) > k else math.nan
+
+            if tried(f"this is {what}, a leading-order approximation", av):
+                return found
+            for c, phrase in _factors(unit):
+                if tried(f"{what} (a leading-order approximation), {phrase}", lambda i, c=c, av=av: c * av(i)):
+                    return found
+            for phrase, at in _corrections(pts, unit, av):
+                if tried(f"{what} (a leading-order approximation) with {phrase}", at):
+                    return found
+    if getattr(pts.output, "theory", "exact") != "exact":
+        for phrase, at in _corrections(pts, unit, lambda i: ref[i]):
+            if tried(f"the leading-order result with {phrase}", at):
+                return found
+    # a parameter left out, doubled or halved, two swapped, an angle read in degrees
+    clock = _SlipClock()
+    for phrase, change, far in _param_slips(ps.ex):
+        if not clock.more(far):
+            break
+        if tried(phrase, lambda i, ch=change: clock.timed(pts.analytic, i, ch)):
+            return found
+    return found
+
+
+class _SlipClock:
+    """The parameter slips cost one analytic solve each (a point more when one fits).  A safety net, not
+    reached by an exercise at its usual cost on an idle machine (40 slips at 1.5 ms at most; 4.32's series,
+    the costliest, at a few ms): after a solve slower than SLOW_S, or BUDGET_S in all, no further slip is
+    tried (a solve already running is not stopped)."""
+
+    SLOW_S = 0.25
+    BUDGET_S = 1.0
+
+    def __init__(self):
+        import time
+
+        self.now = time.perf_counter
+        self.start = self.now()
+        self.slowest = 0.0
+
+    def more(self, far: bool = False) -> bool:
+        return self.slowest <= self.SLOW_S and self.now() - self.start < self.BUDGET_S
+
+    def timed(self, f, *args):
+        t = self.now()
+        try:
+            return f(*args)
+        finally:
+            self.slowest = max(self.slowest, self.now() - t)
+
+
+def _corrections(pts: _Points, unit: str, value) -> list:
+    """(phrase, at): the correction to a parameter of the output's unit (omega0 in omega0 + 3 alpha A^2/
+    (8 omega0)) with its sign flipped or off by a named factor."""
+    out = []
+    ps = pts.ps
+    for p in ps.ex.params:
+        if p.unit != unit:
+            continue
+        base = ps.arrays[p.name]
+        for c, phrase in [(-1.0, "the wrong sign")] + [(c, f"a factor {t}") for c, t in _NAMED_FACTORS]:
+            out.append((f"{phrase} in its correction to {p.name}",
+                        lambda i, c=c, b=base: b[i] + c * (value(i) - b[i])))
+    return out
+
+
+def _dimension_power(formula_dim, out_dim, param_dim) -> Fraction | None:
+    """k with formula_dim = out_dim - k param_dim (a parameter left out k times), or None."""
+    diff = [a - b for a, b in zip(out_dim, formula_dim)]
+    ks = {Fraction(d) / Fraction(p) for d, p in zip(diff, param_dim) if p != 0}
+    if len(ks) != 1 or any(d != 0 for d, p in zip(diff, param_dim) if p == 0):
+        return None
+    k = ks.pop()
+    return k if k != 0 else None
+
+
+def dimension_could_be_a_slip(formula: Formula, output, params) -> bool:
+    """Whether the dimensions alone leave one of ``dimension_hint``'s slips possible (no point needed): the
+    formula has the dimension of the output squared or of its square root, or differs from it by a power
+    of one parameter's dimension (``params``: the exercise's)."""
+    if formula.dim is None:
+        return False
+    _, out_dim = dim_of_unit(output.unit)
+    if formula.dim in (tuple(2 * x for x in out_dim), tuple(x / 2 for x in out_dim)):
+        return True
+    return any(_dimension_power(formula.dim, out_dim, dim_of_unit(p.unit)[1]) is not None
+               for p in params)
+
+
+def dimension_hint(formula: Formula, ps: PointSet, output, rtol: float) -> str | None:
+    """For a formula of the wrong dimension: the slip that explains it, when it reproduces the formula at every
+    point of ``ps`` ("this has the dimension of Omega^2: is it the square?", "g is missing: the dimension is
+    off by (m/s^2)^(1/2)"), else None."""
+    if formula.dim is None:
+        return None
+    name = output.name
+    _, out_dim = dim_of_unit(output.unit)
+    env = {k: ps.arrays[k] for k in formula.names} or {"_": np.zeros(len(ps))}
+    with np.errstate(all="ignore"):
+        y, e, _ = formula.evaluate(env)
+    ref, err = ps.analytic[name], ps.analytic_err[name]
+    tol = allowance(ref, rel=rtol, bars=(err,), round_off=4 * np.finfo(float).eps, own=4 * e)
+    pts = _Points(ps, output, y, ref, tol, np.ones(len(ps), bool), rtol)
+    if len(pts.order) < 1:
+        return None
+    if formula.dim == tuple(2 * x for x in out_dim):
+        for c, text in [(1.0, "")] + [(c, f" (it is {name}^2 times {t})") for c, t in _NAMED_FACTORS]:
+            if pts.fits(lambda i, c=c: c * ref[i] ** 2):
+                return f"this has the dimension of {name}^2: is it the square?{text}"
+    if formula.dim == tuple(x / 2 for x in out_dim) and pts.fits(
+            lambda i: math.sqrt(ref[i]) if ref[i] >= 0 else math.nan):
+        return f"this has the dimension of sqrt({name}): is it the square root?"
+    for p in ps.ex.params:
+        _, pdim = dim_of_unit(p.unit)
+        k = _dimension_power(formula.dim, out_dim, pdim)
+        if k is None:
+            continue
+        if pts.fits(lambda i, n=p.name: pts.analytic(i, lambda d: {**d, n: 1.0})):
+            power = "" if k == 1 else (f"^{k}" if k.denominator == 1 else f"^({k})")
+            unit = p.unit if k == 1 or "/" not in p.unit and "*" not in p.unit else f"({p.unit})"
+            return f"{p.name} is missing: the dimension is off by {unit}{power}"
+    return None
 
 
 # -- a formula ------------------------------------------------------------------------------------------
@@ -189,35 +586,64 @@ class FormulaHint:
 def formula_hint(formula: Formula, ps: PointSet, output, pj: PointJudgement, ref: np.ndarray,
                  rtol: float) -> FormulaHint:
     """The hint for ``formula``, an answer for ``output`` (a spec Output) judged at ``ps`` (``pj``) against
-    mech's values ``ref`` there, wrong at one point at least."""
+    mech's values ``ref`` there, wrong at one point at least.  The slips are searched at the points where it
+    can be evaluated; a point where it cannot is a second finding."""
     name = output.name
     judged = pj.judged
     wrong = judged & ~pj.right
-    # wrong: find what a student can act on
-    i_fail = int(np.flatnonzero(wrong)[0])
-    hint = None
-    dom = [i for i in np.flatnonzero(wrong) if problem_text(pj, ps, int(i))]
+    dom = [int(i) for i in np.flatnonzero(wrong) if problem_text(pj, ps, int(i))]
+    evaluable = judged & np.isfinite(pj.yours)
+    wrong_here = [int(i) for i in np.flatnonzero(wrong & evaluable)]
+    i_fail = wrong_here[0] if wrong_here else int(np.flatnonzero(wrong)[0])
+    domain = None
     if dom:
-        i_fail = int(dom[0])
-        hint = f"cannot be evaluated {describe_point(ps, i_fail)}: {problem_text(pj, ps, i_fail)}"
+        k = len(dom)
+        domain = (f"it cannot be evaluated {describe_point(ps, dom[0])}: {problem_text(pj, ps, dom[0])}"
+                  + (f" (and at {k - 1} more point{'s' if k > 2 else ''})" if k > 1 else ""))
+    if not wrong_here:  # right wherever it has a value
+        if domain:
+            n_ok = int((evaluable & pj.right).sum())
+            head = f"right at the {n_ok} points where it has a value, but " if n_ok else ""
+            return FormulaHint(head + domain, dom[0], [])
+        return FormulaHint(None, i_fail, [])
+    hint, guilty = _wrong_hint(formula, ps, output, pj, ref, rtol, evaluable)
+    if domain:
+        hint = f"{hint}; {domain}" if hint else domain
+    return FormulaHint(hint, i_fail, guilty)
+
+
+def _wrong_hint(formula, ps, output, pj, ref, rtol, evaluable) -> tuple[str | None, list]:
+    name = output.name
+    pts = _Points(ps, output, pj.yours, ref, pj.tol, evaluable, rtol)
+    with np.errstate(all="ignore"):
+        slips = _slips(pts, output.unit)
+    if slips:
+        hint = " or ".join(slips)
+        if len(slips) == 1 and slips[0].endswith(", a leading-order approximation"):
+            limits = _limit_names(formula, ps, name, list(formula.names))
+            if limits:
+                hint += "; it holds only for " + (limits[0] if len(limits) == 1
+                                                  else ", ".join(limits[:-1]) + " or " + limits[-1])
+        return hint, []
+    # no slip reproduces it: say what was measured
+    hint = None
+    c = _const_ratio(pj.yours, ref, pj.tol, evaluable)
+    if c is not None:
+        return f"off by a constant factor {_nice_factor(c)} at every point", []
+    deps = depends(ps, name)
+    missing = [k for k in deps if k not in formula.names]
+    limits = []
+    if output.theory == "exact":
+        limits = _limit_names(formula, ps, name, missing)
+    if missing:
+        hint = f"mech's {name} depends on {_and(missing)}, which your formula leaves out"
+    if limits:
+        said = limits[0] if len(limits) == 1 else ", ".join(limits[:-1]) + " or " + limits[-1]
+        params = list(dict.fromkeys(w.split()[-1] if w.startswith(("small ", "large ")) else w.split()[0]
+                                    for w in limits))
+        lim = f"it agrees with mech only in the limit of {said}; compare its {_and(params)} dependence"
+        hint = f"{hint}; {lim}" if hint else lim
     innocent, guilty = [], []
-    if hint is None:
-        c = _const_ratio(pj.yours, ref, pj.tol, judged)
-        if c is not None:
-            hint = "wrong sign" if c == -1.0 else f"off by a constant factor {_nice_factor(c)} at every point"
-    if hint is None:
-        hint = _other_output(formula, ps, output, pj.yours, rtol)
-    if hint is None:
-        deps = depends(ps, name)
-        missing = [k for k in deps if k not in formula.names]
-        if output.theory == "exact":
-            known = _known_approximation(ps, name, pj.yours, pj.tol)
-            hint = _approximation(formula, ps, name, missing + list(formula.names) if known else missing)
-            if known:  # "this is the small-amplitude period ..., a leading-order approximation; it holds only ..."
-                hint = f"this is {known}, a leading-order approximation" + (
-                    "; " + hint.replace("this is the leading-order approximation; ", "") if hint else "")
-        if hint is None and missing:
-            hint = f"mech's {name} depends on {_and(missing)}, which your formula leaves out"
     if hint is None or hint.startswith("mech's"):
         innocent, guilty = _follows(formula, ps, name, rtol)
         if hint is not None and innocent and pj.right[0]:
@@ -229,7 +655,7 @@ def formula_hint(formula: Formula, ps: PointSet, output, pj: PointJudgement, ref
             else:
                 hint = (f"off by a factor that does not change with {_and(innocent)}; check how your formula "
                         f"depends on {_and(guilty)}")
-    return FormulaHint(hint, i_fail, guilty)
+    return hint, guilty
 
 
 def _nice_factor(c: float) -> str:
@@ -241,6 +667,8 @@ def _nice_factor(c: float) -> str:
              (180 / math.pi, " 180/pi (degrees for radians)", ""))
     fits = []
     for k, (val, after, alone) in enumerate(bases):
+        if not math.isfinite(c / val):  # a factor beyond the floating-point range (issue 33)
+            continue
         f = Fraction(c / val).limit_denominator(64)
         if f != 0 and abs(f.numerator) <= 64 and within(abs(float(f) * val - c), scale=c, round_off=1e-9):
             fits.append((abs(f.numerator) + f.denominator, k, f))
@@ -356,61 +784,19 @@ def _limits(formula: Formula, ps: PointSet, output: str) -> list[tuple[str, str,
     return found
 
 
-def _approximation(formula: Formula, ps: PointSet, output: str, missing: list[str]) -> str | None:
-    """"this is the leading-order approximation; it holds only for small X", when it is: the limit value
-    of an answer that depends on a parameter the formula leaves out (T = 2 pi sqrt(l/g) for the pendulum),
-    or a formula right to first order in a parameter going to its limit."""
+def _limit_names(formula: Formula, ps: PointSet, output: str, missing: list[str]) -> list[str]:
+    """The limits ("small theta", "large M") in which the formula becomes mech's answer, when it is close at
+    the given parameters: the limit value of an answer whose dependence on a parameter it leaves out
+    (T = 2 pi sqrt(l/g) for the pendulum), or a formula right to first order as a parameter goes to its
+    limit.  Said as a measurement ("agrees only as ..."), never as an approximation: that name is kept for
+    the approximations the exercise declares."""
     found = _limits(formula, ps, output)
     r_given = ps.analytic[output][0]
     off = abs(yours_at_given(formula, ps) - r_given) / abs(r_given)
-    # the limit value of an answer whose dependence on that parameter it leaves out, near the given
-    # parameters (T = 2 pi sqrt(l/g) at 60 deg is 7 % short; m v for m (v + v0) is 94 %: a term left out)
     named = [w for w, k, _ in found if k in missing] if off < 0.25 else []
     if not named and off < 0.1:
-        # a formula right to first order in a limit, and close at the given parameters (where it is meant
-        # to hold): a formula 2x off there that only shares the limit's power law is not an approximation
         named = [w for w, _, first in found if first]
-    if not named:
-        return None
-    said = named[0] if len(named) == 1 else ", ".join(named[:-1]) + " or " + named[-1]
-    return f"this is the leading-order approximation; it holds only for {said}"
-
-
-def _known_approximation(ps: PointSet, output: str, yours: np.ndarray, tol: np.ndarray) -> str | None:
-    """The description of an approximation the exercise declares (``@exercise.approximations``: 5.5, 5.6, 5.7)
-    that the formula gives at every point, or None."""
-    at = getattr(ps.ex, "approximations_at", None)
-    if at is None:
-        return None
-    found: dict[str, int] = {}
-    n = 0
-    for i, p in enumerate(ps.points):
-        if not math.isfinite(yours[i]):
-            continue
-        try:
-            cands = at(p).get(output) or []
-        except Exception:  # an approximation with no value here: not one the formula can be matched to
-            return None
-        n += 1
-        for value, desc in cands:
-            if isinstance(value, (int, float)) and within(abs(yours[i] - value), scale=value, bars=(tol[i],), round_off=1e-9):
-                found[desc] = found.get(desc, 0) + 1
-    full = [d for d, k in found.items() if k == n]
-    return full[0] if n and full else None
-
-
-def _other_output(formula: Formula, ps: PointSet, output, yours: np.ndarray, rtol: float) -> str | None:
-    """"that is mech's omega2": the formula gives another output of the same dimension at every point."""
-    _, dim = dim_of_unit(output.unit)
-    for o in ps.ex.outputs:
-        if o.name == output.name or dim_of_unit(o.unit)[1] != dim:
-            continue
-        ref = ps.analytic[o.name]
-        use = np.isfinite(ref)
-        if use.sum() >= 2 and np.all(within(np.abs(yours[use] - ref[use]), scale=ref[use], rel=rtol,
-                                            bars=(ps.analytic_err[o.name][use],), round_off=1e-12)):
-            return f"that is mech's {o.name}, not its {output.name}"
-    return None
+    return named
 
 
 def _change(names: list[str]) -> str:

@@ -3,7 +3,9 @@
 The grammar is that of values (numbers, units, ``pi``, ``+ - * / ^ **``, parentheses, a factor next to a
 name multiplies) plus the exercise's parameter names and symbols and a few functions::
 
-    sqrt exp log sin cos tan asin acos atan atan2 sinh cosh tanh abs   (arcsin arccos arctan ln: aliases)
+    sqrt exp expm1 log sin cos tan asin acos atan atan2 sinh cosh tanh abs   (arcsin arccos arctan ln: aliases)
+    ellipk(m) ellipe(m)   complete elliptic integrals K and E of the parameter m = k^2 (scipy's convention)
+    agm(a, b)             the arithmetic-geometric mean (AGM: alias)
 
 A name is read, in order, as a parameter (name or symbol as ``mech show`` lists it), ``pi``, a function
 (followed by ``(``), a unit.  The tokenizer and grammar are those of values (``core.units.parse``, one
@@ -16,8 +18,13 @@ Dimensions are exponents of (length, mass, time) as fractions; the radian counts
 
 Evaluation is vectorised with numpy (one pass for all points).  Beside each value it carries a first-order
 bound of its own round-off (each operation adds ``eps`` times its result and propagates its inputs' errors
-through its derivative), so that a right formula that cancels digits at a point is told apart from a wrong
-one; the same tree evaluates in ``numpy.longdouble`` where double precision is not enough.
+through its derivative).  Where that bound is not small against the tolerance, double precision cannot
+decide the point and ``evaluate_precise`` evaluates the same tree with mpmath at as many bits as it takes
+(numbers exact as written, parameters exact as the doubles they are): a formula is right only if that value
+is right, so a term that cancels in exact arithmetic buys no allowance however large it is.
+
+Sums and products are flat (``("sum", ((+1, a), (-1, b), ...))``): a long sum is bounded by the length of
+the text, not by the nesting.
 """
 
 from __future__ import annotations
@@ -32,7 +39,7 @@ from mech.core.units import UNITS, ValueError_, parse, tokens
 from mech.verification.judge import within
 
 __all__ = ["FormulaError", "Formula", "parse_formula", "looks_like_formula", "Dim", "dim_of_unit", "dim_text",
-           "FUNCTIONS", "MAX_LENGTH", "MAX_DEPTH"]
+           "FUNCTIONS", "MAX_LENGTH", "MAX_DEPTH", "MAX_DIM_POWER", "MAX_PREC", "Precise"]
 
 MAX_LENGTH = 2000
 MAX_DEPTH = 100
@@ -42,7 +49,10 @@ FUNCTIONS = {
     "sqrt": "sqrt", "exp": "exp", "log": "log", "ln": "log", "sin": "sin", "cos": "cos", "tan": "tan",
     "asin": "asin", "arcsin": "asin", "acos": "acos", "arccos": "acos", "atan": "atan", "arctan": "atan",
     "atan2": "atan2", "arctan2": "atan2", "sinh": "sinh", "cosh": "cosh", "tanh": "tanh", "abs": "abs",
+    "ellipk": "ellipk", "ellipe": "ellipe", "agm": "agm", "AGM": "agm", "expm1": "expm1",
 }
+_ARITY = {"atan2": 2, "agm": 2}
+MAX_DIM_POWER = 1000  # a dimension's exponent, at most (in size and denominator): l^1e300 is refused
 
 
 class FormulaError(ValueError):
@@ -75,7 +85,9 @@ _BASE = (("m", 0), ("kg", 1), ("s", 2))
 def dim_text(d: Dim) -> str:
     """``m/s``, ``kg*m^2``, ``1/s``, ``1`` (a pure number), ``m^(1/2)``."""
     def part(sym, e):
-        e = abs(e)
+        e = abs(Fraction(e))
+        if e.numerator > 10**6 or e.denominator > 10**6:
+            return f"{sym}^(huge)"
         if e == 1:
             return sym
         return f"{sym}^{e}" if e.denominator == 1 else f"{sym}^({e})"
@@ -107,26 +119,27 @@ class _Tree:
     def function(self, name):
         if name in self.params or name not in FUNCTIONS:
             return None
-        return 2 if FUNCTIONS[name] == "atan2" else 1
+        return _ARITY.get(FUNCTIONS[name], 1)
 
     @staticmethod
     def number(text):
         v = float(text)
         if not math.isfinite(v):
-            raise FormulaError(f"'{text}' is not a finite number")
-        return ("num", v)
+            raise FormulaError(f"'{text[:20]}' is not a finite number")
+        return ("num", v, text)
 
     def name(self, val):
         if val in self.params:
             return ("par", val)
         if val == "pi":
-            return ("num", math.pi)
+            return ("num", math.pi, "pi")
         if val in UNITS:
             factor, d = UNITS[val]
             return ("unit", factor, _from_unit_dim(d), val)
         if val.lower() in ("nan", "inf", "infinity"):
             raise FormulaError("not a finite number")
-        raise FormulaError(f"unknown name '{val}'; the parameters here are: {', '.join(sorted(self.params))}")
+        raise FormulaError(f"unknown name '{_cut(val)}'{_juxtaposed(val)}; the parameters here are: "
+                           f"{', '.join(sorted(self.params))}")
 
     @staticmethod
     def neg(node):
@@ -138,11 +151,37 @@ class _Tree:
 
     @staticmethod
     def binary(op, a, b):
+        # sums and products flat, left to right (the order of evaluation of the left-nested tree)
+        if op in ("+", "-"):
+            head = a[1] if a[0] == "sum" else ((1, a),)
+            return ("sum", head + ((1 if op == "+" else -1, b),))
+        if op in ("*", "/"):
+            head = a[1] if a[0] == "prod" else ((1, a),)
+            return ("prod", head + ((1 if op == "*" else -1, b),))
         return (_OPS[op], a, b)
 
     @staticmethod
     def call(name, args):
         return ("fn", FUNCTIONS[name], tuple(args))
+
+
+def _cut(text: str, n: int = 40) -> str:
+    from mech.core.safeio import shown
+
+    return shown(text, n)
+
+
+def _juxtaposed(name: str) -> str:
+    """`` (read as one name: write pi*sqrt(...))`` when an unknown name is known names run together."""
+    words = sorted(set(FUNCTIONS) | {"pi"}, key=len, reverse=True)
+    rest, parts = name, []
+    while rest:
+        w = next((w for w in words if rest.startswith(w)), None)
+        if w is None:
+            return ""
+        parts.append(w)
+        rest = rest[len(w):]
+    return f" (names side by side: write {'*'.join(parts)})" if len(parts) > 1 else ""
 
 
 # -- dimensions -----------------------------------------------------------------------------------------
@@ -163,11 +202,19 @@ def _contains(node, kinds) -> bool:
         return True
     if node[0] in ("neg",):
         return _contains(node[1], kinds)
-    if node[0] in ("add", "sub", "mul", "div", "pow"):
+    if node[0] == "pow":
         return _contains(node[1], kinds) or _contains(node[2], kinds)
+    if node[0] in ("sum", "prod"):
+        return any(_contains(t, kinds) for _, t in node[1])
     if node[0] == "fn":
         return any(_contains(a, kinds) for a in node[2])
     return False
+
+
+def _bounded(d: Dim) -> Dim:
+    if any(abs(x) > MAX_DIM_POWER or x.denominator > MAX_DIM_POWER for x in d):
+        raise DimensionError(f"a dimension raised to a power beyond {MAX_DIM_POWER}")
+    return d
 
 
 def _dim(node, pdims: dict[str, Dim]) -> Dim:
@@ -180,17 +227,17 @@ def _dim(node, pdims: dict[str, Dim]) -> Dim:
         return pdims[node[1]]
     if k == "neg":
         return _dim(node[1], pdims)
-    if k in ("add", "sub"):
-        a, b = _dim(node[1], pdims), _dim(node[2], pdims)
-        if a != b:
-            raise DimensionError(f"it adds {dim_text(a)} and {dim_text(b)}")
-        return a
-    if k == "mul":
-        a, b = _dim(node[1], pdims), _dim(node[2], pdims)
-        return tuple(x + y for x, y in zip(a, b))
-    if k == "div":
-        a, b = _dim(node[1], pdims), _dim(node[2], pdims)
-        return tuple(x - y for x, y in zip(a, b))
+    if k == "sum":
+        dims = [_dim(t, pdims) for _, t in node[1]]
+        for b in dims[1:]:
+            if b != dims[0]:
+                raise DimensionError(f"it adds {dim_text(dims[0])} and {dim_text(b)}")
+        return dims[0]
+    if k == "prod":
+        out = ONE
+        for sign, t in node[1]:
+            out = _bounded(tuple(x + sign * y for x, y in zip(out, _dim(t, pdims))))
+        return out
     if k == "pow":
         a, b = _dim(node[1], pdims), _dim(node[2], pdims)
         if b != ONE:
@@ -205,7 +252,7 @@ def _dim(node, pdims: dict[str, Dim]) -> Dim:
         frac = Fraction(e).limit_denominator(12)
         if not within(abs(float(frac) - e), scale=max(1.0, abs(e)), round_off=1e-12):
             raise DimensionError(f"{dim_text(a)} is raised to the power {e:g}")
-        return tuple(x * frac for x in a)
+        return _bounded(tuple(x * frac for x in a))
     if k == "fn":
         fn, args = node[1], node[2]
         dims = [_dim(a, pdims) for a in args]
@@ -213,10 +260,10 @@ def _dim(node, pdims: dict[str, Dim]) -> Dim:
             return tuple(x / 2 for x in dims[0])
         if fn == "abs":
             return dims[0]
-        if fn == "atan2":
+        if fn in ("atan2", "agm"):
             if dims[0] != dims[1]:
-                raise DimensionError(f"atan2 of {dim_text(dims[0])} and {dim_text(dims[1])}")
-            return ONE
+                raise DimensionError(f"{fn} of {dim_text(dims[0])} and {dim_text(dims[1])}")
+            return ONE if fn == "atan2" else dims[0]
         if dims[0] != ONE:
             raise DimensionError(f"{fn} of {dim_text(dims[0])}: its argument must be a pure number")
         return ONE
@@ -234,17 +281,29 @@ class Problem:
     args: np.ndarray  # the offending argument at each point
 
 
+def _ellip(fn):
+    from mech.solvers.numerics import special
+
+    return np.vectorize(getattr(special, fn), otypes=[float])
+
+
 _FN = {"sqrt": np.sqrt, "exp": np.exp, "log": np.log, "sin": np.sin, "cos": np.cos, "tan": np.tan,
        "asin": np.arcsin, "acos": np.arccos, "atan": np.arctan, "sinh": np.sinh, "cosh": np.cosh,
-       "tanh": np.tanh, "abs": np.abs}
+       "tanh": np.tanh, "abs": np.abs, "expm1": np.expm1}
+
+
+def _fn(fn, x):
+    if fn in ("ellipk", "ellipe"):
+        return _ellip(fn)(x)
+    return _FN[fn](x)
 
 
 def _deriv(fn, x, y):
     """|f'(x)| for the error propagation (inf where it is infinite)."""
     if fn == "sqrt":
         return 0.5 / np.abs(y)
-    if fn in ("exp", "cosh"):
-        return np.abs(np.exp(x) if fn == "exp" else np.sinh(x))
+    if fn in ("exp", "cosh", "expm1"):
+        return np.abs(np.sinh(x) if fn == "cosh" else np.exp(x))
     if fn == "log":
         return 1.0 / np.abs(x)
     if fn == "sin":
@@ -261,12 +320,20 @@ def _deriv(fn, x, y):
         return np.abs(np.cosh(x))
     if fn == "tanh":
         return 1.0 - y * y
+    if fn == "ellipk":  # dK/dm = (E - (1 - m) K) / (2 m (1 - m))
+        e = _ellip("ellipe")(x)
+        return np.abs((e - (1.0 - x) * y) / (2.0 * x * (1.0 - x)))
+    if fn == "ellipe":  # dE/dm = (E - K) / (2 m)
+        k = _ellip("ellipk")(x)
+        return np.abs((y - k) / (2.0 * x))
     return np.ones_like(x)  # abs
 
 
 def _eval(node, env: dict, dtype, problems: list | None):
     """(value, round-off bound) arrays of ``node`` over the points in ``env`` (name -> array)."""
     eps = float(np.finfo(dtype).eps)
+    # an operation whose result underflows loses it whole: each adds the smallest subnormal, absolute
+    tiny = float(np.finfo(dtype).smallest_subnormal)
     k = node[0]
     if k == "num":
         v = dtype(node[1])
@@ -283,25 +350,37 @@ def _eval(node, env: dict, dtype, problems: list | None):
     if k == "neg":
         v, e = _eval(node[1], env, dtype, problems)
         return -v, e
-    if k in ("add", "sub", "mul", "div", "pow"):
-        a, ea = _eval(node[1], env, dtype, problems)
-        b, eb = _eval(node[2], env, dtype, problems)
-        if k == "add":
-            y = a + b
-            return y, ea + eb + eps * np.abs(y)
-        if k == "sub":
-            y = a - b
-            return y, ea + eb + eps * np.abs(y)
-        if k == "mul":
-            y = a * b
-            return y, np.abs(b) * ea + np.abs(a) * eb + eps * np.abs(y)
-        if k == "div":
+    if k == "sum":
+        (s0, t0), rest = node[1][0], node[1][1:]
+        y, err = _eval(t0, env, dtype, problems)
+        y = y if s0 > 0 else -y
+        for s, t in rest:
+            b, eb = _eval(t, env, dtype, problems)
+            y = y + b if s > 0 else y - b
+            err = err + eb + eps * np.abs(y) + tiny
+        return y, err
+    if k == "prod":
+        y, err = _eval(node[1][0][1], env, dtype, problems)
+        if node[1][0][0] < 0:  # pragma: no cover  (a product starts with a factor)
+            raise AssertionError(node)
+        for s, t in node[1][1:]:
+            b, eb = _eval(t, env, dtype, problems)
+            a, ea = y, err
+            if s > 0:
+                y = a * b
+                err = np.abs(b) * ea + np.abs(a) * eb + eps * np.abs(y) + tiny
+                continue
             y = a / b
             if problems is not None:
                 bad = (b == 0) & np.isfinite(a)
                 if np.any(bad):
-                    problems.append(Problem(np.broadcast_to(bad, np.shape(y)), "a division by zero", np.zeros(np.shape(y))))
-            return y, (ea + np.abs(y) * eb) / np.abs(b) + eps * np.abs(y)
+                    problems.append(Problem(np.broadcast_to(bad, np.shape(y)), "a division by zero",
+                                            np.zeros(np.shape(y))))
+            err = (ea + np.abs(y) * eb) / np.abs(b) + eps * np.abs(y) + tiny
+        return y, err
+    if k == "pow":
+        a, ea = _eval(node[1], env, dtype, problems)
+        b, eb = _eval(node[2], env, dtype, problems)
         y = np.power(a, b) if np.ndim(a) or np.ndim(b) else np.power(dtype(a), dtype(b))
         if problems is not None:
             bad = ~np.isfinite(y) & np.isfinite(a) & np.isfinite(b)
@@ -309,15 +388,24 @@ def _eval(node, env: dict, dtype, problems: list | None):
                 neg = np.broadcast_to(a < 0, np.shape(bad))
                 what = "a negative number to a fractional power" if np.all(neg[bad]) else "a power that overflows or divides by zero"
                 problems.append(Problem(np.broadcast_to(bad, np.shape(y)), what, np.broadcast_to(a, np.shape(y))))
-        with np.errstate(all="ignore"):
-            la = np.log(np.abs(a))
-            err = np.abs(y) * (np.abs(b) * ea / np.abs(a) + np.abs(la) * eb) + eps * np.abs(y)
+        la = np.log(np.abs(a))
+        err = np.abs(y) * (np.abs(b) * ea / np.abs(a) + np.abs(la) * eb) + eps * np.abs(y) + tiny
         err = np.where(np.isfinite(err) | ~np.isfinite(y), err, 0.0)
         return y, err
     if k == "fn":
         fn, args = node[1], node[2]
-        if fn == "atan2":
+        if fn in ("atan2", "agm"):
             (a, ea), (b, eb) = _eval(args[0], env, dtype, problems), _eval(args[1], env, dtype, problems)
+            if fn == "agm":
+                y = _agm(a, b)
+                if problems is not None:
+                    bad = ~np.isfinite(y) & np.isfinite(a) & np.isfinite(b)
+                    if np.any(bad):
+                        problems.append(Problem(np.broadcast_to(bad, np.shape(y)), "agm of a negative number",
+                                                np.broadcast_to(np.minimum(a, b), np.shape(y))))
+                # agm is homogeneous of degree 1 and increasing in both: each partial is at most agm/argument
+                err = np.abs(y) * (ea / np.abs(a) + eb / np.abs(b)) + 4 * eps * np.abs(y)
+                return y, np.where(np.isfinite(err), err, np.inf)
             y = np.arctan2(a, b)
             r2 = a * a + b * b
             err = (np.abs(b) * ea + np.abs(a) * eb) / r2 + eps * np.abs(y)
@@ -327,13 +415,13 @@ def _eval(node, env: dict, dtype, problems: list | None):
                     problems.append(Problem(np.broadcast_to(bad, np.shape(y)), "atan2 of (0, 0)", np.zeros(np.shape(y))))
             return y, np.where(r2 > 0, err, 0.0)
         x, ex = _eval(args[0], env, dtype, problems)
-        y = _FN[fn](x)
+        y = _fn(fn, x)
         if problems is not None:
             bad = ~np.isfinite(y) & np.isfinite(x)
             if np.any(bad):
                 problems.append(Problem(np.broadcast_to(bad, np.shape(y)), f"{fn} of {{x}}", np.broadcast_to(x, np.shape(y))))
         d = _deriv(fn, x, y)
-        err = d * ex + eps * np.abs(y)
+        err = d * ex + (4 if fn.startswith("ellip") else 1) * eps * np.abs(y) + tiny
         # at a branch point (asin(1), sqrt(0)) the first-order bound is infinite; second order is sqrt(ex)
         inf = ~np.isfinite(err) & np.isfinite(y)
         if np.any(inf):
@@ -342,14 +430,192 @@ def _eval(node, env: dict, dtype, problems: list | None):
     raise AssertionError(k)  # pragma: no cover
 
 
+def _agm(a, b):
+    from mech.solvers.numerics import special
+
+    return np.vectorize(special.agm, otypes=[float])(a, b)
+
+
+# -- precise evaluation (mpmath) ------------------------------------------------------------------------
+
+MAX_PREC = 8192  # bits: past this a point is not decided (it is not right)
+_HUGE_MAG = 1 << 22  # |log2| of a value beyond which it counts as overflowing (or underflowing to 0)
+_TRIG_MAG = 1 << 14  # |log2| of a trigonometric argument beyond which its value is not computed
+
+
+class _Undecided(Exception):
+    """The value cannot be computed with the precision asked (an argument too large to reduce)."""
+
+
+class _Domain(Exception):
+    """The exact value is not a real number (asin(2), sqrt(-1), a division by zero)."""
+
+
+@dataclass
+class Precise:
+    """A formula's value at one point in high precision: ``value`` (mpf; None where not real), ``bound`` (mpf,
+    a first-order bound of its round-off at ``prec`` bits), ``domain`` (why there is no real value)."""
+
+    value: object
+    bound: object
+    prec: int
+    domain: str | None = None
+
+
+def _mp():
+    import mpmath
+
+    return mpmath
+
+
+def _mp_eval(node, env: dict, mp, eps):
+    """(value, bound) of ``node`` as mpmath numbers at the context's precision (``eps`` = 2^-prec)."""
+    k = node[0]
+    if k == "num":
+        v = mp.pi if node[2] == "pi" else mp.mpf(node[2])
+        return v, abs(v) * eps
+    if k == "unit":
+        return mp.mpf(node[1]), mp.zero
+    if k == "par":
+        return env[node[1]], mp.zero
+    if k == "neg":
+        v, e = _mp_eval(node[1], env, mp, eps)
+        return -v, e
+    if k == "sum":
+        y, err = mp.zero, mp.zero
+        for s, t in node[1]:
+            b, eb = _mp_eval(t, env, mp, eps)
+            y = y + b if s > 0 else y - b
+            err = err + eb + eps * abs(y)
+        return _checked(y, mp), err
+    if k == "prod":
+        y, err = _mp_eval(node[1][0][1], env, mp, eps)
+        for s, t in node[1][1:]:
+            b, eb = _mp_eval(t, env, mp, eps)
+            a, ea = y, err
+            if s > 0:
+                y = a * b
+                err = abs(b) * ea + abs(a) * eb + eps * abs(y)
+            else:
+                if b == 0:
+                    raise _Domain("a division by zero")
+                y = a / b
+                err = (ea + abs(y) * eb) / abs(b) + eps * abs(y)
+            y = _checked(y, mp)
+        return y, err
+    if k == "pow":
+        a, ea = _mp_eval(node[1], env, mp, eps)
+        b, eb = _mp_eval(node[2], env, mp, eps)
+        if a == 0:
+            if b > 0:
+                return mp.zero, mp.zero
+            raise _Domain("a power that overflows or divides by zero")
+        if a < 0 and b != mp.floor(b):
+            raise _Domain("a negative number to a fractional power")
+        size = b * mp.log(abs(a), 2)
+        if abs(size) > _HUGE_MAG:
+            if size > 0:
+                raise _Domain("a power that overflows or divides by zero")
+            return mp.zero, mp.zero  # underflows: exactly as good as 0 against any tolerance
+        y = mp.power(a, b)
+        if isinstance(y, mp.mpc):
+            raise _Domain("a negative number to a fractional power")
+        err = abs(y) * (abs(b) * ea / abs(a) + abs(mp.log(abs(a))) * eb) + eps * abs(y)
+        return _checked(y, mp), err
+    if k == "fn":
+        fn, args = node[1], node[2]
+        vals = [_mp_eval(a, env, mp, eps) for a in args]
+        if fn == "atan2":
+            (a, ea), (b, eb) = vals
+            if a == 0 and b == 0:
+                raise _Domain("atan2 of (0, 0)")
+            y = mp.atan2(a, b)
+            return y, (abs(b) * ea + abs(a) * eb) / (a * a + b * b) + eps * abs(y)
+        if fn == "agm":
+            (a, ea), (b, eb) = vals
+            if a < 0 or b < 0:
+                raise _Domain("agm of a negative number")
+            y = mp.agm(a, b)
+            if y == 0:
+                return y, ea + eb
+            return y, abs(y) * (ea / abs(a) + eb / abs(b)) + 4 * eps * abs(y)
+        x, ex = vals[0]
+        if fn in ("sin", "cos", "tan") and x != 0 and mp.mag(x) > _TRIG_MAG:
+            raise _Undecided(f"{fn} of a huge argument")
+        if fn in ("exp", "expm1", "sinh", "cosh") and x != 0 and mp.mag(x) > 24:
+            if fn in ("exp", "expm1") and x < 0:
+                return (mp.zero if fn == "exp" else -mp.one), mp.zero
+            raise _Domain(f"{fn} of {{x}}")
+        if fn in ("ellipk", "ellipe") and x != 0 and mp.mag(x) > _TRIG_MAG:
+            raise _Undecided(f"{fn} of a huge argument")
+        try:
+            y = {"sqrt": mp.sqrt, "exp": mp.exp, "log": mp.log, "sin": mp.sin, "cos": mp.cos, "tan": mp.tan,
+                 "asin": mp.asin, "acos": mp.acos, "atan": mp.atan, "sinh": mp.sinh, "cosh": mp.cosh,
+                 "tanh": mp.tanh, "abs": abs, "ellipk": mp.ellipk, "ellipe": mp.ellipe,
+                 "expm1": mp.expm1}[fn](x)
+        except (ZeroDivisionError, ValueError):
+            raise _Domain(f"{fn} of {{x}}") from None
+        if isinstance(y, mp.mpc) or not mp.isfinite(y):
+            raise _Domain(f"{fn} of {{x}}")
+        d = _mp_deriv(fn, x, y, mp)
+        if d is None or not mp.isfinite(d):  # a branch point: second order
+            err = mp.sqrt(2 * ex) + eps * abs(y)
+        else:
+            err = d * ex + (4 if fn.startswith("ellip") else 2) * eps * abs(y)
+        return _checked(y, mp), err
+    raise AssertionError(k)  # pragma: no cover
+
+
+def _mp_deriv(fn, x, y, mp):
+    try:
+        if fn == "sqrt":
+            return 0.5 / abs(y)
+        if fn in ("exp", "cosh", "expm1"):
+            return abs(mp.sinh(x) if fn == "cosh" else mp.exp(x))
+        if fn == "log":
+            return 1 / abs(x)
+        if fn == "sin":
+            return abs(mp.cos(x))
+        if fn == "cos":
+            return abs(mp.sin(x))
+        if fn == "tan":
+            return 1 + y * y
+        if fn in ("asin", "acos"):
+            return 1 / mp.sqrt(abs(1 - x * x))
+        if fn == "atan":
+            return 1 / (1 + x * x)
+        if fn == "sinh":
+            return abs(mp.cosh(x))
+        if fn == "tanh":
+            return 1 - y * y
+        if fn == "ellipk":
+            return abs((mp.ellipe(x) - (1 - x) * y) / (2 * x * (1 - x)))
+        if fn == "ellipe":
+            return abs((y - mp.ellipk(x)) / (2 * x)) if x != 0 else mp.pi / 8
+        return mp.one
+    except ZeroDivisionError:
+        return None
+
+
+def _checked(y, mp):
+    if y != 0 and abs(mp.mag(y)) > _HUGE_MAG:
+        if mp.mag(y) > 0:
+            raise _Domain("a value that overflows")
+        return mp.zero
+    return y
+
+
 def _names_in(node, out: set) -> set:
     if node[0] == "par":
         out.add(node[1])
     elif node[0] == "neg":
         _names_in(node[1], out)
-    elif node[0] in ("add", "sub", "mul", "div", "pow"):
+    elif node[0] == "pow":
         _names_in(node[1], out)
         _names_in(node[2], out)
+    elif node[0] in ("sum", "prod"):
+        for _, t in node[1]:
+            _names_in(t, out)
     elif node[0] == "fn":
         for a in node[2]:
             _names_in(a, out)
@@ -381,6 +647,27 @@ class Formula:
             pr.args = np.broadcast_to(np.asarray(pr.args, float), (n,))
         return y, err, problems
 
+    def evaluate_precise(self, point: dict, prec: int, moved: str | None = None) -> Precise:
+        """The value at one point (parameter -> float, taken exactly) with ``prec`` bits of arithmetic;
+        ``moved``: that parameter raised by half an ulp of a double (2^-53 relative), for what the rounding
+        of an input to a double moves the exact value by."""
+        mpmath = _mp()
+        mp = mpmath.mp
+        with mp.workprec(int(prec)):
+            env = {k: mp.mpf(float(v)) for k, v in point.items()}
+            if moved is not None:
+                env[moved] = env[moved] * (1 + mp.ldexp(1, -53))
+            eps = mp.ldexp(1, -int(prec))
+            try:
+                y, b = _mp_eval(self.tree, env, mp, eps)
+            except _Domain as exc:
+                return Precise(None, mp.zero, prec, str(exc))
+            except _Undecided:
+                return Precise(None, mp.inf, prec, None)
+            except (ZeroDivisionError, OverflowError, ValueError):
+                return Precise(None, mp.zero, prec, "a value that cannot be computed")
+            return Precise(y, b, prec)
+
 
 def parameter_symbols(ex) -> dict[str, str]:
     """Every way a formula may name a parameter of ``ex``: name -> name, and each symbol -> name."""
@@ -396,8 +683,8 @@ def looks_like_formula(text: str, ex, parameters_only: bool = False) -> bool:
     function?"""
     try:
         toks = tokens(str(text)[:MAX_LENGTH], parameter_symbols(ex), formula=True)
-    except ValueError_:
-        return False
+    except ValueError_ as exc:  # a character no value has: the formula's parser names it
+        return "unexpected character" in str(exc) and not parameters_only
     names = set(getattr(ex, "param_map", ()))
     return any(k == "name" and (v in names or (v in FUNCTIONS and not parameters_only)) for k, v in toks)
 
@@ -407,7 +694,7 @@ def parse_formula(text: str, ex) -> Formula:
     text = str(text)
     if len(text) > MAX_LENGTH:
         raise FormulaError(f"formula too long ({len(text)} characters; at most {MAX_LENGTH})")
-    text = text.strip()
+    text = text.strip(" \t")  # a control character is refused by the tokenizer, not dropped
     if text.count("(") > MAX_DEPTH * 4:
         raise FormulaError(f"formula nested too deeply (more than {MAX_DEPTH} levels)")
     try:
@@ -417,8 +704,31 @@ def parse_formula(text: str, ex) -> Formula:
     except ValueError_ as exc:
         raise FormulaError(str(exc)) from None
     pdims = {p.name: dim_of_unit(p.unit)[1] for p in ex.params}
+    tree = _unit_after(tree, pdims)
     try:
         dim, why = _dim(tree, pdims), None
     except DimensionError as exc:
         dim, why = None, str(exc)
     return Formula(text, tree, frozenset(_names_in(tree, set())), dim, why)
+
+
+def _unit_after(tree, pdims):
+    """A formula followed by a unit of its own dimension (``2*pi*sqrt(l/g) s``) says the unit of its value:
+    an SI unit is dropped (the formula is in it already); another is refused in one line (the formula's
+    value is SI, so ``... ms`` cannot be meant as a product).  Never a product of the two."""
+    if tree[0] != "prod" or len(tree[1]) < 2:
+        return tree
+    sign, last = tree[1][-1]
+    if sign < 0 or last[0] != "unit" or last[2] == ONE:
+        return tree
+    rest = tree[1][:-1]
+    rest = rest[0][1] if len(rest) == 1 else ("prod", rest)
+    try:
+        if _dim(rest, pdims) != last[2] or not _contains(rest, ("par",)):
+            return tree
+    except DimensionError:
+        return tree
+    if last[1] == 1.0:
+        return rest
+    raise FormulaError(f"the formula is followed by the unit '{last[3]}': a formula's value is in SI; write "
+                       "it without the unit")

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mech.verification.explain import formula_hint
+from mech.verification.explain import dimension_could_be_a_slip, dimension_hint, formula_hint
 from mech.verification.formula_ast import Formula, dim_of_unit, dim_text
 from mech.verification.judge import Verdict, judge, within
 from mech.verification.points import (DEFAULT_POINTS, DEFAULT_SEED, PointJudgement, PointSet, describe_point,
@@ -39,6 +39,8 @@ FORMULA_RTOL = 1e-9  # a formula is exact: its numbers are as written
 
 
 NUMERIC_BUDGET_S = 4.0  # for the numeric reference of a leading-order output at drawn points
+
+BEYOND = 3.0  # how much closer than the leading-order value a next-order answer must be to the exact one
 
 
 def show_value(v: float, unit: str, digits: int = 6) -> str:
@@ -76,6 +78,7 @@ class FormulaVerdict:
     points: dict
     depends: list
     formula: str
+    matches: str | None = None  # a leading-order output: "beyond-leading-order" for a next-order answer
 
 
 def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: float | None,
@@ -96,8 +99,57 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
                if formula.dim is not None else f"your formula mixes dimensions: {formula.dim_error}")
         if formula.dim is None:
             dimension["error"] = formula.dim_error
+        else:  # a slip that explains the dimension, when it reproduces the formula at every point
+            slip = _dimension_slip(formula, ex, output, ps, FORMULA_RTOL if rtol is None else rtol)
+            if slip:
+                why = f"{why}: {slip}"
         return FormulaVerdict(False, f"wrong dimension: {why}", why, math.nan, None, None, None,
                               points={"checked": 0, "right": 0}, **base)
+    from mech.core import budget
+
+    try:
+        # the points drawn only once the dimension is right, and everything within the budget: the solve's
+        # (what its cross-check left), grade's, or MECH_BUDGET_S for this formula alone
+        with budget.limit(budget.default_seconds(), what="checking the formula"), np.errstate(all="ignore"):
+            if callable(ps):
+                ps = ps()
+            return _judge_at_points(formula, ex, output, ps, given_ref, rtol, numeric_given, given_in_range,
+                                    base)
+    except budget.OutOfBudget as exc:
+        return _not_graded(exc, **base)
+    except MemoryError:
+        return FormulaVerdict(False, "not graded: too many points for the memory at hand (ask for fewer points)",
+                              None, math.nan, None, None, None, points={"checked": 0, "right": 0}, **base)
+
+
+def _dimension_slip(formula: Formula, ex, output, ps, rtol: float) -> str | None:
+    """The slip that explains a wrong dimension (a square, a square root, a parameter left out), checked at
+    points drawn only when the dimensions leave such a slip possible (``explain.dimension_could_be_a_slip``),
+    at most ``DEFAULT_POINTS`` of them whatever the entry asked for, and within the budget: a formula of the
+    wrong dimension never pays for the points its right-dimension check would draw."""
+    from mech.core import budget
+
+    if not dimension_could_be_a_slip(formula, output, ex.params):
+        return None
+    try:
+        with budget.limit(budget.default_seconds(), what="naming the slip behind the dimension"), \
+                np.errstate(all="ignore"):
+            points = ps(DEFAULT_POINTS) if callable(ps) else ps
+            return dimension_hint(formula, points, output, rtol)
+    except (budget.OutOfBudget, MemoryError):
+        return None
+
+
+def _not_graded(exc, **base) -> FormulaVerdict:
+    from mech.core.safeio import shown
+
+    what, where = getattr(exc, "what", None), getattr(exc, "where", "")
+    text = (f"{what} ran out of time" + (f" while {where}" if where else "")) if what else str(exc)
+    return FormulaVerdict(False, f"not graded (budget): {shown(text, 160)}", None, math.nan, None, None, None,
+                          points={"checked": 0, "right": 0}, **base)
+
+
+def _judge_at_points(formula, ex, output, ps, given_ref, rtol, numeric_given, given_in_range, base):
     rtol = FORMULA_RTOL if rtol is None else rtol
     name = output.name
     lead = output.theory != "exact"
@@ -119,6 +171,13 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
             pj.right = pj.right & ~outside
             k = int(outside.sum())
             notes.append(f"{k} point{'s' if k > 1 else ''} outside the leading-order theory's range not judged")
+    if pj.skipped:
+        notes.append(f"{pj.skipped} point{'s' if pj.skipped > 1 else ''} not worked out in high precision once "
+                     "wrong ones were found")
+    overflow = np.array([w == "not finite" for w in ps.undefined.get(name, [])], bool)
+    if overflow.size == len(ps) and overflow[1:].any():
+        k = int(overflow[1:].sum())
+        notes.append(f"{k} point{'s' if k > 1 else ''} where mech's own value overflows left out")
     judged = pj.judged
     wrong = judged & ~pj.right
     n_checked, n_right = int(judged.sum()), int(pj.right.sum())
@@ -145,10 +204,17 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
     if not wrong.any():
         text = f"right at all {n_checked} points ({kinds})"
         if ill:
-            text += (f"; ill-conditioned in double precision {describe_point(ps, ill[0])} (right in extended "
-                     "precision)")
+            text += (f"; ill-conditioned in double precision {describe_point(ps, ill[0])} (right in exact "
+                     "arithmetic)")
         text += "".join(f"; {n}" for n in notes)
-        return FormulaVerdict(True, text, None, y0, r0, rel0, float(pj.tol[0]), points=points, **base)
+        matches = None
+        if lead:
+            matches = ("beyond-leading-order" if any(n.startswith("beyond leading order") for n in notes)
+                       else "exact" if any("numeric value rather" in n for n in notes) else "leading-order")
+            if matches == "beyond-leading-order":  # the verdict says so first
+                text = "right beyond leading order, " + text.removeprefix("right ")
+        return FormulaVerdict(True, text, None, y0, r0, rel0, float(pj.tol[0]), points=points, matches=matches,
+                              **base)
     # wrong: find what a student can act on
     found = formula_hint(formula, ps, output, pj, ref, rtol)
     hint, i_fail = found.hint, found.at
@@ -198,7 +264,11 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
     name = output.name
     misses = [i for i in range(len(ps)) if pj.judged[i] and not pj.right[i] and math.isfinite(pj.yours[i])]
     t0 = time.perf_counter()
-    confirmed = 0
+    outside_theory = ps.outside.get(name, np.zeros(len(ps), bool))
+    # the points inside the theory's range first: there a miss decides the verdict; beyond it a miss is
+    # left out, and the budget is spent there last
+    misses.sort(key=lambda i: (bool(outside_theory[i]), i))
+    confirmed = beyond = 0
     exact_here = np.zeros(len(ps), bool)
     batched = _batchable(ex, name)
     for i in misses:
@@ -217,15 +287,26 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
             if got is None:
                 break
             n, err = got
+        lead_i = ps.analytic[name][i]
         if within(abs(pj.yours[i] - n), scale=n, rel=rtol, bars=(err,), round_off=4 * np.finfo(float).eps):
             pj.right[i] = True
             exact_here[i] = True
             confirmed += 1
+        elif math.isfinite(lead_i) and BEYOND * (abs(pj.yours[i] - n) + err) <= abs(lead_i - n):
+            # a next-order answer: closer to the verified exact value than the leading-order value, by 3x
+            pj.right[i] = True
+            exact_here[i] = True
+            beyond += 1
+        elif outside_theory[i]:
+            continue  # beyond the theory's range a miss of the exact value is left out, not judged wrong
         else:
             break
     if confirmed:
         notes.append(f"at {confirmed} point{'s' if confirmed > 1 else ''} it matches mech's numeric value "
                      "rather than the leading-order one")
+    if beyond:
+        notes.append(f"beyond leading order: at {beyond} point{'s' if beyond > 1 else ''} closer to mech's verified "
+                     f"exact value than the leading-order value is, by {BEYOND:g}x at least")
     return exact_here
 
 
@@ -257,7 +338,8 @@ def _batched_numeric(ex, ps: PointSet, idx: list[int], name: str) -> None:
     try:
         cols = [(route.numeric(P, tol, (name,), memo=ps.batch_memo) if takes_memo
                  else route.numeric(P, tol, (name,)))[name] for tol in (rtol, tighter)]
-    except Exception:  # a failed batch: these points are verified one by one instead (``_verified_at``)
+    except Exception as exc:  # a failed batch: these points are verified one by one instead (``_verified_at``)
+        _budget_out(exc)
         return
     n, v = cols
     J = judge(analytic=np.nan, numeric=n.value, has_analytic=False, n_undefined=n.mask("undefined"),
@@ -271,6 +353,14 @@ def _batched_numeric(ex, ps: PointSet, idx: list[int], name: str) -> None:
 def _verified(verdict, verify_diff, err) -> np.ndarray:
     """A numeric-only value the judge finds verified: its rerun at rtol/10 ran and held it to its claim."""
     return (np.asarray(verdict) == Verdict.NUMERIC_ONLY) & np.isfinite(verify_diff) & np.isfinite(err)
+
+
+def _budget_out(exc) -> None:
+    """Re-raise ``exc`` when it is the formula's budget running out (not one point's failure)."""
+    from mech.core import budget
+
+    if isinstance(exc, budget.OutOfBudget) and budget.remaining() <= 0:
+        raise exc
 
 
 def _verified_at(ex, ps: PointSet, i: int, name: str):
@@ -291,7 +381,8 @@ def _verified_at(ex, ps: PointSet, i: int, name: str):
             verify_diff = math.nan if q.verify_diff is None else q.verify_diff
             if _verified(q.verdict, verify_diff, q.numeric_err):
                 got = (float(q.numeric), float(q.numeric_err))
-    except Exception:  # a numeric failure there: no verified value, the point stays wrong
+    except Exception as exc:  # a numeric failure there: no verified value, the point stays wrong
+        _budget_out(exc)
         got = None
     ps.numeric[key] = got
     return got

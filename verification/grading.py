@@ -106,7 +106,7 @@ def _formula(ex: Exercise, name: str, text: str, parameters_only: bool = False, 
     except FormulaError as exc:
         if parameters_only:
             return None
-        raise BadInput(f"{name}: cannot use the formula '{_short(text)}': {exc}") from None
+        raise BadInput(f"{name}: cannot use the formula '{shown(text, 60)}': {exc}") from None
     if parameters_only and (not f.names or f.dim != dim_of_unit(unit)[1]):
         return None
     return Expectation(name, text, math.nan, formula=f)
@@ -130,11 +130,11 @@ def parse_count(text, what: str, lo: int, hi: int) -> int | None:
     if text is None:
         return None
     try:
-        value = int(str(text).strip()) if not isinstance(text, bool) else None
+        value = None if isinstance(text, bool) else text if isinstance(text, int) else int(str(text).strip()[:40])
     except ValueError:
         value = None
     if value is None or not lo <= value <= hi:
-        raise BadInput(f"{what}: cannot use '{text}': allowed a whole number in [{lo}, {hi}]")
+        raise BadInput(f"{what}: cannot use '{shown(text, 40)}': allowed a whole number in [{lo}, {hi}]")
     return value
 
 
@@ -231,8 +231,18 @@ class Entry:
     columns: list = field(default_factory=list)  # the outputs asked (answered or not), for the gradebook
 
     @property
+    def conclusion(self) -> bool | None:
+        """What the entry concludes, by the one overall rule (``judge.conclude``): False when it cannot be
+        read or an answer is wrong, None when nothing was judged (no verdict: every answer left empty),
+        else True."""
+        from mech.verification.judge import conclude, holds
+
+        return conclude((holds(None, j.match) for j in self.judgements), failed=self.invalid is not None)
+
+    @property
     def ok(self) -> bool:
-        return self.invalid is None and all(j.match for j in self.judgements)
+        """No failure: "no verdict" is none (as in ``mech solve``, ``sweep`` and ``check``)."""
+        return self.conclusion is not False
 
     @property
     def ex_id(self) -> str:
@@ -265,35 +275,80 @@ def _blank(value) -> bool:
     return isinstance(value, str) and not value.strip()
 
 
+class _Problems:
+    """What is wrong with one answer: ``lines`` each naming ``where`` (the file and the entry), the field and
+    the reason; ``reasons`` the same without ``where`` (the invalid entry's text)."""
+
+    def __init__(self, where: str):
+        self.where = where
+        self.lines: list[str] = []
+        self.reasons: list[str] = []
+
+    def bad(self, fld: str, why: str) -> None:
+        self.lines.append(f"{self.where}: {shown(fld)}: {why}")
+        self.reasons.append(f"{shown(fld)}: {why}")
+
+    def refused(self, exc: BadInput) -> None:
+        """A problem whose message names its field already."""
+        self.lines.append(f"{self.where}: {exc}")
+        self.reasons.append(str(exc))
+
+
 def _read_entry(k: int, item: dict, line: int | None, where: str, keys=_ENTRY_KEYS,
                 memo: dict | None = None) -> tuple[Entry, list[str]]:
     """One answer, read and checked: the Entry (``invalid`` set when anything is wrong) and its problems,
     each one line naming ``where`` (the file and the entry), the field and the reason.  ``memo``: values
     already read in this file (a class writes the same formula many times), by exercise, name and text."""
-    from mech.problems import registry
-
-    problems: list[str] = []
-    reasons: list[str] = []
-
-    def bad(fld: str, why: str) -> None:
-        problems.append(f"{where}: {shown(fld)}: {why}")
-        reasons.append(f"{shown(fld)}: {why}")
-
+    found = _Problems(where)
     for key in item:
         if key not in keys:
-            bad(key, f"unknown field; an answer has {', '.join(keys)}")
+            found.bad(key, f"unknown field; an answer has {', '.join(keys)}")
     ex_id = item.get("exercise")
-    ex = None
-    if not isinstance(ex_id, str):
-        bad("exercise", "missing, or not a string such as \"4.15\"")
-    else:
+    ex = _read_exercise(ex_id, found)
+    given, written = _read_params(ex, item.get("params", {}), found)
+    rtol = None
+    if "rtol" in item:
         try:
-            ex = registry.get(ex_id)
+            rtol = parse_rtol_value(item["rtol"], "rtol")
         except BadInput as exc:
-            bad("exercise", str(exc))
-    params = item.get("params", {})
+            found.refused(exc)
+    expectations, unanswered, columns = _read_expect(ex, item.get("expect"), rtol, memo, found)
+    if ex is not None and not found.lines and expectations:
+        try:
+            expectations = _formula_range(ex, item, expectations)
+        except BadInput as exc:
+            found.refused(exc)
+    student = _read_student(item.get("student"), found)
+    entry = Entry(k, line, ex, given, written, expectations, student=student, unanswered=unanswered,
+                  exercise_text=shown("?" if ex_id is None else str(ex_id), 20), columns=columns)
+    if found.lines:
+        from mech.core.safeio import escape
+
+        text = escape("; ".join(" ".join(r.split()) for r in found.reasons))
+        text = f"line {line}: {text}" if line else f"answer {k}: {text}"
+        entry.invalid = text if len(text) <= MAX_INVALID_CHARS else text[: MAX_INVALID_CHARS - 3] + "..."
+        entry.expectations = []
+    return entry, found.lines
+
+
+def _read_exercise(ex_id, found: _Problems) -> Exercise | None:
+    """The answer's exercise (None when it names none that mech knows)."""
+    from mech.problems import registry
+
+    if not isinstance(ex_id, str):
+        found.bad("exercise", "missing, or not a string such as \"4.15\"")
+        return None
+    try:
+        return registry.get(ex_id)
+    except BadInput as exc:
+        found.bad("exercise", str(exc))
+        return None
+
+
+def _read_params(ex: Exercise | None, params, found: _Problems) -> tuple[dict, dict]:
+    """The answer's parameters: (SI values, the values as written), each checked against its range."""
     if not isinstance(params, dict):
-        bad("params", "not a table such as { theta0 = \"60deg\" }")
+        found.bad("params", "not a table such as { theta0 = \"60deg\" }")
         params = {}
     given, written = {}, {}
     for raw_name, value in params.items():
@@ -301,87 +356,75 @@ def _read_entry(k: int, item: dict, line: int | None, where: str, keys=_ENTRY_KE
             break
         pname = str(raw_name).strip().replace("-", "_")
         if pname not in ex.param_map:
-            bad(f"params.{raw_name}", f"not a parameter of {ex.id}; its parameters are: {', '.join(ex.param_map)}")
+            found.bad(f"params.{raw_name}",
+                      f"not a parameter of {ex.id}; its parameters are: {', '.join(ex.param_map)}")
             continue
         param = ex.param_map[pname]
         if isinstance(value, bool) or not isinstance(value, (str, int, float)):
-            bad(f"params.{raw_name}", "not a number or a string such as \"60deg\"")
+            found.bad(f"params.{raw_name}", "not a number or a string such as \"60deg\"")
             continue
         try:
             given[pname] = to_si(str(value), param.unit)
             param.check(given[pname])
         except (ValueError_, BadInput, OverflowError) as exc:
             why = str(exc).removeprefix(f"{pname}: ")
-            bad(f"params.{raw_name}", f"cannot use '{shown(value)}': {why}")
+            found.bad(f"params.{raw_name}", f"cannot use '{shown(value)}': {why}")
             given.pop(pname, None)
             continue
         written[pname] = shown(value, 40)
-    if ex is not None and not problems:
+    if ex is not None and not found.lines:
         try:
             ex.resolve(given)
         except BadInput as exc:
-            bad("params", str(exc))
-    rtol = None
-    if "rtol" in item:
-        try:
-            rtol = parse_rtol_value(item["rtol"], "rtol")
-        except BadInput as exc:
-            problems.append(f"{where}: {exc}")
-            reasons.append(str(exc))
-    expect = item.get("expect")
+            found.bad("params", str(exc))
+    return given, written
+
+
+def _read_expect(ex: Exercise | None, expect, rtol, memo: dict | None, found: _Problems):
+    """The answer's expected values: (expectations, outputs left unanswered, outputs asked)."""
     expectations, unanswered, columns = [], [], []
     if not isinstance(expect, dict) or not expect:
-        bad("expect", "missing or empty; give a table such as { theta_c = \"35.26deg\" }")
-    elif ex is not None:
-        outputs = {o.name for o in ex.outputs}
-        for raw_name, value in expect.items():
-            name = str(raw_name).strip().replace("-", "_")
-            if name in columns:
-                bad(f"expect.{raw_name}", "given more than once")
-                continue
-            if name in outputs:
-                columns.append(name)
-            if name in outputs and _blank(value):
-                unanswered.append(name)  # left for the student: not graded
-                continue
-            mkey = (ex.id, str(raw_name), type(value).__name__, str(value), rtol)
-            got = memo.get(mkey) if memo is not None else None
-            if got is None:
-                try:
-                    got = parse_expectation(ex, raw_name, value, rtol)
-                except BadInput as exc:
-                    got = BadInput(str(exc))
-                if memo is not None and len(memo) < 10000:
-                    memo[mkey] = got
-            if isinstance(got, BadInput):
-                bad(f"expect.{raw_name}", str(got).split(": ", 1)[-1])
-                continue
-            expectations.append(got)
-    if ex is not None and not problems and expectations:
-        try:
-            expectations = _formula_range(ex, item, expectations)
-        except BadInput as exc:
-            problems.append(f"{where}: {exc}")
-            reasons.append(str(exc))
-    student = item.get("student")
-    if student is not None:
-        if not isinstance(student, str) or not student.strip() or len(student.strip()) > MAX_STUDENT \
-                or not student.strip().isprintable():
-            bad("student", f"not a name such as \"alice\" (a one-line string of 1 to {MAX_STUDENT} "
-                           "characters)")
-            student = None
-        else:
-            student = student.strip()
-    entry = Entry(k, line, ex, given, written, expectations, student=student, unanswered=unanswered,
-                  exercise_text=shown("?" if ex_id is None else str(ex_id), 20), columns=columns)
-    if problems:
-        from mech.core.safeio import escape
+        found.bad("expect", "missing or empty; give a table such as { theta_c = \"35.26deg\" }")
+        return expectations, unanswered, columns
+    if ex is None:
+        return expectations, unanswered, columns
+    outputs = {o.name for o in ex.outputs}
+    for raw_name, value in expect.items():
+        name = str(raw_name).strip().replace("-", "_")
+        if name in columns:
+            found.bad(f"expect.{raw_name}", "given more than once")
+            continue
+        if name in outputs:
+            columns.append(name)
+        if name in outputs and _blank(value):
+            unanswered.append(name)  # left for the student: not graded
+            continue
+        mkey = (ex.id, str(raw_name), type(value).__name__, str(value), rtol)
+        got = memo.get(mkey) if memo is not None else None
+        if got is None:
+            try:
+                got = parse_expectation(ex, raw_name, value, rtol)
+            except BadInput as exc:
+                got = BadInput(str(exc))
+            if memo is not None and len(memo) < 10000:
+                memo[mkey] = got
+        if isinstance(got, BadInput):
+            found.bad(f"expect.{raw_name}", str(got).split(": ", 1)[-1])
+            continue
+        expectations.append(got)
+    return expectations, unanswered, columns
 
-        text = escape("; ".join(" ".join(r.split()) for r in reasons))
-        text = f"line {line}: {text}" if line else f"answer {k}: {text}"
-        entry.invalid = text if len(text) <= MAX_INVALID_CHARS else text[: MAX_INVALID_CHARS - 3] + "..."
-        entry.expectations = []
-    return entry, problems
+
+def _read_student(student, found: _Problems) -> str | None:
+    """The student's name, stripped (None when none is given, or it is not a one-line name)."""
+    if student is None:
+        return None
+    if not isinstance(student, str) or not student.strip() or len(student.strip()) > MAX_STUDENT \
+            or not student.strip().isprintable():
+        found.bad("student", f"not a name such as \"alice\" (a one-line string of 1 to {MAX_STUDENT} "
+                             "characters)")
+        return None
+    return student.strip()
 
 
 def _refuse(name: str, problems: list[str]) -> None:
@@ -435,7 +478,9 @@ def _formula_range(ex: Exercise, item: dict, expectations: list) -> list:
     if not any(e.formula is not None for e in expectations):
         raise BadInput(f"{next(k for k in ('points', 'seed', 'over') if k in item)}: only for formulas, and "
                        "this answer has none")
-    points = parse_count(item["points"], "points", 1, 10000) if "points" in item else None
+    from mech.verification.points import MAX_POINTS
+
+    points = parse_count(item["points"], "points", 1, MAX_POINTS) if "points" in item else None
     seed = parse_count(item["seed"], "seed", 0, 2**63 - 1) if "seed" in item else None
     over = item.get("over")
     if over is not None:
@@ -688,6 +733,7 @@ def _not_graded(entry: Entry, why: str):
 def _grade_one(entry: Entry, deadline: float, total_s: float, per_solve: float, solved: dict) -> None:
     """One entry, cross-checked and judged; whatever goes wrong in it (an overflow, a bug in mech) is
     this entry's verdict, never the rest of the class's."""
+    from mech.core import budget
     from mech.verification.answers import judge
     from mech.verification.crosscheck import cross_check
     from mech.verification.result import Failure
@@ -699,7 +745,9 @@ def _grade_one(entry: Entry, deadline: float, total_s: float, per_solve: float, 
         left = deadline - time.monotonic()
         if key in solved:
             result = solved[key]
-            entry.judgements = judge(result, entry.expectations)
+            left = max(deadline - time.monotonic(), 1e-3)
+            with budget.limit(left, what="grading (--budget gives it more)"):  # formulas too
+                entry.judgements = judge(result, entry.expectations)
         elif left <= 0.05:
             why = f"not graded: the total budget of {total_s:g} s ran out (--budget SECONDS gives it more)"
             result = cross_check(entry.exercise, params, methods=("analytic",), verify=False)
@@ -707,7 +755,9 @@ def _grade_one(entry: Entry, deadline: float, total_s: float, per_solve: float, 
             entry.judgements = _not_graded(entry, why)
         else:
             result = solved[key] = cross_check(entry.exercise, params, budget_s=min(per_solve, left))
-            entry.judgements = judge(result, entry.expectations)
+            left = max(deadline - time.monotonic(), 1e-3)
+            with budget.limit(left, what="grading (--budget gives it more)"):  # formulas too
+                entry.judgements = judge(result, entry.expectations)
         entry.result = result.with_expected(entry.judgements)
     except (BadInput, ArithmeticError, ValueError) as exc:  # this entry's numbers: its own verdict
         entry.result = None

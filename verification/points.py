@@ -7,13 +7,17 @@ constraints.  Where an exercise refuses most of its box, a draw it refuses is re
 time: with the others held, that parameter's allowed interval is found on a grid and refined by bisection,
 and the value is drawn inside it.
 
-A point is right when ``|yours - mech| <= rtol |mech| + mech's error bar + 4 x your formula's own
-round-off`` (a first-order bound carried through the evaluation), the judge's rule (``judge.within``).
-Where that round-off decides, the formula is evaluated again in extended precision (``numpy.longdouble``):
-a right formula that only loses digits to cancellation is then said to be ill-conditioned there, not wrong.
+A point is right when its exact value is: in double precision where the formula's own round-off bound
+(first order, carried through the evaluation) is small against ``base = rtol |mech| + mech's error bar + 4
+ulp``, so that the allowance is at most ``2 base``; elsewhere with mpmath at as many bits as the point needs
+(``_precise``), the only allowance beside ``base`` being what rounding the parameters to doubles moves the
+exact value by, itself computed exactly.  No allowance grows with terms that cancel.  A right formula that
+only loses digits in double is said to be ill-conditioned there; always by the judge's rule
+(``judge.within``).
 
-The point set and mech's values are computed once per exercise, given point and range (``_CACHE``): a class
-file judges every student's formula against the same arrays.
+The point set and mech's values are computed once per exercise, given point and range (``_CACHE``, bounded
+in bytes: ``CACHE_BYTES``): a class file judges every student's formula against the same arrays.  Every
+loop looks at the budget (``core.budget.check``).
 """
 
 from __future__ import annotations
@@ -23,15 +27,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mech.core import budget
+from mech.core.safeio import shown
 from mech.problems.spec import BadInput, Params, Undefined
-from mech.verification.formula_ast import Formula
+from mech.verification.formula_ast import MAX_PREC, Formula, Problem
 from mech.verification.judge import allowance, within
 
-__all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "PointSet", "PointJudgement", "point_set", "draw", "ranges",
+__all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "MAX_POINTS", "CACHE_BYTES", "PointSet", "PointJudgement", "point_set", "draw", "ranges",
            "parse_over", "depends", "line_of", "accept", "make", "judge_points", "yours_at_given", "describe_point",
            "problem_text", "in_over"]
 
 DEFAULT_POINTS = 24
+# parameter sets a formula may ask to be judged at (``--expect-points``, ``points =``): drawing them, mech's
+# values there and the judging all run under the budget, which cuts a check that would run longer
+MAX_POINTS = 10_000
 
 DEFAULT_SEED = 20240524
 
@@ -237,6 +246,7 @@ def draw(ex, n: int, seed: int, over: dict | None = None) -> list[Params]:
     for _ in range(4 * n + 8):
         if len(out) >= n:
             break
+        budget.check("drawing the points")
         x = {k: r.draw(rng) for k, r in rs.items()}
         p = accept(ex, x) or _repair(ex, x, rs, rng) or _toward(ex, base, x, rs, rng)
         if p is not None and in_over(p, over):
@@ -252,20 +262,24 @@ def parse_over(ex, over: dict) -> dict[str, tuple[float, float]]:
     for raw, text in over.items():
         name = str(raw).strip().replace("-", "_")
         if name not in ex.param_map:
-            raise BadInput(f"over.{raw}: not a parameter of {ex.id}; its parameters are: {', '.join(ex.param_map)}")
+            raise BadInput(f"over.{shown(raw, 40)}: not a parameter of {ex.id}; its parameters are: {', '.join(ex.param_map)}")
         p = ex.param_map[name]
         if not isinstance(text, str) or text.count(":") != 1:
-            raise BadInput(f"over.{raw}: give a range LO:HI such as \"10deg:60deg\"")
+            raise BadInput(f"over.{shown(raw, 40)}: give a range LO:HI such as \"10deg:60deg\"")
         lo_s, hi_s = text.split(":")
         try:
             lo, hi = to_si(lo_s, p.unit), to_si(hi_s, p.unit)
             p.check(lo, lo_s)
             p.check(hi, hi_s)
         except (ValueError_, BadInput) as exc:
-            raise BadInput(f"over.{raw}: {str(exc).removeprefix(name + ': ')}") from None
+            raise BadInput(f"over.{shown(raw, 40)}: {shown(str(exc).removeprefix(name + ': '), 120)}") from None
         if not lo < hi:
-            raise BadInput(f"over.{raw}: {text}: the low end must be below the high end")
+            raise BadInput(f"over.{shown(raw, 40)}: {shown(text, 40)}: the low end must be below the high end")
         out[name] = (lo, hi)
+    if out and not draw(ex, 1, DEFAULT_SEED, out):  # a range the joint limits leave empty: a bad input
+        ranges_text = ", ".join(f"{shown(k, 20)} = {shown(v, 40)}" for k, v in over.items())
+        raise BadInput(f"over: no parameters of {ex.id} inside {ranges_text} meet its joint limits "
+                       "(mech show lists them)")
     return out
 
 
@@ -295,7 +309,30 @@ class PointSet:
         return len(self.points)
 
 
-_CACHE: dict = {}
+_CACHE: dict = {}  # key -> PointSet, oldest first; bounded in bytes (``CACHE_BYTES``), not in entries
+CACHE_BYTES = 64 * 2**20
+
+
+def size_of(ps: PointSet) -> int:
+    """An upper estimate of a point set's memory, bytes: per point its Params, its arrays, its memo entry
+    (measured with tracemalloc: 1.1 kB a point for 4.15's 3 parameters and 2 outputs, 1.3 kB for 4.32's 4
+    and 3; this says 1.65 and 2.15 kB)."""
+    width = len(ps.arrays) + len(ps.analytic)
+    return len(ps) * (400 + 250 * width)
+
+
+def _remember(key, ps: PointSet) -> None:
+    """Keep ``ps`` for the next formula judged at the same points, dropping the oldest beyond
+    ``CACHE_BYTES``; a point set larger than the whole cache is not kept."""
+    size = size_of(ps)
+    if size > CACHE_BYTES:
+        return
+    total = sum(size_of(v) for v in _CACHE.values()) + size
+    for old in list(_CACHE):
+        if total <= CACHE_BYTES:
+            break
+        total -= size_of(_CACHE.pop(old))
+    _CACHE[key] = ps
 
 
 def _analytic_at(ex, pts: list, memo: dict) -> tuple[dict, dict, dict]:
@@ -310,8 +347,11 @@ def _analytic_at(ex, pts: list, memo: dict) -> tuple[dict, dict, dict]:
         key = _key(ex, p)
         got = memo.get(key)
         if got is None:
+            budget.check("working out mech's values at the points")
             try:
                 got = (ex.solve_analytic(p), ex.analytic_errors(p))
+            except budget.OutOfBudget:
+                raise
             except Exception as exc:  # a point where the analytic route has no answer: not a point to judge at
                 got = f"{type(exc).__name__}: {exc}"
             memo[key] = got
@@ -361,6 +401,8 @@ def _outside_theory(ex, pts: list, memo: dict | None = None) -> dict:
         if why is None:
             try:
                 why = validity(p)
+            except budget.OutOfBudget:
+                raise
             except Exception:  # no range to read here: the point is judged like any other
                 why = {}
             if memo is not None:
@@ -379,8 +421,9 @@ def point_set(ex, given: Params, n: int = DEFAULT_POINTS, seed: int = DEFAULT_SE
     bounds and joint checks alone (``accept``): ``resolve``'s representability test would solve the
     analytic answer once more, and a point without a finite answer is not judged anyway."""
     key = (ex.id, tuple(sorted(given.items())), int(n), int(seed), tuple(sorted((over or {}).items())))
-    hit = _CACHE.get(key)
+    hit = _CACHE.pop(key, None)
     if hit is not None:
+        _CACHE[key] = hit  # the most recent last
         return hit
     base = _shared_part(ex, n, seed, over)
     pts, labels = [given], ["given"]
@@ -399,9 +442,7 @@ def point_set(ex, given: Params, n: int = DEFAULT_POINTS, seed: int = DEFAULT_SE
         memo[_key(ex, given)] = ({n: v for n, (v, _) in known.items()}, {n: e for n, (_, e) in known.items()})
     ps = make(ex, pts, labels, memo, base["outside"])
     ps.in_range = in_over(given, over)
-    if len(_CACHE) > 256:
-        _CACHE.clear()
-    _CACHE[key] = ps
+    _remember(key, ps)
     return ps
 
 
@@ -427,9 +468,16 @@ def _shared_part(ex, n: int, seed: int, over: dict | None) -> dict:
     rest = [p for p in [base["defaults"], *hards, *base["drawn"]] if p is not None]
     _analytic_at(ex, rest, base["memo"])
     _outside_theory(ex, rest, base["outside"])
-    if len(_SHARED) > 64:
-        _SHARED.clear()
-    _SHARED[key] = base
+    # bounded like _CACHE, in bytes (``size_of``'s estimate per point), the oldest dropped first
+    size = len(rest) * (400 + 250 * (len(ex.params) + len(ex.outputs)))
+    if size <= CACHE_BYTES:
+        total = sum(v["bytes"] for v in _SHARED.values()) + size
+        for old in list(_SHARED):
+            if total <= CACHE_BYTES:
+                break
+            total -= _SHARED.pop(old)["bytes"]
+        base["bytes"] = size
+        _SHARED[key] = base
     return base
 
 
@@ -492,33 +540,122 @@ class PointJudgement:
     ref: np.ndarray
     right: np.ndarray  # bool
     judged: np.ndarray  # bool: a point with a reference and a finite value of yours, or a domain error
-    ill: np.ndarray  # bool: right only in extended precision (ill-conditioned in double)
+    ill: np.ndarray  # bool: right in exact arithmetic, not within base in double (ill-conditioned there)
     problems: list
     tol: np.ndarray
+    skipped: int = 0  # points left unjudged: double precision could not decide them, and others were wrong
 
 
 def judge_points(formula: Formula, ps: PointSet, ref: np.ndarray, ref_err: np.ndarray, rtol: float,
                  alt: dict | None = None) -> PointJudgement:
+    """Hold ``formula`` against ``ref`` (with its error bars ``ref_err``) at every point of ``ps``.
+
+    In double precision where the formula's own round-off bound is small against the tolerance (at most
+    what the reference is held to: the allowance then at most doubles, whatever the formula's terms);
+    elsewhere, and where the double value is not a finite number, in as many bits as the point needs
+    (``_precise``): the exact value at the point decides."""
     env = {k: ps.arrays[k] for k in formula.names}
-    y, e, problems = formula.evaluate(env, np.float64) if env else formula.evaluate({"_": np.zeros(len(ps))})
+    n = len(ps)
+    y, e, problems = formula.evaluate(env, np.float64) if env else formula.evaluate({"_": np.zeros(n)})
     has_ref = np.isfinite(ref)
-    d = np.abs(y - ref)
     eps4 = 4 * np.finfo(float).eps
     base = allowance(ref, rel=rtol, bars=(ref_err,), round_off=eps4)
-    tol = allowance(ref, rel=rtol, bars=(ref_err,), round_off=eps4, own=4 * e)
-    right = has_ref & np.isfinite(y) & within(d, bars=(tol,))
-    leans = right & (4 * e > base)  # right only through its own round-off: confirm in extended precision
-    retry = (has_ref & np.isfinite(y) & ~right & (e > 0)) | leans
-    ill = np.zeros(len(ps), bool)
-    if np.any(retry) and np.finfo(np.longdouble).eps < np.finfo(float).eps:
-        yl, el, _ = formula.evaluate(env if env else {"_": np.zeros(len(ps))}, np.longdouble)
-        dl = np.abs(yl - ref.astype(np.longdouble)).astype(float)
-        el = el.astype(float)
-        ok_l = within(dl, scale=ref, rel=rtol, bars=(ref_err,), round_off=eps4, own=4 * el)
-        right = np.where(retry, ok_l, right)
-        ill = retry & ok_l & (4 * e > base)
-    judged = has_ref & (np.isfinite(y) | _masked(problems, len(ps)))
-    return PointJudgement(y, ref, right & judged, judged, ill, problems, tol)
+    with np.errstate(all="ignore"):
+        d = np.abs(y - ref)
+        sure = has_ref & np.isfinite(y) & np.isfinite(e) & within(4 * e, bars=(base,))
+    right = sure & within(d, bars=(base,), own=4 * e)
+    tol = np.where(sure, allowance(ref, rel=rtol, bars=(ref_err,), round_off=eps4, own=4 * e), base)
+    ill = np.zeros(n, bool)
+    undecided = np.zeros(n, bool)
+    fixed = np.zeros(n, bool)
+    yours = y.copy()
+    names = sorted(formula.names)
+    todo = np.flatnonzero(has_ref & ~sure)
+    skipped = np.zeros(n, bool)
+    for j, i in enumerate(todo):
+        if j and j % PRECISE_BATCH == 0 and np.any(fixed & ~right):
+            # found wrong in exact arithmetic already: the rest need not cost the budget
+            skipped[todo[j:]] = True
+            break
+        budget.check("judging the formula in high precision")
+        point = {k: float(ps.arrays[k][i]) for k in names}
+        got = _precise(formula, point, float(ref[i]), float(base[i]), float(e[i]) if np.isfinite(e[i]) else math.inf)
+        if got is None:  # no precision up to MAX_PREC decides it: not right
+            undecided[i] = True
+            yours[i] = np.nan
+            continue
+        value, ok, domain = got
+        if domain is not None:
+            if np.isfinite(y[i]):  # exactly, there is no real value here: a domain error, named
+                problems.append(_problem_at(n, i, domain, value))
+            yours[i] = np.nan
+            continue
+        fixed[i] = True
+        yours[i] = value
+        right[i] = ok
+        ill[i] = ok and not (np.isfinite(y[i]) and within(d[i], bars=(base[i],)))
+    for pr in problems:  # where the exact value exists, the double's failure there was round-off
+        if np.any(pr.mask & fixed):
+            pr.mask = np.asarray(pr.mask) & ~fixed
+    if undecided.any():
+        problems.append(Problem(undecided, "a value no precision up to "
+                                f"{MAX_PREC} bits decides", np.zeros(n)))
+    judged = has_ref & (np.isfinite(yours) | fixed | _masked(problems, n)) & ~skipped
+    return PointJudgement(yours, ref, right & judged, judged, ill, problems, tol, int(skipped.sum()))
+
+
+PRECISE_BATCH = 64  # points judged in high precision before looking whether one was found wrong
+
+
+def _problem_at(n: int, i: int, what: str, arg) -> Problem:
+    mask = np.zeros(n, bool)
+    mask[i] = True
+    args = np.zeros(n)
+    args[i] = float(arg) if arg is not None else np.nan
+    return Problem(mask, what, args)
+
+
+def _precise(formula: Formula, point: dict, ref: float, base: float, e: float):
+    """(value, right, domain) of ``formula`` at one point in high precision, or None when no precision up
+    to ``MAX_PREC`` bits decides it.
+
+    Right when ``|value - ref| + 4 x its round-off bound <= base + sens``: ``sens``, what rounding each
+    parameter to a double (half an ulp) moves the exact value by, is computed exactly too (the values at
+    the moved points), so that a term cancelling in exact arithmetic moves nothing.  Wrong when
+    ``|value - ref| - 4 x bound > base + sens``.  Between the two the precision doubles."""
+    import mpmath
+
+    mp = mpmath.mp
+    # the bits that bring the double's round-off bound well under the tolerance, to start with
+    ratio = (4 * e) / base if base > 0 else math.inf
+    prec = 128 if not math.isfinite(ratio) or ratio < 1 else int(53 + math.log2(ratio) + 24)
+    prec = max(128, min(prec, MAX_PREC))
+    sens = None
+    while True:
+        budget.check("judging the formula in high precision")
+        p = formula.evaluate_precise(point, prec)
+        if p.domain is not None:
+            return math.nan, False, p.domain
+        if p.value is None:  # an argument too large to reduce at any precision
+            return None
+        with mp.workprec(prec):
+            d = abs(p.value - mp.mpf(ref))
+            b4 = 4 * p.bound
+            if sens is None and not within(d + b4, bars=(mp.mpf(base),)):
+                sens = mp.zero
+                for k in point:
+                    if point[k] != 0:
+                        q = formula.evaluate_precise(point, prec, moved=k)
+                        if q.value is not None:  # past a branch point: no allowance from it
+                            sens += abs(q.value - p.value) + 4 * q.bound
+            bars = (mp.mpf(base), sens if sens is not None else mp.zero)
+            if within(d + b4, bars=bars):  # right, whatever the round-off left
+                return float(p.value), True, None
+            if not within(d - b4, bars=bars):  # wrong, whatever the round-off left
+                return float(p.value), False, None
+        if prec >= MAX_PREC:
+            return None
+        prec = min(2 * prec, MAX_PREC)
 
 
 def _masked(problems, n) -> np.ndarray:

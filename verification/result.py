@@ -19,13 +19,16 @@ import functools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, Iterator
+from typing import TYPE_CHECKING, Any, Callable, Iterator
 
 from mech.problems.spec import Undefined
 from mech.verification.judge import Verdict, conclude, holds
 
-__all__ = ["Failure", "Quantity", "Solution", "FAILURE_KINDS", "SOLVER_FAILURES", "to_json", "to_text", "to_html",
-           "to_rich", "quantity_json"]
+if TYPE_CHECKING:
+    import numpy as np
+
+__all__ = ["Failure", "Quantity", "Solution", "Trajectory", "FAILURE_KINDS", "SOLVER_FAILURES", "to_json", "to_text",
+           "to_html", "to_rich", "quantity_json"]
 
 # what failed: a solver (analytic, numeric, the numeric rerun at rtol/10), an invariant's drift, a value
 # that is not finite or outside the floating-point range, an estimate (the analytic round-off, the theory's
@@ -118,6 +121,13 @@ class Quantity:
                 return v
         return None
 
+    def __float__(self) -> float:
+        """``float(sol["T"])``: ``value``; a ValueError naming the output where it has none."""
+        v = self.value
+        if v is None:
+            raise ValueError(f"{self.name} has no finite value here")
+        return float(v)
+
 
 def _is_number(v) -> bool:
     return isinstance(v, float) and math.isfinite(v)
@@ -162,6 +172,37 @@ def quantity_json(q: Quantity) -> dict:
     return d
 
 
+@dataclass
+class Trajectory:
+    """The motion the numeric route integrated: ``y[i]`` is state ``names[i]`` (in ``units[i]``) at times ``t``.
+
+    ``y`` has shape (n_states, n_times), as scipy's ``OdeResult``; ``t`` is increasing.  The one trajectory
+    type of the API (``mech.Trajectory``, ``Solution.trajectory``): the integrator's own result
+    (``solvers.numerics.ode.Trajectory``, one leg with its cost) is converted to it by ``mech.api``, in SI
+    with the legs joined, and never handed out.
+    """
+
+    t: np.ndarray
+    y: np.ndarray
+    names: list[str]
+    units: list[str]
+
+    def to_csv(self, path) -> None:
+        """A header row ``t [s]`` then ``name [unit]`` per state, one row per time."""
+        import csv
+
+        from mech.core.safeio import atomic_write
+
+        with atomic_write(str(path), "--trajectory", newline="") as fh:
+            out = csv.writer(fh)
+            out.writerow(["t [s]"] + [f"{n} [{u}]" for n, u in zip(self.names, self.units)])
+            for k in range(self.t.size):
+                out.writerow([repr(float(self.t[k]))] + [repr(float(v)) for v in self.y[:, k]])
+
+    def __repr__(self) -> str:
+        return f"Trajectory({', '.join(self.names)}; {self.t.size} times from {self.t[0]:g} to {self.t[-1]:g} s)"
+
+
 @dataclass(frozen=True, eq=False)
 class Solution(Mapping):
     """The cross-check of one exercise at one set of parameters: a read-only Mapping of output names to
@@ -182,7 +223,8 @@ class Solution(Mapping):
     run: Any = field(default=None, repr=False)  # the numeric solve's Run (its recorded integrations)
     expect_ok: bool | None = None
     expect_summary: str | None = None
-    trajectory_of: Any = field(default=None, repr=False)  # Solution -> its Trajectory (set by mech.api)
+    # Solution -> its Trajectory (set by mech.api, which reruns the numeric solve with its motion kept)
+    trajectory_of: Callable[[Solution], Trajectory | None] | None = field(default=None, repr=False)
 
     # -- the Mapping -----------------------------------------------------------------------------------
     def __getitem__(self, name: str) -> Quantity:
@@ -257,7 +299,7 @@ class Solution(Mapping):
         return to_rich(self)
 
     @functools.cached_property
-    def trajectory(self):
+    def trajectory(self) -> Trajectory | None:
         """The motion the numeric route integrates, in SI (None where it integrates none): computed on
         first use by ``trajectory_of`` (the API's, which reruns the numeric solve with its motion kept)."""
         return None if self.trajectory_of is None else self.trajectory_of(self)
@@ -371,6 +413,7 @@ def to_text(sol: Solution) -> str:
     lines.extend(str(e) for e in sol.errors)
     if sol.expect_summary:
         lines.append(sol.expect_summary)
+        lines.extend(expect_lines(sol))
     said = _closing_text(sol)
     if said:
         lines.append(said)
@@ -389,7 +432,8 @@ def to_html(sol: Solution) -> str:
     head_html = "".join(f"<th>{esc(c)}</th>" for c in head)
     body = "".join("<tr>" + "".join(f"<td>{esc(c)}</td>" for c in r) + "</tr>" for r in rows)
     errors = "".join(f"<p style='color:#b00'>{esc(str(e))}</p>" for e in sol.errors)
-    expect = f"<p>{esc(sol.expect_summary)}</p>" if sol.expect_summary else ""
+    expect = (f"<p>{esc(sol.expect_summary)}</p>" + "".join(f"<p>{esc(x)}</p>" for x in expect_lines(sol))
+              if sol.expect_summary else "")
     return (f"<div><b>{esc(ex.id)}  {esc(ex.title)}</b><br><span>{params}</span>"
             f"<table><thead><tr>{head_html}</tr></thead><tbody>{body}</tbody></table>"
             f"{errors}{expect}<p>{esc(_closing_text(sol))}</p></div>")
@@ -413,7 +457,13 @@ def to_rich(sol: Solution):
     parts.extend(Text(str(e), style="red") for e in sol.errors)
     if sol.expect_summary:
         parts.append(Text(sol.expect_summary, style="green" if sol.expect_ok else "bold red"))
+        parts.extend(Text(x) for x in expect_lines(sol))
     said = closing(sol)
     if said is not None:
         parts.append(Text(said[0], style=STYLE[said[1]]))
     return Group(*parts)
+
+
+def expect_lines(sol: Solution) -> list[str]:
+    """One line per answer given: ``  omega_c = 5.83 rad/s: wrong: off by a factor 2 (mech: 2.9147 rad/s)``."""
+    return [f"  {name} = {j.text}: {j.verdict}" for name, j in sol.expected.items()]

@@ -367,10 +367,12 @@ def check_total(seconds, name: str = "--budget") -> float:
 
     try:
         value = float(seconds)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         value = math.nan
     if isinstance(seconds, bool) or not (0 < value <= MAX_TOTAL_S):
-        raise BadInput(f"{name}: '{str(seconds)[:40]}' is not a number of seconds; allowed (0, {MAX_TOTAL_S:g}]")
+        from mech.core.safeio import shown
+
+        raise BadInput(f"{name}: '{shown(seconds, 40)}' is not a number of seconds; allowed (0, {MAX_TOTAL_S:g}]")
     return value
 
 

@@ -108,8 +108,11 @@ def approximations(p):
     """The statement asks for the frequency first to leading order in alpha A^2/omega0^2 (the shift
     3 alpha A^2/(8 omega0), Landau & Lifshitz, Mechanics, sec. 28), then exactly."""
     shift = 3.0 * p.alpha * p.A**2 / (8.0 * p.omega0)
+    # the third harmonic to the same order (Lindstedt's first correction, the formula `mech show 5.7` prints)
+    c3 = p.alpha * p.A**3 / (32.0 * p.omega0**2)
     return {"omega": [(p.omega0 + shift, "the leading-order frequency omega0 + 3 alpha A^2/(8 omega0)")],
-            "domega": [(shift, "the leading-order shift 3 alpha A^2/(8 omega0)")]}
+            "domega": [(shift, "the leading-order shift 3 alpha A^2/(8 omega0)")],
+            "c3": [(c3, "the leading-order third harmonic alpha A^3/(32 omega0^2)")]}
 
 
 @exercise.analytic
