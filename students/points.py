@@ -378,29 +378,35 @@ def _key(ex, p) -> tuple:
     return tuple(float(p[q.name]).hex() for q in ex.params)
 
 
-def make(ex, pts: list, labels: list, memo: dict) -> PointSet:
+def make(ex, pts: list, labels: list, memo: dict, outside_memo: dict | None = None) -> PointSet:
     arrays = {p.name: np.array([pt[p.name] for pt in pts], dtype=float) for p in ex.params}
     ps = PointSet(ex, pts, labels, arrays, memo=memo)
     ps.analytic, ps.analytic_err, ps.undefined = _analytic_at(ex, pts, memo)
-    ps.outside = _outside_theory(ex, pts)
+    ps.outside = _outside_theory(ex, pts, outside_memo)
     return ps
 
 
-def _outside_theory(ex, pts: list) -> dict:
+def _outside_theory(ex, pts: list, memo: dict | None = None) -> dict:
     """For each leading-order output, where its theory does not apply (``Exercise.theory_validity``, where
-    the exercise declares its theory's range): there a leading-order formula is not judged."""
+    the exercise declares its theory's range): there a leading-order formula is not judged.  ``memo``:
+    parameter values -> the reasons there, kept across calls."""
     lead = [o.name for o in ex.outputs if o.theory != "exact"]
     validity = getattr(ex, "theory_validity", None)
     out = {n: np.zeros(len(pts), bool) for n in lead}
     if not lead or validity is None:
         return out
     for i, p in enumerate(pts):
-        try:
-            why = validity(p)
-        except budget.OutOfBudget:
-            raise
-        except Exception:  # no range to read here: the point is judged like any other
-            continue
+        key = _key(ex, p) if memo is not None else None
+        why = memo.get(key) if memo is not None else None
+        if why is None:
+            try:
+                why = validity(p)
+            except budget.OutOfBudget:
+                raise
+            except Exception:  # no range to read here: the point is judged like any other
+                why = {}
+            if memo is not None:
+                memo[key] = why
         for n in lead:
             out[n][i] = bool(why.get(n))
     return out
@@ -419,29 +425,60 @@ def point_set(ex, given: Params, n: int = DEFAULT_POINTS, seed: int = DEFAULT_SE
     if hit is not None:
         _CACHE[key] = hit  # the most recent last
         return hit
+    base = _shared_part(ex, n, seed, over)
     pts, labels = [given], ["given"]
-    defaults = accept(ex, {})
+    defaults, hards, drawn = base["defaults"], base["hards"], base["drawn"]
     if defaults is not None and dict(defaults) != dict(given) and in_over(defaults, over):
         pts.append(defaults)
         labels.append("defaults")
-    for h in ex.hard_cases:
-        try:
-            p = accept(ex, _si(ex, h["params"]))
-        except (ValueError, BadInput):
-            p = None
+    for p in hards:
         if p is not None and in_over(p, over) and all(dict(p) != dict(q) for q in pts):
             pts.append(p)
             labels.append("hard case")
-    drawn = draw(ex, n, seed, over)
     pts += drawn
     labels += ["drawn"] * len(drawn)
-    memo = {}
+    memo = dict(base["memo"])  # this point set's own copy: its lines and limits are added to it alone
     if known is not None:
         memo[_key(ex, given)] = ({n: v for n, (v, _) in known.items()}, {n: e for n, (_, e) in known.items()})
-    ps = make(ex, pts, labels, memo)
+    ps = make(ex, pts, labels, memo, base["outside"])
     ps.in_range = in_over(given, over)
     _remember(key, ps)
     return ps
+
+
+_SHARED: dict = {}  # (exercise, n, seed, over) -> what every given point's set has in common
+
+
+def _shared_part(ex, n: int, seed: int, over: dict | None) -> dict:
+    """The part of ``point_set`` that does not depend on the given point, computed once for every student
+    of a class: the defaults, the hard cases and the drawn points (all taken on the bounds and joint
+    checks alone), mech's analytic values there (the memo a point set copies) and where each output's
+    theory applies there.  Each is a function of its point alone, so sharing it changes no value."""
+    key = (ex.id, int(n), int(seed), tuple(sorted((over or {}).items())))
+    hit = _SHARED.get(key)
+    if hit is not None:
+        return hit
+    hards = []
+    for h in ex.hard_cases:
+        try:
+            hards.append(accept(ex, _si(ex, h["params"])))
+        except (ValueError, BadInput):
+            hards.append(None)
+    base = {"defaults": accept(ex, {}), "hards": hards, "drawn": draw(ex, n, seed, over), "memo": {}, "outside": {}}
+    rest = [p for p in [base["defaults"], *hards, *base["drawn"]] if p is not None]
+    _analytic_at(ex, rest, base["memo"])
+    _outside_theory(ex, rest, base["outside"])
+    # bounded like _CACHE, in bytes (``size_of``'s estimate per point), the oldest dropped first
+    size = len(rest) * (400 + 250 * (len(ex.params) + len(ex.outputs)))
+    if size <= CACHE_BYTES:
+        total = sum(v["bytes"] for v in _SHARED.values()) + size
+        for old in list(_SHARED):
+            if total <= CACHE_BYTES:
+                break
+            total -= _SHARED.pop(old)["bytes"]
+        base["bytes"] = size
+        _SHARED[key] = base
+    return base
 
 
 def _si(ex, params: dict) -> dict:

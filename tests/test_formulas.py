@@ -330,6 +330,7 @@ def test_references_are_computed_once_per_exercise_and_point():
     ex = registry.get("4.10")
     p = ex.resolve({})
     P._CACHE.clear()
+    P._SHARED.clear()
     a = P.point_set(ex, p)
     assert P.point_set(ex, p) is a
 
@@ -349,10 +350,12 @@ def test_each_point_is_solved_once_and_a_right_formula_asks_for_no_hints(monkeyp
         return real(self, p)
 
     P._CACHE.clear()
+    P._SHARED.clear()
     r_s, m_s = 10 * ex.param_map["R_E"].default, 1e-3 * ex.param_map["M_E"].default
     sol = mech.solve("4.32", r_S=r_s, M_S=m_s, expect={"h_high": "M_S/M_E*R_E^4/r_S^3"}, expect_rtol=0.5)
     monkeypatch.setattr(type(ex), "solve_analytic", counted)
     P._CACHE.clear()
+    P._SHARED.clear()
     given = sol.params
     ps = P.point_set(ex, given, known=F.known(sol))
     assert len(calls) == len(ps) - 1 and dict(given) not in calls  # every point but the given one, once
@@ -373,6 +376,7 @@ def test_batched_references_agree_with_the_point_by_point_numeric_route():
     # each verified value within the sum of the two claims; and a point the batch cannot verify gets none
     ex = registry.get("5.13")
     P._CACHE.clear()
+    P._SHARED.clear()
     ps = P.point_set(ex, ex.resolve({}), 3, 5)
     idx = list(range(1, len(ps)))
     for name in ("omega_down", "omega_inv"):
@@ -394,6 +398,7 @@ def test_a_formula_beyond_leading_order_is_held_against_the_batched_route(monkey
     ex = registry.get("5.13")
     output = {o.name: o for o in ex.outputs}["omega_down"]
     P._CACHE.clear()
+    P._SHARED.clear()
     ps = P.point_set(ex, ex.resolve({}), 3, 5)
     exact = np.array([F._verified_at(ex, ps, i, "omega_down")[0] for i in range(len(ps))])
     ps.numeric.clear()
@@ -441,6 +446,7 @@ def test_a_batch_that_fails_leaves_its_points_to_the_point_by_point_route(monkey
     ex = registry.get("5.13")
     output = {o.name: o for o in ex.outputs}["omega_down"]
     P._CACHE.clear()
+    P._SHARED.clear()
     ps = P.point_set(ex, ex.resolve({}), 3, 5)
     exact = np.array([F._verified_at(ex, ps, i, "omega_down")[0] for i in range(len(ps))])
     ps.numeric.clear()
@@ -511,3 +517,4 @@ def test_points_beyond_a_leading_order_theory_are_left_out(monkeypatch):
     v = F.judge_formula(f, ex, out, ps, (float(ps.analytic["A"][0]), 0.0), None)
     assert v.match and v.points["checked"] == len(ps) - n_out and "not judged" in v.verdict
     P._CACHE.clear()
+    P._SHARED.clear()

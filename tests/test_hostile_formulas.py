@@ -353,7 +353,12 @@ def test_cache_is_bounded_in_bytes():
         P.point_set(ex, ex.resolve({}), 2000, 1000 + seed)
     assert sum(P.size_of(v) for v in P._CACHE.values()) <= P.CACHE_BYTES
     assert 0 < len(P._CACHE) < 40
+    # the drawn part shared across given points, bounded alike (by hand: 2000 points of 4.15's 3 parameters
+    # and 2 outputs at 400 + 250 x 5 bytes each are 3.3 MB, so at most 20 of the 40 stay under 64 MB)
+    assert sum(v["bytes"] for v in P._SHARED.values()) <= P.CACHE_BYTES
+    assert 0 < len(P._SHARED) <= 20
     P._CACHE.clear()
+    P._SHARED.clear()
 
 
 def test_class_file_of_10000_points_under_500_mb(tmp_path):
