@@ -51,9 +51,8 @@ exercise = Exercise(
         "T = 2π / Ω",
         "ω_spin = Ω R / r  (rolling)",
     ],
-    # Tuned from `mech bench 4.23` (DOP853): the achieved error is about 0.01 rtol (rtol 1e-7: 9e-10,
-    # 1e-8: 1.1e-10, 1e-10: 1.5e-12), so rtol 1e-8 with a claim of 1 x rtol keeps a margin of ~100
-    # while halving the solve (3482 against 5972 evaluations; 0.72 against 1.42 s under load).
+    # Tuned from `mech bench 4.23` (DOP853): the error achieved is ~0.01 rtol (1e-7: 9e-10, 1e-8: 1.1e-10, 1e-10:
+    # 1.5e-12), so rtol 1e-8 claiming 1 x rtol keeps a margin ~100 at half the cost (3482 against 5972 calls).
     default_rtol=1e-8,
     tol_factor=1.0,
     # the run from the steady rolling: body-axis rates (3 = the coin's normal), attitude quaternion
@@ -231,22 +230,15 @@ class _Disk:
         _, alpha, _, n, _, _ = self.accelerations(Rm, omega)
         return float(self.z @ (np.cross(alpha, n) + np.cross(omega, np.cross(omega, n))))
 
-    def energy(self, y):
-        """Kinetic energy plus the weight's potential, the height measured from the contact point.
-
-        On the exact motion the contact point stays on the floor and this is the energy.  The rolling
-        constraint is held at the acceleration level only, so the integration lets the contact point
-        leave the floor slowly (up to t^2: a velocity error that ramps), and the normal force's work on
-        that slip, M g times the contact height, would enter an energy measured from z = 0: it was all of
-        its drift (1.28 rtol after 50 spin turns at R/r = 50.5, theta = 0.211: the contact height's 1.28
-        rtol exactly; the rest 0.05 rtol).  That constraint drift is monitored on its own ("contact
-        height / r"); measured from the contact point, the energy checks the dynamics alone and stays
-        within 0.09 rtol there, at 1/8, 1/4, 1/2 and 1 of the turn (6 to 50 spin turns)."""
-        return float(self.energies(np.asarray(y, float)[:, None])[0])
-
     def energies(self, Y):
-        """``energy`` of each column of the 13 x N states Y.  The rotational part is taken in body axes:
-        omega . I_lab omega = omega_b . I_body omega_b (I_lab = R I_body R^T, omega = R omega_b)."""
+        """Kinetic energy plus the weight's potential, the height measured from the contact point, of each
+        column of the 13 x N states Y (the rotational part in body axes: omega_b . I_body omega_b).
+
+        The rolling constraint is held at the acceleration level only, so the contact point leaves the
+        floor slowly (up to t^2); measured from z = 0 the normal force's work on that slip, M g times the
+        contact height, was all of the drift (1.28 rtol after 50 spin turns at R/r = 50.5, theta = 0.211).
+        That drift is monitored on its own ("contact height / r"); measured from the contact point, the
+        energy checks the dynamics alone (within 0.09 rtol over 6 to 50 spin turns)."""
         wb = Y[0:3]
         _, d = self.contact_many(quat_to_matrix(Y[3:7]))
         v = Y[10:13]
@@ -339,7 +331,7 @@ def _timed_turn(m, traj, T_root, run):
         # too many spin turns per orbit: fit the azimuth's rate over 20 spin turns
         t_run = m.span[1]
         ts = np.linspace(0.0, t_run, 801)
-        n_t = np.stack([quat_to_matrix(traj.sol(t)[3:7])[:, 2] for t in ts], axis=1)
+        n_t = quat_to_matrix(traj.sol(ts)[3:7])[:, 2, :]  # the axis n3 at every sample
         rate, rms = fit_rate(ts, azimuth(n_t))
         y_end = traj.sol(t_run)
         if rate > 0:
@@ -384,12 +376,9 @@ def numeric(p, run):
     Rs = p.R / p.r
     theta = p.theta
     body = _Disk()
-    # the root is found to round-off (brentq at rtol 1e-15), whatever the run's rtol: the rerun at rtol/10
-    # takes it from run.shared when it runs after the solve (same theta and R/r, the same number)
+    # the root is found to round-off (brentq at rtol 1e-15) whatever the rtol: a rerun after the solve shares it
     key = ("4.23 root", theta, Rs)
-    Om = run.shared.get(key)
-    if Om is None:
-        Om = run.shared[key] = _turning_rate(body, theta, Rs)
+    Om = run.shared[key] if key in run.shared else run.shared.setdefault(key, _turning_rate(body, theta, Rs))
     run.info["Omega_root_scaled"] = Om
     # the root's round-off: the tilt acceleration balances terms of size Om^2 Rs against the spin's
     # (Om Rs)^2, so it keeps a part in ~eps Rs of its digits (2.7e-8 at Rs = 1.7e9: 0.15 eps Rs)
@@ -399,7 +388,7 @@ def numeric(p, run):
     y0, spin0 = _start(body, theta, Rs, Om)
     T_root = 2 * math.pi / Om
     n3z0 = math.sin(theta)
-    E0 = body.energy(y0)
+    E0 = float(body.energies(np.asarray(y0, float)[:, None])[0])
     traj = run.follow(m, dense=True).traj
 
     T_s, y_end = _timed_turn(m, traj, T_root, run)
@@ -425,15 +414,13 @@ def numeric(p, run):
         return {"T": T_root * t_unit, "Omega": Om / t_unit, "omega_spin": spin0 / t_unit}
     if T_s is None:
         raise NumericFailure("the axis does not turn")
-    # the tilt is no conserved quantity: it stays only on a stable steady motion; past tilt_tol the
-    # steady state is taken as lost (above), below it the turn is timed
+    # the tilt is no conserved quantity: it stays only on a stable steady motion (lost past tilt_tol: above)
     run.invariant("tilt n3.z", tilt_dev, allowed=tilt_tol)
 
-    # Omega is the root and omega_spin the rolling condition's spin of the steady state (exact to
-    # round-off); the timed turn confirms them.  The spin read off the state at the end of the turn
-    # was the difference |omega - Omega z| of two vectors of size Omega (a part in R/r of it is the
-    # spin: rel. error ~ rtol r/R), and it carries whatever mode the turn excited (moved by 1.1e-7 at
-    # rtol/10 with a tilt drift 4.4e-6 at theta = 0.032, R/r = 0.19): it is only checked.
+    # Omega is the root and omega_spin the rolling condition's spin of the steady state (exact to round-off);
+    # the timed turn confirms them.  The spin read off the state at the end of the turn is |omega - Omega z|,
+    # two vectors of size Omega (rel. error ~ rtol r/R), carrying whatever mode the turn excited (moved by
+    # 1.1e-7 at rtol/10 with a tilt drift 4.4e-6 at theta = 0.032, R/r = 0.19): it is only checked.
     Rm = quat_to_matrix(y_end[3:7])
     omega_end = Rm @ y_end[0:3]
     spin_end = float(np.linalg.norm(omega_end - Om * body.z))
@@ -451,14 +438,12 @@ def numeric(p, run):
     run.claim("omega_spin", rel=root_rel)
     T_claim = max(run.claims.get("T", (exercise.tol_factor * run.rtol, None))[0], 3.0 * T_err, root_rel)
     run.claim("T", rel=T_claim)
-    # the invariants drift by the run's global error, which T's departure from the root measures
-    # (1.4e-8 contact height against 2.4e-8 in T at theta = 0.068, R/r = 17, rtol 1e-8): that is
-    # what the run earns, not the default claim
+    # the invariants drift by the run's global error, which T's departure from the root measures (1.4e-8
+    # contact height against 2.4e-8 in T at theta = 0.068, R/r = 17, rtol 1e-8): what the run earns
     for name, drift in invariants.items():
         run.invariant(name, drift, allowed=T_claim)
-    # the contact height is held only through its second derivative (the rolling constraint
-    # differentiated once): it drifts by the integral of the slip's vertical speed, up to the
-    # largest slip speed times the run's length (5e-8 at R/r = 50, theta = 0.54, rtol 1e-8)
+    # the contact height is held only through its second derivative (the rolling constraint differentiated
+    # once): it drifts by up to the largest slip speed times the run's length (5e-8 at R/r = 50, theta = 0.54)
     slip_integral = roll_dev * max(Om * Rs, Om, spin0) * float(traj.t[-1] - traj.t[0])
     run.invariant("contact height / r", height_dev, allowed=max(T_claim, slip_integral))
     t_unit = math.sqrt(p.r) / math.sqrt(p.g)
