@@ -346,17 +346,20 @@ def test_a_wrong_dimension_names_its_slip_at_no_more_than_the_default_points():
     assert asked == [P.DEFAULT_POINTS]
 
 
-def test_cache_is_bounded_in_bytes():
+def test_cache_is_bounded_in_bytes(monkeypatch):
+    """The bound is in bytes: with it set to 8 MB, point sets of 2000 points are dropped oldest first.  By
+    hand, 2000 points of 4.15's 3 parameters and 2 outputs at 400 + 250 x 5 bytes each are 3.3 MB, so at
+    most 2 of the shared parts stay under 8 MB (64 MB and 40 sets test the same rule at 5 times the cost)."""
+    monkeypatch.setattr(P, "CACHE_BYTES", 8 * 2**20)
     ex = registry.get("4.15")
     P._CACHE.clear()
-    for seed in range(40):
+    P._SHARED.clear()
+    for seed in range(8):
         P.point_set(ex, ex.resolve({}), 2000, 1000 + seed)
     assert sum(P.size_of(v) for v in P._CACHE.values()) <= P.CACHE_BYTES
-    assert 0 < len(P._CACHE) < 40
-    # the drawn part shared across given points, bounded alike (by hand: 2000 points of 4.15's 3 parameters
-    # and 2 outputs at 400 + 250 x 5 bytes each are 3.3 MB, so at most 20 of the 40 stay under 64 MB)
+    assert 0 < len(P._CACHE) < 8
     assert sum(v["bytes"] for v in P._SHARED.values()) <= P.CACHE_BYTES
-    assert 0 < len(P._SHARED) <= 20
+    assert 0 < len(P._SHARED) <= 2
     P._CACHE.clear()
     P._SHARED.clear()
 
