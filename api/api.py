@@ -18,9 +18,18 @@ import numpy as np
 
 from mech.problems.spec import BadInput, NumericFailure
 from mech.verification.result import Quantity, Solution, Trajectory  # the API's one motion type
-from mech.studies.sweep import Sweep
 
 __all__ = ["Quantity", "Solution", "Sweep", "Trajectory", "solve", "sweep", "check", "resolve_params"]
+
+
+def __getattr__(name: str):
+    """``Sweep``, the one sweep type, imported when first asked for: a solve needs none of the sweeps'
+    pool machinery (45 ms of imports on every ``mech solve``)."""
+    if name == "Sweep":
+        from mech.studies.sweep import Sweep
+
+        return Sweep
+    raise AttributeError(f"module 'mech.api' has no attribute '{name}'")
 
 
 # -- parameters ----------------------------------------------------------------
@@ -285,16 +294,14 @@ def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None, exp
     ``expect_points``/``expect_seed``: how many parameter sets a formula is checked at, and their seed
     (``names``: how an error names them)."""
     from mech.students import grading
+    from mech.students.points import MAX_POINTS  # parameter sets a formula is checked at, at most
 
     out = grading.parse_expect_options(ex, list(pairs), expect_rtol)
-    points = grading.parse_count(expect_points, names[0], 1, MAX_EXPECT_POINTS)
+    points = grading.parse_count(expect_points, names[0], 1, MAX_POINTS)
     seed = grading.parse_count(expect_seed, names[1], 0, 2**63 - 1)
     if points is not None or seed is not None:
         out = grading.with_range(out, points, seed)
     return out
-
-
-from mech.students.points import MAX_POINTS as MAX_EXPECT_POINTS  # noqa: E402  parameter sets a formula is checked at, at most
 
 
 # -- sweep -----------------------------------------------------------------------
