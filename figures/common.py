@@ -59,7 +59,12 @@ def save(fig, path: str, dpi: float = 110) -> None:
     fmt = check_target(path)
     meta = {"Software": "mech"} if fmt == "png" else None
     try:
-        finish_legends(fig)
+        # laid out at the resolution it is written at: the legends are placed on that layout, and when
+        # placing them left every axis as it was, the layout is final and savefig need not run it again
+        # (the layout passes were 2/3 of a figure's time)
+        fig.set_dpi(dpi)
+        if finish_legends(fig, final=True):
+            fig.set_layout_engine("none")
         with atomic_write(path, "--plot", mode="wb") as fh:
             fig.savefig(fh, format=fmt, dpi=dpi, metadata=meta)
     except BadInput as exc:
@@ -186,18 +191,23 @@ def defer_legend(ax, preferred: str | None = None, **kw) -> None:
     fig._mech_legends.append((ax, preferred, kw))
 
 
-def finish_legends(fig):
+def finish_legends(fig, final: bool = False):
     """Lay the figure out once and place every deferred legend where it hides no data (``save`` calls
-    this; so does ``figures.draw`` unless told not to). Returns the figure."""
+    this; so does ``figures.draw`` unless told not to). Returns the figure; with ``final``, whether the
+    layout it ran still holds (no legend had to make room by moving an axis's limits)."""
     pending = getattr(fig, "_mech_legends", None)
+    held = False
     if pending:
         fig._mech_legends = []
         engine = fig.get_layout_engine()
         if engine is not None:
             engine.execute(fig)  # the axes where they will be saved (a full draw costs twice as much)
+            held = True
         for ax, preferred, kw in pending:
+            limits = (ax.get_xlim(), ax.get_ylim())
             place_legend(ax, preferred, **kw)
-    return fig
+            held = held and (ax.get_xlim(), ax.get_ylim()) == limits
+    return held if final else fig
 
 
 def place_legend(ax, preferred: str | None = None, **kw):

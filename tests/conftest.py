@@ -60,7 +60,8 @@ def processes_with(marker: str) -> list[int]:
 def killed_leaves_nothing(script: str, ready: str, sig: str, wait_children_s: float = 20.0) -> list[int]:
     """Run ``script`` in a fresh Python (its argv tagged with a unique marker), wait for its line ``ready``
     and for a child of it to exist, send it ``sig``, and return what still runs 2 s after it died (the
-    survivors are then killed)."""
+    survivors are then killed).  The children are looked for every 50 ms: once none is left there is
+    nothing to wait for (a child that outlives its parent still runs at 2 s and is returned)."""
     import os
     import signal
     import subprocess
@@ -78,7 +79,9 @@ def killed_leaves_nothing(script: str, ready: str, sig: str, wait_children_s: fl
         assert len(processes_with(marker)) >= 2, "no child process was running"
         proc.send_signal(getattr(signal, sig))
         proc.wait(timeout=10)
-        time.sleep(2.0)
+        gone = time.monotonic() + 2.0
+        while processes_with(marker) and time.monotonic() < gone:
+            time.sleep(0.05)
         return processes_with(marker)
     finally:
         if proc.poll() is None:
