@@ -12,6 +12,13 @@ settings.load_profile("mech")
 # more time.  The budget's own tests pass their budget explicitly.
 os.environ.setdefault("MECH_BUDGET_S", "30")
 
+# The suite runs one pytest-xdist worker per core, so a cross-check's rerun forked beside its solve (the
+# second core for one solve: crosscheck.PARALLEL_VERIFY) only competes with the other worker, and forking a
+# pytest worker (numpy, scipy, sympy and matplotlib mapped) costs more than the rerun saves: the suite took
+# 269 CPU-s with the forks and 243 without (sys time 20.6 -> 5.7 s).  The forked rerun's own tests force it
+# (test_parallel_verify, test_check_pool).
+os.environ.setdefault("MECH_SERIAL_VERIFY", "1")
+
 # Tables are read by tests as piped output at mech's own piped width; a terminal, a CI runner or a
 # pytest-xdist worker may export a narrower COLUMNS.  Tests of stacking and narrow widths set their own.
 os.environ.pop("COLUMNS", None)
