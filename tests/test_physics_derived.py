@@ -407,8 +407,15 @@ def test_4_23_steady_rolling_by_hand_is_a_solution():
 
 
 def _mech(*argv, env=None):
-    proc = subprocess.run([sys.executable, "-m", "mech.cli.main", *argv] if False else
-                          [sys.executable, "-c", "from mech.cli.main import main; main()", *argv],
+    """``mech ARGV`` in this process (its derivations cached), or in a fresh one with ``env``."""
+    if env is None:
+        from click.testing import CliRunner
+
+        from mech.cli.main import cli
+
+        result = CliRunner().invoke(cli, list(argv))
+        return result.exit_code, result.stdout, result.stderr
+    proc = subprocess.run([sys.executable, "-c", "from mech.cli.main import main; main()", *argv],
                           capture_output=True, text=True, env=env)
     return proc.returncode, proc.stdout, proc.stderr
 
