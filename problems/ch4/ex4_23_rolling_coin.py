@@ -14,21 +14,17 @@ M r (Omega^2 (R - r sin theta) cos theta - g sin theta) e_phi.  Equating:
 which needs R > 5 r sin(theta)/6 (at R = r sin(theta), the Euler disk,
 Omega^2 = 4 g /(r cos theta)).
 
-Numeric.  Full Newton-Euler equations of the rigid thin disk (inertia tensor by
-quadrature) with the orientation as a quaternion: at each instant the 9 x 9
-linear system for the center's acceleration, the angular acceleration and the
-contact force, with the rolling constraint differentiated once (the contact
-point moves along the rim: its geometric velocity enters).  Omega is the root of
-the tilt acceleration d^2(n3 . z)/dt^2 in the steady initial state (center
-velocity from the turning, spin from the rolling condition, both solved
-numerically); the declared motion is then followed from that state and T is the time
-of one full turn of the axis's horizontal projection (event), or, when a turn
-is too long to integrate (many spin turns per orbit, R >> r), 2 pi over the
-azimuth's rate fitted over 20 spin turns; T's claim is at least 3 times its
-departure from 2 pi over the root (measured error).  Omega is the root, the
-spin the rolling condition's; the spin at the end of the run must match it.  The tilt, the
-energy (its potential measured from the contact point), the rolling constraint and the contact
-height are monitored.  Units: r = g = M = 1.
+Numeric.  Newton-Euler of the rigid thin disk (inertia by quadrature) with the rolling constraint
+differentiated once (the contact point moves along the rim: its geometric velocity enters), the attitude a
+quaternion (solvers.mechanics.rolling_disk, on floats or on arrays of variants).  Omega is the root of the
+tilt acceleration d^2(n3 . z)/dt^2 in the steady initial state (center velocity from the turning, spin from
+the rolling condition, both solved numerically); the motion is followed from that state over 1.3 root periods
+and T is the time of one full turn of the axis's horizontal projection, or, with more than 60 spin turns an
+orbit (R >> r), 2 pi over the azimuth's rate fitted over 20 spin turns; T's claim is at least 3 times its
+departure from the root's (measured error).  The spin at the end must match the rolling condition's; the
+tilt, the energy (potential from the contact point), the slip and the contact height are monitored.  The
+batched route (``numeric_batch``, a class's variants at once) follows the same equations, times the turn from
+the azimuth at the root period and is judged by the same ``_assess``.  Units: r = g = M = 1.
 """
 
 from __future__ import annotations
@@ -217,16 +213,18 @@ def motion(p, Om=None):
 
 def _drifts(Y, n3z0, tilt_tol, scale, E0):
     """(tilt, slip speed / scale, contact height, energy): the worst drifts over the samples Y (13 x K x N,
-    one column of K samples per run) before the first whose tilt is off by tilt_tol, and that sample's index
-    (K: none is)."""
+    one column of K samples per run) up to the first whose tilt is off by tilt_tol (the conserved ones there
+    too: the motion is still followed), and that sample's index (K: none is)."""
     n, _, slip, height, energy, _ = monitors(Y, _BODY.I1, _BODY.I3)
     tilt = np.abs(n[2] - n3z0)
     off = ~(tilt <= tilt_tol)  # NaN (a run not followed further) is off too
     k = np.where(off.any(axis=0), np.argmax(off, axis=0), off.shape[0])
+    upto = np.arange(off.shape[0])[:, None] <= k
     before = np.arange(off.shape[0])[:, None] < k
     roll = (slip[0] ** 2 + slip[1] ** 2 + slip[2] ** 2) ** 0.5 / scale
     e = np.abs(energy - E0) / np.maximum(np.abs(E0), 1.0)
-    worst = [np.where(before, np.nan_to_num(x), 0.0).max(axis=0) for x in (tilt, roll, np.abs(height), e)]
+    worst = [np.where(m, np.nan_to_num(x), 0.0).max(axis=0) for m, x in
+             ((before, tilt), (upto, roll), (upto, np.abs(height)), (upto, e))]
     return worst, k
 
 
@@ -357,6 +355,12 @@ def analytic_batch(P):
     return {"T": Column(2 * math.pi / Om), "Omega": Column(Om), "omega_spin": Column(Om * R / r)}
 
 
+def expected_error_batch(P):
+    """``expected_error`` over arrays: none (the analytic answer is exact), NaN at every point."""
+    n = np.asarray(P["theta"]).size
+    return {o: np.full(n, np.nan) for o in ("T", "Omega", "omega_spin")}
+
+
 def _follow_variants(theta, Rs, Om, spin0, y0, rtol, why):
     """``numeric``'s runs at N variants at once (``rolling_disk.follow_batch``, in chunks of like step counts):
     each run over one root period (the turn timed from the axis's azimuth at its end: its departure from 2 pi
@@ -412,7 +416,7 @@ def _follow_variants(theta, Rs, Om, spin0, y0, rtol, why):
     return many, T_s, _fit_rel(rtol, rate, span), drifts, lost, spin_end, span
 
 
-@exercise.batched(("T", "Omega", "omega_spin"), analytic=analytic_batch)
+@exercise.batched(("T", "Omega", "omega_spin"), analytic=analytic_batch, expected_error=expected_error_batch)
 def numeric_batch(P, rtol, outputs, memo=None):
     """``numeric`` at N variants at once: the roots together (once per distinct (theta, R/r), kept in ``memo``
     for the rerun), the runs together (``_follow_variants``), each variant judged by ``_assess``; every
