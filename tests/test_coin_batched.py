@@ -92,7 +92,7 @@ def test_every_variant_is_cross_checked_at_both_tolerances():
     from mech.studies.sweep import iter_batched_solutions, run_batched
 
     ex = registry.get("4.23")
-    pts = points()[:8]
+    pts = points()[:len(LISTED)]
     P = {k: np.array([p[k] for p in pts]) for k in ("r", "theta", "R", "g")}
     result = run_batched(ex, [], {}, OUTPUTS, points=P)
     assert result.batched.info["verify_rtol"] == pytest.approx(ex.default_rtol / 10)
@@ -100,6 +100,21 @@ def test_every_variant_is_cross_checked_at_both_tolerances():
         assert sol.agree is True, (p, sol)
         for q in sol.quantities:
             assert q.numeric == pytest.approx(hand(p["r"], p["theta"], p["R"], p["g"])[q.name], rel=1e-5)
+
+
+@pytest.mark.parametrize("rtol", [1e-8, 1e-9])
+def test_an_upright_coin_on_a_huge_circle_alone(rtol):
+    """Issue 14's draw (theta = 5.5e-7, R/r = 1.5e4: the coin falls within its 20 spin turns, the root
+    answers), alone in its chunk: its steps are long (the spin turns once in 84 time units), and the
+    quaternion's pull-back at a fixed rate (1 in units r = g = 1) was stiff across them: the step size
+    underflowed at rtol/10.  By hand: Omega^2 = 4 g tan(theta)/(6 R - 5 r sin(theta))."""
+    ex = registry.get("4.23")
+    p = LISTED[12]
+    P = {k: np.array([v]) for k, v in p.items()}
+    got = ex.batched_route.numeric(P, rtol, OUTPUTS)
+    for o in OUTPUTS:
+        assert not got[o].mask("failed")[0], got[o].reason("failed", 0)
+        assert got[o].value[0] == pytest.approx(hand(**p)[o], rel=1e-8)
 
 
 @pytest.mark.parametrize("torque_sign", [1.0, -1.0])

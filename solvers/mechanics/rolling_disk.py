@@ -95,10 +95,12 @@ def accelerations(Rm, w, I1, I3):
 
 
 def quaternion_rate(q, w, qq=None):
-    """dq/dt for body rates w, with the drift of |q| from 1 pulled back (-(|q|^2 - 1) q; ``qq``: |q|^2)."""
+    """dq/dt for body rates w, with the drift of |q| from 1 pulled back at the rate the attitude turns:
+    -(|q|^2 - 1) |w| q (``qq``: |q|^2).  At a fixed rate instead (1 in these units) the pull-back is stiff where
+    the disk turns slowly (a step of many time units: an explicit step across it diverges)."""
     q0, q1, q2, q3 = q
     w1, w2, w3 = w
-    k = (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3 if qq is None else qq) - 1.0
+    k = ((q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3 if qq is None else qq) - 1.0) * (w1 * w1 + w2 * w2 + w3 * w3) ** 0.5
     return (-0.5 * (q1 * w1 + q2 * w2 + q3 * w3) - k * q0, 0.5 * (q0 * w1 + q2 * w3 - q3 * w2) - k * q1,
             0.5 * (q0 * w2 - q1 * w3 + q3 * w1) - k * q2, 0.5 * (q0 * w3 + q1 * w2 - q2 * w1) - k * q3)
 
@@ -171,15 +173,21 @@ def monitors(Y, I1, I3):
     return n, d, slip, Y[9] + d[2], energy, omega
 
 
+def _held(x):
+    """1 at x = 0 to 0 at x = 1, twice continuously differentiable (so that a step across it is resolved
+    in a few steps: a jump in the rates would need steps of atol over the jump, below the time's round-off)."""
+    return 1.0 - x * x * x * (10.0 + x * (6.0 * x - 15.0))
+
+
 def follow_batch(y0, spans, I1, I3, checkpoints, *, rtol, atol, tilt0, tilt_tol, lost=1e-3):
     """N disks integrated at once (``integrate_batch``, DOP853), disk k from y0[:, k] over [0, spans[k]]: all on
     the shared interval s in [0, 1] (t = spans[k] s).  Returns (Y, steps): the states (K + 1, 13, N) at s = 0
     and at the K increasing ``checkpoints`` (the last 1), and the accepted steps.
 
     A disk whose tilt n.z leaves ``tilt0`` by more than ``tilt_tol`` at a checkpoint is not followed further
-    (NaN after it); within a leg, its rates are set to zero once the tilt is off by ``lost`` (it is falling
-    away from the motion followed, toward the flat disk where the contact is undefined), so that one falling
-    disk does not stop the others.  ``atol``: per component and disk (13, N).  A single disk's rates are
+    (NaN after it); within a leg, its rates are brought to zero (smoothly, ``_held``) as the tilt goes from
+    ``lost`` to twice it off (it is falling away from the motion followed, toward the flat disk where the
+    contact is undefined), so that one falling disk does not stop the others.  ``atol``: per component and disk (13, N).  A single disk's rates are
     evaluated in plain floats."""
     from mech.solvers.numerics.batch import integrate_batch
 
@@ -200,13 +208,16 @@ def follow_batch(y0, spans, I1, I3, checkpoints, *, rtol, atol, tilt0, tilt_tol,
                     f, nz = tilted_rates(yy[:, 0].tolist(), I1, I3)
                 except ArithmeticError:  # a trial stage off the floor's domain: NaN, and the step is refused
                     return np.full(yy.shape, np.nan)
-                return np.array(f)[:, None] * (span if abs(nz - t0) <= lost else 0.0)
+                return np.array(f)[:, None] * (span * _held(min(abs(nz - t0) / lost - 1.0, 1.0)) if
+                                               abs(nz - t0) > lost else span)
         else:
             def rhs(s, yy, span=span, t0=t0):
                 f, nz = tilted_rates(yy, I1, I3)
-                return np.array(f) * (span * (np.abs(nz - t0) <= lost))
+                return np.array(f) * (span * _held(np.clip(np.abs(nz - t0) / lost - 1.0, 0.0, 1.0)))
 
-        got = integrate_batch(rhs, (s0, s1), y, rtol=rtol, atol=atol[:, live], first_step=h)
+        # a trial stage may leave the floor's domain (NaN, inf): integrate_batch refuses that step and shrinks it
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            got = integrate_batch(rhs, (s0, s1), y, rtol=rtol, atol=atol[:, live], first_step=h)
         steps += got.steps
         y = got.y_end
         Y[j + 1][:, live] = y
