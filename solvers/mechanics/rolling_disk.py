@@ -33,11 +33,7 @@ def dot(a, b):
 
 def rotation(q0, q1, q2, q3):
     """The rotation (rows) of the quaternion, normalized first."""
-    return _rotation(q0, q1, q2, q3, q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-
-
-def _rotation(q0, q1, q2, q3, qq):
-    s = 2.0 / qq
+    s = 2.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
     x1, x2, x3 = s * q1, s * q2, s * q3
     q11, q22, q33, q12, q13, q23 = q1 * x1, q2 * x2, q3 * x3, q1 * x2, q1 * x3, q2 * x3
     q01, q02, q03 = q0 * x1, q0 * x2, q0 * x3
@@ -94,15 +90,15 @@ def accelerations(Rm, w, I1, I3):
                           r20 * f0 + r21 * f1 + r22 * f2)
 
 
-def quaternion_rate(q, w, qq=None):
-    """dq/dt for body rates w, with the drift of |q| from 1 pulled back at the rate the attitude turns:
-    -(|q|^2 - 1) |w| q (``qq``: |q|^2).  At a fixed rate instead (1 in these units) the pull-back is stiff where
-    the disk turns slowly (a step of many time units: an explicit step across it diverges)."""
+def quaternion_rate(q, w):
+    """dq/dt = q (0, w) / 2 for body rates w.  |q| is left to drift (the attitude is that of q/|q|: ``rotation``
+    normalizes): a pull-back -(|q|^2 - 1) c q at a fixed rate c = 1 was stiff across a slowly turning disk's
+    long steps (the step size underflowed), and at the attitude's rate it cost half again the steps; without
+    it |q| stays within 4e-10 of 1 over 300 drawn runs at rtol 1e-8."""
     q0, q1, q2, q3 = q
     w1, w2, w3 = w
-    k = ((q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3 if qq is None else qq) - 1.0) * (w1 * w1 + w2 * w2 + w3 * w3) ** 0.5
-    return (-0.5 * (q1 * w1 + q2 * w2 + q3 * w3) - k * q0, 0.5 * (q0 * w1 + q2 * w3 - q3 * w2) - k * q1,
-            0.5 * (q0 * w2 - q1 * w3 + q3 * w1) - k * q2, 0.5 * (q0 * w3 + q1 * w2 - q2 * w1) - k * q3)
+    return (-0.5 * (q1 * w1 + q2 * w2 + q3 * w3), 0.5 * (q0 * w1 + q2 * w3 - q3 * w2),
+            0.5 * (q0 * w2 - q1 * w3 + q3 * w1), 0.5 * (q0 * w3 + q1 * w2 - q2 * w1))
 
 
 def rates(y, I1, I3):
@@ -114,11 +110,10 @@ def tilted_rates(y, I1, I3):
     """(``rates``, the axis's vertical component n_z) of the state y."""
     w = (y[0], y[1], y[2])
     q = (y[3], y[4], y[5], y[6])
-    qq = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]
-    Rm = _rotation(*q, qq)
+    Rm = rotation(*q)
     al, a = accelerations(Rm, w, I1, I3)
     # the body components of omega change at alpha's body components (omega x omega = 0)
-    return [*al, *quaternion_rate(q, w, qq), y[10], y[11], y[12], *a], Rm[2][2]
+    return [*al, *quaternion_rate(q, w), y[10], y[11], y[12], *a], Rm[2][2]
 
 
 def steady_rolling(theta, Rs, Om):
