@@ -208,7 +208,10 @@ def follow_batch(y0, spans, I1, I3, checkpoints, *, rtol, atol, tilt0, tilt_tol,
         else:
             def rhs(s, yy, span=span, t0=t0):
                 f, nz = tilted_rates(yy, I1, I3)
-                return np.array(f) * (span * _held(np.clip(np.abs(nz - t0) / lost - 1.0, 0.0, 1.0)))
+                x = np.abs(nz - t0)
+                if (x > lost).any():
+                    return np.array(f) * (span * _held(np.minimum(np.maximum(x / lost - 1.0, 0.0), 1.0)))
+                return np.array(f) * span
 
         # a trial stage may leave the floor's domain (NaN, inf): integrate_batch refuses that step and shrinks it
         with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
