@@ -117,6 +117,34 @@ def test_an_upright_coin_on_a_huge_circle_alone(rtol):
         assert got[o].value[0] == pytest.approx(hand(**p)[o], rel=1e-8)
 
 
+def test_one_variant_failing_fails_no_other(monkeypatch):
+    """A chunk whose integration fails is followed again variant by variant: only the variant that fails
+    alone says so (here a stand-in failure for the variant theta = 0.3, R = 0.1, among 8 of like cost)."""
+    import mech.solvers.mechanics.rolling_disk as rd
+    from mech.core.errors import NumericFailure
+
+    real = rd.follow_batch
+    bad_tilt = math.sin(0.3)
+    sizes = []
+
+    def follow_batch(y0, spans, *args, tilt0, **kw):
+        sizes.append(len(spans))
+        if np.any(np.asarray(tilt0) == bad_tilt):
+            raise NumericFailure("a stand-in failure")
+        return real(y0, spans, *args, tilt0=tilt0, **kw)
+
+    monkeypatch.setattr(rd, "follow_batch", follow_batch)
+    ex = registry.get("4.23")
+    pts = [dict(r=0.012, theta=th, R=0.1, g=9.81) for th in (0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)]
+    P = {k: np.array([p[k] for p in pts]) for k in ("r", "theta", "R", "g")}
+    got = ex.batched_route.numeric(P, ex.default_rtol, OUTPUTS)
+    assert sizes == [8] + [1] * 8  # together, then one by one
+    assert list(got["Omega"].mask("failed")) == [k == 1 for k in range(8)]
+    assert got["Omega"].reason("failed", 1) == "a stand-in failure"
+    for k in (0, 2, 3, 4, 5, 6, 7):
+        assert got["Omega"].value[k] == pytest.approx(hand(**pts[k])["Omega"], rel=1e-8)
+
+
 @pytest.mark.parametrize("torque_sign", [1.0, -1.0])
 def test_a_wrong_equation_of_motion_fails_the_batched_variants(monkeypatch, torque_sign):
     """The energy monitor holds the batched runs too.  tests/test_ex4_23.py's 9 x 9 Newton-Euler system with

@@ -36,7 +36,7 @@ import numpy as np
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.frames import quat_from_matrix, quat_to_matrix
 from mech.solvers.mechanics.inertia import disk, inertia_tensor
-from mech.solvers.mechanics.rolling_disk import monitors, rates, steady_rolling, tilt_acceleration
+from mech.solvers.mechanics.rolling_disk import drifts, monitors, rates, steady_rolling, tilt_acceleration
 from mech.solvers.numerics.ode import Event
 from mech.solvers.mechanics.tops import azimuth, fit_rate
 
@@ -212,20 +212,8 @@ def motion(p, Om=None):
 
 
 def _drifts(Y, n3z0, tilt_tol, scale, E0):
-    """(tilt, slip speed / scale, contact height, energy): the worst drifts over the samples Y (13 x K x N,
-    one column of K samples per run) up to the first whose tilt is off by tilt_tol (the conserved ones there
-    too: the motion is still followed), and that sample's index (K: none is)."""
-    n, _, slip, height, energy, _ = monitors(Y, _BODY.I1, _BODY.I3)
-    tilt = np.abs(n[2] - n3z0)
-    off = ~(tilt <= tilt_tol)  # NaN (a run not followed further) is off too
-    k = np.where(off.any(axis=0), np.argmax(off, axis=0), off.shape[0])
-    upto = np.arange(off.shape[0])[:, None] <= k
-    before = np.arange(off.shape[0])[:, None] < k
-    roll = (slip[0] ** 2 + slip[1] ** 2 + slip[2] ** 2) ** 0.5 / scale
-    e = np.abs(energy - E0) / np.maximum(np.abs(E0), 1.0)
-    worst = [np.where(m, np.nan_to_num(x), 0.0).max(axis=0) for m, x in
-             ((before, tilt), (upto, roll), (upto, np.abs(height)), (upto, e))]
-    return worst, k
+    """``rolling_disk.drifts`` of the samples Y (13 x K x N) of runs from the tilt n3z0 and energy E0."""
+    return drifts(Y, _BODY.I1, _BODY.I3, n3z0, tilt_tol, scale, E0)
 
 
 def _assess(rtol, Om, spin0, Rs, many, T_s, fit_rel, drifts, lost, spin_end, t_len):
@@ -363,10 +351,11 @@ def expected_error_batch(P):
 
 def _follow_variants(theta, Rs, Om, spin0, y0, rtol, why):
     """``numeric``'s runs at N variants at once (``rolling_disk.follow_batch``, in chunks of like step counts):
-    each run over one root period (the turn timed from the axis's azimuth at its end: its departure from 2 pi
-    over its rate there), or over 20 spin turns with more than MAX_SPIN_TURNS per orbit (the azimuth's rate
+    each run over 1.3 root periods (the turn timed from the axis's azimuth at the root period: its departure
+    from 2 pi over its rate there), or over 20 spin turns with more than MAX_SPIN_TURNS per orbit (the azimuth's rate
     fitted over the checkpoints).  Returns ``_assess``'s arguments after rtol; ``why``: each variant's failure
     (a chunk's integration failing), filled in."""
+    from mech.core.budget import OutOfBudget
     from mech.solvers.mechanics.rolling_disk import follow_batch
     from mech.solvers.numerics.batch import chunks_by_work
 
@@ -383,14 +372,21 @@ def _follow_variants(theta, Rs, Om, spin0, y0, rtol, why):
     s_pts = np.arange(1, CHECKPOINTS + 1) / CHECKPOINTS
     Y = np.full((CHECKPOINTS + 1, 13, N), np.nan)
     todo = np.flatnonzero(np.isfinite(y0).all(axis=0) & (why == ""))
-    # the expected steps: ~17 a turn of the fastest rate, at least ~4 turns' worth (the legs' ends)
-    for chunk in chunks_by_work(big[todo] * span[todo] / (2 * math.pi) + 4.0, STEP_OVERHEAD, STEP_ALONE):
-        idx = todo[chunk]
+    def follow(idx):  # a chunk that fails is followed again variant by variant: a failure is that variant's
         try:
             Y[:, :, idx] = follow_batch(y0[:, idx], span[idx], _BODY.I1, _BODY.I3, s_pts, rtol=rtol,
                                         atol=1e-3 * rtol * size[:, idx], tilt0=n3z0[idx], tilt_tol=tilt_tol)[0]
+        except OutOfBudget:
+            raise
         except NumericFailure as exc:
-            why[idx] = str(exc)
+            if idx.size == 1:
+                why[idx] = str(exc)
+            for k in idx if idx.size > 1 else ():
+                follow(np.array([k]))
+
+    # the expected steps: ~17 a turn of the fastest rate, at least ~4 turns' worth (the legs' ends)
+    for chunk in chunks_by_work(big[todo] * span[todo] / (2 * math.pi) + 4.0, STEP_OVERHEAD, STEP_ALONE):
+        follow(todo[chunk])
     Yt = Y.transpose(1, 0, 2)
     drifts, k = _drifts(Yt, n3z0, tilt_tol, scale, E0)
     lost = k <= CHECKPOINTS

@@ -6,21 +6,22 @@ its symmetry axis (body z).  Vectors are 3-tuples of components (each a float or
 tuple of 3 rows.  The state (13 components) is the body-axis rates (w1, w2, w3), the attitude quaternion
 (q0..q3, scalar first, body -> lab), the centre's position and its velocity (lab axes, z up).
 
-The contact point P is the lowest rim point: P - C = d = -w/|w| with w = z - (z.n) n (n the symmetry axis),
+The contact point P is the lowest rim point: P - C = d = -m/|m| with m = z - (z.n) n (n the symmetry axis),
 whose place on the rim moves as the disk turns (its geometric velocity d' enters the rolling constraint).
 Unknowns at an instant: the centre's acceleration a, the angular acceleration alpha, the contact force F:
     a - F = -z,   I alpha - d x F = -omega x I omega,   a + alpha x d = -omega x d'
 (the rolling constraint v_C + omega x d = 0 differentiated once).  F and a eliminated, a 3 x 3 system for
 alpha remains: K alpha = b with K = I - [d]x^2 (symmetric positive definite), written in body axes (see
-``accelerations``).  No exercise's answer here.
+``accelerations``).  ``follow_batch`` integrates N disks at once (numerics.batch.integrate_batch).  No
+exercise's answer here.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["cross", "dot", "rotation", "accelerations", "rates", "steady_rolling", "tilt_acceleration",
-           "monitors", "quaternion_rate"]
+__all__ = ["cross", "dot", "rotation", "contact", "accelerations", "quaternion_rate", "rates", "tilted_rates",
+           "steady_rolling", "tilt_acceleration", "monitors", "drifts", "follow_batch"]
 
 
 def cross(a, b):
@@ -43,7 +44,7 @@ def rotation(q0, q1, q2, q3):
 
 
 def contact(n):
-    """(d, |w|): d = P - C for the symmetry axis n (w = z - (z.n) n = n x (z x n), written without the
+    """(d, |m|): d = P - C for the symmetry axis n (m = z - (z.n) n = n x (z x n), written without the
     cancellation 1 - n_z^2)."""
     wx, wy, wz = -n[2] * n[0], -n[2] * n[1], n[0] * n[0] + n[1] * n[1]
     wn = (wx * wx + wy * wy + wz * wz) ** 0.5
@@ -54,8 +55,8 @@ def accelerations(Rm, w, I1, I3):
     """(alpha, a): the angular acceleration in body axes and the centre's acceleration in lab axes of the rolling
     disk with the attitude Rm (body -> lab) turning at w (body axes).
 
-    Written in body axes, where the symmetry axis is e3 and the floor's normal is zb = R^T z: w = zb - (zb.e3) e3
-    = (zb1, zb2, 0), d = -w/|w| lies in the body xy plane, and the time derivative (in the lab) of a body vector
+    Written in body axes, where the symmetry axis is e3 and the floor's normal is zb = R^T z: m = zb - (zb.e3) e3
+    = (zb1, zb2, 0), d = -m/|m| lies in the body xy plane, and the time derivative (in the lab) of a body vector
     v has the body components v' + w x v.  With n = e3 and d3 = 0, K = (I1 + |d|^2) 1 + (I3 - I1) e3 e3^T - d d^T
     is diagonal on the axes d, e3 x d, e3."""
     z0, z1, z2 = Rm[2]
@@ -152,9 +153,9 @@ def tilt_acceleration(theta, Rs, Om, I1, I3):
 
 
 def monitors(Y, I1, I3):
-    """(n, d, slip velocity, contact height, energy) of states Y (13 x ...: any trailing shape): the axis, P - C,
-    the velocity of the material point at the contact, its height, and the kinetic energy plus the weight's
-    potential measured from the contact point (the rolling constraint is held at the acceleration level only,
+    """(n, d, slip velocity, contact height, energy, omega) of states Y (13 x ...: any trailing shape): the axis,
+    P - C, the velocity of the material point at the contact, its height, the kinetic energy plus the weight's
+    potential measured from the contact point, and the angular velocity in lab axes (the rolling constraint is held at the acceleration level only,
     so the contact leaves the floor slowly: measured from it the energy checks the dynamics alone)."""
     Rm = rotation(Y[3], Y[4], Y[5], Y[6])
     w = (Y[0], Y[1], Y[2])
@@ -166,6 +167,24 @@ def monitors(Y, I1, I3):
     v2 = Y[10] * Y[10] + Y[11] * Y[11] + Y[12] * Y[12]
     energy = 0.5 * v2 + 0.5 * (I1 * (w[0] * w[0] + w[1] * w[1]) + I3 * w[2] * w[2]) - d[2]
     return n, d, slip, Y[9] + d[2], energy, omega
+
+
+def drifts(Y, I1, I3, n3z0, tilt_tol, scale, E0):
+    """(tilt, slip speed / scale, contact height, energy): the worst drifts over the samples Y (13 x K x N,
+    one column of K samples per run, from the tilt n3z0 and the energy E0; the slip speed relative to
+    ``scale``) up to the first whose tilt is off by tilt_tol (the conserved ones there too: the motion is still
+    followed), and that sample's index (K: none is)."""
+    n, _, slip, height, energy, _ = monitors(Y, I1, I3)
+    tilt = np.abs(n[2] - n3z0)
+    off = ~(tilt <= tilt_tol)  # NaN (a run not followed further) is off too
+    k = np.where(off.any(axis=0), np.argmax(off, axis=0), off.shape[0])
+    upto = np.arange(off.shape[0])[:, None] <= k
+    before = np.arange(off.shape[0])[:, None] < k
+    roll = (slip[0] ** 2 + slip[1] ** 2 + slip[2] ** 2) ** 0.5 / scale
+    e = np.abs(energy - E0) / np.maximum(np.abs(E0), 1.0)
+    worst = [np.where(m, np.nan_to_num(x), 0.0).max(axis=0) for m, x in
+             ((before, tilt), (upto, roll), (upto, np.abs(height)), (upto, e))]
+    return worst, k
 
 
 def _held(x):
