@@ -229,3 +229,23 @@ def test_a_class_of_personal_variants_is_graded_through_the_batched_route(tmp_pa
     for e in d["entries"]:
         q = next(q for q in e["quantities"] if q["name"] == "Omega")
         assert q["analytic"] is not None and q["numeric"] is not None and q["agree"] is True
+
+
+@pytest.mark.parametrize("over", [dict(g=5e-324), dict(g=1e300), dict(r=1e-300, R=1e-299), dict(r=1e300, R=1e301)])
+def test_far_parameters_through_the_batched_route(over):
+    """Far from the defaults the one-point analytic solver works in natural units; the batched one takes the
+    scale sqrt(g/r) apart (at g = 5e-324, 4 g sin(theta) had lost 3% to the subnormal range and every variant
+    disagreed).  By hand: Omega = sqrt(g) sqrt(4 tan(theta)/(6 R - 5 r sin(theta))), the root of g apart."""
+    from mech.studies.sweep import iter_batched_solutions, run_batched
+
+    ex = registry.get("4.23")
+    p = dict(ex.resolve({}))
+    p.update(over)
+    p = dict(ex.resolve(p))
+    Om = math.sqrt(p["g"]) * math.sqrt(4 * math.tan(p["theta"]) / (6 * p["R"] - 5 * p["r"] * math.sin(p["theta"])))
+    P = {k: np.array([p[k]]) for k in ("r", "theta", "R", "g")}
+    assert ex.batched_route.analytic(P)["Omega"].value[0] == pytest.approx(Om, rel=1e-14)
+    sol = next(iter_batched_solutions(run_batched(ex, [], {}, OUTPUTS, points=P)))
+    assert sol.agree is True, sol
+    q = next(q for q in sol.quantities if q.name == "Omega")
+    assert q.numeric == pytest.approx(Om, rel=1e-8)

@@ -334,13 +334,14 @@ STEP_OVERHEAD, STEP_ALONE = 900.0, 180.0
 
 
 def analytic_batch(P):
-    """``analytic`` over arrays of points."""
+    """``analytic`` over arrays of points, the scale sqrt(g/r) taken apart (``analytic`` is solved in natural
+    units far from the defaults: 4 g sin(theta) loses its digits at g = 5e-324)."""
     from mech.solvers.numerics.batch import Column
 
     r, theta, R, g = (np.asarray(P[k], dtype=float) for k in ("r", "theta", "R", "g"))
-    s, c = np.sin(theta), np.cos(theta)
-    Om = np.sqrt(4.0 * g * s / (c * (6.0 * R - 5.0 * r * s)))
-    return {"T": Column(2 * math.pi / Om), "Omega": Column(Om), "omega_spin": Column(Om * R / r)}
+    s, c, Rs = np.sin(theta), np.cos(theta), R / r
+    Om = np.sqrt(g) / np.sqrt(r) * np.sqrt(4.0 * s / (c * (6.0 * Rs - 5.0 * s)))
+    return {"T": Column(2 * math.pi / Om), "Omega": Column(Om), "omega_spin": Column(Om * Rs)}
 
 
 def expected_error_batch(P):
