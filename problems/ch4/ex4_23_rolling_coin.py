@@ -14,21 +14,17 @@ M r (Omega^2 (R - r sin theta) cos theta - g sin theta) e_phi.  Equating:
 which needs R > 5 r sin(theta)/6 (at R = r sin(theta), the Euler disk,
 Omega^2 = 4 g /(r cos theta)).
 
-Numeric.  Full Newton-Euler equations of the rigid thin disk (inertia tensor by
-quadrature) with the orientation as a quaternion: at each instant the 9 x 9
-linear system for the center's acceleration, the angular acceleration and the
-contact force, with the rolling constraint differentiated once (the contact
-point moves along the rim: its geometric velocity enters).  Omega is the root of
-the tilt acceleration d^2(n3 . z)/dt^2 in the steady initial state (center
-velocity from the turning, spin from the rolling condition, both solved
-numerically); the declared motion is then followed from that state and T is the time
-of one full turn of the axis's horizontal projection (event), or, when a turn
-is too long to integrate (many spin turns per orbit, R >> r), 2 pi over the
-azimuth's rate fitted over 20 spin turns; T's claim is at least 3 times its
-departure from 2 pi over the root (measured error).  Omega is the root, the
-spin the rolling condition's; the spin at the end of the run must match it.  The tilt, the
-energy (its potential measured from the contact point), the rolling constraint and the contact
-height are monitored.  Units: r = g = M = 1.
+Numeric.  Newton-Euler of the rigid thin disk (inertia by quadrature) with the rolling constraint
+differentiated once (the contact point moves along the rim: its geometric velocity enters), the attitude a
+quaternion (solvers.mechanics.rolling_disk, on floats or on arrays of variants).  Omega is the root of the
+tilt acceleration d^2(n3 . z)/dt^2 in the steady initial state (center velocity from the turning, spin from
+the rolling condition, both solved numerically); the motion is followed from that state over 1.3 root periods
+and T is the time of one full turn of the axis's horizontal projection, or, with more than 60 spin turns an
+orbit (R >> r), 2 pi over the azimuth's rate fitted over 20 spin turns; T's claim is at least 3 times its
+departure from the root's (measured error).  The spin at the end must match the rolling condition's; the
+tilt, the energy (potential from the contact point), the slip and the contact height are monitored.  The
+batched route (``numeric_batch``, a class's variants at once) follows the same equations, times the turn from
+the azimuth at the root period and is judged by the same ``_assess``.  Units: r = g = M = 1.
 """
 
 from __future__ import annotations
@@ -38,9 +34,9 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.mechanics.frames import quat_from_matrix, quat_to_matrix, skew
+from mech.solvers.mechanics.frames import quat_from_matrix, quat_to_matrix
 from mech.solvers.mechanics.inertia import disk, inertia_tensor
-from mech.solvers.numerics.modes import solve3
+from mech.solvers.mechanics.rolling_disk import drifts, monitors, rates, steady_rolling, tilt_acceleration
 from mech.solvers.numerics.ode import Event
 from mech.solvers.mechanics.tops import azimuth, fit_rate
 
@@ -94,7 +90,7 @@ def analytic(p):
 
 
 class _Disk:
-    """Newton-Euler of a rolling thin disk, radius 1, mass 1, g = 1."""
+    """Newton-Euler of a rolling thin disk, radius 1, mass 1, g = 1 (solvers.mechanics.rolling_disk)."""
 
     def __init__(self):
         pts, w = disk(8, 16)  # unit disk in the body xy plane: the symmetry axis is body z
@@ -111,7 +107,6 @@ class _Disk:
     def geometry(self, Rm, omega):
         """(n3, P - C, d(P - C)/dt) for the lowest rim point, whose place on the rim moves."""
         n = Rm[:, 2]
-        # w = z - (z.n) n = n x (z x n), written without the cancellation 1 - n_z^2
         wv = np.array([-n[2] * n[0], -n[2] * n[1], n[0] ** 2 + n[1] ** 2])
         wn = np.linalg.norm(wv)
         u = wv / wn
@@ -120,155 +115,57 @@ class _Disk:
         udot = (wdot - u * (u @ wdot)) / wn
         return n, -u, -udot
 
-    def accelerations(self, Rm, omega):
-        """Solve M a - F = -M g z; I alpha - (P-C) x F = -omega x I omega; a + alpha x (P-C) = -omega x d(P-C)/dt."""
-        I_lab = Rm @ self.I_body @ Rm.T
-        n, d, ddot = self.geometry(Rm, omega)
-        A = np.zeros((9, 9))
-        b = np.zeros(9)
-        A[0:3, 0:3] = np.eye(3)
-        A[0:3, 6:9] = -np.eye(3)
-        b[0:3] = -self.z
-        A[3:6, 3:6] = I_lab
-        A[3:6, 6:9] = -skew(d)
-        b[3:6] = -np.cross(omega, I_lab @ omega)
-        A[6:9, 0:3] = np.eye(3)
-        A[6:9, 3:6] = -skew(d)
-        b[6:9] = -np.cross(omega, ddot)
-        x = np.linalg.solve(A, b)
-        return x[0:3], x[3:6], x[6:9], n, d, I_lab
-
     def rhs(self, t, y):
-        """The same Newton-Euler equations, reduced to the 3 x 3 system for alpha (F and a eliminated:
-        F = a + z, a = d x alpha - omega x d') and written out in scalars for speed."""
-        w1, w2, w3, q0, q1, q2, q3 = y[0], y[1], y[2], y[3], y[4], y[5], y[6]
-        nq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-        a0, a1, a2, a3 = q0 / nq, q1 / nq, q2 / nq, q3 / nq
-        r00, r01, r02 = 1 - 2 * (a2 * a2 + a3 * a3), 2 * (a1 * a2 - a0 * a3), 2 * (a1 * a3 + a0 * a2)
-        r10, r11, r12 = 2 * (a1 * a2 + a0 * a3), 1 - 2 * (a1 * a1 + a3 * a3), 2 * (a2 * a3 - a0 * a1)
-        r20, r21, r22 = 2 * (a1 * a3 - a0 * a2), 2 * (a2 * a3 + a0 * a1), 1 - 2 * (a1 * a1 + a2 * a2)
-        ox = r00 * w1 + r01 * w2 + r02 * w3
-        oy = r10 * w1 + r11 * w2 + r12 * w3
-        oz = r20 * w1 + r21 * w2 + r22 * w3
-        nx, ny, nz = r02, r12, r22
-        wx, wy, wz = -nz * nx, -nz * ny, nx * nx + ny * ny
-        wn = math.sqrt(wx * wx + wy * wy + wz * wz)
-        ux, uy, uz = wx / wn, wy / wn, wz / wn
-        # n' = omega x n; w' = -(n'_z) n - n_z n'; u' = (w' - u (u.w'))/|w|
-        mx, my, mz = oy * nz - oz * ny, oz * nx - ox * nz, ox * ny - oy * nx
-        vx, vy, vz = -mz * nx - nz * mx, -mz * ny - nz * my, -mz * nz - nz * mz
-        uw = ux * vx + uy * vy + uz * vz
-        # d = P - C = -u, d' = -u'
-        dx, dy, dz = -ux, -uy, -uz
-        ex_, ey_, ez_ = -(vx - ux * uw) / wn, -(vy - uy * uw) / wn, -(vz - uz * uw) / wn
-        # c = omega x d'
-        cx, cy, cz = oy * ez_ - oz * ey_, oz * ex_ - ox * ez_, ox * ey_ - oy * ex_
-        # L = I_lab omega = I1 omega + (I3 - I1)(n.omega) n
-        I1, dI = self.I1, self.I3 - self.I1
-        on = dI * (ox * nx + oy * ny + oz * nz)
-        Lx, Ly, Lz = I1 * ox + on * nx, I1 * oy + on * ny, I1 * oz + on * nz
-        # I alpha - d x (d x alpha) = -omega x I omega + d x (z - omega x d')
-        gx, gy, gz = -cx, -cy, 1.0 - cz
-        b = (
-            -(oy * Lz - oz * Ly) + (dy * gz - dz * gy),
-            -(oz * Lx - ox * Lz) + (dz * gx - dx * gz),
-            -(ox * Ly - oy * Lx) + (dx * gy - dy * gx),
-        )
-        dd = dx * dx + dy * dy + dz * dz
-        # K = I_lab - [d]x^2 = (I1 + |d|^2) 1 + (I3 - I1) n n^T - d d^T
-        di = I1 + dd
-        K = (
-            (di + dI * nx * nx - dx * dx, dI * nx * ny - dx * dy, dI * nx * nz - dx * dz),
-            (dI * ny * nx - dy * dx, di + dI * ny * ny - dy * dy, dI * ny * nz - dy * dz),
-            (dI * nz * nx - dz * dx, dI * nz * ny - dz * dy, di + dI * nz * nz - dz * dz),
-        )
-        al = solve3(K, b)
-        # a = d x alpha - omega x d'
-        ax = dy * al[2] - dz * al[1] - cx
-        ay = dz * al[0] - dx * al[2] - cy
-        az = dx * al[1] - dy * al[0] - cz
-        # body components of alpha: R^T alpha
-        dwb = (
-            r00 * al[0] + r10 * al[1] + r20 * al[2],
-            r01 * al[0] + r11 * al[1] + r21 * al[2],
-            r02 * al[0] + r12 * al[1] + r22 * al[2],
-        )
-        k = q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3 - 1.0
-        return np.array(
-            [
-                dwb[0], dwb[1], dwb[2],
-                0.5 * (-q1 * w1 - q2 * w2 - q3 * w3) - k * q0,
-                0.5 * (q0 * w1 + q2 * w3 - q3 * w2) - k * q1,
-                0.5 * (q0 * w2 - q1 * w3 + q3 * w1) - k * q2,
-                0.5 * (q0 * w3 + q1 * w2 - q2 * w1) - k * q3,
-                y[10], y[11], y[12],
-                ax, ay, az,
-            ]
-        )
+        """Newton-Euler with the rolling constraint (``rolling_disk.rates``: the 3 x 3 system for alpha)."""
+        return np.array(rates(y, self.I1, self.I3))
 
     def steady_state(self, theta, Rs, Om):
-        """State [omega_body, q, C, v_C] of the steady motion turning at Om (contact at (Rs, 0, 0))."""
-        s, c = math.sin(theta), math.cos(theta)
-        ex, ey, ez = np.eye(3)
-        n = c * ex + s * ez
-        u = np.cross(n, ey)  # in the coin's plane, up: body y
-        Rm = np.stack([ey, u, n], axis=1)  # body x, y, z in lab components
-        P = Rs * ex
-        C = P + u
-        vC = Om * np.cross(ez, C)
-        # rolling: v_C + (Om z + spin n) x (P - C) = 0, linear in the spin (least squares)
-        base = vC + Om * np.cross(ez, P - C)
-        k = np.cross(n, P - C)
-        spin = -float(base @ k) / float(k @ k)
-        if np.linalg.norm(base + spin * k) > 1e-12 * max(np.linalg.norm(base), 1e-300):
+        """State [omega_body, q, C, v_C] of the steady motion turning at Om (contact at (Rs, 0, 0)) and omega."""
+        Rm, omega, C, vC, _, residual = steady_rolling(theta, Rs, Om)
+        if residual > 1e-12:
             raise NumericFailure("the rolling condition cannot be met by a spin about the axis")
-        omega = Om * ez + spin * n
+        Rm, omega = np.array(Rm, dtype=float), np.array(omega, dtype=float)
         return np.concatenate([Rm.T @ omega, quat_from_matrix(Rm), C, vC]), Rm, omega
 
-    def tilt_acceleration(self, theta, Rs, Om):
-        y, Rm, omega = self.steady_state(theta, Rs, Om)
-        _, alpha, _, n, _, _ = self.accelerations(Rm, omega)
-        return float(self.z @ (np.cross(alpha, n) + np.cross(omega, np.cross(omega, n))))
 
-    def energies(self, Y):
-        """Kinetic energy plus the weight's potential, the height measured from the contact point, of each
-        column of the 13 x N states Y (the rotational part in body axes: omega_b . I_body omega_b).
+_BODY = _Disk()  # the inertia by quadrature, once
 
-        The rolling constraint is held at the acceleration level only, so the contact point leaves the
-        floor slowly (up to t^2); measured from z = 0 the normal force's work on that slip, M g times the
-        contact height, was all of the drift (1.28 rtol after 50 spin turns at R/r = 50.5, theta = 0.211).
-        That drift is monitored on its own ("contact height / r"); measured from the contact point, the
-        energy checks the dynamics alone (within 0.09 rtol over 6 to 50 spin turns)."""
-        wb = Y[0:3]
-        _, d = self.contact_many(quat_to_matrix(Y[3:7]))
-        v = Y[10:13]
-        return 0.5 * np.sum(v * v, axis=0) + 0.5 * np.einsum("in,ij,jn->n", wb, self.I_body, wb) - d[2]
 
-    @staticmethod
-    def contact_many(Rs):
-        """(n3, P - C) for each of the 3 x 3 x N rotations Rs: ``geometry``'s first two, column by column."""
-        n = Rs[:, 2, :]
-        wv = np.stack([-n[2] * n[0], -n[2] * n[1], n[0] ** 2 + n[1] ** 2])
-        return n, -wv / np.sqrt(np.sum(wv * wv, axis=0))
+def _roots(theta, Rs):
+    """(Omega, failure code) over arrays (units r = g = 1): the root of the tilt acceleration in the steady
+    state, bracketed by doubling from 1, then to rtol 1e-15 (Illinois).  Codes: 1 a coin at rest does not
+    fall, 2 no turning rate holds the tilt, 3 not converged."""
+    from mech.solvers.numerics.batch import illinois, scan_up
+
+    I1, I3 = _BODY.I1, _BODY.I3
+    n = theta.size
+    f = lambda idx, Om: tilt_acceleration(theta[idx], Rs[idx], Om, I1, I3)  # noqa: E731
+    # at rest the coin falls (the tilt grows): f(0) > 0; a root exists where turning holds it
+    f0 = f(np.arange(n), np.zeros(n))
+    code = np.where(f0 > 0, 0.0, 1.0)
+    Om = np.full(n, np.nan)
+    go = np.flatnonzero(code == 0)
+    lo, hi, flo, fhi, none = scan_up(lambda i, x: f(go[i], x), np.zeros(go.size), np.ones(go.size), factor=2.0,
+                                     limit=2.0**200, flo=f0[go])
+    code[go[none]] = 2.0
+    ok = ~none
+    go, lo, hi, flo, fhi = go[ok], lo[ok], hi[ok], flo[ok], fhi[ok]
+    x, conv = illinois(lambda x, i: f(go[i], x), lo, hi, flo, fhi, xtol=1e-300, rtol=1e-15, max_iter=500)
+    Om[go] = x
+    code[go[~conv]] = 3.0
+    return Om, code
+
+
+_ROOT_FAILS = {1.0: "a coin at rest does not fall: the setup is wrong", 2.0: "no turning rate holds the tilt",
+               3.0: "the root search for the turning rate did not converge"}
 
 
 def _turning_rate(body, theta, Rs):
-    """Omega (units r = g = 1): the root of the tilt acceleration in the steady state."""
-    from mech.solvers.numerics.roots import brentq
-
-    f = lambda Om: body.tilt_acceleration(theta, Rs, Om)  # noqa: E731
-    # at rest the coin falls (the tilt grows): f(0) > 0; a root exists where turning holds it
-    f0 = f(0.0)
-    if not f0 > 0:
-        raise NumericFailure("a coin at rest does not fall: the setup is wrong")
-    lo, hi = 0.0, 1.0
-    for _ in range(200):
-        if f(hi) < 0:
-            break
-        lo, hi = hi, 2.0 * hi
-    else:
-        raise NumericFailure("no turning rate holds the tilt")
-    return brentq(f, lo, hi, xtol=1e-300, rtol=1e-15, maxiter=500)
+    """Omega (units r = g = 1): ``_roots`` at one point."""
+    Om, code = _roots(np.array([float(theta)]), np.array([float(Rs)]))
+    if code[0]:
+        raise NumericFailure(_ROOT_FAILS[float(code[0])])
+    return float(Om[0])
 
 
 def _start(body, theta, Rs, Om):
@@ -314,137 +211,237 @@ def motion(p, Om=None):
                   options={"events": events, "max_step": max_step})
 
 
-def _timed_turn(m, traj, T_root, run):
-    """(T_s, the state at its end): the time of one full turn of the axis by its event, or (too many spin
-    turns per orbit) from the azimuth's rate fitted over 20 spin turns; T_s None where the axis falls over
-    within the fit (judged after the monitors)."""
-    T_s = y_end = None
-    if len(m.options["events"]) == 2:
-        times = [t for t in traj.t_events[0] if t > 0.5 * T_root]
-        if times:
-            T_s = float(times[0])
-            y_end = traj.sol(T_s)
-            run.info["timed_by"] = "event: one full turn"
-        elif len(traj.t_events[1]) == 0:
-            raise NumericFailure("the axis did not complete a turn")
-    else:
-        # too many spin turns per orbit: fit the azimuth's rate over 20 spin turns
-        t_run = m.span[1]
-        ts = np.linspace(0.0, t_run, 801)
-        n_t = quat_to_matrix(traj.sol(ts)[3:7])[:, 2, :]  # the axis n3 at every sample
-        rate, rms = fit_rate(ts, azimuth(n_t))
-        y_end = traj.sol(t_run)
-        if rate > 0:
-            T_s = 2 * math.pi / rate
-            swept = rate * t_run
-            run.info["timed_by"] = f"azimuth rate fitted over {swept:.3g} rad"
-            # the azimuth's error is absolute (about 1e3 rtol): relative to the swept angle
-            rel = max(exercise.tol_factor * run.rtol, 1e3 * run.rtol / swept)
-            run.claim("T", rel=rel)
-        else:
-            # judged after the monitors: on an unstable steady motion (a nearly upright coin rolling
-            # slowly: theta = 5.5e-7, R/r = 1.5e4) the axis falls over within the fit's 20
-            # spin turns and its azimuth is meaningless; the steady-state root then answers (below)
-            T_s = None
-    return T_s, y_end
+def _drifts(Y, n3z0, tilt_tol, scale, E0):
+    """``rolling_disk.drifts`` of the samples Y (13 x K x N) of runs from the tilt n3z0 and energy E0."""
+    return drifts(Y, _BODY.I1, _BODY.I3, n3z0, tilt_tol, scale, E0)
 
 
-def _monitors(body, traj, n3z0, tilt_tol, scale, E0):
-    """The worst drifts over the run (tilt, slip speed over ``scale``, contact height, energy) and the time
-    the tilt left its value by tilt_tol (None: it never did), over 200 samples evaluated at once (the
-    maxima are taken over the samples before the first one whose tilt is off)."""
-    ts = np.linspace(traj.t[0], traj.t[-1], 200)
-    Y = traj.sol(ts)
-    Rs = quat_to_matrix(Y[3:7])
-    omega = np.einsum("ijn,jn->in", Rs, Y[0:3])
-    n, d = body.contact_many(Rs)
-    tilt = np.abs(n[2] - n3z0)
-    off = np.flatnonzero(tilt > tilt_tol)
-    t_lost = float(ts[off[0]]) if off.size else None
-    k = int(off[0]) if off.size else ts.size
-    if k == 0:
-        return 0.0, 0.0, 0.0, 0.0, t_lost
-    vP = Y[10:13, :k] + np.cross(omega[:, :k], d[:, :k], axis=0)
-    roll = np.sqrt(np.sum(vP * vP, axis=0)) / scale
-    height = np.abs(Y[9, :k] + d[2, :k])
-    e = np.abs(body.energies(Y[:, :k]) - E0) / max(abs(E0), 1.0)
-    return float(tilt[:k].max()), float(roll.max()), float(height.max()), float(e.max()), t_lost
+def _assess(rtol, Om, spin0, Rs, many, T_s, fit_rel, drifts, lost, spin_end, t_len):
+    """What the runs answer and earn, over arrays of runs: (T, claims {output: rel}, invariants {name: (drift,
+    allowed)}, failures [(mask, reason)]).  ``T_s``: the timed turn (NaN: none); ``fit_rel``: the fitted
+    azimuth rate's claim (``many``); ``lost``: the tilt left its value by tilt_tol (an unstable steady motion)."""
+    Om, spin0, Rs, T_s, fit_rel, spin_end, t_len, lost, *drifts = np.broadcast_arrays(
+        *(np.asarray(x, dtype=float) for x in (Om, spin0, Rs, T_s, fit_rel, spin_end, t_len, lost, *drifts)))
+    many, lost = np.broadcast_to(np.asarray(many, dtype=bool), Om.shape), lost.astype(bool)
+    tf = exercise.tol_factor * rtol
+    tilt_tol = max(1e-7, 1e3 * rtol)
+    T_root = 2 * math.pi / Om
+    # the root's round-off: the tilt acceleration balances terms of size Om^2 Rs against the spin's
+    # (Om Rs)^2, so it keeps a part in ~eps Rs of its digits (2.7e-8 at Rs = 1.7e9: 0.15 eps Rs)
+    root_rel = np.maximum(tf, 4e-16 * np.maximum(Rs, 1.0))
+    # T: the timed turn.  The root T_root is exact to round-off, so the turn's departure from it is
+    # this integration's error, measured (3x for the rerun's comparison); at least the default claim
+    # (the departure grows to 55 rtol at theta = 0.03, R/r = 17, 0.01 rtol at the defaults)
+    T_err = np.where(lost, 0.0, np.abs(T_s / T_root - 1.0))
+    T_claim = np.maximum(np.maximum(np.where(many, fit_rel, tf), 3.0 * np.nan_to_num(T_err)), root_rel)
+    # On an unstable steady motion (a slowly rolling, nearly upright coin falls away from it) round-off grows
+    # until the tilt leaves its value: the answer is the steady state itself, the root of the tilt
+    # acceleration, with the rolling condition's spin; its monitors hold to the default claim
+    T = np.where(lost, T_root, T_s)
+    T_claim = np.where(lost, root_rel, T_claim)
+    earned = np.where(lost, tf, T_claim)
+    # the invariants drift by the run's global error, which T's departure from the root measures (1.4e-8
+    # contact height against 2.4e-8 in T at theta = 0.068, R/r = 17, rtol 1e-8): what the run earns.  The
+    # contact height is held only through its second derivative (the rolling constraint differentiated once):
+    # it drifts by up to the largest slip speed times the run's length (5e-8 at R/r = 50, theta = 0.54)
+    tilt, roll, height, e = drifts
+    slip_integral = roll * np.maximum(np.maximum(Om * Rs, Om), spin0) * t_len
+    invariants = {"energy": (e, earned), "rolling (slip speed)": (roll, earned),
+                  "contact height / r": (height, np.where(lost, tf, np.maximum(T_claim, slip_integral))),
+                  # the tilt is no conserved quantity: it stays only on a stable steady motion
+                  "tilt n3.z": (np.where(lost, 0.0, tilt), np.full(Om.shape, tilt_tol))}
+    # the spin read off the state at the end of the run is |omega - Omega z|, two vectors of size Omega (rel.
+    # error ~ rtol r/R), carrying whatever mode the turn excited (moved by 1.1e-7 at rtol/10 with a tilt drift
+    # 4.4e-6 at theta = 0.032, R/r = 0.19): it is only checked
+    spin_tol = max(tilt_tol, 1e3 * rtol) * np.maximum(Om, spin0)
+    failures = [(~lost & ~many & ~np.isfinite(T_s), "the axis did not complete a turn"),
+                (~lost & many & ~np.isfinite(T_s), "the axis does not turn"),
+                (~lost & ~(np.abs(spin_end - spin0) <= spin_tol), "the spin does not stay at its rolling value")]
+    claims = {"T": T_claim, "Omega": root_rel, "omega_spin": root_rel}
+    return T, claims, invariants, failures
+
+
+def _fit_rel(rtol, rate, t_run):
+    """The fitted azimuth rate's claim: its error is absolute (about 1e3 rtol), relative to the swept angle."""
+    return np.maximum(exercise.tol_factor * rtol, 1e3 * rtol / np.maximum(rate * t_run, 1e-300))
 
 
 @exercise.numeric
 def numeric(p, run):
-    Rs = p.R / p.r
-    theta = p.theta
-    body = _Disk()
-    # the root is found to round-off (brentq at rtol 1e-15) whatever the rtol: a rerun after the solve shares it
+    """The motion followed at one point (``motion``, recorded for plots), the turn timed by its event or the
+    fitted azimuth rate, then judged by ``_assess`` as the batched route judges every variant."""
+    Rs, theta, body = p.R / p.r, p.theta, _Disk()
+    # the root is found to round-off (rtol 1e-15) whatever the rtol: a rerun after the solve shares it
     key = ("4.23 root", theta, Rs)
     Om = run.shared[key] if key in run.shared else run.shared.setdefault(key, _turning_rate(body, theta, Rs))
     run.info["Omega_root_scaled"] = Om
-    # the root's round-off: the tilt acceleration balances terms of size Om^2 Rs against the spin's
-    # (Om Rs)^2, so it keeps a part in ~eps Rs of its digits (2.7e-8 at Rs = 1.7e9: 0.15 eps Rs)
-    root_rel = max(exercise.tol_factor * run.rtol, 4e-16 * max(Rs, 1.0))
-
     m = motion(p, Om)
     y0, spin0 = _start(body, theta, Rs, Om)
     T_root = 2 * math.pi / Om
-    n3z0 = math.sin(theta)
-    E0 = float(body.energies(np.asarray(y0, float)[:, None])[0])
     traj = run.follow(m, dense=True).traj
-
-    T_s, y_end = _timed_turn(m, traj, T_root, run)
+    many = len(m.options["events"]) == 1
+    T_s, fit_rel = math.nan, math.nan
+    if not many:
+        times = [t for t in traj.t_events[0] if t > 0.5 * T_root]
+        T_s = float(times[0]) if times else math.nan
+        y_end = traj.sol(T_s) if times else traj.y[:, -1]
+        run.info["timed_by"] = "event: one full turn"
+    else:
+        # too many spin turns per orbit: the azimuth's rate fitted over 20 spin turns
+        t_run = m.span[1]
+        ts = np.linspace(0.0, t_run, 801)
+        rate, _ = fit_rate(ts, azimuth(quat_to_matrix(traj.sol(ts)[3:7])[:, 2, :]))
+        y_end = traj.sol(t_run)
+        T_s = 2 * math.pi / rate if rate > 0 else math.nan
+        fit_rel = float(_fit_rel(run.rtol, rate, t_run))
+        run.info["timed_by"] = f"azimuth rate fitted over {rate * t_run:.3g} rad"
+    scale = max(Om * Rs, Om, spin0)
+    E0 = monitors(y0, _BODY.I1, _BODY.I3)[4]
     tilt_tol = max(1e-7, 1e3 * run.rtol)
-    tilt_dev, roll_dev, height_dev, e_dev, t_lost = _monitors(body, traj, n3z0, tilt_tol, max(Om * Rs, Om, spin0), E0)
-    invariants = {"energy": e_dev, "rolling (slip speed)": roll_dev, "contact height / r": height_dev}
-    for name, drift in invariants.items():
-        run.invariant(name, drift)
-    if t_lost is not None:
-        # The steady motion is unstable here (a slowly rolling, nearly upright coin falls away
-        # from it): round-off grows until the tilt leaves its value, so a turn cannot be timed.
-        # The answer is then the steady state itself: the root of the tilt acceleration, whose
-        # spin comes from the rolling condition.
+    ts = np.linspace(traj.t[0], traj.t[-1], 200)
+    drifts, k = _drifts(traj.sol(ts)[:, :, None], math.sin(theta), tilt_tol, scale, E0)
+    lost = k < ts.size
+    spin_end = float(np.linalg.norm(quat_to_matrix(y_end[3:7]) @ y_end[0:3] - Om * body.z))
+    T, claims, invariants, failures = _assess(run.rtol, Om, spin0, Rs, many, T_s, fit_rel, drifts, lost, spin_end,
+                                              float(traj.t[-1] - traj.t[0]))
+    for name, (drift, allowed) in invariants.items():
+        if name != "tilt n3.z" or not lost[0]:
+            run.invariant(name, float(drift[0]), allowed=float(allowed[0]))
+    if lost[0]:
         run.info["steady_motion"] = (
-            f"unstable: the tilt leaves its value by {tilt_tol:g} after {t_lost / T_root:.3g} of a turn; "
-            "Omega is the steady-state root, not a timed turn"
-        )
+            f"unstable: the tilt leaves its value by {tilt_tol:g} after {float(ts[k[0]]) / T_root:.3g} of a turn; "
+            "Omega is the steady-state root, not a timed turn")
         run.info.pop("timed_by", None)
-        run.claims.clear()
-        run.claim("Omega", rel=root_rel)
-        run.claim("omega_spin", rel=root_rel)
-        t_unit = math.sqrt(p.r) / math.sqrt(p.g)
-        return {"T": T_root * t_unit, "Omega": Om / t_unit, "omega_spin": spin0 / t_unit}
-    if T_s is None:
-        raise NumericFailure("the axis does not turn")
-    # the tilt is no conserved quantity: it stays only on a stable steady motion (lost past tilt_tol: above)
-    run.invariant("tilt n3.z", tilt_dev, allowed=tilt_tol)
-
-    # Omega is the root and omega_spin the rolling condition's spin of the steady state (exact to round-off);
-    # the timed turn confirms them.  The spin read off the state at the end of the turn is |omega - Omega z|,
-    # two vectors of size Omega (rel. error ~ rtol r/R), carrying whatever mode the turn excited (moved by
-    # 1.1e-7 at rtol/10 with a tilt drift 4.4e-6 at theta = 0.032, R/r = 0.19): it is only checked.
-    Rm = quat_to_matrix(y_end[3:7])
-    omega_end = Rm @ y_end[0:3]
-    spin_end = float(np.linalg.norm(omega_end - Om * body.z))
-    spin_tol = max(tilt_tol, 1e3 * run.rtol) * max(Om, spin0)
-    if abs(spin_end - spin0) > spin_tol:
-        raise NumericFailure(
-            f"the spin does not stay at its rolling value: {spin_end:.6g} after a turn against {spin0:.6g}"
-        )
-    # T: the timed turn.  The root T_root is exact to round-off, so the turn's departure from it is
-    # this integration's error, measured (3x for the rerun's comparison); at least the default claim
-    # (the departure grows to 55 rtol at theta = 0.03, R/r = 17, 0.01 rtol at the defaults)
-    T_err = abs(T_s / T_root - 1.0)
-    run.info["timed_turn_vs_root"] = T_err
-    run.claim("Omega", rel=root_rel)
-    run.claim("omega_spin", rel=root_rel)
-    T_claim = max(run.claims.get("T", (exercise.tol_factor * run.rtol, None))[0], 3.0 * T_err, root_rel)
-    run.claim("T", rel=T_claim)
-    # the invariants drift by the run's global error, which T's departure from the root measures (1.4e-8
-    # contact height against 2.4e-8 in T at theta = 0.068, R/r = 17, rtol 1e-8): what the run earns
-    for name, drift in invariants.items():
-        run.invariant(name, drift, allowed=T_claim)
-    # the contact height is held only through its second derivative (the rolling constraint differentiated
-    # once): it drifts by up to the largest slip speed times the run's length (5e-8 at R/r = 50, theta = 0.54)
-    slip_integral = roll_dev * max(Om * Rs, Om, spin0) * float(traj.t[-1] - traj.t[0])
-    run.invariant("contact height / r", height_dev, allowed=max(T_claim, slip_integral))
+    else:
+        run.info["timed_turn_vs_root"] = abs(T_s / T_root - 1.0)
+    for mask, why in failures:
+        if mask[0]:
+            raise NumericFailure(why if "spin" not in why else f"{why}: {spin_end:.6g} at the end against {spin0:.6g}")
+    for name, rel in claims.items():
+        run.claim(name, rel=float(rel[0]))
     t_unit = math.sqrt(p.r) / math.sqrt(p.g)
-    return {"T": T_s * t_unit, "Omega": Om / t_unit, "omega_spin": spin0 / t_unit}
+    return {"T": float(T[0]) * t_unit, "Omega": Om / t_unit, "omega_spin": spin0 / t_unit}
+
+
+# -- every variant at once: the same equations, roots and judgement over arrays ---------------------------
+
+# states kept along each run (the monitors' samples; the azimuth's, unwrapped), TURN_AT of them over one root
+# period: a run over one turn goes on to 1.3 of it, as ``motion``'s does, for the tilt's sake
+CHECKPOINTS, TURN_AT = 26, 20
+# a batched step's fixed cost and a step of one variant alone (plain floats), in variants' worth of arithmetic
+# (``chunks_by_work``): measured 76 us a step at 1 to 300 variants (+0.085 us a variant), 15 us alone
+STEP_OVERHEAD, STEP_ALONE = 900.0, 180.0
+
+
+def analytic_batch(P):
+    """``analytic`` over arrays of points, the scale sqrt(g/r) taken apart (``analytic`` is solved in natural
+    units far from the defaults: 4 g sin(theta) loses its digits at g = 5e-324)."""
+    from mech.solvers.numerics.batch import Column
+
+    r, theta, R, g = (np.asarray(P[k], dtype=float) for k in ("r", "theta", "R", "g"))
+    s, c, Rs = np.sin(theta), np.cos(theta), R / r
+    Om = np.sqrt(g) / np.sqrt(r) * np.sqrt(4.0 * s / (c * (6.0 * Rs - 5.0 * s)))
+    return {"T": Column(2 * math.pi / Om), "Omega": Column(Om), "omega_spin": Column(Om * Rs)}
+
+
+def expected_error_batch(P):
+    """``expected_error`` over arrays: none (the analytic answer is exact), NaN at every point."""
+    n = np.asarray(P["theta"]).size
+    return {o: np.full(n, np.nan) for o in ("T", "Omega", "omega_spin")}
+
+
+def _follow_variants(theta, Rs, Om, spin0, y0, rtol, why):
+    """``numeric``'s runs at N variants at once (``rolling_disk.follow_batch``, in chunks of like step counts):
+    each run over 1.3 root periods (the turn timed from the axis's azimuth at the root period: its departure
+    from 2 pi over its rate there), or over 20 spin turns with more than MAX_SPIN_TURNS per orbit (the azimuth's rate
+    fitted over the checkpoints).  Returns ``_assess``'s arguments after rtol; ``why``: each variant's failure
+    (a chunk's integration failing), filled in."""
+    from mech.core.budget import OutOfBudget
+    from mech.solvers.mechanics.rolling_disk import follow_batch
+    from mech.solvers.numerics.batch import chunks_by_work
+
+    N = Om.size
+    T_root = 2 * math.pi / Om
+    many = spin0 * T_root / (2 * math.pi) > MAX_SPIN_TURNS
+    span = np.where(many, 20.0 * 2 * math.pi / spin0, T_root * CHECKPOINTS / TURN_AT)
+    big = np.maximum(spin0, Om)
+    size = np.stack([big] * 3 + [np.ones(N)] * 4 + [np.maximum(Rs, 1.0)] * 3
+                    + [np.maximum(np.maximum(Om * Rs, Om), 1e-300)] * 3)
+    scale, n3z0 = np.maximum(np.maximum(Om * Rs, Om), spin0), np.sin(theta)
+    E0 = monitors(y0, _BODY.I1, _BODY.I3)[4]
+    tilt_tol = max(1e-7, 1e3 * rtol)
+    s_pts = np.arange(1, CHECKPOINTS + 1) / CHECKPOINTS
+    Y = np.full((CHECKPOINTS + 1, 13, N), np.nan)
+    todo = np.flatnonzero(np.isfinite(y0).all(axis=0) & (why == ""))
+    def follow(idx):  # a chunk that fails is followed again variant by variant: a failure is that variant's
+        try:
+            Y[:, :, idx] = follow_batch(y0[:, idx], span[idx], _BODY.I1, _BODY.I3, s_pts, rtol=rtol,
+                                        atol=1e-3 * rtol * size[:, idx], tilt0=n3z0[idx], tilt_tol=tilt_tol)[0]
+        except OutOfBudget:
+            raise
+        except NumericFailure as exc:
+            if idx.size == 1:
+                why[idx] = str(exc)
+            for k in idx if idx.size > 1 else ():
+                follow(np.array([k]))
+
+    # the expected steps: ~17 a turn of the fastest rate, at least ~4 turns' worth (the legs' ends)
+    for chunk in chunks_by_work(big[todo] * span[todo] / (2 * math.pi) + 4.0, STEP_OVERHEAD, STEP_ALONE):
+        follow(todo[chunk])
+    Yt = Y.transpose(1, 0, 2)
+    drifts, k = _drifts(Yt, n3z0, tilt_tol, scale, E0)
+    lost = k <= CHECKPOINTS
+    n, _, _, _, _, omega = monitors(Yt, _BODY.I1, _BODY.I3)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        az = np.unwrap(np.arctan2(n[1], n[0]), axis=0)
+        # one turn: the azimuth at the root period is 2 pi off by the integration's error; the turn's end is that
+        # departure over the azimuth's rate, (n x n')_z / (n_x^2 + n_y^2), n' = omega x n
+        j = TURN_AT
+        nx, ny, nz = n[0][j], n[1][j], n[2][j]
+        dn = (omega[1][j] * nz - omega[2][j] * ny, omega[2][j] * nx - omega[0][j] * nz)
+        rate_end = (nx * dn[1] - ny * dn[0]) / (nx * nx + ny * ny)
+        turned = np.abs(az[j] - az[0] - 2 * math.pi) < 0.5
+        T_turn = np.where(turned, span * (j / CHECKPOINTS) - np.arctan2(ny, nx) / rate_end, np.nan)
+        # many spin turns: the least-squares slope of the azimuth over the run
+        sc = np.concatenate([[0.0], s_pts]) - 0.5
+        rate = (sc @ (az - az.mean(axis=0))) / (sc @ sc) / span
+        T_fit = np.where(rate > 0, 2 * math.pi / rate, np.nan)
+        j = np.where(many, CHECKPOINTS, TURN_AT)  # the spin at the end of the turn, or of the fit
+        o = [np.take_along_axis(x, j[None, :], axis=0)[0] for x in omega]
+        spin_end = np.sqrt(o[0] ** 2 + o[1] ** 2 + (o[2] - Om) ** 2)
+    T_s = np.where(many, T_fit, T_turn)
+    return many, T_s, _fit_rel(rtol, rate, span), drifts, lost, spin_end, span
+
+
+@exercise.batched(("T", "Omega", "omega_spin"), analytic=analytic_batch, expected_error=expected_error_batch)
+def numeric_batch(P, rtol, outputs, memo=None):
+    """``numeric`` at N variants at once: the roots together (once per distinct (theta, R/r), kept in ``memo``
+    for the rerun), the runs together (``_follow_variants``), each variant judged by ``_assess``; every
+    failure and every invariant beyond its allowance fails that variant's outputs."""
+    from mech.solvers.numerics.batch import Column, by_rows
+
+    r, theta, R, g = (np.asarray(P[k], dtype=float) for k in ("r", "theta", "R", "g"))
+    Rs = R / r
+    memo = {} if memo is None else memo
+    Om, code = by_rows(memo, "4.23 root", (theta, Rs), _roots)
+    N = Om.size
+    why = np.full(N, "", dtype=object)
+    for c, text in _ROOT_FAILS.items():
+        why[code == c] = text
+    y0, spin0 = np.full((13, N), np.nan), np.full(N, np.nan)
+    for k in np.flatnonzero(code == 0):
+        try:
+            y0[:, k], spin0[k] = _start(_BODY, float(theta[k]), float(Rs[k]), float(Om[k]))
+        except NumericFailure as exc:
+            why[k] = str(exc)
+    many, T_s, fit_rel, drifts, lost, spin_end, span = _follow_variants(theta, Rs, Om, spin0, y0, rtol, why)
+    T, claims, invariants, failures = _assess(rtol, Om, spin0, Rs, many, T_s, fit_rel, drifts, lost, spin_end,
+                                              span)
+    ran = why == ""
+    failed = [(why == text, text) for text in sorted(set(why[~ran]))]
+    failed += [(ran & mask, why_) for mask, why_ in failures]
+    failed += [(ran & ~(drift <= allowed), f"the invariant '{name}' drifts by more than the method allows: the "
+                "integration is not to be trusted") for name, (drift, allowed) in invariants.items()]
+    t_unit = np.sqrt(r) / np.sqrt(g)
+    values = {"T": T * t_unit, "Omega": Om / t_unit, "omega_spin": spin0 / t_unit}
+    return {o: Column(values[o], rel=claims[o], failed=failed) for o in outputs}

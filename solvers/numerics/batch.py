@@ -324,3 +324,44 @@ def by_rows(memo: dict, key, arrays, compute):
 
 
 __all__ += ["by_rows"]
+
+
+def chunks_by_work(work, overhead: float, single: float | None = None):
+    """Indices of N batched problems split into chunks, each integrated on its own.
+
+    A chunk takes as many steps as its hardest problem (``work``: each problem's expected steps, in any unit)
+    and a step of n problems costs ``overhead + n`` (``overhead``: the fixed cost of a vectorised step, in
+    problems' worth of arithmetic); ``single``: what a step of a problem integrated alone costs (in plain
+    floats), None: as a chunk of one.  The problems are sorted by work and binned by its powers of 2; each bin
+    is integrated with its neighbours (the cheapest partition into runs of bins) or one by one.  A list of
+    index arrays (size 1: alone), easiest first."""
+    work = np.maximum(np.asarray(work, dtype=float), 1e-300)
+    order = np.argsort(work, kind="stable")
+    bins = np.floor(np.log2(work[order]))
+    groups = np.split(order, np.flatnonzero(np.diff(bins)) + 1) if order.size else []
+    single = overhead + 1.0 if single is None else min(single, overhead + 1.0)
+    B = len(groups)
+    best = [0.0] + [math.inf] * B  # best[j]: the cheapest plan of the first j bins
+    plan: list = [None] * (B + 1)
+    for j in range(1, B + 1):
+        alone = best[j - 1] + single * float(work[groups[j - 1]].sum())
+        best[j], plan[j] = alone, ("alone", j - 1)
+        n = 0
+        for i in range(j - 1, -1, -1):
+            n += groups[i].size
+            cost = best[i] + float(work[groups[j - 1]].max()) * (overhead + n)
+            if cost < best[j]:
+                best[j], plan[j] = cost, ("batch", i)
+    out: list = []
+    j = B
+    while j > 0:
+        kind, i = plan[j]
+        if kind == "alone":
+            out[:0] = [np.array([k]) for k in groups[i]]
+        else:
+            out[:0] = [np.concatenate(groups[i:j])]
+        j = i
+    return out
+
+
+__all__ += ["chunks_by_work"]
