@@ -87,9 +87,11 @@ def write_gradebook(report: GradeReport, out_file: str) -> None:
         fh.write(text)
 
 
-def print_grade(entries: list[Entry], seconds: float) -> None:
+def print_grade(entries: list[Entry], started: float) -> None:
     """One row per expected value, one per invalid entry; where the table does not fit the width, one
-    block per value (the stacking rule of the other commands); piped, no trailing spaces."""
+    block per value (the stacking rule of the other commands); piped, no trailing spaces.  The closing
+    line's time is the command's wall time up to it (``started``: its ``time.perf_counter()``), the
+    table's printing included."""
     from rich import box
     from rich.console import Group
     from rich.table import Table
@@ -121,7 +123,7 @@ def print_grade(entries: list[Entry], seconds: float) -> None:
             head = f"{e.number}  " + (f"{e.student}: " if e.student else "") + f"{where}: {name}"
             blocks.append((head, [("yours", yours), ("mech", ref), ("verdict", verdict)]))
     c = render.console()
-    table = t if render.fits(c, t) else render._stacked("", blocks)
+    render.emit(c, t if render.fits(c, t) else render._stacked("", blocks))
     judgements = [j for e in entries for j in e.judgements]
     right = sum(j.match for j in judgements)
     invalid = sum(e.invalid is not None for e in entries)
@@ -136,9 +138,10 @@ def print_grade(entries: list[Entry], seconds: float) -> None:
     extra = (f", {invalid} invalid entr{'y' if invalid == 1 else 'ies'}" if invalid else "") + \
         (f", {unanswered} not answered" if unanswered else "")
     lines.append(Text(f"{right} of {len(judgements)} answers right, {len(judgements) - right} wrong{extra}"
-                      f" ({len(entries)} entr{'y' if len(entries) == 1 else 'ies'}) in {seconds:.1f} s",
+                      f" ({len(entries)} entr{'y' if len(entries) == 1 else 'ies'})"
+                      f" in {time.perf_counter() - started:.1f} s",
                       style="green" if right == len(judgements) and not invalid else "bold red"))
-    render.emit(c, Group(table, *lines))
+    render.emit(c, Group(*lines))
 
 
 def _complete_files(ctx, param, incomplete):
@@ -208,5 +211,5 @@ def grade_cmd(file, as_json, junit_file, csv_file, strict, params_file, jobs, to
     if as_json:
         click.echo(json.dumps(report.to_dict(), indent=2, allow_nan=False))
     else:
-        print_grade(entries, report.seconds)
+        print_grade(entries, started)
     ctx.exit(EXIT_OK if report.ok else EXIT_WRONG)

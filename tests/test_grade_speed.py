@@ -76,3 +76,31 @@ def test_grade_reports_its_wall_time(tmp_path):
     wall = time.perf_counter() - t0
     said = json.loads(r.stdout)["seconds"]
     assert 0.5 * wall <= said <= wall, (said, wall)
+
+
+def test_the_time_grade_prints_counts_the_printing_of_its_table(tmp_path, monkeypatch):
+    """Issue 32: the closing line's time is the command's wall time (it left out printing the table: 2.9 s of
+    a 300-student class).  The table's printing made to take 0.5 s must show in the printed time."""
+    import re
+    import time
+
+    from mech import render
+
+    hw = tmp_path / "hw.toml"
+    hw.write_text('[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "asin(2/3*sin(theta0))" }\n')
+    emit = render.emit
+    calls = []
+
+    def slow_emit(c, *renderables):
+        if not calls:
+            time.sleep(0.5)
+        calls.append(1)
+        emit(c, *renderables)
+
+    monkeypatch.setattr(render, "emit", slow_emit)
+    started = time.perf_counter()
+    r = CliRunner().invoke(cli, ["grade", str(hw)])
+    wall = time.perf_counter() - started
+    assert r.exit_code == 0, r.output
+    said = float(re.search(r"in ([0-9.]+) s$", r.stdout.strip()).group(1))
+    assert 0.5 <= said <= wall + 0.05, (said, wall)
