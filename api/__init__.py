@@ -154,12 +154,9 @@ def plot(ex_id: str, path=None, *, generic: bool = False, vary: str | None = Non
 
 def __getattr__(name: str):
     if name == "__version__":  # the installed distribution's version, read when asked
-        from importlib.metadata import PackageNotFoundError, version
+        from mech.core.version import version
 
-        try:
-            return version("mech-likharev")
-        except PackageNotFoundError:
-            return "unknown"
+        return version()
     if name in ("Solution", "Sweep", "Trajectory", "Quantity"):
         from mech import api
 

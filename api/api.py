@@ -507,11 +507,11 @@ def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=N
     answers.toml and key.json (atomically; an output that is an input is refused); returns the key.
     ``students``: a roster file's path or a list of identifiers; ``n``: s1 ... sN instead; ``over``:
     {name or "ID:name": "LO:HI"} or ["NAME=LO:HI", ...]; ``digits``: significant digits printed."""
-    import mech
+    from mech.core.version import version
     from mech.students import assign as A
 
     return A.assign(ids, seed=seed, out=out, students=students, n=n, over=over, digits=digits, jobs=jobs,
-                    version=mech.__version__)
+                    version=version())
 
 
 def grade_students(entries: list) -> list[dict]:
