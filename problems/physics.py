@@ -824,6 +824,39 @@ def jacobian_error(der, p, motion, t, y, jac) -> float:
     return err
 
 
+# ---------------------------------------------------------------------------------------------- a ball
+# shared by the declarations of a ball on a horizontal table (4.8 sliding, 4.18 rolling on a turntable)
+
+
+def ball_on_table(d, R):
+    """A ball of radius ``R`` on the table z = 0 of the lab frame N (z up), declared in ``d``: coordinates
+    x, y (the centre's place) and a, b, c (the ball's attitude, three body-fixed turns), speeds w1, w2, w3
+    (the angular velocity on the ball's axes) and vx, vy (the centre's velocity).  Returns (N, B, O, C, P,
+    kinematics): the lab, the ball's frame, the origin, the centre at height R, the ball's material point at
+    the contact (its velocity from the rigid motion) and the kinematic equations tying speeds to rates, as
+    a namespace that also holds the coordinates and speeds by name."""
+    from types import SimpleNamespace
+
+    from sympy.physics.mechanics import Point, ReferenceFrame, dot
+
+    x, y, a, b, c = d.coordinates("x y a b c")
+    w1, w2, w3, vx, vy = d.speeds("w1 w2 w3 vx vy")
+    t = d.t
+    N = ReferenceFrame("N")
+    B = N.orientnew("B", "Body", [a, b, c], "XYZ")
+    w = B.ang_vel_in(N)
+    kinematics = [w1 - dot(w, B.x), w2 - dot(w, B.y), w3 - dot(w, B.z), vx - x.diff(t), vy - y.diff(t)]
+    B.set_ang_vel(N, w1 * B.x + w2 * B.y + w3 * B.z)
+    O = Point("O")
+    O.set_vel(N, 0)
+    C = O.locatenew("C", x * N.x + y * N.y + R * N.z)
+    C.set_vel(N, vx * N.x + vy * N.y)
+    P = C.locatenew("P", -R * N.z)
+    P.v2pt_theory(C, N, B)
+    return SimpleNamespace(x=x, y=y, a=a, b=b, c=c, w1=w1, w2=w2, w3=w3, vx=vx, vy=vy, N=N, B=B, O=O, C=C,
+                           P=P, kinematics=kinematics)
+
+
 # ---------------------------------------------------------------------------------------------- attitudes
 # shared by the declarations whose modules integrate an attitude quaternion (scalar first, body -> lab)
 

@@ -13,30 +13,19 @@ the start (where no slip fixes its horizontal part; its vertical spin, which doe
 from __future__ import annotations
 
 import numpy as np
-from sympy.physics.mechanics import Point, ReferenceFrame, RigidBody, dot, inertia
+from sympy.physics.mechanics import RigidBody, dot, inertia
 
 from mech.problems.ch4.ex4_18_ball_on_turntable import exercise
-from mech.problems.physics import body_xyz_matrix
+from mech.problems.physics import ball_on_table, body_xyz_matrix
 
 
 @exercise.physics
 def physics(d):
-    x, y, a, b, c = d.coordinates("x y a b c")
-    w1, w2, w3, vx, vy = d.speeds("w1 w2 w3 vx vy")
     Omega, R, x0, y0, vx0, vy0 = d.params("Omega R x0 y0 vx0 vy0")
     M = d.constant("M", 1.0, "kg", "the ball's mass drops out of the motion")
-    t = d.t
-    N = ReferenceFrame("N")                                  # the lab, z up
-    B = N.orientnew("B", "Body", [a, b, c], "XYZ")           # the ball
-    w = B.ang_vel_in(N)
-    kin = [w1 - dot(w, B.x), w2 - dot(w, B.y), w3 - dot(w, B.z), vx - x.diff(t), vy - y.diff(t)]
-    B.set_ang_vel(N, w1 * B.x + w2 * B.y + w3 * B.z)
-    O = Point("O")
-    O.set_vel(N, 0)
-    C = O.locatenew("C", x * N.x + y * N.y + R * N.z)        # the center
-    C.set_vel(N, vx * N.x + vy * N.y)
-    contact = C.locatenew("P", -R * N.z)                     # the ball's material point at the contact
-    contact.v2pt_theory(C, N, B)
+    ball_ = ball_on_table(d, R)                              # N: the lab, z up
+    N, B, O, C, contact = ball_.N, ball_.B, ball_.O, ball_.C, ball_.P
+    x, y, vx, vy, kin = ball_.x, ball_.y, ball_.vx, ball_.vy, ball_.kinematics
     table = (Omega * N.z).cross(contact.pos_from(O))         # the table's velocity under it
     no_slip = [dot(contact.vel(N) - table, N.x), dot(contact.vel(N) - table, N.y)]
     ball = RigidBody("ball", C, B, M, (inertia(B, 2 * M * R**2 / 5, 2 * M * R**2 / 5, 2 * M * R**2 / 5), C))

@@ -13,30 +13,19 @@ from __future__ import annotations
 
 import numpy as np
 import sympy as sp
-from sympy.physics.mechanics import Point, ReferenceFrame, RigidBody, dot, inertia
+from sympy.physics.mechanics import RigidBody, dot, inertia
 
 from mech.problems.ch4.ex4_8_billiard_ball import exercise
-from mech.problems.physics import body_xyz_matrix
+from mech.problems.physics import ball_on_table, body_xyz_matrix
 
 
 @exercise.physics
 def physics(d):
-    x, y, a, b, c = d.coordinates("x y a b c")
-    w1, w2, w3, vx, vy = d.speeds("w1 w2 w3 vx vy")
     M, R, mu, g = d.params("M R mu g")
-    t = d.t
-    N = ReferenceFrame("N")                                  # x along the cue, z up
-    B = N.orientnew("B", "Body", [a, b, c], "XYZ")           # the ball
-    w = B.ang_vel_in(N)
-    kin = [w1 - dot(w, B.x), w2 - dot(w, B.y), w3 - dot(w, B.z), vx - x.diff(t), vy - y.diff(t)]
-    B.set_ang_vel(N, w1 * B.x + w2 * B.y + w3 * B.z)
-    O = Point("O")
-    O.set_vel(N, 0)
-    C = O.locatenew("C", x * N.x + y * N.y + R * N.z)        # the center
-    C.set_vel(N, vx * N.x + vy * N.y)
-    P = C.locatenew("P", -R * N.z)                           # the ball's material point at the contact
-    P.v2pt_theory(C, N, B)
-    slip = P.vel(N)
+    ball_ = ball_on_table(d, R)                              # N: x along the cue, z up
+    N, B, C, P, x, y = ball_.N, ball_.B, ball_.C, ball_.P, ball_.x, ball_.y
+    kin = ball_.kinematics
+    slip = P.vel(N)                                          # P: the ball's material point at the contact
     friction = -mu * M * g * slip / sp.sqrt(dot(slip, slip))
     ball = RigidBody("ball", C, B, M, (inertia(B, 2 * M * R**2 / 5, 2 * M * R**2 / 5, 2 * M * R**2 / 5), C))
     d.kane(N, kinematics=kin, bodies=[ball], loads=[(C, -M * g * N.z), (P, M * g * N.z + friction)])
