@@ -42,6 +42,18 @@ def test_the_rule_on_arrays():
     assert [J.Verdict(v).cell for v in r.verdict] == ["yes", "NO", "yes", "outside range", "yes", "NO"]
 
 
+def test_the_rerun_is_held_to_the_error_bar_printed_beside_the_value():
+    """The rerun's claim is the numeric value's own error bar, rel |n| + abs: by hand, a numeric value 1 with
+    a claim of 1e-8 moves by 5e-8 at rtol/10, more than its bar of 1e-8.  Beside a leading-order value of
+    1000 outside its range (5.9's omega at mu/omega0 = 3e4 is 7700 times its numeric value) the claim was
+    scaled by the analytic value, 1e-5, and the move passed; it is unreliable."""
+    r = J.judge(analytic=[1000.0, 1.0], numeric=[1.0, 1.0], rel_claim=1e-8, leading=True, expected_rel=1e-3,
+                verify=[1.0 + 5e-8, 1.0 + 5e-9], outside=[True, False], outside_why=["mu/omega0 = 3e4", ""])
+    assert r.verify_claim.tolist() == pytest.approx([1e-8, 1e-8], rel=1e-12)
+    assert r.verify_claim.tolist() == r.numeric_err.tolist()
+    assert r.verdict.tolist() == [J.UNRELIABLE, J.AGREE]
+
+
 def test_the_one_overall_rule():
     V = J.Verdict
     # outside its theory's range a verified numeric value holds; unverified it is no verdict

@@ -283,8 +283,10 @@ def _judge(analytic, numeric, a_undefined, n_undefined, n_failed, has_analytic, 
         v_num = np.isfinite(v) if v_number is None else _arr(v_number, N, bool) & np.isfinite(v)
         chk = n_num & v_num
         verify_diff = np.where(chk, np.abs(v - n), np.nan)
-        scale = np.where(a_num & (a != 0), np.abs(a), np.abs(n))
-        claim = np.where(chk, allowance(scale, rel=rel, bars=(tol_abs,)), np.nan)
+        # the claim is the numeric value's own error bar (``numeric_err``), the one printed beside it: scaled
+        # by that value, not by the analytic one (a leading-order value outside its range can be thousands
+        # of times larger, which left the check without bite: 5.9's omega at mu/omega0 = 3e4)
+        claim = np.where(chk, numeric_err, np.nan)
         moved = chk & ~within(verify_diff, bars=(claim,))
         agree[moved] = 0
         verdict[moved] = UNRELIABLE
