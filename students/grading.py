@@ -262,6 +262,8 @@ class BadFile(BadInput):
         super().__init__("\n".join(self.problems))
 
 
+MAX_PROBLEMS = 50  # problems of a bad file listed before "... and N more"
+MAX_INVALID_CHARS = 400  # an invalid entry's reason, as reported
 MAX_ENTRIES = 20_000  # answers of one file (TOML entries, or CSV rows x exercises): see docs/grading.md
 MAX_FORMULA_CHARS = 1_000_000  # formulas parsed in one file (a repeat read once is counted once), characters
 
@@ -271,8 +273,6 @@ class _Memo(dict):
     of the formulas parsed so far (a parsed formula holds some 60 bytes a character until the report)."""
 
     formula_chars = 0
-MAX_PROBLEMS = 50  # problems of a bad file listed before "... and N more"
-MAX_INVALID_CHARS = 400  # an invalid entry's reason, as reported
 
 
 def _entry_lines(text: str) -> list[int]:

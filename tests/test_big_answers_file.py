@@ -8,7 +8,10 @@ limit is the assertion.  The counts the limits are checked against are written h
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 
+import pytest
 from click.testing import CliRunner
 
 from mech.cli.main import cli
@@ -16,8 +19,6 @@ from mech.core import safeio
 from mech.core.errors import BadInput
 from mech.students import grading
 from test_hostile import MEMORY_CAP, mech, one_line_error
-
-import pytest
 
 ENTRY = '[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "asin(2/3*sin(theta0))" }\n'  # 76 characters
 
@@ -75,7 +76,7 @@ def test_headers_are_counted_outside_strings_and_comments(tmp_path):
 
 
 def test_formulas_past_the_file_s_budget_refuse_the_file(tmp_path, monkeypatch):
-    # each formula below is 30 characters and different (the constant differs): the third passes 80
+    # four formulas of 26 characters each, all different (the factor differs): 3 x 26 = 78, the fourth passes 80
     monkeypatch.setattr(grading, "MAX_FORMULA_CHARS", 80)
     text = "".join(f'[[answer]]\nexercise = "4.15"\nexpect = {{ theta_c = "asin(2/3*sin(theta0))*{k}.00" }}\n'
                    for k in range(1, 5))
@@ -126,9 +127,6 @@ def test_memory_running_out_under_another_name_is_one_line(raised):
             "def boom(*a, **k):\n"
             f"    raise {raised}\n"
             "api.grade_report = boom; sys.argv = ['mech', 'grade', 'x.toml']; m.main()")
-    import subprocess
-    import sys
-
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     _no_traceback(r)
     lines = r.stderr.strip().splitlines()
