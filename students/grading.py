@@ -264,7 +264,9 @@ class BadFile(BadInput):
 
 MAX_PROBLEMS = 50  # problems of a bad file listed before "... and N more"
 MAX_INVALID_CHARS = 400  # an invalid entry's reason, as reported
-MAX_ENTRIES = 20_000  # answers of one file (TOML entries, or CSV rows x exercises): see docs/grading.md
+# answers (expected values) of one file: each costs some 10 kB until the report (docs/grading.md); as
+# each entry has one at least, as many [[answer]] tables, counted before the file is parsed
+MAX_ANSWERS = 20_000
 MAX_FORMULA_CHARS = 1_000_000  # formulas parsed in one file (a repeat read once is counted once), characters
 
 
@@ -459,7 +461,7 @@ def load_answers(path: str, strict: bool = True) -> list[Entry]:
         return load_answers_csv(path, strict=strict)
     name = shown_path(path)
     # BadInput naming the file: unreadable, too big, too deep, malformed, too many [[answer]] tables
-    data, text = load_toml_text(path, "answers file", max_tables=(MAX_ENTRIES, "[[answer]] entries"))
+    data, text = load_toml_text(path, "answers file", max_tables=(MAX_ANSWERS, "[[answer]] entries"))
     problems: list[str] = []
     for key in data:
         if key != "answer":
@@ -467,8 +469,11 @@ def load_answers(path: str, strict: bool = True) -> list[Entry]:
     answers = data.get("answer")
     if not isinstance(answers, list) or not answers or not all(isinstance(a, dict) for a in answers):
         raise BadFile(problems + [f"{name}: no [[answer]] tables"])
-    if len(answers) > MAX_ENTRIES:  # written inline (answer = [{...}, ...]): the pre-scan counts headers only
-        raise BadFile(f"{name}: {len(answers)} answers; at most {MAX_ENTRIES} are read (split the file)")
+    # the values, and the entries written inline (answer = [{...}, ...]) the pre-scan could not count
+    values = sum(len(a["expect"]) if isinstance(a.get("expect"), dict) else 1 for a in answers)
+    if values > MAX_ANSWERS:
+        raise BadFile(f"{name}: {values} answers (expected values) in {len(answers)} entries; at most "
+                      f"{MAX_ANSWERS} are read (split the file)")
     if problems:  # the file's own shape, not one entry's: nothing to grade
         _refuse(name, problems)
     lines = _entry_lines(text)
@@ -615,9 +620,10 @@ def load_answers_csv(path: str, strict: bool = True, params_path: str | None = N
         problems.append(f"{name}: line 1: no ID:output column holding answers")
     if problems:
         _refuse(name, problems)
-    if len(body) * len(order) > MAX_ENTRIES:  # an entry per row and exercise
-        raise BadFile(f"{name}: {len(body)} rows of {len(order)} exercises are {len(body) * len(order)} "
-                      f"answers; at most {MAX_ENTRIES} are read (split the file)")
+    outs = sum(kind == "output" for _, _, kind in columns.values())
+    if len(body) * outs > MAX_ANSWERS:  # a value per row and output column
+        raise BadFile(f"{name}: {len(body)} rows of {outs} answer columns are {len(body) * outs} "
+                      f"answers; at most {MAX_ANSWERS} are read (split the file)")
     template = _template_params(params_path) if params_path else None
     s_col = header.index("student")
     entries: list[Entry] = []

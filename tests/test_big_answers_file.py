@@ -33,27 +33,40 @@ def test_a_10_mb_class_file_under_500_mb_is_one_line(tmp_path):
     n = 10_000_000 // len(ENTRY)
     big = tmp_path / "big.toml"
     big.write_text(ENTRY * n)
-    assert n > grading.MAX_ENTRIES and big.stat().st_size < safeio.MAX_FILE_BYTES
+    assert n > grading.MAX_ANSWERS and big.stat().st_size < safeio.MAX_FILE_BYTES
     r = mech("grade", str(big), limit_as=MEMORY_CAP, timeout=30)
     _no_traceback(r)
     assert r.returncode == 2 and r.stdout == "", (r.returncode, r.stdout[-500:])
-    one_line_error(r, "big.toml", f"at most {grading.MAX_ENTRIES}", "[[answer]]")
+    one_line_error(r, "big.toml", f"at most {grading.MAX_ANSWERS}", "[[answer]]")
 
 
 def test_the_same_answers_written_inline_are_counted_after_parsing(tmp_path):
     # ``answer = [ {...}, ... ]`` has no [[answer]] header to count before parsing: counted once parsed
     item = '{ exercise = "4.15", expect = { theta_c = "asin(2/3*sin(theta0))" } },\n'
-    n = grading.MAX_ENTRIES + 1
+    n = grading.MAX_ANSWERS + 1
     big = tmp_path / "inline.toml"
     big.write_text("answer = [\n" + item * n + "]\n")
     r = mech("grade", str(big), "--json", limit_as=MEMORY_CAP, timeout=30)
     _no_traceback(r)
     assert r.returncode == 2 and r.stdout == "", r.returncode
-    one_line_error(r, f"{n} answers", f"at most {grading.MAX_ENTRIES}")
+    one_line_error(r, f"{n} answers (expected values) in {n} entries", f"at most {grading.MAX_ANSWERS}")
+
+
+def test_entries_of_many_answers_are_counted_by_their_answers(tmp_path):
+    # 4.1 has six outputs: 3334 entries answering all six are 20 004 answers, fewer tables than the limit
+    # (20 000 entries of six answers each ran out of 500 MB after 73 s)
+    six = ", ".join(f'{o} = "1"' for o in ("I_hoop_diam", "I_hoop_axis", "I_disk_diam", "I_disk_axis",
+                                            "I_shell", "I_ball"))
+    f = tmp_path / "six.toml"
+    f.write_text(f'[[answer]]\nexercise = "4.1"\nexpect = {{ {six} }}\n' * 3334)
+    r = mech("grade", str(f), limit_as=MEMORY_CAP, timeout=30)
+    _no_traceback(r)
+    assert r.returncode == 2 and r.stdout == "", r.returncode
+    one_line_error(r, "20004 answers (expected values) in 3334 entries", f"at most {grading.MAX_ANSWERS}")
 
 
 def test_a_csv_of_more_answers_than_the_limit_is_refused_before_reading_them(tmp_path):
-    # 4100 rows of 5 exercises: 20 500 answers, each row inside the CSV's own limits
+    # 4100 rows of 5 answer columns: 20 500 answers, each row inside the CSV's own limits
     ids = ["4.1", "4.2", "4.3", "4.4", "4.5"]
     outs = ["I_hoop_diam", "I_rods_inplane", "I1", "I_axis", "T"]
     rows = ["student," + ",".join(f"{i}:{o}" for i, o in zip(ids, outs))]
@@ -62,7 +75,7 @@ def test_a_csv_of_more_answers_than_the_limit_is_refused_before_reading_them(tmp
     f.write_text("\n".join(rows) + "\n")
     r = CliRunner().invoke(cli, ["grade", str(f)])
     assert r.exit_code == 2, r.output
-    one_line_error(r, "4100 rows of 5 exercises are 20500 answers", f"at most {grading.MAX_ENTRIES}")
+    one_line_error(r, "4100 rows of 5 answer columns are 20500 answers", f"at most {grading.MAX_ANSWERS}")
 
 
 def test_headers_are_counted_outside_strings_and_comments(tmp_path):
