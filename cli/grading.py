@@ -144,6 +144,20 @@ def print_grade(entries: list[Entry], started: float) -> None:
     render.emit(c, Group(*lines))
 
 
+def _json_parts(obj) -> list[str]:
+    """``json.dumps(obj, indent=2)`` in blocks of a few thousand pieces: the indenting encoder yields a
+    small string per value and bracket, and kept until the end they cost some six times the text (10 000
+    answers: 20 MB of JSON, 117 MB more at the peak); in blocks, about the text (19 MB more)."""
+    parts, pieces = [], []
+    for piece in json.JSONEncoder(indent=2, allow_nan=False).iterencode(obj):
+        pieces.append(piece)
+        if len(pieces) >= 4096:
+            parts.append("".join(pieces))
+            pieces.clear()
+    parts.append("".join(pieces))
+    return parts
+
+
 def _complete_files(ctx, param, incomplete):
     """The shell's own file completion for FILE."""
     from click.shell_completion import CompletionItem
@@ -209,7 +223,9 @@ def grade_cmd(file, as_json, junit_file, csv_file, strict, params_file, jobs, to
     if csv_file:
         write_gradebook(report, csv_file)
     if as_json:
-        click.echo(json.dumps(report.to_dict(), indent=2, allow_nan=False))
+        for part in _json_parts(report.to_dict()):  # all encoded before anything is written
+            click.echo(part, nl=False)
+        click.echo()
     else:
         print_grade(entries, started)
     ctx.exit(EXIT_OK if report.ok else EXIT_WRONG)

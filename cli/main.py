@@ -7,7 +7,10 @@ exit status 2.
 
 from __future__ import annotations
 
+import errno
+import gc
 import json
+import os
 import re
 import sys
 import time
@@ -174,12 +177,17 @@ class MechGroup(click.Group):
         except RecursionError:
             _error("input nested too deeply")
             code = EXIT_USAGE
-        except MemoryError:  # one line, written without allocating much; the input asked for too much
+        except MemoryError:  # the input asked for too much: one line, once the exception has let go of it
+            code = _OUT_OF_MEMORY
+        except Exception as exc:  # a defect: say so in one line, never a traceback
+            if _from_memory(exc):
+                code = _OUT_OF_MEMORY
+            else:
+                _error(internal_error(exc))
+                code = EXIT_INTERNAL
+        if code is _OUT_OF_MEMORY:
             _out_of_memory()
             code = EXIT_USAGE
-        except Exception as exc:  # a defect: say so in one line, never a traceback
-            _error(internal_error(exc))
-            code = EXIT_INTERNAL
         if standalone_mode:
             sys.exit(code)
         return code
@@ -197,15 +205,35 @@ def _environment_checks() -> None:
     budget_seconds()
 
 
-def _out_of_memory() -> None:
-    import gc
-    import os
+_OUT_OF_MEMORY = object()  # ``main``'s mark for an input that asked for more memory than there is
+_OOM_LINE = (b"mech: error: out of memory: the input asks for more than this machine gives "
+             b"(fewer points, entries or values)\n")
 
-    gc.collect()
+
+def _from_memory(exc: BaseException) -> bool:
+    """An exception that is a lack of memory under another name: a C extension's SystemError over a
+    MemoryError, an OSError ENOMEM, a module that could not be mapped in (ImportError)."""
+    for _ in range(8):  # the exception, and what it was raised from or during
+        if exc is None:
+            return False
+        if isinstance(exc, MemoryError) or (isinstance(exc, OSError) and exc.errno == errno.ENOMEM):
+            return True
+        if isinstance(exc, ImportError) and ("failed to map segment" in str(exc)
+                                             or "Cannot allocate memory" in str(exc)):
+            return True
+        exc = exc.__cause__ or exc.__context__
+    return False
+
+
+def _out_of_memory() -> None:
+    """The one line, written with what is already allocated (an import could fail here)."""
     try:
-        os.write(2, b"mech: error: out of memory: the input asks for more than this machine gives "
-                    b"(fewer points, entries or values)\n")
-    except OSError:
+        gc.collect()
+    except MemoryError:
+        pass
+    try:
+        os.write(2, _OOM_LINE)
+    except (OSError, MemoryError):
         pass
 
 

@@ -15,6 +15,7 @@ Every refusal is a ``BadInput`` whose message is one line naming the file or the
 from __future__ import annotations
 
 import contextlib
+import itertools
 import os
 import re
 import stat
@@ -110,6 +111,7 @@ def read_text(path, what: str = "file", limit: int = MAX_FILE_BYTES) -> str:
 _TOML_STRINGS = re.compile(r'"""[\s\S]*?(?:"""|\Z)|\'\'\'[\s\S]*?(?:\'\'\'|\Z)'
                            r'|"(?:[^"\\\n]|\\.)*(?:"|$)|\'[^\'\n]*(?:\'|$)|#[^\n]*', re.MULTILINE)
 _JSON_STRINGS = re.compile(r'"(?:[^"\\]|\\[\s\S])*(?:"|\Z)')
+_TABLE_ARRAY_HEADER = re.compile(r"^[ \t]*\[\[", re.MULTILINE)  # ``[[answer]]``, once strings are blanked
 _KEY_PART = re.compile(r"\s*(?:[A-Za-z0-9_-]+|\"\")\s*")
 
 
@@ -147,13 +149,20 @@ def load_toml(path, what: str = "file") -> dict:
     return load_toml_text(path, what)[0]
 
 
-def load_toml_text(path, what: str = "file") -> tuple[dict, str]:
-    """``load_toml``'s table and the text it was parsed from (read once)."""
+def load_toml_text(path, what: str = "file", max_tables: tuple[int, str] | None = None) -> tuple[dict, str]:
+    """``load_toml``'s table and the text it was parsed from (read once).  ``max_tables``: (N, what they
+    are): a file with more than N ``[[...]]`` headers is refused before it is parsed (parsing costs some
+    nine times the text's size in memory, and each table more again downstream)."""
     import tomllib
 
     text = read_text(path, what)
     skeleton = _TOML_STRINGS.sub('""', text)
     name = shown_path(path)
+    if max_tables is not None:
+        most, tables = max_tables
+        headers = _TABLE_ARRAY_HEADER.finditer(skeleton)
+        if next(itertools.islice(headers, most, None), None) is not None:  # counted no further than N + 1
+            raise BadInput(f"{name}: more than {most} {tables}; at most {most} are read (split the file)")
     if _depth(skeleton) > MAX_DEPTH:
         raise BadInput(f"{name}: malformed TOML: nested deeper than {MAX_DEPTH} levels")
     if _key_parts(skeleton) > MAX_KEY_PARTS:

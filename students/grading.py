@@ -264,6 +264,17 @@ class BadFile(BadInput):
 
 MAX_PROBLEMS = 50  # problems of a bad file listed before "... and N more"
 MAX_INVALID_CHARS = 400  # an invalid entry's reason, as reported
+# answers (expected values) of one file: each costs some 10 kB until the report (docs/grading.md); as
+# each entry has one at least, as many [[answer]] tables, counted before the file is parsed
+MAX_ANSWERS = 20_000
+MAX_FORMULA_CHARS = 1_000_000  # formulas parsed in one file (a repeat read once is counted once), characters
+
+
+class _Memo(dict):
+    """The values already read in one file, by exercise, name and text; ``formula_chars``: the characters
+    of the formulas parsed so far (a parsed formula holds some 60 bytes a character until the report)."""
+
+    formula_chars = 0
 
 
 def _entry_lines(text: str) -> list[int]:
@@ -406,6 +417,11 @@ def _read_expect(ex: Exercise | None, expect, rtol, memo: dict | None, found: _P
                 got = parse_expectation(ex, raw_name, value, rtol)
             except BadInput as exc:
                 got = BadInput(str(exc))
+            if isinstance(memo, _Memo) and getattr(got, "formula", None) is not None:
+                memo.formula_chars += len(got.text)
+                if memo.formula_chars > MAX_FORMULA_CHARS:  # the file's, not this entry's: refused whole
+                    raise BadFile(f"{found.where}: the file's formulas pass {MAX_FORMULA_CHARS} characters; at "
+                                  f"most {MAX_FORMULA_CHARS} are read (split the file)")
             if memo is not None and len(memo) < 10000:
                 memo[mkey] = got
         if isinstance(got, BadInput):
@@ -444,7 +460,8 @@ def load_answers(path: str, strict: bool = True) -> list[Entry]:
     if str(path).lower().endswith(".csv"):
         return load_answers_csv(path, strict=strict)
     name = shown_path(path)
-    data, text = load_toml_text(path, "answers file")  # BadInput naming the file: unreadable, too big, too deep, malformed
+    # BadInput naming the file: unreadable, too big, too deep, malformed, too many [[answer]] tables
+    data, text = load_toml_text(path, "answers file", max_tables=(MAX_ANSWERS, "[[answer]] entries"))
     problems: list[str] = []
     for key in data:
         if key != "answer":
@@ -452,11 +469,16 @@ def load_answers(path: str, strict: bool = True) -> list[Entry]:
     answers = data.get("answer")
     if not isinstance(answers, list) or not answers or not all(isinstance(a, dict) for a in answers):
         raise BadFile(problems + [f"{name}: no [[answer]] tables"])
+    # the values, and the entries written inline (answer = [{...}, ...]) the pre-scan could not count
+    values = sum(len(a["expect"]) if isinstance(a.get("expect"), dict) else 1 for a in answers)
+    if values > MAX_ANSWERS:
+        raise BadFile(f"{name}: {values} answers (expected values) in {len(answers)} entries; at most "
+                      f"{MAX_ANSWERS} are read (split the file)")
     if problems:  # the file's own shape, not one entry's: nothing to grade
         _refuse(name, problems)
     lines = _entry_lines(text)
     entries = []
-    memo: dict = {}
+    memo = _Memo()
     for k, item in enumerate(answers, 1):
         line = lines[k - 1] if len(lines) == len(answers) else None
         where = f"{name}: answer {k}" + (f" (line {line})" if line else "")
@@ -598,11 +620,15 @@ def load_answers_csv(path: str, strict: bool = True, params_path: str | None = N
         problems.append(f"{name}: line 1: no ID:output column holding answers")
     if problems:
         _refuse(name, problems)
+    outs = sum(kind == "output" for _, _, kind in columns.values())
+    if len(body) * outs > MAX_ANSWERS:  # a value per row and output column
+        raise BadFile(f"{name}: {len(body)} rows of {outs} answer columns are {len(body) * outs} "
+                      f"answers; at most {MAX_ANSWERS} are read (split the file)")
     template = _template_params(params_path) if params_path else None
     s_col = header.index("student")
     entries: list[Entry] = []
     all_problems: list[str] = []
-    memo: dict = {}
+    memo = _Memo()
     for line, row in body:
         row = row + [""] * (len(header) - len(row))
         student = row[s_col].strip()
@@ -762,6 +788,9 @@ def _grade_one(entry: Entry, deadline: float, total_s: float, per_solve: float, 
     except (BadInput, ArithmeticError, ValueError) as exc:  # this entry's numbers: its own verdict
         entry.result = None
         entry.judgements = _not_graded(entry, f"not graded: {shown(exc, 160)}")
+    except MemoryError:  # not a bug: this entry asked for more memory than the process had left
+        entry.result = None
+        entry.judgements = _not_graded(entry, "not graded: out of memory")
     except Exception as exc:  # noqa: BLE001  a bug in mech, met on this entry only
         entry.result = None
         entry.judgements = _not_graded(entry, f"not graded: an internal error in mech ({type(exc).__name__}: "
