@@ -312,7 +312,7 @@ def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=N
 
     from mech.core.safeio import atomic_write, check_apart, check_output, shown_path
     from mech.problems import registry
-    from mech.students.grading import parse_count
+    from mech.students.grading import MAX_ANSWERS, parse_count
 
     if isinstance(ids, str):
         ids = [ids]
@@ -338,6 +338,11 @@ def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=N
     else:
         roster = read_roster(str(students))
         inputs.append(str(students))
+    # the template filled in must be a file mech grade reads: at most MAX_ANSWERS expected values
+    answers = len(roster) * sum(len(ex.outputs) for ex in exercises)
+    if answers > MAX_ANSWERS:
+        raise BadInput(f"{len(roster)} students x {answers // len(roster)} outputs are {answers} answers; mech grade "
+                       f"reads at most {MAX_ANSWERS} a file (fewer students or exercises per assignment)")
     if over is None:
         pairs = []
     elif isinstance(over, dict):

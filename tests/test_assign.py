@@ -206,3 +206,17 @@ def test_a_bad_roster_is_one_line_exit_2(tmp_path, text, words):
     code, out, err = run("assign", "4.15", "--students", roster, "--seed", "1", "--out", tmp_path / "o")
     assert code == 2 and out == "" and len(err.strip().splitlines()) == 1 and "\x1b" not in err
     assert all(w in err for w in words), err
+
+
+def test_a_class_whose_answers_grade_could_not_read_is_refused_before_any_work(tmp_path):
+    """2000 students x (4.1's 6 + 4.23's 3 + 4.15's outputs) is over grade's 20 000 answers a file: refused in
+    one line, nothing written (by hand: 2000 x 11 = 22 000 with 4.15's two outputs)."""
+    from mech.problems import registry
+    from mech.students.grading import MAX_ANSWERS
+
+    outputs = sum(len(registry.get(i).outputs) for i in ("4.1", "4.23", "4.15"))
+    assert 2000 * outputs > MAX_ANSWERS
+    code, out, err = run("assign", "4.1", "4.23", "4.15", "--n", "2000", "--seed", "1", "--out", tmp_path / "o")
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, err
+    assert f"{2000 * outputs} answers" in err and str(MAX_ANSWERS) in err
+    assert not (tmp_path / "o").exists()
