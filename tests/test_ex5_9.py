@@ -147,7 +147,7 @@ def _cycle_by_lsoda(omega0, mu, beta):
     return {"A": y2[0], "omega": 2 * math.pi / (t2 - t1), "lambda_lc": (y2[2] - y1[2]) / (t2 - t1)}
 
 
-@pytest.mark.parametrize("eps", [15.0, 20.0, 22.0, 24.0, 26.0, 30.0])
+@pytest.mark.parametrize("eps", [20.0, 24.0, 26.0])  # where the old route failed (15, 22, 30 measured alike)
 def test_relaxation_claims_cover_the_error_and_the_rerun(eps):
     """mu/omega0 = 20-26 failed the rerun (lambda_lc moved by 2.2e-7 at rtol/10 against a claim of 2e-7 at
     mu = 20): LSODA's error of the period and of int (1 - x^2) was up to 95 rtol, all of the claim 100 rtol.

@@ -59,7 +59,7 @@ def _check_outcome(result, as_json: bool):
             json.loads(out, parse_constant=lambda c: (_ for _ in ()).throw(AssertionError(f"{c} in JSON")))
 
 
-@settings(max_examples=1500, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=800, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(data=st.data())
 def test_fuzz_solve_arguments(data):
     ex = data.draw(st.sampled_from(EXERCISES))

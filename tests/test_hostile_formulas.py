@@ -373,7 +373,7 @@ def test_class_file_of_10000_points_under_500_mb(tmp_path):
     hw.write_text("".join(f'[[answer]]\nexercise = "4.15"\npoints = 10000\nseed = {k}\n'
                           'expect = { theta_c = "asin(2/3*sin(theta0))" }\n\n' for k in range(100)))
     code = ("import resource, sys; resource.setrlimit(resource.RLIMIT_AS, (500 * 2**20, 500 * 2**20)); "
-            "from mech.cli.main import main; sys.argv = ['mech', 'grade', sys.argv[1], '--budget', '4']; main()")
+            "from mech.cli.main import main; sys.argv = ['mech', 'grade', sys.argv[1], '--budget', '2.5']; main()")
     r = subprocess.run([sys.executable, "-c", code, str(hw)], capture_output=True, text=True, timeout=120,
                        env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
     assert "Traceback" not in r.stderr and "MemoryError" not in r.stderr, r.stderr[-2000:]
