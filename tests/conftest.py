@@ -109,3 +109,11 @@ def killed_leaves_nothing(script: str, ready: str, sig: str, wait_children_s: fl
             proc.kill()
         for pid in processes_with(marker):
             os.kill(pid, signal.SIGKILL)
+
+
+def personal_answer(student: str, ex_id: str, params: dict, expect: dict) -> str:
+    """One ``[[answer]]`` of a class file: a student's own parameters (each value's exact repr, quoted) and
+    the formulas or numbers they expect."""
+    given = ", ".join(f'{k} = "{v!r}"' for k, v in params.items())
+    wants = ", ".join(f'{k} = "{v}"' for k, v in expect.items())
+    return f'[[answer]]\nstudent = "{student}"\nexercise = "{ex_id}"\nparams = {{ {given} }}\nexpect = {{ {wants} }}\n'

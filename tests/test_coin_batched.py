@@ -180,15 +180,14 @@ WRONG = "2*sqrt(4*g*tan(theta)/(6*R-5*r*sin(theta)))"
 
 
 def class_file(tmp_path, n=6):
+    from conftest import personal_answer
+
     from mech.students.points import draw
 
     ex = registry.get("4.23")
     parts = []
     for i, p in enumerate(draw(ex, n, 5)):
-        params = ", ".join(f'{k} = "{v!r}"' for k, v in p.items())
-        formula = RIGHT if i % 2 == 0 else WRONG
-        parts.append(f'[[answer]]\nstudent = "s{i}"\nexercise = "4.23"\nparams = {{ {params} }}\n'
-                     f'expect = {{ Omega = "{formula}" }}\n')
+        parts.append(personal_answer(f"s{i}", "4.23", p, {"Omega": RIGHT if i % 2 == 0 else WRONG}))
     path = tmp_path / "class.toml"
     path.write_text("\n".join(parts))
     return path

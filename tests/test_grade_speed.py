@@ -17,16 +17,14 @@ WRONG = "4*delta/omega0"
 
 
 def class_file(tmp_path, n=6):
+    from conftest import personal_answer
     from mech.problems import registry
     from mech.students.points import draw
 
     pts = draw(registry.get("5.11"), n, 3)
     parts = []
     for i, p in enumerate(pts):
-        params = ", ".join(f'{k} = "{v!r}"' for k, v in p.items())
-        formula = RIGHT if i % 2 == 0 else WRONG
-        parts.append(f'[[answer]]\nstudent = "s{i}"\nexercise = "5.11"\nparams = {{ {params} }}\n'
-                     f'expect = {{ mu_th = "{formula}" }}\n')
+        parts.append(personal_answer(f"s{i}", "5.11", p, {"mu_th": RIGHT if i % 2 == 0 else WRONG}))
         parts.append(f'[[answer]]\nstudent = "s{i}"\nexercise = "4.15"\nparams = {{ theta0 = "{10 + 10 * i}deg" }}\n'
                      f'expect = {{ theta_c = "asin(2/3*sin(theta0))" }}\n')
     path = tmp_path / "class.toml"
