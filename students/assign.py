@@ -110,7 +110,7 @@ def read_roster(path: str) -> list[str]:
 
 
 def _check_roster(items: list[tuple[int, str]], name: str, what: str) -> list[str]:
-    from mech.students.grading import MAX_STUDENT
+    from mech.students.answers_files import MAX_STUDENT
 
     out, seen = [], {}
     for i, s in items:
@@ -312,7 +312,8 @@ def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=N
 
     from mech.core.safeio import atomic_write, check_apart, check_output, shown_path
     from mech.problems import registry
-    from mech.students.grading import MAX_ANSWERS, parse_count
+    from mech.students.answers_files import MAX_ANSWERS
+    from mech.students.expectations import parse_count
 
     if isinstance(ids, str):
         ids = [ids]
