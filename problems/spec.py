@@ -12,42 +12,29 @@ from __future__ import annotations
 
 import math
 import tomllib
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
 from mech.core.errors import BadInput, NumericFailure
-from mech.problems import validity
+from mech.problems import batched as _batched, validity
+from mech.problems.batched import BatchedRoute, Tally
 from mech.problems.fields import Output, Param
 from mech.problems.motion import Run
 from mech.problems.params import Params, Undefined
 
 __all__ = [
     "BadInput",
+    "BatchedRoute",
     "Exercise",
     "Output",
     "Param",
     "Params",
     "Run",
+    "Tally",
     "Undefined",
     "NumericFailure",
 ]
 
-
-
-
-@dataclass(frozen=True)
-class BatchedRoute:
-    """What ``Exercise.batched`` registers: the chart's numeric route and its analytic counterpart."""
-
-    numeric: Callable
-    outputs: tuple[str, ...]
-    analytic: Callable
-    expected_error: Callable | None = None
-    boundaries: dict = field(default_factory=dict)
-    # ``theory_range(P) -> {output: (label, array)}``: the expansion parameter of each leading-order output
-    # over the arrays (``Exercise.theory_range``'s batched form)
-    theory_range: Callable | None = None
 
 
 
@@ -125,6 +112,9 @@ class Exercise:
         self._physics: Callable | None = None  # @exercise.physics: the symbolic declaration (problems/physics.py)
         self._physics_withheld: str | None = None
         self._batched: "BatchedRoute | None" = None
+        # the hooks written on arrays (those of an exercise with a batched route): a one-point call is the
+        # batch of one (problems/batched.py)
+        self._on_arrays: set[str] = set()
         self._theory_range: Callable | None = None
         self._approximations: Callable | None = None
         self.param_map = {p.name: p for p in self.params}
@@ -242,48 +232,70 @@ class Exercise:
         run = SceneRun(self, rtol, points)
         return self._scene(p, run), run
 
-    def batched(self, outputs: tuple[str, ...], *, analytic: Callable, expected_error: Callable | None = None,
-                boundaries: Mapping[str, tuple[str, str]] | None = None,
-                theory_range: Callable | None = None) -> Callable:
-        """Register a batched numeric route for charts: ``fn(P, rtol, outputs[, memo]) -> {output: Column}``.
+    def batched(self, outputs: tuple[str, ...], *, boundaries: Mapping[str, tuple[str, str]] | None = None
+                ) -> Callable:
+        """Register the exercise's route over arrays of variants: ``fn(P, rtol, outputs[, memo, tally]) ->
+        {output: Column}``, and declare its other hooks written on arrays too (problems/batched.py).
 
-        ``P`` maps every parameter name to an array of N values (one per grid
-        point, already validated); ``fn`` computes only the ``outputs`` asked
-        (a subset of ``outputs`` given here) from the equations of motion, as
-        the numeric solver does, for all N points at once (see
-        ``mech.solvers.numerics.batch``).  ``analytic(P)`` and ``expected_error(P)`` are
-        the analytic solver and its expected error over the same arrays
-        ({output: Column} and {output: array}); tests hold them equal to the
-        scalar ones.  ``boundaries`` maps a parameter to (output, label): the
-        analytic value of that output is a boundary in that parameter (5.11's
-        mu = mu_th(omega)), drawn on maps over that parameter.  ``theory_range(P)`` is ``theory_range``
-        over the arrays ({output: (label, array)}).  A ``memo`` keyword,
-        if ``fn`` takes one, is a dict shared by all chunks of one sweep.
+        ``P`` maps every parameter name to an array of N values (one per
+        variant, already validated); ``fn`` computes only the ``outputs`` asked
+        (a subset of ``outputs`` given here) from the equations of motion for
+        all N at once (see ``mech.solvers.numerics.batch``).  The exercise's
+        ``analytic(P)``, ``expected_error(P)`` and ``theory_range(P)`` take the
+        same arrays ({output: Column}, {output: array or (rel, abs) arrays,
+        NaN: none}, {output: (label or labels, array)}).  A one-point solve is
+        the batch of one: the hooks called with arrays of one and unpacked
+        (the numeric solver too, where ``fn`` gives every output; else the
+        registered ``numeric`` calls ``batch_of_one`` for those it gives).
+        ``boundaries`` maps a parameter to (output, label): the analytic value
+        of that output is a boundary in that parameter (5.11's mu =
+        mu_th(omega)), drawn on maps over that parameter.  A ``memo`` keyword,
+        if ``fn`` takes one, is a dict shared by all chunks of one sweep (by a
+        solve and its rerun); ``tally`` (a ``Tally``) takes the invariants'
+        drifts and the integrations.
         """
         unknown = set(outputs) - {o.name for o in self.outputs}
         if unknown:
             raise ValueError(f"{self.id}: batched route names unknown outputs {sorted(unknown)}")
 
         def register(fn: Callable) -> Callable:
-            self._batched = BatchedRoute(fn, tuple(outputs), analytic, expected_error, dict(boundaries or {}),
-                                         theory_range)
+            self._on_arrays = {"analytic", "expected_error", "theory_range"}
+            self._batched = BatchedRoute(
+                fn, tuple(outputs), lambda P: self._analytic(P),
+                expected_error=lambda P: self._expected_error(P) if self._expected_error else {},
+                boundaries=dict(boundaries or {}),
+                theory_range=lambda P: self._theory_range(P) if self._theory_range else {})
             return fn
 
         return register
 
+    def batch_of_one(self, p: Params, run: Run, outputs: tuple[str, ...] | None = None) -> dict:
+        """The batched route at the one point ``p`` (problems/batched.py ``one_point``): {output: value}, its
+        claims, invariants and failure reported to ``run``."""
+        return _batched.one_point(self, p, run, outputs)
+
     # -- what is registered: read by verification, bench, sweeps and tests ----
     @property
     def analytic_solver(self) -> Callable | None:
-        """The registered analytic solver ``fn(p)`` (None without one); assigning registers another."""
+        """The analytic solver at one point, ``fn(p) -> {output: value}`` (None without one; a hook written on
+        arrays called as the batch of one); assigning registers another (a one-point function)."""
+        if self._analytic is not None and "analytic" in self._on_arrays:
+            hook = self._analytic
+            return lambda p: _batched.analytic_at(hook, p)
         return self._analytic
 
     @analytic_solver.setter
     def analytic_solver(self, fn: Callable | None) -> None:
         self._analytic = fn
+        self._on_arrays.discard("analytic")
 
     @property
     def numeric_solver(self) -> Callable | None:
-        """The registered numeric solver ``fn(p, run)`` (None without one); assigning registers another."""
+        """The numeric solver at one point, ``fn(p, run)`` (None without one): the registered one, else the
+        batched route's batch of one where it gives every output; assigning registers another."""
+        if self._numeric is None and self._batched is not None and \
+                set(self._batched.outputs) == {o.name for o in self.outputs}:
+            return self.batch_of_one
         return self._numeric
 
     @numeric_solver.setter
@@ -296,7 +308,7 @@ class Exercise:
 
     @property
     def has_numeric(self) -> bool:
-        return self._numeric is not None
+        return self.numeric_solver is not None
 
     @property
     def has_hamiltonian(self) -> bool:
@@ -344,7 +356,7 @@ class Exercise:
     # -- use --------------------------------------------------------------
     @property
     def methods(self) -> list[str]:
-        return [m for m, f in (("analytic", self._analytic), ("numeric", self._numeric)) if f is not None]
+        return [m for m, f in (("analytic", self._analytic), ("numeric", self.numeric_solver)) if f is not None]
 
     @property
     def chapter(self) -> int:
@@ -388,9 +400,9 @@ class Exercise:
 
         nat = scales.natural_units(self, p)
         if nat is None:
-            return self._finish(self._analytic(p), "analytic")
+            return self._finish(self.analytic_solver(p), "analytic")
         u, values = nat
-        out = self._finish(self._analytic(Params(values)), "analytic")
+        out = self._finish(self.analytic_solver(Params(values)), "analytic")
         units = {o.name: o.unit for o in self.outputs}
         back = {n: v if isinstance(v, Undefined) else scales.from_natural(v, units[n], u) for n, v in out.items()}
         # units that bring the parameters near their defaults can push an output below the doubles' range
@@ -404,7 +416,7 @@ class Exercise:
 
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")
-                    si = self._finish(self._analytic(p), "analytic")
+                    si = self._finish(self.analytic_solver(p), "analytic")
             except Exception:  # the SI solution overflows or divides by zero: why natural units were taken
                 si = {}
             for n in lost:
@@ -422,23 +434,32 @@ class Exercise:
                   integrator=integrator)
         if shared is not None:
             run.shared = shared
-        values = self._numeric(p, run)
+        values = self.numeric_solver(p, run)
         return self._finish(values, "numeric"), run
 
     def expected_errors(self, p: Params) -> dict:
-        return dict(self._expected_error(p)) if self._expected_error else {}
+        if self._expected_error is None:
+            return {}
+        if "expected_error" in self._on_arrays:
+            return _batched.expected_at(self._expected_error, p)
+        return dict(self._expected_error(p))
 
     def theory_ranges(self, p: Params) -> dict:
         """{output: (label, value)}: the expansion parameter of each leading-order output at ``p``."""
-        return dict(self._theory_range(p)) if self._theory_range else {}
+        if self._theory_range is None:
+            return {}
+        if "theory_range" in self._on_arrays:
+            return _batched.range_at(self._theory_range, p)
+        return dict(self._theory_range(p))
 
     def theory_validity(self, p: Params, expected: dict | None = None) -> dict:
         """{output: None | reason} for every leading-order output (``validity.theory_validity``)."""
         return validity.theory_validity(self, p, expected)
 
-    def theory_validity_batch(self, P: Mapping, expected: dict) -> dict:
-        """The batched form (``validity.theory_validity_batch``)."""
-        return validity.theory_validity_batch(self, P, expected)
+    def outside_ranges(self, P: Mapping, expected: dict) -> dict:
+        """``theory_validity`` over arrays of variants: {output: (outside mask, reasons)}
+        (``validity.outside_ranges``)."""
+        return validity.outside_ranges(self, P, expected)
 
     def approximations_at(self, p: Params) -> dict:
         """{output: [(value, text), ...]}: the approximations the statement asks for next to exact outputs."""

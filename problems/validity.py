@@ -4,9 +4,10 @@ estimate below ``NEGLECT_LIMIT`` relative, at one point or over a batch; outside
 
 from __future__ import annotations
 
+import math
 from typing import Mapping
 
-__all__ = ["RANGE_LIMIT", "NEGLECT_LIMIT", "theory_validity", "theory_validity_batch"]
+__all__ = ["RANGE_LIMIT", "NEGLECT_LIMIT", "theory_validity", "outside_ranges"]
 
 
 # A leading-order theory is outside its range where its expansion parameter reaches RANGE_LIMIT or its
@@ -33,36 +34,46 @@ def _rel_part(e):
 
 
 
+def _reasons(names, ranges: Mapping, rel: Mapping, n: int) -> dict:
+    """{output: (outside mask, reasons)} over n variants, from each output's (label or labels, values) and the
+    relative part of its neglect estimate (arrays; NaN: none)."""
+    import numpy as np
+
+    from mech.problems.batched import label_at
+
+    out = {}
+    for name in names:
+        label, vals = ranges.get(name, (None, None))
+        r = np.broadcast_to(np.asarray(rel.get(name, np.nan), dtype=float), (n,))
+        v = None if vals is None else np.broadcast_to(np.asarray(vals, dtype=float), (n,))
+        reasons = [_outside_reason(label_at(label, k), None if v is None or v[k] != v[k] else float(v[k]),
+                                   None if r[k] != r[k] else float(r[k])) or "" for k in range(n)]
+        out[name] = (np.array([bool(x) for x in reasons], dtype=bool), reasons)
+    return out
+
+
 def theory_validity(ex, p, expected: dict | None = None) -> dict:
     """{output: None | reason} for every leading-order output: the reason why its theory does not apply at
     ``p`` (its expansion parameter reaches 1, or its neglect estimate 0.3 relative), None inside its range.
-    ``expected``: ``expected_errors(p)`` where the caller has it already."""
+    ``expected``: ``expected_errors(p)`` where the caller has it already.  ``outside_ranges`` at one point."""
     lead = [o.name for o in ex.outputs if o.theory != "exact"]
     if not lead:
         return {}
     ranges = ex.theory_ranges(p)
     expected = ex.expected_errors(p) if expected is None else expected
-    out = {}
-    for name in lead:
-        label, value = ranges.get(name, (None, None))
-        out[name] = _outside_reason(label, None if value is None else float(value), _rel_part(expected.get(name)))
-    return out
+    rel = {name: math.nan if _rel_part(expected.get(name)) is None else _rel_part(expected.get(name))
+           for name in lead}
+    return {name: reasons[0] or None for name, (_, reasons) in _reasons(lead, ranges, rel, 1).items()}
 
-def theory_validity_batch(ex, P: Mapping, expected: dict) -> dict:
-    """The batched form: {output: (outside, reasons)}, a boolean array and a list of reasons ("" inside),
-    from the batched route's ``theory_range`` and the batched ``expected`` ({output: (rel, abs) arrays})."""
+
+def outside_ranges(ex, P: Mapping, expected: dict) -> dict:
+    """``theory_validity`` over arrays of variants: {output: (outside, reasons)}, a boolean array and a list of
+    reasons ("" inside), from the exercise's ``theory_range`` on arrays and the batched ``expected``
+    ({output: (rel, abs) arrays})."""
     import numpy as np
 
     route = ex.batched_route
     ranges = route.theory_range(P) if route is not None and route.theory_range else {}
-    out = {}
-    for name, (rel, _abs) in expected.items():
-        if next(o for o in ex.outputs if o.name == name).theory == "exact":
-            continue
-        label, vals = ranges.get(name, (None, None))
-        rel = np.asarray(rel, dtype=float)
-        vals = None if vals is None else np.broadcast_to(np.asarray(vals, dtype=float), rel.shape)
-        reasons = [_outside_reason(label, None if vals is None or vals[k] != vals[k] else float(vals[k]),
-                                   None if rel[k] != rel[k] else float(rel[k])) or "" for k in range(rel.size)]
-        out[name] = (np.array([bool(r) for r in reasons], dtype=bool), reasons)
-    return out
+    lead = [name for name in expected if next(o for o in ex.outputs if o.name == name).theory != "exact"]
+    n = np.asarray(next(iter(expected.values()))[0]).size if expected else 0
+    return _reasons(lead, ranges, {name: expected[name][0] for name in lead}, n)

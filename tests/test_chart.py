@@ -17,7 +17,7 @@ from mech.problems import registry
 from mech.problems.spec import NumericFailure
 from mech.solvers.numerics.batch import integrate_batch
 from mech.verification.crosscheck import cross_check
-from mech.solvers.mechanics.floquet import even_hill_half_batch
+from mech.solvers.mechanics.floquet import even_hill_half
 from mech.studies.sweep import Axis, batched_points, grid_points, run_batched
 
 BATCHED = [ex_id for ex_id, ex in registry.all_exercises().items() if ex.batched_route is not None]
@@ -55,7 +55,7 @@ def test_batch_zero_span_and_budget():
 def test_hill_half_batch_matches_closed_form():
     """stiff = c constant (even, any period): y1 = cos(sqrt(c) t), y2 = sin(sqrt(c) t)/sqrt(c)."""
     c = np.array([0.2, 1.0, 3.7])
-    (y1, y1p, y2, y2p), _ = even_hill_half_batch(lambda t: c, 1.3, 3, rtol=1e-12, vscale=np.sqrt(c))
+    (y1, y1p, y2, y2p), _ = even_hill_half(lambda t: c, 1.3, 3, rtol=1e-12, vscale=np.sqrt(c))
     w = np.sqrt(c)
     assert y1 == pytest.approx(np.cos(w * 1.3), abs=1e-10)
     assert y1p == pytest.approx(-w * np.sin(w * 1.3), abs=1e-10)

@@ -322,7 +322,7 @@ def theory_validity(ex, params, expected: dict | None = None) -> dict:
 
 def theory_validity_batch(ex, P, expected: dict) -> dict:
     """The batched form: {output: (mask, reasons)} (``Exercise.theory_validity_batch``)."""
-    return dict(ex.theory_validity_batch(P, expected))
+    return dict(ex.outside_ranges(P, expected))
 
 
 def approximations(ex, params) -> dict:

@@ -22,8 +22,8 @@ of the growth rate.  P is formed as exp(-delta T) F with F from half-period
 products that do not cancel (``_minus_one_scaled``), so a zone 1e-7 omega0
 wide (|P| ~ 1e-14) is still resolved.
 
-The one-point route is the batched route of the charts (``numeric_batch``) at one point, with the
-Run's integrator.  Allowances: ``_allowances`` (twice the next order, solvers.mechanics.mathieu, plus a floor).
+The route is written once, over arrays of variants (``numeric``): a one-point solve is its batch of one
+(``Exercise.batched``), a sweep or a class its batch of many.  Allowances: ``_allowances`` (twice the next order, solvers.mechanics.mathieu, plus a floor).
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from mech.problems.spec import Exercise, NumericFailure, Undefined
+from mech.problems.spec import Exercise, Tally
 from mech.solvers.mechanics.mathieu import first_zone_next_order
 from mech.solvers.mechanics.floquet import even_hill_half, half_period_growth, half_period_minus_one
 
@@ -82,14 +82,23 @@ def _lo(omega0, delta, mu, xi):
     return {"mu_th": 4.0 * np.hypot(delta, xi) / omega0, "growth": growth, "xi_lo": -h, "xi_hi": h}
 
 
+_NO_ZONE = "eps = mu omega0/4 does not exceed delta: the rest state is stable at every detuning"
+
+
+def _arrays(P):
+    return (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
+
+
 @exercise.analytic
-def analytic(p):
-    out = {k: float(v) for k, v in _lo(p.omega0, p.delta, p.mu, p.omega - p.omega0).items()}
-    if math.isnan(out["xi_hi"]):
-        eps = p.mu * p.omega0 / 4.0
-        out["xi_lo"] = out["xi_hi"] = Undefined(
-            f"eps = mu omega0/4 = {eps:.6g} 1/s does not exceed delta = {p.delta:.6g} 1/s: the rest state is stable "
-            "at every detuning")
+def analytic(P):
+    """The leading-order answers over arrays of variants (``_lo``); no edges where eps <= delta."""
+    from mech.solvers.numerics.batch import Column
+
+    omega0, delta, mu, omega = _arrays(P)
+    lo = _lo(omega0, delta, mu, omega - omega0)
+    out = {k: Column(v) for k, v in lo.items()}
+    for k in ("xi_lo", "xi_hi"):
+        out[k].undefined.append((np.isnan(lo[k]), _NO_ZONE))
     return out
 
 
@@ -125,44 +134,34 @@ def _allowances(omega0, delta, mu, omega):
 
 
 @exercise.expected_error
-def expected_error(p):
-    """What the reduced equations neglect: ``_allowances`` at the point (mu_th + 0.005 mu_th^2, growth + 0.002
-    k^2 of the rate, the edges + 0.005 k^2 + 0.01 (delta/omega0)^2 over twice the next order)."""
-    allow = _allowances(p.omega0, p.delta, p.mu, p.omega)
-    out = {}
-    for name, (rel, ab) in allow.items():
-        rel, ab = float(rel), float(ab)
-        if rel == rel and ab == ab:
-            out[name] = (rel, ab)
-        elif rel == rel:
-            out[name] = rel
-        elif ab == ab:
-            out[name] = (None, ab)
-    return out
+def expected_error(P):
+    """What the reduced equations neglect: ``_allowances`` (mu_th + 0.005 mu_th^2, growth + 0.002 k^2 of the
+    rate, the edges + 0.005 k^2 + 0.01 (delta/omega0)^2 over twice the next order), NaN where none."""
+    return _allowances(*_arrays(P))
 
 
 @exercise.theory_range
-def theory_range(p):
+def theory_range(P):
     """The reduced equations expand in the pump's Mathieu parameter k = mu/2, delta/omega0 and the detuning
-    |omega - omega0|/omega0 (the largest is shown)."""
-    cands = [("mu/2", p.mu / 2.0), ("delta/omega0", p.delta / p.omega0),
-             ("|omega - omega0|/omega0", abs(p.omega - p.omega0) / p.omega0)]
-    big = max(cands, key=lambda c: c[1])
-    return {name: big for name in ("mu_th", "growth", "xi_lo", "xi_hi")}
+    |omega - omega0|/omega0 (the largest is shown, named at each variant)."""
+    omega0, delta, mu, omega = _arrays(P)
+    cands = np.stack(np.broadcast_arrays(mu / 2.0, delta / omega0, np.abs(omega - omega0) / omega0))
+    labels = np.array(["mu/2", "delta/omega0", "|omega - omega0|/omega0"], dtype=object)[np.argmax(cands, axis=0)]
+    return {name: (labels, cands.max(axis=0)) for name in _CHART_OUTPUTS}
 
 
-def _half(p, omega, mu, rtol, run):
-    """(y1, y1', y2, y2', e) of ``_growth``'s Hill equation at half the period pi/omega, e the absolute error
-    of the unit-sized y1, y2' (see ``_growth``); the trajectory and the Wronskian recorded."""
-    T = math.pi / omega
-    w0sq, d2, two_omega = p.omega0**2, p.delta**2, 2.0 * omega
-    (y1, y1p, y2, y2p), traj = even_hill_half(
-        lambda t: w0sq * (1.0 + mu * math.cos(two_omega * t)) - d2, T, rtol=rtol, vscale=p.omega0,
-        integrator=run.integrator,
-    )
-    run.record(traj)
-    run.invariant("Wronskian", y1 * y2p - y1p * y2 - 1.0)
-    return y1, y1p, y2, y2p, _half_error(rtol, p.omega0, T)
+def _half(omega0, delta, mu, omega, rtol, tally):
+    """(y1, y1', y2, y2') in the time t of ``_growth``'s Hill equation at half the period pi/omega, and the
+    |Wronskian drift|, at N points at once: in the time s = omega t all points integrate
+    y'' + ((omega0/omega)^2 (1 + mu cos 2s) - (delta/omega)^2) y = 0 over the same half period [0, pi/2]."""
+    r2 = (omega0 / omega) ** 2
+    c0, c1 = r2 - (delta / omega) ** 2, r2 * mu
+    (y1, y1p, y2, y2p), runs = even_hill_half(lambda s: c0 + c1 * math.cos(2.0 * s), 0.5 * math.pi, omega.size,
+                                              rtol=rtol, vscale=omega0 / omega, integrator=tally.integrator)
+    for r in runs:
+        tally.record(r)
+    # back to the time t: d/dt = omega d/ds, and y2 (y2'(0) = 1) is 1/omega of its scaled self
+    return (y1, omega * y1p, y2 / omega, y2p), np.abs(y1 * y2p - y1p * y2 - 1.0)
 
 
 def _half_error(rtol, omega0, T):
@@ -170,47 +169,6 @@ def _half_error(rtol, omega0, T):
     solutions, ~rtol plus 0.06 rtol per radian (measured for 5.3's maps), taken as 2 rtol plus 0.2 rtol per
     radian of omega0 T/2 (y1, y2' ~ 1; y1' ~ omega0; y2 ~ 1/omega0)."""
     return rtol * (2.0 + 0.2 * omega0 * 0.5 * T)
-
-
-def _half_at(p, run):
-    """``_MinusOne``'s half-period values at this one point, by ``_half`` (the Run's integrator, its records
-    and the Wronskian as an invariant)."""
-    def half(omega0, delta, mu, omega, rtol):
-        y = _half(p, float(omega[0]), float(mu[0]), rtol, run)[:4]
-        return tuple(np.array([v]) for v in y), np.zeros(1)
-    return half
-
-
-@exercise.numeric
-def numeric(p, run):
-    """The batched route (``numeric_batch``) at this one point: growth from the half-period solutions,
-    mu_th by ``_threshold_batch``, the edges by ``_edges_batch``, each with its claims."""
-    rtol = run.rtol
-    T = math.pi / p.omega
-    growth, err = half_period_growth(*_half(p, p.omega, p.mu, rtol, run), p.omega0, p.delta, T)
-    run.claim("growth", rel=100 * rtol, abs=float(err))
-    out = {"growth": float(growth)}
-    omega0, delta, mu, omega = (np.array([float(p[k])]) for k in ("omega0", "delta", "mu", "omega"))
-    half = _half_at(p, run)
-    mu_th, rel, ab, no_root, unconv, _ = _threshold_batch(omega0, delta, omega, rtol, half=half)
-    if no_root[0] or unconv[0]:
-        raise NumericFailure(NO_THRESHOLD if no_root[0] else UNCONVERGED)
-    out["mu_th"] = float(mu_th[0])
-    run.claim("mu_th", rel=float(rel[0]), **({"abs": float(ab[0])} if ab[0] else {}))
-    edges, window, none, unresolved, _ = _edges_batch(omega0, delta, mu, rtol, half=half)
-    if window[0] or unresolved[0]:
-        raise NumericFailure(NO_WINDOW if window[0] else UNRESOLVED)
-    if none[0]:
-        out["xi_lo"] = out["xi_hi"] = Undefined(f"min over omega of det(M + I) >= 0: no multiplier passes -1 at "
-                                                f"mu = {p.mu:g}")
-        return out
-    for name in ("xi_lo", "xi_hi"):
-        value, rel, ab, unconv = edges[name]
-        if unconv[0]:
-            raise NumericFailure("the root search for the zone's edge did not converge")
-        out[name] = float(value[0])
-        run.claim(name, rel=float(rel[0]), abs=float(ab[0]))
-    return out
 
 
 NO_THRESHOLD = "no multiplier reaches -1 for mu < 10: no first-zone threshold found"
@@ -261,77 +219,34 @@ def scene(p, run):
     return Scene([plane, growth], caption="leading-order analytic theory: agreement within what it neglects")
 
 
-# -- charts: the same two routes over many points at once ----------------------------------------------
-
-_NO_ZONE = "eps = mu omega0/4 does not exceed delta: the rest state is stable at every detuning"
-
-
-def analytic_batch(P):
-    """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
-    from mech.solvers.numerics.batch import Column
-
-    omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
-    lo = _lo(omega0, delta, mu, omega - omega0)
-    out = {k: Column(v) for k, v in lo.items()}
-    for k in ("xi_lo", "xi_hi"):
-        out[k].undefined.append((np.isnan(lo[k]), _NO_ZONE))
-    return out
-
-
-def expected_error_batch(P):
-    """``expected_error`` over arrays of points (NaN where the scalar one gives none)."""
-    omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
-    return _allowances(omega0, delta, mu, omega)
-
-
-def theory_range_batch(P):
-    """``theory_range`` over arrays of points."""
-    omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
-    big = np.maximum(np.maximum(mu / 2.0, delta / omega0), np.abs(omega - omega0) / omega0)
-    label = "max(mu/2, delta/omega0, |omega - omega0|/omega0)"
-    return {name: (label, big) for name in _CHART_OUTPUTS}
-
-
-def _half_batch(omega0, delta, mu, omega, rtol):
-    """``_half``'s (y1, y1', y2, y2') in the time t and the |Wronskian drift|, at N points at once: in the time
-    s = omega t all points integrate y'' + ((omega0/omega)^2 (1 + mu cos 2s) - (delta/omega)^2) y = 0 over
-    the same half period [0, pi/2]."""
-    from mech.solvers.mechanics.floquet import even_hill_half_batch
-
-    r2 = (omega0 / omega) ** 2
-    c0, c1 = r2 - (delta / omega) ** 2, r2 * mu
-    (y1, y1p, y2, y2p), _ = even_hill_half_batch(lambda s: c0 + c1 * math.cos(2.0 * s), 0.5 * math.pi, omega.size,
-                                                  rtol=rtol, vscale=omega0 / omega)
-    # back to the time t: d/dt = omega d/ds, and y2 (y2'(0) = 1) is 1/omega of its scaled self
-    return (y1, omega * y1p, y2 / omega, y2p), np.abs(y1 * y2p - y1p * y2 - 1.0)
+# -- the route over many variants at once (a one-point solve is the batch of one) -------------------------
 
 
 class _MinusOne:
     """(F, its error) of ``_minus_one_scaled`` (det(M + I) exp(delta T)) at points (omega0, delta, mu, omega),
     any one of mu or omega varied; the largest Wronskian drift of each point kept."""
 
-    def __init__(self, omega0, delta, mu, omega, rtol, half=None):
-        self.omega0, self.delta, self.mu, self.omega, self.rtol = omega0, delta, mu, omega, rtol
-        self.half = half or _half_batch  # (half-period values, |Wronskian drift|) at points
+    def __init__(self, omega0, delta, mu, omega, rtol, tally):
+        self.omega0, self.delta, self.mu, self.omega, self.rtol, self.tally = omega0, delta, mu, omega, rtol, tally
         self.drift = np.zeros(omega0.size)
 
     def __call__(self, idx, mu=None, omega=None):
         mu = self.mu[idx] if mu is None else mu
         omega = self.omega[idx] if omega is None else omega
         omega0, delta = self.omega0[idx], self.delta[idx]
-        (y1, y1p, y2, y2p), w = self.half(omega0, delta, mu, omega, self.rtol)
+        (y1, y1p, y2, y2p), w = _half(omega0, delta, mu, omega, self.rtol, self.tally)
         self.drift[idx] = np.maximum(self.drift[idx], w)
         T = math.pi / omega
         return half_period_minus_one(y1, y1p, y2, y2p, _half_error(self.rtol, omega0, T), delta * T, omega0)
 
 
-def _threshold_batch(omega0, delta, omega, rtol, half=None):
+def _threshold(omega0, delta, omega, rtol, tally):
     """``numeric``'s mu_th at N points: the first sign change of F(mu) scanning upward (downward first
     where F(1e-3) < 0), then the root."""
     from mech.solvers.numerics.batch import illinois, scan_down, scan_up
 
     n = omega.size
-    P = _MinusOne(omega0, delta, np.zeros(n), omega, rtol, half)
+    P = _MinusOne(omega0, delta, np.zeros(n), omega, rtol, tally)
     allp = np.arange(n)
     p0, e0 = P(allp, mu=np.zeros(n))
     zero = p0 <= e0  # exact resonance without damping: any modulation excites
@@ -372,13 +287,13 @@ def _threshold_batch(omega0, delta, omega, rtol, half=None):
     return mu_th, rel, ab, no_root, ~conv, P.drift
 
 
-def _edges_batch(omega0, delta, mu, rtol, half=None):
+def _edges(omega0, delta, mu, rtol, tally):
     """``numeric``'s zone edges at N points: the region of omega where det(M + I) < 0 around its minimum
     (solvers.numerics.zones), searched over 0.55 - 1.6 omega0."""
     from mech.solvers.numerics.zones import negative_region
 
     n = mu.size
-    P = _MinusOne(omega0, delta, mu, np.ones(n), rtol, half)
+    P = _MinusOne(omega0, delta, mu, np.ones(n), rtol, tally)
     grid = np.linspace(0.55, 1.6, 9)[None, :] * omega0[:, None]
     ends, window, none, unresolved = negative_region(lambda idx, w: P(idx, omega=w), grid, omega0)
     out = {name: (w - omega0, np.full(n, 100.0 * rtol), ab, unconv)
@@ -389,37 +304,40 @@ def _edges_batch(omega0, delta, mu, rtol, half=None):
 _CHART_OUTPUTS = ("growth", "mu_th", "xi_lo", "xi_hi")
 
 
-@exercise.batched(_CHART_OUTPUTS, analytic=analytic_batch, expected_error=expected_error_batch,
-                  theory_range=theory_range_batch,
-                  boundaries={"mu": ("mu_th", "leading-order zone edge μ = μ_th(ω)")})
-def numeric_batch(P, rtol, outputs, memo=None):
-    """The route at N points at once: growth at every point; mu_th once per distinct (omega0, delta, omega) and
-    the edges once per distinct (omega0, delta, mu) (a grid over omega and mu needs 200 thresholds, not
-    40 000), kept in ``memo`` (one dict for the whole sweep) across its chunks."""
+@exercise.batched(_CHART_OUTPUTS, boundaries={"mu": ("mu_th", "leading-order zone edge μ = μ_th(ω)")})
+def numeric(P, rtol, outputs, memo=None, tally=None):
+    """The route at N points at once (one point: a solve): growth at every point; mu_th once per distinct
+    (omega0, delta, omega) and the edges once per distinct (omega0, delta, mu) (a grid over omega and mu needs
+    200 thresholds, not 40 000), kept in ``memo`` (one dict for the whole sweep) across its chunks; the
+    Wronskian's drift of every point reported to ``tally`` and failing the outputs it exceeds."""
     from mech.solvers.numerics.batch import Column, by_rows
 
-    omega0, delta, mu, omega = (np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "mu", "omega"))
+    omega0, delta, mu, omega = _arrays(P)
     memo = {} if memo is None else memo
+    tally = Tally() if tally is None else tally
     allowed = exercise.tol_factor * rtol
     drifted = f"the Wronskian drifted by more than {allowed:.3g}"
     out = {}
     if "growth" in outputs:
-        (y1, y1p, y2, y2p), wronski = _half_batch(omega0, delta, mu, omega, rtol)
+        (y1, y1p, y2, y2p), wronski = _half(omega0, delta, mu, omega, rtol, tally)
+        tally.invariant("Wronskian", wronski)
         T = math.pi / omega
         growth, err = half_period_growth(y1, y1p, y2, y2p, _half_error(rtol, omega0, T), omega0, delta, T)
         out["growth"] = Column(growth, rel=100 * rtol, abs=err, failed=[(wronski > allowed, drifted)])
     if "mu_th" in outputs:
         v, rel, ab, no_root, unconv, drift = by_rows(memo, ("mu_th", rtol), (omega0, delta, omega),
-                                                      lambda a, b, c: _threshold_batch(a, b, c, rtol))
+                                                      lambda a, b, c: _threshold(a, b, c, rtol, tally))
+        tally.invariant("Wronskian", drift)
         out["mu_th"] = Column(v, rel=rel, abs=ab, failed=[(no_root, NO_THRESHOLD), (unconv, UNCONVERGED),
                                                           (drift > allowed, drifted)])
     if {"xi_lo", "xi_hi"} & set(outputs):
         def edges(a, b, c):
-            e, window, none, unresolved, drift = _edges_batch(a, b, c, rtol)
+            e, window, none, unresolved, drift = _edges(a, b, c, rtol, tally)
             return (*e["xi_lo"], *e["xi_hi"], window, none, unresolved, drift)
 
         got = by_rows(memo, ("edges", rtol), (omega0, delta, mu), edges)
         window, none, unresolved, drift = got[8].astype(bool), got[9].astype(bool), got[10].astype(bool), got[11]
+        tally.invariant("Wronskian", drift)
         for k, name in enumerate(("xi_lo", "xi_hi")):
             if name in outputs:
                 v, rel, ab, unconv = got[4 * k: 4 * k + 4]

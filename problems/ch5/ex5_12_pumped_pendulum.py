@@ -18,8 +18,8 @@ Numeric: a_th and growth from the monodromy matrix of the linearized equation ov
 (q = exp(-delta t) y leaves an even Hill equation: half a period of DOP853); a_th is the root in a of
 det(M + I), bracketed by a scan up from a = 1e-4 l in factors of 2 to 4 l at most (at |xi| = 0.3 omega0
 the exact threshold lies at 0.64 l, well above the leading-order 0.43 l, and the zone reaches past 2.3 l:
-a factor-2 scan cannot step over it).  The one-point route is the batched one (``numeric_batch``) at one
-point, with the Run's integrator.  theta_st: the stationary swing has period 4 pi/Omega and
+a factor-2 scan cannot step over it).  Written once over arrays of variants (``small_swings``): a one-point
+solve is its batch of one.  theta_st: the stationary swing has period 4 pi/Omega and
 theta(t + 2 pi/Omega) = -theta(t), so its start z is a fixed point of the half-map
 H(z) = -phi_{2 pi/Omega}(z).  From the bifurcation at a_th (H's multiplier +1, eigenvector e) the branch
 of fixed points is followed by its amplitude s = |z| in (theta, theta'/omega0) with (z, a) as unknowns
@@ -37,7 +37,7 @@ import math
 
 import numpy as np
 
-from mech.problems.spec import Exercise, NumericFailure
+from mech.problems.spec import Exercise, NumericFailure, Tally
 from mech.solvers.numerics.branch import follow, newton, on_branch
 from mech.solvers.mechanics.floquet import even_hill_half
 from mech.solvers.mechanics.mathieu import first_zone_next_order
@@ -91,16 +91,22 @@ def _lo(w0, delta, eps, xi, l, Omega):
             "theta_st": np.sqrt(np.maximum(theta2, 0.0))}
 
 
-def _lo_at(p, eps_factor=1.0, xi_shift=0.0):
-    """``_lo`` at the point p (floats), with eps and the detuning moved as ``expected_error`` asks."""
-    w0 = math.sqrt(p.g / p.l)
-    lo = _lo(w0, p.delta, p.a * p.Omega / (2 * p.l) * eps_factor, p.Omega / 2 - w0 + xi_shift, p.l, p.Omega)
-    return {k: float(v) for k, v in lo.items()}
+def _arrays(P):
+    return (np.asarray(P[k], dtype=float) for k in ("l", "g", "delta", "a", "Omega"))
+
+
+def _lo_of(l, g, delta, a, Omega, eps_factor=1.0, xi_shift=0.0):
+    """``_lo`` at arrays of variants, with eps and the detuning moved as ``expected_error`` asks."""
+    w0 = np.sqrt(g / l)
+    return _lo(w0, delta, a * Omega / (2 * l) * eps_factor, Omega / 2 - w0 + xi_shift, l, Omega)
 
 
 @exercise.analytic
-def analytic(p):
-    return _lo_at(p)
+def analytic(P):
+    """The leading-order answers over arrays of variants (``_lo``)."""
+    from mech.solvers.numerics.batch import Column
+
+    return {k: Column(v) for k, v in _lo_of(*_arrays(P)).items()}
 
 
 def _small_swing_allowances(l, g, delta, a, Omega):
@@ -122,8 +128,8 @@ def _small_swing_allowances(l, g, delta, a, Omega):
 
 
 @exercise.expected_error
-def expected_error(p):
-    """Allowances, one line each:
+def expected_error(P):
+    """Allowances over arrays of variants, one line each:
       a_th, growth  twice the next order of the first parametric zone (``_small_swing_allowances``, shared
                     with 5.11: measured there against Floquet at 66 points) plus its measured floor;
       theta_st      a bound: the largest change of the leading-order swing when eps moves by its
@@ -131,49 +137,51 @@ def expected_error(p):
                     mu^2 omega0/64 + delta^2/(2 omega0) + xi^2/omega0 + omega0 A^4/256 (the backbone's next term).
     A zero theta_st (below the theory's threshold) has no relative error to give: it is compared as a zero,
     so both methods must put a on the same side of the threshold."""
-    w0 = math.sqrt(p.g / p.l)
-    xi = p.Omega / 2 - w0
-    eps = p.a * p.Omega / (2 * p.l)
-    mu = p.a * p.Omega**2 / p.g
-    base = _lo_at(p)
-    A2 = base["theta_st"] ** 2
-    worst = 0.0
-    r = abs(xi) / w0 + mu**2 / 16.0 + A2 / 8.0
-    s = mu**2 * w0 / 64.0 + 0.5 * p.delta**2 / w0 + xi**2 / w0 + w0 * A2**2 / 256.0
+    l, g, delta, a, Omega = _arrays(P)
+    w0 = np.sqrt(g / l)
+    xi = Omega / 2 - w0
+    mu = a * Omega**2 / g
+    base = _lo_of(l, g, delta, a, Omega)["theta_st"]
+    A2 = base**2
+    r = np.abs(xi) / w0 + mu**2 / 16.0 + A2 / 8.0
+    s = mu**2 * w0 / 64.0 + 0.5 * delta**2 / w0 + xi**2 / w0 + w0 * A2**2 / 256.0
+    worst = np.zeros(np.shape(base))
     for se in (-1.0, 1.0):
         for sx in (-1.0, 1.0):
-            alt = _lo_at(p, 1 + se * r, sx * s)
-            worst = max(worst, abs(alt["theta_st"] - base["theta_st"]))
-    small = _small_swing_allowances(*(np.float64(x) for x in (p.l, p.g, p.delta, p.a, p.Omega)))
-    rel, ab = (float(x) for x in small["growth"])
-    return {"a_th": float(small["a_th"]), "growth": rel if ab != ab else (rel, ab),
-            "theta_st": worst / base["theta_st"] if base["theta_st"] != 0 else 0.0}
+            alt = _lo_of(l, g, delta, a, Omega, 1 + se * r, sx * s)["theta_st"]
+            worst = np.maximum(worst, np.abs(alt - base))
+    small = _small_swing_allowances(l, g, delta, a, Omega)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        theta = np.where(base != 0, worst / base, 0.0)
+    return {"a_th": small["a_th"], "growth": small["growth"], "theta_st": theta}
 
 
 @exercise.theory_range
-def theory_range(p):
+def theory_range(P):
     """The reduced equations expand in the pump's Mathieu parameter k = a Omega^2/(2 g), delta/omega0, the
-    detuning |Omega/2 - omega0|/omega0 and, for the swing, its amplitude theta_st^2/8 (the largest is shown)."""
-    w0 = math.sqrt(p.g / p.l)
-    cands = [("a Omega^2/(2 g)", p.a * p.Omega**2 / (2 * p.g)), ("delta/omega0", p.delta / w0),
-             ("|Omega/2 - omega0|/omega0", abs(p.Omega / 2 - w0) / w0)]
-    big = max(cands, key=lambda c: c[1])
-    th = _lo_at(p)["theta_st"]
-    swing = max(cands + [("theta_st^2/8", th * th / 8.0)], key=lambda c: c[1])
-    return {"a_th": big, "growth": big, "theta_st": swing}
+    detuning |Omega/2 - omega0|/omega0 and, for the swing, its amplitude theta_st^2/8 (the largest is shown,
+    named at each variant)."""
+    l, g, delta, a, Omega = _arrays(P)
+    w0 = np.sqrt(g / l)
+    th = _lo_of(l, g, delta, a, Omega)["theta_st"]
+    cands = np.stack(np.broadcast_arrays(a * Omega**2 / (2 * g), delta / w0, np.abs(Omega / 2 - w0) / w0,
+                                         th * th / 8.0))
+    names = np.array(["a Omega^2/(2 g)", "delta/omega0", "|Omega/2 - omega0|/omega0", "theta_st^2/8"], dtype=object)
+    small = (names[np.argmax(cands[:3], axis=0)], cands[:3].max(axis=0))
+    return {"a_th": small, "growth": small,
+            "theta_st": (names[np.argmax(cands, axis=0)], cands.max(axis=0))}
 
 
-def _trace(p, a, rtol, run):
-    """tr M_y of the linearization about theta = 0 over 2 pi/Omega (theta = exp(-delta t) y), at this a."""
-    T = 2.0 * math.pi / p.Omega
-    g_l, aW2_l, W, d2 = p.g / p.l, a * p.Omega**2 / p.l, p.Omega, p.delta**2
-    (y1, y1p, y2, y2p), traj = even_hill_half(
-        lambda t: g_l - aW2_l * math.cos(W * t) - d2, T, rtol=rtol, vscale=math.sqrt(g_l),
-        integrator=run.integrator,
-    )
-    run.record(traj)
-    run.invariant("Wronskian", y1 * y2p - y1p * y2 - 1.0)
-    return 2.0 * (y1 * y2p + y1p * y2)
+def _trace(l, g, delta, a, Omega, rtol, tally):
+    """(tr M_y, |Wronskian drift|) of the linearization about theta = 0 over 2 pi/Omega (theta = exp(-delta t)
+    y) at N variants at once: in the time s = Omega t every pivot period is 2 pi, so all integrate
+    y'' + ((g/l - delta^2)/Omega^2 - (a/l) cos s) y = 0 over the same half period [0, pi]."""
+    c0, c1 = (g / l - delta**2) / Omega**2, a / l
+    (y1, y1p, y2, y2p), runs = even_hill_half(lambda s: c0 - c1 * math.cos(s), math.pi, Omega.size, rtol=rtol,
+                                              vscale=np.sqrt(g / l) / Omega, integrator=tally.integrator)
+    for r in runs:
+        tally.record(r)
+    return 2.0 * (y1 * y2p + y1p * y2), np.abs(y1 * y2p - y1p * y2 - 1.0)
 
 
 def _growth(tr, delta, Omega, rtol):
@@ -187,12 +195,21 @@ def _growth(tr, delta, Omega, rtol):
     return np.log(np.exp(-delta * T) * lam) / T, noise * amplify / T
 
 
-def _threshold(P, l, rtol):
-    """a_th at N points, P(idx, a) = det(M + I) there: the scan up from 1e-4 l in factors of 2 to a sign
-    change, then the root (Illinois), its claim from the slope.  (a_th, rel, no root, not converged)."""
+def _threshold(l, g, delta, Omega, rtol, tally):
+    """a_th at N variants, the root of P(idx, a) = det(M + I) = 1 + exp(-delta T) tr M_y + exp(-2 delta T): the
+    scan up from 1e-4 l in factors of 2 to a sign change, then the root (Illinois), its claim from the slope.
+    (a_th, rel, no root, not converged, the largest Wronskian drift of each variant)."""
     from mech.solvers.numerics.batch import illinois, scan_up
 
     n = l.size
+    drift = np.zeros(n)
+    damp = np.exp(-delta * 2.0 * math.pi / Omega)
+
+    def P(idx, a):
+        tr, w = _trace(l[idx], g[idx], delta[idx], a, Omega[idx], rtol, tally)
+        drift[idx] = np.maximum(drift[idx], w)
+        return 1.0 + damp[idx] * tr + damp[idx] ** 2
+
     noise = 10.0 * rtol
     lo, hi, flo, fhi, no_root = scan_up(P, np.zeros(n), 1e-4 * l, factor=2.0, limit=4.0 * l)
     first = np.isnan(flo)  # the bracket starts at a = 0
@@ -210,7 +227,7 @@ def _threshold(P, l, rtol):
         with np.errstate(divide="ignore", invalid="ignore"):
             rel[go] = np.maximum(100.0 * rtol, noise / (slope * x))
     a_th[~conv] = np.nan
-    return a_th, rel, no_root, ~conv
+    return a_th, rel, no_root, ~conv, drift
 
 
 NO_ROOT = "no pivot amplitude below 4 l brings a multiplier to -1"
@@ -219,21 +236,10 @@ UNCONVERGED = "the root search for the threshold did not converge"
 
 @exercise.numeric
 def numeric(p, run):
-    """The batched route (``numeric_batch``) at this one point, with the Run's integrator and records."""
-    rtol = run.rtol
-    g, err = _growth(_trace(p, p.a, rtol, run), p.delta, p.Omega, rtol)
-    growth = float(g)
-    run.claim("growth", rel=100 * rtol, abs=float(err))
-    damp = math.exp(-p.delta * 2.0 * math.pi / p.Omega)
-
-    def P(idx, a):  # det(M + I) = 1 + exp(-delta T) tr M_y + exp(-2 delta T)
-        return np.array([1.0 + damp * _trace(p, float(a[0]), rtol, run) + damp * damp])
-
-    a_th, rel, no_root, unconv = _threshold(P, np.array([p.l]), rtol)
-    if no_root[0] or unconv[0]:
-        raise NumericFailure(NO_ROOT if no_root[0] else UNCONVERGED)
-    a_th = float(a_th[0])
-    run.claim("a_th", rel=float(rel[0]))
+    """growth and a_th by the route over variants at this one point (``small_swings``: the batch of one, its
+    claims, Wronskian and failures), then the stationary swing."""
+    small = exercise.batch_of_one(p, run)
+    a_th, growth = small["a_th"], small["growth"]
     out = {"a_th": a_th, "growth": growth}
     if growth <= 0.0:
         out["theta_st"] = 0.0
@@ -368,81 +374,29 @@ def _stationary_swing(p, a_th, run):
     return float(max(ext))
 
 
-# -- charts: the small-swing growth rate over many points at once ----------------------------------------
+# -- the small swings over many variants at once (a one-point solve is the batch of one) ------------------
 
-def _arrays(P):
-    return (np.asarray(P[k], dtype=float) for k in ("l", "g", "delta", "a", "Omega"))
-
-
-def analytic_batch(P):
-    """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
-    from mech.solvers.numerics.batch import Column
-
-    l, g, delta, a, Omega = _arrays(P)
-    w0 = np.sqrt(g / l)
-    lo = _lo(w0, delta, a * Omega / (2 * l), Omega / 2 - w0, l, Omega)
-    return {k: Column(v) for k, v in lo.items()}
-
-
-def expected_error_batch(P):
-    """``expected_error`` of the small-swing outputs over arrays of points."""
-    return _small_swing_allowances(*_arrays(P))
-
-
-def theory_range_batch(P):
-    """``theory_range`` of the small-swing outputs over arrays of points."""
-    l, g, delta, a, Omega = _arrays(P)
-    w0 = np.sqrt(g / l)
-    big = np.maximum(np.maximum(a * Omega**2 / (2 * g), delta / w0), np.abs(Omega / 2 - w0) / w0)
-    label = "max(a Omega^2/(2 g), delta/omega0, |Omega/2 - omega0|/omega0)"
-    return {"a_th": (label, big), "growth": (label, big)}
-
-
-def _trace_batch(l, g, delta, a, Omega, rtol):
-    """(tr M_y, |Wronskian drift|) of ``_trace``'s Hill equation at N points at once: in the time s = Omega t
-    every pivot period is 2 pi, so all points integrate y'' + ((g/l - delta^2)/Omega^2 - (a/l) cos s) y = 0
-    over the same half period [0, pi]."""
-    from mech.solvers.mechanics.floquet import even_hill_half_batch
-
-    c0, c1 = (g / l - delta**2) / Omega**2, a / l
-    (y1, y1p, y2, y2p), _ = even_hill_half_batch(lambda s: c0 - c1 * math.cos(s), math.pi, Omega.size, rtol=rtol,
-                                                  vscale=np.sqrt(g / l) / Omega)
-    return 2.0 * (y1 * y2p + y1p * y2), np.abs(y1 * y2p - y1p * y2 - 1.0)
-
-
-def _threshold_batch(l, g, delta, Omega, rtol):
-    """``_threshold`` at N points with the batched trace; the largest Wronskian drift of each point kept."""
-    n = Omega.size
-    drift = np.zeros(n)
-    damp = np.exp(-delta * 2.0 * math.pi / Omega)
-
-    def P(idx, a):
-        tr, w = _trace_batch(l[idx], g[idx], delta[idx], a, Omega[idx], rtol)
-        drift[idx] = np.maximum(drift[idx], w)
-        return 1.0 + damp[idx] * tr + damp[idx] ** 2
-
-    return (*_threshold(P, l, rtol), drift)
-
-
-@exercise.batched(("growth", "a_th"), analytic=analytic_batch, expected_error=expected_error_batch,
-                  theory_range=theory_range_batch,
-                  boundaries={"a": ("a_th", "leading-order threshold a = a_th(Ω)")})
-def numeric_batch(P, rtol, outputs, memo=None):
-    """growth and a_th at N points at once (``_trace_batch``; a_th once per distinct (l, g, delta, Omega), kept
-    in ``memo`` across a sweep's chunks); the stationary swing (a continuation per point) has no batched route."""
+@exercise.batched(("growth", "a_th"), boundaries={"a": ("a_th", "leading-order threshold a = a_th(Ω)")})
+def small_swings(P, rtol, outputs, memo=None, tally=None):
+    """growth and a_th at N variants at once (``_trace``; a_th once per distinct (l, g, delta, Omega), kept
+    in ``memo`` across a sweep's chunks and a solve's rerun); the stationary swing (a continuation per point)
+    is ``numeric``'s alone.  The Wronskian's drift goes to ``tally`` and fails the outputs it exceeds."""
     from mech.solvers.numerics.batch import Column, by_rows
 
     l, g, delta, a, Omega = _arrays(P)
     memo = {} if memo is None else memo
+    tally = Tally() if tally is None else tally
     allowed = exercise.tol_factor * rtol
     drifted = f"the Wronskian drifted by more than {allowed:.3g}"
     out = {}
     if "growth" in outputs:
-        tr, wronski = _trace_batch(l, g, delta, a, Omega, rtol)
+        tr, wronski = _trace(l, g, delta, a, Omega, rtol, tally)
+        tally.invariant("Wronskian", wronski)
         growth, err = _growth(tr, delta, Omega, rtol)
         out["growth"] = Column(growth, rel=100 * rtol, abs=err, failed=[(wronski > allowed, drifted)])
     if "a_th" in outputs:
         v, rel, no_root, unconv, drift = by_rows(memo, ("a_th", rtol), (l, g, delta, Omega),
-                                                 lambda *c: _threshold_batch(*c, rtol))
+                                                 lambda *c: _threshold(*c, rtol, tally))
+        tally.invariant("Wronskian", drift)
         out["a_th"] = Column(v, rel=rel, failed=[(no_root, NO_ROOT), (unconv, UNCONVERGED), (drift > allowed, drifted)])
     return out

@@ -17,8 +17,8 @@ tr M - 2 = 4 y1' y2, so sin^2(nu pi/Omega) = -y1' y2 keeps its relative
 accuracy when nu << Omega; stable iff 0 < -y1' y2 < 1.  a_min is the root of
 y1' y2 in a for the inverted position (brentq after a geometric scan upward
 from a small a).
-The Hill equation is declared once (``_hill``, a Motion with its Wronskian) and followed as
-monodromy runs (mark=False): two fundamental solutions of the linearization, no single
+The route is written once over arrays of variants (``numeric``; a one-point solve is its batch of one):
+two fundamental solutions of the linearization (``_hill``) integrated as monodromy runs, no single
 motion to show, so no states and no trajectory.
 
 Allowances (``_next_order``, from Mathieu's exponent to q^4, McLachlan sec. 4.70):
@@ -34,8 +34,7 @@ import math
 
 import numpy as np
 
-from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.core import budget
+from mech.problems.spec import Exercise, Tally
 
 exercise = Exercise(
     "5.13",
@@ -72,24 +71,33 @@ def constraint(p):
 
 def _norm(x, y):
     """sqrt(x^2 + y^2) for x, y >= 0 without forming the squares (which under- or overflow at extreme
-    ratios); the same operations for floats and arrays, so that analytic_batch equals analytic to the bit."""
+    ratios), over arrays."""
     big, small = np.maximum(x, y), np.minimum(x, y)
     with np.errstate(divide="ignore", invalid="ignore"):
         r = np.where(big > 0, small / np.where(big > 0, big, 1.0), 0.0)
     return big * np.sqrt(1.0 + r * r)
 
 
+_BELOW_A_MIN = "a is below a_min: the effective potential has a maximum at theta = pi"
+
+
+def _arrays(P):
+    return (np.asarray(P[k], dtype=float) for k in ("l", "g", "a", "Omega"))
+
+
 @exercise.analytic
-def analytic(p):
-    """In the ratios sk = omega0/Omega and eps = a/l (so that neither Omega^2 nor (a Omega/l)^2 is formed):
-    omega_down = Omega sqrt(sk^2 + eps^2/2), omega_inv = Omega sqrt(eps^2/2 - sk^2), a_min = sqrt(2) sk l."""
-    sk, h = math.sqrt(p.g / p.l) / p.Omega, p.a / p.l / math.sqrt(2.0)
-    out = {"a_min": math.sqrt(2.0) * sk * p.l, "omega_down": float(p.Omega * _norm(sk, h))}
-    out["omega_inv"] = (
-        p.Omega * math.sqrt((h - sk) * (h + sk)) if h > sk
-        else Undefined(f"a = {p.a:g} m is below a_min: the effective potential has a maximum at theta = pi")
-    )
-    return out
+def analytic(P):
+    """Over arrays of variants, in the ratios sk = omega0/Omega and eps = a/l (so that neither Omega^2 nor
+    (a Omega/l)^2 is formed): omega_down = Omega sqrt(sk^2 + eps^2/2), omega_inv = Omega sqrt(eps^2/2 - sk^2),
+    a_min = sqrt(2) sk l."""
+    from mech.solvers.numerics.batch import Column
+
+    l, g, a, Omega = _arrays(P)
+    sk, h = np.sqrt(g / l) / Omega, a / l / math.sqrt(2.0)
+    up = h > sk
+    inv = np.where(up, Omega * np.sqrt(np.maximum((h - sk) * (h + sk), 0.0)), np.nan)
+    return {"a_min": Column(math.sqrt(2.0) * sk * l), "omega_down": Column(Omega * _norm(sk, h)),
+            "omega_inv": Column(inv, undefined=[(~up, _BELOW_A_MIN)])}
 
 
 def _next_order(sk, e):
@@ -122,32 +130,34 @@ def _next_order(sk, e):
 
 
 @exercise.expected_error
-def expected_error(p):
+def expected_error(P):
     """Allowances (``_next_order``), one line each:
       a_min       twice the next order 7 sk^2/16 (sk = omega0/Omega), plus 2 sk^4;
       omega_down  twice the next order e^2 - 7 e^4/(16 beta0^2) (e = a/l, beta0^2 = 4 sk^2 + 2 e^2), plus 8 e^4;
       omega_inv   twice e^2 - 7 e^4/(16 beta0^2) (beta0^2 = 2 e^2 - 4 sk^2), plus 8 e^4 and twice the
                   square of the second term (the terms cancel on a line of the plane): near a_min,
-                  beta0 -> 0, it grows past 0.3 and the theory is outside its range there."""
-    sk, e = math.sqrt(p.g / p.l) / p.Omega, p.a / p.l
+                  beta0 -> 0, it grows past 0.3 and the theory is outside its range there (NaN below a_min)."""
+    l, g, a, Omega = _arrays(P)
+    sk, e = np.sqrt(g / l) / Omega, a / l
     allow = _next_order(sk, e)
-    out = {"a_min": float(allow["a_min"]), "omega_down": float(allow["omega_down"])}
-    if e * e > 2.0 * sk * sk:
-        out["omega_inv"] = min(float(allow["omega_inv"]), 1e6)
-    return out
+    inv = np.where(e * e > 2.0 * sk * sk, np.minimum(allow["omega_inv"], 1e6), np.nan)
+    return {"omega_down": allow["omega_down"], "omega_inv": inv, "a_min": allow["a_min"]}
 
 
 @exercise.theory_range
-def theory_range(p):
+def theory_range(P):
     """The averaging expands in sk = omega0/Omega and e = a/l (the larger is shown)."""
-    sk, e = math.sqrt(p.g / p.l) / p.Omega, p.a / p.l
-    big = ("a/l", e) if e >= sk else ("omega0/Omega", sk)
-    return {"a_min": ("omega0/Omega", sk), "omega_down": big, "omega_inv": big}
+    l, g, a, Omega = _arrays(P)
+    sk, e = np.sqrt(g / l) / Omega, a / l
+    big = np.where(e >= sk, e, sk)
+    labels = np.where(e >= sk, "a/l", "omega0/Omega").astype(object)
+    return {"a_min": ("omega0/Omega", sk), "omega_down": (labels, big), "omega_inv": (labels, big)}
 
 
-def _hill(p, eps, sign):
-    """Half a fast period (tau from 0 to pi) of y'' = sign (kappa - eps cos tau) y, both fundamental
-    solutions at once (y1, q1, y2, y2') from (1, 0, 0, 1), the Wronskian conserved; and S.
+def _hill(sk, eps, sign):
+    """The right-hand side (``integrate_ensemble``'s ``make_rhs``) of half a fast period (tau from 0 to pi) of
+    y'' = sign (kappa - eps cos tau) y for variants (sk, eps: arrays), both fundamental solutions at once
+    (y1, q1, y2, y2') from (1, 0, 0, 1), the Wronskian conserved; and S.
 
     Time tau = Omega t, kappa = g/(l Omega^2) = sk^2 with sk = omega0/Omega, eps = a/l: the linearization
     about theta = pi (sign +1) or theta = 0 (sign -1).  The fast jitter is taken out exactly by
@@ -161,233 +171,125 @@ def _hill(p, eps, sign):
     (a_min ~ 1e-200 l): it is carried as q1 = p1/D, whose equation holds only the ratios sk/S and eps/S
     (S = hypot(sk, eps), representable; D itself enters only where its product is beneath round-off).
     """
-    from mech.problems.motion import Motion
-
-    sk = math.sqrt(p.g / p.l) / p.Omega
-    S = math.hypot(sk, eps)
+    S = np.hypot(sk, eps)
     D = S * S
     cn, en2 = sign * (sk / S) ** 2, (eps / S) ** 2  # c/D and e^2/D, each at most 1
     e = sign * eps
 
-    def rhs(tau, y):
-        sn = math.sin(tau)
-        es = e * sn
-        k = cn - en2 * sn * sn  # (c - e^2 sin^2 tau)/D
-        return np.array([D * y[1] - es * y[0], k * y[0] + es * y[1],
-                         y[3] - es * y[2], D * k * y[2] + es * y[3]])
+    def make_rhs(sel):
+        Ds, cs, es2, ee = (float(x[sel]) if isinstance(sel, int) else x[sel] for x in (D, cn, en2, e))
 
-    return Motion(rhs, [1.0, 0.0, 0.0, 1.0], (0.0, math.pi), y_size=[1.0, 1.0, 1.0, 1.0],
-                  invariants={"Wronskian": lambda y: y[0] * y[3] - D * y[1] * y[2]}), S
+        def rhs(tau, y):
+            sn = math.sin(tau)
+            es = ee * sn
+            k = cs - es2 * sn * sn  # (c - e^2 sin^2 tau)/D
+            return np.array([Ds * y[1] - es * y[0], k * y[0] + es * y[1], y[3] - es * y[2], Ds * k * y[2] + es * y[3]])
 
+        return rhs
 
-def _half(p, eps, sign, rtol, run):
-    """(y1, q1, y2, y2', S) at tau = pi (``_hill``): a monodromy run, a tool, not a motion to show."""
-    m, S = _hill(p, eps, sign)
-    y1, q1, y2, y2p = run.follow(m, rtol=rtol, mark=False).y_end
-    return y1, q1, y2, y2p, S
+    return make_rhs, S, D
 
 
-def _slow_frequency(p, sign, rtol, run, name):
-    y1, q1, y2, y2p, S = _half(p, p.a / p.l, sign, rtol, run)
+def _half(sk, eps, sign, rtol, tally):
+    """(y1, q1, y2, y2') at tau = pi (``_hill``), S and the |Wronskian drift| y1 y2' - D q1 y2 - 1, at N
+    variants at once: monodromy runs, tools, not a motion to show."""
+    from mech.solvers.mechanics.floquet import integrate_ensemble
+
+    make_rhs, S, D = _hill(sk, eps, sign)
+    n = S.size
+    y0 = np.zeros((4, n))
+    y0[0] = y0[3] = 1.0
+    (y1, q1, y2, y2p), runs = integrate_ensemble(make_rhs, (0.0, math.pi), y0, rtol=rtol,
+                                                 atol=np.full((4, n), 1e-3 * rtol), integrator=tally.integrator)
+    for r in runs:
+        tally.record(r)
+    return y1, q1, y2, y2p, S, np.abs(y1 * y2p - D * q1 * y2 - 1.0)
+
+
+def _slow_frequency(Omega, sk, eps, sign, rtol, tally):
+    """(nu, its relative claim, stable, |Wronskian drift|) about theta = pi (sign +1) or 0 (sign -1): from
+    sin^2(nu pi/Omega) = -y1' y2 = -S^2 q1 y2, stable iff it lies in (0, 1)."""
+    y1, q1, y2, y2p, S, drift = _half(sk, eps, sign, rtol, tally)
     sig = -q1 * y2  # sin^2(nu pi / Omega) / S^2
-    r = S * math.sqrt(sig) if sig > 0 else 0.0  # sin(nu pi / Omega)
-    if not (sig > 0.0 and r < 1.0):
-        where = "inverted" if sign > 0 else "lower"
-        s2 = r * r if sig > 0 else sig * S * S
-        return Undefined(f"|tr M| >= 2 about the {where} position (sin^2(nu pi/Omega) = {s2:.6g}): unstable")
-    nu = (p.Omega / math.pi) * math.asin(r)
+    r = np.where(sig > 0, S * np.sqrt(np.maximum(sig, 0.0)), 0.0)  # sin(nu pi / Omega)
+    stable = (sig > 0.0) & (r < 1.0)
+    rs = np.where(stable, r, 0.5)
+    nu = np.where(stable, (Omega / math.pi) * np.arcsin(rs), np.nan)
     # y1' is resolved to about rtol of the drift scale times pi (its size over half a period)
-    dsig = 10.0 * rtol * (abs(sig) + math.pi * abs(y2))
+    dsig = 10.0 * rtol * (np.abs(sig) + math.pi * np.abs(y2))
     # dnu/nu = (Omega/pi) dr/sqrt(1 - r^2) / nu with dr = S dsig / (2 sqrt(sig)); Omega/pi cancels
-    rel = S * dsig / (2.0 * math.sqrt(sig) * math.sqrt(1.0 - r * r) * math.asin(r))
-    run.claim(name, rel=max(100.0 * rtol, rel))
-    return nu
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = S * dsig / (2.0 * np.sqrt(np.where(stable, sig, 1.0)) * np.sqrt(1.0 - rs * rs) * np.arcsin(rs))
+    return nu, np.where(stable, np.maximum(100.0 * rtol, rel), 100.0 * rtol), stable, drift
 
 
-@exercise.numeric
-def numeric(p, run):
-    from mech.solvers.numerics.roots import brentq
+def _a_min(sk, rtol, tally):
+    """a_min/l at N values of sk: the root in eps of y1' y2 = (tr M - 2)/4 about the inverted position (> 0
+    unstable), bracketed by a scan up from 0.05 sk (a fraction of the amplitude where a Omega/l ~ omega0) in
+    factors of 1.3 to l/2, then the root (Illinois; f is smooth in eps and resolved to ~rtol of its scale:
+    within that, it is the root, its error that noise over the slope).  (eps_min, stable at the start, no root, not converged, |Wronskian drift|)."""
+    from mech.solvers.numerics.batch import illinois, scan_up
 
-    rtol = run.rtol
-    out = {
-        "omega_down": _slow_frequency(p, -1.0, rtol, run, "omega_down"),
-        "omega_inv": _slow_frequency(p, +1.0, rtol, run, "omega_inv"),
-    }
-
-    def f(eps):  # y1' y2 = (tr M - 2)/4 about the inverted position, over its drift scale: > 0 unstable
-        y1, q1, y2, y2p, S = _half(p, eps, +1.0, rtol, run)
-        return q1 * y2
-
-    e_lo = 0.05 * math.sqrt(p.g / p.l) / p.Omega  # a fraction of the amplitude where a Omega/l ~ omega0
-    f_lo = f(e_lo)
-    if f_lo <= 0:
-        raise NumericFailure(f"the inverted position is already stable at a = {e_lo * p.l:.3g} m: no bracket")
-    e_hi = e_lo
-    for _ in range(200):  # 1.3^200: far past l/2 from any start
-        budget.check("5.13: bracketing a_min")
-        e_hi *= 1.3
-        f_hi = f(e_hi)
-        if f_hi < 0:
-            break
-        e_lo, f_lo = e_hi, f_hi
-        if e_hi > 0.5:
-            raise NumericFailure("no pivot amplitude below l/2 stabilizes the inverted position")
-    # f is smooth in eps and resolved to ~rtol of its scale: the root to ~rtol relative
-    out["a_min"] = p.l * brentq(f, e_lo, e_hi, xtol=1e-3 * rtol * e_lo, rtol=1e-15, fa=f_lo, fb=f_hi)
-    return out
-
-
-# -- charts: stability of both positions and their slow frequencies over many points at once ----------
-
-_BELOW_A_MIN = "a is below a_min: the effective potential has a maximum at theta = pi"
-
-
-def _arrays(P):
-    import numpy as np
-
-    return (np.asarray(P[k], dtype=float) for k in ("l", "g", "a", "Omega"))
-
-
-def analytic_batch(P):
-    """The analytic solver over arrays of points (tests hold it equal to ``analytic``)."""
-    import numpy as np
-
-    from mech.solvers.numerics.batch import Column
-
-    l, g, a, Omega = _arrays(P)
-    sk, h = np.sqrt(g / l) / Omega, a / l / math.sqrt(2.0)
-    up = h > sk
-    inv = np.where(up, Omega * np.sqrt(np.maximum((h - sk) * (h + sk), 0.0)), np.nan)
-    return {"a_min": Column(math.sqrt(2.0) * sk * l), "omega_down": Column(Omega * _norm(sk, h)),
-            "omega_inv": Column(inv, undefined=[(~up, _BELOW_A_MIN)])}
-
-
-def expected_error_batch(P):
-    """``expected_error`` of the slow frequencies over arrays of points (NaN where omega_inv has none)."""
-    import numpy as np
-
-    l, g, a, Omega = _arrays(P)
-    sk, e = np.sqrt(g / l) / Omega, a / l
-    allow = _next_order(sk, e)
-    inv = np.where(e * e > 2.0 * sk * sk, np.minimum(allow["omega_inv"], 1e6), np.nan)
-    return {"omega_down": allow["omega_down"], "omega_inv": inv, "a_min": allow["a_min"]}
-
-
-def theory_range_batch(P):
-    """``theory_range`` over arrays of points."""
-    import numpy as np
-
-    l, g, a, Omega = _arrays(P)
-    sk, e = np.sqrt(g / l) / Omega, a / l
-    big = np.maximum(sk, e)
-    return {"a_min": ("omega0/Omega", sk), "omega_down": ("max(a/l, omega0/Omega)", big),
-            "omega_inv": ("max(a/l, omega0/Omega)", big)}
-
-
-def _half_batch(l, g, a, Omega, sign, rtol):
-    """``_half`` at N points at once: (y1, y1', y2, y2'), |Wronskian drift|.
-
-    theta'' + (g - a Omega^2 cos Omega t)/l sin theta = 0 linearized about
-    theta = 0 (sign +1) or pi (sign -1) is an even Hill equation; in the time
-    s = Omega t every point's fast period becomes 2 pi, so all points
-    integrate y'' + sign ((g/l)/Omega^2 - (a/l) cos s) y = 0 over the same half
-    period [0, pi].  The products y1' y2 and y1 y2' do not depend on the time's unit.
-    """
-    import numpy as np
-
-    from mech.solvers.mechanics.floquet import even_hill_half_batch
-
-    c0, c1 = (g / l) / Omega**2, a / l
-    (y1, y1p, y2, y2p), _ = even_hill_half_batch(lambda s: sign * (c0 - c1 * math.cos(s)), math.pi, Omega.size,
-                                                  rtol=rtol)
-    return (y1, y1p, y2, y2p), np.abs(y1 * y2p - y1p * y2 - 1.0)
-
-
-def _a_min_batch(l, g, Omega, rtol):
-    """``numeric``'s a_min at N points: the scan up from 0.05 l omega0/Omega in factors of 1.3, then the root
-    of y1' y2 about the inverted position."""
-    import numpy as np
-
-    from mech.solvers.numerics.batch import illinois
-
-    n = Omega.size
+    n = sk.size
     drift = np.zeros(n)
 
-    def f(idx, a):
-        (y1, y1p, y2, y2p), w = _half_batch(l[idx], g[idx], a, Omega[idx], -1.0, rtol)
+    def f(idx, eps):  # zero where within its resolution (``_slow_frequency``'s dsig): a root to that accuracy
+        y1, q1, y2, y2p, S, w = _half(sk[idx], eps, 1.0, rtol, tally)
         drift[idx] = np.maximum(drift[idx], w)
-        return y1p * y2
+        v = q1 * y2
+        return np.where(np.abs(v) <= 10.0 * rtol * math.pi * np.abs(y2), 0.0, v)
 
-    allp = np.arange(n)
-    a_lo = 0.05 * l * np.sqrt(g / l) / Omega
-    f_lo = f(allp, a_lo)
-    stable_start = f_lo <= 0
-    a_hi, f_hi = a_lo.copy(), np.full(n, np.nan)
-    scan = ~stable_start
+    e_lo = 0.05 * sk
+    f_lo = f(np.arange(n), e_lo)
+    early = ~(f_lo > 0)
+    go = np.flatnonzero(~early)
+    lo, hi, flo, fhi, none = scan_up(lambda i, x: f(go[i], x), e_lo[go], 1.3 * e_lo[go], factor=1.3, limit=0.5,
+                                     flo=f_lo[go])
     no_root = np.zeros(n, dtype=bool)
-    while scan.any():
-        idx = np.flatnonzero(scan)
-        a_hi[idx] *= 1.3
-        f_hi[idx] = f(idx, a_hi[idx])
-        done = f_hi[idx] < 0
-        scan[idx[done]] = False
-        rest = idx[~done]
-        a_lo[rest], f_lo[rest] = a_hi[rest], f_hi[rest]
-        over = rest[a_hi[rest] > 0.5 * l[rest]]
-        no_root[over] = True
-        scan[over] = False
-    go = np.flatnonzero(~stable_start & ~no_root)
-    a_min, conv = np.full(n, np.nan), np.ones(n, dtype=bool)
-    if go.size:
-        x, ok = illinois(lambda x, i: f(go[i], x), a_lo[go], a_hi[go], f_lo[go], f_hi[go], xtol=1e-16 * l[go],
-                         rtol=1e-14)
-        a_min[go], conv[go] = x, ok
-    a_min[~conv] = np.nan
-    return a_min, stable_start, no_root, ~conv, drift
+    no_root[go[none]] = True
+    eps, conv = np.full(n, np.nan), np.ones(n, dtype=bool)
+    ok = ~none
+    if ok.any():
+        g = go[ok]
+        x, done = illinois(lambda x, i: f(g[i], x), lo[ok], hi[ok], flo[ok], fhi[ok], xtol=0.1 * rtol * lo[ok],
+                           rtol=0.0)
+        eps[g], conv[g] = x, done
+    eps[~conv] = np.nan
+    return eps, early, no_root, ~conv, drift
 
 
-@exercise.batched(("omega_inv", "omega_down", "a_min"), analytic=analytic_batch,
-                  expected_error=expected_error_batch, theory_range=theory_range_batch,
+@exercise.batched(("omega_inv", "omega_down", "a_min"),
                   boundaries={"a": ("a_min", "leading-order stability edge a = a_min(Ω)")})
-def numeric_batch(P, rtol, outputs, memo=None):
-    """The slow frequencies about both positions and a_min at N points at once (see ``_half_batch``).
-
-    sin^2(nu pi/Omega) = -y1' y2; stable iff it lies in (0, 1).  a_min once
-    for each distinct (l, g, Omega), kept in ``memo`` across a sweep's chunks.
-    Claims and the Wronskian check as in ``numeric``.
-    """
-    import numpy as np
-
+def numeric(P, rtol, outputs, memo=None, tally=None):
+    """The slow frequencies about both positions and a_min at N variants at once (a one-point solve is the
+    batch of one): ``_slow_frequency``, ``_a_min`` (once for each distinct omega0/Omega, kept in ``memo``
+    across a sweep's chunks and a solve's rerun); the Wronskian's drift reported to ``tally`` and failing
+    the outputs it exceeds."""
     from mech.solvers.numerics.batch import Column, by_rows
 
     l, g, a, Omega = _arrays(P)
+    sk, eps = np.sqrt(g / l) / Omega, a / l
     memo = {} if memo is None else memo
+    tally = Tally() if tally is None else tally
     allowed = exercise.tol_factor * rtol
     drifted = f"the Wronskian drifted by more than {allowed:.3g}"
     out = {}
-    for name, sign in (("omega_down", 1.0), ("omega_inv", -1.0)):
+    for name, sign in (("omega_down", -1.0), ("omega_inv", 1.0)):
         if name not in outputs:
             continue
-        (y1, y1p, y2, y2p), wronski = _half_batch(l, g, a, Omega, sign, rtol)
-        s = -y1p * y2
-        stable = (s > 0.0) & (s < 1.0)
-        sc = np.clip(s, 1e-300, 1.0 - 1e-16)
-        nu = np.where(stable, (Omega / math.pi) * np.arcsin(np.sqrt(sc)), np.nan)
-        ds = 10.0 * rtol * np.abs(y1p * y2) + 10.0 * rtol * 1e-3
-        dnu = (Omega / math.pi) * ds / (2.0 * np.sqrt(sc * (1.0 - sc)))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            rel = np.where(stable, np.maximum(100.0 * rtol, dnu / nu), 100.0 * rtol)
-        where = "inverted" if sign < 0 else "lower"
+        nu, rel, stable, wronski = _slow_frequency(Omega, sk, eps, sign, rtol, tally)
+        tally.invariant("Wronskian", wronski)
+        where = "inverted" if sign > 0 else "lower"
         out[name] = Column(nu, rel=rel, undefined=[(~stable, f"|tr M| >= 2 about the {where} position: unstable")],
-                           failed=[(wronski > allowed, drifted)])
+                           failed=[(~(wronski <= allowed), drifted)])
     if "a_min" in outputs:
-        v, early, no_root, unconv, drift = by_rows(memo, ("a_min", rtol), (l, g, Omega),
-                                                   lambda *c: _a_min_batch(*c, rtol))
-        out["a_min"] = Column(v, rel=100.0 * rtol, failed=[
+        v, early, no_root, unconv, drift = by_rows(memo, ("a_min", rtol), (sk,), lambda s: _a_min(s, rtol, tally))
+        tally.invariant("Wronskian", drift)
+        out["a_min"] = Column(l * v, rel=100.0 * rtol, failed=[
             (early, "the inverted position is already stable at the scan's start: no bracket"),
             (no_root, "no pivot amplitude below l/2 stabilizes the inverted position"),
             (unconv, "the root search for a_min did not converge"),
-            (drift > allowed, drifted)])
+            (~(drift <= allowed), drifted)])
     return out
 
 

@@ -25,6 +25,9 @@ import numpy as np
 from mech.solvers.numerics.ode import Trajectory, integrate
 
 __all__ = [
+    "integrate_ensemble",
+    "even_hill_half",
+    "even_hill_discriminant",
     "half_period_minus_one",
     "half_period_growth",
     "linear_monodromy",
@@ -123,32 +126,76 @@ def minus_one_function(M: np.ndarray) -> float:
     return 1.0 + float(np.trace(M)) + float(np.linalg.det(M))
 
 
+def integrate_ensemble(make_rhs: Callable, t_span: tuple[float, float], y0: np.ndarray, *, rtol: float, atol,
+                       integrator: str | None = None) -> tuple[np.ndarray, list]:
+    """N variants of one equation integrated over the same ``t_span`` from ``y0`` (n x N): (states at the end,
+    n x N; the integrations, each with ``nfev`` and ``method``).
+
+    ``make_rhs(sel)`` gives the right-hand side of the variants ``sel``: ``slice(None)`` for all (states n x N),
+    an index j for variant j alone (states of n floats).  Many variants: mech's DOP853 steps them together
+    (``batch.integrate_batch``, each variant's error held to rtol as its own run would); one alone, or each
+    with an ``integrator`` forced (``mech bench``), by ``ode.integrate`` (mech's DOP853 by default: the same
+    tableau and step control without the ensemble's array overhead).  ``atol``: n x N."""
+    from mech.solvers.numerics.batch import integrate_batch
+
+    y0 = np.asarray(y0, dtype=float)
+    if integrator is None and y0.shape[1] > 1:
+        res = integrate_batch(make_rhs(slice(None)), t_span, y0, rtol=rtol, atol=atol)
+        return res.y_end, [res]
+    y_end, results = np.empty_like(y0), []
+    for j in range(y0.shape[1]):
+        traj = integrate(make_rhs(j), t_span, y0[:, j], rtol=rtol, atol=atol[:, j], integrator=integrator)
+        y_end[:, j] = traj.y_end
+        results.append(traj)
+    return y_end, results
+
+
 def even_hill_half(
-    stiff: Callable[[float], float],
-    T: float,
+    stiff: Callable[[float], np.ndarray],
+    t_half: float,
+    n_points: int,
     *,
     rtol: float,
-    vscale: float = 1.0,
-    method: str = "DOP853",
+    vscale=1.0,
     integrator: str | None = None,
-) -> tuple[tuple[float, float, float, float], Trajectory]:
-    """(y1, y1', y2, y2') at T/2 for y'' + stiff(t) y = 0, y1 even and y2 odd (stiff even, period T).
+) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray], list]:
+    """(y1, y1', y2, y2') at t_half for N Hill equations y'' + stiff(t) y = 0 at once, y1 even and y2 odd.
 
-    They give the whole monodromy matrix: tr M = 2 (y1 y2' + y1' y2), and with
-    the Wronskian y1 y2' - y1' y2 = 1, tr M - 2 = 4 y1' y2 and tr M + 2 = 4 y1 y2',
-    forms that keep their relative accuracy when a multiplier is near +1 or -1.
+    ``stiff(t)`` returns the N coefficients at the time t (an array of N, or a
+    number shared by all); each must be even in t with period 2 t_half (scale
+    each point's time so that its half period is ``t_half``).  They give the
+    whole monodromy matrix: tr M = 2 (y1 y2' + y1' y2), and with the Wronskian
+    y1 y2' - y1' y2 = 1, tr M - 2 = 4 y1' y2 and tr M + 2 = 4 y1 y2', forms
+    that keep their relative accuracy when a multiplier is near +1 or -1.
+
+    Integrated by ``integrate_ensemble`` (``integrator``: forced by ``mech
+    bench``).  ``vscale`` (a number or one per point) is the size of y' for
+    y ~ 1: y2 starts with y2' = vscale and is divided by it at the end.
+    Returns ((y1, y1', y2, y2') as arrays of N, the integrations).
     """
+    vs = np.broadcast_to(np.asarray(vscale, dtype=float), (n_points,))
 
-    def rhs(t, y):
-        k = stiff(t)
-        return np.array([y[1], -k * y[0], y[3], -k * y[2]])
+    def make_rhs(sel):
+        def rhs(t, y):
+            k = stiff(t)
+            k = k if np.ndim(k) == 0 else k[sel]
+            out = np.empty_like(y)
+            out[0] = y[1]
+            out[1] = -k * y[0]
+            out[2] = y[3]
+            out[3] = -k * y[2]
+            return out
 
+        return rhs
+
+    y0 = np.zeros((4, n_points))
+    y0[0] = 1.0
+    y0[3] = vs
     atol_q = rtol * 1e-3
-    atol = [atol_q, atol_q * vscale, atol_q, atol_q * vscale]
-    traj = integrate(rhs, (0.0, 0.5 * T), [1.0, 0.0, 0.0, vscale], rtol=rtol, atol=atol, method=method,
-                     integrator=integrator)
-    y1, y1p, y2, y2p = traj.y_end
-    return (y1, y1p, y2 / vscale, y2p / vscale), traj
+    atol = np.stack([np.full(n_points, atol_q), atol_q * vs, np.full(n_points, atol_q), atol_q * vs])
+    (y1, y1p, y2, y2p), results = integrate_ensemble(make_rhs, (0.0, t_half), y0, rtol=rtol, atol=atol,
+                                                     integrator=integrator)
+    return (y1, y1p, y2 / vs, y2p / vs), results
 
 
 def even_hill_discriminant(
@@ -157,61 +204,18 @@ def even_hill_discriminant(
     *,
     rtol: float,
     vscale: float = 1.0,
-    method: str = "DOP853",
     integrator: str | None = None,
-) -> tuple[float, float, Trajectory]:
+) -> tuple[float, float, list]:
     """tr M of the Hill equation y'' + stiff(t) y = 0 with stiff even in t and of period T.
 
     Only half a period is integrated (see ``even_hill_half``).  Returns
-    (tr M, Wronskian drift y1 y2' - y1' y2 - 1 at T/2, trajectory); det M = 1.
+    (tr M, Wronskian drift y1 y2' - y1' y2 - 1 at T/2, the integrations); det M = 1.
     A damped equation q'' + 2 delta q' + k(t) q = 0 reduces to this one by
     q = exp(-delta t) y with stiff = k - delta^2; its multipliers are
     exp(-delta T) times those of y.
     """
-    (y1, y1p, y2, y2p), traj = even_hill_half(stiff, T, rtol=rtol, vscale=vscale, method=method,
-                                            integrator=integrator)
-    return 2.0 * (y1 * y2p + y1p * y2), y1 * y2p - y1p * y2 - 1.0, traj
-
-
-def even_hill_half_batch(
-    stiff: Callable[[float], np.ndarray],
-    t_half: float,
-    n_points: int,
-    *,
-    rtol: float,
-    vscale=1.0,
-):
-    """``even_hill_half`` for N Hill equations y'' + stiff(t) y = 0 at once, all on [0, t_half].
-
-    ``stiff(t)`` returns the N coefficients at the time t (an array of N, or a
-    number shared by all); each must be even in t with period 2 t_half (scale
-    each point's time so that its half period is ``t_half``).  Integrated by
-    ``mech.solvers.numerics.batch.integrate_batch``, with each point's error controlled
-    to ``rtol`` as a single run would.  Returns ((y1, y1', y2, y2') as arrays
-    of N at t_half, with y2, y2' divided by ``vscale`` as in ``even_hill_half``,
-    the ``BatchResult``).
-    """
-    from mech.solvers.numerics.batch import integrate_batch
-
-    vs = np.broadcast_to(np.asarray(vscale, dtype=float), (n_points,))
-
-    def rhs(t, y):
-        k = stiff(t)
-        out = np.empty_like(y)
-        out[0] = y[1]
-        out[1] = -k * y[0]
-        out[2] = y[3]
-        out[3] = -k * y[2]
-        return out
-
-    y0 = np.zeros((4, n_points))
-    y0[0] = 1.0
-    y0[3] = vs
-    atol_q = rtol * 1e-3
-    atol = np.stack([np.full(n_points, atol_q), atol_q * vs, np.full(n_points, atol_q), atol_q * vs])
-    res = integrate_batch(rhs, (0.0, t_half), y0, rtol=rtol, atol=atol)
-    y1, y1p, y2, y2p = res.y_end
-    return (y1, y1p, y2 / vs, y2p / vs), res
+    (y1, y1p, y2, y2p), runs = even_hill_half(stiff, 0.5 * T, 1, rtol=rtol, vscale=vscale, integrator=integrator)
+    return float(2.0 * (y1 * y2p + y1p * y2)[0]), float((y1 * y2p - y1p * y2 - 1.0)[0]), runs
 
 
 def half_period_minus_one(y1, y1p, y2, y2p, e, dT, omega0):

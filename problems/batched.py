@@ -1,0 +1,160 @@
+"""A route written once: an exercise's batched route and the batch of one that is its one-point solve.
+
+An exercise that registers a batched route (``Exercise.batched``) writes its hooks once, on arrays of
+variants: ``analytic(P) -> {output: Column}``, ``expected_error(P) -> {output: rel | (rel, abs)}`` (arrays,
+NaN: none), ``theory_range(P) -> {output: (label or labels, values)}`` and the numeric route
+``fn(P, rtol, outputs, memo=None, tally=None) -> {output: Column}``.  ``P`` maps every parameter to an array
+of N values.  A sweep, a class and a chart call them over N variants; a one-point solve calls them here over
+arrays of one and unpacks, so the one-point solve and the batched route cannot drift apart.
+
+``Tally``: what a numeric route reports besides its Columns (each variant's invariant drifts, its
+integrations); the batch of one hands them to the ``Run`` (``numeric_info``, bench's counts).
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping
+
+from mech.core.errors import NumericFailure
+from mech.problems.params import Params, Undefined
+
+__all__ = ["BatchedRoute", "Tally", "one_point", "analytic_at", "expected_at", "range_at"]
+
+
+@dataclass(frozen=True)
+class BatchedRoute:
+    """What ``Exercise.batched`` registers: the numeric route over arrays and the exercise's own array hooks
+    (``analytic``, ``expected_error``, ``theory_range``: the same functions its one-point solve calls)."""
+
+    numeric: Callable
+    outputs: tuple[str, ...]
+    analytic: Callable
+    expected_error: Callable | None = None
+    boundaries: dict = field(default_factory=dict)
+    # ``theory_range(P) -> {output: (label, array)}``: the expansion parameter of each leading-order output
+    theory_range: Callable | None = None
+
+
+class Tally:
+    """What a batched numeric route reports besides its Columns.
+
+    ``invariant(name, drift, allowed=None)``: the drift of a monitored invariant per variant (an array of N,
+    the worst kept over calls), ``allowed`` what the method may drift (None: the exercise's claim);
+    ``record(result)``: an integration (``nfev``, ``method``, ``forced``).  ``integrator``: the integrator a
+    one-point solve was asked to force (``mech bench``), None for mech's DOP853 over the ensemble."""
+
+    def __init__(self, integrator: str | None = None):
+        self.integrator = integrator
+        self.invariants: dict = {}
+        self.records: list = []
+
+    def record(self, result: Any) -> Any:
+        self.records.append(result)
+        return result
+
+    def invariant(self, name: str, drift, allowed=None) -> None:
+        import numpy as np
+
+        drift = np.abs(np.asarray(drift, dtype=float))
+        old = self.invariants.get(name)
+        self.invariants[name] = (drift if old is None else np.fmax(old[0], drift), allowed)
+
+
+def _one(p: Mapping) -> Params:
+    """The parameters of one point as arrays of one variant."""
+    import numpy as np
+
+    return Params({k: np.array([float(v)]) for k, v in p.items()})
+
+
+def _first(x) -> float:
+    import numpy as np
+
+    return float(np.ravel(np.asarray(x, dtype=float))[0])
+
+
+def analytic_at(fn: Callable, p: Mapping) -> dict:
+    """``fn(P) -> {output: Column}`` at one point: {output: float | Undefined(its reason)}."""
+    import numpy as np
+
+    with np.errstate(all="ignore"):
+        cols = fn(_one(p))
+    out = {}
+    for name, col in cols.items():
+        why = col.reason("undefined", 0)
+        out[name] = Undefined(why) if why is not None else _first(col.value)
+    return out
+
+
+def expected_at(fn: Callable, p: Mapping) -> dict:
+    """``expected_error`` on arrays at one point, in the one-point form: rel, (rel, abs) or (None, abs);
+    an output with neither (NaN) is left out."""
+    import numpy as np
+
+    with np.errstate(all="ignore"):
+        got = fn(_one(p))
+    out = {}
+    for name, e in got.items():
+        rel, ab = e if isinstance(e, tuple) else (e, math.nan)
+        rel, ab = _first(rel), _first(ab)
+        if rel == rel and ab == ab:
+            out[name] = (rel, ab)
+        elif rel == rel:
+            out[name] = rel
+        elif ab == ab:
+            out[name] = (None, ab)
+    return out
+
+
+def label_at(label, k: int):
+    """A theory range's label at variant k: one text for all, or one per variant."""
+    if label is None or isinstance(label, str):
+        return label
+    import numpy as np
+
+    return str(np.ravel(np.asarray(label, dtype=object))[k])
+
+
+def range_at(fn: Callable, p: Mapping) -> dict:
+    """``theory_range`` on arrays at one point: {output: (label, value)}."""
+    return {name: (label_at(label, 0), _first(vals)) for name, (label, vals) in fn(_one(p)).items()}
+
+
+def one_point(ex: Any, p: Mapping, run: Any, outputs=None) -> dict:
+    """The batched route at the one point ``p`` (arrays of one): its values ({output: float | Undefined}), its
+    claims (``run.claim``), invariants, integrations and failure (``NumericFailure``, the first output's that
+    failed) reported to ``run``.  ``outputs``: those asked (all the route's by default).  Where a trajectory is
+    asked for, the declared motion is followed and marked (it is what the solve shows, not what it answers)."""
+    route = ex.batched_route
+    outputs = tuple(route.outputs if outputs is None else outputs)
+    tally = Tally(run.integrator)
+    takes = inspect.signature(route.numeric).parameters
+    kw = {}
+    if "memo" in takes:  # shared by a solve and its rerun, as a sweep's chunks share it
+        kw["memo"] = run.shared.setdefault(("batched route", ex.id), {})
+    if "tally" in takes:
+        kw["tally"] = tally
+    cols = route.numeric(_one(p), run.rtol, outputs, **kw)
+    for result in tally.records:
+        run.record(result)
+    for name, (drift, allowed) in tally.invariants.items():
+        run.invariant(name, _first(drift), allowed=None if allowed is None else _first(allowed))
+    values = {}
+    for name in outputs:
+        col = cols[name]
+        why = col.reason("failed", 0)
+        if why is not None:
+            raise NumericFailure(why)
+        undefined = col.reason("undefined", 0)
+        if undefined is not None:
+            values[name] = Undefined(undefined)
+            continue
+        values[name] = _first(col.value)
+        rel, ab = _first(col.rel), _first(col.abs)
+        run.claim(name, rel=rel if rel == rel else None, abs=ab if ab == ab and ab else None)
+    if run.keep_trajectories and ex.has_motion and set(outputs) == {o.name for o in ex.outputs}:
+        run.follow(ex.motion_at(p))
+    return values

@@ -1,0 +1,51 @@
+"""A route written once (STYLE.md, issue 41): no module of problems/ or solvers/ defines a function twice, once
+for one point and once for a batch (``X`` beside ``X_batch``, ``X_batched``, ``X_many`` or ``Xs``).  A route with
+a batched form is that form; the one-point call is the batch of one (``Exercise.batched``), so the two cannot
+drift apart."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+WALKED = ("problems", "solvers")
+SUFFIXES = ("_batch", "_batched", "_many", "_vec", "s")
+# X beside Xs where the plural is not a second copy of X's computation: a decorator that registers a hook
+# beside the getter that reads it (``Exercise.expected_error`` / ``expected_errors``)
+NOT_TWINS = {("problems/spec.py", "expected_error"), ("problems/spec.py", "theory_range"),
+             ("problems/spec.py", "analytic_error")}
+
+
+def twins(source: str, rel: str = "") -> list[str]:
+    """``X/X_batch`` (and the other suffixes) of the functions a module defines, methods and nested ones
+    included."""
+    names = {node.name for node in ast.walk(ast.parse(source))
+             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))}
+    out = []
+    for name in sorted(names):
+        for suffix in SUFFIXES:
+            if name + suffix in names and (rel, name) not in NOT_TWINS:
+                out.append(f"{rel}: {name} / {name + suffix}")
+    return out
+
+
+def all_twins(root: Path = ROOT) -> list[str]:
+    found = []
+    for floor in WALKED:
+        for path in sorted((root / floor).rglob("*.py")):
+            rel = path.relative_to(root).as_posix()
+            found += twins(path.read_text(encoding="utf-8"), rel)
+    return found
+
+
+def test_no_route_is_written_twice():
+    assert all_twins() == []
+
+
+def test_the_count_finds_a_twin():
+    """The count would see the pairs it replaced (so that the test above can fail)."""
+    src = ("def _half(p, rtol, run):\n    pass\n\ndef _half_batch(P, rtol):\n    pass\n\n"
+           "class A:\n    def follow(self):\n        pass\n\n    def follow_batch(self):\n        pass\n\n"
+           "def _trace(x):\n    pass\n\ndef _traces(x):\n    pass\n")
+    assert twins(src) == [": _half / _half_batch", ": _trace / _traces", ": follow / follow_batch"]
