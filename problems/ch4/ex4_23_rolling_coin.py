@@ -80,10 +80,15 @@ def constraint(p):
 
 
 @exercise.analytic
-def analytic(p):
-    s, c = math.sin(p.theta), math.cos(p.theta)
-    Om = math.sqrt(4.0 * p.g * s / (c * (6.0 * p.R - 5.0 * p.r * s)))
-    return {"T": 2 * math.pi / Om, "Omega": Om, "omega_spin": Om * p.R / p.r}
+def analytic(P):
+    """Over arrays of variants, the scale sqrt(g/r) taken apart (4 g sin(theta) loses its digits at
+    g = 5e-324)."""
+    from mech.solvers.numerics.batch import Column
+
+    r, theta, R, g = (np.asarray(P[k], dtype=float) for k in ("r", "theta", "R", "g"))
+    s, c, Rs = np.sin(theta), np.cos(theta), R / r
+    Om = np.sqrt(g) / np.sqrt(r) * np.sqrt(4.0 * s / (c * (6.0 * Rs - 5.0 * s)))
+    return {"T": Column(2 * math.pi / Om), "Omega": Column(Om), "omega_spin": Column(Om * Rs)}
 
 
 # --------------------------------------------------------------------------- numeric
@@ -333,23 +338,6 @@ CHECKPOINTS, TURN_AT = 26, 20
 STEP_OVERHEAD, STEP_ALONE = 900.0, 180.0
 
 
-def analytic_batch(P):
-    """``analytic`` over arrays of points, the scale sqrt(g/r) taken apart (``analytic`` is solved in natural
-    units far from the defaults: 4 g sin(theta) loses its digits at g = 5e-324)."""
-    from mech.solvers.numerics.batch import Column
-
-    r, theta, R, g = (np.asarray(P[k], dtype=float) for k in ("r", "theta", "R", "g"))
-    s, c, Rs = np.sin(theta), np.cos(theta), R / r
-    Om = np.sqrt(g) / np.sqrt(r) * np.sqrt(4.0 * s / (c * (6.0 * Rs - 5.0 * s)))
-    return {"T": Column(2 * math.pi / Om), "Omega": Column(Om), "omega_spin": Column(Om * Rs)}
-
-
-def expected_error_batch(P):
-    """``expected_error`` over arrays: none (the analytic answer is exact), NaN at every point."""
-    n = np.asarray(P["theta"]).size
-    return {o: np.full(n, np.nan) for o in ("T", "Omega", "omega_spin")}
-
-
 def _follow_variants(theta, Rs, Om, spin0, y0, rtol, why):
     """``numeric``'s runs at N variants at once (``rolling_disk.follow_batch``, in chunks of like step counts):
     each run over 1.3 root periods (the turn timed from the axis's azimuth at the root period: its departure
@@ -413,7 +401,7 @@ def _follow_variants(theta, Rs, Om, spin0, y0, rtol, why):
     return many, T_s, _fit_rel(rtol, rate, span), drifts, lost, spin_end, span
 
 
-@exercise.batched(("T", "Omega", "omega_spin"), analytic=analytic_batch, expected_error=expected_error_batch)
+@exercise.batched(("T", "Omega", "omega_spin"))
 def numeric_batch(P, rtol, outputs, memo=None):
     """``numeric`` at N variants at once: the roots together (once per distinct (theta, R/r), kept in ``memo``
     for the rerun), the runs together (``_follow_variants``), each variant judged by ``_assess``; every
