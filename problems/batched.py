@@ -43,13 +43,15 @@ class Tally:
 
     ``invariant(name, drift, allowed=None)``: the drift of a monitored invariant per variant (an array of N,
     the worst kept over calls), ``allowed`` what the method may drift (None: the exercise's claim);
-    ``record(result)``: an integration (``nfev``, ``method``, ``forced``).  ``integrator``: the integrator a
+    ``record(result)``: an integration (``nfev``, ``method``, ``forced``); ``info``: anything else, one value
+    per variant.  ``integrator``: the integrator a
     one-point solve was asked to force (``mech bench``), None for mech's DOP853 over the ensemble."""
 
     def __init__(self, integrator: str | None = None):
         self.integrator = integrator
         self.invariants: dict = {}
         self.records: list = []
+        self.info: dict = {}  # name -> one value per variant (None: nothing to say), ``run.info`` at one point
 
     def record(self, result: Any) -> Any:
         self.records.append(result)
@@ -142,6 +144,10 @@ def one_point(ex: Any, p: Mapping, run: Any, outputs=None) -> dict:
         run.record(result)
     for name, (drift, allowed) in tally.invariants.items():
         run.invariant(name, _first(drift), allowed=None if allowed is None else _first(allowed))
+    for name, per_variant in tally.info.items():
+        v = list(per_variant)[0]
+        if v is not None:
+            run.info[name] = v if isinstance(v, str) else float(v)
     values = {}
     for name in outputs:
         col = cols[name]

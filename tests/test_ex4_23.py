@@ -11,6 +11,7 @@ Om^2 = 4 g tan th / (6 R - 5 r sin th).  T = 2 pi/Om.
 
 import math
 
+import numpy as np
 import pytest
 
 from conftest import solve_both
@@ -37,7 +38,7 @@ def test_against_hand_values(r, th, R, g):
         assert v["T"] == pytest.approx(T, rel=1e-8)
         assert v["Omega"] == pytest.approx(Om, rel=1e-8)
         assert v["omega_spin"] == pytest.approx(spin, rel=1e-8)
-    assert run.info["timed_by"] == "event: one full turn"
+    assert run.info["timed_by"] == "azimuth at the root period: one turn"
     assert run.invariants["tilt n3.z"] < 1e-7
     assert run.invariants["energy"] < 1e-8
 
@@ -159,16 +160,25 @@ def test_energy_monitor_catches_a_wrong_equation_of_motion(monkeypatch, torque_s
     the coin leaves its tilt within a fraction of a turn, the solver falls back on the steady-state
     root, and only the energy monitor can fail the run.  The same equations with the right sign must
     pass it (the test's own right-hand side is not what fails)."""
+    import mech.solvers.mechanics.rolling_disk as rd
     from mech.problems import registry
-    from mech.problems.ch4.ex4_23_rolling_coin import _Disk
+    from mech.solvers.mechanics.frames import quat_to_matrix
 
-    monkeypatch.setattr(_Disk, "rhs", _newton_euler_rhs(torque_sign))
+    rhs = _newton_euler_rhs(torque_sign)
+
+    def tilted_rates(y, I1, I3):  # one disk (the one-point solve is the route's batch of one)
+        y = np.asarray(y, dtype=float)
+        return list(rhs(None, 0.0, y)), float(quat_to_matrix(y[3:7])[2, 2])
+
+    monkeypatch.setattr(rd, "tilted_rates", tilted_rates)
     ex = registry.get("4.23")
     p = ex.resolve(dict(r=0.0511812178986281, theta=0.21127493027795055, R=0.2, g=58.47))
-    _, run = ex.solve_numeric(p, None)
-    allowed = run.invariant_allowed.get("energy", ex.tol_factor * run.rtol)
     if torque_sign > 0:
+        _, run = ex.solve_numeric(p, None)
+        allowed = run.invariant_allowed.get("energy", ex.tol_factor * run.rtol)
         assert run.invariants["energy"] <= allowed
-    else:
-        assert run.invariants["rolling (slip speed)"] < 1e-12
-        assert run.invariants["energy"] > 100 * allowed
+    else:  # the route fails the variant, for its energy
+        from mech.core.errors import NumericFailure
+
+        with pytest.raises(NumericFailure, match="the invariant 'energy' drifts"):
+            ex.solve_numeric(p, None)

@@ -140,7 +140,7 @@ def test_batched_validity_matches_the_scalar_one():
     P = {k.name: np.array([p[k.name] for p in params]) for k in ex.params}
     e = route.expected_error(P)
     expected = {o: (np.asarray(e[o], float), np.full(len(pts), np.nan)) for o in route.outputs}
-    batch = ex.theory_validity_batch(P, expected)
+    batch = ex.outside_ranges(P, expected)
     for k, p in enumerate(params):
         scalar = ex.theory_validity(p)
         for o in route.outputs:

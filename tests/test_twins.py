@@ -19,10 +19,6 @@ NOT_TWINS = {("problems/spec.py", "expected_error"), ("problems/spec.py", "theor
              ("problems/physics.py", "rate"),
              # exp(A) and exp(A t) at many t: two entries of the module's one scaling-and-squaring loop
              ("solvers/numerics/linear_flow.py", "expm")}
-# still written twice (issue 41): 4.23's one-point route times the turn by an event on a dense run, its batched
-# route from the azimuth at the root period; making the first the batch of one moves its run.info and the
-# energy-monitor test (tests/test_ex4_23.py) onto rolling_disk's batched right-hand side
-LEFT = ["problems/ch4/ex4_23_rolling_coin.py: numeric / numeric_batch"]
 
 
 def twins(source: str, rel: str = "") -> list[str]:
@@ -48,7 +44,7 @@ def all_twins(root: Path = ROOT) -> list[str]:
 
 
 def test_no_route_is_written_twice():
-    assert all_twins() == LEFT
+    assert all_twins() == []
 
 
 def test_the_count_finds_a_twin():

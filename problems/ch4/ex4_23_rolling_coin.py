@@ -23,8 +23,9 @@ and T is the time of one full turn of the axis's horizontal projection, or, with
 orbit (R >> r), 2 pi over the azimuth's rate fitted over 20 spin turns; T's claim is at least 3 times its
 departure from the root's (measured error).  The spin at the end must match the rolling condition's; the
 tilt, the energy (potential from the contact point), the slip and the contact height are monitored.  The
-batched route (``numeric_batch``, a class's variants at once) follows the same equations, times the turn from
-the azimuth at the root period and is judged by the same ``_assess``.  Units: r = g = M = 1.
+route is written once over arrays of variants (``numeric``: a class's variants at once, a one-point solve
+the batch of one); the turn is timed from the axis's azimuth at the root period (its departure from 2 pi
+over its rate there).  Units: r = g = M = 1.
 """
 
 from __future__ import annotations
@@ -38,7 +39,6 @@ from mech.solvers.mechanics.frames import quat_from_matrix, quat_to_matrix
 from mech.solvers.mechanics.inertia import disk, inertia_tensor
 from mech.solvers.mechanics.rolling_disk import drifts, monitors, rates, steady_rolling, tilt_acceleration
 from mech.solvers.numerics.ode import Event
-from mech.solvers.mechanics.tops import azimuth, fit_rate
 
 exercise = Exercise(
     "4.23",
@@ -271,63 +271,6 @@ def _fit_rel(rtol, rate, t_run):
     return np.maximum(exercise.tol_factor * rtol, 1e3 * rtol / np.maximum(rate * t_run, 1e-300))
 
 
-@exercise.numeric
-def numeric(p, run):
-    """The motion followed at one point (``motion``, recorded for plots), the turn timed by its event or the
-    fitted azimuth rate, then judged by ``_assess`` as the batched route judges every variant."""
-    Rs, theta, body = p.R / p.r, p.theta, _Disk()
-    # the root is found to round-off (rtol 1e-15) whatever the rtol: a rerun after the solve shares it
-    key = ("4.23 root", theta, Rs)
-    Om = run.shared[key] if key in run.shared else run.shared.setdefault(key, _turning_rate(body, theta, Rs))
-    run.info["Omega_root_scaled"] = Om
-    m = motion(p, Om)
-    y0, spin0 = _start(body, theta, Rs, Om)
-    T_root = 2 * math.pi / Om
-    traj = run.follow(m, dense=True).traj
-    many = len(m.options["events"]) == 1
-    T_s, fit_rel = math.nan, math.nan
-    if not many:
-        times = [t for t in traj.t_events[0] if t > 0.5 * T_root]
-        T_s = float(times[0]) if times else math.nan
-        y_end = traj.sol(T_s) if times else traj.y[:, -1]
-        run.info["timed_by"] = "event: one full turn"
-    else:
-        # too many spin turns per orbit: the azimuth's rate fitted over 20 spin turns
-        t_run = m.span[1]
-        ts = np.linspace(0.0, t_run, 801)
-        rate, _ = fit_rate(ts, azimuth(quat_to_matrix(traj.sol(ts)[3:7])[:, 2, :]))
-        y_end = traj.sol(t_run)
-        T_s = 2 * math.pi / rate if rate > 0 else math.nan
-        fit_rel = float(_fit_rel(run.rtol, rate, t_run))
-        run.info["timed_by"] = f"azimuth rate fitted over {rate * t_run:.3g} rad"
-    scale = max(Om * Rs, Om, spin0)
-    E0 = monitors(y0, _BODY.I1, _BODY.I3)[4]
-    tilt_tol = max(1e-7, 1e3 * run.rtol)
-    ts = np.linspace(traj.t[0], traj.t[-1], 200)
-    drifts, k = _drifts(traj.sol(ts)[:, :, None], math.sin(theta), tilt_tol, scale, E0)
-    lost = k < ts.size
-    spin_end = float(np.linalg.norm(quat_to_matrix(y_end[3:7]) @ y_end[0:3] - Om * body.z))
-    T, claims, invariants, failures = _assess(run.rtol, Om, spin0, Rs, many, T_s, fit_rel, drifts, lost, spin_end,
-                                              float(traj.t[-1] - traj.t[0]))
-    for name, (drift, allowed) in invariants.items():
-        if name != "tilt n3.z" or not lost[0]:
-            run.invariant(name, float(drift[0]), allowed=float(allowed[0]))
-    if lost[0]:
-        run.info["steady_motion"] = (
-            f"unstable: the tilt leaves its value by {tilt_tol:g} after {float(ts[k[0]]) / T_root:.3g} of a turn; "
-            "Omega is the steady-state root, not a timed turn")
-        run.info.pop("timed_by", None)
-    else:
-        run.info["timed_turn_vs_root"] = abs(T_s / T_root - 1.0)
-    for mask, why in failures:
-        if mask[0]:
-            raise NumericFailure(why if "spin" not in why else f"{why}: {spin_end:.6g} at the end against {spin0:.6g}")
-    for name, rel in claims.items():
-        run.claim(name, rel=float(rel[0]))
-    t_unit = math.sqrt(p.r) / math.sqrt(p.g)
-    return {"T": float(T[0]) * t_unit, "Omega": Om / t_unit, "omega_spin": spin0 / t_unit}
-
-
 # -- every variant at once: the same equations, roots and judgement over arrays ---------------------------
 
 # states kept along each run (the monitors' samples; the azimuth's, unwrapped), TURN_AT of them over one root
@@ -338,7 +281,7 @@ CHECKPOINTS, TURN_AT = 26, 20
 STEP_OVERHEAD, STEP_ALONE = 900.0, 180.0
 
 
-def _follow_variants(theta, Rs, Om, spin0, y0, rtol, why):
+def _follow_variants(theta, Rs, Om, spin0, y0, rtol, why, tally):
     """``numeric``'s runs at N variants at once (``rolling_disk.follow_batch``, in chunks of like step counts):
     each run over 1.3 root periods (the turn timed from the axis's azimuth at the root period: its departure
     from 2 pi over its rate there), or over 20 spin turns with more than MAX_SPIN_TURNS per orbit (the azimuth's rate
@@ -363,8 +306,12 @@ def _follow_variants(theta, Rs, Om, spin0, y0, rtol, why):
     todo = np.flatnonzero(np.isfinite(y0).all(axis=0) & (why == ""))
     def follow(idx):  # a chunk that fails is followed again variant by variant: a failure is that variant's
         try:
-            Y[:, :, idx] = follow_batch(y0[:, idx], span[idx], _BODY.I1, _BODY.I3, s_pts, rtol=rtol,
-                                        atol=1e-3 * rtol * size[:, idx], tilt0=n3z0[idx], tilt_tol=tilt_tol)[0]
+            got = follow_batch(y0[:, idx], span[idx], _BODY.I1, _BODY.I3, s_pts, rtol=rtol,
+                               atol=1e-3 * rtol * size[:, idx], tilt0=n3z0[idx], tilt_tol=tilt_tol,
+                               integrator=tally.integrator)
+            Y[:, :, idx] = got[0]
+            for r in got[2]:
+                tally.record(r)
         except OutOfBudget:
             raise
         except NumericFailure as exc:
@@ -401,12 +348,31 @@ def _follow_variants(theta, Rs, Om, spin0, y0, rtol, why):
     return many, T_s, _fit_rel(rtol, rate, span), drifts, lost, spin_end, span
 
 
+def _report(tally, rtol, Om, many, T_s, lost, span, invariants):
+    """Each variant's invariant drifts and allowances, and how its turn was timed, to ``tally``."""
+    for name, (drift, allowed) in invariants.items():
+        tally.invariant(name, drift, allowed)
+    T_root = 2 * math.pi / Om
+    tally.info["Omega_root_scaled"] = Om
+    unstable = [f"unstable: the tilt leaves its value by {max(1e-7, 1e3 * rtol):g} within {s / T:.3g} of a turn; "
+                "Omega is the steady-state root, not a timed turn" for s, T in zip(span, T_root)]
+    tally.info["steady_motion"] = np.where(lost, np.array(unstable, dtype=object), None)
+    timed = np.where(many, "azimuth rate fitted over 20 spin turns", "azimuth at the root period: one turn")
+    tally.info["timed_by"] = np.where(lost, None, timed.astype(object))
+    with np.errstate(invalid="ignore"):
+        tally.info["timed_turn_vs_root"] = np.where(lost, None, np.abs(T_s / T_root - 1.0))
+
+
 @exercise.batched(("T", "Omega", "omega_spin"))
-def numeric_batch(P, rtol, outputs, memo=None):
-    """``numeric`` at N variants at once: the roots together (once per distinct (theta, R/r), kept in ``memo``
-    for the rerun), the runs together (``_follow_variants``), each variant judged by ``_assess``; every
-    failure and every invariant beyond its allowance fails that variant's outputs."""
+def numeric(P, rtol, outputs, memo=None, tally=None):
+    """The route at N variants at once (a one-point solve is the batch of one): the roots together (once per
+    distinct (theta, R/r), kept in ``memo`` for the rerun), the runs together (``_follow_variants``), each
+    variant judged by ``_assess``; every failure and every invariant beyond its allowance fails that variant's
+    outputs.  The invariants' drifts and how each turn was timed go to ``tally``."""
+    from mech.problems.spec import Tally
     from mech.solvers.numerics.batch import Column, by_rows
+
+    tally = Tally() if tally is None else tally
 
     r, theta, R, g = (np.asarray(P[k], dtype=float) for k in ("r", "theta", "R", "g"))
     Rs = R / r
@@ -422,9 +388,11 @@ def numeric_batch(P, rtol, outputs, memo=None):
             y0[:, k], spin0[k] = _start(_BODY, float(theta[k]), float(Rs[k]), float(Om[k]))
         except NumericFailure as exc:
             why[k] = str(exc)
-    many, T_s, fit_rel, drifts, lost, spin_end, span = _follow_variants(theta, Rs, Om, spin0, y0, rtol, why)
+    many, T_s, fit_rel, drifts, lost, spin_end, span = _follow_variants(theta, Rs, Om, spin0, y0, rtol, why,
+                                                                        tally)
     T, claims, invariants, failures = _assess(rtol, Om, spin0, Rs, many, T_s, fit_rel, drifts, lost, spin_end,
                                               span)
+    _report(tally, rtol, Om, many, T_s, lost, span, invariants)
     ran = why == ""
     failed = [(why == text, text) for text in sorted(set(why[~ran]))]
     failed += [(ran & mask, why_) for mask, why_ in failures]

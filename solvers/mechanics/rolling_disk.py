@@ -193,10 +193,12 @@ def _held(x):
     return 1.0 - x * x * x * (10.0 + x * (6.0 * x - 15.0))
 
 
-def follow_batch(y0, spans, I1, I3, checkpoints, *, rtol, atol, tilt0, tilt_tol, lost=1e-3):
+def follow_batch(y0, spans, I1, I3, checkpoints, *, rtol, atol, tilt0, tilt_tol, lost=1e-3, integrator=None):
     """N disks integrated at once (``integrate_batch``, DOP853), disk k from y0[:, k] over [0, spans[k]]: all on
-    the shared interval s in [0, 1] (t = spans[k] s).  Returns (Y, steps): the states (K + 1, 13, N) at s = 0
-    and at the K increasing ``checkpoints`` (the last 1), and the accepted steps.
+    the shared interval s in [0, 1] (t = spans[k] s).  Returns (Y, steps, runs): the states (K + 1, 13, N) at
+    s = 0 and at the K increasing ``checkpoints`` (the last 1), the accepted steps, and the integrations (each
+    with ``nfev`` and ``method``).  ``integrator``: forced on every leg, disk by disk (``ode.integrate``:
+    ``mech bench``).
 
     A disk whose tilt n.z leaves ``tilt0`` by more than ``tilt_tol`` at a checkpoint is not followed further
     (NaN after it); within a leg, its rates are brought to zero (smoothly, ``_held``) as the tilt goes from
@@ -212,10 +214,20 @@ def follow_batch(y0, spans, I1, I3, checkpoints, *, rtol, atol, tilt0, tilt_tol,
     Y[0] = y0
     live = np.arange(N)
     y = y0.copy()
-    s0, h, steps = 0.0, None, 0
+    s0, h, steps, runs = 0.0, None, 0, []
     for j, s1 in enumerate(checkpoints):
         span, t0 = spans[live], tilt0[live]
 
+        if integrator is not None:  # forced: each disk alone, the leg by ``ode.integrate``
+            y = _forced_leg(y, (s0, s1), span, t0, I1, I3, rtol, atol[:, live], lost, integrator, runs)
+            Y[j + 1][:, live] = y
+            R22 = rotation(y[3], y[4], y[5], y[6])[2][2]
+            keep = np.abs(R22 - tilt0[live]) <= tilt_tol
+            live, y = live[keep], y[:, keep]
+            s0 = s1
+            if live.size == 0:
+                break
+            continue
         if live.size == 1:  # one disk alone: its rates in plain floats (a fraction of the arrays' overhead)
             def rhs(s, yy, span=float(span[0]), t0=float(t0[0])):
                 try:
@@ -235,6 +247,7 @@ def follow_batch(y0, spans, I1, I3, checkpoints, *, rtol, atol, tilt0, tilt_tol,
         # a trial stage may leave the floor's domain (NaN, inf): integrate_batch refuses that step and shrinks it
         with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
             got = integrate_batch(rhs, (s0, s1), y, rtol=rtol, atol=atol[:, live], first_step=h)
+        runs.append(got)
         steps += got.steps
         y = got.y_end
         Y[j + 1][:, live] = y
@@ -245,4 +258,23 @@ def follow_batch(y0, spans, I1, I3, checkpoints, *, rtol, atol, tilt0, tilt_tol,
         s0 = s1
         if live.size == 0:
             break
-    return Y, steps
+    return Y, steps, runs
+
+
+def _forced_leg(y, s_span, span, t0, I1, I3, rtol, atol, lost, integrator, runs):
+    """One leg of ``follow_batch`` with an integrator forced, disk by disk (the rates of one disk, held as
+    ``follow_batch`` holds them when its tilt is lost)."""
+    from mech.solvers.numerics.ode import integrate
+
+    out = np.empty_like(y)
+    for k in range(y.shape[1]):
+        def rhs(s, yy, span=float(span[k]), t0=float(t0[k])):
+            f, nz = tilted_rates(list(yy), I1, I3)
+            x = abs(nz - t0)
+            return np.array(f) * (span * _held(min(x / lost - 1.0, 1.0)) if x > lost else span)
+
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            traj = integrate(rhs, s_span, y[:, k], rtol=rtol, atol=atol[:, k], integrator=integrator)
+        runs.append(traj)
+        out[:, k] = traj.y_end
+    return out
