@@ -52,7 +52,7 @@ def test_batch_zero_span_and_budget():
         integrate_batch(lambda t, y: y, (0.0, 1.0), y0, rtol=1e-8, atol=1e-12, max_steps=2)
 
 
-def test_hill_half_batch_matches_closed_form():
+def test_hill_half_over_variants_matches_closed_form():
     """stiff = c constant (even, any period): y1 = cos(sqrt(c) t), y2 = sin(sqrt(c) t)/sqrt(c)."""
     c = np.array([0.2, 1.0, 3.7])
     (y1, y1p, y2, y2p), _ = even_hill_half(lambda t: c, 1.3, 3, rtol=1e-12, vscale=np.sqrt(c))
@@ -125,7 +125,7 @@ def test_5_13_slow_frequencies_against_radau():
 
 @pytest.mark.parametrize("ex_id", BATCHED)
 def test_vectorised_analytic_is_the_exercises_own(ex_id):
-    """analytic_batch and expected_error_batch give, point by point, what the scalar solvers give."""
+    """The array hooks over N variants give, point by point, what the one-point solve gives (natural units and all)."""
     ex = registry.get(ex_id)
     rng = np.random.default_rng(7)
     base = {p.name: p.default for p in ex.params}

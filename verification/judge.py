@@ -321,7 +321,7 @@ def theory_validity(ex, params, expected: dict | None = None) -> dict:
 
 
 def theory_validity_batch(ex, P, expected: dict) -> dict:
-    """The batched form: {output: (mask, reasons)} (``Exercise.theory_validity_batch``)."""
+    """The batched form: {output: (mask, reasons)} (``Exercise.outside_ranges``)."""
     return dict(ex.outside_ranges(P, expected))
 
 
