@@ -53,9 +53,13 @@ def test_batch_zero_span_and_budget():
 
 
 def test_hill_half_over_variants_matches_closed_form():
-    """stiff = c constant (even, any period): y1 = cos(sqrt(c) t), y2 = sin(sqrt(c) t)/sqrt(c)."""
+    """c0 + c1 wave = c constant (even, any period): y1 = cos(sqrt(c) t), y2 = sin(sqrt(c) t)/sqrt(c); three
+    variants together, and each alone (``ode.integrate``)."""
     c = np.array([0.2, 1.0, 3.7])
-    (y1, y1p, y2, y2p), _ = even_hill_half(lambda t: c, 1.3, 3, rtol=1e-12, vscale=np.sqrt(c))
+    (y1, y1p, y2, y2p), _ = even_hill_half(c - 0.5, 0.5, lambda t: 1.0, 1.3, rtol=1e-12, vscale=np.sqrt(c))
+    for k in range(3):
+        one, _ = even_hill_half(c[k] + 0.25, -0.25, lambda t: 1.0, 1.3, rtol=1e-12, vscale=np.sqrt(c[k]))
+        assert [v[0] for v in one] == pytest.approx([y1[k], y1p[k], y2[k], y2p[k]], abs=1e-10)
     w = np.sqrt(c)
     assert y1 == pytest.approx(np.cos(w * 1.3), abs=1e-10)
     assert y1p == pytest.approx(-w * np.sin(w * 1.3), abs=1e-10)

@@ -156,8 +156,8 @@ def _half(omega0, delta, mu, omega, rtol, tally):
     y'' + ((omega0/omega)^2 (1 + mu cos 2s) - (delta/omega)^2) y = 0 over the same half period [0, pi/2]."""
     r2 = (omega0 / omega) ** 2
     c0, c1 = r2 - (delta / omega) ** 2, r2 * mu
-    (y1, y1p, y2, y2p), runs = even_hill_half(lambda s: c0 + c1 * math.cos(2.0 * s), 0.5 * math.pi, omega.size,
-                                              rtol=rtol, vscale=omega0 / omega, integrator=tally.integrator)
+    (y1, y1p, y2, y2p), runs = even_hill_half(c0, c1, lambda s: math.cos(2.0 * s), 0.5 * math.pi, rtol=rtol,
+                                              vscale=omega0 / omega, integrator=tally.integrator)
     for r in runs:
         tally.record(r)
     # back to the time t: d/dt = omega d/ds, and y2 (y2'(0) = 1) is 1/omega of its scaled self

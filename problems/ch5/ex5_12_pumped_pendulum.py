@@ -177,8 +177,8 @@ def _trace(l, g, delta, a, Omega, rtol, tally):
     y) at N variants at once: in the time s = Omega t every pivot period is 2 pi, so all integrate
     y'' + ((g/l - delta^2)/Omega^2 - (a/l) cos s) y = 0 over the same half period [0, pi]."""
     c0, c1 = (g / l - delta**2) / Omega**2, a / l
-    (y1, y1p, y2, y2p), runs = even_hill_half(lambda s: c0 - c1 * math.cos(s), math.pi, Omega.size, rtol=rtol,
-                                              vscale=np.sqrt(g / l) / Omega, integrator=tally.integrator)
+    (y1, y1p, y2, y2p), runs = even_hill_half(c0, -c1, math.cos, math.pi, rtol=rtol, vscale=np.sqrt(g / l) / Omega,
+                                              integrator=tally.integrator)
     for r in runs:
         tally.record(r)
     return 2.0 * (y1 * y2p + y1p * y2), np.abs(y1 * y2p - y1p * y2 - 1.0)

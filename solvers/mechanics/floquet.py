@@ -151,34 +151,44 @@ def integrate_ensemble(make_rhs: Callable, t_span: tuple[float, float], y0: np.n
 
 
 def even_hill_half(
-    stiff: Callable[[float], np.ndarray],
+    c0,
+    c1,
+    wave: Callable[[float], float],
     t_half: float,
-    n_points: int,
     *,
     rtol: float,
     vscale=1.0,
     integrator: str | None = None,
 ) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray], list]:
-    """(y1, y1', y2, y2') at t_half for N Hill equations y'' + stiff(t) y = 0 at once, y1 even and y2 odd.
+    """(y1, y1', y2, y2') at t_half for N Hill equations y'' + (c0 + c1 wave(t)) y = 0 at once, y1 even and y2
+    odd.
 
-    ``stiff(t)`` returns the N coefficients at the time t (an array of N, or a
-    number shared by all); each must be even in t with period 2 t_half (scale
-    each point's time so that its half period is ``t_half``).  They give the
-    whole monodromy matrix: tr M = 2 (y1 y2' + y1' y2), and with the Wronskian
-    y1 y2' - y1' y2 = 1, tr M - 2 = 4 y1' y2 and tr M + 2 = 4 y1 y2', forms
-    that keep their relative accuracy when a multiplier is near +1 or -1.
+    ``c0``, ``c1``: the N variants' coefficients (arrays of N, or numbers shared by all); ``wave(t)`` the
+    shape all share, even in t with period 2 t_half (scale each variant's time so that its half period is
+    ``t_half``).  They give the whole monodromy matrix: tr M = 2 (y1 y2' + y1' y2), and with the Wronskian
+    y1 y2' - y1' y2 = 1, tr M - 2 = 4 y1' y2 and tr M + 2 = 4 y1 y2', forms that keep their relative accuracy
+    when a multiplier is near +1 or -1.
 
-    Integrated by ``integrate_ensemble`` (``integrator``: forced by ``mech
-    bench``).  ``vscale`` (a number or one per point) is the size of y' for
-    y ~ 1: y2 starts with y2' = vscale and is divided by it at the end.
+    Integrated by ``integrate_ensemble`` (``integrator``: forced by ``mech bench``).  ``vscale`` (a number or
+    one per variant) is the size of y' for y ~ 1: y2 starts with y2' = vscale and is divided by it at the end.
     Returns ((y1, y1', y2, y2') as arrays of N, the integrations).
     """
-    vs = np.broadcast_to(np.asarray(vscale, dtype=float), (n_points,))
+    c0, c1, vs = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (c0, c1, vscale)))
+    c0, c1, vs = (np.atleast_1d(x) for x in (c0, c1, vs))
+    n_points = c0.size
 
     def make_rhs(sel):
+        if isinstance(sel, int):  # one variant: plain floats
+            a, b = float(c0[sel]), float(c1[sel])
+
+            def one(t, y):
+                k = a + b * wave(t)
+                return np.array([y[1], -k * y[0], y[3], -k * y[2]])
+
+            return one
+
         def rhs(t, y):
-            k = stiff(t)
-            k = k if np.ndim(k) == 0 else k[sel]
+            k = c0 + c1 * wave(t)
             out = np.empty_like(y)
             out[0] = y[1]
             out[1] = -k * y[0]
@@ -199,22 +209,25 @@ def even_hill_half(
 
 
 def even_hill_discriminant(
-    stiff: Callable[[float], float],
+    c0: float,
+    c1: float,
+    wave: Callable[[float], float],
     T: float,
     *,
     rtol: float,
     vscale: float = 1.0,
     integrator: str | None = None,
 ) -> tuple[float, float, list]:
-    """tr M of the Hill equation y'' + stiff(t) y = 0 with stiff even in t and of period T.
+    """tr M of the Hill equation y'' + (c0 + c1 wave(t)) y = 0 with wave even in t and of period T.
 
     Only half a period is integrated (see ``even_hill_half``).  Returns
     (tr M, Wronskian drift y1 y2' - y1' y2 - 1 at T/2, the integrations); det M = 1.
     A damped equation q'' + 2 delta q' + k(t) q = 0 reduces to this one by
-    q = exp(-delta t) y with stiff = k - delta^2; its multipliers are
+    q = exp(-delta t) y with c0 + c1 wave = k - delta^2; its multipliers are
     exp(-delta T) times those of y.
     """
-    (y1, y1p, y2, y2p), runs = even_hill_half(stiff, 0.5 * T, 1, rtol=rtol, vscale=vscale, integrator=integrator)
+    (y1, y1p, y2, y2p), runs = even_hill_half(c0, c1, wave, 0.5 * T, rtol=rtol, vscale=vscale,
+                                              integrator=integrator)
     return float(2.0 * (y1 * y2p + y1p * y2)[0]), float((y1 * y2p - y1p * y2 - 1.0)[0]), runs
 
 
