@@ -136,3 +136,20 @@ def test_omega_1e200_times_its_default_answers():
     assert n["omega_inv"] == pytest.approx(nu, rel=1e-8)
     _, n0, _ = solve_both("5.13", Omega=Omega, a=0.0)
     assert n0["omega_down"] == pytest.approx(math.sqrt(49.05), rel=1e-10)
+
+
+def test_a_drive_1e200_times_faster_than_the_pendulum():
+    """Omega = 1e200 rad/s, a = 1e-199 m (l = 0.2 m): a Omega/l = 50 rad/s, so by hand omega_inv^2 =
+    50^2/2 - 49.05 = 1200.95, omega_down^2 = 1299.05 and a_min = sqrt(2 g l)/Omega = 1.9809e-200 m.  The
+    analytic side forms neither (h - sk)(h + sk) nor e^4 (both below the doubles' range, ~1e-397): it gave
+    omega_inv = 0, and e^4/beta0^2 a division by zero."""
+    import mech
+
+    p = dict(l=0.2, g=9.81, a=1e-199, Omega=1e200)
+    an, n, _ = solve_both("5.13", **p)
+    for v in (an, n):
+        assert v["omega_inv"] == pytest.approx(math.sqrt(1200.95), rel=1e-9)
+        assert v["omega_down"] == pytest.approx(math.sqrt(1299.05), rel=1e-9)
+        assert v["a_min"] == pytest.approx(math.sqrt(2 * 9.81 * 0.2) / 1e200, rel=1e-9)
+    sol = mech.solve("5.13", **p)
+    assert sol.agree, sol.errors

@@ -95,7 +95,8 @@ def analytic(P):
     l, g, a, Omega = _arrays(P)
     sk, h = np.sqrt(g / l) / Omega, a / l / math.sqrt(2.0)
     up = h > sk
-    inv = np.where(up, Omega * np.sqrt(np.maximum((h - sk) * (h + sk), 0.0)), np.nan)
+    # the roots taken apart: (h - sk)(h + sk) underflows at Omega/omega0 ~ 1e+200 where its root does not
+    inv = np.where(up, Omega * np.sqrt(np.maximum(h - sk, 0.0)) * np.sqrt(h + sk), np.nan)
     return {"a_min": Column(math.sqrt(2.0) * sk * l), "omega_down": Column(Omega * _norm(sk, h)),
             "omega_inv": Column(inv, undefined=[(~up, _BELOW_A_MIN)])}
 
@@ -115,10 +116,11 @@ def _next_order(sk, e):
     the ratio measured/predicted is 1.00 +- 0.01 for e, sk < 0.1, up to 1.6 at e = 0.33 (the next
     order, ~5 e^4)."""
     e2, s2 = e * e, sk * sk
-    b_down, b_inv = 4.0 * s2 + 2.0 * e2, 2.0 * e2 - 4.0 * s2
     with np.errstate(divide="ignore", invalid="ignore"):
-        c_inv = 7.0 * e2 * e2 / (16.0 * b_inv)
-        c_down = 7.0 * e2 * e2 / (16.0 * b_down)  # b_down >= 4 sk^2 > 0
+        # e^4/beta0^2 as e^2/(beta0^2/e^2), in the ratio (sk/e)^2: e^4 underflows at a ~ 1e-100 l where it does not
+        q2 = (sk / e) ** 2
+        c_inv = 7.0 * e2 / (16.0 * (2.0 - 4.0 * q2))
+        c_down = 7.0 * e2 / (16.0 * (4.0 * q2 + 2.0))  # beta0^2 >= 4 sk^2 > 0
     d_down = e2 - c_down
     d_inv = e2 - c_inv
     d_min = 7.0 / 16.0 * s2
@@ -140,7 +142,7 @@ def expected_error(P):
     l, g, a, Omega = _arrays(P)
     sk, e = np.sqrt(g / l) / Omega, a / l
     allow = _next_order(sk, e)
-    inv = np.where(e * e > 2.0 * sk * sk, np.minimum(allow["omega_inv"], 1e6), np.nan)
+    inv = np.where(e > math.sqrt(2.0) * sk, np.minimum(allow["omega_inv"], 1e6), np.nan)
     return {"omega_down": allow["omega_down"], "omega_inv": inv, "a_min": allow["a_min"]}
 
 
