@@ -47,6 +47,12 @@ class Param:
     max: float | None = None
     min_open: bool = False
     max_open: bool = False
+    # the range ``mech assign`` draws a class's values from (SI): declared in the catalogue beside the bounds
+    # (``typical_min``/``typical_max``), else within a factor 3 of a nonzero default; ``fixed``: a constant of
+    # nature or of the Earth (g, G, Earth's rate and radius), kept at its default unless ``--over`` opens it
+    typical_min: float | None = None
+    typical_max: float | None = None
+    fixed: bool = False
 
     @property
     def dimension(self) -> tuple[int, int, int] | None:
@@ -54,6 +60,23 @@ class Param:
         from mech.core.units import si_exponents
 
         return si_exponents(self.unit)
+
+    @property
+    def typical(self) -> tuple[float, float]:
+        """(lo, hi) in SI, inside the bounds: the catalogue's typical range, the default alone for a fixed
+        constant, else [d/3, 3d] around a nonzero default (clipped to the bounds), else the bounds."""
+        d = float(self.default)
+        if self.fixed:
+            return d, d
+        lo = self.typical_min if self.typical_min is not None else (min(d / 3, 3 * d) if d else self.min)
+        hi = self.typical_max if self.typical_max is not None else (max(d / 3, 3 * d) if d else self.max)
+        lo = -math.inf if lo is None else lo
+        hi = math.inf if hi is None else hi
+        if self.min is not None:
+            lo = max(lo, self.min)
+        if self.max is not None:
+            hi = min(hi, self.max)
+        return float(lo), float(hi)
 
     def to_display(self, value: float) -> float:
         if not self.display:
@@ -124,6 +147,9 @@ class Param:
                 d[key + "_open"] = getattr(self, key + "_open")
         if self.display:
             d["display"] = self.display
+        d["typical_min"], d["typical_max"] = self.typical
+        if self.fixed:
+            d["fixed"] = True
         d["doc"] = self.doc
         return d
 
@@ -426,6 +452,11 @@ class Exercise:
         self.topic = spec["topic"]
         self.from_book = bool(spec.get("from_book", False))  # the book's own, or set for mech on its topics
         self.statement = spec["statement"].strip()
+        # the statement as a class's handout gives it, where the statement quotes the defaults: ``{name}``
+        # placeholders take each student's values (``mech assign``); empty: the statement serves
+        self.handout = spec.get("handout", "").strip()
+        # the regime the statement is about, where it is about one: {"positive": [outputs], "about": "..."}
+        self.regime = dict(spec.get("regime", {}))
         self.model = spec["model"].strip()
         self.numeric_route = spec.get("numeric", {}).get("route", "").strip()
         self.params = [Param(**p) for p in spec["params"]]
@@ -501,6 +532,16 @@ class Exercise:
         or more the theory is outside its range (``theory_validity``)."""
         self._theory_range = fn
         return fn
+
+    def outside_regime(self, values: dict) -> str | None:
+        """Why outputs ``values`` (SI) lie outside the regime the statement is about (the catalogue's
+        ``[regime]``: ``positive``, outputs that must be above zero, and ``about``, the regime in words), or
+        None; ``mech assign`` issues only variants inside it."""
+        for name in self.regime.get("positive", ()):
+            v = values.get(name)
+            if not (isinstance(v, float) and v > 0):
+                return f"{name} is not positive: not {self.regime.get('about', 'the regime of the statement')}"
+        return None
 
     def approximations(self, fn: Callable[[Params], dict]) -> Callable:
         """Where the statement asks for an approximation next to an exact output: ``fn(p) -> {output:
