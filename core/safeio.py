@@ -26,7 +26,7 @@ from mech.core.errors import BadInput
 
 __all__ = ["shown", "shown_path", "escape", "check_apart", "MAX_FILE_BYTES", "MAX_DEPTH", "MAX_KEY_PARTS", "read_text", "load_toml", "load_toml_text",
            "load_json", "check_output", "budget_seconds", "atomic_write", "columns", "normalize_columns", "MIN_COLUMNS",
-           "csv_cell", "md_text", "slugs"]
+           "csv_cell", "csv_uncell", "md_text", "slugs"]
 
 SHOWN_CHARS = 80
 PATH_CHARS = 240  # a file name is cut later than a value: its end says which file
@@ -393,19 +393,30 @@ def normalize_columns(environ=None) -> None:
 # -- names written into files other programs open ----------------------------------------------------------
 
 # a cell, or any part of it after a separator a spreadsheet may split on, that starts with one of these
-# (after blanks) is read as a formula
-_CSV_PART = re.compile(r"(^|[,;\t|\r\n])([ \u00a0]*)(?=[=+\-@\t\r])")
-_NUMBER = re.compile(r"[ ]*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?[ ]*")
+# (after blanks, and after the apostrophes ``csv_cell`` adds) is read as a formula
+_CSV_PART = re.compile(r"(^|[,;\t|\r\n])([ \u00a0]*)(?='*[=+\-@\t\r])")
+_CSV_MARK = re.compile(r"(^|[,;\t|\r\n])([ \u00a0]*)'(?='*[=+\-@\t\r])")
+# a number, perhaps with a unit (letters, digits, ^ * / . and spaces: no call, no DDE, no separator)
+_NUMBER = re.compile(r" *[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)? *([A-Za-z/][A-Za-z0-9^*/. ]*)?")
 
 
 def csv_cell(text) -> str:
     """A text cell a spreadsheet will not run as a formula, whatever separator it splits the file on: every
     part that starts with = + - @ (or a tab, a carriage return), at the cell's start or after a , ; tab |
-    or line break, gets an apostrophe before it (read as "text").  A plain number ("-1.5e-3") is left."""
+    or line break, gets an apostrophe before it (read as "text").  A number, with or without its unit
+    ("-1.5e-3", "-0.03 m/s"), is left.  ``csv_uncell`` gives the text back."""
     text = str(text)
     if _NUMBER.fullmatch(text):
         return text
     return _CSV_PART.sub(lambda m: m.group(1) + m.group(2) + "'", text)
+
+
+def csv_uncell(text) -> str:
+    """The text ``csv_cell`` was given, from the cell it wrote (a reader of mech's own CSV files)."""
+    text = str(text)
+    if _NUMBER.fullmatch(text):
+        return text
+    return _CSV_MARK.sub(lambda m: m.group(1) + m.group(2), text)
 
 
 _MD_SPECIAL = re.compile(r"([\\`*_{}\[\]()#+!|~\-.])")
