@@ -506,17 +506,25 @@ _ASSIGN_MAX_TEXT = 4096  # characters of one string argument of assign (an id, a
 _ASSIGN_MAX_ITEMS = 1000  # exercises or --over entries in one call
 
 
+def _any_shown(value) -> str:
+    """``_shown`` of any object, even one whose ``str`` fails or is huge."""
+    try:
+        return _shown(value)
+    except Exception:  # an argument whose __str__ raises: name its type only  # noqa: BLE001
+        return f"<{_kind(value)}>"
+
+
 def _assign_list(name: str, value, limit: int, what: str = "strings") -> list:
     """A string or a list/tuple of strings for ``assign``: its size checked before anything is read from it."""
     if isinstance(value, str):
         value = [value]
     if not isinstance(value, (list, tuple)):
-        raise BadInput(f"{name}: give a list of {what}, got {_kind(value)} {_shown(value)}")
+        raise BadInput(f"{name}: give a list of {what}, got {_kind(value)} {_any_shown(value)}")
     if len(value) > limit:
         raise BadInput(f"{name}: {len(value)} items; at most {limit}")
     for v in value:
         if not isinstance(v, str) or len(v) > _ASSIGN_MAX_TEXT:
-            raise BadInput(f"{name}: give {what}, got {_kind(v)} {_shown(v)}")
+            raise BadInput(f"{name}: give {what}, got {_kind(v)} {_any_shown(v)}")
     return list(value)
 
 
@@ -525,13 +533,13 @@ def _assign_path(name: str, value) -> str:
     import os
 
     if not _ARG_KINDS["path"](value):
-        raise BadInput(f"{name}: give a file name, got {_kind(value)} {_shown(value)}")
+        raise BadInput(f"{name}: give a file name, got {_kind(value)} {_any_shown(value)}")
     try:
         text = os.fspath(value)
     except Exception:  # a path object whose __fspath__ fails: not a path  # noqa: BLE001
         text = None
     if not isinstance(text, str) or len(text) > _ASSIGN_MAX_TEXT:
-        raise BadInput(f"{name}: give a file name, got {_kind(value)} {_shown(value)}")
+        raise BadInput(f"{name}: give a file name, got {_kind(value)} {_any_shown(value)}")
     return _screen(name, text, "path")
 
 
@@ -540,7 +548,7 @@ def _assign_count(name: str, value, none_ok: bool):
         return None
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer, str)) or \
             (isinstance(value, str) and len(value) > 40):
-        raise BadInput(f"{name}: give a whole number, got {_kind(value)} {_shown(value)}")
+        raise BadInput(f"{name}: give a whole number, got {_kind(value)} {_any_shown(value)}")
     return int(value) if isinstance(value, np.integer) else value
 
 
@@ -558,8 +566,13 @@ def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=N
     seed = _assign_count("seed", seed, True)
     n = _assign_count("n", n, True)
     digits = _assign_count("digits", digits, False)
-    jobs = _jobs(jobs)
-    force = _flag("force", force)
+    if jobs is not None and (isinstance(jobs, (bool, np.bool_)) or not isinstance(jobs, (int, np.integer))
+                             or not 1 <= jobs <= 256):
+        raise BadInput(f"jobs: give a whole number of processes in [1, 256] (or None), got {_kind(jobs)} "
+                       f"{_any_shown(jobs)}")
+    if not isinstance(force, (bool, np.bool_)):
+        raise BadInput(f"force: give True or False, got {_kind(force)} {_any_shown(force)}")
+    jobs, force = None if jobs is None else int(jobs), bool(force)
     out = _assign_path("out", out)
     if students is not None and not isinstance(students, (list, tuple)):
         students = _assign_path("students", students)
