@@ -1,13 +1,21 @@
 """``mech assign``: personal variants for a class, each verified before it is issued, with its key.
 
-For each exercise the parameter sets are drawn as a formula's judging points are
-(``formulas.draw``: across the declared ranges, log-uniform on a positive range, inside every joint
-constraint, narrowed by ``--over``), from a seed made of the class's seed and the exercise's id, so a
+For each exercise the parameter sets are drawn as a formula's judging points are (``points.draw``,
+inside every joint constraint) but inside each parameter's typical range (``Param.typical``: the
+catalogue's, within a factor 3 of the textbook value by default, a constant of nature or of the Earth
+fixed) unless ``--over`` gives another, from a seed made of the class's seed and the exercise's id, so a
 roster's students take the draws in roster order.  Each value is rounded to ``digits`` significant
 digits in the unit a handout prints (degrees for an angle), written as the handout shows it, and read
 back exactly as ``mech grade`` will read it; the rounded variant must still lie inside the bounds, the
-joint constraints and ``--over``, and is then solved by both methods: a variant whose methods do not
-agree, or where an output has no value, is not issued and the student takes the next draw.
+joint constraints and its ranges.  A cheap screen (``_promising``: the analytic values finite and in the
+statement's regime, the theory's own neglect estimate small) throws out hopeless draws; the rest are
+solved by both methods, and a variant is issued only where they agree, every output is finite, every
+leading-order value lies within 1 % of the exact one and the regime holds (``_record``); otherwise the
+student takes the next draw.
+
+The files (``Assignment.files``): ``handout.md`` and ``handouts/<slug>.md``, ``answers.toml`` and
+``answers.csv``, ``key.json``, ``key.csv`` and ``key.md``; every name from the roster escaped where it is
+written (``safeio.md_text``, ``csv_cell``, ``slugs``).
 
 Everything written is a function of the roster, the seed, the digits, the ranges and mech's version:
 no time stamps, the JSON's keys sorted, floats as Python's shortest round-trip ``repr``.
@@ -23,6 +31,7 @@ from dataclasses import dataclass, field
 
 from mech.core.errors import BadInput
 from mech.core.safeio import shown
+from mech.verification.judge import within
 
 __all__ = ["Assignment", "Variant", "read_roster", "parse_overs", "make", "assign", "MAX_STUDENTS"]
 
@@ -420,7 +429,7 @@ def _record(ex, result) -> dict | None:
         if q.agree is not True or q.numeric_err is None or not math.isfinite(q.numeric_err):
             return None
         lead = q.theory != "exact"
-        if lead and abs(a - n) > LEADING_ORDER_AGREE * abs(n):
+        if lead and not within(abs(a - n), scale=n, rel=LEADING_ORDER_AGREE):
             return None
         out[q.name] = {"value": float(n) if lead else float(a), "unit": q.unit, "analytic": float(a),
                        "numeric": float(n), "numeric_err": float(q.numeric_err), "leading_order": lead}
