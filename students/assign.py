@@ -479,7 +479,8 @@ def _candidates(ex, seed: int, digits: int, rng: dict, pool: list, drawn_n: int,
                 kept += 1
         if len(pool) < wanted and drawn_n >= MAX_DRAWS_PER_VARIANT * wanted + 256:
             raise BadInput(f"{ex.id}: too few drawn variants rounded to {digits} digits stay inside the ranges, "
-                           "the joint constraints and the statement's regime; give more --digits or change --over")
+                           "the joint constraints, the statement's regime and 1 % of the exact value for every "
+                           "leading-order answer; give more --digits or change --over")
     return drawn_n
 
 

@@ -71,6 +71,9 @@ _ANY = st.one_of(st.none(), st.booleans(), st.integers(), st.floats(allow_nan=Tr
 def test_any_argument_gives_bad_input_or_a_valid_class(tmp_path, name, value):
     """Whatever one argument is, assign raises BadInput (never TypeError, ValueError, MemoryError ...) unless
     it is valid; a valid class of 4.15 is cheap."""
+    small = isinstance(value, int) and not isinstance(value, bool) and value >= 1
+    if name == "n" and small and value <= 2000 or name == "jobs" and small and value <= 256:
+        value = 1  # valid: a class of one, one process (the check of the value is the same)
     if name == "out" and isinstance(value, str) and value.strip():
         value = str(tmp_path / "h" / re.sub(r"[^A-Za-z0-9]", "_", value))  # a path of that name, inside tmp
     try:
