@@ -228,3 +228,13 @@ def test_catalogue_typical_ranges():
     params = {p["name"]: p for p in json.loads(out)["params"]}
     assert params["g"]["typical_min"] == params["g"]["typical_max"] == 9.81 and params["g"]["fixed"] is True
     assert params["l"]["typical_min"] == pytest.approx(1 / 3) and params["l"]["typical_max"] == 3.0
+
+
+def test_the_regime_and_one_percent_redraws_repeat_byte_for_byte(tmp_path):
+    """The redraws follow the seed, never the clock or the pool: one process or two, the same files."""
+    for j in ("1", "2"):
+        code, _, err = run("assign", "5.12", "--n", "2", "--seed", "5", "--out", tmp_path / j, "-j", j)
+        assert code == 0, err
+    for f in sorted((tmp_path / "1").rglob("*")):
+        if f.is_file():
+            assert f.read_bytes() == (tmp_path / "2" / f.relative_to(tmp_path / "1")).read_bytes(), f.name
