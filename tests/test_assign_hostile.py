@@ -90,6 +90,7 @@ def test_any_argument_gives_bad_input_or_a_valid_class(tmp_path, name, value):
 _FORMULA = re.compile(r"^[ \u00a0]*[=+\-@\t\r]")
 
 
+@settings(deadline=None)
 @given(st.text(max_size=60))
 def test_csv_cell_leaves_no_part_a_formula_and_comes_back(text):
     cell = csv_cell(text)
@@ -106,7 +107,7 @@ def test_csv_cell_by_hand():
     assert csv_cell("x|@SUM(A1)") == "x|'@SUM(A1)" and csv_cell("bob") == "bob"
 
 
-@settings(max_examples=300)
+@settings(max_examples=300, deadline=None)
 @given(st.text(max_size=40))
 def test_md_text_renders_as_the_text_itself(text):
     """Rendered by a CommonMark renderer inside a paragraph, an escaped name is one paragraph of literal
@@ -118,6 +119,7 @@ def test_md_text_renders_as_the_text_itself(text):
     assert tags <= {"p", "/p"}, (text, html)
 
 
+@settings(deadline=None)
 @given(st.lists(st.text(max_size=30), max_size=12))
 def test_slugs_are_safe_and_unique(names):
     got = slugs(names)
