@@ -281,11 +281,11 @@ def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float |
     result = result.replace(trajectory_of=functools.partial(_motion, deadline=deadline))
     if expectations is None:
         return result
-    from mech.students import grading
+    from mech.students import expectations as expecting
 
     # the formulas' points, references and judging share the solve's budget: what the cross-check left
     with budget.limit(max(deadline - time.monotonic(), 1e-3), what="the solve (MECH_BUDGET_S gives it more)"):
-        return grading.attach(result, expectations)
+        return expecting.attach(result, expectations)
 
 
 def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None, expect_points=None,
@@ -293,14 +293,14 @@ def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None, exp
     """``--expect NAME=VALUE`` texts (and ``--expect-rtol``) -> the judgements ``solve_resolved`` takes;
     ``expect_points``/``expect_seed``: how many parameter sets a formula is checked at, and their seed
     (``names``: how an error names them)."""
-    from mech.students import grading
+    from mech.students import expectations as expecting
     from mech.students.points import MAX_POINTS  # parameter sets a formula is checked at, at most
 
-    out = grading.parse_expect_options(ex, list(pairs), expect_rtol)
-    points = grading.parse_count(expect_points, names[0], 1, MAX_POINTS)
-    seed = grading.parse_count(expect_seed, names[1], 0, 2**63 - 1)
+    out = expecting.parse_expect_options(ex, list(pairs), expect_rtol)
+    points = expecting.parse_count(expect_points, names[0], 1, MAX_POINTS)
+    seed = expecting.parse_count(expect_seed, names[1], 0, 2**63 - 1)
     if points is not None or seed is not None:
-        out = grading.with_range(out, points, seed)
+        out = expecting.with_range(out, points, seed)
     return out
 
 
@@ -489,13 +489,13 @@ def grade_report(path, total_s=None, *, strict: bool = False, jobs: int | None =
                  started: float | None = None):
     """The ``GradeReport`` of a grading file; ``started``: the ``time.perf_counter()`` the reported wall
     time counts from (default: now, reading the file included)."""
-    from mech.students import grading
+    from mech.students import classrun
 
-    return grading.grade_file(path, total_s, strict=strict, jobs=jobs, params=params, started=started)
+    return classrun.grade_file(path, total_s, strict=strict, jobs=jobs, params=params, started=started)
 
 
 def grade_entries(path, total_s=None) -> tuple[list, float]:
-    """Every answer of a grading file, judged (``students.grading.Entry``), and the seconds it took;
+    """Every answer of a grading file, judged (``students.answers_files.Entry``), and the seconds it took;
     ``BadInput`` for a bad file, every fault at once (``BadFile.problems``, a line each).  ``total_s``: the
     grading's wall-clock budget (default 600 s); answers not reached by then fail, saying so."""
     report = grade_report(path, total_s, strict=True)
@@ -592,16 +592,16 @@ def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=N
 
 def grade_students(entries: list) -> list[dict]:
     """Per student named in a grading file (entries without a name under None): passed, failed, entries."""
-    from mech.students import grading
+    from mech.students import gradebook
 
-    return grading.per_student(entries)
+    return gradebook.per_student(entries)
 
 
 def grade_json(path, entries: list, seconds: float) -> dict:
     """The JSON report of judged grading entries (``mech grade --json``)."""
-    from mech.students import grading
+    from mech.students import gradebook
 
-    return grading.grade_json(str(path), entries, seconds)
+    return gradebook.grade_json(str(path), entries, seconds)
 
 
 def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **options) -> dict:
@@ -764,11 +764,11 @@ def check_against_baselines(ids=None, hard: bool = False, *, baseline: str | Non
     baseline file fails (``BadInput``) before any case runs; ``save_baseline`` records every checked value."""
     if not (baseline or save_baseline):
         return check(ids, hard, jobs=jobs, started=started, finished=finished), None
-    from mech.students import grading
+    from mech.verification import baseline as baselines_
 
-    old = grading.open_baseline(baseline) if baseline else None
+    old = baselines_.open_baseline(baseline) if baseline else None
     report = check(ids, hard, jobs=jobs, started=started, finished=finished)
-    return report, grading.baselines(report, hard, old, baseline, save_baseline)
+    return report, baselines_.baselines(report, hard, old, baseline, save_baseline)
 
 
 def plot_bench(result: dict, path) -> None:

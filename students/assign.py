@@ -245,7 +245,7 @@ def read_roster(path: str) -> list[str]:
 
 
 def _check_roster(items: list[tuple[int, str]], name: str, what: str) -> list[str]:
-    from mech.students.grading import MAX_STUDENT
+    from mech.students.answers_files import MAX_STUDENT
 
     out, seen = [], {}
     for i, s in items:
@@ -546,7 +546,7 @@ def _exercises(ids) -> list:
 
 
 def _roster(students, n, inputs: list) -> list[str]:
-    from mech.students.grading import parse_count
+    from mech.students.expectations import parse_count
 
     if (students is None) == (n is None):
         raise BadInput("give the class as --students FILE or --n N (one of the two)")
@@ -604,7 +604,8 @@ def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=N
     import os
 
     from mech.core.safeio import atomic_write, slugs
-    from mech.students.grading import MAX_ANSWERS, parse_count
+    from mech.students.answers_files import MAX_ANSWERS
+    from mech.students.expectations import parse_count
 
     exercises = _exercises(ids)
     seed_v = parse_count(seed, "--seed", 0, 2**63 - 1)
