@@ -1,0 +1,65 @@
+"""The far range of issue 41 item 5: each case agrees, or a declared limit refuses it in one line.
+
+5.4 with eps = 1 - 1e-12: t_eps solves x(tau) = eps for the textbook form
+x = (l2 e^{-l1 tau} - l1 e^{-l2 tau})/(l2 - l1), l1,2 = zeta -+ sqrt(zeta^2 - 1) (tau = omega0 t),
+found here with mpmath at 50 digits (not the module's log form).  Near tau = 0, x = 1 - tau^2/2 + ...,
+so a double x, held to 1.1e-16 near 1, places t_eps only to about EPS/(2 (1 - eps)) of itself: the
+numeric value must agree with the exact one within its own error bar, and that bar must be below 1e-3.
+"""
+
+import json
+
+import mpmath
+import pytest
+from click.testing import CliRunner
+
+from mech.cli.main import cli
+
+
+def run(*args):
+    r = CliRunner().invoke(cli, list(args))
+    return r.exit_code, r.stdout, r.stderr
+
+
+def solve(ex_id, **given):
+    args = ["solve", ex_id, "--json"]
+    for k, v in given.items():
+        args += ["-p", f"{k}={v!r}"]
+    code, out, err = run(*args)
+    return code, (json.loads(out) if out else None), err
+
+
+def q(d, name):
+    return next(x for x in d["quantities"] if x["name"] == name)
+
+
+def t_eps_exact(omega0, zeta, eps):
+    mpmath.mp.dps = 50
+    z, e = mpmath.mpf(zeta), mpmath.mpf(eps)
+    s = mpmath.sqrt(z * z - 1)
+    l1, l2 = z - s, z + s
+
+    def x(tau):
+        return (l2 * mpmath.exp(-l1 * tau) - l1 * mpmath.exp(-l2 * tau)) / (l2 - l1) - e
+
+    guess = mpmath.sqrt(2 * (1 - e))
+    return float(mpmath.findroot(x, guess) / omega0)
+
+
+@pytest.mark.parametrize("zeta", [2.0, 50.0])
+def test_5_4_eps_near_one_agrees_with_an_earned_bar(zeta):
+    eps = 0.999999999999
+    code, d, err = solve("5.4", eps=eps, zeta=zeta)
+    assert code == 0 and d["agree"] is True, (err, d and q(d, "t_eps"))
+    t = q(d, "t_eps")
+    exact = t_eps_exact(5.0, zeta, eps)
+    assert abs(t["analytic"] - exact) <= 1e-9 * exact
+    assert abs(t["numeric"] - exact) <= t["numeric_err"] < 1e-3 * exact
+
+
+def test_5_4_a_fall_too_small_for_doubles_is_refused_in_one_line():
+    code, d, err = solve("5.4", eps=1 - 1e-13)
+    assert code == 2 and d is None and err.count("\n") == 1
+    assert "eps = " in err and "1 - eps >= 5e-13" in err and "double precision" in err
+    code, out, err = run("show", "5.4", "--json")
+    assert any("1 - eps >= 5e-13" in c for c in json.loads(out)["constraints"])
