@@ -63,3 +63,37 @@ def test_5_4_a_fall_too_small_for_doubles_is_refused_in_one_line():
     assert "eps = " in err and "1 - eps >= 5e-13" in err and "double precision" in err
     code, out, err = run("show", "5.4", "--json")
     assert any("1 - eps >= 5e-13" in c for c in json.loads(out)["constraints"])
+
+
+# 5.12 with delta = 1e-300: the swing's half-map has det M = exp(-2 delta Tp) = 1 in doubles (Liouville:
+# the divergence is -2 delta); its multipliers are a complex pair, so both lie inside the unit circle for
+# any delta > 0.  As delta -> 0 the swing tends to the undamped one (the damping enters as delta^2 against
+# eps^2 = (a Omega/2l)^2 ~ 0.01): theta_st at 1e-300 equals theta_st at 1e-12 within both error bars.
+def test_5_12_vanishing_damping_agrees_and_matches_the_nearly_undamped_swing():
+    code, d, err = solve("5.12", delta=1e-300)
+    assert code == 0 and d["agree"] is True, (err, d and d.get("errors"))
+    code, near, err = solve("5.12", delta=1e-12)
+    assert code == 0 and near["agree"] is True
+    a, b = q(d, "theta_st"), q(near, "theta_st")
+    assert abs(a["numeric"] - b["numeric"]) <= a["numeric_err"] + b["numeric_err"]
+
+
+def test_5_12_half_map_moduli_by_liouville():
+    import math
+
+    import numpy as np
+
+    from mech.problems.spec import NumericFailure
+    from mech.problems.ch5.ex5_12_pumped_pendulum import _half_map_moduli
+
+    r, phi = 0.9, 1.1  # a damped rotation: det r^2, complex pair of modulus r
+    M = r * np.array([[math.cos(phi), -math.sin(phi)], [math.sin(phi), math.cos(phi)]])
+    mult, stable = _half_map_moduli(M, 2.0 * math.log(r), 1.0, 1e-12)
+    assert stable and np.allclose(mult, r, rtol=1e-14)
+    R = M / r  # rounding leaves the modulus at 1: the sign of the divergence still decides
+    assert _half_map_moduli(R, -1e-300, 1.0, 1e-12)[1] is True
+    assert _half_map_moduli(R, +1e-300, 1.0, 1e-12)[1] is False
+    mult, stable = _half_map_moduli(np.diag([2.0, 0.4]), math.log(0.8), 1.0, 1e-12)  # a saddle
+    assert not stable and sorted(mult) == pytest.approx([0.4, 2.0])
+    with pytest.raises(NumericFailure, match="double multiplier"):
+        _half_map_moduli(np.eye(2), 0.0, 1.0, 1e-12)
