@@ -97,3 +97,19 @@ def test_5_12_half_map_moduli_by_liouville():
     assert not stable and sorted(mult) == pytest.approx([0.4, 2.0])
     with pytest.raises(NumericFailure, match="double multiplier"):
         _half_map_moduli(np.eye(2), 0.0, 1.0, 1e-12)
+
+
+# 4.24: cos_min's allowance is 2.5 eps_F^2, eps_F = I_A l F/L3^2 (I_A = I1 + M l^2, L3 = I3 omega_rot): the
+# axis starts on its nutation circle of radius eps_F, which the overturn carries about x' to the bottom,
+# so it passes within 2 eps_F of straight down (1 + cos_min <= 2 eps_F^2); the weight (eps_g) and the slip
+# do not enter.  At the defaults eps_F = 1.5625e-3 * 0.05 * 2/0.375^2 = 1.1111e-3; with F = 0.1 N it is
+# 5.5556e-5 while the slip, eps_g M g/F = 2.7250e-3 * 4.905/0.1 = 0.1337, is large (the old allowance
+# carried slip^2 = 0.018 there, 2e6 times the true difference).
+@pytest.mark.parametrize("F", [2.0, 0.1])
+def test_4_24_cos_min_allowance_is_the_nutation_radius_squared(F):
+    eps_F = (3.125e-4 + 0.5 * 0.05**2) * 0.05 * F / (6.25e-4 * 600) ** 2
+    code, d, err = solve("4.24", F=F)
+    assert code == 0 and d["agree"] is True, err
+    c = q(d, "cos_min")
+    assert c["expected_err"] == pytest.approx(2.5 * eps_F**2, rel=1e-12)
+    assert 1.0 + c["numeric"] <= 2.0 * eps_F**2 + c["numeric_err"]
