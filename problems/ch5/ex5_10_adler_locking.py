@@ -208,7 +208,7 @@ def _on_branch(om, th, known, r, fresh=None):
     stopped at the map's noise floor, which that evaluation must confirm; False, the last iterate's
     Jacobian, a step below the floor away: det(M - I) moves by that step times its curvature, far below
     the fold search's tolerance.  By default False from a solved point nearby on the plain map (a third of
-    the maps saved: 36 a solve instead of 51, the edges moved by at most 1e-5 of their error bars over 20
+    the maps saved: about 37 a solve instead of 51, the edges moved by at most 1e-5 of their error bars over 20
     class variants), "floor" from a far start or on the rotating map, whose weak drive leaves the phase
     nearly neutral and the floor a poor bound on the distance to the orbit (tests/test_ex5_10.py's
     locking ranges of 5e-17 omega0 came out in the wrong order without the check)."""
