@@ -723,9 +723,12 @@ def _stand_ins(ex: Exercise, axes, fixed, P: dict) -> tuple[dict, dict]:
     marked afterwards (``_mark_refused``)."""
     import numpy as np
 
-    refused = {k: r.reason for k, r in grid_refusals(ex, axes, fixed).items()}
+    found = grid_refusals(ex, axes, fixed)
+    refused = {k: r.reason for k, r in found.items()}
     if not refused:
         return refused, P
+    if len(refused) == next(iter(P.values())).size:
+        raise _all_refused(ex, found, [a.name for a in axes])
     ok = next(k for k in range(next(iter(P.values())).size) if k not in refused)
     idx = np.array(sorted(refused))
     P_route = {name: v.copy() for name, v in P.items()}
