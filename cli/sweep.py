@@ -416,7 +416,11 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
     result.fixed = {p.name: float(fixed.get(p.name, p.default)) for p in ex.params if p.name not in swept}
 
     if plot_file:
-        api.save_sweep_figure(result, plot_file)
+        import warnings
+
+        with warnings.catch_warnings():  # matplotlib's layout notes (a crowded legend) are no message of
+            warnings.simplefilter("ignore")  # the sweep's, and would print a source path
+            api.save_sweep_figure(result, plot_file)
     if as_json:
         result.write_json(sys.stdout)  # streamed: 100 000 points took 1.9 GB built whole
     elif as_csv:
