@@ -182,6 +182,22 @@ def _summary(result) -> tuple[str, bool]:
     return text, n_bad == 0
 
 
+def _outside_lines(points: list[dict]) -> list[str]:
+    """Per output, how many points its leading-order theory is outside its range at: nothing compared there
+    (the point's "yes" is its numeric value verified by the rerun, as ``mech solve`` says)."""
+    count: dict[str, int] = {}
+    for pt in points:
+        for q in pt["quantities"]:
+            if q.get("theory_valid") is False:
+                count[q["name"]] = count.get(q["name"], 0) + 1
+    by_n: dict[int, list[str]] = {}
+    for name, n in count.items():
+        by_n.setdefault(n, []).append(name)
+    return [f"{', '.join(names)}: the leading-order theory is outside its range at {n} point{'s' if n > 1 else ''}; "
+            "nothing compared there, the numeric value (verified at rtol/10) is the answer"
+            for n, names in by_n.items()]
+
+
 def _refused_lines(result, swept) -> list[str]:
     """One line per refused point (at most SHOW_ERRORS, then a count): where, and the exercise's reason."""
     ex = result.exercise
@@ -264,6 +280,8 @@ def print_table(result) -> None:
         reasons = _undefined_reasons(result.point_list())
         for r in reasons[:SHOW_ERRORS]:
             c.print(Text(r, style="yellow"))
+        for line in _outside_lines(result.point_list()):
+            c.print(Text(line, style="yellow"))
     for line in _refused_lines(result, swept):
         c.print(Text(line, style="yellow"))
     # the first failures, the failed points built one at a time and only until SHOW_ERRORS lines are printed

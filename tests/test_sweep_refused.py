@@ -105,3 +105,12 @@ def test_no_raw_warning_in_a_batched_sweep():
     info = json.loads(out)["numeric_info"]
     for w in info.get("fp_warnings", []):
         assert "/" not in w
+
+
+def test_a_point_outside_the_theorys_range_is_said_in_the_table():
+    # 5.9 at mu = 5 1/s, omega0 = 3 rad/s by default: its leading-order theory expands in mu/omega0 = 1.7,
+    # outside its range at 1 and more; the table says so once for the outputs it concerns
+    code, out, err = run("sweep", "5.9", "--mu", "0.1:5:2", "--only", "omega")
+    assert code == 0, err
+    text = " ".join(out.split())
+    assert "omega: the leading-order theory is outside its range at 1 point" in text
