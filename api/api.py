@@ -197,11 +197,11 @@ def _motion(sol: Solution, deadline: float | None = None) -> Trajectory | None:
     from mech.core import budget
 
     info = sol.numeric_info or {}
-    # the solve's own budget, not a fresh one: what the cross-check left of it
-    left = budget.default_seconds() if deadline is None else deadline - time.monotonic()
-    if left <= 0:
-        raise budget.OutOfBudget(f"the trajectory of {ex.id}: the solve's time budget is spent")
-    with budget.limit(left, what=f"the trajectory of {ex.id}"):
+    # a solve's work, and the solve's clock where it had one: what the cross-check left of it
+    left = None if deadline is None else deadline - time.monotonic()
+    if left is not None and left <= 0:
+        raise budget.OutOfTime(f"the trajectory of {ex.id}: the solve's time budget is spent")
+    with budget.limit(left, what=f"the trajectory of {ex.id}", work=budget.SOLVE_WORK):
         _, run = ex.solve_numeric(Params(dict(sol.params)), info.get("rtol"), keep_trajectories=True)
     return _trajectory(ex, run)
 

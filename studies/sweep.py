@@ -333,16 +333,14 @@ def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only
 
     ``only``: the output names to keep (the solvers still compute all of them on this route).
     ``deadline``: the sweep's end (``time.monotonic()``, one clock for every process); the point's solve
-    gets what is left of it when that is less than a solve's own budget, and a point reached after it is
-    not solved: it fails, saying so (its analytic value is still given)."""
+    counts its work (``budget.SOLVE_WORK``) and the sweep's clock only stops it, and a point reached after
+    it is not solved: it fails, saying so (its analytic value is still given)."""
     from mech.problems import registry
-    from mech.core import budget
     from mech.verification.crosscheck import cross_check
 
     ex = registry.get(ex_id)
     params = Params(values) if isinstance(values, dict) else values
     t0 = time.perf_counter()
-    budget_s = budget.default_seconds()
     left = math.inf if deadline is None else deadline - time.monotonic()
     if left <= 0.05:
         from mech.verification.result import Failure
@@ -352,7 +350,8 @@ def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only
                "(--budget SECONDS gives it more)")
         result = result.replace(errors=tuple(result.errors) + (Failure("numeric", why),))
     else:
-        result = cross_check(ex, params, rtol=rtol, verify=verify, budget_s=min(budget_s, left))
+        # the solve counts work (budget.SOLVE_WORK); the sweep's clock, where it has one, only stops it
+        result = cross_check(ex, params, rtol=rtol, verify=verify, budget_s=left if math.isfinite(left) else None)
     import_s = (result.numeric_info or {}).get("import_s") or 0.0
     wall = time.perf_counter() - t0 - import_s
     if only:
@@ -680,9 +679,11 @@ def _run_batched(
             try:
                 if left <= 0.05:
                     raise budget.OutOfBudget(f"not run: {spent}")
-                with budget.limit(left, what=f"the batched sweep of {ex.id}"):
+                with budget.limit(left, what=f"the batched sweep of {ex.id}", work=budget.SOLVE_WORK):
                     got = (route.numeric(Pc, tol, tuple(outputs), memo=memo) if takes_memo
                            else route.numeric(Pc, tol, tuple(outputs)))
+            except budget.OutOfWork as exc:  # the chunk's work, the same on any machine: its failure
+                got = {o: _failed_column(m, failed + str(exc)) for o in outputs}
             except budget.OutOfBudget as exc:
                 why = str(exc) if str(exc).startswith("not run") else spent
                 got = {o: _failed_column(m, failed + why) for o in outputs}

@@ -362,7 +362,7 @@ def _march(a, b, k, w, h, ladder, step, coarse):
                 if H and n2[2] < -margin - arm:
                     fine = False
         if (nsteps + ncoarse) % 64 == 0:
-            budget_check("4.24 splitting steps")
+            budget_check("4.24 splitting steps", 64)
             cx, cy, cz = n2[1] * L2[2] - n2[2] * L2[1], n2[2] * L2[0] - n2[0] * L2[2], n2[0] * L2[1] - n2[1] * L2[0]
             arm = max(arm, 6.0 * math.sqrt(cx * cx + cy * cy + cz * cz))  # 6 sin(cone angle) (|L| ~ 1)
             drift_J = max(drift_J, abs(jacobi(n2, L2, t2) - J0) / J_scale)
