@@ -5,6 +5,7 @@ command's budget; ``grade_file`` reads, grades and reports one file."""
 from __future__ import annotations
 
 import time
+import warnings
 
 from mech.problems.spec import BadInput
 from mech.core.safeio import shown
@@ -50,7 +51,10 @@ def _grade_one(entry: Entry, deadline: float, total_s: float, solved: dict) -> N
             raise budget.OutOfTime("not reached")
         params = entry.exercise.resolve(entry.given)
         key = (entry.exercise.id, tuple(sorted(params.items())))
-        with budget.limit(left, what="grading (--budget gives it more)"):  # the solve and the formulas
+        # the solve and the formulas under the clock; a warning (numpy's, scipy's, an exercise's) is never
+        # a message: the values it touches are judged like any other
+        with budget.limit(left, what="grading (--budget gives it more)"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
             if key in solved:
                 result = solved[key]
             else:
@@ -179,7 +183,9 @@ def _batched_solve(firsts: list[Entry], deadline: float) -> dict:
         left = deadline - time.monotonic()
         if left <= 1.0:
             return out
-        result = run_batched(ex, [], {}, tuple(o.name for o in ex.outputs), total_s=left, points=P)
+        with warnings.catch_warnings():  # never a message: the values are judged
+            warnings.simplefilter("ignore")
+            result = run_batched(ex, [], {}, tuple(o.name for o in ex.outputs), total_s=left, points=P)
         if time.monotonic() > deadline:
             return {}  # the clock may have cut a chunk: each variant meets the clock alone (not graded)
         for q, sol in zip(params, iter_batched_solutions(result)):
