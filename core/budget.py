@@ -44,7 +44,7 @@ _GRACE_S = 0.25  # the backup timer: a loop that never calls check() stops this 
 SOLVE_WORK = 500_000
 # units of work of checking one formula (its points, mech's values there, high precision, the numeric
 # references of a leading-order output: students.formulas.NUMERIC_WORK of it)
-CHECK_WORK = 2_000_000
+CHECK_WORK = 1_000_000
 
 
 class OutOfBudget(NumericFailure):

@@ -37,7 +37,7 @@ __all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "FORMULA_RTOL", "PointSet", "point_
 FORMULA_RTOL = 1e-9  # a formula is exact: its numbers are as written
 
 
-NUMERIC_WORK = 1_000_000  # units of work (core.budget) for the numeric reference of a leading-order output
+NUMERIC_WORK = 600_000  # units of work (core.budget) for the numeric reference of a leading-order output
 
 BEYOND = 3.0  # how much closer than the leading-order value a next-order answer must be to the exact one
 
@@ -143,7 +143,10 @@ def _not_graded(exc, **base) -> FormulaVerdict:
     from mech.core.safeio import shown
 
     what, where = getattr(exc, "what", None), getattr(exc, "where", "")
-    text = (f"{what} ran out of time" + (f" while {where}" if where else "")) if what else str(exc)
+    from mech.core import budget
+
+    spent = "its work budget" if isinstance(exc, budget.OutOfWork) else "time"
+    text = (f"{what} ran out of {spent}" + (f" while {where}" if where else "")) if what else str(exc)
     return FormulaVerdict(False, f"not graded (budget): {shown(text, 160)}", None, math.nan, None, None, None,
                           points={"checked": 0, "right": 0}, **base)
 
