@@ -228,7 +228,10 @@ def _grade_pooled(todo, groups, workers, deadline, total_s, plan) -> None:
             indices = sum(rest[k:k + size], [])
             pending[pool.submit(_remote_group, indices)] = ("grade", indices)
         while pending:
-            done, _ = wait(list(pending), return_when=FIRST_COMPLETED)
+            left = deadline - time.monotonic()
+            if left < -0.05:  # the clock ran out: what the workers still hold is not reached (the budget holds)
+                break
+            done, _ = wait(list(pending), timeout=left + 0.05, return_when=FIRST_COMPLETED)
             for fut in done:
                 kind, ks = pending[fut]
                 got = fut.result()  # a dead worker raises here, its entries still pending
@@ -257,6 +260,13 @@ def _grade_pooled(todo, groups, workers, deadline, total_s, plan) -> None:
         raise
     finally:
         _POOL.clear()
+    if pending:  # left at the clock: not graded; the workers end their task past the clock at once
+        for kind, ks in pending.values():
+            for i in (ks if kind == "grade" else sum((groups[j] for j in ks), [])):
+                if not todo[i].judgements:
+                    todo[i].judgements = _out_of_time(todo[i], total_s)
+        pool.shutdown(wait=False, cancel_futures=True)
+        return
     pool.shutdown(wait=True)
 
 
