@@ -95,6 +95,7 @@ def test_a_class_file_gets_the_same_verdicts_on_a_slow_machine(tmp_path, monkeyp
     with the clock 20x fast: the same verdicts (the old 8 s budget of a solve made the 5.8 entries
     "cannot judge" on the slow clock).  The verdicts themselves: A_max = f0/(2 omega0 delta) = 0.04 m by
     hand at leading order, right; 0.05 m wrong."""
+    monkeypatch.setenv("MECH_BUDGET_S", "8")  # a user's (the suite's conftest gives solves 30 s)
     f = tmp_path / "class.toml"
     f.write_text(CLASS)
     idle = _verdicts(f)
@@ -111,6 +112,8 @@ def test_an_assignment_is_the_same_bytes_on_a_slow_machine(tmp_path, monkeypatch
     """``mech assign 5.8 --n 2 --seed 2026``, idle and with the clock 20x fast: the same handout, answers
     file and key, byte for byte (the old 8 s budget of a solve redrew the variants that ran out of it)."""
     from mech.students.assign import assign
+
+    monkeypatch.setenv("MECH_BUDGET_S", "8")  # a user's (the suite's conftest gives solves 30 s)
 
     def files(out):
         assign(["5.8"], seed=2026, out=str(out), n=2, over={"delta": "0.001:0.0011"}, jobs=1)
