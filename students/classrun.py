@@ -66,7 +66,7 @@ def _grade_one(entry: Entry, deadline: float, total_s: float, solved: dict) -> N
     except budget.OutOfTime:  # the command's clock: not reached, not graded (its numbers say nothing)
         entry.result = None
         entry.judgements = _out_of_time(entry, total_s)
-    except (BadInput, ArithmeticError, ValueError) as exc:  # this entry's numbers: its own verdict
+    except (BadInput, ArithmeticError, ValueError, budget.OutOfWork) as exc:  # this entry's own verdict
         entry.result = None
         entry.judgements = _not_graded(entry, f"not graded: {shown(exc, 160)}")
     except MemoryError:  # not a bug: this entry asked for more memory than the process had left
