@@ -117,10 +117,10 @@ def test_an_assignment_is_the_same_bytes_on_a_slow_machine(tmp_path, monkeypatch
 
     def files(out):
         assign(["5.8"], seed=2026, out=str(out), n=2, over={"delta": "0.001:0.0011"}, jobs=1)
-        return {p.name: p.read_bytes() for p in sorted(Path(out).iterdir())}
+        return {str(p.relative_to(out)): p.read_bytes() for p in sorted(Path(out).rglob("*")) if p.is_file()}
 
     idle = files(tmp_path / "idle")
-    assert set(idle) >= {"handout.md", "answers.toml", "key.json"}
+    assert "key.json" in idle and len(idle) >= 3
     _slow_clock(monkeypatch)
     assert files(tmp_path / "slow") == idle
 
