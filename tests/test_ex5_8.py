@@ -299,3 +299,24 @@ def test_sweep_near_the_old_symmetry_failure_agrees_at_every_point():
     res = mech.sweep("5.8", f0=(0.013, 0.025, 120))
     assert res.agree is True
     assert res.batched is not None  # the batched route
+
+
+def test_a_sweep_across_the_critical_force_marks_the_undecided_point():
+    """Issue 41, item 2: `mech sweep 5.8 --f0 0.004:0.025:12` exited 2 for the whole sweep, its point f0 =
+    0.0116364 m/s^2 lying within 3 (eps + delta/omega0) of the leading-order critical force 0.0114621 m/s^2
+    (g_c = 8/3^1.5 at f0_c = 0.016 sqrt(g_c/3)).  Now that point's folds are outside the theory's range
+    (marked, not compared), its A_max and xi_peak judged, and every other point swept as before."""
+    import mech
+    from mech.verification.judge import Verdict
+
+    f0_c = 0.016 * math.sqrt(8 / 3**1.5 / 3.0)
+    assert round(f0_c, 7) == 0.0114621
+    res = mech.sweep("5.8", f0=(0.004, 0.025, 12))
+    assert res.agree is True
+    k = 4
+    pt = res.points[k]
+    assert pt.params["f0"] == pytest.approx(0.004 + 4 * 0.021 / 11)
+    assert pt["xi_lo"].verdict is Verdict.OUTSIDE and pt["xi_hi"].verdict is Verdict.OUTSIDE
+    assert pt["A_max"].verdict is Verdict.AGREE and pt["xi_peak"].verdict is Verdict.AGREE
+    marked = [i for i, q in enumerate(res.points) if q["xi_lo"].verdict is Verdict.OUTSIDE]
+    assert marked == [k]
