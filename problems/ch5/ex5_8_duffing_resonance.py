@@ -338,26 +338,26 @@ def _each(fn, P):
     return {k: np.array([float(r[k]) if isinstance(r.get(k), float) else math.nan for r in rows]) for k in names}
 
 
-def analytic_batch(P):
+def analytic_over(P):
     from mech.solvers.numerics.batch import Column
 
     vals = _each(analytic, P)
     return {k: Column(v, undefined=[(np.isnan(v), "no bistability: below the critical force")]) for k, v in vals.items()}
 
 
-def expected_error_batch(P):
+def expected_error_over(P):
     return _each(expected_error, P)
 
 
-def theory_range_batch(P):
+def theory_range_over(P):
     rows = _each(lambda p: {k: v[1] for k, v in theory_range(p).items()}, P)
     label = "|alpha| A_max^2/omega0^2 or delta/omega0 (the folds: or the closeness to the critical force)"
     return {k: (label, v) for k, v in rows.items()}
 
 
-@exercise.batched(("A_max", "xi_peak", "xi_lo", "xi_hi"), analytic=analytic_batch,
-                  expected_error=expected_error_batch, theory_range=theory_range_batch)
-def numeric_batch(P, rtol, outputs):
+@exercise.batched(("A_max", "xi_peak", "xi_lo", "xi_hi"), analytic=analytic_over,
+                  expected_error=expected_error_over, theory_range=theory_range_over)
+def numeric_over(P, rtol, outputs):
     """The route at N variants at once: each with its own claims, undefined and failure."""
     from mech.solvers.numerics.batch import Column
 
