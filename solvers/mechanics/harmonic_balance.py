@@ -134,10 +134,10 @@ class DuffingBalance:
         w += du0[:, 1] * step
         c[:, 2:] += du0[:, 2:] * step[:, None]
         fresh = ~self.started[idx]
-        # a first start: the undamped linear response's relation between phase and detuning
-        c[fresh] = 0.0
-        R[fresh] = sp[fresh]
-        w[fresh] = -cp[fresh] / sp[fresh]
+        if fresh.any():  # a first start: the undamped linear response's relation between phase and detuning
+            c[fresh] = 0.0
+            R[fresh] = sp[fresh]
+            w[fresh] = -cp[fresh] / sp[fresh]
         c[:, 0], c[:, 1] = R * cp, R * sp
         ok = np.zeros(idx.size, dtype=bool)
         tangent = np.zeros_like(c)
@@ -179,7 +179,7 @@ class DuffingBalance:
         z = c[:, 0::2] - 1j * c[:, 1::2]
         k = self.k
         tau = np.arctan2(sp, cp)
-        for _ in range(4):
+        for _ in range(3):  # from |tau - phi| ~ 3 |z_3/z_1| < 1e-2: quadratic, below 1e-15 after three
             e = z * np.exp(1j * np.outer(tau, k))
             tau = tau - (e.imag @ k) / (e.real @ self.k2)  # x' = -Im sum k z e, x'' = -Re sum k^2 z e
         e = np.exp(1j * np.outer(tau, k))
