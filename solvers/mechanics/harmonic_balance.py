@@ -26,6 +26,11 @@ Newton's method.  Along phi: dw/dphi (zero at a fold, where the curve turns back
 swing A (half the peak-to-peak of x, its largest |x| by the symmetry) with dA/dphi, from the tangent
 -J^-1 dF/dphi at the converged point.
 
+Along the branch, over many problems at once: ``grid_brackets`` (sign changes of dA/dphi and dw/dphi on a
+grid of phases), ``hermite_stationary`` (a start inside a bracket from the grid's values and slopes),
+``narrowed`` (a short bracket around that start), ``roots_along`` (Illinois on dA/dphi or dw/dphi),
+``least_slope`` (the least dw/dphi between two phases: near a cusp both folds lie between grid phases).
+
 No physics of one exercise lives here; numpy only.
 """
 
@@ -275,6 +280,6 @@ def narrowed(hb, slots, a, b, fa, fb, guess, which, width):
 
 def branch_value(v, which):
     """dA/dphi (which 0) or dw/dphi (which 1), zero within round-off (about 1e-15 of the terms summed) and where
-    Newton failed (the failure is kept by ``_roots``)."""
+    Newton failed (the caller keeps that failure)."""
     y = np.where(which == 0, v.dA, v.dw)
     return np.where(v.ok & (np.abs(y) > NOISE * np.maximum(1.0, np.abs(v.w))), y, 0.0)
