@@ -16,7 +16,11 @@ a sum of odd harmonics up to the 9th, the equation's residual projected on
 them (collocation at 64 points) and solved by fsolve; A_max by maximising the
 swing over omega, each fold as the extremum of omega along the branch, the
 branch parametrised by the fundamental's amplitude.  No shooting, no
-integration.
+integration.  Since issue 41 the numeric solver is itself a harmonic balance
+(parametrised by the fundamental's phase, its own Newton and root searches):
+these are a second implementation of that method, and
+tests/test_ex5_8_shooting.py holds it against shooting and long time
+integration, methods of another kind.
 """
 
 import math
