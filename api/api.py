@@ -281,11 +281,11 @@ def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float |
     result = result.replace(trajectory_of=functools.partial(_motion, deadline=deadline))
     if expectations is None:
         return result
-    from mech.students import grading
+    from mech.students import expectations as expecting
 
     # the formulas' points, references and judging share the solve's budget: what the cross-check left
     with budget.limit(max(deadline - time.monotonic(), 1e-3), what="the solve (MECH_BUDGET_S gives it more)"):
-        return grading.attach(result, expectations)
+        return expecting.attach(result, expectations)
 
 
 def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None, expect_points=None,
@@ -293,14 +293,14 @@ def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None, exp
     """``--expect NAME=VALUE`` texts (and ``--expect-rtol``) -> the judgements ``solve_resolved`` takes;
     ``expect_points``/``expect_seed``: how many parameter sets a formula is checked at, and their seed
     (``names``: how an error names them)."""
-    from mech.students import grading
+    from mech.students import expectations as expecting
     from mech.students.points import MAX_POINTS  # parameter sets a formula is checked at, at most
 
-    out = grading.parse_expect_options(ex, list(pairs), expect_rtol)
-    points = grading.parse_count(expect_points, names[0], 1, MAX_POINTS)
-    seed = grading.parse_count(expect_seed, names[1], 0, 2**63 - 1)
+    out = expecting.parse_expect_options(ex, list(pairs), expect_rtol)
+    points = expecting.parse_count(expect_points, names[0], 1, MAX_POINTS)
+    seed = expecting.parse_count(expect_seed, names[1], 0, 2**63 - 1)
     if points is not None or seed is not None:
-        out = grading.with_range(out, points, seed)
+        out = expecting.with_range(out, points, seed)
     return out
 
 
@@ -489,43 +489,119 @@ def grade_report(path, total_s=None, *, strict: bool = False, jobs: int | None =
                  started: float | None = None):
     """The ``GradeReport`` of a grading file; ``started``: the ``time.perf_counter()`` the reported wall
     time counts from (default: now, reading the file included)."""
-    from mech.students import grading
+    from mech.students import classrun
 
-    return grading.grade_file(path, total_s, strict=strict, jobs=jobs, params=params, started=started)
+    return classrun.grade_file(path, total_s, strict=strict, jobs=jobs, params=params, started=started)
 
 
 def grade_entries(path, total_s=None) -> tuple[list, float]:
-    """Every answer of a grading file, judged (``students.grading.Entry``), and the seconds it took;
+    """Every answer of a grading file, judged (``students.answers_files.Entry``), and the seconds it took;
     ``BadInput`` for a bad file, every fault at once (``BadFile.problems``, a line each).  ``total_s``: the
     grading's wall-clock budget (default 600 s); answers not reached by then fail, saying so."""
     report = grade_report(path, total_s, strict=True)
     return list(report.entries), report.seconds
 
 
-def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=None) -> dict:
-    """``mech assign``: each student's verified variant of each exercise, written to ``out``/handout.md,
-    answers.toml and key.json (atomically; an output that is an input is refused); returns the key.
-    ``students``: a roster file's path or a list of identifiers; ``n``: s1 ... sN instead; ``over``:
-    {name or "ID:name": "LO:HI"} or ["NAME=LO:HI", ...]; ``digits``: significant digits printed."""
+_ASSIGN_MAX_TEXT = 4096  # characters of one string argument of assign (an id, a name, a path, an --over)
+_ASSIGN_MAX_ITEMS = 1000  # exercises or --over entries in one call
+
+
+def _any_shown(value) -> str:
+    """``_shown`` of any object, even one whose ``str`` fails or is huge."""
+    try:
+        return _shown(value)
+    except Exception:  # an argument whose __str__ raises: name its type only  # noqa: BLE001
+        return f"<{_kind(value)}>"
+
+
+def _assign_list(name: str, value, limit: int, what: str = "strings") -> list:
+    """A string or a list/tuple of strings for ``assign``: its size checked before anything is read from it."""
+    if isinstance(value, str):
+        value = [value]
+    if not isinstance(value, (list, tuple)):
+        raise BadInput(f"{name}: give a list of {what}, got {_kind(value)} {_any_shown(value)}")
+    if len(value) > limit:
+        raise BadInput(f"{name}: {len(value)} items; at most {limit}")
+    for v in value:
+        if not isinstance(v, str) or len(v) > _ASSIGN_MAX_TEXT:
+            raise BadInput(f"{name}: give {what}, got {_kind(v)} {_any_shown(v)}")
+    return list(value)
+
+
+def _assign_path(name: str, value) -> str:
+    """A file or folder name: a string or a path object (os.PathLike of a string), no NUL, not too long."""
+    import os
+
+    if not _ARG_KINDS["path"](value):
+        raise BadInput(f"{name}: give a file name, got {_kind(value)} {_any_shown(value)}")
+    try:
+        text = os.fspath(value)
+    except Exception:  # a path object whose __fspath__ fails: not a path  # noqa: BLE001
+        text = None
+    if not isinstance(text, str) or len(text) > _ASSIGN_MAX_TEXT:
+        raise BadInput(f"{name}: give a file name, got {_kind(value)} {_any_shown(value)}")
+    return _screen(name, text, "path")
+
+
+def _assign_count(name: str, value, none_ok: bool):
+    if value is None and none_ok:
+        return None
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer, str)) or \
+            (isinstance(value, str) and len(value) > 40):
+        raise BadInput(f"{name}: give a whole number, got {_kind(value)} {_any_shown(value)}")
+    return int(value) if isinstance(value, np.integer) else value
+
+
+def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=None, force=False) -> dict:
+    """``mech assign``: each student's verified variant of each exercise, written to ``out`` (handout.md,
+    handouts/, answers.toml, answers.csv, key.json, key.csv, key.md; atomically; a folder already holding
+    an assignment is refused unless ``force``); returns the key.  ``students``: a roster file's path or a
+    list of identifiers; ``n``: s1 ... sN instead; ``over``: {name or "ID:name": "LO:HI" or "VALUE"} or
+    ["NAME=LO:HI", ...]; ``digits``: significant digits printed.  Every argument is checked (types, sizes,
+    paths) before any work: BadInput, never another exception."""
     from mech.core.version import version
     from mech.students import assign as A
 
+    ids = _assign_list("ids", ids, _ASSIGN_MAX_ITEMS, "exercise ids (strings such as \"4.15\")")
+    seed = _assign_count("seed", seed, True)
+    n = _assign_count("n", n, True)
+    digits = _assign_count("digits", digits, False)
+    if jobs is not None and (isinstance(jobs, (bool, np.bool_)) or not isinstance(jobs, (int, np.integer))
+                             or not 1 <= jobs <= 256):
+        raise BadInput(f"jobs: give a whole number of processes in [1, 256] (or None), got {_kind(jobs)} "
+                       f"{_any_shown(jobs)}")
+    if not isinstance(force, (bool, np.bool_)):
+        raise BadInput(f"force: give True or False, got {_kind(force)} {_any_shown(force)}")
+    jobs, force = None if jobs is None else int(jobs), bool(force)
+    out = _assign_path("out", out)
+    if students is not None and not isinstance(students, (list, tuple)):
+        students = _assign_path("students", students)
+    elif students is not None:
+        students = _assign_list("students", students, A.MAX_STUDENTS, "student names (strings)")
+    if isinstance(over, dict):
+        if len(over) > _ASSIGN_MAX_ITEMS:
+            raise BadInput(f"over: {len(over)} items; at most {_ASSIGN_MAX_ITEMS}")
+        over = [f"{k}={v}" for k, v in zip(_assign_list("over", list(over), _ASSIGN_MAX_ITEMS, "names"),
+                                           _assign_list("over", list(over.values()), _ASSIGN_MAX_ITEMS,
+                                                        "ranges (strings such as \"10deg:60deg\")"))]
+    elif over is not None:
+        over = _assign_list("over", over, _ASSIGN_MAX_ITEMS, "NAME=LO:HI strings")
     return A.assign(ids, seed=seed, out=out, students=students, n=n, over=over, digits=digits, jobs=jobs,
-                    version=version())
+                    version=version(), force=force)
 
 
 def grade_students(entries: list) -> list[dict]:
     """Per student named in a grading file (entries without a name under None): passed, failed, entries."""
-    from mech.students import grading
+    from mech.students import gradebook
 
-    return grading.per_student(entries)
+    return gradebook.per_student(entries)
 
 
 def grade_json(path, entries: list, seconds: float) -> dict:
     """The JSON report of judged grading entries (``mech grade --json``)."""
-    from mech.students import grading
+    from mech.students import gradebook
 
-    return grading.grade_json(str(path), entries, seconds)
+    return gradebook.grade_json(str(path), entries, seconds)
 
 
 def bench(ex_id: str, *, methods=None, tols=None, params: dict | None = None, **options) -> dict:
@@ -688,11 +764,11 @@ def check_against_baselines(ids=None, hard: bool = False, *, baseline: str | Non
     baseline file fails (``BadInput``) before any case runs; ``save_baseline`` records every checked value."""
     if not (baseline or save_baseline):
         return check(ids, hard, jobs=jobs, started=started, finished=finished), None
-    from mech.students import grading
+    from mech.verification import baseline as baselines_
 
-    old = grading.open_baseline(baseline) if baseline else None
+    old = baselines_.open_baseline(baseline) if baseline else None
     report = check(ids, hard, jobs=jobs, started=started, finished=finished)
-    return report, grading.baselines(report, hard, old, baseline, save_baseline)
+    return report, baselines_.baselines(report, hard, old, baseline, save_baseline)
 
 
 def plot_bench(result: dict, path) -> None:

@@ -1,6 +1,6 @@
 """``mech grade FILE`` and the printing of grades: table, JSON, JUnit, the gradebook CSV, exit status.
 
-The reading and judging is ``mech.api.grade_report`` (``mech.students.grading``).  Exit status: 0
+The reading and judging is ``mech.api.grade_report`` (``mech.students.classrun``).  Exit status: 0
 every answer right; 1 any wrong or any entry invalid; 2 a file that cannot be read at all (and, with
 ``--strict``, any invalid entry, before anything is graded).
 """
@@ -17,7 +17,8 @@ from typing import TYPE_CHECKING
 from mech.core.errors import BadInput
 
 if TYPE_CHECKING:  # pragma: no cover
-    from mech.students.grading import Entry, GradeReport
+    from mech.students.answers_files import Entry
+    from mech.students.gradebook import GradeReport
 
 __all__ = ["grade_cmd", "write_grade_junit", "print_grade", "write_gradebook"]
 
@@ -99,7 +100,7 @@ def print_grade(entries: list[Entry], started: float) -> None:
 
     from mech import render
     from mech.core.safeio import shown
-    from mech.students.grading import per_student
+    from mech.students.gradebook import per_student
 
     students = any(e.student for e in entries)
     cols = [("#", "right")] + ([("student", "left")] if students else []) + [

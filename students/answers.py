@@ -35,6 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mech.students.cells import State
 from mech.students.explain import GSlips, approximations, distance, number_hint, percent
 from mech.students.formulas import DEFAULT_POINTS, DEFAULT_SEED, judge_formula, known, point_set, show_value
 from mech.verification.judge import ROUND_OFF, numeric_err, within
@@ -64,6 +65,14 @@ class Judgement:
     theory: str = "exact"
     matches: str | None = None
     formula: dict | None = None  # for a formula: "formula", "dimension", "points", "depends" (the contract's)
+    state: State | None = None  # set where the cell is neither right nor wrong (``cells.State``)
+
+    @property
+    def cell(self) -> State:
+        """The cell's state: ``state`` where it was set, else right or wrong by ``match``."""
+        if self.state is not None:
+            return self.state
+        return State.RIGHT if self.match else State.WRONG
 
     def as_json(self) -> dict:
         d = {"value": _finite(self.value), "match": self.match, "rel_err": _finite(self.rel_err), "hint": self.hint,

@@ -169,6 +169,8 @@ def test_an_output_that_is_the_roster_is_refused(tmp_path):
     roster = folder / "key.json"
     roster.write_text("ann\nbob\n")
     code, out, err = run("assign", "4.15", "--students", roster, "--seed", "1", "--out", folder)
+    assert code == 2 and "already holds an assignment" in err  # key.json marks an assignment
+    code, out, err = run("assign", "4.15", "--students", roster, "--seed", "1", "--out", folder, "--force")
     assert code == 2 and "would overwrite the input" in err
     assert roster.read_text() == "ann\nbob\n"
 
@@ -212,7 +214,7 @@ def test_a_class_whose_answers_grade_could_not_read_is_refused_before_any_work(t
     """2000 students x (4.1's 6 + 4.23's 3 + 4.15's outputs) is over grade's 20 000 answers a file: refused in
     one line, nothing written (by hand: 2000 x 11 = 22 000 with 4.15's two outputs)."""
     from mech.problems import registry
-    from mech.students.grading import MAX_ANSWERS
+    from mech.students.answers_files import MAX_ANSWERS
 
     outputs = sum(len(registry.get(i).outputs) for i in ("4.1", "4.23", "4.15"))
     assert 2000 * outputs > MAX_ANSWERS

@@ -17,7 +17,7 @@ from click.testing import CliRunner
 from mech.cli.main import cli
 from mech.core import safeio
 from mech.core.errors import BadInput
-from mech.students import grading
+from mech.students import answers_files
 from test_hostile import MEMORY_CAP, mech, one_line_error
 
 ENTRY = '[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "asin(2/3*sin(theta0))" }\n'  # 76 characters
@@ -33,23 +33,23 @@ def test_a_10_mb_class_file_under_500_mb_is_one_line(tmp_path):
     n = 10_000_000 // len(ENTRY)
     big = tmp_path / "big.toml"
     big.write_text(ENTRY * n)
-    assert n > grading.MAX_ANSWERS and big.stat().st_size < safeio.MAX_FILE_BYTES
+    assert n > answers_files.MAX_ANSWERS and big.stat().st_size < safeio.MAX_FILE_BYTES
     r = mech("grade", str(big), limit_as=MEMORY_CAP, timeout=30)
     _no_traceback(r)
     assert r.returncode == 2 and r.stdout == "", (r.returncode, r.stdout[-500:])
-    one_line_error(r, "big.toml", f"at most {grading.MAX_ANSWERS}", "[[answer]]")
+    one_line_error(r, "big.toml", f"at most {answers_files.MAX_ANSWERS}", "[[answer]]")
 
 
 def test_the_same_answers_written_inline_are_counted_after_parsing(tmp_path):
     # ``answer = [ {...}, ... ]`` has no [[answer]] header to count before parsing: counted once parsed
     item = '{ exercise = "4.15", expect = { theta_c = "asin(2/3*sin(theta0))" } },\n'
-    n = grading.MAX_ANSWERS + 1
+    n = answers_files.MAX_ANSWERS + 1
     big = tmp_path / "inline.toml"
     big.write_text("answer = [\n" + item * n + "]\n")
     r = mech("grade", str(big), "--json", limit_as=MEMORY_CAP, timeout=30)
     _no_traceback(r)
     assert r.returncode == 2 and r.stdout == "", r.returncode
-    one_line_error(r, f"{n} answers (expected values) in {n} entries", f"at most {grading.MAX_ANSWERS}")
+    one_line_error(r, f"{n} answers (expected values) in {n} entries", f"at most {answers_files.MAX_ANSWERS}")
 
 
 def test_entries_of_many_answers_are_counted_by_their_answers(tmp_path):
@@ -62,7 +62,7 @@ def test_entries_of_many_answers_are_counted_by_their_answers(tmp_path):
     r = mech("grade", str(f), limit_as=MEMORY_CAP, timeout=30)
     _no_traceback(r)
     assert r.returncode == 2 and r.stdout == "", r.returncode
-    one_line_error(r, "20004 answers (expected values) in 3334 entries", f"at most {grading.MAX_ANSWERS}")
+    one_line_error(r, "20004 answers (expected values) in 3334 entries", f"at most {answers_files.MAX_ANSWERS}")
 
 
 def test_a_csv_of_more_answers_than_the_limit_is_refused_before_reading_them(tmp_path):
@@ -75,7 +75,7 @@ def test_a_csv_of_more_answers_than_the_limit_is_refused_before_reading_them(tmp
     f.write_text("\n".join(rows) + "\n")
     r = CliRunner().invoke(cli, ["grade", str(f)])
     assert r.exit_code == 2, r.output
-    one_line_error(r, "4100 rows of 5 answer columns are 20500 answers", f"at most {grading.MAX_ANSWERS}")
+    one_line_error(r, "4100 rows of 5 answer columns are 20500 answers", f"at most {answers_files.MAX_ANSWERS}")
 
 
 def test_headers_are_counted_outside_strings_and_comments(tmp_path):
@@ -90,7 +90,7 @@ def test_headers_are_counted_outside_strings_and_comments(tmp_path):
 
 def test_formulas_past_the_file_s_budget_refuse_the_file(tmp_path, monkeypatch):
     # four formulas of 26 characters each, all different (the factor differs): 3 x 26 = 78, the fourth passes 80
-    monkeypatch.setattr(grading, "MAX_FORMULA_CHARS", 80)
+    monkeypatch.setattr(answers_files, "MAX_FORMULA_CHARS", 80)
     text = "".join(f'[[answer]]\nexercise = "4.15"\nexpect = {{ theta_c = "asin(2/3*sin(theta0))*{k}.00" }}\n'
                    for k in range(1, 5))
     assert len("asin(2/3*sin(theta0))*1.00") == 26
@@ -103,10 +103,10 @@ def test_formulas_past_the_file_s_budget_refuse_the_file(tmp_path, monkeypatch):
 
 def test_a_formula_written_again_is_read_once_and_counted_once(tmp_path, monkeypatch):
     # 21 characters, 50 times: 1050 characters written, 21 parsed
-    monkeypatch.setattr(grading, "MAX_FORMULA_CHARS", 100)
+    monkeypatch.setattr(answers_files, "MAX_FORMULA_CHARS", 100)
     f = tmp_path / "f.toml"
     f.write_text(ENTRY * 50)
-    entries = grading.load_answers(str(f), strict=True)
+    entries = answers_files.load_answers(str(f), strict=True)
     assert len(entries) == 50 and all(e.invalid is None for e in entries)
 
 

@@ -200,18 +200,18 @@ def verdicts(out):
 
 
 def test_a_class_of_personal_variants_is_graded_through_the_batched_route(tmp_path, monkeypatch):
-    from mech.students import grading
+    from mech.students import classrun
 
     path = class_file(tmp_path)
     seen = []
-    real = grading._batched_solve
+    real = classrun._batched_solve
 
     def spy(firsts, deadline):
         got = real(firsts, deadline)
         seen.append((firsts[0].exercise.id, len(firsts), len(got)))
         return got
 
-    monkeypatch.setattr(grading, "_batched_solve", spy)
+    monkeypatch.setattr(classrun, "_batched_solve", spy)
     fast = CliRunner().invoke(cli, ["grade", str(path), "--json", "-j", "1"])
     assert fast.exit_code == 1, fast.stderr
     assert seen == [("4.23", 6, 6)]  # all six variants solved at once, none left to solve alone
@@ -221,7 +221,7 @@ def test_a_class_of_personal_variants_is_graded_through_the_batched_route(tmp_pa
         (name, match), = qs
         assert name == "Omega" and match is (int(student[1:]) % 2 == 0), (student, qs)
     # one by one, the same verdicts
-    monkeypatch.setattr(grading, "MIN_BATCHED", 10**9)
+    monkeypatch.setattr(classrun, "MIN_BATCHED", 10**9)
     slow = CliRunner().invoke(cli, ["grade", str(path), "--json", "-j", "1"])
     assert verdicts(slow.stdout) == got
     d = json.loads(fast.stdout)

@@ -14,7 +14,7 @@ from types import SimpleNamespace
 import pytest
 from click.testing import CliRunner
 
-from mech.students.grading import _literal_precision, parse_expectation
+from mech.students.expectations import _literal_precision, parse_expectation
 from mech.cli.main import cli
 from mech.problems.spec import BadInput, Output, Undefined
 from mech.students.answers import judge

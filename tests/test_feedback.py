@@ -15,7 +15,7 @@ import pytest
 import mech
 from mech.problems import registry
 from mech.problems.spec import BadInput
-from mech.students import grading
+from mech.students import expectations
 from mech.students.answers import judge
 from mech.verification.crosscheck import cross_check
 
@@ -27,7 +27,7 @@ def _judge(ex_id, out, text, **params):
     key = (ex_id, tuple(sorted(params.items())))
     if key not in _RESULTS:
         _RESULTS[key] = cross_check(ex, ex.resolve(params))
-    return judge(_RESULTS[key], [grading.parse_expectation(ex, out, text)])[0]
+    return judge(_RESULTS[key], [expectations.parse_expectation(ex, out, text)])[0]
 
 
 def _mech(*args):

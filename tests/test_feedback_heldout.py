@@ -18,7 +18,7 @@ from __future__ import annotations
 import pytest
 
 from mech.problems import registry
-from mech.students import grading
+from mech.students import expectations
 from mech.students.answers import judge
 from mech.verification.crosscheck import cross_check
 
@@ -190,7 +190,7 @@ def _verdicts(ex_id):
         result = cross_check(ex, ex.resolve({}))
         out = []
         for name, text, want in CASES[ex_id]:
-            e = grading.parse_expectation(ex, name, text)
+            e = expectations.parse_expectation(ex, name, text)
             out.append((name, text, want, judge(result, [e])[0]))
         _RESULTS[ex_id] = out
     return _RESULTS[ex_id]

@@ -21,7 +21,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mech.students import grading
+from mech.students import expectations
 from mech.problems import registry
 from mech.problems.spec import BadInput
 from mech.students import explain as X
@@ -234,7 +234,7 @@ def test_options_and_refusals():
 
 def test_a_number_stays_a_number():
     # '3 m' is a length even in 4.7, where m names the rod's mass: it reads as a value first
-    e = grading.parse_expectation(EX, "theta_c", "41.81deg")
+    e = expectations.parse_expectation(EX, "theta_c", "41.81deg")
     assert e.formula is None and e.digits == 4
 
 

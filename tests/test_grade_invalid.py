@@ -161,7 +161,7 @@ def test_an_empty_answer_is_not_graded(tmp_path):
 
 def test_the_api_report_is_typed_and_its_dict_is_the_json(tmp_path):
     import mech
-    from mech.students.grading import GradeReport
+    from mech.students.gradebook import GradeReport
 
     path = class_file(tmp_path, n=3, bad_at=2)
     report = mech.grade(path)
@@ -188,10 +188,10 @@ def test_a_worker_that_dies_fails_its_entries_not_the_class(tmp_path, monkeypatc
     others keep their verdicts, and the report is written; never a traceback."""
     import os
 
-    from mech.students import grading
+    from mech.students import classrun
 
     parent = os.getpid()
-    real = grading._grade_one
+    real = classrun._grade_one
 
     def dying(entry, *args, **kw):
         if abs(entry.given.get("theta0", 0) - 0.5235987755982988) < 1e-12:  # 30 deg
@@ -200,7 +200,7 @@ def test_a_worker_that_dies_fails_its_entries_not_the_class(tmp_path, monkeypatc
             raise RuntimeError("forced in the parent")  # one process: an internal error, that entry's verdict
         return real(entry, *args, **kw)
 
-    monkeypatch.setattr(grading, "_grade_one", dying)
+    monkeypatch.setattr(classrun, "_grade_one", dying)
     parts = [f'[[answer]]\nstudent = "s{d}"\nexercise = "4.15"\nparams = {{ theta0 = "{d}deg" }}\n'
              f'expect = {{ theta_c = "asin(2/3*sin(theta0))" }}\n' for d in range(10, 101, 10) if d <= 90]
     path = tmp_path / "a.toml"

@@ -39,12 +39,12 @@ def verdicts(out):
 
 
 def test_batched_and_pooled_grading_give_the_verdicts_of_one_by_one(tmp_path, monkeypatch):
-    from mech.students import grading
+    from mech.students import classrun
 
     path = class_file(tmp_path)
     fast = CliRunner().invoke(cli, ["grade", str(path), "--json"])  # batched 5.11, pooled workers
     assert fast.exit_code == 1, fast.stderr
-    monkeypatch.setattr(grading, "MIN_BATCHED", 10**9)
+    monkeypatch.setattr(classrun, "MIN_BATCHED", 10**9)
     slow = CliRunner().invoke(cli, ["grade", str(path), "--json", "-j", "1"])  # each variant cross-checked alone
     assert verdicts(fast.stdout) == verdicts(slow.stdout)
     got = verdicts(fast.stdout)

@@ -127,7 +127,8 @@ def test_solve_check_sweeps_and_grade_give_the_same_verdicts(ex_id, given, outsi
     from mech import api
     from mech.problems import registry
     from mech.studies.checking import Case, run_case
-    from mech.students.grading import grade, load_answers
+    from mech.students.answers_files import load_answers
+    from mech.students.classrun import grade
     from mech.studies.sweep import Axis, run_sweep
 
     ex = registry.get(ex_id)
@@ -258,7 +259,7 @@ def test_an_expression_is_judged_to_its_least_precise_number():
 
 
 def test_an_expression_of_exact_numbers_stays_exact():
-    from mech.students.grading import parse_expectation
+    from mech.students.expectations import parse_expectation
     from mech.problems import registry
 
     ex = registry.get("4.15")

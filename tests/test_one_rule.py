@@ -131,7 +131,9 @@ def test_grade_and_solve_conclude_alike_on_no_verdict(tmp_path):
 
     from mech.cli.main import cli
     from mech.problems import registry
-    from mech.students import grading
+    from mech.students import answers_files
+    from mech.students import classrun
+    from mech.students import expectations
     from mech.verification.crosscheck import cross_check
 
     ex = registry.get("4.15")
@@ -155,22 +157,22 @@ def test_grade_and_solve_conclude_alike_on_no_verdict(tmp_path):
         path = tmp_path / "answers.toml"
         path.write_text(f'[[answer]]\nexercise = "4.15"\nparams = {{ theta0 = "60deg" }}\n'
                         f'expect = {{ theta_c = "{answer}", omega_c = "" }}\n', encoding="utf-8")
-        entries = grading.load_answers(str(path))
+        entries = answers_files.load_answers(str(path))
         entries[0].exercise = NumericOnly()
-        grading.grade(entries, jobs=1)
+        classrun.grade(entries, jobs=1)
         e = entries[0]
         assert e.result.agree is None  # the cross-check itself: no verdict
-        sol = grading.attach(cross_check(NumericOnly(), ex.resolve(e.given)), e.expectations)
+        sol = expectations.attach(cross_check(NumericOnly(), ex.resolve(e.given)), e.expectations)
         assert sol.agree is None and sol.expect_ok is (not fails)
         assert e.ok is (not fails) and e.conclusion is (False if fails else True)
         assert J.conclude([sol.agree, sol.expect_ok]) is e.conclusion
     # nothing judged (every answer left for the student): no verdict, as a solve with nothing compared
     path.write_text('[[answer]]\nexercise = "4.15"\nexpect = { theta_c = "" }\n', encoding="utf-8")
-    entries = grading.load_answers(str(path))
-    grading.grade(entries, jobs=1)
+    entries = answers_files.load_answers(str(path))
+    classrun.grade(entries, jobs=1)
     assert entries[0].judgements == [] and entries[0].conclusion is None and entries[0].ok
     # an unreadable entry fails, whatever its answers say
     path.write_text('[[answer]]\nexercise = "4.15"\nparams = { theta0 = "500deg" }\nexpect = { theta_c = "1" }\n',
                     encoding="utf-8")
-    entries = grading.load_answers(str(path), strict=False)
+    entries = answers_files.load_answers(str(path), strict=False)
     assert entries[0].invalid and entries[0].conclusion is False and not entries[0].ok

@@ -12,14 +12,16 @@ runs of a correct solver never move.  Verification logic only; no physics.
 from __future__ import annotations
 
 import datetime as _dt
+import json
 import math
 import platform
 from dataclasses import dataclass, field
 
+from mech.core.errors import BadInput
 from mech.problems.spec import Undefined
 from mech.verification.judge import ROUND_OFF, allowance, analytic_err, within
 
-__all__ = ["FORMAT", "record_case", "make", "validate", "compare", "Comparison", "Move"]
+__all__ = ["FORMAT", "record_case", "make", "validate", "compare", "Comparison", "Move", "open_baseline", "check_records", "baselines"]
 
 FORMAT = "mech-baseline"
 VERSION = 1
@@ -221,4 +223,34 @@ def compare(baseline: dict, records: list[dict], path: str = "") -> Comparison:
                 held = dict(scale=max(abs(a), abs(b)), bars=(_bar(old, which), _bar(new, which)), round_off=ROUND_OFF)
                 if not within(abs(b - a), **held):
                     cmp.moved.append(Move(rec["id"], rec["case"], name, which, a, b, allowance(**held)))
+    return cmp
+
+
+# -- mech check --save-baseline / --baseline: the files ------------------------------------------------
+
+def open_baseline(path: str) -> dict:
+    """A baseline file, read and checked before the run (BadInput: one line naming the file and field)."""
+    from mech.core.safeio import load_json, shown, shown_path
+    data = load_json(path, "baseline")  # a regular file under 10 MB, nesting bounded, finite numbers
+    problem = validate(data)
+    if problem:
+        raise BadInput(f"{shown_path(path)}: {shown(problem, 300)}")
+    return data
+
+
+def check_records(report) -> list[dict]:
+    return [record_case(c.exercise.id, c.label, getattr(c.result, "params", None) or c.given, c.ok,
+                                 getattr(c.result, "quantities", None)) for c in report.cases]
+
+
+def baselines(report, hard: bool, old: dict | None, old_path: str | None, save_path: str | None):
+    """Compare this check with a loaded baseline and/or save it as one; the Comparison or None."""
+    records = check_records(report)
+    cmp = compare(old, records, old_path or "") if old is not None else None
+    if save_path:
+        from mech.core.safeio import atomic_write
+
+        text = json.dumps(make(records, hard), indent=1, allow_nan=False) + "\n"
+        with atomic_write(save_path, "--save-baseline") as fh:  # a failed write leaves the old file whole
+            fh.write(text)
     return cmp

@@ -1,0 +1,484 @@
+"""Answers files: ``mech grade FILE`` reads a TOML file of ``[[answer]]`` entries or a CSV gradebook-shaped
+file into ``Entry`` values, every field bounded before it is read; an entry that cannot be read is kept,
+``invalid``, with its reason (the rest of the file is graded)."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from mech.core.units import ValueError_, to_si
+from mech.problems.spec import BadInput, Exercise
+from mech.core.safeio import shown
+from mech.students.expectations import parse_count, parse_expectation, parse_rtol_value, with_range
+
+__all__ = ["Entry", "BadFile", "load_answers", "load_answers_csv", "MAX_ANSWERS", "MAX_STUDENT"]
+
+
+_ENTRY_KEYS = ("exercise", "params", "expect", "rtol", "points", "seed", "over", "student")
+MAX_STUDENT = 80  # characters of a student's name
+
+
+@dataclass
+class Entry:
+    """One ``[[answer]]`` (or one exercise of a CSV row).  ``invalid``: "line N: the reason" when the entry
+    cannot be read (it is then not graded, and counts as wrong); ``unanswered``: the outputs whose answer
+    was left empty (``expect = { theta_c = "" }``, an assignment's template): not graded, an empty cell in
+    the gradebook."""
+
+    number: int  # 1-based, in file order
+    line: int | None
+    exercise: Exercise | None  # None only for an invalid entry whose exercise is unknown
+    given: dict  # SI
+    written: dict  # the parameters as written, for labels
+    expectations: list
+    result: object = None
+    judgements: list = field(default_factory=list)
+    student: str | None = None  # `student = "alice"`: names the entry in every report
+    seconds: float = 0.0  # the cross-check's wall time
+    invalid: str | None = None
+    unanswered: list = field(default_factory=list)
+    exercise_text: str = ""  # the exercise as written (an invalid entry's, shown escaped)
+    columns: list = field(default_factory=list)  # the outputs asked (answered or not), for the gradebook
+
+    @property
+    def conclusion(self) -> bool | None:
+        """What the entry concludes, by the one overall rule (``judge.conclude``): False when it cannot be
+        read or an answer is wrong, None when nothing was judged (no verdict: every answer left empty),
+        else True."""
+        from mech.verification.judge import conclude, holds
+
+        return conclude((holds(None, j.match) for j in self.judgements), failed=self.invalid is not None)
+
+    @property
+    def ok(self) -> bool:
+        """No failure: "no verdict" is none (as in ``mech solve``, ``sweep`` and ``check``)."""
+        return self.conclusion is not False
+
+    @property
+    def ex_id(self) -> str:
+        return self.exercise.id if self.exercise is not None else self.exercise_text
+
+    def label(self) -> str:
+        given = ", ".join(f"{k}={v}" for k, v in self.written.items())
+        return f"answer {self.number}" + (f": {given}" if given else "")
+
+
+class BadFile(BadInput):
+    """A grading file mech cannot use.  ``problems``: every problem found, each one line naming the file,
+    the entry (and its line) and the field; the message is all of them, a line each."""
+
+    def __init__(self, problems):
+        self.problems = [problems] if isinstance(problems, str) else list(problems)
+        super().__init__("\n".join(self.problems))
+
+
+MAX_PROBLEMS = 50  # problems of a bad file listed before "... and N more"
+MAX_INVALID_CHARS = 400  # an invalid entry's reason, as reported
+# answers (expected values) of one file: each costs some 10 kB until the report (docs/grading.md); as
+# each entry has one at least, as many [[answer]] tables, counted before the file is parsed
+MAX_ANSWERS = 20_000
+MAX_FORMULA_CHARS = 1_000_000  # formulas parsed in one file (a repeat read once is counted once), characters
+
+
+class _Memo(dict):
+    """The values already read in one file, by exercise, name and text; ``formula_chars``: the characters
+    of the formulas parsed so far (a parsed formula holds some 60 bytes a character until the report)."""
+
+    formula_chars = 0
+
+
+def _entry_lines(text: str) -> list[int]:
+    return [i for i, line in enumerate(text.splitlines(), 1) if re.match(r"\s*\[\[\s*answer\s*\]\]", line)]
+
+
+def _blank(value) -> bool:
+    """An answer left for the student to fill: an empty (or blank) string."""
+    return isinstance(value, str) and not value.strip()
+
+
+class _Problems:
+    """What is wrong with one answer: ``lines`` each naming ``where`` (the file and the entry), the field and
+    the reason; ``reasons`` the same without ``where`` (the invalid entry's text)."""
+
+    def __init__(self, where: str):
+        self.where = where
+        self.lines: list[str] = []
+        self.reasons: list[str] = []
+
+    def bad(self, fld: str, why: str) -> None:
+        self.lines.append(f"{self.where}: {shown(fld)}: {why}")
+        self.reasons.append(f"{shown(fld)}: {why}")
+
+    def refused(self, exc: BadInput) -> None:
+        """A problem whose message names its field already."""
+        self.lines.append(f"{self.where}: {exc}")
+        self.reasons.append(str(exc))
+
+
+def _read_entry(k: int, item: dict, line: int | None, where: str, keys=_ENTRY_KEYS,
+                memo: dict | None = None) -> tuple[Entry, list[str]]:
+    """One answer, read and checked: the Entry (``invalid`` set when anything is wrong) and its problems,
+    each one line naming ``where`` (the file and the entry), the field and the reason.  ``memo``: values
+    already read in this file (a class writes the same formula many times), by exercise, name and text."""
+    found = _Problems(where)
+    for key in item:
+        if key not in keys:
+            found.bad(key, f"unknown field; an answer has {', '.join(keys)}")
+    ex_id = item.get("exercise")
+    ex = _read_exercise(ex_id, found)
+    given, written = _read_params(ex, item.get("params", {}), found)
+    rtol = None
+    if "rtol" in item:
+        try:
+            rtol = parse_rtol_value(item["rtol"], "rtol")
+        except BadInput as exc:
+            found.refused(exc)
+    expectations, unanswered, columns = _read_expect(ex, item.get("expect"), rtol, memo, found)
+    if ex is not None and not found.lines and expectations:
+        try:
+            expectations = _formula_range(ex, item, expectations)
+        except BadInput as exc:
+            found.refused(exc)
+    student = _read_student(item.get("student"), found)
+    entry = Entry(k, line, ex, given, written, expectations, student=student, unanswered=unanswered,
+                  exercise_text=shown("?" if ex_id is None else str(ex_id), 20), columns=columns)
+    if found.lines:
+        from mech.core.safeio import escape
+
+        text = escape("; ".join(" ".join(r.split()) for r in found.reasons))
+        text = f"line {line}: {text}" if line else f"answer {k}: {text}"
+        entry.invalid = text if len(text) <= MAX_INVALID_CHARS else text[: MAX_INVALID_CHARS - 3] + "..."
+        entry.expectations = []
+    return entry, found.lines
+
+
+def _read_exercise(ex_id, found: _Problems) -> Exercise | None:
+    """The answer's exercise (None when it names none that mech knows)."""
+    from mech.problems import registry
+
+    if not isinstance(ex_id, str):
+        found.bad("exercise", "missing, or not a string such as \"4.15\"")
+        return None
+    try:
+        return registry.get(ex_id)
+    except BadInput as exc:
+        found.bad("exercise", str(exc))
+        return None
+
+
+def _read_params(ex: Exercise | None, params, found: _Problems) -> tuple[dict, dict]:
+    """The answer's parameters: (SI values, the values as written), each checked against its range."""
+    if not isinstance(params, dict):
+        found.bad("params", "not a table such as { theta0 = \"60deg\" }")
+        params = {}
+    given, written = {}, {}
+    for raw_name, value in params.items():
+        if ex is None:
+            break
+        pname = str(raw_name).strip().replace("-", "_")
+        if pname not in ex.param_map:
+            found.bad(f"params.{raw_name}",
+                      f"not a parameter of {ex.id}; its parameters are: {', '.join(ex.param_map)}")
+            continue
+        param = ex.param_map[pname]
+        if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+            found.bad(f"params.{raw_name}", "not a number or a string such as \"60deg\"")
+            continue
+        try:
+            given[pname] = to_si(str(value), param.unit)
+            param.check(given[pname])
+        except (ValueError_, BadInput, OverflowError) as exc:
+            why = str(exc).removeprefix(f"{pname}: ")
+            found.bad(f"params.{raw_name}", f"cannot use '{shown(value)}': {why}")
+            given.pop(pname, None)
+            continue
+        written[pname] = shown(value, 40)
+    if ex is not None and not found.lines:
+        try:
+            ex.resolve(given)
+        except BadInput as exc:
+            found.bad("params", str(exc))
+    return given, written
+
+
+def _read_expect(ex: Exercise | None, expect, rtol, memo: dict | None, found: _Problems):
+    """The answer's expected values: (expectations, outputs left unanswered, outputs asked)."""
+    expectations, unanswered, columns = [], [], []
+    if not isinstance(expect, dict) or not expect:
+        found.bad("expect", "missing or empty; give a table such as { theta_c = \"35.26deg\" }")
+        return expectations, unanswered, columns
+    if ex is None:
+        return expectations, unanswered, columns
+    outputs = {o.name for o in ex.outputs}
+    for raw_name, value in expect.items():
+        name = str(raw_name).strip().replace("-", "_")
+        if name in columns:
+            found.bad(f"expect.{raw_name}", "given more than once")
+            continue
+        if name in outputs:
+            columns.append(name)
+        if name in outputs and _blank(value):
+            unanswered.append(name)  # left for the student: not graded
+            continue
+        mkey = (ex.id, str(raw_name), type(value).__name__, str(value), rtol)
+        got = memo.get(mkey) if memo is not None else None
+        if got is None:
+            try:
+                got = parse_expectation(ex, raw_name, value, rtol)
+            except BadInput as exc:
+                got = BadInput(str(exc))
+            if isinstance(memo, _Memo) and getattr(got, "formula", None) is not None:
+                memo.formula_chars += len(got.text)
+                if memo.formula_chars > MAX_FORMULA_CHARS:  # the file's, not this entry's: refused whole
+                    raise BadFile(f"{found.where}: the file's formulas pass {MAX_FORMULA_CHARS} characters; at "
+                                  f"most {MAX_FORMULA_CHARS} are read (split the file)")
+            if memo is not None and len(memo) < 10000:
+                memo[mkey] = got
+        if isinstance(got, BadInput):
+            found.bad(f"expect.{raw_name}", str(got).split(": ", 1)[-1])
+            continue
+        expectations.append(got)
+    return expectations, unanswered, columns
+
+
+def _read_student(student, found: _Problems) -> str | None:
+    """The student's name, stripped (None when none is given, or it is not a one-line name)."""
+    if student is None:
+        return None
+    if not isinstance(student, str) or not student.strip() or len(student.strip()) > MAX_STUDENT \
+            or not student.strip().isprintable():
+        found.bad("student", f"not a name such as \"alice\" (a one-line string of 1 to {MAX_STUDENT} "
+                             "characters)")
+        return None
+    return student.strip()
+
+
+def _refuse(name: str, problems: list[str]) -> None:
+    if len(problems) > MAX_PROBLEMS:
+        problems = problems[:MAX_PROBLEMS] + [f"{name}: ... and {len(problems) - MAX_PROBLEMS} more problems"]
+    raise BadFile(problems)
+
+
+def load_answers(path: str, strict: bool = True) -> list[Entry]:
+    """Read and check a whole grading file before anything is solved.
+
+    A file that cannot be read, is not TOML, or has no ``[[answer]]`` tables: BadFile.  An entry that cannot
+    be read: with ``strict``, BadFile listing every problem (a line each, naming the file, the entry and the
+    field); without, the entry comes back ``invalid`` ("line N: the reason") and the rest is graded."""
+    from mech.core.safeio import load_toml_text, shown_path
+
+    if str(path).lower().endswith(".csv"):
+        return load_answers_csv(path, strict=strict)
+    name = shown_path(path)
+    # BadInput naming the file: unreadable, too big, too deep, malformed, too many [[answer]] tables
+    data, text = load_toml_text(path, "answers file", max_tables=(MAX_ANSWERS, "[[answer]] entries"))
+    problems: list[str] = []
+    for key in data:
+        if key != "answer":
+            problems.append(f"{name}: '{shown(key)}': unknown top-level key; answers go in [[answer]] tables")
+    answers = data.get("answer")
+    if not isinstance(answers, list) or not answers or not all(isinstance(a, dict) for a in answers):
+        raise BadFile(problems + [f"{name}: no [[answer]] tables"])
+    # the values, and the entries written inline (answer = [{...}, ...]) the pre-scan could not count
+    values = sum(len(a["expect"]) if isinstance(a.get("expect"), dict) else 1 for a in answers)
+    if values > MAX_ANSWERS:
+        raise BadFile(f"{name}: {values} answers (expected values) in {len(answers)} entries; at most "
+                      f"{MAX_ANSWERS} are read (split the file)")
+    if problems:  # the file's own shape, not one entry's: nothing to grade
+        _refuse(name, problems)
+    lines = _entry_lines(text)
+    entries = []
+    memo = _Memo()
+    for k, item in enumerate(answers, 1):
+        line = lines[k - 1] if len(lines) == len(answers) else None
+        where = f"{name}: answer {k}" + (f" (line {line})" if line else "")
+        entry, found = _read_entry(k, item, line, where, memo=memo)
+        problems += found
+        entries.append(entry)
+    if problems and strict:
+        _refuse(name, problems)
+    return entries
+
+
+def _formula_range(ex: Exercise, item: dict, expectations: list) -> list:
+    """An answer's optional ``points``, ``seed`` and ``over`` (the range its formulas are meant to hold
+    in), given to its formula expectations; BadInput naming the field."""
+    from mech.students.points import parse_over
+
+    if not any(k in item for k in ("points", "seed", "over")):
+        return expectations
+    if not any(e.formula is not None for e in expectations):
+        raise BadInput(f"{next(k for k in ('points', 'seed', 'over') if k in item)}: only for formulas, and "
+                       "this answer has none")
+    from mech.students.points import MAX_POINTS
+
+    points = parse_count(item["points"], "points", 1, MAX_POINTS) if "points" in item else None
+    seed = parse_count(item["seed"], "seed", 0, 2**63 - 1) if "seed" in item else None
+    over = item.get("over")
+    if over is not None:
+        if not isinstance(over, dict) or not over:
+            raise BadInput("over: not a table such as { theta0 = \"10deg:60deg\" }")
+        over = parse_over(ex, over)
+    return with_range(expectations, points, seed, over)
+
+
+# -- answers from a spreadsheet -------------------------------------------------------------------------
+
+MAX_CSV_BYTES = 4 * 1024 * 1024
+MAX_CSV_ROWS = 5000  # students
+MAX_CSV_COLUMNS = 400
+MAX_CSV_FIELD = 1000  # characters of one cell (a formula is at most ``formula_ast.MAX_LENGTH``)
+
+
+def _csv_rows(path: str, what: str) -> list[tuple[int, list[str]]]:
+    """The rows of a CSV file (with the line each starts on), its size, row count and cell length bounded
+    before anything in it is used; BadFile naming the file otherwise."""
+    import csv
+    import io
+
+    from mech.core.safeio import read_text, shown_path
+
+    name = shown_path(path)
+    text = read_text(path, what, limit=MAX_CSV_BYTES).lstrip("\ufeff")  # a spreadsheet's byte-order mark
+    if text.count("\n") > MAX_CSV_ROWS + 1 and sum(1 for ln in text.splitlines() if ln.strip()) > MAX_CSV_ROWS + 1:
+        raise BadFile(f"{name}: more than {MAX_CSV_ROWS} rows; at most {MAX_CSV_ROWS} students are read")
+    reader = csv.reader(io.StringIO(text, newline=""), strict=True)
+    rows = []
+    try:
+        while True:
+            line = reader.line_num + 1
+            try:
+                row = next(reader)
+            except StopIteration:
+                break
+            if len(row) > MAX_CSV_COLUMNS:
+                raise BadFile(f"{name}: line {line}: {len(row)} columns; at most {MAX_CSV_COLUMNS}")
+            for cell in row:
+                if len(cell) > MAX_CSV_FIELD:
+                    raise BadFile(f"{name}: line {line}: a cell of {len(cell)} characters; at most {MAX_CSV_FIELD}")
+            if any(c.strip() for c in row):
+                rows.append((line, row))
+            if len(rows) > MAX_CSV_ROWS + 1:
+                raise BadFile(f"{name}: more than {MAX_CSV_ROWS} rows; at most {MAX_CSV_ROWS} students are read")
+    except csv.Error as exc:
+        raise BadFile(f"{name}: malformed CSV: line {reader.line_num}: {shown(exc, 120)}") from None
+    return rows
+
+
+def _template_params(params_path: str) -> dict:
+    """An assignment's template (``answers.toml``): (student, exercise) -> its params table."""
+    from mech.core.safeio import load_toml, shown_path
+
+    data = load_toml(params_path, "--params file")
+    answers = data.get("answer")
+    name = shown_path(params_path)
+    if not isinstance(answers, list) or not all(isinstance(a, dict) for a in answers):
+        raise BadFile(f"--params {name}: no [[answer]] tables")
+    out = {}
+    for a in answers:
+        student, ex_id, params = a.get("student"), a.get("exercise"), a.get("params", {})
+        if isinstance(student, str) and isinstance(ex_id, str) and isinstance(params, dict):
+            out[(student.strip(), ex_id.strip())] = params
+    return out
+
+
+def load_answers_csv(path: str, strict: bool = True, params_path: str | None = None) -> list[Entry]:
+    """Answers from a CSV file: a header row, then one row per student; a ``student`` column, ``ID:output``
+    columns holding answers (an empty cell: not answered) and optional ``ID:param`` columns holding the
+    parameters, else ``params_path`` (an assignment's template) gives each student's.  Each exercise of a
+    row is an entry, read as an ``[[answer]]`` is; the header's faults refuse the file (BadFile)."""
+    from mech.core.safeio import shown_path
+    from mech.problems import registry
+
+    name = shown_path(path)
+    rows = _csv_rows(path, "answers file")
+    if not rows:
+        raise BadFile(f"{name}: no header row")
+    (_, header), body = rows[0], rows[1:]
+    header = [h.strip() for h in header]
+    problems = []
+    if "student" not in header:
+        problems.append(f"{name}: line 1: no 'student' column")
+    columns = {}  # index -> (exercise id, name, "output" | "param")
+    order: list[str] = []
+    for i, h in enumerate(header):
+        if h == "student" or h == "":
+            continue
+        if ":" not in h:
+            problems.append(f"{name}: column '{shown(h, 40)}': not 'student' nor ID:NAME such as 4.15:theta_c")
+            continue
+        ex_id, _, col = h.partition(":")
+        try:
+            ex = registry.get(ex_id.strip())
+        except BadInput as exc:
+            problems.append(f"{name}: column '{shown(h, 40)}': {exc}")
+            continue
+        col = col.strip().replace("-", "_")
+        kind = ("output" if col in {o.name for o in ex.outputs} else
+                "param" if col in ex.param_map else None)
+        if kind is None:
+            problems.append(f"{name}: column '{shown(h, 40)}': not an output nor a parameter of {ex.id}; "
+                            f"its outputs are {', '.join(o.name for o in ex.outputs)}")
+            continue
+        columns[i] = (ex.id, col, kind)
+        if ex.id not in order:
+            order.append(ex.id)
+    named = [h for h in header if h]
+    if len(set(named)) != len(named):
+        problems.append(f"{name}: line 1: a column is named twice")
+    if not any(kind == "output" for _, _, kind in columns.values()):
+        problems.append(f"{name}: line 1: no ID:output column holding answers")
+    if problems:
+        _refuse(name, problems)
+    outs = sum(kind == "output" for _, _, kind in columns.values())
+    if len(body) * outs > MAX_ANSWERS:  # a value per row and output column
+        raise BadFile(f"{name}: {len(body)} rows of {outs} answer columns are {len(body) * outs} "
+                      f"answers; at most {MAX_ANSWERS} are read (split the file)")
+    template = _template_params(params_path) if params_path else None
+    s_col = header.index("student")
+    entries: list[Entry] = []
+    all_problems: list[str] = []
+    memo = _Memo()
+    for line, row in body:
+        row = row + [""] * (len(header) - len(row))
+        student = row[s_col].strip()
+        for ex_id in order:
+            item: dict = {"exercise": ex_id, "expect": {}}
+            if student:
+                item["student"] = student
+            params = {}
+            for i, (cid, col, kind) in columns.items():
+                if cid != ex_id:
+                    continue
+                if kind == "output":
+                    item["expect"][col] = row[i]
+                elif row[i].strip():
+                    params[col] = row[i].strip()
+            extra = []
+            if template is not None and not params:
+                params = template.get((student, ex_id))
+                if params is None:
+                    params = {}
+                    extra.append(f"params: no answer for {shown(student or '(no student)', 40)} and {ex_id} "
+                                 "in the --params file")
+            if params:
+                item["params"] = params
+            if len(row) > len(header):
+                extra.append(f"{len(row) - len(header)} cells beyond the header's columns")
+            k = len(entries) + 1
+            where = f"{name}: line {line}, {ex_id}"
+            entry, found = _read_entry(k, item, line, where, memo=memo)
+            if extra:
+                found = [f"{where}: {x}" for x in extra] + found
+                text = "; ".join(extra)
+                entry.invalid = f"line {line}: {text}" + (f"; {entry.invalid.split(': ', 1)[1]}" if entry.invalid else "")
+                entry.expectations = []
+            entries.append(entry)
+            all_problems += found
+    if not entries:
+        raise BadFile(f"{name}: no rows of answers under the header")
+    if all_problems and strict:
+        _refuse(name, all_problems)
+    return entries
+
