@@ -129,12 +129,16 @@ def grade(path, budget: float | None = None, *, strict: bool = False, jobs: int 
     return api.grade(path, budget=budget, strict=strict, jobs=jobs, params=params)
 
 
-def assign(ids, *, seed: int, out, students=None, n: int | None = None, over=None, digits: int = 3) -> dict:
-    """Personal variants for a class, as ``mech assign`` does: writes ``out``/handout.md, answers.toml and
-    key.json and returns the key (``students``: identifiers, or ``n``: s1 ... sN; ``over``: {name: "LO:HI"})."""
+def assign(ids, *, seed: int, out, students=None, n: int | None = None, over=None, digits: int = 3,
+           jobs: int | None = None, force: bool = False) -> dict:
+    """Personal variants for a class, as ``mech assign`` does: writes ``out``/handout.md, handouts/,
+    answers.toml, answers.csv, key.json, key.csv and key.md and returns the key (``students``: identifiers,
+    or ``n``: s1 ... sN; ``over``: {name: "LO:HI" or "VALUE"}; ``force``: replace an assignment in ``out``).
+    Any bad argument raises BadInput."""
     from mech import api
 
-    return api.assign(ids, seed=seed, out=out, students=students, n=n, over=over, digits=digits)
+    return api.assign(ids, seed=seed, out=out, students=students, n=n, over=over, digits=digits, jobs=jobs,
+                      force=force)
 
 
 def bench(ex_id: str, *, methods=None, tols=None, repeats: int = 5, max_seconds: float = 55.0,

@@ -28,6 +28,12 @@ class Param:
     max: float | None = None
     min_open: bool = False
     max_open: bool = False
+    # the range ``mech assign`` draws a class's values from (SI): declared in the catalogue beside the bounds
+    # (``typical_min``/``typical_max``), else within a factor 3 of a nonzero default; ``fixed``: a constant of
+    # nature or of the Earth (g, G, Earth's rate and radius), kept at its default unless ``--over`` opens it
+    typical_min: float | None = None
+    typical_max: float | None = None
+    fixed: bool = False
 
     @property
     def dimension(self) -> tuple[int, int, int] | None:
@@ -35,6 +41,23 @@ class Param:
         from mech.core.units import si_exponents
 
         return si_exponents(self.unit)
+
+    @property
+    def typical(self) -> tuple[float, float]:
+        """(lo, hi) in SI, inside the bounds: the catalogue's typical range, the default alone for a fixed
+        constant, else [d/3, 3d] around a nonzero default (clipped to the bounds), else the bounds."""
+        d = float(self.default)
+        if self.fixed:
+            return d, d
+        lo = self.typical_min if self.typical_min is not None else (min(d / 3, 3 * d) if d else self.min)
+        hi = self.typical_max if self.typical_max is not None else (max(d / 3, 3 * d) if d else self.max)
+        lo = -math.inf if lo is None else lo
+        hi = math.inf if hi is None else hi
+        if self.min is not None:
+            lo = max(lo, self.min)
+        if self.max is not None:
+            hi = min(hi, self.max)
+        return float(lo), float(hi)
 
     def to_display(self, value: float) -> float:
         if not self.display:
@@ -105,6 +128,9 @@ class Param:
                 d[key + "_open"] = getattr(self, key + "_open")
         if self.display:
             d["display"] = self.display
+        d["typical_min"], d["typical_max"] = self.typical
+        if self.fixed:
+            d["fixed"] = True
         d["doc"] = self.doc
         return d
 

@@ -80,6 +80,11 @@ class Exercise:
         self.topic = spec["topic"]
         self.from_book = bool(spec.get("from_book", False))  # the book's own, or set for mech on its topics
         self.statement = spec["statement"].strip()
+        # the statement as a class's handout gives it, where the statement quotes the defaults: ``{name}``
+        # placeholders take each student's values (``mech assign``); empty: the statement serves
+        self.handout = spec.get("handout", "").strip()
+        # the regime the statement is about, where it is about one: {"positive": [outputs], "about": "..."}
+        self.regime = dict(spec.get("regime", {}))
         self.model = spec["model"].strip()
         self.numeric_route = spec.get("numeric", {}).get("route", "").strip()
         self.params = [Param(**p) for p in spec["params"]]
@@ -158,6 +163,16 @@ class Exercise:
         or more the theory is outside its range (``theory_validity``)."""
         self._theory_range = fn
         return fn
+
+    def outside_regime(self, values: dict) -> str | None:
+        """Why outputs ``values`` (SI) lie outside the regime the statement is about (the catalogue's
+        ``[regime]``: ``positive``, outputs that must be above zero, and ``about``, the regime in words), or
+        None; ``mech assign`` issues only variants inside it."""
+        for name in self.regime.get("positive", ()):
+            v = values.get(name)
+            if not (isinstance(v, float) and v > 0):
+                return f"{name} is not positive: not {self.regime.get('about', 'the regime of the statement')}"
+        return None
 
     def approximations(self, fn: Callable[[Params], dict]) -> Callable:
         """Where the statement asks for an approximation next to an exact output: ``fn(p) -> {output:

@@ -187,8 +187,7 @@ def _trace(l, g, delta, a, Omega, rtol, tally):
 def _growth(tr, delta, Omega, rtol):
     """(growth rate, its absolute error) from tr M_y: the largest |multiplier| exp(-delta T) (|tr| + (tr^2 -
     4)^(1/2))/2 (1 on the unit circle), its error the noise of tr amplified near |tr| = 2."""
-    T = 2.0 * math.pi / Omega
-    disc = tr * tr - 4.0
+    T, disc = 2.0 * math.pi / Omega, tr * tr - 4.0
     lam = np.where(disc > 0, 0.5 * (np.abs(tr) + np.sqrt(np.maximum(disc, 0.0))), 1.0)
     noise = 10.0 * rtol
     amplify = 1.0 + np.abs(tr) / np.sqrt(np.maximum(disc, noise))
@@ -245,7 +244,7 @@ def numeric(p, run):
         out["theta_st"] = 0.0
         run.claim("theta_st", rel=0.0, abs=0.0)
         return out
-    out["theta_st"] = _stationary_swing(p, a_th, run)
+    out["theta_st"] = _stationary_swing(p, out["a_th"], run)
     return out
 
 
@@ -359,19 +358,31 @@ def _stationary_swing(p, a_th, run):
     if z is None:
         raise NumericFailure("Newton's method for the stationary swing did not converge")
     r, J, M = residual(z, target, rtol)
-    mult = np.abs(np.linalg.eigvals(-M))
+    mult, stable = _half_map_moduli(M, np.trace(_pendulum(p, target)[1](0.0, z)), 2 * math.pi / p.Omega, rtol)
     run.info["swing_multipliers_of_half_map"] = [float(m) for m in mult]
-    if 1.0 <= np.max(mult) < 1.0 + 1e-9:
-        # delta T/2 below round-off (delta = 1e-300): the decay per half period is not a double's digit
-        raise NumericFailure(f"the swing's half-map multipliers are 1 to rounding ({np.max(mult):.12g}): the damping "
-                             "is too weak for double precision to tell the stable swing from a neutral one")
-    if np.max(mult) >= 1.0:
+    if not stable:
         raise NumericFailure(f"the swing found is unstable (half-map multipliers {mult}): not the one a small swing grows into")
     # the swing's full period is the motion; its largest |theta|: the extrema on theta' = 0 over the first
     # pivot period (the second mirrors it)
     swing = run.follow(motion(p, z))
     ext = [abs(y[0]) for y in swing.legs[0].traj.y_events[0]] + [abs(z[0])]
     return float(max(ext))
+
+
+def _half_map_moduli(M, div, Tp, rtol):
+    """(|multipliers| of the half-map -phi over the pivot period Tp, M = D phi; stable).  The divergence
+    ``div`` (-2 delta) is constant: det M = exp(div Tp) (Liouville), so a complex pair (tr^2 < 4 det, an
+    elliptic swing) lies inside the unit circle exactly when div < 0, even where rounding leaves its moduli
+    at 1 (delta = 1e-300 was refused as "too weak for double precision"); a real pair by its own values."""
+    det, tr = math.exp(div * Tp), float(np.trace(M))
+    disc, slack = tr * tr - 4.0 * det, 100.0 * rtol * (abs(tr) + 1.0) * float(np.max(np.abs(M)))  # M to ~rtol
+    if disc < -slack:
+        return np.full(2, math.sqrt(det)), div < 0.0
+    if disc <= slack:
+        raise NumericFailure(f"the swing's half-map is at a double multiplier (tr^2 - 4 det = {disc:.2g}, within "
+                             "its rounding): its stability cannot be decided")
+    mult = np.abs(np.linalg.eigvals(-M))
+    return mult, bool(np.max(mult) < 1.0)
 
 
 # -- the small swings over many variants at once (a one-point solve is the batch of one) ------------------
