@@ -78,6 +78,9 @@ class Judgement:
         d = {"value": _finite(self.value), "match": self.match, "rel_err": _finite(self.rel_err), "hint": self.hint,
              "text": self.text, "reference": self.reference, "reference_value": _finite(self.reference_value),
              "tol": _finite(self.tol), "verdict": self.verdict}
+        d["state"] = self.cell.value
+        if self.cell not in (State.RIGHT, State.WRONG):
+            d["reason"] = self.verdict
         if self.theory != "exact":
             d["matches"] = self.matches
         if self.formula is not None:
@@ -153,7 +156,7 @@ def judge(result, expectations: list[Expectation]) -> list[Judgement]:
         leading = q.theory != "exact"
         base = dict(name=e.name, unit=q.unit, text=e.text, value=e.value, reference=ref.label, theory=q.theory)
         if ref.value is None:
-            out.append(Judgement(**base, match=False, verdict=f"cannot judge: {ref.why}"))
+            out.append(Judgement(**base, match=False, verdict=f"cannot judge: {ref.why}", state=State.NOT_GRADED))
             continue
         shown = _shown(e, ref.value)
         tol = allowed(e, ref.value, ref.err)
@@ -244,12 +247,14 @@ def judge_expectation(result, e, q, ref):
         v = judge_formula(e.formula, ex, output, ps, given_ref, e.rtol, numeric_given, in_range)
     if undefined_here:
         v.verdict += f" (not at the given parameters: {ref.undefined})"
-    verdict = v.verdict
+    verdict, state = v.verdict, None
     if given_ref is None and not v.hint and not undefined_here:
         verdict = f"cannot judge: {ref.why or 'mech has no trusted value here'}"
+        state = None if v.match else State.NOT_GRADED
     return Judgement(
         name=e.name, unit=q.unit, text=e.text, value=v.value, match=v.match, theory=q.theory, matches=v.matches,
         reference=(ref.label if ref.value is not None else None), reference_value=v.reference_value,
         rel_err=v.rel_err, tol=v.tol, hint=v.hint, verdict=verdict,
         shown_reference=show_value(v.reference_value, q.unit) if v.reference_value is not None else "",
-        formula={"formula": v.formula, "dimension": v.dimension, "points": v.points, "depends": v.depends})
+        formula={"formula": v.formula, "dimension": v.dimension, "points": v.points, "depends": v.depends},
+        state=state)
