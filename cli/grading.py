@@ -114,10 +114,11 @@ def cell_verdict(j) -> str:
     return j.verdict
 
 
-def summary_line(figures: dict, who: str = "") -> str:
-    """The gradebook's figures (``gradebook.totals`` or a student's row) as one line: points of max, the
-    cells wrong, invalid, not graded and not answered, and how many a person must review."""
-    parts = [f"{figures['points']} of {figures['max']} points", f"{figures['wrong']} wrong"]
+def summary_line(figures: dict, who: str = "", what: str = "points") -> str:
+    """Figures as one line: points of max (a student's gradebook row; ``what`` "answers right": the cells
+    of the whole file), the cells wrong, invalid, not graded and not answered, and how many a person must
+    review."""
+    parts = [f"{figures['points']} of {figures['max']} {what}", f"{figures['wrong']} wrong"]
     parts += [f"{figures[k]} {w}" for k, w in (("invalid", "invalid"), ("not_graded", "not graded"),
                                                  ("unanswered", "not answered")) if figures[k]]
     review = f"; {figures['review']} to review" if figures["review"] else ""
@@ -127,7 +128,8 @@ def summary_line(figures: dict, who: str = "") -> str:
 def print_grade(entries: list[Entry], started: float) -> None:
     """One row per cell (``Entry.cells``: its state leads the verdict); where the table does not fit the
     width, one block per value (the stacking rule of the other commands); piped, no trailing spaces.  The
-    closing lines give the gradebook's figures (``gradebook.totals``, per student and in all); the time is
+    closing lines give each student's gradebook row (``gradebook.gradebook_rows``) and the file's cells
+    counted by state (``gradebook.cell_counts``: the same sums where no student answers an output twice); the time is
     the command's wall time up to it (``started``: its ``time.perf_counter()``), the printing included."""
     from rich import box
     from rich.console import Group
@@ -136,7 +138,7 @@ def print_grade(entries: list[Entry], started: float) -> None:
 
     from mech import render
     from mech.core.safeio import shown
-    from mech.students.gradebook import gradebook_rows, totals
+    from mech.students.gradebook import cell_counts, gradebook_rows
 
     students = any(e.student for e in entries)
     cols = [("#", "right")] + ([("student", "left")] if students else []) + [
@@ -165,10 +167,12 @@ def print_grade(entries: list[Entry], started: float) -> None:
         for row in gradebook_rows(entries)[1]:
             lines.append(Text(summary_line(row, f"{row['student'] or '(no student named)'}: "),
                               style="green" if row["wrong"] + row["review"] == 0 else "bold red"))
-    book = totals(entries)
+    counts = cell_counts(entries)
+    book = {"points": counts["passed"], "max": sum(counts.values()), "wrong": counts["failed"],
+            "review": counts["invalid"] + counts["not_graded"], **counts}
     bad = sum(e.invalid is not None for e in entries)
     extra = f", {bad} of them invalid" if bad else ""
-    lines.append(Text(f"{summary_line(book)} ({len(entries)} entr{'y' if len(entries) == 1 else 'ies'}{extra})"
+    lines.append(Text(f"{summary_line(book, what='answers right')} ({len(entries)} entr{'y' if len(entries) == 1 else 'ies'}{extra})"
                       f" in {time.perf_counter() - started:.1f} s",
                       style="green" if book["wrong"] + book["review"] == 0 else "bold red"))
     render.emit(c, Group(*lines))
