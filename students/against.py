@@ -16,8 +16,8 @@ __all__ = ["Assignment", "load_assignment", "FIXED_FIELDS", "DEFAULT_DIGITS"]
 
 DEFAULT_DIGITS = 3  # ``mech assign --digits``' default, for a key written before it recorded its digits
 # the fields of an answer the assignment fixes, and what each would move
-FIXED_FIELDS = {"rtol": "the tolerance", "over": "the range formulas are judged over",
-                "points": "the points formulas are judged at", "seed": "the points formulas are judged at"}
+FIXED_FIELDS = {"rtol": "the tolerance", "over": "the range a formula is judged over",
+                "points": "the points a formula is judged at", "seed": "the points a formula is judged at"}
 
 
 @dataclass(frozen=True)
@@ -59,25 +59,23 @@ class Assignment:
         writes them all), else only those it names are compared (a CSV's optional columns)."""
         from mech.core.units import ValueError_, to_si
 
-        out = []
+        missing, differ = [], []
         for name, text in variant.params.items():
             p = ex.param_map[name]
             if name not in written:
                 if every:
-                    out.append((f"params.{name}", f"missing; the assignment fixes the parameters "
-                                                  f"({name} = {shown(text, 40)})"))
+                    missing.append(f"{name} = {shown(text, 40)}")
                 continue
             try:
                 same = to_si(str(written[name]), p.unit) == to_si(text, p.unit)
             except (ValueError_, OverflowError):
                 same = False
             if not same:
-                out.append((f"params.{name}", f"the assignment fixes the parameters ({name} = {shown(text, 40)}, "
-                                              f"not {shown(written[name], 40)})"))
-        for name in written:
-            if name not in variant.params:
-                out.append((f"params.{name}", "the assignment fixes the parameters (it does not set this one)"))
-        return out
+                differ.append((f"params.{name}", f"the assignment fixes the parameters ({name} = {shown(text, 40)}, "
+                                                 f"not {shown(written[name], 40)})"))
+        out = [("params", f"missing {', '.join(missing)}: the assignment fixes the parameters")] if missing else []
+        return out + differ + [(f"params.{name}", "the assignment fixes the parameters (it does not set this one)")
+                               for name in written if name not in variant.params]
 
     def given(self, ex, variant: Variant) -> tuple[dict, dict]:
         """The variant's parameters: (SI, as written)."""
