@@ -81,8 +81,9 @@ class Assignment:
         """The variant's parameters: (SI, as written)."""
         from mech.core.units import to_si
 
-        return ({k: to_si(t, ex.param_map[k].unit) for k, t in variant.params.items()},
-                {k: shown(t, 40) for k, t in variant.params.items()})
+        order = [p.name for p in ex.params if p.name in variant.params]
+        return ({k: to_si(variant.params[k], ex.param_map[k].unit) for k in order},
+                {k: shown(variant.params[k], 40) for k in order})
 
     def formula_range(self, ex) -> dict | None:
         """The range an exercise's formulas are judged over: the declared bounds narrowed by the

@@ -492,21 +492,11 @@ def _template_params(params_path: str) -> dict:
     return out
 
 
-def load_answers_csv(path: str, strict: bool = True, params_path: str | None = None, *,
-                     min_digits: int | None = None, against=None) -> list[Entry]:
-    """Answers from a CSV file: a header row, then one row per student; a ``student`` column, ``ID:output``
-    columns holding answers (an empty cell: not answered) and optional ``ID:param`` columns holding the
-    parameters, else ``params_path`` (an assignment's template) gives each student's.  Each exercise of a
-    row is an entry, read as an ``[[answer]]`` is; the header's faults refuse the file (BadFile)."""
-    from mech.core.safeio import shown_path
+def _csv_columns(name: str, header: list[str]) -> tuple[dict, list[str], list[str]]:
+    """A CSV header read: {index: (exercise id, name, "output" | "param")}, the exercises in order, and
+    the problems found (each one line naming the file and the column)."""
     from mech.problems import registry
 
-    name = shown_path(path)
-    rows = _csv_rows(path, "answers file")
-    if not rows:
-        raise BadFile(f"{name}: no header row")
-    (_, header), body = rows[0], rows[1:]
-    header = [h.strip() for h in header]
     problems = []
     if "student" not in header:
         problems.append(f"{name}: line 1: no 'student' column")
@@ -539,6 +529,24 @@ def load_answers_csv(path: str, strict: bool = True, params_path: str | None = N
         problems.append(f"{name}: line 1: a column is named twice")
     if not any(kind == "output" for _, _, kind in columns.values()):
         problems.append(f"{name}: line 1: no ID:output column holding answers")
+    return columns, order, problems
+
+
+def load_answers_csv(path: str, strict: bool = True, params_path: str | None = None, *,
+                     min_digits: int | None = None, against=None) -> list[Entry]:
+    """Answers from a CSV file: a header row, then one row per student; a ``student`` column, ``ID:output``
+    columns holding answers (an empty cell: not answered) and optional ``ID:param`` columns holding the
+    parameters, else ``params_path`` (an assignment's template) gives each student's.  Each exercise of a
+    row is an entry, read as an ``[[answer]]`` is; the header's faults refuse the file (BadFile)."""
+    from mech.core.safeio import shown_path
+
+    name = shown_path(path)
+    rows = _csv_rows(path, "answers file")
+    if not rows:
+        raise BadFile(f"{name}: no header row")
+    (_, header), body = rows[0], rows[1:]
+    header = [h.strip() for h in header]
+    columns, order, problems = _csv_columns(name, header)
     if problems:
         _refuse(name, problems)
     outs = sum(kind == "output" for _, _, kind in columns.values())
