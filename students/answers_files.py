@@ -278,8 +278,8 @@ def _read_expect(ex: Exercise | None, expect, rtol, memo: dict | None, found: _P
     cannot be read: (output, text, reason)).  ``asked``: the outputs an assignment asks (those not given
     are unanswered; one it does not ask is an invalid cell)."""
     expectations, unanswered, columns, void = [], [], [], []
-    if expect is None and asked is not None:
-        expect = {}
+    if asked is not None and (expect is None or expect == {}):
+        expect = {}  # against an assignment: nothing answered, every output asked unanswered
     elif not isinstance(expect, dict) or not expect:
         found.bad("expect", "missing or empty; give a table such as { theta_c = \"35.26deg\" }")
         return expectations, unanswered, columns, void

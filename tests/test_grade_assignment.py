@@ -204,3 +204,15 @@ def test_a_bad_key_is_exit_2_in_one_line(tmp_path, text, words):
     code, out, err = run("grade", path, "--assignment", folder)
     assert code == 2 and out == "" and len(err.strip().splitlines()) == 1 and words in err, err
     assert "Traceback" not in err
+
+
+def test_the_api_grades_against_the_assignment(tmp_path):
+    import mech
+
+    path = tmp_path / "a.toml"
+    path.write_text(entry("ann", f"{ANN}\n{ANN_RIGHT}") + entry("bob", 'expect = { theta_c = "41.81deg" }'))
+    report = mech.grade(path, assignment=key(tmp_path))
+    assert (report.passed, report.invalid, report.unanswered, report.ok) == (2, 2, 0, False)
+    assert report.to_dict()["max"] == 4 and report.invalid_entries == 1
+    with pytest.raises(mech.BadInput, match="min_digits"):
+        mech.grade(path, min_digits=0)
