@@ -50,6 +50,7 @@ class Entry:
     void: list = field(default_factory=list)  # Judgements of the cells that could not be read (invalid)
     assigned: bool = False  # an assignment's variant no entry answered: every output unanswered
     invalid_reason: str = ""  # ``invalid`` without the line it names
+    texts: dict = field(default_factory=dict)  # output -> the answer as written (an invalid entry's cells show it)
 
     @property
     def cells(self) -> list:
@@ -58,7 +59,8 @@ class Entry:
         output of an invalid entry is invalid, with the entry's reason."""
         units = {o.name: o.unit for o in self.exercise.outputs} if self.exercise is not None else {}
         if self.invalid is not None:
-            return [void_cell(n, units.get(n, ""), "", State.INVALID, self.invalid) for n in self.columns]
+            return [void_cell(n, units.get(n, ""), self.texts.get(n, ""), State.INVALID, self.invalid)
+                    for n in self.columns]
         got = {j.name: j for j in self.void}
         got.update((j.name, j) for j in self.judgements)
         out = []
@@ -213,6 +215,9 @@ def _read_entry(k: int, item: dict, line: int | None, where: str, keys=_ENTRY_KE
                   exercise_text=shown("?" if ex_id is None else str(ex_id), 20), columns=columns)
     entry.void = [void_cell(n, _unit(ex, n), text, State.INVALID, _cell_reason(line, k, why)) for n, text, why in void]
     if found.reasons:
+        expect = item.get("expect")
+        entry.texts = ({shown(str(k).strip().replace("-", "_"), 40): shown(v) for k, v in expect.items()}
+                       if isinstance(expect, dict) else {})
         entry.invalid_reason = "; ".join(" ".join(r.split()) for r in found.reasons)
         entry.invalid = _cell_reason(line, k, entry.invalid_reason)
         entry.expectations, entry.void = [], []

@@ -216,3 +216,11 @@ def test_the_api_grades_against_the_assignment(tmp_path):
     assert report.to_dict()["max"] == 4 and report.invalid_entries == 1
     with pytest.raises(mech.BadInput, match="min_digits"):
         mech.grade(path, min_digits=0)
+
+
+def test_strict_refuses_a_tampered_file_before_grading(tmp_path):
+    path = tmp_path / "a.toml"
+    path.write_text(entry("ann", f"{ANN}\nrtol = 0.5\n{ANN_RIGHT}"))
+    code, out, err = run("grade", path, "--assignment", key(tmp_path), "--strict")
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "answer 1 (line 1): rtol: the assignment fixes the tolerance" in err
