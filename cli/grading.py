@@ -203,7 +203,8 @@ def _complete_files(ctx, param, incomplete):
 @click.argument("file", metavar="FILE", shell_complete=_complete_files)
 @click.option("--json", "as_json", is_flag=True, help="A JSON report on stdout.")
 @click.option("--junit", "junit_file", metavar="FILE",
-              help="Write a JUnit XML report: one test case per expected value, an <error> per invalid entry.")
+              help="Write a JUnit XML report: a test case per answer; wrong a <failure>, invalid an <error>, "
+                   "not graded and unanswered <skipped>.")
 @click.option("--csv", "csv_file", metavar="FILE",
               help="Write the gradebook: a row per student (student, points, max, review, a column per ID:output "
                    "holding 1, 0, empty (unanswered), invalid or not graded).")
