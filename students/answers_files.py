@@ -220,7 +220,7 @@ def _read_entry(k: int, item: dict, line: int | None, where: str, keys=_ENTRY_KE
                        if isinstance(expect, dict) else {})
         entry.invalid_reason = "; ".join(" ".join(r.split()) for r in found.reasons)
         entry.invalid = _cell_reason(line, k, entry.invalid_reason)
-        entry.expectations, entry.void = [], []
+        entry.expectations, entry.void, entry.unanswered = [], [], []  # every cell it names: invalid
     return entry, found.lines
 
 
@@ -599,7 +599,7 @@ def load_answers_csv(path: str, strict: bool = True, params_path: str | None = N
             if extra:  # the row's own faults: the whole entry, before anything it read
                 found = [f"{where}: {x}" for x in extra] + found
                 entry.invalid = _cell_reason(line, k, "; ".join(extra + ([entry.invalid_reason] if entry.invalid else [])))
-                entry.expectations, entry.void = [], []
+                entry.expectations, entry.void, entry.unanswered = [], [], []
             entries.append(entry)
             all_problems += found
     if not entries:
