@@ -486,7 +486,7 @@ def grade(path, budget=None, *, strict: bool = False, jobs: int | None = None, p
     _screen("assignment", assignment, "none", "path")
     strict = _flag("strict", strict)
     jobs = _jobs(jobs)
-    min_digits = parse_count(min_digits, "min_digits", 1, 12)
+    min_digits = parse_count(min_digits, "min_digits", 1, 17)
     return grade_report(path, None if budget is None else check_total(budget, "budget"), strict=strict,
                         jobs=jobs, params=params, assignment=assignment, min_digits=min_digits)
 

@@ -211,7 +211,7 @@ def _complete_files(ctx, param, incomplete):
 @click.option("--assignment", "assignment", metavar="DIR",
               help="Grade against the assignment mech assign wrote in DIR: its parameters, digits, range and "
                    "outputs; a file that sets them otherwise is invalid there.")
-@click.option("--min-digits", "min_digits", metavar="D", type=click.IntRange(1, 12),
+@click.option("--min-digits", "min_digits", metavar="D", type=click.IntRange(1, 17),
               help="An answer with fewer significant digits is judged as if written to D [2; with "
                    "--assignment, its digits].")
 @click.option("--strict", is_flag=True,
