@@ -308,10 +308,10 @@ def test_heldout_formulas(ex_id):
     ex = registry.get(ex_id)
     result = cross_check(ex, ex.resolve({}))
     cases = ALL_CASES[ex_id]
-    read = [expectations.parse_expectation(ex, out, text) for out, text, _ in cases]
-    assert [text for (_, text, _), e in zip(cases, read) if e.formula is None] == []
+    expectations = [expectations.parse_expectation(ex, out, text) for out, text, _ in cases]
+    assert [text for (_, text, _), e in zip(cases, expectations) if e.formula is None] == []
     problems = []
-    for (out, text, want), j in zip(cases, (judge(result, [e])[0] for e in read)):
+    for (out, text, want), j in zip(cases, (judge(result, [e])[0] for e in expectations)):
         if want is None:
             if not j.match:
                 problems.append(f"{out} = {text}: judged wrong: {j.verdict}")
