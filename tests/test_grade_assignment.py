@@ -224,3 +224,28 @@ def test_strict_refuses_a_tampered_file_before_grading(tmp_path):
     code, out, err = run("grade", path, "--assignment", key(tmp_path), "--strict")
     assert code == 2 and out == "" and err.count("\n") == 1
     assert "answer 1 (line 1): rtol: the assignment fixes the tolerance" in err
+
+
+def test_the_template_mech_assign_writes_grades_against_its_folder(tmp_path):
+    """mech assign's own template, filled with the key's values (mech's, so right by construction) but for
+    one student whose params table was deleted: right, and invalid there."""
+    import tomllib
+
+    folder = tmp_path / "hw"
+    code, _, err = run("assign", "4.15", "--n", "3", "--seed", "5", "--out", folder)
+    assert code == 0, err
+    k = json.loads((folder / "key.json").read_text())
+    values = {v["student"]: v["outputs"] for v in k["variants"]}
+    parts = []
+    for a in tomllib.loads((folder / "answers.toml").read_text())["answer"]:
+        expect = ", ".join(f'{o} = "{values[a["student"]][o]["value"]!r}"' for o in a["expect"])
+        params = "" if a["student"] == "s2" else "params = { " + ", ".join(
+            f"{p} = {json.dumps(t)}" for p, t in a["params"].items()) + " }\n"
+        parts.append(f'[[answer]]\nstudent = "{a["student"]}"\nexercise = "4.15"\n{params}expect = {{ {expect} }}\n')
+    path = tmp_path / "filled.toml"
+    path.write_text("\n".join(parts))
+    code, out, err = run("grade", path, "--assignment", folder, "--json")
+    d = json.loads(out)
+    states = {e["student"]: [c["state"] for c in e["cells"]] for e in d["entries"]}
+    assert states == {"s1": ["right", "right"], "s2": ["invalid", "invalid"], "s3": ["right", "right"]}
+    assert code == 1 and (d["points"], d["max"], d["review"]) == (4, 6, 2)
