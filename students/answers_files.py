@@ -480,6 +480,17 @@ def _csv_rows(path: str, what: str) -> list[tuple[int, list[str]]]:
     return rows
 
 
+# the apostrophe a CSV writer puts before a part a spreadsheet would run as a formula (``gradebook.csv_safe``,
+# ``mech assign``'s template): at the cell's start or after a separator, before = + - @
+_NEUTRALISED = re.compile(r"(^|[,;|\t\r\n])([ \u00a0]*)'(?=[=+\-@])")
+
+
+def _as_typed(cell: str) -> str:
+    """A CSV cell as it was typed: the apostrophes that neutralised it for a spreadsheet taken out (a
+    template's "'-5deg", a name "'=ann"), so that what mech wrote reads back as what it holds."""
+    return _NEUTRALISED.sub(lambda m: m.group(1) + m.group(2), cell) if "'" in cell else cell
+
+
 def _template_params(params_path: str) -> dict:
     """An assignment's template (``answers.toml``): (student, exercise) -> its params table."""
     from mech.core.safeio import load_toml, shown_path
@@ -565,7 +576,7 @@ def load_answers_csv(path: str, strict: bool = True, params_path: str | None = N
     memo = _Memo()
     for line, row in body:
         row = row + [""] * (len(header) - len(row))
-        student = row[s_col].strip()
+        student = _as_typed(row[s_col]).strip()
         for ex_id in order:
             item: dict = {"exercise": ex_id, "expect": {}}
             if student:
@@ -575,9 +586,9 @@ def load_answers_csv(path: str, strict: bool = True, params_path: str | None = N
                 if cid != ex_id:
                     continue
                 if kind == "output":
-                    item["expect"][col] = row[i]
+                    item["expect"][col] = _as_typed(row[i])
                 elif row[i].strip():
-                    params[col] = row[i].strip()
+                    params[col] = _as_typed(row[i]).strip()
             extra = []
             if template is not None and not params and against is None:
                 params = template.get((student, ex_id))

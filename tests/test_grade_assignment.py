@@ -249,3 +249,17 @@ def test_the_template_mech_assign_writes_grades_against_its_folder(tmp_path):
     states = {e["student"]: [c["state"] for c in e["cells"]] for e in d["entries"]}
     assert states == {"s1": ["right", "right"], "s2": ["invalid", "invalid"], "s3": ["right", "right"]}
     assert code == 1 and (d["points"], d["max"], d["review"]) == (4, 6, 2)
+
+
+def test_a_name_the_template_neutralised_reads_back(tmp_path):
+    """A template cell written "'=eve" (neutralised for a spreadsheet) is the student "=eve" of the key."""
+    folder = tmp_path / "k"
+    folder.mkdir()
+    (folder / "key.json").write_text(json.dumps({"variants": [
+        {"student": "=eve", "exercise": "4.15", "params": {"theta0": "60deg"}, "outputs": {}}]}))
+    path = tmp_path / "a.csv"
+    path.write_text("student,4.15:theta0,4.15:theta_c,4.15:omega_c\n'=eve,60deg,35.26deg,\n")
+    code, out, err = run("grade", path, "--assignment", folder, "--json")
+    d = json.loads(out)
+    assert code == 0 and [e["student"] for e in d["entries"]] == ["=eve"]
+    assert [c["state"] for c in d["entries"][0]["cells"]] == ["right", "unanswered"]
