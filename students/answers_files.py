@@ -480,15 +480,12 @@ def _csv_rows(path: str, what: str) -> list[tuple[int, list[str]]]:
     return rows
 
 
-# the apostrophe a CSV writer puts before a part a spreadsheet would run as a formula (``gradebook.csv_safe``,
-# ``mech assign``'s template): at the cell's start or after a separator, before = + - @
-_NEUTRALISED = re.compile(r"(^|[,;|\t\r\n])([ \u00a0]*)'(?=[=+\-@])")
-
-
 def _as_typed(cell: str) -> str:
     """A CSV cell as it was typed: the apostrophes that neutralised it for a spreadsheet taken out (a
-    template's "'-5deg", a name "'=ann"), so that what mech wrote reads back as what it holds."""
-    return _NEUTRALISED.sub(lambda m: m.group(1) + m.group(2), cell) if "'" in cell else cell
+    template's "'=ann"), so that what mech wrote (``core.safeio.csv_cell``) reads back as what it holds."""
+    from mech.core.safeio import csv_uncell
+
+    return csv_uncell(cell) if "'" in cell else cell
 
 
 def _template_params(params_path: str) -> dict:

