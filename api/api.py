@@ -468,30 +468,38 @@ def save_sweep_figure(result, path) -> None:
 
 # -- grade, bench, plot ----------------------------------------------------------------
 
-def grade(path, budget=None, *, strict: bool = False, jobs: int | None = None, params=None):
+def grade(path, budget=None, *, strict: bool = False, jobs: int | None = None, params=None, assignment=None,
+          min_digits=None):
     """``mech grade FILE``: every answer of a grading file (TOML, or CSV) held against mech, as a
     ``GradeReport`` (``.to_dict()`` is ``--json``; ``report["ok"]`` reads it).  ``budget``: the grading's
     wall-clock budget in seconds (``--budget``; default 600); ``strict``: BadInput for any entry that
     cannot be read, before anything is graded (else it is graded invalid); ``jobs``: processes;
-    ``params``: a CSV's parameters from an assignment's template (``--params``)."""
+    ``params``: a CSV's parameters from an assignment's template (``--params``); ``assignment``: the folder
+    ``mech assign`` wrote, every entry held to it (``--assignment``); ``min_digits``: the digits rule's
+    floor (``--min-digits``; default 2, with an assignment its digits)."""
     from mech.studies.sweep import check_total
+    from mech.students.expectations import parse_count
 
     _screen("path", path, "path")
     _screen("budget", budget, "none", "number", "str")
     _screen("params", params, "none", "path")
+    _screen("assignment", assignment, "none", "path")
     strict = _flag("strict", strict)
     jobs = _jobs(jobs)
+    min_digits = parse_count(min_digits, "min_digits", 1, 17)
     return grade_report(path, None if budget is None else check_total(budget, "budget"), strict=strict,
-                        jobs=jobs, params=params)
+                        jobs=jobs, params=params, assignment=assignment, min_digits=min_digits)
 
 
 def grade_report(path, total_s=None, *, strict: bool = False, jobs: int | None = None, params=None,
-                 started: float | None = None):
+                 started: float | None = None, assignment=None, min_digits: int | None = None):
     """The ``GradeReport`` of a grading file; ``started``: the ``time.perf_counter()`` the reported wall
-    time counts from (default: now, reading the file included)."""
+    time counts from (default: now, reading the file included); ``assignment``, ``min_digits``: as
+    ``grade``'s."""
     from mech.students import classrun
 
-    return classrun.grade_file(path, total_s, strict=strict, jobs=jobs, params=params, started=started)
+    return classrun.grade_file(path, total_s, strict=strict, jobs=jobs, params=params, started=started,
+                               assignment=assignment, min_digits=min_digits)
 
 
 def grade_entries(path, total_s=None) -> tuple[list, float]:

@@ -98,12 +98,13 @@ class Param:
             if self.display and self.display not in said and math.isfinite(value):
                 said += f" (= {self.show(value)})"
         if not math.isfinite(value):
-            raise BadInput(f"{self.name}: {said} is not a finite number; allowed range {self.range_text()}")
+            raise BadInput(f"{said} is not a finite number; allowed range {self.range_text()}", field=self.name,
+                           kind="range")
         below = self.min is not None and (value < self.min or (self.min_open and value == self.min))
         above = self.max is not None and (value > self.max or (self.max_open and value == self.max))
         if below or above:
-            raise BadInput(f"{self.name}: {said} is out of range; allowed {self.range_text()}"
-                           + self._unit_hint(typed))
+            raise BadInput(f"{said} is out of range; allowed {self.range_text()}" + self._unit_hint(typed),
+                           field=self.name, kind="range")
 
     def _unit_hint(self, typed: str | None) -> str:
         """"; a plain number is in rad: for degrees write 10deg" where the number typed is out of range in

@@ -308,7 +308,7 @@ def _over_range(ex, name: str, text: str) -> tuple[float, float]:
             try:
                 return parse_over(ex, {name: text})[name]
             except BadInput as exc:
-                raise BadInput(f"--over {ex.id}:{str(exc).removeprefix('over.')}") from None
+                raise BadInput(f"--over {ex.id}:{name}: {exc.reason}") from None
         text = ends[0]
     elif len(ends) != 1:
         raise BadInput(f"--over {ex.id}:{name}: give LO:HI or one VALUE, got '{shown(text, 40)}'")
@@ -316,7 +316,8 @@ def _over_range(ex, name: str, text: str) -> tuple[float, float]:
         v = to_si(text, p.unit)
         p.check(v, text)
     except (ValueError_, BadInput, OverflowError) as exc:
-        raise BadInput(f"--over {ex.id}:{name}: {shown(str(exc).removeprefix(name + ': '), 120)}") from None
+        why = exc.reason if isinstance(exc, BadInput) else str(exc)
+        raise BadInput(f"--over {ex.id}:{name}: {shown(why, 120)}") from None
     return v, v
 
 

@@ -9,19 +9,21 @@ import warnings
 
 from mech.problems.spec import BadInput
 from mech.core.safeio import shown
-from mech.students.answers_files import Entry, load_answers, load_answers_csv
+from mech.students.answers_files import Entry, read_answers
 from mech.students.gradebook import GradeReport
 
 __all__ = ["grade", "grade_file"]
 
 
 def _not_graded(entry: Entry, why: str):
-    """Judgements saying why ``entry``'s answers were not graded (each wrong: mech has no verdict)."""
+    """Judgements saying why ``entry``'s answers were not graded (``State.NOT_GRADED``: mech has no
+    verdict; never wrong)."""
     from mech.students.answers import Judgement
+    from mech.students.cells import State
 
     units = {o.name: o.unit for o in entry.exercise.outputs}
-    return [Judgement(e.name, units.get(e.name, ""), e.text, e.value, False, None, verdict=why)
-            for e in entry.expectations]
+    return [Judgement(e.name, units.get(e.name, ""), e.text, e.value, False, None, verdict=why,
+                      state=State.NOT_GRADED) for e in entry.expectations]
 
 
 def _out_of_time(entry: Entry, total_s: float):
@@ -271,18 +273,14 @@ def _grade_pooled(todo, groups, workers, deadline, total_s, plan) -> None:
 
 
 def grade_file(path, total_s=None, *, strict: bool = False, jobs: int | None = None, params=None,
-               started: float | None = None) -> GradeReport:
+               started: float | None = None, assignment=None, min_digits: int | None = None) -> GradeReport:
     """A grading file (TOML, or CSV: by its name) read, graded and reported; ``params``: a CSV's parameters
-    from an assignment's template; ``started``: the ``time.perf_counter()`` the reported wall time counts
-    from (default: now, reading the file included)."""
+    from an assignment's template; ``assignment``: the folder ``mech assign`` wrote, every entry held to
+    it (its parameters, digits, range; ``students.against``); ``min_digits``: the digits rule's floor
+    (default ``MIN_DIGITS``; with an assignment, its digits); ``started``: the ``time.perf_counter()`` the
+    reported wall time counts from (default: now, reading the file included)."""
     t0 = time.perf_counter() if started is None else started
-    csv_file = str(path).lower().endswith(".csv")
-    if params is not None and not csv_file:
-        raise BadInput("--params: only for answers read from a CSV file")
-    if csv_file:
-        entries = load_answers_csv(str(path), strict=strict, params_path=None if params is None else str(params))
-    else:
-        entries = load_answers(str(path), strict=strict)
+    entries = read_answers(path, strict=strict, params=params, assignment=assignment, min_digits=min_digits)
     grade(entries, total_s, jobs=jobs)
     return GradeReport(str(path), tuple(entries), time.perf_counter() - t0)
 

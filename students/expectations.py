@@ -36,8 +36,10 @@ def _unit_factor(text: str, toks: list[tuple[str, str]], i: int, unit: str) -> t
     return factor, unit_text
 
 
-def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = None) -> Expectation:
-    """``theta_c``, ``35.26deg`` -> an Expectation in SI; BadInput naming the output otherwise."""
+def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = None, *,
+                      min_digits: int | None = None) -> Expectation:
+    """``theta_c``, ``35.26deg`` -> an Expectation in SI; BadInput naming the output otherwise.
+    ``min_digits``: the digits rule's floor (``--min-digits``, an assignment's digits)."""
     from mech.students.answers import Expectation
 
     name = str(raw_name).strip().replace("-", "_")
