@@ -6,7 +6,7 @@ omega = omega0 + delta w, d = delta/omega0, gamma = alpha Q^2/(omega0 delta), s 
     x'' = (2 d cos tau - 2 d s x' - x - d gamma x^3)/s^2,
 
 so every problem's drive period is tau in [0, 2 pi] and all are integrated together by the batched DOP853
-(``integrate_batch``; a segment [tau0, tau0 + L] of each problem is mapped onto sigma in [0, 1]).  The
+(``integrate_batch``; each column's span [tau0, tau0 + L] is mapped onto sigma in [0, 1]).  The
 state y = (x, x') at tau = 0 is a periodic orbit where the one-period map closes, Phi(y, w) = y.  With it
 are integrated the variational equations: the monodromy matrix M = dPhi/dy and y_w = dPhi/dw, and for the
 folds the second-order ones, dM/dx0, dM/dv0, dM/dw.
@@ -72,7 +72,7 @@ def _flow(d, g, w, Y0, tau0, span, eps, shots, second):
     the absolute tolerance eps (one a column: the state, M and its derivatives are of order 1)."""
     s = 1.0 + d * w
     c1, c3, b = 1.0 / (s * s), 3.0 * d * g / (s * s), -2.0 * d / s
-    fc, fx3, fw1, ax = 2.0 * d * c1, d * g * c1, 2.0 * d * d * c1, 2.0 * c3
+    fc, fx3, fw1, ax, bd = 2.0 * d * c1, d * g * c1, 2.0 * d * d * c1, 2.0 * c3, b * d / s
     half = Y0.shape[0] // 2
 
     def rhs(sigma, Y):
@@ -87,11 +87,12 @@ def _flow(d, g, w, Y0, tau0, span, eps, shots, second):
         f2 = fc * np.cos(tau0 + span * sigma) + b * v - (c1 + fx3 * xx) * x
         dV[0] = f2
         dV[3] += b * f2 - fw1 * v  # y_w: + dF/dw
-        if second:
+        if second:  # (dJ/dp) M, J's second row moved by p = x0, v0, w: (a_p, b_p) times M's columns
             axx = -ax * x
-            coef = np.stack([axx * P[1], axx * P[2], axx * P[3] - b * a * d / s])
-            dV[4:10] += (coef[:, None, :] * P[1:3][None, :, :]).reshape(6, -1)
-            dV[8:10] += fw1 * V[1:3]  # db/dw times M's second row
+            M1 = P[1:3]
+            dV[4:6] += (axx * P[1]) * M1
+            dV[6:8] += (axx * P[2]) * M1
+            dV[8:10] += (axx * P[3] - bd * a) * M1 + fw1 * V[1:3]  # a_w = -2 d a/s, b_w = 2 d^2/s^2
         out[:half] = V
         out *= span
         return out
@@ -164,14 +165,15 @@ def shoot_folds(d, gamma, w, y0, *, eps, tol, shots, idx):
 
 def _swing(d, g, w, y, tc, eps, shots):
     """The orbits from y at w through the stops tc and tc + pi to 2 pi: (A, dA/dw along the branch, the stops
-    moved to the extrema, the closing step (I - M)^-1 (Phi - y), M)."""
+    moved to the extrema, the closing step (I - M)^-1 (Phi - y), M).  The three ends are three columns of one
+    batched integration from tau = 0 (spans tc, tc + pi and 2 pi)."""
     t1 = np.mod(tc, math.pi)
-    Y = _start(y, False)
-    stops = []
-    for start, span in ((0.0, t1), (t1, np.full_like(t1, math.pi)), (t1 + math.pi, math.pi - t1)):
-        Y = _flow(d, g, w, Y, start, span, eps, shots, False)
-        stops.append(Y)
-    M, yw, end = _monodromy(Y)
+    k = t1.size
+    three = np.concatenate([np.arange(k)] * 3)
+    spans = np.concatenate([t1, t1 + math.pi, np.full(k, TWO_PI)])
+    Y = _flow(d[three], g[three], w[three], _start(y[:, three], False), 0.0, spans, eps[three], shots, False)
+    stops = [Y[:, :k], Y[:, k:2 * k]]
+    M, yw, end = _monodromy(Y[:, 2 * k:])
     I_M = np.eye(2)[:, :, None] - M
     tangent = _solve2(I_M, yw)
     close = _solve2(I_M, end - y)
