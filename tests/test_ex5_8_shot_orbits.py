@@ -127,3 +127,55 @@ def test_peak_is_half_the_swing_and_the_swing_is_largest_there(solved):
     assert A_dn < A and A_up < A
     vertex = 0.5 * h * (A_dn - A_up) / (A_dn - 2.0 * A + A_up)  # the parabola's vertex from omega
     assert abs(vertex) <= claimed_error(registry.get("5.8"), run, "xi_peak", num["xi_peak"]), vertex
+
+
+def test_a_variant_whose_shooting_does_not_converge_fails_alone(monkeypatch):
+    """Shooting's Newton reported unconverged for the first variant's folds (the others' untouched): that variant
+    fails, saying so, and the other keeps its values; the scalar solve raises with the same reason."""
+    import mech.solvers.mechanics.duffing_shooting as shooting
+    from mech.problems.spec import NumericFailure
+
+    real = shooting.shoot_folds
+
+    def first_fails(*args, idx, **kw):
+        w, y, ok = real(*args, idx=idx, **kw)
+        return w, y, ok & (idx != 0)
+
+    monkeypatch.setattr(shooting, "shoot_folds", first_fails)
+    ex = registry.get("5.8")
+    rows = [CASES["defaults"], CASES["softening"]]
+    P = {k: np.array([r[k] for r in rows]) for k in rows[0]}
+    cols = ex.batched_route.numeric(P, 1e-10, ("A_max", "xi_peak", "xi_lo", "xi_hi"))
+    for name, col in cols.items():
+        assert list(col.mask("failed")) == [True, False], name
+        assert "shooting's Newton did not converge" in col.reason("failed", 0)
+    monkeypatch.setattr(shooting, "shoot_folds", real)
+    _, alone, _ = solve_both("5.8", **CASES["softening"])
+    assert cols["xi_lo"].value[1] == pytest.approx(alone["xi_lo"], rel=1e-8)
+    monkeypatch.setattr(shooting, "shoot_folds", first_fails)
+    with pytest.raises(NumericFailure, match="shooting's Newton did not converge"):
+        solve_both("5.8", **CASES["defaults"])
+
+
+def test_second_order_variational_equations_against_differences():
+    """dM/dx0, dM/dv0 and dM/dw integrated by duffing_shooting (for the folds' Newton) equal central differences
+    of its M, and its M and y_w equal central differences of the end state (steps 1e-5: errors ~1e-9)."""
+    from mech.solvers.mechanics import duffing_shooting as S
+
+    d, g, w, y0 = np.array([0.01]), np.array([3.0]), np.array([2.5]), np.array([[0.3], [0.9]])
+    shots = S.Shots(1)
+
+    def run(y, ww):
+        Y = S._flow(d, g, ww, S._start(y, True), 0.0, 2.0 * math.pi, np.array([1e-13]), shots, True)
+        return Y, *S._monodromy(Y)
+
+    Y, M, yw, end = run(y0, w)
+    h = 1e-5
+    for j, (dy, dw) in enumerate((([h, 0.0], 0.0), ([0.0, h], 0.0), ([0.0, 0.0], h))):
+        step = np.array(dy)[:, None]
+        _, Mp, _, ep = run(y0 + step, w + dw)
+        _, Mm, _, em = run(y0 - step, w - dw)
+        dM = np.array([[Y[4 + 2 * j], Y[5 + 2 * j]], [Y[14 + 2 * j], Y[15 + 2 * j]]])
+        assert np.allclose(dM, (Mp - Mm) / (2 * h), rtol=1e-6, atol=1e-7), j
+        first = M[:, j] if j < 2 else yw
+        assert np.allclose(first, (ep - em) / (2 * h), rtol=1e-6, atol=1e-7), j

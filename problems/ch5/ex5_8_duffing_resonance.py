@@ -315,13 +315,12 @@ def _route(P, rtol):
 
 def _shot_tolerances(d, rtol):
     """Per variant: the integration's absolute tolerance (the state is of order 1: a 1e-2 of rtol, tighter by
-    the damping per period 4 pi d below 1e-2, within [1e-14, 1e-10]) and Newton's step tolerances at the peak
-    and at the folds (10 rtol, or 10 times the orbit's noise where high Q leaves more; the augmented system
-    at a fold is worse conditioned: its steps wander at 20 times the orbit's noise at Q = 5000, rtol 1e-11)."""
+    the damping per period 4 pi d below 1e-2, within [1e-14, 1e-10]) and Newton's step tolerance (10 rtol, or
+    10 times the orbit's noise where high Q leaves more)."""
     from mech.solvers.mechanics.duffing_shooting import noise
 
     eps = np.clip(SHOT_RTOL * rtol * np.minimum(1.0, 4.0 * math.pi * d / SHOT_RTOL), 1e-14, 1e-10)
-    return eps, np.maximum(SHOT_TOL * rtol, 10.0 * noise(eps, d)), np.maximum(SHOT_TOL * rtol, 300.0 * noise(eps, d))
+    return eps, np.maximum(SHOT_TOL * rtol, 10.0 * noise(eps, d))
 
 
 def _shoot(d, gamma, sub, slots, n, rtol):
@@ -333,7 +332,7 @@ def _shoot(d, gamma, sub, slots, n, rtol):
     shots = Shots(n)
     x0, v0, crest = series_start(sub.c[slots], sub.phi[slots])
     rows, y0 = slots % n, np.array([x0, v0])
-    eps, tol, tol_fold = _shot_tolerances(d, rtol)
+    eps, tol = _shot_tolerances(d, rtol)
     opts = dict(shots=shots)
     res = np.full(3 * n, np.nan)
     amp = np.full(n, np.nan)
@@ -348,7 +347,7 @@ def _shoot(d, gamma, sub, slots, n, rtol):
         ok[r[~good]] = False
     if fo.any():
         r = rows[fo]
-        w, y, good = shoot_folds(d[r], gamma[r], sub.w[slots[fo]], y0[:, fo], idx=r, eps=eps[r], tol=tol_fold[r],
+        w, y, good = shoot_folds(d[r], gamma[r], sub.w[slots[fo]], y0[:, fo], idx=r, eps=eps[r], tol=tol[r],
                                   **opts)
         res[slots[fo]], states[:, slots[fo]] = w, y
         np.logical_and.at(ok, r, good)
@@ -359,13 +358,12 @@ def _claims(P, rtol):
     """{output: (rel, abs)}: the accuracy each output is claimed to."""
     _, _, d, _ = _scaled(P)
     # the claim: 100 rtol, or 10 times Newton's tolerance where high Q's noise sets it (``_shot_tolerances``)
-    _, tol, tol_fold = _shot_tolerances(d, rtol)
-    rel, rel_fold = (np.maximum(exercise.tol_factor * rtol, 10.0 * t) for t in (tol, tol_fold))
+    rel = np.maximum(exercise.tol_factor * rtol, 10.0 * _shot_tolerances(d, rtol)[1])
     # the peak's position is a root of dA/dphi: an absolute claim on the curve's own scale, the half-width,
     # for a peak shift that may be tiny (weak alpha)
     zero = np.zeros_like(rel)
     return {"A_max": (rel, zero), "xi_peak": (rel, 1e3 * rtol * np.asarray(P["delta"], dtype=float)),
-            "xi_lo": (rel_fold, zero), "xi_hi": (rel_fold, zero)}
+            "xi_lo": (rel, zero), "xi_hi": (rel, zero)}
 
 
 @exercise.numeric

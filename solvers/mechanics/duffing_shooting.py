@@ -72,7 +72,7 @@ def _flow(d, g, w, Y0, tau0, span, eps, shots, second):
     the absolute tolerance eps (one a column: the state, M and its derivatives are of order 1)."""
     s = 1.0 + d * w
     c1, c3, b = 1.0 / (s * s), 3.0 * d * g / (s * s), -2.0 * d / s
-    fc, fx3, fw1, ax, bd = 2.0 * d * c1, d * g * c1, 2.0 * d * d * c1, 2.0 * c3, b * d / s
+    fc, fx3, fw1, ax = 2.0 * d * c1, d * g * c1, 2.0 * d * d * c1, 2.0 * c3
     half = Y0.shape[0] // 2
 
     def rhs(sigma, Y):
@@ -92,7 +92,7 @@ def _flow(d, g, w, Y0, tau0, span, eps, shots, second):
             M1 = P[1:3]
             dV[4:6] += (axx * P[1]) * M1
             dV[6:8] += (axx * P[2]) * M1
-            dV[8:10] += (axx * P[3] - bd * a) * M1 + fw1 * V[1:3]  # a_w = -2 d a/s, b_w = 2 d^2/s^2
+            dV[8:10] += (axx * P[3] + b * a) * M1 + fw1 * V[1:3]  # a_w = -2 d a/s = b a, b_w = 2 d^2/s^2
         out[:half] = V
         out *= span
         return out
