@@ -26,7 +26,9 @@ by Newton in omega on dA/dw = 0 along the branch, A half the peak-to-peak swing 
 extremes near the crest and half a period later, x - x'^2/(2 x'') there), dA/dw from the orbit's tangent
 (I - M) dy = dPhi/domega domega, d2A/dw2 from a second orbit at w + 1e-4 (1 + |w|) delta, each orbit
 closed by Newton on Phi_T(y) = y at once.  Newton stops when its step is below 10 rtol (the claims are
-100 rtol); a variant whose Newton does not stop fails alone.  Liouville's det M = exp(-2 delta T) is
+100 rtol), or at high Q below 10 times the orbit's noise, the integration's error over the damping per
+period 4 pi delta/omega0 (the claims then 10 times the step); a variant whose Newton does not stop fails
+alone.  Liouville's det M = exp(-2 delta T) is
 reported as a check on the orbits shot.  Units: A by f0/(2 omega0 delta), the detuning by delta.  Issue
 41: the one-period map's continuation used before failed at f0 = 0.0163277 ("near losing its q -> -q
 symmetry"): an iterate 25 times off the branch; long time integration there finds one symmetric response
