@@ -292,7 +292,9 @@ def test_batch_of_many_is_each_variant_alone():
             if isinstance(n[name], Undefined):
                 assert col.mask("undefined")[k]
             else:
-                assert col.value[k] == pytest.approx(n[name], rel=1e-13, abs=1e-15 * row["delta"])
+                # shot together, the variants share the integrator's mesh (the step follows the worst one): each
+                # meets its own tolerance, so the values agree within the claim, not to the last bits
+                assert col.value[k] == pytest.approx(n[name], rel=run.claims[name][0], abs=1e-15 * row["delta"])
                 assert np.broadcast_to(col.rel, (len(rows),))[k] == pytest.approx(run.claims[name][0])
 
 

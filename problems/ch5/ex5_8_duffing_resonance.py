@@ -10,22 +10,29 @@ Two roots (one each side of s = 3/4) exist only for |g| > 8/(3 sqrt 3): the
 critical force.  They are found from s = 3/4 + t, t^2 ((1 + t)^2 + 1/8) =
 27/256 - 1/(4 g^2), without the cancellation of the quartic near the cusp.
 
-Numeric (exact periodic orbits by harmonic balance, solvers/mechanics/harmonic_balance.py, N variants at
-once; the scalar solve is the batch of one): the drag and the cubic are odd, so the response is a sum of odd
-harmonics 1 ... 13 (the 13th checked below rtol of the fundamental), each balanced exactly (the cubic
-projected by the trapezoidal rule on 56 points); nothing is expanded in delta/omega0 or the nonlinearity.
-The resonance curve is parametrized by the fundamental's phase phi against the drive, which runs once
-through (0, pi) along the whole curve, through its folds: at fixed phi, Newton's method gives the swing
-and the frequency, and the tangent -J^-1 dF/dphi gives dw/dphi and dA/dphi.  On 32 phases the signs of
-dA/dphi bracket the peak and those of dw/dphi the folds (where the curve turns back in frequency: det(M - I)
-= 0 of the one-period map); where dw/dphi stays positive on the grid, its least value is found between the
-grid's neighbours of its least sample (near the cusp both folds lie between two phases).  Each root is
-started from the cubic through the grid's values and slopes and refined by Illinois' method: the peak's
-phase to rtol, a fold's to 1e-2 sqrt(rtol) (its frequency is stationary there).  A is half the
-peak-to-peak swing (its largest |x|, at the crest near tau = phi).  Units: A by f0/(2 omega0 delta), the
-detuning by delta.  Issue 41: the one-period map's continuation used before failed at f0 = 0.0163277
-("near losing its q -> -q symmetry"): an iterate 25 times off the branch; long time integration there
-finds one symmetric response (tests/test_ex5_8_shooting.py, scripts/duffing_symmetry.py).
+Numeric (the catalogue's route: periodic orbits by shooting, solvers/mechanics/duffing_shooting.py, with
+harmonic balance as the predictor that traces and brackets the branch; N variants at once, the scalar solve
+is the batch of one).  Predictor (solvers/mechanics/harmonic_balance.py): the drag and the cubic are odd, so
+the response is a sum of odd harmonics 1 ... 13, each balanced exactly (the cubic projected on 56 points).
+The curve is parametrized by the fundamental's phase phi against the drive, which runs once through
+(0, pi) along the whole curve, through its folds: at fixed phi Newton gives the swing and the frequency,
+and the tangent dw/dphi, dA/dphi.  On 32 phases their signs bracket the peak and the folds (where dw/dphi
+stays positive, its least value between the grid's neighbours of its least sample: near the cusp both folds
+lie between two phases); each root is refined by Illinois' method, its phase to rtol.  Outputs, by shooting from the balance's orbits (the state (q, q') at t = 0 that the
+flow over one drive period maps to itself; DOP853 batched over the variants, ``integrate_batch``, at
+rtol 1e-2 of the run's, with the variational equations): each fold by Newton on {Phi_T(y) - y = 0,
+det(M - I) = 0} in (q, q', omega) (the second-order variational equations give det's gradient); the peak
+by Newton in omega on dA/dw = 0 along the branch, A half the peak-to-peak swing of the shot orbit (its
+extremes near the crest and half a period later, x - x'^2/(2 x'') there), dA/dw from the orbit's tangent
+(I - M) dy = dPhi/domega domega, d2A/dw2 from a second orbit at w + 1e-4 (1 + |w|) delta, each orbit
+closed by Newton on Phi_T(y) = y at once.  Newton stops when its step is below 10 rtol (the claims are
+100 rtol), or at high Q below 10 times the orbit's noise, the integration's error over the damping per
+period 4 pi delta/omega0 (the claims then 10 times the step); a variant whose Newton does not stop fails
+alone.  Liouville's det M = exp(-2 delta T) is
+reported as a check on the orbits shot.  Units: A by f0/(2 omega0 delta), the detuning by delta.  Issue
+41: the one-period map's continuation used before failed at f0 = 0.0163277 ("near losing its q -> -q
+symmetry"): an iterate 25 times off the branch; long time integration there finds one symmetric response
+(tests/test_ex5_8_shooting.py, scripts/duffing_symmetry.py).
 
 Allowances (``_harmonic_balance``, the next order: one harmonic without the rotating-wave linearization):
   A_max, xi_peak, xi_lo, xi_hi  twice the change it makes + 0.1 eps + 2 (delta/omega0)^2; the folds fall
@@ -211,6 +218,10 @@ FOLDS = "the branch's frequency turns back more than twice: not the one window o
 UNCONVERGED = "harmonic balance did not converge on the branch"
 CUSP = "the branch is within its accuracy of the cusp: whether it folds is not resolved"
 TAIL = "the harmonic series did not converge within its harmonics (the highest above rtol)"
+SHOT = "shooting's Newton did not converge on the peak's or a fold's orbit from the balance's"
+SHOT_RTOL = 1e-2  # the integration's tolerance over the run's rtol (``_shot_tolerances``): at Q = 5000 the
+# outputs move by 4e-11 relative between 1e-12 and 1e-13 (the claim is 1e-8)
+SHOT_TOL = 10.0  # Newton's last step over the run's rtol: the claim is 100 rtol
 
 
 def _scaled(P):
@@ -277,35 +288,82 @@ def _route(P, rtol):
     slots = slots[~bad_rows[slots % n]]
     a, b, fa, fb, off = narrowed(sub, slots, a[slots], b[slots], fa[slots], fb[slots], guess[slots], which[slots],
                              np.where(which[slots] == 0, 1e-4, 1e-2) * (b[slots] - a[slots]))
-    # the peak's phase to rtol (its detuning, reported, moves by about delta times that: the claim is 1e3 rtol
-    # delta); a fold's detuning is stationary in the phase: an error e moves it by about w'' e^2/2
-    xtol = np.where(which[slots] == 0, rtol, 1e-2 * math.sqrt(rtol))
+    # every phase to rtol: the orbits are shot from there, and the state moves with the phase at first order
+    # (a fold's detuning alone is stationary in it); a start that close lets shooting's Newton stop at once
+    xtol = np.full(slots.size, rtol)
     x, bad = roots_along(sub, slots, a, b, fa, fb, which[slots], xtol)
     v = sub.evaluate(x, slots)
     steps += sub.newton_steps
-    res = np.full(3 * n, np.nan)
-    res[slots] = v.w
-    res = res.reshape(3, n)
-    amp = np.full(n, np.nan)
-    amp[slots[slots < n]] = v.A[slots < n]
     root_failed = np.zeros(n, dtype=bool)
     root_failed[slots[bad | off | ~v.ok] % n] = True
+    slots = slots[~root_failed[slots % n]]
+    res, amp, unshot, shots = _shoot(d, gamma, sub, slots, n, rtol)
     tail = np.zeros(n)
     np.maximum.at(tail, slots % n, v.tail)
-    failed += [(root_failed, "the root search along the branch did not converge"), (tail > rtol, TAIL)]
+    failed += [(root_failed, "the root search along the branch did not converge"), (tail > rtol, TAIL),
+               (unshot, SHOT)]
     none = (lo < 0) & ~bad_rows
-    xi = np.sort(res[1:], axis=0) * W
+    order = np.argsort(res[1:], axis=0)  # folds' slots by frequency: the lower one first
+    xi = np.take_along_axis(res[1:], order, axis=0) * W
     values = {"A_max": amp * Q, "xi_peak": res[0] * W, "xi_lo": xi[0], "xi_hi": xi[1]}
-    return values, {"xi_lo": none, "xi_hi": none}, failed, {"newton_steps": steps, "harmonic_tail": tail}
+    y = np.concatenate([shots[1][:, :1], np.take_along_axis(shots[1][:, 1:], order[None], axis=1)], axis=1)
+    omega = np.asarray(P["omega0"], dtype=float) + np.concatenate([res[:1], xi / W]) * W
+    shots = shots[0], (Q * y[0], Q * omega * y[1], omega)  # the orbits' (q, q', omega) at t = 0, SI
+    return values, {"xi_lo": none, "xi_hi": none}, failed, {"newton_steps": steps, "harmonic_tail": tail,
+                                                                   "shots": shots}
+
+
+def _shot_tolerances(d, rtol):
+    """Per variant: the integration's absolute tolerance (the state is of order 1: a 1e-2 of rtol, tighter by
+    the damping per period 4 pi d below 1e-2, within [1e-14, 1e-10]) and Newton's step tolerance (10 rtol, or
+    10 times the orbit's noise where high Q leaves more)."""
+    from mech.solvers.mechanics.duffing_shooting import noise
+
+    eps = np.clip(SHOT_RTOL * rtol * np.minimum(1.0, 4.0 * math.pi * d / SHOT_RTOL), 1e-14, 1e-10)
+    return eps, np.maximum(SHOT_TOL * rtol, 10.0 * noise(eps, d))
+
+
+def _shoot(d, gamma, sub, slots, n, rtol):
+    """The reported orbits, by shooting from the balance's at the peak's and folds' phases (``slots``, k n + row):
+    (the detunings over delta (3, n), the peak's swing over Q, the rows whose Newton did not converge, (Shots,
+    the orbits' states (x, dx/dtau) at t = 0 (2, 3, n)))."""
+    from mech.solvers.mechanics.duffing_shooting import Shots, series_start, shoot_folds, shoot_peak
+
+    shots = Shots(n)
+    x0, v0, crest = series_start(sub.c[slots], sub.phi[slots])
+    rows, y0 = slots % n, np.array([x0, v0])
+    eps, tol = _shot_tolerances(d, rtol)
+    opts = dict(shots=shots)
+    res = np.full(3 * n, np.nan)
+    amp = np.full(n, np.nan)
+    states = np.full((2, 3 * n), np.nan)
+    ok = np.ones(n, dtype=bool)
+    pk, fo = slots < n, slots >= n
+    if pk.any():
+        r = rows[pk]
+        w, A, y, good = shoot_peak(d[r], gamma[r], sub.w[slots[pk]], y0[:, pk], crest[pk], idx=r, eps=eps[r],
+                                 tol=tol[r], **opts)
+        res[slots[pk]], amp[r], states[:, slots[pk]] = w, A, y
+        ok[r[~good]] = False
+    if fo.any():
+        r = rows[fo]
+        w, y, good = shoot_folds(d[r], gamma[r], sub.w[slots[fo]], y0[:, fo], idx=r, eps=eps[r], tol=tol[r],
+                                  **opts)
+        res[slots[fo]], states[:, slots[fo]] = w, y
+        np.logical_and.at(ok, r, good)
+    return res.reshape(3, n), amp, ~ok, (shots, states.reshape(2, 3, n))
 
 
 def _claims(P, rtol):
     """{output: (rel, abs)}: the accuracy each output is claimed to."""
-    rel = exercise.tol_factor * rtol
+    _, _, d, _ = _scaled(P)
+    # the claim: 100 rtol, or 10 times Newton's tolerance where high Q's noise sets it (``_shot_tolerances``)
+    rel = np.maximum(exercise.tol_factor * rtol, 10.0 * _shot_tolerances(d, rtol)[1])
     # the peak's position is a root of dA/dphi: an absolute claim on the curve's own scale, the half-width,
     # for a peak shift that may be tiny (weak alpha)
-    return {"A_max": (rel, 0.0), "xi_peak": (rel, 1e3 * rtol * np.asarray(P["delta"], dtype=float)),
-            "xi_lo": (rel, 0.0), "xi_hi": (rel, 0.0)}
+    zero = np.zeros_like(rel)
+    return {"A_max": (rel, zero), "xi_peak": (rel, 1e3 * rtol * np.asarray(P["delta"], dtype=float)),
+            "xi_lo": (rel, zero), "xi_hi": (rel, zero)}
 
 
 @exercise.numeric
@@ -313,14 +371,20 @@ def numeric(p, run):
     """The batched route (``_route``) at this one variant."""
     values, undefined, failed, info = _route({k: np.array([float(p[k])]) for k in p}, run.rtol)
     run.cost(int(info["newton_steps"]))  # linear solves of the balance (one a variant and Newton step)
-    run.method = "harmonic balance (Newton), continued in the phase"
+    run.method = "shooting (DOP853 with the variational equations, Newton), started from harmonic balance"
     run.info["harmonics"] = HARMONICS
+    shots, orbits = info["shots"]
+    # each reported output's shot orbit: its state (q, dq/dt) at t = 0 and the drive's omega, for a check
+    run.info["orbits"] = {name: [float(v[k, 0]) for v in orbits] for k, name in enumerate(("A_max", "xi_lo", "xi_hi"))
+                          if np.isfinite(orbits[2][k, 0])}
+    run.info["shot_integrations"], run.info["shot_steps"] = shots.integrations, shots.steps
+    run.info["liouville"] = float(shots.liouville[0])  # |det M / exp(-2 delta T) - 1| of the orbits shot
     run.info["harmonic_tail"] = float(info["harmonic_tail"][0])
     for mask, why in failed:
         if mask[0]:
             raise NumericFailure(why)
-    for name, (rel, ab) in _claims(p, run.rtol).items():
-        run.claim(name, rel=rel, **({"abs": float(ab)} if np.any(ab) else {}))
+    for name, (rel, ab) in _claims({k: np.array([float(p[k])]) for k in p}, run.rtol).items():
+        run.claim(name, rel=float(rel[0]), **({"abs": float(ab[0])} if np.any(ab) else {}))
     out = {}
     for name, v in values.items():
         out[name] = (Undefined("no bistability: the branch's frequency never turns back")
