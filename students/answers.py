@@ -153,7 +153,7 @@ def judge(result, expectations: list[Expectation]) -> list[Judgement]:
         leading = q.theory != "exact"
         base = dict(name=e.name, unit=q.unit, text=e.text, value=e.value, reference=ref.label, theory=q.theory)
         if ref.value is None:
-            out.append(Judgement(**base, match=False, verdict=f"cannot judge: {ref.why}"))
+            out.append(Judgement(**base, match=False, verdict=f"cannot judge: {ref.why}", state=State.NOT_GRADED))
             continue
         shown = _shown(e, ref.value)
         tol = allowed(e, ref.value, ref.err)
@@ -247,8 +247,10 @@ def judge_expectation(result, e, q, ref):
     verdict = v.verdict
     if given_ref is None and not v.hint and not undefined_here:
         verdict = f"cannot judge: {ref.why or 'mech has no trusted value here'}"
+    state = State.NOT_GRADED if (v.state == "not-graded" or verdict.startswith("cannot judge")) else None
     return Judgement(
         name=e.name, unit=q.unit, text=e.text, value=v.value, match=v.match, theory=q.theory, matches=v.matches,
+        state=state,
         reference=(ref.label if ref.value is not None else None), reference_value=v.reference_value,
         rel_err=v.rel_err, tol=v.tol, hint=v.hint, verdict=verdict,
         shown_reference=show_value(v.reference_value, q.unit) if v.reference_value is not None else "",

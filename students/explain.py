@@ -705,7 +705,7 @@ def _const_ratio(yours, ref, tol, mask) -> float | None:
 
 def _ratio_constant(formula: Formula, line: PointSet, output: str, rtol: float) -> bool | None:
     ref = line.analytic[output]
-    pj = judge_points(formula, line, ref, line.analytic_err[output], rtol)
+    pj = judge_points(formula, line, ref, line.analytic_err[output], rtol, name=output)
     use = np.isfinite(pj.yours) & np.isfinite(ref)
     if use.sum() < 2:
         return None
