@@ -306,7 +306,8 @@ def _param_slips(ex) -> list[tuple[str, object, bool]]:
         for b in params[i + 1:]:
             if not (a.unit == b.unit or (a.unit not in ("1", "rad") and _same_dim(a.unit, b.unit))):
                 continue
-            near.append((f"{a.name} and {b.name} swapped", lambda d, x=a.name, y=b.name: {**d, x: d[y], y: d[x]}))
+            near.append((f"{a.name} and {b.name} swapped",
+                         lambda d, x=a.name, y=b.name: _in_bounds(ex, {**d, x: d[y], y: d[x]})))
             # a difference (l for R - l): only where the exercise's joint limits hold (4.32's series diverges
             # with R_E near r_S)
             far.append((f"{a.name} and {b.name} - {a.name} swapped",
@@ -327,8 +328,25 @@ class _Refused(ValueError):
     """A slipped point beyond the exercise's joint limits, where a difference slip is not evaluated."""
 
 
+class _OutOfRange(_Refused):
+    """A slipped point with a parameter outside its declared bounds: that reading is never offered."""
+
+
+def _in_bounds(ex, values: dict) -> dict:
+    """``values`` where every parameter is inside its declared bounds; else ValueError: a reading that
+    implies a parameter outside its range (a negative omega0) is never offered."""
+    for p in ex.params:
+        v = values.get(p.name, p.default)
+        if (p.min is not None and (v < p.min or (p.min_open and v == p.min))) or \
+                (p.max is not None and (v > p.max or (p.max_open and v == p.max))):
+            raise _OutOfRange("outside the declared bounds")
+    return values
+
+
 def _jointly(ex, values: dict) -> dict:
-    """``values`` where the exercise's joint limits accept them; else ValueError (no slip there)."""
+    """``values`` where the bounds and the exercise's joint limits accept them; else ValueError (no slip
+    there)."""
+    _in_bounds(ex, values)
     try:
         why = ex.constraint_message(Params(values))
     except (ArithmeticError, ValueError):
@@ -376,6 +394,8 @@ class _Points:
         for i in self.order:
             try:
                 v = at(i)
+            except _OutOfRange:  # the reading implies a parameter outside its range: never offered
+                return False
             except _Refused:  # a difference beyond the joint limits: not evaluated there, and said so
                 self.skipped += 1
                 continue

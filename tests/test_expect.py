@@ -120,9 +120,10 @@ def test_a_bad_expect_exits_2_in_one_line(args, words):
 
 @pytest.mark.parametrize("literal, half_unit, digits", [
     ("35.26", 0.005, 4), ("0.6155", 0.00005, 4), ("1e-3", 0.0005, 1), ("2.50e3", 5.0, 3),
-    ("3500", 0.5, 4), (".5", 0.05, 1), ("7.", 0.5, 1), ("0.000", 0.0005, None),
+    ("3500", 0.5, 4), (".5", 0.05, 1), ("7.", 0.5, 1), ("0.000", 0.0, None), ("0e300", 0.0, None),
 ])
 def test_literal_precision(literal, half_unit, digits):
+    # as written (min_digits 0): a zero in any form is exactly zero
     h, d = _literal_precision(literal)
     assert h == pytest.approx(half_unit, rel=1e-12) and d == digits
 
