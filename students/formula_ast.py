@@ -29,6 +29,7 @@ the text, not by the nesting.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from fractions import Fraction
@@ -458,11 +459,12 @@ def _literal(B, text: str, v: float, n: int):
     m = B.mpmath
     if exact is None:
         return iv.constant(B, [-m.inf] * n, [m.inf] * n)
-    lo = m.fdiv(exact.numerator, exact.denominator, prec=B.prec, rounding="d")
-    hi = m.fdiv(exact.numerator, exact.denominator, prec=B.prec, rounding="u")
+    lo = m.fdiv(exact.numerator, exact.denominator, prec=B.prec, rounding="f")
+    hi = m.fdiv(exact.numerator, exact.denominator, prec=B.prec, rounding="c")
     return iv.constant(B, [lo] * n, [hi] * n)
 
 
+@functools.lru_cache(maxsize=4096)
 def _exact_fraction(text: str):
     """The exact rational a number's text means, or None (an exponent too large to expand)."""
     mant, _, exp = text.lower().partition("e")

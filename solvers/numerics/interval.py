@@ -5,16 +5,19 @@ means "not enclosed here" (an overflow, a division by an interval through zero, 
 a function's domain); a separate boolean mask ``bad`` marks where there is certainly no real value (the
 square root of an interval entirely below zero, a division by exactly zero).
 
-Two backends run the same code:
+Two backends run the same code (call it under ``np.errstate(all="ignore")``: an overflow is an infinite
+bound and a NaN an unknown one, not a warning):
 
 * ``DOUBLE``: float64 numpy arrays, one pass for every point.  A basic operation (+ - * /, sqrt) is
-  correctly rounded in IEEE arithmetic, so one step of ``np.nextafter`` outward encloses its exact result;
+  correctly rounded in IEEE arithmetic, so one step of ``np.nextafter`` outward encloses its exact result
+  (a sum or product whose exact rounding error, by Knuth's two-sum and Dekker's two-product, shows it
+  exact or on the right side is not moved: 1*1 - 1 stays exactly 0);
   the transcendental functions (numpy's: within half an ulp to an ulp on this platform,
   tests/test_interval.py measures them against mpmath) are widened by ``FN_ULPS`` ulps, the elliptic
   integrals and the AGM (``special``: a few ulps, 24 at worst measured for E(m) near m = 1) by
   ``SPECIAL_ULPS``.
 * ``precise(prec)``: numpy object arrays of mpmath numbers, arithmetic rounded outward exactly
-  (``mpmath.fadd(..., rounding='d')`` ...) at ``prec`` bits, functions evaluated with 32 guard bits and
+  (``mpmath.fadd(..., rounding='f')`` ..., floor and ceiling) at ``prec`` bits, functions evaluated with 32 guard bits and
   widened by one unit of ``2^-prec`` relative.
 
 A function that is not monotone on an interval is bounded by its extrema inside it: cos over an interval
@@ -56,11 +59,27 @@ class _Double:
     def up(x):
         return np.nextafter(x, np.inf)
 
+    # called under ``np.errstate(all="ignore")``: an overflow is an infinite bound, a NaN an unknown one
+    def _directed(self, s, err, r):
+        """The rounded result ``s`` moved one ulp toward ``r`` unless its exact error ``err`` (true - s; NaN
+        where not known) says it already lies on that side: an exact sum or product stays exact."""
+        if r < 0:
+            return np.where(err >= 0, s, self.dn(s))
+        return np.where(err <= 0, s, self.up(s))
+
     def add(self, a, b, r):
-        return self.dn(a + b) if r < 0 else self.up(a + b)
+        s = a + b  # Knuth's two-sum: err is the exact rounding error (NaN on overflow)
+        bb = s - a
+        return self._directed(s, (a - (s - bb)) + (b - bb), r)
 
     def mul(self, a, b, r):
-        return self.dn(a * b) if r < 0 else self.up(a * b)
+        p = a * b  # Dekker's two-product, where no split overflows and no partial product underflows
+        ok = (np.abs(a) < 2.0**995) & (np.abs(b) < 2.0**995) & ((np.abs(p) > 2.0**-960) | (a == 0) | (b == 0))
+        ca, cb = 134217729.0 * a, 134217729.0 * b
+        ah, bh = ca - (ca - a), cb - (cb - b)
+        al, bl = a - ah, b - bh
+        err = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+        return self._directed(p, np.where(ok, err, np.nan), r)
 
     def div(self, a, b, r):
         return self.dn(a / b) if r < 0 else self.up(a / b)
@@ -158,7 +177,7 @@ class _Precise:
 
     def _arith(self, op, a, b, r):
         m, p = self.mpmath, self.prec
-        rnd = "d" if r < 0 else "u"
+        rnd = "f" if r < 0 else "c"  # floor, ceiling (mpmath: "d", "u" are toward and away from zero)
         f = {"add": m.fadd, "mul": m.fmul, "div": m.fdiv}[op]
 
         def one(x, y):
@@ -218,14 +237,14 @@ class _Precise:
             if not m.isfinite(v) or v == 0:
                 return v
             w = abs(v) * m.ldexp(1, -p)
-            return m.fsub(v, w, prec=p, rounding="d") if r < 0 else m.fadd(v, w, prec=p, rounding="u")
+            return m.fsub(v, w, prec=p, rounding="f") if r < 0 else m.fadd(v, w, prec=p, rounding="c")
         return self._u(("spread", r), one, 1)(y)
 
     def pi(self, r):
         with self.mp.workprec(self.prec + 32):
             v = +self.mpmath.pi
-        return self.mpmath.fsub(v, abs(v) * self.mpmath.ldexp(1, -self.prec), prec=self.prec, rounding="d") if r < 0 \
-            else self.mpmath.fadd(v, abs(v) * self.mpmath.ldexp(1, -self.prec), prec=self.prec, rounding="u")
+        return self.mpmath.fsub(v, abs(v) * self.mpmath.ldexp(1, -self.prec), prec=self.prec, rounding="f") if r < 0 \
+            else self.mpmath.fadd(v, abs(v) * self.mpmath.ldexp(1, -self.prec), prec=self.prec, rounding="c")
 
     def mag(self, x):
         m = self.mpmath
