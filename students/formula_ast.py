@@ -16,12 +16,11 @@ untrusted input.
 Dimensions are exponents of (length, mass, time) as fractions; the radian counts as a pure number, so
 ``rad/s`` is ``1/s``.  Numbers are exact as written (``0.4`` is 2/5, not a 1-digit value).
 
-Evaluation is vectorised with numpy (one pass for all points).  Beside each value it carries a first-order
-bound of its own round-off (each operation adds ``eps`` times its result and propagates its inputs' errors
-through its derivative).  Where that bound is not small against the tolerance, double precision cannot
-decide the point and ``evaluate_precise`` evaluates the same tree with mpmath at as many bits as it takes
-(numbers exact as written, parameters exact as the doubles they are): a formula is right only if that value
-is right, so a term that cancels in exact arithmetic buys no allowance however large it is.
+Evaluation is vectorised with numpy (one pass for all points): ``evaluate`` gives the double value (shown,
+and read by the hints), ``enclose`` a certified enclosure of the exact value (``solvers.numerics.interval``:
+outward-rounded interval arithmetic in double, or in mpmath at a given precision), numbers exact as written
+and parameters exact as the doubles they are, units exact as defined (``deg`` is pi/180).  A term that
+cancels in exact arithmetic buys no allowance, and an error behind a function of zero slope cannot hide.
 
 Sums and products are flat (``("sum", ((+1, a), (-1, b), ...))``): a long sum is bounded by the length of
 the text, not by the nesting.

@@ -13,9 +13,9 @@ A formula (``formula_ast.Formula``) is held against mech's reference
   leading-order output the leading-order value, else the numeric value of the exercise's own numeric
   route, verified by its rerun at rtol/10.
 
-A point is right when the formula's value there is within ``rtol |mech| + mech's error bar + 4 x your
-formula's own round-off`` (``points.judge_points``, the judge's rule); the point set and mech's values are
-computed once (``points``), the hints come from ``explain``.
+A point is right when the formula's exact value there (certified by interval arithmetic) is within
+``rtol |mech| + mech's error bar + 4 ulp + 64 ulp of the output's scale`` (``points.judge_points``); the
+point set and mech's values are computed once (``points``), the hints come from ``explain``.
 """
 
 from __future__ import annotations

@@ -7,13 +7,13 @@ constraints.  Where an exercise refuses most of its box, a draw it refuses is re
 time: with the others held, that parameter's allowed interval is found on a grid and refined by bisection,
 and the value is drawn inside it.
 
-A point is right when its exact value is: in double precision where the formula's own round-off bound
-(first order, carried through the evaluation) is small against ``base = rtol |mech| + mech's error bar + 4
-ulp``, so that the allowance is at most ``2 base``; elsewhere with mpmath at as many bits as the point needs
-(``_precise``), the only allowance beside ``base`` being what rounding the parameters to doubles moves the
-exact value by, itself computed exactly.  No allowance grows with terms that cancel.  A right formula that
-only loses digits in double is said to be ill-conditioned there; always by the judge's rule
-(``judge.within``).
+A point is right when its exact value is (parameters exact as the doubles they are, numbers exact as
+written), certified: an interval enclosure in double precision (``Formula.enclose``), and where it straddles
+an edge of the allowance, mpmath intervals at rising precision up to ``MAX_PREC`` bits (``_precise``); a
+point nothing decides is not graded.  The allowance is mech's: ``rtol |mech| + mech's error bar + 4 ulp +
+64 ulp of the output's scale`` (``output_scale``; ``rtol`` times it where mech's value is exactly 0), never
+the formula's own round-off.  A right formula that only loses digits in double is said to be
+ill-conditioned there.
 
 The point set and mech's values are computed once per exercise, given point and range (``_CACHE``, bounded
 in bytes: ``CACHE_BYTES``): a class file judges every student's formula against the same arrays.  Every
@@ -561,8 +561,8 @@ def decide(lo, hi, center, allow) -> np.ndarray:
         up = np.maximum(np.nextafter(hi - center, np.inf), np.nextafter(center - lo, np.inf))
         out = np.maximum(np.nextafter(lo - center, -np.inf), np.nextafter(center - hi, -np.inf))
     res = np.full(np.shape(lo), OPEN, np.int8)
-    res[out > allow] = WRONG
-    res[up <= allow] = RIGHT
+    res[~within(out, bars=(allow,)) & ~np.isnan(out)] = WRONG
+    res[within(up, bars=(allow,))] = RIGHT
     return res
 
 
@@ -572,9 +572,9 @@ def _decide_exact(lo, hi, center: float, allow: float, mpmath) -> int:
         return OPEN
     c, a = mpmath.mpf(center), mpmath.mpf(allow)
     d_hi, d_lo = mpmath.fsub(hi, c, exact=True), mpmath.fsub(c, lo, exact=True)
-    if d_hi <= a and d_lo <= a:
+    if within(max(d_hi, d_lo), bars=(a,)):
         return RIGHT
-    if mpmath.fsub(lo, c, exact=True) > a or mpmath.fsub(c, hi, exact=True) > a:
+    if not within(max(mpmath.fsub(lo, c, exact=True), mpmath.fsub(c, hi, exact=True)), bars=(a,)):
         return WRONG
     return OPEN
 
@@ -699,7 +699,7 @@ def _values(formula: Formula, env: dict) -> np.ndarray:
             if bad[k]:
                 done[k] = True
             elif mpmath.isfinite(lo[k]) and mpmath.isfinite(hi[k]) and \
-                    abs(hi[k] - lo[k]) <= 1e-12 * max(abs(lo[k]), abs(hi[k])):
+                    within(float(hi[k] - lo[k]), scale=float(max(abs(lo[k]), abs(hi[k]))), round_off=1e-12):
                 out[i] = float((lo[k] + hi[k]) / 2)
                 done[k] = True
         left = left[~done]
