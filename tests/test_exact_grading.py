@@ -241,3 +241,22 @@ def test_arithmetic_enclosures_hold_the_exact_values(a, b, n, op):
                "/": lambda: iv.div(D, A, Bv)[0], "^": lambda: iv.power(D, A, Bv)[0]}[op]()
         lo, hi = (mpmath.mpf(float(v[0])) if D is iv.DOUBLE else v[0] for v in out)
         assert lo <= y <= hi, (op, a, b, n, lo, hi, y)
+
+
+def test_min_digits_on_the_command_line_and_in_the_api():
+    import subprocess
+    import sys
+
+    import mech
+
+    def run(*args):
+        return subprocess.run([sys.executable, "-m", "mech.cli.main", "solve", "4.15", *args], capture_output=True,
+                              text=True, timeout=120)
+
+    assert run("--expect", "theta_c=0.7").returncode == 1  # as 0.70: wrong (theta_c = 0.7297)
+    assert run("--expect", "theta_c=0.7", "--min-digits", "1").returncode == 0  # as written: 0.7 +- 0.05
+    bad = run("--expect", "theta_c=0.7", "--min-digits", "0")
+    assert bad.returncode == 2 and "--min-digits" in bad.stderr and "Traceback" not in bad.stderr
+    assert run("--min-digits", "3").returncode == 2  # without any --expect
+    assert mech.solve("4.15", expect={"theta_c": "0.7"}, expect_min_digits=1)["theta_c"].expected.match
+    assert not mech.solve("4.15", expect={"theta_c": "0.7"})["theta_c"].expected.match

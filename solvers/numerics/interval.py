@@ -520,7 +520,8 @@ def power(B, a, b):
     n = np.where(b_int, b[0], 0)
     pos = (a[0] > 0) | ((a[0] >= 0) & (b[0] > 0))
     zero_a = (a[0] == 0) & (a[1] == 0)
-    bad = ((a[1] < 0) & b_point & ~b_int) | (zero_a & b_point & (b[0] < 0))
+    no_int = B.ceil(b[0]) > b[1]  # b holds no whole number: a negative base has no real power
+    bad = ((a[1] < 0) & no_int) | (zero_a & b_point & (b[0] < 0))
     # a > 0: monotone in each argument: the corners
     safe_a = (np.where(pos, a[0], 1), np.where(pos, a[1], 1))
     cs = [_pow(B, x, y) for x in safe_a for y in b]
