@@ -582,7 +582,8 @@ def _decide_exact(lo, hi, center: float, allow: float, mpmath) -> int:
 def output_scale(ps: PointSet, name: str) -> np.ndarray:
     """The output's own size at each point, from its dimension: the parameters' units rescaled to bring them
     nearest their defaults (a least-squares fit of the three unit exponents, ``scales.dims``), the output
-    brought along by its dimension, times the median size of mech's values in those units over the points.
+    brought along by its dimension, times the median size of mech's values in those units over the points
+    (the fit with a 1e-9 ridge, so that dimensions no parameter carries give no exponent).
     What a zero reference is judged on (``P/(M mu g)`` for 4.8's t_roll); 1 (SI) where nothing says more."""
     key = ("scale", name)
     if key in ps.lines:
@@ -603,7 +604,8 @@ def output_scale(ps: PointSet, name: str) -> np.ndarray:
         devs.append(np.where(np.isfinite(dev), dev, 0.0))
     n = len(ps)
     if rows:
-        u = np.linalg.lstsq(np.array(rows, float), np.array(devs), rcond=None)[0]  # (3, n)
+        A = np.array(rows, float)
+        u = _inverse3(A.T @ A + 1e-9 * np.eye(3)) @ (A.T @ np.array(devs))  # least squares, (3, n)
         shift = np.exp2(np.clip(np.array(d_out, float) @ u, -900, 900))
     else:
         shift = np.ones(n)
@@ -613,6 +615,15 @@ def output_scale(ps: PointSet, name: str) -> np.ndarray:
     scale = np.where(np.isfinite(shift), typical * shift, typical)
     ps.lines[key] = scale
     return scale
+
+
+def _inverse3(m: np.ndarray) -> np.ndarray:
+    """The inverse of a 3x3 matrix by its adjugate (numpy.linalg costs 0.1 s to import, more than a check)."""
+    a = m.tolist()
+    cof = [[a[(i + 1) % 3][(j + 1) % 3] * a[(i + 2) % 3][(j + 2) % 3]
+            - a[(i + 1) % 3][(j + 2) % 3] * a[(i + 2) % 3][(j + 1) % 3] for j in range(3)] for i in range(3)]
+    det = sum(a[0][j] * cof[0][j] for j in range(3))
+    return np.array(cof, float).T / det
 
 
 def judge_points(formula: Formula, ps: PointSet, ref: np.ndarray, ref_err: np.ndarray, rtol: float,
