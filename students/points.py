@@ -611,7 +611,8 @@ def output_scale(ps: PointSet, name: str) -> np.ndarray:
         shift = np.ones(n)
     ref = np.abs(ps.analytic.get(name, np.full(n, np.nan)))
     use = np.isfinite(ref) & (ref > 0)
-    typical = float(np.median(ref[use] / shift[use])) if use.any() else 1.0
+    sizes = np.sort(ref[use] / shift[use])  # their median (np.median imports numpy.ma: 0.03 s)
+    typical = float(0.5 * (sizes[(sizes.size - 1) // 2] + sizes[sizes.size // 2])) if sizes.size else 1.0
     scale = np.where(np.isfinite(shift), typical * shift, typical)
     ps.lines[key] = scale
     return scale
