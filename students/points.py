@@ -639,8 +639,12 @@ def judge_points(formula: Formula, ps: PointSet, ref: np.ndarray, ref_err: np.nd
     env = {k: ps.arrays[k] for k in formula.names}
     n = len(ps)
     env = env or {"_": np.zeros(n)}
-    y = formula.evaluate(env, np.float64)[0]
     lo, hi, problems = formula.enclose(env)
+    with np.errstate(all="ignore"):  # the value shown: the enclosure's middle where it is tight, else the double
+        y = lo / 2 + hi / 2
+        tight = np.isfinite(y) & within(hi - lo, scale=np.maximum(np.abs(lo), np.abs(hi)), round_off=1e-12)
+    if not tight.all():
+        y = np.where(tight, y, formula.evaluate(env, np.float64)[0])
     has_ref = np.isfinite(ref)
     scale = output_scale(ps, name) if name is not None else np.abs(np.where(has_ref, ref, 0.0))
     eps4 = 4 * np.finfo(float).eps

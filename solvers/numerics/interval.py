@@ -67,19 +67,32 @@ class _Double:
             return np.where(err >= 0, s, self.dn(s))
         return np.where(err <= 0, s, self.up(s))
 
-    def add(self, a, b, r):
+    @staticmethod
+    def _two_sum(a, b):
         s = a + b  # Knuth's two-sum: err is the exact rounding error (NaN on overflow)
         bb = s - a
-        return self._directed(s, (a - (s - bb)) + (b - bb), r)
+        return s, (a - (s - bb)) + (b - bb)
 
-    def mul(self, a, b, r):
+    @staticmethod
+    def _two_product(a, b):
         p = a * b  # Dekker's two-product, where no split overflows and no partial product underflows
         ok = (np.abs(a) < 2.0**995) & (np.abs(b) < 2.0**995) & ((np.abs(p) > 2.0**-960) | (a == 0) | (b == 0))
         ca, cb = 134217729.0 * a, 134217729.0 * b
         ah, bh = ca - (ca - a), cb - (cb - b)
         al, bl = a - ah, b - bh
         err = ((ah * bh - p) + ah * bl + al * bh) + al * bl
-        return self._directed(p, np.where(ok, err, np.nan), r)
+        return p, np.where(ok, err, np.nan)
+
+    def add(self, a, b, r):
+        return self._directed(*self._two_sum(a, b), r)
+
+    def mul(self, a, b, r):
+        return self._directed(*self._two_product(a, b), r)
+
+    def mul_both(self, a, b):
+        """(down, up) of a * b from one two-product."""
+        p, err = self._two_product(a, b)
+        return self._directed(p, err, -1), self._directed(p, err, 1)
 
     def div(self, a, b, r):
         return self.dn(a / b) if r < 0 else self.up(a / b)
@@ -192,6 +205,9 @@ class _Precise:
 
     def mul(self, a, b, r):
         return self._arith("mul", a, b, r)
+
+    def mul_both(self, a, b):
+        return self.mul(a, b, -1), self.mul(a, b, 1)
 
     def div(self, a, b, r):
         return self._arith("div", a, b, r)
@@ -312,10 +328,16 @@ def constant(B, lo, hi):
 
 
 def neg(B, a):
+    if a[0] is a[1]:  # a point stays one
+        n = B.neg(a[0])
+        return n, n
     return B.neg(a[1]), B.neg(a[0])
 
 
 def add(B, a, b):
+    if a[0] is a[1] and b[0] is b[1] and B is DOUBLE:  # two points: one two-sum for both ends
+        s, err = B._two_sum(a[0], b[0])
+        return _unknown(B, B._directed(s, err, -1), B._directed(s, err, 1), False)
     return _unknown(B, B.add(a[0], b[0], -1), B.add(a[1], b[1], 1), False)
 
 
@@ -324,11 +346,13 @@ def sub(B, a, b):
 
 
 def mul(B, a, b):
-    lows = [B.mul(x, y, -1) for x in a for y in b]
-    highs = [B.mul(x, y, 1) for x in a for y in b]
-    lo, hi = lows[0], highs[0]
+    # the corners: one where an argument is a point (its two ends the same array)
+    xs = (a[0],) if a[0] is a[1] else a
+    ys = (b[0],) if b[0] is b[1] else b
+    pairs = [B.mul_both(x, y) for x in xs for y in ys]
+    lo, hi = pairs[0]
     nan = B.isnan(lo) | B.isnan(hi)
-    for x, y in zip(lows[1:], highs[1:]):
+    for x, y in pairs[1:]:
         nan = nan | B.isnan(x) | B.isnan(y)
         lo = np.minimum(lo, x)
         hi = np.maximum(hi, y)
