@@ -119,23 +119,31 @@ def check(ids: list[str] | str | None = None, hard: bool = False):
     return api.check(ids, hard=hard)
 
 
-def grade(path, budget: float | None = None, *, strict: bool = False, jobs: int | None = None, params=None):
+def grade(path, budget: float | None = None, *, strict: bool = False, jobs: int | None = None, params=None,
+          assignment=None, min_digits: int | None = None):
     """Hold a file of answers (TOML, or CSV) against mech, as ``mech grade FILE`` does: a ``GradeReport``
-    (``.to_dict()`` is ``--json``; ``report["ok"]``, ``.passed``, ``.failed``, ``.invalid``, ``.gradebook()``).
-    ``budget``: its wall-clock budget in seconds (``--budget``; default 600); ``strict``: BadInput for any
-    entry that cannot be read (``--strict``), else it is graded invalid; ``jobs``: processes (``-j``);
-    ``params``: a CSV's parameters from an assignment's template (``--params``)."""
+    (``.to_dict()`` is ``--json``; ``report["ok"]``, the cells by state ``.passed``, ``.failed``,
+    ``.invalid``, ``.not_graded``, ``.unanswered``; ``.gradebook()``).  ``budget``: its wall-clock budget
+    in seconds (``--budget``; default 600); ``strict``: BadInput for any entry that cannot be read
+    (``--strict``), else it is graded invalid; ``jobs``: processes (``-j``); ``params``: a CSV's parameters
+    from an assignment's template (``--params``); ``assignment``: the folder ``mech assign`` wrote, every
+    entry held to it (``--assignment``); ``min_digits``: the digits rule's floor (``--min-digits``)."""
     from mech import api
 
-    return api.grade(path, budget=budget, strict=strict, jobs=jobs, params=params)
+    return api.grade(path, budget=budget, strict=strict, jobs=jobs, params=params, assignment=assignment,
+                     min_digits=min_digits)
 
 
-def assign(ids, *, seed: int, out, students=None, n: int | None = None, over=None, digits: int = 3) -> dict:
-    """Personal variants for a class, as ``mech assign`` does: writes ``out``/handout.md, answers.toml and
-    key.json and returns the key (``students``: identifiers, or ``n``: s1 ... sN; ``over``: {name: "LO:HI"})."""
+def assign(ids, *, seed: int, out, students=None, n: int | None = None, over=None, digits: int = 3,
+           jobs: int | None = None, force: bool = False) -> dict:
+    """Personal variants for a class, as ``mech assign`` does: writes ``out``/handout.md, handouts/,
+    answers.toml, answers.csv, key.json, key.csv and key.md and returns the key (``students``: identifiers,
+    or ``n``: s1 ... sN; ``over``: {name: "LO:HI" or "VALUE"}; ``force``: replace an assignment in ``out``).
+    Any bad argument raises BadInput."""
     from mech import api
 
-    return api.assign(ids, seed=seed, out=out, students=students, n=n, over=over, digits=digits)
+    return api.assign(ids, seed=seed, out=out, students=students, n=n, over=over, digits=digits, jobs=jobs,
+                      force=force)
 
 
 def bench(ex_id: str, *, methods=None, tols=None, repeats: int = 5, max_seconds: float = 55.0,

@@ -197,11 +197,11 @@ def _motion(sol: Solution, deadline: float | None = None) -> Trajectory | None:
     from mech.core import budget
 
     info = sol.numeric_info or {}
-    # the solve's own budget, not a fresh one: what the cross-check left of it
-    left = budget.default_seconds() if deadline is None else deadline - time.monotonic()
-    if left <= 0:
-        raise budget.OutOfBudget(f"the trajectory of {ex.id}: the solve's time budget is spent")
-    with budget.limit(left, what=f"the trajectory of {ex.id}"):
+    # a solve's work, and the solve's clock where it had one: what the cross-check left of it
+    left = None if deadline is None else deadline - time.monotonic()
+    if left is not None and left <= 0:
+        raise budget.OutOfTime(f"the trajectory of {ex.id}: the solve's time budget is spent")
+    with budget.limit(left, what=f"the trajectory of {ex.id}", work=budget.SOLVE_WORK):
         _, run = ex.solve_numeric(Params(dict(sol.params)), info.get("rtol"), keep_trajectories=True)
     return _trajectory(ex, run)
 
@@ -474,30 +474,38 @@ def save_sweep_figure(result, path) -> None:
 
 # -- grade, bench, plot ----------------------------------------------------------------
 
-def grade(path, budget=None, *, strict: bool = False, jobs: int | None = None, params=None):
+def grade(path, budget=None, *, strict: bool = False, jobs: int | None = None, params=None, assignment=None,
+          min_digits=None):
     """``mech grade FILE``: every answer of a grading file (TOML, or CSV) held against mech, as a
     ``GradeReport`` (``.to_dict()`` is ``--json``; ``report["ok"]`` reads it).  ``budget``: the grading's
     wall-clock budget in seconds (``--budget``; default 600); ``strict``: BadInput for any entry that
     cannot be read, before anything is graded (else it is graded invalid); ``jobs``: processes;
-    ``params``: a CSV's parameters from an assignment's template (``--params``)."""
+    ``params``: a CSV's parameters from an assignment's template (``--params``); ``assignment``: the folder
+    ``mech assign`` wrote, every entry held to it (``--assignment``); ``min_digits``: the digits rule's
+    floor (``--min-digits``; default 2, with an assignment its digits)."""
     from mech.studies.sweep import check_total
+    from mech.students.expectations import parse_count
 
     _screen("path", path, "path")
     _screen("budget", budget, "none", "number", "str")
     _screen("params", params, "none", "path")
+    _screen("assignment", assignment, "none", "path")
     strict = _flag("strict", strict)
     jobs = _jobs(jobs)
+    min_digits = parse_count(min_digits, "min_digits", 1, 17)
     return grade_report(path, None if budget is None else check_total(budget, "budget"), strict=strict,
-                        jobs=jobs, params=params)
+                        jobs=jobs, params=params, assignment=assignment, min_digits=min_digits)
 
 
 def grade_report(path, total_s=None, *, strict: bool = False, jobs: int | None = None, params=None,
-                 started: float | None = None):
+                 started: float | None = None, assignment=None, min_digits: int | None = None):
     """The ``GradeReport`` of a grading file; ``started``: the ``time.perf_counter()`` the reported wall
-    time counts from (default: now, reading the file included)."""
+    time counts from (default: now, reading the file included); ``assignment``, ``min_digits``: as
+    ``grade``'s."""
     from mech.students import classrun
 
-    return classrun.grade_file(path, total_s, strict=strict, jobs=jobs, params=params, started=started)
+    return classrun.grade_file(path, total_s, strict=strict, jobs=jobs, params=params, started=started,
+                               assignment=assignment, min_digits=min_digits)
 
 
 def grade_entries(path, total_s=None) -> tuple[list, float]:
@@ -508,16 +516,92 @@ def grade_entries(path, total_s=None) -> tuple[list, float]:
     return list(report.entries), report.seconds
 
 
-def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=None) -> dict:
-    """``mech assign``: each student's verified variant of each exercise, written to ``out``/handout.md,
-    answers.toml and key.json (atomically; an output that is an input is refused); returns the key.
-    ``students``: a roster file's path or a list of identifiers; ``n``: s1 ... sN instead; ``over``:
-    {name or "ID:name": "LO:HI"} or ["NAME=LO:HI", ...]; ``digits``: significant digits printed."""
+_ASSIGN_MAX_TEXT = 4096  # characters of one string argument of assign (an id, a name, a path, an --over)
+_ASSIGN_MAX_ITEMS = 1000  # exercises or --over entries in one call
+
+
+def _any_shown(value) -> str:
+    """``_shown`` of any object, even one whose ``str`` fails or is huge."""
+    try:
+        return _shown(value)
+    except Exception:  # an argument whose __str__ raises: name its type only  # noqa: BLE001
+        return f"<{_kind(value)}>"
+
+
+def _assign_list(name: str, value, limit: int, what: str = "strings") -> list:
+    """A string or a list/tuple of strings for ``assign``: its size checked before anything is read from it."""
+    if isinstance(value, str):
+        value = [value]
+    if not isinstance(value, (list, tuple)):
+        raise BadInput(f"{name}: give a list of {what}, got {_kind(value)} {_any_shown(value)}")
+    if len(value) > limit:
+        raise BadInput(f"{name}: {len(value)} items; at most {limit}")
+    for v in value:
+        if not isinstance(v, str) or len(v) > _ASSIGN_MAX_TEXT:
+            raise BadInput(f"{name}: give {what}, got {_kind(v)} {_any_shown(v)}")
+    return list(value)
+
+
+def _assign_path(name: str, value) -> str:
+    """A file or folder name: a string or a path object (os.PathLike of a string), no NUL, not too long."""
+    import os
+
+    if not _ARG_KINDS["path"](value):
+        raise BadInput(f"{name}: give a file name, got {_kind(value)} {_any_shown(value)}")
+    try:
+        text = os.fspath(value)
+    except Exception:  # a path object whose __fspath__ fails: not a path  # noqa: BLE001
+        text = None
+    if not isinstance(text, str) or len(text) > _ASSIGN_MAX_TEXT:
+        raise BadInput(f"{name}: give a file name, got {_kind(value)} {_any_shown(value)}")
+    return _screen(name, text, "path")
+
+
+def _assign_count(name: str, value, none_ok: bool):
+    if value is None and none_ok:
+        return None
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer, str)) or \
+            (isinstance(value, str) and len(value) > 40):
+        raise BadInput(f"{name}: give a whole number, got {_kind(value)} {_any_shown(value)}")
+    return int(value) if isinstance(value, np.integer) else value
+
+
+def assign(ids, *, seed, out, students=None, n=None, over=None, digits=3, jobs=None, force=False) -> dict:
+    """``mech assign``: each student's verified variant of each exercise, written to ``out`` (handout.md,
+    handouts/, answers.toml, answers.csv, key.json, key.csv, key.md; atomically; a folder already holding
+    an assignment is refused unless ``force``); returns the key.  ``students``: a roster file's path or a
+    list of identifiers; ``n``: s1 ... sN instead; ``over``: {name or "ID:name": "LO:HI" or "VALUE"} or
+    ["NAME=LO:HI", ...]; ``digits``: significant digits printed.  Every argument is checked (types, sizes,
+    paths) before any work: BadInput, never another exception."""
     from mech.core.version import version
     from mech.students import assign as A
 
+    ids = _assign_list("ids", ids, _ASSIGN_MAX_ITEMS, "exercise ids (strings such as \"4.15\")")
+    seed = _assign_count("seed", seed, True)
+    n = _assign_count("n", n, True)
+    digits = _assign_count("digits", digits, False)
+    if jobs is not None and (isinstance(jobs, (bool, np.bool_)) or not isinstance(jobs, (int, np.integer))
+                             or not 1 <= jobs <= 256):
+        raise BadInput(f"jobs: give a whole number of processes in [1, 256] (or None), got {_kind(jobs)} "
+                       f"{_any_shown(jobs)}")
+    if not isinstance(force, (bool, np.bool_)):
+        raise BadInput(f"force: give True or False, got {_kind(force)} {_any_shown(force)}")
+    jobs, force = None if jobs is None else int(jobs), bool(force)
+    out = _assign_path("out", out)
+    if students is not None and not isinstance(students, (list, tuple)):
+        students = _assign_path("students", students)
+    elif students is not None:
+        students = _assign_list("students", students, A.MAX_STUDENTS, "student names (strings)")
+    if isinstance(over, dict):
+        if len(over) > _ASSIGN_MAX_ITEMS:
+            raise BadInput(f"over: {len(over)} items; at most {_ASSIGN_MAX_ITEMS}")
+        over = [f"{k}={v}" for k, v in zip(_assign_list("over", list(over), _ASSIGN_MAX_ITEMS, "names"),
+                                           _assign_list("over", list(over.values()), _ASSIGN_MAX_ITEMS,
+                                                        "ranges (strings such as \"10deg:60deg\")"))]
+    elif over is not None:
+        over = _assign_list("over", over, _ASSIGN_MAX_ITEMS, "NAME=LO:HI strings")
     return A.assign(ids, seed=seed, out=out, students=students, n=n, over=over, digits=digits, jobs=jobs,
-                    version=version())
+                    version=version(), force=force)
 
 
 def grade_students(entries: list) -> list[dict]:

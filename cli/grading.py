@@ -1,13 +1,15 @@
 """``mech grade FILE`` and the printing of grades: table, JSON, JUnit, the gradebook CSV, exit status.
 
 The reading and judging is ``mech.api.grade_report`` (``mech.students.classrun``).  Exit status: 0
-every answer right; 1 any wrong or any entry invalid; 2 a file that cannot be read at all (and, with
-``--strict``, any invalid entry, before anything is graded).
+every graded answer right and no cell invalid or not graded (an unanswered cell does not change it); 1
+otherwise; 2 a file that cannot be read at all (and, with ``--strict``, any invalid entry or cell,
+before anything is graded).
 """
 
 from __future__ import annotations
 
 import json
+import os
 import time
 
 import click
@@ -30,21 +32,23 @@ def _classname(e: Entry) -> str:
 
 
 def write_grade_junit(path: str, entries: list[Entry], seconds: float, out_file: str) -> None:
-    """One test case per expected value (a wrong one a ``<failure>``), one per invalid entry (an
-    ``<error>``) and one per answer left empty (``<skipped>``); the classname ``mech.ex4_15`` has no dot
-    inside the id, so CI viewers do not split "4.15" into a package 4 and a class 15."""
+    """One test case per cell (``Entry.cells``): right passes, wrong is a ``<failure>``, invalid an
+    ``<error>``, not graded and unanswered ``<skipped>``; an invalid entry without any output named is one
+    ``<error>``.  The classname ``mech.ex4_15`` has no dot inside the id, so CI viewers do not split "4.15"
+    into a package 4 and a class 15."""
     from xml.etree import ElementTree as ET
 
     from mech.core.safeio import atomic_write, shown, shown_path
+    from mech.students.cells import State
 
-    judgements = [(e, j) for e in entries for j in e.judgements]
-    invalid = [e for e in entries if e.invalid is not None]
-    skipped = [(e, name) for e in entries if e.invalid is None for name in e.unanswered]
-    failed = sum(not j.match for _, j in judgements)
-    tests = len(judgements) + len(invalid) + len(skipped)
+    cases = [(e, j) for e in entries for j in e.cells]
+    bare = [e for e in entries if e.invalid is not None and not e.columns]
+    failed = sum(j.cell is State.WRONG for _, j in cases)
+    errors = sum(j.cell is State.INVALID for _, j in cases) + len(bare)
+    skipped = sum(j.cell in (State.NOT_GRADED, State.UNANSWERED) for _, j in cases)
+    tests = len(cases) + len(bare)
     suite = ET.Element("testsuite", name=f"mech grade {shown_path(path)}", tests=str(tests),
-                       failures=str(failed), errors=str(len(invalid)), skipped=str(len(skipped)),
-                       time=f"{seconds:.3f}")
+                       failures=str(failed), errors=str(errors), skipped=str(skipped), time=f"{seconds:.3f}")
 
     def case(e: Entry, name: str, seconds_each: float):
         who = f"{e.student}: " if e.student else ""
@@ -56,23 +60,28 @@ def write_grade_junit(path: str, entries: list[Entry], seconds: float, out_file:
         return tc
 
     for e in entries:
-        if e.invalid is not None:
+        if e.invalid is not None and not e.columns:
             tc = case(e, f"{e.ex_id}: invalid entry", 0.0)
-            err = ET.SubElement(tc, "error", message=e.invalid, type="invalid")
-            err.text = f"answer {e.number}: {e.invalid}"
+            ET.SubElement(tc, "error", message=e.invalid, type="invalid").text = f"answer {e.number}: {e.invalid}"
             continue
-        for j in e.judgements:
-            # an entry's cross-check time, shared by its expected values (the cases add up to the run)
-            tc = case(e, f"{j.name} = {shown(j.text)}", e.seconds / max(len(e.judgements), 1))
-            if not j.match:
+        graded = max(sum(j.cell in (State.RIGHT, State.WRONG) for j in e.cells), 1)
+        for j in e.cells:
+            if j.cell is State.UNANSWERED:
+                ET.SubElement(case(e, f"{j.name} (not answered)", 0.0), "skipped", message="not answered")
+                continue
+            # an entry's cross-check time, shared by its judged values (the cases add up to the run)
+            each = e.seconds / graded if j.cell in (State.RIGHT, State.WRONG) else 0.0
+            tc = case(e, f"{j.name} = {shown(j.text)}" if j.text else f"{e.ex_id} {j.name}", each)
+            if j.cell is State.WRONG:
                 fail = ET.SubElement(tc, "failure", message=j.verdict)
                 fail.text = (f"{e.ex_id} {j.name}: yours {shown(j.text)}, mech {j.shown_reference or '—'}"
                              f" ({j.reference or 'no reference'}): {j.verdict}")
-        for name in e.unanswered:
-            tc = case(e, f"{name} (not answered)", 0.0)
-            ET.SubElement(tc, "skipped", message="not answered")
-    root = ET.Element("testsuites", name="mech", tests=str(tests), failures=str(failed),
-                      errors=str(len(invalid)))
+            elif j.cell is State.INVALID:
+                ET.SubElement(tc, "error", message=j.verdict, type="invalid").text = \
+                    f"answer {e.number}: {j.name}: {j.verdict}"
+            elif j.cell is State.NOT_GRADED:
+                ET.SubElement(tc, "skipped", message=j.verdict)
+    root = ET.Element("testsuites", name="mech", tests=str(tests), failures=str(failed), errors=str(errors))
     root.append(suite)
     ET.indent(root)
     with atomic_write(out_file, "--junit", mode="wb") as fh:
@@ -88,11 +97,40 @@ def write_gradebook(report: GradeReport, out_file: str) -> None:
         fh.write(text)
 
 
+_STYLE = {"right": "green", "wrong": "bold red", "invalid": "bold magenta", "not-graded": "yellow",
+          "unanswered": "dim"}
+
+
+def cell_verdict(j) -> str:
+    """A cell's verdict as the table prints it, led by its state: right and wrong verdicts say so
+    themselves; an invalid cell "invalid: <reason>", an unanswered one "not answered", a cell not graded
+    the reason mech reached no verdict ("not graded: ...", "cannot judge: ...")."""
+    from mech.students.cells import State
+
+    if j.cell is State.INVALID:
+        return f"invalid: {j.verdict}"
+    if j.cell is State.UNANSWERED:
+        return "not answered"
+    return j.verdict
+
+
+def summary_line(figures: dict, who: str = "", what: str = "points") -> str:
+    """Figures as one line: points of max (a student's gradebook row; ``what`` "answers right": the cells
+    of the whole file), the cells wrong, invalid, not graded and not answered, and how many a person must
+    review."""
+    parts = [f"{figures['points']} of {figures['max']} {what}", f"{figures['wrong']} wrong"]
+    parts += [f"{figures[k]} {w}" for k, w in (("invalid", "invalid"), ("not_graded", "not graded"),
+                                                 ("unanswered", "not answered")) if figures[k]]
+    review = f"; {figures['review']} to review" if figures["review"] else ""
+    return f"{who}{', '.join(parts)}{review}"
+
+
 def print_grade(entries: list[Entry], started: float) -> None:
-    """One row per expected value, one per invalid entry; where the table does not fit the width, one
-    block per value (the stacking rule of the other commands); piped, no trailing spaces.  The closing
-    line's time is the command's wall time up to it (``started``: its ``time.perf_counter()``), the
-    table's printing included."""
+    """One row per cell (``Entry.cells``: its state leads the verdict); where the table does not fit the
+    width, one block per value (the stacking rule of the other commands); piped, no trailing spaces.  The
+    closing lines give each student's gradebook row (``gradebook.gradebook_rows``) and the file's cells
+    counted by state (``gradebook.cell_counts``: the same sums where no student answers an output twice); the time is
+    the command's wall time up to it (``started``: its ``time.perf_counter()``), the printing included."""
     from rich import box
     from rich.console import Group
     from rich.table import Table
@@ -100,7 +138,7 @@ def print_grade(entries: list[Entry], started: float) -> None:
 
     from mech import render
     from mech.core.safeio import shown
-    from mech.students.gradebook import per_student
+    from mech.students.gradebook import cell_counts, gradebook_rows
 
     students = any(e.student for e in entries)
     cols = [("#", "right")] + ([("student", "left")] if students else []) + [
@@ -112,11 +150,10 @@ def print_grade(entries: list[Entry], started: float) -> None:
     for e in entries:
         given = ", ".join(f"{k}={v}" for k, v in e.written.items())
         where = f"{e.ex_id}" + (f" ({given})" if given else "")
-        rows = [(j.name, shown(j.text), j.shown_reference or "—", Text(j.verdict, style="green" if j.match else "bold red"))
-                for j in e.judgements]
-        if e.invalid is not None:
-            rows = [("—", "—", "—", Text(f"invalid: {e.invalid}", style="bold red"))]
-        rows += [(name, "", "—", Text("not answered", style="dim")) for name in e.unanswered if e.invalid is None]
+        rows = [(j.name, shown(j.text), j.shown_reference or "—", Text(cell_verdict(j), style=_STYLE[j.cell.value]))
+                for j in e.cells]
+        if not rows and e.invalid is not None:
+            rows = [("—", "—", "—", Text(f"invalid: {e.invalid}", style=_STYLE["invalid"]))]
         for i, (name, yours, ref, verdict) in enumerate(rows):
             first = i == 0
             t.add_row(*([str(e.number) if first else ""] + ([e.student or "" if first else ""] if students else [])
@@ -125,23 +162,19 @@ def print_grade(entries: list[Entry], started: float) -> None:
             blocks.append((head, [("yours", yours), ("mech", ref), ("verdict", verdict)]))
     c = render.console()
     render.emit(c, t if render.fits(c, t) else render._stacked("", blocks))
-    judgements = [j for e in entries for j in e.judgements]
-    right = sum(j.match for j in judgements)
-    invalid = sum(e.invalid is not None for e in entries)
-    unanswered = sum(len(e.unanswered) for e in entries if e.invalid is None)
     lines = []
     if students:
-        for s in per_student(entries):
-            n = s["passed"] + s["failed"]
-            bad = f", {s['invalid']} invalid entr{'y' if s['invalid'] == 1 else 'ies'}" if s["invalid"] else ""
-            lines.append(Text(f"{s['student'] or '(no student named)'}: {s['passed']} of {n} right{bad}",
-                              style="green" if s["failed"] == 0 and not s["invalid"] else "bold red"))
-    extra = (f", {invalid} invalid entr{'y' if invalid == 1 else 'ies'}" if invalid else "") + \
-        (f", {unanswered} not answered" if unanswered else "")
-    lines.append(Text(f"{right} of {len(judgements)} answers right, {len(judgements) - right} wrong{extra}"
-                      f" ({len(entries)} entr{'y' if len(entries) == 1 else 'ies'})"
+        for row in gradebook_rows(entries)[1]:
+            lines.append(Text(summary_line(row, f"{row['student'] or '(no student named)'}: "),
+                              style="green" if row["wrong"] + row["review"] == 0 else "bold red"))
+    counts = cell_counts(entries)
+    book = {"points": counts["passed"], "max": sum(counts.values()), "wrong": counts["failed"],
+            "review": counts["invalid"] + counts["not_graded"], **counts}
+    bad = sum(e.invalid is not None for e in entries)
+    extra = f", {bad} of them invalid" if bad else ""
+    lines.append(Text(f"{summary_line(book, what='answers right')} ({len(entries)} entr{'y' if len(entries) == 1 else 'ies'}{extra})"
                       f" in {time.perf_counter() - started:.1f} s",
-                      style="green" if right == len(judgements) and not invalid else "bold red"))
+                      style="green" if book["wrong"] + book["review"] == 0 else "bold red"))
     render.emit(c, Group(*lines))
 
 
@@ -170,9 +203,17 @@ def _complete_files(ctx, param, incomplete):
 @click.argument("file", metavar="FILE", shell_complete=_complete_files)
 @click.option("--json", "as_json", is_flag=True, help="A JSON report on stdout.")
 @click.option("--junit", "junit_file", metavar="FILE",
-              help="Write a JUnit XML report: one test case per expected value, an <error> per invalid entry.")
+              help="Write a JUnit XML report: a test case per answer; wrong a <failure>, invalid an <error>, "
+                   "not graded and unanswered <skipped>.")
 @click.option("--csv", "csv_file", metavar="FILE",
-              help="Write the gradebook: a row per student (student, points, max, a column per ID:output).")
+              help="Write the gradebook: a row per student (student, points, max, review, a column per ID:output "
+                   "holding 1, 0, empty (unanswered), invalid or not graded).")
+@click.option("--assignment", "assignment", metavar="DIR",
+              help="Grade against the assignment mech assign wrote in DIR: its parameters, digits, range and "
+                   "outputs; a file that sets them otherwise is invalid there.")
+@click.option("--min-digits", "min_digits", metavar="D", type=click.IntRange(1, 17),
+              help="An answer with fewer significant digits is judged as if written to D [2; with "
+                   "--assignment, its digits].")
 @click.option("--strict", is_flag=True,
               help="Refuse the whole file (exit 2, before grading) when any entry cannot be read.")
 @click.option("--params", "params_file", metavar="FILE",
@@ -180,8 +221,8 @@ def _complete_files(ctx, param, incomplete):
 @click.option("-j", "--jobs", type=click.IntRange(1, 256), metavar="N",
               help="Processes to grade with [one per core].")
 @click.option("--budget", "total_s", metavar="SECONDS", type=float,
-              help="Wall-clock budget of the whole grading [600]; answers not reached by then fail, saying so.")
-def grade_cmd(file, as_json, junit_file, csv_file, strict, params_file, jobs, total_s):
+              help="Wall-clock budget of the whole grading [600]; answers not reached by then are not graded.")
+def grade_cmd(file, as_json, junit_file, csv_file, assignment, min_digits, strict, params_file, jobs, total_s):
     """Hold a TOML file of answers against mech (each [[answer]]: exercise, params, expect, rtol).
 
     \b
@@ -192,9 +233,11 @@ def grade_cmd(file, as_json, junit_file, csv_file, strict, params_file, jobs, to
     expect = { theta_c = "35.26deg", omega_c = "2.91 rad/s" }
 
     FILE may also be a CSV (a student column, ID:output columns). Values are judged to the digits
-    written (or to rtol); an empty answer is not graded. An entry that cannot be read is graded
-    invalid and the rest is graded. Exit status: 0 all right, 1 any wrong or invalid, 2 a file that
-    cannot be read (with --strict: any invalid entry, one line each naming the file, entry and field).
+    written (or to rtol). Each answer is a cell: right, wrong, invalid (it cannot be read: that cell
+    only), unanswered (left empty) or not graded (mech reached no verdict). With --assignment DIR each
+    entry is held to the assignment mech assign wrote. Exit status: 0 every graded answer right and
+    nothing invalid or not graded (unanswered ones do not count), 1 otherwise, 2 a file that cannot be
+    read (with --strict: any invalid entry or cell, one line each naming the file, entry and field).
     """
     from mech.core.safeio import check_output, escape
 
@@ -206,11 +249,13 @@ def grade_cmd(file, as_json, junit_file, csv_file, strict, params_file, jobs, to
 
     outputs = [(p, w) for p, w in ((junit_file, "--junit"), (csv_file, "--csv")) if p is not None]
     # an output never overwrites the answers, the template, or another output (exit 2, before any work)
-    check_apart(outputs, [(file, "FILE"), (params_file, "--params")])
+    check_apart(outputs, [(file, "FILE"), (params_file, "--params")]
+                + ([(os.path.join(assignment, "key.json"), "--assignment")] if assignment else []))
     for path, what in outputs:
         check_output(path, what)  # before the grading, not after
     try:
-        report = api.grade_report(file, total_s, strict=strict, jobs=jobs, params=params_file, started=started)
+        report = api.grade_report(file, total_s, strict=strict, jobs=jobs, params=params_file, started=started,
+                                  assignment=assignment, min_digits=min_digits)
     except BadInput as exc:
         problems = getattr(exc, "problems", None)  # a bad answers file: every problem, a line each
         if not problems:

@@ -4,7 +4,10 @@ A swept parameter is ``--NAME START:STOP:N`` (N evenly spaced values, ends
 included) or ``--NAME START:STOP:N:log`` (geometric spacing); START and STOP
 take the same units and arithmetic as ``mech solve`` (``10deg:80deg:8``).
 Any other ``--NAME VALUE`` is held fixed.  Every point is checked against the
-parameter bounds and the exercise's joint constraints before anything runs.
+parameter bounds and the exercise's joint constraints before anything runs: a value
+out of its bounds refuses the sweep (exit 2); a point that only a joint limit
+refuses (in-bounds values the exercise's theory cannot decide, such as a
+locking edge) is marked "refused" with its one-line reason and the rest runs.
 """
 
 from __future__ import annotations
@@ -141,9 +144,12 @@ def _cell(q: dict, key: str) -> str:
 
 
 def _undefined_reasons(points: list[dict]) -> list[str]:
-    """Each output's reasons for having no value, once, with how many points gave it."""
+    """Each output's reasons for having no value, once, with how many points gave it (a refused point is
+    listed on its own, ``_refused_lines``)."""
     seen: dict[str, int] = {}
     for pt in points:
+        if pt.get("refused"):
+            continue
         for q in pt["quantities"]:
             if (q["analytic"] is None or q["numeric"] is None) and q.get("note"):
                 note = q["note"]
@@ -166,11 +172,44 @@ def _unit_of(result, name):
 def _summary(result) -> tuple[str, bool]:
     n = len(result)
     n_bad = result.n_failed
+    n_refused = len(result.refused)
     route = " (batched)" if result.batched is not None else ""
+    every = "every point" if not n_refused else "every point solved"
     text = (f"{n} points, {result.seconds:.2f} s{route} on {result.workers} "
             f"process{'es' if result.workers > 1 else ''}; "
-            + ("analytic and numeric agree at every point" if n_bad == 0 else f"{n_bad} points FAILED the cross-check"))
+            + (f"analytic and numeric agree at {every}" if n_bad == 0 else f"{n_bad} points FAILED the cross-check")
+            + (f"; {n_refused} point{'s' if n_refused > 1 else ''} refused, not solved (below)" if n_refused else ""))
     return text, n_bad == 0
+
+
+def _outside_lines(points: list[dict]) -> list[str]:
+    """Per output, how many points its leading-order theory is outside its range at: nothing compared there
+    (the point's "yes" is its numeric value verified by the rerun, as ``mech solve`` says)."""
+    count: dict[str, int] = {}
+    for pt in points:
+        for q in pt["quantities"]:
+            if q.get("theory_valid") is False:
+                count[q["name"]] = count.get(q["name"], 0) + 1
+    by_n: dict[int, list[str]] = {}
+    for name, n in count.items():
+        by_n.setdefault(n, []).append(name)
+    return [f"{', '.join(names)}: the leading-order theory is outside its range at {n} point{'s' if n > 1 else ''}; "
+            "nothing compared there, the numeric value (verified at rtol/10) is the answer"
+            for n, names in by_n.items()]
+
+
+def _refused_lines(result, swept) -> list[str]:
+    """One line per refused point (at most SHOW_ERRORS, then a count): where, and the exercise's reason."""
+    ex = result.exercise
+    lines = []
+    for n, (k, why) in enumerate(sorted(result.refused.items())):
+        if n == SHOW_ERRORS:
+            lines.append(f"... and {len(result.refused) - n} more refused points (--json lists every point)")
+            break
+        P = result.batched.grid if result.batched is not None else None
+        params = ({a: float(P[a][k]) for a in swept} if P is not None else result.solutions()[k].params)
+        lines.append(f"point {k + 1} ({describe_point(ex, params, swept)}) refused: {why}")
+    return lines
 
 
 def print_table(result) -> None:
@@ -213,7 +252,8 @@ def print_table(result) -> None:
                     rels.append(q["rel_err"])
             row.append(f"{max(rels):.2g}" if rels else "—")
             flag = pt.get("agree")
-            row.append(Text("—", style="dim") if flag is None else
+            row.append(Text("refused", style="yellow") if pt.get("refused") else
+                       Text("—", style="dim") if flag is None else
                        Text("yes", style="green") if flag else Text("NO", style="bold red"))
             t.add_row(*row)
             head = ", ".join(f"{name} = {val} {_unit_of(result, name)[0]}" for name, val in zip(swept, row))
@@ -240,6 +280,10 @@ def print_table(result) -> None:
         reasons = _undefined_reasons(result.point_list())
         for r in reasons[:SHOW_ERRORS]:
             c.print(Text(r, style="yellow"))
+        for line in _outside_lines(result.point_list()):
+            c.print(Text(line, style="yellow"))
+    for line in _refused_lines(result, swept):
+        c.print(Text(line, style="yellow"))
     # the first failures, the failed points built one at a time and only until SHOW_ERRORS lines are printed
     # (a failed 100 000-point sweep built every point's JSON here: 750 MB, 18 s); then a count of the rest
     shown, cut, at = 0, False, set()
@@ -280,7 +324,7 @@ def write_csv(result, out) -> None:
     for o in outs:
         header += [f"{o.name}_analytic [{o.unit}]", f"{o.name}_numeric [{o.unit}]",
                    f"{o.name}_numeric_err [{o.unit}]", f"{o.name}_rel_err [1]", f"{o.name}_agree"]
-    header.append("agree")
+    header += ["agree", "refused"]
     w.writerow(header)
 
     def cell(v):
@@ -298,7 +342,7 @@ def write_csv(result, out) -> None:
         for q in pt["quantities"]:
             row += [cell(q["analytic"]), cell(q["numeric"]), cell(q.get("numeric_err")), cell(q["rel_err"]),
                     cell(q["agree"])]
-        row.append(cell(pt.get("agree")))
+        row += [cell(pt.get("agree")), pt.get("refused", "")]
         w.writerow(row)
 
 
@@ -328,13 +372,17 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
     in `mech solve`.  Where the exercise has a batched route for the outputs
     asked (--only), all points are integrated together as one vectorised
     system (5.11, 5.12, 5.13); otherwise point by point, over the machine's cores.
+    A point inside every parameter's bounds that the exercise's joint limits
+    refuse (a locking edge, a critical force) is marked "refused" with its
+    reason and left unsolved; the rest is swept.
     \b
     Examples:
       mech sweep 4.15 --theta0 10deg:90deg:9
       mech sweep 5.6 --theta0 0.1:3:12 --csv > period.csv
       mech sweep 4.10 --l 1cm:1m:20:log --plot omega.png
       mech sweep 5.11 --omega 7:13:200 --mu 0.005:0.5:200 --only growth --plot chart.png
-    Exit status: 0 every point agrees, 1 a point failed, 2 bad input, 3 internal error, 130 interrupted.
+    Exit status: 0 every point solved agrees, 1 a point failed, 2 bad input (a value out of its bounds, or
+    every point refused), 3 internal error, 130 interrupted.
     """
     from mech import api
 
@@ -386,7 +434,11 @@ def sweep_cmd(ctx, ex_id, pairs, only_text, rtol_text, no_verify, as_json, as_cs
     result.fixed = {p.name: float(fixed.get(p.name, p.default)) for p in ex.params if p.name not in swept}
 
     if plot_file:
-        api.save_sweep_figure(result, plot_file)
+        import warnings
+
+        with warnings.catch_warnings():  # matplotlib's layout notes (a crowded legend) are no message of
+            warnings.simplefilter("ignore")  # the sweep's, and would print a source path
+            api.save_sweep_figure(result, plot_file)
     if as_json:
         result.write_json(sys.stdout)  # streamed: 100 000 points took 1.9 GB built whole
     elif as_csv:

@@ -8,6 +8,8 @@
 * ``check_output(path, what)`` before the work, ``atomic_write(path, what)`` after it: a file mech
   writes is complete or not written at all; a good old file survives a failed write.
 * ``columns()``: ``COLUMNS`` as the tables use it (below 60 read as 60, zero or garbage as unset).
+* ``csv_cell(text)``, ``md_text(text)``, ``slugs(names)``: a name from input written into a CSV file a
+  spreadsheet opens, into Markdown (or the HTML it renders to), into a file name.
 
 Every refusal is a ``BadInput`` whose message is one line naming the file or the value.
 """
@@ -23,7 +25,8 @@ import stat
 from mech.core.errors import BadInput
 
 __all__ = ["shown", "shown_path", "escape", "check_apart", "MAX_FILE_BYTES", "MAX_DEPTH", "MAX_KEY_PARTS", "read_text", "load_toml", "load_toml_text",
-           "load_json", "check_output", "budget_seconds", "atomic_write", "columns", "normalize_columns", "MIN_COLUMNS"]
+           "load_json", "check_output", "budget_seconds", "atomic_write", "columns", "normalize_columns", "MIN_COLUMNS",
+           "csv_cell", "csv_uncell", "md_text", "slugs"]
 
 SHOWN_CHARS = 80
 PATH_CHARS = 240  # a file name is cut later than a value: its end says which file
@@ -385,3 +388,66 @@ def normalize_columns(environ=None) -> None:
         del env["COLUMNS"]
     elif env["COLUMNS"] != str(n):
         env["COLUMNS"] = str(n)
+
+
+# -- names written into files other programs open ----------------------------------------------------------
+
+# a cell, or any part of it after a separator a spreadsheet may split on, that starts with one of these
+# (after blanks, and after the apostrophes ``csv_cell`` adds) is read as a formula
+_CSV_PART = re.compile(r"(^|[,;\t|\r\n])([ \u00a0]*)(?='*[=+\-@\t\r])")
+_CSV_MARK = re.compile(r"(^|[,;\t|\r\n])([ \u00a0]*)'(?='*[=+\-@\t\r])")
+# a number, perhaps with a unit (letters, digits, ^ * / . and spaces: no call, no DDE, no separator)
+_NUMBER = re.compile(r" *[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)? *([A-Za-z/][A-Za-z0-9^*/. ]*)?")
+
+
+def csv_cell(text) -> str:
+    """A text cell a spreadsheet will not run as a formula, whatever separator it splits the file on: every
+    part that starts with = + - @ (or a tab, a carriage return), at the cell's start or after a , ; tab |
+    or line break, gets an apostrophe before it (read as "text").  A number, with or without its unit
+    ("-1.5e-3", "-0.03 m/s"), is left.  ``csv_uncell`` gives the text back."""
+    text = str(text)
+    if _NUMBER.fullmatch(text):
+        return text
+    return _CSV_PART.sub(lambda m: m.group(1) + m.group(2) + "'", text)
+
+
+def csv_uncell(text) -> str:
+    """The text ``csv_cell`` was given, from the cell it wrote (a reader of mech's own CSV files)."""
+    text = str(text)
+    if _NUMBER.fullmatch(text):
+        return text
+    return _CSV_MARK.sub(lambda m: m.group(1) + m.group(2), text)
+
+
+_MD_SPECIAL = re.compile(r"([\\`*_{}\[\]()#+!|~\-.])")
+
+
+def md_text(text) -> str:
+    """A name from input as literal text in Markdown and in the HTML it renders to: control characters
+    escaped (``\\x1b``, on one line), ``& < >`` as HTML entities (no tag, no comment, no autolink) and
+    every Markdown punctuation mark backslash-escaped (no heading, list, emphasis, code, link or image)."""
+    text = escape(text).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
+    return _MD_SPECIAL.sub(r"\\\1", text)
+
+
+_SLUG_BAD = re.compile(r"[^A-Za-z0-9_-]+")
+# names Windows keeps for devices, whatever the extension
+_DEVICES = {"con", "prn", "aux", "nul", *(f"com{i}" for i in range(10)), *(f"lpt{i}" for i in range(10))}
+
+
+def slugs(names, limit: int = 60) -> list[str]:
+    """A file name for each of ``names`` (in order): letters, digits, ``_`` and ``-`` only (every other run of
+    characters one ``_``), no leading ``-`` or ``_``, at most ``limit`` characters, never a device name, and
+    unique even on a file system that ignores case (a clash gets ``-2``, ``-3``, ...)."""
+    out, taken = [], set()
+    for name in names:
+        base = _SLUG_BAD.sub("_", str(name)).strip("_-")[:limit].rstrip("_-") or "student"
+        if base.lower() in _DEVICES:
+            base += "_"
+        slug, k = base, 1
+        while slug.lower() in taken:
+            k += 1
+            slug = f"{base}-{k}"
+        taken.add(slug.lower())
+        out.append(slug)
+    return out

@@ -5,7 +5,9 @@ others as separate curves.  Two: a map per output, the numeric value coloured
 over the grid with a colorbar in the output's unit; where the output changes
 sign its exact zero (the numeric one) is a solid line; the leading-order
 boundary the exercise declares is a dashed line; points with no value are
-grey; failed points are crossed and their reason is in the legend.  No physics
+grey; failed points are crossed and their reason is in the legend; points
+the exercise refused (a joint limit: not solved) are dotted lines on a curve,
+plus signs on a map, their reason in the legend.  No physics
 here: the values and the boundary come from the sweep.
 """
 
@@ -37,6 +39,8 @@ def sweep_figure(result):
 
 
 def curve_figure(result):
+    from mech.studies.sweep import refusal_label
+
     ex = result.exercise
     first = result.axes[0]
     others = result.axes[1:]
@@ -72,6 +76,10 @@ def curve_figure(result):
                               "label": "numeric" if (j == 0 and c == 0) else None})
             if bad.any():
                 ax.plot(x[bad], qn[bad], "x", color="k", ms=8, label="disagree" if j == 0 else None)
+            refused = [pt["refused"] for pt in pts if pt.get("refused")]
+            for n, xr in enumerate(x[[bool(pt.get("refused")) for pt in pts]]):
+                ax.axvline(xr, color="0.55", ls=":", lw=1.0,
+                           label=refusal_label(refused) if (j == 0 and c == 0 and n == 0) else None)
         if first.log:
             ax.set_xscale("log")
         ax.set_xlabel(label(p.symbol or p.name, unit))
@@ -121,18 +129,20 @@ def _overlays(ax, result, o, arr, Z, x, y, fx, fy, curves, y_name, diverging):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    from mech.studies.sweep import failure_kind
+    from mech.studies.sweep import failure_kind, refusal_label
 
     handles = []
+    refused = arr["refused"]
+    refused_map = refused.reshape(x.size, y.size).T  # as Z: rows y, columns x
     if x.size > 1 and y.size > 1:
         if diverging:
             ax.contour(x, y, Z, levels=[0.0], colors="k", linewidths=1.3)
             handles.append(Line2D([], [], color="k", lw=1.3, label=f"{o.name} = 0 (numeric, exact)"))
-        undefined = ~np.isfinite(Z)
+        undefined = ~np.isfinite(Z) & ~refused_map
         if undefined.any() and not undefined.all():
             ax.contour(x, y, undefined.astype(float), levels=[0.5], colors="k", linewidths=1.3)
             handles.append(Line2D([], [], color="k", lw=1.3, label="edge of the grey region (numeric, exact)"))
-    if np.isnan(Z).any():
+    if (np.isnan(Z) & ~refused_map).any():
         handles.append(Patch(facecolor="0.82", edgecolor="none", label=_grey_label(result, o.name)))
     for axis_name, xs, ys, text in curves:
         if axis_name == y_name:
@@ -140,6 +150,11 @@ def _overlays(ax, result, o, arr, Z, x, y, fx, fy, curves, y_name, diverging):
         else:
             ax.plot(ys / fx, xs / fy, color="k", ls="--", lw=1.5)
         handles.append(Line2D([], [], color="k", ls="--", lw=1.5, label=text))
+    if refused.any():
+        X, Y = np.meshgrid(x, y, indexing="ij")
+        ax.plot(X.ravel()[refused], Y.ravel()[refused], "+", color="0.3", ms=4, mew=1.0)
+        handles.append(Line2D([], [], color="0.3", marker="+", ls="none",
+                              label=refusal_label(arr["refused_reasons"][refused])))
     bad = arr["failed"]
     if bad.any():
         X, Y = np.meshgrid(x, y, indexing="ij")
@@ -221,6 +236,8 @@ def map_figure(result):
     n = len(result)
     n_bad = int(output_arrays(result, outs[0].name)["failed"].sum()) if outs else 0
     verdict = "every point verified and agreeing" if n_bad == 0 else f"{n_bad} points FAILED (crossed)"
+    if result.refused:
+        verdict = verdict.replace("every point", "every point solved") + f"; {len(result.refused)} refused (+)"
     if any_smooth:
         verdict += "; coarse grid: colours interpolated linearly between the computed points (dots)"
     elif coarse:

@@ -22,7 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping, Sequence
 
-__all__ = ["Motion", "Path", "join"]
+__all__ = ["Motion", "Path", "join", "Run"]
 
 
 @dataclass(frozen=True)
@@ -217,3 +217,198 @@ def join(parts, n: int, samples: int = 201):
     t, y = t[order], y[:, order]
     keep = np.concatenate(([True], np.diff(t) > 0))  # a time shared by two legs once
     return t[keep], y[:, keep]
+
+
+class _Transformed:
+    """An integration seen through a map of its states (``Run.motion``'s ``transform``)."""
+
+    def __init__(self, traj: Any, transform: Callable):
+        self.t = traj.t
+        self._transform = transform
+        self.y = self._map(traj.y, len(traj.t))
+        sol = getattr(traj, "sol", None)
+        self.sol = None if sol is None else (lambda t: self._map(sol(t), len(t)))
+
+    def _map(self, y, n: int):
+        import numpy as np
+
+        return np.asarray(self._transform(np.asarray(y, float).reshape(-1, n)), float)
+
+
+class _Clocked:
+    """An integration in another variable than the time, seen in time (``Run.motion``'s ``clock``): sampled on
+    its continuous extension at 201 even values of its variable and at its steps."""
+
+    sol = None
+
+    def __init__(self, traj: Any, clock: Callable):
+        import numpy as np
+
+        s = np.union1d(np.linspace(traj.t[0], traj.t[-1], 201), traj.t)
+        y = np.asarray(traj.sol(s), float).reshape(-1, s.size)
+        self.t = np.asarray(clock(y), float)
+        self.y = y
+
+
+@dataclass
+class Run:
+    """What a numeric solver is given and what it reports back besides its answers.
+
+    Given: ``rtol``, the requested relative accuracy; ``integrator``, the integrator every ODE
+    integration must use (``mech bench``: a method name, or "student" for solve_ivp's defaults; None
+    keeps each integration's own method and step settings; ``follow`` applies it, a shared solver
+    takes it as ``integrator=run.integrator``); ``keep_trajectories``, whether the motion is kept;
+    ``shared``, a dict shared by the runs of one cross-check (the solve and its rerun at rtol/10),
+    where a solver may keep what it computed at a tolerance that does not depend on rtol, keyed by
+    everything it depends on (never in the JSON, new for every cross-check).
+
+    Reported: the method, the cost of what it integrated (``record``, ``cost``), the drift of the
+    invariants it monitors (``invariant``), per-output accuracy claims (``claim``), the scene's motion
+    (``motion``, ``follow``) and anything else worth showing (``info``).
+    """
+
+    rtol: float
+    integrator: str | None = None
+    keep_trajectories: bool = False
+    shared: dict = field(default_factory=dict, repr=False)
+    method: str | None = None
+    info: dict = field(default_factory=dict)
+    claims: dict = field(default_factory=dict)
+    invariants: dict = field(default_factory=dict)
+    # name -> the drift the method allows for that invariant (None: the exercise's default claim,
+    # tol_factor * rtol); a drift beyond it fails the cross-check
+    invariant_allowed: dict = field(default_factory=dict)
+    # (evaluations, forced) of each recorded integration (forced: ``integrator`` was applied) or of a cost
+    # that is no integration (forced None)
+    costs: list = field(default_factory=list, repr=False)
+    motion_parts: list = field(default_factory=list, repr=False)
+
+    @property
+    def nfev(self) -> int:
+        """Right-hand-side (or model) evaluations of everything recorded."""
+        return sum(n for n, _ in self.costs)
+
+    @property
+    def forced_runs(self) -> int:
+        """Recorded integrations that ran with ``integrator`` applied."""
+        return sum(1 for _, forced in self.costs if forced)
+
+    @property
+    def own_runs(self) -> int:
+        """Recorded integrations that ran with the exercise's own settings."""
+        return sum(1 for _, forced in self.costs if forced is False)
+
+    def record(self, result: Any, method: str | None = None) -> Any:
+        """Add the cost of an integration (anything with ``nfev``, ``method`` and ``forced``: a trajectory,
+        an orbit map that integrated many)."""
+        m = method or getattr(result, "method", None)
+        if m and not self.method:
+            self.method = m
+        self.costs.append((int(getattr(result, "nfev", 0) or 0), bool(getattr(result, "forced", False))))
+        return result
+
+    def cost(self, nfev: int) -> None:
+        """Add evaluations of a route that integrates no ODE through ``ode`` (a splitting, a quadrature)."""
+        self.costs.append((int(nfev), None))
+
+    def _integrate(self, rhs: Callable, t_span, y0, **kwargs) -> Any:
+        """``ode.integrate`` under the Run's integrator choice, recorded; the keywords are the exercise's own
+        choice (method, step bounds), used when no integrator is forced."""
+        from mech.solvers.numerics.ode import integrate
+
+        return self.record(integrate(rhs, t_span, y0, integrator=self.integrator, **kwargs))
+
+    def _integrate_to_event(self, rhs: Callable, t_span, y0, event, **kwargs) -> tuple:
+        """``ode.integrate_to_event`` under the Run's integrator choice; the trajectory is recorded."""
+        from mech.solvers.numerics.ode import integrate_to_event
+
+        t_ev, y_ev, traj = integrate_to_event(rhs, t_span, y0, event, integrator=self.integrator, **kwargs)
+        self.record(traj)
+        return t_ev, y_ev, traj
+
+    def follow(self, motion: Any, rtol: float | None = None, dense: bool = False, mark: bool = True) -> Any:
+        """Integrate a declared ``motion.Motion`` at ``rtol`` (the Run's by default): recorded, its invariants'
+        drifts reported, marked as the scene's motion (``mark=False``: an integration that is a tool, a
+        shooting's trial, not the motion to show).  A motion in legs (``Motion.then``) is followed leg by
+        leg.  Returns the last leg's ``motion.Path`` (``legs``: every leg's)."""
+
+        legs = []
+        while motion is not None:
+            path = self._follow_leg(motion, rtol, dense, mark)
+            legs.append(path)
+            motion = None if motion.then is None else motion.then(path)
+        last = legs[-1]
+        return Path(last.t_end, last.y_end, last.traj, last.motion, tuple(legs[:-1]) + (last,))
+
+    def _follow_leg(self, motion: Any, rtol: float | None, dense: bool, mark: bool) -> Any:
+
+        rtol = self.rtol if rtol is None else rtol
+        mark = mark and motion.shown
+        opts = dict(motion.options)
+        if motion.y_size is not None:
+            size = motion.y_size
+            opts["atol"] = [rtol * 1e-3 * v for v in size] if hasattr(size, "__len__") else rtol * 1e-3 * size
+        if motion.event is not None:
+            t_end, y_end, traj = self._integrate_to_event(motion.rhs, motion.span, motion.y0, motion.event,
+                                                         rtol=rtol, **opts)
+        else:
+            if dense or (mark and self.keep_trajectories):
+                opts["dense_output"] = True  # a smooth trajectory; the steps are the same
+            traj = self._integrate(motion.rhs, motion.span, motion.y0, rtol=rtol, **opts)
+            t_end, y_end = float(traj.t[-1]), traj.y[:, -1]
+        for name, f in motion.invariants.items():
+            self.invariant(name, f(y_end) - f(motion.y0))
+        for name, g in motion.monitors.items():
+            self.invariant(name, g(traj.y))
+        if mark:
+            self.motion(traj, t_scale=motion.t_scale, t_offset=motion.t_offset, y_scale=motion.y_scale,
+                        transform=motion.to_states, clock=motion.clock)
+        return Path(float(t_end), y_end, traj, motion)
+
+    def motion(self, traj: Any, *, t_scale: float = 1.0, t_offset: float = 0.0, y_scale=None,
+               rows=None, transform: Callable | None = None, clock: Callable | None = None) -> None:
+        """Mark an integration (anything with ``t``, ``y`` and optionally a continuous extension ``sol``) as
+        (a leg of) the scene's motion: its ``rows`` (all by default) are the exercise's declared ``states``.
+        Scaled variables are brought to SI: time ``t_offset + t_scale * t``, state ``y_scale * y`` (a number
+        or one per state).  Where the integrated variables are not the declared ones (an angle kept as its
+        change, a branch's own variables), ``transform`` maps the state array (n x N, scaled) to them before
+        ``rows`` and ``y_scale``; it runs only when a trajectory was asked for.  ``clock``: where the
+        integration's variable is not the time, the time (before ``t_scale``) from the states, read on the
+        continuous extension at 201 even values of the variable and at its steps.  Legs marked one after
+        another are joined in time order."""
+        if self.keep_trajectories:
+            if clock is not None:
+                traj = _Clocked(traj, clock)
+            if transform is not None:
+                traj = _Transformed(traj, transform)
+            self.motion_parts.append((traj, float(t_scale), float(t_offset), y_scale, rows))
+
+    def trajectory(self, n: int, samples: int = 201):
+        """The motion marked (``motion``), in SI, legs joined in time: ``(t, y)``, or None when none was kept."""
+        if not self.motion_parts:
+            return None
+
+        return join(self.motion_parts, n, samples)
+
+    def claim(self, name: str, rel: float | None = None, abs: float | None = None) -> None:
+        """Declare the accuracy of one output: relative and/or absolute."""
+        self.claims[name] = (rel, abs)
+
+    def invariant(self, name: str, drift: float, allowed: float | None = None) -> None:
+        """Record the relative drift of a conserved quantity (the worst over the run).
+
+        ``allowed`` is the drift the method can have and still be right (by default the exercise's
+        claim ``tol_factor * rtol``); a larger drift fails the cross-check: the integration is wrong."""
+        drift = float(abs(drift))
+        self.invariants[name] = max(drift, self.invariants.get(name, 0.0))
+        if allowed is not None:
+            self.invariant_allowed[name] = float(allowed)
+
+    def as_json(self) -> dict:
+        d = {"method": self.method, "rtol": self.rtol, "nfev": self.nfev}
+        if self.invariants:
+            d["invariants"] = {k: v for k, v in self.invariants.items()}
+        d.update(self.info)
+        return d
+
+

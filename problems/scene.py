@@ -178,7 +178,7 @@ class SceneRun:
     def numeric(self, p) -> dict | None:
         """The numeric solver's outputs at ``p``; None when the figure spends no numeric solves.
 
-        Each solve runs under the wall-clock budget of a solve (``mech.core.budget``, as in the
+        Each solve runs under the work budget of a solve (``mech.core.budget``, as in the
         cross-check); once one has run out of it the figure's remaining numeric solves are skipped
         (recorded as failures), so that a figure never waits on several slow solves in a row."""
         from mech.core import budget
@@ -187,10 +187,10 @@ class SceneRun:
             return None
         nan = {o.name: math.nan for o in self.exercise.outputs}
         if self.out_of_budget:
-            self.failures.append((dict(p), "skipped: an earlier numeric solve ran out of its time budget"))
+            self.failures.append((dict(p), "skipped: an earlier numeric solve ran out of its budget"))
             return nan
         try:
-            with budget.limit(what=f"the numeric solve of {self.exercise.id} for the figure"):
+            with budget.limit(what=f"the numeric solve of {self.exercise.id} for the figure", work=budget.SOLVE_WORK):
                 values, _ = self.exercise.solve_numeric(p, self.rtol)
         except budget.OutOfBudget as exc:
             self.out_of_budget = True

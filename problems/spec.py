@@ -17,6 +17,9 @@ from pathlib import Path
 from typing import Any, Callable, Mapping
 
 from mech.core.errors import BadInput, NumericFailure
+from mech.problems import validity
+from mech.problems.fields import Output, Param
+from mech.problems.motion import Run
 from mech.problems.params import Params, Undefined
 
 __all__ = [
@@ -31,320 +34,6 @@ __all__ = [
 ]
 
 
-def _fmt(x: float) -> str:
-    return f"{x:.6g}"
-
-
-@dataclass(frozen=True)
-class Param:
-    name: str
-    unit: str
-    default: float
-    symbol: str = ""
-    doc: str = ""
-    display: str | None = None
-    min: float | None = None
-    max: float | None = None
-    min_open: bool = False
-    max_open: bool = False
-
-    @property
-    def dimension(self) -> tuple[int, int, int] | None:
-        """(kg, m, s) exponents of the unit, from the one unit system (``core.units.si_exponents``)."""
-        from mech.core.units import si_exponents
-
-        return si_exponents(self.unit)
-
-    def to_display(self, value: float) -> float:
-        if not self.display:
-            return value
-        from mech.core.units import parse_unit
-
-        return value / parse_unit(self.display)[0]  # the display unit's SI factor, from the one unit system
-
-    def show(self, value: float) -> str:
-        """The value as people read it: in the display unit where there is one."""
-        if self.display:
-            return f"{_fmt(self.to_display(value))} {self.display}"
-        unit = "" if self.unit == "1" else f" {self.unit}"
-        return f"{_fmt(value)}{unit}"
-
-    def range_text(self) -> str:
-        """The allowed range in interval notation: in the display unit first where there is one, then in SI."""
-        unit = "" if self.unit == "1" else f" {self.unit}"
-        text = self._interval(lambda v: v) + unit
-        if self.display and (self.min is not None or self.max is not None):
-            text = f"{self._interval(self.to_display)} {self.display} = {text}"
-        return text
-
-    def _interval(self, conv) -> str:
-        lo = "(-inf" if self.min is None else ("(" if self.min_open else "[") + _fmt(conv(self.min))
-        hi = "+inf)" if self.max is None else _fmt(conv(self.max)) + (")" if self.max_open else "]")
-        return f"{lo}, {hi}"
-
-    def check(self, value: float, typed: str | None = None) -> None:
-        """Refuse a value outside the bounds, echoing ``typed`` (what the user wrote) where given, else the
-        value in the display unit."""
-        if typed is None:
-            said = self.show(value)
-        else:
-            from mech.core.safeio import shown
-
-            said = shown(typed.strip())
-            if self.display and self.display not in said and math.isfinite(value):
-                said += f" (= {self.show(value)})"
-        if not math.isfinite(value):
-            raise BadInput(f"{self.name}: {said} is not a finite number; allowed range {self.range_text()}")
-        below = self.min is not None and (value < self.min or (self.min_open and value == self.min))
-        above = self.max is not None and (value > self.max or (self.max_open and value == self.max))
-        if below or above:
-            raise BadInput(f"{self.name}: {said} is out of range; allowed {self.range_text()}"
-                           + self._unit_hint(typed))
-
-    def _unit_hint(self, typed: str | None) -> str:
-        """"; a plain number is in rad: for degrees write 10deg" where the number typed is out of range in
-        SI but in range in the display unit."""
-        if not typed or not self.display:
-            return ""
-        try:
-            number = float(typed)
-        except ValueError:
-            return ""
-        si = number / self.to_display(1.0)
-        inside = (self.min is None or si > self.min or (not self.min_open and si == self.min)) and \
-                 (self.max is None or si < self.max or (not self.max_open and si == self.max))
-        return f" (a plain number is in {self.unit}: for {self.display} write {typed.strip()}{self.display})" \
-            if inside else ""
-
-    def as_json(self) -> dict:
-        d: dict[str, Any] = {"name": self.name, "symbol": self.symbol, "unit": self.unit, "default": self.default}
-        for key in ("min", "max"):
-            if getattr(self, key) is not None:
-                d[key] = getattr(self, key)
-                d[key + "_open"] = getattr(self, key + "_open")
-        if self.display:
-            d["display"] = self.display
-        d["doc"] = self.doc
-        return d
-
-
-@dataclass(frozen=True)
-class Output:
-    name: str
-    unit: str
-    doc: str = ""
-    theory: str = "exact"  # or "leading-order": the analytic value neglects higher orders
-    # the direction of an axis (an angle with no sense, 4.3's theta1): an answer is judged modulo pi
-    axis: bool = False
-
-    @property
-    def dimension(self) -> tuple[int, int, int] | None:
-        """(kg, m, s) exponents of the unit, from the one unit system (``core.units.si_exponents``)."""
-        from mech.core.units import si_exponents
-
-        return si_exponents(self.unit)
-
-    def as_json(self) -> dict:
-        d = {"name": self.name, "unit": self.unit, "doc": self.doc}
-        if self.theory != "exact":
-            d["theory"] = self.theory
-        return d
-
-
-class _Transformed:
-    """An integration seen through a map of its states (``Run.motion``'s ``transform``)."""
-
-    def __init__(self, traj: Any, transform: Callable):
-        self.t = traj.t
-        self._transform = transform
-        self.y = self._map(traj.y, len(traj.t))
-        sol = getattr(traj, "sol", None)
-        self.sol = None if sol is None else (lambda t: self._map(sol(t), len(t)))
-
-    def _map(self, y, n: int):
-        import numpy as np
-
-        return np.asarray(self._transform(np.asarray(y, float).reshape(-1, n)), float)
-
-
-class _Clocked:
-    """An integration in another variable than the time, seen in time (``Run.motion``'s ``clock``): sampled on
-    its continuous extension at 201 even values of its variable and at its steps."""
-
-    sol = None
-
-    def __init__(self, traj: Any, clock: Callable):
-        import numpy as np
-
-        s = np.union1d(np.linspace(traj.t[0], traj.t[-1], 201), traj.t)
-        y = np.asarray(traj.sol(s), float).reshape(-1, s.size)
-        self.t = np.asarray(clock(y), float)
-        self.y = y
-
-
-@dataclass
-class Run:
-    """What a numeric solver is given and what it reports back besides its answers.
-
-    Given: ``rtol``, the requested relative accuracy; ``integrator``, the integrator every ODE
-    integration must use (``mech bench``: a method name, or "student" for solve_ivp's defaults; None
-    keeps each integration's own method and step settings; ``follow`` applies it, a shared solver
-    takes it as ``integrator=run.integrator``); ``keep_trajectories``, whether the motion is kept;
-    ``shared``, a dict shared by the runs of one cross-check (the solve and its rerun at rtol/10),
-    where a solver may keep what it computed at a tolerance that does not depend on rtol, keyed by
-    everything it depends on (never in the JSON, new for every cross-check).
-
-    Reported: the method, the cost of what it integrated (``record``, ``cost``), the drift of the
-    invariants it monitors (``invariant``), per-output accuracy claims (``claim``), the scene's motion
-    (``motion``, ``follow``) and anything else worth showing (``info``).
-    """
-
-    rtol: float
-    integrator: str | None = None
-    keep_trajectories: bool = False
-    shared: dict = field(default_factory=dict, repr=False)
-    method: str | None = None
-    info: dict = field(default_factory=dict)
-    claims: dict = field(default_factory=dict)
-    invariants: dict = field(default_factory=dict)
-    # name -> the drift the method allows for that invariant (None: the exercise's default claim,
-    # tol_factor * rtol); a drift beyond it fails the cross-check
-    invariant_allowed: dict = field(default_factory=dict)
-    # (evaluations, forced) of each recorded integration (forced: ``integrator`` was applied) or of a cost
-    # that is no integration (forced None)
-    costs: list = field(default_factory=list, repr=False)
-    motion_parts: list = field(default_factory=list, repr=False)
-
-    @property
-    def nfev(self) -> int:
-        """Right-hand-side (or model) evaluations of everything recorded."""
-        return sum(n for n, _ in self.costs)
-
-    @property
-    def forced_runs(self) -> int:
-        """Recorded integrations that ran with ``integrator`` applied."""
-        return sum(1 for _, forced in self.costs if forced)
-
-    @property
-    def own_runs(self) -> int:
-        """Recorded integrations that ran with the exercise's own settings."""
-        return sum(1 for _, forced in self.costs if forced is False)
-
-    def record(self, result: Any, method: str | None = None) -> Any:
-        """Add the cost of an integration (anything with ``nfev``, ``method`` and ``forced``: a trajectory,
-        an orbit map that integrated many)."""
-        m = method or getattr(result, "method", None)
-        if m and not self.method:
-            self.method = m
-        self.costs.append((int(getattr(result, "nfev", 0) or 0), bool(getattr(result, "forced", False))))
-        return result
-
-    def cost(self, nfev: int) -> None:
-        """Add evaluations of a route that integrates no ODE through ``ode`` (a splitting, a quadrature)."""
-        self.costs.append((int(nfev), None))
-
-    def _integrate(self, rhs: Callable, t_span, y0, **kwargs) -> Any:
-        """``ode.integrate`` under the Run's integrator choice, recorded; the keywords are the exercise's own
-        choice (method, step bounds), used when no integrator is forced."""
-        from mech.solvers.numerics.ode import integrate
-
-        return self.record(integrate(rhs, t_span, y0, integrator=self.integrator, **kwargs))
-
-    def _integrate_to_event(self, rhs: Callable, t_span, y0, event, **kwargs) -> tuple:
-        """``ode.integrate_to_event`` under the Run's integrator choice; the trajectory is recorded."""
-        from mech.solvers.numerics.ode import integrate_to_event
-
-        t_ev, y_ev, traj = integrate_to_event(rhs, t_span, y0, event, integrator=self.integrator, **kwargs)
-        self.record(traj)
-        return t_ev, y_ev, traj
-
-    def follow(self, motion: Any, rtol: float | None = None, dense: bool = False, mark: bool = True) -> Any:
-        """Integrate a declared ``motion.Motion`` at ``rtol`` (the Run's by default): recorded, its invariants'
-        drifts reported, marked as the scene's motion (``mark=False``: an integration that is a tool, a
-        shooting's trial, not the motion to show).  A motion in legs (``Motion.then``) is followed leg by
-        leg.  Returns the last leg's ``motion.Path`` (``legs``: every leg's)."""
-        from mech.problems.motion import Path
-
-        legs = []
-        while motion is not None:
-            path = self._follow_leg(motion, rtol, dense, mark)
-            legs.append(path)
-            motion = None if motion.then is None else motion.then(path)
-        last = legs[-1]
-        return Path(last.t_end, last.y_end, last.traj, last.motion, tuple(legs[:-1]) + (last,))
-
-    def _follow_leg(self, motion: Any, rtol: float | None, dense: bool, mark: bool) -> Any:
-        from mech.problems.motion import Path
-
-        rtol = self.rtol if rtol is None else rtol
-        mark = mark and motion.shown
-        opts = dict(motion.options)
-        if motion.y_size is not None:
-            size = motion.y_size
-            opts["atol"] = [rtol * 1e-3 * v for v in size] if hasattr(size, "__len__") else rtol * 1e-3 * size
-        if motion.event is not None:
-            t_end, y_end, traj = self._integrate_to_event(motion.rhs, motion.span, motion.y0, motion.event,
-                                                         rtol=rtol, **opts)
-        else:
-            if dense or (mark and self.keep_trajectories):
-                opts["dense_output"] = True  # a smooth trajectory; the steps are the same
-            traj = self._integrate(motion.rhs, motion.span, motion.y0, rtol=rtol, **opts)
-            t_end, y_end = float(traj.t[-1]), traj.y[:, -1]
-        for name, f in motion.invariants.items():
-            self.invariant(name, f(y_end) - f(motion.y0))
-        for name, g in motion.monitors.items():
-            self.invariant(name, g(traj.y))
-        if mark:
-            self.motion(traj, t_scale=motion.t_scale, t_offset=motion.t_offset, y_scale=motion.y_scale,
-                        transform=motion.to_states, clock=motion.clock)
-        return Path(float(t_end), y_end, traj, motion)
-
-    def motion(self, traj: Any, *, t_scale: float = 1.0, t_offset: float = 0.0, y_scale=None,
-               rows=None, transform: Callable | None = None, clock: Callable | None = None) -> None:
-        """Mark an integration (anything with ``t``, ``y`` and optionally a continuous extension ``sol``) as
-        (a leg of) the scene's motion: its ``rows`` (all by default) are the exercise's declared ``states``.
-        Scaled variables are brought to SI: time ``t_offset + t_scale * t``, state ``y_scale * y`` (a number
-        or one per state).  Where the integrated variables are not the declared ones (an angle kept as its
-        change, a branch's own variables), ``transform`` maps the state array (n x N, scaled) to them before
-        ``rows`` and ``y_scale``; it runs only when a trajectory was asked for.  ``clock``: where the
-        integration's variable is not the time, the time (before ``t_scale``) from the states, read on the
-        continuous extension at 201 even values of the variable and at its steps.  Legs marked one after
-        another are joined in time order."""
-        if self.keep_trajectories:
-            if clock is not None:
-                traj = _Clocked(traj, clock)
-            if transform is not None:
-                traj = _Transformed(traj, transform)
-            self.motion_parts.append((traj, float(t_scale), float(t_offset), y_scale, rows))
-
-    def trajectory(self, n: int, samples: int = 201):
-        """The motion marked (``motion``), in SI, legs joined in time: ``(t, y)``, or None when none was kept."""
-        if not self.motion_parts:
-            return None
-        from mech.problems.motion import join
-
-        return join(self.motion_parts, n, samples)
-
-    def claim(self, name: str, rel: float | None = None, abs: float | None = None) -> None:
-        """Declare the accuracy of one output: relative and/or absolute."""
-        self.claims[name] = (rel, abs)
-
-    def invariant(self, name: str, drift: float, allowed: float | None = None) -> None:
-        """Record the relative drift of a conserved quantity (the worst over the run).
-
-        ``allowed`` is the drift the method can have and still be right (by default the exercise's
-        claim ``tol_factor * rtol``); a larger drift fails the cross-check: the integration is wrong."""
-        drift = float(abs(drift))
-        self.invariants[name] = max(drift, self.invariants.get(name, 0.0))
-        if allowed is not None:
-            self.invariant_allowed[name] = float(allowed)
-
-    def as_json(self) -> dict:
-        d = {"method": self.method, "rtol": self.rtol, "nfev": self.nfev}
-        if self.invariants:
-            d["invariants"] = {k: v for k, v in self.invariants.items()}
-        d.update(self.info)
-        return d
 
 
 @dataclass(frozen=True)
@@ -360,28 +49,6 @@ class BatchedRoute:
     # over the arrays (``Exercise.theory_range``'s batched form)
     theory_range: Callable | None = None
 
-
-# A leading-order theory is outside its range where its expansion parameter reaches RANGE_LIMIT or its
-# neglect estimate (``expected_error``'s relative part) reaches NEGLECT_LIMIT: nothing is compared there
-RANGE_LIMIT = 1.0
-NEGLECT_LIMIT = 0.3
-
-
-def _outside_reason(label: str | None, value: float | None, neglect: float | None) -> str | None:
-    """Why a leading-order theory does not apply at a point (``mu/omega0 = 3.3``; the judge words it), or None
-    when it does."""
-    said = "" if label is None or value is None else f"{label} = {value:.2g}"
-    if value is not None and not value < RANGE_LIMIT:
-        return said or f"its expansion parameter reaches {RANGE_LIMIT:g}"
-    if neglect is not None and not neglect < NEGLECT_LIMIT:
-        return f"what it neglects is estimated at {neglect:.2g} relative" + (f" ({said})" if said else "")
-    return None
-
-
-def _rel_part(e):
-    if isinstance(e, (tuple, list)):
-        e = e[0]
-    return None if e is None else float(e)
 
 
 def _load_catalogue(ex_id: str) -> dict:
@@ -426,6 +93,11 @@ class Exercise:
         self.topic = spec["topic"]
         self.from_book = bool(spec.get("from_book", False))  # the book's own, or set for mech on its topics
         self.statement = spec["statement"].strip()
+        # the statement as a class's handout gives it, where the statement quotes the defaults: ``{name}``
+        # placeholders take each student's values (``mech assign``); empty: the statement serves
+        self.handout = spec.get("handout", "").strip()
+        # the regime the statement is about, where it is about one: {"positive": [outputs], "about": "..."}
+        self.regime = dict(spec.get("regime", {}))
         self.model = spec["model"].strip()
         self.numeric_route = spec.get("numeric", {}).get("route", "").strip()
         self.params = [Param(**p) for p in spec["params"]]
@@ -501,6 +173,16 @@ class Exercise:
         or more the theory is outside its range (``theory_validity``)."""
         self._theory_range = fn
         return fn
+
+    def outside_regime(self, values: dict) -> str | None:
+        """Why outputs ``values`` (SI) lie outside the regime the statement is about (the catalogue's
+        ``[regime]``: ``positive``, outputs that must be above zero, and ``about``, the regime in words), or
+        None; ``mech assign`` issues only variants inside it."""
+        for name in self.regime.get("positive", ()):
+            v = values.get(name)
+            if not (isinstance(v, float) and v > 0):
+                return f"{name} is not positive: not {self.regime.get('about', 'the regime of the statement')}"
+        return None
 
     def approximations(self, fn: Callable[[Params], dict]) -> Callable:
         """Where the statement asks for an approximation next to an exact output: ``fn(p) -> {output:
@@ -766,38 +448,12 @@ class Exercise:
         return dict(self._theory_range(p)) if self._theory_range else {}
 
     def theory_validity(self, p: Params, expected: dict | None = None) -> dict:
-        """{output: None | reason} for every leading-order output: the reason why its theory does not apply at
-        ``p`` (its expansion parameter reaches 1, or its neglect estimate 0.3 relative), None inside its range.
-        ``expected``: ``expected_errors(p)`` where the caller has it already."""
-        lead = [o.name for o in self.outputs if o.theory != "exact"]
-        if not lead:
-            return {}
-        ranges = self.theory_ranges(p)
-        expected = self.expected_errors(p) if expected is None else expected
-        out = {}
-        for name in lead:
-            label, value = ranges.get(name, (None, None))
-            out[name] = _outside_reason(label, None if value is None else float(value), _rel_part(expected.get(name)))
-        return out
+        """{output: None | reason} for every leading-order output (``validity.theory_validity``)."""
+        return validity.theory_validity(self, p, expected)
 
     def theory_validity_batch(self, P: Mapping, expected: dict) -> dict:
-        """The batched form: {output: (outside, reasons)}, a boolean array and a list of reasons ("" inside),
-        from the batched route's ``theory_range`` and the batched ``expected`` ({output: (rel, abs) arrays})."""
-        import numpy as np
-
-        route = self._batched
-        ranges = route.theory_range(P) if route is not None and route.theory_range else {}
-        out = {}
-        for name, (rel, _abs) in expected.items():
-            if next(o for o in self.outputs if o.name == name).theory == "exact":
-                continue
-            label, vals = ranges.get(name, (None, None))
-            rel = np.asarray(rel, dtype=float)
-            vals = None if vals is None else np.broadcast_to(np.asarray(vals, dtype=float), rel.shape)
-            reasons = [_outside_reason(label, None if vals is None or vals[k] != vals[k] else float(vals[k]),
-                                       None if rel[k] != rel[k] else float(rel[k])) or "" for k in range(rel.size)]
-            out[name] = (np.array([bool(r) for r in reasons], dtype=bool), reasons)
-        return out
+        """The batched form (``validity.theory_validity_batch``)."""
+        return validity.theory_validity_batch(self, P, expected)
 
     def approximations_at(self, p: Params) -> dict:
         """{output: [(value, text), ...]}: the approximations the statement asks for next to exact outputs."""

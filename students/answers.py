@@ -78,6 +78,9 @@ class Judgement:
         d = {"value": _finite(self.value), "match": self.match, "rel_err": _finite(self.rel_err), "hint": self.hint,
              "text": self.text, "reference": self.reference, "reference_value": _finite(self.reference_value),
              "tol": _finite(self.tol), "verdict": self.verdict}
+        d["state"] = self.cell.value
+        if self.cell not in (State.RIGHT, State.WRONG):
+            d["reason"] = self.verdict
         if self.theory != "exact":
             d["matches"] = self.matches
         if self.formula is not None:

@@ -4,27 +4,34 @@ file into ``Entry`` values, every field bounded before it is read; an entry that
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, field
 
 from mech.core.units import ValueError_, to_si
 from mech.problems.spec import BadInput, Exercise
 from mech.core.safeio import shown
+from mech.students.cells import State
 from mech.students.expectations import parse_count, parse_expectation, parse_rtol_value, with_range
 
-__all__ = ["Entry", "BadFile", "load_answers", "load_answers_csv", "MAX_ANSWERS", "MAX_STUDENT"]
+__all__ = ["Entry", "BadFile", "load_answers", "load_answers_csv", "MAX_ANSWERS", "MAX_STUDENT", "MIN_DIGITS",
+           "void_cell", "unanswered_variants", "read_answers"]
 
 
 _ENTRY_KEYS = ("exercise", "params", "expect", "rtol", "points", "seed", "over", "student")
 MAX_STUDENT = 80  # characters of a student's name
+MIN_DIGITS = 2  # ``--min-digits``' default: an answer with fewer significant digits is judged as if to 2
 
 
 @dataclass
 class Entry:
     """One ``[[answer]]`` (or one exercise of a CSV row).  ``invalid``: "line N: the reason" when the entry
-    cannot be read (it is then not graded, and counts as wrong); ``unanswered``: the outputs whose answer
-    was left empty (``expect = { theta_c = "" }``, an assignment's template): not graded, an empty cell in
-    the gradebook."""
+    cannot be read as a whole (its exercise, parameters, student, a field the assignment fixes): none of
+    it is graded, and every output it names is an invalid cell; ``void``: the cells that could not be read
+    on their own (an unparsable value, an unknown output: invalid, each with its reason; the entry's other
+    answers are graded); ``unanswered``: the outputs whose answer was left empty (``expect = { theta_c =
+    "" }``, an assignment's template) or, against an assignment, not given: an empty cell in the
+    gradebook.  ``cells``: every output asked, in order, with its state (``cells.State``)."""
 
     number: int  # 1-based, in file order
     line: int | None
@@ -40,15 +47,42 @@ class Entry:
     unanswered: list = field(default_factory=list)
     exercise_text: str = ""  # the exercise as written (an invalid entry's, shown escaped)
     columns: list = field(default_factory=list)  # the outputs asked (answered or not), for the gradebook
+    void: list = field(default_factory=list)  # Judgements of the cells that could not be read (invalid)
+    assigned: bool = False  # an assignment's variant no entry answered: every output unanswered
+    invalid_reason: str = ""  # ``invalid`` without the line it names
+    texts: dict = field(default_factory=dict)  # output -> the answer as written (an invalid entry's cells show it)
+
+    @property
+    def cells(self) -> list:
+        """Every output asked, in order, as a ``Judgement`` whose ``cell`` is its state: the judged ones
+        (right, wrong, not graded), the unreadable ones (invalid), those left empty (unanswered); every
+        output of an invalid entry is invalid, with the entry's reason."""
+        units = {o.name: o.unit for o in self.exercise.outputs} if self.exercise is not None else {}
+        if self.invalid is not None:
+            return [void_cell(n, units.get(n, ""), self.texts.get(n, ""), State.INVALID, self.invalid)
+                    for n in self.columns]
+        got = {j.name: j for j in self.void}
+        got.update((j.name, j) for j in self.judgements)
+        out = []
+        for n in self.columns:
+            if n in got:
+                out.append(got[n])
+            elif n in self.unanswered:
+                out.append(void_cell(n, units.get(n, ""), "", State.UNANSWERED, "not answered"))
+            else:  # asked, readable, but no verdict reached it
+                out.append(void_cell(n, units.get(n, ""), "", State.NOT_GRADED, "not graded"))
+        return out
 
     @property
     def conclusion(self) -> bool | None:
-        """What the entry concludes, by the one overall rule (``judge.conclude``): False when it cannot be
-        read or an answer is wrong, None when nothing was judged (no verdict: every answer left empty),
-        else True."""
+        """What the entry concludes, by the one overall rule (``judge.conclude``): False when anything in
+        it cannot be read, an answer is wrong or was not graded, None when nothing was judged (no verdict:
+        every answer left empty), else True."""
         from mech.verification.judge import conclude, holds
 
-        return conclude((holds(None, j.match) for j in self.judgements), failed=self.invalid is not None)
+        cells = self.cells
+        return conclude((holds(None, j.match) for j in cells if j.cell is not State.UNANSWERED),
+                        failed=self.invalid is not None)
 
     @property
     def ok(self) -> bool:
@@ -62,6 +96,13 @@ class Entry:
     def label(self) -> str:
         given = ", ".join(f"{k}={v}" for k, v in self.written.items())
         return f"answer {self.number}" + (f": {given}" if given else "")
+
+
+def void_cell(name: str, unit: str, text: str, state: State, reason: str):
+    """A cell no judge reached (``Judgement`` with its state and, as its verdict, the reason)."""
+    from mech.students.answers import Judgement
+
+    return Judgement(name, unit, text, math.nan, False, None, verdict=reason, state=state)
 
 
 class BadFile(BadInput):
@@ -115,42 +156,76 @@ class _Problems:
         self.lines.append(f"{self.where}: {exc}")
         self.reasons.append(str(exc))
 
+    def cell(self, fld: str, why: str, sep: str = ": ") -> str:
+        """A problem of one cell (listed by ``--strict``; the entry's other cells are graded): its reason.
+        ``sep``: "." where ``why`` is a message that starts with the output's name."""
+        text = f"{shown(fld)}{sep}{' '.join(str(why).split())}"
+        self.lines.append(f"{self.where}: {text}")
+        return text
+
+
+def _cell_reason(line: int | None, k: int, text: str) -> str:
+    from mech.core.safeio import escape
+
+    text = escape(text)
+    text = f"line {line}: {text}" if line else f"answer {k}: {text}"
+    return text if len(text) <= MAX_INVALID_CHARS else text[: MAX_INVALID_CHARS - 3] + "..."
+
 
 def _read_entry(k: int, item: dict, line: int | None, where: str, keys=_ENTRY_KEYS,
-                memo: dict | None = None) -> tuple[Entry, list[str]]:
-    """One answer, read and checked: the Entry (``invalid`` set when anything is wrong) and its problems,
-    each one line naming ``where`` (the file and the entry), the field and the reason.  ``memo``: values
-    already read in this file (a class writes the same formula many times), by exercise, name and text."""
+                memo: dict | None = None, min_digits: int | None = None, against=None,
+                every_param: bool = True) -> tuple[Entry, list[str]]:
+    """One answer, read and checked: the Entry and its problems, each one line naming ``where`` (the file
+    and the entry), the field and the reason.  A fault of the whole entry sets ``invalid``; an unreadable
+    value voids its own cell only (``Entry.void``).  ``memo``: values already read in this file (a class
+    writes the same formula many times), by exercise, name and text; ``min_digits``: the digits rule's
+    floor; ``against``: the ``against.Assignment`` the entry is held to (its parameters, digits, range and
+    outputs; ``every_param``: the answer must write every assigned parameter)."""
     found = _Problems(where)
     for key in item:
         if key not in keys:
             found.bad(key, f"unknown field; an answer has {', '.join(keys)}")
     ex_id = item.get("exercise")
     ex = _read_exercise(ex_id, found)
+    student = _read_student(item.get("student"), found)
+    if against is not None:
+        for fld, why in against.refusals(item, ex, student):
+            found.bad(fld, why)
     given, written = _read_params(ex, item.get("params", {}), found)
+    variant = against.variant(student, ex.id) if against is not None and ex is not None else None
+    if variant is not None and not found.lines:
+        for fld, why in against.params_problems(ex, variant, written, every_param):
+            found.bad(fld, why)
+        given, written = against.given(ex, variant)
     rtol = None
-    if "rtol" in item:
+    if "rtol" in item and against is None:
         try:
             rtol = parse_rtol_value(item["rtol"], "rtol")
         except BadInput as exc:
             found.refused(exc)
-    expectations, unanswered, columns = _read_expect(ex, item.get("expect"), rtol, memo, found)
-    if ex is not None and not found.lines and expectations:
+    expectations, unanswered, columns, void = _read_expect(ex, item.get("expect"), rtol, memo, found, min_digits,
+                                                           None if variant is None else variant.outputs)
+    if ex is not None and not found.reasons and expectations:
         try:
-            expectations = _formula_range(ex, item, expectations)
+            expectations = (_formula_range(ex, item, expectations) if against is None
+                            else with_range(expectations, over=against.formula_range(ex)))
         except BadInput as exc:
             found.refused(exc)
-    student = _read_student(item.get("student"), found)
     entry = Entry(k, line, ex, given, written, expectations, student=student, unanswered=unanswered,
                   exercise_text=shown("?" if ex_id is None else str(ex_id), 20), columns=columns)
-    if found.lines:
-        from mech.core.safeio import escape
-
-        text = escape("; ".join(" ".join(r.split()) for r in found.reasons))
-        text = f"line {line}: {text}" if line else f"answer {k}: {text}"
-        entry.invalid = text if len(text) <= MAX_INVALID_CHARS else text[: MAX_INVALID_CHARS - 3] + "..."
-        entry.expectations = []
+    entry.void = [void_cell(n, _unit(ex, n), text, State.INVALID, _cell_reason(line, k, why)) for n, text, why in void]
+    if found.reasons:
+        expect = item.get("expect")
+        entry.texts = ({shown(str(k).strip().replace("-", "_"), 40): shown(v) for k, v in expect.items()}
+                       if isinstance(expect, dict) else {})
+        entry.invalid_reason = "; ".join(" ".join(r.split()) for r in found.reasons)
+        entry.invalid = _cell_reason(line, k, entry.invalid_reason)
+        entry.expectations, entry.void, entry.unanswered = [], [], []  # every cell it names: invalid
     return entry, found.lines
+
+
+def _unit(ex: Exercise | None, name: str) -> str:
+    return next((o.unit for o in ex.outputs if o.name == name), "") if ex is not None else ""
 
 
 def _read_exercise(ex_id, found: _Problems) -> Exercise | None:
@@ -189,7 +264,7 @@ def _read_params(ex: Exercise | None, params, found: _Problems) -> tuple[dict, d
             given[pname] = to_si(str(value), param.unit)
             param.check(given[pname])
         except (ValueError_, BadInput, OverflowError) as exc:
-            why = str(exc).removeprefix(f"{pname}: ")
+            why = exc.reason if isinstance(exc, BadInput) else str(exc)
             found.bad(f"params.{raw_name}", f"cannot use '{shown(value)}': {why}")
             given.pop(pname, None)
             continue
@@ -202,32 +277,45 @@ def _read_params(ex: Exercise | None, params, found: _Problems) -> tuple[dict, d
     return given, written
 
 
-def _read_expect(ex: Exercise | None, expect, rtol, memo: dict | None, found: _Problems):
-    """The answer's expected values: (expectations, outputs left unanswered, outputs asked)."""
-    expectations, unanswered, columns = [], [], []
-    if not isinstance(expect, dict) or not expect:
+def _read_expect(ex: Exercise | None, expect, rtol, memo: dict | None, found: _Problems,
+                 min_digits: int | None = None, asked: tuple | None = None):
+    """The answer's expected values: (expectations, outputs left unanswered, outputs asked, the cells that
+    cannot be read: (output, text, reason)).  ``asked``: the outputs an assignment asks (those not given
+    are unanswered; one it does not ask is an invalid cell)."""
+    expectations, unanswered, columns, void = [], [], [], []
+    if asked is not None and (expect is None or expect == {}):
+        expect = {}  # against an assignment: nothing answered, every output asked unanswered
+    elif not isinstance(expect, dict) or not expect:
         found.bad("expect", "missing or empty; give a table such as { theta_c = \"35.26deg\" }")
-        return expectations, unanswered, columns
-    if ex is None:
-        return expectations, unanswered, columns
-    outputs = {o.name for o in ex.outputs}
+        return expectations, unanswered, columns, void
+    if ex is None:  # every output named is a cell of the entry (invalid with it)
+        columns = list(dict.fromkeys(shown(str(k).strip().replace("-", "_"), 40) for k in expect))
+        return expectations, unanswered, columns, void
+    outputs = [o.name for o in ex.outputs]
     for raw_name, value in expect.items():
         name = str(raw_name).strip().replace("-", "_")
-        if name in columns:
+        if name in columns or shown(name, 40) in columns:
             found.bad(f"expect.{raw_name}", "given more than once")
             continue
-        if name in outputs:
-            columns.append(name)
-        if name in outputs and _blank(value):
+        if name not in outputs:
+            columns.append(shown(name, 40))
+            void.append((shown(name, 40), shown(value), found.cell(
+                f"expect.{raw_name}", f"not an output of {ex.id}; its outputs are: {', '.join(outputs)}")))
+            continue
+        columns.append(name)
+        if asked is not None and name not in asked:
+            void.append((name, shown(value), found.cell(f"expect.{raw_name}", "not asked by the assignment")))
+            continue
+        if _blank(value):
             unanswered.append(name)  # left for the student: not graded
             continue
-        mkey = (ex.id, str(raw_name), type(value).__name__, str(value), rtol)
+        mkey = (ex.id, str(raw_name), type(value).__name__, str(value), rtol, min_digits)
         got = memo.get(mkey) if memo is not None else None
         if got is None:
             try:
-                got = parse_expectation(ex, raw_name, value, rtol)
+                got = parse_expectation(ex, raw_name, value, rtol, min_digits=min_digits)
             except BadInput as exc:
-                got = BadInput(str(exc))
+                got = exc
             if isinstance(memo, _Memo) and getattr(got, "formula", None) is not None:
                 memo.formula_chars += len(got.text)
                 if memo.formula_chars > MAX_FORMULA_CHARS:  # the file's, not this entry's: refused whole
@@ -235,11 +323,16 @@ def _read_expect(ex: Exercise | None, expect, rtol, memo: dict | None, found: _P
                                   f"most {MAX_FORMULA_CHARS} are read (split the file)")
             if memo is not None and len(memo) < 10000:
                 memo[mkey] = got
-        if isinstance(got, BadInput):
-            found.bad(f"expect.{raw_name}", str(got).split(": ", 1)[-1])
+        if isinstance(got, BadInput):  # its message names the output: "expect." names the field
+            fld, why = (f"expect.{got.field}", got.reason) if got.field else ("expect", str(got))
+            void.append((name, shown(value), found.cell(fld, why, sep="." if not got.field else ": ")))
             continue
         expectations.append(got)
-    return expectations, unanswered, columns
+    for name in asked or ():
+        if name not in columns:  # asked, not given: unanswered
+            columns.append(name)
+            unanswered.append(name)
+    return expectations, unanswered, columns, void
 
 
 def _read_student(student, found: _Problems) -> str | None:
@@ -260,16 +353,19 @@ def _refuse(name: str, problems: list[str]) -> None:
     raise BadFile(problems)
 
 
-def load_answers(path: str, strict: bool = True) -> list[Entry]:
+def load_answers(path: str, strict: bool = True, *, min_digits: int | None = None, against=None) -> list[Entry]:
     """Read and check a whole grading file before anything is solved.
 
     A file that cannot be read, is not TOML, or has no ``[[answer]]`` tables: BadFile.  An entry that cannot
     be read: with ``strict``, BadFile listing every problem (a line each, naming the file, the entry and the
-    field); without, the entry comes back ``invalid`` ("line N: the reason") and the rest is graded."""
+    field); without, the entry comes back ``invalid`` ("line N: the reason"), or the cell that cannot be
+    read invalid, and the rest is graded.  ``min_digits``: the digits rule's floor; ``against``: the
+    assignment (``against.Assignment``) every entry is held to, whose variants no entry answers come
+    back unanswered (``Entry.assigned``)."""
     from mech.core.safeio import load_toml_text, shown_path
 
     if str(path).lower().endswith(".csv"):
-        return load_answers_csv(path, strict=strict)
+        return load_answers_csv(path, strict=strict, min_digits=min_digits, against=against)
     name = shown_path(path)
     # BadInput naming the file: unreadable, too big, too deep, malformed, too many [[answer]] tables
     data, text = load_toml_text(path, "answers file", max_tables=(MAX_ANSWERS, "[[answer]] entries"))
@@ -293,12 +389,30 @@ def load_answers(path: str, strict: bool = True) -> list[Entry]:
     for k, item in enumerate(answers, 1):
         line = lines[k - 1] if len(lines) == len(answers) else None
         where = f"{name}: answer {k}" + (f" (line {line})" if line else "")
-        entry, found = _read_entry(k, item, line, where, memo=memo)
+        entry, found = _read_entry(k, item, line, where, memo=memo, min_digits=min_digits, against=against)
         problems += found
         entries.append(entry)
     if problems and strict:
         _refuse(name, problems)
-    return entries
+    return entries + unanswered_variants(entries, against)
+
+
+def unanswered_variants(entries: list[Entry], against) -> list[Entry]:
+    """An entry for each of the assignment's variants that no entry answers: every output unanswered."""
+    from mech.problems import registry
+
+    if against is None:
+        return []
+    seen = {(e.student, e.ex_id) for e in entries}
+    out = []
+    for (student, ex_id), v in against.variants.items():
+        if (student, ex_id) in seen:
+            continue
+        ex = registry.get(ex_id)
+        given, written = against.given(ex, v)
+        out.append(Entry(len(entries) + len(out) + 1, None, ex, given, written, [], student=student,
+                         unanswered=list(v.outputs), columns=list(v.outputs), assigned=True))
+    return out
 
 
 def _formula_range(ex: Exercise, item: dict, expectations: list) -> list:
@@ -366,6 +480,17 @@ def _csv_rows(path: str, what: str) -> list[tuple[int, list[str]]]:
     return rows
 
 
+# the apostrophe a CSV writer puts before a part a spreadsheet would run as a formula (``gradebook.csv_safe``,
+# ``mech assign``'s template): at the cell's start or after a separator, before = + - @
+_NEUTRALISED = re.compile(r"(^|[,;|\t\r\n])([ \u00a0]*)'(?=[=+\-@])")
+
+
+def _as_typed(cell: str) -> str:
+    """A CSV cell as it was typed: the apostrophes that neutralised it for a spreadsheet taken out (a
+    template's "'-5deg", a name "'=ann"), so that what mech wrote reads back as what it holds."""
+    return _NEUTRALISED.sub(lambda m: m.group(1) + m.group(2), cell) if "'" in cell else cell
+
+
 def _template_params(params_path: str) -> dict:
     """An assignment's template (``answers.toml``): (student, exercise) -> its params table."""
     from mech.core.safeio import load_toml, shown_path
@@ -383,20 +508,11 @@ def _template_params(params_path: str) -> dict:
     return out
 
 
-def load_answers_csv(path: str, strict: bool = True, params_path: str | None = None) -> list[Entry]:
-    """Answers from a CSV file: a header row, then one row per student; a ``student`` column, ``ID:output``
-    columns holding answers (an empty cell: not answered) and optional ``ID:param`` columns holding the
-    parameters, else ``params_path`` (an assignment's template) gives each student's.  Each exercise of a
-    row is an entry, read as an ``[[answer]]`` is; the header's faults refuse the file (BadFile)."""
-    from mech.core.safeio import shown_path
+def _csv_columns(name: str, header: list[str]) -> tuple[dict, list[str], list[str]]:
+    """A CSV header read: {index: (exercise id, name, "output" | "param")}, the exercises in order, and
+    the problems found (each one line naming the file and the column)."""
     from mech.problems import registry
 
-    name = shown_path(path)
-    rows = _csv_rows(path, "answers file")
-    if not rows:
-        raise BadFile(f"{name}: no header row")
-    (_, header), body = rows[0], rows[1:]
-    header = [h.strip() for h in header]
     problems = []
     if "student" not in header:
         problems.append(f"{name}: line 1: no 'student' column")
@@ -429,6 +545,24 @@ def load_answers_csv(path: str, strict: bool = True, params_path: str | None = N
         problems.append(f"{name}: line 1: a column is named twice")
     if not any(kind == "output" for _, _, kind in columns.values()):
         problems.append(f"{name}: line 1: no ID:output column holding answers")
+    return columns, order, problems
+
+
+def load_answers_csv(path: str, strict: bool = True, params_path: str | None = None, *,
+                     min_digits: int | None = None, against=None) -> list[Entry]:
+    """Answers from a CSV file: a header row, then one row per student; a ``student`` column, ``ID:output``
+    columns holding answers (an empty cell: not answered) and optional ``ID:param`` columns holding the
+    parameters, else ``params_path`` (an assignment's template) gives each student's.  Each exercise of a
+    row is an entry, read as an ``[[answer]]`` is; the header's faults refuse the file (BadFile)."""
+    from mech.core.safeio import shown_path
+
+    name = shown_path(path)
+    rows = _csv_rows(path, "answers file")
+    if not rows:
+        raise BadFile(f"{name}: no header row")
+    (_, header), body = rows[0], rows[1:]
+    header = [h.strip() for h in header]
+    columns, order, problems = _csv_columns(name, header)
     if problems:
         _refuse(name, problems)
     outs = sum(kind == "output" for _, _, kind in columns.values())
@@ -442,7 +576,7 @@ def load_answers_csv(path: str, strict: bool = True, params_path: str | None = N
     memo = _Memo()
     for line, row in body:
         row = row + [""] * (len(header) - len(row))
-        student = row[s_col].strip()
+        student = _as_typed(row[s_col]).strip()
         for ex_id in order:
             item: dict = {"exercise": ex_id, "expect": {}}
             if student:
@@ -452,11 +586,11 @@ def load_answers_csv(path: str, strict: bool = True, params_path: str | None = N
                 if cid != ex_id:
                     continue
                 if kind == "output":
-                    item["expect"][col] = row[i]
+                    item["expect"][col] = _as_typed(row[i])
                 elif row[i].strip():
-                    params[col] = row[i].strip()
+                    params[col] = _as_typed(row[i]).strip()
             extra = []
-            if template is not None and not params:
+            if template is not None and not params and against is None:
                 params = template.get((student, ex_id))
                 if params is None:
                     params = {}
@@ -464,21 +598,51 @@ def load_answers_csv(path: str, strict: bool = True, params_path: str | None = N
                                  "in the --params file")
             if params:
                 item["params"] = params
+            if (against is not None and against.variant(student, ex_id) is None and not params
+                    and all(_blank(v) for v in item["expect"].values())):
+                continue  # a column of an exercise this student was not assigned, left empty
             if len(row) > len(header):
                 extra.append(f"{len(row) - len(header)} cells beyond the header's columns")
             k = len(entries) + 1
             where = f"{name}: line {line}, {ex_id}"
-            entry, found = _read_entry(k, item, line, where, memo=memo)
-            if extra:
+            entry, found = _read_entry(k, item, line, where, memo=memo, min_digits=min_digits, against=against,
+                                       every_param=False)
+            if extra:  # the row's own faults: the whole entry, before anything it read
                 found = [f"{where}: {x}" for x in extra] + found
-                text = "; ".join(extra)
-                entry.invalid = f"line {line}: {text}" + (f"; {entry.invalid.split(': ', 1)[1]}" if entry.invalid else "")
-                entry.expectations = []
+                entry.invalid = _cell_reason(line, k, "; ".join(extra + ([entry.invalid_reason] if entry.invalid else [])))
+                entry.expectations, entry.void, entry.unanswered = [], [], []
             entries.append(entry)
             all_problems += found
     if not entries:
         raise BadFile(f"{name}: no rows of answers under the header")
     if all_problems and strict:
         _refuse(name, all_problems)
-    return entries
+    return entries + unanswered_variants(entries, against)
 
+
+
+def read_answers(path, *, strict: bool = False, params=None, assignment=None,
+                 min_digits: int | None = None) -> list[Entry]:
+    """A grading file (TOML, or CSV: by its name) read into entries.  ``params``: a CSV's parameters from
+    an assignment's template; ``assignment``: the folder ``mech assign`` wrote, every entry held to it (its
+    parameters, digits, range and outputs; ``students.against``); ``min_digits``: the digits rule's floor
+    (default ``MIN_DIGITS``; with an assignment, its digits, and no other may be given)."""
+    from mech.students.against import load_assignment
+
+    csv_file = str(path).lower().endswith(".csv")
+    if params is not None and not csv_file:
+        raise BadInput("only for answers read from a CSV file", field="--params", kind="usage")
+    against = None
+    if assignment is not None:
+        if params is not None:
+            raise BadInput("not with --assignment, which gives each student's parameters", field="--params",
+                           kind="usage")
+        if min_digits is not None:
+            raise BadInput("not with --assignment, which fixes the digits", field="--min-digits", kind="usage")
+        against = load_assignment(assignment)
+        min_digits = against.digits
+    min_digits = MIN_DIGITS if min_digits is None else min_digits
+    if csv_file:
+        return load_answers_csv(str(path), strict=strict, params_path=None if params is None else str(params),
+                                min_digits=min_digits, against=against)
+    return load_answers(str(path), strict=strict, min_digits=min_digits, against=against)

@@ -5,54 +5,70 @@ command's budget; ``grade_file`` reads, grades and reports one file."""
 from __future__ import annotations
 
 import time
+import warnings
 
 from mech.problems.spec import BadInput
 from mech.core.safeio import shown
-from mech.students.answers_files import Entry, load_answers, load_answers_csv
+from mech.students.answers_files import Entry, read_answers
 from mech.students.gradebook import GradeReport
 
 __all__ = ["grade", "grade_file"]
 
 
 def _not_graded(entry: Entry, why: str):
-    """Judgements saying why ``entry``'s answers were not graded (each wrong: mech has no verdict)."""
+    """Judgements saying why ``entry``'s answers were not graded (``State.NOT_GRADED``: mech has no
+    verdict; never wrong)."""
     from mech.students.answers import Judgement
+    from mech.students.cells import State
 
     units = {o.name: o.unit for o in entry.exercise.outputs}
-    return [Judgement(e.name, units.get(e.name, ""), e.text, e.value, False, None, verdict=why)
-            for e in entry.expectations]
+    return [Judgement(e.name, units.get(e.name, ""), e.text, e.value, False, None, verdict=why,
+                      state=State.NOT_GRADED) for e in entry.expectations]
 
 
-def _grade_one(entry: Entry, deadline: float, total_s: float, per_solve: float, solved: dict) -> None:
+def _out_of_time(entry: Entry, total_s: float):
+    """Judgements saying the command's budget did not reach ``entry``: not graded, never wrong."""
+    from mech.students.answers import Judgement
+    from mech.students.cells import State
+
+    why = f"not graded: the total budget of {total_s:g} s ran out (--budget SECONDS gives it more)"
+    units = {o.name: o.unit for o in entry.exercise.outputs}
+    return [Judgement(e.name, units.get(e.name, ""), e.text, e.value, False, None, verdict=why,
+                      state=State.NOT_GRADED) for e in entry.expectations]
+
+
+def _grade_one(entry: Entry, deadline: float, total_s: float, solved: dict) -> None:
     """One entry, cross-checked and judged; whatever goes wrong in it (an overflow, a bug in mech) is
-    this entry's verdict, never the rest of the class's."""
+    this entry's verdict, never the rest of the class's.  Only the command's clock (``deadline``) stops
+    it, and an entry it stopped, or that ended past it, is not graded: the solves and the checks inside
+    count work, so an entry graded gets the same verdicts on any machine at any load."""
     from mech.core import budget
     from mech.students.answers import judge
     from mech.verification.crosscheck import cross_check
-    from mech.verification.result import Failure
 
     t0 = time.perf_counter()
     try:
+        left = deadline - time.monotonic()
+        if left <= 0.05:  # not reached: not even its parameters are looked at (the budget holds)
+            raise budget.OutOfTime("not reached")
         params = entry.exercise.resolve(entry.given)
         key = (entry.exercise.id, tuple(sorted(params.items())))
-        left = deadline - time.monotonic()
-        if key in solved:
-            result = solved[key]
-            left = max(deadline - time.monotonic(), 1e-3)
-            with budget.limit(left, what="grading (--budget gives it more)"):  # formulas too
-                entry.judgements = judge(result, entry.expectations)
-        elif left <= 0.05:
-            why = f"not graded: the total budget of {total_s:g} s ran out (--budget SECONDS gives it more)"
-            result = cross_check(entry.exercise, params, methods=("analytic",), verify=False)
-            result = result.replace(errors=tuple(result.errors) + (Failure("numeric", f"numeric solver failed: {why}"),))
-            entry.judgements = _not_graded(entry, why)
-        else:
-            result = solved[key] = cross_check(entry.exercise, params, budget_s=min(per_solve, left))
-            left = max(deadline - time.monotonic(), 1e-3)
-            with budget.limit(left, what="grading (--budget gives it more)"):  # formulas too
-                entry.judgements = judge(result, entry.expectations)
+        # the solve and the formulas under the clock; a warning (numpy's, scipy's, an exercise's) is never
+        # a message: the values it touches are judged like any other
+        with budget.limit(left, what="grading (--budget gives it more)"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            if key in solved:
+                result = solved[key]
+            else:
+                result = solved[key] = cross_check(entry.exercise, params)
+            entry.judgements = judge(result, entry.expectations)
+        if time.monotonic() > deadline:  # ended past the clock: a check inside may have been cut short
+            raise budget.OutOfTime("ended past the budget")
         entry.result = result.with_expected(entry.judgements)
-    except (BadInput, ArithmeticError, ValueError) as exc:  # this entry's numbers: its own verdict
+    except budget.OutOfTime:  # the command's clock: not reached, not graded (its numbers say nothing)
+        entry.result = None
+        entry.judgements = _out_of_time(entry, total_s)
+    except (BadInput, ArithmeticError, ValueError, budget.OutOfWork) as exc:  # this entry's own verdict
         entry.result = None
         entry.judgements = _not_graded(entry, f"not graded: {shown(exc, 160)}")
     except MemoryError:  # not a bug: this entry asked for more memory than the process had left
@@ -82,7 +98,7 @@ _POOL: dict = {}  # what a forked worker inherits: the entries and the budget
 def _remote_group(indices: list[int], presolved: dict | None = None):
     """Entries graded in a pool worker (``presolved``: {key: Solution without its exercise}, from a batch);
     what travels back pickles (no exercise, no run)."""
-    todo, deadline, total_s, per_solve = _POOL["args"]
+    todo, deadline, total_s = _POOL["args"]
     solved: dict = {}
     for key, sol in (presolved or {}).items():
         solved[key] = sol.replace(exercise=todo[indices[0]].exercise) if sol is not None else None
@@ -90,7 +106,7 @@ def _remote_group(indices: list[int], presolved: dict | None = None):
     out = []
     for i in indices:
         e = todo[i]
-        _grade_one(e, deadline, total_s, per_solve, solved)
+        _grade_one(e, deadline, total_s, solved)
         result = e.result.replace(exercise=None, run=None) if e.result is not None else None
         out.append((i, result, e.judgements, e.seconds))
     return out
@@ -98,25 +114,24 @@ def _remote_group(indices: list[int], presolved: dict | None = None):
 
 def _remote_batch(firsts: list[int]) -> dict:
     """A batched exercise's variants solved in a pool worker: {key: Solution without its exercise}."""
-    todo, deadline, _total_s, _per_solve = _POOL["args"]
+    todo, deadline, _total_s = _POOL["args"]
     got = _batched_solve([todo[i] for i in firsts], deadline)
     return {k: v.replace(exercise=None, run=None) for k, v in got.items()}
 
 
 def grade(entries: list[Entry], total_s: float | None = None, jobs: int | None = None) -> None:
     """Cross-check and judge every readable entry, within a total wall-clock budget (``total_s``, default
-    ``DEFAULT_TOTAL_S``): each solve gets what is left when that is less than its own budget, and an
-    entry reached after the end is not graded: its answers fail, saying so.  ``jobs``: processes (None:
-    one per core once there are enough entries; each worker runs a cross-check's rerun after its solve)."""
+    ``DEFAULT_TOTAL_S``): the solves and checks count work (the same verdicts at any load), the clock only
+    stops the run, and an entry it did not reach, or cut short, is not graded (``State.NOT_GRADED``),
+    saying so.  ``jobs``: processes (None: one per core once there are enough entries; each worker runs
+    a cross-check's rerun after its solve)."""
     import threading
 
-    from mech.core import budget
     from mech.studies.checking import plan_jobs
     from mech.studies.sweep import DEFAULT_TOTAL_S, check_total
 
     total_s = DEFAULT_TOTAL_S if total_s is None else check_total(total_s)
     deadline = time.monotonic() + total_s
-    per_solve = budget.default_seconds()
     todo = [e for e in entries if e.invalid is None and e.expectations]
     groups = _solve_groups(todo)
     # a class file answers the same exercise at the same parameters: one solve each; an exercise with a
@@ -125,14 +140,14 @@ def grade(entries: list[Entry], total_s: float | None = None, jobs: int | None =
     workers = plan_jobs(len(groups), jobs)
     # fork only a single-threaded process (a lock another thread holds would stay held in the workers)
     if workers > 1 and threading.active_count() == 1:
-        _grade_pooled(todo, groups, workers, deadline, total_s, per_solve, plan)
+        _grade_pooled(todo, groups, workers, deadline, total_s, plan)
         return
     solved: dict = {}
     for gidx in plan.values():
         solved.update(_batched_solve([todo[groups[g][0]] for g in gidx], deadline))
     for g in groups:
         for i in g:
-            _grade_one(todo[i], deadline, total_s, per_solve, solved)
+            _grade_one(todo[i], deadline, total_s, solved)
 
 
 MIN_BATCHED = 4  # variants of one exercise from which its batched route solves them (below: one by one)
@@ -168,9 +183,13 @@ def _batched_solve(firsts: list[Entry], deadline: float) -> dict:
         params = [ex.resolve(e.given) for e in firsts]
         P = {p.name: np.array([float(q[p.name]) for q in params]) for p in ex.params}
         left = deadline - time.monotonic()
-        if left <= 1.0:
+        if left <= 0.05:  # past the clock (not graded); never a different route for the time left
             return out
-        result = run_batched(ex, [], {}, tuple(o.name for o in ex.outputs), total_s=left, points=P)
+        with warnings.catch_warnings():  # never a message: the values are judged
+            warnings.simplefilter("ignore")
+            result = run_batched(ex, [], {}, tuple(o.name for o in ex.outputs), total_s=left, points=P)
+        if time.monotonic() > deadline:
+            return {}  # the clock may have cut a chunk: each variant meets the clock alone (not graded)
         for q, sol in zip(params, iter_batched_solutions(result)):
             out[(ex.id, tuple(sorted(q.items())))] = sol
     except Exception:  # noqa: BLE001  the batch failed as a whole: each variant is cross-checked alone
@@ -178,7 +197,7 @@ def _batched_solve(firsts: list[Entry], deadline: float) -> dict:
     return out
 
 
-def _grade_pooled(todo, groups, workers, deadline, total_s, per_solve, plan) -> None:
+def _grade_pooled(todo, groups, workers, deadline, total_s, plan) -> None:
     """The groups over a pool of ``workers``: a batched exercise's variants are solved by one worker while
     the others grade the rest, then its groups are graded with the batch's solutions."""
     import multiprocessing
@@ -187,7 +206,7 @@ def _grade_pooled(todo, groups, workers, deadline, total_s, per_solve, plan) -> 
 
     from mech.studies.sweep import pool_worker_init
 
-    _POOL["args"] = (todo, deadline, total_s, per_solve)
+    _POOL["args"] = (todo, deadline, total_s)
     batched = {k for ks in plan.values() for k in ks}
     rest = [g for k, g in enumerate(groups) if k not in batched]
     # a few groups a task: fewer round trips, and still the work shared out to the end
@@ -211,7 +230,10 @@ def _grade_pooled(todo, groups, workers, deadline, total_s, per_solve, plan) -> 
             indices = sum(rest[k:k + size], [])
             pending[pool.submit(_remote_group, indices)] = ("grade", indices)
         while pending:
-            done, _ = wait(list(pending), return_when=FIRST_COMPLETED)
+            left = deadline - time.monotonic()
+            if left < -0.05:  # the clock ran out: what the workers still hold is not reached (the budget holds)
+                break
+            done, _ = wait(list(pending), timeout=left + 0.05, return_when=FIRST_COMPLETED)
             for fut in done:
                 kind, ks = pending[fut]
                 got = fut.result()  # a dead worker raises here, its entries still pending
@@ -240,22 +262,25 @@ def _grade_pooled(todo, groups, workers, deadline, total_s, per_solve, plan) -> 
         raise
     finally:
         _POOL.clear()
+    if pending:  # left at the clock: not graded; the workers end their task past the clock at once
+        for kind, ks in pending.values():
+            for i in (ks if kind == "grade" else sum((groups[j] for j in ks), [])):
+                if not todo[i].judgements:
+                    todo[i].judgements = _out_of_time(todo[i], total_s)
+        pool.shutdown(wait=False, cancel_futures=True)
+        return
     pool.shutdown(wait=True)
 
 
 def grade_file(path, total_s=None, *, strict: bool = False, jobs: int | None = None, params=None,
-               started: float | None = None) -> GradeReport:
+               started: float | None = None, assignment=None, min_digits: int | None = None) -> GradeReport:
     """A grading file (TOML, or CSV: by its name) read, graded and reported; ``params``: a CSV's parameters
-    from an assignment's template; ``started``: the ``time.perf_counter()`` the reported wall time counts
-    from (default: now, reading the file included)."""
+    from an assignment's template; ``assignment``: the folder ``mech assign`` wrote, every entry held to
+    it (its parameters, digits, range; ``students.against``); ``min_digits``: the digits rule's floor
+    (default ``MIN_DIGITS``; with an assignment, its digits); ``started``: the ``time.perf_counter()`` the
+    reported wall time counts from (default: now, reading the file included)."""
     t0 = time.perf_counter() if started is None else started
-    csv_file = str(path).lower().endswith(".csv")
-    if params is not None and not csv_file:
-        raise BadInput("--params: only for answers read from a CSV file")
-    if csv_file:
-        entries = load_answers_csv(str(path), strict=strict, params_path=None if params is None else str(params))
-    else:
-        entries = load_answers(str(path), strict=strict)
+    entries = read_answers(path, strict=strict, params=params, assignment=assignment, min_digits=min_digits)
     grade(entries, total_s, jobs=jobs)
     return GradeReport(str(path), tuple(entries), time.perf_counter() - t0)
 

@@ -48,11 +48,13 @@ def _unit_factor(text: str, toks: list[tuple[str, str]], i: int, unit: str) -> t
     return factor, unit_text
 
 
-def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = None,
-                      min_digits: int = MIN_DIGITS) -> Expectation:
+def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = None, *,
+                      min_digits: int | None = None) -> Expectation:
     """``theta_c``, ``35.26deg`` -> an Expectation in SI; BadInput naming the output otherwise.  ``none``:
-    the answer that the output has no value at these parameters.  ``min_digits``: a number with fewer
-    significant digits is judged as if written to that many."""
+    the answer that the output has no value at these parameters.  ``min_digits``: the digits rule's floor
+    (``--min-digits``, an assignment's digits; None: ``MIN_DIGITS``): a number with fewer significant
+    digits is judged as if written to that many."""
+    min_digits = MIN_DIGITS if min_digits is None else int(min_digits)
     from mech.students.answers import Expectation
 
     name = str(raw_name).strip().replace("-", "_")

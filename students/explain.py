@@ -490,30 +490,35 @@ def _slips(pts: _Points, unit: str, limit: int = 2) -> list[str]:
 
 
 class _SlipClock:
-    """The parameter slips cost one analytic solve each (a point more when one fits).  A safety net, not
-    reached by an exercise at its usual cost on an idle machine (40 slips at 1.5 ms at most; 4.32's series,
-    the costliest, at a few ms): after a solve slower than SLOW_S, or BUDGET_S in all, no further slip is
-    tried (a solve already running is not stopped)."""
+    """The parameter slips cost one analytic solve each (a point more when one fits).  A safety net
+    counted in solves and work, never in seconds, so that the same slips are tried, and the same hint
+    named, on any machine at any load: after a solve that did more than ``SLOW_WORK`` units of work
+    (``core.budget``: a search's passes, an integration's evaluations), or ``MAX_SOLVES`` solves or
+    ``MAX_WORK`` units in all, no further slip is tried (a solve already running is not stopped)."""
 
-    SLOW_S = 0.25
-    BUDGET_S = 1.0
+    SLOW_WORK = 20_000
+    MAX_SOLVES = 2_000
+    MAX_WORK = 200_000
 
     def __init__(self):
-        import time
+        from mech.core import budget
 
-        self.now = time.perf_counter
-        self.start = self.now()
-        self.slowest = 0.0
+        self.used = budget.used
+        self.start = self.used()
+        self.solves = 0
+        self.slowest = 0
 
     def more(self, far: bool = False) -> bool:
-        return self.slowest <= self.SLOW_S and self.now() - self.start < self.BUDGET_S
+        return (self.slowest <= self.SLOW_WORK and self.solves < self.MAX_SOLVES
+                and self.used() - self.start < self.MAX_WORK)
 
     def timed(self, f, *args):
-        t = self.now()
+        u = self.used()
+        self.solves += 1
         try:
             return f(*args)
         finally:
-            self.slowest = max(self.slowest, self.now() - t)
+            self.slowest = max(self.slowest, self.used() - u)
 
 
 def _corrections(pts: _Points, unit: str, value) -> list:

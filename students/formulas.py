@@ -21,7 +21,6 @@ point set and mech's values are computed once (``points``), the hints come from 
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,7 +37,7 @@ __all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "FORMULA_RTOL", "PointSet", "point_
 FORMULA_RTOL = 1e-9  # a formula is exact: its numbers are as written
 
 
-NUMERIC_BUDGET_S = 4.0  # for the numeric reference of a leading-order output at drawn points
+NUMERIC_WORK = 600_000  # units of work (core.budget) for the numeric reference of a leading-order output
 
 BEYOND = 3.0  # how much closer than the leading-order value a next-order answer must be to the exact one
 
@@ -109,9 +108,9 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
     from mech.core import budget
 
     try:
-        # the points drawn only once the dimension is right, and everything within the budget: the solve's
-        # (what its cross-check left), grade's, or MECH_BUDGET_S for this formula alone
-        with budget.limit(budget.default_seconds(), what="checking the formula"), np.errstate(all="ignore"):
+        # the points drawn only once the dimension is right, and everything within a work budget (the same
+        # verdict at any load); a command's clock around it (grade's --budget, MECH_BUDGET_S) stops it too
+        with budget.limit(what="checking the formula", work=budget.CHECK_WORK), np.errstate(all="ignore"):
             if callable(ps):
                 ps = ps()
             return _judge_at_points(formula, ex, output, ps, given_ref, rtol, numeric_given, given_in_range,
@@ -134,7 +133,7 @@ def _dimension_slip(formula: Formula, ex, output, ps, rtol: float) -> str | None
     if not dimension_could_be_a_slip(formula, output, ex.params):
         return None
     try:
-        with budget.limit(budget.default_seconds(), what="naming the slip behind the dimension"), \
+        with budget.limit(what="naming the slip behind the dimension", work=budget.CHECK_WORK), \
                 np.errstate(all="ignore"):
             points = ps(DEFAULT_POINTS) if callable(ps) else ps
             return dimension_hint(formula, points, output, rtol)
@@ -146,7 +145,10 @@ def _not_graded(exc, **base) -> FormulaVerdict:
     from mech.core.safeio import shown
 
     what, where = getattr(exc, "what", None), getattr(exc, "where", "")
-    text = (f"{what} ran out of time" + (f" while {where}" if where else "")) if what else str(exc)
+    from mech.core import budget
+
+    spent = "its work budget" if isinstance(exc, budget.OutOfWork) else "time"
+    text = (f"{what} ran out of {spent}" + (f" while {where}" if where else "")) if what else str(exc)
     return FormulaVerdict(False, f"not graded (budget): {shown(text, 160)}", None, math.nan, None, None, None,
                           points={"checked": 0, "right": 0}, state="not-graded", **base)
 
@@ -274,9 +276,11 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
     budget, stopping at the first point the numeric value does not confirm).  Where the exercise has a
     batched route for the output, the references come from it: the first point alone (a wrong formula
     stops there), then the rest at once."""
+    from mech.core import budget
+
     name = output.name
     misses = [i for i in range(len(ps)) if pj.judged[i] and not pj.right[i] and math.isfinite(pj.yours[i])]
-    t0 = time.perf_counter()
+    u0 = budget.used()
     outside_theory = ps.outside.get(name, np.zeros(len(ps), bool))
     # the points inside the theory's range first: there a miss decides the verdict; beyond it a miss is
     # left out, and the budget is spent there last
@@ -290,8 +294,12 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
                 break
             n, err = numeric_given
         else:
-            if time.perf_counter() - t0 > NUMERIC_BUDGET_S:
-                notes.append("the numeric reference ran out of time")
+            if budget.used() - u0 > NUMERIC_WORK:  # counted work, not seconds: the same points at any load
+                rest = [j for j in misses if j >= i and not pj.right[j]]
+                pj.judged[rest] = False
+                notes.append(f"mech's numeric reference was worked out at {len(misses) - len(rest)} of the "
+                             f"{len(misses)} points that needed it (its work budget): the other "
+                             f"{len(rest)} are not judged")
                 break
             if batched and (name, i) not in ps.numeric:
                 later = [j for j in misses if j >= i]
@@ -391,7 +399,7 @@ def _budget_out(exc) -> None:
     """Re-raise ``exc`` when it is the formula's budget running out (not one point's failure)."""
     from mech.core import budget
 
-    if isinstance(exc, budget.OutOfBudget) and budget.remaining() <= 0:
+    if isinstance(exc, budget.OutOfBudget) and budget.expired():
         raise exc
 
 

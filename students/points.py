@@ -262,19 +262,22 @@ def parse_over(ex, over: dict) -> dict[str, tuple[float, float]]:
     for raw, text in over.items():
         name = str(raw).strip().replace("-", "_")
         if name not in ex.param_map:
-            raise BadInput(f"over.{shown(raw, 40)}: not a parameter of {ex.id}; its parameters are: {', '.join(ex.param_map)}")
+            raise BadInput(f"not a parameter of {ex.id}; its parameters are: {', '.join(ex.param_map)}",
+                           field=f"over.{shown(raw, 40)}", kind="unknown")
         p = ex.param_map[name]
         if not isinstance(text, str) or text.count(":") != 1:
-            raise BadInput(f"over.{shown(raw, 40)}: give a range LO:HI such as \"10deg:60deg\"")
+            raise BadInput("give a range LO:HI such as \"10deg:60deg\"", field=f"over.{shown(raw, 40)}", kind="syntax")
         lo_s, hi_s = text.split(":")
         try:
             lo, hi = to_si(lo_s, p.unit), to_si(hi_s, p.unit)
             p.check(lo, lo_s)
             p.check(hi, hi_s)
         except (ValueError_, BadInput) as exc:
-            raise BadInput(f"over.{shown(raw, 40)}: {shown(str(exc).removeprefix(name + ': '), 120)}") from None
+            why = exc.reason if isinstance(exc, BadInput) else str(exc)
+            raise BadInput(shown(why, 120), field=f"over.{shown(raw, 40)}", kind=getattr(exc, "kind", None) or "value") from None
         if not lo < hi:
-            raise BadInput(f"over.{shown(raw, 40)}: {shown(text, 40)}: the low end must be below the high end")
+            raise BadInput(f"{shown(text, 40)}: the low end must be below the high end", field=f"over.{shown(raw, 40)}",
+                           kind="range")
         out[name] = (lo, hi)
     if out and not draw(ex, 1, DEFAULT_SEED, out):  # a range the joint limits leave empty: a bad input
         ranges_text = ", ".join(f"{shown(k, 20)} = {shown(v, 40)}" for k, v in over.items())

@@ -34,7 +34,7 @@ from mech.core.errors import BadInput
 from mech.problems.spec import Exercise, Params, Undefined
 from mech.verification.result import Failure, Quantity, Solution, to_json
 
-__all__ = ["MAX_POINTS", "describe_point", "validate_grid", "validate", "Axis", "Sweep", "grid_points", "run_sweep", "plan_workers", "POOL_OVERHEAD_S", "MIN_PARALLEL_S",
+__all__ = ["MAX_POINTS", "describe_point", "validate_grid", "validate", "Refused", "grid_refusals", "Axis", "Sweep", "grid_points", "run_sweep", "plan_workers", "POOL_OVERHEAD_S", "MIN_PARALLEL_S",
            "pool_worker_init", "run_batched", "batched_outputs", "batched_points", "grid_arrays", "CHUNK"]
 
 POOL_OVERHEAD_S = 0.15  # start-up of one worker process and its first imports (fork), measured
@@ -78,6 +78,7 @@ class Sweep:
     batched: Batched | None = None  # the batched route's arrays (None: solved point by point)
     only: tuple[str, ...] | None = None  # the outputs asked for (None: all)
     wall: list | None = None  # each point's wall time, s (point by point)
+    refused: dict = field(default_factory=dict)  # grid index -> why a joint limit refused the point (unsolved)
     _json: list | None = field(default=None, repr=False)  # the points' solve objects, once built
 
     @property
@@ -97,12 +98,7 @@ class Sweep:
         if self._json is None:
             out = []
             for k, sol in enumerate(self.solutions()):
-                d = to_json(sol)
-                d.pop("id", None)
-                d.pop("title", None)
-                if self.wall is not None:
-                    d["wall_s"] = self.wall[k]
-                out.append(d)
+                out.append(self._point_json(k, sol))
             self._json = out
         return self._json
 
@@ -115,12 +111,19 @@ class Sweep:
             return
         sols = self.points if self.points is not None else iter_batched_solutions(self)
         for k, sol in enumerate(sols):
-            d = to_json(sol)
-            d.pop("id", None)
-            d.pop("title", None)
-            if self.wall is not None:
-                d["wall_s"] = self.wall[k]
-            yield d
+            yield self._point_json(k, sol)
+
+    def _point_json(self, k: int, sol) -> dict:
+        """Point ``k``'s solve object (without id and title): its wall time on the point by point route, and
+        ``"refused"``, the one-line reason, where a joint limit refused it (nothing solved there)."""
+        d = to_json(sol)
+        d.pop("id", None)
+        d.pop("title", None)
+        if self.wall is not None:
+            d["wall_s"] = self.wall[k]
+        if k in self.refused:
+            d["refused"] = self.refused[k]
+        return d
 
     def failed_points(self):
         """(grid index, solve object) of every point that failed the cross-check, grid order, one at a time;
@@ -330,16 +333,14 @@ def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only
 
     ``only``: the output names to keep (the solvers still compute all of them on this route).
     ``deadline``: the sweep's end (``time.monotonic()``, one clock for every process); the point's solve
-    gets what is left of it when that is less than a solve's own budget, and a point reached after it is
-    not solved: it fails, saying so (its analytic value is still given)."""
+    counts its work (``budget.SOLVE_WORK``) and the sweep's clock only stops it, and a point reached after
+    it is not solved: it fails, saying so (its analytic value is still given)."""
     from mech.problems import registry
-    from mech.core import budget
     from mech.verification.crosscheck import cross_check
 
     ex = registry.get(ex_id)
     params = Params(values) if isinstance(values, dict) else values
     t0 = time.perf_counter()
-    budget_s = budget.default_seconds()
     left = math.inf if deadline is None else deadline - time.monotonic()
     if left <= 0.05:
         from mech.verification.result import Failure
@@ -349,7 +350,8 @@ def solve_point(ex_id: str, values: dict, rtol: float | None, verify: bool, only
                "(--budget SECONDS gives it more)")
         result = result.replace(errors=tuple(result.errors) + (Failure("numeric", why),))
     else:
-        result = cross_check(ex, params, rtol=rtol, verify=verify, budget_s=min(budget_s, left))
+        # the solve counts work (budget.SOLVE_WORK); the sweep's clock, where it has one, only stops it
+        result = cross_check(ex, params, rtol=rtol, verify=verify, budget_s=left if math.isfinite(left) else None)
     import_s = (result.numeric_info or {}).get("import_s") or 0.0
     wall = time.perf_counter() - t0 - import_s
     if only:
@@ -429,11 +431,19 @@ def run_sweep(
     if not params:
         return Sweep(ex, list(axes), dict(fixed), [], 1, 0.0, only=only, wall=[])
     only = tuple(only) if only else None
+    refused = {i: pt for i, pt in enumerate(params) if isinstance(pt, Refused)}
+    for i, pt in refused.items():  # marked, not solved
+        points[i] = (refused_solution(ex, pt, [o.name for o in ex.outputs if not only or o.name in only]), 0.0)
+        tick()
+    todo = [i for i in range(len(params)) if i not in refused]
+    if not todo:
+        return Sweep(ex, list(axes), dict(fixed), [sol for sol, _ in points], 1, time.perf_counter() - t0,
+                     only=only, wall=[w for _, w in points], refused={i: r.reason for i, r in refused.items()})
     # the first point here: it measures the cost per point
-    points[0] = solve_point(ex.id, dict(params[0]), rtol, verify, only, deadline, total_s)
+    points[todo[0]] = solve_point(ex.id, dict(params[todo[0]]), rtol, verify, only, deadline, total_s)
     tick()
-    rest = list(range(1, len(params)))
-    workers = min(jobs, usable_cores()) if jobs is not None else plan_workers(len(rest), points[0][1])
+    rest = todo[1:]
+    workers = min(jobs, usable_cores()) if jobs is not None else plan_workers(len(rest), points[todo[0]][1])
     workers = max(1, min(workers, len(rest))) if rest else 1
     if workers == 1:
         for i in rest:
@@ -451,7 +461,17 @@ def run_sweep(
                 tick()
     solutions = [sol.replace(exercise=ex) for sol, _ in points]
     return Sweep(ex, list(axes), dict(fixed), solutions, workers, time.perf_counter() - t0, only=only,
-                       wall=[w for _, w in points])
+                 wall=[w for _, w in points], refused={i: r.reason for i, r in refused.items()})
+
+
+def refused_solution(ex: Exercise, point: Refused, names=None) -> Solution:
+    """The solve object of a refused point: every parameter, no value on either side and no verdict (nothing
+    was solved), each output (``names``, in that order; None: all) noting why."""
+    note = f"refused: {point.reason}"
+    outs = {o.name: o for o in ex.outputs}
+    quantities = tuple(Quantity(n, outs[n].unit, theory=outs[n].theory, notes=(note,))
+                       for n in (names or list(outs)))
+    return Solution(ex, Params(dict(point.values)), quantities, timing={}, numeric_info=None)
 
 
 # -- charts: the batched route -----------------------------------------------------------------------
@@ -577,6 +597,39 @@ def run_batched(
     total_s: float | None = None,
     points: dict | None = None,
 ) -> Sweep:
+    """The chart route (``_run_batched``, which says what the options do).  numpy's warnings (an invalid
+    value in an intermediate that the route masks later) are not written to stderr, as in the cross-check:
+    the values they touch are judged like any other, and the warnings are kept, without their source
+    path, in the sweep's ``numeric_info["fp_warnings"]``."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", RuntimeWarning)
+        result = _run_batched(ex, axes, fixed, outputs, rtol=rtol, verify=verify, chunk=chunk, progress=progress,
+                              total_s=total_s, points=points)
+    if caught:
+        result.batched.info["fp_warnings"] = _warning_lines(caught)
+    return result
+
+
+def _warning_lines(caught) -> list[str]:
+    """Caught warnings as ``file.py:line: message`` (the file's name, never its path), at most 5."""
+    return list(dict.fromkeys(f"{os.path.basename(str(w.filename))}:{w.lineno}: {w.message}" for w in caught))[:5]
+
+
+def _run_batched(
+    ex: Exercise,
+    axes: Sequence[Axis],
+    fixed: dict[str, float],
+    outputs: Sequence[str],
+    *,
+    rtol: float | None = None,
+    verify: bool = True,
+    chunk: int = CHUNK,
+    progress: Callable[[int], None] | None = None,
+    total_s: float | None = None,
+    points: dict | None = None,
+) -> Sweep:
     """The chart route: every (validated) grid point through the exercise's batched route, chunk by chunk.
 
     Both solves (at rtol and at rtol/10) and the analytic side run over the
@@ -604,6 +657,7 @@ def run_batched(
     spent = (f"the sweep's total budget of {total_s:g} s ran out (--budget SECONDS gives it more)")
     P = grid_arrays(ex, axes, fixed) if points is None else points
     N = next(iter(P.values())).size
+    refused, P_route = ({}, P) if points is not None else _stand_ins(ex, axes, fixed, P)
     nums = {o: [] for o in outputs}
     vers = {o: [] for o in outputs}
     analytic = {o: [] for o in outputs}
@@ -617,7 +671,7 @@ def run_batched(
     takes_memo = "memo" in inspect.signature(route.numeric).parameters
     for start in range(0, N, chunk):
         sl = slice(start, min(start + chunk, N))
-        Pc = {k: v[sl] for k, v in P.items()}
+        Pc = {k: v[sl] for k, v in P_route.items()}
         m = sl.stop - sl.start
         for tol, store in ((rtol, nums), (tighter, vers)) if verify else ((rtol, nums),):
             failed = f"numeric solver failed{'' if tol == rtol else f' at rtol={tol:g}'}: "
@@ -625,9 +679,11 @@ def run_batched(
             try:
                 if left <= 0.05:
                     raise budget.OutOfBudget(f"not run: {spent}")
-                with budget.limit(left, what=f"the batched sweep of {ex.id}"):
+                with budget.limit(left, what=f"the batched sweep of {ex.id}", work=budget.SOLVE_WORK):
                     got = (route.numeric(Pc, tol, tuple(outputs), memo=memo) if takes_memo
                            else route.numeric(Pc, tol, tuple(outputs)))
+            except budget.OutOfWork as exc:  # the chunk's work, the same on any machine: its failure
+                got = {o: _failed_column(m, failed + str(exc)) for o in outputs}
             except budget.OutOfBudget as exc:
                 why = str(exc) if str(exc).startswith("not run") else spent
                 got = {o: _failed_column(m, failed + why) for o in outputs}
@@ -651,15 +707,53 @@ def run_batched(
 
     judged = {}
     expected = {o: np.concatenate(expected[o], axis=1) for o in outputs}
-    validity = theory_validity_batch(ex, P, {o: tuple(expected[o]) for o in outputs})
+    validity = theory_validity_batch(ex, P_route, {o: tuple(expected[o]) for o in outputs})
     for o in outputs:
-        judged[o] = _judge(ex, o, _concat_columns(analytic[o]), expected[o],
-                           _concat_columns(nums[o]), _concat_columns(vers[o]) if verify else None, rtol, tighter,
-                           outside=validity.get(o))
+        judged[o] = _mark_refused(_judge(ex, o, _concat_columns(analytic[o]), expected[o],
+                                         _concat_columns(nums[o]), _concat_columns(vers[o]) if verify else None,
+                                         rtol, tighter, outside=validity.get(o)), refused)
     info = {"method": "DOP853 (batched)", "rtol": rtol, "verify_rtol": tighter if verify else None,
             "chunk": chunk, "chunks": stats["chunks"]}
     return Sweep(ex, list(axes), dict(fixed), None, 1, time.perf_counter() - t0,
-                 batched=Batched(list(outputs), P, judged, info))
+                 batched=Batched(list(outputs), P, judged, info), refused=refused)
+
+
+def _stand_ins(ex: Exercise, axes, fixed, P: dict) -> tuple[dict, dict]:
+    """({grid index: reason} of the points a joint limit refuses, the grid the route runs).  A refused point
+    is not solved: the route runs an accepted point in its place (the arrays keep their shape) and it is
+    marked afterwards (``_mark_refused``)."""
+    import numpy as np
+
+    found = grid_refusals(ex, axes, fixed)
+    refused = {k: r.reason for k, r in found.items()}
+    if not refused:
+        return refused, P
+    if len(refused) == next(iter(P.values())).size:
+        raise _all_refused(ex, found, [a.name for a in axes])
+    ok = next(k for k in range(next(iter(P.values())).size) if k not in refused)
+    idx = np.array(sorted(refused))
+    P_route = {name: v.copy() for name, v in P.items()}
+    for v in P_route.values():
+        v[idx] = v[ok]
+    return refused, P_route
+
+
+def _mark_refused(J: dict, refused: dict) -> dict:
+    """One output's judged columns with the refused points blanked: no value, no verdict, no failure (the
+    route solved a stand-in there)."""
+    if not refused:
+        return J
+    import numpy as np
+
+    idx = np.array(sorted(refused))
+    out = dict(J)
+    for key, blank in (("analytic", np.nan), ("numeric", np.nan), ("verify_diff", np.nan), ("agree", -1),
+                       ("n_fail", False), ("ver_fail", False), ("outside", False), ("a_und", False),
+                       ("n_und", False), ("unreliable", False)):
+        col = np.array(out[key], copy=True)
+        col[idx] = blank
+        out[key] = col
+    return out
 
 
 def _num(x):
@@ -688,7 +782,11 @@ def iter_batched_solutions(result: Sweep, indices=None):
     units = {o.name: o for o in ex.outputs}
     names = [p.name for p in ex.params]
     N = next(iter(P.values())).size
+    only = list(judged)
     for k in range(N) if indices is None else indices:
+        if k in result.refused:
+            yield refused_solution(ex, Refused({n: float(P[n][k]) for n in names}, result.refused[k]), only)
+            continue
         quantities, errors = [], []
         for name, J in judged.items():
             o = units[name]
@@ -753,7 +851,7 @@ def output_arrays(result: Sweep, name: str) -> dict:
         for k in np.flatnonzero(pts_failed):
             reasons[k] = _reason_batched(result, int(k))
         return {"numeric": J["numeric"], "analytic": J["analytic"], "agree": J["agree"], "failed": pts_failed,
-                "reasons": reasons}
+                "reasons": reasons, **_refused_arrays(result, J["agree"].size)}
     pts = result.point_list()
     num = np.array([_nan(q["numeric"]) for pt in pts for q in pt["quantities"] if q["name"] == name])
     ana = np.array([_nan(q["analytic"]) for pt in pts for q in pt["quantities"] if q["name"] == name])
@@ -762,7 +860,30 @@ def output_arrays(result: Sweep, name: str) -> dict:
     failed = np.array([pt.get("agree") is False for pt in pts])
     reasons = np.array([_reason_point(sol) if sol.agree is False else "" for sol in result.solutions()],
                        dtype=object)
-    return {"numeric": num, "analytic": ana, "agree": agree, "failed": failed, "reasons": reasons}
+    return {"numeric": num, "analytic": ana, "agree": agree, "failed": failed, "reasons": reasons,
+            **_refused_arrays(result, len(pts))}
+
+
+def _refused_arrays(result: Sweep, n: int) -> dict:
+    """The refused points as arrays over the grid: ``refused`` (bool) and ``refused_reasons``."""
+    import numpy as np
+
+    mask = np.zeros(n, dtype=bool)
+    why = np.full(n, "", dtype=object)
+    for k, reason in result.refused.items():
+        mask[k], why[k] = True, reason
+    return {"refused": mask, "refused_reasons": why}
+
+
+def refusal_label(reasons, width: int = 48) -> str:
+    """A legend's words for the refused points: how many, and the first one's reason in at most two lines of
+    ``width`` characters (every reason is in --json and the table)."""
+    import textwrap
+
+    reasons = list(reasons)
+    lines = textwrap.wrap(f"refused ({len(reasons)} point{'s' if len(reasons) > 1 else ''}): {reasons[0]}",
+                          width, max_lines=2, placeholder=" ...")
+    return "\n".join(lines)
 
 
 def _nan(v):
@@ -847,31 +968,74 @@ def describe_point(ex: Exercise, values: dict, names) -> str:
     return ", ".join(f"{n} = {ex.param_map[n].show(values[n])}" for n in names)
 
 
-def validate_grid(ex: Exercise, axes, fixed) -> None:
-    """The batched route's check of every grid point: the same bounds and joint constraints as ``validate``.
+@dataclass(frozen=True)
+class Refused:
+    """A grid point inside every parameter's bounds that the exercise refuses to solve (a joint limit: a
+    locking edge the theory cannot place, a force near its critical value): marked with ``reason`` and
+    left unsolved, while the rest of the sweep runs.  ``values``: every parameter, in SI."""
+
+    values: dict
+    reason: str
+
+
+def _in_bounds(ex: Exercise, values: dict) -> bool:
+    """Every value names a parameter and lies within its own bounds (what a refusal may not hide)."""
+    try:
+        for name, v in values.items():
+            ex.param_map[name].check(float(v))
+    except (BadInput, KeyError):
+        return False
+    return True
+
+
+def _all_refused(ex: Exercise, refused: dict, names) -> BadInput:
+    """Every point refused: nothing to sweep (the one-line error names the first)."""
+    first = refused[min(refused)]
+    return BadInput(f"every point of the sweep is refused; sweep point "
+                    f"{describe_point(ex, first.values, names)}: {first.reason}")
+
+
+def grid_refusals(ex: Exercise, axes, fixed) -> dict:
+    """{grid index: ``Refused``} for every point of the grid that a joint limit refuses (grid order).
 
     The axes' values were checked against their bounds when parsed and the
     fixed values when converted, so each point only needs the joint checks."""
     from mech.problems.spec import Params
 
+    base = {p.name: float(fixed.get(p.name, p.default)) for p in ex.params}
+    if not ex.has_constraints:
+        return {}
+    names = [a.name for a in axes]
+    view = _PointView(base)
+    refused = {}
+    import warnings
+
+    for k, combo in enumerate(itertools.product(*(a.values for a in axes))):
+        view.__dict__.update(zip(names, combo))
+        try:
+            with warnings.catch_warnings():  # a check's overflow at a far point refuses it, never prints
+                warnings.simplefilter("ignore")
+                msg = ex.constraint_message(view)
+        except Exception:  # a check that needs more than attribute access: the real Params
+            try:
+                ex.resolve(dict(view.__dict__))
+                msg = None
+            except BadInput as exc:
+                msg = str(exc)
+        if msg:
+            refused[k] = Refused(dict(view.__dict__), msg)
+    return refused
+
+
+def validate_grid(ex: Exercise, axes, fixed) -> None:
+    """The batched route's check of the grid: its size, and not every point refused by the joint checks
+    (a refused point is marked and left unsolved, ``grid_refusals``; ``run_batched`` finds them again)."""
     total = math.prod(len(a.values) for a in axes)
     if total > MAX_POINTS:
         raise BadInput(f"the grid has {total} points; at most {MAX_POINTS} in one sweep")
-    base = {p.name: float(fixed.get(p.name, p.default)) for p in ex.params}
-    if not ex.has_constraints:
-        return
-    import itertools
-
-    names = [a.name for a in axes]
-    view = _PointView(base)
-    for combo in itertools.product(*(a.values for a in axes)):
-        view.__dict__.update(zip(names, combo))
-        try:
-            msg = ex.constraint_message(view)
-        except Exception:  # a check that needs more than attribute access: the real Params
-            msg = ex.constraint_message(Params(dict(view.__dict__)))
-        if msg:
-            raise BadInput(f"sweep point {describe_point(ex, view.__dict__, names)}: {msg}")
+    refused = grid_refusals(ex, axes, fixed)
+    if refused and len(refused) == total:
+        raise _all_refused(ex, refused, [a.name for a in axes])
 
 
 class _PointView:
@@ -886,14 +1050,27 @@ class _PointView:
 
 
 def validate(ex: Exercise, axes, fixed):
-    """Every grid point resolved with the bounds and joint constraints, as solve does; the first bad one is named."""
+    """Every grid point resolved with the bounds and joint constraints, as solve does: a value out of its
+    bounds is refused (``BadInput`` naming the first); a point in bounds that a joint limit refuses is a
+    ``Refused`` in the list, marked and left unsolved by the sweep (unless every point is)."""
     total = math.prod(len(a.values) for a in axes)
     if total > MAX_POINTS:
         raise BadInput(f"the grid has {total} points; at most {MAX_POINTS} in one sweep")
-    resolved = []
+    names = [a.name for a in axes]
+    resolved, refused = [], {}
+    import warnings
+
     for values in grid_points(axes, fixed):
         try:
-            resolved.append(ex.resolve(values))
+            with warnings.catch_warnings():  # a check's overflow at a far point refuses it, never prints
+                warnings.simplefilter("ignore")
+                resolved.append(ex.resolve(values))
         except BadInput as exc:
-            raise BadInput(f"sweep point {describe_point(ex, values, [a.name for a in axes])}: {exc}") from None
+            if not _in_bounds(ex, values):
+                raise BadInput(f"sweep point {describe_point(ex, values, names)}: {exc}") from None
+            full = {p.name: float(values.get(p.name, p.default)) for p in ex.params}
+            refused[len(resolved)] = Refused(full, str(exc))
+            resolved.append(refused[len(resolved)])
+    if refused and len(refused) == len(resolved):
+        raise _all_refused(ex, refused, names)
     return resolved

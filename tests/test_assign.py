@@ -169,6 +169,8 @@ def test_an_output_that_is_the_roster_is_refused(tmp_path):
     roster = folder / "key.json"
     roster.write_text("ann\nbob\n")
     code, out, err = run("assign", "4.15", "--students", roster, "--seed", "1", "--out", folder)
+    assert code == 2 and "already holds an assignment" in err  # key.json marks an assignment
+    code, out, err = run("assign", "4.15", "--students", roster, "--seed", "1", "--out", folder, "--force")
     assert code == 2 and "would overwrite the input" in err
     assert roster.read_text() == "ann\nbob\n"
 

@@ -168,10 +168,12 @@ def test_no_integrator_keeps_the_exercises_own_choice():
     assert (tr.method, tr.forced, run.forced_runs, run.own_runs, run.method) == ("DOP853", False, 0, 1, "DOP853")
 
 
-@pytest.mark.parametrize("ex_id, applies", [("4.21", True), ("5.12", True), ("5.8", True), ("4.1", False)])
+@pytest.mark.parametrize("ex_id, applies", [("4.21", True), ("5.12", True), ("5.10", True), ("4.1", False),
+                                             ("5.8", False)])
 def test_probe_sees_whether_the_forced_integrator_ran(ex_id, applies):
     """The probe forces LSODA on the Run: an exercise that integrates (directly, through floquet, through the
-    orbit continuation) reports it ran; a closed-form route (4.1: integrals over the mass) does not."""
+    orbit continuation) reports it ran; a closed-form route (4.1: integrals over the mass) or a harmonic balance
+    (5.8) does not."""
     from mech.problems import registry
     from mech.studies.bench import probe_route
 

@@ -16,10 +16,32 @@ REGISTERED = list(registry.all_exercises())
 
 
 def _without_mechs_field(text: bytes) -> bytes:
-    """A packaged catalogue file less the fields mech adds to the shared specification in its heading
-    (from_book, integrates, theory)."""
-    ours = (b"from_book = ", b"integrates = ", b"theory = ")
-    return b"".join(line for line in text.splitlines(keepends=True) if not line.startswith(ours))
+    """A packaged catalogue file less the fields mech adds to the shared specification: in its heading
+    (from_book, integrates, theory), a parameter's typical range and whether it is fixed in an assignment
+    (typical_min, typical_max, fixed), a handout's statement (``handout = \"\"\"...\"\"\"``) and the
+    ``[regime]`` an assignment keeps to."""
+    ours = (b"from_book = ", b"integrates = ", b"theory = ", b"typical_min = ", b"typical_max = ", b"fixed = ")
+    out, skipping = [], None
+    for line in text.splitlines(keepends=True):
+        if skipping == "handout":
+            if line.rstrip() == b'"""':
+                skipping = None
+            continue
+        if skipping == "regime":
+            if line.strip() and not line.startswith(b"["):
+                continue
+            skipping = None
+        if line.startswith(b'handout = """'):
+            skipping = "handout"
+            continue
+        if line.rstrip() == b"[regime]":
+            skipping = "regime"
+            if out and not out[-1].strip():
+                out.pop()  # the blank line that set the table apart
+            continue
+        if not line.startswith(ours):
+            out.append(line)
+    return b"".join(out)
 
 
 def test_packaged_catalogue_is_the_shared_one():

@@ -16,7 +16,11 @@ a sum of odd harmonics up to the 9th, the equation's residual projected on
 them (collocation at 64 points) and solved by fsolve; A_max by maximising the
 swing over omega, each fold as the extremum of omega along the branch, the
 branch parametrised by the fundamental's amplitude.  No shooting, no
-integration.
+integration.  Since issue 41 the numeric solver is itself a harmonic balance
+(parametrised by the fundamental's phase, its own Newton and root searches):
+these are a second implementation of that method, and
+tests/test_ex5_8_shooting.py holds it against shooting and long time
+integration, methods of another kind.
 """
 
 import math
@@ -52,7 +56,7 @@ def test_defaults_by_hand():
     assert a["xi_lo"] == pytest.approx(lo, rel=1e-9)
     assert a["xi_hi"] == pytest.approx(hi, rel=1e-9)
     assert lo < a["xi_peak"] < hi  # hardening: the peak lies inside the window
-    assert run.invariants["Liouville det M"] < 1e-9
+    assert run.info["harmonic_tail"] < 1e-15  # the 13th harmonic, against the fundamental
 
 
 @pytest.mark.parametrize("given", [dict(f0=0.012), dict(alpha=-1000.0), dict(omega0=3.0, delta=0.01, alpha=-150.0, f0=0.0024)])
@@ -237,54 +241,18 @@ def test_very_weak_damping_draw_agrees_with_the_reduced_equations():
     lo, hi = rwa_folds(**p)
     assert n["xi_lo"] == pytest.approx(lo, rel=1e-5)
     assert n["xi_hi"] == pytest.approx(hi, rel=1e-5)
-    assert run.info["orbit_map"] == "RotatingOrbitMap"
-
-
-def test_rotating_and_plain_maps_agree(monkeypatch):
-    """The same Q = 7100 resonance (g = 3, damping per period 8.8e-4) by the one-period map in the
-    rotating frame and by the plain one: two formulations of the same orbits, which must agree to
-    their claims (1e-8)."""
-    import mech.problems.ch5.ex5_8_duffing_resonance as ex58
-
-    p = dict(omega0=10.0, delta=0.0007, alpha=1000.0, f0=1.0475e-4)
-    _, rot, run_rot = solve_both("5.8", **p)
-    monkeypatch.setattr(ex58, "ROTATING_BELOW", 0.0)
-    _, plain, run_plain = solve_both("5.8", **p)
-    assert run_rot.info["orbit_map"] == "RotatingOrbitMap" and run_plain.info["orbit_map"] == "OrbitMap"
-    assert isinstance(rot["xi_lo"], float)
-    for k in rot:
-        assert rot[k] == pytest.approx(plain[k], rel=1e-8, abs=1e-9 * p["delta"])
-
-
-def test_half_period_map_agrees_with_the_full_period(monkeypatch):
-    """The Duffing force is odd, so the module shoots the half-period map G = -phi_{T/2} of the symmetric
-    orbit (q(t + T/2) = -q(t)) instead of the one-period map.  Both are orbits of the same equation: the
-    outputs must agree to the numeric claims (100 rtol = 1e-8), with Liouville's det M = exp(-4 pi delta/omega)
-    holding for M = dG^2, at about 0.6 times the full map's evaluations (half the integration, the same
-    per-map start-up)."""
-    from mech.solvers.mechanics import continuation
-
-    _, half, run_half = solve_both("5.8", f0=0.012)
-    full_map = continuation.OrbitMap.__init__
-
-    def full(self, *args, **kw):
-        kw["odd"] = False
-        full_map(self, *args, **kw)
-
-    monkeypatch.setattr(continuation.OrbitMap, "__init__", full)
-    _, whole, run_whole = solve_both("5.8", f0=0.012)
-    for k in half:
-        assert half[k] == pytest.approx(whole[k], rel=1e-8)
-    assert run_half.nfev < 0.7 * run_whole.nfev
-    for run in (run_half, run_whole):
-        assert max(abs(d) for d in run.invariants.values()) < 1e-9
 
 
 def test_half_period_fixed_point_closes_the_full_period():
-    """At a fixed point of G = -phi_{T/2} (the symmetric orbit), the one-period map closes too, and its
+    """(continuation.OrbitMap's odd mode, which 5.8 used before its harmonic balance.)  At a fixed point of G = -phi_{T/2} (the symmetric orbit), the one-period map closes too, and its
     monodromy matrix is dG^2 (the chain rule through G o G: what OrbitMap.monodromy returns)."""
-    from mech.problems.ch5.ex5_8_duffing_resonance import _force
     from mech.solvers.mechanics.continuation import OrbitMap, solve_on_plane
+
+    def _force(omega0, delta, alpha):
+        def force(q, v):
+            return -2 * delta * v - omega0**2 * q - alpha * q**3, -omega0**2 - 3 * alpha * q * q, -2 * delta
+
+        return force
 
     p = DEF
     Q, W = p["f0"] / (2 * p["omega0"] * p["delta"]), p["delta"]
@@ -297,3 +265,62 @@ def test_half_period_fixed_point_closes_the_full_period():
     assert ev.residual < 1e-9
     assert np.allclose(half.monodromy(bp), ev.M, rtol=0, atol=1e-9)
     assert ev.A == pytest.approx(bp.A, rel=1e-9)
+
+
+# --- issue 41: the batched route, the scalar solve its batch of one ----------------------------------------
+def _arrays(rows):
+    return {k: np.array([r[k] for r in rows], dtype=float) for k in DEF}
+
+
+def test_batch_of_many_is_each_variant_alone():
+    """numeric_batch over several variants gives each the values of its own scalar solve (the batch of one),
+    its own claims and its own undefined folds; a variant that fails (a NaN force: Newton fails) fails alone."""
+    from mech.problems import registry
+
+    ex = registry.get("5.8")
+    rows = [DEF, {**DEF, "f0": 0.01}, {**DEF, "alpha": -1000.0}, {**DEF, "f0": float("nan")},
+            {**DEF, "delta": 0.001, "f0": 0.0008}]
+    cols = ex.batched_route.numeric(_arrays(rows), 1e-10, ("A_max", "xi_peak", "xi_lo", "xi_hi"))
+    for k, row in enumerate(rows):
+        failed = any(np.asarray(m)[k] for m, _ in cols["A_max"].failed)
+        if row["f0"] != row["f0"]:
+            assert failed and cols["A_max"].reason("failed", k) == "harmonic balance did not converge on the branch"
+            continue
+        assert not failed
+        _, n, run = solve_both("5.8", **{q: v for q, v in row.items() if v != DEF[q]})
+        for name, col in cols.items():
+            if isinstance(n[name], Undefined):
+                assert col.mask("undefined")[k]
+            else:
+                assert col.value[k] == pytest.approx(n[name], rel=1e-13, abs=1e-15 * row["delta"])
+                assert np.broadcast_to(col.rel, (len(rows),))[k] == pytest.approx(run.claims[name][0])
+
+
+def test_sweep_near_the_old_symmetry_failure_agrees_at_every_point():
+    """Issue 41, item 5: 4 of these 120 points failed ('near losing its q -> -q symmetry')."""
+    import mech
+
+    res = mech.sweep("5.8", f0=(0.013, 0.025, 120))
+    assert res.agree is True
+    assert res.batched is not None  # the batched route
+
+
+def test_a_sweep_across_the_critical_force_marks_the_undecided_point():
+    """Issue 41, item 2: `mech sweep 5.8 --f0 0.004:0.025:12` exited 2 for the whole sweep, its point f0 =
+    0.0116364 m/s^2 lying within 3 (eps + delta/omega0) of the leading-order critical force 0.0114621 m/s^2
+    (g_c = 8/3^1.5 at f0_c = 0.016 sqrt(g_c/3)).  Now that point's folds are outside the theory's range
+    (marked, not compared), its A_max and xi_peak judged, and every other point swept as before."""
+    import mech
+    from mech.verification.judge import Verdict
+
+    f0_c = 0.016 * math.sqrt(8 / 3**1.5 / 3.0)
+    assert round(f0_c, 7) == 0.0114621
+    res = mech.sweep("5.8", f0=(0.004, 0.025, 12))
+    assert res.agree is True
+    k = 4
+    pt = res.points[k]
+    assert pt.params["f0"] == pytest.approx(0.004 + 4 * 0.021 / 11)
+    assert pt["xi_lo"].verdict is Verdict.OUTSIDE and pt["xi_hi"].verdict is Verdict.OUTSIDE
+    assert pt["A_max"].verdict is Verdict.AGREE and pt["xi_peak"].verdict is Verdict.AGREE
+    marked = [i for i, q in enumerate(res.points) if q["xi_lo"].verdict is Verdict.OUTSIDE]
+    assert marked == [k]

@@ -100,9 +100,10 @@ def test_the_same_answers_in_csv_and_toml_grade_the_same(assignment, tmp_path, w
     assert _verdicts(t) == _verdicts(c)
     for k in ("passed", "failed", "invalid", "unanswered"):
         assert t[k] == c[k], k
-    # by hand: s3 and s6 doubled every value (2 + 5 outputs each); s5's 4.10 entry is invalid
+    # by hand: s3 and s6 doubled every value (2 + 5 outputs each); s5's 4.10 Omega cell is invalid (its
+    # other four outputs are graded); s2 left one blank
     assert t["invalid"] == 1 and t["unanswered"] == 1 and t["failed"] == 14
-    assert t["passed"] == 6 * 7 - 14 - 5 - 1
+    assert t["passed"] == 6 * 7 - 14 - 1 - 1
 
 
 def test_the_gradebook_parses_to_the_jsons_totals(assignment, tmp_path):
@@ -122,7 +123,8 @@ def test_the_gradebook_parses_to_the_jsons_totals(assignment, tmp_path):
         assert int(r["points"]) == sum(c == "1" for c in cells)
     by = {r["student"]: r for r in rows}
     assert by["s2"]["4.10:l_ef"] == "" and by["s2"]["max"] == "7"  # not answered: an empty cell
-    assert by["s5"]["4.10:Omega"] == "0" and by["s5"]["4.10:l_ef"] == "0"  # the invalid entry: 0 each
+    assert by["s5"]["4.10:Omega"] == "invalid" and by["s5"]["4.10:l_ef"] == "1"  # the typo voids its cell only
+    assert by["s5"]["review"] == "1" and all(r["review"] == "0" for s, r in by.items() if s != "s5")
     assert by["s4"]["4.15:theta_c"] == "1"  # the formula, right across the range
     assert sum(int(r["points"]) for r in rows) == d["passed"]
 
@@ -161,7 +163,7 @@ def test_an_invalid_cell_names_its_line(tmp_path):
     code, out, err = run("grade", path, "--json")
     assert code == 1
     d = json.loads(out)
-    assert d["invalid"] == 1 and d["entries"][1]["invalid"].startswith("line 3: expect.theta_c")
+    assert d["invalid"] == 1 and d["entries"][1]["cells"][0]["reason"].startswith("line 3: expect.theta_c")
     code, out, err = run("grade", path, "--strict")
     assert code == 2 and out == "" and "line 3" in err and "4.15" in err
 

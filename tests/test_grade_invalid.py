@@ -46,36 +46,39 @@ def test_one_typo_among_80_grades_the_79_and_writes_every_report(tmp_path):
     assert code == 1, err
     line = line_of(path, 37)
     assert f"invalid: line {line}: expect.theta_c" in out and "missing ')'" in out
-    assert "79 of 79 answers right, 0 wrong, 1 invalid entry (80 entries)" in out
+    # the typo voids its own cell (issue 39 item 5): 79 right of 80 cells, one to review
+    assert "79 of 80 answers right, 0 wrong, 1 invalid; 1 to review (80 entries)" in out
     # JUnit: 79 passing cases and one <error> (not a <failure>) naming the line
     suite = ET.parse(junit).getroot().find("testsuite")
     assert suite.get("tests") == "80" and suite.get("errors") == "1" and suite.get("failures") == "0"
     errors = [tc for tc in suite.iter("testcase") if tc.find("error") is not None]
     assert len(errors) == 1 and errors[0].find("error").get("message").startswith(f"line {line}: ")
     assert not any(tc.find("failure") is not None for tc in suite.iter("testcase"))
-    # the gradebook: s37 has 0 of 1, everyone else 1 of 1
+    # the gradebook: s37 has 0 of 1, its cell invalid and to review; everyone else 1 of 1
     rows = list(csv.DictReader(io.StringIO(book.read_text())))
     assert len(rows) == 80
     by = {r["student"]: r for r in rows}
-    assert by["s37"]["points"] == "0" and by["s37"]["4.15:theta_c"] == "0" and by["s37"]["max"] == "1"
-    assert all(r["points"] == "1" and r["4.15:theta_c"] == "1" for s, r in by.items() if s != "s37")
+    assert by["s37"] == {"student": "s37", "points": "0", "max": "1", "review": "1", "4.15:theta_c": "invalid"}
+    assert all(r["points"] == "1" and r["4.15:theta_c"] == "1" and r["review"] == "0"
+               for s, r in by.items() if s != "s37")
 
 
-def test_json_names_the_invalid_entry_and_counts_it(tmp_path):
+def test_json_names_the_invalid_cell_and_counts_it(tmp_path):
+    """An unknown output voids its own cell; the right answer beside it is graded (issue 39 item 5)."""
     path = class_file(tmp_path, n=5, bad_at=2, bad='expect = { theta_c = "35.26deg", theta9 = "1" }')
     code, out, _ = run("grade", path, "--json")
     assert code == 1
     d = json.loads(out)
-    assert d["invalid"] == 1 and d["passed"] == 4 and d["failed"] == 0 and d["ok"] is False
-    inv = [e for e in d["entries"] if e["invalid"]]
-    assert len(inv) == 1 and inv[0]["student"] == "s02" and inv[0]["ok"] is False
-    assert inv[0]["invalid"].startswith(f"line {line_of(path, 2)}: expect.theta9: not an output of 4.15")
+    assert d["invalid"] == 1 and d["passed"] == 5 and d["failed"] == 0 and d["ok"] is False
+    assert d["invalid_entries"] == 0 and d["points"] == 5 and d["max"] == 6 and d["review"] == 1
+    s02 = next(e for e in d["entries"] if e["student"] == "s02")
+    assert s02["invalid"] is None and s02["ok"] is False
+    assert [c["state"] for c in s02["cells"]] == ["right", "invalid"]
+    assert s02["cells"][1]["reason"].startswith(f"line {line_of(path, 2)}: expect.theta9: not an output of 4.15")
     assert all(e["invalid"] is None and e["ok"] for e in d["entries"] if e["student"] != "s02")
 
 
 @pytest.mark.parametrize("bad, field", [
-    ('expect = { theta_x = "1" }', "expect.theta_x"),
-    ('expect = { theta_c = "35.26 m" }', "expect.theta_c"),
     ('params = { theta0 = "100deg" }\n' + RIGHT, "params.theta0"),
     ('points = 0\nexpect = { theta_c = "asin(2/3*sin(theta0))" }', "points"),
     ('seed = -1\nexpect = { theta_c = "asin(2/3*sin(theta0))" }', "seed"),
@@ -89,6 +92,24 @@ def test_each_kind_of_bad_field_is_that_entry_invalid(tmp_path, bad, field):
     first, second = d["entries"]
     assert first["ok"] and first["invalid"] is None
     assert second["invalid"].startswith(f"line 5: {field}"), second["invalid"]
+    code, out, err = run("grade", path, "--strict")
+    assert code == 2 and out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and str(path) in lines[0] and "answer 2 (line 5)" in lines[0] and field in lines[0]
+
+
+@pytest.mark.parametrize("bad, field", [
+    ('expect = { theta_x = "1" }', "expect.theta_x"),
+    ('expect = { theta_c = "35.26 m" }', "expect.theta_c"),
+])
+def test_each_kind_of_bad_value_is_that_cell_invalid(tmp_path, bad, field):
+    path = tmp_path / "a.toml"
+    path.write_text(f'[[answer]]\nexercise = "4.15"\nexpect = {{ theta_c = "41.81deg" }}\n\n[[answer]]\nexercise = "4.15"\n{bad}\n')
+    d = json.loads(run("grade", path, "--json")[1])
+    first, second = d["entries"]
+    assert first["ok"] and first["invalid"] is None
+    assert second["invalid"] is None and [c["state"] for c in second["cells"]] == ["invalid"]
+    assert second["cells"][0]["reason"].startswith(f"line 5: {field}"), second["cells"]
     code, out, err = run("grade", path, "--strict")
     assert code == 2 and out == ""
     lines = err.strip().splitlines()
@@ -152,9 +173,10 @@ def test_an_empty_answer_is_not_graded(tmp_path):
                     'expect = { theta_c = "35.26deg", omega_c = "" }\n')
     book = tmp_path / "b.csv"
     code, out, _ = run("grade", path, "--csv", book)
-    assert code == 0 and "not answered" in out and "1 of 1 answers right, 0 wrong, 1 not answered" in out
+    assert code == 0 and "not answered" in out and "1 of 2 answers right, 0 wrong, 1 not answered" in out
     row = next(csv.DictReader(io.StringIO(book.read_text())))
-    assert row == {"student": "ann", "points": "1", "max": "2", "4.15:theta_c": "1", "4.15:omega_c": ""}
+    assert row == {"student": "ann", "points": "1", "max": "2", "review": "0", "4.15:theta_c": "1",
+                   "4.15:omega_c": ""}
     d = json.loads(run("grade", path, "--json")[1])
     assert d["entries"][0]["unanswered"] == ["omega_c"] and d["passed"] == 1 and d["ok"] is True
 

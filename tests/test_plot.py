@@ -280,11 +280,11 @@ def test_a_slow_numeric_solve_is_cut_by_its_budget_and_the_rest_skipped(monkeypa
 
     ex = registry.get("4.15")
     monkeypatch.setattr(ex, "_numeric", _endless)
-    monkeypatch.setenv("MECH_BUDGET_S", "0.2")
+    monkeypatch.setattr("mech.core.budget.SOLVE_WORK", 10_000)  # a solve's work, counted, not its seconds
     run_ = SceneRun(ex, None, points=3)
     p = ex.resolve({})
     assert all(math.isnan(v) for v in run_.numeric(p).values())
-    assert run_.out_of_budget and "time budget" in run_.failures[0][1]
+    assert run_.out_of_budget and "work budget of 10,000 units" in run_.failures[0][1]
     assert all(math.isnan(v) for v in run_.numeric(p).values())
     assert "skipped" in run_.failures[1][1]
 

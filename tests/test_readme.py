@@ -19,6 +19,13 @@ def test_every_exercise_in_the_readme_table_is_registered_under_its_title():
         assert titles.get(ex_id) == title, ex_id
 
 
+def test_the_readme_counts_the_registered_exercises():
+    """"All N exercises" in the README is the registry's count: a new exercise changes it (DEVELOPING.md's
+    recipe, step 6), as tests/test_prose.py holds the ranges it names."""
+    said = re.findall(r"All (\d+) exercises", (ROOT / "README.md").read_text("utf-8"))
+    assert said and all(int(n) == len(registry.index()) for n in said), said
+
+
 def test_ci_runs_the_readme_test_command():
     ci = (ROOT / ".ci" / "run").read_text("utf-8").strip().splitlines()[-1]
     assert ci in (ROOT / "README.md").read_text("utf-8")

@@ -220,13 +220,14 @@ def test_grade_names_the_student_in_table_json_and_junit(class_file, tmp_path):
     assert code == 1, err  # bob is wrong
     rows = [line.split() for line in out.splitlines()]
     assert any(r[:2] == ["1", "alice"] for r in rows) and any(r[:2] == ["2", "bob"] for r in rows)
-    assert "alice: 2 of 2 right" in out and "bob: 0 of 1 right" in out
+    assert "alice: 2 of 2 points, 0 wrong" in out and "bob: 0 of 1 points, 1 wrong" in out
     data = json.loads(run("grade", str(class_file), "--json")[1])
     assert [e["student"] for e in data["entries"]] == ["alice", "bob"]
-    assert data["students"] == [{"student": "alice", "passed": 2, "failed": 0, "entries": 1, "invalid": 0,
-                                 "points": 2, "max": 2},
-                                {"student": "bob", "passed": 0, "failed": 1, "entries": 1, "invalid": 0,
-                                 "points": 0, "max": 1}]
+    zero = {"invalid": 0, "not_graded": 0, "unanswered": 0, "review": 0, "invalid_entries": 0}
+    assert data["students"] == [{"student": "alice", "passed": 2, "failed": 0, "entries": 1, "points": 2, "max": 2,
+                                 "wrong": 0, **zero},
+                                {"student": "bob", "passed": 0, "failed": 1, "entries": 1, "points": 0, "max": 1,
+                                 "wrong": 1, **zero}]
     cases = ET.parse(junit).getroot().iter("testcase")
     seen = []
     for tc in cases:

@@ -94,10 +94,17 @@ def test_bad_ranges_exit_2_with_one_line(args, words):
 
 
 def test_joint_constraint_is_checked_at_every_point():
-    # 4.13: the cylinder (R) must fit in the hollow (R' = 0.2 m)
-    code, out, err = run("sweep", "4.13", "--R", "0.1:0.3:3")
+    # 4.13: the cylinder (R) must fit in the hollow (R' = 0.2 m): R = 0.2 and 0.3 m are in R's own bounds
+    # but refused by the joint limit: marked, not solved; R = 0.1 m is swept (issue 41)
+    code, out, err = run("sweep", "4.13", "--R", "0.1:0.3:3", "--json")
+    assert code == 0 and err == ""
+    d = json.loads(out)
+    assert [("must exceed" in p.get("refused", "")) for p in d["points"]] == [False, True, True]
+    assert d["points"][0]["agree"] is True and d["agree"] is True
+    # every point refused: nothing to sweep, exit 2 naming the first
+    code, out, err = run("sweep", "4.13", "--R", "0.2:0.3:3")
     assert code == 2 and err.count("\n") == 1
-    assert "sweep point R = 0.2" in err and "must exceed" in err
+    assert "every point of the sweep is refused" in err and "sweep point R = 0.2" in err and "must exceed" in err
 
 
 def test_serial_and_parallel_give_the_same_numbers_in_grid_order():

@@ -22,11 +22,18 @@ do) to run it after the solve instead, sharing ``Run.shared`` with it.  The
 numbers are the same either way: the solvers are deterministic.  Only a
 single-threaded process forks (a lock held by another thread would stay held
 in the child; ``mech check``'s progress bar is redrawn by hand for that), and
-the child runs under the solve's time budget and a memory limit, and dies with
-its parent whatever kills the parent (prctl PR_SET_PDEATHSIG).  A child that
-dies without answering (a crash of the fork, not the solver's failure) is
-replaced by the serial rerun; one that runs out of time is a loud failure,
-like a serial rerun that runs out of time.  Linux only.
+the child runs under the same work budget as a serial rerun (``budget.SOLVE_WORK``:
+the same verdict either way) and a memory limit, and dies with its parent
+whatever kills the parent (prctl PR_SET_PDEATHSIG).  A child that dies without
+answering (a crash of the fork, not the solver's failure) is replaced by the
+serial rerun; one that runs out of its work is a loud failure, like a serial
+rerun that runs out of its work.  Linux only.
+
+Budgets count work, never seconds (``mech.core.budget``): the solve and the
+rerun each get ``budget.SOLVE_WORK`` units.  A wall clock (``budget_s``, or a
+command's in force around the call) only stops the call: when the clock spent
+is the caller's, its ``OutOfTime`` is raised to the caller (what it did not
+reach is not judged), never turned into a verdict here.
 """
 
 from __future__ import annotations
@@ -37,7 +44,6 @@ import os
 import pickle
 import sys
 import time
-import traceback
 import warnings
 from typing import Any
 
@@ -70,12 +76,12 @@ def _parallel_ok() -> bool:
     return cores >= 2
 
 
-def _start_rerun(ex: Exercise, params: Params, rtol: float, budget_s: float):
+def _start_rerun(ex: Exercise, params: Params, rtol: float, budget_s: float | None):
     """Fork a child that solves at ``rtol`` and writes ``("ok", values)`` or ``("error", text)`` to a pipe.
 
     The child never outlives mech: the kernel kills it when its parent dies, whatever killed the parent
-    (SIGKILL included), it stops itself if it finds its parent gone, it runs under the solve's time
-    budget and under a memory limit."""
+    (SIGKILL included), it stops itself if it finds its parent gone, it runs under the solve's work
+    budget (and wall clock, where one is given or in force) and under a memory limit."""
     parent = os.getpid()
     r, w = os.pipe()
     pid = os.fork()
@@ -97,7 +103,8 @@ def _start_rerun(ex: Exercise, params: Params, rtol: float, budget_s: float):
             from mech.core import budget
 
             try:
-                with budget.limit(budget_s, what=f"the rerun of {ex.id} at rtol={rtol:g}"):
+                with budget.limit(budget_s, what=f"the rerun of {ex.id} at rtol={rtol:g}",
+                                  work=budget.SOLVE_WORK):
                     values, _ = ex.solve_numeric(params, rtol)
                 payload = ("ok", values)
             except MemoryError:
@@ -163,10 +170,10 @@ def _finish_rerun(handle, wait_s: float) -> tuple[str, Any] | None:
 
     pid, r = handle
     chunks = []
-    deadline = time.monotonic() + wait_s
+    deadline = time.monotonic() + wait_s  # inf: as long as the child takes (it counts its own work)
     while True:
         left = deadline - time.monotonic()
-        if left <= 0 or not select.select([r], [], [], left)[0]:
+        if left <= 0 or not select.select([r], [], [], left if math.isfinite(left) else None)[0]:
             _abandon_rerun(handle)
             return None
         chunk = os.read(r, 1 << 16)
@@ -240,9 +247,10 @@ def _is_number(v) -> bool:
 def _failure_text(exc: BaseException) -> str:
     if isinstance(exc, (NumericFailure, BadInput)):
         return str(exc)
-    tb = traceback.extract_tb(exc.__traceback__)
-    where = f" at {tb[-1].filename.rsplit('/', 1)[-1]}:{tb[-1].lineno}" if tb else ""
-    return f"{type(exc).__name__}: {exc}{where}"
+    from mech.core.safeio import shown
+
+    # the kind and the message, never a source path or line (CONTRACT: no source path in any message)
+    return f"{type(exc).__name__}: {shown(exc, 200)}"
 
 
 def cross_check(
@@ -258,22 +266,22 @@ def cross_check(
 ) -> Solution:
     """Run the asked-for solvers and compare; solver failures become loud entries, never numbers.
 
-    The numeric solve and its rerun share one wall-clock budget (``budget_s``, by default
-    ``budget.default_seconds()``): past it the solve fails loudly instead of running on.  ``fork_rerun``:
-    False runs the rerun after the solve in this process (many short solves: a fork costs more than it
-    saves); the numbers are the same either way.
+    The numeric solve and its rerun at rtol/10 each do at most ``budget.SOLVE_WORK`` units of work:
+    past it the solve fails loudly, the same on any machine.  ``budget_s``: a wall clock for the call
+    (a command's: ``mech solve``'s), past which it fails loudly too; a caller's limits in force around
+    the call that are spent raise their ``OutOfBudget`` instead.  ``fork_rerun``: False runs the rerun
+    after the solve in this process (many short solves: a fork costs more than it saves); the numbers
+    are the same either way.
     """
-    from mech.core import budget
-
     rtol = float(rtol or ex.default_rtol)
-    budget_s = budget.default_seconds() if budget_s is None else float(budget_s)
+    budget_s = None if budget_s is None else float(budget_s)
 
-    # numpy's warnings (an overflow in an intermediate, a 0/0 later masked) are not written to stderr: the
-    # answers they touch are judged below like any other (non-finite, out of range, moved at rtol/10), and
-    # the warnings are kept in numeric_info["fp_warnings"]
+    # the solvers' warnings (numpy's overflow in an intermediate, a 0/0 later masked, scipy's) are not
+    # written to stderr: the answers they touch are judged below like any other (non-finite, out of
+    # range, moved at rtol/10), and the warnings' words are kept in numeric_info["fp_warnings"]
     caught = warnings.catch_warnings(record=True)
     fp_warnings = caught.__enter__()
-    warnings.simplefilter("always", RuntimeWarning)
+    warnings.simplefilter("always")
     try:
         return _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories, fp_warnings,
                             fork_rerun)
@@ -298,8 +306,8 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
     if rows:
         _judge_outputs(quantities, rows, bool(verify_values))
     if run is not None and fp_warnings:
-        run.info["fp_warnings"] = list(dict.fromkeys(f"{w.filename.rsplit('/', 1)[-1]}:{w.lineno}: {w.message}"
-                                                     for w in fp_warnings))[:5]
+        # the warnings' words, never their source file and line
+        run.info["fp_warnings"] = list(dict.fromkeys(str(w.message) for w in fp_warnings))[:5]
     return Solution(
         exercise=ex,
         params=params,
@@ -326,8 +334,10 @@ def _run_analytic(ex, params, methods, timing: dict, errors: list) -> dict:
 
 def _run_numeric(ex, params, rtol, verify, budget_s, keep_trajectories, fork_rerun, timing: dict,
                  errors: list):
-    """The numeric solve and its rerun at rtol/10 (forked beside the solve, or after it), under one budget:
-    (answers, run, the rerun's answers, the integrator's one-time load in seconds or None)."""
+    """The numeric solve and its rerun at rtol/10 (forked beside the solve, or after it), each under its own
+    work budget (``budget.SOLVE_WORK``) and both under the wall clock ``budget_s`` where one is given:
+    (answers, run, the rerun's answers, the integrator's one-time load in seconds or None).  A wall clock
+    or a work limit of the caller's that is spent raises its ``OutOfBudget`` here, not a failure."""
     from mech.core import budget
 
     numeric: dict = {}
@@ -340,19 +350,22 @@ def _run_numeric(ex, params, rtol, verify, budget_s, keep_trajectories, fork_rer
     loaded_before = dop is not None and dop.tableau_load_seconds() is not None
     tighter = max(rtol / 10.0, ex.min_rtol)
     rerun = None
-    if verify and tighter < rtol and fork_rerun and _parallel_ok():
+    outer = budget.state()  # the caller's limits: spent, they stop this call (raised, not a failure)
+    if verify and tighter < rtol and fork_rerun and _parallel_ok() and not budget.capped():
         rerun = _start_rerun(ex, params, tighter, budget_s)  # on the second core, while the solve runs here
     t0 = time.perf_counter()
     shared: dict = {}  # what a serial rerun may reuse of the solve (see Run.shared)
     with budget.limit(budget_s, what=f"the numeric solve of {ex.id}"):
         try:
-            numeric, run = ex.solve_numeric(params, rtol, shared=shared, keep_trajectories=keep_trajectories)
+            with budget.limit(what=f"the numeric solve of {ex.id}", work=budget.SOLVE_WORK):
+                numeric, run = ex.solve_numeric(params, rtol, shared=shared, keep_trajectories=keep_trajectories)
         except BaseException as exc:
             if rerun is not None:
                 _abandon_rerun(rerun)
                 rerun = None
             if not isinstance(exc, Exception):
                 raise
+            budget.stop_if_spent(outer, exc)
             errors.append(Failure("numeric", f"numeric solver failed: {_failure_text(exc)}"))
         timing["numeric_s"] = time.perf_counter() - t0
         dop = sys.modules.get("mech.solvers.numerics.dop853")
@@ -362,14 +375,16 @@ def _run_numeric(ex, params, rtol, verify, budget_s, keep_trajectories, fork_rer
             timing["numeric_s"] = max(0.0, timing["numeric_s"] - import_s)
         answer = None
         if rerun is not None:
-            # the child runs under the same budget; one that has not answered by then is stopped
-            # (a child can never hang the command) and the rerun is done here with what is left
+            # the child counts its own work and stops at the same limit as a serial rerun; a child that has
+            # not answered when the wall clock in force is spent is stopped (a child never hangs the command)
             try:
-                answer = _finish_rerun(rerun, wait_s=max(0.5, budget_s - timing["numeric_s"]) + 2.0)
+                answer = _finish_rerun(rerun, wait_s=budget.remaining() + 1.0)
             except budget.OutOfBudget as exc:
                 _abandon_rerun(rerun)
+                budget.stop_if_spent(outer, exc)
                 answer = ("error", str(exc))
             if answer is None:
+                budget.stop_if_spent(outer)
                 run.info["verify_parallel_fallback"] = "the forked rerun did not answer: rerun after the solve"
         if answer is not None:
             status, payload = answer
@@ -377,13 +392,17 @@ def _run_numeric(ex, params, rtol, verify, budget_s, keep_trajectories, fork_rer
                 verify_values = payload
                 run.info["verify_rtol"] = tighter
             else:
+                budget.stop_if_spent(outer)
                 errors.append(Failure("rerun", f"numeric solver failed at rtol={tighter:g}: {payload}"))
         elif verify and run is not None and tighter < rtol:
             try:
-                verify_values, vrun = ex.solve_numeric(params, tighter, shared=shared)
+                with budget.limit(what=f"the rerun of {ex.id} at rtol={tighter:g}", work=budget.SOLVE_WORK):
+                    verify_values, vrun = ex.solve_numeric(params, tighter, shared=shared)
                 run.info["verify_rtol"] = tighter
             except Exception as exc:
+                budget.stop_if_spent(outer, exc)
                 errors.append(Failure("rerun", f"numeric solver failed at rtol={tighter:g}: {_failure_text(exc)}"))
+    budget.stop_if_spent(outer)
     return numeric, run, verify_values, import_s
 
 

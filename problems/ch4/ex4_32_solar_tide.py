@@ -36,6 +36,7 @@ import math
 import numpy as np
 from numpy.polynomial import legendre as L
 
+from mech.core import budget
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.numerics.roots import bracketed_root
 
@@ -95,6 +96,7 @@ def _series(p):
             break
         n += 1
     A = np.array(coeffs)
+    budget.check("4.32 series", 200 + 5 * A.size * A.size)  # work: products of series of A.size terms
     nn = np.arange(A.size)
     S = L.Legendre(A)
     T = L.Legendre(nn * A)

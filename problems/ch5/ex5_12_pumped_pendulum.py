@@ -131,19 +131,13 @@ def expected_error(p):
                     mu^2 omega0/64 + delta^2/(2 omega0) + xi^2/omega0 + omega0 A^4/256 (the backbone's next term).
     A zero theta_st (below the theory's threshold) has no relative error to give: it is compared as a zero,
     so both methods must put a on the same side of the threshold."""
-    w0 = math.sqrt(p.g / p.l)
-    xi = p.Omega / 2 - w0
-    eps = p.a * p.Omega / (2 * p.l)
-    mu = p.a * p.Omega**2 / p.g
-    base = _lo_at(p)
+    w0, mu = math.sqrt(p.g / p.l), p.a * p.Omega**2 / p.g
+    xi, base, worst = p.Omega / 2 - w0, _lo_at(p), 0.0
     A2 = base["theta_st"] ** 2
-    worst = 0.0
     r = abs(xi) / w0 + mu**2 / 16.0 + A2 / 8.0
     s = mu**2 * w0 / 64.0 + 0.5 * p.delta**2 / w0 + xi**2 / w0 + w0 * A2**2 / 256.0
-    for se in (-1.0, 1.0):
-        for sx in (-1.0, 1.0):
-            alt = _lo_at(p, 1 + se * r, sx * s)
-            worst = max(worst, abs(alt["theta_st"] - base["theta_st"]))
+    for se, sx in ((-1.0, -1.0), (-1.0, 1.0), (1.0, -1.0), (1.0, 1.0)):
+        worst = max(worst, abs(_lo_at(p, 1 + se * r, sx * s)["theta_st"] - base["theta_st"]))
     small = _small_swing_allowances(*(np.float64(x) for x in (p.l, p.g, p.delta, p.a, p.Omega)))
     rel, ab = (float(x) for x in small["growth"])
     return {"a_th": float(small["a_th"]), "growth": rel if ab != ab else (rel, ab),
@@ -157,10 +151,8 @@ def theory_range(p):
     w0 = math.sqrt(p.g / p.l)
     cands = [("a Omega^2/(2 g)", p.a * p.Omega**2 / (2 * p.g)), ("delta/omega0", p.delta / w0),
              ("|Omega/2 - omega0|/omega0", abs(p.Omega / 2 - w0) / w0)]
-    big = max(cands, key=lambda c: c[1])
-    th = _lo_at(p)["theta_st"]
-    swing = max(cands + [("theta_st^2/8", th * th / 8.0)], key=lambda c: c[1])
-    return {"a_th": big, "growth": big, "theta_st": swing}
+    big, th = max(cands, key=lambda c: c[1]), _lo_at(p)["theta_st"]
+    return {"a_th": big, "growth": big, "theta_st": max(cands + [("theta_st^2/8", th * th / 8.0)], key=lambda c: c[1])}
 
 
 def _trace(p, a, rtol, run):
@@ -179,8 +171,7 @@ def _trace(p, a, rtol, run):
 def _growth(tr, delta, Omega, rtol):
     """(growth rate, its absolute error) from tr M_y: the largest |multiplier| exp(-delta T) (|tr| + (tr^2 -
     4)^(1/2))/2 (1 on the unit circle), its error the noise of tr amplified near |tr| = 2."""
-    T = 2.0 * math.pi / Omega
-    disc = tr * tr - 4.0
+    T, disc = 2.0 * math.pi / Omega, tr * tr - 4.0
     lam = np.where(disc > 0, 0.5 * (np.abs(tr) + np.sqrt(np.maximum(disc, 0.0))), 1.0)
     noise = 10.0 * rtol
     amplify = 1.0 + np.abs(tr) / np.sqrt(np.maximum(disc, noise))
@@ -192,8 +183,7 @@ def _threshold(P, l, rtol):
     change, then the root (Illinois), its claim from the slope.  (a_th, rel, no root, not converged)."""
     from mech.solvers.numerics.batch import illinois, scan_up
 
-    n = l.size
-    noise = 10.0 * rtol
+    n, noise = l.size, 10.0 * rtol
     lo, hi, flo, fhi, no_root = scan_up(P, np.zeros(n), 1e-4 * l, factor=2.0, limit=4.0 * l)
     first = np.isnan(flo)  # the bracket starts at a = 0
     idx0 = np.flatnonzero(first & ~no_root)
@@ -232,14 +222,13 @@ def numeric(p, run):
     a_th, rel, no_root, unconv = _threshold(P, np.array([p.l]), rtol)
     if no_root[0] or unconv[0]:
         raise NumericFailure(NO_ROOT if no_root[0] else UNCONVERGED)
-    a_th = float(a_th[0])
     run.claim("a_th", rel=float(rel[0]))
-    out = {"a_th": a_th, "growth": growth}
+    out = {"a_th": float(a_th[0]), "growth": growth}
     if growth <= 0.0:
         out["theta_st"] = 0.0
         run.claim("theta_st", rel=0.0, abs=0.0)
         return out
-    out["theta_st"] = _stationary_swing(p, a_th, run)
+    out["theta_st"] = _stationary_swing(p, out["a_th"], run)
     return out
 
 
@@ -353,19 +342,31 @@ def _stationary_swing(p, a_th, run):
     if z is None:
         raise NumericFailure("Newton's method for the stationary swing did not converge")
     r, J, M = residual(z, target, rtol)
-    mult = np.abs(np.linalg.eigvals(-M))
+    mult, stable = _half_map_moduli(M, np.trace(_pendulum(p, target)[1](0.0, z)), 2 * math.pi / p.Omega, rtol)
     run.info["swing_multipliers_of_half_map"] = [float(m) for m in mult]
-    if 1.0 <= np.max(mult) < 1.0 + 1e-9:
-        # delta T/2 below round-off (delta = 1e-300): the decay per half period is not a double's digit
-        raise NumericFailure(f"the swing's half-map multipliers are 1 to rounding ({np.max(mult):.12g}): the damping "
-                             "is too weak for double precision to tell the stable swing from a neutral one")
-    if np.max(mult) >= 1.0:
+    if not stable:
         raise NumericFailure(f"the swing found is unstable (half-map multipliers {mult}): not the one a small swing grows into")
     # the swing's full period is the motion; its largest |theta|: the extrema on theta' = 0 over the first
     # pivot period (the second mirrors it)
     swing = run.follow(motion(p, z))
     ext = [abs(y[0]) for y in swing.legs[0].traj.y_events[0]] + [abs(z[0])]
     return float(max(ext))
+
+
+def _half_map_moduli(M, div, Tp, rtol):
+    """(|multipliers| of the half-map -phi over the pivot period Tp, M = D phi; stable).  The divergence
+    ``div`` (-2 delta) is constant: det M = exp(div Tp) (Liouville), so a complex pair (tr^2 < 4 det, an
+    elliptic swing) lies inside the unit circle exactly when div < 0, even where rounding leaves its moduli
+    at 1 (delta = 1e-300 was refused as "too weak for double precision"); a real pair by its own values."""
+    det, tr = math.exp(div * Tp), float(np.trace(M))
+    disc, slack = tr * tr - 4.0 * det, 100.0 * rtol * (abs(tr) + 1.0) * float(np.max(np.abs(M)))  # M to ~rtol
+    if disc < -slack:
+        return np.full(2, math.sqrt(det)), div < 0.0
+    if disc <= slack:
+        raise NumericFailure(f"the swing's half-map is at a double multiplier (tr^2 - 4 det = {disc:.2g}, within "
+                             "its rounding): its stability cannot be decided")
+    mult = np.abs(np.linalg.eigvals(-M))
+    return mult, bool(np.max(mult) < 1.0)
 
 
 # -- charts: the small-swing growth rate over many points at once ----------------------------------------

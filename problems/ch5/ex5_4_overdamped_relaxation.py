@@ -51,6 +51,33 @@ exercise = Exercise(
 )
 
 
+# t_eps is where x = q/q0 has fallen from 1 by 1 - eps.  Both routes carry x itself, which near 1 double
+# precision holds only to about EPS absolute (a rounding no rerun at rtol/10 moves); x falls as
+# 1 - tau^2/2 there, so t_eps is known to about EPS/(2 (1 - eps)) of itself.  Measured (against the
+# analytic log form, exact there): 0.1 to 0.64 of EPS/(1 - eps) at 1 - eps = 1e-9 .. 1e-15, zeta 1 to 1e5
+# (eps = 1 - 1e-12 came out 2e-5 off against the plain claim of 1e-7); claimed as twice EPS/(1 - eps).
+# Below MIN_FALL that claim exceeds 1e-3 of t_eps: refused, a limit of double precision.
+MIN_FALL = 5e-13
+
+
+def _t_eps_rounding(eps):
+    """The relative error bar of t_eps from x's rounding near 1 (see MIN_FALL)."""
+    return 2.0 * np.finfo(float).eps / (1.0 - eps)
+
+
+exercise.declare_limits(
+    f"1 - eps >= {MIN_FALL:g}: q must fall by at least 5e-13 q0 for t_eps to be resolved to 1e-3 in double precision",
+)
+
+
+@exercise.constraint
+def constraint(p):
+    if 1.0 - p.eps < MIN_FALL:
+        return (f"eps = {p.eps!r} is within {1.0 - p.eps:.3g} of 1; allowed 1 - eps >= {MIN_FALL:g}: "
+                "q/q0 is held near 1 to 1.1e-16 in double precision, so a smaller fall leaves t_eps "
+                "fewer than 3 digits")
+
+
 def _g(x):
     return 1.0 if x == 0.0 else -math.expm1(-x) / x
 
@@ -193,6 +220,7 @@ def _slow_rate_and_outputs(p, run, x1, t_eps, y_eps, y_star, q_t=None):
     run.claim("lambda_slow", rel=max(exercise.tol_factor * rtol, 10.0 * e_mu / mu_big))
     run.info["late_slope_rate"] = -w0 * y_eps[1] / y_eps[0]
     run.claim("q_t", rel=exercise.tol_factor * rtol, abs=p.q0 * q_claim)
+    run.claim("t_eps", rel=exercise.tol_factor * rtol + _t_eps_rounding(p.eps))
     return {
         "lambda_slow": lam,
         "q_t": p.q0 * x1 if q_t is None else q_t,

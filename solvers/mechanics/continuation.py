@@ -346,7 +346,7 @@ def solve_on_plane(
     rtol: float,
     tol: float,
     max_iter: int = 8,
-    fresh: bool = True,
+    fresh: bool | str = True,
     monotone: bool = True,
 ) -> BranchPoint | None:
     """Newton on {phi(X0, Y0; w) = (X0, Y0), n . z = c}; None when it does not converge.
@@ -357,7 +357,8 @@ def solve_on_plane(
     the converged z (its Jacobian and swing are current); otherwise they belong
     to the last iterate before it.  With ``fresh`` a stop at the floor also
     needs that point to close to ``FLOOR_RESIDUAL`` times rtol (else Newton
-    goes on from it).
+    goes on from it).  ``fresh="floor"``: only such a stop at the floor is evaluated again (and
+    confirmed); a stop below ``tol`` keeps the last iterate's Jacobian, one map fewer.
     ``monotone``: give up as soon as a step is not smaller than the one before
     (continuation); without it, far starts get all ``max_iter`` steps.
     """
@@ -387,7 +388,7 @@ def solve_on_plane(
         z = z + dz
         last = step
         if step < tol_eff:
-            if fresh:
+            if fresh is True or (fresh == "floor" and step >= tol):
                 new = omap.evaluate(z, rtol)
                 # the floor bounds the step that the map's error could cause; it says the point is converged
                 # only where the residual is down to that error.  Far from the orbit, where K is nearly

@@ -122,7 +122,7 @@ def integrate_batch(
     t = t0
     steps = rejected = 0
     while (t_end - t) * direction > 0:
-        budget.check("batched DOP853 step")
+        budget.check("batched DOP853 step", 12)
         if steps + rejected >= max_steps:
             raise NumericFailure(f"the batched integration took more than {max_steps} steps")
         min_step = 10.0 * abs(math.nextafter(t, direction * math.inf) - t)

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import math
 import struct
-import time
 from dataclasses import dataclass
 from types import SimpleNamespace
 from typing import Callable
@@ -42,10 +41,9 @@ class RootResult:
 
 
 def _tick(where: str) -> None:
-    """The time budget, checked at every pass of a search (each pass may call an integration, or a whole
+    """A unit of work, counted at every pass of a search (each pass may call an integration, or a whole
     nested search: 4.21's root of a maximum ran until the backup timer)."""
-    if time.monotonic() > budget.deadline:
-        budget.check(where)
+    budget.check(where)
 
 
 def brentq(
