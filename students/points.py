@@ -699,6 +699,12 @@ PRECISE_BATCH = 64  # points judged in high precision at once (the budget is loo
 _PRECS = (128, 512, 2048, MAX_PREC)
 
 
+def _precise_work(points: int, prec: int) -> int:
+    """Units of work of enclosing ``points`` points at ``prec`` bits: one a point at 128 bits, growing with
+    the bits (the cost of mpmath's arithmetic), counted before it is done."""
+    return int(points) * max(1, int(prec) // 128)
+
+
 def _values(formula: Formula, env: dict) -> np.ndarray:
     """The exact values at the points ``env`` to double precision (NaN where no precision up to ``MAX_PREC``
     bits gives them within 1e-12 relative, or where there is no real value)."""
@@ -710,7 +716,7 @@ def _values(formula: Formula, env: dict) -> np.ndarray:
     for prec in _PRECS:
         if left.size == 0:
             break
-        budget.check("judging the formula in high precision")
+        budget.check("judging the formula in high precision", units=_precise_work(left.size, prec))
         lo, hi, problems = formula.enclose({k: v[left] for k, v in env.items()}, prec=prec)
         bad = _masked(problems, left.size)
         done = np.zeros(left.size, bool)
@@ -739,7 +745,7 @@ def _precise(formula: Formula, env: dict, ref: np.ndarray, base: np.ndarray):
     for prec in _PRECS:
         if left.size == 0:
             break
-        budget.check("judging the formula in high precision")
+        budget.check("judging the formula in high precision", units=_precise_work(left.size, prec))
         lo, hi, problems = formula.enclose({k: v[left] for k, v in env.items()}, prec=prec)
         for k, i in enumerate(left):
             what = next((pr.what.replace("{x}", f"{float(pr.args[k]):.6g}") for pr in problems if pr.mask[k]), None)
