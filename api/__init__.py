@@ -71,7 +71,8 @@ def exercise(ex_id: str):
 
 def solve(ex_id: str, method: str = "both", rtol: float | str | None = None, verify: bool = True,
           *, raise_on_failure: bool = True, expect: dict | None = None, expect_rtol: float | str | None = None,
-          expect_points: int | None = None, expect_seed: int | None = None, **params: Any) -> "Solution":
+          expect_points: int | None = None, expect_seed: int | None = None, expect_min_digits: int | None = None,
+          **params: Any) -> "Solution":
     """Solve exercise ``ex_id`` at ``params`` (the rest at their defaults), as ``mech solve`` does.
 
     ``method``: "both" (default, cross-checked), "analytic" or "numeric".  ``rtol``: the numeric
@@ -81,13 +82,13 @@ def solve(ex_id: str, method: str = "both", rtol: float | str | None = None, ver
     ``sol.agree``.  ``expect={"theta_c": "35.26deg"}`` judges your own answers as ``--expect`` does
     (``sol["theta_c"].expected``, ``sol.expect_ok``); a formula (``"asin(2/3*sin(theta0))"``) is checked
     at ``expect_points`` parameter sets (default 24) drawn with seed ``expect_seed`` (default fixed), as
-    ``--expect-points``/``--expect-seed`` do.
+    ``--expect-points``/``--expect-seed`` do; ``expect_min_digits`` (default 2) as ``--min-digits``.
     """
     from mech import api
 
     return api.solve(ex_id, method=method, rtol=rtol, verify=verify, raise_on_failure=raise_on_failure,
                      params=params, expect=expect, expect_rtol=expect_rtol, expect_points=expect_points,
-                     expect_seed=expect_seed)
+                     expect_seed=expect_seed, expect_min_digits=expect_min_digits)
 
 
 def sweep(ex_id: str, method: str = "both", rtol: float | str | None = None, verify: bool = True,

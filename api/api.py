@@ -210,7 +210,7 @@ def _motion(sol: Solution, deadline: float | None = None) -> Trajectory | None:
 
 def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, raise_on_failure: bool = True,
           params: dict | None = None, expect: dict | None = None, expect_rtol=None, expect_points=None,
-          expect_seed=None) -> Solution:
+          expect_seed=None, expect_min_digits=None) -> Solution:
     from mech.problems import registry
 
     ex = _exercise(ex_id)
@@ -221,7 +221,7 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
     verify = _flag("verify", verify)
     raise_on_failure = _flag("raise_on_failure", raise_on_failure)
     resolved = resolve_params(ex, _screen_params(dict(params or {})))
-    expectations = _expectations(ex, expect, expect_rtol, expect_points, expect_seed)
+    expectations = _expectations(ex, expect, expect_rtol, expect_points, expect_seed, expect_min_digits)
     sol = solve_resolved(ex, resolved, methods=_methods(method), rtol=_rtol(ex, rtol), verify=verify,
                          expectations=expectations)
     if raise_on_failure and sol.solver_failed:
@@ -231,7 +231,7 @@ def solve(ex_id: str, *, method: str = "both", rtol=None, verify: bool = True, r
     return sol
 
 
-def _expectations(ex, expect: dict | None, expect_rtol, expect_points=None, expect_seed=None):
+def _expectations(ex, expect: dict | None, expect_rtol, expect_points=None, expect_seed=None, min_digits=None):
     """``expect={"theta_c": "35.26deg"}`` -> the command line's --expect judgements (None: nothing expected);
     ``expect_points``/``expect_seed`` as ``--expect-points``/``--expect-seed``, named as the API names them."""
     if not expect:
@@ -239,6 +239,8 @@ def _expectations(ex, expect: dict | None, expect_rtol, expect_points=None, expe
             raise BadInput("expect_rtol: given without any expected value")
         if expect_points is not None or expect_seed is not None:
             raise BadInput("expect_points/expect_seed: given without any formula in expect")
+        if min_digits is not None:
+            raise BadInput("expect_min_digits: given without any expected value")
         return None
     outputs = [o.name for o in ex.outputs]
     for name, value in expect.items():
@@ -249,7 +251,8 @@ def _expectations(ex, expect: dict | None, expect_rtol, expect_points=None, expe
     pairs = [f"{name}={_value_text(value)}" for name, value in expect.items()]
     try:
         return parse_expectations(ex, pairs, None if expect_rtol is None else _value_text(expect_rtol),
-                                  expect_points, expect_seed, names=("expect_points", "expect_seed"))
+                                  expect_points, expect_seed, names=("expect_points", "expect_seed", "expect_min_digits"),
+                                  min_digits=min_digits)
     except BadInput as exc:  # named as the API names them: the keyword, not the command-line flag
         raise BadInput(_api_words(str(exc))) from None
 
@@ -289,14 +292,17 @@ def solve_resolved(ex, params, *, methods=("analytic", "numeric"), rtol: float |
 
 
 def parse_expectations(ex, pairs: list[str], expect_rtol: str | None = None, expect_points=None,
-                       expect_seed=None, names: tuple[str, str] = ("--expect-points", "--expect-seed")):
+                       expect_seed=None, names: tuple = ("--expect-points", "--expect-seed", "--min-digits"),
+                       min_digits=None):
     """``--expect NAME=VALUE`` texts (and ``--expect-rtol``) -> the judgements ``solve_resolved`` takes;
     ``expect_points``/``expect_seed``: how many parameter sets a formula is checked at, and their seed
     (``names``: how an error names them)."""
     from mech.students import expectations as expecting
     from mech.students.points import MAX_POINTS  # parameter sets a formula is checked at, at most
 
-    out = expecting.parse_expect_options(ex, list(pairs), expect_rtol)
+    digits = expecting.parse_count(min_digits, names[2] if len(names) > 2 else "--min-digits", 1, 17)
+    out = expecting.parse_expect_options(ex, list(pairs), expect_rtol,
+                                         expecting.MIN_DIGITS if digits is None else digits)
     points = expecting.parse_count(expect_points, names[0], 1, MAX_POINTS)
     seed = expecting.parse_count(expect_seed, names[1], 0, 2**63 - 1)
     if points is not None or seed is not None:

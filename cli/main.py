@@ -480,11 +480,13 @@ class SolveCommand(click.Command):
 @click.option("--expect-points", "expect_points", metavar="N",
               help="A formula in --expect is checked at N parameter sets drawn across the range [24].")
 @click.option("--expect-seed", "expect_seed", metavar="S", help="Seed of those draws [fixed: verdicts repeat].")
+@click.option("--min-digits", "min_digits", metavar="D",
+              help="An --expect number with fewer significant digits is judged as if written to D [2].")
 @click.option("--trajectory", "trajectory_file", metavar="FILE.csv",
               help="Write the integrated motion: t [s] and each state [unit], one row per time.")
 @click.pass_context
 def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects, expect_rtol, expect_points,
-              expect_seed, trajectory_file):
+              expect_seed, min_digits, trajectory_file):
     """Solve exercise ID; parameters as --NAME VALUE or -p NAME=VALUE.
 
     Values are SI unless a unit is given: 90deg, 15 cm, 2Hz, 100 rpm, pi/3.
@@ -507,7 +509,10 @@ def solve_cmd(ctx, ex_id, pairs, method, rtol_text, no_verify, as_json, expects,
         rtol = parse_rtol(rtol_text, ex)
         expectations = None
         if expects or expect_rtol is not None:
-            expectations = api.parse_expectations(ex, list(expects), expect_rtol, expect_points, expect_seed)
+            expectations = api.parse_expectations(ex, list(expects), expect_rtol, expect_points, expect_seed,
+                                                  min_digits=min_digits)
+        elif min_digits is not None:
+            raise BadInput("--min-digits: given without any --expect NAME=VALUE")
         elif expect_points is not None or expect_seed is not None:
             raise BadInput("--expect-points/--expect-seed: given without any --expect NAME=FORMULA")
     except BadInput as exc:

@@ -155,8 +155,11 @@ def judge(result, expectations: list[Expectation]) -> list[Judgement]:
         axis = bool(getattr(outputs.get(e.name), "axis", False))
         leading = q.theory != "exact"
         base = dict(name=e.name, unit=q.unit, text=e.text, value=e.value, reference=ref.label, theory=q.theory)
+        if e.none or ref.undefined is not None:
+            out.append(_judge_none(e, ref, base))
+            continue
         if ref.value is None:
-            out.append(Judgement(**base, match=False, verdict=f"cannot judge: {ref.why}"))
+            out.append(Judgement(**base, match=False, verdict=f"cannot judge: {ref.why}", state=State.NOT_GRADED))
             continue
         shown = _shown(e, ref.value)
         tol = allowed(e, ref.value, ref.err)
@@ -186,6 +189,12 @@ def judge(result, expectations: list[Expectation]) -> list[Judgement]:
             out.append(Judgement(**base, match=True, reference_value=ref.value, rel_err=rel_err, tol=tol,
                                  verdict=verdict, shown_reference=shown, matches="beyond-leading-order"))
             continue
+        if ref.leading is not None and _as_close_as_leading(e, ref, axis):
+            verdict = (f"right: at least as close to the exact value as the leading-order value is "
+                       f"(mech: {shown})")
+            out.append(Judgement(**base, match=True, reference_value=ref.value, rel_err=rel_err, tol=tol,
+                                 verdict=verdict, shown_reference=shown, matches="leading-order"))
+            continue
         if approx is None:
             approx = approximations(result)
         hint = number_hint(e, q, ref, refs, by_name, gslips, approx.get(e.name, []), axis)
@@ -203,7 +212,31 @@ def judge(result, expectations: list[Expectation]) -> list[Judgement]:
     return out
 
 
+def _judge_none(e: Expectation, ref: Reference, base: dict) -> Judgement:
+    """``none`` (no value at these parameters) is right where mech finds none and wrong where it has one;
+    a value is wrong where mech finds none; with no trusted value either way, not graded."""
+    if ref.undefined is not None:
+        if e.none:
+            return Judgement(**base, match=True, verdict=f"right: there is no value here ({ref.undefined})")
+        return Judgement(**base, match=False, verdict=f"wrong: mech finds no value here ({ref.undefined}); "
+                         "the answer is none")
+    if ref.value is not None:
+        shown = show_value(ref.value, base["unit"])
+        return Judgement(**base, match=False, reference_value=ref.value, shown_reference=shown,
+                         verdict=f"wrong: there is a value here (mech: {shown})")
+    return Judgement(**base, match=False, verdict=f"cannot judge: {ref.why}", state=State.NOT_GRADED)
+
+
 BEYOND = 3.0  # how much closer than the leading-order value a next-order answer must be to the exact one
+
+
+def _as_close_as_leading(e: Expectation, ref: Reference, axis: bool) -> bool:
+    """Monotone: inside the theory's range, an answer at least as close to the verified exact value as some
+    answer judged right to leading order (the leading-order value to the digits of this answer, on its far
+    side from the exact value) is right."""
+    gap = distance(Expectation("", "", ref.leading), ref.value, axis)
+    lead_tol = allowed(e, ref.leading, ref.leading_err)
+    return bool(math.isfinite(gap) and within(distance(e, ref.value, axis), bars=(gap, lead_tol, ref.err)))
 
 
 def _beyond_leading_order(e: Expectation, ref: Reference, axis: bool) -> bool:
@@ -250,8 +283,10 @@ def judge_expectation(result, e, q, ref):
     verdict = v.verdict
     if given_ref is None and not v.hint and not undefined_here:
         verdict = f"cannot judge: {ref.why or 'mech has no trusted value here'}"
+    state = State.NOT_GRADED if (v.state == "not-graded" or verdict.startswith("cannot judge")) else None
     return Judgement(
         name=e.name, unit=q.unit, text=e.text, value=v.value, match=v.match, theory=q.theory, matches=v.matches,
+        state=state,
         reference=(ref.label if ref.value is not None else None), reference_value=v.reference_value,
         rel_err=v.rel_err, tol=v.tol, hint=v.hint, verdict=verdict,
         shown_reference=show_value(v.reference_value, q.unit) if v.reference_value is not None else "",

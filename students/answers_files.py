@@ -12,7 +12,7 @@ from mech.core.units import ValueError_, to_si
 from mech.problems.spec import BadInput, Exercise
 from mech.core.safeio import shown
 from mech.students.cells import State
-from mech.students.expectations import parse_count, parse_expectation, parse_rtol_value, with_range
+from mech.students.expectations import MIN_DIGITS, parse_count, parse_expectation, parse_rtol_value, with_range
 
 __all__ = ["Entry", "BadFile", "load_answers", "load_answers_csv", "MAX_ANSWERS", "MAX_STUDENT", "MIN_DIGITS",
            "void_cell", "unanswered_variants", "read_answers"]
@@ -20,7 +20,6 @@ __all__ = ["Entry", "BadFile", "load_answers", "load_answers_csv", "MAX_ANSWERS"
 
 _ENTRY_KEYS = ("exercise", "params", "expect", "rtol", "points", "seed", "over", "student")
 MAX_STUDENT = 80  # characters of a student's name
-MIN_DIGITS = 2  # ``--min-digits``' default: an answer with fewer significant digits is judged as if to 2
 
 
 @dataclass

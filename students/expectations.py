@@ -10,21 +10,33 @@ from mech.core.units import CONSTANTS, ValueError_, tokens, to_si
 from mech.problems.spec import BadInput, Exercise
 from mech.core.safeio import shown
 
-__all__ = ["parse_expectation", "parse_expect_options", "parse_count", "parse_rtol_value", "with_range", "attach"]
+__all__ = ["MIN_DIGITS", "parse_expectation", "parse_expect_options", "parse_count", "parse_rtol_value", "with_range", "attach"]
 
 
-def _literal_precision(literal: str) -> tuple[float, int | None]:
-    """Half a unit in the last digit of a number as written, and its significant digits.
+MIN_DIGITS = 2  # an answer with fewer significant digits is judged as if written to this many
 
-    ``35.26`` -> (0.005, 4); ``1e-3`` -> (5e-4, 1); ``3500`` -> (0.5, 4): trailing zeros of a whole
-    number count (write ``3.5e3`` for two digits); ``0.000`` -> (5e-4, None).
+
+def _literal_precision(literal: str, min_digits: int = 0) -> tuple[float, int | None]:
+    """Half a unit in the last digit of a number as written, and its significant digits; a number with
+    fewer than ``min_digits`` significant digits is taken as written to ``min_digits`` of them.
+
+    ``35.26`` -> (0.005, 4); ``1e-3`` -> (5e-4, 1) (with min_digits 2: (5e-5, 2)); ``3500`` -> (0.5, 4):
+    trailing zeros of a whole number count (write ``3.5e3`` for two digits); a zero in any form (``0``,
+    ``0e300``, ``0.000``) -> (0.0, None): zero is zero, whatever exponent it is written with.
     """
     mantissa, _, exp = literal.lower().partition("e")
     exponent = int(exp) if exp else 0
     whole, _, frac = mantissa.partition(".")
     last_place = exponent - len(frac)
     digits = (whole + frac).lstrip("0")
-    return 0.5 * 10.0**last_place, (len(digits) or None)
+    if not digits:
+        return 0.0, None
+    if len(digits) < min_digits:
+        lead = (whole + frac).index(digits[0])  # the leading significant digit's place, counted from the left
+        lead_place = exponent + len(whole) - 1 - lead
+        last_place = min(last_place, lead_place - min_digits + 1)
+        return 0.5 * 10.0**last_place, min_digits
+    return 0.5 * 10.0**last_place, len(digits)
 
 
 def _unit_factor(text: str, toks: list[tuple[str, str]], i: int, unit: str) -> tuple[float, str]:
@@ -38,8 +50,11 @@ def _unit_factor(text: str, toks: list[tuple[str, str]], i: int, unit: str) -> t
 
 def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = None, *,
                       min_digits: int | None = None) -> Expectation:
-    """``theta_c``, ``35.26deg`` -> an Expectation in SI; BadInput naming the output otherwise.
-    ``min_digits``: the digits rule's floor (``--min-digits``, an assignment's digits)."""
+    """``theta_c``, ``35.26deg`` -> an Expectation in SI; BadInput naming the output otherwise.  ``none``:
+    the answer that the output has no value at these parameters.  ``min_digits``: the digits rule's floor
+    (``--min-digits``, an assignment's digits; None: ``MIN_DIGITS``): a number with fewer significant
+    digits is judged as if written to that many."""
+    min_digits = MIN_DIGITS if min_digits is None else int(min_digits)
     from mech.students.answers import Expectation
 
     name = str(raw_name).strip().replace("-", "_")
@@ -52,6 +67,8 @@ def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = No
     text = str(text)
     from dataclasses import replace
 
+    if text.strip().lower() == "none":  # no value here: right where mech finds none
+        return Expectation(name, text, math.nan, none=True)
     try:
         value = to_si(text, unit)
         toks = tokens(text)
@@ -71,9 +88,9 @@ def parse_expectation(ex: Exercise, raw_name: str, text, rtol: float | None = No
                 and not (i > 0 and toks[i - 1][1] in ("^", "**"))
                 and not (i > 1 and toks[i - 1][1] in ("-", "+") and toks[i - 2][1] in ("^", "**"))]
     if len(literals) != 1 or any(k == "name" and v in CONSTANTS for k, v in toks):
-        return _expression_expectation(name, text, value, [toks[i][1] for i in literals], rtol)
+        return _expression_expectation(name, text, value, [toks[i][1] for i in literals], rtol, min_digits)
     try:
-        half_unit, digits = _literal_precision(toks[literals[0]][1])
+        half_unit, digits = _literal_precision(toks[literals[0]][1], min_digits)
     except OverflowError:
         raise BadInput(f"{name}: cannot use '{shown(text)}': an exponent too large") from None
     factor, unit_text = _unit_factor(text, toks, literals[0], unit)
@@ -129,7 +146,8 @@ def parse_count(text, what: str, lo: int, hi: int) -> int | None:
     return value
 
 
-def _expression_expectation(name: str, text: str, value: float, literals: list[str], rtol) -> Expectation:
+def _expression_expectation(name: str, text: str, value: float, literals: list[str], rtol,
+                            min_digits: int = MIN_DIGITS) -> Expectation:
     """An expression (``(9.81*0.866)^0.5``, ``2*pi/921.5``) is judged to the digits of its least precise
     number, relative: a whole number written without a point or an exponent (the 2 of ``2*pi``) and
     ``pi`` are exact, and an expression of exact numbers only is exact (no written tolerance)."""
@@ -140,7 +158,7 @@ def _expression_expectation(name: str, text: str, value: float, literals: list[s
         if not any(c in lit.lower() for c in ".e"):
             continue
         try:
-            half_unit, digits = _literal_precision(lit)
+            half_unit, digits = _literal_precision(lit, min_digits)
             size = abs(float(lit))
         except (OverflowError, ValueError):
             continue
@@ -165,8 +183,10 @@ def parse_rtol_value(text, what: str = "--expect-rtol") -> float:
     return value
 
 
-def parse_expect_options(ex: Exercise, pairs: list[str], rtol_text: str | None) -> list[Expectation]:
-    """The ``--expect NAME=VALUE`` options of ``mech solve``; BadInput on the first bad one."""
+def parse_expect_options(ex: Exercise, pairs: list[str], rtol_text: str | None,
+                         min_digits: int = MIN_DIGITS) -> list[Expectation]:
+    """The ``--expect NAME=VALUE`` options of ``mech solve`` (``--min-digits``: ``min_digits``); BadInput on
+    the first bad one."""
     if rtol_text is not None and not pairs:
         raise BadInput("--expect-rtol: given without any --expect NAME=VALUE")
     rtol = parse_rtol_value(rtol_text) if rtol_text is not None else None
@@ -175,7 +195,7 @@ def parse_expect_options(ex: Exercise, pairs: list[str], rtol_text: str | None) 
         if "=" not in pair:
             raise BadInput(f"--expect takes NAME=VALUE, got '{shown(pair)}'")
         try:
-            e = parse_expectation(ex, *pair.split("=", 1), rtol=rtol)
+            e = parse_expectation(ex, *pair.split("=", 1), rtol=rtol, min_digits=min_digits)
         except BadInput as exc:
             raise BadInput(f"--expect {exc}") from None
         if e.name in out:

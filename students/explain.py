@@ -154,7 +154,6 @@ def number_hint(e: Expectation, q, ref: Reference, refs: dict, expectations: dic
     scalings = _SCALINGS + _power_scalings(q.unit) + (_ANGLE_SCALINGS if _has_angle(q.unit) else [])
     for factor, phrase in scalings:
         candidates.append((phrase, factor * ref.value, ref.err * abs(factor)))
-    n_scalings = len(candidates)  # a constant factor is named with the last digit rounded too; the rest not
     if axis:
         # the perpendicular axis: where it coincides with another slip (a sign at 45 deg), it is the one named
         perpendicular = ref.value + _PI / 2
@@ -187,29 +186,30 @@ def number_hint(e: Expectation, q, ref: Reference, refs: dict, expectations: dic
         if number(v) and ref.value != 0:
             candidates.append((phrase, v, ref.err * abs(v / ref.value)))
     fits = []
-    for k, (phrase, slipped, err) in enumerate(candidates):
+    for phrase, slipped, err in candidates:
         if not number(slipped):
             continue
-        # a constant factor: a unit in the last written digit, a slip together with a rounding of that digit
-        # (from 3 digits written on: one or two digits leave too wide a window to name anything by); any
-        # other slip only to the digits written
-        wide = e.rtol is None and (e.digits or 0) >= 3 and k < n_scalings
-        own = e.own_tol(slipped) * (2.0 if wide else 1.0)
+        # a slip is named only when it gives the answer to its digits (half a unit in the last one): never a
+        # wider window, where a coincidence (9.5 % from a factor 10) would pass for a slip
+        own = e.own_tol(slipped)
         tol = allowance(slipped, bars=(own, err), round_off=ROUND_OFF)
         if within(distance(Expectation("", "", ref.value), slipped, axis), bars=(tol,)):
             continue  # a slip that leaves mech's value where it is (g where the answer has none) explains nothing
         miss = distance(e, slipped, axis)
         if within(miss, bars=(tol,)):
-            plain = allowance(slipped, bars=(e.own_tol(slipped), err), round_off=ROUND_OFF)
-            fits.append((miss / tol if tol > 0 else 0.0, phrase, bool(within(miss, bars=(plain,)))))
-    # two slips can give the same value (g doubled and a factor sqrt(2) in sqrt(g/l)): the second is named
-    # only when it, too, gives the value to the digits written (not only with the last digit rounded)
+            fits.append((miss / tol if tol > 0 else 0.0, phrase, slipped, err))
+    # a slip is named only when no other searched slip also gives the answer: two that give the same value
+    # (g doubled and a factor sqrt(2) in sqrt(g/l)) are named together; two that differ, neither
     fits.sort(key=lambda f: f[0])
     phrases = [fits[0][1]] if fits else []
-    for _, phrase, plain in fits[1:]:
-        if plain and phrase not in phrases:
+    for _, phrase, slipped, err in fits[1:]:
+        if phrase in phrases:
+            continue
+        if not within(distance(Expectation("", "", fits[0][2]), slipped, axis), bars=(err, fits[0][3]),
+                      scale=slipped, round_off=ROUND_OFF):
+            return None
+        if len(phrases) < 2:
             phrases.append(phrase)
-            break
     return " or ".join(phrases) or None
 
 
@@ -306,7 +306,8 @@ def _param_slips(ex) -> list[tuple[str, object, bool]]:
         for b in params[i + 1:]:
             if not (a.unit == b.unit or (a.unit not in ("1", "rad") and _same_dim(a.unit, b.unit))):
                 continue
-            near.append((f"{a.name} and {b.name} swapped", lambda d, x=a.name, y=b.name: {**d, x: d[y], y: d[x]}))
+            near.append((f"{a.name} and {b.name} swapped",
+                         lambda d, x=a.name, y=b.name: _in_bounds(ex, {**d, x: d[y], y: d[x]})))
             # a difference (l for R - l): only where the exercise's joint limits hold (4.32's series diverges
             # with R_E near r_S)
             far.append((f"{a.name} and {b.name} - {a.name} swapped",
@@ -327,8 +328,25 @@ class _Refused(ValueError):
     """A slipped point beyond the exercise's joint limits, where a difference slip is not evaluated."""
 
 
+class _OutOfRange(_Refused):
+    """A slipped point with a parameter outside its declared bounds: that reading is never offered."""
+
+
+def _in_bounds(ex, values: dict) -> dict:
+    """``values`` where every parameter is inside its declared bounds; else ValueError: a reading that
+    implies a parameter outside its range (a negative omega0) is never offered."""
+    for p in ex.params:
+        v = values.get(p.name, p.default)
+        if (p.min is not None and (v < p.min or (p.min_open and v == p.min))) or \
+                (p.max is not None and (v > p.max or (p.max_open and v == p.max))):
+            raise _OutOfRange("outside the declared bounds")
+    return values
+
+
 def _jointly(ex, values: dict) -> dict:
-    """``values`` where the exercise's joint limits accept them; else ValueError (no slip there)."""
+    """``values`` where the bounds and the exercise's joint limits accept them; else ValueError (no slip
+    there)."""
+    _in_bounds(ex, values)
     try:
         why = ex.constraint_message(Params(values))
     except (ArithmeticError, ValueError):
@@ -376,6 +394,8 @@ class _Points:
         for i in self.order:
             try:
                 v = at(i)
+            except _OutOfRange:  # the reading implies a parameter outside its range: never offered
+                return False
             except _Refused:  # a difference beyond the joint limits: not evaluated there, and said so
                 self.skipped += 1
                 continue
@@ -710,7 +730,7 @@ def _const_ratio(yours, ref, tol, mask) -> float | None:
 
 def _ratio_constant(formula: Formula, line: PointSet, output: str, rtol: float) -> bool | None:
     ref = line.analytic[output]
-    pj = judge_points(formula, line, ref, line.analytic_err[output], rtol)
+    pj = judge_points(formula, line, ref, line.analytic_err[output], rtol, name=output)
     use = np.isfinite(pj.yours) & np.isfinite(ref)
     if use.sum() < 2:
         return None

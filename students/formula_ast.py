@@ -16,12 +16,11 @@ untrusted input.
 Dimensions are exponents of (length, mass, time) as fractions; the radian counts as a pure number, so
 ``rad/s`` is ``1/s``.  Numbers are exact as written (``0.4`` is 2/5, not a 1-digit value).
 
-Evaluation is vectorised with numpy (one pass for all points).  Beside each value it carries a first-order
-bound of its own round-off (each operation adds ``eps`` times its result and propagates its inputs' errors
-through its derivative).  Where that bound is not small against the tolerance, double precision cannot
-decide the point and ``evaluate_precise`` evaluates the same tree with mpmath at as many bits as it takes
-(numbers exact as written, parameters exact as the doubles they are): a formula is right only if that value
-is right, so a term that cancels in exact arithmetic buys no allowance however large it is.
+Evaluation is vectorised with numpy (one pass for all points): ``evaluate`` gives the double value (shown,
+and read by the hints), ``enclose`` a certified enclosure of the exact value (``solvers.numerics.interval``:
+outward-rounded interval arithmetic in double, or in mpmath at a given precision), numbers exact as written
+and parameters exact as the doubles they are, units exact as defined (``deg`` is pi/180).  A term that
+cancels in exact arithmetic buys no allowance, and an error behind a function of zero slope cannot hide.
 
 Sums and products are flat (``("sum", ((+1, a), (-1, b), ...))``): a long sum is bounded by the length of
 the text, not by the nesting.
@@ -29,6 +28,7 @@ the text, not by the nesting.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from fractions import Fraction
@@ -39,7 +39,7 @@ from mech.core.units import UNITS, ValueError_, parse, tokens
 from mech.verification.judge import within
 
 __all__ = ["FormulaError", "Formula", "parse_formula", "looks_like_formula", "Dim", "dim_of_unit", "dim_text",
-           "FUNCTIONS", "MAX_LENGTH", "MAX_DEPTH", "MAX_DIM_POWER", "MAX_PREC", "Precise"]
+           "FUNCTIONS", "MAX_LENGTH", "MAX_DEPTH", "MAX_DIM_POWER", "MAX_PREC"]
 
 MAX_LENGTH = 2000
 MAX_DEPTH = 100
@@ -436,173 +436,117 @@ def _agm(a, b):
     return np.vectorize(special.agm, otypes=[float])(a, b)
 
 
-# -- precise evaluation (mpmath) ------------------------------------------------------------------------
+# -- certified enclosure (interval arithmetic) ----------------------------------------------------------
 
-MAX_PREC = 8192  # bits: past this a point is not decided (it is not right)
-_HUGE_MAG = 1 << 22  # |log2| of a value beyond which it counts as overflowing (or underflowing to 0)
-_TRIG_MAG = 1 << 14  # |log2| of a trigonometric argument beyond which its value is not computed
-
-
-class _Undecided(Exception):
-    """The value cannot be computed with the precision asked (an argument too large to reduce)."""
+MAX_PREC = 8192  # bits: past this a point is not decided (it is not graded, never right)
+_HUGE_EXP = 100_000  # a number written with a decimal exponent beyond this is not enclosed in high precision
+# units whose size is a rational times pi (the others are exact as their decimal values)
+_PI_UNITS = {"deg": (1, 180), "degree": (1, 180), "degrees": (1, 180), "turn": (2, 1), "rev": (2, 1),
+             "Hz": (2, 1), "kHz": (2000, 1), "rpm": (1, 30)}
 
 
-class _Domain(Exception):
-    """The exact value is not a real number (asin(2), sqrt(-1), a division by zero)."""
+def _literal(B, text: str, v: float, n: int):
+    """The number ``text`` as written (``0.4`` is 2/5), enclosed."""
+    from mech.solvers.numerics import interval as iv
+
+    exact = _exact_fraction(text)
+    if B is iv.DOUBLE:
+        if exact is not None and Fraction(v) == exact:
+            return iv.point(B, np.full(n, v))
+        lo, hi = np.nextafter(v, -np.inf), np.nextafter(v, np.inf)
+        return iv.constant(B, np.full(n, max(lo, 0.0) if v >= 0 else lo), np.full(n, hi))
+    m = B.mpmath
+    if exact is None:
+        return iv.constant(B, [-m.inf] * n, [m.inf] * n)
+    lo = m.fdiv(exact.numerator, exact.denominator, prec=B.prec, rounding="f")
+    hi = m.fdiv(exact.numerator, exact.denominator, prec=B.prec, rounding="c")
+    return iv.constant(B, [lo] * n, [hi] * n)
 
 
-@dataclass
-class Precise:
-    """A formula's value at one point in high precision: ``value`` (mpf; None where not real), ``bound`` (mpf,
-    a first-order bound of its round-off at ``prec`` bits), ``domain`` (why there is no real value)."""
-
-    value: object
-    bound: object
-    prec: int
-    domain: str | None = None
+@functools.lru_cache(maxsize=4096)
+def _exact_fraction(text: str):
+    """The exact rational a number's text means, or None (an exponent too large to expand)."""
+    mant, _, exp = text.lower().partition("e")
+    if exp and abs(int(exp)) > _HUGE_EXP:
+        return None
+    return Fraction(text)
 
 
-def _mp():
-    import mpmath
+def _unit_size(B, node, n: int):
+    from mech.solvers.numerics import interval as iv
 
-    return mpmath
+    name, factor = node[3], node[1]
+    if name in _PI_UNITS:
+        p, q = _PI_UNITS[name]
+        pi = iv.constant(B, [B.pi(-1)] * n, [B.pi(1)] * n)
+        num = _literal(B, str(p), float(p), n)
+        den = _literal(B, str(q), float(q), n)
+        return iv.div(B, iv.mul(B, pi, num), den)[0]
+    return _literal(B, repr(float(factor)), float(factor), n)
 
 
-def _mp_eval(node, env: dict, mp, eps):
-    """(value, bound) of ``node`` as mpmath numbers at the context's precision (``eps`` = 2^-prec)."""
+def _enclose(node, env: dict, B, n: int, problems: list):
+    """(lo, hi): an enclosure of the exact value of ``node`` at the points ``env`` (name -> array, exact);
+    ``problems`` gains each certain domain error (``Problem``)."""
+    from mech.solvers.numerics import interval as iv
+
     k = node[0]
     if k == "num":
-        v = mp.pi if node[2] == "pi" else mp.mpf(node[2])
-        return v, abs(v) * eps
+        if node[2] == "pi":
+            return iv.constant(B, [B.pi(-1)] * n, [B.pi(1)] * n)
+        return _literal(B, node[2], node[1], n)
     if k == "unit":
-        return mp.mpf(node[1]), mp.zero
+        return _unit_size(B, node, n)
     if k == "par":
-        return env[node[1]], mp.zero
+        return iv.point(B, env[node[1]])
     if k == "neg":
-        v, e = _mp_eval(node[1], env, mp, eps)
-        return -v, e
+        return iv.neg(B, _enclose(node[1], env, B, n, problems))
     if k == "sum":
-        y, err = mp.zero, mp.zero
-        for s, t in node[1]:
-            b, eb = _mp_eval(t, env, mp, eps)
-            y = y + b if s > 0 else y - b
-            err = err + eb + eps * abs(y)
-        return _checked(y, mp), err
+        (s0, t0), rest = node[1][0], node[1][1:]
+        y = _enclose(t0, env, B, n, problems)
+        y = y if s0 > 0 else iv.neg(B, y)
+        for s, t in rest:
+            b = _enclose(t, env, B, n, problems)
+            y = iv.add(B, y, b) if s > 0 else iv.sub(B, y, b)
+        return y
     if k == "prod":
-        y, err = _mp_eval(node[1][0][1], env, mp, eps)
+        y = _enclose(node[1][0][1], env, B, n, problems)
         for s, t in node[1][1:]:
-            b, eb = _mp_eval(t, env, mp, eps)
-            a, ea = y, err
+            b = _enclose(t, env, B, n, problems)
             if s > 0:
-                y = a * b
-                err = abs(b) * ea + abs(a) * eb + eps * abs(y)
-            else:
-                if b == 0:
-                    raise _Domain("a division by zero")
-                y = a / b
-                err = (ea + abs(y) * eb) / abs(b) + eps * abs(y)
-            y = _checked(y, mp)
-        return y, err
+                y = iv.mul(B, y, b)
+                continue
+            y, zero = iv.div(B, y, b)
+            _note(problems, zero, "a division by zero", None, n)
+        return y
     if k == "pow":
-        a, ea = _mp_eval(node[1], env, mp, eps)
-        b, eb = _mp_eval(node[2], env, mp, eps)
-        if a == 0:
-            if b > 0:
-                return mp.zero, mp.zero
-            raise _Domain("a power that overflows or divides by zero")
-        if a < 0 and b != mp.floor(b):
-            raise _Domain("a negative number to a fractional power")
-        size = b * mp.log(abs(a), 2)
-        if abs(size) > _HUGE_MAG:
-            if size > 0:
-                raise _Domain("a power that overflows or divides by zero")
-            return mp.zero, mp.zero  # underflows: exactly as good as 0 against any tolerance
-        y = mp.power(a, b)
-        if isinstance(y, mp.mpc):
-            raise _Domain("a negative number to a fractional power")
-        err = abs(y) * (abs(b) * ea / abs(a) + abs(mp.log(abs(a))) * eb) + eps * abs(y)
-        return _checked(y, mp), err
+        a = _enclose(node[1], env, B, n, problems)
+        b = _enclose(node[2], env, B, n, problems)
+        y, bad = iv.power(B, a, b)
+        _note(problems, bad, "a negative number to a fractional power or zero to a negative one", None, n)
+        return y
     if k == "fn":
         fn, args = node[1], node[2]
-        vals = [_mp_eval(a, env, mp, eps) for a in args]
+        vals = [_enclose(a, env, B, n, problems) for a in args]
         if fn == "atan2":
-            (a, ea), (b, eb) = vals
-            if a == 0 and b == 0:
-                raise _Domain("atan2 of (0, 0)")
-            y = mp.atan2(a, b)
-            return y, (abs(b) * ea + abs(a) * eb) / (a * a + b * b) + eps * abs(y)
+            y, bad = iv.atan2(B, *vals)
+            _note(problems, bad, "atan2 of (0, 0)", None, n)
+            return y
         if fn == "agm":
-            (a, ea), (b, eb) = vals
-            if a < 0 or b < 0:
-                raise _Domain("agm of a negative number")
-            y = mp.agm(a, b)
-            if y == 0:
-                return y, ea + eb
-            return y, abs(y) * (ea / abs(a) + eb / abs(b)) + 4 * eps * abs(y)
-        x, ex = vals[0]
-        if fn in ("sin", "cos", "tan") and x != 0 and mp.mag(x) > _TRIG_MAG:
-            raise _Undecided(f"{fn} of a huge argument")
-        if fn in ("exp", "expm1", "sinh", "cosh") and x != 0 and mp.mag(x) > 24:
-            if fn in ("exp", "expm1") and x < 0:
-                return (mp.zero if fn == "exp" else -mp.one), mp.zero
-            raise _Domain(f"{fn} of {{x}}")
-        if fn in ("ellipk", "ellipe") and x != 0 and mp.mag(x) > _TRIG_MAG:
-            raise _Undecided(f"{fn} of a huge argument")
-        try:
-            y = {"sqrt": mp.sqrt, "exp": mp.exp, "log": mp.log, "sin": mp.sin, "cos": mp.cos, "tan": mp.tan,
-                 "asin": mp.asin, "acos": mp.acos, "atan": mp.atan, "sinh": mp.sinh, "cosh": mp.cosh,
-                 "tanh": mp.tanh, "abs": abs, "ellipk": mp.ellipk, "ellipe": mp.ellipe,
-                 "expm1": mp.expm1}[fn](x)
-        except (ZeroDivisionError, ValueError):
-            raise _Domain(f"{fn} of {{x}}") from None
-        if isinstance(y, mp.mpc) or not mp.isfinite(y):
-            raise _Domain(f"{fn} of {{x}}")
-        d = _mp_deriv(fn, x, y, mp)
-        if d is None or not mp.isfinite(d):  # a branch point: second order
-            err = mp.sqrt(2 * ex) + eps * abs(y)
-        else:
-            err = d * ex + (4 if fn.startswith("ellip") else 2) * eps * abs(y)
-        return _checked(y, mp), err
+            y, bad = iv.agm(B, *vals)
+            _note(problems, bad, "agm of a negative number", vals[0][1], n)
+            return y
+        y, bad = iv.function(B, fn, vals[0])
+        _note(problems, bad, f"{fn} of {{x}}", vals[0][0], n)
+        return y
     raise AssertionError(k)  # pragma: no cover
 
 
-def _mp_deriv(fn, x, y, mp):
-    try:
-        if fn == "sqrt":
-            return 0.5 / abs(y)
-        if fn in ("exp", "cosh", "expm1"):
-            return abs(mp.sinh(x) if fn == "cosh" else mp.exp(x))
-        if fn == "log":
-            return 1 / abs(x)
-        if fn == "sin":
-            return abs(mp.cos(x))
-        if fn == "cos":
-            return abs(mp.sin(x))
-        if fn == "tan":
-            return 1 + y * y
-        if fn in ("asin", "acos"):
-            return 1 / mp.sqrt(abs(1 - x * x))
-        if fn == "atan":
-            return 1 / (1 + x * x)
-        if fn == "sinh":
-            return abs(mp.cosh(x))
-        if fn == "tanh":
-            return 1 - y * y
-        if fn == "ellipk":
-            return abs((mp.ellipe(x) - (1 - x) * y) / (2 * x * (1 - x)))
-        if fn == "ellipe":
-            return abs((y - mp.ellipk(x)) / (2 * x)) if x != 0 else mp.pi / 8
-        return mp.one
-    except ZeroDivisionError:
-        return None
-
-
-def _checked(y, mp):
-    if y != 0 and abs(mp.mag(y)) > _HUGE_MAG:
-        if mp.mag(y) > 0:
-            raise _Domain("a value that overflows")
-        return mp.zero
-    return y
+def _note(problems: list, bad, what: str, arg, n: int) -> None:
+    bad = np.broadcast_to(np.asarray(bad, bool), (n,))
+    if np.any(bad):
+        args = np.zeros(n) if arg is None else np.array([float(x) for x in np.broadcast_to(arg, (n,))])
+        problems.append(Problem(bad.copy(), what, args))
 
 
 def _names_in(node, out: set) -> set:
@@ -647,26 +591,27 @@ class Formula:
             pr.args = np.broadcast_to(np.asarray(pr.args, float), (n,))
         return y, err, problems
 
-    def evaluate_precise(self, point: dict, prec: int, moved: str | None = None) -> Precise:
-        """The value at one point (parameter -> float, taken exactly) with ``prec`` bits of arithmetic;
-        ``moved``: that parameter raised by half an ulp of a double (2^-53 relative), for what the rounding
-        of an input to a double moves the exact value by."""
-        mpmath = _mp()
-        mp = mpmath.mp
-        with mp.workprec(int(prec)):
-            env = {k: mp.mpf(float(v)) for k, v in point.items()}
-            if moved is not None:
-                env[moved] = env[moved] * (1 + mp.ldexp(1, -53))
-            eps = mp.ldexp(1, -int(prec))
-            try:
-                y, b = _mp_eval(self.tree, env, mp, eps)
-            except _Domain as exc:
-                return Precise(None, mp.zero, prec, str(exc))
-            except _Undecided:
-                return Precise(None, mp.inf, prec, None)
-            except (ZeroDivisionError, OverflowError, ValueError):
-                return Precise(None, mp.zero, prec, "a value that cannot be computed")
-            return Precise(y, b, prec)
+    def enclose(self, env: dict, prec: int | None = None):
+        """A certified enclosure ``(lo, hi, problems)`` of the formula's exact value at the points ``env``
+        (parameter -> 1-D array of doubles, taken exactly; numbers exact as written): in double precision
+        with outward rounding (``prec`` None), else at ``prec`` bits with mpmath.  ``[-inf, inf]`` where it
+        is not enclosed there; ``problems``: where there is certainly no real value (a domain error)."""
+        from mech.solvers.numerics import interval as iv
+
+        n = len(next(iter(env.values()))) if env else 1
+        B = iv.DOUBLE if prec is None else iv.precise(prec)
+        if prec is None:
+            env = {k: np.asarray(v, dtype=float) for k, v in env.items()}
+        else:
+            import mpmath
+
+            env = {k: B.asarray([mpmath.mpf(float(x)) for x in np.asarray(v, float)]) for k, v in env.items()}
+        problems: list[Problem] = []
+        with np.errstate(all="ignore"):
+            lo, hi = _enclose(self.tree, env, B, n, problems)
+        lo = np.broadcast_to(B.asarray(lo), (n,)).copy()
+        hi = np.broadcast_to(B.asarray(hi), (n,)).copy()
+        return lo, hi, problems
 
 
 def parameter_symbols(ex) -> dict[str, str]:

@@ -13,9 +13,9 @@ A formula (``formula_ast.Formula``) is held against mech's reference
   leading-order output the leading-order value, else the numeric value of the exercise's own numeric
   route, verified by its rerun at rtol/10.
 
-A point is right when the formula's value there is within ``rtol |mech| + mech's error bar + 4 x your
-formula's own round-off`` (``points.judge_points``, the judge's rule); the point set and mech's values are
-computed once (``points``), the hints come from ``explain``.
+A point is right when the formula's exact value there (certified by interval arithmetic) is within
+``rtol |mech| + mech's error bar + 4 ulp + 64 ulp of the output's scale`` (``points.judge_points``); the
+point set and mech's values are computed once (``points``), the hints come from ``explain``.
 """
 
 from __future__ import annotations
@@ -27,9 +27,9 @@ import numpy as np
 
 from mech.students.explain import dimension_could_be_a_slip, dimension_hint, formula_hint
 from mech.students.formula_ast import Formula, dim_of_unit, dim_text
-from mech.verification.judge import Verdict, judge, within
-from mech.students.points import (DEFAULT_POINTS, DEFAULT_SEED, PointJudgement, PointSet, describe_point,
-                                      judge_points, parse_over, point_set)
+from mech.verification.judge import Verdict, allowance, judge, within
+from mech.students.points import (DEFAULT_POINTS, DEFAULT_SEED, RIGHT, PointJudgement, PointSet, describe_point,
+                                      holds_at, judge_points, parse_over, point_set)
 
 __all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "FORMULA_RTOL", "PointSet", "point_set", "judge_formula",
            "FormulaVerdict", "parse_over", "show_value", "show_pair", "known"]
@@ -78,6 +78,7 @@ class FormulaVerdict:
     depends: list
     formula: str
     matches: str | None = None  # a leading-order output: "beyond-leading-order" for a next-order answer
+    state: str | None = None  # "not-graded" where no verdict was reached (the reason in ``verdict``)
 
 
 def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: float | None,
@@ -118,7 +119,8 @@ def judge_formula(formula: Formula, ex, output, ps: PointSet, given_ref, rtol: f
         return _not_graded(exc, **base)
     except MemoryError:
         return FormulaVerdict(False, "not graded: too many points for the memory at hand (ask for fewer points)",
-                              None, math.nan, None, None, None, points={"checked": 0, "right": 0}, **base)
+                              None, math.nan, None, None, None, points={"checked": 0, "right": 0},
+                              state="not-graded", **base)
 
 
 def _dimension_slip(formula: Formula, ex, output, ps, rtol: float) -> str | None:
@@ -148,7 +150,7 @@ def _not_graded(exc, **base) -> FormulaVerdict:
     spent = "its work budget" if isinstance(exc, budget.OutOfWork) else "time"
     text = (f"{what} ran out of {spent}" + (f" while {where}" if where else "")) if what else str(exc)
     return FormulaVerdict(False, f"not graded (budget): {shown(text, 160)}", None, math.nan, None, None, None,
-                          points={"checked": 0, "right": 0}, **base)
+                          points={"checked": 0, "right": 0}, state="not-graded", **base)
 
 
 def _judge_at_points(formula, ex, output, ps, given_ref, rtol, numeric_given, given_in_range, base):
@@ -161,7 +163,7 @@ def _judge_at_points(formula, ex, output, ps, given_ref, rtol, numeric_given, gi
         ref[0] = np.nan
     elif not lead:
         ref[0], ref_err[0] = given_ref
-    pj = judge_points(formula, ps, ref, ref_err, rtol)
+    pj = judge_points(formula, ps, ref, ref_err, rtol, name=name)
     notes = []
     if lead:
         exact_here = _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, notes)
@@ -199,10 +201,21 @@ def _judge_at_points(formula, ex, output, ps, given_ref, rtol, numeric_given, gi
     kinds = _kinds(ps, judged)
     if given_ref is None and given_in_range:
         return FormulaVerdict(False, "cannot judge: mech has no trusted value at the given parameters", None, y0,
-                              None, None, None, points=points, **base)
-    if n_checked == 0:
+                              None, None, None, points=points, state="not-graded", **base)
+    undecided = pj.undecided if pj.undecided is not None else np.zeros(len(ps), bool)
+    if n_checked == 0 and not undecided.any():
         return FormulaVerdict(False, "cannot judge: mech has no value at any point", None, y0, r0, rel0, None,
-                              points=points, **base)
+                              points=points, state="not-graded", **base)
+    if not wrong.any() and undecided.any():
+        # right wherever decided, but some point no precision up to the cap decides: never right
+        k = int(undecided.sum())
+        i = int(np.flatnonzero(undecided)[0])
+        from mech.students.formula_ast import MAX_PREC
+
+        return FormulaVerdict(False, f"not graded: right at {n_right} points, but {k} point{'s' if k > 1 else ''} "
+                              f"cannot be decided in exact arithmetic (interval arithmetic up to {MAX_PREC} bits), "
+                              f"{describe_point(ps, i)}", None, y0, r0, rel0, float(pj.tol[0]),
+                              points={**points, "undecided": k}, state="not-graded", **base)
     if not wrong.any():
         text = f"right at all {n_checked} points ({kinds})"
         if ill:
@@ -272,7 +285,7 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
     # the points inside the theory's range first: there a miss decides the verdict; beyond it a miss is
     # left out, and the budget is spent there last
     misses.sort(key=lambda i: (bool(outside_theory[i]), i))
-    confirmed = beyond = 0
+    confirmed = beyond = closer = 0
     exact_here = np.zeros(len(ps), bool)
     batched = _batchable(ex, name)
     for i in misses:
@@ -296,15 +309,23 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
                 break
             n, err = got
         lead_i = ps.analytic[name][i]
-        if within(abs(pj.yours[i] - n), scale=n, rel=rtol, bars=(err,), round_off=4 * np.finfo(float).eps):
+        allow = float(allowance(n, rel=rtol, bars=(err,), round_off=4 * np.finfo(float).eps))
+        gap = abs(lead_i - n) if math.isfinite(lead_i) else math.nan
+        far = _farthest(pj, i, n)  # the exact value's farthest distance from n, certified
+        if holds_at(formula, ps, pj, i, n, allow) == RIGHT:
             pj.right[i] = True
             exact_here[i] = True
             confirmed += 1
-        elif math.isfinite(lead_i) and BEYOND * (abs(pj.yours[i] - n) + err) <= abs(lead_i - n):
+        elif math.isfinite(gap) and BEYOND * (far + err) <= gap:
             # a next-order answer: closer to the verified exact value than the leading-order value, by 3x
             pj.right[i] = True
             exact_here[i] = True
             beyond += 1
+        elif math.isfinite(gap) and far + err <= gap and not outside_theory[i]:
+            # monotone: at least as close to the exact value as the leading-order value (right) is
+            pj.right[i] = True
+            exact_here[i] = True
+            closer += 1
         elif outside_theory[i]:
             continue  # beyond the theory's range a miss of the exact value is left out, not judged wrong
         else:
@@ -312,10 +333,21 @@ def _leading_order_numeric(formula, ex, output, ps, pj, rtol, numeric_given, not
     if confirmed:
         notes.append(f"at {confirmed} point{'s' if confirmed > 1 else ''} it matches mech's numeric value "
                      "rather than the leading-order one")
+    if closer:
+        notes.append(f"at {closer} point{'s' if closer > 1 else ''} closer to mech's verified exact value than the "
+                     "leading-order value is")
     if beyond:
         notes.append(f"beyond leading order: at {beyond} point{'s' if beyond > 1 else ''} closer to mech's verified "
                      f"exact value than the leading-order value is, by {BEYOND:g}x at least")
     return exact_here
+
+
+def _farthest(pj: PointJudgement, i: int, n: float) -> float:
+    """The largest distance from ``n`` of the formula's exact value at point ``i`` (its enclosure's), rounded
+    up; inf where it is not enclosed."""
+    with np.errstate(all="ignore"):
+        d = max(np.nextafter(float(pj.hi[i]) - n, np.inf), np.nextafter(n - float(pj.lo[i]), np.inf))
+    return float(d) if math.isfinite(d) else math.inf
 
 
 BATCH = 32  # points a batched numeric call takes at once (the budget is looked at between calls)

@@ -7,13 +7,13 @@ constraints.  Where an exercise refuses most of its box, a draw it refuses is re
 time: with the others held, that parameter's allowed interval is found on a grid and refined by bisection,
 and the value is drawn inside it.
 
-A point is right when its exact value is: in double precision where the formula's own round-off bound
-(first order, carried through the evaluation) is small against ``base = rtol |mech| + mech's error bar + 4
-ulp``, so that the allowance is at most ``2 base``; elsewhere with mpmath at as many bits as the point needs
-(``_precise``), the only allowance beside ``base`` being what rounding the parameters to doubles moves the
-exact value by, itself computed exactly.  No allowance grows with terms that cancel.  A right formula that
-only loses digits in double is said to be ill-conditioned there; always by the judge's rule
-(``judge.within``).
+A point is right when its exact value is (parameters exact as the doubles they are, numbers exact as
+written), certified: an interval enclosure in double precision (``Formula.enclose``), and where it straddles
+an edge of the allowance, mpmath intervals at rising precision up to ``MAX_PREC`` bits (``_precise``); a
+point nothing decides is not graded.  The allowance is mech's: ``rtol |mech| + mech's error bar + 4 ulp +
+64 ulp of the output's scale`` (``output_scale``; ``rtol`` times it where mech's value is exactly 0), never
+the formula's own round-off.  A right formula that only loses digits in double is said to be
+ill-conditioned there.
 
 The point set and mech's values are computed once per exercise, given point and range (``_CACHE``, bounded
 in bytes: ``CACHE_BYTES``): a class file judges every student's formula against the same arrays.  Every
@@ -35,7 +35,7 @@ from mech.verification.judge import allowance, within
 
 __all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "MAX_POINTS", "CACHE_BYTES", "PointSet", "PointJudgement", "point_set", "draw", "ranges",
            "parse_over", "depends", "line_of", "accept", "make", "judge_points", "yours_at_given", "describe_point",
-           "problem_text", "in_over"]
+           "problem_text", "in_over", "decide", "holds_at", "output_scale", "RIGHT", "WRONG", "OPEN"]
 
 DEFAULT_POINTS = 24
 # parameter sets a formula may ask to be judged at (``--expect-points``, ``points =``): drawing them, mech's
@@ -539,75 +539,236 @@ def depends(ps: PointSet, output: str) -> list[str]:
 
 @dataclass
 class PointJudgement:
-    yours: np.ndarray
+    yours: np.ndarray  # the formula's value in double (shown; the exact one where worked out in high precision)
     ref: np.ndarray
-    right: np.ndarray  # bool
-    judged: np.ndarray  # bool: a point with a reference and a finite value of yours, or a domain error
-    ill: np.ndarray  # bool: right in exact arithmetic, not within base in double (ill-conditioned there)
+    right: np.ndarray  # bool: right in exact arithmetic (certified)
+    judged: np.ndarray  # bool: a point with a reference where the verdict was decided (or a domain error)
+    ill: np.ndarray  # bool: right in exact arithmetic, not within the allowance in double (ill-conditioned there)
     problems: list
-    tol: np.ndarray
+    tol: np.ndarray  # the allowance, absolute: from mech's reference, its error bar, rtol and the output's scale
     skipped: int = 0  # points left unjudged: double precision could not decide them, and others were wrong
+    lo: np.ndarray | None = None  # the certified enclosure of the exact value (double precision)
+    hi: np.ndarray | None = None
+    undecided: np.ndarray | None = None  # bool: no precision up to MAX_PREC decides the point (not graded)
+
+
+RIGHT, WRONG, OPEN = 1, 0, -1  # a point's verdict from an enclosure: right, wrong, not decided at this precision
+SCALE_ROUNDING = 64 * float(np.finfo(float).eps)  # mech's own rounding, relative to the output's scale
+
+
+def decide(lo, hi, center, allow) -> np.ndarray:
+    """RIGHT where ``[lo, hi]`` lies inside ``[center - allow, center + allow]``, WRONG where it lies outside,
+    OPEN where it straddles an edge (or is not enclosed); differences rounded outward, so that a doubtful
+    case stays OPEN."""
+    with np.errstate(all="ignore"):
+        up = np.maximum(np.nextafter(hi - center, np.inf), np.nextafter(center - lo, np.inf))
+        out = np.maximum(np.nextafter(lo - center, -np.inf), np.nextafter(center - hi, -np.inf))
+    res = np.full(np.shape(lo), OPEN, np.int8)
+    res[~within(out, bars=(allow,)) & ~np.isnan(out)] = WRONG
+    res[within(up, bars=(allow,))] = RIGHT
+    return res
+
+
+def _decide_exact(lo, hi, center: float, allow: float, mpmath) -> int:
+    """``decide`` for one point of mpmath numbers, the comparisons exact."""
+    if not (mpmath.isfinite(lo) and mpmath.isfinite(hi)):
+        return OPEN
+    c, a = mpmath.mpf(center), mpmath.mpf(allow)
+    d_hi, d_lo = mpmath.fsub(hi, c, exact=True), mpmath.fsub(c, lo, exact=True)
+    if within(max(d_hi, d_lo), bars=(a,)):
+        return RIGHT
+    if not within(max(mpmath.fsub(lo, c, exact=True), mpmath.fsub(c, hi, exact=True)), bars=(a,)):
+        return WRONG
+    return OPEN
+
+
+def output_scale(ps: PointSet, name: str) -> np.ndarray:
+    """The output's own size at each point, from its dimension: the parameters' units rescaled to bring them
+    nearest their defaults (a least-squares fit of the three unit exponents, ``scales.dims``), the output
+    brought along by its dimension, times the median size of mech's values in those units over the points
+    (the fit with a 1e-9 ridge, so that dimensions no parameter carries give no exponent).
+    What a zero reference is judged on (``P/(M mu g)`` for 4.8's t_roll); 1 (SI) where nothing says more."""
+    key = ("scale", name)
+    if key in ps.lines:
+        return ps.lines[key]
+    from mech.problems.scales import dims
+
+    ex = ps.ex
+    out = next(o for o in ex.outputs if o.name == name)
+    d_out = dims(out.unit) or (0, 0, 0)
+    rows, devs = [], []
+    for p in ex.params:
+        d = dims(p.unit)
+        if d is None or not any(d) or p.default == 0:
+            continue
+        with np.errstate(all="ignore"):
+            dev = np.log2(np.abs(ps.arrays[p.name])) - math.log2(abs(p.default))
+        rows.append(d)
+        devs.append(np.where(np.isfinite(dev), dev, 0.0))
+    n = len(ps)
+    if rows:
+        A = np.array(rows, float)
+        u = _inverse3(A.T @ A + 1e-9 * np.eye(3)) @ (A.T @ np.array(devs))  # least squares, (3, n)
+        shift = np.exp2(np.clip(np.array(d_out, float) @ u, -900, 900))
+    else:
+        shift = np.ones(n)
+    ref = np.abs(ps.analytic.get(name, np.full(n, np.nan)))
+    use = np.isfinite(ref) & (ref > 0)
+    sizes = np.sort(ref[use] / shift[use])  # their median (np.median imports numpy.ma: 0.03 s)
+    typical = float(0.5 * (sizes[(sizes.size - 1) // 2] + sizes[sizes.size // 2])) if sizes.size else 1.0
+    scale = np.where(np.isfinite(shift), typical * shift, typical)
+    ps.lines[key] = scale
+    return scale
+
+
+def _inverse3(m: np.ndarray) -> np.ndarray:
+    """The inverse of a 3x3 matrix by its adjugate (numpy.linalg costs 0.1 s to import, more than a check)."""
+    a = m.tolist()
+    cof = [[a[(i + 1) % 3][(j + 1) % 3] * a[(i + 2) % 3][(j + 2) % 3]
+            - a[(i + 1) % 3][(j + 2) % 3] * a[(i + 2) % 3][(j + 1) % 3] for j in range(3)] for i in range(3)]
+    det = sum(a[0][j] * cof[0][j] for j in range(3))
+    return np.array(cof, float).T / det
 
 
 def judge_points(formula: Formula, ps: PointSet, ref: np.ndarray, ref_err: np.ndarray, rtol: float,
-                 alt: dict | None = None) -> PointJudgement:
+                 alt: dict | None = None, name: str | None = None) -> PointJudgement:
     """Hold ``formula`` against ``ref`` (with its error bars ``ref_err``) at every point of ``ps``.
 
-    In double precision where the formula's own round-off bound is small against the tolerance (at most
-    what the reference is held to: the allowance then at most doubles, whatever the formula's terms);
-    elsewhere, and where the double value is not a finite number, in as many bits as the point needs
-    (``_precise``): the exact value at the point decides."""
+    Its exact value at each point (parameters exact as the doubles they are, numbers exact as written) is
+    enclosed by interval arithmetic in double precision; where the enclosure straddles an edge of the
+    allowance, at rising precision with mpmath (``_precise``) up to ``MAX_PREC`` bits.  The allowance is
+    ``rtol |ref| + ref_err + 4 eps |ref| + 64 eps S`` (``S``: the output's scale, ``output_scale``), and
+    ``rtol S`` where the reference is exactly zero: nothing of it comes from the formula."""
     env = {k: ps.arrays[k] for k in formula.names}
     n = len(ps)
-    y, e, problems = formula.evaluate(env, np.float64) if env else formula.evaluate({"_": np.zeros(n)})
+    env = env or {"_": np.zeros(n)}
+    lo, hi, problems = formula.enclose(env)
+    with np.errstate(all="ignore"):  # the value shown: the enclosure's middle where it is tight, else the double
+        y = lo / 2 + hi / 2
+        tight = np.isfinite(y) & within(hi - lo, scale=np.maximum(np.abs(lo), np.abs(hi)), round_off=1e-12)
+    if not tight.all():
+        y = np.where(tight, y, formula.evaluate(env, np.float64)[0])
     has_ref = np.isfinite(ref)
+    scale = output_scale(ps, name) if name is not None else np.abs(np.where(has_ref, ref, 0.0))
     eps4 = 4 * np.finfo(float).eps
-    base = allowance(ref, rel=rtol, bars=(ref_err,), round_off=eps4)
-    with np.errstate(all="ignore"):
-        d = np.abs(y - ref)
-        sure = has_ref & np.isfinite(y) & np.isfinite(e) & within(4 * e, bars=(base,))
-    right = sure & within(d, bars=(base,), own=4 * e)
-    tol = np.where(sure, allowance(ref, rel=rtol, bars=(ref_err,), round_off=eps4, own=4 * e), base)
-    ill = np.zeros(n, bool)
-    undecided = np.zeros(n, bool)
-    fixed = np.zeros(n, bool)
+    floor = np.where(ref == 0, rtol, SCALE_ROUNDING) * scale
+    base = allowance(ref, rel=rtol, bars=(ref_err, floor), round_off=eps4)
+    dom = _masked(problems, n)
+    verdict = np.where(dom, WRONG, decide(lo, hi, ref, base))
+    right = has_ref & (verdict == RIGHT)
+    decided = has_ref & (verdict != OPEN)
     yours = y.copy()
-    names = sorted(formula.names)
-    todo = np.flatnonzero(has_ref & ~sure)
+    todo = np.flatnonzero(has_ref & ~decided)
     skipped = np.zeros(n, bool)
-    for j, i in enumerate(todo):
-        if j and j % PRECISE_BATCH == 0 and np.any(fixed & ~right):
+    undecided = np.zeros(n, bool)
+    for j in range(0, todo.size, PRECISE_BATCH):
+        if j and np.any(decided & ~right):
             # found wrong in exact arithmetic already: the rest need not cost the budget
             skipped[todo[j:]] = True
             break
-        budget.check("judging the formula in high precision")
-        point = {k: float(ps.arrays[k][i]) for k in names}
-        got = _precise(formula, point, float(ref[i]), float(base[i]), float(e[i]) if np.isfinite(e[i]) else math.inf)
-        if got is None:  # no precision up to MAX_PREC decides it: not right
-            undecided[i] = True
-            yours[i] = np.nan
-            continue
-        value, ok, domain = got
-        if domain is not None:
-            if np.isfinite(y[i]):  # exactly, there is no real value here: a domain error, named
-                problems.append(_problem_at(n, i, domain, value))
-            yours[i] = np.nan
-            continue
-        fixed[i] = True
-        yours[i] = value
-        right[i] = ok
-        ill[i] = ok and not (np.isfinite(y[i]) and within(d[i], bars=(base[i],)))
-    for pr in problems:  # where the exact value exists, the double's failure there was round-off
-        if np.any(pr.mask & fixed):
-            pr.mask = np.asarray(pr.mask) & ~fixed
+        idx = todo[j:j + PRECISE_BATCH]
+        got, values, dom_at = _precise(formula, {k: v[idx] for k, v in env.items()}, ref[idx], base[idx])
+        for m, i in enumerate(idx):
+            if got[m] == OPEN:
+                undecided[i] = True
+                continue
+            decided[i] = True
+            right[i] = got[m] == RIGHT and dom_at[m] is None
+            if dom_at[m] is not None:
+                problems.append(_problem_at(n, i, dom_at[m], None))
+            elif math.isfinite(values[m]):
+                yours[i] = values[m]
+    # where the double enclosure is loose (a cancellation, a huge argument), the double value shown and read
+    # by the hints may be round-off: the exact value instead, for the first ``PRECISE_BATCH`` such points
+    with np.errstate(all="ignore"):
+        loose = decided & ~dom & (np.abs(yours - y) == 0) & ~(hi - lo <= 1e-12 * np.maximum(np.abs(lo), np.abs(hi)))
+    idx = np.flatnonzero(loose)[:PRECISE_BATCH]
+    if idx.size:
+        yours[idx] = _values(formula, {k: v[idx] for k, v in env.items()})
+    for pr in problems:  # a domain error the exact value does not have was round-off
+        pr.mask = np.asarray(pr.mask) & ~(decided & right)
     if undecided.any():
-        problems.append(Problem(undecided, "a value no precision up to "
-                                f"{MAX_PREC} bits decides", np.zeros(n)))
-    judged = has_ref & (np.isfinite(yours) | fixed | _masked(problems, n)) & ~skipped
-    return PointJudgement(yours, ref, right & judged, judged, ill, problems, tol, int(skipped.sum()))
+        problems.append(Problem(undecided, f"a value no precision up to {MAX_PREC} bits decides", np.zeros(n)))
+    ill = right & ~(np.isfinite(y) & within(np.abs(y - ref), bars=(base,)))
+    judged = has_ref & decided & ~skipped
+    return PointJudgement(yours, ref, right & judged, judged, ill, problems, base, int(skipped.sum()),
+                          lo, hi, undecided)
 
 
-PRECISE_BATCH = 64  # points judged in high precision before looking whether one was found wrong
+PRECISE_BATCH = 64  # points judged in high precision at once (the budget is looked at between batches)
+_PRECS = (128, 512, 2048, MAX_PREC)
+
+
+def _precise_work(points: int, prec: int) -> int:
+    """Units of work of enclosing ``points`` points at ``prec`` bits: one a point at 128 bits, growing with
+    the bits (the cost of mpmath's arithmetic), counted before it is done."""
+    return int(points) * max(1, int(prec) // 128)
+
+
+def _values(formula: Formula, env: dict) -> np.ndarray:
+    """The exact values at the points ``env`` to double precision (NaN where no precision up to ``MAX_PREC``
+    bits gives them within 1e-12 relative, or where there is no real value)."""
+    import mpmath
+
+    m = len(next(iter(env.values())))
+    out = np.full(m, np.nan)
+    left = np.arange(m)
+    for prec in _PRECS:
+        if left.size == 0:
+            break
+        budget.check("judging the formula in high precision", units=_precise_work(left.size, prec))
+        lo, hi, problems = formula.enclose({k: v[left] for k, v in env.items()}, prec=prec)
+        bad = _masked(problems, left.size)
+        done = np.zeros(left.size, bool)
+        for k, i in enumerate(left):
+            if bad[k]:
+                done[k] = True
+            elif mpmath.isfinite(lo[k]) and mpmath.isfinite(hi[k]) and \
+                    within(float(hi[k] - lo[k]), scale=float(max(abs(lo[k]), abs(hi[k]))), round_off=1e-12):
+                out[i] = float((lo[k] + hi[k]) / 2)
+                done[k] = True
+        left = left[~done]
+    return out
+
+
+def _precise(formula: Formula, env: dict, ref: np.ndarray, base: np.ndarray):
+    """For points the double enclosure leaves open: (verdicts, values, domain errors) from mpmath interval
+    arithmetic at rising precision (``_PRECS``), each point decided at the first precision that decides
+    it; OPEN where none up to ``MAX_PREC`` bits does."""
+    import mpmath
+
+    m = len(ref)
+    got = np.full(m, OPEN, np.int8)
+    values = np.full(m, np.nan)
+    dom: list = [None] * m
+    left = np.arange(m)
+    for prec in _PRECS:
+        if left.size == 0:
+            break
+        budget.check("judging the formula in high precision", units=_precise_work(left.size, prec))
+        lo, hi, problems = formula.enclose({k: v[left] for k, v in env.items()}, prec=prec)
+        for k, i in enumerate(left):
+            what = next((pr.what.replace("{x}", f"{float(pr.args[k]):.6g}") for pr in problems if pr.mask[k]), None)
+            if what is not None:
+                got[i], dom[i] = WRONG, what
+                continue
+            got[i] = _decide_exact(lo[k], hi[k], float(ref[i]), float(base[i]), mpmath)
+            if got[i] != OPEN:
+                with mpmath.workprec(prec):
+                    values[i] = float((lo[k] + hi[k]) / 2)
+        left = left[got[left] == OPEN]
+    return got, values, dom
+
+
+def holds_at(formula: Formula, ps: PointSet, pj: PointJudgement, i: int, center: float, allow: float) -> int:
+    """RIGHT, WRONG or OPEN: the formula's exact value at point ``i`` within ``allow`` of ``center`` (its
+    double enclosure in ``pj``, else in high precision)."""
+    got = int(decide(pj.lo[i:i + 1], pj.hi[i:i + 1], center, allow)[0])
+    if got != OPEN:
+        return got
+    env = {k: ps.arrays[k][i:i + 1] for k in formula.names} or {"_": np.zeros(1)}
+    verdict, _, dom = _precise(formula, env, np.array([center]), np.array([allow]))
+    return WRONG if dom[0] is not None else int(verdict[0])
 
 
 def _problem_at(n: int, i: int, what: str, arg) -> Problem:
@@ -616,49 +777,6 @@ def _problem_at(n: int, i: int, what: str, arg) -> Problem:
     args = np.zeros(n)
     args[i] = float(arg) if arg is not None else np.nan
     return Problem(mask, what, args)
-
-
-def _precise(formula: Formula, point: dict, ref: float, base: float, e: float):
-    """(value, right, domain) of ``formula`` at one point in high precision, or None when no precision up
-    to ``MAX_PREC`` bits decides it.
-
-    Right when ``|value - ref| + 4 x its round-off bound <= base + sens``: ``sens``, what rounding each
-    parameter to a double (half an ulp) moves the exact value by, is computed exactly too (the values at
-    the moved points), so that a term cancelling in exact arithmetic moves nothing.  Wrong when
-    ``|value - ref| - 4 x bound > base + sens``.  Between the two the precision doubles."""
-    import mpmath
-
-    mp = mpmath.mp
-    # the bits that bring the double's round-off bound well under the tolerance, to start with
-    ratio = (4 * e) / base if base > 0 else math.inf
-    prec = 128 if not math.isfinite(ratio) or ratio < 1 else int(53 + math.log2(ratio) + 24)
-    prec = max(128, min(prec, MAX_PREC))
-    sens = None
-    while True:
-        budget.check("judging the formula in high precision")
-        p = formula.evaluate_precise(point, prec)
-        if p.domain is not None:
-            return math.nan, False, p.domain
-        if p.value is None:  # an argument too large to reduce at any precision
-            return None
-        with mp.workprec(prec):
-            d = abs(p.value - mp.mpf(ref))
-            b4 = 4 * p.bound
-            if sens is None and not within(d + b4, bars=(mp.mpf(base),)):
-                sens = mp.zero
-                for k in point:
-                    if point[k] != 0:
-                        q = formula.evaluate_precise(point, prec, moved=k)
-                        if q.value is not None:  # past a branch point: no allowance from it
-                            sens += abs(q.value - p.value) + 4 * q.bound
-            bars = (mp.mpf(base), sens if sens is not None else mp.zero)
-            if within(d + b4, bars=bars):  # right, whatever the round-off left
-                return float(p.value), True, None
-            if not within(d - b4, bars=bars):  # wrong, whatever the round-off left
-                return float(p.value), False, None
-        if prec >= MAX_PREC:
-            return None
-        prec = min(2 * prec, MAX_PREC)
 
 
 def _masked(problems, n) -> np.ndarray:

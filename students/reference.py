@@ -54,6 +54,7 @@ class Expectation:
     points: int | None = None
     seed: int | None = None
     over: tuple = ()
+    none: bool = False  # the answer ``none``: the output has no value at these parameters
 
     def own_tol(self, reference: float) -> float:
         """The tolerance the user's writing earns, absolute, for a reference value."""

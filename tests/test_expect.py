@@ -120,9 +120,10 @@ def test_a_bad_expect_exits_2_in_one_line(args, words):
 
 @pytest.mark.parametrize("literal, half_unit, digits", [
     ("35.26", 0.005, 4), ("0.6155", 0.00005, 4), ("1e-3", 0.0005, 1), ("2.50e3", 5.0, 3),
-    ("3500", 0.5, 4), (".5", 0.05, 1), ("7.", 0.5, 1), ("0.000", 0.0005, None),
+    ("3500", 0.5, 4), (".5", 0.05, 1), ("7.", 0.5, 1), ("0.000", 0.0, None), ("0e300", 0.0, None),
 ])
 def test_literal_precision(literal, half_unit, digits):
+    # as written (min_digits 0): a zero in any form is exactly zero
     h, d = _literal_precision(literal)
     assert h == pytest.approx(half_unit, rel=1e-12) and d == digits
 
@@ -207,9 +208,9 @@ def test_no_judgement_without_a_trusted_reference():
     assert not j.match and "infinite" in j.verdict
 
 
-def test_leading_order_answer_is_right_to_its_digits_against_either_value_never_a_band():
+def test_leading_order_answer_is_right_to_its_digits_against_either_value_or_closer():
     # theory 1.000, exact (numeric) 1.010, the theory neglects 2 %: 1.000 and 1.010 are right to their
-    # digits (half a unit: 0.0005); 1.005 lies inside the 2 % band but equals neither, so it is wrong
+    # digits (half a unit: 0.0005); never by the 2 % band the theory neglects
     q = _q("x", "m", 1.000, 1.010, theory="leading-order", expected_err=0.02, theory_valid=True)
     (j,) = _judge(q, ("x", "1.000"))
     assert j.match and j.matches == "leading-order" and j.reference_value == 1.010
@@ -218,7 +219,12 @@ def test_leading_order_answer_is_right_to_its_digits_against_either_value_never_
     assert j.as_json()["matches"] == "leading-order"
     (j,) = _judge(q, ("x", "1.010"))
     assert j.match and j.matches == "exact" and j.verdict == "right: the exact value"
+    # monotone (issue 39): an answer at least as close to the exact value as one judged right is right:
+    # 1.005 and 1.020 are within 0.010 + 0.0005 of 1.010, as 1.000 is; 1.021 and 0.999 are not
     for text in ("1.005", "1.020"):
+        (j,) = _judge(q, ("x", text))
+        assert j.match and "at least as close to the exact value" in j.verdict
+    for text in ("1.021", "0.999"):
         (j,) = _judge(q, ("x", text))
         assert not j.match and j.matches is None and j.as_json()["matches"] is None
 

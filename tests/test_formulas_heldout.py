@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import pytest
 
-from mech.students import expectations
+from mech.students import expectations as expecting
 from mech.problems import registry
 from mech.students.answers import judge
 from mech.verification.crosscheck import cross_check
@@ -308,7 +308,7 @@ def test_heldout_formulas(ex_id):
     ex = registry.get(ex_id)
     result = cross_check(ex, ex.resolve({}))
     cases = ALL_CASES[ex_id]
-    expectations = [expectations.parse_expectation(ex, out, text) for out, text, _ in cases]
+    expectations = [expecting.parse_expectation(ex, out, text) for out, text, _ in cases]
     assert [text for (_, text, _), e in zip(cases, expectations) if e.formula is None] == []
     problems = []
     for (out, text, want), j in zip(cases, (judge(result, [e])[0] for e in expectations)):

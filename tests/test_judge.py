@@ -231,13 +231,16 @@ def test_an_axis_is_judged_modulo_pi():
     assert code == 1 and _expected(d, "theta1")["hint"].startswith("another principal axis")
 
 
-def test_a_sign_slip_with_a_rounded_last_digit_is_named():
+def test_a_sign_slip_is_named_only_within_half_a_unit_of_the_last_digit():
     # 4.8: the strike's angular impulse about the vertical is -b P, so omega_z = -b P / (2/5 M R^2)
-    # = -0.625 P / (M R) = -0.625 * 0.34 / (0.17 * 0.028575) = -43.7445; 43.75 is the sign slip with the
-    # last digit rounded up (|43.75 - 43.7445| = 0.0055 > 0.005)
-    code, d = run("4.8", "--expect", "omega_z=43.75")
+    # = -0.625 P / (M R) = -0.625 * 0.34 / (0.17 * 0.028575) = -43.7445; 43.74 is the sign slip to its
+    # digits; 43.75 is 0.0055 away from it, beyond half a unit (0.005): a hint is a claim, not named (issue 39)
+    code, d = run("4.8", "--expect", "omega_z=43.74")
     e = _expected(d, "omega_z")
     assert code == 1 and e["match"] is False and e["hint"] == "wrong sign"
+    code, d = run("4.8", "--expect", "omega_z=43.75")
+    e = _expected(d, "omega_z")
+    assert code == 1 and e["match"] is False and e["hint"] is None
 
 
 def test_a_power_of_ten_is_named():
