@@ -215,3 +215,14 @@ def test_5_7_leading_order_third_harmonic_as_a_number_is_named():
     assert e.match is False
     assert "leading-order third harmonic" in e.hint
     assert e.verdict.startswith("wrong")
+
+
+def test_no_factor_is_named_that_stands_within_the_tolerance():
+    """asin(2/3 sin theta0) + 1e-9 theta0 is wrong (1.5e-9 relative at most points, beyond a formula's 1e-9),
+    but its ratio to mech's answer, 1 + O(1e-9), is no slip: "off by a constant factor 1" was said."""
+    import mech
+
+    sol = mech.solve("4.15", expect={"theta_c": "asin(2/3*sin(theta0)) + 1e-9*theta0"})
+    e = sol["theta_c"].expected
+    assert e.match is False
+    assert "factor" not in (e.hint or "") and "factor" not in e.verdict

@@ -183,7 +183,8 @@ def test_the_assignments_digits_are_the_digits_rules_floor(tmp_path, monkeypatch
     seen.clear()
     assert run("grade", path)[0] == 0 and seen == [2, 2]  # --min-digits' default
     seen.clear()
-    assert run("grade", path, "--min-digits", "5")[0] == 0 and seen == [5, 5]
+    # to 5 digits 19.47deg is 19.470 against asin(1/3) = 19.4712 deg: wrong, by the floor
+    assert run("grade", path, "--min-digits", "5")[0] == 1 and seen == [5, 5]
     code, out, err = run("grade", path, "--assignment", folder, "--min-digits", "2")
     assert code == 2 and "--min-digits" in err and "Traceback" not in err
 
