@@ -1,8 +1,8 @@
 """The derived equations as a student reads them: simplified, wrapped at their operators, no line over
 ``WIDTH`` characters (``mech show ID --derive``, text and LaTeX).
 
-An expression is simplified where that is quick (``trigsimp`` takes the sin² + cos² of a turned frame out
-of 4.31's Lagrangian; ``simplify`` where it is small, else its common factors taken out). A sum too wide
+An expression is simplified where that is quick (the sin² + cos² of a turned frame taken out of 4.31's
+Lagrangian; ``simplify`` where it is small, else its common factors taken out). A sum too wide
 for a line is cut between its terms, each line after the first opening with its sign; a term too wide
 alone has its widest part named (``K₁``, ``K₂``, ... as common subexpressions are), defined on the lines
 after it (``where K₁ = ...``). LaTeX is cut the same way, at the top-level ``+`` and ``-`` (then at any
@@ -17,26 +17,55 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 
 WIDTH = 100
-_MOST_TRIG = 2500  # operations: beyond this trigsimp takes too long for a command a student waits for
 _MOST_SIMPLIFY = 60
 
 
 def tidy(e, cache: dict | None = None):
-    """``e`` simplified where that is quick."""
+    """``e`` simplified where that is quick: sin² + cos² taken out wherever a sum holds both with one
+    coefficient (a turned frame leaves them in 4.31's Lagrangian), ``simplify`` on small expressions, common
+    factors out of the rest (``trigsimp`` would take 80 s of CPU on 4.8's equations with friction)."""
     if cache is not None and e in cache:
         return cache[e]
     out = e
     if isinstance(e, sp.Basic) and not isinstance(e, (sp.Symbol, sp.Number)):
-        ops = sp.count_ops(e)
-        if ops <= _MOST_TRIG and e.has(sp.sin, sp.cos):
-            out = sp.trigsimp(e)
-            ops = sp.count_ops(out)
-        out = sp.simplify(out) if ops <= _MOST_SIMPLIFY else sp.factor_terms(out)
+        out = pythagoras(e)
+        out = sp.simplify(out) if sp.count_ops(out) <= _MOST_SIMPLIFY else sp.factor_terms(out)
         if sp.count_ops(out) > sp.count_ops(e):
             out = sp.factor_terms(e)
     if cache is not None:
         cache[e] = out
     return out
+
+
+def pythagoras(e, rounds: int = 6):
+    """``e`` with every pair c sin²x + c cos²x of a sum replaced by c, until none is left (sin³x + sin x cos²x
+    is sin x after two rounds)."""
+    for _ in range(rounds):
+        if not (e.has(sp.sin) and e.has(sp.cos)):
+            return e
+        new = e.replace(lambda n: n.is_Add, _pythagoras)
+        if new == e:
+            return e
+        e = new
+    return e
+
+
+def _pythagoras(total):
+    """``total`` (a sum) with each pair c sin²x + c cos²x replaced by c (one pair a term)."""
+    seen: dict = {}
+    for k, term in enumerate(total.args):
+        for factor in sp.Mul.make_args(term):
+            if factor.is_Pow and factor.exp.is_Integer and factor.exp >= 2 and isinstance(factor.base, (sp.sin, sp.cos)):
+                rest = term / factor.base**2
+                seen.setdefault((rest, factor.base.args[0]), {})[type(factor.base)] = k
+    drop, keep = set(), []
+    for (rest, _), where in seen.items():
+        if len(where) == 2 and not drop & set(where.values()):
+            drop |= set(where.values())
+            keep.append(rest)
+    if not drop:
+        return total
+    return sp.Add(*[t for k, t in enumerate(total.args) if k not in drop], *keep)
 
 
 class Shower:
@@ -91,7 +120,7 @@ class Shower:
         multiplied out first where that is no longer: 4.31's L = m (...)/2 is a sum of short terms);
         ``own``: the part ``expr`` defines, not replaced by its own name."""
         expr = expr.xreplace({k: v for k, v in self.names.items() if k is not own and k != own})
-        spread = sp.expand(expr)
+        spread = pythagoras(sp.expand(expr))
         if spread.is_Add and sp.count_ops(spread) <= 2 * sp.count_ops(expr) + 4:
             expr = spread
         for _ in range(200):
