@@ -24,7 +24,8 @@ def physics(d):
     x = l_prime * sp.sin(phi) + s * sp.sin(psi)
     y = -l_prime * sp.cos(phi) - s * sp.cos(psi)  # up is +y
     density = M / l
-    T = sp.integrate(density / 2 * (x.diff(t) ** 2 + y.diff(t) ** 2), (s, 0, l))
+    # cos phi cos psi + sin phi sin psi = cos(phi - psi): the form a reader expects (trigsimp, on a small T)
+    T = sp.trigsimp(sp.integrate(density / 2 * (x.diff(t) ** 2 + y.diff(t) ** 2), (s, 0, l)))
     U = sp.integrate(density * g * y, (s, 0, l))
     d.lagrangian(T - U)
     d.note("the exercise integrates no motion: its answer is the normal modes of these equations, "
