@@ -87,8 +87,9 @@ def print_derivation(ex, latex: bool = False, as_json: bool = False) -> None:
         sys.stdout.write(json.dumps({"id": ex.id, "derived": True, **der.as_json()}, indent=2) + "\n")
         return
     rule = _rule()
-    out = [f"{ex.id} {ex.title}: physics declared, equations derived by sympy.physics.mechanics", "",
-           f"{rule * 2} declared", *der.declared()]
+    head = f"{ex.id} {ex.title}: physics declared, equations derived by sympy.physics.mechanics"
+    out = [*textwrap.wrap(head, 100, subsequent_indent="    "), "", f"{rule * 2} declared",
+           *(row for line in der.declared() for row in textwrap.wrap(line, 100, subsequent_indent="    "))]
     for heading, lines in der.sections(latex=latex):
         out.append("")
         out.append(f"{rule * 2} {heading}")

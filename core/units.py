@@ -64,6 +64,17 @@ UNITS: dict[str, tuple[float, tuple]] = {
     # derived
     "N": (1.0, _dim(l=1, m=1, t=-2)), "J": (1.0, _dim(l=2, m=1, t=-2)), "W": (1.0, _dim(l=2, m=1, t=-3)),
 }
+# the units as a student spells them out: both spellings, singular and plural
+_SPELLED = {
+    "metre": "m", "meter": "m", "kilometre": "km", "kilometer": "km", "centimetre": "cm", "centimeter": "cm",
+    "millimetre": "mm", "millimeter": "mm", "micrometre": "um", "micrometer": "um",
+    "mile": "mi", "kilogram": "kg", "gram": "g", "gramme": "g", "milligram": "mg", "tonne": "t",
+    "second": "s", "sec": "s", "millisecond": "ms", "microsecond": "us", "minute": "min", "hour": "h",
+    "hr": "h", "day": "day", "year": "yr", "turn": "turn", "revolution": "rev", "rev": "rev",
+    "newton": "N", "joule": "J", "watt": "W",
+}
+UNITS.update({w: UNITS[u] for word, u in _SPELLED.items() for w in (word, word + "s")})
+UNITS.update({"hertz": UNITS["Hz"], "kilohertz": UNITS["kHz"], "inches": UNITS["inch"]})
 CONSTANTS = {"pi": math.pi}
 # a near miss is pointed at the short name (a typo of "degrees" gets "deg")
 _SHORT = {"degree": "deg", "degrees": "deg", "radian": "rad", "radians": "rad", "foot": "ft", "feet": "ft",
@@ -116,7 +127,8 @@ _NUM = r"(?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)"
 _TOKEN = re.compile(rf"\s*(?:{_NUM}|(?P<name>[A-Za-z_]\w*)|(?P<op>\*\*|[-+*/^()])|(?P<bad>\S))")
 _FORMULA_TOKEN = re.compile(rf"\s*(?:{_NUM}|(?P<name>[^\W\d]\w*)|(?P<op>\*\*|[-+*/^(),])|(?P<bad>\S))")
 _REPLACE = (("·", "*"), ("×", "*"), ("°", "deg"), ("π", " pi "), ("µ", "u"))  # 2π√x: a name apiece
-_FORMULA_REPLACE = _REPLACE + (("−", "-"), ("√", " sqrt "), ("²", "^2"), ("³", "^3"), ("⁴", "^4"))
+_FORMULA_REPLACE = _REPLACE + (("−", "-"), ("√", " sqrt "), ("²", "^2"), ("³", "^3"), ("⁴", "^4"),
+                                   ("½", "(1/2)"))
 
 
 def tokens(text: str, symbols: dict[str, str] | None = None, formula: bool = False) -> list[tuple[str, str]]:
@@ -151,15 +163,34 @@ def tokens(text: str, symbols: dict[str, str] | None = None, formula: bool = Fal
         kind = m.lastgroup
         if kind == "bad":
             ch = m.group(kind)
+            if ch == "," and out and out[-1][0] == "num":
+                decimal_comma(out[-1][1], text[pos:])
             raise ValueError_(f"unexpected character '{ch if ch.isprintable() else ascii(ch)[1:-1]}'")
-        out.append((kind, m.group(kind)))
+        tok = m.group(kind)
+        if tok == "," and text[m.start(kind) - 1:m.start(kind)].isdigit() and text[pos:pos + 1].isdigit():
+            kind = "comma"  # glued between digits (``0,5``): a decimal comma where no comma belongs
+        out.append((kind, tok))
     return out
 
 
+def decimal_comma(before: str, after: str) -> None:
+    """A comma between two digits (``0,00113``) is a decimal comma: ``ValueError_`` saying how to write the
+    number (three digits after it may be a thousands separator: both readings are named)."""
+    m = re.match(_NUM, after)
+    if not before[-1:].isdigit() or m is None or not after[:1].isdigit():
+        return
+    digits = m.group("num")
+    if re.fullmatch(r"\d{3}", digits) and before.isdigit() and before[0] != "0":
+        raise ValueError_(f"write {before}.{digits} (or {before}{digits}): the decimal point is '.', and "
+                          "numbers have no thousands separator")
+    raise ValueError_(f"write {before}.{digits}: the decimal point is '.'")
+
+
 def _symbol_at(text: str, pos: int, syms: list[str]) -> str | None:
-    """The longest symbol starting a word at ``pos`` and ending one (``θ₀`` in ``2θ₀``, not in ``xθ₀``)."""
-    if pos >= len(text) or (pos > 0 and (text[pos - 1].isalnum() or text[pos - 1] == "_")):
-        return None
+    """The longest symbol starting a word at ``pos`` and ending one (``M'`` in ``3M'``, not in ``xM'``)."""
+    if pos >= len(text) or (pos > 0 and ((text[pos - 1].isalnum() and not text[pos - 1].isdigit())
+                                         or text[pos - 1] == "_")):
+        return None  # a digit before is a number's last (``3M'``): a name's would have taken the symbol in
     for s in syms:
         end = pos + len(s)
         if text.startswith(s, pos) and not (end < len(text) and (text[end].isalnum() or text[end] in "_'")):
@@ -205,8 +236,15 @@ class _Parser:
             raise ValueError_(f"empty {self.what}")
         q = self.expr()
         if self.i != len(self.toks):
+            self.decimal_comma(self.i)
             raise ValueError_(f"unexpected '{self.peek()[1]}'")
         return q
+
+    def decimal_comma(self, i: int) -> None:
+        """Token ``i`` a comma between two numbers (``0,5``) where no comma belongs: say how to write it."""
+        if 0 < i < len(self.toks) - 1 and self.toks[i][0] == "comma" and self.toks[i - 1][0] == "num" \
+                and self.toks[i + 1][0] == "num":
+            decimal_comma(self.toks[i - 1][1], self.toks[i + 1][1])
 
     def expr(self):
         self.enter()
@@ -272,6 +310,7 @@ class _Parser:
             if self.peek()[1] != "(":
                 raise ValueError_(f"'{val}' is a function: write {val}(...)")
             self.take()
+            start = self.i
             args = [self.expr()]
             while self.peek()[1] == ",":
                 self.take()
@@ -279,10 +318,13 @@ class _Parser:
             if self.take()[1] != ")":
                 raise ValueError_(f"missing ')' after the argument of {val}")
             if len(args) != arity:
+                for j in range(start, self.i):
+                    self.decimal_comma(j)
                 raise ValueError_(f"{val} takes {arity} argument{'s' if arity > 1 else ''}, got {len(args)}")
             return self.build.call(val, args)
         if val == "(":
             q = self.expr()
+            self.decimal_comma(self.i)
             if self.take()[1] != ")":
                 raise ValueError_("missing ')'")
             return q

@@ -414,6 +414,8 @@ class Derivation:
 
         ex, d, plain, args = self.ex, self.d, self._plain, self.args
         Q, U, n = self.Q, self.U, self.n
+        if d.state_exprs is None and not ex.states:  # no motion integrated (4.12: normal modes)
+            return
         if d.state_exprs is None:
             raise ValueError(f"{ex.id}: the declaration gives no states")
         if len(d.state_exprs) != len(ex.states):
@@ -525,61 +527,60 @@ class Derivation:
         return [float(v) for v in x[:k]], [float(v) for v in x[k:]]
 
     # -- showing
-    def sections(self, latex: bool = False) -> list[tuple[str, list[str]]]:
-        """(heading, lines) of the declaration and the derived equations, pretty-printed or as LaTeX."""
+    def sections(self, latex: bool = False, fold: bool = True) -> list[tuple[str, list[str]]]:
+        """(heading, lines) of the declaration and the derived equations, pretty-printed or as LaTeX:
+        simplified, each line at most ``derive_text.WIDTH`` characters (a long sum cut between its terms, a
+        wide part named below it); ``fold=False``: each LaTeX equation one string, however long (JSON)."""
         import sympy as sp
         from sympy.physics import mechanics as me
-        from sympy.physics.vector import vlatex
 
-        from sympy.physics.vector.printing import VectorPrettyPrinter
-
-        pretty = VectorPrettyPrinter({"use_unicode": True, "wrap_line": False})
-
-        def fmt(e):
-            return vlatex(e) if latex else pretty.doprint(e)
+        from mech.problems.derive_text import Shower, tidy, wrap_plain
 
         d = self.d
+        cache = self.__dict__.setdefault("_tidied", {})
+        show = Shower(latex, {str(s) for s in self.P} | {str(qi.func) for qi in d.q}, fold)
+
+        def eq(head, e, zero=False):
+            return show.equation(head, tidy(e, cache), zero)
+
+        def lines(*groups):
+            return [line for g in groups for line in g]
+
         out = []
         if self.method == "Lagrange":
-            out.append(("Lagrangian L", [fmt(sp.Eq(sp.Symbol("L"), d.L))]))
+            out.append(("Lagrangian L", eq(sp.Symbol("L"), d.L)))
             if d.generalized_forces:
-                out.append(("generalized forces", [fmt(sp.Eq(sp.Symbol(f"Q_{k.func}"), v))
-                                                   for k, v in d.generalized_forces.items()]))
+                out.append(("generalized forces", lines(*(eq(sp.Symbol(f"Q_{k.func}"), v)
+                                                          for k, v in d.generalized_forces.items()))))
             if d.rayleigh is not None:
-                out.append(("Rayleigh dissipation function", [fmt(sp.Eq(sp.Symbol("F"), d.rayleigh))]))
+                out.append(("Rayleigh dissipation function", eq(sp.Symbol("F"), d.rayleigh)))
             if d.loads:
-                out.append(("loads", [f"{pt}: " + fmt(f) for pt, f in d.loads]))
+                out.append(("loads", lines(*(show.vector(f"{pt}", f, cache) for pt, f in d.loads))))
             if d.holonomic:
                 out.append(("holonomic constraints (each with its multiplier)",
-                            [fmt(sp.Eq(c, 0)) for c in d.holonomic]))
+                            lines(*(eq(None, c, True) for c in d.holonomic))))
             lam = {lv: sp.Symbol(f"lambda_{j + 1}") for j, lv in enumerate(self.lm.lam_vec)} if d.holonomic else {}
-            out.append(("equations of motion (Lagrange's, = 0)",
-                        [fmt(sp.Eq(_tidy(e.xreplace(lam)), 0)) for e in self.eom]))
+            out.append(("equations of motion (Lagrange's, = 0)", lines(*(eq(None, e.xreplace(lam), True)
+                                                                        for e in self.eom))))
         else:
-            out.append(("bodies", [_body_text(b, fmt) for b in d.bodies]))
-            out.append(("loads", [f"{pt}: " + fmt(f) for pt, f in d.loads]))
-            out.append(("kinematic differential equations (= 0)", [fmt(sp.Eq(k, 0)) for k in d.kinematics]))
+            out.append(("bodies", lines(*(show.wrap(_body_text(b, show.text)) for b in d.bodies))))
+            out.append(("loads", lines(*(show.vector(f"{pt}", f, cache) for pt, f in d.loads))))
+            out.append(("kinematic differential equations (= 0)", lines(*(eq(None, k, True) for k in d.kinematics))))
             if d.nonholonomic:
                 out.append(("nonholonomic constraints (= 0), fixing " + ", ".join(str(u.func) for u in d.u_dependent),
-                            [fmt(sp.Eq(_tidy(me.msubs(c, self.km.kindiffdict())), 0)) for c in d.nonholonomic]))
-            out.append(("equations of motion (Kane's, Fr + Fr* = 0)",
-                        [fmt(sp.Eq(_tidy(e), 0)) for e in self.eom]))
+                            lines(*(eq(None, me.msubs(c, self.km.kindiffdict()), True) for c in d.nonholonomic))))
+            out.append(("equations of motion (Kane's, Fr + Fr* = 0)", lines(*(eq(None, e, True) for e in self.eom))))
         solved = self.solved()
         if solved:
-            out.append(("solved for the accelerations", [fmt(sp.Eq(k, v)) for k, v in solved]))
+            out.append(("solved for the accelerations", lines(*(eq(k, v) for k, v in solved))))
         for heading, e in d.shown.items():
-            out.append((heading, [fmt(e)]))
-        def named(name, e):  # the state's own name as plain text (sympy would read its underscores)
-            body = fmt(sp.sympify(e))
-            if latex:
-                return r"\mathrm{" + name.replace("_", r"\_") + "} = " + body
-            return f"{name} = {body}" if "\n" not in body else f"{name} =\n{body}"
-
-        out.append(("states integrated (SI)", [
-            named(f"d{name}/dt", e.expr) if isinstance(e, Rate) else named(name, e)
-            for (name, _), e in zip(self.ex.states, d.state_exprs)]))
+            out.append((heading, eq(None, e)))
+        if d.state_exprs is not None:
+            out.append(("states integrated (SI)", lines(*(
+            eq(f"d{name}/dt", e.expr) if isinstance(e, Rate) else eq(name, sp.sympify(e))
+                for (name, _), e in zip(self.ex.states, d.state_exprs)))))
         if d.notes and not latex:
-            out.append(("notes", d.notes))
+            out.append(("notes", lines(*(wrap_plain(n) for n in d.notes))))
         return out
 
     def symbol(self, name: str):
@@ -636,7 +637,7 @@ class Derivation:
     @property
     def latex(self) -> dict:
         """Heading -> the LaTeX strings of that part (Lagrangian, constraints, equations of motion, ...)."""
-        return {h: lines for h, lines in self.sections(latex=True)}
+        return {h: lines for h, lines in self.sections(latex=True, fold=False)}
 
     @property
     def text(self) -> str:
@@ -647,7 +648,7 @@ class Derivation:
         return "\n".join(out)
 
     def _repr_latex_(self) -> str:  # a notebook shows the equations of motion
-        eqs = [line for h, lines in self.sections(latex=True) if h.startswith(("equations", "solved"))
+        eqs = [line for h, lines in self.sections(latex=True, fold=False) if h.startswith(("equations", "solved"))
                for line in lines]
         return "$$" + r" \\ ".join(eqs) + "$$" if eqs else ""
 
@@ -662,7 +663,7 @@ class Derivation:
                 "constants": [{"name": str(sym), "value": None if callable(v) else v, "unit": unit, "why": why}
                               for sym, (v, unit, why) in d.constant_values.items()],
                 "notes": list(d.notes),
-                "sections": [{"heading": h, "latex": lines} for h, lines in self.sections(latex=True)
+                "sections": [{"heading": h, "latex": lines} for h, lines in self.sections(latex=True, fold=False)
                              if h != "notes"]}
 
 
@@ -671,8 +672,10 @@ def _body_text(b, fmt):
 
     if isinstance(b, Particle):
         return f"particle {b.name}: mass {b.mass}, at {b.masscenter}"
-    return f"rigid body {b.name}: mass {b.mass}, inertia about {b.central_inertia and b.masscenter} = " + fmt(
-        b.central_inertia.to_matrix(b.frame).applyfunc(__import__("sympy").simplify))
+    matrix = fmt(b.central_inertia.to_matrix(b.frame).applyfunc(__import__("sympy").simplify))
+    # a matrix the terminal draws goes on lines of its own, under the words
+    return f"rigid body {b.name}: mass {b.mass}, inertia about {b.masscenter} =" + ("\n" if "\n" in matrix else " ") \
+        + matrix
 
 
 # ---------------------------------------------------------------------------------------------- comparing

@@ -110,11 +110,13 @@ _OPS = {"+": "add", "-": "sub", "*": "mul", "/": "div", "^": "pow"}
 
 
 class _Tree:
-    """A formula's parts, for ``core.units.parse``: a name is, in order, a parameter, ``pi``, a function
-    (followed by ``(``), a unit."""
+    """A formula's parts, for ``core.units.parse``: a name is, in order, a parameter (its name or symbol), ``pi``,
+    a function (followed by ``(``), a unit, another spelling of a parameter's name or symbol (``omega_0``,
+    ``ω0`` for ``ω₀``), a quantity the exercise's printed formulas define (5.5's ``ω_d``)."""
 
-    def __init__(self, params: set[str]):
-        self.params = params
+    def __init__(self, names: "Names"):
+        self.names = names
+        self.params = names.params
 
     def function(self, name):
         if name in self.params or name not in FUNCTIONS:
@@ -136,10 +138,13 @@ class _Tree:
         if val in UNITS:
             factor, d = UNITS[val]
             return ("unit", factor, _from_unit_dim(d), val)
+        found = self.names.resolve(val)
+        if found is not None:
+            return found
         if val.lower() in ("nan", "inf", "infinity"):
             raise FormulaError("not a finite number")
-        raise FormulaError(f"unknown name '{_cut(val)}'{_juxtaposed(val)}; the parameters here are: "
-                           f"{', '.join(sorted(self.params))}")
+        raise FormulaError(f"unknown name '{_cut(val)}'{_juxtaposed(val) or self.names.hint(val)}; "
+                           f"{self.names.listed()}")
 
     @staticmethod
     def neg(node):
@@ -615,7 +620,7 @@ class Formula:
 
 
 def parameter_symbols(ex) -> dict[str, str]:
-    """Every way a formula may name a parameter of ``ex``: name -> name, and each symbol -> name."""
+    """The symbols of ``ex``'s parameters that differ from their names (``θ₀``, ``M'``, ``h/R``): symbol -> name."""
     out = {}
     for p in getattr(ex, "params", ()):
         if p.symbol and p.symbol != p.name:
@@ -623,15 +628,171 @@ def parameter_symbols(ex) -> dict[str, str]:
     return out
 
 
+# -- the names a formula may use ------------------------------------------------------------------------
+
+_GREEK = dict(zip("αβγδεϵζηθϑικλμνξοπρστυφϕχψωΓΔΘΛΞΠΣΦΨΩ",
+                  ("alpha beta gamma delta epsilon epsilon zeta eta theta theta iota kappa lambda mu nu xi omicron "
+                   "pi rho sigma tau upsilon phi phi chi psi omega Gamma Delta Theta Lambda Xi Pi Sigma Phi Psi "
+                   "Omega").split()))
+_SUBSCRIPTS = str.maketrans("₀₁₂₃₄₅₆₇₈₉ₐₑₒₓₕₖₗₘₙₚₛₜ", "0123456789aeoxhklmnpst")
+
+
+def spelling(name: str) -> str:
+    """The key two spellings of one name share: Greek letters spelled out, subscripts as plain characters,
+    underscores dropped (``ω₀``, ``ω_0``, ``omega0``, ``omega_0`` -> ``omega0``; case is kept: ``Ω`` is
+    ``Omega``)."""
+    return "".join(_GREEK.get(ch, ch) for ch in name.translate(_SUBSCRIPTS)).replace("_", "")
+
+
+class Names:
+    """The names a formula of one exercise may use: its parameters (names, symbols and their other
+    spellings, where only one parameter has that spelling) and the quantities its printed formulas define
+    (``ω_d = (ω₀² − δ²)^½`` in 5.5: ``ω_d`` and ``omega_d`` stand for that expression)."""
+
+    def __init__(self, ex):
+        self.params = set(getattr(ex, "param_map", ()) or (p.name for p in getattr(ex, "params", ())))
+        self.symbols = parameter_symbols(ex)
+        self.pdims = {p.name: dim_of_unit(p.unit)[1] for p in getattr(ex, "params", ())}
+        outputs = {spelling(o.name) for o in getattr(ex, "outputs", ())}
+        keyed: dict[str, set] = {}
+        for p in getattr(ex, "params", ()):
+            for written in (p.name, p.symbol):
+                if written:
+                    keyed.setdefault(spelling(written), set()).add(p.name)
+        self.keys = {k: next(iter(v)) for k, v in keyed.items() if len(v) == 1}
+        taken = set(keyed) | outputs | {spelling(u) for u in UNITS} | set(FUNCTIONS) | {"pi"}
+        self.defined: dict[str, tuple[str, tuple]] = {}  # key -> (the name as printed, its tree)
+        self._define(getattr(ex, "formulas", ()), taken)
+
+    def resolve(self, name: str):
+        """The tree ``name`` stands for (a parameter or a defined quantity), or None."""
+        key = spelling(name)
+        if key in self.keys:
+            return ("par", self.keys[key])
+        if key in self.defined:
+            return self.defined[key][1]
+        return None
+
+    def known(self, name: str) -> bool:
+        return name in self.params or self.resolve(name) is not None
+
+    def listed(self) -> str:
+        out = f"the parameters here are: {', '.join(sorted(self.params))}"
+        if self.defined:
+            out += f"; and as mech's formulas define them: {', '.join(n for n, _ in self.defined.values())}"
+        return out
+
+    def hint(self, name: str) -> str:
+        """" (did you mean omega0?)" for a near miss of a name here, else of a unit, else ""."""
+        import difflib
+
+        from mech.core.units import unit_hint
+
+        if len(name) < 2 or len(name) > 40:
+            return ""
+        mine = sorted(self.params | set(self.symbols) | {n for n, _ in self.defined.values()})
+        close = difflib.get_close_matches(name, mine, n=1, cutoff=0.75)
+        unit = unit_hint(name).removeprefix("; ")
+        return f" ({f'did you mean {close[0]}?' if close else unit})" if close or unit else ""
+
+    def _define(self, formulas, taken: set) -> None:
+        """Read the definitions ``NAME = expression`` that the printed formulas make (a clause of its own,
+        its right side a formula of the parameters and of names defined before it): never a parameter, an
+        output, a unit, a function; a name defined twice differently is left out."""
+        clauses: dict[str, dict[str, list[str]]] = {}  # key -> {the clause: its right sides}
+        printed: dict[str, set] = {}
+        for line in formulas:
+            for clause in _clauses(str(line)):
+                found = _definition(clause)
+                if found is None or spelling(found[0]) in taken:
+                    continue
+                name, squared, rhs = found
+                # each side after the first '=' says the same (up to a comment set off by two spaces)
+                sides = [r.split("  ")[0] for r in rhs.split("=") if r.strip()]
+                key = spelling(name)
+                printed.setdefault(key, set()).add(name)
+                clauses.setdefault(key, {})[clause.strip()] = [f"sqrt({r})" if squared else r for r in sides]
+        # one clause a name, printed one way (4.1's I_axis is M R² for a hoop and M R²/2 for a disk: neither)
+        heads = [(next(iter(printed[k])), sides) for k, c in clauses.items() if len(c) == 1 and len(printed[k]) == 1
+                 for sides in c.values()]
+        for _ in range(3):  # a definition may use one made later on the line (5.12's ξ uses ω₀)
+            for name, sides in heads:
+                if spelling(name) not in self.defined:
+                    tree = next((t for t in map(self._read, sides) if t is not None), None)
+                    if tree is not None:
+                        self.defined[spelling(name)] = (name, tree)
+
+    def _read(self, rhs: str):
+        for a, b in (("{", "("), ("}", ")"), ("[", "("), ("]", ")")):
+            rhs = rhs.replace(a, b)
+        try:
+            tree = parse(rhs.strip(), _Tree(self), "formula", MAX_DEPTH, self.symbols)
+            _dim(tree, self.pdims)  # a definition whose parts clash is not one mech makes
+        except (ValueError_, FormulaError):
+            return None
+        # a definition names parameters and no unit (4.31's φ = ω_E t is not a tonne)
+        return tree if _names_in(tree, set()) and not _contains(tree, ("unit",)) else None
+
+
+def _definition(clause: str):
+    """(name, squared, right side) of a clause ``NAME = ...`` or ``NAME² = ...`` (a positive root: Ω² = g/l),
+    the right side up to a comparison or an arrow; None for any other clause."""
+    lhs, eq, rhs = clause.partition("=")
+    name = lhs.strip()
+    squared = name.endswith("²")
+    name = name.removesuffix("²")
+    if not eq or not name or not name[0].isalpha() or not all(c.isalnum() or c == "_" for c in name) \
+            or "²" in name or rhs[:1] in "=<>" or lhs[-1:] in "<>!":
+        return None
+    cut = min((i for i, c in enumerate(rhs) if c in "≈⇒→:≤≥<>"), default=len(rhs))
+    return name, squared, rhs[:cut]
+
+
+def _clauses(line: str) -> list[str]:
+    """``line`` cut at its top-level commas and semicolons."""
+    out, depth, cur, inner = [], 0, [], []
+    for ch in line:
+        depth += (ch in "([{") - (ch in ")]}")
+        if depth == 0 and ch in ",;":
+            out.append("".join(cur))
+            cur = []
+        else:
+            cur.append(ch)
+        if depth == 1 and ch == "(" and not inner:
+            inner = [""]
+        elif inner and depth >= 1:
+            inner[-1] += ch
+        elif inner:  # a parenthesis closed: what it says may be a definition of its own ("(q_st = F₀/(m ω₀²))")
+            out += _clauses(inner.pop()) if "=" in inner[-1] else []
+            inner = []
+    out.append("".join(cur))
+    return out
+
+
+_NAMES: dict = {}
+
+
+def names_of(ex) -> Names:
+    """The names ``ex``'s formulas may use (kept per exercise: its parameters and formulas are fixed)."""
+    key = (getattr(ex, "id", None), tuple((p.name, p.symbol) for p in getattr(ex, "params", ())),
+           tuple(getattr(ex, "formulas", ()) or ()), tuple(o.name for o in getattr(ex, "outputs", ())))
+    if key not in _NAMES:
+        if len(_NAMES) > 256:
+            _NAMES.clear()
+        _NAMES[key] = Names(ex)
+    return _NAMES[key]
+
+
 def looks_like_formula(text: str, ex, parameters_only: bool = False) -> bool:
-    """Does ``text`` name any parameter of ``ex`` (by name or symbol) or (unless ``parameters_only``) a
-    function?"""
+    """Does ``text`` name any parameter of ``ex`` (by name, symbol or another spelling, or a quantity its
+    formulas define) or (unless ``parameters_only``) a function?"""
+    names = names_of(ex)
     try:
-        toks = tokens(str(text)[:MAX_LENGTH], parameter_symbols(ex), formula=True)
+        toks = tokens(str(text)[:MAX_LENGTH], names.symbols, formula=True)
     except ValueError_ as exc:  # a character no value has: the formula's parser names it
         return "unexpected character" in str(exc) and not parameters_only
-    names = set(getattr(ex, "param_map", ()))
-    return any(k == "name" and (v in names or (v in FUNCTIONS and not parameters_only)) for k, v in toks)
+    return any(k == "name" and (v in names.params or (v in FUNCTIONS and not parameters_only)
+                                or (v not in UNITS and names.known(v))) for k, v in toks)
 
 
 def parse_formula(text: str, ex) -> Formula:
@@ -643,7 +804,8 @@ def parse_formula(text: str, ex) -> Formula:
     if text.count("(") > MAX_DEPTH * 4:
         raise FormulaError(f"formula nested too deeply (more than {MAX_DEPTH} levels)")
     try:
-        tree = parse(text, _Tree(set(ex.param_map)), "formula", MAX_DEPTH, parameter_symbols(ex))
+        names = names_of(ex)
+        tree = parse(text, _Tree(names), "formula", MAX_DEPTH, names.symbols)
     except FormulaError:
         raise
     except ValueError_ as exc:

@@ -441,14 +441,17 @@ def test_show_derive_latex_and_json():
     der = registry.get("5.12").derive()
     from sympy.physics.vector import vlatex
 
+    from mech.problems.derive_text import tidy
+
     theta = der.d.q[0]
     [(acc, expr)] = der.solved()
-    assert vlatex(sympy.Eq(acc, expr)) in out and "\\ddot{\\theta}" in out
+    want = vlatex(sympy.Eq(acc, tidy(expr)))  # as shown: simplified, then cut at spaces into lines of 100
+    assert " ".join(want.split()) in " ".join(out.split()) and "\\ddot{\\theta}" in out
     code, out, err = _mech("show", "5.12", "--derive", "--json")
     doc = json.loads(out)
     assert doc["derived"] and doc["parameters"] == ["l", "g", "delta", "a", "Omega"]
     lines = [line for s in doc["sections"] for line in s["latex"]]
-    assert vlatex(sympy.Eq(acc, expr)) in lines and str(theta.func) in doc["coordinates"]
+    assert want in lines and str(theta.func) in doc["coordinates"]  # JSON: one string an equation
 
 
 @pytest.mark.parametrize("ex_id, words", [("4.24", "reduced model"), ("4.1", "integrates no equations")])
