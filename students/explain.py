@@ -724,7 +724,7 @@ def _const_ratio(yours, ref, tol, mask) -> float | None:
     # a factor is a slip only where it stands well clear of the tolerance (1 + 1e-9 is no factor), and it
     # must reproduce the answer within half the tolerance the answer was judged by
     rel = float(np.max(tol[use] / np.abs(ref[use])))
-    if not abs(c - 1.0) > 10.0 * rel:
+    if within(abs(c - 1.0), bars=(10.0 * rel,)):
         return None
     with np.errstate(over="ignore"):  # a huge factor: its bound is infinite, as it was before it overflowed
         held = within(np.abs(yours[use] - c * ref[use]), bars=(0.5 * tol[use] * max(1.0, abs(c)),))
