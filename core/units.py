@@ -35,6 +35,18 @@ class ValueError_(ValueError):
     """A value that cannot be read or converted; the message is user-facing."""
 
 
+class UnknownName(ValueError_):
+    """A name that is no unit or constant; its did-you-mean is worked out only when the message is read (a
+    formula tried first as a value fails here on every parameter name, and the hint is never shown)."""
+
+    def __init__(self, name: str):
+        super().__init__(name)
+        self.name = name
+
+    def __str__(self) -> str:
+        return f"unknown unit or name '{self.name}'{unit_hint(self.name)}"
+
+
 # dimension exponents: length, mass, time, angle
 _L, _M, _T, _A = (1, 0, 0, 0), (0, 1, 0, 0), (0, 0, 1, 0), (0, 0, 0, 1)
 _ONE = (0, 0, 0, 0)
@@ -353,7 +365,7 @@ class _Value:
             return Dimensioned(factor, dim, True)
         if val.lower() in ("nan", "inf", "infinity"):
             raise ValueError_("not a finite number")
-        raise ValueError_(f"unknown unit or name '{val}'{unit_hint(val)}")
+        raise UnknownName(val)
 
     @staticmethod
     def neg(q):

@@ -71,8 +71,10 @@ def _from_unit_dim(d) -> Dim:
     return tuple(Fraction(x) for x in d[:3])
 
 
+@functools.lru_cache(maxsize=512)
 def dim_of_unit(unit: str) -> tuple[float, Dim]:
-    """SI factor and dimension (angle dropped) of a catalogue unit such as ``kg*m^2/s`` or ``rad``."""
+    """SI factor and dimension (angle dropped) of a catalogue unit such as ``kg*m^2/s`` or ``rad`` (read once:
+    a class file asks for the same few units at every formula)."""
     from mech.core.units import parse_unit
 
     factor, d = parse_unit(unit)
