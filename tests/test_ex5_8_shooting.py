@@ -186,3 +186,19 @@ def test_the_response_keeps_its_symmetry_where_the_old_map_failed():
     hb = DuffingBalance(np.array([p["delta"] / p["omega0"]]), np.array([p["alpha"] * Q * Q / (p["omega0"] * p["delta"])]))
     phi = brentq(lambda x: hb.evaluate(np.array([x]), np.array([0])).w[0] - w, 0.05, 1.5, xtol=1e-14)
     assert A == pytest.approx(Q * hb.evaluate(np.array([phi]), np.array([0])).A[0], rel=2e-3)
+
+
+def test_at_a_q_of_1e10_the_peak_shift_is_claimed_on_the_half_width():
+    """omega0 = 2.9e6 rad/s, delta = 1.6e-4 /s (Q ~ 1e10): the peak shift kappa A_max^2 = -4.7e-9 rad/s is
+    3e-5 of the half-width delta.  Shooting resolves the peak's position in w = xi/delta only to the orbit's
+    noise (the integration's 1e-14 over the damping per period, 1.5e-5 in w), so the numeric xi_peak (-7.7e-9
+    from the shot orbits) is worth +- delta x noise: its error bar must cover its distance from the
+    leading-order value, which the reduced equations give to ~ (delta/omega0, alpha A^2/omega0^2) ~ 1e-10
+    relative here.  Before, the bar was 3e-11 and the cross-check said 63 % apart (draws, seed 7301)."""
+    import mech
+
+    sol = mech.solve("5.8", omega0=2.90138e6, delta=0.000156656, alpha=-7.79963e8, f0=0.00621027)
+    q = sol["xi_peak"]
+    assert q.agree is True
+    assert abs(q.numeric - q.analytic) <= q.numeric_err
+    assert q.numeric_err <= 1e-2 * 0.000156656  # a claim on the half-width scale (1.5e-3 of it), not a blank

@@ -358,12 +358,15 @@ def _claims(P, rtol):
     """{output: (rel, abs)}: the accuracy each output is claimed to."""
     _, _, d, _ = _scaled(P)
     # the claim: 100 rtol, or 10 times Newton's tolerance where high Q's noise sets it (``_shot_tolerances``)
-    rel = np.maximum(exercise.tol_factor * rtol, 10.0 * _shot_tolerances(d, rtol)[1])
-    # the peak's position is a root of dA/dphi: an absolute claim on the curve's own scale, the half-width,
-    # for a peak shift that may be tiny (weak alpha)
-    zero = np.zeros_like(rel)
-    return {"A_max": (rel, zero), "xi_peak": (rel, 1e3 * rtol * np.asarray(P["delta"], dtype=float)),
-            "xi_lo": (rel, zero), "xi_hi": (rel, zero)}
+    step = _shot_tolerances(d, rtol)[1]
+    rel = np.maximum(exercise.tol_factor * rtol, 10.0 * step)
+    # the peak's and folds' positions are roots in w = xi/delta, found to Newton's step (and to the orbit's
+    # noise over d^2A/dw^2 ~ 1, in A_max's units): an absolute claim on the curve's own scale, the
+    # half-width delta, for a shift that may be tiny (weak alpha; at Q = 1e10 the noise is 1e-5 in w)
+    delta = np.asarray(P["delta"], dtype=float)
+    in_w = 10.0 * step * delta
+    return {"A_max": (rel, np.zeros_like(rel)), "xi_peak": (rel, np.maximum(1e3 * rtol * delta, in_w)),
+            "xi_lo": (rel, in_w), "xi_hi": (rel, in_w)}
 
 
 @exercise.numeric
