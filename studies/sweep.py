@@ -584,29 +584,17 @@ def _failed_column(n, why):
     return Column(np.full(n, np.nan), rel=np.nan, abs=0.0, failed=[(np.ones(n, dtype=bool), why)])
 
 
-def run_batched(
-    ex: Exercise,
-    axes: Sequence[Axis],
-    fixed: dict[str, float],
-    outputs: Sequence[str],
-    *,
-    rtol: float | None = None,
-    verify: bool = True,
-    chunk: int = CHUNK,
-    progress: Callable[[int], None] | None = None,
-    total_s: float | None = None,
-    points: dict | None = None,
-) -> Sweep:
-    """The chart route (``_run_batched``, which says what the options do).  numpy's warnings (an invalid
-    value in an intermediate that the route masks later) are not written to stderr, as in the cross-check:
-    the values they touch are judged like any other, and the warnings are kept, without their source
-    path, in the sweep's ``numeric_info["fp_warnings"]``."""
+def run_batched(ex: Exercise, axes: Sequence[Axis], fixed: dict[str, float], outputs: Sequence[str],
+                **options) -> Sweep:
+    """The chart route (``_run_batched``, whose keywords ``options`` are and which says what they do).  numpy's
+    warnings (an invalid value in an intermediate that the route masks later) are not written to stderr, as
+    in the cross-check: the values they touch are judged like any other, and the warnings are kept, without
+    their source path, in the sweep's ``numeric_info["fp_warnings"]``."""
     import warnings
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", RuntimeWarning)
-        result = _run_batched(ex, axes, fixed, outputs, rtol=rtol, verify=verify, chunk=chunk, progress=progress,
-                              total_s=total_s, points=points)
+        result = _run_batched(ex, axes, fixed, outputs, **options)
     if caught:
         result.batched.info["fp_warnings"] = _warning_lines(caught)
     return result

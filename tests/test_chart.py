@@ -300,7 +300,7 @@ def test_ctrl_c_ends_with_one_line_and_130(monkeypatch):
 
     monkeypatch.setattr(ex, "batched_route", dataclasses.replace(ex.batched_route, numeric=interrupted))
     monkeypatch.setattr(sweep, "CHUNK", 4)
-    monkeypatch.setattr(sweep.run_batched, "__kwdefaults__", {**sweep.run_batched.__kwdefaults__, "chunk": 4})
+    monkeypatch.setattr(sweep._run_batched, "__kwdefaults__", {**sweep._run_batched.__kwdefaults__, "chunk": 4})
     code, out, err = run("sweep", "5.11", "--omega", "9.8:10.2:3", "--mu", "0.01:0.1:3", "--only", "growth")
     assert code == 130 and out == ""
     assert err == "mech: interrupted after 4 of 9 points; nothing written\n"

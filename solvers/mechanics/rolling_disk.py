@@ -205,7 +205,6 @@ def follow_batch(y0, spans, I1, I3, checkpoints, *, rtol, atol, tilt0, tilt_tol,
     ``lost`` to twice it off (it is falling away from the motion followed, toward the flat disk where the
     contact is undefined), so that one falling disk does not stop the others.  ``atol``: per component and disk (13, N).  A single disk's rates are
     evaluated in plain floats."""
-    from mech.solvers.numerics.batch import integrate_batch
 
     y0 = np.asarray(y0, dtype=float)
     N = y0.shape[1]
@@ -220,38 +219,10 @@ def follow_batch(y0, spans, I1, I3, checkpoints, *, rtol, atol, tilt0, tilt_tol,
 
         if integrator is not None:  # forced: each disk alone, the leg by ``ode.integrate``
             y = _forced_leg(y, (s0, s1), span, t0, I1, I3, rtol, atol[:, live], lost, integrator, runs)
-            Y[j + 1][:, live] = y
-            R22 = rotation(y[3], y[4], y[5], y[6])[2][2]
-            keep = np.abs(R22 - tilt0[live]) <= tilt_tol
-            live, y = live[keep], y[:, keep]
-            s0 = s1
-            if live.size == 0:
-                break
-            continue
-        if live.size == 1:  # one disk alone: its rates in plain floats (a fraction of the arrays' overhead)
-            def rhs(s, yy, span=float(span[0]), t0=float(t0[0])):
-                try:
-                    f, nz = tilted_rates(yy[:, 0].tolist(), I1, I3)
-                except ArithmeticError:  # a trial stage off the floor's domain: NaN, and the step is refused
-                    return np.full(yy.shape, np.nan)
-                return np.array(f)[:, None] * (span * _held(min(abs(nz - t0) / lost - 1.0, 1.0)) if
-                                               abs(nz - t0) > lost else span)
         else:
-            def rhs(s, yy, span=span, t0=t0):
-                f, nz = tilted_rates(yy, I1, I3)
-                x = np.abs(nz - t0)
-                if (x > lost).any():
-                    return np.array(f) * (span * _held(np.minimum(np.maximum(x / lost - 1.0, 0.0), 1.0)))
-                return np.array(f) * span
-
-        # a trial stage may leave the floor's domain (NaN, inf): integrate_batch refuses that step and shrinks it
-        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-            got = integrate_batch(rhs, (s0, s1), y, rtol=rtol, atol=atol[:, live], first_step=h)
-        runs.append(got)
-        steps += got.steps
-        y = got.y_end
+            y, h, n = _batched_leg(y, (s0, s1), span, t0, I1, I3, rtol, atol[:, live], lost, h, runs)
+            steps += n
         Y[j + 1][:, live] = y
-        h = (s1 - s0) / max(got.steps, 1)
         R22 = rotation(y[3], y[4], y[5], y[6])[2][2]
         keep = np.abs(R22 - tilt0[live]) <= tilt_tol
         live, y = live[keep], y[:, keep]
@@ -259,6 +230,35 @@ def follow_batch(y0, spans, I1, I3, checkpoints, *, rtol, atol, tilt0, tilt_tol,
         if live.size == 0:
             break
     return Y, steps, runs
+
+
+def _batched_leg(y, leg, span, t0, I1, I3, rtol, atol, lost, h, runs):
+    """One leg of the live disks by the batched DOP853: (their states at its end, the next first step, the
+    steps it took); the integration is appended to ``runs``."""
+    from mech.solvers.numerics.batch import integrate_batch
+
+    s0, s1 = leg
+    if y.shape[1] == 1:  # one disk alone: its rates in plain floats (a fraction of the arrays' overhead)
+        def rhs(s, yy, span=float(span[0]), t0=float(t0[0])):
+            try:
+                f, nz = tilted_rates(yy[:, 0].tolist(), I1, I3)
+            except ArithmeticError:  # a trial stage off the floor's domain: NaN, and the step is refused
+                return np.full(yy.shape, np.nan)
+            return np.array(f)[:, None] * (span * _held(min(abs(nz - t0) / lost - 1.0, 1.0)) if
+                                           abs(nz - t0) > lost else span)
+    else:
+        def rhs(s, yy, span=span, t0=t0):
+            f, nz = tilted_rates(yy, I1, I3)
+            x = np.abs(nz - t0)
+            if (x > lost).any():
+                return np.array(f) * (span * _held(np.minimum(np.maximum(x / lost - 1.0, 0.0), 1.0)))
+            return np.array(f) * span
+
+    # a trial stage may leave the floor's domain (NaN, inf): integrate_batch refuses that step and shrinks it
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        got = integrate_batch(rhs, (s0, s1), y, rtol=rtol, atol=atol, first_step=h)
+    runs.append(got)
+    return got.y_end, (s1 - s0) / max(got.steps, 1), got.steps
 
 
 def _forced_leg(y, s_span, span, t0, I1, I3, rtol, atol, lost, integrator, runs):
