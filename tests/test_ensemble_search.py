@@ -1,0 +1,74 @@
+"""``ensemble_search.brent_minimum``: Brent's bounded minimizer on arrays of N functions.
+
+Each point takes the same steps as a one-point Brent search would (``roots.minimize_bounded``, the
+same rules written for one float), so both land on the same x; the minima themselves are checked against
+where they are known by hand (a shifted cosine's, a quartic's)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from mech.solvers.numerics.ensemble_search import brent_minimum
+from mech.solvers.numerics.roots import minimize_bounded
+
+
+def _funcs():
+    # (function of x and a shift c, where its minimum on [a, b] lies by hand)
+    return [
+        (lambda x, c: (x - c) ** 2 * (1 + 0.3 * (x - c)), lambda c, a, b: c),  # a cubic term: not a parabola
+        (lambda x, c: -np.cos(x - c), lambda c, a, b: c),
+        (lambda x, c: (x - c) ** 4 + 0.1 * x, lambda c, a, b: c - (0.1 / 4) ** (1 / 3)),
+        (lambda x, c: x + 0 * c, lambda c, a, b: a),  # the minimum at the bracket's end
+    ]
+
+
+@pytest.mark.parametrize("k", range(4))
+def test_every_point_lands_where_its_one_point_search_does(k):
+    fn, where = _funcs()[k]
+    c = np.array([0.1, -0.4, 0.77, 0.0, 0.3])
+    a = np.array([-1.0, -2.0, 0.0, -0.5, -1.0])
+    b = np.array([1.0, 1.0, 2.0, 0.5, 0.35])
+    calls = []
+
+    def f(x, idx):
+        calls.append(idx.size)
+        return fn(x, c[idx])
+
+    x, fx, ok = brent_minimum(f, a, b, xatol=1e-9)
+    assert ok.all()
+    for j in range(c.size):
+        xs, fs, _ = minimize_bounded(lambda t: float(fn(np.float64(t), c[j])), a[j], b[j], xatol=1e-9)
+        assert x[j] == xs and fx[j] == fs
+        assert x[j] == pytest.approx(min(max(where(c[j], a[j], b[j]), a[j]), b[j]), abs=1e-7)
+    assert max(calls) == c.size and min(calls) < c.size  # points that are done are no longer evaluated
+
+
+def test_a_start_inside_the_bracket_and_a_point_not_converged():
+    c = np.array([0.25, 2.0])
+    x, fx, ok = brent_minimum(lambda x, idx: (x - c[idx]) ** 2, np.zeros(2), np.full(2, 4.0), xatol=1e-10,
+                              x0=c + 0.01)
+    assert ok.all() and x == pytest.approx(c, abs=1e-9)
+    x, fx, ok = brent_minimum(lambda x, idx: (x - c[idx]) ** 2, np.zeros(2), np.full(2, 4.0), xatol=1e-12,
+                              max_iter=2)
+    assert not ok.any()
+
+
+def test_integrate_variants_fails_a_variant_alone():
+    """y' = c y^2 from y = 1: y = 1/(1 - c t), which blows up at t = 1/c.  Over [0, 2] the variant c = 1 cannot
+    be integrated (its step underflows before t = 1); the others keep their values, in one chunk or in chunks
+    by work, and every integration is recorded."""
+    from mech.solvers.numerics.ensemble_search import integrate_variants
+
+    def system(c):
+        return lambda t, y: c * y * y
+
+    c = np.array([0.1, 1.0, -0.5, 0.3])
+    for work in (None, 1.0 / (2.0 - np.minimum(c, 1.0))):
+        seen = []
+        y, why = integrate_variants(system, (c,), (0.0, 2.0), np.ones((1, 4)), rtol=1e-10, atol=1e-13, work=work,
+                                    record=seen.append)
+        ok = np.array([True, False, True, True])
+        assert np.allclose(y[0, ok], 1.0 / (1.0 - 2.0 * c[ok]), rtol=1e-8, atol=0)
+        assert np.isnan(y[0, 1]) and why[1] and all(w == "" for w in why[ok])
+        assert seen
