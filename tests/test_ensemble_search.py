@@ -66,9 +66,29 @@ def test_integrate_variants_fails_a_variant_alone():
     c = np.array([0.1, 1.0, -0.5, 0.3])
     for work in (None, 1.0 / (2.0 - np.minimum(c, 1.0))):
         seen = []
-        y, why = integrate_variants(system, (c,), (0.0, 2.0), np.ones((1, 4)), rtol=1e-10, atol=1e-13, work=work,
-                                    record=seen.append)
+        y, why, t_stop = integrate_variants(system, (c,), (0.0, 2.0), np.ones((1, 4)), rtol=1e-10, atol=1e-13,
+                                            work=work, record=seen.append)
         ok = np.array([True, False, True, True])
         assert np.allclose(y[0, ok], 1.0 / (1.0 - 2.0 * c[ok]), rtol=1e-8, atol=0)
         assert np.isnan(y[0, 1]) and why[1] and all(w == "" for w in why[ok])
         assert seen
+
+
+@pytest.mark.parametrize("integrator", [None, "DOP853"])
+def test_integrate_variants_stops_each_variant_at_its_event(integrator):
+    """x'' = -k^2 x from (1, 0): x' = -k sin(k t) first crosses zero upward at t = pi/k (a minimum, x = -1);
+    a variant whose minimum lies beyond the span has no stop time and its state at the span's end."""
+    from mech.solvers.numerics.ensemble_search import integrate_variants
+
+    def system(k):
+        return lambda t, y: np.array([y[1], -k * k * y[0]])
+
+    k = np.array([1.0, 2.0, 0.5, 3.0])
+    y0 = np.array([[1.0] * 4, [0.0] * 4])
+    y, why, t_stop = integrate_variants(system, (k,), (0.0, 5.0), y0, rtol=1e-11, atol=1e-14,
+                                        event=(lambda t, y: y[1], 1.0), integrator=integrator)
+    assert all(w == "" for w in why)
+    hit = np.pi / k < 5.0
+    assert t_stop[hit] == pytest.approx(np.pi / k[hit], rel=1e-10)
+    assert y[0, hit] == pytest.approx(-1.0, abs=1e-10)
+    assert np.isnan(t_stop[~hit]).all() and y[0, ~hit] == pytest.approx(np.cos(5.0 * k[~hit]), abs=1e-9)

@@ -125,7 +125,7 @@ def _ensemble(system, coefs, span, y0, atol, rtol, tally, work=None):
     from mech.solvers.numerics.ensemble_search import integrate_variants
 
     return integrate_variants(system, coefs, span, y0, rtol=rtol, atol=atol, work=work, integrator=tally.integrator,
-                              record=tally.record)
+                              record=tally.record)[:2]
 
 
 def _reasons(why):

@@ -94,23 +94,27 @@ def brent_minimum(f, a, b, *, xatol, x0=None, max_iter: int = 500):
 STEP_OVERHEAD, STEP_ALONE = 800.0, 400.0
 
 
-def integrate_variants(system, coefs, span, y0, *, rtol, atol, work=None, integrator=None, record=None,
-                       overhead: float = STEP_OVERHEAD, alone: float = STEP_ALONE):
-    """The end states (n x N) of N variants of one equation over ``span`` from ``y0`` (n x N), and each
-    variant's failure (an object array of N reasons, "" where it ran).
+def integrate_variants(system, coefs, span, y0, *, rtol, atol, work=None, integrator=None, record=None, event=None,
+                       options=None, overhead: float = STEP_OVERHEAD, alone: float = STEP_ALONE):
+    """The end states (n x N) of N variants of one equation over ``span`` from ``y0`` (n x N), each variant's
+    failure (an object array of N reasons, "" where it ran) and where each stopped.
 
     ``system(*c)`` is the right-hand side ``rhs(t, y)`` for the coefficients ``c``: arrays (the variants
     stepped together, y of n x N) or floats (one variant, y of n); ``coefs``: numbers or arrays of N.
-    ``atol``: a number, n numbers or n x N.  Variants are stepped together by ``batch.integrate_batch`` (each
-    held to its own tolerance), in chunks of like ``work`` (each variant's expected steps,
-    ``batch.chunks_by_work`` with ``overhead`` and ``alone``; None: one chunk); a chunk of one, or each variant
-    with an ``integrator`` forced (``mech bench``), by ``ode.integrate``.  A chunk whose integration fails is
-    integrated again variant by variant, so that a failure is that variant's alone (its reason kept, its
-    state NaN).  ``record(result)`` takes each integration (its ``nfev``, ``method``)."""
+    ``atol``: a number, n numbers or n x N.  ``event``: (g, direction), a terminal event: each variant stops
+    at its first crossing (``g(t, y)`` of either form of the state); its time is returned (NaN where there
+    was none within the span, the state then at the span's end).  Variants are stepped together by
+    ``batch.integrate_batch`` (each held to its own tolerance, located at its own event, failing alone), in
+    chunks of like ``work`` (each variant's expected steps, ``batch.chunks_by_work`` with ``overhead`` and
+    ``alone``; None: one chunk); a chunk of one, or each variant with an ``integrator`` forced (``mech
+    bench``), by ``ode.integrate``; ``options(*c)``: ``ode.integrate``'s keywords for a variant (a stiff
+    method and its Jacobian), each variant then alone.  A variant that fails keeps its reason and a NaN
+    state.  ``record(result)`` takes each integration (its ``nfev``, ``method``).  Returns (y_end, why,
+    t_stop)."""
     from mech.core.budget import OutOfBudget
     from mech.core.errors import NumericFailure
-    from mech.solvers.numerics.batch import chunks_by_work, integrate_batch
-    from mech.solvers.numerics.ode import integrate
+    from mech.solvers.numerics.batch import BatchEvent, chunks_by_work, integrate_batch
+    from mech.solvers.numerics.ode import Event, integrate
 
     y0 = np.asarray(y0, dtype=float)
     n, N = y0.shape
@@ -118,30 +122,40 @@ def integrate_variants(system, coefs, span, y0, *, rtol, atol, work=None, integr
     atol = np.broadcast_to(atol[:, None] if atol.ndim == 1 else atol, (n, N))
     coefs = [np.broadcast_to(np.asarray(c, dtype=float), (N,)) for c in coefs]
     y_end, why = np.full((n, N), np.nan), np.full(N, "", dtype=object)
+    t_stop = np.full(N, float(span[1]) if event is None else np.nan)
     record = record or (lambda result: None)
 
-    def go(idx):
+    def ensemble(idx):
+        events = [] if event is None else [BatchEvent(event[0], event[1], terminal=True)]
+        res = integrate_batch(system(*(c[idx] for c in coefs)), span, y0[:, idx], rtol=rtol,
+                              atol=np.array(atol[:, idx]), events=events, on_failure="mark")
+        record(res)
+        y_end[:, idx] = np.where(res.failed, np.nan, res.y_end)
+        why[idx[res.failed]] = [res.why[k] for k in np.flatnonzero(res.failed)]
+        if event is not None:
+            t_stop[idx] = np.where(res.failed, np.nan, res.t_events[0])
+
+    def alone_(k):
+        events = [] if event is None else [Event(event[0], terminal=True, direction=event[1])]
+        c = [float(c[k]) for c in coefs]
         try:
-            if integrator is None and idx.size > 1:
-                res = integrate_batch(system(*(c[idx] for c in coefs)), span, y0[:, idx], rtol=rtol,
-                                      atol=np.array(atol[:, idx]))
-                y_end[:, idx] = res.y_end
-                record(res)
-                return
-            for k in idx:
-                traj = integrate(system(*(float(c[k]) for c in coefs)), span, y0[:, k], rtol=rtol,
-                                 atol=np.array(atol[:, k]), integrator=integrator)
-                y_end[:, k] = traj.y_end
-                record(traj)
+            traj = integrate(system(*c), span, y0[:, k], rtol=rtol, atol=np.array(atol[:, k]), events=events,
+                             integrator=integrator, **(options(*c) if options else {}))
         except OutOfBudget:
             raise
         except NumericFailure as exc:
-            if idx.size == 1:
-                why[idx] = str(exc)
-            for k in idx if idx.size > 1 else ():
-                go(np.array([k]))
+            why[k] = str(exc)
+            return
+        record(traj)
+        y_end[:, k] = traj.y_end
+        if event is not None and len(traj.t_events[0]):
+            t_stop[k], y_end[:, k] = traj.t_events[0][0], traj.y_events[0][0]
 
     chunks = [np.arange(N)] if work is None or N <= 1 else chunks_by_work(work, overhead, alone)
     for chunk in chunks:
-        go(chunk)
-    return y_end, why
+        if integrator is None and options is None and chunk.size > 1:
+            ensemble(chunk)
+        else:
+            for k in chunk:
+                alone_(k)
+    return y_end, why, t_stop
