@@ -88,8 +88,7 @@ ranges.declare(exercise, ranges.Scale("delta/omega0", {"delta": 1, "omega0": -1}
 
 @exercise.approximations
 def approximations(p):
-    """The statement relates Q to the loss per period (2 pi/Q for weak damping) and the resonance width
-    (omega0/Q)."""
+    """The statement relates Q to the loss per period (2 pi/Q, weak damping) and the width (omega0/Q)."""
     Q = p.omega0 / (2.0 * p.delta)
     return {"loss_per_cycle": [(2.0 * math.pi / Q, "the weak-damping loss per period 2 pi/Q")],
             "bandwidth": [(p.omega0 / Q, "the weak-damping width omega0/Q")]}
@@ -300,8 +299,7 @@ class _Resonance:
 
     def static(self, idx):
         """omega -> 0: the periodic orbit of x'' + 2 zeta x' + x = 1 (a constant force) over one free period."""
-        y0 = np.zeros((6, idx.size))
-        y0[2] = y0[5] = 1.0
+        y0 = np.array([[0.0], [0.0], [1.0], [0.0], [0.0], [1.0]]) * np.ones(idx.size)
         y, why = _ensemble(_constant_force, (self.z[idx],), (0.0, 2.0 * math.pi), y0, 1e-3 * self.rtol, self.rtol,
                            self.tally)
         self.why[idx] = np.where(self.why[idx] == "", why, self.why[idx])
@@ -328,7 +326,7 @@ def _half_power_points(res, u_pk, half, d_meas, go, rtol, why):
 
     N, M = u_pk.size, go.size
     var, sign = np.concatenate([go, go]), np.concatenate([-np.ones(M), np.ones(M)])
-    below = sign < 0
+    below, undefined = sign < 0, np.zeros(N, dtype=bool)
 
     def f(k, x):  # k: sides
         return 1.0 - half[var[k]] / res.amp2(u_pk[var[k]] + sign[k] * x, var[k])
@@ -336,7 +334,6 @@ def _half_power_points(res, u_pk, half, d_meas, go, rtol, why):
     limit = np.where(below, 1.0 + u_pk[var] - LOW_FLOOR, 1e3)
     lo, hi, flo, fhi, none = scan_up(f, np.zeros(2 * M), np.minimum(d_meas[var], limit), factor=2.0, limit=limit,
                                      flo=np.full(2 * M, 0.5))
-    undefined = np.zeros(N, dtype=bool)
     floor = np.flatnonzero(none & below)
     if floor.size:  # the lower scan reached omega = LOW_FLOOR: the static deflection, else shot there
         rises = res.static(var[floor]) >= half[var[floor]]
@@ -374,7 +371,13 @@ def _bandwidth(z, d_meas, rtol, tally):
     left_edge = -(1.0 - 0.1)
     lo, hi = np.maximum(-4.0 * d_meas, left_edge), d_meas
     u_pk, g_pk, conv = np.full(N, np.nan), np.full(N, np.nan), np.ones(N, dtype=bool)
-    idx = np.flatnonzero(ok)
+    # a search bracket reaching 0.1 omega0: where 1/|a|^2 rises from there (within the 1e-5 delta the search
+    # resolves), the peak is at the edge (the one minimum Brent's search assumes): no golden steps to it
+    k = np.flatnonzero(ok & (lo <= left_edge))
+    g2 = 1.0 / res.amp2(np.concatenate([lo[k], lo[k] + 1e-5 * d_meas[k]]), np.concatenate([k, k]))
+    rising = k[g2[k.size:] >= g2[:k.size]]
+    u_pk[rising], g_pk[rising] = lo[rising], g2[:k.size][g2[k.size:] >= g2[:k.size]]
+    idx = np.flatnonzero(ok & np.isnan(u_pk))
     if idx.size:
         u_pk[idx], g_pk[idx], conv[idx] = brent_minimum(lambda u, i: 1.0 / res.amp2(u, idx[i]), lo[idx], hi[idx],
                                                         xatol=1e-6 * d_meas[idx], x0=np.zeros(idx.size))
@@ -406,8 +409,7 @@ def numeric(P, rtol, outputs, memo=None, tally=None):
     from mech.solvers.numerics.batch import Column, by_rows
 
     tally = Tally() if tally is None else tally
-    w0, d, t1 = _arrays(P)
-    w0, d, t1 = np.broadcast_arrays(w0, d, t1)
+    w0, d, t1 = np.broadcast_arrays(*_arrays(P))
     z, om = d / w0, (w0 - d) / w0
     N = z.size
     claim = exercise.tol_factor * rtol
@@ -438,9 +440,8 @@ def numeric(P, rtol, outputs, memo=None, tally=None):
         memo = {} if memo is None else memo
         got = by_rows(memo, ("5.5 width", rtol), (z, d_meas), lambda zs, ds: _bandwidth(zs, ds, rtol, tally))
         width, undefined, bwhy, liouville = got[:4]
-        for name, v in zip(("peak", "half_power_low", "half_power_high"), got[4:7]):
-            tally.info[f"{name}_omega_over_omega0"] = v
-        tally.info["width_amplitude_solves"] = got[7]
+        tally.info.update({f"{k}_omega_over_omega0": v for k, v in zip(("peak", "half_power_low", "half_power_high"),
+                                                                         got[4:7])}, width_amplitude_solves=got[7])
         tally.invariant("Liouville det of the drive-period map", liouville)
         failed = ring_failed + _reasons(np.asarray(bwhy, dtype=object)) + [
             (~(liouville <= claim), "the drive-period map's determinant drifts from Liouville's by more than the "
