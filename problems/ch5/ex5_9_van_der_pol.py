@@ -18,10 +18,12 @@ damping is negative all along, and X = 3).  Unlike Newton on the map itself, X -
 keeps its conditioning as eps -> 0.  A = X/sqrt(beta), omega = 2 pi omega0/T; lambda_lc: Liouville's
 formula, mu times the period average of (1 - x^2), checked against ln det M of the converged cycle (its
 variational equations over the period, a fixed span) where det's cancellation leaves that resolvable.
-eps > 4 (relaxation oscillation): x and u = x'/eps against the slow time tau/eps, three legs from the
-maximum (2, 0); the cycle attracts by exp(-1.44 eps^2) per half cycle, and the second full cycle gives
-period, amplitude and exponent; its two halves must agree.  Up to eps = 16 the variants are stepped
-together by DOP853; above, each alone with LSODA (stiff on the slow branches).
+eps > 4 (relaxation oscillation): x and u = x'/eps against the slow time tau/eps, from the maximum
+(2, 0); the cycle attracts by exp(-1.44 eps^2) per half cycle, so the first minimum is on it, and the
+half cycle from there to the maximum gives half the period and of the divergence's integral (the cycle
+is symmetric under x -> -x), the maximum the amplitude; |x_min| = x_max is the check that it settled.
+Up to eps = 16 the variants are stepped together by DOP853; above, each alone with LSODA (stiff on the
+slow branches).
 The declared motion (``motion``) is one period of the converged cycle or the relaxation's three legs;
 the search's returns are tool runs of the same oscillator.
 
@@ -337,16 +339,16 @@ def _liouville(eps, X, T, int_div, rtol, tally):
 
 
 def _slow_legs(eps, rtol, tally, options=None):
-    """The relaxation oscillation of N variants in the slow time (``_slow``) from the maximum (2, 0), three legs,
-    max -> min -> max -> min, each ending at its event u = 0 and the next starting there on its section:
-    (slow times of the three extrema, their states, failure)."""
+    """The relaxation oscillation of N variants in the slow time (``_slow``) from the maximum (2, 0), the declared
+    motion's first two legs, max -> min -> max, each ending at its event u = 0 and the next starting there on
+    its section: (slow times of the two extrema, their states, failure)."""
     from mech.solvers.numerics.ensemble_search import integrate_variants
 
     n = eps.size
     e2 = eps * eps
     z = np.vstack([np.full(n, 2.0), np.zeros((2, n))])
     s, marks, why = np.zeros(n), [], np.full(n, "", dtype=object)
-    for direction, what in ((1.0, "minimum"), (-1.0, "maximum"), (1.0, "minimum")):
+    for direction, what in ((1.0, "minimum"), (-1.0, "maximum")):
         z, w, leg = integrate_variants(lambda e: _slow(e)[0], (eps,), (0.0, 4.0), z, rtol=rtol, options=options,
                                        work=e2,
                                        atol=1e-3 * rtol * np.vstack([np.ones(n), 1.0 / e2, np.ones(n)]),
@@ -362,9 +364,10 @@ def _slow_legs(eps, rtol, tally, options=None):
 
 def _relaxation(eps, rtol, tally):
     """The stiff case (eps > 4) at N variants, the declared motion's legs (``_slow_legs``): from the maximum (2, 0)
-    the cycle attracts by exp(-1.44 eps^2) per half cycle; the last full cycle (min to min) gives the period,
-    its maximum the amplitude and the integral of the divergence the exponent.  Its two halves must agree (the
-    cycle is symmetric under x -> -x): the check that the start has settled.  Up to ENSEMBLE_EPS the variants
+    the cycle attracts by exp(-1.44 eps^2) per half cycle, so that the first minimum is on it; the cycle is
+    symmetric under x -> -x (so is the equation), and the half from that minimum to the next maximum gives
+    half the period, the amplitude and half the integral of the divergence.  The minimum and the maximum must
+    agree (|x_min| = x_max): the check that the start has settled.  Up to ENSEMBLE_EPS the variants
     are stepped together by DOP853 (~2.4 eps^2 steps a cycle, shared by all); above, one by one with LSODA
     (stiff, asked RELAX_RTOL rtol).  Returns (X, T in tau, int (1 - x^2) dtau over the cycle, failure)."""
     n = eps.size
@@ -377,12 +380,11 @@ def _relaxation(eps, rtol, tally):
         k = np.flatnonzero(sel)
         if not k.size:
             continue
-        ((s1, z1), (s2, z2), (s3, z3)), why[k] = _slow_legs(eps[k], r, tally, options)
-        Ts, h1, h2 = s3 - s1, s2 - s1, s3 - s2
-        unsettled = (np.abs(h1 - h2) > 100 * rtol * Ts) | (np.abs(z2[0] + z3[0]) > 100 * rtol * z2[0])
-        why[k[unsettled & (why[k] == "")]] = [f"the relaxation cycle has not settled: half periods {a:.12g}, {b:.12g}"
-                                              for a, b in zip(h1[unsettled], h2[unsettled])]
-        X[k], T[k], div[k] = z2[0], eps[k] * Ts, eps[k] * (z3[2] - z1[2])
+        ((s1, z1), (s2, z2)), why[k] = _slow_legs(eps[k], r, tally, options)
+        unsettled = np.abs(z1[0] + z2[0]) > 100 * rtol * z2[0]
+        why[k[unsettled & (why[k] == "")]] = [f"the relaxation cycle has not settled: extrema {a:.12g}, {b:.12g}"
+                                              for a, b in zip(z1[0][unsettled], z2[0][unsettled])]
+        X[k], T[k], div[k] = z2[0], 2.0 * eps[k] * (s2 - s1), 2.0 * eps[k] * (z2[2] - z1[2])
     return X, T, div, why
 
 

@@ -109,9 +109,9 @@ def integrate_variants(system, coefs, span, y0, *, rtol, atol, work=None, integr
     ``alone``; None: one chunk); a chunk of one, or each variant with an ``integrator`` forced (``mech
     bench``), by ``ode.integrate``; ``options(*c)``: ``ode.integrate``'s keywords for a variant (a stiff
     method and its Jacobian), each variant then alone.  A variant that fails keeps its reason and a NaN
-    state.  ``record(result)`` takes each integration (its ``nfev``, ``method``).  Returns (y_end, why,
+    state; so does one integrated alone that the batch's work budget no longer reaches (``OutOfWork``).  ``record(result)`` takes each integration (its ``nfev``, ``method``).  Returns (y_end, why,
     t_stop)."""
-    from mech.core.budget import OutOfBudget
+    from mech.core.budget import OutOfBudget, OutOfWork
     from mech.core.errors import NumericFailure
     from mech.solvers.numerics.batch import BatchEvent, chunks_by_work, integrate_batch
     from mech.solvers.numerics.ode import Event, integrate
@@ -141,6 +141,11 @@ def integrate_variants(system, coefs, span, y0, *, rtol, atol, work=None, integr
         try:
             traj = integrate(system(*c), span, y0[:, k], rtol=rtol, atol=np.array(atol[:, k]), events=events,
                              integrator=integrator, **(options(*c) if options else {}))
+        except OutOfWork as exc:  # the work a batch was given, spent: the variants it did not reach fail alone
+            if N == 1:
+                raise
+            why[k] = str(exc)
+            return
         except OutOfBudget:
             raise
         except NumericFailure as exc:
