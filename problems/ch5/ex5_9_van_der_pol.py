@@ -289,8 +289,15 @@ def _cycles(eps, rtol, tally):
     go = np.flatnonzero(bracket)
     X = np.full(N, np.nan)
     if go.size:
-        y, conv = illinois(lambda y, i: gain(y, go[i]), np.ones(go.size), np.full(go.size, 9.0), g_lo[go], g_hi[go],
-                           xtol=0.0, rtol=2.0 * rtol)
+        # a gain within half its resolution of zero is a root to that accuracy (0.5 rtol of X^2 times the mean
+        # slope over the local one): Illinois stops there, not when the far end of its bracket comes in too
+        thr = 0.5 * rtol * (g_lo[go] - g_hi[go]) / 8.0
+
+        def f(y, i):
+            g = gain(y, go[i])
+            return np.where(np.abs(g) <= thr[i] * y, 0.0, g)
+
+        y, conv = illinois(f, np.ones(go.size), np.full(go.size, 9.0), g_lo[go], g_hi[go], xtol=0.0, rtol=2.0 * rtol)
         X[go] = np.sqrt(y)
         why[go[~conv]] = "the root search for the limit cycle did not converge"
         again = go[conv & (last[0][go] != X[go])]  # the root's own return, where it was not the last evaluated
