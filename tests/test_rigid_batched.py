@@ -4,6 +4,10 @@ values worked out by hand and, variant by variant, with the batch of one; a vari
 By hand (the docstrings of tests/test_ex4_19.py, test_ex4_20.py and test_ex4_21.py):
 * 4.19, a thin disk (I3 = 2 I1): Omega_body = omega cos(alpha), omega_lab = omega (1 + 3 cos^2 alpha)^(1/2),
   tan(theta_L) = tan(alpha)/2.
+* 4.20: Omega_1^2 = (I2 - I1)(I3 - I1) omega0^2/(I2 I3), lambda_2^2 = (I2 - I1)(I3 - I2) omega0^2/(I1 I3),
+  Omega_3^2 = (I3 - I1)(I3 - I2) omega0^2/(I1 I2); the period 2 pi/Omega_1 for small oscillations about n1,
+  (4/lambda_2) ln(4/k') on the separatrix, else four times the first sign change of omega2 (scipy, an event
+  the route does not use).
 """
 
 import math
@@ -75,3 +79,71 @@ def test_disk_a_variant_sampled_too_sparsely_fails_alone(monkeypatch):
         assert "too sparse" in got[o].reason("failed", 0)
         assert got[o].reason("failed", 1) is None
     assert _within_claims(got["omega_lab"], 1, 10.0)
+
+
+# --------------------------------------------------------------------------- 4.20
+
+def _flip_quarter_by_scipy(I, delta):
+    """T/4 of the flip: the first sign change of omega2 (an event the route does not use), by scipy."""
+    from scipy.integrate import solve_ivp
+
+    I1, I2, I3 = I
+
+    def rhs(t, w):
+        return [(I2 - I3) * w[1] * w[2] / I1, (I3 - I1) * w[2] * w[0] / I2, (I1 - I2) * w[0] * w[1] / I3]
+
+    def w2(t, w):
+        return w[1]
+
+    w2.terminal = True
+    sol = solve_ivp(rhs, (0, 1e4), [math.sin(delta), math.cos(delta), 0.0], method="DOP853", rtol=1e-13,
+                    atol=1e-16, events=w2, max_step=0.05)
+    return sol.t_events[0][0]
+
+
+FLIPS = [dict(I1=1.0, I2=2.0, I3=3.0, omega0=1.0, delta=0.3), dict(I1=2.8e-3, I2=5.3e-3, I3=7.9e-3, omega0=10.0,
+                                                                     delta=0.01),
+         dict(I1=2.8e-3, I2=5.3e-3, I3=7.9e-3, omega0=10.0, delta=1e-12),  # the quadrature
+         dict(I1=1.0, I2=2.0, I3=3.0, omega0=2.0, delta=math.acos(1e-5)),
+         dict(I1=2.8e-3, I2=5.3e-3, I3=5.300005e-3, omega0=10.0, delta=0.2),
+         dict(I1=0.7, I2=1.1, I3=1.6, omega0=3e4, delta=5e-324)]
+
+
+def _flip_by_hand(I1, I2, I3, omega0, delta):
+    out = {"Omega_1": omega0 * math.sqrt((I2 - I1) * (I3 - I1) / (I2 * I3)),
+           "lambda_2": omega0 * math.sqrt((I2 - I1) * (I3 - I2) / (I1 * I3)),
+           "Omega_3": omega0 * math.sqrt((I3 - I1) * (I3 - I2) / (I1 * I2))}
+    if delta < 1e-10:  # on the separatrix: T = (4/lambda_2) ln(4/k'), k' = sqrt(I1 (I3 - I1)/(I2 (I3 - I2))) delta
+        log_kp = 0.5 * math.log(I1 * (I3 - I1) / (I2 * (I3 - I2))) + math.log(delta)
+        out["T_period"] = 4.0 / out["lambda_2"] * (math.log(4.0) - log_kp)
+    elif math.cos(delta) < 1e-4:  # small oscillations about n1
+        out["T_period"] = 2 * math.pi / out["Omega_1"]
+    else:
+        out["T_period"] = 4.0 * _flip_quarter_by_scipy((I1, I2, I3), delta) / omega0
+    return out
+
+
+def test_flip_batch_agrees_with_the_hand_values_and_the_batch_of_one():
+    outputs = ("Omega_1", "lambda_2", "Omega_3", "T_period")
+    got = _batch_vs_one("4.20", FLIPS, outputs)
+    for k, p in enumerate(FLIPS):
+        want = _flip_by_hand(**p)
+        for o in outputs:
+            # scipy's quarter period at rtol 1e-13 and the limits' own error (cos^2 delta, k'^2 ln k')
+            assert _within_claims(got[o], k, want[o], extra_abs=1e-10 * abs(want[o])), (o, p, got[o].value[k])
+
+
+def test_flip_a_variant_whose_quadrature_does_not_settle_fails_alone(monkeypatch):
+    """A 2-point rule where the quadrature asks for 20: its quarter period moves against the 30-point rule's, so
+    the variant on the separatrix (which the quadrature answers) fails, saying so; the one integrated stands."""
+    from mech.problems.ch4 import ex4_20_intermediate_axis as mod
+
+    rule = mod.gauss_legendre
+    monkeypatch.setattr(mod, "gauss_legendre", lambda n, a, b: rule(2 if n == 20 else n, a, b))
+    pts = [FLIPS[2], FLIPS[0]]
+    got = registry.get("4.20").batched_route.numeric(_arrays(pts), 1e-10, ("T_period", "Omega_1"))
+    for o in ("T_period", "Omega_1"):
+        assert "does not settle" in got[o].reason("failed", 0)
+        assert got[o].reason("failed", 1) is None
+    want = _flip_by_hand(**FLIPS[0])["T_period"]
+    assert _within_claims(got["T_period"], 1, want, 1e-10 * want)

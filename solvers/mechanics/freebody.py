@@ -34,8 +34,9 @@ __all__ = [
 
 
 def euler_omega_rhs(I):
-    """Torque-free Euler equations for the body angular velocity alone."""
-    I1, I2, I3 = (float(v) for v in I)
+    """Torque-free Euler equations for the body angular velocity alone: of one body (I: 3 numbers, omega: 3)
+    or of N bodies at once (I and omega: 3 x N)."""
+    I1, I2, I3 = I
     c1, c2, c3 = (I2 - I3) / I1, (I3 - I1) / I2, (I1 - I2) / I3
 
     def rhs(t, w):
@@ -142,31 +143,30 @@ def phase_rate(t, x, y, *, max_jump: float = 1.0):
 
 
 def euler_jacobian(I, omega, h=None) -> np.ndarray:
-    """d(omega')/d(omega) of the torque-free Euler equations at ``omega``, by central differences.
+    """d(omega')/d(omega) of the torque-free Euler equations at ``omega``, by central differences: 3 x 3, or
+    N x 3 x 3 for N bodies (I, omega: 3 x N).
 
     The right-hand side is quadratic, so the central difference has no truncation
     error; a step of the size of |omega| keeps the round-off at a few ulps.
     """
     rhs = euler_omega_rhs(I)
     omega = np.asarray(omega, dtype=float)
-    h = float(np.linalg.norm(omega)) if h is None else h
-    J = np.zeros((3, 3))
+    h = np.sqrt(np.sum(omega * omega, axis=0)) if h is None else h
+    J = np.zeros(omega.shape[1:] + (3, 3))
     for j in range(3):
-        e = np.zeros(3)
+        e = np.zeros_like(omega)
         e[j] = h
-        J[:, j] = (rhs(0.0, omega + e) - rhs(0.0, omega - e)) / (2.0 * h)
+        J[..., :, j] = np.moveaxis((rhs(0.0, omega + e) - rhs(0.0, omega - e)) / (2.0 * h), 0, -1)
     return J
 
 
-def steady_rotation_pair(I, axis_index: int, omega0: float) -> tuple[complex, complex, np.ndarray]:
-    """The two eigenvalues of the Jacobian at steady rotation about a principal axis besides the zero one.
-
-    Returns (lam_a, lam_b, all eigenvalues); the zero eigenvalue (a change of the rate
-    along the axis) is the one of smallest modulus.
-    """
-    w = np.zeros(3)
+def steady_rotation_pair(I, axis_index: int, omega0: float):
+    """The two eigenvalues of the Jacobian at steady rotation about a principal axis besides the zero one:
+    (lam_a, lam_b, all eigenvalues), each an array over the bodies (I: 3 x N; all eigenvalues N x 3, by
+    modulus).  The zero eigenvalue (a change of the rate along the axis) is the one of smallest modulus."""
+    I = np.asarray(I, dtype=float)
+    w = np.zeros_like(I)
     w[axis_index] = omega0
-    J = euler_jacobian(I, w)
-    ev = np.linalg.eigvals(J)
-    order = np.argsort(np.abs(ev))
-    return complex(ev[order[1]]), complex(ev[order[2]]), ev
+    ev = np.linalg.eigvals(euler_jacobian(I, w))
+    ev = np.take_along_axis(ev, np.argsort(np.abs(ev), axis=-1), axis=-1)
+    return ev[..., 1], ev[..., 2], ev
