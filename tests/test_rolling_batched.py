@@ -5,6 +5,8 @@ alone (the one-point solve is the batch of one).
 By hand (the derivations are in each exercise's test file):
   4.7   momentum m_b v0 and angular momentum m_b v0 l about the rod's center are kept: omega l = 3 m_b v0 /
         (m + 4 m_b), u = omega l / 3, v_hit = u + omega l, v_end = u - omega l, E_loss from the energies;
+  4.10  Omega^2 = g l / (r^2 + l^2) with r^2 = I/M; l_ef = l + r^2/l; l_opt = r, Omega_max^2 = g / (2 r);
+        l_conj = r^2 / l, the other root of x + r^2/x = l_ef;
   4.18  dv/dt = (2/7) Omega z x v: the velocity turns at 2 Omega / 7, the center runs on a circle of radius
         |v0| / omega about (x0 - vy0 / omega, y0 + vx0 / omega).
 """
@@ -32,11 +34,19 @@ def hand_4_18(p):
             "xc": p["x0"] - p["vy0"] / w, "yc": p["y0"] + p["vx0"] / w}
 
 
-HAND = {"4.7": hand_4_7, "4.18": hand_4_18}
+def hand_4_10(p):
+    r2 = p["I"] / p["M"]
+    r, l, g = math.sqrt(r2), p["l"], p["g"]
+    return {"Omega": math.sqrt(g * l / (r2 + l * l)), "l_ef": l + r2 / l, "l_conj": r2 / l, "l_opt": r,
+            "Omega_max": math.sqrt(g / (2 * r))}
+
+
+HAND = {"4.7": hand_4_7, "4.10": hand_4_10, "4.18": hand_4_18}
 
 # listed points beyond the draws: the catalogue's hard cases are added from the exercise
 LISTED = {
     "4.7": [dict(m=1.0, l=1.0, m_b=1e6, v0=1.0), dict(m=3e-20, l=4e10, m_b=2e-25, v0=7e-3)],
+    "4.10": [dict(M=1e6, I=2e-8, l=2e5), dict(M=1e-6, I=2e4, l=2e-7), dict(l=0.14142135623730951 * (1 + 3e-6))],
     "4.18": [dict(Omega=3.0, R=0.02, x0=0.3, y0=-0.1, vx0=0.0, vy0=0.0),
              dict(Omega=1e-3, R=5.0, x0=1e6, y0=2.0, vx0=-3e-2, vy0=1e-9)],
 }
