@@ -5,6 +5,9 @@ alone (the one-point solve is the batch of one).
 By hand (the derivations are in each exercise's test file):
   4.7   momentum m_b v0 and angular momentum m_b v0 l about the rod's center are kept: omega l = 3 m_b v0 /
         (m + 4 m_b), u = omega l / 3, v_hit = u + omega l, v_end = u - omega l, E_loss from the energies;
+  4.9   Omega^2 = M g l / (I + M (R - l)^2); the period is the energy integral taken directly in phi,
+        4 int_0^phi0 (J / (2 M g l (cos phi - cos phi0)))^(1/2) dphi, J = I + M d^2 (scipy's quad with the
+        endpoint weight, as in tests/test_ex4_9.py);
   4.10  Omega^2 = g l / (r^2 + l^2) with r^2 = I/M; l_ef = l + r^2/l; l_opt = r, Omega_max^2 = g / (2 r);
         l_conj = r^2 / l, the other root of x + r^2/x = l_ef;
   4.18  dv/dt = (2/7) Omega z x v: the velocity turns at 2 Omega / 7, the center runs on a circle of radius
@@ -34,6 +37,24 @@ def hand_4_18(p):
             "xc": p["x0"] - p["vy0"] / w, "yc": p["y0"] + p["vx0"] / w}
 
 
+def hand_4_9(p):
+    from scipy.integrate import quad
+
+    M, R, l, I, phi0, g = (p[k] for k in ("M", "R", "l", "I", "phi0", "g"))
+    # in units M = R = g = 1 (far-apart SI values are within the bounds)
+    lr, Ir = l / R, I / M / R / R
+
+    def f(phi):
+        J = Ir + ((1 - lr) ** 2 + 4 * lr * math.sin(phi / 2) ** 2)
+        ratio = 2 * math.sin((phi0 + phi) / 2) * math.sin((phi0 - phi) / 2) / (phi0 - phi) if phi < phi0 else \
+            math.sin(phi0)
+        return math.sqrt(J / (2 * lr * ratio))
+
+    val, _ = quad(f, 0.0, phi0, weight="alg", wvar=(0.0, -0.5), epsabs=0, epsrel=1e-12, limit=200)
+    unit = math.sqrt(R) / math.sqrt(g)
+    return {"Omega": math.sqrt(lr / (Ir + (1 - lr) ** 2)) / unit, "period": 4 * val * unit}
+
+
 def hand_4_10(p):
     r2 = p["I"] / p["M"]
     r, l, g = math.sqrt(r2), p["l"], p["g"]
@@ -41,11 +62,12 @@ def hand_4_10(p):
             "Omega_max": math.sqrt(g / (2 * r))}
 
 
-HAND = {"4.7": hand_4_7, "4.10": hand_4_10, "4.18": hand_4_18}
+HAND = {"4.7": hand_4_7, "4.9": hand_4_9, "4.10": hand_4_10, "4.18": hand_4_18}
 
 # listed points beyond the draws: the catalogue's hard cases are added from the exercise
 LISTED = {
     "4.7": [dict(m=1.0, l=1.0, m_b=1e6, v0=1.0), dict(m=3e-20, l=4e10, m_b=2e-25, v0=7e-3)],
+    "4.9": [dict(phi0=math.pi - 1e-6), dict(phi0=1e-3), dict(l=0.0999999, I=0.0), dict(phi0=3.0, l=0.001)],
     "4.10": [dict(M=1e6, I=2e-8, l=2e5), dict(M=1e-6, I=2e4, l=2e-7), dict(l=0.14142135623730951 * (1 + 3e-6))],
     "4.18": [dict(Omega=3.0, R=0.02, x0=0.3, y0=-0.1, vx0=0.0, vy0=0.0),
              dict(Omega=1e-3, R=5.0, x0=1e6, y0=2.0, vx0=-3e-2, vy0=1e-9)],
