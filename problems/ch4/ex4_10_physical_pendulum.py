@@ -16,11 +16,14 @@ theorem is never used) and the stiffness U''(0) is the first
 Fourier cosine coefficient of U(phi) = sum m g y (a first-degree trigonometric
 polynomial, so a 4-point projection is exact and free of step-size
 cancellation).  Omega is cross-checked by integrating the nonlinear equation at
-amplitude 1e-4 rad and timing its period.  l_opt is the root of dOmega/dl
+amplitude 1e-4 rad over its predicted period and timing the last return to the
+release from the end state's phase angle.  l_opt is the root of dOmega/dl
 (complex-step derivative, bracketed on a geometric grid); l_conj is the root of
 Omega(x) - Omega(l) on the other side of l_opt, bracketed by geometric
-expansion; within 1e-4 of l_opt that difference is lost to round-off, and a
-cubic Taylor model of Omega about l_opt solves it instead.
+expansion; both roots polished by Illinois; within 1e-4 of l_opt that
+difference is lost to round-off, and a cubic Taylor model of Omega about l_opt
+solves it instead.  The route runs over arrays of variants (``numeric``; a
+one-point solve is the batch of one).
 """
 
 from __future__ import annotations

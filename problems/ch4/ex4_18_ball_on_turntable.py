@@ -21,7 +21,9 @@ integration.  The circle is a least-squares fit to the sampled path (in those
 units), omega the slope of the unwrapped direction of the velocity.  The no-slip
 residual, the speed and the vertical spin are monitored.  If the ball starts
 at rest in the lab the friction vanishes (checked), it stays where it is, and
-omega comes from a run with a probe velocity.
+omega comes from a run with a probe velocity.  The route runs over arrays of
+variants (``numeric``: every ball in its own scaled units on one interval,
+sampled at 60 checkpoints; a one-point solve is the batch of one).
 """
 
 from __future__ import annotations

@@ -22,7 +22,9 @@ final angular velocity and the center-of-mass velocity give the rigid velocity
 field, evaluated in the pre-impact geometry; the dissipated energy is integrated
 with the motion.  The longer pulse is the declared motion; a second, half as
 long, and the Richardson extrapolation in tp^2 (the rod turns during the pulse) give the impulsive limit and the size of the
-finite-pulse effect, which enters the accuracy claim.
+finite-pulse effect, which enters the accuracy claim.  The route runs over
+arrays of variants (``numeric``: every variant's collision integrated together;
+a one-point solve is the batch of one).
 """
 
 from __future__ import annotations

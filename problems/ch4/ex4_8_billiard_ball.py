@@ -20,6 +20,9 @@ model.  Then the 3D sliding ball: the contact slip u, w and the center's positio
 u . u0_hat = 0.  A slip below round-off plus the pulse's effect counts as rolling
 from the start.  Times count from the pulse's center, the impulsive instant.  The
 strike and the sliding are one motion in two legs; the states are the sliding's.
+The route runs over arrays of variants (``numeric``: the strikes together, then
+the sliding balls together, each stopped at its own event; a one-point solve is
+the batch of one).
 """
 
 from __future__ import annotations

@@ -21,11 +21,15 @@ phi'' and Euler's equation is solved for it (the 3x3 system, eliminated in the
 order that keeps digits when R - l is tiny).  Omega: the
 derivative of phi''(phi, 0) at 0 by Richardson central differences, with the step
 halved until successive estimates agree (the nonlinearity scale can be 1e-3 rad).
-Period: a quarter swing from rest at phi0 to phi = 0 (event), times 4, in time
-scaled by the numeric Omega, the state holding phi - phi0 (so a start 1e-9 from
-the top is not rounded away) with absolute tolerances scaled by the distance
-from the top; the energy is monitored.  The route works in units of M, R and
-sqrt(R/g), so that far-apart SI values do not underflow in its products.
+Period: a quarter swing from rest at phi0 to phi = 0, times 4, in time scaled
+by the numeric Omega: a first leg from rest over s = Omega t in [0, 1] (the
+quarter takes at least pi/2), the state holding phi - phi0 (so a start 1e-9
+from the top is not rounded away) with absolute tolerances scaled by the
+distance from the top; then the angle itself as the independent variable down
+to phi = 0 (the rate is never zero on the way), so no event is needed; the
+energy is checked at the legs' ends.  The route works in units of M, R and
+sqrt(R/g), so that far-apart SI values do not underflow in its products, and
+over arrays of variants (``numeric``; a one-point solve is the batch of one).
 """
 
 from __future__ import annotations
