@@ -173,8 +173,8 @@ def _expected_at(p):
     each output against the leading order; measured within 0.03-0.1 eps of the exact periodic orbits at the
     defaults and hard cases, eps = |alpha| A_max^2/omega0^2):
       A_max    2 |est| + 0.1 eps + 2 (delta/omega0)^2;
-      xi_peak  2 |est| + 0.1 eps + 2 (delta/omega0)^2 (est includes the linear resonance's -delta^2/omega0:
-               where that dominates the leading value the theory is outside its range);
+      xi_peak  2 |est| + 0.1 eps + 2 (delta/omega0)^2 (est includes the linear resonance's -delta^2/omega0);
+               at alpha = 0, where the leading value is 0, absolute: 2 |xi_est| + (0.1 eps + 2 (delta/omega0)^2) delta;
       xi_lo, xi_hi  2 |est| + 0.1 eps + 2 (delta/omega0)^2; where the next order finds no two folds (near the
                cusp), the bound 3 eps + 3 delta/omega0 (measured coefficients 1.0 and 0.7)."""
     e_d, e_n = _small(p)
@@ -186,7 +186,10 @@ def _expected_at(p):
         a = lead[name]
         if isinstance(a, Undefined):
             continue
-        if nx[name] is None or a == 0:
+        if name == "xi_peak" and a == 0 and nx[name] is not None:
+            # alpha = 0: no shift at leading order; the linear resonance's -delta^2/omega0 is the next order's
+            out[name] = (None, 2.0 * abs(nx[name]) + floor * p.delta)
+        elif nx[name] is None or a == 0:
             out[name] = 3.0 * e_n + 3.0 * e_d
         else:
             out[name] = 2.0 * abs(nx[name] / a - 1.0) + floor
@@ -422,10 +425,20 @@ def analytic(P):
 
 @exercise.expected_error
 def expected_error(P):
-    """``_expected_at`` over the variants: {output: array}, NaN where it gives none."""
+    """``_expected_at`` over the variants: {output: (relative, absolute) arrays}, NaN where it gives none
+    (an absolute part only where the leading-order value is 0: xi_peak at alpha = 0)."""
     rows = _rows(_expected_at, P)
-    return {k: np.array([float(r[k]) if k in r else math.nan for r in rows]) for k in ("A_max", "xi_peak", "xi_lo",
-                                                                                       "xi_hi")}
+
+    def parts(r, k):
+        e = r.get(k)
+        rel, ab = e if isinstance(e, tuple) else (e, None)
+        return (math.nan if rel is None else float(rel)), (math.nan if ab is None else float(ab))
+
+    out = {}
+    for k in ("A_max", "xi_peak", "xi_lo", "xi_hi"):
+        both = np.array([parts(r, k) for r in rows], dtype=float).reshape(-1, 2)
+        out[k] = (both[:, 0], both[:, 1])
+    return out
 
 
 @exercise.theory_range
