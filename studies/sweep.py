@@ -772,6 +772,7 @@ def iter_batched_solutions(result: Sweep, indices=None):
     names = [p.name for p in ex.params]
     N = next(iter(P.values())).size
     only = list(judged)
+    a_errs = {name: np.broadcast_to(np.asarray(J["a_col"].abs, dtype=float), (N,)) for name, J in judged.items()}
     for k in range(N) if indices is None else indices:
         if k in result.refused:
             yield refused_solution(ex, Refused({n: float(P[n][k]) for n in names}, result.refused[k]), only)
@@ -794,7 +795,7 @@ def iter_batched_solutions(result: Sweep, indices=None):
                                       f"numeric solver failed at rtol={J['tighter']:g}: {name}: {why}", name))
             leading = o.theory != "exact"
             e_abs = None if J["expected_err_abs"] is None else _num(J["expected_err_abs"][k])
-            a_err = _num(np.broadcast_to(np.asarray(J["a_col"].abs, dtype=float), (N,))[k])
+            a_err = _num(a_errs[name][k])
             quantities.append(judged_quantity(
                 J["J"], k, name=name, unit=o.unit, theory=o.theory, analytic=analytic, numeric=numeric,
                 tol_abs=float(J["tol_abs"][k]),
