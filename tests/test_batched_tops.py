@@ -81,3 +81,30 @@ def test_4_25_variants_together_as_alone_and_a_still_axis_alone():
     assert cols["omega_rise"].value[:2] == pytest.approx([w1, w1], rel=1e-9)
     assert cols["t_rise"].value[:2] == pytest.approx([(300 - w1) / 1.5696, 500 * (300 - w1) / 1.5696], rel=1e-8)
     assert cols["omega_dot"].value[:2] == pytest.approx([1.5696, 1.5696 / 500], rel=1e-12)
+
+
+def _agm(a, b):
+    for _ in range(60):
+        a, b = 0.5 * (a + b), math.sqrt(a * b)
+    return a
+
+
+def test_4_34_swings_together_as_alone_and_a_broken_start_alone():
+    """T = 4 K(sin theta_amp)/(3^(1/2) Omega), K = pi/(2 AGM(1, cos theta_amp)) (tests/test_ex4_34.py); a swing
+    whose start is not a number fails alone, the others keep their values."""
+    from mech.problems import registry
+
+    ex = registry.get("4.34")
+    route = ex.batched_route
+    out = ("cos_psi_eq", "omega_pitch", "omega_roll", "T_pitch")
+    P = _arrays(ex, [{}, {"theta_amp": 1.5}, {"theta_amp": 0.0}, {}])
+    P["theta_amp"][3] = math.nan
+    cols = route.numeric(P, 1e-10, out)
+    for q in out:
+        assert _failed(cols[q]).tolist() == [False, False, False, True]
+    _check_alone(route, P, 1e-10, out, cols, np.array([True, True, True, False]))
+    Omega = math.sqrt(3.986004418e14 / 7.0e6**3)
+    for j, th in enumerate((math.radians(10.0), 1.5, 0.0)):
+        T = 4 * (math.pi / (2 * _agm(1.0, math.cos(th)))) / (math.sqrt(3) * Omega)
+        assert cols["T_pitch"].value[j] == pytest.approx(T, rel=1e-8)
+    assert cols["omega_roll"].value[:3] == pytest.approx([2 * Omega] * 3, rel=1e-9)
