@@ -249,9 +249,10 @@ def lowest_nz(a, b, w, h, H, step, low, low_c):
     return cos_min
 
 
-def _crossing(step, n, L, t, h, sign):
-    """Partial step tau in (0, h] where n_z changes sign (sign = +1: from positive to negative)."""
-    return crossing(lambda tau: sign * step(n, L, t, tau)[0][2], h)
+def _crossing(step, n, L, t, h, sign, nz_end):
+    """Partial step tau in (0, h] where n_z changes sign (sign = +1: from positive to negative); ``nz_end``:
+    n_z after the whole step."""
+    return crossing(lambda tau: sign * step(n, L, t, tau)[0][2], h, sign * n[2], sign * nz_end)
 
 
 
@@ -313,7 +314,7 @@ def march(a, b, k, w, h, ladder, step, coarse):
             n2, L2, t2 = step(n, L, t, h)
             nsteps += 1
             if stage == 0 and n2[2] <= 0.0 < n[2]:
-                tau = _crossing(step, n, L, t, h, +1)
+                tau = _crossing(step, n, L, t, h, +1, n2[2])
                 nd, _, t_down = step(n, L, t, tau)
                 lead = math.atan2(nd[1], nd[0]) - w * t_down
                 phi_lead = math.pi - (math.pi - lead) % (2 * math.pi)  # wrapped to (-pi, pi]
@@ -326,7 +327,7 @@ def march(a, b, k, w, h, ladder, step, coarse):
                 if n2[2] < low[0]:
                     low = (n2[2], (n, L, t))
                 if n2[2] >= 0.0 > n[2] and armed:
-                    t_up = t + _crossing(step, n, L, t, h, -1)
+                    t_up = t + _crossing(step, n, L, t, h, -1, n2[2])
                     break
                 if H and n2[2] < -margin - arm:
                     fine = False
