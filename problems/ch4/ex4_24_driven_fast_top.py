@@ -328,7 +328,7 @@ def _plan(a, b, k, rtol, model_err):
     return weights, order, m, h, ladder
 
 
-def _resolved(a, b, k, w, plan):
+def _resolved(a, b, k, w, plan, units):
     """One variant by the splitting (solvers.mechanics.top_splitting): its outputs, invariants' drifts, what
     it tells (info, method) and its cost; raises ``NumericFailure`` where an event was not reached."""
     weights, order, m, h, ladder = plan
@@ -337,7 +337,7 @@ def _resolved(a, b, k, w, plan):
     method = f"{order}th-order splitting, exact nutation rotation, {m:.3g} steps per nutation period"
     if H:
         method += f" near the events; Strang steps of {k * H / (2 * math.pi):.3g} nutation periods between them"
-    r = march(a, b, k, w, h, ladder, step, strang_stepper(k, a, b, w) if H else None)
+    r = march(a, b, k, w, h, ladder, step, strang_stepper(k, a, b, w) if H else None, units)
     info = {"steps": r["nsteps"] + r["ncoarse"], "steps_per_nutation_period": m}
     if H:
         info.update(coarse_steps=r["ncoarse"], coarse_step_nutation_periods=k * H / (2 * math.pi))
@@ -365,6 +365,7 @@ def numeric(P, rtol, outputs, memo=None, tally=None):
     one at a time (``_resolved``); a variant that fails fails alone.  cos_min is the least n_z: a direction
     error E (the claim, and what averaging neglects) moves it by E sin(angle from straight down) + E^2/2 at
     most, not by E (measured: the rerun at rtol/1000 moves it by <= 4e-12 where the claim E is 1e-5)."""
+    from mech.core.budget import OutOfBudget
     from mech.problems.spec import Tally
     from mech.solvers.numerics.batch import Column
 
@@ -387,7 +388,10 @@ def numeric(P, rtol, outputs, memo=None, tally=None):
             why[j] = plans[j]
             continue
         try:
-            values, inv, info, cost = _resolved(float(a[j]), float(b[j]), float(k[j]), float(w[j]), plans[j])
+            values, inv, info, cost = _resolved(float(a[j]), float(b[j]), float(k[j]), float(w[j]), plans[j],
+                                                1.0 / N)
+        except OutOfBudget:
+            raise
         except NumericFailure as exc:
             why[j] = str(exc)
             continue

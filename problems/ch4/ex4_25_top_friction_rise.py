@@ -217,6 +217,7 @@ def numeric(P, rtol, outputs, tally=None):
     (``floquet.integrate_ensemble``; a batch that fails is integrated again variant by variant, so a variant
     fails alone).  Monitored: |L| + mu M g R t, which the friction's axial torque keeps constant in this model,
     and the polar angle of L at the end against theta1."""
+    from mech.core.budget import OutOfBudget
     from mech.problems.spec import Tally
     from mech.solvers.mechanics.floquet import integrate_ensemble
     from mech.solvers.numerics.batch import Column
@@ -252,6 +253,8 @@ def numeric(P, rtol, outputs, tally=None):
                                                         atol=atol[:, idx], integrator=tally.integrator)
             for r in results:
                 tally.record(r)
+        except OutOfBudget:
+            raise
         except NumericFailure as exc:
             if idx.size == 1:
                 why[idx[0]] = str(exc)

@@ -277,6 +277,7 @@ def _orientation():
 def _quarters(th, rtol, tally):
     """(3) The quarter libration of each swing th (> 0, units Omega = 1): (its time, the Jacobi integral's and
     the link length's drifts, why it failed or "")."""
+    from mech.core.budget import OutOfBudget
     from mech.solvers.numerics.ode import integrate
 
     N = th.size
@@ -288,6 +289,8 @@ def _quarters(th, rtol, tally):
             traj = tally.record(integrate(_pitch_rhs, (0.0, 1e4), y0, rtol=rtol,
                                           atol=[1e-3 * rtol * float(v[j]) for v in sizes],
                                           events=[Event(_pitch_sine, direction=-1)], integrator=tally.integrator))
+        except OutOfBudget:
+            raise
         except NumericFailure as exc:
             why[j] = str(exc)
             continue

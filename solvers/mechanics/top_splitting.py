@@ -264,7 +264,7 @@ def _jacobi(a, b, w, k):
     return jacobi
 
 
-def march(a, b, k, w, h, ladder, step, coarse):
+def march(a, b, k, w, h, ladder, step, coarse, units=1.0):
     """The overturn and back from n = z, L = n (scaled): coarse steps far from the events, fine steps
     near them; returns what the outputs are read from (event times, the lowest steps, the drifts)."""
     Om = math.hypot(a, b)
@@ -332,7 +332,7 @@ def march(a, b, k, w, h, ladder, step, coarse):
                 if H and n2[2] < -margin - arm:
                     fine = False
         if (nsteps + ncoarse) % 64 == 0:
-            budget_check("top splitting steps", 64)
+            budget_check("top splitting steps", 64 * units)
             cx, cy, cz = n2[1] * L2[2] - n2[2] * L2[1], n2[2] * L2[0] - n2[0] * L2[2], n2[0] * L2[1] - n2[1] * L2[0]
             arm = max(arm, 6.0 * math.sqrt(cx * cx + cy * cy + cz * cz))  # 6 sin(cone angle) (|L| ~ 1)
             drift_J = max(drift_J, abs(jacobi(n2, L2, t2) - J0) / J_scale)
