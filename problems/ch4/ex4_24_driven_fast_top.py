@@ -250,8 +250,8 @@ def _unit(Y):
 
 def _guiding_centers(a, b, k, rtol, tally):
     """The guiding centers' runs of N variants (``motion``): (s_down, s_up, c at s_down, c at the lowest point,
-    the drift of |c|), arrays over the variants, NaN where an event was not reached.  Many at once: mech's
-    DOP853 stepping the ensemble (``batch.integrate_batch``, each variant's events located on its own
+    the drift of |c|, why a run failed or ""), arrays over the variants, NaN where an event was not reached.
+    Many at once: mech's DOP853 stepping the ensemble (``batch.integrate_batch``, each variant's events located on its own
     continuous extension); one alone, or an integrator forced (``mech bench``), by ``ode.integrate``."""
     from mech.solvers.numerics.ode import Event, integrate
 
@@ -260,6 +260,21 @@ def _guiding_centers(a, b, k, rtol, tally):
     c0 = np.array([d, np.zeros(N), np.ones(N)]) / np.hypot(d, 1.0)
     s_down, s_up, c_down, c_low, drift = (np.full(N, np.nan), np.full(N, np.nan), np.full((3, N), np.nan),
                                           np.full((3, N), np.nan), np.zeros(N))
+    why = np.full(N, "", dtype=object)
+    if N > 1 and tally.integrator is None:
+        from mech.solvers.numerics.batch import BatchEvent, integrate_batch
+
+        rhs, c_z, lowest = _gc_rhs(A, d)
+        res = integrate_batch(rhs, (0.0, S_MAX), c0, rtol=rtol, atol=1e-3 * rtol, on_failure="mark",
+                              events=[BatchEvent(c_z, -1.0), BatchEvent(c_z, +1.0), BatchEvent(lowest, +1.0)])
+        tally.record(_Cost(res.nfev, GC_METHOD + " (the ensemble at once)"))
+        (s_down, s_up, s_low), (c_down, _, c_low) = res.t_events, res.y_events
+        c_low = np.where(s_down < s_low, c_low, np.nan)
+        off = [np.abs(np.linalg.norm(Y, axis=0) - 1.0) for Y in (res.y_end, c_down, c_low)]
+        drift = np.nan_to_num(np.fmax(np.fmax(off[0], off[1]), off[2]))
+        for j in np.flatnonzero(res.failed):
+            why[j] = res.why[j]
+        return s_down, s_up, c_down, c_low, drift, why
     for j in range(N):
         rhs, c_z, lowest = _gc_rhs(A[j], d[j])
         traj = integrate(rhs, (0.0, S_MAX), c0[:, j], rtol=rtol, atol=1e-3 * rtol,
@@ -275,7 +290,7 @@ def _guiding_centers(a, b, k, rtol, tally):
             got = [y for x, y in zip(lows, traj.y_events[2]) if downs[0] < x < s_up[j]]
             if len(got) == 1:
                 c_low[:, j] = got[0]
-    return s_down, s_up, c_down, c_low, drift
+    return s_down, s_up, c_down, c_low, drift, why
 
 
 def _averaged(idx, a, b, k, rtol, model_err, out, why, tally):
@@ -283,7 +298,9 @@ def _averaged(idx, a, b, k, rtol, model_err, out, why, tally):
     DOP853's global error against its rtol, measured: see the module's notes, plus what averaging neglects),
     failures into ``why``."""
     a, b, k, me = a[idx], b[idx], k[idx], model_err[idx]
-    s_down, s_up, c_down, c_low, drift = _guiding_centers(a, b, k, rtol, tally)
+    s_down, s_up, c_down, c_low, drift, failed = _guiding_centers(a, b, k, rtol, tally)
+    for j in np.flatnonzero(failed != ""):
+        why[idx[j]] = failed[j]
     t_max = S_MAX / b
     fails = [(np.isnan(s_down), [f"the guiding center did not reach the horizontal by t = {t:.4g} s" for t in t_max]),
              (np.isnan(s_up), [f"the guiding center did not come back to the horizontal by t = {t:.4g} s"

@@ -274,31 +274,51 @@ def _orientation():
     return cos_psi, float(freqs["pitch"]), float(freqs["roll"]), None
 
 
+# a batched step's fixed cost and a step of one swing alone (plain floats), in swings' worth of arithmetic
+# (``chunks_by_work``): of the order 4.23 measured for its ensemble (900 and 180 there), not tuned
+STEP_OVERHEAD, STEP_ALONE = 600.0, 150.0
+
+
 def _quarters(th, rtol, tally):
     """(3) The quarter libration of each swing th (> 0, units Omega = 1): (its time, the Jacobi integral's and
-    the link length's drifts, why it failed or "")."""
+    the link length's drifts, why it failed or "").  Swings of like lengths together (``batch.chunks_by_work``:
+    a quarter's steps grow as log(1/cos theta_amp) towards the separatrix, and a batch steps at its hardest
+    swing's pace), by mech's DOP853 stepping the chunk, each swing stopped at its own event and failing alone
+    (``batch.integrate_batch``); a swing alone, or with an integrator forced (``mech bench``), by
+    ``ode.integrate``."""
     from mech.core.budget import OutOfBudget
+    from mech.solvers.numerics.batch import BatchEvent, chunks_by_work, integrate_batch
     from mech.solvers.numerics.ode import integrate
 
     N = th.size
-    t_ev, dJ, dlink, why = np.full(N, np.nan), np.zeros(N), np.zeros(N), np.full(N, "", dtype=object)
-    sizes = _sizes(th)
-    for j in range(N):
-        y0 = np.array([math.cos(th[j]), math.sin(th[j]), 0.0, 0.0])
+    t_ev, why = np.full(N, np.nan), np.full(N, "", dtype=object)
+    y0 = np.array([np.cos(th), np.sin(th), np.zeros(N), np.zeros(N)])
+    y_ev = np.full((4, N), np.nan)
+    atol = 1e-3 * rtol * np.array(_sizes(th))
+    work = 30.0 + 15.0 * np.log1p(1.0 / np.maximum(np.cos(th), 1e-300))
+    chunks = [np.arange(N)] if N == 1 else chunks_by_work(work, STEP_OVERHEAD, STEP_ALONE)
+    for idx in chunks if tally.integrator is None else np.arange(N)[:, None]:
+        if idx.size > 1:
+            res = tally.record(integrate_batch(_pitch_rhs, (0.0, 1e4), y0[:, idx], rtol=rtol, atol=atol[:, idx],
+                                               on_failure="mark",
+                                               events=[BatchEvent(_pitch_sine, -1.0, terminal=True)]))
+            t_ev[idx], y_ev[:, idx] = res.t_events[0], res.y_events[0]
+            why[idx[res.failed]] = [res.why[j] for j in np.flatnonzero(res.failed)]
+            continue
+        j = idx[0]
         try:
-            traj = tally.record(integrate(_pitch_rhs, (0.0, 1e4), y0, rtol=rtol,
-                                          atol=[1e-3 * rtol * float(v[j]) for v in sizes],
+            traj = tally.record(integrate(_pitch_rhs, (0.0, 1e4), y0[:, j], rtol=rtol, atol=atol[:, j],
                                           events=[Event(_pitch_sine, direction=-1)], integrator=tally.integrator))
         except OutOfBudget:
             raise
         except NumericFailure as exc:
             why[j] = str(exc)
             continue
-        if len(traj.t_events[0]) == 0:
-            why[j] = "the rod did not pass the local vertical"
-            continue
-        t_ev[j], y = traj.t_events[0][0], traj.y_events[0][0]
-        dJ[j], dlink[j] = _jacobi(y) - _jacobi(y0), math.hypot(y[0], y[1]) - 1.0
+        if len(traj.t_events[0]):
+            t_ev[j], y_ev[:, j] = traj.t_events[0][0], traj.y_events[0][0]
+    why[(why == "") & np.isnan(t_ev)] = "the rod did not pass the local vertical"
+    dJ = np.nan_to_num(_jacobi(y_ev) - _jacobi(y0))
+    dlink = np.nan_to_num(np.hypot(y_ev[0], y_ev[1]) - 1.0)
     return t_ev, dJ, dlink, why
 
 
