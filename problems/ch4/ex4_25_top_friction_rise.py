@@ -21,8 +21,11 @@ rebuilt from n3 at every step.  The forces see the axis only through its angle
 with the vertical, so the integration runs in a frame turning about z with the
 axis's azimuth (the turning rate is read off the torque at every step), which
 removes the precession (hundreds of turns at small mu) from what the step
-size must resolve.  The event is the polar angle of n3 reaching theta1 (atan2
-of the horizontal and vertical parts, well conditioned at small angles).  The
+size must resolve.  The independent variable is the tilt itself (u, theta =
+theta0 + u (theta1 - theta0), its rate read off the torque): theta1 is the end
+of the span [0, 1], the same for every variant, so N variants are one ensemble
+(``numeric``), and the state's own polar angle there (atan2 of the horizontal
+and vertical parts, well conditioned at small angles) is monitored.  The
 initial rates are the initial torque projected on dn3/dtheta and, for the spin,
 the friction's power F . (n3 x (P - C)) (no cancellation when R << l).
 Monitored: |L| + mu M g R t, which the friction's axial torque keeps constant
