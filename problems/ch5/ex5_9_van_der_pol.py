@@ -310,8 +310,8 @@ def _cycles(eps, rtol, tally):
 def _liouville(eps, X, T, int_div, rtol, tally):
     """One period of each converged cycle from its maximum with its variational equations (the time scaled by
     T: a fixed span): the second multiplier det M = exp(eps int (1 - x^2) dtau) (Liouville), where it is
-    resolvable.  Returns the relative drift of ln det M (0 where not resolvable), what it may drift and each
-    variant's failure."""
+    resolvable.  Returns the relative drift of ln det M (0 where not resolvable), what it may drift, each
+    variant's failure and det M."""
     from mech.solvers.numerics.ensemble_search import integrate_variants
 
     def system(e, period):
@@ -341,8 +341,7 @@ def _liouville(eps, X, T, int_div, rtol, tally):
         seen = (det > 0.0) & (d_log < 1e-3)
         drift = np.where(seen, (np.log(np.where(seen, det, 1.0)) - eps * int_div) / scale, 0.0)
     allowed = exercise.tol_factor * rtol + exercise.tol_factor * np.where(seen, d_log, 0.0)
-    tally.info["det_M"] = det
-    return drift, allowed, why
+    return drift, allowed, why, det
 
 
 def _slow_legs(eps, rtol, tally, options=None):
@@ -397,9 +396,9 @@ def _relaxation(eps, rtol, tally):
 
 def _scaled(eps, rtol, tally):
     """Each distinct eps's cycle in x = sqrt(beta) q and tau = omega0 t: (X, T, lambda/mu, the Liouville drift
-    and its allowance, failure, closure, evaluations); the relaxation oscillations (``_relaxation``)."""
+    and its allowance, failure, closure, evaluations, det M); the relaxation oscillations (``_relaxation``)."""
     N = eps.size
-    X, T, div = (np.full(N, np.nan) for _ in range(3))
+    X, T, div, det = (np.full(N, np.nan) for _ in range(4))
     drift, allowed = np.zeros(N), np.full(N, exercise.tol_factor * rtol)
     why, closure, calls = np.full(N, "", dtype=object), np.full(N, np.nan), np.zeros(N)
     small = np.flatnonzero(eps <= RELAX_EPS)
@@ -407,11 +406,11 @@ def _scaled(eps, rtol, tally):
         e = eps[small]
         X[small], T[small], div[small], closure[small], calls[small], why[small] = _cycles(e, rtol, tally)
         ok = small[why[small] == ""]
-        drift[ok], allowed[ok], why[ok] = _liouville(eps[ok], X[ok], T[ok], div[ok], rtol, tally)
+        drift[ok], allowed[ok], why[ok], det[ok] = _liouville(eps[ok], X[ok], T[ok], div[ok], rtol, tally)
     big = np.flatnonzero(eps > RELAX_EPS)
     if big.size:
         X[big], T[big], div[big], why[big] = _relaxation(eps[big], rtol, tally)
-    return X, T, div / T, drift, allowed, why, closure, calls
+    return X, T, div / T, drift, allowed, why, closure, calls, det
 
 
 @exercise.batched(("A", "omega", "lambda_lc"))
@@ -426,14 +425,14 @@ def numeric(P, rtol, outputs, memo=None, tally=None):
     memo = {} if memo is None else memo
     omega0, mu, beta = _arrays(P)
     eps = mu / omega0
-    X, T, lam, drift, allowed, why, closure, calls = by_rows(memo, ("5.9 cycle", rtol), (eps,),
+    X, T, lam, drift, allowed, why, closure, calls, det = by_rows(memo, ("5.9 cycle", rtol), (eps,),
                                                     lambda e: _scaled(e, rtol, tally))
     why = np.asarray(why, dtype=object)
     small = eps <= RELAX_EPS
     if small.any():
         tally.invariant("Liouville (ln det M - int div)", np.where(small, drift, 0.0), allowed)
     tally.info["closure"] = np.where(small, closure, None)
-    tally.info["cycle_evaluations"] = np.where(small, calls, None)
+    tally.info["cycle_evaluations"], tally.info["det_M"] = np.where(small, calls, None), np.where(small, det, None)
     tally.info["method_note"] = np.where(small, None, "LSODA in the slow time tau/eps: stiff relaxation oscillation")
     claim = exercise.tol_factor * rtol
     failed = [(why == w, w) for w in sorted(set(why[why != ""]))]
