@@ -160,6 +160,7 @@ SETTLE_MU_T = 16.0  # e^-16 ~ 1e-7 of the start's distance from the torus (itsel
 # resolves the detuning w only to about rtol omega0/W, the rotating one to rtol mu/W (W ~ 4 Delta); above,
 # the plain map is cheaper for the same accuracy (fewer harmonics in its integrand)
 ROTATING_BELOW = 5e-3
+CHUNK_COPIES = 8192  # copies integrated together at most (``_periods``)
 MAX_SETTLE = 300  # drive periods at most (very small mu): the claim then carries the transient left over
 
 
@@ -209,28 +210,25 @@ def _edges(w0, mu, beta, f0, rtol, memo, tally):
     # edge, stationary there, by the relative (d s)^2/2 (the branch is w ~ (D/W) cos s).  The search
     # tolerance keeps this part below a tenth of the claim (and so tightens with rtol, which the rerun sees)
     r_search = np.minimum(rs, np.maximum(rr, 0.1 * sens * np.sqrt(0.1 * edge_claim / 8.0)))
-    # one integration holds every variant to the tightest of their tolerances (each claims its own); the
-    # brackets, at a tolerance that does not depend on rtol, are kept for the rerun at rtol/10
-    rs_all = float(rs.min())
-    keys = [("5.10 brackets", rs_all, *row) for row in zip(w0.tolist(), mu.tolist(), beta.tolist(), f0.tolist())]
+    # the brackets, at a tolerance that does not depend on rtol, are kept for the rerun at rtol/10
+    keys = [("5.10 brackets", *row) for row in zip(rs.tolist(), w0.tolist(), mu.tolist(), beta.tolist(), f0.tolist())]
     todo = np.array([j for j, k in enumerate(keys) if k not in memo], dtype=int)
     if todo.size:
-        got = loop_fold_brackets(ens, todo, rs_all, rs[todo])
-        for j, row in zip(todo, got):
+        for j, row in zip(todo, loop_fold_brackets(ens, todo, rs[todo])):
             memo[keys[j]] = row
     br = np.array([memo[k] for k in keys])
     code = br[:, 28].copy()
     go = np.flatnonzero(code == 0)
     out = np.full((m, 2, 3), np.nan)
     mult = np.full((m, 2), np.nan)
-    fresh = np.where(ens.rotating, 1, 0)
-    for k, cols in enumerate((br[:, :14], br[:, 14:28])):
-        if go.size == 0:
-            break
-        z, mult[go, k], ok = loop_fold(ens, go, cols[go], float(r_search[go].min()), float(rr[go].min()),
-                                   (r_search[go], rr[go]), 0.1 * np.sqrt(edge_claim[go]), fresh[go])
-        out[go, k] = z.T
-        code[go[~ok]] = 3.0
+    if go.size:  # both folds of every variant at once
+        two = np.concatenate([go, go])
+        z, mu2, ok = loop_fold(ens, two, np.vstack([br[go, :14], br[go, 14:28]]), np.tile(r_search[go], 2),
+                               np.tile(rr[go], 2), np.tile(0.1 * np.sqrt(edge_claim[go]), 2),
+                               np.tile(np.where(ens.rotating[go], 1, 0), 2))
+        out[go] = np.stack([z[:, :go.size].T, z[:, go.size:].T], axis=1)
+        mult[go] = np.stack([mu2[:go.size], mu2[go.size:]], axis=1)
+        code[go[~(ok[:go.size] & ok[go.size:])]] = 3.0
     first_hi = out[:, 0, 2] >= out[:, 1, 2]
     z_hi = np.where(first_hi[:, None], out[:, 0], out[:, 1])
     z_lo = np.where(first_hi[:, None], out[:, 1], out[:, 0])
@@ -294,26 +292,26 @@ def motion(p):
     return Motion(rhs, np.array([2.0 * Q, 0.0]), (0.0, 4.0 * math.pi / p.omega), y_size=np.array([Q, Q * p.omega0]))
 
 
-def _settle(w0, mu, beta, f0, w, amp, n, r, tally):
-    """The copies of each variant (N_COPIES around a circle of radius ``amp``, shape (2, m N_COPIES): q, v)
-    after n[j] drive periods, integrated together in the drive phase scaled to [0, 1] per variant (chunks of
-    variants settling for similar numbers of periods, ``batch.chunks_by_work``)."""
+def _periods(w0, mu, beta, f0, w, y0, n, r, tally):
+    """The copies y0 (2, m, N_COPIES: q, v) of the variants after n[j] drive periods, integrated together in the
+    drive phase scaled to [0, 1] per variant: chunks of variants running similar numbers of periods
+    (``batch.chunks_by_work``), of at most CHUNK_COPIES copies (the stages of a larger ensemble outgrow the
+    cache: 300 variants at once took 8 times as long as in chunks of 100)."""
     from mech.solvers.mechanics.floquet import integrate_ensemble
     from mech.solvers.numerics.batch import chunks_by_work
 
-    M = N_COPIES
-    th = 2.0 * math.pi * np.arange(M) / M
-    out = np.empty((2, w.size, M))
-    for part in chunks_by_work(n, overhead=4.0):
-        Q = np.repeat(1.0 / np.sqrt(beta[part]), M)
-        y0 = np.stack([np.outer(amp[part], np.cos(th)).ravel(), -np.outer(w0[part] * amp[part], np.sin(th)).ravel()])
-        L = 2.0 * math.pi * n[part]
-        make = _drive_phase_rhs(w0[part], mu[part], beta[part], f0[part], w[part], L)
-        atol = 1e-3 * r * np.stack([Q, Q * np.repeat(w0[part], M)])
-        y, runs = integrate_ensemble(make, (0.0, 1.0), y0, rtol=r, atol=atol, integrator=tally.integrator)
-        for run in runs:
-            tally.record(run)
-        out[:, part] = y.reshape(2, part.size, M)
+    M = y0.shape[2]
+    out = np.empty_like(y0)
+    for group in chunks_by_work(n, overhead=4.0):
+        for part in np.array_split(group, -(-group.size * M // CHUNK_COPIES)):
+            Q = np.repeat(1.0 / np.sqrt(beta[part]), M)
+            make = _drive_phase_rhs(w0[part], mu[part], beta[part], f0[part], w[part], 2.0 * math.pi * n[part])
+            atol = 1e-3 * r * np.stack([Q, Q * np.repeat(w0[part], M)])
+            y, runs = integrate_ensemble(make, (0.0, 1.0), y0[:, part].reshape(2, -1), rtol=r, atol=atol,
+                                         integrator=tally.integrator)
+            for run in runs:
+                tally.record(run)
+            out[:, part] = y.reshape(2, part.size, M)
     return out
 
 
@@ -336,10 +334,20 @@ def _drive_phase_rhs(w0, mu, beta, f0, w, L):
 
             return one
 
-        def rhs(s, y):
+        def rhs(s, y):  # in place (the ensemble's cost): out = (k v, k acc)
             q, v = y.reshape(2, -1, M)
-            acc = (c1 - c2 * q * q) * v - c3 * q + drive * np.cos(Lc * s)
-            return np.stack([k * v, k * acc]).reshape(2, -1)
+            out = np.empty_like(y)
+            dq, acc = out.reshape(2, -1, M)
+            np.multiply(q, q, out=acc)
+            acc *= c2
+            np.subtract(c1, acc, out=acc)
+            acc *= v
+            np.multiply(c3, q, out=dq)
+            acc -= dq
+            acc += drive * np.cos(Lc * s)
+            acc *= k
+            np.multiply(k, v, out=dq)
+            return out
 
         return rhs
 
@@ -349,7 +357,6 @@ def _drive_phase_rhs(w0, mu, beta, f0, w, L):
 def _beat(w0, mu, beta, f0, w, amp, rtol, memo, tally):
     """|omega - mean oscillator frequency| from the circle map on the torus (see the module doc), for the
     variants outside their locking range: (beat, relative claim, failure reason or None per variant)."""
-    from mech.solvers.mechanics.floquet import integrate_ensemble
     from mech.solvers.numerics.circle_map import fourier_fit, rotation_number
 
     M, m = N_COPIES, w.size
@@ -362,23 +369,19 @@ def _beat(w0, mu, beta, f0, w, amp, rtol, memo, tally):
     r_settle = max(rtol, 1e-6)  # the settling only has to land on the attracting torus
     keys = [("5.10 settle", r_settle, *row) for row in zip(*(x.tolist() for x in (w0, mu, beta, f0, w, amp, n)))]
     todo = np.array([j for j, key in enumerate(keys) if key not in memo], dtype=int)
-    if todo.size:
-        got = _settle(w0[todo], mu[todo], beta[todo], f0[todo], w[todo], amp[todo], n[todo], r_settle, tally)
+    if todo.size:  # the copies start on a circle around the cycle
+        th = 2.0 * math.pi * np.arange(M) / M
+        a_t = amp[todo, None]
+        y0 = np.stack([a_t * np.cos(th), -w0[todo, None] * a_t * np.sin(th)])
+        got = _periods(w0[todo], mu[todo], beta[todo], f0[todo], w[todo], y0, n[todo], r_settle, tally)
         for j, y in zip(todo, np.moveaxis(got, 1, 0)):
             memo[keys[j]] = y
-    y = np.stack([memo[key] for key in keys], axis=1).reshape(2, m * M)  # (2, m M)
     tally.info["beat_settle_periods"] = n
     # the next two drive periods, on the torus (the drive's phase is a whole number of turns: cos tau again)
-    Q = np.repeat(1.0 / np.sqrt(beta), M)
-    atol = 1e-3 * rtol * np.stack([Q, Q * np.repeat(w0, M)])
-    make = _drive_phase_rhs(w0, mu, beta, f0, w, np.full(m, 2.0 * math.pi))
-    sections = [y]
+    sections = [np.stack([memo[key] for key in keys], axis=1)]  # (2, m, M)
     for _ in (0, 1):
-        y, runs = integrate_ensemble(make, (0.0, 1.0), y, rtol=rtol, atol=atol, integrator=tally.integrator)
-        for run in runs:
-            tally.record(run)
-        sections.append(y)
-    phases = [np.arctan2(-s[1].reshape(m, M) / w0[:, None], s[0].reshape(m, M)) for s in sections]
+        sections.append(_periods(w0, mu, beta, f0, w, sections[-1], np.ones(m), rtol, tally))
+    phases = [np.arctan2(-s[1] / w0[:, None], s[0]) for s in sections]
     # the advance beyond one full turn over each of the two periods; both fits at once (2 m rows)
     th0 = np.concatenate(phases[:2])
     d = np.mod(np.concatenate(phases[1:]) - th0 + math.pi, 2.0 * math.pi) - math.pi

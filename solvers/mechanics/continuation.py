@@ -692,44 +692,48 @@ class OrbitEnsemble:
         self.calls = np.zeros(self.f0.size, dtype=int)
         self.records: list = []
 
-    def evaluate(self, z, idx, rtol: float):
-        """(residual (2, m), Jacobian (2, 3, m)) of the maps of the variants ``idx`` at z (3, m), each held to
-        ``rtol`` (relative, 1e-3 rtol absolute in units of its state's size)."""
-        from mech.solvers.mechanics.floquet import integrate_ensemble
-
+    def evaluate(self, z, idx, rtol):
+        """(residual (2, m), Jacobian (2, 3, m)) of the maps of the variants ``idx`` at z (3, m), each held to its
+        ``rtol`` (a number or one per variant; relative, 1e-3 rtol absolute in units of its state's size).  The
+        variants are integrated in groups, one per kind of map and decade of rtol, each group at the tightest
+        rtol in it."""
         z, idx = np.asarray(z, dtype=float), np.asarray(idx)
         budget.check("periodic orbits' one-period maps")
+        rtol = np.broadcast_to(np.asarray(rtol, dtype=float), (idx.size,))
         res, J = np.empty((2, idx.size)), np.empty((2, 3, idx.size))
-        for rot in (False, True):
-            part = np.flatnonzero(self.rotating[idx] == rot)
-            if part.size == 0:
-                continue
-            sel, zp = idx[part], z[:, part]
-            omega = self.w0[sel] + self.W[sel] * zp[2]
-            if not np.all(omega > 0):
-                raise NumericFailure("a periodic orbit's drive frequency came out non-positive")
-            scale = np.maximum(np.maximum(np.abs(zp[0]), np.abs(zp[1])), 1.0 if rot else 1e-3)
-            if rot:
-                y0 = np.zeros((8, part.size))
-                atol = np.broadcast_to(1e-3 * rtol * scale, (8, part.size)).copy()
-            else:
-                y0 = np.zeros((8, part.size))
-                y0[0], y0[1], y0[2], y0[6] = zp[0], zp[1], 1.0, 1.0
-                atol = np.vstack([np.broadcast_to(1e-3 * rtol * scale, (2, part.size)), np.full((6, part.size), 1e-3 * rtol)])
-            make = self._rotating_rhs if rot else self._plain_rhs
-            s, runs = integrate_ensemble(lambda k: make(sel, zp, k), (0.0, 2.0 * math.pi), y0, rtol=rtol, atol=atol,
-                                         integrator=self.integrator)
-            self.records += runs
-            np.add.at(self.calls, sel, 1)
-            if rot:
-                res[:, part] = s[:2]
-                J[:, :, part] = np.stack([s[2:5], s[5:8]])
-            else:
-                res[:, part] = s[:2] - zp[:2]
-                J[:, :, part] = np.stack([s[2:5], s[5:8]])
-                J[0, 0, part] -= 1.0
-                J[1, 1, part] -= 1.0
+        group = 2 * np.floor(np.log10(rtol) + 1e-9) + self.rotating[idx]
+        for g in np.unique(group):
+            part = np.flatnonzero(group == g)
+            res[:, part], J[:, :, part] = self._integrate(z[:, part], idx[part], float(rtol[part].min()),
+                                                          bool(self.rotating[idx[part[0]]]))
         return res, J
+
+    def _integrate(self, zp, sel, rtol, rot):
+        """The maps of the variants ``sel`` (all plain or all rotating) at zp, integrated together at rtol."""
+        from mech.solvers.mechanics.floquet import integrate_ensemble
+
+        m = sel.size
+        omega = self.w0[sel] + self.W[sel] * zp[2]
+        if not np.all(omega > 0):
+            raise NumericFailure("a periodic orbit's drive frequency came out non-positive")
+        scale = np.maximum(np.maximum(np.abs(zp[0]), np.abs(zp[1])), 1.0 if rot else 1e-3)
+        y0 = np.zeros((8, m))
+        if rot:
+            atol = np.broadcast_to(1e-3 * rtol * scale, (8, m)).copy()
+        else:
+            y0[0], y0[1], y0[2], y0[6] = zp[0], zp[1], 1.0, 1.0
+            atol = np.vstack([np.broadcast_to(1e-3 * rtol * scale, (2, m)), np.full((6, m), 1e-3 * rtol)])
+        make = self._rotating_rhs if rot else self._plain_rhs
+        s, runs = integrate_ensemble(lambda k: make(sel, zp, k), (0.0, 2.0 * math.pi), y0, rtol=rtol, atol=atol,
+                                     integrator=self.integrator)
+        self.records += runs
+        np.add.at(self.calls, sel, 1)
+        J = np.stack([s[2:5], s[5:8]])
+        if rot:
+            return s[:2], J
+        J[0, 0] -= 1.0
+        J[1, 1] -= 1.0
+        return s[:2] - zp[:2], J
 
     def _params(self, sel, zp, k):
         """(f0, Q, omega_ref, W, eps, z) of the variants ``sel[k]`` (k: slice(None) for all, an int for one)."""
@@ -801,28 +805,27 @@ def _solve3(J, n, res, gap):
     return dz, norm
 
 
-def newton_on_planes(ens: OrbitEnsemble, idx, z_guess, n, c, *, rtol: float, claim, tol: float, max_iter: int,
-                     fresh):
+def newton_on_planes(ens: OrbitEnsemble, idx, z_guess, n, c, *, rtol, tol: float, max_iter: int, fresh):
     """Newton on {phi(z0, z1; w) = (z0, z1), n . z = c} for each variant ``idx`` at once (``solve_on_plane``'s
-    rule, each variant its own iterate, stop and failure): z_guess, n (3, m), c (m,); the maps integrated at
-    ``rtol``, each variant's noise floor taken at its own ``claim`` (the tolerance it is held to, at least rtol).
+    rule, each variant its own iterate, stop and failure): z_guess, n (3, m), c (m,); each variant's maps
+    integrated at its ``rtol`` (a number or one per variant), its noise floor taken there.
     ``fresh`` (m,): 0, the last iterate's Jacobian kept; 1, a stop at the noise floor evaluated again and
     confirmed (``FLOOR_RESIDUAL``); 2, every stop evaluated again.  Returns (z, J (Jacobian of the last
     evaluation), converged)."""
     z = np.array(z_guess, dtype=float)
     m = z.shape[1]
-    n, c, claim = np.asarray(n, dtype=float), np.asarray(c, dtype=float), np.broadcast_to(claim, (m,))
+    n, c, rtol = np.asarray(n, dtype=float), np.asarray(c, dtype=float), np.broadcast_to(rtol, (m,))
     fresh = np.broadcast_to(np.asarray(fresh), (m,))
     J, res = np.full((2, 3, m), np.nan), np.full((2, m), np.nan)
     done, ok, checking = np.zeros(m, bool), np.zeros(m, bool), np.zeros(m, bool)
     last, left = np.full(m, np.inf), np.full(m, max_iter)
     while not done.all():
         act = np.flatnonzero(~done)
-        res[:, act], J[:, :, act] = ens.evaluate(z[:, act], idx[act], rtol)
+        res[:, act], J[:, :, act] = ens.evaluate(z[:, act], idx[act], rtol[act])
         scale = np.maximum(1e-3, np.max(np.abs(z[:2, act]), axis=0))
         chk = checking[act]
         accept = chk & ((last[act] < tol) | (np.max(np.abs(res[:, act]), axis=0)
-                                             <= FLOOR_RESIDUAL * claim[act] * scale))
+                                             <= FLOOR_RESIDUAL * rtol[act] * scale))
         done[act[accept]] = ok[act[accept]] = True
         checking[act] = False
         go = act[~accept]
@@ -834,7 +837,7 @@ def newton_on_planes(ens: OrbitEnsemble, idx, z_guess, n, c, *, rtol: float, cla
         dz, norm = _solve3(J[:, :, go], n[:, go], res[:, go], c[go] - np.einsum("ij,ij->j", n[:, go], z[:, go]))
         step = np.max(np.abs(dz), axis=0)
         sc = np.maximum(1e-3, np.max(np.abs(z[:2, go]), axis=0))
-        tol_eff = np.maximum(tol, claim[go] * norm * sc)
+        tol_eff = np.maximum(tol, rtol[go] * norm * sc)
         finite = np.isfinite(step)
         done[go[~finite]] = True
         go, dz, step, tol_eff = go[finite], dz[:, finite], step[finite], tol_eff[finite]
@@ -855,10 +858,10 @@ __all__ += ["OrbitEnsemble", "newton_on_planes", "on_phase_loop", "loop_fold_bra
 # The locked orbits form a closed loop around the w axis, parametrized by their phase against the drive: on
 # the plane n = (-sin th, cos th, 0), Newton solves for the swing and w, well posed however weak the drive (at
 # a fixed w instead, its first step along the nearly neutral phase overshoots from a far start).
-def on_phase_loop(ens, idx, th, known, r, claim, fresh):
+def on_phase_loop(ens, idx, th, known, r, fresh):
     """The locked orbits of phases th (m,) of the variants idx, Newton started from the solved points
     ``known`` = (th', z', tangent') moved along the branch's tangent (first order in th - th'; None at a
-    start: a swing of 2 Q, w = 0), each held to its ``claim``.  ``fresh`` (newton_on_planes): 1 from a far
+    start: a swing of 2 Q, w = 0), each at its rtol ``r``.  ``fresh`` (newton_on_planes): 1 from a far
     start or on the rotating map, whose weak drive leaves the phase nearly neutral and the noise floor a poor
     bound on the distance to the orbit (5.10's locking ranges of 5e-17 omega0 came out in the
     wrong order without the check); 0 from a solved point nearby on the plain map, the last iterate's
@@ -876,12 +879,12 @@ def on_phase_loop(ens, idx, th, known, r, claim, fresh):
             w = np.where(use, w + tg[2] / dth * (th - t_k), w)
     c, sn = np.cos(th), np.sin(th)
     z, J, ok = newton_on_planes(ens, idx, np.stack([R * c, R * sn, w]), np.stack([-sn, c, np.zeros(m)]),
-                                np.zeros(m), rtol=r, claim=claim, tol=1e-9, max_iter=12, fresh=fresh)
+                                np.zeros(m), rtol=r, tol=1e-9, max_iter=12, fresh=fresh)
     ok &= np.hypot(z[0], z[1]) > 1.0  # not the small unstable orbit near rest
     return z, np.cross(J[0], J[1], axis=0), ok, J
 
 
-def loop_fold_brackets(ens, idx, rs, claim, step=math.pi / 3.0):
+def loop_fold_brackets(ens, idx, rs, step=math.pi / 3.0):
     """Phases bracketing the two folds of each variant: from the phase where the drive pushes the swing
     outward (the centre of the range, w ~ 0), in steps of ``step`` (a third of a turn) each way round until w turns back: the
     edges are the folds, where det(M - I), the w-component of the branch's tangent, changes sign.  Adler's
@@ -892,7 +895,7 @@ def loop_fold_brackets(ens, idx, rs, claim, step=math.pi / 3.0):
     a failure code (0 none, 1 Newton, 2 no turn)."""
     m, th0 = idx.size, 0.5 * math.pi
     fresh = np.where(ens.rotating[idx], 1, 0)
-    z0, tg0, ok, _ = on_phase_loop(ens, idx, np.full(m, th0), None, rs, claim, 1)
+    z0, tg0, ok, _ = on_phase_loop(ens, idx, np.full(m, th0), None, rs, 1)
     code = np.where(ok, 0.0, 1.0)
     cols = []
     for d in (1.0, -1.0):
@@ -904,8 +907,8 @@ def loop_fold_brackets(ens, idx, rs, claim, step=math.pi / 3.0):
             if go.size == 0:
                 break
             th = np.full(go.size, th0 + d * k * step)
-            z, tg, okk, _ = on_phase_loop(ens, idx[go], th, (pt[go], pz[:, go], ptg[:, go]), rs, claim[go],
-                                       fresh[go])
+            z, tg, okk, _ = on_phase_loop(ens, idx[go], th, (pt[go], pz[:, go], ptg[:, go]), rs[go],
+                                          fresh[go])
             code[go[~okk]] = 1.0
             turn = okk & (np.sign(tg[2]) != np.sign(ptg[2, go]))
             on = okk & ~turn
@@ -917,7 +920,7 @@ def loop_fold_brackets(ens, idx, rs, claim, step=math.pi / 3.0):
     return np.hstack(cols + [code[:, None]])
 
 
-def loop_fold(ens, idx, br, r_search, rr, claims, xtol, fresh):
+def loop_fold(ens, idx, br, r_search, rr, xtol, fresh):
     """Each variant's fold in its bracket ``br`` (th, z, tangent before and after): Illinois on det(M - I)
     over the phase at r_search, each trial started from the nearest point solved, then the fold solved at rr
     from the nearest (its Jacobian that of the last iterate: the edge is z's w).  (z, J-tangent, ok)."""
@@ -926,7 +929,6 @@ def loop_fold(ens, idx, br, r_search, rr, claims, xtol, fresh):
     m = idx.size
     hist = [(br[:, 0], br[:, 1:4].T, br[:, 4:7].T), (br[:, 7], br[:, 8:11].T, br[:, 11:14].T)]
     ok = np.ones(m, dtype=bool)
-    claim_s, claim_r = claims
 
     def nearest(sel, x):
         ths = np.stack([h[0][sel] for h in hist])
@@ -936,7 +938,7 @@ def loop_fold(ens, idx, br, r_search, rr, claims, xtol, fresh):
                 np.stack([h[2][:, sel] for h in hist])[k, :, cols].T)
 
     def det(x, i):
-        z, tg, okk, _ = on_phase_loop(ens, idx[i], x, nearest(i, x), r_search, claim_s[i], fresh[i])
+        z, tg, okk, _ = on_phase_loop(ens, idx[i], x, nearest(i, x), r_search[i], fresh[i])
         ok[i[~okk]] = False
         th, zz, tt = np.full(m, np.nan), np.full((3, m), np.nan), np.full((3, m), np.nan)
         th[i], zz[:, i], tt[:, i] = x, z, tg
@@ -944,7 +946,7 @@ def loop_fold(ens, idx, br, r_search, rr, claims, xtol, fresh):
         return np.where(okk, tg[2], 0.0)
 
     x, conv = illinois(det, br[:, 0], br[:, 7], br[:, 6], br[:, 13], xtol=xtol, rtol=0.0)
-    z, _, okk, J = on_phase_loop(ens, idx, x, nearest(np.arange(m), x), rr, claim_r, np.zeros(m, dtype=int))
+    z, _, okk, J = on_phase_loop(ens, idx, x, nearest(np.arange(m), x), rr, np.zeros(m, dtype=int))
     # Liouville: the divergence mu (1 - beta q^2) is not constant, so det M is not known in closed form; at a
     # fold one multiplier is exactly 1, recorded (the largest in modulus) as a check of the refinement
     M = ens.eps[idx, None, None] * np.transpose(J[:, :2], (2, 0, 1)) + np.eye(2)
