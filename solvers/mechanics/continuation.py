@@ -680,8 +680,8 @@ class OrbitEnsemble:
     + W w, in the units of ``OrbitMap`` (plain) or of ``RotatingOrbitMap`` (in the frame rotating with the
     drive, the increments over ``eps``), variant by variant (``rotating``: a mask).
 
-    ``remainder(q, p, sel)`` returns (r, dr/dq, dr/dp) for the variants ``sel`` (an index array, or an int for
-    one variant alone: floats); ``f0``, ``Q``, ``omega_ref``, ``W``, ``eps`` are arrays of N (``eps``: 1 on the
+    ``remainder(sel)`` gives the function (q, p) -> (r, dr/dq, dr/dp) of the variants ``sel`` (an index array,
+    or an int for one variant alone: floats); ``f0``, ``Q``, ``omega_ref``, ``W``, ``eps`` are arrays of N (``eps``: 1 on the
     plain map).  ``evaluate`` integrates the variants asked (8 numbers each: the state and its derivatives in
     (z0, z1, w)) over one drive period; ``calls[j]`` counts variant j's maps, ``records`` the integrations."""
 
@@ -744,17 +744,19 @@ class OrbitEnsemble:
         f0, Q, ws, W, _, z, pick = self._params(sel, zp, k)
         omega = ws + W * z[2]
         c_xy, c_y = ws / omega, 1.0 / (omega * ws * Q)
-        rem = self.remainder
+        k_x, f_y, c_q, c_p, w_o = ws * ws * Q * c_y, f0 * c_y, 1.0 / (omega * ws), 1.0 / omega, W / omega
+        rem = self.remainder(pick)
 
-        def rhs(tau, s):
-            X, Y, p00, p01, p02, p10, p11, p12 = s
-            r, r_q, r_p = rem(Q * X, ws * Q * Y, pick)
-            a, a_q = r - ws * ws * Q * X, r_q - ws * ws
-            fx = c_xy * Y
-            fy = (a + f0 * math.cos(tau)) * c_y
-            jyx, jyy = a_q / (omega * ws), r_p / omega
-            return np.array([fx, fy, c_xy * p10, c_xy * p11, c_xy * p12 - W / omega * fx, jyx * p00 + jyy * p10,
-                             jyx * p01 + jyy * p11, jyx * p02 + jyy * p12 - W / omega * fy])
+        def rhs(tau, s):  # (the products folded into constants: the ensemble's cost is its numpy calls)
+            r, r_q, r_p = rem(Q * s[0], ws * Q * s[1])
+            out = np.empty_like(s)
+            out[0] = fx = c_xy * s[1]
+            out[1] = fy = r * c_y - k_x * s[0] + f_y * math.cos(tau)
+            out[2:5] = c_xy * s[5:8]
+            out[5:8] = (r_q * c_q - c_xy) * s[2:5] + (r_p * c_p) * s[5:8]
+            out[4] -= w_o * fx
+            out[7] -= w_o * fy
+            return out
 
         return rhs
 
@@ -764,8 +766,12 @@ class OrbitEnsemble:
         om2 = omega * omega
         kk = W * z[2] * (2.0 * w0 + W * z[2]) / om2  # 1 - omega0^2/omega^2, without cancellation
         inv_om2Q, dk = 1.0 / (om2 * Q), 2.0 * w0 * w0 / (om2 * omega)
-        a0, b0, rem = z[0], z[1], self.remainder
-
+        a0, b0, rem = z[0], z[1], self.remainder(pick)
+        # F = (r + f0 cos tau)/(omega^2 Q) + k x over eps, and its derivatives, with the products folded in
+        g_r, g_x = inv_om2Q / eps, kk / eps
+        c_fx, c_fv = 1.0 / (om2 * eps), 1.0 / (omega * eps)
+        w_p, w_r, w_x = W / (om2 * eps), 2.0 * W * inv_om2Q / (omega * eps), W * dk / eps
+        Qw = omega * Q
         e0, e1 = np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
         if np.ndim(a0):  # many variants: the unit columns broadcast over them
             e0, e1 = e0[:, None], e1[:, None]
@@ -774,16 +780,15 @@ class OrbitEnsemble:
             c, sn = math.cos(tau), math.sin(tau)
             a, b = a0 + eps * s[0], b0 + eps * s[1]
             x, v = a * c + b * sn, b * c - a * sn
-            r, r_q, r_p = rem(Q * x, omega * Q * v, pick)
-            drive = (r + f0 * c) * inv_om2Q
-            G = (drive + kk * x) / eps
-            Fx, Fv = (r_q / om2 + kk) / eps, r_p / omega / eps
-            Fw = W * (r_p * v / om2 - 2.0 * drive / omega + dk * x) / eps
+            r, r_q, r_p = rem(Q * x, Qw * v)
+            rd = r + f0 * c
+            G = rd * g_r + g_x * x
+            Fx, Fv = r_q * c_fx + g_x, r_p * c_fv
             P0, P1 = eps * s[2:5] + e0, eps * s[5:8] + e1
             dF = (Fx * c - Fv * sn) * P0 + (Fx * sn + Fv * c) * P1
-            dF[2] += Fw
+            dF[2] += (r_p * v) * w_p - rd * w_r + w_x * x
             out = np.empty_like(s)
-            out[0], out[1] = -G * sn, G * c
+            out[0], out[1] = -sn * G, c * G
             out[2:5], out[5:8] = -sn * dF, c * dF
             return out
 
@@ -886,37 +891,38 @@ def on_phase_loop(ens, idx, th, known, r, fresh):
 
 def loop_fold_brackets(ens, idx, rs, step=math.pi / 3.0):
     """Phases bracketing the two folds of each variant: from the phase where the drive pushes the swing
-    outward (the centre of the range, w ~ 0), in steps of ``step`` (a third of a turn) each way round until w turns back: the
-    edges are the folds, where det(M - I), the w-component of the branch's tangent, changes sign.  Adler's
-    loop is w ~ -(Delta/W) cos(phase) with the folds a quarter turn either side, moved by ~Delta/mu rad by
-    the drive's push on the swing (at most 0.25 rad, half a step).  Not all the way round: where the drive
-    pushes the swing inward and 4 Delta/mu exceeds 4/(3 sqrt 3), no locked orbit of a large swing has that
-    phase.  An array (m, 29): per direction (th, z, tangent) of the point before the turn and after it, then
-    a failure code (0 none, 1 Newton, 2 no turn)."""
+    outward (the centre of the range, w ~ 0), in steps of ``step`` (a third of a turn) each way round (both
+    ways at once) until w turns back: the edges are the folds, where det(M - I), the w-component of the
+    branch's tangent, changes sign.  Adler's loop is w ~ -(Delta/W) cos(phase) with the folds a quarter turn
+    either side, moved by ~Delta/mu rad by the drive's push on the swing (at most 0.25 rad, half a step).
+    Not all the way round: where the drive pushes the swing inward and 4 Delta/mu exceeds 4/(3 sqrt 3), no
+    locked orbit of a large swing has that phase.  An array (m, 29): per direction (th, z, tangent) of the
+    point before the turn and after it, then a failure code (0 none, 1 Newton, 2 no turn)."""
     m, th0 = idx.size, 0.5 * math.pi
-    fresh = np.where(ens.rotating[idx], 1, 0)
     z0, tg0, ok, _ = on_phase_loop(ens, idx, np.full(m, th0), None, rs, 1)
     code = np.where(ok, 0.0, 1.0)
-    cols = []
-    for d in (1.0, -1.0):
-        pt, pz, ptg = np.full(m, th0), z0.copy(), tg0.copy()
-        bt, bz, btg = pt.copy(), pz.copy(), ptg.copy()
-        found = np.zeros(m, dtype=bool)
-        for k in (1, 2, 3):
-            go = np.flatnonzero(~found & (code == 0))
-            if go.size == 0:
-                break
-            th = np.full(go.size, th0 + d * k * step)
-            z, tg, okk, _ = on_phase_loop(ens, idx[go], th, (pt[go], pz[:, go], ptg[:, go]), rs[go],
-                                          fresh[go])
-            code[go[~okk]] = 1.0
-            turn = okk & (np.sign(tg[2]) != np.sign(ptg[2, go]))
-            on = okk & ~turn
-            g, h = go[turn], go[on]
-            bt[g], bz[:, g], btg[:, g], found[g] = th[turn], z[:, turn], tg[:, turn], True
-            pt[h], pz[:, h], ptg[:, h] = th[on], z[:, on], tg[:, on]
-        code[~found & (code == 0)] = 2.0
-        cols += [pt[:, None], pz.T, ptg.T, bt[:, None], bz.T, btg.T]
+    # both directions as 2 m searches: variant j going up is j, going down m + j
+    two, r2, d = np.concatenate([idx, idx]), np.concatenate([rs, rs]), np.repeat([1.0, -1.0], m)
+    fresh = np.where(ens.rotating[two], 1, 0)
+    pt, pz, ptg = np.full(2 * m, th0), np.hstack([z0, z0]), np.hstack([tg0, tg0])
+    bt, bz, btg = pt.copy(), pz.copy(), ptg.copy()
+    found, bad = np.zeros(2 * m, dtype=bool), np.tile(code != 0, 2)
+    for k in (1, 2, 3):
+        go = np.flatnonzero(~found & ~bad)
+        if go.size == 0:
+            break
+        th = th0 + d[go] * k * step
+        z, tg, okk, _ = on_phase_loop(ens, two[go], th, (pt[go], pz[:, go], ptg[:, go]), r2[go], fresh[go])
+        bad[go[~okk]] = True
+        turn = okk & (np.sign(tg[2]) != np.sign(ptg[2, go]))
+        on = okk & ~turn
+        g, h = go[turn], go[on]
+        bt[g], bz[:, g], btg[:, g], found[g] = th[turn], z[:, turn], tg[:, turn], True
+        pt[h], pz[:, h], ptg[:, h] = th[on], z[:, on], tg[:, on]
+    code[(code == 0) & (bad[:m] | bad[m:])] = 1.0
+    code[(code == 0) & ~(found[:m] & found[m:])] = 2.0
+    cols = [np.hstack([pt[s][:, None], pz[:, s].T, ptg[:, s].T, bt[s][:, None], bz[:, s].T, btg[:, s].T])
+            for s in (slice(0, m), slice(m, 2 * m))]
     return np.hstack(cols + [code[:, None]])
 
 
