@@ -28,7 +28,7 @@ def resolve(ex, given: Mapping[str, float] | None = None) -> Params:
     params = Params(values)
     from mech.problems import scales
 
-    for check in ex.constraints:
+    for check in ex.joint_checks:
         try:
             msg = check(params)
         except (OverflowError, ZeroDivisionError) as exc:

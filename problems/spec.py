@@ -336,7 +336,7 @@ class Exercise:
         return self._hamiltonian(p)
 
     @property
-    def constraints(self) -> tuple:
+    def joint_checks(self) -> tuple:
         """The registered joint checks (``@exercise.constraint``), in order."""
         return tuple(self._constraints)
 
