@@ -74,28 +74,31 @@ def rotation_number(coef, K):
     # sum_k a_k cos k theta + b_k sin k theta = Re sum_k (a_k - i b_k) e^(i k theta): Horner in e^(i theta)
     c = (coef[:, 1:K + 1] - 1j * coef[:, K + 1:])[:, ::-1]  # highest harmonic first
     n = _length(c0)
-    theta, num, den = np.zeros(R), np.zeros(R), np.zeros(R)
     out = np.full(R, np.nan)
+    # the maps still iterating, compressed whenever some finish: (theta, the two sums, c0, n, the harmonics
+    # as columns, highest first)
     act = np.arange(R)
+    th, num, den, c0a, na, cc = np.zeros(R), np.zeros(R), np.zeros(R), c0.copy(), n.copy(), np.ascontiguousarray(c.T)
     i = 0
     while act.size >= ALONE_BELOW:
-        nn = n[act]
-        s = (i + 0.5) / nn
+        s = (i + 0.5) / na
         wgt = np.exp(-1.0 / (s * (1.0 - s)))
-        z = np.exp(1j * theta[act])
-        acc = np.zeros(act.size, dtype=complex)
-        for k in range(K):
-            acc = (acc + c[act, k]) * z
-        dd = c0[act] + acc.real
-        num[act] += wgt * dd
-        den[act] += wgt
-        theta[act] = np.fmod(theta[act] + dd, 2.0 * math.pi)
+        z = np.exp(1j * th)
+        acc = cc[0] * z
+        for k in range(1, K):
+            acc += cc[k]
+            acc *= z
+        dd = c0a + acc.real
+        num += wgt * dd
+        den += wgt
+        th = np.fmod(th + dd, 2.0 * math.pi)
         i += 1
-        fin = nn <= i
+        fin = na <= i
         if fin.any():
-            out[act[fin]] = num[act[fin]] / den[act[fin]]
-            act = act[~fin]
-    for j in act:  # the few longest orbits, on alone
-        out[j] = _alone(float(c0[j]), [complex(x) for x in c[j]], int(n[j]), i, float(theta[j]), float(num[j]),
-                        float(den[j]))
+            out[act[fin]] = num[fin] / den[fin]
+            keep = ~fin
+            act, th, num, den, c0a, na, cc = act[keep], th[keep], num[keep], den[keep], c0a[keep], na[keep], cc[:, keep]
+    for r, j in enumerate(act):  # the few longest orbits, on alone
+        out[j] = _alone(float(c0[j]), [complex(x) for x in c[j]], int(n[j]), i, float(th[r]), float(num[r]),
+                        float(den[r]))
     return float(out[0]) if one else out
