@@ -344,18 +344,19 @@ def _drive_phase_rhs(w0, mu, beta, f0, w, L):
 
             return one
 
-        def rhs(s, y):  # in place (the ensemble's cost): out = (k v, k acc)
+        kc1, kc2, kc3, kdr = k * c1, k * c2, k * c3, k * drive
+
+        def rhs(s, y):  # in place, k folded into the constants (the ensemble's cost): out = (k v, k acc)
             q, v = y.reshape(2, -1, M)
             out = np.empty_like(y)
             dq, acc = out.reshape(2, -1, M)
             np.multiply(q, q, out=acc)
-            acc *= c2
-            np.subtract(c1, acc, out=acc)
+            acc *= kc2
+            np.subtract(kc1, acc, out=acc)
             acc *= v
-            np.multiply(c3, q, out=dq)
+            np.multiply(kc3, q, out=dq)
             acc -= dq
-            acc += drive * np.cos(Lc * s)
-            acc *= k
+            acc += kdr * np.cos(Lc * s)
             np.multiply(k, v, out=dq)
             return out
 
