@@ -80,3 +80,59 @@ def test_5_6_a_failing_variant_fails_alone(monkeypatch):
     assert cols["T"].mask("failed").tolist() == [False, True, False]
     assert cols["T"].reason("failed", 1)
     assert np.isfinite(cols["T"].value[[0, 2]]).all()
+
+
+# ---------------------------------------------------------------- 5.7
+# 5.7 by hand (the module's docstring): q = A cn(Omega t | m), Omega^2 = omega0^2 + alpha A^2,
+# m = alpha A^2/(2 Omega^2), so omega = pi Omega/(2 K(m)) and c3 = (2/T) int_0^T q cos(3 omega t) dt; mpmath
+# gives K (m < 0 too) and cn, and the Fourier integral by quadrature over a quarter period (half-wave symmetry:
+# (8/T) int_0^{T/4}).
+DUFFING = [dict(omega0=2.0, alpha=0.8, A=0.5), dict(omega0=2.0, alpha=0.8, A=20.0),
+           dict(omega0=2.0, alpha=0.8, A=0.00223606797749979), dict(omega0=2.0, alpha=-1.0, A=1.9),
+           dict(omega0=2.0, alpha=-1.0, A=1.99999998), dict(omega0=1.5, alpha=-0.3, A=1.0)]
+
+
+def duffing_reference(omega0, alpha, A):
+    mp = pytest.importorskip("mpmath")
+    with mp.workdps(30):
+        w0, al, a = mp.mpf(omega0), mp.mpf(alpha), mp.mpf(A)
+        Om = mp.sqrt(w0**2 + al * a**2)
+        m = al * a**2 / (2 * Om**2)
+        K = mp.ellipk(m)
+        omega = mp.pi * Om / (2 * K)
+        quarter = K / Om
+        c3 = 8 / (4 * quarter) * mp.quad(lambda t: a * mp.re(mp.ellipfun("cn", Om * t, m)) * mp.cos(3 * omega * t),
+                                         [0, quarter / 2, quarter])
+        return float(omega), float(omega - w0), float(c3)
+
+
+def test_5_7_batch_matches_mpmath_and_its_batches_of_one():
+    cols, _ = route_at("5.7", DUFFING)
+    for k, p in enumerate(DUFFING):
+        omega, domega, c3 = duffing_reference(**p)
+        assert not cols["omega"].mask("failed")[k]
+        assert cols["omega"].value[k] == pytest.approx(omega, rel=1e-8)
+        assert cols["domega"].value[k] == pytest.approx(domega, rel=1e-8)
+        # near the barrier the reference's own quadrature of cn is held to 1e-7
+        assert cols["c3"].value[k] == pytest.approx(c3, rel=1e-8 if p["A"] != 1.99999998 else 1e-7)
+        one, _ = route_at("5.7", [p])
+        for name in ("omega", "domega", "c3"):
+            agree_within_claims(cols, k, one, name)
+
+
+def test_5_7_a_failing_variant_fails_alone(monkeypatch):
+    """A variant whose force turns non-finite midway (poisoned on its own stiffness b) fails with its reason;
+    the others keep their values."""
+    from mech.problems.ch5 import ex5_7_duffing_free as mod
+
+    real = mod.restoring_factor
+    b_bad = 0.8 * 0.7**2 / 4.0  # eps = alpha A^2/omega0^2 of the middle variant (S = 1: b = eps)
+
+    def poisoned(y, k, b):
+        return np.where((np.abs(b - b_bad) < 1e-12) & (y > 0.3), np.nan, real(y, k, b))
+
+    monkeypatch.setattr(mod, "restoring_factor", poisoned)
+    cols, _ = route_at("5.7", [dict(A=0.5), dict(A=0.7), dict(A=0.9)])
+    assert cols["omega"].mask("failed").tolist() == [False, True, False]
+    assert cols["c3"].mask("failed").tolist() == [False, True, False]
+    assert np.isfinite(cols["omega"].value[[0, 2]]).all()
