@@ -172,11 +172,8 @@ def _swing_rhs(high):
 
 
 def _quarter_swings(theta0, rtol, tally):
-    """(x, v, E) at psi = pi/2 for every variant (``_swing_rhs``, all at once), and each variant's failure
-    (None: none): an ensemble that fails is integrated again variant by variant, so a failure is one
-    variant's alone."""
-    from mech.solvers.mechanics.floquet import integrate_ensemble
-
+    """(x, v, E) at psi = pi/2 for every variant (``_swing_rhs``, all at once: ``Tally.follow``), and each
+    variant's failure (None: none), its own alone."""
     high = theta0 > math.pi / 2.0
     x0 = np.where(high, _phi0(theta0), theta0)
     n = theta0.size
@@ -184,24 +181,10 @@ def _quarter_swings(theta0, rtol, tally):
     # sizes: x from x0 (a small offset from upright keeps its digits), v ~ theta0 (1 above 90 degrees),
     # E ~ (pi/2) theta0^2/16 at a small swing
     atol = 1e-3 * rtol * np.stack([x0, np.where(high, 1.0, theta0), math.pi * theta0**2 / 32.0])
-    y_end, why = np.full((3, n), np.nan), [None] * n
-
-    def run(idx):
-        try:
-            got, runs = integrate_ensemble(lambda sel: _swing_rhs(high[idx][sel]), (0.0, 0.5 * math.pi),
-                                           y0[:, idx], rtol=rtol, atol=atol[:, idx], integrator=tally.integrator)
-        except NumericFailure as exc:
-            if idx.size == 1:
-                why[int(idx[0])] = str(exc)
-            for k in idx if idx.size > 1 else ():
-                run(np.array([k]))
-            return
-        y_end[:, idx] = got
-        for r in runs:
-            tally.record(r)
-
-    run(np.arange(n))
-    return y_end, high, why
+    got = tally.follow(lambda sel: _swing_rhs(high[sel]), (0.0, 0.5 * math.pi), y0, rtol=rtol, atol=atol,
+                       on_failure="mark")
+    y_end = np.where(got.failed, np.nan, got.y_end)
+    return y_end, high, list(got.why)
 
 
 @exercise.batched(("T", "T_ratio", "domega"))

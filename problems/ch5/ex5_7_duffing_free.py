@@ -315,30 +315,17 @@ def _harmonic_rhs(b, ws, wgap):
 
 
 def _ensemble(make_rhs, span, y0, atol, rtol, tally, why, among):
-    """``integrate_ensemble`` over the variants ``among`` (a mask) still without a failure; an ensemble that
-    fails is integrated again variant by variant, so a failure (``why``, filled in) is one variant's alone.
-    ``make_rhs(idx, sel)``: the right-hand side of the variants ``idx`` (then ``sel`` of them)."""
-    from mech.solvers.mechanics.floquet import integrate_ensemble
-
+    """The variants ``among`` (a mask) still without a failure followed together (``Tally.follow``), each
+    failing alone (``why``, filled in); ``make_rhs(idx, sel)``: the right-hand side of the variants ``idx``
+    (then ``sel`` of them).  NaN where not followed or failed."""
     y_end = np.full(y0.shape, np.nan)
-
-    def run(idx):
-        try:
-            got, runs = integrate_ensemble(lambda sel: make_rhs(idx, sel), span, y0[:, idx], rtol=rtol,
-                                           atol=atol[:, idx], integrator=tally.integrator)
-        except NumericFailure as exc:
-            if idx.size == 1:
-                why[int(idx[0])] = str(exc)
-            for j in idx if idx.size > 1 else ():
-                run(np.array([j]))
-            return
-        y_end[:, idx] = got
-        for r in runs:
-            tally.record(r)
-
-    todo = np.flatnonzero(np.array([w is None for w in why], dtype=bool) & among)
-    if todo.size:
-        run(todo)
+    idx = np.flatnonzero(np.array([w is None for w in why], dtype=bool) & among)
+    if idx.size:
+        got = tally.follow(lambda sel: make_rhs(idx, sel), span, y0[:, idx], rtol=rtol, atol=atol[:, idx],
+                           on_failure="mark")
+        y_end[:, idx] = np.where(got.failed, np.nan, got.y_end)
+        for j, w in zip(idx, got.why):
+            why[int(j)] = w if w else why[int(j)]
     return y_end
 
 
