@@ -136,3 +136,53 @@ def test_5_7_a_failing_variant_fails_alone(monkeypatch):
     assert cols["omega"].mask("failed").tolist() == [False, True, False]
     assert cols["c3"].mask("failed").tolist() == [False, True, False]
     assert np.isfinite(cols["omega"].value[[0, 2]]).all()
+
+
+# ---------------------------------------------------------------- 5.2
+# 5.2 by hand: q = q_st (1 - cos omega0 t) during the pulse, q_st [cos omega0 (t - T) - cos omega0 t] after it
+# (two step responses superposed), so A_after = 2 |q_st| |sin(omega0 T/2)|, q_max = 2 |q_st| once omega0 T >= pi.
+PULSES = [dict(T=0.4, t1=2.0), dict(T=0.4, t1=0.1), dict(T=1.0, t1=0.9), dict(T=125.9778654089507, t1=377.1167821369188),
+          dict(T=50.0, t1=20.0), dict(T=1e-6, t1=1e-6), dict(T=3.0, t1=0.0), dict(F0=-0.7, T=7.0, t1=9.0)]
+
+
+def pulse_by_hand(m=0.2, omega0=5.0, F0=0.3, T=0.4, t1=2.0):
+    qst = F0 / (m * omega0**2)
+
+    def q(t):
+        if t <= T:
+            return 2 * qst * math.sin(omega0 * t / 2) ** 2  # q_st (1 - cos omega0 t), no cancellation
+        return qst * (math.cos(omega0 * (t - T)) - math.cos(omega0 * t))
+
+    a_after = 2 * abs(qst) * abs(math.sin(omega0 * T / 2))
+    return {"A_after": a_after, "q_max": 2 * abs(qst) if omega0 * T >= math.pi else a_after, "q_t": q(t1)}
+
+
+def test_5_2_batch_matches_hand_values_and_its_batches_of_one():
+    cols, full = route_at("5.2", PULSES)
+    for k, p in enumerate(full):
+        want = pulse_by_hand(**{n: p[n] for n in ("m", "omega0", "F0", "T", "t1")})
+        qst = abs(p["F0"] / (p["m"] * p["omega0"] ** 2))
+        for name in ("A_after", "q_max", "q_t"):
+            assert not cols[name].mask("failed")[k]
+            # the reading after 1e4 rad carries its phase's round-off, ~u * phase in both
+            slack = 1e-8 * abs(want[name]) + qst * (1e-9 + 1e-15 * p["omega0"] * max(p["T"], p["t1"]))
+            assert abs(cols[name].value[k] - want[name]) <= slack, (name, p)
+        one, _ = route_at("5.2", [PULSES[k]])
+        for name in ("A_after", "q_max", "q_t"):
+            agree_within_claims(cols, k, one, name)
+
+
+def test_5_2_a_failing_variant_fails_alone(monkeypatch):
+    from mech.problems.ch5 import ex5_2_force_pulse as mod
+
+    real = mod._pulse_rhs
+
+    def poisoned(L):
+        rhs = real(L)
+        bad = np.abs(np.asarray(L) - 5.0 * 0.7) < 1e-12  # the middle pulse, omega0 T = 3.5
+        return lambda s, y: np.where(bad & (s > 0.5), np.nan, rhs(s, y))
+
+    monkeypatch.setattr(mod, "_pulse_rhs", poisoned)
+    cols, _ = route_at("5.2", [dict(T=0.4), dict(T=0.7), dict(T=1.0)])
+    assert cols["A_after"].mask("failed").tolist() == [False, True, False]
+    assert np.isfinite(cols["A_after"].value[[0, 2]]).all()
