@@ -186,3 +186,43 @@ def test_5_2_a_failing_variant_fails_alone(monkeypatch):
     cols, _ = route_at("5.2", [dict(T=0.4), dict(T=0.7), dict(T=1.0)])
     assert cols["A_after"].mask("failed").tolist() == [False, True, False]
     assert np.isfinite(cols["A_after"].value[[0, 2]]).all()
+
+
+# ---------------------------------------------------------------- 5.3
+# 5.3 by hand: undamped from rest, q = f (cos omega t - cos omega0 t)/(omega0^2 - omega^2) (mpmath, 30 digits, no
+# cancellation left), at exact resonance f t sin(omega0 t)/(2 omega0); the stationary amplitude
+# |f|/[(omega0^2 - omega^2)^2 + 4 delta^2 omega^2]^(1/2) for any damping.
+DRIVES = [dict(delta=0.0, omega=4.0, t1=3.0), dict(delta=0.0, omega=6.00000000006, t1=100.0),
+          dict(delta=0.0, omega=6.0, t1=7.0), dict(delta=0.0, omega=0.01, t1=50.0), dict(delta=0.0, omega=40.0, t1=1e4)]
+
+
+def test_5_3_batch_matches_hand_values_and_its_batches_of_one():
+    mp = pytest.importorskip("mpmath")
+    cols, full = route_at("5.3", DRIVES)
+    for k, p in enumerate(full):
+        with mp.workdps(30):
+            f, w0, w, t = (mp.mpf(p[n]) for n in ("F0", "omega0", "omega", "t1"))
+            f = f / mp.mpf(p["m"])
+            if w == w0:
+                q, a_ss = f * t * mp.sin(w0 * t) / (2 * w0), None
+            else:
+                q, a_ss = f * (mp.cos(w * t) - mp.cos(w0 * t)) / (w0**2 - w**2), abs(f) / abs(w0**2 - w**2)
+        assert not cols["q_t"].mask("failed")[k]
+        bar = float(cols["q_t"].abs[k]) + 1e-8 * abs(float(q))
+        assert abs(cols["q_t"].value[k] - float(q)) <= bar, p
+        if a_ss is None:
+            assert cols["A_ss"].mask("undefined")[k]
+        else:
+            assert cols["A_ss"].value[k] == pytest.approx(float(a_ss), rel=1e-8)
+        one, _ = route_at("5.3", [DRIVES[k]])
+        for name in ("q_t", "v_t") + (("A_ss",) if a_ss is not None else ()):
+            agree_within_claims(cols, k, one, name)
+
+
+def test_5_3_damped_stationary_amplitude_over_a_batch():
+    omegas = np.linspace(1.0, 12.0, 23)
+    cols, full = route_at("5.3", [dict(delta=0.3, omega=w) for w in omegas])
+    for k, p in enumerate(full):
+        f = abs(p["F0"] / p["m"])
+        want = f / math.hypot((p["omega0"] - p["omega"]) * (p["omega0"] + p["omega"]), 2 * p["delta"] * p["omega"])
+        assert cols["A_ss"].value[k] == pytest.approx(want, rel=1e-8)
