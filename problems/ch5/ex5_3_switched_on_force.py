@@ -321,7 +321,8 @@ def _stationary(w0, d, w, unit, gen, rtol, tol, tally):
 
     n = w.size
     det2 = (w0 - w) * (w0 + w)
-    rotating = (np.abs(det2) + 2.0 * d * w) * (2.0 * math.pi / w) / w <= 2.0
+    with np.errstate(over="ignore"):  # a static drive (omega = 6e-200 rad/s): its period overflows, not rotating
+        rotating = (np.abs(det2) + 2.0 * d * w) * (2.0 * math.pi / w) / w <= 2.0
     qs, vs, rel = np.zeros(n), np.zeros(n), np.full(n, np.inf)
     how = np.array(["one-period map in variation-of-constants variables (DOP853)"] * n, dtype=object)
     resonant, singular, why, drift = np.zeros(n, bool), np.zeros(n, bool), [None] * n, np.zeros(n)
@@ -339,7 +340,8 @@ def _stationary(w0, d, w, unit, gen, rtol, tol, tally):
     if f_.size:
         (qs[f_], vs[f_]), rel[f_], singular[f_] = _flow_orbits(gen[f_], unit[f_], w[f_])
         how[f_] = "one-period map as the matrix exponential of the equation's generator"
-    amp = np.hypot(qs, vs / w)
+    with np.errstate(over="ignore", invalid="ignore"):  # replaced by the invariant plane's where it overflows
+        amp = np.hypot(qs, vs / w)
     plane = ~rotating & ~(rel <= tol)
     p_ = np.flatnonzero(plane)
     if p_.size:
