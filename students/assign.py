@@ -439,11 +439,18 @@ def _record(ex, result) -> dict | None:
     return out
 
 
-def _solve_all(todo: list[tuple[str, dict]], jobs: int | None) -> list:
-    """Cross-check each (exercise id, SI params); the Solutions in order (pooled over the cores)."""
+def _solve_all(ex, todo: list[tuple[str, dict]], jobs: int | None) -> list:
+    """Cross-check each (exercise id, SI params) of ``ex``; the Solutions in order: together through the
+    exercise's batched route where it has one (the same on any number of cores), else one by one, pooled
+    over the cores."""
     from mech.studies.checking import plan_jobs
     from mech.studies.sweep import solve_point
+    from mech.studies.variants import batchable, cross_check_variants
 
+    if len(todo) > 1 and batchable(ex):
+        from mech.problems.params import Params
+
+        return cross_check_variants(ex, [Params(dict(p)) for _, p in todo])
     workers = plan_jobs(len(todo), jobs)
     if workers <= 1:
         return [solve_point(ex_id, dict(p), None, True)[0] for ex_id, p in todo]
@@ -507,7 +514,7 @@ def make(exercises: list, students: list[str], seed: int, overs: dict | None = N
                 cursor += 1
                 tries[i] += 1
                 batch.append((i, Variant(students[i], ex, texts, dict(params))))
-            results = _solve_all([(ex.id, v.params) for _, v in batch], jobs)
+            results = _solve_all(ex, [(ex.id, v.params) for _, v in batch], jobs)
             still = []
             for (i, v), result in zip(batch, results):
                 rec = _record(ex, result)

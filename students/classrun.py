@@ -156,15 +156,13 @@ MIN_BATCHED = 4  # variants of one exercise from which its batched route solves 
 def _batch_plan(todo: list[Entry], groups: list[list[int]]) -> dict:
     """{exercise id: the indices of its groups} for each exercise whose batched route (the charts') gives
     all its outputs, with a tighter rerun to verify by, and at least ``MIN_BATCHED`` variants."""
+    from mech.studies.variants import batchable
+
     by_ex: dict = {}
     for k, g in enumerate(groups):
         ex = todo[g[0]].exercise
-        route = getattr(ex, "batched_route", None)
-        if route is None or set(route.outputs) != {o.name for o in ex.outputs}:
-            continue
-        if max(ex.default_rtol / 10.0, ex.min_rtol) >= ex.default_rtol:
-            continue  # no tighter rerun to verify with: the cross-check says so point by point
-        by_ex.setdefault(ex.id, []).append(k)
+        if batchable(ex):
+            by_ex.setdefault(ex.id, []).append(k)
     return {i: ks for i, ks in by_ex.items() if len(ks) >= MIN_BATCHED}
 
 
@@ -173,24 +171,19 @@ def _batched_solve(firsts: list[Entry], deadline: float) -> dict:
     (at rtol and rtol/10) over the variants' arrays and each variant judged by the cross-check's rule
     (``sweep.run_batched``).  {(exercise id, params): Solution}; empty when the batch fails as a whole
     (each variant is then cross-checked alone)."""
-    import numpy as np
-
-    from mech.studies.sweep import iter_batched_solutions, run_batched
+    from mech.studies.variants import cross_check_variants
 
     out: dict = {}
     ex = firsts[0].exercise
     try:
         params = [ex.resolve(e.given) for e in firsts]
-        P = {p.name: np.array([float(q[p.name]) for q in params]) for p in ex.params}
         left = deadline - time.monotonic()
         if left <= 0.05:  # past the clock (not graded); never a different route for the time left
             return out
-        with warnings.catch_warnings():  # never a message: the values are judged
-            warnings.simplefilter("ignore")
-            result = run_batched(ex, [], {}, tuple(o.name for o in ex.outputs), total_s=left, points=P)
+        solutions = cross_check_variants(ex, params, total_s=left)
         if time.monotonic() > deadline:
             return {}  # the clock may have cut a chunk: each variant meets the clock alone (not graded)
-        for q, sol in zip(params, iter_batched_solutions(result)):
+        for q, sol in zip(params, solutions):
             out[(ex.id, tuple(sorted(q.items())))] = sol
     except Exception:  # noqa: BLE001  the batch failed as a whole: each variant is cross-checked alone
         return {}
