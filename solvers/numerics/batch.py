@@ -17,6 +17,12 @@ every point meets its own tolerance, on a mesh at least as fine as its own run
 would choose.  Each point's largest accepted error estimate is returned, so a
 caller can see how close to its tolerance each point came.
 
+Events (``BatchEvent``): each point's first crossing of each event function is located on that point's
+continuous extension of the step (DOP853's 7th-order dense output, computed only for the steps where a
+point crosses); a terminal event stops its point there, its state frozen while the others go on.  With
+``on_failure="mark"`` a point whose step size underflows or whose state turns non-finite fails alone
+(``failed``, ``why``); by default the batch fails (``NumericFailure``), as a one-point run would.
+
 Memory is (16 n N) numbers for the stages; a caller chunks large grids.
 No physics here; numpy only.
 """
@@ -24,7 +30,7 @@ No physics here; numpy only.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
@@ -33,7 +39,7 @@ from mech.core.errors import NumericFailure
 from mech.core import budget
 from mech.solvers.numerics.dop853 import step_to
 
-__all__ = ["BatchResult", "integrate_batch", "MAX_STEPS"]
+__all__ = ["BatchResult", "BatchEvent", "integrate_batch", "MAX_STEPS"]
 
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
 ERR_EXP = -1.0 / 8.0
@@ -42,12 +48,31 @@ MAX_STEPS = 100_000
 
 @dataclass
 class BatchResult:
-    y_end: np.ndarray  # (n, N): every point's state at t_span[1]
+    y_end: np.ndarray  # (n, N): every point's state at t_span[1] (at its terminal event, where it had one)
     steps: int  # accepted steps (shared by all points)
     rejected: int
     nfev: int  # right-hand-side evaluations of the whole batch (each evaluates all N points)
     err_max: np.ndarray  # (N,): each point's largest accepted error estimate (in units of its tolerance)
     method: str = "DOP853 (batched)"
+    # one (N,) array per event: each point's first crossing (NaN: none); the states there, (n, N) each
+    t_events: list = field(default_factory=list)
+    y_events: list = field(default_factory=list)
+    t_stop: np.ndarray | None = None  # (N,): where each point stopped (t_span[1], its terminal event, NaN: failed)
+    failed: np.ndarray | None = None  # (N,) bool: the points that failed (``on_failure="mark"``)
+    why: list | None = None  # N reasons (None: not failed)
+
+
+@dataclass(frozen=True)
+class BatchEvent:
+    """An event of every point of an ensemble: ``g(t, y) -> (N,)`` for states y of shape (n, N) and t a
+    number or one time per point (N,); a crossing of zero in ``direction`` (0: either way; +1: upward)
+    is located on each point's continuous extension.  ``terminal``: the point stops there (its state is
+    frozen at the event; the others go on)."""
+
+    g: Callable
+    direction: float = 0.0
+    terminal: bool = False
+    name: str = ""
 
 
 def _tableau():
@@ -68,13 +93,159 @@ def _starting_step(f, t0, y, fy, direction, span, rtol, atol, first_step) -> flo
         d0 = np.sqrt(np.mean((y / scale) ** 2, axis=0))
         d1 = np.sqrt(np.mean((fy / scale) ** 2, axis=0))
         ratio = np.where((d0 < 1e-5) | (d1 < 1e-5), 1e-6, 0.01 * d0 / np.maximum(d1, 1e-300))
-        h0 = min(float(ratio.min()), span)
+        h0 = min(float(np.nanmin(ratio)), span)
         f1 = f(t0 + direction * h0, y + direction * h0 * fy)
-        d2 = float(np.max(np.sqrt(np.mean(((f1 - fy) / scale) ** 2, axis=0)))) / h0
-        dm = max(float(d1.max()), d2)
-        h1 = max(1e-6, h0 * 1e-3) if dm <= 1e-15 else (0.01 / dm) ** (1.0 / 8.0)
+        d2 = float(np.nanmax(np.sqrt(np.mean(((f1 - fy) / scale) ** 2, axis=0)))) / h0
+        dm = max(float(np.nanmax(d1)), d2)
+        h1 = max(1e-6, h0 * 1e-3) if not dm > 1e-15 else (0.01 / dm) ** (1.0 / 8.0)
         h_abs = min(100.0 * h0, h1, span)
     return h_abs
+
+
+class _Ensemble:
+    """The stepping state of ``integrate_batch``: the stages of a step of all points, its error per point,
+    which points are still moving (``active``) and which failed, and the step's continuous extension."""
+
+    def __init__(self, rhs, y0, rtol, atol, on_failure):
+        tab = _tableau()
+        self.C, self.A, self.B, self.D = tab["C"], tab["A"], tab["B"], tab["D"]
+        self.EE = np.vstack([tab["E5"], tab["E3"]])
+        self.rhs, self.rtol, self.atol, self.mark = rhs, rtol, atol, on_failure == "mark"
+        self.y = np.array(y0, dtype=float)
+        self.n, self.N = self.y.shape
+        self.K = np.empty((16, self.n, self.N))
+        self.nfev = 0
+        self.active = np.ones(self.N, dtype=bool)
+        self.failed = np.zeros(self.N, dtype=bool)
+        self.why: list = [None] * self.N
+        self.err_max = np.zeros(self.N)
+
+    def f(self, t, yy):
+        self.nfev += 1
+        return np.asarray(self.rhs(t, yy), dtype=float)
+
+    def attempt(self, t, h):
+        """A step of size h from (t, self.y): (y_new, f_new, err per point; inf where not finite, 0 for the
+        points that no longer move, whose state stays).  Where points fail alone, their overflows are
+        theirs (they are marked), never a warning."""
+        if self.mark:
+            with np.errstate(all="ignore"):
+                return self._attempt(t, h)
+        return self._attempt(t, h)
+
+    def _attempt(self, t, h):
+        K, n, N = self.K, self.n, self.N
+        K2 = K.reshape(16, n * N)
+        K[0] = self.fy
+        hA = h * self.A
+        yflat = self.y.reshape(n * N)
+        for s in range(1, 12):
+            K[s] = self.f(t + self.C[s] * h, (yflat + hA[s, :s] @ K2[:s]).reshape(n, N))
+        y_new = self.y + h * (self.B @ K2[:12]).reshape(n, N)
+        frozen = ~self.active
+        if frozen.any():
+            y_new[:, frozen] = self.y[:, frozen]
+        f_new = self.f(t + h, y_new)
+        K[12] = f_new
+        scale = self.atol + np.maximum(np.abs(self.y), np.abs(y_new)) * self.rtol
+        with np.errstate(all="ignore"):
+            ee = (self.EE @ K2[:13]).reshape(2, n, N) / scale
+            n5 = np.einsum("ij,ij->j", ee[0], ee[0])
+            n3 = np.einsum("ij,ij->j", ee[1], ee[1])
+            den = np.sqrt(n * (n5 + 0.01 * n3))
+            err = np.where(den > 0, abs(h) * n5 / np.where(den > 0, den, 1.0), 0.0)
+        err[~np.isfinite(err) | ~np.isfinite(y_new).all(axis=0)] = np.inf
+        err[frozen] = 0.0
+        return y_new, f_new, err
+
+    def fail(self, which, why: str) -> None:
+        """Stop the points ``which`` (a mask) as failed, saying why; without ``on_failure="mark"`` the batch
+        fails."""
+        if not self.mark:
+            raise NumericFailure(why)
+        for k in np.flatnonzero(which):
+            self.why[k] = why
+        self.failed |= which
+        self.active &= ~which
+
+    def dense(self, t, h, y_new, f_new):
+        """The continuous extension of the step just taken (its stages still in K): ``x -> y`` for x the
+        fraction of the step, a number or one per point."""
+        K, n, N = self.K, self.n, self.N
+        K2 = K.reshape(16, n * N)
+        hA = h * self.A
+        yflat = self.y.reshape(n * N)
+        for s in range(13, 16):
+            K[s] = self.f(t + self.C[s] * h, (yflat + hA[s, :s] @ K2[:s]).reshape(n, N))
+        dy = y_new - self.y
+        F = np.empty((7, n, N))
+        F[0] = dy
+        F[1] = h * self.fy - dy
+        F[2] = 2.0 * dy - h * (self.fy + f_new)
+        F[3:] = h * (self.D @ K2).reshape(4, n, N)
+        y_old = self.y.copy()
+
+        def at(x):
+            x = np.broadcast_to(np.asarray(x, dtype=float), (N,))
+            x1 = 1.0 - x
+            acc = F[6] * x
+            for k in (5, 4, 3, 2, 1, 0):
+                acc = (acc + F[k]) * (x1 if k % 2 else x)
+            return y_old + acc
+
+        return at
+
+
+def _crossings(ev, a, b, active, found):
+    """The points whose event function crosses zero in the event's direction over the step."""
+    up, down = (a <= 0.0) & (b >= 0.0), (a >= 0.0) & (b <= 0.0)
+    d = ev.direction
+    hit = (up if d > 0 else down if d < 0 else up | down) & np.isfinite(a) & np.isfinite(b)
+    return hit & active & ~found
+
+
+def _events_in_step(ens, events, g_old, t, h, y_new, f_new, res, found):
+    """Each point's first crossing of each event over the step just accepted, located on the step's
+    continuous extension; a terminal event stops its point there (state frozen at the event).  Returns the
+    events' values at the step's end."""
+    g_new = [np.asarray(ev.g(t + h, y_new), dtype=float) for ev in events]
+    hits = [_crossings(ev, g_old[k], g_new[k], ens.active, found[k]) for k, ev in enumerate(events)]
+    if not any(m.any() for m in hits):
+        return g_new
+    at = ens.dense(t, h, y_new, f_new)
+    roots = []
+    for k, ev in enumerate(events):
+        x = np.full(ens.N, np.nan)
+        idx = np.flatnonzero(hits[k])
+        if idx.size:
+            def g_frac(xs, sub, _ev=ev, _idx=idx):
+                full = np.ones(ens.N)
+                full[_idx[sub]] = xs
+                return np.asarray(_ev.g(t + full * h, at(full)), dtype=float)[_idx[sub]]
+
+            xr, _ = illinois(g_frac, np.zeros(idx.size), np.ones(idx.size), g_old[k][idx], g_new[k][idx],
+                             xtol=4 * np.finfo(float).eps, rtol=4 * np.finfo(float).eps)
+            x[idx] = xr
+        roots.append(x)
+    # a point stops at its earliest terminal crossing; crossings after it in the same step did not happen
+    stop = np.full(ens.N, np.inf)
+    for k, ev in enumerate(events):
+        if ev.terminal:
+            stop = np.fmin(stop, np.where(hits[k], roots[k], np.inf))
+    for k in range(len(events)):
+        take = hits[k] & (roots[k] <= stop)
+        if take.any():
+            ys = at(np.where(take, roots[k], 1.0))
+            res.t_events[k][take] = t + roots[k][take] * h
+            res.y_events[k][:, take] = ys[:, take]
+            found[k] |= take
+    stopped = np.isfinite(stop)
+    if stopped.any():
+        ys = at(np.where(stopped, stop, 1.0))
+        y_new[:, stopped] = ys[:, stopped]
+        res.t_stop[stopped] = t + stop[stopped] * h
+        ens.active &= ~stopped
+    return g_new
 
 
 def integrate_batch(
@@ -86,85 +257,79 @@ def integrate_batch(
     atol,
     first_step: float | None = None,
     max_steps: int = MAX_STEPS,
+    events=(),
+    on_failure: str = "raise",
 ) -> BatchResult:
     """Integrate ``y' = rhs(t, y)`` for a state ``y`` of shape (n, N) from ``t_span[0]`` to ``t_span[1]``.
 
     ``atol``: a number, or one per component (shape (n,) or (n, 1)), or per component and point (n, N).
-    Raises ``NumericFailure`` when the step size underflows or ``max_steps`` is reached.
+    ``events``: ``BatchEvent``s, each point's first crossing of each recorded (``t_events``,
+    ``y_events``); a terminal one stops its point.  ``rhs`` is always called with all N points (a point
+    that stopped or failed keeps its state).  When the step size underflows, a point's state turns
+    non-finite or ``max_steps`` is reached: ``NumericFailure`` for the batch, or with
+    ``on_failure="mark"`` the points at fault fail alone (``failed``, ``why``) and the rest go on.
     """
-    tab = _tableau()
-    C, A, B, E3, E5 = tab["C"], tab["A"], tab["B"], tab["E3"], tab["E5"]
-    y = np.array(y0, dtype=float)
-    if y.ndim != 2:
+    ens = _Ensemble(rhs, y0, rtol, atol, on_failure)
+    if ens.y.ndim != 2:
         raise ValueError("y0 must have the shape (n, N)")
-    n, N = y.shape
+    n, N = ens.n, ens.N
     atol = np.asarray(atol, dtype=float)
-    if atol.ndim == 1:
-        atol = atol[:, None]
+    ens.atol = atol[:, None] if atol.ndim == 1 else atol
     t0, t_end = float(t_span[0]), float(t_span[1])
     direction = 1.0 if t_end >= t0 else -1.0
-    err_max = np.zeros(N)
+    res = BatchResult(ens.y, 0, 0, 0, ens.err_max, t_events=[np.full(N, np.nan) for _ in events],
+                      y_events=[np.full((n, N), np.nan) for _ in events], t_stop=np.full(N, t_end),
+                      failed=ens.failed, why=ens.why)
     if t_end == t0 or N == 0:
-        return BatchResult(y, 0, 0, 0, err_max)
-    nfev = 0
-
-    def f(t, yy):
-        nonlocal nfev
-        nfev += 1
-        return np.asarray(rhs(t, yy), dtype=float)
-
-    fy = f(t0, y)
-    h_abs = _starting_step(f, t0, y, fy, direction, abs(t_end - t0), rtol, atol, first_step)
-
-    K = np.empty((13, n, N))
-    K2 = K.reshape(13, n * N)
-    EE = np.vstack([E5, E3])
+        return res
+    ens.fy = ens.f(t0, ens.y)
+    h_abs = _starting_step(ens.f, t0, ens.y, ens.fy, direction, abs(t_end - t0), rtol, ens.atol, first_step)
+    g_old = [np.asarray(ev.g(t0, ens.y), dtype=float) for ev in events]
+    found = [np.zeros(N, dtype=bool) for _ in events]
     t = t0
-    steps = rejected = 0
-    while (t_end - t) * direction > 0:
+    while (t_end - t) * direction > 0 and ens.active.any():
+        if res.steps + res.rejected >= max_steps:
+            ens.fail(ens.active.copy(), f"the batched integration took more than {max_steps} steps")
+            break
+        t, h_abs = _step(ens, t, h_abs, direction, t_end, res, events, g_old, found)
+    res.y_end, res.nfev = ens.y, ens.nfev
+    res.t_stop[ens.failed] = np.nan
+    return res
+
+
+def _step(ens, t, h_abs, direction, t_end, res, events, g_old, found):
+    """One accepted step of the points still moving (points at fault failed on the way): (t, next h)."""
+    h_start = h_abs
+    step_rejected = False
+    last_err = np.full(ens.N, np.inf)
+    while True:
         budget.check("batched DOP853 step", 12)
-        if steps + rejected >= max_steps:
-            raise NumericFailure(f"the batched integration took more than {max_steps} steps")
         min_step = 10.0 * abs(math.nextafter(t, direction * math.inf) - t)
-        step_rejected = False
-        while True:
-            if h_abs < min_step:
-                raise NumericFailure(f"the batched integration's step size underflowed at t = {t:.6g}")
-            t_new, h, h_abs = step_to(t, h_abs, direction, t_end)
-            K[0] = fy
-            hA = h * A
-            yflat = y.reshape(n * N)
-            for s in range(1, 12):
-                K[s] = f(t + C[s] * h, (yflat + hA[s, :s] @ K2[:s]).reshape(n, N))
-            y_new = y + h * (B @ K2[:12]).reshape(n, N)
-            f_new = f(t_new, y_new)
-            K[12] = f_new
-            scale = atol + np.maximum(np.abs(y), np.abs(y_new)) * rtol
-            ee = (EE @ K2).reshape(2, n, N) / scale
-            n5 = np.einsum("ij,ij->j", ee[0], ee[0])
-            n3 = np.einsum("ij,ij->j", ee[1], ee[1])
-            den = np.sqrt(n * (n5 + 0.01 * n3))
-            err = np.where(den > 0, h_abs * n5 / np.where(den > 0, den, 1.0), 0.0)
-            worst = float(err.max())
-            if not math.isfinite(worst) or not np.isfinite(y_new).all():
-                h_abs *= MIN_FACTOR
-                step_rejected = True
-                rejected += 1
-                continue
-            if worst < 1.0:
-                factor = MAX_FACTOR if worst == 0.0 else min(MAX_FACTOR, SAFETY * worst ** ERR_EXP)
-                if step_rejected:
-                    factor = min(1.0, factor)
-                h_next = h_abs * factor
-                break
-            h_abs *= max(MIN_FACTOR, SAFETY * worst ** ERR_EXP)
-            step_rejected = True
-            rejected += 1
-        np.maximum(err_max, err, out=err_max)
-        t, y, fy = t_new, y_new, f_new
-        steps += 1
-        h_abs = h_next
-    return BatchResult(y, steps, rejected, nfev, err_max)
+        if h_abs < min_step:
+            ens.fail(ens.active & ~(last_err < 1.0),
+                     f"the batched integration's step size underflowed at t = {t:.6g}")
+            if not ens.active.any():
+                return t_end, h_abs
+            h_abs, step_rejected = h_start, False
+            continue
+        t_new, h, h_abs = step_to(t, h_abs, direction, t_end)
+        y_new, f_new, err = ens.attempt(t, h)
+        last_err = err
+        worst = float(err[ens.active].max()) if ens.active.any() else 0.0
+        if worst < 1.0:
+            factor = MAX_FACTOR if worst == 0.0 else min(MAX_FACTOR, SAFETY * worst ** ERR_EXP)
+            if step_rejected:
+                factor = min(1.0, factor)
+            break
+        h_abs *= MIN_FACTOR if not math.isfinite(worst) else max(MIN_FACTOR, SAFETY * worst ** ERR_EXP)
+        step_rejected = True
+        res.rejected += 1
+    np.maximum(ens.err_max, np.where(ens.active, err, 0.0), out=ens.err_max)
+    if events:
+        g_old[:] = _events_in_step(ens, events, g_old, t, h, y_new, f_new, res, found)
+    ens.y, ens.fy = y_new, f_new
+    res.steps += 1
+    return t_new, h_abs * factor
 
 
 @dataclass

@@ -1,0 +1,96 @@
+"""The ensemble integrator's events and per-variant failures (solvers/numerics/batch.py), against closed
+forms worked by hand: a harmonic oscillator's zero crossings, y' = y^2's blow-up at t = 1/y0."""
+
+import math
+
+import numpy as np
+import pytest
+
+from mech.core.errors import NumericFailure
+from mech.solvers.numerics.batch import BatchEvent, integrate_batch
+
+W = np.array([0.5, 1.0, 2.0, 3.7, 10.0])
+
+
+def oscillator(t, y):  # y = (q, v), q'' = -w^2 q, one w per variant
+    return np.array([y[1], -(W ** 2) * y[0]])
+
+
+def start():  # q = cos(w t): crossings of q = 0 at (k + 1/2) pi / w, downward first
+    return np.array([np.ones(W.size), np.zeros(W.size)])
+
+
+def test_first_crossing_each_variant_its_own():
+    down = BatchEvent(lambda t, y: y[0], direction=-1)
+    up = BatchEvent(lambda t, y: y[0], direction=+1)
+    res = integrate_batch(oscillator, (0.0, 2.0), start(), rtol=1e-11, atol=1e-13, events=[down, up])
+    t_down, t_up = res.t_events
+    want_down = 0.5 * math.pi / W
+    want_up = 1.5 * math.pi / W
+    seen_down = want_down <= 2.0
+    seen_up = want_up <= 2.0
+    assert np.allclose(t_down[seen_down], want_down[seen_down], rtol=1e-9, atol=0)
+    assert np.isnan(t_down[~seen_down]).all()
+    assert np.allclose(t_up[seen_up], want_up[seen_up], rtol=1e-9, atol=0)
+    assert np.isnan(t_up[~seen_up]).all()
+    # the state at the downward crossing: q = 0, v = -w
+    v = res.y_events[0][1]
+    assert np.allclose(v[seen_down], -W[seen_down], rtol=1e-8)
+    assert np.allclose(res.y_events[0][0][seen_down], 0.0, atol=1e-10)
+    # not terminal: every variant reaches the end, q = cos(2 w)
+    assert np.allclose(res.y_end[0], np.cos(2.0 * W), atol=1e-8)
+    assert np.array_equal(res.t_stop, np.full(W.size, 2.0))
+
+
+def test_terminal_event_stops_its_variant_alone():
+    stop = BatchEvent(lambda t, y: y[1], direction=+1, terminal=True)  # v = 0 upward: q = -1 at pi / w
+    res = integrate_batch(oscillator, (0.0, 1.0), start(), rtol=1e-11, atol=1e-13, events=[stop])
+    want = math.pi / W
+    stopped = want <= 1.0
+    assert stopped.any() and (~stopped).any()
+    assert np.allclose(res.t_stop[stopped], want[stopped], rtol=1e-9)
+    assert np.allclose(res.y_end[0][stopped], -1.0, atol=1e-9)  # frozen at the event
+    assert np.allclose(res.y_end[0][~stopped], np.cos(W[~stopped]), atol=1e-8)
+    assert (res.t_stop[~stopped] == 1.0).all()
+
+
+def test_crossings_after_a_terminal_one_in_the_same_step_did_not_happen():
+    # q = 0 downward (terminal) at pi/(2w), v = 0 upward at pi/w: the second never happens
+    events = [BatchEvent(lambda t, y: y[0], direction=-1, terminal=True),
+              BatchEvent(lambda t, y: y[1], direction=+1)]
+    res = integrate_batch(oscillator, (0.0, 50.0), start(), rtol=1e-10, atol=1e-12, events=events)
+    assert np.allclose(res.t_events[0], 0.5 * math.pi / W, rtol=1e-8)
+    assert np.isnan(res.t_events[1]).all()
+
+
+def test_a_blow_up_fails_its_variant_alone():
+    y0 = np.array([[1.0, -1.0, 0.1, 0.25]])  # y = y0 / (1 - y0 t): y0 = 1 blows up at t = 1 < 2
+    res = integrate_batch(lambda t, y: y * y, (0.0, 2.0), y0, rtol=1e-10, atol=1e-12, on_failure="mark")
+    assert res.failed.tolist() == [True, False, False, False]
+    assert res.why[0] and "underflowed" in res.why[0] and res.why[1] is None
+    ok = ~res.failed
+    want = y0[0] / (1.0 - y0[0] * 2.0)
+    assert np.allclose(res.y_end[0][ok], want[ok], rtol=1e-8)
+    assert np.isnan(res.t_stop[0]) and (res.t_stop[ok] == 2.0).all()
+
+
+def test_without_marking_the_batch_fails_loudly():
+    y0 = np.array([[1.0, 0.1]])
+    with pytest.raises(NumericFailure, match="underflowed"):
+        integrate_batch(lambda t, y: y * y, (0.0, 2.0), y0, rtol=1e-10, atol=1e-12)
+
+
+def test_batch_of_one_locates_as_the_scalar_integrator_does():
+    from mech.solvers.numerics import dop853
+    w = 2.0
+
+    def ev(t, y):
+        return y[0]
+
+    ev.direction, ev.terminal = -1.0, False
+    one = dop853.solve(lambda t, y: np.array([y[1], -w * w * y[0]]), (0.0, 3.0), np.array([1.0, 0.0]),
+                       rtol=1e-10, atol=1e-12, events=[ev])
+    res = integrate_batch(lambda t, y: np.array([y[1], -w * w * y[0]]), (0.0, 3.0), np.array([[1.0], [0.0]]),
+                          rtol=1e-10, atol=1e-12, events=[BatchEvent(lambda t, y: y[0], direction=-1)])
+    assert res.t_events[0][0] == pytest.approx(float(one.t_events[0][0]), rel=1e-12)
+    assert res.t_events[0][0] == pytest.approx(math.pi / 4, rel=1e-10)
