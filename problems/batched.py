@@ -187,5 +187,7 @@ def one_point(ex: Any, p: Mapping, run: Any, outputs=None) -> dict:
         rel, ab = _first(col.rel), _first(col.abs)
         run.claim(name, rel=rel if rel == rel else None, abs=ab if ab == ab and ab else None)
     if run.keep_trajectories and ex.has_motion and set(outputs) == {o.name for o in ex.outputs}:
-        run.follow(ex.motion_at(p))
+        motion = ex.motion_at(p)
+        if motion is not None:  # None: no motion at p (a bead at rest on the axis, an equilibrium)
+            run.follow(motion)
     return values

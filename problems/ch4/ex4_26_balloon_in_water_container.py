@@ -131,8 +131,8 @@ def _shot(x_a, a, b, rtol, tally):
     short = np.minimum(-s_a, 1.0)
     size = np.stack([np.ones(N), 1e-3 * short, x_a, 1e-3 * short * x_a, 1e-3 * short * x_a**3,
                      1e-3 * short * x_a**3])
-    y, why = follow(lambda sel: _rhs(s_a[sel]), (0.0, 1.0), y0, rtol=rtol, atol=1e-3 * rtol * size, tally=tally)
-    return y, -s_a, why
+    got = follow(lambda sel: _rhs(s_a[sel]), (0.0, 1.0), y0, rtol=rtol, atol=1e-3 * rtol * size, tally=tally)
+    return got.y_end, -s_a, got.why
 
 
 @exercise.batched(("a_rel", "a_container", "ratio"))

@@ -180,8 +180,9 @@ def numeric(P, rtol, outputs, tally=None):
     y = y0.copy()
     if run.size:
         atol = 1e-3 * rtol * np.exp(-k[run] * tau_end[run]) * np.ones((4, 1))
-        y[:, run], why_run = follow(lambda sel: _rhs(k[run][sel], tau_end[run][sel]), (0.0, 1.0), y0[:, run],
-                                    rtol=rtol, atol=atol, tally=tally)
+        got = follow(lambda sel: _rhs(k[run][sel], tau_end[run][sel]), (0.0, 1.0), y0[:, run], rtol=rtol, atol=atol,
+                     tally=tally)
+        y[:, run], why_run = got.y_end, got.why
     else:
         why_run = np.array([], dtype=object)
     why = np.full(N, "", dtype=object)

@@ -196,8 +196,9 @@ def _legs(wn, wu, small, rtol, tally):
     atol = 1e-3 * rtol * np.stack([small, small, np.ones(N), small, small, np.ones(N), np.ones(N)])
     y0 = np.zeros((6, N))
     y0[2] = 1.0
-    y1, why = follow(lambda sel: (lambda t, y: _rates(y, wn[sel], wu[sel])), (0.0, 1.0), y0, rtol=rtol,
-                     atol=atol[:6], tally=tally)
+    got = follow(lambda sel: (lambda t, y: _rates(y, wn[sel], wu[sel])), (0.0, 1.0), y0, rtol=rtol, atol=atol[:6],
+                 tally=tally)
+    y1, why = got.y_end, got.why
     ok = np.flatnonzero(why == "")
     z1, a, b = y1[2, ok], wn[ok], wu[ok]
 
@@ -212,7 +213,8 @@ def _legs(wn, wu, small, rtol, tally):
     y2 = np.full((7, N), np.nan)
     if ok.size:
         start = np.vstack([y1[:, ok], np.ones((1, ok.size))])
-        y2[:, ok], why[ok] = follow(down, (0.0, 1.0), start, rtol=rtol, atol=atol[:, ok], tally=tally)
+        got = follow(down, (0.0, 1.0), start, rtol=rtol, atol=atol[:, ok], tally=tally)
+        y2[:, ok], why[ok] = got.y_end, got.why
     return y2, why
 
 
