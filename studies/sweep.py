@@ -760,6 +760,8 @@ def batched_solutions(result: Sweep) -> list[Solution]:
 def iter_batched_solutions(result: Sweep, indices=None):
     """``batched_solutions`` one point at a time, grid order: none is kept (``sweep --json`` writes each
     as it is built).  ``indices``: only these points (grid order)."""
+    import numpy as np
+
     from mech.verification.judge import Verdict
     from mech.verification.judge import notes as judge_notes
 
@@ -780,10 +782,10 @@ def iter_batched_solutions(result: Sweep, indices=None):
             o = units[name]
             notes = []
             analytic, numeric = _num(J["analytic"][k]), _num(J["numeric"][k])
-            if J["a_und"][k]:
-                analytic = Undefined(J["a_col"].reason("undefined", k))
+            if J["a_und"][k]:  # +-inf where undefined: infinite by the physics
+                analytic = Undefined(J["a_col"].reason("undefined", k), infinite=bool(np.isinf(J["a_col"].value[k])))
             if J["n_und"][k]:
-                numeric = Undefined(J["num"].reason("undefined", k))
+                numeric = Undefined(J["num"].reason("undefined", k), infinite=bool(np.isinf(J["num"].value[k])))
             if J["n_fail"][k]:
                 why = J["num"].reason("failed", k)
                 errors.append(Failure("numeric", why if why.startswith("numeric")
