@@ -10,10 +10,12 @@ w'(A - B) = w_z a, so the ellipse's semi-axes are |A| + |B| = a and
 ||A| - |B|| = a |w_z|/w', which is the closest approach b_miss.
 
 Numeric.  DOP853 on the linear Earth-frame equations in units of a,
-over at least 20 half-swings (time unit 1/(w0 + |w_z|), so a fast rotation
-costs no more steps than a slow one).  The events
-rho rho' = x x' + y y' = 0 give the far (maximum rho) and near (minimum rho)
-turning points.  Far points: the bob's azimuth, taken modulo pi, is the plane's
+over 20 half-swings (time unit 1/(w0 + |w_z|), so a fast rotation
+costs no more steps than a slow one), leg by leg: each leg ends at the next
+turning point, rho rho' = x x' + y y' = 0 (upward at a near point, minimum rho;
+downward at a far one, maximum rho), and the next starts from it.  The route is
+written once over arrays of variants (mech's DOP853 stepping them together, each
+variant's events its own; a one-point solve is the batch of one).  Far points: the bob's azimuth, taken modulo pi, is the plane's
 orientation; near points (used only where the path is open enough for their
 direction to be well defined) give it as azimuth - pi/2, and with them a sample
 every quarter swing, which unwraps the orientation unambiguously.  Omega_F is the

@@ -24,9 +24,12 @@ without cancellation, plus centrifugal and Coriolis forces), in units |x0| and
 1/Omega, DOP853.  Shooting on v0 (Illinois regula falsi, bracket [-2.4, -1.7] in
 these units, checked for a sign change): the path closes when it crosses the x
 axis at right angles again, so the residual is y at the next zero of dx/dt
-(time-reversal symmetry), and T_rel is twice that time.  The declared motion is one full
-period with events dx/dt = 0 (radial extremes) and dy/dt = 0 (along-track extremes);
-the return to the start state is checked at its end.  The Jacobi integral is monitored.
+(time-reversal symmetry), and T_rel is twice that time.  Then one full period with
+the events of its far radial extreme (dx/dt = 0) and of its two along-track extremes
+(dy/dt = 0 upward and downward, one in each half); the return to the start state is
+checked at its end.  The Jacobi integral is monitored.  Written once over arrays of
+variants (the shooting's trials and the periods of all variants stepped together,
+each variant's events its own; a one-point solve is the batch of one).
 """
 
 from __future__ import annotations
