@@ -430,8 +430,10 @@ def parse_quantity(text: str) -> Dimensioned:
     return q
 
 
+@functools.lru_cache(maxsize=512)
 def parse_unit(unit: str) -> tuple[float, tuple]:
-    """The SI factor and dimension of a catalogue unit string (``kg*m^2``, ``1/(m^2 s^2)``, ``1``)."""
+    """The SI factor and dimension of a catalogue unit string (``kg*m^2``, ``1/(m^2 s^2)``, ``1``): read
+    once per string (an assignment reads its few units back thousands of times)."""
     if unit.strip() == "1":
         return 1.0, _ONE
     q = parse_quantity(unit)

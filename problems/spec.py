@@ -10,13 +10,12 @@ the size of what it neglects.
 
 from __future__ import annotations
 
-import math
 import tomllib
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
 from mech.core.errors import BadInput, NumericFailure
-from mech.problems import batched as _batched, validity
+from mech.problems import batched as _batched, solving, validity
 from mech.problems.batched import BatchedRoute, Tally
 from mech.problems.fields import Output, Param
 from mech.problems.motion import Run
@@ -343,6 +342,11 @@ class Exercise:
         return self._hamiltonian(p)
 
     @property
+    def joint_checks(self) -> tuple:
+        """The registered joint checks (``@exercise.constraint``), in order."""
+        return tuple(self._constraints)
+
+    @property
     def has_constraints(self) -> bool:
         """Whether joint checks beyond the bounds are registered (``@exercise.constraint``)."""
         return bool(self._constraints)
@@ -384,68 +388,14 @@ class Exercise:
         return int(self.id.split(".")[0])
 
     def resolve(self, given: Mapping[str, float] | None = None) -> Params:
-        """Defaults overlaid by the given values, each checked against its bounds, then the joint checks."""
-        given = dict(given or {})
-        unknown = [k for k in given if k not in self.param_map]
-        if unknown:
-            names = ", ".join(self.param_map)
-            raise BadInput(f"unknown parameter '{unknown[0]}' for {self.id}; its parameters are: {names}")
-        values = {}
-        for p in self.params:
-            v = float(given.get(p.name, p.default))
-            p.check(v)
-            values[p.name] = v
-        params = Params(values)
-        from mech.problems import scales
-
-        for check in self._constraints:
-            try:
-                msg = check(params)
-            except (OverflowError, ZeroDivisionError) as exc:
-                # a joint check that cannot even form its scales: the input is beyond the floating-point range
-                where = scales.far_params(self, params)
-                msg = (f"the scales the parameters form{' at ' + where if where else ''} leave the "
-                       f"floating-point range ({type(exc).__name__} in the joint checks)")
-            if msg:
-                raise BadInput(msg)
-        msg = scales.representable(self, params)
-        if msg:
-            raise BadInput(msg)
-        return params
+        """Defaults overlaid by the given values, each checked against its bounds, then the joint checks
+        (``solving.resolve``)."""
+        return solving.resolve(self, given)
 
     def solve_analytic(self, p: Params) -> dict:
-        """The analytic answers; where the parameters are far (beyond ~1e+-9) from their defaults, solved in the
-        units, powers of two of kg, m and s, that bring them nearest (``scales.natural_units``) and brought back
-        to SI exactly, so that the units chosen do not matter."""
-        from mech.problems import scales
-
-        nat = scales.natural_units(self, p)
-        if nat is None:
-            return self._finish(self.analytic_solver(p), "analytic")
-        u, values = nat
-        out = self._finish(self.analytic_solver(Params(values)), "analytic")
-        units = {o.name: o.unit for o in self.outputs}
-        back = {n: v if isinstance(v, Undefined) else scales.from_natural(v, units[n], u) for n, v in out.items()}
-        # units that bring the parameters near their defaults can push an output below the doubles' range
-        # while its SI value is a normal number (4.29 at t = 2e-200 s: a_lab = 3.2e-200 m/s^2 is 7e-393 in
-        # units of 2^-320 s, computed as 0): there the SI solution's value stands, when in the natural
-        # units it too lies below the range (so that the 0 was its underflow, not a different answer)
-        lost = [n for n, v in out.items() if isinstance(v, float) and abs(v) < scales.TINY]
-        if lost:
-            try:
-                import warnings
-
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")
-                    si = self._finish(self.analytic_solver(p), "analytic")
-            except Exception:  # the SI solution overflows or divides by zero: why natural units were taken
-                si = {}
-            for n in lost:
-                w = si.get(n)
-                if (isinstance(w, float) and math.isfinite(w) and abs(w) >= scales.TINY
-                        and abs(scales.to_natural(w, units[n], u)) < scales.TINY):
-                    back[n] = w
-        return back
+        """The analytic answers, solved in the units that bring the parameters nearest their defaults where
+        they are far from them (``solving.solve_analytic``)."""
+        return solving.solve_analytic(self, p)
 
     def solve_numeric(self, p: Params, rtol: float | None = None, shared: dict | None = None,
                       keep_trajectories: bool = False, integrator: str | None = None) -> tuple[dict, Run]:
@@ -490,12 +440,7 @@ class Exercise:
         return dict(self._analytic_error(p)) if self._analytic_error else {}
 
     def _finish(self, values: dict, which: str) -> dict:
-        names = [o.name for o in self.outputs]
-        missing = [n for n in names if n not in values]
-        extra = [n for n in values if n not in names]
-        if missing or extra:
-            raise RuntimeError(f"{self.id} {which} solver: missing outputs {missing}, unexpected {extra}")
-        return {n: values[n] if isinstance(values[n], Undefined) else float(values[n]) for n in names}
+        return solving.finish(self, values, which)
 
     def as_json(self) -> dict:
         return {

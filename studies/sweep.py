@@ -762,8 +762,7 @@ def iter_batched_solutions(result: Sweep, indices=None):
     as it is built).  ``indices``: only these points (grid order)."""
     import numpy as np
 
-    from mech.verification.judge import Verdict
-    from mech.verification.judge import notes as judge_notes
+    from mech.verification.result import judged_quantity
 
     ex = result.exercise
     P = result.batched.grid
@@ -773,6 +772,7 @@ def iter_batched_solutions(result: Sweep, indices=None):
     names = [p.name for p in ex.params]
     N = next(iter(P.values())).size
     only = list(judged)
+    a_errs = {name: np.broadcast_to(np.asarray(J["a_col"].abs, dtype=float), (N,)) for name, J in judged.items()}
     for k in range(N) if indices is None else indices:
         if k in result.refused:
             yield refused_solution(ex, Refused({n: float(P[n][k]) for n in names}, result.refused[k]), only)
@@ -780,7 +780,6 @@ def iter_batched_solutions(result: Sweep, indices=None):
         quantities, errors = [], []
         for name, J in judged.items():
             o = units[name]
-            notes = []
             analytic, numeric = _num(J["analytic"][k]), _num(J["numeric"][k])
             if J["a_und"][k]:  # +-inf where undefined: infinite by the physics
                 analytic = Undefined(J["a_col"].reason("undefined", k), infinite=bool(np.isinf(J["a_col"].value[k])))
@@ -794,24 +793,16 @@ def iter_batched_solutions(result: Sweep, indices=None):
                 why = J["ver"].reason("failed", k)
                 errors.append(Failure("rerun", why if why.startswith("numeric") else
                                       f"numeric solver failed at rtol={J['tighter']:g}: {name}: {why}", name))
-            notes.extend(judge_notes(J["J"], k))
-            for key, v in (("analytic", analytic), ("numeric", numeric)):
-                if isinstance(v, Undefined):
-                    notes.append(f"{key}: {v.why}")
-            ag = int(J["agree"][k])
             leading = o.theory != "exact"
             e_abs = None if J["expected_err_abs"] is None else _num(J["expected_err_abs"][k])
-            quantities.append(Quantity(
-                name, o.unit, analytic=analytic, numeric=numeric,
-                numeric_err=_num(J["numeric_err"][k]) if isinstance(numeric, float) else None,
-                abs_err=_num(J["abs_err"][k]), rel_err=_num(J["rel_err"][k]), tol=_num(J["tol"][k]),
-                tol_abs=float(J["tol_abs"][k]), agree=None if ag < 0 else bool(ag), theory=o.theory,
-                verdict=Verdict(int(J["J"].verdict[k])),
-                reason=J["outside_why"][k] if J["J"].verdict[k] == Verdict.OUTSIDE else "",
+            a_err = _num(a_errs[name][k])
+            quantities.append(judged_quantity(
+                J["J"], k, name=name, unit=o.unit, theory=o.theory, analytic=analytic, numeric=numeric,
+                tol_abs=float(J["tol_abs"][k]),
+                analytic_err=abs(a_err) if a_err and isinstance(analytic, float) else None,
                 theory_valid=(not J["outside"][k]) if leading else None,
                 expected_err=_num(J["expected_err"][k]) if leading and J["expected_err"] is not None else None,
-                expected_err_abs=e_abs if leading else None, verify_diff=_num(J["verify_diff"][k]),
-                allowed=_num(J["J"].allowed[k]), notes=tuple(dict.fromkeys(notes))))
+                expected_err_abs=e_abs if leading else None))
         # a failure of the whole chunk (a solve that ran out of time) reads the same for every output: once,
         # for the whole solve
         once: dict = {}
@@ -990,7 +981,6 @@ def grid_refusals(ex: Exercise, axes, fixed) -> dict:
 
     The axes' values were checked against their bounds when parsed and the
     fixed values when converted, so each point only needs the joint checks."""
-    from mech.problems.spec import Params
 
     base = {p.name: float(fixed.get(p.name, p.default)) for p in ex.params}
     if not ex.has_constraints:

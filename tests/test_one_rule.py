@@ -176,3 +176,40 @@ def test_grade_and_solve_conclude_alike_on_no_verdict(tmp_path):
                     encoding="utf-8")
     entries = answers_files.load_answers(str(path), strict=False)
     assert entries[0].invalid and entries[0].conclusion is False and not entries[0].ok
+
+
+def test_a_judged_quantity_is_built_in_one_place():
+    """``result.judged_quantity`` builds every judged output (a point's cross-check and a sweep's point):
+    no other module calls ``Quantity(`` with the judge's fields; a refused point's unjudged output is the
+    one other construction."""
+    import ast
+
+    found = []
+    for path in sorted(ROOT.rglob("*.py")):
+        rel = path.relative_to(ROOT).as_posix()
+        if rel.startswith(("tests/", ".venv/", "scripts/")) or "/." in rel or rel == "verification/result.py":
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Call) and getattr(node.func, "id", getattr(node.func, "attr", None)) == "Quantity":
+                kws = {k.arg or "**" for k in node.keywords}
+                found.append((rel, sorted(kws)))
+    assert found == [("studies/sweep.py", ["notes", "theory"])], found
+
+
+def test_a_batched_point_and_its_solve_read_alike():
+    """The same point through the batched route and through the one-point cross-check: the same fields
+    (the error bars, tolerances, verdicts, notes) where the values agree to their claims."""
+    from mech.problems import registry
+    from mech.studies.variants import cross_check_variants
+    from mech.verification.crosscheck import cross_check
+
+    ex = registry.get("5.13")
+    params = [ex.resolve({}), ex.resolve({"Omega": 900.0})]
+    for p, batched in zip(params, cross_check_variants(ex, params)):
+        one = cross_check(ex, p)
+        for q in one.quantities:
+            b = batched[q.name]
+            for field in ("analytic_err", "tol", "tol_abs", "verdict", "agree", "theory", "theory_valid",
+                          "expected_err", "expected_err_abs", "notes", "reason"):
+                assert getattr(b, field) == getattr(q, field), (q.name, field)
+            assert abs(b.numeric - q.numeric) <= q.numeric_err + b.numeric_err

@@ -38,7 +38,6 @@ reach is not judged), never turned into a verdict here.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import os
 import pickle
@@ -206,18 +205,19 @@ def _abandon_rerun(handle) -> None:
 
 
 class _Draft:
-    """An output while it is being judged: ``result.Quantity``'s fields, mutable, frozen into a
-    ``Quantity`` at the end.  The fields are declared once, on ``Quantity``; the slots reject a name that
-    is not one of them."""
+    """An output while it is being drafted: what the solves gave (``GIVEN``, ``Quantity``'s fields of the
+    same names) and the notes found on the way; ``result.judged_quantity`` builds the Quantity from it and
+    the judge's row."""
 
-    __slots__ = tuple(f.name for f in dataclasses.fields(Quantity))
+    GIVEN = ("name", "unit", "theory", "analytic", "numeric", "tol_abs", "analytic_err", "expected_err",
+             "expected_err_abs", "theory_valid")
+    __slots__ = GIVEN + ("notes",)
 
     def __init__(self, name: str, unit: str, **given) -> None:
-        for f in dataclasses.fields(Quantity):
-            if f.default is not dataclasses.MISSING:
-                setattr(self, f.name, f.default)
-        self.name, self.unit = name, unit
-        self.notes = []  # a list while judging, a tuple once frozen
+        for key in self.GIVEN:
+            setattr(self, key, None)
+        self.name, self.unit, self.tol_abs = name, unit, 0.0
+        self.notes = []
         for key, value in given.items():
             setattr(self, key, value)
 
@@ -225,19 +225,8 @@ class _Draft:
         if text not in self.notes:
             self.notes.append(text)
 
-    def freeze(self) -> Quantity:
-        for key in ("analytic", "numeric"):
-            v = getattr(self, key)
-            if isinstance(v, Undefined):
-                self._note(f"{key}: {v.why}")
-        values = {f.name: getattr(self, f.name) for f in dataclasses.fields(Quantity) if f.name != "notes"}
-        return Quantity(**values, notes=tuple(self.notes))
-
-
-def _float_or_none(v) -> float | None:
-    """A judged array's element: None for NaN (nothing there)."""
-    v = float(v)
-    return None if v != v else v
+    def given(self) -> dict:
+        return {key: getattr(self, key) for key in self.GIVEN}
 
 
 def _is_number(v) -> bool:
@@ -302,16 +291,15 @@ def _cross_check(ex, params, methods, rtol, verify, budget_s, keep_trajectories,
                                                              keep_trajectories, fork_rerun, timing, errors)
     if run is not None:
         _check_invariants(ex, run, rtol, errors)
-    quantities, rows = _draft_outputs(ex, params, rtol, analytic, numeric, run, verify_values, errors)
-    if rows:
-        _judge_outputs(quantities, rows, bool(verify_values))
+    drafts, rows = _draft_outputs(ex, params, rtol, analytic, numeric, run, verify_values, errors)
+    quantities = _judge_outputs(drafts, rows, bool(verify_values)) if rows else ()
     if run is not None and fp_warnings:
         # the warnings' words, never their source file and line
         run.info["fp_warnings"] = list(dict.fromkeys(str(w.message) for w in fp_warnings))[:5]
     return Solution(
         exercise=ex,
         params=params,
-        quantities=tuple(q.freeze() for q in quantities),
+        quantities=quantities,
         timing=timing,
         numeric_info={**run.as_json(), "import_s": import_s} if run is not None else None,
         errors=tuple(errors),
@@ -501,25 +489,15 @@ def _undefine_bad_values(q, out, errors: list) -> None:
                                   f"the floating-point range (1e-{LOG10_LIMIT:.0f}..1e{LOG10_LIMIT:.0f})", out.name))
 
 
-def _judge_outputs(quantities, rows, verified: bool) -> None:
-    """The judge, once over every output's row; its verdicts and figures written on the drafts."""
+def _judge_outputs(drafts, rows, verified: bool) -> tuple:
+    """The judge, once over every output's row; the Quantities built from the drafts and its verdicts."""
     import numpy as np
 
     from mech.verification import judge as judging
+    from mech.verification.result import judged_quantity
 
     columns = {key: np.array([r[key] for r in rows]) for key in rows[0] if key != "outside_why"}
     J = judging.judge(**{k: v for k, v in columns.items() if k != "verify"},
                       verify=columns["verify"] if verified else None,
                       outside_why=[r["outside_why"] for r in rows])
-    for k, q in enumerate(quantities):
-        q.agree = None if J.agree[k] < 0 else bool(J.agree[k])
-        q.verdict = judging.Verdict(int(J.verdict[k]))
-        q.reason = J.outside_why[k] if q.verdict is judging.Verdict.OUTSIDE else ""
-        q.tol = float(J.tol[k])
-        q.allowed = _float_or_none(J.allowed[k])
-        q.abs_err = _float_or_none(J.abs_err[k])
-        q.rel_err = _float_or_none(J.rel_err[k])
-        q.numeric_err = _float_or_none(J.numeric_err[k])
-        q.verify_diff = _float_or_none(J.verify_diff[k])
-        for text in judging.notes(J, k):
-            q._note(text)
+    return tuple(judged_quantity(J, k, notes=q.notes, **q.given()) for k, q in enumerate(drafts))

@@ -129,6 +129,36 @@ class Quantity:
         return float(v)
 
 
+def judged_quantity(J, k: int, *, notes=(), **given) -> Quantity:
+    """The one place a ``Quantity`` is built: output ``k`` of the judge's arrays ``J`` (``judge.judge``).
+    ``given``: what the solves gave (``name``, ``unit``, ``theory``, ``analytic``, ``numeric``, ``tol_abs``,
+    ``analytic_err``, ``expected_err``, ``expected_err_abs``, ``theory_valid``); the judge gives the rest
+    (agreement, verdict and its reason, tolerance, allowance, differences, the numeric error bar).
+    ``notes``: what the drafting found (in order), then the judge's reasons, then why a value is undefined.
+    A point's cross-check and a sweep's point read the same."""
+    from mech.verification.judge import notes as judge_notes
+
+    said = list(notes) + judge_notes(J, k)
+    for key in ("analytic", "numeric"):
+        v = given.get(key)
+        if isinstance(v, Undefined):
+            said.append(f"{key}: {v.why}")
+    ag = int(J.agree[k])
+    verdict = Verdict(int(J.verdict[k]))
+    return Quantity(**given, agree=None if ag < 0 else bool(ag), verdict=verdict,
+                    reason=J.outside_why[k] if verdict is Verdict.OUTSIDE else "",
+                    tol=_float_or_none(J.tol[k]), allowed=_float_or_none(J.allowed[k]),
+                    abs_err=_float_or_none(J.abs_err[k]), rel_err=_float_or_none(J.rel_err[k]),
+                    numeric_err=_float_or_none(J.numeric_err[k]) if _is_number(given.get("numeric")) else None,
+                    verify_diff=_float_or_none(J.verify_diff[k]), notes=tuple(dict.fromkeys(said)))
+
+
+def _float_or_none(v) -> float | None:
+    """A judged array's element: None for NaN (nothing there)."""
+    v = float(v)
+    return None if v != v else v
+
+
 def _is_number(v) -> bool:
     return isinstance(v, float) and math.isfinite(v)
 

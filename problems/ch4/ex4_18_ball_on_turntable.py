@@ -21,14 +21,16 @@ integration.  The circle is a least-squares fit to the sampled path (in those
 units), omega the slope of the unwrapped direction of the velocity.  The no-slip
 residual, the speed and the vertical spin are monitored.  If the ball starts
 at rest in the lab the friction vanishes (checked), it stays where it is, and
-omega comes from a run with a probe velocity.
+omega comes from a run with a probe velocity.  The route runs over arrays of
+variants (``numeric``: every ball in its own scaled units on one interval,
+sampled at 60 checkpoints; a one-point solve is the batch of one).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from mech.problems.spec import Exercise, NumericFailure
+from mech.problems.spec import Exercise
 from mech.solvers.mechanics.inertia import ball, inertia_tensor
 
 exercise = Exercise(
@@ -53,14 +55,14 @@ N_SAMPLES = 1200
 
 
 @exercise.analytic
-def analytic(p):
-    w = 2.0 * p.Omega / 7.0
-    return {
-        "omega_orbit": w,
-        "r_orbit": float(np.hypot(p.vx0, p.vy0)) / w,
-        "xc": p.x0 - p.vy0 / w,
-        "yc": p.y0 + p.vx0 / w,
-    }
+def analytic(P):
+    """Over arrays of variants."""
+    from mech.solvers.numerics.batch import Column
+
+    Omega, x0, y0, vx0, vy0 = (np.asarray(P[k], dtype=float) for k in ("Omega", "x0", "y0", "vx0", "vy0"))
+    w = 2.0 * Omega / 7.0
+    return {"omega_orbit": Column(w), "r_orbit": Column(np.hypot(vx0, vy0) / w),
+            "xc": Column(x0 - vy0 / w), "yc": Column(y0 + vx0 / w)}
 
 
 def _ball_moment(M, R):
@@ -106,16 +108,17 @@ def _make_rhs(M, R, I, Om):
 
 def _drifts(v0, R_scaled):
     """The no-slip residual (v - R w x z - Omega z x r = 0, its start subtracted exactly), the speed and the
-    vertical spin: the worst over the samples (scaled units)."""
+    vertical spin: the worst over the samples (scaled units), of one run (7, K) or of N (7, K, N), ``v0``
+    (2,) or (2, N)."""
     def slip(Y):
         d, v, dw = Y[0:2], Y[2:4], Y[4:7]
         slip_x = (v[0] - v0[0]) - R_scaled * dw[1] + d[1]
         slip_y = (v[1] - v0[1]) + R_scaled * dw[0] - d[0]
-        return np.max(np.hypot(slip_x, slip_y))
+        return np.max(np.hypot(slip_x, slip_y), axis=0)
 
     return {"no-slip residual": slip,
-            "speed": lambda Y: np.max(np.abs(np.hypot(Y[2], Y[3]) - 1.0)),
-            "vertical spin": lambda Y: np.max(np.abs(Y[6]))}
+            "speed": lambda Y: np.max(np.abs(np.hypot(Y[2], Y[3]) - 1.0), axis=0),
+            "vertical spin": lambda Y: np.max(np.abs(Y[6]), axis=0)}
 
 
 @exercise.motion
@@ -142,68 +145,98 @@ def motion(p):
                   options=samples, y_size=1.0)
 
 
-def _turn_rate(traj):
-    ang = np.unwrap(np.arctan2(traj.y[3], traj.y[2]))
-    slope, _ = np.polyfit(traj.t, ang - ang[0], 1)
-    turns = abs(ang[-1] - ang[0]) / (2 * np.pi)
-    if turns < MIN_TURNS:
-        raise NumericFailure(f"the velocity turned only {turns:.3g} times in the run: no orbit to measure")
-    return slope
+# the runs are sampled at CHECKPOINTS equal legs (the circle fit and the velocity's turn read the samples)
+CHECKPOINTS = 60
+
+
+def _samples(y0, rtol, tally):
+    """N balls (scaled units, states (7, N)) followed together over T_SCALED, sampled at CHECKPOINTS + 1
+    equal times: (t (K + 1,), states (K + 1, 7, N)); the integrations go to ``tally``."""
+    from mech.solvers.mechanics.floquet import integrate_ensemble
+
+    M, R_scaled = 1.0, 1.0  # mass and radius drop out of the friction balance; kept as symbols in rhs
+    rhs, _ = _make_rhs(M, R_scaled, _ball_moment(M, R_scaled), 1.0)
+    t = np.linspace(0.0, T_SCALED, CHECKPOINTS + 1)
+    Y = np.empty((t.size,) + y0.shape)
+    Y[0] = y0
+    atol = np.full(y0.shape, 1e-3 * rtol)
+    for j in range(CHECKPOINTS):  # the same linear law for every variant: only the starts differ
+        Y[j + 1], results = integrate_ensemble(lambda sel: rhs, (t[j], t[j + 1]), Y[j], rtol=rtol, atol=atol,
+                                               integrator=tally.integrator)
+        for r in results:
+            tally.record(r)
+    return t, Y
+
+
+def _turn_rate(t, vx, vy):
+    """The least-squares slope of the velocity's unwrapped direction (samples (K + 1, N)), and the turns."""
+    ang = np.unwrap(np.arctan2(vy, vx), axis=0)
+    tc = t - t.mean()
+    slope = tc @ (ang - ang.mean(axis=0)) / (tc @ tc)
+    return slope, np.abs(ang[-1] - ang[0]) / (2 * np.pi)
 
 
 def _fit_circle(x, y):
-    """Least-squares circle: algebraic start, then Gauss-Newton on the geometric distances."""
-    A = np.stack([x, y, np.ones_like(x)], axis=1)
-    b = x * x + y * y
-    D, E, F = np.linalg.lstsq(A, b, rcond=None)[0]
+    """Least-squares circles through N sampled paths (x, y: (K + 1, N)): algebraic start, then Gauss-Newton
+    on the geometric distances.  Returns (xc, yc, r, spread) as arrays of N."""
+    one = np.ones_like(x)
+
+    def lsq(cols, rhs):  # the normal equations, variant by variant
+        A = np.stack(cols, axis=-1).transpose(1, 0, 2)  # (N, K + 1, 3)
+        AtA = A.transpose(0, 2, 1) @ A
+        Atb = A.transpose(0, 2, 1) @ rhs.T[:, :, None]
+        return np.linalg.solve(AtA, Atb)[:, :, 0].T
+
+    D, E, F = lsq([x, y, one], x * x + y * y)
     xc, yc = D / 2, E / 2
     r = np.sqrt(F + xc * xc + yc * yc)
     for _ in range(10):
         dx, dy = x - xc, y - yc
         rho = np.hypot(dx, dy)
-        res = rho - r
-        Jm = np.stack([-dx / rho, -dy / rho, -np.ones_like(x)], axis=1)
-        step = np.linalg.lstsq(Jm, -res, rcond=None)[0]
+        step = lsq([-dx / rho, -dy / rho, -one], -(rho - r))
         xc, yc, r = xc + step[0], yc + step[1], r + step[2]
-        if np.max(np.abs(step)) < 1e-15 * max(r, 1.0):
+        if np.all(np.max(np.abs(step), axis=0) < 1e-15 * np.maximum(r, 1.0)):
             break
-    spread = float(np.max(np.abs(np.hypot(x - xc, y - yc) - r)))
+    spread = np.max(np.abs(np.hypot(x - xc, y - yc) - r), axis=0)
     return xc, yc, r, spread
 
 
-@exercise.numeric
-def numeric(p, run):
+@exercise.batched(("omega_orbit", "r_orbit", "xc", "yc"))
+def numeric(P, rtol, outputs, tally=None):
+    """The route at N variants at once (a one-point solve is the batch of one): every ball integrated in its
+    own scaled units (time 1/Omega, lengths |v0|/Omega) on the same interval; a ball at rest in the lab
+    (no friction, checked) stays where it is and a probe at unit speed gives its rate."""
+    from mech.problems.spec import Tally
+    from mech.solvers.numerics.batch import Column
+
+    tally = Tally() if tally is None else tally
+    Omega, x0, y0, vx0, vy0 = (np.asarray(P[k], dtype=float) for k in ("Omega", "x0", "y0", "vx0", "vy0"))
+    N = Omega.size
     M, R_scaled = 1.0, 1.0
     I = _ball_moment(M, R_scaled)
     _, friction = _make_rhs(M, R_scaled, I, 1.0)
-    speed = float(np.hypot(p.vx0, p.vy0))
-    run.info["I_over_MR2"] = I / (M * R_scaled**2)
-    m = motion(p)
-
-    if speed == 0.0:
-        # at rest in the lab: no friction, so nothing moves; the rate comes from a probe
-        f_rest = friction(np.zeros(2))
-        if np.any(f_rest != 0.0):
-            raise NumericFailure("a ball at rest in the lab feels a friction force: inconsistent model")
-        probe = m.starting(y0=np.array([0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0]))
-        traj = run.follow(probe, mark=False).traj  # a tool: the ball itself does not move
-        run.info["probe_velocity"] = "unit speed along x (scaled)"
-        return {"omega_orbit": _turn_rate(traj) * p.Omega, "r_orbit": 0.0, "xc": p.x0, "yc": p.y0}
-
-    traj = run.follow(m).traj
-    length = speed / p.Omega
-    d = traj.y[0:2]
-    omega_scaled = _turn_rate(traj)
-    xc, yc, r, spread = _fit_circle(d[0], d[1])
-    run.info["circle_fit_max_residual"] = spread
-    if spread > 1e3 * run.rtol * max(r, 1.0):
-        raise NumericFailure(f"the path is not a circle: points stray by {spread:.3g} of the unit length")
-    tol = exercise.tol_factor * run.rtol
-    for name in ("xc", "yc"):
-        run.claim(name, rel=tol, abs=tol * length)
-    return {
-        "omega_orbit": omega_scaled * p.Omega,
-        "r_orbit": r * length,
-        "xc": p.x0 + xc * length,
-        "yc": p.y0 + yc * length,
-    }
+    tally.info["I_over_MR2"] = np.full(N, I / (M * R_scaled**2))
+    speed = np.hypot(vx0, vy0)
+    rest = speed == 0.0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        v0 = np.where(rest, [[1.0], [0.0]], np.stack([vx0, vy0]) / np.where(rest, 1.0, speed))
+    failed = []
+    if rest.any() and np.any(friction(np.zeros(2)) != 0.0):
+        failed.append((rest, "a ball at rest in the lab feels a friction force: inconsistent model"))
+    tally.info["probe_velocity"] = np.where(rest, "unit speed along x (scaled)", None)
+    t, Y = _samples(np.concatenate([np.zeros((2, N)), v0, np.zeros((3, N))]), rtol, tally)
+    for name, drift in _drifts(v0, R_scaled).items():
+        tally.invariant(name, np.where(rest, 0.0, drift(Y.transpose(1, 0, 2))))
+    omega_scaled, turns = _turn_rate(t, Y[:, 2], Y[:, 3])
+    failed += [(turns < MIN_TURNS, f"the velocity turned fewer than {MIN_TURNS:g} times in the run: no orbit to "
+                "measure")]
+    xc, yc, r, spread = _fit_circle(Y[:, 0], Y[:, 1])
+    tally.info["circle_fit_max_residual"] = np.where(rest, None, spread)
+    failed += [(~rest & ~(spread <= 1e3 * rtol * np.maximum(r, 1.0)), "the path is not a circle: the points "
+                "stray by more than 1e3 rtol of the unit length")]
+    length = speed / Omega
+    tol = exercise.tol_factor * rtol
+    values = {"omega_orbit": omega_scaled * Omega, "r_orbit": np.where(rest, 0.0, r * length),
+              "xc": np.where(rest, x0, x0 + xc * length), "yc": np.where(rest, y0, y0 + yc * length)}
+    claims = {"omega_orbit": (tol, 0.0), "r_orbit": (tol, 0.0), "xc": (tol, tol * length), "yc": (tol, tol * length)}
+    return {o: Column(values[o], rel=claims[o][0], abs=claims[o][1], failed=failed) for o in outputs}

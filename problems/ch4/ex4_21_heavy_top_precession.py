@@ -18,17 +18,23 @@ I3^2 (omega3 - omega_min)(omega3 + omega_min) to keep its digits.
 Numeric.  The residual of the torque balance, Omega z x L(Omega) - l n3 x (-M g z),
 with L from the inertia tensor diag(I_A, I_A, I3) acting on the angular velocity
 split along the axis and normal to it (no cancellation when I_A >> I3), projected
-on z x n3: a bracketing root finder between 0 and the residual's maximum
-(located by a bounded scalar maximizer; the fast root lies beyond it).  The
-steady state is then followed as the declared motion, the exact vector equations
-dn3/dt = L x n3/I_A, dL/dt = l n3 x (-M g z) for one precession turn (at most
-60 nutation periods; steps of at most 2 radians of the nutation): the azimuth's
-rate is fitted and must match the root within the run's accuracy, the tilt
-must stay at theta0; energy, L_z and L3 are monitored.  omega_min: Brent's method on the residual's
-maximum as a function of omega3.  omega_th: the Jacobian of the same equations
-about the upright spinning state, in the coordinates (n_x, n_y, L_x, L_y) with
-L3 fixed (complex-step derivatives, exact to round-off), and a bisection on
-omega3 for the onset of an eigenvalue with positive real part.
+on z x n3 (solvers.mechanics.tops, over arrays of tops): Omega doubled from the
+rate scale M g l/(I3 omega3) to a sign change, or past the residual's maximum
+(located by golden sections; the fast root lies beyond it), then Illinois to
+1e-15.  The steady state is then followed as the declared motion, the exact
+vector equations dn3/dt = L x n3/I_A, dL/dt = l n3 x (-M g z) for one precession
+turn (at most 60 nutation periods; steps of at most 2 radians of the nutation),
+sampled at least 64 times: the azimuth's rate is fitted and must match the root
+within the run's accuracy, the tilt must stay at theta0; energy, L_z and L3 are
+monitored.  omega_min: Illinois on the residual's maximum as a function of
+omega3, in a bracket narrowed to a factor 2 by halving.  omega_th: the Jacobian of
+the same equations about the upright spinning state, in the coordinates
+(n_x, n_y, L_x, L_y) with L3 fixed (complex-step derivatives, exact to
+round-off), and a bisection on omega3 to the last bit for the onset of an
+eigenvalue with positive real part.  The route is written once over arrays of
+variants (the searches together, once per distinct top and kept for the rerun;
+the steady states followed together in a time scaled to each run's length; a
+one-point solve the batch of one); a variant that fails fails alone.
 """
 
 from __future__ import annotations
@@ -38,9 +44,9 @@ import math
 import numpy as np
 
 from mech.problems import ranges
-from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.numerics.roots import bracketed_root
-from mech.solvers.mechanics.tops import axis_rhs, azimuth, fit_rate, polar_angle
+from mech.problems.spec import Exercise, NumericFailure
+from mech.solvers.mechanics.tops import (LEAST_SPIN_FAILS, NO_PRECESSION, ROOT_FAILS, PrecessionResidual, axis_rhs,
+                                         azimuth, fit_rate, follow_scaled, least_spin, polar_angle, slow_roots)
 
 exercise = Exercise(
     "4.21",
@@ -69,181 +75,142 @@ ranges.declare(
 )
 
 
+def _top(P):
+    """(I_A, I3, M g l, theta0, omega3) over arrays of variants."""
+    M, l, I1, I3, w3, th, g = (np.asarray(P[k], dtype=float) for k in ("M", "l", "I1", "I3", "omega3", "theta0", "g"))
+    return I1 + M * l**2, I3, M * g * l, th, w3
+
+
+# the analytic side's reasons carry the numbers when at most this many variants have none
+NAMED_REASONS = 256
+
+
 @exercise.analytic
-def analytic(p):
-    IA = p.I1 + p.M * p.l**2
-    Mgl = p.M * p.g * p.l
-    c = math.cos(p.theta0)
-    L3 = p.I3 * p.omega3
-    w_th = 2.0 * math.sqrt(IA * Mgl) / p.I3
-    w_min = w_th * math.sqrt(c) if c > 0 else 0.0
-    out = {"omega_th": w_th, "omega_min": w_min}
-    if p.omega3 < w_min:
-        why = f"omega3 = {p.omega3:.6g} rad/s is below omega_min = {w_min:.6g} rad/s: no steady precession at theta0"
-        out.update(omega_pre=Undefined(why), pre_ratio=Undefined(why))
-        return out
-    if c > 0:
-        disc = p.I3**2 * (p.omega3 - w_min) * (p.omega3 + w_min)
+def analytic(P):
+    """Over arrays of variants."""
+    from mech.solvers.numerics.batch import Column
+
+    IA, I3, Mgl, th, w3 = (np.atleast_1d(x) for x in _top(P))
+    c = np.cos(th)
+    L3 = I3 * w3
+    w_th = 2.0 * np.sqrt(IA * Mgl) / I3
+    w_min = np.where(c > 0, w_th * np.sqrt(np.maximum(c, 0.0)), 0.0)
+    below = w3 < w_min
+    # near omega_min the discriminant is formed as a product to keep its digits; hanging (c <= 0): a sum
+    disc = np.where(c > 0, I3**2 * (w3 - w_min) * (w3 + w_min), L3**2 + 4.0 * IA * Mgl * (-c))
+    root = np.sqrt(np.where(below, 0.0, disc))
+    out = {"omega_th": Column(w_th), "omega_min": Column(w_min)}
+    why = "omega3 is below omega_min: no steady precession at theta0"
+    if np.count_nonzero(below) <= NAMED_REASONS:
+        reasons = [(np.arange(w3.size) == k, f"omega3 = {w3[k]:.6g} rad/s is below omega_min = {w_min[k]:.6g} "
+                    "rad/s: no steady precession at theta0") for k in np.flatnonzero(below)]
     else:
-        disc = L3**2 + 4.0 * IA * Mgl * (-c)
-    root = math.sqrt(disc)
-    out["omega_pre"] = 2.0 * Mgl / (L3 + root)
-    out["pre_ratio"] = 2.0 * L3 / (L3 + root)
+        reasons = [(below, why)]
+    out["omega_pre"] = Column(np.where(below, np.nan, 2.0 * Mgl / (L3 + root)), undefined=reasons)
+    out["pre_ratio"] = Column(np.where(below, np.nan, 2.0 * L3 / (L3 + root)), undefined=reasons)
     return out
 
 
 # --------------------------------------------------------------------------- numeric
 
 
-def _residual_factory(IA, I3, Mgl, theta0):
-    """f(Omega, omega3): the torque balance's residual along z x n3, in units of M g l sin theta0.
-
-    The angular velocity Omega z + psidot n3 is split on the body's principal
-    directions before the inertia tensor acts: z = cos theta0 n3 + sin theta0 u
-    with u = (-cos theta0, 0, sin theta0) normal to n3, so
-    omega = Omega sin theta0 u + omega3 n3 and L = I_A Omega sin theta0 u + I3 omega3 n3.
-    (Rotating the tensor into lab axes first loses the digits of L when
-    I_A >> I3: the two I_A terms of L_x cancel to a part in I_A/I3.)
-    """
-    s, c = math.sin(theta0), math.cos(theta0)
-    n3 = np.array([s, 0.0, c])
-    u = np.array([-c, 0.0, s])
-    z = np.array([0.0, 0.0, 1.0])
-    torque = Mgl * np.cross(z, n3)  # l n3 x (-M g z)
-    e = np.array([0.0, 1.0, 0.0])  # z x n3 / sin theta0
-
-    def angular_momentum(Om, omega3):
-        return IA * Om * s * u + I3 * omega3 * n3
-
-    def f(Om, omega3):
-        L = angular_momentum(Om, omega3)
-        r = Om * np.cross(z, L) - torque
-        return float(r @ e) / (Mgl * s)
-
-    return f, angular_momentum, n3
-
-
-def _slow_root(f, omega3, Om_scale):
-    """The smallest positive zero of f(., omega3), or None when f stays negative; also f's maximum."""
-    from mech.solvers.numerics.roots import brentq, minimize_scalar
-
-    f0 = f(0.0, omega3)
-    if not f0 < 0:
-        raise NumericFailure("the residual at zero precession is not negative")
-    prev2, prev, fprev = 0.0, 0.0, f0
-    Om = Om_scale
-    for _ in range(400):
-        fv = f(Om, omega3)
-        if fv > 0:
-            return brentq(lambda x: f(x, omega3), prev, Om, xtol=1e-300, rtol=1e-15, maxiter=500), None
-        if fv < fprev:
-            # past the maximum without a positive value: locate the maximum in (prev2, Om)
-            res = minimize_scalar(
-                lambda x: -f(x, omega3), bounds=(prev2, Om), method="bounded", options={"xatol": 1e-13 * Om}
-            )
-            fmax, Omv = -res.fun, res.x
-            if fmax >= 0:
-                return brentq(lambda x: f(x, omega3), 0.0, Omv, xtol=1e-300, rtol=1e-15, maxiter=500), fmax
-            return None, fmax
-        prev2, prev, fprev = prev, Om, fv
-        Om *= 2.0
-    raise NumericFailure("no sign change of the precession residual found")
-
-
-def _fmax(f, omega3, Om_scale):
-    """Maximum over Omega > 0 of f(., omega3) (+inf when f grows without bound)."""
-    from mech.solvers.numerics.roots import minimize_scalar
-
-    prev2, prev, fprev = 0.0, 0.0, f(0.0, omega3)
-    Om = Om_scale
-    for _ in range(400):
-        fv = f(Om, omega3)
-        if fv < fprev:
-            res = minimize_scalar(
-                lambda x: -f(x, omega3), bounds=(prev2, Om), method="bounded", options={"xatol": 1e-13 * Om}
-            )
-            return -res.fun
-        prev2, prev, fprev = prev, Om, fv
-        Om *= 2.0
-    return math.inf
-
-
 def _upright_growth(IA, Mgl, L3):
     """Largest real part of the eigenvalues of the linearized motion about the upright spinning top,
-    relative to the largest modulus."""
-    # coordinates u = (n_x, n_y, L_x / L3, L_y / L3); n_z and L_z follow from |n| = 1, L . n = L3
-    def rhs(u):
+    relative to the largest modulus, over arrays of tops."""
+    # coordinates u = (n_x, n_y, L_x / L3, L_y / L3); n_z and L_z follow from |n| = 1, L . n = L3;
+    # complex-step derivatives (exact to round-off)
+    h = 1e-30
+    J = np.empty(np.shape(L3) + (4, 4))
+    for k in range(4):
+        u = np.zeros((4,) + np.shape(L3), dtype=complex)
+        u[k] = 1j * h
         nx, ny, lx, ly = u
         nz = np.sqrt(1 - nx * nx - ny * ny)
         lz = (1.0 - lx * nx - ly * ny) / nz
-        n = [nx, ny, nz]
-        L = [lx, ly, lz]
-        dn = [(L[1] * n[2] - L[2] * n[1]) * L3 / IA, (L[2] * n[0] - L[0] * n[2]) * L3 / IA]
-        # dL/dt = l n x (-M g z) = -M g l (n_y, -n_x, 0)
-        dL = [-Mgl * ny / L3, Mgl * nx / L3]
-        return np.array(dn + dL)
-
-    h = 1e-30
-    J = np.empty((4, 4))
-    for k in range(4):
-        u = np.zeros(4, dtype=complex)
-        u[k] = 1j * h
-        J[:, k] = rhs(u).imag / h
+        # dn/dt = L x n L3/I_A; dL/dt = l n x (-M g z) = -M g l (n_y, -n_x, 0)
+        rates = [(ly * nz - lz * ny) * L3 / IA, (lz * nx - lx * nz) * L3 / IA, -Mgl * ny / L3, Mgl * nx / L3]
+        J[..., :, k] = np.stack(rates, axis=-1).imag / h
     lam = np.linalg.eigvals(J)
-    return float(np.max(lam.real) / np.max(np.abs(lam)))
+    return np.max(lam.real, axis=-1) / np.max(np.abs(lam), axis=-1)
 
 
 ONSET = 1e-7  # real part (relative to |lambda|) that counts as growth: far above round-off near a double eigenvalue
 
 
 def _threshold(IA, I3, Mgl):
-    w_ref = math.sqrt(IA * Mgl) / I3  # the only spin scale of the problem (dimensions)
-    lo, hi = w_ref, w_ref
-    for _ in range(200):
-        if _upright_growth(IA, Mgl, I3 * lo) > ONSET:
-            break
-        lo /= 2
-    else:
-        raise NumericFailure("the upright top is stable at every spin tried")
-    for _ in range(200):
-        if _upright_growth(IA, Mgl, I3 * hi) <= ONSET:
-            break
-        hi *= 2
-    else:
-        raise NumericFailure("the upright top is unstable at every spin tried")
-    return bracketed_root(lambda w: ONSET - _upright_growth(IA, Mgl, I3 * w), lo, hi)
+    """omega_th over arrays of tops: the onset of growth, bracketed by halving and doubling from the spin
+    scale, then by bisection to the last bit; and a code: 0 found, 1 stable at every spin tried, 2 unstable at
+    every spin tried."""
+    from mech.solvers.numerics.searches import bisect_bits
+
+    def g(idx, w):
+        return ONSET - _upright_growth(IA[idx], Mgl[idx], I3[idx] * w)
+
+    w_ref = np.sqrt(IA * Mgl) / I3  # the only spin scale of the problem (dimensions)
+    n = w_ref.size
+    ends, code = [], np.zeros(n)
+    for factor, growing, fails in ((0.5, True, 1.0), (2.0, False, 2.0)):
+        w, gw, todo = w_ref.copy(), np.full(n, np.nan), np.arange(n)
+        for _ in range(200):
+            gw[todo] = g(todo, w[todo])
+            todo = todo[(gw[todo] >= 0) if growing else (gw[todo] < 0)]
+            if not todo.size:
+                break
+            w[todo] *= factor
+        code[todo] = fails
+        ends.append((w, gw))
+    (lo, glo), (hi, ghi) = ends
+    out = np.full(n, np.nan)
+    ok = np.flatnonzero(code == 0)
+    if ok.size:
+        out[ok] = bisect_bits(lambda i, w: g(ok[i], w), lo[ok], hi[ok], glo[ok], ghi[ok])
+    return out, code
 
 
-def _conserved(IA, Mgl, Ls):
-    """The conserved quantities of the exact motion, each a function of the states Y (n x N, L in units
-    Ls) giving its worst drift over them relative to its scale: the energy less its spin part, L_z, L3.
+_THRESHOLD_FAILS = {1.0: "the upright top is stable at every spin tried",
+                    2.0: "the upright top is unstable at every spin tried"}
+
+
+def _conserved(IA, Mgl, Ls, Y):
+    """The worst drift over the samples Y (6 x K x N: n3, L in units Ls) of the conserved quantities of the
+    exact motion, each relative to its scale: the energy less its spin part, L_z, L3 (arrays of N).
 
     The energy less its spin part L3^2/(2 I3): that part is constant exactly when L3 is, and L3 is
     monitored on its own.  Whole, the energy is ill-conditioned in the state for a thin fast rotor (its
     derivative in L is the angular velocity, so an error rtol |L| moves it by omega3 rtol |L|, 2e6 rtol of E
     at I3 = 1e-8 kg m^2, omega3 = 5600 rad/s on a 470 m arm).  The transverse part of L is the rejection
     L - (n.L) n, not |L|^2 - L3^2, which cancels when the spin carries nearly all of L."""
+    n, L = Y[0:3], Y[3:6] * Ls
+    L3 = np.sum(n * L, axis=0)
+    L_perp = L - L3 * n
+    E = 0.5 * np.sum(L_perp * L_perp, axis=0) / IA + Mgl * n[2]
+    E_scale = 0.5 * np.sum(L_perp[:, 0] ** 2, axis=0) / IA + Mgl
+    return {"energy less the spin's": np.max(np.abs(E - E[0]), axis=0) / E_scale,
+            "L_z": np.max(np.abs(L[2] - L[2, 0]), axis=0) / Ls,
+            "L3": np.max(np.abs(L3 - L3[0]), axis=0) / Ls}
 
-    def parts(Y):
-        n, L = Y[0:3], Y[3:6] * Ls
-        return n, L, np.sum(n * L, axis=0)
 
-    def energy(Y):
-        n, L, L3 = parts(Y)
-        L_perp = L - L3 * n
-        E = 0.5 * np.sum(L_perp * L_perp, axis=0) / IA + Mgl * n[2]
-        E_scale = 0.5 * float(np.sum(L_perp[:, 0] ** 2)) / IA + Mgl
-        return float(np.max(np.abs(E - E[0]))) / E_scale
+def _start(R, idx, Om, omega3, theta0):
+    """The steady states of the tops idx turning at Om: (y0 = [n3, L/|L|] 6 x n, |L|, the run's length (one
+    precession turn, at most 60 nutation periods), its longest step, the variables' size).
 
-    def L_z(Y):
-        L = parts(Y)[1]
-        return float(np.max(np.abs(L[2] - L[2, 0]))) / Ls
+    The steady state is slow, so the step control alone lets the step grow to several radians of the
+    nutation, where DOP853 no longer damps a round-off nutation: it grows until the error estimate sees it,
+    whatever rtol is.  A step of 2 radians of the fastest rate of the linearized motion keeps it resolved."""
+    IA, Mgl = R.IA[idx], R.Mgl[idx]
+    L0 = R.angular_momentum(idx, Om, omega3)
+    Ls = np.sqrt(np.sum(L0 * L0, axis=0))
+    nu = Ls / IA  # fastest rate of the axis (nutation scale)
+    T = np.minimum(2 * math.pi / Om, 60.0 * 2 * math.pi / nu)
+    fastest = nu + np.sqrt(Mgl / IA) + np.abs(Om)
+    return np.concatenate([R.n3[:, idx], L0 / Ls]), Ls, T, 2.0 / fastest, np.minimum(1.0, np.sin(theta0))
 
-    def L_3(Y):
-        L3 = parts(Y)[2]
-        return float(np.max(np.abs(L3 - L3[0]))) / Ls
 
-    return {"energy less the spin's": energy, "L_z": L_z, "L3": L_3}
+def _torque(Mgl):
+    def torque(t, n):
+        return Mgl * np.array([-n[1], n[0], 0.0 * n[0]])  # l n x (-M g z) = M g l z x n
+
+    return torque
 
 
 @exercise.motion
@@ -254,96 +221,143 @@ def motion(p, Om=None):
     turn, at most 60 nutation periods.  L is integrated in units of its size |L|."""
     from mech.problems.motion import Motion
 
-    IA = p.I1 + p.M * p.l**2
-    Mgl = p.M * p.g * p.l
-    f, angular_momentum, n3 = _residual_factory(IA, p.I3, Mgl, p.theta0)
+    IA, I3, Mgl, th, w3 = _top({k: np.array([float(p[k])]) for k in ("M", "l", "I1", "I3", "omega3", "theta0", "g")})
     if Om is None:
-        Om = _slow_root(f, p.omega3, Mgl / (p.I3 * p.omega3))[0]
-        if Om is None:
+        Om, _, code = slow_roots(IA, I3, Mgl, th, w3)
+        if code[0] == 1.0:
             return None
-    L0 = angular_momentum(Om, p.omega3)
-    Ls = float(np.linalg.norm(L0))
-
-    def torque(t, n):
-        return Mgl * np.array([-n[1], n[0], 0.0])  # l n x (-M g z) = M g l z x n
-
-    nu = Ls / IA  # fastest rate of the axis (nutation scale)
-    T = min(2 * math.pi / Om, 60.0 * 2 * math.pi / nu)
-    # The steady state is slow, so the step control alone lets the step grow to several radians of the
-    # nutation, where DOP853 no longer damps a round-off nutation: it grows until the error estimate sees
-    # it, whatever rtol is.  A step of 2 radians of the fastest rate of the linearized motion keeps it
-    # resolved.
-    fastest = nu + math.sqrt(Mgl / IA) + abs(Om)
-    return Motion(axis_rhs(IA, torque, L_scale=Ls), np.concatenate([n3, L0 / Ls]), (0.0, T),
-                  monitors=_conserved(IA, Mgl, Ls), y_scale=[1.0, 1.0, 1.0, Ls, Ls, Ls],
-                  y_size=min(1.0, math.sin(p.theta0)), options={"max_step": 2.0 / fastest})
+        if code[0]:
+            raise NumericFailure(ROOT_FAILS[float(code[0])])
+    R = PrecessionResidual(IA, I3, Mgl, th)
+    y0, Ls, T, max_step, size = _start(R, np.array([0]), np.atleast_1d(Om), w3, th)
+    Ls0 = float(Ls[0])
+    monitors = {name: (lambda Y, name=name: float(_conserved(IA, Mgl, Ls0, Y[:, :, None])[name][0]))
+                for name in ("energy less the spin's", "L_z", "L3")}
+    return Motion(axis_rhs(float(IA[0]), _torque(float(Mgl[0])), L_scale=Ls0), y0[:, 0], (0.0, float(T[0])),
+                  monitors=monitors, y_scale=[1.0, 1.0, 1.0, Ls0, Ls0, Ls0], y_size=float(size[0]),
+                  options={"max_step": float(max_step[0])})
 
 
-@exercise.numeric
-def numeric(p, run):
-    from mech.solvers.numerics.roots import brentq
+# the steady states' runs are sampled at least this many times (the azimuth's rate fitted over them)
+SAMPLES = 64
 
-    IA = p.I1 + p.M * p.l**2
-    Mgl = p.M * p.g * p.l
-    f, angular_momentum, n3 = _residual_factory(IA, p.I3, Mgl, p.theta0)
-    Om_scale = Mgl / (p.I3 * p.omega3)  # a rate scale to start the search from
 
-    omega_th = _threshold(IA, p.I3, Mgl)
-    run.info["omega_th_onset_criterion"] = ONSET
+def _confirm(R, go, Om, omega3, theta0, rtol, tally):
+    """The steady states of the tops go followed together (``tops.follow_scaled``, each over its own run) and
+    read: (measured rate, tilt drift, run length, the invariants' drifts, why each failed to integrate)."""
+    from mech.core.budget import OutOfBudget
 
-    # omega_min: where the residual's maximum over Omega touches zero
-    def fmax_at(w):
-        return _fmax(f, w, Mgl / (p.I3 * w))
+    y0, Ls, T, max_step, size = _start(R, go, Om, omega3, theta0)
+    IA, Mgl = R.IA[go], R.Mgl[go]
+    n = go.size
+    why = np.full(n, "", dtype=object)
+    rate = np.full(n, np.nan)
 
-    w_lo = 1e-12 * omega_th
-    if fmax_at(w_lo) >= 0:
-        omega_min = 0.0  # a steady precession exists for every spin (within 1e-12 omega_th)
-        run.claim("omega_min", abs=1e-12 * omega_th)
-    else:
-        w_hi = max(p.omega3, omega_th)
-        for _ in range(200):
-            if fmax_at(w_hi) >= 0:
-                break
-            w_hi *= 2
-        else:
-            raise NumericFailure("no spin found at which a steady precession exists")
-        omega_min = brentq(fmax_at, w_lo, w_hi, xtol=1e-300, rtol=1e-15, maxiter=500)
+    def run(idx):  # a group whose integration fails is followed again variant by variant
+        def make_rhs(sel):
+            j = idx[sel]
+            # one alone on plain floats (numpy's scalars cost twice their arithmetic a step)
+            IA_j, Mgl_j, Ls_j, T_j = (x[j] if isinstance(sel, slice) else float(x[j]) for x in (IA, Mgl, Ls, T))
+            f = axis_rhs(IA_j, _torque(Mgl_j), L_scale=Ls_j)
+            return lambda t, y: T_j * f(t, y)
 
-    Om, fmax = _slow_root(f, p.omega3, Om_scale)
-    out = {"omega_th": omega_th, "omega_min": omega_min}
-    if Om is None:
-        run.info["residual_max"] = fmax
-        why = f"the precession residual stays negative (max {fmax:.3g}): no steady precession at theta0"
-        out.update(omega_pre=Undefined(why), pre_ratio=Undefined(why))
-        return out
-    if fmax is not None:
-        run.info["residual_max"] = fmax
+        try:
+            tau_k, Y_k, records = follow_scaled(make_rhs, y0[:, idx], SAMPLES, max_step=max_step[idx] / T[idx],
+                                                rtol=rtol, atol=1e-3 * rtol * size[idx] * np.ones((6, 1)),
+                                                integrator=tally.integrator)
+        except OutOfBudget:
+            raise
+        except NumericFailure as exc:
+            if idx.size == 1:
+                why[idx] = str(exc)
+            for k in idx if idx.size > 1 else ():
+                run(np.array([k]))
+            return
+        for r in records:
+            tally.record(r)
+        nk = Y_k[:, 0:3].transpose(1, 0, 2)
+        slope, _ = fit_rate(tau_k, azimuth(nk))
+        rate[idx] = slope / T[idx]
+        drift = _conserved(IA[idx], Mgl[idx], Ls[idx], Y_k.transpose(1, 0, 2))
+        drift["tilt theta - theta0 (rad)"] = np.max(np.abs(polar_angle(nk) - theta0[idx]), axis=0)
+        for name, d in drift.items():
+            drifts.setdefault(name, np.full(n, np.nan))[idx] = d
 
-    # confirm: follow the exact motion from the steady state and measure the azimuth's rate
-    m = motion(p, Om)
-    traj = run.follow(m, dense=True).traj
-    T_pre = 2 * math.pi / Om
-    T = m.span[1]
-    ts = np.linspace(0.0, T, 401)
-    n_t = traj.sol(ts)[0:3]
-    rate, rms = fit_rate(ts, azimuth(n_t))
-    run.info["measured_precession_rate"] = rate
-    run.info["integrated_turns"] = T / T_pre
-    rate_err = abs(rate - Om) / Om
-    run.info["measured_vs_root"] = rate_err
-    theta_dev = float(np.max(np.abs(polar_angle(n_t) - p.theta0)))
-    run.invariant("tilt theta - theta0 (rad)", theta_dev)
-    # The measured rate is a confirmation: its error is the integration's error in the
-    # azimuth (absolute, about 1e3 rtol rad at most) over the angle run through
-    angle_tol = max(1e-6, 1e4 * run.rtol) * Om * T + 1e3 * run.rtol
-    tilt_tol = max(1e-6, 1e4 * run.rtol) * max(p.theta0, 1e-3)
-    if abs(rate - Om) * T > angle_tol or theta_dev > tilt_tol:
-        raise NumericFailure(
-            f"the steady state does not hold: measured rate off by {rate_err:.2g}, tilt drifts by {theta_dev:.2g} rad"
-        )
-    out["omega_pre"] = Om
-    out["pre_ratio"] = Om * p.I3 * p.omega3 / Mgl
-    return out
+    drifts: dict = {}
+    if n:
+        run(np.arange(n))
+    return rate, T, drifts, why
+
+
+@exercise.batched(("omega_pre", "pre_ratio", "omega_th", "omega_min"))
+def numeric(P, rtol, outputs, memo=None, tally=None):
+    """The route at N variants at once (a one-point solve is the batch of one): the searches together (once per
+    distinct top, kept in ``memo`` for the rerun: they do not depend on rtol), the steady states followed
+    together (``_confirm``); every failure and every invariant beyond the claim fails that variant alone."""
+    from mech.problems.spec import Tally
+    from mech.solvers.numerics.batch import Column, by_rows
+
+    tally = Tally() if tally is None else tally
+    memo = {} if memo is None else memo
+    IA, I3, Mgl, th, w3 = _top(P)
+    N = IA.size
+
+    def thresholds(a, b, c):
+        return by_rows(memo, "4.21 omega_th", (a, b, c), _threshold)
+
+    def minima(a, b, c, d):
+        w_th, code = thresholds(a, b, c)
+        out, code_min = np.full(a.size, np.nan), np.where(code == 0, 0.0, 3.0)
+        ok = np.flatnonzero(code == 0)
+        if ok.size:
+            out[ok], code_min[ok] = least_spin(a[ok], b[ok], c[ok], d[ok], w_th[ok])
+        return out, code_min
+
+    omega_th, th_code = thresholds(IA, I3, Mgl)
+    omega_min, min_code = by_rows(memo, "4.21 omega_min", (IA, I3, Mgl, th), minima)
+    Om, fmax, root_code = by_rows(memo, "4.21 slow root", (IA, I3, Mgl, th, w3), slow_roots)
+    failures = [(th_code == c, why) for c, why in _THRESHOLD_FAILS.items()]
+    failures += [(min_code == c, why) for c, why in LEAST_SPIN_FAILS.items()]
+    failures += [(root_code == c, why) for c, why in ROOT_FAILS.items()]
+    tol = exercise.tol_factor * rtol
+    # confirm: follow the exact motion from each steady state and measure the azimuth's rate
+    go = np.flatnonzero(root_code == 0)
+    R = PrecessionResidual(IA, I3, Mgl, th)
+    rate, T, drifts, why = _confirm(R, go, Om[go], w3[go], th[go], rtol, tally)
+    for text in sorted(set(why[why != ""])):
+        failures.append((np.isin(np.arange(N), go[why == text]), text))
+    # The measured rate is a confirmation: its error is the integration's error in the azimuth (absolute, about
+    # 1e3 rtol rad at most) over the angle run through
+    angle_tol = max(1e-6, 1e4 * rtol) * Om[go] * T + 1e3 * rtol
+    tilt_tol = max(1e-6, 1e4 * rtol) * np.maximum(th[go], 1e-3)
+    tilt = drifts.get("tilt theta - theta0 (rad)", np.zeros(go.size))
+    moved = (why == "") & ~((np.abs(rate - Om[go]) * T <= angle_tol) & (tilt <= tilt_tol))
+    failures.append((np.isin(np.arange(N), go[moved]), "the steady state does not hold: the measured precession "
+                     "rate or the tilt moves off the root's"))
+    for name, d in drifts.items():
+        full = np.zeros(N)
+        full[go] = np.nan_to_num(d)
+        tally.invariant(name, full)
+        failures.append((full > tol, f"the invariant '{name}' drifts by more than the method allows: the "
+                         "integration is not to be trusted"))
+    measured = np.full(N, np.nan)
+    measured[go] = rate
+    tally.info["omega_th_onset_criterion"] = np.full(N, ONSET)
+    tally.info["residual_max"] = np.where(np.isnan(fmax), None, fmax)
+    tally.info["measured_precession_rate"] = np.where(np.isnan(measured), None, measured)
+    with np.errstate(invalid="ignore"):
+        turns, off = np.full(N, np.nan), np.abs(measured - Om) / Om
+        turns[go] = T * Om[go] / (2 * math.pi)
+    tally.info["integrated_turns"] = np.where(np.isnan(turns), None, turns)
+    tally.info["measured_vs_root"] = np.where(np.isnan(off), None, off)
+    none = [(root_code == 1.0, NO_PRECESSION)]
+    zero_min = omega_min == 0.0  # a steady precession exists for every spin (within 1e-12 omega_th)
+    cols = {"omega_pre": Column(Om, rel=tol, undefined=none, failed=failures),
+            "pre_ratio": Column(Om * I3 * w3 / Mgl, rel=tol, undefined=none, failed=failures),
+            "omega_th": Column(omega_th, rel=tol, failed=failures),
+            "omega_min": Column(omega_min, rel=np.where(zero_min, 0.0, tol),
+                                abs=np.where(zero_min, 1e-12 * omega_th, 0.0), failed=failures)}
+    return {o: cols[o] for o in outputs}
 
 
 def _effective_potential(IA, L3, Lz, Mgl, theta):

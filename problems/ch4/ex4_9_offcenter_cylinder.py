@@ -21,11 +21,15 @@ phi'' and Euler's equation is solved for it (the 3x3 system, eliminated in the
 order that keeps digits when R - l is tiny).  Omega: the
 derivative of phi''(phi, 0) at 0 by Richardson central differences, with the step
 halved until successive estimates agree (the nonlinearity scale can be 1e-3 rad).
-Period: a quarter swing from rest at phi0 to phi = 0 (event), times 4, in time
-scaled by the numeric Omega, the state holding phi - phi0 (so a start 1e-9 from
-the top is not rounded away) with absolute tolerances scaled by the distance
-from the top; the energy is monitored.  The route works in units of M, R and
-sqrt(R/g), so that far-apart SI values do not underflow in its products.
+Period: a quarter swing from rest at phi0 to phi = 0, times 4, in time scaled
+by the numeric Omega: a first leg from rest over s = Omega t in [0, 1] (the
+quarter takes at least pi/2), the state holding phi - phi0 (so a start 1e-9
+from the top is not rounded away) with absolute tolerances scaled by the
+distance from the top; then the angle itself as the independent variable down
+to phi = 0 (the rate is never zero on the way), so no event is needed; the
+energy is checked at the legs' ends.  The route works in units of M, R and
+sqrt(R/g), so that far-apart SI values do not underflow in its products, and
+over arrays of variants (``numeric``; a one-point solve is the batch of one).
 """
 
 from __future__ import annotations
@@ -62,8 +66,7 @@ def constraint(p):
                 "the most a body of this mass inside the cylinder can have")
 
 
-@exercise.analytic
-def analytic(p):
+def _analytic_one(p):
     from mech.solvers.numerics.quadrature import quad
     from mech.solvers.numerics.special import ellipkm1
 
@@ -91,6 +94,19 @@ def analytic(p):
     rem, _ = quad(rest, 0.0, np.pi / 2, points=pts, epsabs=0.0, epsrel=1e-13, limit=400, vectorized=True)
     quarter = (f1 * ellipkm1(kc**2) - B * rem) / root_Mgl
     return {"Omega": root_Mgl / np.sqrt(J0), "period": 4.0 * quarter}
+
+
+@exercise.analytic
+def analytic(P):
+    """Over arrays of variants: the closed form (an elliptic integral and an adaptive quadrature) variant by
+    variant (``_analytic_one``)."""
+    from mech.problems.params import Params
+    from mech.solvers.numerics.batch import Column
+
+    arrays = {k: np.atleast_1d(np.asarray(P[k], dtype=float)) for k in ("M", "R", "l", "I", "phi0", "g")}
+    n = arrays["M"].size
+    got = [_analytic_one(Params({k: float(v[j]) for k, v in arrays.items()})) for j in range(n)]
+    return {o: Column(np.array([float(x[o]) for x in got])) for o in ("Omega", "period")}
 
 
 def _trig(phi0, dphi):
@@ -136,36 +152,56 @@ def _energy(trig, w, M, R, l, I, g, unit=1.0):
     return 0.5 * M * (vx_u**2 + vy_u**2) + 0.5 * I * w_u**2 + M * g * rise_u
 
 
-def _natural(p):
+def _natural(P):
     """The numeric route's units: mass M, length R, time sqrt(R/g), so that M = R = g = 1 and the parameters
     left are l/R and I/(M R^2) (far-apart SI values, M ~ 1e-288 kg with R ~ 1e117 m, would otherwise
-    underflow in the products of the swing); and the unit of rate sqrt(g/R) in 1/s."""
-    return (1.0, 1.0, p.l / p.R, p.I / p.M / p.R / p.R, 1.0), np.sqrt(p.g) / np.sqrt(p.R)
+    underflow in the products of the swing); and the unit of rate sqrt(g/R) in 1/s.  Numbers or arrays."""
+    M, R, l, I, g = (np.asarray(P[k], dtype=float) for k in ("M", "R", "l", "I", "g"))
+    return (1.0, 1.0, l / R, I / M / R / R, 1.0), np.sqrt(g) / np.sqrt(R)
 
 
-def _omega(p):
+def _omega(l, I):
     """Omega = (-d phi''/d phi at 0)^(1/2) by Richardson central differences (phi'' is odd in phi), the step
-    halved until successive estimates agree; and that step.  In the route's units (``_natural``)."""
-    (M, R, l, I, g), _ = _natural(p)
+    halved until successive estimates agree, over arrays of variants (l, I in the route's units,
+    ``_natural``): (Omega, the step, failure reason per variant or None)."""
+    l, I = np.broadcast_arrays(np.atleast_1d(l), np.atleast_1d(I))
+    n = l.size
 
-    def acc(phi):
-        return _phi_ddot(_trig(0.0, phi), 0.0, M, R, l, I, g)
-
-    def slope(h):
+    def slope(h, idx):
+        acc = lambda phi: _phi_ddot(_trig(0.0, phi), 0.0, 1.0, 1.0, l[idx], I[idx], 1.0)  # noqa: E731
         return -(acc(h) - acc(-h)) / (2.0 * h)
 
-    h, prev, best = 1e-2, None, None
-    while h > 1e-15:
-        est = (4.0 * slope(h / 2.0) - slope(h)) / 3.0
-        if prev is not None and abs(est - prev) <= 1e-13 * abs(est):
-            best = est
-            break
-        prev, h = est, h / 2.0
-    if best is None:
-        raise NumericFailure("the linearization did not converge as the step shrank")
-    if not best > 0:
-        raise NumericFailure(f"phi = 0 came out unstable: phi''/phi = {-best}")
-    return np.sqrt(best), h
+    best, step = np.full(n, np.nan), np.full(n, np.nan)
+    prev = np.full(n, np.nan)
+    h = 1e-2
+    live = np.arange(n)
+    while h > 1e-15 and live.size:
+        est = (4.0 * slope(h / 2.0, live) - slope(h, live)) / 3.0
+        done = np.abs(est - prev[live]) <= 1e-13 * np.abs(est)
+        best[live[done]], step[live[done]] = est[done], h
+        prev[live] = est
+        live = live[~done]
+        h /= 2.0
+    why = np.full(n, None, dtype=object)
+    why[np.isnan(best)] = "the linearization did not converge as the step shrank"
+    unstable = ~np.isnan(best) & ~(best > 0)
+    why[unstable] = "phi = 0 came out unstable"
+    with np.errstate(invalid="ignore"):
+        return np.sqrt(np.where(best > 0, best, np.nan)), step, why
+
+
+def _accel(phi0, l, I, Omega):
+    """phi'' in the scaled time s = Omega t (route's units), as a function of (phi - phi0, dphi/ds)."""
+    def acc(dphi, w):
+        return _phi_ddot(_trig(phi0, dphi), w * Omega, 1.0, 1.0, l, I, 1.0) / Omega**2
+
+    return acc
+
+
+def _amplitude(phi0):
+    """The size of the swing's variables: the smaller of the amplitude and the start's distance from the
+    unstable top (2 cos(phi0/2) ~ pi - phi0): an error there sets the time spent."""
+    return np.minimum(phi0, 2.0 * np.cos(phi0 / 2.0))
 
 
 @exercise.motion
@@ -174,53 +210,109 @@ def motion(p):
     the state holding (phi - phi0, dphi/ds) (a start next to the top keeps its digits)."""
     from mech.problems.motion import Motion
 
-    (M, R, l, I, g), nu = _natural(p)
+    (_, _, l, I, _), nu = _natural(p)
+    l, I, nu = float(l), float(I), float(nu)
     phi0 = p.phi0
-    Omega, _ = _omega(p)  # in units of nu
-
-    def acc(dphi, w):
-        return _phi_ddot(_trig(phi0, dphi), w, M, R, l, I, g)
+    Om, _, why = _omega(l, I)
+    if why[0] is not None:
+        raise NumericFailure(why[0])
+    Omega = float(Om[0])
+    acc = _accel(phi0, l, I, Omega)
 
     def rhs(s, y):
-        return np.array([y[1], acc(y[0], y[1] * Omega) / Omega**2])
+        return np.array([y[1], acc(y[0], y[1])])
 
-    e0 = _energy(_trig(phi0, 0.0), 0.0, M, R, l, I, g, phi0)
+    e0 = _energy(_trig(phi0, 0.0), 0.0, 1.0, 1.0, l, I, 1.0, phi0)
 
     def energy(y):
         """The energy's change from the start, relative to it."""
-        return (_energy(_trig(phi0, y[0]), y[1] * Omega, M, R, l, I, g, phi0) - e0) / e0
+        return (_energy(_trig(phi0, y[0]), y[1] * Omega, 1.0, 1.0, l, I, 1.0, phi0) - e0) / e0
 
-    # an upper bound of the time, from the release acceleration (slow near the top)
-    a0 = abs(acc(0.0, 0.0))
-    lever = l * abs(np.sin(phi0))  # the restoring torque's arm, over R
-    tiny = np.finfo(float).tiny
-    if not (np.isfinite(a0) and np.isfinite(Omega) and a0 >= tiny and lever >= tiny):
-        # far out in the bounds (l/R ~ 1e-150 with phi0 ~ 1e-230) the torque of the swing leaves the range of
-        # doubles: said at once, not after a motion that cannot start
-        raise NumericFailure(f"the swing's torque arm (l/R) sin(phi0) = {lever:.3g} or its release acceleration "
-                             f"{a0:.3g} g/R is beyond double precision here; the swing cannot be integrated")
-    t_release = np.sqrt(phi0 / a0)
-    # Integrator: DOP853 (the default), kept after `mech bench 4.9` (rtol 1e-10, tolerance 1e-8): at the
-    # defaults RK45 is a little cheaper (700 evaluations, 64 ms, error 1.3e-12, against 958, 75 ms,
-    # 7.7e-12) but on the hard cases it costs 1.6x (tiny inertia: 3750 vs 4260 evaluations but 343 vs
-    # 209 ms) and 4x (release 1e-6 rad from the top: 5320 vs 1834 evaluations); LSODA's 1.6e-10 and 9e-10
-    # leave too little margin under the verification at rtol/10.
-    # Absolute errors relative to the smaller of the amplitude and the start's distance from the unstable
-    # top (2 cos(phi0/2) ~ pi - phi0): an error there sets the time spent.
-    return Motion(rhs, [0.0, 0.0], (0.0, 1e4 * max(1.0, Omega * t_release)),
+    t_release = np.sqrt(phi0 / abs(acc(0.0, 0.0)))  # an upper bound of the time, from the release acceleration
+    return Motion(rhs, [0.0, 0.0], (0.0, 1e4 * max(1.0, t_release)),
                   event=Event(lambda s, y: phi0 + y[0], direction=-1, name="phi = 0"),
                   invariants={"energy": energy}, t_scale=1.0 / (Omega * nu), y_scale=[1.0, Omega * nu],
-                  to_states=lambda y: [phi0 + y[0], y[1]],
-                  y_size=0.1 * min(phi0, 2.0 * np.cos(phi0 / 2.0)))
+                  to_states=lambda y: [phi0 + y[0], y[1]], y_size=0.1 * _amplitude(phi0))
 
 
-@exercise.numeric
-def numeric(p, run):
-    Omega_n, h = _omega(p)
-    Omega = Omega_n * _natural(p)[1]
-    run.info["linearization_step"] = h
-    end = run.follow(motion(p))
-    run.info["quarter_period_s"] = end.t_end / Omega
+# the first leg of the quarter swing, in s = Omega t: the period grows with the amplitude (a softening torque,
+# a growing inertia), so the quarter swing takes at least pi/2 and this leg ends above phi = 0 on the way down
+LEG1 = 1.0
+
+
+def _quarter(phi0, l, I, Omega, rtol, tally):
+    """The quarter swings of N variants (route's units), in two legs integrated together: from rest in time
+    s = Omega t over [0, LEG1] (state (phi - phi0, dphi/ds)); then with the angle itself as the independent
+    variable from where the first leg ended down to phi = 0 (state (s, dphi/ds)), each variant's angle mapped
+    onto sigma in [0, 1], the rate never zero on the way down.  Returns (the quarter period in s, the energy's
+    largest relative change at the legs' ends)."""
+    from mech.solvers.mechanics.floquet import integrate_ensemble
+
+    N = phi0.size
+    amp = 0.1 * _amplitude(phi0)
+
+    def leg1(sel):
+        acc = _accel(phi0[sel], l[sel], I[sel], Omega[sel])
+        return lambda s, y: np.array([y[1], acc(y[0], y[1])])
+
+    y1, runs = integrate_ensemble(leg1, (0.0, LEG1), np.zeros((2, N)), rtol=rtol,
+                                  atol=1e-3 * rtol * np.stack([amp, amp]), integrator=tally.integrator)
+    d1, w1 = y1
+    span = -(phi0 + d1)  # the angle still to go, negative
+
+    def leg2(sel):
+        acc, d, L = _accel(phi0[sel], l[sel], I[sel], Omega[sel]), d1[sel], span[sel]
+
+        def rhs(sigma, y):  # y = (s, w): ds/dsigma = L / w, dw/dsigma = (L / w) phi'' (L / w first: a
+            w = y[1]        # swing of 1e-184 rad squares to 0)
+            ratio = L / w
+            return np.array([ratio, ratio * acc(d + sigma * L, w)])
+
+        return rhs
+
+    y2, more = integrate_ensemble(leg2, (0.0, 1.0), np.stack([np.full(N, LEG1), w1]), rtol=rtol,
+                                  atol=1e-3 * rtol * np.stack([np.ones(N), amp]), integrator=tally.integrator)
+    for r in runs + more:
+        tally.record(r)
+    e0 = _energy(_trig(phi0, 0.0), 0.0, 1.0, 1.0, l, I, 1.0, phi0)
+    drift = np.zeros(N)
+    for d, w in ((d1, w1), (-phi0, y2[1])):
+        e = _energy(_trig(phi0, d), w * Omega, 1.0, 1.0, l, I, 1.0, phi0)
+        drift = np.fmax(drift, np.abs((e - e0) / e0))
+    return y2[0], drift
+
+
+@exercise.batched(("Omega", "period"))
+def numeric(P, rtol, outputs, tally=None):
+    """The route at N variants at once (a one-point solve is the batch of one): Omega by Richardson
+    differences over arrays, the quarter swings integrated together (``_quarter``)."""
+    from mech.problems.spec import Tally
+    from mech.solvers.numerics.batch import Column
+
+    tally = Tally() if tally is None else tally
+    (_, _, l, I, _), nu = _natural(P)
+    phi0 = np.asarray(P["phi0"], dtype=float)
+    N = phi0.size
+    Omega_n, h, why = _omega(l, I)
+    tally.info["linearization_step"] = h
+    # far out in the bounds (l/R ~ 1e-150 with phi0 ~ 1e-230) the torque of the swing leaves the range of
+    # doubles: said at once, not after a motion that cannot start
+    lever = l * np.abs(np.sin(phi0))  # the restoring torque's arm, over R
+    with np.errstate(all="ignore"):
+        a0 = np.abs(_phi_ddot(_trig(phi0, 0.0), 0.0, 1.0, 1.0, l, I, 1.0))
+    tiny = np.finfo(float).tiny
+    far = ~(np.isfinite(a0) & (a0 >= tiny) & (lever >= tiny))
+    why[(why == None) & far] = ("the swing's torque arm (l/R) sin(phi0) or its release acceleration is beyond "  # noqa: E711
+                                "double precision here; the swing cannot be integrated")
+    go = np.flatnonzero(why == None)  # noqa: E711
+    quarter, drift = np.full(N, np.nan), np.zeros(N)
+    if go.size:
+        quarter[go], drift[go] = _quarter(phi0[go], l[go], I[go], Omega_n[go], rtol, tally)
+    tally.invariant("energy", drift)
+    Omega = Omega_n * nu
+    tally.info["quarter_period_s"] = quarter / Omega
+    failed = [(why == text, text) for text in sorted(set(why[why != None]))]  # noqa: E711
     # Omega: Richardson estimates agree to 1e-13; a small claim keeps the verification honest
-    run.claim("Omega", rel=1e-11)
-    return {"Omega": Omega, "period": 4.0 * end.t_end / Omega}
+    values = {"Omega": Omega, "period": 4.0 * quarter / Omega}
+    claims = {"Omega": 1e-11, "period": exercise.tol_factor * rtol}
+    return {o: Column(values[o], rel=claims[o], failed=failed) for o in outputs}
