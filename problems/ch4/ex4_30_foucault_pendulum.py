@@ -11,9 +11,9 @@ w'(A - B) = w_z a, so the ellipse's semi-axes are |A| + |B| = a and
 
 Numeric.  DOP853 on the linear Earth-frame equations in units of a,
 over 20 half-swings (time unit 1/(w0 + |w_z|), so a fast rotation
-costs no more steps than a slow one), leg by leg: each leg ends at the next
-turning point, rho rho' = x x' + y y' = 0 (upward at a near point, minimum rho;
-downward at a far one, maximum rho), and the next starts from it.  The route is
+costs no more steps than a slow one), a half-swing a leg: from a far turning point
+the events rho rho' = x x' + y y' = 0 upward (the near point, minimum rho) and
+downward (the next far point, maximum rho, where the leg ends and the next starts).  The route is
 written once over arrays of variants (mech's DOP853 stepping them together, each
 variant's events its own; a one-point solve is the batch of one).  Far points: the bob's azimuth, taken modulo pi, is the plane's
 orientation; near points (used only where the path is open enough for their
@@ -133,48 +133,46 @@ def motion(p):
                   y_size=np.array([1.0, 1.0, c2, c2]), options={"events": [far_ev, near_ev]})
 
 
-# the longest a leg from one turning point to the next can last, in 1/rate: a quarter of the swing's period
-# pi/(2 w'), w' >= rate/sqrt(2)
-LEG = 4.0
+# the longest a half-swing (far point to far point) can last, in 1/rate: half the swing's period pi/w',
+# w' >= rate/sqrt(2); and the time from a leg's start before which its far point is not looked for
+LEG, GATE = 6.0, 0.1
+
+
+def _far_after_start(t, y):
+    """rho rho', shifted down by GATE - t before GATE: a leg starts at a far point (rho rho' = 0 there, its
+    round-off of either sign), which the event of the next far point (downward) must not take for it."""
+    return _rrdot(t, y) - np.maximum(GATE - t, 0.0)
 
 
 def _turning_points(c2, k, rtol, tally):
-    """The HALF_SWINGS near and far turning points of N variants at once, leg by leg (each variant stops at its
-    next turning point, rho rho' = 0 upward for a near one, downward for a far one: a terminal event on the
-    ensemble's continuous extension; the equations are autonomous, so each leg starts at 0).  Returns (times
-    and states of the far points, the release at t = 0 first: (H + 1,), (H + 1, 4, N); of the near ones;
-    the worst energy and angular momentum drifts at them; failures)."""
+    """The HALF_SWINGS near and far turning points of N variants at once, a half-swing a leg: from a far
+    point, the next near one (rho rho' = 0 upward) and the next far one (downward, where the leg stops),
+    events on the ensemble's continuous extension; the equations are autonomous, so each leg starts at 0.
+    Returns (times and states of the far points, the release at t = 0 first: (H + 1,), (H + 1, 4, N); of the
+    near ones; the worst energy and angular momentum drifts at them; failures)."""
     from mech.solvers.mechanics.variants import follow
     from mech.solvers.numerics.batch import BatchEvent
 
     N = c2.size
     H = HALF_SWINGS
-    t_far, y_far = np.zeros((H + 1, N)), np.zeros((H + 1, 4, N))
+    t_far, y_far = np.full((H + 1, N), np.nan), np.full((H + 1, 4, N), np.nan)
     t_near, y_near = np.full((H, N), np.nan), np.full((H, 4, N), np.nan)
-    y_far[0, 0] = 1.0
-    t_far[1:] = np.nan
-    y_far[1:] = np.nan
+    t_far[0], y_far[0] = 0.0, np.array([1.0, 0.0, 0.0, 0.0])[:, None]
     why = np.full(N, "", dtype=object)
     atol = 1e-3 * rtol * np.stack([np.ones(N), np.ones(N), c2, c2])
-    y, t = y_far[0].copy(), np.zeros(N)
-    for leg in range(2 * H):
+    events = [BatchEvent(_rrdot, direction=1.0, name="near turning point"),
+              BatchEvent(_far_after_start, direction=-1.0, terminal=True, name="far turning point")]
+    for j in range(H):
         go = np.flatnonzero(why == "")
         if not go.size:
             break
-        near = leg % 2 == 0
-        ev = BatchEvent(_rrdot, direction=1.0 if near else -1.0, terminal=True)
-        got = follow(lambda sel: _rhs(c2[go][sel], k[go][sel]), (0.0, LEG), y[:, go], rtol=rtol, atol=atol[:, go],
-                     tally=tally, events=[ev])
+        got = follow(lambda sel: _rhs(c2[go][sel], k[go][sel]), (0.0, LEG), y_far[j][:, go], rtol=rtol,
+                     atol=atol[:, go], tally=tally, events=events)
         why[go] = got.why
-        lost = (got.why == "") & ~np.isfinite(got.t_events[0])
-        why[go[lost]] = f"too few turning points in {H} half-swings: no turning point within {LEG:g}/(w0 + |w_z|)"
-        t[go] += got.t_events[0]
-        y[:, go] = got.y_events[0]
-        j = leg // 2
-        if near:
-            t_near[j, go], y_near[j][:, go] = t[go], y[:, go]
-        else:
-            t_far[j + 1, go], y_far[j + 1][:, go] = t[go], y[:, go]
+        lost = (got.why == "") & ~(np.isfinite(got.t_events[0]) & np.isfinite(got.t_events[1]))
+        why[go[lost]] = f"too few turning points in {H} half-swings: none within {LEG:g}/(w0 + |w_z|)"
+        t_near[j, go], y_near[j][:, go] = t_far[j, go] + got.t_events[0], got.y_events[0]
+        t_far[j + 1, go], y_far[j + 1][:, go] = t_far[j, go] + got.t_events[1], got.y_events[1]
     drift_e, drift_l = _drifts(np.concatenate([y_far, y_near], axis=0).transpose(1, 0, 2), c2, k)
     return t_far, y_far, t_near, y_near, np.nanmax(drift_e, axis=0), np.nanmax(drift_l, axis=0), why
 
