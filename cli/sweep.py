@@ -275,7 +275,10 @@ def print_table(result) -> None:
         c.print(escape(f"{ex.id}  {ex.title}" + (f"; {fixed}" if fixed else "")))
         c.print(f"(no table above {TABLE_MAX} points: --csv, --json or --plot FILE show them all)", style="dim")
     text, ok = _summary(result)
-    c.print(text, style="dim" if ok else "bold red")
+    import textwrap  # wrapped here: rich leaves a space at the end of a line it wraps
+
+    for part in textwrap.wrap(text, max(c.width, 20)):
+        c.print(Text(part, style="dim" if ok else "bold red"))
     if len(result) <= TABLE_MAX:
         reasons = _undefined_reasons(result.point_list())
         for r in reasons[:SHOW_ERRORS]:

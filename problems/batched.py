@@ -118,7 +118,8 @@ def analytic_at(fn: Callable, p: Mapping) -> dict:
     out = {}
     for name, col in cols.items():
         why = _reason(col.undefined)
-        out[name] = Undefined(why) if why is not None else _first(col.value)
+        # an undefined value that is +-inf is infinite by the physics (a period of a plane that stops turning)
+        out[name] = Undefined(why, infinite=bool(np.isinf(_first(col.value)))) if why is not None else _first(col.value)
     return out
 
 
@@ -167,6 +168,8 @@ def one_point(ex: Any, p: Mapping, run: Any, outputs=None) -> dict:
     claims (``run.claim``), invariants, integrations and failure (``NumericFailure``, the first output's that
     failed) reported to ``run``.  ``outputs``: those asked (all the route's by default).  Where a trajectory is
     asked for, the declared motion is followed and marked (it is what the solve shows, not what it answers)."""
+    import numpy as np
+
     route = ex.batched_route
     outputs = tuple(route.outputs if outputs is None else outputs)
     tally = Tally(run.integrator)
@@ -193,13 +196,13 @@ def one_point(ex: Any, p: Mapping, run: Any, outputs=None) -> dict:
             raise NumericFailure(why)
         undefined = col.reason("undefined", 0)
         if undefined is not None:
-            values[name] = Undefined(undefined)
+            values[name] = Undefined(undefined, infinite=bool(np.isinf(_first(col.value))))
             continue
         values[name] = _first(col.value)
         rel, ab = _first(col.rel), _first(col.abs)
         run.claim(name, rel=rel if rel == rel else None, abs=ab if ab == ab and ab else None)
     if run.keep_trajectories and ex.has_motion and set(outputs) == {o.name for o in ex.outputs}:
         motion = ex.motion_at(p)
-        if motion is not None:  # None: nothing moves at p (4.34 at theta_amp = 0)
+        if motion is not None:  # None: nothing moves at p (4.34 at theta_amp = 0, 4.29's bead at rest on the axis)
             run.follow(motion)
     return values

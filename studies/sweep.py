@@ -782,10 +782,10 @@ def iter_batched_solutions(result: Sweep, indices=None):
         for name, J in judged.items():
             o = units[name]
             analytic, numeric = _num(J["analytic"][k]), _num(J["numeric"][k])
-            if J["a_und"][k]:
-                analytic = Undefined(J["a_col"].reason("undefined", k))
+            if J["a_und"][k]:  # +-inf where undefined: infinite by the physics
+                analytic = Undefined(J["a_col"].reason("undefined", k), infinite=bool(np.isinf(J["a_col"].value[k])))
             if J["n_und"][k]:
-                numeric = Undefined(J["num"].reason("undefined", k))
+                numeric = Undefined(J["num"].reason("undefined", k), infinite=bool(np.isinf(J["num"].value[k])))
             if J["n_fail"][k]:
                 why = J["num"].reason("failed", k)
                 errors.append(Failure("numeric", why if why.startswith("numeric")

@@ -218,11 +218,12 @@ def test_only_and_batched_json():
 
 
 def test_only_on_the_point_by_point_route():
-    code, out, err = run("sweep", "4.15", "--theta0", "30deg:90deg:2", "--only", "theta_c", "--json", "--no-verify")
+    # 4.14 (closed forms, no batched route; 4.15 has one now)
+    code, out, err = run("sweep", "4.14", "--R", "0.5:1:2", "--only", "omega_rolling", "--json", "--no-verify")
     assert code == 0, err
     d = json.loads(out)
     assert "route" not in d
-    assert [[q["name"] for q in p["quantities"]] for p in d["points"]] == [["theta_c"], ["theta_c"]]
+    assert [[q["name"] for q in p["quantities"]] for p in d["points"]] == [["omega_rolling"], ["omega_rolling"]]
 
 
 def test_only_unknown_output_is_exit_2():

@@ -25,7 +25,8 @@ def test_sweep_numbers_are_those_of_single_solves():
     assert d["id"] == "4.15" and d["agree"] is True
     assert [p["params"]["theta0"] for p in d["points"]] == pytest.approx([math.pi / 6, math.pi / 3, math.pi / 2])
     for point in d["points"]:
-        # the point's own value, to the last bit: the numeric answer moves with the step choice
+        # the point's own value: the analytic one to the last bit; the numeric one within the two claims (4.15's
+        # sweep steps its points together, the step the worst point's, a single solve steps alone)
         code, single, err = run("solve", "4.15", "--theta0", repr(point["params"]["theta0"]), "--l", "2", "--json")
         assert code == 0, err
         s = json.loads(single)
@@ -33,7 +34,7 @@ def test_sweep_numbers_are_those_of_single_solves():
         for qp, qs in zip(point["quantities"], s["quantities"]):
             assert qp["name"] == qs["name"]
             assert qp["analytic"] == qs["analytic"]
-            assert qp["numeric"] == qs["numeric"]
+            assert abs(qp["numeric"] - qs["numeric"]) <= qp["numeric_err"] + qs["numeric_err"]
             assert qp["agree"] is qs["agree"] is True
 
 

@@ -10,7 +10,9 @@ Numeric: Newton-Euler for the rigid rod, not the Lagrangian: at each instant the
 three unknowns (the angular acceleration and the two normal forces) solve the
 linear system of the center's two equations of motion and the torque about the
 center, with the center's acceleration tied to theta by the contacts, in units
-M = l = g = 1 (the run does not depend on l or g).  The integration stops at the event N_wall = 0 (confirmed with a bounded step).
+M = l = g = 1 (the run does not depend on l or g).  The route is written once over arrays of variants
+(mech's DOP853 stepping them together, a one-point solve the batch of one); each variant stops at its own
+event N_wall = 0, located on the step's continuous extension.
 """
 
 from __future__ import annotations
@@ -48,15 +50,19 @@ ranges.declare(
 
 
 @exercise.analytic
-def analytic(p):
-    s0 = math.sin(p.theta0)
-    return {"theta_c": math.asin(2.0 * s0 / 3.0),
-            "omega_c": math.sqrt(s0) * math.sqrt(p.g) / math.sqrt(p.l)}
+def analytic(P):
+    """Over arrays of variants."""
+    from mech.solvers.numerics.batch import Column
+
+    theta0, l, g = (np.asarray(P[k], dtype=float) for k in ("theta0", "l", "g"))
+    s0 = np.sin(theta0)
+    return {"theta_c": Column(np.arcsin(2.0 * s0 / 3.0)), "omega_c": Column(np.sqrt(s0) * np.sqrt(g) / np.sqrt(l))}
 
 
 def _accelerations(theta, omega, M, l, g):
-    """(theta'', N_wall, N_floor) from Newton's laws for the rod with both ends on the walls."""
-    s, c = math.sin(theta), math.cos(theta)
+    """(theta'', N_wall, N_floor) from Newton's laws for the rod with both ends on the walls (numbers, or arrays
+    of variants)."""
+    s, c = np.sin(theta), np.cos(theta)
     I_cm = M * l**2 / 12.0
     # center (x, y) = (l/2 cos theta, l/2 sin theta): x'' = -(l/2)(s th'' + c w^2), y'' = (l/2)(c th'' - s w^2)
     # unknowns u = (theta'', N_wall, N_floor):
@@ -81,55 +87,95 @@ def _energy(theta, omega, M, l, g):
 
 
 def _start(theta0):
-    """(theta, omega) at the start, units M = l = g = 1: at rest at theta0, or, within UPRIGHT_NUDGE of
-    the upright equilibrium (which an integrator would never leave), UPRIGHT_NUDGE below it on the
-    energy-conserving path."""
-    if np.pi / 2 - theta0 >= UPRIGHT_NUDGE:
-        return theta0, 0.0
-    theta = theta0 - UPRIGHT_NUDGE
+    """(theta, omega) at the start, units M = l = g = 1 (numbers, or arrays of variants): at rest at theta0, or,
+    within UPRIGHT_NUDGE of the upright equilibrium (which an integrator would never leave), UPRIGHT_NUDGE below
+    it on the energy-conserving path."""
+    near = np.pi / 2 - theta0 < UPRIGHT_NUDGE
+    theta = np.where(near, theta0 - UPRIGHT_NUDGE, theta0)
     e0, u = _energy(theta0, 0.0, 1.0, 1.0, 1.0), _energy(theta, 0.0, 1.0, 1.0, 1.0)
-    return theta, -np.sqrt((e0 - u) / (_energy(theta, 1.0, 1.0, 1.0, 1.0) - u))
+    with np.errstate(invalid="ignore"):
+        omega = np.where(near, -np.sqrt((e0 - u) / (_energy(theta, 1.0, 1.0, 1.0, 1.0) - u)), 0.0)
+    return (theta, omega) if np.ndim(theta) else (float(theta), float(omega))
+
+
+def _units(theta0):
+    """(a_s, w_s): a small start angle falls for a time of order theta0^(1/2) at speeds of that order, so the
+    state is integrated as (theta/theta0, omega/theta0^(1/2)) in time t/theta0^(1/2), each of order one."""
+    return theta0, np.sqrt(theta0)
+
+
+def _rhs(a_s, w_s):
+    """The scaled equations (units M = l = g = 1), for numbers or arrays of variants."""
+
+    def rhs(t, y):
+        # d(theta/a_s)/d(t/w_s) = omega/w_s, d(omega/w_s)/d(t/w_s) = theta'' (a_s = w_s^2)
+        return np.array([y[1], _accelerations(a_s * y[0], w_s * y[1], 1.0, 1.0, 1.0)[0]])
+
+    return rhs
+
+
+def _wall(a_s, w_s):
+    """The wall's force over theta0 (units M = g = 1): the event of the ladder leaving the wall."""
+    return lambda t, y: _accelerations(a_s * y[0], w_s * y[1], 1.0, 1.0, 1.0)[1] / a_s
+
+
+def _scaled_energy(a_s, w_s):
+    """(T + U) / (theta0 M g l / 2): of order one for any theta0."""
+    return lambda y: _energy(a_s * y[0], w_s * y[1], 1.0, 1.0, 1.0) / a_s / 0.5
+
+
+# the scaled run's end: the wall lets go by then from any start (within UPRIGHT_NUDGE of upright: ~30)
+T_MAX = 200.0
 
 
 @exercise.motion
 def motion(p):
     """The ladder from its start until the wall lets go.  Units M = l = g = 1: the mass cancels from every
-    output and l, g only set the time unit (l/g)^(1/2), so the run is the same for every l and g.  A small
-    start angle falls for a time of order theta0^(1/2) at speeds of that order, so the state is integrated
-    as (theta/theta0, omega/theta0^(1/2)) in time t/theta0^(1/2), each of order one for any theta0."""
+    output and l, g only set the time unit (l/g)^(1/2), so the run is the same for every l and g (``_units``:
+    scaled by theta0)."""
     from mech.problems.motion import Motion
 
-    M, l, g = 1.0, 1.0, 1.0
-    a_s, w_s = p.theta0, math.sqrt(p.theta0)
+    a_s, w_s = (float(x) for x in _units(p.theta0))
     theta_start, omega_start = _start(p.theta0)
-
-    def rhs(t, y):
-        # d(theta/a_s)/d(t/w_s) = omega/w_s, d(omega/w_s)/d(t/w_s) = theta'' (a_s = w_s^2)
-        return np.array([y[1], _accelerations(a_s * y[0], w_s * y[1], M, l, g)[0]])
-
-    def wall_force(t, y):
-        return _accelerations(a_s * y[0], w_s * y[1], M, l, g)[1] / a_s
-
-    def energy(y):
-        """(T + U) / (theta0 M g l / 2): of order one for any theta0."""
-        return _energy(a_s * y[0], w_s * y[1], M, l, g) / a_s / (M * g * l / 2)
-
     w_unit = math.sqrt(p.g) / math.sqrt(p.l)
     # Integrator: DOP853 at rtol 1e-10 (tolerance 1e-8), kept after `mech bench 4.15`: fewest evaluations
     # for an error well under the tolerance.
-    return Motion(rhs, [theta_start / a_s, omega_start / w_s], (0.0, 200.0),
-                  event=Event(wall_force, direction=-1, name="N_wall = 0"), invariants={"energy": energy},
+    return Motion(_rhs(a_s, w_s), [theta_start / a_s, omega_start / w_s], (0.0, T_MAX),
+                  event=Event(_wall(a_s, w_s), direction=-1, name="N_wall = 0"),
+                  invariants={"energy": _scaled_energy(a_s, w_s)},
                   t_scale=w_s * math.sqrt(p.l) / math.sqrt(p.g), y_scale=[a_s, w_s * w_unit],
                   event_scale=a_s * p.g)  # the wall's force in SI for a mass of 1 kg
 
 
-@exercise.numeric
-def numeric(p, run):
-    m = motion(p)
-    end = run.follow(m)
-    theta_c, omega_c = m.si(end.y_end)
-    run.info["t_c"] = end.t_end * m.t_scale
-    return {"theta_c": theta_c, "omega_c": abs(omega_c)}
+@exercise.batched(("theta_c", "omega_c"))
+def numeric(P, rtol, outputs, tally=None):
+    """The ladders of N variants at once (a one-point solve is the batch of one), each in its own units
+    (``_units``), stopped where its wall's force falls through zero (an event per variant on the ensemble's
+    continuous extension); the energy's drift and the time of the loss of contact reported to ``tally``."""
+    from mech.problems.spec import Tally
+    from mech.solvers.mechanics.variants import follow
+    from mech.solvers.numerics.batch import BatchEvent, Column
+
+    tally = Tally() if tally is None else tally
+    theta0, l, g = (np.asarray(P[k], dtype=float) for k in ("theta0", "l", "g"))
+    a_s, w_s = _units(theta0)
+    theta, omega = _start(theta0)
+    y0 = np.stack([theta / a_s, omega / w_s])
+    got = follow(lambda sel: _rhs(a_s[sel], w_s[sel]), (0.0, T_MAX), y0, rtol=rtol, atol=1e-3 * rtol, tally=tally,
+                 events=[BatchEvent(_wall(a_s, w_s), direction=-1.0, terminal=True, name="N_wall = 0")])
+    t_c = got.t_events[0]
+    why = np.where((got.why == "") & ~np.isfinite(t_c), "the wall did not let go within the run", got.why)
+    y = got.y_end
+    energy = _scaled_energy(a_s, w_s)
+    drift = np.abs(energy(y) - energy(y0))
+    tally.invariant("energy", np.nan_to_num(drift))
+    t_unit = np.sqrt(l) / np.sqrt(g)
+    tally.info["t_c"] = t_c * w_s * t_unit
+    failed = [(why == text, text) for text in sorted(set(why[why != ""]))]
+    failed.append(((why == "") & ~(drift <= exercise.tol_factor * rtol), "the invariant 'energy' drifts by more "
+                   "than the method allows: the integration is not to be trusted"))
+    values = {"theta_c": y[0] * a_s, "omega_c": np.abs(y[1] * w_s) / t_unit}
+    return {o: Column(values[o], rel=exercise.tol_factor * rtol, failed=failed) for o in outputs}
 
 
 @exercise.hamiltonian

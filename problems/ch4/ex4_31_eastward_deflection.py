@@ -100,11 +100,11 @@ def _sinc(x: float) -> float:
     return 1.0 if x == 0.0 else math.sin(x) / x
 
 
-@exercise.analytic
-def analytic(p):
-    s, c = math.sin(p.theta), math.cos(p.theta)
-    T0 = math.sqrt(2.0 * p.h / p.g)
-    eps = p.omega_E * T0
+def _exact(theta, h, g, omega_E):
+    """(t_fall, d_east, v_east) of one variant: the fall-time equation's root and the closed forms."""
+    s, c = math.sin(theta), math.cos(theta)
+    T0 = math.sqrt(2.0 * h / g)
+    eps = omega_E * T0
 
     def lost(tau):  # height lost over h at scaled time tau, minus 1
         # (tau^2 - 1) - tau^2 s^2 (1 - sinc^2), not tau^2 (c^2 + s^2 sinc^2) - 1: c^2 + s^2 is 1 only to
@@ -122,14 +122,25 @@ def analytic(p):
         # lost(1) <= 0 (sinc <= 1); at eps tau = pi/2 it is >= 1/eps^2 - 1 > 0 for eps <= 0.5
         tau = bracketed_root(lost, 1.0, math.pi / (2.0 * eps))
     t = tau * T0
-    phi = p.omega_E * t
+    phi = omega_E * t
     if phi == 0.0:
         d, v = 0.0, 0.0
     else:
         # g s t^2 (x - sin x) / (4 phi^2) with x = 2 phi
-        d = 2.0 * p.g * s * t * t * phi * _x_minus_sin_over_cube(2.0 * phi)
-        v = p.g * s * t * math.sin(phi) * _sinc(phi)
-    return {"t_fall": t, "d_east": d, "v_east": v}
+        d = 2.0 * g * s * t * t * phi * _x_minus_sin_over_cube(2.0 * phi)
+        v = g * s * t * math.sin(phi) * _sinc(phi)
+    return t, d, v
+
+
+@exercise.analytic
+def analytic(P):
+    """Over arrays: the fall-time equation is a scalar root search, run for each variant (``_exact``)."""
+    from mech.solvers.numerics.batch import Column
+
+    args = np.broadcast_arrays(*(np.asarray(P[k], dtype=float) for k in ("theta", "h", "g", "omega_E")))
+    got = np.array([_exact(*(float(x) for x in row)) for row in zip(*(a.ravel() for a in args))]).reshape(-1, 3)
+    shape = args[0].shape
+    return {name: Column(got[:, j].reshape(shape)) for j, name in enumerate(("t_fall", "d_east", "v_east"))}
 
 
 # Tuned default (from `mech bench 4.31`, rtol 1e-10, cross-check tolerance 1e-8): DOP853.  The equations
@@ -140,42 +151,89 @@ def analytic(p):
 METHOD = "DOP853"
 
 
+def _rates(y, wn, wu):
+    """dv/dt = g - 2 w x v with w = (0, wn, wu) scaled (g T0^2/h = 2): the rates of (x, y, z, vx, vy, vz) (numbers,
+    or arrays of variants)."""
+    vx, vy, vz = y[3], y[4], y[5]
+    return np.array([vx, vy, vz, -2.0 * (wn * vz - wu * vy), -2.0 * wu * vx, -2.0 + 2.0 * wn * vx])
+
+
+def _scaled(theta, h, g, omega_E):
+    """(T0, the scaled Earth rate's components wn, wu, the sideways components' scale) over arrays."""
+    T0 = np.sqrt(2.0 * h / g)
+    eps = omega_E * T0
+    return T0, eps * np.sin(theta), eps * np.cos(theta), np.maximum(eps * np.abs(np.sin(theta)), 1e-300)
+
+
+def _energy(y):
+    """(v^2/2 + g z) / (g h), scaled: the Coriolis force does no work (states 6 x ...)."""
+    return (0.5 * (y[3] ** 2 + y[4] ** 2 + y[5] ** 2) + 2.0 * y[2]) / 2.0
+
+
 @exercise.motion
 def motion(p):
     """The fall in the Earth's rotating frame, dv/dt = g - 2 w x v (east, north, up), from rest at height h
     to the ground, in lengths h and time T0 = (2h/g)^(1/2) (so g T0^2/h = 2)."""
     from mech.problems.motion import Motion
 
-    s, c = math.sin(p.theta), math.cos(p.theta)
-    T0 = math.sqrt(2.0 * p.h / p.g)
-    eps = p.omega_E * T0
-    wn, wu = eps * s, eps * c  # the scaled Earth angular velocity (0, wn, wu)
-
-    def rhs(t, y):
-        vx, vy, vz = y[3], y[4], y[5]
-        # dv/dt = g - 2 w x v, with w = (0, wn, wu)
-        return np.array([vx, vy, vz, -2.0 * (wn * vz - wu * vy), -2.0 * wu * vx, -2.0 - 2.0 * (-wn * vx)])
-
-    def energy(y):
-        """(v^2/2 + g z) / (g h), scaled: the Coriolis force does no work."""
-        return (0.5 * float(np.dot(y[3:], y[3:])) + 2.0 * y[2]) / 2.0
-
-    small = max(eps * s, 1e-300)  # the sideways components' own scale
-    return Motion(rhs, [0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
+    T0, wn, wu, small = (float(x) for x in _scaled(p.theta, p.h, p.g, p.omega_E))
+    return Motion(lambda t, y: _rates(y, wn, wu), [0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
                   (0.0, 3.0),  # lands by tau = arcsin(eps)/eps <= 1.05 for eps <= 0.5
-                  event=Event(lambda t, y: y[2], direction=-1, name="z = 0"), invariants={"energy": energy},
+                  event=Event(lambda t, y: y[2], direction=-1, name="z = 0"), invariants={"energy": _energy},
                   t_scale=T0, y_scale=[p.h] * 3 + [p.h / T0] * 3,
                   y_size=[small, small, 1.0, small, small, 1.0], options={"method": METHOD})
 
 
-@exercise.numeric
-def numeric(p, run):
-    m = motion(p)
-    end = run.follow(m)
-    t_ev, y_ev, T0 = end.t_end, end.y_end, m.t_scale
-    run.info["north_deviation_m"] = y_ev[1] * p.h
-    return {
-        "t_fall": t_ev * T0,
-        "d_east": y_ev[0] * p.h,
-        "v_east": y_ev[3] * p.h / T0,
-    }
+def _legs(wn, wu, small, rtol, tally):
+    """The falls of N variants at once, in two legs on shared spans (``variants.follow``): in time to tau = 1
+    (no variant lands before: the height lost by then is at most h, the free fall's), then with the height
+    as the independent variable, sigma in [0, 1] from z(1) down to z = 0 (dz/dsigma = -z(1); the body falls
+    at about 2 h/T0 there), the time carried as a seventh state.  So the landing is the end of a fixed span,
+    no event to locate.  Returns (states 7 x N at the ground: x, y, z, vx, vy, vz, tau; failures)."""
+    from mech.solvers.mechanics.variants import follow
+
+    N = wn.size
+    atol = 1e-3 * rtol * np.stack([small, small, np.ones(N), small, small, np.ones(N), np.ones(N)])
+    y0 = np.zeros((6, N))
+    y0[2] = 1.0
+    got = follow(lambda sel: (lambda t, y: _rates(y, wn[sel], wu[sel])), (0.0, 1.0), y0, rtol=rtol, atol=atol[:6],
+                 tally=tally)
+    y1, why = got.y_end, got.why
+    ok = np.flatnonzero(why == "")
+    z1, a, b = y1[2, ok], wn[ok], wu[ok]
+
+    def down(sel):
+        zs, wa, wb = z1[sel], a[sel], b[sel]
+
+        def rhs(sigma, y):
+            return (-zs / y[5]) * np.concatenate([_rates(y, wa, wb), [np.ones_like(y[5])]])  # dt/dsigma = -z1/vz
+
+        return rhs
+
+    y2 = np.full((7, N), np.nan)
+    if ok.size:
+        start = np.vstack([y1[:, ok], np.ones((1, ok.size))])
+        got = follow(down, (0.0, 1.0), start, rtol=rtol, atol=atol[:, ok], tally=tally)
+        y2[:, ok], why[ok] = got.y_end, got.why
+    return y2, why
+
+
+@exercise.batched(("t_fall", "d_east", "v_east"))
+def numeric(P, rtol, outputs, tally=None):
+    """The falls at N variants at once (``_legs``; a one-point solve is the batch of one), in lengths h and
+    time T0; the energy's drift and the northward deviation reported to ``tally``."""
+    from mech.problems.spec import Tally
+    from mech.solvers.numerics.batch import Column
+
+    tally = Tally() if tally is None else tally
+    theta, h, g, omega_E = (np.asarray(P[k], dtype=float) for k in ("theta", "h", "g", "omega_E"))
+    T0, wn, wu, small = _scaled(theta, h, g, omega_E)
+    y, why = _legs(wn, wu, small, rtol, tally)
+    drift = np.abs(_energy(y) - 1.0)
+    tally.invariant("energy", np.nan_to_num(drift))
+    tally.info["north_deviation_m"] = y[1] * h
+    failed = [(why == text, text) for text in sorted(set(why[why != ""]))]
+    failed.append(((why == "") & ~(drift <= exercise.tol_factor * rtol), "the invariant 'energy' drifts by more "
+                   "than the method allows: the integration is not to be trusted"))
+    values = {"t_fall": y[6] * T0, "d_east": y[0] * h, "v_east": y[3] * h / T0}
+    return {o: Column(values[o], rel=exercise.tol_factor * rtol, failed=failed) for o in outputs}

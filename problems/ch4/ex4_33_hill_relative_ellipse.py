@@ -24,9 +24,12 @@ without cancellation, plus centrifugal and Coriolis forces), in units |x0| and
 1/Omega, DOP853.  Shooting on v0 (Illinois regula falsi, bracket [-2.4, -1.7] in
 these units, checked for a sign change): the path closes when it crosses the x
 axis at right angles again, so the residual is y at the next zero of dx/dt
-(time-reversal symmetry), and T_rel is twice that time.  The declared motion is one full
-period with events dx/dt = 0 (radial extremes) and dy/dt = 0 (along-track extremes);
-the return to the start state is checked at its end.  The Jacobi integral is monitored.
+(time-reversal symmetry), and T_rel is twice that time.  Then one full period with
+the events of its far radial extreme (dx/dt = 0) and of its two along-track extremes
+(dy/dt = 0 upward and downward, one in each half); the return to the start state is
+checked at its end.  The Jacobi integral is monitored.  Written once over arrays of
+variants (the shooting's trials and the periods of all variants stepped together,
+each variant's events its own; a one-point solve is the batch of one).
 """
 
 from __future__ import annotations
@@ -37,7 +40,6 @@ import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.gravity import relative_gravity, relative_potential
-from mech.solvers.numerics.ode import Event
 from mech.solvers.numerics.roots import minimize_bounded
 
 exercise = Exercise(
@@ -75,19 +77,15 @@ def constraint(p):
 
 
 def _orbit_rate(GM, R):
-    """Omega = (GM/R^3)^(1/2) as GM^(1/2)/R/R^(1/2): GM/R^3 in one piece leaves the normal range of the
-    doubles where Omega does not (GM = 1e-300 m^3/s^2 at R = 6.8e6 m: GM/R^3 = 3.2e-321, a subnormal
-    with 10 significant bits, and Omega 3.1e-6 off)."""
-    return math.sqrt(GM) / R / math.sqrt(R)
+    """Omega = (GM/R^3)^(1/2) as GM^(1/2)/R/R^(1/2) (numbers or arrays): GM/R^3 in one piece leaves the normal
+    range of the doubles where Omega does not (GM = 1e-300 m^3/s^2 at R = 6.8e6 m: GM/R^3 = 3.2e-321, a
+    subnormal with 10 significant bits, and Omega 3.1e-6 off)."""
+    return np.sqrt(GM) / R / np.sqrt(R)
 
 
-@exercise.analytic
-def analytic(p):
-    W = _orbit_rate(p.GM, p.R)
-    xi = p.x0 / p.R
-    s = math.sqrt((1.0 - xi) / (1.0 + xi))
-    v0 = -W * p.R * xi * (1.0 + 2.0 / ((1.0 + xi) * (1.0 + s)))
-    e = abs(xi)
+def _along(e):
+    """The along-track half-extent over R at eccentricity e: the maximum over the eccentric anomaly E of
+    y/R = beta sin E cos M + sin(e sin E)(1 - e cos E) + e sin E cos(e sin E) (golden section, one variant)."""
     beta = -e * e / (1.0 + math.sqrt(1.0 - e * e))
 
     def y_over_R(E):
@@ -95,108 +93,154 @@ def analytic(p):
         M = E - se
         return beta * math.sin(E) * math.cos(M) + math.sin(se) * (1.0 - e * math.cos(E)) + se * math.cos(se)
 
-    a_along = -p.R * minimize_bounded(lambda E: -y_over_R(E), 0.0, math.pi, xatol=1e-15)[1]
-    a_radial = abs(p.x0)
+    return -minimize_bounded(lambda E: -y_over_R(E), 0.0, math.pi, xatol=1e-15)[1]
+
+
+@exercise.analytic
+def analytic(P):
+    """Over arrays of variants (the along-track maximum a scalar search, run for each)."""
+    from mech.solvers.numerics.batch import Column
+
+    R, x0, GM = (np.asarray(P[k], dtype=float) for k in ("R", "x0", "GM"))
+    W = _orbit_rate(GM, R)
+    xi = x0 / R
+    s = np.sqrt((1.0 - xi) / (1.0 + xi))
+    v0 = -W * R * xi * (1.0 + 2.0 / ((1.0 + xi) * (1.0 + s)))
+    e = np.abs(xi)
+    a_along = R * np.reshape([_along(float(x)) for x in np.ravel(e)], np.shape(e))
+    a_radial = np.abs(x0)
     ratio = a_radial / a_along
-    return {
-        "v0": v0,
-        "a_along": a_along,
-        "a_radial": a_radial,
-        "ecc": math.sqrt((1.0 - ratio) * (1.0 + ratio)),
-        "T_rel": 2.0 * math.pi / W,
-    }
+    return {"v0": Column(v0), "a_along": Column(a_along), "a_radial": Column(a_radial),
+            "ecc": Column(np.sqrt((1.0 - ratio) * (1.0 + ratio))), "T_rel": Column(2.0 * math.pi / W)}
 
 
-def _xdot(t, y):
-    return y[2]
+def _units(P):
+    """(Omega, L = |x0|, sgn x0, R/L) over arrays: lengths in |x0|, time in 1/Omega (GM = (R/L)^3 there)."""
+    R, x0, GM = (np.asarray(P[k], dtype=float) for k in ("R", "x0", "GM"))
+    W = _orbit_rate(GM, R)
+    L = np.abs(x0)
+    return W, L, np.where(x0 > 0, 1.0, -1.0), R / L
 
 
-def _ydot(t, y):
-    return y[3]
+def _rhs(Rh, T=1.0):
+    """The exact relative equations in the satellite's rotating frame, units |x0| and 1/Omega (GM = Rh^3),
+    time in units T (numbers, or arrays of variants): gravity relative to the satellite (without
+    cancellation), centrifugal (x, y) and Coriolis -2 e_z x v."""
+
+    def rhs(t, y):
+        a = relative_gravity(np.array([y[0], y[1], np.zeros_like(y[0])]), Rh, Rh**3)
+        return T * np.array([y[2], y[3], a[0] + y[0] + 2.0 * y[3], a[1] + y[1] - 2.0 * y[2]])
+
+    return rhs
+
+
+def _jacobi(y, Rh):
+    """The Jacobi integral, in its scale (Omega x0)^2 = 1 (states 4 x ...)."""
+    r = np.array([y[0], y[1], np.zeros_like(y[0])])
+    return 0.5 * (y[2] ** 2 + y[3] ** 2) + relative_potential(r, Rh, Rh**3) - 0.5 * (y[0] ** 2 + y[1] ** 2)
+
+
+def _shoot(sgn, Rh, rtol, tally):
+    """The tangential speed that closes the path, at N variants at once: the path closes when it crosses the
+    x axis at right angles again (time-reversal symmetry), so the residual is y at the next zero of dx/dt
+    (a terminal event of each variant's run), bracketed in [-2.4, -1.7] sgn (-1.5: the circular orbit
+    through the start, no radial turning), its root by Illinois; the half period is that time.  Returns
+    (v0, half period, reasons: "" where none)."""
+    from mech.solvers.mechanics.variants import follow
+    from mech.solvers.numerics.batch import BatchEvent, illinois
+
+    N = sgn.size
+    why = np.full(N, "", dtype=object)
+
+    def far(idx, v):
+        """(y, t) at the next radial extreme of the variants idx started at the speeds v."""
+        y0 = np.stack([sgn[idx], np.zeros(idx.size), np.zeros(idx.size), v])
+        ev = BatchEvent(lambda t, y, _s=sgn[idx]: _s * y[2], direction=1.0, terminal=True, name="far extreme")
+        got = follow(lambda sel: _rhs(Rh[idx][sel]), (0.0, 20.0), y0, rtol=rtol, atol=1e-3 * rtol, tally=tally,
+                     events=[ev])
+        miss = (got.why == "") & ~np.isfinite(got.t_events[0])
+        why[idx[miss]] = "no radial turning point within 20/Omega"
+        why[idx[got.why != ""]] = got.why[got.why != ""]
+        return got.y_events[0][1], got.t_events[0]
+
+    every = np.arange(N)
+    lo, hi = -2.4 * sgn, -1.7 * sgn
+    flo, fhi = far(every, lo)[0], far(every, hi)[0]
+    bad = ~(np.sign(flo) * np.sign(fhi) < 0) & (why == "")
+    why[bad] = "v0 not bracketed in [-2.4, -1.7] Omega x0"
+    go = np.flatnonzero(why == "")
+    v0 = np.full(N, np.nan)
+    if go.size:
+        x, done = illinois(lambda v, i: np.nan_to_num(far(go[i], v)[0]), lo[go], hi[go], flo[go], fhi[go],
+                           xtol=1e-3 * rtol, rtol=0.0, max_iter=100)
+        v0[go] = x
+        why[go[~done & (why[go] == "")]] = "the shooting for v0 did not converge"
+    half = np.full(N, np.nan)
+    go = np.flatnonzero(why == "")
+    if go.size:
+        half[go] = far(go, v0[go])[1]
+    return v0, half, why
 
 
 @exercise.motion
-def motion(p, run=None):
+def motion(p):
     """One period of the closed relative path: the exact relative equations in the satellite's rotating
-    frame, in units |x0| and 1/Omega, from (x0, 0) at the tangential speed v0 that closes the path, with
-    the events of its radial (dx/dt = 0) and along-track (dy/dt = 0) extremes.  v0 and the period are shot
-    through ``run`` (tool integrations of the same equations; a Run at the exercise's default accuracy when
-    none is given): the path closes when it crosses the x axis at right angles again (time-reversal
-    symmetry), so the residual is y at the next zero of dx/dt, bracketed in [-2.4, -1.7], and the period
-    is twice that time."""
+    frame, in units |x0| and 1/Omega, from (x0, 0) at the tangential speed v0 that closes the path (shot at
+    this one point, ``_shoot``, at the exercise's default accuracy)."""
     from mech.problems.motion import Motion
-    from mech.problems.spec import Run
-    from mech.solvers.numerics.roots import brentq
 
-    run = Run(rtol=exercise.default_rtol) if run is None else run
-    W = _orbit_rate(p.GM, p.R)
-    L = abs(p.x0)
-    sgn = 1.0 if p.x0 > 0 else -1.0
-    Rh = p.R / L  # orbit radius in units of |x0|
-    GMh = Rh**3  # GM in units L^3 Omega^2
-
-    def rhs(t, y):
-        r = np.array([y[0], y[1], 0.0])
-        a = relative_gravity(r, Rh, GMh)
-        # centrifugal (x, y) and Coriolis -2 e_z x v, Omega = 1
-        return np.array([y[2], y[3], a[0] + y[0] + 2.0 * y[3], a[1] + y[1] - 2.0 * y[2]])
-
-    def jacobi(y):
-        """The Jacobi integral, in its scale (Omega x0)^2 = 1."""
-        r = np.array([y[0], y[1], 0.0])
-        return 0.5 * (y[2] ** 2 + y[3] ** 2) + relative_potential(r, Rh, GMh) - 0.5 * (y[0] ** 2 + y[1] ** 2)
-
-    def path(v, t_end):
-        """From (x0, 0) at the tangential speed v until t_end."""
-        return Motion(rhs, [sgn, 0.0, 0.0, v], (0.0, t_end), invariants={"Jacobi integral": jacobi},
-                      t_scale=1.0 / W, y_scale=[L, L, L * W, L * W], y_size=1.0,
-                      options={"method": "DOP853", "max_step": 0.25,
-                               "events": [Event(_xdot, terminal=False, name="radial extremes"),
-                                          Event(_ydot, terminal=False, name="along-track extremes")]})
-
-    half = {"method": "DOP853", "max_step": 0.25, "events": [Event(_xdot, direction=sgn, terminal=True)]}
-
-    def far_extreme(v):
-        """(y, t) where the path from (x0, 0) at speed v next crosses dx/dt = 0 (the far radial extreme)."""
-        tr = run.follow(path(v, 20.0).starting(invariants={}, options=half), mark=False).traj
-        if len(tr.t_events[0]) == 0:
-            raise NumericFailure(f"no radial turning point with v0 = {v:.6g} (scaled)")
-        return tr.y_events[0][0][1], tr.t_events[0][0]
-
-    lo, hi = sgn * -2.4, sgn * -1.7  # (-1.5: the circular orbit through the start, no radial turning)
-    flo, fhi = far_extreme(lo)[0], far_extreme(hi)[0]
-    if not (flo > 0) != (fhi > 0):
-        raise NumericFailure(f"v0 not bracketed: y residuals {flo:.3g}, {fhi:.3g}")
-    v0 = brentq(lambda v: far_extreme(v)[0], lo, hi, fa=flo, fb=fhi, xtol=1e-3 * run.rtol, maxiter=100)
-    return path(v0, 2.0 * far_extreme(v0)[1])
+    W, L, sgn, Rh = (float(x) for x in _units({k: np.float64(p[k]) for k in ("R", "x0", "GM")}))
+    v0, half, why = _shoot(np.array([sgn]), np.array([Rh]), exercise.default_rtol, None)
+    if why[0]:
+        raise NumericFailure(why[0])
+    return Motion(_rhs(Rh), [sgn, 0.0, 0.0, float(v0[0])], (0.0, 2.0 * float(half[0])),
+                  invariants={"Jacobi integral": lambda y: _jacobi(y, Rh)}, t_scale=1.0 / W,
+                  y_scale=[L, L, L * W, L * W], y_size=1.0, options={"method": "DOP853", "max_step": 0.25})
 
 
-@exercise.numeric
-def numeric(p, run):
-    W = _orbit_rate(p.GM, p.R)
-    L = abs(p.x0)
-    sgn = 1.0 if p.x0 > 0 else -1.0
-    # one full period (twice the half period, by the same time-reversal symmetry): radial and
-    # along-track extremes, and the closure of the path checked at its end
-    m = motion(p, run)
-    y0, v0, T = m.y0, m.y0[3], m.span[1]
-    tr = run.follow(m).traj
-    xs = [sgn] + [yy[0] for tt, yy in zip(tr.t_events[0], tr.y_events[0]) if tt > 1e-6]
-    ys = [yy[1] for yy in tr.y_events[1]]
-    if len(xs) < 2 or len(ys) < 2:
-        raise NumericFailure("the extremes of the relative path were not all found")
-    a_radial = 0.5 * (max(xs) - min(xs))
-    a_along = 0.5 * (max(ys) - min(ys))
-    yend = tr.y_end
-    closure = float(np.max(np.abs(yend - np.array(y0))))
-    run.info["closure_error"] = closure
-    if closure > 1e4 * run.rtol:
-        raise NumericFailure(f"the relative path does not close after 2 x the half period: miss {closure:.3g} x0")
-    ratio = a_radial / a_along
-    return {
-        "v0": v0 * L * W,
-        "a_along": a_along * L,
-        "a_radial": a_radial * L,
-        "ecc": math.sqrt((1.0 - ratio) * (1.0 + ratio)),
-        "T_rel": T / W,
-    }
+@exercise.batched(("v0", "a_along", "a_radial", "ecc", "T_rel"))
+def numeric(P, rtol, outputs, tally=None):
+    """The closed relative paths of N variants at once (a one-point solve is the batch of one): v0 and the half
+    period shot (``_shoot``), then one full period of each (its time onto [0, 1]) with the events of its far
+    radial extreme (dx/dt = 0) and its two along-track extremes (dy/dt = 0 upward and downward, one in each
+    half); the return to the start checked at the end, the Jacobi integral's drift reported to ``tally``."""
+    from mech.problems.spec import Tally
+    from mech.solvers.mechanics.variants import follow
+    from mech.solvers.numerics.batch import BatchEvent, Column
+
+    tally = Tally() if tally is None else tally
+    W, L, sgn, Rh = _units(P)
+    N = W.size
+    v0, half, why = _shoot(sgn, Rh, rtol, tally)
+    go = np.flatnonzero(why == "")
+    T = 2.0 * half
+    y0 = np.stack([sgn, np.zeros(N), np.zeros(N), v0])
+    yend = np.full((4, N), np.nan)
+    xs_far, y_up, y_down = (np.full(N, np.nan) for _ in range(3))
+    if go.size:
+        evs = [BatchEvent(lambda t, y, _s=sgn[go]: _s * y[2], direction=1.0, name="far radial extreme"),
+               BatchEvent(lambda t, y: y[3], direction=1.0, name="along-track extreme (dy/dt up)"),
+               BatchEvent(lambda t, y: y[3], direction=-1.0, name="along-track extreme (dy/dt down)")]
+        got = follow(lambda sel: _rhs(Rh[go][sel], T[go][sel]), (0.0, 1.0), y0[:, go], rtol=rtol, atol=1e-3 * rtol,
+                     tally=tally, events=evs)
+        yend[:, go] = got.y_end
+        xs_far[go], y_up[go], y_down[go] = got.y_events[0][0], got.y_events[1][1], got.y_events[2][1]
+        why[go] = got.why
+    with np.errstate(invalid="ignore"):
+        found = np.isfinite(xs_far) & np.isfinite(y_up) & np.isfinite(y_down)
+        a_radial = 0.5 * np.abs(sgn - xs_far)
+        a_along = 0.5 * np.abs(y_up - y_down)
+        closure = np.max(np.abs(yend - y0), axis=0)
+        ratio = a_radial / a_along
+        ecc = np.sqrt((1.0 - ratio) * (1.0 + ratio))
+    drift = np.abs(_jacobi(yend, Rh) - _jacobi(y0, Rh))
+    tally.invariant("Jacobi integral", np.nan_to_num(drift))
+    tally.info["closure_error"] = closure
+    ran = why == ""
+    failed = [(why == text, text) for text in sorted(set(why[~ran]))]
+    failed += [(ran & ~found, "the extremes of the relative path were not all found"),
+               (ran & ~(closure <= 1e4 * rtol), "the relative path does not close after 2 x the half period"),
+               (ran & ~(drift <= exercise.tol_factor * rtol), "the invariant 'Jacobi integral' drifts by more than "
+                "the method allows: the integration is not to be trusted")]
+    values = {"v0": v0 * L * W, "a_along": a_along * L, "a_radial": a_radial * L, "ecc": ecc, "T_rel": T / W}
+    return {o: Column(values[o], rel=exercise.tol_factor * rtol, failed=failed) for o in outputs}

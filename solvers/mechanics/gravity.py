@@ -38,27 +38,28 @@ def coriolis(v, Omega: float) -> np.ndarray:
 
 
 def _pieces(r, R):
+    """(x, |r|^2, |p|, |p| - R) for one offset r (3 numbers) or N of them (3 x N, R one per column or one)."""
     x = r[0]
-    rr = float(np.dot(r, r))
+    rr = r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
     p = np.sqrt(R * R + 2.0 * R * x + rr)  # |R e_x + r|
     d = (2.0 * R * x + rr) / (p + R)  # |p| - R without cancellation
     return x, rr, p, d
 
 
 def relative_gravity(r, R: float, GM: float) -> np.ndarray:
-    """g(R e_x + r) - g(R e_x), g(p) = -GM p/|p|^3."""
+    """g(R e_x + r) - g(R e_x), g(p) = -GM p/|p|^3; r: 3 numbers, or 3 x N offsets (R and GM numbers or N)."""
     r = np.asarray(r, dtype=float)
     x, rr, p, d = _pieces(r, R)
     # R/|p|^3 - 1/R^2 = (R^3 - |p|^3)/(R^2 |p|^3), R^3 - |p|^3 = -(|p| - R)(R^2 + R|p| + |p|^2)
     # written as a sum so that no intermediate overflows for offsets ~1e-90 of R (units of the offset)
     k = -d * (1.0 / p**3 + 1.0 / (R * p * p) + 1.0 / (R * R * p))
     out = -GM * (r / p**3)
-    out[0] -= GM * k
+    out[0] = out[0] - GM * k
     return out
 
 
 def relative_potential(r, R: float, GM: float) -> float:
-    """-GM/|p| + GM/R - GM x/R^2: the potential of ``relative_gravity``, zero at r = 0."""
+    """-GM/|p| + GM/R - GM x/R^2: the potential of ``relative_gravity``, zero at r = 0 (r: 3 numbers or 3 x N)."""
     r = np.asarray(r, dtype=float)
     x, rr, p, d = _pieces(r, R)
     # = GM [R (|p| - R) - x |p|] / (R^2 |p|); numerator = R (rr - x d)/(|p| + R) - x d, all of order |r|^2
