@@ -15,8 +15,9 @@ from mech.solvers.numerics.batch import illinois
 __all__ = ["first_zone_next_order"]
 
 
-def first_zone_next_order(omega0, delta, mu, omega):
-    """The first zone to the next order, over arrays: {output: value} (NaN: no zone).
+def first_zone_next_order(omega0, delta, mu, omega, edges: bool = True):
+    """The first zone to the next order, over arrays: {output: value} (NaN: no zone); without ``edges``
+    only growth and mu_th (the edges are the costly part: a root search each).
 
     With y = exp(delta t) q and s = omega t the equation is Mathieu's, y'' + (a - 2 k cos 2s) y = 0,
     a = (omega0/omega)^2 - (delta/omega)^2, k = mu (omega0/omega)^2/2.  Keeping the harmonics
@@ -43,14 +44,13 @@ def first_zone_next_order(omega0, delta, mu, omega):
     # then the neighbours' coupling k^2/((sigma + 3i)^2 + a) in full (its phase matters where sigma ~ k):
     # Newton steps on |(sigma + i)^2 + a - k^2/((sigma + 3i)^2 + a)|^2 = k^2 from that root
     sg = np.sqrt(s2)
-    for _ in range(4):
-        c3 = k * k / ((sg + 3j) ** 2 + a)
-        al, be = a - 1.0 - c3.real, c3.imag
-        h = (sg * sg + al) ** 2 + (2.0 * sg - be) ** 2 - k * k
-        dh = 4.0 * sg * (sg * sg + al) + 4.0 * (2.0 * sg - be)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            step = np.where((s2 > 0) & (dh != 0), h / dh, 0.0)
-        sg = np.maximum(sg - step, 0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        for _ in range(4):
+            c3 = k * k / ((sg + 3j) ** 2 + a)
+            al, be = a - 1.0 - c3.real, c3.imag
+            h = (sg * sg + al) ** 2 + (2.0 * sg - be) ** 2 - k * k
+            dh = 4.0 * sg * (sg * sg + al) + 4.0 * (2.0 * sg - be)
+            sg = np.maximum(sg - np.where((s2 > 0) & (dh != 0), h / dh, 0.0), 0.0)
     growth = omega * sg - delta
 
     def E2(sig, a, k):  # |(sig + i)^2 + a - k^2/((sig + 3i)^2 + a)|^2 - k^2: zero on the zone's edge (sig = d)
@@ -61,6 +61,9 @@ def first_zone_next_order(omega0, delta, mu, omega):
     for _ in range(10):  # contracts by ~|W2 - 1|/2 <= 0.5 per step
         kt = np.sqrt(np.maximum(E2(d, a, kt) + kt * kt, 0.0))
     mu_th = 2.0 * kt / W2
+
+    if not edges:
+        return {"growth": growth.reshape(shape), "mu_th": mu_th.reshape(shape)}
 
     def F(u, i=slice(None)):  # > 0 outside the zone, < 0 inside, at the given mu (u = (omega0/omega)^2)
         du = delta[i] * np.sqrt(u) / omega0[i]
@@ -73,6 +76,7 @@ def first_zone_next_order(omega0, delta, mu, omega):
     # the centre is the lower edge in omega; found by false position
     k = np.concatenate([zone, zone])
     hi = uc[k] + np.repeat([1.0, -1.0], zone.size) * 2.0 * mu[k]
+    hi = np.maximum(hi, 1e-6 * uc[k])  # u = (omega0/omega)^2 > 0: a deep pump's far end at omega = 1000 omega0
     Fh = F(hi, k)
     u = hi.copy()  # where 2 mu away is still inside (never met): the edge at most there, as bisection gave
     out = Fh >= 0
