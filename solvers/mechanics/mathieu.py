@@ -57,17 +57,12 @@ def first_zone_next_order(omega0, delta, mu, omega, edges: bool = True):
         c3 = k * k / ((sig + 3j) ** 2 + a)
         return (sig * sig + a - 1.0 - c3.real) ** 2 + (2.0 * sig - c3.imag) ** 2 - k * k
 
-    def G(kt):  # the fixed point's map: contracts by ~|W2 - 1|/2 <= 0.5 per step
-        return np.sqrt(np.maximum(E2(d, a, kt) + kt * kt, 0.0))
-
-    kt = np.sqrt((W2 - 1.0) ** 2 + 4.0 * d * d)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        for _ in range(3):  # Steffensen: within 1e-12 in three (5000 random points against 200 plain steps)
-            k1 = G(kt)
-            k2 = G(k1)
-            den = k2 - 2.0 * k1 + kt
-            acc = kt - (k1 - kt) ** 2 / den
-            kt = np.where(np.isfinite(acc) & (den != 0) & (acc > 0), acc, k2)
+    # on the edge sig = d the neighbours' term is k^2/q with q = (d + 3i)^2 + a fixed, so E2 = 0 is a quadratic
+    # in K = k^2:  K = (A - K Re(1/q))^2 + (B - K Im(1/q))^2,  A = d^2 + a - 1,  B = 2 d;  its small root
+    iq = 1.0 / ((d + 3j) ** 2 + a)
+    A, B = d * d + a - 1.0, 2.0 * d
+    qa, qb, qc = iq.real**2 + iq.imag**2, 1.0 + 2.0 * (A * iq.real + B * iq.imag), A * A + B * B
+    kt = np.sqrt(2.0 * qc / (qb + np.sqrt(np.maximum(qb * qb - 4.0 * qa * qc, 0.0))))
     mu_th = 2.0 * kt / W2
 
     if not edges:
