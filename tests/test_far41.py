@@ -83,20 +83,26 @@ def test_5_12_half_map_moduli_by_liouville():
 
     import numpy as np
 
-    from mech.problems.spec import NumericFailure
     from mech.problems.ch5.ex5_12_pumped_pendulum import _half_map_moduli
+
+    def one(M, lndet):
+        mult, stable, undecided = _half_map_moduli(np.asarray(M, dtype=float)[:, :, None], np.array([lndet]), 1e-12)
+        return mult[:, 0], bool(stable[0]), bool(undecided[0])
 
     r, phi = 0.9, 1.1  # a damped rotation: det r^2, complex pair of modulus r
     M = r * np.array([[math.cos(phi), -math.sin(phi)], [math.sin(phi), math.cos(phi)]])
-    mult, stable = _half_map_moduli(M, 2.0 * math.log(r), 1.0, 1e-12)
-    assert stable and np.allclose(mult, r, rtol=1e-14)
+    mult, stable, undecided = one(M, 2.0 * math.log(r))
+    assert stable and not undecided and np.allclose(mult, r, rtol=1e-14)
     R = M / r  # rounding leaves the modulus at 1: the sign of the divergence still decides
-    assert _half_map_moduli(R, -1e-300, 1.0, 1e-12)[1] is True
-    assert _half_map_moduli(R, +1e-300, 1.0, 1e-12)[1] is False
-    mult, stable = _half_map_moduli(np.diag([2.0, 0.4]), math.log(0.8), 1.0, 1e-12)  # a saddle
+    assert one(R, -1e-300)[1] is True
+    assert one(R, +1e-300)[1] is False
+    mult, stable, _ = one(np.diag([2.0, 0.4]), math.log(0.8))  # a saddle
     assert not stable and sorted(mult) == pytest.approx([0.4, 2.0])
-    with pytest.raises(NumericFailure, match="double multiplier"):
-        _half_map_moduli(np.eye(2), 0.0, 1.0, 1e-12)
+    assert one(np.eye(2), 0.0)[2] is True  # a double multiplier: undecided
+    # several at once, each as alone
+    Ms = np.stack([M, np.diag([2.0, 0.4])], axis=2)
+    mult, stable, undecided = _half_map_moduli(Ms, np.array([2.0 * math.log(r), math.log(0.8)]), 1e-12)
+    assert stable.tolist() == [True, False] and not undecided.any()
 
 
 # 4.24: cos_min's allowance is 2.5 eps_F^2, eps_F = I_A l F/L3^2 (I_A = I1 + M l^2, L3 = I3 omega_rot): the

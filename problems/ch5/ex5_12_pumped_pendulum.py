@@ -18,13 +18,14 @@ Numeric: a_th and growth from the monodromy matrix of the linearized equation ov
 (q = exp(-delta t) y leaves an even Hill equation: half a period of DOP853); a_th is the root in a of
 det(M + I), bracketed by a scan up from a = 1e-4 l in factors of 2 to 4 l at most (at |xi| = 0.3 omega0
 the exact threshold lies at 0.64 l, well above the leading-order 0.43 l, and the zone reaches past 2.3 l:
-a factor-2 scan cannot step over it).  Written once over arrays of variants (``small_swings``): a one-point
-solve is its batch of one.  theta_st: the stationary swing has period 4 pi/Omega and
+a factor-2 scan cannot step over it).  Every output is written once over arrays of variants
+(``small_swings``, the swing in ``_swing``): a one-point solve is its batch of one.  theta_st: the stationary swing has period 4 pi/Omega and
 theta(t + 2 pi/Omega) = -theta(t), so its start z is a fixed point of the half-map
 H(z) = -phi_{2 pi/Omega}(z).  From the bifurcation at a_th (H's multiplier +1, eigenvector e) the branch
 of fixed points is followed by its amplitude s = |z| in (theta, theta'/omega0) with (z, a) as unknowns
-(solvers.numerics.branch; a carried as a constant third state, so that the variational equations give
-d/da with d/dz): for Omega < 2 omega0 the bifurcation is subcritical and the branch first runs down in a
+(solvers.numerics.branch, every variant in lock-step with its own step; in the pivot's phase Omega t, so
+that every variant's period is 2 pi; a carried as a constant third state, so that the variational
+equations give d/da with d/dz): for Omega < 2 omega0 the bifurcation is subcritical and the branch first runs down in a
 to a fold near eps = delta, then up through the given a.  The branch is only a path to a guess (rtol
 1e-8); z is then refined by Newton at fixed a (its last steps at the full rtol), both multipliers of H are
 checked inside the unit circle, and the largest |theta| on the orbit is found by events on theta' = 0.
@@ -116,7 +117,7 @@ def _small_swing_allowances(l, g, delta, a, Omega):
     w0 = np.sqrt(g / l)
     mu = a * Omega**2 / g
     lo = _lo(w0, delta, a * Omega / (2 * l), Omega / 2 - w0, l, Omega)
-    nx = first_zone_next_order(w0, delta, mu, Omega / 2.0)
+    nx = first_zone_next_order(w0, delta, mu, Omega / 2.0, edges=False)
     k2 = (mu / 2.0) ** 2
     with np.errstate(divide="ignore", invalid="ignore"):
         g0 = lo["growth"]
@@ -145,11 +146,9 @@ def expected_error(P):
     A2 = base**2
     r = np.abs(xi) / w0 + mu**2 / 16.0 + A2 / 8.0
     s = mu**2 * w0 / 64.0 + 0.5 * delta**2 / w0 + xi**2 / w0 + w0 * A2**2 / 256.0
-    worst = np.zeros(np.shape(base))
-    for se in (-1.0, 1.0):
-        for sx in (-1.0, 1.0):
-            alt = _lo_of(l, g, delta, a, Omega, 1 + se * r, sx * s)["theta_st"]
-            worst = np.maximum(worst, np.abs(alt - base))
+    signs = np.array([[-1.0, -1.0, 1.0, 1.0], [-1.0, 1.0, -1.0, 1.0]])[..., None]  # (eps, detuning) moved
+    alt = _lo_of(l, g, delta, a, Omega, 1 + signs[0] * r, signs[1] * s)["theta_st"]  # the four at once
+    worst = np.abs(alt - base).max(axis=0)
     small = _small_swing_allowances(l, g, delta, a, Omega)
     with np.errstate(divide="ignore", invalid="ignore"):
         theta = np.where(base != 0, worst / base, 0.0)
@@ -233,165 +232,160 @@ NO_ROOT = "no pivot amplitude below 4 l brings a multiplier to -1"
 UNCONVERGED = "the root search for the threshold did not converge"
 
 
-@exercise.numeric
-def numeric(p, run):
-    """growth and a_th by the route over variants at this one point (``small_swings``: the batch of one, its
-    claims, Wronskian and failures), then the stationary swing."""
-    small = exercise.batch_of_one(p, run)
-    a_th, growth = small["a_th"], small["growth"]
-    out = {"a_th": a_th, "growth": growth}
-    if growth <= 0.0:
-        out["theta_st"] = 0.0
-        run.claim("theta_st", rel=0.0, abs=0.0)
-        return out
-    out["theta_st"] = _stationary_swing(p, out["a_th"], run)
-    return out
-
-
-def _stiffness(p):
-    """k(a, t) = (g - a Omega^2 cos Omega t)/l: gravity and the pivot's acceleration, per unit length."""
-    g, l, W = p.g, p.l, p.Omega
-    return lambda a, t: (g - a * W * W * math.cos(W * t)) / l
-
-
-def _pendulum(p, a):
-    """(f, jac): the damped pendulum with its pivot vibrated at the amplitude a, in theta and theta' (SI),
-    theta'' = -2 delta theta' - (g - a Omega^2 cos Omega t)/l sin theta, and its Jacobian."""
-    d2, k = 2.0 * p.delta, _stiffness(p)
-
-    def f(t, y):
-        return np.array([y[1], -d2 * y[1] - k(a, t) * math.sin(y[0])])
-
-    def jac(t, y):
-        return np.array([[0.0, 1.0], [-k(a, t) * math.cos(y[0]), -d2]])
-
-    return f, jac
-
-
-def _pendulum_in_a(p):
-    """``_pendulum`` with a carried as a constant third state, so that one run of the variational equations
-    gives d/dz and d/da of the half-map together (the branch's unknowns)."""
-    d2, W, l, k = 2.0 * p.delta, p.Omega, p.l, _stiffness(p)
-
-    def f3(t, y):
-        return np.array([y[1], -d2 * y[1] - k(y[2], t) * math.sin(y[0]), 0.0])
-
-    def jac3(t, y):
-        c = math.cos(W * t)
-        return np.array([[0.0, 1.0, 0.0],
-                         [-k(y[2], t) * math.cos(y[0]), -d2, W * W * c / l * math.sin(y[0])],
-                         [0.0, 0.0, 0.0]])
-
-    return f3, jac3
-
-
-def _pivot_period(p, a, z):
-    """The pendulum at the pivot amplitude a from z over one pivot period 2 pi/Omega."""
+@exercise.motion
+def motion(p, z=None):
+    """One full period of the stationary swing from z: two pivot periods, the second from where the first
+    ends (the half-map's symmetry makes it the first's mirror, theta -> -theta), with the turning points
+    (theta' = 0) of each.  z (theta, theta') by default the swing's start the route finds at p (``_swing``):
+    at rest below threshold."""
     from mech.problems.motion import Motion
 
-    f, _ = _pendulum(p, a)
-    return Motion(f, z, (0.0, 2.0 * math.pi / p.Omega), y_size=[1.0, math.sqrt(p.g / p.l)])
+    z = _start(p) if z is None else z
+    g, l, W, d2, a = p.g, p.l, p.Omega, 2.0 * p.delta, p.a
 
+    def f(t, y):
+        return np.array([y[1], -d2 * y[1] - (g - a * W * W * math.cos(W * t)) / l * math.sin(y[0])])
 
-@exercise.motion
-def motion(p, z=(0.0, 0.0)):
-    """One full period of the stationary swing from z (the solve finds it): two pivot periods, the second
-    from where the first ends (the half-map's symmetry makes it the first's mirror, theta -> -theta), with
-    the turning points (theta' = 0) of each.  By default at rest, the stationary state below threshold."""
-    m = _pivot_period(p, p.a, list(z))
-    Tp = m.span[1]
+    Tp = 2.0 * math.pi / W
+    m = Motion(f, [float(x) for x in z], (0.0, Tp), y_size=[1.0, math.sqrt(g / l)])
     turns = {"events": [Event(lambda t, y: y[1], terminal=False, name="theta' = 0")]}
     return m.starting(options=turns,
                       then=lambda path: m.starting(y0=path.y_end, span=(Tp, 2.0 * Tp), options=turns))
 
 
-def _stationary_swing(p, a_th, run):
-    rtol = run.rtol
-    scale = [1.0, math.sqrt(p.g / p.l)]
-
-    # the branch is only followed to bring Newton close to the swing at the given a: a looser
-    # tolerance is enough for that (the final Newton at fixed a below uses the full rtol)
-    crude = max(rtol, 1e-8)
-
-    def residual(z, a, tol=crude):
-        _, jac = _pendulum(p, a)
-        end = run.follow(_pivot_period(p, a, z).with_variations(jac), rtol=tol, mark=False)
-        y, M = end.y_end[:2], end.y_end[2:].reshape(2, 2)
-        return z + y, np.eye(2) + M, M  # z - H(z), its Jacobian, and M
-
-    # along the branch a is an unknown too: carried as a constant third state (``_pendulum_in_a``)
-    f3, jac3 = _pendulum_in_a(p)
-    half_map_in_a = _pivot_period(p, a_th, [0.0, 0.0]).starting(rhs=f3, y_size=[*scale, a_th])
-
-    def residual_a(z, a):
-        """z - H(z) at a, its Jacobian in z and its derivative in a."""
-        end = run.follow(half_map_in_a.starting(y0=[z[0], z[1], a]).with_variations(jac3), rtol=crude,
-                         mark=False)
-        y, M = end.y_end[:3], end.y_end[3:].reshape(3, 3)
-        return z + y[:2], np.eye(2) + M[:2, :2], M[:2, 2]
-
-    # the critical direction at the bifurcation: M's eigenvector for the multiplier -1
-    _, J0, M0 = residual(np.zeros(2), a_th)
-    ev, vec = np.linalg.eig(M0)
-    k = int(np.argmin(np.abs(ev + 1.0)))
-    e = np.real(vec[:, k]) / np.array(scale)
-    e /= np.linalg.norm(e)
-    e_phys = e * np.array(scale)  # the branch leaves z = 0 along e; s = |z / scale| along it
-
-    a_big = 10.0 * max(a_th, p.a)
-
-    # For Omega < 2 omega0 the bifurcation is subcritical: the branch first runs down in a to a fold
-    # near eps = delta (a sharp turn when delta is small) and then up through the given a (followed by its
-    # amplitude, solvers.numerics.branch)
-    target = p.a
-    try:
-        (z_cur, a_cur), (z_new, a_new), (tries, steps) = follow(
-            lambda z, a, s: on_branch(residual_a, z, a, s, scale, crude, a_th, a_big), e_phys, a_th, target)
-    except NumericFailure as exc:
-        raise NumericFailure(f"the branch of stationary swings: {exc} (a swing over the top?)") from None
-    run.info["continuation_tries"] = tries
-    run.info["continuation_steps"] = steps
-    # interpolate to the target and refine z at fixed a
-    w = (target - a_cur) / (a_new - a_cur) if a_new != a_cur else 1.0
-    z = z_cur + w * (z_new - z_cur)
-    z = newton(lambda z, tol: residual(z, target, tol)[:2], z, scale, crude, rtol)
-    if z is None:
-        raise NumericFailure("Newton's method for the stationary swing did not converge")
-    r, J, M = residual(z, target, rtol)
-    mult, stable = _half_map_moduli(M, np.trace(_pendulum(p, target)[1](0.0, z)), 2 * math.pi / p.Omega, rtol)
-    run.info["swing_multipliers_of_half_map"] = [float(m) for m in mult]
-    if not stable:
-        raise NumericFailure(f"the swing found is unstable (half-map multipliers {mult}): not the one a small swing grows into")
-    # the swing's full period is the motion; its largest |theta|: the extrema on theta' = 0 over the first
-    # pivot period (the second mirrors it)
-    swing = run.follow(motion(p, z))
-    ext = [abs(y[0]) for y in swing.legs[0].traj.y_events[0]] + [abs(z[0])]
-    return float(max(ext))
+def _start(p):
+    """The stationary swing's start (theta, theta') at the one point p, by the route at its default rtol."""
+    P = {k: np.array([float(p[k])]) for k in ("l", "g", "delta", "a", "Omega")}
+    rtol, tally = exercise.default_rtol, Tally()
+    small = small_swings(P, rtol, ("growth", "a_th"), tally=tally)
+    if not small["growth"].value[0] > 0.0:
+        return (0.0, 0.0)
+    _, why, z = _swing(*_arrays(P), small["a_th"].value, rtol, tally)
+    if why[0] is not None:
+        raise NumericFailure(why[0])
+    return tuple(z[:, 0])
 
 
-def _half_map_moduli(M, div, Tp, rtol):
-    """(|multipliers| of the half-map -phi over the pivot period Tp, M = D phi; stable).  The divergence
-    ``div`` (-2 delta) is constant: det M = exp(div Tp) (Liouville), so a complex pair (tr^2 < 4 det, an
-    elliptic swing) lies inside the unit circle exactly when div < 0, even where rounding leaves its moduli
-    at 1 (delta = 1e-300 was refused as "too weak for double precision"); a real pair by its own values."""
-    det, tr = math.exp(div * Tp), float(np.trace(M))
-    disc, slack = tr * tr - 4.0 * det, 100.0 * rtol * (abs(tr) + 1.0) * float(np.max(np.abs(M)))  # M to ~rtol
-    if disc < -slack:
-        return np.full(2, math.sqrt(det)), div < 0.0
-    if disc <= slack:
-        raise NumericFailure(f"the swing's half-map is at a double multiplier (tr^2 - 4 det = {disc:.2g}, within "
-                             "its rounding): its stability cannot be decided")
-    mult = np.abs(np.linalg.eigvals(-M))
-    return mult, bool(np.max(mult) < 1.0)
+def _flow(c2, kg, ksc, vsc, z, k, rtol, tally, variations=True, events=()):
+    """The pendulum over one pivot period at N variants at once, in its phase s = Omega t (every period is
+    2 pi): theta, v = dtheta/ds and k = a/l (a constant state, so that the variations give d/dk with d/dz),
+        v' = -c2 v - (kg - k cos s) sin theta,   c2 = 2 delta/Omega,  kg = g/(l Omega^2),
+    with the 3 x 3 variations (row-major) where asked.  ``ksc``, ``vsc``: the sizes of k and v (atol).
+    (the integration, its end states (12 or 3, N), NaN where a variant failed)."""
+    from mech.solvers.numerics.batch import integrate_batch
+
+    m = k.size
+    nv = 12 if variations else 3
+
+    def rhs(s, y):
+        c = math.cos(s)
+        stiff, sn = kg - y[2] * c, np.sin(y[0])
+        out = np.zeros_like(y)
+        out[0], out[1] = y[1], -c2 * y[1] - stiff * sn
+        if variations:
+            P, D = y[3:].reshape(3, 3, -1), out[3:].reshape(3, 3, -1)
+            D[0] = P[1]
+            D[1] = -stiff * np.cos(y[0]) * P[0] - c2 * P[1] + c * sn * P[2]
+        return out
+
+    y0 = np.zeros((nv, m))
+    y0[0], y0[1], y0[2] = z[0], z[1], k
+    size = np.stack([np.ones(m), vsc, ksc])
+    if variations:
+        y0[3::4] = 1.0
+        size = np.concatenate([size, (size[:, None] / size[None, :]).reshape(9, m)])
+    with np.errstate(invalid="ignore", over="ignore"):
+        res = integrate_batch(rhs, (0.0, 2.0 * math.pi), y0, rtol=rtol, atol=rtol * 1e-3 * size, events=events,
+                              on_failure="mark")
+    tally.record(res)
+    y = res.y_end.copy()
+    y[:, res.failed] = np.nan
+    return res, y
+
+
+def _swing(l, g, delta, a, Omega, a_th, rtol, tally):
+    """(theta_st, why each failed (None: it did not), the swing's start (theta, theta') (2, N)) at N variants
+    above threshold: z, the swing's start,
+    is a fixed point of the half-map H(z) = -phi_{2 pi/Omega}(z), followed from the bifurcation at a_th
+    (H's multiplier +1, eigenvector e) by its amplitude with (z, a) as unknowns (solvers.numerics.branch: a
+    path to a guess at 1e-8), refined by Newton at the given a (its last steps at rtol), both multipliers
+    of H checked inside the unit circle, then the largest |theta| by events on theta' = 0."""
+    from mech.solvers.numerics.batch import BatchEvent
+
+    N = l.size
+    c2, kg, vsc = 2.0 * delta / Omega, g / (l * Omega**2), np.sqrt(g / l) / Omega
+    kth, kt = a_th / l, a / l
+    scale = np.stack([np.ones(N), vsc])  # (theta, theta'/omega0): the amplitude s = |z / scale|
+    crude = max(rtol, 1e-8)  # the branch is only a path to a guess for Newton at the given a
+    why = np.full(N, None, dtype=object)
+
+    def flow(idx, z, k, tol):
+        y = _flow(c2[idx], kg[idx], kth[idx], vsc[idx], z, k, tol, tally)[1]
+        return z + y[:2], np.eye(2)[:, :, None] + y[3:].reshape(3, 3, -1)[:2, :2], y[3:].reshape(3, 3, -1)[:2, 2]
+
+    _, J0, _ = flow(np.arange(N), np.zeros((2, N)), kth, crude)
+    Ms = (J0 - np.eye(2)[:, :, None]) * scale[None, :, :] / scale[:, None, :]  # M in (theta, theta'/omega0)
+    cand = np.stack([np.stack([Ms[0, 1], -1.0 - Ms[0, 0]]), np.stack([-1.0 - Ms[1, 1], Ms[1, 0]])])
+    norms = np.sqrt((cand**2).sum(axis=1))
+    e = np.where(norms[0] >= norms[1], cand[0] / norms[0], cand[1] / norms[1])  # M's eigenvector for -1
+    corrector = lambda idx, z, k, s: on_branch(lambda i, zz, kk: flow(i, zz, kk, crude), idx, z, k, s,  # noqa
+                                               scale, crude, kth, 10.0 * np.maximum(kth, kt))
+    (zc, kc), (zn, kn), (tries, steps), lost = follow(corrector, e * scale, kth, kt)
+    for k in np.flatnonzero(lost != None):  # noqa: E711
+        why[k] = f"the branch of stationary swings: {lost[k]} (a swing over the top?)"
+    tally.info["continuation_tries"], tally.info["continuation_steps"] = tries.astype(float), steps.astype(float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        z = zc + np.where(kn != kc, (kt - kc) / (kn - kc), 1.0) * (zn - zc)
+    go = np.flatnonzero(why == None)  # noqa: E711
+    theta, start = np.full(N, np.nan), np.full((2, N), np.nan)
+    if go.size == 0:
+        return theta, why, start
+    z, ok = newton(lambda i, zz, tol: flow(go[i], zz, kt[go[i]], tol)[:2], z[:, go], scale[:, go], crude, rtol)
+    why[go[~ok]] = "Newton's method for the stationary swing did not converge"
+    go, z = go[ok], z[:, ok]
+    J = flow(go, z, kt[go], rtol)[1]
+    Ms = (J - np.eye(2)[:, :, None]) * scale[None, :, go] / scale[:, None, go]
+    mult, stable, double = _half_map_moduli(Ms, -2.0 * math.pi * c2[go], rtol)
+    tally.info["swing_multiplier_max"] = np.full(N, None, dtype=object)
+    tally.info["swing_multiplier_max"][go] = mult.max(axis=0)
+    why[go[double]] = ("the swing's half-map is at a double multiplier (tr^2 - 4 det within its rounding): "
+                       "its stability cannot be decided")
+    why[go[~double & ~stable]] = "the swing found is unstable: not the one a small swing grows into"
+    turns = [BatchEvent(lambda s, y: y[1], direction=d, name="theta' = 0") for d in (-1.0, 1.0)]
+    res, _ = _flow(c2[go], kg[go], kth[go], vsc[go], z, kt[go], rtol, tally, variations=False, events=turns)
+    tops = np.abs(z[0])
+    for ye in res.y_events:  # the turning points over the first pivot period (the second mirrors it)
+        tops = np.fmax(tops, np.abs(ye[0]))
+    theta[go] = np.where(res.failed, np.nan, tops)
+    why[go[res.failed]] = "the integration of the swing failed"
+    start[0, go], start[1, go] = z[0], z[1] * Omega[go]  # theta' = Omega dtheta/ds
+    return theta, why, start
+
+
+def _half_map_moduli(M, lndet, rtol):
+    """(|multipliers| (2, N) of the half-maps -phi over one pivot period, M = D phi (2, 2, N); stable;
+    undecided) at N variants.  det M = exp(lndet), lndet = -2 delta T (Liouville: the divergence is
+    constant), so a complex pair (tr^2 < 4 det, an elliptic swing) lies inside the unit circle exactly when
+    delta > 0, even where rounding leaves its moduli at 1 (delta = 1e-300 was refused as "too weak for
+    double precision"); a real pair by its own values; a double one within M's rounding is undecided."""
+    det, tr = np.exp(lndet), M[0, 0] + M[1, 1]
+    disc = tr * tr - 4.0 * det
+    slack = 100.0 * rtol * (np.abs(tr) + 1.0) * np.abs(M).max(axis=(0, 1))  # M to ~rtol
+    cplx = disc < -slack
+    root = np.sqrt(np.maximum(tr * tr - 4.0 * (M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0]), 0.0))
+    mult = np.where(cplx, np.sqrt(det), np.abs(np.stack([tr + root, tr - root]) / 2.0))
+    stable = np.where(cplx, lndet < 0.0, mult.max(axis=0) < 1.0)
+    return mult, stable, ~cplx & (disc <= slack)
 
 
 # -- the small swings over many variants at once (a one-point solve is the batch of one) ------------------
 
-@exercise.batched(("growth", "a_th"), boundaries={"a": ("a_th", "leading-order threshold a = a_th(Ω)")})
+@exercise.batched(("growth", "a_th", "theta_st"), boundaries={"a": ("a_th", "leading-order threshold a = a_th(Ω)")})
 def small_swings(P, rtol, outputs, memo=None, tally=None):
-    """growth and a_th at N variants at once (``_trace``; a_th once per distinct (l, g, delta, Omega), kept
-    in ``memo`` across a sweep's chunks and a solve's rerun); the stationary swing (a continuation per point)
-    is ``numeric``'s alone.  The Wronskian's drift goes to ``tally`` and fails the outputs it exceeds."""
+    """growth, a_th and theta_st at N variants at once (``_trace``; a_th once per distinct (l, g, delta, Omega),
+    kept in ``memo`` across a sweep's chunks and a solve's rerun; the stationary swing where the small swings
+    grow, ``_swing``, else 0 exactly).  The Wronskian's drift goes to ``tally`` and fails the outputs it
+    exceeds."""
     from mech.solvers.numerics.batch import Column, by_rows
 
     l, g, delta, a, Omega = _arrays(P)
@@ -400,6 +394,8 @@ def small_swings(P, rtol, outputs, memo=None, tally=None):
     allowed = exercise.tol_factor * rtol
     drifted = f"the Wronskian drifted by more than {allowed:.3g}"
     out = {}
+    if "theta_st" in outputs:
+        outputs = set(outputs) | {"growth", "a_th"}
     if "growth" in outputs:
         tr, wronski = _trace(l, g, delta, a, Omega, rtol, tally)
         tally.invariant("Wronskian", wronski)
@@ -410,4 +406,23 @@ def small_swings(P, rtol, outputs, memo=None, tally=None):
                                                  lambda *c: _threshold(*c, rtol, tally))
         tally.invariant("Wronskian", drift)
         out["a_th"] = Column(v, rel=rel, failed=[(no_root, NO_ROOT), (unconv, UNCONVERGED), (drift > allowed, drifted)])
+    if "theta_st" in outputs:
+        out["theta_st"] = _swing_column(l, g, delta, a, Omega, out, rtol, tally)
     return out
+
+
+def _swing_column(l, g, delta, a, Omega, out, rtol, tally):
+    """theta_st where the small swings grow (``_swing``, claimed to the exercise's 100 rtol), 0 exactly
+    where they decay; failed where growth or a_th failed, or the swing."""
+    from mech.solvers.numerics.batch import Column
+
+    grow = out["growth"].value > 0.0
+    pairs = list(out["growth"].failed) + [(m & grow, r) for m, r in out["a_th"].failed]
+    up = np.flatnonzero(grow & ~out["growth"].mask("failed") & ~out["a_th"].mask("failed"))
+    value, rel = np.zeros(l.size), np.zeros(l.size)
+    why = np.full(l.size, None, dtype=object)
+    if up.size:
+        value[up], why[up], _ = _swing(l[up], g[up], delta[up], a[up], Omega[up], out["a_th"].value[up], rtol, tally)
+        rel[up] = exercise.tol_factor * rtol
+    pairs += [(why == r, r) for r in set(why[why != None])]  # noqa: E711
+    return Column(value, rel=rel, abs=0.0, failed=pairs)
