@@ -136,13 +136,14 @@ def _arrays(P):
 
 def _lead(P):
     """The leading-order answers over the variants: {output: values}, the folds NaN where none; and g."""
-    o0, d, al, f0 = _arrays(P)
+    o0, d, al, f0 = (P[k] for k in ("omega0", "delta", "alpha", "f0"))
     am = f0 / (2.0 * o0 * d)
     kappa = 3.0 * al / (8.0 * o0)
     g = kappa * am**2 / d
-    s = _folds(g)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        xis = np.sort(d * (g * s + 1.0 / (2.0 * g * s * s)), axis=0)
+    xis = s = _folds(np.ravel(g)).reshape((2,) + np.shape(g))
+    if not np.isnan(s).all():
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xis = np.sort(d * (g * s + 1.0 / (2.0 * g * s * s)), axis=0)
     return {"A_max": am, "xi_peak": kappa * am**2, "xi_lo": xis[0], "xi_hi": xis[1]}, g
 
 
@@ -160,7 +161,8 @@ def _expected(P):
 
     e_d, e_n = _small(P)
     lead, _ = _lead(P)
-    nx = dict(zip(("A_max", "xi_peak", "xi_lo", "xi_hi"), one_harmonic(*_arrays(P), np.isfinite(lead["xi_lo"]))))
+    nx = dict(zip(("A_max", "xi_peak", "xi_lo", "xi_hi"),
+                  one_harmonic(*(P[k] for k in ("omega0", "delta", "alpha", "f0")), np.ravel(np.isfinite(lead["xi_lo"])))))
     floor = 0.1 * e_n + 2.0 * e_d**2
     out = {}
     for name in ("A_max", "xi_peak", "xi_lo", "xi_hi"):
@@ -179,8 +181,9 @@ def _range(P):
     """The reduced equations expand in eps = |alpha| A_max^2/omega0^2 and delta/omega0 (the larger shown).
     The folds' theory also cannot tell whether the curve folds where g lies within CUSP_BAND (eps +
     delta/omega0) of g_c: there their parameter is that band over |g/g_c - 1|, 1 or more (outside)."""
+    P = dict(zip(("omega0", "delta", "alpha", "f0"), _arrays(P)))
     e_d, e_n = _small(P)
-    o0, d, al, f0 = _arrays(P)
+    f0 = P["f0"]
     label = np.where(e_n >= e_d, "|alpha| A_max^2/omega0^2", "delta/omega0").astype(object)
     out = {name: (label, np.maximum(e_n, e_d)) for name in ("A_max", "xi_peak", "xi_lo", "xi_hi")}
     g = np.abs(_g(P))
@@ -382,7 +385,8 @@ def numeric(p, run):
 
 
 def _P(P):
-    return dict(zip(("omega0", "delta", "alpha", "f0"), _arrays(P)))
+    """The parameters as arrays of their own shape (numpy's scalars at one point: cheaper than arrays of one)."""
+    return {k: np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "alpha", "f0")}
 
 
 @exercise.analytic
@@ -393,7 +397,8 @@ def analytic(P):
     lead, g = _lead(_P(P))
     out = {name: Column(v) for name, v in lead.items()}
     undef = {}  # each reason's variants
-    for k, x in zip(np.flatnonzero(np.isnan(lead["xi_lo"])), np.abs(g[np.isnan(lead["xi_lo"])])):
+    none, g = np.ravel(np.isnan(lead["xi_lo"])), np.ravel(g)
+    for k, x in zip(np.flatnonzero(none), np.abs(g[none])):
         undef.setdefault(f"no bistability: |g| = {x:.4g} is below the critical 8/(3 sqrt 3) = {G_CRIT:.4g}", []).append(k)
     for why, ks in undef.items():
         mask = np.zeros(g.size, dtype=bool)

@@ -302,21 +302,23 @@ def one_harmonic(omega0, delta, alpha, f0, where=None):
     the folds (only where ``where``): the extrema of omega along the curve, parametrized by s = A^2.  Returns
     (the peak's A, its omega - omega0, the folds' least and greatest omega - omega0), the folds NaN where this
     curve has no two."""
-    o0, d, al, f0 = (np.ravel(np.asarray(v, dtype=float)) for v in (omega0, delta, alpha, f0))
+    o0, d, al, f0 = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (omega0, delta, alpha, f0)))
     w = o0
     for _ in range(60):  # at a fixed point to the last bit every further pass gives the same: stop there
         A = f0 / (2.0 * d * np.sqrt(w * w + d * d))
         w, last = np.sqrt(np.maximum(o0 * o0 + 0.75 * al * A * A - 2.0 * d * d, 1e-300)), w
         if np.array_equal(w, last):
             break
-    out = [A, w - o0, np.full(o0.size, np.nan), np.full(o0.size, np.nan)]
+    out = [A, w - o0, np.full(o0.size, np.nan), np.full(o0.size, np.nan)]  # the folds flat
     rows = np.flatnonzero(np.ones(o0.size, dtype=bool) if where is None else where)
     if not rows.size:
         return out
+    o0, d, al, f0 = (np.ravel(v) for v in (o0, d, al, f0))
     # s = A^2 (1 - u), u geometric: the upper fold lies within (delta/omega0)^2 of the tip at high Q
     # the tip, where the two branches meet: f0^2 = 4 delta^2 s (omega0^2 + 3 alpha s/4)
     o0, d, al, f0 = o0[rows], d[rows], al[rows], f0[rows]
-    s_top = 2.0 * f0 * f0 / (4.0 * d * d * o0 * o0 + np.sqrt(16.0 * d**4 * o0**4 + 12.0 * al * d * d * f0 * f0))
+    d4o4 = np.float_power(d, 4) * np.float_power(o0, 4)  # pow's, as for one float (an array's x**4 differs in ulps)
+    s_top = 2.0 * f0 * f0 / (4.0 * d * d * o0 * o0 + np.sqrt(16.0 * d4o4 + 12.0 * al * d * d * f0 * f0))
 
     def omega(r, i):  # both halves of the curve (r = 2 k + half), 20 passes of its fixed point, at s_i
         k, sign = r // 2, np.where(r % 2 == 0, 1.0, -1.0)

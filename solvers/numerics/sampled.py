@@ -2,7 +2,8 @@
 evaluating every sample, and roots of monotonic functions by safeguarded Newton.
 
 ``sparse_samples`` evaluates a pointwise function of (row, grid index) on every ``stride``-th index and then
-on every index of the strides next to a sampled extremum, to a NaN sample (a gap) or to a row's end, and of
+on every index of the strides next to a sampled extremum, to the edge of a run of NaN samples (a gap; not
+within one) or to a row's end, and of
 the strides next to a least coarse step (a dent: two extrema within a stride), and of the strides a caller
 marks dense: elsewhere the row is NaN.  Where a row is monotonic between its extrema on
 the grid's scale (no wiggles within a stride), each discrete extremum of the full row has its two neighbours
@@ -26,9 +27,10 @@ def sparse_samples(fn, rows: int, n: int, stride: int, dense=None):
     xc = fn(r, np.tile(coarse, rows)).reshape(rows, coarse.size)
     d = np.diff(xc, axis=1)
     mark = np.zeros((rows, coarse.size), dtype=bool)  # sampled points whose strides either side go whole
-    mark[:, 1:-1] = ~(d[:, :-1] * d[:, 1:] > 0)  # an extremum, a flat step or a NaN neighbour
+    gap = np.isnan(xc)
+    # an extremum, a flat step or a gap's edge (not the inside of a gap)
+    mark[:, 1:-1] = ~(d[:, :-1] * d[:, 1:] > 0) & ~(gap[:, :-2] & gap[:, 1:-1] & gap[:, 2:])
     mark[:, [0, -1]] = True
-    mark |= np.isnan(xc)
     whole = mark[:, :-1] | mark[:, 1:]
     # a pair of extrema within one stride dents the coarse steps: the strides about each least |step| go whole
     mag = np.abs(d)
