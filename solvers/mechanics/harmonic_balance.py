@@ -46,7 +46,7 @@ import numpy as np
 
 from mech.core import budget
 from mech.solvers.numerics.batch import illinois
-from mech.solvers.numerics.sampled import sparse_samples, vertices
+from mech.solvers.numerics.sampled import sparse_extrema
 
 __all__ = ["DuffingBalance", "BranchValues", "grid_brackets", "roots_along", "least_slope", "hermite_stationary",
            "narrowed", "branch_value", "one_harmonic"]
@@ -329,8 +329,10 @@ def one_harmonic(omega0, delta, alpha, f0, where=None):
             ws = np.sqrt(np.maximum(c + sign * np.sqrt(np.maximum(arg, 0.0)), 1e-300))
         return np.where(arg > 0, ws - w0, np.nan)
 
-    ext = vertices(sparse_samples(omega, 2 * rows.size, _U.size, 25)).reshape(rows.size, -1)
-    two = np.sum(np.isfinite(ext), axis=1) >= 2  # the outermost: round-off wiggles near the tip can add more
-    out[2][rows[two]] = np.nanmin(ext[two], axis=1)
-    out[3][rows[two]] = np.nanmax(ext[two], axis=1)
+    r, ext = sparse_extrema(omega, 2 * rows.size, _U.size, 25)
+    lo, hi = np.full(rows.size, np.inf), np.full(rows.size, -np.inf)
+    np.minimum.at(lo, r // 2, ext)
+    np.maximum.at(hi, r // 2, ext)
+    two = np.bincount(r // 2, minlength=rows.size) >= 2  # the outermost: round-off wiggles near the tip can add more
+    out[2][rows[two]], out[3][rows[two]] = lo[two], hi[two]
     return out

@@ -18,7 +18,8 @@ import numpy as np
 
 def sparse_samples(fn, rows: int, n: int, stride: int, dense=None):
     """fn(r, i) -> values at rows r and grid indices i (flat int arrays); (rows, n) with NaN where not
-    evaluated.  ``dense``: (rows, n // stride) bool, strides to evaluate whole (beside the automatic ones)."""
+    evaluated, and the strides evaluated whole (their rows, first and last indices).  ``dense``: (rows,
+    strides) bool, strides to evaluate whole (beside the automatic ones)."""
     coarse = np.arange(0, n, stride)
     if coarse[-1] != n - 1:
         coarse = np.append(coarse, n - 1)
@@ -49,7 +50,18 @@ def sparse_samples(fn, rows: int, n: int, stride: int, dense=None):
         idx = np.repeat(coarse[jj] + 1 - np.cumsum(np.r_[0, lens[:-1]]), lens) + np.arange(lens.sum())
         rows_flat = np.repeat(rr, lens)
         out[rows_flat, idx] = fn(rows_flat, idx)
-    return out
+    return out, (rr, coarse[jj], coarse[jj + 1])
+
+
+def sparse_extrema(fn, rows: int, n: int, stride: int, dense=None):
+    """``vertices`` of ``sparse_samples``' rows, computed only over the strides evaluated whole (each index in
+    one: a stride's own indices past its left end, with its neighbours): (the row, the vertex) of each."""
+    x, (rr, a, b) = sparse_samples(fn, rows, n, stride, dense)
+    cols = a[:, None] + np.arange(stride + 2)
+    win = np.where(cols <= np.minimum(b + 1, n - 1)[:, None], x[rr[:, None], np.minimum(cols, n - 1)], np.nan)
+    v = vertices(win)
+    hit = np.isfinite(v)
+    return np.broadcast_to(rr[:, None], v.shape)[hit], v[hit]
 
 
 def vertices(x):
