@@ -303,11 +303,11 @@ def one_harmonic(omega0, delta, alpha, f0, where=None):
     (the peak's A, its omega - omega0, the folds' least and greatest omega - omega0), the folds NaN where this
     curve has no two."""
     o0, d, al, f0 = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (omega0, delta, alpha, f0)))
-    w = o0
+    w, d2, dd, oo, q, r = o0, 2.0 * d, d * d, o0 * o0, 0.75 * al, 2.0 * d * d
     for _ in range(60):  # at a fixed point to the last bit every further pass gives the same: stop there
-        A = f0 / (2.0 * d * np.sqrt(w * w + d * d))
-        w, last = np.sqrt(np.maximum(o0 * o0 + 0.75 * al * A * A - 2.0 * d * d, 1e-300)), w
-        if np.array_equal(w, last):
+        A = f0 / (d2 * np.sqrt(w * w + dd))
+        w, last = np.sqrt(np.maximum(oo + q * A * A - r, 1e-300)), w
+        if (w == last).all():
             break
     out = [A, w - o0, np.full(o0.size, np.nan), np.full(o0.size, np.nan)]  # the folds flat
     rows = np.flatnonzero(np.ones(o0.size, dtype=bool) if where is None else where)
