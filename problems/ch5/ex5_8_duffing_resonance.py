@@ -33,7 +33,7 @@ f0/(2 omega0 delta), the detuning by delta.  Issue 41: the one-period map's cont
 at f0 = 0.0163277: an iterate 25 times off the branch; long integrations there find one symmetric response
 (tests/test_ex5_8_shooting.py, scripts/duffing_symmetry.py).
 
-Allowances (``_expected_at``, from the next order: one harmonic without the rotating-wave linearization).
+Allowances (``_expected``, from the next order: one harmonic without the rotating-wave linearization).
 """
 
 from __future__ import annotations
@@ -43,7 +43,6 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure, Undefined
-from mech.solvers.numerics.roots import bracketed_root
 
 exercise = Exercise(
     "5.8",
@@ -70,13 +69,15 @@ G_MAX = 100.0
 
 
 def _small(p):
-    am = p.f0 / (2.0 * p.omega0 * p.delta)
-    return p.delta / p.omega0, abs(p.alpha) * am**2 / p.omega0**2
+    o0, d, al, f0 = p["omega0"], p["delta"], p["alpha"], p["f0"]
+    am = f0 / (2.0 * o0 * d)
+    return d / o0, abs(al) * am**2 / o0**2
 
 
 def _g(p):
-    am = p.f0 / (2.0 * p.omega0 * p.delta)
-    return 3.0 * p.alpha / (8.0 * p.omega0) * am**2 / p.delta
+    o0, d, al, f0 = p["omega0"], p["delta"], p["alpha"], p["f0"]
+    am = f0 / (2.0 * o0 * d)
+    return 3.0 * al / (8.0 * o0) * am**2 / d
 
 
 exercise.declare_limits(
@@ -103,109 +104,98 @@ def constraint(p):
 
 
 def _folds(g):
-    """The two roots s of s^3 (1 - s) = 1/(4 g^2), or None below the critical |g|."""
-    D = 27.0 / 256.0 - 1.0 / (4.0 * g * g)
-    if D <= 0.0:
-        return None
-    roots = []
-    for lo, hi in ((-0.75, 0.0), (0.0, 0.25)):
-        # t^2 ((1 + t)^2 + 1/8) = D is monotonic on each bracket: bisection to the last bit
-        roots.append(0.75 + bracketed_root(lambda t: t * t * ((1.0 + t) ** 2 + 0.125) - D, lo, hi))
-    return roots
-
-
-def _analytic_at(p):
-    """The leading-order answers at one point (``analytic`` runs it for each variant)."""
-    am = p.f0 / (2.0 * p.omega0 * p.delta)
-    kappa = 3.0 * p.alpha / (8.0 * p.omega0)
-    out = {"A_max": am, "xi_peak": kappa * am**2}
-    g = kappa * am**2 / p.delta
-    roots = _folds(g) if g != 0.0 else None
-    if roots is None:
-        why = f"no bistability: |g| = {abs(g):.4g} is below the critical 8/(3 sqrt 3) = {G_CRIT:.4g}"
-        out["xi_lo"] = out["xi_hi"] = Undefined(why)
-    else:
-        xis = sorted(p.delta * (g * s + 1.0 / (2.0 * g * s * s)) for s in roots)
-        out["xi_lo"], out["xi_hi"] = xis
+    """The two roots s of s^3 (1 - s) = 1/(4 g^2) per variant ((2, N), NaN below the critical |g|), by Newton's
+    method from where it converges monotonically (the function convex, the start on its far side).  Either side
+    of the cusp's s = 3/4 in t = s - 3/4: t^2 ((1 + t)^2 + 1/8) = 27/256 - 1/(4 g^2) = D, without the
+    cancellation near the cusp (from t = min(sqrt(D/1.125), 1/4) above, and max(-sqrt(D/0.6875), -1/4) below,
+    where t^2 ((1 + t)^2 + 1/8) lies between 0.6875 t^2 and 1.125 t^2); a root below s = 1/2 in s itself, where
+    3/4 + t would cancel (from min((2c)^(1/3), 1/2), c = 1/(4 g^2))."""
+    c = np.divide(1.0, 4.0 * g * g, out=np.full(g.shape, np.inf), where=g != 0)
+    out = np.full((2, g.size), np.nan)
+    ok = np.flatnonzero(27.0 / 256.0 - c > 0.0)
+    if not ok.size:
+        return out
+    c = c[ok]
+    D = 27.0 / 256.0 - c
+    low = c <= 1.0 / 16.0  # the lower root at s <= 1/2
+    # a quartic a4 x^4 + a3 x^3 + a2 x^2 + a0 a row: the upper roots in t, then the lower ones (in t or s)
+    a4, a3, a2 = (np.concatenate([np.full(ok.size, u), np.where(low, v, u)]) for u, v in ((1.0, -1.0), (2.0, 1.0), (1.125, 0.0)))
+    a0 = -np.concatenate([D, np.where(low, c, D)])
+    x = np.concatenate([np.minimum(np.sqrt(D / 1.125), 0.25),
+                        np.where(low, np.minimum(np.cbrt(2.0 * c), 0.5), np.maximum(-np.sqrt(D / 0.6875), -0.25))])
+    for _ in range(8):  # from within 28 % of the root: the 8th step moves it by less than an ulp
+        x = x - (((a4 * x + a3) * x + a2) * x * x + a0) / (((4.0 * a4 * x + 3.0 * a3) * x + 2.0 * a2) * x)
+    out[1, ok] = 0.75 + x[:ok.size]
+    out[0, ok] = np.where(low, x[ok.size:], 0.75 + x[ok.size:])
     return out
 
 
-def _harmonic_balance(p):
-    """The next order: one harmonic, q = A cos(omega t - phi), balanced without the rotating-wave
-    linearization (omega^2 - omega0^2 kept whole, the drag 2 delta omega):
-        A^2 [(omega0^2 - omega^2 + 3 alpha A^2/4)^2 + 4 delta^2 omega^2] = f0^2
-    (Nayfeh & Mook, Nonlinear Oscillations, sec. 4.1; Landau & Lifshitz, Mechanics, sec. 29).  The peak
-    (dA/domega = 0): omega0^2 - omega^2 + 3 alpha A^2/4 = 2 delta^2, A = f0/(2 delta sqrt(omega^2 + delta^2));
-    the folds: the extrema of omega along the curve, parametrized by s = A^2.  Returns {output: value}, the
-    folds None where this curve has no two."""
-    o0, d, al, f0 = p.omega0, p.delta, p.alpha, p.f0
-    w = o0
-    for _ in range(60):
-        A = f0 / (2.0 * d * math.sqrt(w * w + d * d))
-        w = math.sqrt(max(o0 * o0 + 0.75 * al * A * A - 2.0 * d * d, 1e-300))
-    out = {"A_max": A, "xi_peak": w - o0, "xi_lo": None, "xi_hi": None}
-    # s = A^2 (1 - u), u geometric: the upper fold lies within (delta/omega0)^2 of the tip at high Q
-    # the tip, where the two branches meet: f0^2 = 4 delta^2 s (omega0^2 + 3 alpha s/4)
-    s_top = 2.0 * f0 * f0 / (4.0 * d * d * o0 * o0 + math.sqrt(16.0 * d**4 * o0**4 + 12.0 * al * d * d * f0 * f0))
-    s = (1.0 - np.geomspace(0.999, 1e-8, 6001)) * s_top
-    ext = []
-    sign = np.array([[1.0], [-1.0]])  # both halves of the curve at once, row by row
-    ws = np.full((2, s.size), o0)
-    for _ in range(20):
-        arg = f0 * f0 / s - 4.0 * d * d * ws * ws
-        ws = np.sqrt(np.maximum(o0 * o0 + 0.75 * al * s + sign * np.sqrt(np.maximum(arg, 0.0)), 1e-300))
-    for x in np.where(arg > 0, ws - o0, np.nan):
-        dx = np.diff(x)
-        for i in np.flatnonzero(dx[:-1] * dx[1:] < 0) + 1:
-            y0, y1, y2 = x[i - 1], x[i], x[i + 1]
-            curv = y0 - 2.0 * y1 + y2
-            ext.append(float(y1 - 0.125 * (y2 - y0) ** 2 / curv) if curv != 0 else float(y1))
-    if len(ext) >= 2:  # the outermost: a pair of round-off wiggles near the tip can add two more
-        out["xi_lo"], out["xi_hi"] = min(ext), max(ext)
-    return out
+def _arrays(P):
+    return tuple(np.ravel(np.asarray(P[k], dtype=float)) for k in ("omega0", "delta", "alpha", "f0"))
 
 
-def _expected_at(p):
-    """Allowances at one point (``expected_error`` runs it for each variant), one line each, from the next order (``_harmonic_balance``: the relative change est of
+def _lead(P):
+    """The leading-order answers over the variants: {output: values}, the folds NaN where none; and g."""
+    o0, d, al, f0 = (P[k] for k in ("omega0", "delta", "alpha", "f0"))
+    am = f0 / (2.0 * o0 * d)
+    kappa = 3.0 * al / (8.0 * o0)
+    g = kappa * am**2 / d
+    xis = s = _folds(np.ravel(g)).reshape((2,) + np.shape(g))
+    if not np.isnan(s).all():
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xis = np.sort(d * (g * s + 1.0 / (2.0 * g * s * s)), axis=0)
+    return {"A_max": am, "xi_peak": kappa * am**2, "xi_lo": xis[0], "xi_hi": xis[1]}, g
+
+
+def _expected(P):
+    """Allowances over the variants, from the next order (``one_harmonic``: q = A cos(omega t - phi) balanced
+    without the rotating-wave linearization, its peak and folds; Nayfeh & Mook, sec. 4.1): the relative change est of
     each output against the leading order; measured within 0.03-0.1 eps of the exact periodic orbits at the
     defaults and hard cases, eps = |alpha| A_max^2/omega0^2):
       A_max, xi_peak  2 |est| + 0.1 eps + 2 (delta/omega0)^2 (xi's est holds the linear -delta^2/omega0); at
                alpha = 0, where xi's leading value is 0, absolute: 2 |xi_est| + (0.1 eps + 2 (delta/omega0)^2) delta;
       xi_lo, xi_hi  2 |est| + 0.1 eps + 2 (delta/omega0)^2; where the next order finds no two folds (near the
-               cusp), the bound 3 eps + 3 delta/omega0 (measured coefficients 1.0 and 0.7)."""
-    e_d, e_n = _small(p)
-    lead = _analytic_at(p)
-    nx = _harmonic_balance(p)
+               cusp), the bound 3 eps + 3 delta/omega0 (measured coefficients 1.0 and 0.7).
+    {output: (relative, absolute)}, NaN where none (the folds' where the leading order has none)."""
+    from mech.solvers.mechanics.harmonic_balance import one_harmonic
+
+    e_d, e_n = _small(P)
+    lead, _ = _lead(P)
+    nx = dict(zip(("A_max", "xi_peak", "xi_lo", "xi_hi"),
+                  one_harmonic(*(P[k] for k in ("omega0", "delta", "alpha", "f0")), np.ravel(np.isfinite(lead["xi_lo"])))))
     floor = 0.1 * e_n + 2.0 * e_d**2
     out = {}
     for name in ("A_max", "xi_peak", "xi_lo", "xi_hi"):
-        a = lead[name]
-        if isinstance(a, Undefined):
-            continue
-        if name == "xi_peak" and a == 0 and nx[name] is not None:
-            # alpha = 0: no shift at leading order; the linear resonance's -delta^2/omega0 is the next order's
-            out[name] = (None, 2.0 * abs(nx[name]) + floor * p.delta)
-        elif nx[name] is None or a == 0:
-            out[name] = 3.0 * e_n + 3.0 * e_d
-        else:
-            out[name] = 2.0 * abs(nx[name] / a - 1.0) + floor
+        a, b = lead[name], nx[name]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rel = np.where(np.isnan(b) | (a == 0), 3.0 * e_n + 3.0 * e_d, 2.0 * np.abs(b / a - 1.0) + floor)
+        ab = np.full(a.size, np.nan)
+        if name == "xi_peak":  # alpha = 0: no shift at leading order; the linear resonance's -delta^2/omega0 is the next order's
+            zero = (a == 0) & ~np.isnan(b)
+            rel, ab = np.where(zero, np.nan, rel), np.where(zero, 2.0 * np.abs(b) + floor * np.asarray(P["delta"], dtype=float), np.nan)
+        out[name] = (np.where(np.isnan(a), np.nan, rel), ab)
     return out
 
 
-def _range_at(p):
-    """At one point (``theory_range`` runs it for each variant): the reduced equations expand in eps = |alpha| A_max^2/omega0^2 and delta/omega0 (the larger shown).
+def _range(P):
+    """The reduced equations expand in eps = |alpha| A_max^2/omega0^2 and delta/omega0 (the larger shown).
     The folds' theory also cannot tell whether the curve folds where g lies within CUSP_BAND (eps +
     delta/omega0) of g_c: there their parameter is that band over |g/g_c - 1|, 1 or more (outside)."""
-    e_d, e_n = _small(p)
-    big = ("|alpha| A_max^2/omega0^2", e_n) if e_n >= e_d else ("delta/omega0", e_d)
-    out = {name: big for name in ("A_max", "xi_peak", "xi_lo", "xi_hi")}
-    near = abs(abs(_g(p)) / G_CRIT - 1.0)
+    P = dict(zip(("omega0", "delta", "alpha", "f0"), _arrays(P)))
+    e_d, e_n = _small(P)
+    f0 = P["f0"]
+    label = np.where(e_n >= e_d, "|alpha| A_max^2/omega0^2", "delta/omega0").astype(object)
+    out = {name: (label, np.maximum(e_n, e_d)) for name in ("A_max", "xi_peak", "xi_lo", "xi_hi")}
+    g = np.abs(_g(P))
+    near = np.abs(g / G_CRIT - 1.0)
     band = CUSP_BAND * (e_n + e_d)
-    if near <= band:
-        cusp = (f"{CUSP_BAND:g} (eps + delta/omega0)/|g/g_c - 1|, the theory's error over the force's distance "
-                f"from the critical f0 = {p.f0 * math.sqrt(G_CRIT / abs(_g(p))):.6g} m/s^2",
-                band / near if near > 0 else math.inf)
-        out["xi_lo"] = out["xi_hi"] = cusp
+    cusp = near <= band
+    if cusp.any():
+        with np.errstate(divide="ignore"):
+            lab, val = label.copy(), np.where(cusp, np.where(near > 0, band / near, math.inf), out["xi_lo"][1])
+        lab[cusp] = [f"{CUSP_BAND:g} (eps + delta/omega0)/|g/g_c - 1|, the theory's error over the force's distance "
+                     f"from the critical f0 = {x:.6g} m/s^2" for x in f0[cusp] * np.sqrt(G_CRIT / g[cusp])]
+        out["xi_lo"] = out["xi_hi"] = (lab, val)
     return out
 
 
@@ -394,47 +384,41 @@ def numeric(p, run):
     return out
 
 
-def _rows(fn, P):
-    """A one-point function run for each variant of P (closed forms and a short fixed-point iteration)."""
-    from mech.problems.spec import Params
-
-    n = np.size(np.asarray(P["f0"]))
-    return [fn(Params({k: float(np.ravel(np.asarray(v))[i]) for k, v in P.items()})) for i in range(n)]
+def _P(P):
+    """The parameters as arrays of their own shape (numpy's scalars at one point: cheaper than arrays of one)."""
+    return {k: np.asarray(P[k], dtype=float) for k in ("omega0", "delta", "alpha", "f0")}
 
 
 @exercise.analytic
 def analytic(P):
-    """``_analytic_at`` over the variants: {output: Column}, each undefined variant with its own reason."""
+    """The leading-order answers over the variants: {output: Column}, each undefined variant with its reason."""
     from mech.solvers.numerics.batch import Column
 
-    rows = _rows(_analytic_at, P)
-    out = {}
-    for name in rows[0]:
-        vals = np.array([r[name] if isinstance(r[name], float) else math.nan for r in rows])
-        col = Column(vals)
-        for why in dict.fromkeys(r[name].why for r in rows if isinstance(r[name], Undefined)):
-            col.undefined.append((np.array([isinstance(r[name], Undefined) and r[name].why == why for r in rows]),
-                                  why))
-        out[name] = col
+    lead, g = _lead(_P(P))
+    out = {name: Column(v) for name, v in lead.items()}
+    undef = {}  # each reason's variants
+    none, g = np.ravel(np.isnan(lead["xi_lo"])), np.ravel(g)
+    for k, x in zip(np.flatnonzero(none), np.abs(g[none])):
+        undef.setdefault(f"no bistability: |g| = {x:.4g} is below the critical 8/(3 sqrt 3) = {G_CRIT:.4g}", []).append(k)
+    for why, ks in undef.items():
+        mask = np.zeros(g.size, dtype=bool)
+        mask[ks] = True
+        out["xi_lo"].undefined.append((mask, why))
+        out["xi_hi"].undefined.append((mask, why))
     return out
 
 
 @exercise.expected_error
 def expected_error(P):
-    """``_expected_at`` over the variants: {output: (relative, absolute) arrays}, NaN where it gives none
-    (an absolute part only where the leading-order value is 0: xi_peak at alpha = 0)."""
-    rows = [{k: e if isinstance(e, tuple) else (e, None) for k, e in r.items()} for r in _rows(_expected_at, P)]
-    both = {k: np.array([r.get(k, (None, None)) for r in rows], dtype=float).reshape(-1, 2) for k in
-            ("A_max", "xi_peak", "xi_lo", "xi_hi")}  # None: NaN, none given
-    return {k: (b[:, 0], b[:, 1]) for k, b in both.items()}
+    """``_expected``: {output: (relative, absolute) arrays}, NaN where it gives none (an absolute part only
+    where the leading-order value is 0: xi_peak at alpha = 0)."""
+    return _expected(_P(P))
 
 
 @exercise.theory_range
 def theory_range(P):
-    """``_range_at`` over the variants: {output: (a label per variant, values)}."""
-    rows = _rows(_range_at, P)
-    return {k: (np.array([r[k][0] for r in rows], dtype=object), np.array([float(r[k][1]) for r in rows]))
-            for k in rows[0]}
+    """``_range``: {output: (a label per variant, values)}."""
+    return _range(_P(P))
 
 
 @exercise.batched(("A_max", "xi_peak", "xi_lo", "xi_hi"))

@@ -31,6 +31,9 @@ grid of phases), ``hermite_stationary`` (a start inside a bracket from the grid'
 ``narrowed`` (a short bracket around that start), ``roots_along`` (Illinois on dA/dphi or dw/dphi),
 ``least_slope`` (the least dw/dphi between two phases: near a cusp both folds lie between grid phases).
 
+``one_harmonic``: the fundamental alone (no rotating-wave linearization), its peak and folds: an estimate,
+a next order over the rotating-wave one, on a fixed grid along the curve.
+
 No physics of one exercise lives here; numpy only.
 """
 
@@ -43,9 +46,10 @@ import numpy as np
 
 from mech.core import budget
 from mech.solvers.numerics.batch import illinois
+from mech.solvers.numerics.sampled import sparse_extrema
 
 __all__ = ["DuffingBalance", "BranchValues", "grid_brackets", "roots_along", "least_slope", "hermite_stationary",
-           "narrowed", "branch_value"]
+           "narrowed", "branch_value", "one_harmonic"]
 
 NOISE = 1e-14  # |dA/dphi| or |dw/dphi| (over max(1, |w|)) taken for zero: their round-off is ~3e-15
 
@@ -283,3 +287,52 @@ def branch_value(v, which):
     Newton failed (the caller keeps that failure)."""
     y = np.where(which == 0, v.dA, v.dw)
     return np.where(v.ok & (np.abs(y) > NOISE * np.maximum(1.0, np.abs(v.w))), y, 0.0)
+
+
+_U = 1.0 - np.geomspace(0.999, 1e-8, 6001)  # the fold search's grid in s/s_top (``one_harmonic``)
+
+
+def one_harmonic(omega0, delta, alpha, f0, where=None):
+    """q'' + 2 delta q' + omega0^2 q + alpha q^3 = f0 cos(omega t) in one harmonic over arrays of problems:
+    q = A cos(omega t - phi) balanced without the rotating-wave linearization (omega^2 - omega0^2 kept whole,
+    the drag 2 delta omega):
+        A^2 [(omega0^2 - omega^2 + 3 alpha A^2/4)^2 + 4 delta^2 omega^2] = f0^2
+    (Nayfeh & Mook, Nonlinear Oscillations, sec. 4.1; Landau & Lifshitz, Mechanics, sec. 29).  The peak
+    (dA/domega = 0): omega0^2 - omega^2 + 3 alpha A^2/4 = 2 delta^2, A = f0/(2 delta sqrt(omega^2 + delta^2));
+    the folds (only where ``where``): the extrema of omega along the curve, parametrized by s = A^2.  Returns
+    (the peak's A, its omega - omega0, the folds' least and greatest omega - omega0), the folds NaN where this
+    curve has no two."""
+    o0, d, al, f0 = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (omega0, delta, alpha, f0)))
+    w, d2, dd, oo, q, r = o0, 2.0 * d, d * d, o0 * o0, 0.75 * al, 2.0 * d * d
+    for _ in range(60):  # at a fixed point to the last bit every further pass gives the same: stop there
+        A = f0 / (d2 * np.sqrt(w * w + dd))
+        w, last = np.sqrt(np.maximum(oo + q * A * A - r, 1e-300)), w
+        if (w == last).all():
+            break
+    out = [A, w - o0, np.full(o0.size, np.nan), np.full(o0.size, np.nan)]  # the folds flat
+    rows = np.flatnonzero(np.ones(o0.size, dtype=bool) if where is None else where)
+    if not rows.size:
+        return out
+    o0, d, al, f0 = (np.ravel(v) for v in (o0, d, al, f0))
+    # s = A^2 (1 - u), u geometric: the upper fold lies within (delta/omega0)^2 of the tip at high Q
+    # the tip, where the two branches meet: f0^2 = 4 delta^2 s (omega0^2 + 3 alpha s/4)
+    o0, d, al, f0 = o0[rows], d[rows], al[rows], f0[rows]
+    d4o4 = np.float_power(d, 4) * np.float_power(o0, 4)  # pow's, as for one float (an array's x**4 differs in ulps)
+    s_top = 2.0 * f0 * f0 / (4.0 * d * d * o0 * o0 + np.sqrt(16.0 * d4o4 + 12.0 * al * d * d * f0 * f0))
+
+    def omega(r, i):  # both halves of the curve (r = 2 k + half), 20 passes of its fixed point, at s_i
+        k, sign = r // 2, np.where(r % 2 == 0, 1.0, -1.0)
+        s, w0, dd, a, ff = _U[i] * s_top[k], o0[k], d[k], al[k], f0[k]
+        ws, fs, d4, c = w0, ff * ff / s, 4.0 * dd * dd, w0 * w0 + 0.75 * a * s
+        for _ in range(20):
+            arg = fs - d4 * ws * ws
+            ws = np.sqrt(np.maximum(c + sign * np.sqrt(np.maximum(arg, 0.0)), 1e-300))
+        return np.where(arg > 0, ws - w0, np.nan)
+
+    r, ext = sparse_extrema(omega, 2 * rows.size, _U.size, 25)
+    lo, hi = np.full(rows.size, np.inf), np.full(rows.size, -np.inf)
+    np.minimum.at(lo, r // 2, ext)
+    np.maximum.at(hi, r // 2, ext)
+    two = np.bincount(r // 2, minlength=rows.size) >= 2  # the outermost: round-off wiggles near the tip can add more
+    out[2][rows[two]], out[3][rows[two]] = lo[two], hi[two]
+    return out
