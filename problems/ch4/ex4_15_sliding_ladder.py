@@ -153,7 +153,6 @@ def numeric(P, rtol, outputs, tally=None):
     (``_units``), stopped where its wall's force falls through zero (an event per variant on the ensemble's
     continuous extension); the energy's drift and the time of the loss of contact reported to ``tally``."""
     from mech.problems.spec import Tally
-    from mech.solvers.mechanics.variants import follow
     from mech.solvers.numerics.batch import BatchEvent, Column
 
     tally = Tally() if tally is None else tally
@@ -161,7 +160,7 @@ def numeric(P, rtol, outputs, tally=None):
     a_s, w_s = _units(theta0)
     theta, omega = _start(theta0)
     y0 = np.stack([theta / a_s, omega / w_s])
-    got = follow(lambda sel: _rhs(a_s[sel], w_s[sel]), (0.0, T_MAX), y0, rtol=rtol, atol=1e-3 * rtol, tally=tally,
+    got = tally.follow(lambda sel: _rhs(a_s[sel], w_s[sel]), (0.0, T_MAX), y0, rtol=rtol, atol=1e-3 * rtol,
                  events=[BatchEvent(_wall(a_s, w_s), direction=-1.0, terminal=True, name="N_wall = 0")])
     t_c = got.t_events[0]
     why = np.where((got.why == "") & ~np.isfinite(t_c), "the wall did not let go within the run", got.why)

@@ -120,7 +120,6 @@ def _shot(x_a, a, b, rtol, tally):
     f'(b) = 0: g = 1, g' = 0) to the balloon (s = ln(a/b)), with its three energy integrals, at N variants at
     once (``variants.follow``; inward the dominant solution 1/r^2 grows: no cancellation).  Returns (end
     states 6 x N, -s_a, failures)."""
-    from mech.solvers.mechanics.variants import follow
 
     # s_a < 0, for a thin layer from a - b (exact), so the layer keeps its width
     with np.errstate(all="ignore"):
@@ -131,7 +130,7 @@ def _shot(x_a, a, b, rtol, tally):
     short = np.minimum(-s_a, 1.0)
     size = np.stack([np.ones(N), 1e-3 * short, x_a, 1e-3 * short * x_a, 1e-3 * short * x_a**3,
                      1e-3 * short * x_a**3])
-    got = follow(lambda sel: _rhs(s_a[sel]), (0.0, 1.0), y0, rtol=rtol, atol=1e-3 * rtol * size, tally=tally)
+    got = tally.follow(lambda sel: _rhs(s_a[sel]), (0.0, 1.0), y0, rtol=rtol, atol=1e-3 * rtol * size)
     return got.y_end, -s_a, got.why
 
 

@@ -164,7 +164,6 @@ def numeric(P, rtol, outputs, tally=None):
     rotating-frame accelerations and the rod's reaction from the state at the end, the lab acceleration by the
     frame transformation; the Jacobi integral's drift and the transverse coordinate reported to ``tally``."""
     from mech.problems.spec import Tally
-    from mech.solvers.mechanics.variants import follow
     from mech.solvers.numerics.batch import Column
 
     tally = Tally() if tally is None else tally
@@ -180,8 +179,8 @@ def numeric(P, rtol, outputs, tally=None):
     y = y0.copy()
     if run.size:
         atol = 1e-3 * rtol * np.exp(-k[run] * tau_end[run]) * np.ones((4, 1))
-        got = follow(lambda sel: _rhs(k[run][sel], tau_end[run][sel]), (0.0, 1.0), y0[:, run], rtol=rtol, atol=atol,
-                     tally=tally)
+        got = tally.follow(lambda sel: _rhs(k[run][sel], tau_end[run][sel]), (0.0, 1.0), y0[:, run], rtol=rtol,
+                           atol=atol)
         y[:, run], why_run = got.y_end, got.why
     else:
         why_run = np.array([], dtype=object)

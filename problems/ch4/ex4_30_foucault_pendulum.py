@@ -150,7 +150,6 @@ def _turning_points(c2, k, rtol, tally):
     events on the ensemble's continuous extension; the equations are autonomous, so each leg starts at 0.
     Returns (times and states of the far points, the release at t = 0 first: (H + 1,), (H + 1, 4, N); of the
     near ones; the worst energy and angular momentum drifts at them; failures)."""
-    from mech.solvers.mechanics.variants import follow
     from mech.solvers.numerics.batch import BatchEvent
 
     N = c2.size
@@ -166,8 +165,8 @@ def _turning_points(c2, k, rtol, tally):
         go = np.flatnonzero(why == "")
         if not go.size:
             break
-        got = follow(lambda sel: _rhs(c2[go][sel], k[go][sel]), (0.0, LEG), y_far[j][:, go], rtol=rtol,
-                     atol=atol[:, go], tally=tally, events=events)
+        got = tally.follow(lambda sel: _rhs(c2[go][sel], k[go][sel]), (0.0, LEG), y_far[j][:, go], rtol=rtol,
+                     atol=atol[:, go], events=events)
         why[go] = got.why
         lost = (got.why == "") & ~(np.isfinite(got.t_events[0]) & np.isfinite(got.t_events[1]))
         why[go[lost]] = f"too few turning points in {H} half-swings: none within {LEG:g}/(w0 + |w_z|)"

@@ -190,14 +190,12 @@ def _legs(wn, wu, small, rtol, tally):
     as the independent variable, sigma in [0, 1] from z(1) down to z = 0 (dz/dsigma = -z(1); the body falls
     at about 2 h/T0 there), the time carried as a seventh state.  So the landing is the end of a fixed span,
     no event to locate.  Returns (states 7 x N at the ground: x, y, z, vx, vy, vz, tau; failures)."""
-    from mech.solvers.mechanics.variants import follow
 
     N = wn.size
     atol = 1e-3 * rtol * np.stack([small, small, np.ones(N), small, small, np.ones(N), np.ones(N)])
     y0 = np.zeros((6, N))
     y0[2] = 1.0
-    got = follow(lambda sel: (lambda t, y: _rates(y, wn[sel], wu[sel])), (0.0, 1.0), y0, rtol=rtol, atol=atol[:6],
-                 tally=tally)
+    got = tally.follow(lambda sel: (lambda t, y: _rates(y, wn[sel], wu[sel])), (0.0, 1.0), y0, rtol=rtol, atol=atol[:6])
     y1, why = got.y_end, got.why
     ok = np.flatnonzero(why == "")
     z1, a, b = y1[2, ok], wn[ok], wu[ok]
@@ -213,7 +211,7 @@ def _legs(wn, wu, small, rtol, tally):
     y2 = np.full((7, N), np.nan)
     if ok.size:
         start = np.vstack([y1[:, ok], np.ones((1, ok.size))])
-        got = follow(down, (0.0, 1.0), start, rtol=rtol, atol=atol[:, ok], tally=tally)
+        got = tally.follow(down, (0.0, 1.0), start, rtol=rtol, atol=atol[:, ok])
         y2[:, ok], why[ok] = got.y_end, got.why
     return y2, why
 

@@ -146,7 +146,6 @@ def _shoot(sgn, Rh, rtol, tally):
     (a terminal event of each variant's run), bracketed in [-2.4, -1.7] sgn (-1.5: the circular orbit
     through the start, no radial turning), its root by Illinois; the half period is that time.  Returns
     (v0, half period, reasons: "" where none)."""
-    from mech.solvers.mechanics.variants import follow
     from mech.solvers.numerics.batch import BatchEvent, illinois
 
     N = sgn.size
@@ -156,7 +155,7 @@ def _shoot(sgn, Rh, rtol, tally):
         """(y, t) at the next radial extreme of the variants idx started at the speeds v."""
         y0 = np.stack([sgn[idx], np.zeros(idx.size), np.zeros(idx.size), v])
         ev = BatchEvent(lambda t, y, _s=sgn[idx]: _s * y[2], direction=1.0, terminal=True, name="far extreme")
-        got = follow(lambda sel: _rhs(Rh[idx][sel]), (0.0, 20.0), y0, rtol=rtol, atol=1e-3 * rtol, tally=tally,
+        got = tally.follow(lambda sel: _rhs(Rh[idx][sel]), (0.0, 20.0), y0, rtol=rtol, atol=1e-3 * rtol,
                      events=[ev])
         miss = (got.why == "") & ~np.isfinite(got.t_events[0])
         why[idx[miss]] = "no radial turning point within 20/Omega"
@@ -190,7 +189,9 @@ def motion(p):
     from mech.problems.motion import Motion
 
     W, L, sgn, Rh = (float(x) for x in _units({k: np.float64(p[k]) for k in ("R", "x0", "GM")}))
-    v0, half, why = _shoot(np.array([sgn]), np.array([Rh]), exercise.default_rtol, None)
+    from mech.problems.batched import Tally
+
+    v0, half, why = _shoot(np.array([sgn]), np.array([Rh]), exercise.default_rtol, Tally())
     if why[0]:
         raise NumericFailure(why[0])
     return Motion(_rhs(Rh), [sgn, 0.0, 0.0, float(v0[0])], (0.0, 2.0 * float(half[0])),
@@ -205,7 +206,6 @@ def numeric(P, rtol, outputs, tally=None):
     radial extreme (dx/dt = 0) and its two along-track extremes (dy/dt = 0 upward and downward, one in each
     half); the return to the start checked at the end, the Jacobi integral's drift reported to ``tally``."""
     from mech.problems.spec import Tally
-    from mech.solvers.mechanics.variants import follow
     from mech.solvers.numerics.batch import BatchEvent, Column
 
     tally = Tally() if tally is None else tally
@@ -221,8 +221,8 @@ def numeric(P, rtol, outputs, tally=None):
         evs = [BatchEvent(lambda t, y, _s=sgn[go]: _s * y[2], direction=1.0, name="far radial extreme"),
                BatchEvent(lambda t, y: y[3], direction=1.0, name="along-track extreme (dy/dt up)"),
                BatchEvent(lambda t, y: y[3], direction=-1.0, name="along-track extreme (dy/dt down)")]
-        got = follow(lambda sel: _rhs(Rh[go][sel], T[go][sel]), (0.0, 1.0), y0[:, go], rtol=rtol, atol=1e-3 * rtol,
-                     tally=tally, events=evs)
+        got = tally.follow(lambda sel: _rhs(Rh[go][sel], T[go][sel]), (0.0, 1.0), y0[:, go], rtol=rtol,
+                           atol=1e-3 * rtol, events=evs)
         yend[:, go] = got.y_end
         xs_far[go], y_up[go], y_down[go] = got.y_events[0][0], got.y_events[1][1], got.y_events[2][1]
         why[go] = got.why

@@ -12,7 +12,7 @@ forced integrator answers the same question.  The result reads the same either w
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, NamedTuple
 
 import numpy as np
 
@@ -34,11 +34,16 @@ class Ensemble:
     t_events: list
     y_events: list
     failed: np.ndarray
-    why: list
+    why: np.ndarray  # N texts, "" where the variant did not fail (a route masks with ``why == ""``)
     records: list = field(default_factory=list)
 
-    def reason(self, k: int) -> str | None:
-        return self.why[k]
+    def __post_init__(self):
+        """A failed variant has no state (NaN), and its reason is a text."""
+        self.failed = np.asarray(self.failed, dtype=bool)
+        self.why = np.array(["" if w is None else str(w) for w in self.why], dtype=object)
+        self.y_end = np.array(self.y_end, dtype=float)
+        self.y_end[:, self.failed] = np.nan
+        self.t_stop = np.asarray(self.t_stop, dtype=float)
 
 
 def _one_event(ev, j: int, n_all: int):
@@ -72,8 +77,8 @@ def follow(make_rhs: Callable, t_span: tuple[float, float], y0, *, rtol: float, 
         return Ensemble(res.y_end, res.t_stop, res.t_events, res.y_events, res.failed, res.why, [res])
     from mech.solvers.numerics.ode import integrate
 
-    out = Ensemble(y0.copy(), np.full(N, float(t_span[1])), [np.full(N, np.nan) for _ in events],
-                   [np.full((n, N), np.nan) for _ in events], np.zeros(N, dtype=bool), [None] * N)
+    out = _Filling(y0.copy(), np.full(N, float(t_span[1])), [np.full(N, np.nan) for _ in events],
+                   [np.full((n, N), np.nan) for _ in events], np.zeros(N, dtype=bool), [None] * N, [])
     for j in range(N):
         try:
             traj = integrate(make_rhs(j), t_span, y0[:, j], rtol=rtol, atol=atol[:, j],
@@ -90,4 +95,16 @@ def follow(make_rhs: Callable, t_span: tuple[float, float], y0, *, rtol: float, 
             if len(traj.t_events[k]):
                 out.t_events[k][j] = traj.t_events[k][0]
                 out.y_events[k][:, j] = traj.y_events[k][0]
-    return out
+    return Ensemble(*out)
+
+
+class _Filling(NamedTuple):
+    """An ``Ensemble``'s fields while the variants are followed one by one."""
+
+    y_end: np.ndarray
+    t_stop: np.ndarray
+    t_events: list
+    y_events: list
+    failed: np.ndarray
+    why: list
+    records: list
