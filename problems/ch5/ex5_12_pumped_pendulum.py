@@ -266,6 +266,25 @@ def _start(p):
     return tuple(z[:, 0])
 
 
+def _partials(c, c2, stiff, theta):
+    """The partial derivatives of v' = -c2 v - (kg - k cos s) sin theta (``_flow``) in theta, v and k, with
+    stiff = kg - k cos s and c = cos s (the declaration's Jacobian check reads them too: ``jacobian``)."""
+    return -stiff * np.cos(theta), -c2, c * np.sin(theta)
+
+
+def jacobian(p):
+    """The Jacobian of the motion's rates (theta', theta'') in SI, from ``_partials`` in the phase s = Omega t:
+    d theta''/d theta = Omega^2 d v'/d theta, d theta''/d theta' = Omega d v'/d v."""
+    W = p.Omega
+
+    def jac(t, y):
+        c = math.cos(W * t)
+        d_theta, d_v, _ = _partials(c, 2.0 * p.delta / W, p.g / (p.l * W * W) - p.a / p.l * c, y[0])
+        return np.array([[0.0, 1.0], [W * W * float(d_theta), W * d_v]])
+
+    return jac
+
+
 def _flow(c2, kg, ksc, vsc, z, k, rtol, tally, variations=True, events=()):
     """The pendulum over one pivot period at N variants at once, in its phase s = Omega t (every period is
     2 pi): theta, v = dtheta/ds and k = a/l (a constant state, so that the variations give d/dk with d/dz),
@@ -284,8 +303,9 @@ def _flow(c2, kg, ksc, vsc, z, k, rtol, tally, variations=True, events=()):
         out[0], out[1] = y[1], -c2 * y[1] - stiff * sn
         if variations:
             P, D = y[3:].reshape(3, 3, -1), out[3:].reshape(3, 3, -1)
+            d_theta, d_v, d_k = _partials(c, c2, stiff, y[0])
             D[0] = P[1]
-            D[1] = -stiff * np.cos(y[0]) * P[0] - c2 * P[1] + c * sn * P[2]
+            D[1] = d_theta * P[0] + d_v * P[1] + d_k * P[2]
         return out
 
     y0 = np.zeros((nv, m))

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from mech.problems.ch5.ex5_12_pumped_pendulum import _pendulum, exercise
+from mech.problems.ch5.ex5_12_pumped_pendulum import exercise, jacobian
 
 
 @exercise.physics
@@ -25,4 +25,4 @@ def physics(d):
     T = M / 2 * (x.diff(t) ** 2 + z.diff(t) ** 2)
     d.lagrangian(T - M * g * z, rayleigh=M * l**2 * delta * theta.diff(t) ** 2)
     d.states([theta, theta.diff(t)])
-    d.jacobian(lambda p: _pendulum(p, p.a)[1])
+    d.jacobian(jacobian)
