@@ -58,6 +58,18 @@ class Tally:
         self.records.append(result)
         return result
 
+    def follow(self, make_rhs: Callable, t_span, y0, *, rtol: float, atol, events=(), on_failure: str = "mark"):
+        """The ensemble's ``Run.follow``: N variants (``y0``: n x N) followed over ``t_span`` by
+        ``ensemble.follow`` (mech's DOP853 stepping them together; one by one under a forced ``integrator``),
+        each with its own events and, by default, its own failure (``failed``, ``why``); the integrations
+        are recorded.  Returns the ``ensemble.Ensemble``."""
+        from mech.solvers.numerics.ensemble import follow
+
+        got = follow(make_rhs, t_span, y0, rtol=rtol, atol=atol, events=events, integrator=self.integrator,
+                     on_failure=on_failure)
+        self.records.extend(got.records)
+        return got
+
     def invariant(self, name: str, drift, allowed=None) -> None:
         import numpy as np
 
@@ -187,5 +199,7 @@ def one_point(ex: Any, p: Mapping, run: Any, outputs=None) -> dict:
         rel, ab = _first(col.rel), _first(col.abs)
         run.claim(name, rel=rel if rel == rel else None, abs=ab if ab == ab and ab else None)
     if run.keep_trajectories and ex.has_motion and set(outputs) == {o.name for o in ex.outputs}:
-        run.follow(ex.motion_at(p))
+        motion = ex.motion_at(p)
+        if motion is not None:  # None: nothing moves at p (4.34 at theta_amp = 0)
+            run.follow(motion)
     return values

@@ -94,3 +94,48 @@ def test_batch_of_one_locates_as_the_scalar_integrator_does():
                           rtol=1e-10, atol=1e-12, events=[BatchEvent(lambda t, y: y[0], direction=-1)])
     assert res.t_events[0][0] == pytest.approx(float(one.t_events[0][0]), rel=1e-12)
     assert res.t_events[0][0] == pytest.approx(math.pi / 4, rel=1e-10)
+
+
+# -- ensemble.follow and Tally.follow: the same question answered batched and one by one ----------------------
+
+def _make_oscillator(sel):
+    w = W[sel]
+    return lambda t, y: np.array([y[1], -(w ** 2) * y[0]])
+
+
+@pytest.mark.parametrize("integrator", [None, "scipy-DOP853"])
+def test_follow_answers_alike_batched_and_one_by_one(integrator):
+    from mech.solvers.numerics.ensemble import follow
+
+    stop = BatchEvent(lambda t, y: y[1], direction=+1, terminal=True)  # q = -1 at pi / w
+    got = follow(_make_oscillator, (0.0, 1.0), start(), rtol=1e-10, atol=1e-12, events=[stop],
+                 integrator=integrator)
+    want = math.pi / W
+    stopped = want <= 1.0
+    assert np.allclose(got.t_stop[stopped], want[stopped], rtol=1e-7)
+    assert np.allclose(got.t_events[0][stopped], want[stopped], rtol=1e-7)
+    assert np.isnan(got.t_events[0][~stopped]).all()
+    assert np.allclose(got.y_end[0][~stopped], np.cos(W[~stopped]), atol=1e-7)
+    assert len(got.records) == (1 if integrator is None else W.size)
+
+
+@pytest.mark.parametrize("integrator", [None, "scipy-DOP853"])
+def test_follow_fails_a_variant_alone_when_asked(integrator):
+    from mech.solvers.numerics.ensemble import follow
+
+    y0 = np.array([[1.0, -1.0, 0.1]])
+    got = follow(lambda sel: (lambda t, y: y * y), (0.0, 2.0), y0, rtol=1e-10, atol=1e-12,
+                 integrator=integrator, on_failure="mark")
+    assert got.failed.tolist() == [True, False, False] and got.why[0]
+    assert np.allclose(got.y_end[0][1:], y0[0][1:] / (1.0 - 2.0 * y0[0][1:]), rtol=1e-8)
+    with pytest.raises(NumericFailure):
+        follow(lambda sel: (lambda t, y: y * y), (0.0, 2.0), y0, rtol=1e-10, atol=1e-12, integrator=integrator)
+
+
+def test_the_tally_records_what_it_followed():
+    from mech.problems.batched import Tally
+
+    tally = Tally("scipy-DOP853")
+    got = tally.follow(_make_oscillator, (0.0, 0.5), start(), rtol=1e-9, atol=1e-12)
+    assert len(tally.records) == W.size and all(r.forced for r in tally.records)
+    assert np.allclose(got.y_end[0], np.cos(0.5 * W), atol=1e-7)

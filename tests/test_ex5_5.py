@@ -128,3 +128,52 @@ def test_the_declared_ringdown_alone_is_a_damped_cosine_over_five_quarter_cycles
     assert t[-1] == pytest.approx(1.25 * 2 * math.pi / wd, rel=1e-8)
     assert np.allclose(x, np.exp(-d * t) * (np.cos(wd * t) + d / wd * np.sin(wd * t)), rtol=0, atol=1e-8)
     assert run.invariants["E + dissipated work"] < 1e-8
+
+
+def test_batched_route_equals_each_variant_alone_and_the_references():
+    """The route over N variants (a sweep's, a class's) gives each variant what its one-point solve (the batch
+    of one) gives, within the claims, and both the independent values above; the undefined width where the
+    lower half-power point is absent (delta = 0.5 omega0)."""
+    import numpy as np
+
+    from mech.problems.registry import get
+    from mech.problems.spec import Run
+
+    ex = get("5.5")
+    cases = CASES + [(1.0, 0.5, 1.0), (3.0, 3e-9, 0.0)]
+    P = {k: np.array([c[i] for c in cases]) for i, k in enumerate(("omega0", "delta", "t1"))}
+    rtol = ex.default_rtol
+    cols = ex.batched_route.numeric(P, rtol, tuple(o.name for o in ex.outputs))
+    for j, (w0, d, t1) in enumerate(cases):
+        one = ex.numeric_solver(ex.resolve({"omega0": w0, "delta": d, "t1": t1}), Run(rtol=rtol))
+        wd = math.sqrt(w0 * w0 - d * d)
+        width = half_power_width(w0, d)
+        want = {"Q": w0 / (2 * d), "loss_per_cycle": 1.0 - free_energy_ratio(w0, d, 2 * math.pi / wd),
+                "E_ratio": free_energy_ratio(w0, d, t1), "bandwidth": width}
+        for name, col in cols.items():
+            assert col.reason("failed", j) is None, (j, name)
+            if name == "bandwidth" and width is None:
+                assert col.reason("undefined", j) and isinstance(one[name], Undefined)
+                continue
+            claim = float(np.broadcast_to(col.rel, col.value.shape)[j])
+            assert col.value[j] == pytest.approx(one[name], rel=claim, abs=1e-300), (j, name)
+            assert col.value[j] == pytest.approx(want[name], rel=max(claim, 1e-9)), (j, name)
+
+
+def test_a_variant_that_fails_fails_alone():
+    """delta = 0.3826 omega0, within 3e-4 of sin(pi/8) omega0: the lower half-power point lies below 0.02
+    omega0 (x_- = 1 - 2 z^2 - 2 z sqrt(1 - z^2) = 2.6e-4, omega_- = 0.016), which the route does not shoot;
+    that variant's width fails, saying so, and its other outputs and the other variants stand."""
+    import numpy as np
+
+    from mech.problems.registry import get
+
+    ex = get("5.5")
+    z = 0.3826
+    assert math.sqrt(1 - 2 * z * z - 2 * z * math.sqrt(1 - z * z)) < 0.02
+    P = {"omega0": np.array([10.0, 1.0, 10.0]), "delta": np.array([1.0, z, 3.5]), "t1": np.array([1.0, 1.0, 0.9])}
+    cols = ex.batched_route.numeric(P, ex.default_rtol, tuple(o.name for o in ex.outputs))
+    assert "below 0.02 omega0" in cols["bandwidth"].reason("failed", 1)
+    assert [cols["bandwidth"].reason("failed", j) for j in (0, 2)] == [None, None]
+    assert cols["bandwidth"].value[2] == pytest.approx(half_power_width(10.0, 3.5), rel=1e-9)
+    assert cols["Q"].reason("failed", 1) is None and cols["Q"].value[1] == pytest.approx(0.5 / z, rel=1e-9)

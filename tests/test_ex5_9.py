@@ -147,7 +147,8 @@ def _cycle_by_lsoda(omega0, mu, beta):
     return {"A": y2[0], "omega": 2 * math.pi / (t2 - t1), "lambda_lc": (y2[2] - y1[2]) / (t2 - t1)}
 
 
-@pytest.mark.parametrize("eps", [20.0, 24.0, 26.0])  # where the old route failed (15, 22, 30 measured alike)
+# 20-26: where the old route failed (15, 22, 30 measured alike); 5, 10, 16: the relaxation stepped by DOP853
+@pytest.mark.parametrize("eps", [5.0, 10.0, 16.0, 20.0, 24.0, 26.0])
 def test_relaxation_claims_cover_the_error_and_the_rerun(eps):
     """mu/omega0 = 20-26 failed the rerun (lambda_lc moved by 2.2e-7 at rtol/10 against a claim of 2e-7 at
     mu = 20): LSODA's error of the period and of int (1 - x^2) was up to 95 rtol, all of the claim 100 rtol.
@@ -166,3 +167,32 @@ def test_relaxation_claims_cover_the_error_and_the_rerun(eps):
         rerun_claim = ex.tol_factor * ex.default_rtol * abs(q.analytic)
         assert q.verify_diff <= rerun_claim, q.name
         assert abs(q.numeric - ref[q.name]) <= min(q.numeric_err, rerun_claim), q.name
+
+
+def test_batched_route_equals_each_variant_alone():
+    """The route over N variants (a sweep's, a class's: the returns of all stepped together, each stopped at its
+    own event; the relaxation oscillations up to mu/omega0 = 16 together too) gives each variant what its
+    one-point solve (the batch of one) gives, within the claims; and the independent values: the Lindstedt
+    series at small eps, LSODA's cycle (``_cycle_by_lsoda``) for relaxation oscillations."""
+    from mech.problems import registry
+    from mech.problems.spec import Run
+
+    ex = registry.get("5.9")
+    rows = [(3.0, 0.3, 4.0), (2.0, 0.002, 9.0), (1.0, 1.0, 1.0), (1.0, 3.9, 2.0), (3.0, 15.0, 4.0), (1.0, 12.0, 1.0),
+            (2.0, 40.0, 1.0), (1.0, 0.2, 1.0)]
+    P = {k: np.array([r[i] for r in rows]) for i, k in enumerate(("omega0", "mu", "beta"))}
+    cols = ex.batched_route.numeric(P, ex.default_rtol, ("A", "omega", "lambda_lc"))
+    for j, (omega0, mu, beta) in enumerate(rows):
+        one = ex.numeric_solver(ex.resolve({"omega0": omega0, "mu": mu, "beta": beta}), Run(rtol=ex.default_rtol))
+        for name, col in cols.items():
+            assert col.reason("failed", j) is None, (j, name)
+            claim = float(np.broadcast_to(col.rel, col.value.shape)[j])
+            assert col.value[j] == pytest.approx(one[name], rel=claim), (j, name)
+        e = mu / omega0
+        if e < 0.5:
+            series = omega0 * (1 - e**2 / 16 + 17 * e**4 / 3072)
+            assert cols["omega"].value[j] == pytest.approx(series, rel=5e-5 * e**6 + 1e-9)
+        if e > 4:
+            ref = _cycle_by_lsoda(omega0, mu, beta)
+            for name in ("A", "omega", "lambda_lc"):
+                assert cols[name].value[j] == pytest.approx(ref[name], rel=1e-8), (j, name)

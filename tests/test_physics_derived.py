@@ -294,8 +294,8 @@ def test_5_5_amplitude_phase_flows_match_the_derived_equations():
     worst = 0.0
     for p in [ex.resolve({}), ex.resolve({"delta": 0.9 * 2764.0})] + draw(ex, N_PARAMS, 5):
         z = p.delta / p.omega0
-        in_time = _polar_in_time(z, 1.0).rhs
-        by_phase = _half_cycle(z, (p.omega0 - p.delta) / p.omega0).rhs
+        in_time = _polar_in_time(z, 1.0)  # against s = t/tau: with tau = 1, in time
+        by_phase = _half_cycle(z, (p.omega0 - p.delta) / p.omega0)
         for _ in range(N_STATES):
             # the SI state (x, x_t) exactly as the derived side takes it; (th, l) of it for the module
             x, v_si = rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0) * p.omega0

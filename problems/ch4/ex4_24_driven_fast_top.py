@@ -50,11 +50,12 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.mechanics.top_splitting import (coarse_ladder, fine_stepper, fine_steps, lowest_nz, retune,
+from mech.solvers.mechanics.top_splitting import (coarse_ladder, fine_stepper, fine_steps, lowest_nz, march,
                                                   strang_stepper)
-from mech.solvers.numerics.splitting import YOSHIDA6, crossing
-from mech.core.budget import check as budget_check
+from mech.solvers.numerics.splitting import YOSHIDA6
 
 exercise = Exercise(
     "4.24",
@@ -73,18 +74,26 @@ exercise = Exercise(
 )
 
 
+OUTPUTS = ("t_down", "t_up", "phi_lead", "cos_min")
+GC_METHOD = "guiding-center (nutation-averaged) equations to first order in 1/k, DOP853"
+
+
 @exercise.analytic
-def analytic(p):
-    t_down = math.pi * p.I3 * p.omega_rot / (2 * p.l * p.F)
-    return {"t_down": t_down, "t_up": 3 * t_down, "phi_lead": math.pi / 2, "cos_min": -1.0}
+def analytic(P):
+    """Over arrays of variants."""
+    from mech.solvers.numerics.batch import Column
+
+    t_down = np.asarray(math.pi * P["I3"] * P["omega_rot"] / (2 * P["l"] * P["F"]), dtype=float)
+    return {"t_down": Column(t_down), "t_up": Column(3 * t_down), "phi_lead": Column(np.full_like(t_down, math.pi / 2)),
+            "cos_min": Column(np.full_like(t_down, -1.0))}
 
 
 def _small(p):
-    IA = p.I1 + p.M * p.l**2
-    L3 = p.I3 * p.omega_rot
-    eps_g = IA * p.M * p.g * p.l / L3**2
-    eps_F = IA * p.l * p.F / L3**2
-    slip = eps_g * p.M * p.g / p.F  # radians of slip of the exact precession against the drive by t_down
+    IA = p["I1"] + p["M"] * p["l"]**2
+    L3 = p["I3"] * p["omega_rot"]
+    eps_g = IA * p["M"] * p["g"] * p["l"] / L3**2
+    eps_F = IA * p["l"] * p["F"] / L3**2
+    slip = eps_g * p["M"] * p["g"] / p["F"]  # radians of slip of the exact precession against the drive by t_down
     return eps_g, eps_F, slip
 
 
@@ -109,17 +118,16 @@ def constraint(p):
 
 
 @exercise.theory_range
-def theory_range(p):
+def theory_range(p):  # over arrays of variants
     """The fast-top picture expands in eps_g = I_A M g l/L3^2, eps_F = I_A l F/L3^2 and the slip of the
     precession against the drive, eps_g M g/F (the largest shown)."""
-    eps_g, eps_F, slip = _small(p)
-    big = max([("I_A M g l/L3^2", eps_g), ("I_A l F/L3^2", eps_F), ("eps_g M g/F (slip)", slip)],
-              key=lambda c: c[1])
-    return {name: big for name in ("t_down", "t_up", "phi_lead", "cos_min")}
+    sizes = np.stack(np.broadcast_arrays(*_small(p)))
+    labels = np.array(["I_A M g l/L3^2", "I_A l F/L3^2", "eps_g M g/F (slip)"], dtype=object)[np.argmax(sizes, axis=0)]
+    return {name: (labels, np.max(sizes, axis=0)) for name in OUTPUTS}
 
 
 @exercise.expected_error
-def expected_error(p):
+def expected_error(p):  # over arrays of variants
     """First-order sizes, measured against the numeric route at 11 tops (eps_g, eps_F = 1e-6 - 2e-3, slip
     1e-9 - 0.07, I1 0.3e-3 - 1e-3) plus the defaults and hard cases; the nutation's phase at the event makes
     the coefficients erratic below these bounds, so they are bounds, not a series:
@@ -159,11 +167,6 @@ MAX_STEPS = 600_000
 AVERAGE_BEYOND_STEPS = 150_000
 
 
-def _crossing(step, n, L, t, h, sign):
-    """Partial step tau in (0, h] where n_z changes sign (sign = +1: from positive to negative)."""
-    return crossing(lambda tau: sign * step(n, L, t, tau)[0][2], h)
-
-
 def averaging_error(a, b, k):
     """Relative size of what the guiding-center equations neglect (a, b, k as in ``numeric``).
 
@@ -173,16 +176,43 @@ def averaging_error(a, b, k):
     1/k of b t_down ~ 1, phi_lead by b/k rad, cos_min by b/k).  The next order of the
     slow flow, ~ Om^3/k^2, accumulates (Om/k)^2 Om/b over the overturn (1/b).  Factor 3
     for the unknown coefficients."""
-    Om = math.hypot(a, b)
+    Om = np.hypot(a, b)
     return 3.0 * (b / k + (Om / k) ** 2 * Om / b)
 
 
 def _rates(p):
     """(a, b, k): the weight's and the force's rates M g l/L3 and l F/L3 (the drive's w = a), and the
-    nutation's rate L3/I_A, L3 = I3 omega_rot."""
-    IA = p.I1 + p.M * p.l**2
-    L3 = p.I3 * p.omega_rot
-    return p.M * p.g * p.l / L3, p.l * p.F / L3, L3 / IA
+    nutation's rate L3/I_A, L3 = I3 omega_rot (numbers or arrays of variants)."""
+    IA = p["I1"] + p["M"] * p["l"]**2
+    L3 = p["I3"] * p["omega_rot"]
+    return p["M"] * p["g"] * p["l"] / L3, p["l"] * p["F"] / L3, L3 / IA
+
+
+def _gc_rhs(A, d):
+    """The guiding center's slow flow (``motion``'s notes) for c of shape (3,) or (3, N), A = a/b and d = b/k
+    numbers or arrays of N."""
+
+    def rhs(s, c):
+        cx, cy, cz = c
+        # u = c x g^, g^ = (1, 0, -A)
+        ux, uy, uz = cy * (-A), cz - cx * (-A), -cy
+        # v = u x g^ + A c x y'  (c x y' = (-cz, 0, cx))
+        vx = uy * (-A) - A * cz
+        vy = uz - ux * (-A)
+        vz = -uy + A * cx
+        # dc/ds = c x x' - d c x v,  c x x' = (0, cz, -cy)
+        return np.array([-d * (cy * vz - cz * vy), cz - d * (cz * vx - cx * vz), -cy - d * (cx * vy - cy * vx)])
+
+    def c_z(s, c):
+        return c[2] / np.sqrt(c[0] ** 2 + c[1] ** 2 + c[2] ** 2)
+
+    def lowest(s, c):  # the rate of c_z where the axis is below the horizontal, -1 above: no crossing there
+        return np.where(c[2] < 0, rhs(s, c)[2], -1.0)
+
+    return rhs, c_z, lowest
+
+
+S_MAX = 12.0  # the overturn and back take 3 pi/2 of s (the slip shortens or lengthens it by < 20 %)
 
 
 @exercise.motion
@@ -202,230 +232,198 @@ def motion(p):
     with the spin.  Start: the center of the nutation circle through n = z at rest,
     c = z - (1/k) z x V0(z) = z + d x'.  |c| = 1 is monitored.
     """
-    import numpy as np
-
     from mech.problems.motion import Motion
     from mech.solvers.numerics.ode import Event
 
     a, b, k = _rates(p)
+    rhs, c_z, lowest = _gc_rhs(a / b, b / k)
+    c0 = np.array([b / k, 0.0, 1.0]) / math.hypot(b / k, 1.0)
+    return Motion(rhs, c0, (0.0, S_MAX), monitors={"|c| (guiding center, unit)": _unit}, t_scale=1.0 / b,
+                  y_size=1.0, options={"events": [Event(c_z, terminal=False, direction=-1, name="down"),
+                                                  Event(c_z, terminal=False, direction=+1, name="up"),
+                                                  Event(lowest, terminal=False, direction=+1, name="lowest")]})
+
+
+def _unit(Y):
+    return np.max(np.abs(np.linalg.norm(Y, axis=0) - 1.0), axis=0)
+
+
+def _guiding_centers(a, b, k, rtol, tally):
+    """The guiding centers' runs of N variants (``motion``): (s_down, s_up, c at s_down, c at the lowest point,
+    the drift of |c|, why a run failed or ""), arrays over the variants, NaN where an event was not reached.
+    Many at once: mech's DOP853 stepping the ensemble (``batch.integrate_batch``, each variant's events located on its own
+    continuous extension); one alone, or an integrator forced (``mech bench``), by ``ode.integrate``."""
+    from mech.solvers.numerics.ode import Event, integrate
+
+    N = a.size
     A, d = a / b, b / k
+    c0 = np.array([d, np.zeros(N), np.ones(N)]) / np.hypot(d, 1.0)
+    s_down, s_up, c_down, c_low, drift = (np.full(N, np.nan), np.full(N, np.nan), np.full((3, N), np.nan),
+                                          np.full((3, N), np.nan), np.zeros(N))
+    why = np.full(N, "", dtype=object)
+    if N > 1 and tally.integrator is None:
+        from mech.solvers.numerics.batch import BatchEvent, integrate_batch
 
-    def rhs(s, c):
-        cx, cy, cz = c
-        # u = c x g^, g^ = (1, 0, -A)
-        ux, uy, uz = cy * (-A), cz - cx * (-A), -cy
-        # v = u x g^ + A c x y'  (c x y' = (-cz, 0, cx))
-        vx = uy * (-A) - A * cz
-        vy = uz - ux * (-A)
-        vz = -uy + A * cx
-        # dc/ds = c x x' - d c x v,  c x x' = (0, cz, -cy)
-        return np.array([
-            -d * (cy * vz - cz * vy),
-            cz - d * (cz * vx - cx * vz),
-            -cy - d * (cx * vy - cy * vx),
-        ])
-
-    def c_z(s, c):
-        return c[2] / math.sqrt(c[0] ** 2 + c[1] ** 2 + c[2] ** 2)
-
-    def c_z_rate(s, c):
-        return rhs(s, c)[2]
-
-    def unit(Y):
-        return float(np.max(np.abs(np.linalg.norm(Y, axis=0) - 1.0)))
-
-    c0 = np.array([d, 0.0, 1.0]) / math.hypot(d, 1.0)
-    s_max = 12.0  # the overturn and back take 3 pi/2 of s (the slip shortens or lengthens it by < 20 %)
-    return Motion(rhs, c0, (0.0, s_max), monitors={"|c| (guiding center, unit)": unit}, t_scale=1.0 / b, y_size=1.0,
-                  options={"events": [Event(c_z, terminal=False, direction=-1, name="down"),
-                                      Event(c_z, terminal=False, direction=+1, name="up"),
-                                      Event(c_z_rate, terminal=False, direction=+1, name="lowest")]})
-
-
-def _guiding_center(p, run):
-    """The outputs from the guiding center's motion (``motion``), followed."""
-    import numpy as np
-
-    b = _rates(p)[1]
-    m = motion(p)
-    s_max = m.span[1]
-    traj = run.follow(m).traj
-    downs, ups, lows = traj.t_events
-    if len(downs) == 0:
-        raise NumericFailure(f"the guiding center did not reach the horizontal by t = {s_max / b:.4g} s")
-    s_down = float(downs[0])
-    later_ups = [float(x) for x in ups if x > s_down]
-    if not later_ups:
-        raise NumericFailure(f"the guiding center did not come back to the horizontal by t = {s_max / b:.4g} s")
-    s_up = later_ups[0]
-    c_down = traj.y_events[0][0]
-    lows_between = [(float(x), y) for x, y in zip(lows, traj.y_events[2]) if s_down < x < s_up]
-    if len(lows_between) != 1:
-        raise NumericFailure(f"{len(lows_between)} lowest points of the guiding center between t_down and t_up")
-    y_low = lows_between[0][1]
-    cos_min = float(y_low[2] / np.linalg.norm(y_low))
-    return {
-        "t_down": s_down / b,
-        "t_up": s_up / b,
-        "phi_lead": math.atan2(c_down[1], c_down[0]),
-        "cos_min": cos_min,
-    }
+        rhs, c_z, lowest = _gc_rhs(A, d)
+        res = integrate_batch(rhs, (0.0, S_MAX), c0, rtol=rtol, atol=1e-3 * rtol, on_failure="mark",
+                              events=[BatchEvent(c_z, -1.0), BatchEvent(c_z, +1.0), BatchEvent(lowest, +1.0)])
+        tally.record(_Cost(res.nfev, GC_METHOD + " (the ensemble at once)"))
+        (s_down, s_up, s_low), (c_down, _, c_low) = res.t_events, res.y_events
+        c_low = np.where(s_down < s_low, c_low, np.nan)
+        off = [np.abs(np.linalg.norm(Y, axis=0) - 1.0) for Y in (res.y_end, c_down, c_low)]
+        drift = np.nan_to_num(np.fmax(np.fmax(off[0], off[1]), off[2]))
+        for j in np.flatnonzero(res.failed):
+            why[j] = res.why[j]
+        return s_down, s_up, c_down, c_low, drift, why
+    for j in range(N):
+        rhs, c_z, lowest = _gc_rhs(A[j], d[j])
+        traj = integrate(rhs, (0.0, S_MAX), c0[:, j], rtol=rtol, atol=1e-3 * rtol,
+                         events=[Event(c_z, False, -1), Event(c_z, False, +1), Event(lowest, False, +1)],
+                         integrator=tally.integrator)
+        tally.record(_Cost(traj.nfev, GC_METHOD if tally.integrator is None else traj.method, traj))
+        drift[j] = _unit(traj.y)
+        downs, ups, lows = traj.t_events
+        if len(downs):
+            s_down[j], c_down[:, j] = downs[0], traj.y_events[0][0]
+            later = [x for x in ups if x > downs[0]]
+            s_up[j] = later[0] if later else np.nan
+            got = [y for x, y in zip(lows, traj.y_events[2]) if downs[0] < x < s_up[j]]
+            if len(got) == 1:
+                c_low[:, j] = got[0]
+    return s_down, s_up, c_down, c_low, drift, why
 
 
-@exercise.numeric
-def numeric(p, run):
-    out = _numeric(p, run)
-    # cos_min is the least n_z: a direction error E (the claim, and what averaging neglects) moves it by
-    # E sin(angle from straight down) + E^2/2 at most, not by E (measured: the rerun at rtol/1000 moves it
-    # by <= 4e-12 where the claim E is 1e-5)
-    rel, ab = run.claims.get("cos_min", (None, None))
-    E = exercise.tol_factor * run.rtol if rel is None else rel
-    c = out["cos_min"]
-    if -1.0 <= c < 0.0:
-        run.claim("cos_min", rel=E * math.sqrt(2.0 * (1.0 + c)) + E * E, abs=ab)
-    return out
+def _averaged(idx, a, b, k, rtol, model_err, out, why, tally):
+    """The guiding-center route at the variants ``idx``: values and claims into ``out`` (the run's own error,
+    DOP853's global error against its rtol, measured: see the module's notes, plus what averaging neglects),
+    failures into ``why``."""
+    a, b, k, me = a[idx], b[idx], k[idx], model_err[idx]
+    s_down, s_up, c_down, c_low, drift, failed = _guiding_centers(a, b, k, rtol, tally)
+    for j in np.flatnonzero(failed != ""):
+        why[idx[j]] = failed[j]
+    t_max = S_MAX / b
+    fails = [(np.isnan(s_down), [f"the guiding center did not reach the horizontal by t = {t:.4g} s" for t in t_max]),
+             (np.isnan(s_up), [f"the guiding center did not come back to the horizontal by t = {t:.4g} s"
+                               for t in t_max]),
+             (np.isnan(c_low[2]), "no single lowest point of the guiding center between t_down and t_up")]
+    for mask, text in fails:
+        for j in np.flatnonzero(mask & (why[idx] == "")):
+            why[idx[j]] = text if isinstance(text, str) else text[j]
+    values = {"t_down": s_down / b, "t_up": s_up / b, "phi_lead": np.arctan2(c_down[1], c_down[0]),
+              "cos_min": c_low[2] / np.linalg.norm(c_low, axis=0)}
+    rels = {"t_down": 2.0 * rtol + me, "t_up": rtol + me, "phi_lead": 0.2 * rtol + me,
+            "cos_min": exercise.tol_factor * rtol}
+    for q, (v, rel, ab) in out.items():
+        v[idx], rel[idx] = values[q], rels[q]
+    out["cos_min"][2][idx] = me
+    tally.info.setdefault("averaging_error", np.full(len(why), None, dtype=object))[idx] = me
+    return drift
 
 
-def _jacobi(a, b, w, k):
-    def jacobi(n, L, t):
-        # energy in the frame turning with F, scaled by L3^2/I_A:  |L|^2/2 + (a n_z - f.n)/k - (w/k) L_z
-        fx, fy = b * math.cos(w * t), b * math.sin(w * t)
-        return 0.5 * (L[0] ** 2 + L[1] ** 2 + L[2] ** 2) + (a * n[2] - fx * n[0] - fy * n[1]) / k - w / k * L[2]
-    return jacobi
-
-
-def _march(a, b, k, w, h, ladder, step, coarse):
-    """The overturn and back from n = z, L = n (scaled): coarse steps far from the events, fine steps
-    near them; returns what the outputs are read from (event times, the lowest steps, the drifts)."""
-    Om = math.hypot(a, b)
-    H = ladder[0][0] if ladder else None
-    margin = ladder[-1][1] if ladder else 0.0  # fine steps within +-margin of n_z = 0, crossed at a rate ~ b
-    t_max = 12.0 / b  # the force's tipping time 1/b, with a wide margin for the full overturn and back
-    jacobi = _jacobi(a, b, w, k)
-    n, L, t = (0.0, 0.0, 1.0), (0.0, 0.0, 1.0), 0.0
-    J0, J_scale = jacobi(n, L, t), (a + b) / k
-    drift_J = drift_L3 = 0.0
-    stage = 0
-    # n_z nutates about its slow motion by up to the cone angle of n about L (~ Om/k on the exact motion,
-    # more where round-off in |L| ~ 1e-14 opens it, sqrt(2e-14) >> Om/k for the fastest tops): measured
-    arm = 6.0 * Om / k
-    armed = False
-    t_down = t_up = phi_lead = None
-    low = (2.0, None)  # lowest fine step: (n_z at its end, state at its start)
-    low_c = (2.0, None, [], 0.0)  # lowest coarse boundary: (n_z, state a step before, (t, n_z) around it, step)
-    nsteps = ncoarse = 0
-    fine = H is None
-    H_now = 0.0  # the size of the Strang steps whose forced nutation L carries (0: the fine steps')
-    while t < t_max:
-        if not fine:
-            dist = n[2] if stage == 0 else -n[2]
-            Hj = next((Hj for Hj, win in ladder if win + arm < dist), None)
-            if Hj is None:
-                fine = True  # the event may lie anywhere past (n, L, t): go on from there in fine steps
-                continue
-            if Hj != H_now:
-                n, L = retune(a, b, w, n, L, t, Hj * Hj - H_now * H_now)
-                H_now = Hj
-            n2, L2, t2 = coarse(n, L, t, Hj)
-            ncoarse += 1
-            if (stage == 0 and n2[2] <= margin + arm) or (stage == 1 and n2[2] >= -margin - arm):
-                fine = True
-                continue
-            if stage == 1:
-                armed = armed or n2[2] < -min(arm, 0.3)
-                if n2[2] < low_c[0]:
-                    low_c = (n2[2], (n, L, t), [(t, n[2]), (t2, n2[2])], Hj)
-                elif len(low_c[2]) == 2:
-                    low_c[2].append((t2, n2[2]))
-        else:
-            if H_now:
-                n, L = retune(a, b, w, n, L, t, -H_now * H_now)
-                H_now = 0.0
-            n2, L2, t2 = step(n, L, t, h)
-            nsteps += 1
-            if stage == 0 and n2[2] <= 0.0 < n[2]:
-                tau = _crossing(step, n, L, t, h, +1)
-                nd, _, t_down = step(n, L, t, tau)
-                lead = math.atan2(nd[1], nd[0]) - w * t_down
-                phi_lead = math.pi - (math.pi - lead) % (2 * math.pi)  # wrapped to (-pi, pi]
-                stage = 1
-            elif stage == 1:
-                # n_z nutates by up to ~2 Om/k about its slow motion, faster than that moves when a > b:
-                # the way back up counts only once the axis has gone below the nutation's reach (or below
-                # cos(theta) = -0.3 for a slow top, whose wide nutation is no wiggle about a slow motion)
-                armed = armed or n2[2] < -min(arm, 0.3)
-                if n2[2] < low[0]:
-                    low = (n2[2], (n, L, t))
-                if n2[2] >= 0.0 > n[2] and armed:
-                    t_up = t + _crossing(step, n, L, t, h, -1)
-                    break
-                if H and n2[2] < -margin - arm:
-                    fine = False
-        if (nsteps + ncoarse) % 64 == 0:
-            budget_check("4.24 splitting steps", 64)
-            cx, cy, cz = n2[1] * L2[2] - n2[2] * L2[1], n2[2] * L2[0] - n2[0] * L2[2], n2[0] * L2[1] - n2[1] * L2[0]
-            arm = max(arm, 6.0 * math.sqrt(cx * cx + cy * cy + cz * cz))  # 6 sin(cone angle) (|L| ~ 1)
-            drift_J = max(drift_J, abs(jacobi(n2, L2, t2) - J0) / J_scale)
-            drift_L3 = max(drift_L3, abs(n2[0] * L2[0] + n2[1] * L2[1] + n2[2] * L2[2] - 1.0))
-        n, L, t = n2, L2, t2
-    return {"t_down": t_down, "t_up": t_up, "phi_lead": phi_lead, "low": low, "low_c": low_c, "t": t,
-            "nsteps": nsteps, "ncoarse": ncoarse, "drift_J": drift_J, "drift_L3": drift_L3}
-
-
-def _averaged(p, run, model_err):
-    """The guiding-center route, with its claims: the run's own error (DOP853's global error against its
-    rtol, measured: see the module's notes) plus what averaging neglects."""
-    run.method = "guiding-center (nutation-averaged) equations to first order in 1/k, DOP853"
-    run.info["averaging_error"] = model_err
-    for q, f in (("t_down", 2.0), ("t_up", 1.0), ("phi_lead", 0.2)):
-        run.claim(q, rel=f * run.rtol + model_err)
-    run.claim("cos_min", rel=exercise.tol_factor * run.rtol, abs=model_err)
-    return _guiding_center(p, run)
-
-
-def _numeric(p, run):
-    a, b, k = _rates(p)
-    w = p.M * p.g * p.l / (p.I3 * p.omega_rot)  # the drive's turning rate, as given
-    Om = math.hypot(a, b)  # the torque's rate: the axis moves at most this fast
-    model_err = averaging_error(a, b, k)
-    if model_err <= 0.1 * run.rtol:
+def _plan(a, b, k, rtol, model_err):
+    """How one variant is solved: "averaged" (the guiding-center equations), or the resolved splitting's
+    settings (weights, order, steps per nutation period m, fine step h, coarse ladder); a str: why not."""
+    if model_err <= 0.1 * rtol:
         # the nutation's part in the events is below the accuracy asked: integrate its average
-        return _averaged(p, run, model_err)
-    weights, order, m = fine_steps(max(a, b) / k, run.rtol)
+        return "averaged"
+    weights, order, m = fine_steps(max(a, b) / k, rtol)
     h = 2 * math.pi / k / m
     cost = len(weights) / len(YOSHIDA6)  # a fine step's cost in steps of the 6th-order splitting
-    ladder = coarse_ladder(a, b, k, run.rtol)
+    ladder = coarse_ladder(a, b, k, rtol)
     H = ladder[0][0] if ladder else None
     margin = ladder[-1][1] if ladder else 0.0
     # cost in steps of the 6th-order splitting (a coarse step costs ~1/4 of one) to t_up ~ 3 pi/(2 b); the
     # loop stops there (at most 1.2 x 3 pi/2 = 5.7 over b with the slip the constraint allows)
     budget = (6.0 / b / H / 4 + 2 * len(ladder) * 8 + 8 * (2 * margin) / b / h * cost if H
               else 6.0 / b / h * cost)
-    if budget > AVERAGE_BEYOND_STEPS and model_err <= exercise.tol_factor * run.rtol:
+    if budget > AVERAGE_BEYOND_STEPS and model_err <= exercise.tol_factor * rtol:
         # a long resolved run, where averaging costs no more than the accuracy claimed
-        return _averaged(p, run, model_err)
+        return "averaged"
     if budget > MAX_STEPS:
-        raise NumericFailure(
-            f"the overturn lasts about {5 / b * k / (2 * math.pi):.3g} nutation periods: beyond this solver's "
-            f"budget of {MAX_STEPS} steps"
-        )
+        return (f"the overturn lasts about {5 / b * k / (2 * math.pi):.3g} nutation periods: beyond this "
+                f"solver's budget of {MAX_STEPS} steps")
+    return weights, order, m, h, ladder
+
+
+def _resolved(a, b, k, w, plan, units):
+    """One variant by the splitting (solvers.mechanics.top_splitting): its outputs, invariants' drifts, what
+    it tells (info, method) and its cost; raises ``NumericFailure`` where an event was not reached."""
+    weights, order, m, h, ladder = plan
+    H = ladder[0][0] if ladder else None
     step = fine_stepper(k, a, b, w, h, weights)
-    run.method = f"{order}th-order splitting, exact nutation rotation, {m:.3g} steps per nutation period"
+    method = f"{order}th-order splitting, exact nutation rotation, {m:.3g} steps per nutation period"
     if H:
-        run.method += (f" near the events; Strang steps of {k * H / (2 * math.pi):.3g} nutation periods "
-                       "between them")
-    r = _march(a, b, k, w, h, ladder, step, strang_stepper(k, a, b, w) if H else None)
-    run.cost(r["nsteps"] * (len(weights) + 1) + r["ncoarse"] * 2)
-    run.info["steps"] = r["nsteps"] + r["ncoarse"]
-    run.info["steps_per_nutation_period"] = m
+        method += f" near the events; Strang steps of {k * H / (2 * math.pi):.3g} nutation periods between them"
+    r = march(a, b, k, w, h, ladder, step, strang_stepper(k, a, b, w) if H else None, units)
+    info = {"steps": r["nsteps"] + r["ncoarse"], "steps_per_nutation_period": m}
     if H:
-        run.info["coarse_steps"] = r["ncoarse"]
-        run.info["coarse_step_nutation_periods"] = k * H / (2 * math.pi)
+        info.update(coarse_steps=r["ncoarse"], coarse_step_nutation_periods=k * H / (2 * math.pi))
     if r["t_down"] is None or r["t_up"] is None:
         raise NumericFailure(f"the axis did not {'reach' if r['t_down'] is None else 'come back to'} the horizontal "
                              f"by t = {r['t']:.4g} s")
-    run.invariant("L3 = L . n3", r["drift_L3"])
-    if not H:  # Strang steps conserve a modified integral, off by ~ (k H)^2 eps: not a measure of the error
-        run.invariant("Jacobi integral (frame turning with F)", r["drift_J"])
+    # Strang steps conserve a modified integral, off by ~ (k H)^2 eps: not a measure of the error
+    invariants = {"L3 = L . n3": r["drift_L3"], "Jacobi integral (frame turning with F)": math.nan if H else r["drift_J"]}
     cos_min = lowest_nz(a, b, w, h, H, step, r["low"], r["low_c"])
-    return {"t_down": r["t_down"], "t_up": r["t_up"], "phi_lead": r["phi_lead"], "cos_min": cos_min}
+    values = {"t_down": r["t_down"], "t_up": r["t_up"], "phi_lead": r["phi_lead"], "cos_min": cos_min}
+    return values, invariants, info, _Cost(r["nsteps"] * (len(weights) + 1) + r["ncoarse"] * 2, method)
+
+
+class _Cost:
+    """A run's work as ``Run.record`` reads it, named by the route (``of``: the integration, if forced)."""
+
+    def __init__(self, nfev, method, of=None):
+        self.nfev, self.method, self.forced = nfev, method, bool(getattr(of, "forced", False))
+
+
+@exercise.batched(OUTPUTS)
+def numeric(P, rtol, outputs, memo=None, tally=None):
+    """The route at N variants at once (a one-point solve is the batch of one): each variant planned
+    (``_plan``), the averaged ones' guiding centers together (``_averaged``), the resolved ones by the splitting
+    one at a time (``_resolved``); a variant that fails fails alone.  cos_min is the least n_z: a direction
+    error E (the claim, and what averaging neglects) moves it by E sin(angle from straight down) + E^2/2 at
+    most, not by E (measured: the rerun at rtol/1000 moves it by <= 4e-12 where the claim E is 1e-5)."""
+    from mech.core.budget import OutOfBudget
+    from mech.problems.spec import Tally
+    from mech.solvers.numerics.batch import Column
+
+    tally = Tally() if tally is None else tally
+    a, b, k = (np.atleast_1d(np.asarray(x, dtype=float)) for x in _rates(P))
+    w = np.atleast_1d(np.asarray(P["M"] * P["g"] * P["l"] / (P["I3"] * P["omega_rot"]), dtype=float))  # as given
+    N, tf = a.size, exercise.tol_factor * rtol
+    model_err = np.broadcast_to(np.asarray(averaging_error(a, b, k), dtype=float), a.shape)
+    out = {q: (np.full(N, np.nan), np.full(N, tf), np.zeros(N)) for q in OUTPUTS}  # value, rel, abs
+    why = np.full(N, "", dtype=object)
+    plans = [_plan(float(a[j]), float(b[j]), float(k[j]), rtol, float(model_err[j])) for j in range(N)]
+    avg = np.array([isinstance(x, str) and x == "averaged" for x in plans], dtype=bool)
+    drifts = {name: np.full(N, np.nan) for name in ("L3 = L . n3", "Jacobi integral (frame turning with F)",
+                                                    "|c| (guiding center, unit)")}
+    if avg.any():
+        drifts["|c| (guiding center, unit)"][avg] = _averaged(np.flatnonzero(avg), a, b, k, rtol, model_err, out, why,
+                                                              tally)
+    for j in np.flatnonzero(~avg):
+        if isinstance(plans[j], str):
+            why[j] = plans[j]
+            continue
+        try:
+            values, inv, info, cost = _resolved(float(a[j]), float(b[j]), float(k[j]), float(w[j]), plans[j],
+                                                1.0 / N)
+        except OutOfBudget:
+            raise
+        except NumericFailure as exc:
+            why[j] = str(exc)
+            continue
+        tally.record(cost)
+        for q, v in values.items():
+            out[q][0][j] = v
+        for name, d in inv.items():
+            drifts[name][j] = d
+        for name, v in info.items():
+            tally.info.setdefault(name, np.full(N, None, dtype=object))[j] = v
+    for name, d in drifts.items():
+        if np.isfinite(d).any():
+            tally.invariant(name, np.nan_to_num(d))
+    c, (_, rel, ab) = out["cos_min"][0], out["cos_min"]
+    near = (c >= -1.0) & (c < 0.0)
+    rel[near] = rel[near] * np.sqrt(2.0 * (1.0 + c[near])) + rel[near] ** 2
+    failed = [(why == text, text) for text in sorted(set(why[why != ""]))]
+    return {q: Column(out[q][0], rel=out[q][1], abs=out[q][2], failed=failed) for q in outputs}

@@ -21,8 +21,11 @@ rebuilt from n3 at every step.  The forces see the axis only through its angle
 with the vertical, so the integration runs in a frame turning about z with the
 axis's azimuth (the turning rate is read off the torque at every step), which
 removes the precession (hundreds of turns at small mu) from what the step
-size must resolve.  The event is the polar angle of n3 reaching theta1 (atan2
-of the horizontal and vertical parts, well conditioned at small angles).  The
+size must resolve.  The independent variable is the tilt itself (u, theta =
+theta0 + u (theta1 - theta0), its rate read off the torque): theta1 is the end
+of the span [0, 1], the same for every variant, so N variants are one ensemble
+(``numeric``), and the state's own polar angle there (atan2 of the horizontal
+and vertical parts, well conditioned at small angles) is monitored.  The
 initial rates are the initial torque projected on dn3/dtheta and, for the spin,
 the friction's power F . (n3 x (P - C)) (no cancellation when R << l).
 Monitored: |L| + mu M g R t, which the friction's axial torque keeps constant
@@ -46,7 +49,6 @@ import math
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
     "4.25",
@@ -89,14 +91,17 @@ def constraint_2(p):
 
 
 @exercise.analytic
-def analytic(p):
-    a = p.mu * p.M * p.g * p.R / p.I3
-    x = -(p.theta0 - p.theta1) * p.R / p.l
+def analytic(P):
+    """Over arrays of variants."""
+    from mech.solvers.numerics.batch import Column
+
+    mu, M, g, R, I3, l, w0 = (P[k] for k in ("mu", "M", "g", "R", "I3", "l", "omega0"))
+    x = -(P["theta0"] - P["theta1"]) * R / l
     return {
-        "omega_dot": a,
-        "theta_dot0": p.mu * p.M * p.g * p.l / (p.I3 * p.omega0),
-        "t_rise": -p.omega0 * p.I3 * math.expm1(x) / (p.mu * p.M * p.g * p.R),
-        "omega_rise": p.omega0 * math.exp(x),
+        "omega_dot": Column(mu * M * g * R / I3),
+        "theta_dot0": Column(mu * M * g * l / (I3 * w0)),
+        "t_rise": Column(-w0 * I3 * np.expm1(x) / (mu * M * g * R)),
+        "omega_rise": Column(w0 * np.exp(x)),
     }
 
 
@@ -110,7 +115,7 @@ def _face_down(nx, ny, nz):
     """
     hor2 = nx * nx + ny * ny
     wx, wy, wz = nz * nx, nz * ny, -hor2
-    wn = math.sqrt(wx * wx + wy * wy + wz * wz)
+    wn = np.sqrt(wx * wx + wy * wy + wz * wz)
     return wx / wn, wy / wn, wz / wn
 
 
@@ -120,7 +125,7 @@ def _contact_force(n, rl, mu):
     nx, ny, nz = n
     ex, ey, ez = _face_down(nx, ny, nz)
     hx, hy, hz = ny * ez - nz * ey, nz * ex - nx * ez, nx * ey - ny * ex
-    hn = math.sqrt(hx * hx + hy * hy + hz * hz)
+    hn = np.sqrt(hx * hx + hy * hy + hz * hz)
     return (ex, ey, ez), (-mu * hx / hn, -mu * hy / hn, 1.0 - mu * hz / hn)
 
 
@@ -131,7 +136,7 @@ def _torque(L, rl, mu):
     not rounded away against the axis when R << l.
     """
     Lx, Ly, Lz = L[0], L[1], L[2]
-    Ln = math.sqrt(Lx * Lx + Ly * Ly + Lz * Lz)
+    Ln = np.sqrt(Lx * Lx + Ly * Ly + Lz * Lz)
     nx, ny, nz = Lx / Ln, Ly / Ln, Lz / Ln
     (ex, ey, ez), (fx, fy, fz) = _contact_force((nx, ny, nz), rl, mu)
     tx = -(ny * fz - nz * fy) + rl * (ey * fz - ez * fy)
@@ -147,7 +152,7 @@ def _axial_torque(n, rl, mu):
     ex, ey, ez = _face_down(nx, ny, nz)
     # n3 x e_P first, scaled by R/l last: its squares would underflow for R/l below 1e-154
     vx, vy, vz = ny * ez - nz * ey, nz * ex - nx * ez, nx * ey - ny * ex
-    vn = math.sqrt(vx * vx + vy * vy + vz * vz)
+    vn = np.sqrt(vx * vx + vy * vy + vz * vz)
     return rl * (vz - mu * vn)  # F = z - mu v/|v|
 
 
@@ -166,76 +171,111 @@ def _tilt_torque(n, rl, mu):
     return fx * cx + fy * cy + fz * cz
 
 
+def _rise_rhs(rl, mu, span):
+    """d/du of (L_x', L_z', k t, phi) (``motion``'s variables) for numbers or arrays of variants: the flow in
+    the Sundman variable s, divided by the tilt's rate in s, dtheta/ds = (e_theta . torque)/k, times
+    dtheta/du = span (theta1 - theta0)."""
+    k = mu * (1.0 + rl)
+
+    def rhs(u, y):
+        Lx, Lz = y[0], y[1]
+        Ln = np.hypot(Lx, Lz)
+        tx, ty, tz = _torque((Lx, 0.0 * Lx, Lz), rl, mu)
+        f = Ln / k
+        c = span * k * Ln / (Lz * tx - Lx * tz)  # ds/du: e_theta . torque = (L_z t_x - L_x t_z)/|L|
+        return np.array([c * f * tx, c * f * tz, c * Ln, c * f * ty / Lx])
+
+    return rhs
+
+
 @exercise.motion
 def motion(p):
     """The rise from theta0 to theta1: L in the frame turning about z with the axis's azimuth, (L_x', L_z') in
-    units of I3 omega0, its azimuth phi alongside for the record, in the variable s of dt = |L| ds / k.
+    units of I3 omega0, k t (t in the precession time I3 omega0/(M g l), k = mu (1 + R/l)) and the azimuth
+    phi alongside for the record, in the variable u of theta = theta0 + u (theta1 - theta0), u from 0 to 1.
 
     The forces see the axis only through its angle with the vertical, so in the frame turning with its
     azimuth, dL'/dt = tau(L') - w z x L' with w = tau_y'/L_x' keeping L' in the x'z plane: the precession
-    (hundreds of turns at small mu) needs no resolving.  Not t but s (a Sundman rescaling, k = mu (1 + R/l);
-    t becomes a state, integrated as k t): in t the spin falls linearly to a stop while the tilt rate grows
-    as 1/|L|, a log singularity just past the event where DOP853's error control on (L_x', L_z') misses the
-    tilt's error (omega_rise moved by 4e-4 between rtol and rtol/10 at a fall by e^12).  In s, |L| decays
-    exponentially at the rate (R/l)/(1 + R/l) and the axis turns at the rate 1/(1 + R/l): a smooth flow.
-    Time in the precession time I3 omega0/(M g l)."""
+    (hundreds of turns at small mu) needs no resolving.  Not t but the Sundman variable s of dt = |L| ds/k:
+    in t the spin falls linearly to a stop while the tilt rate grows as 1/|L|, a log singularity just past
+    the end where DOP853's error control on (L_x', L_z') misses the tilt's error (omega_rise moved by 4e-4
+    between rtol and rtol/10 at a fall by e^12).  In s, |L| decays exponentially at the rate (R/l)/(1 + R/l)
+    and the axis turns at the rate 1/(1 + R/l): a smooth flow, whose tilt, monotone, is the variable here (u),
+    its rate in s read off the torque at every step, so the end theta = theta1 is the end of the span
+    [0, 1], the same for every variant (the state's own polar angle there is monitored)."""
     from mech.problems.motion import Motion
 
-    rl = p.R / p.l
-    mu = p.mu
+    rl, mu = p.R / p.l, p.mu
     k = mu * (1.0 + rl)
-
-    def rhs(s, y):
-        Lx, Lz = y[0], y[1]
-        Ln = math.hypot(Lx, Lz)
-        tx, ty, tz = _torque((Lx, 0.0, Lz), rl, mu)
-        f = Ln / k
-        return (f * tx, f * tz, Ln, f * ty / Lx)
-
-    def polar_minus_theta1(s, y):
-        return math.atan2(y[0], y[1]) - p.theta1
-
-    def friction_torque(Y):
-        """|L| + mu M g R t is constant (the friction's axial torque), |L| + (mu R/l) t in these units."""
-        return float(np.max(np.abs(np.hypot(Y[0], Y[1]) + mu * rl * Y[2] / k - 1.0)))
-
-    n0 = (math.sin(p.theta0), 0.0, math.cos(p.theta0))
-    # the rise's length in s: about (theta0 - theta1)/(the initial tilt rate in s); in s that rate stays
-    # constant in this model, but the solver does not rely on it: four times the estimate
-    s_end = 4.0 * (p.theta0 - p.theta1) * k / -_tilt_torque(n0, rl, mu)
-    # L_x', L_z' stay positive (0 < theta < pi/2) and |L| may fall by up to e^25 (constraint): relative
-    # error control, with an absolute floor far below that.  k t grows from 0 at the rate |L| = exp(-a s),
-    # a <= 1, to at least (1 - 1/e) min(s_ev, 1) at the event: an absolute floor of rtol 1e-3 min(s_ev, 1)
-    # keeps it relative at the end (a relative control from 0 made DOP853 start with steps of 1e-16 and
-    # spend 250 evaluations on them).  phi is only recorded.
     L0 = p.I3 * p.omega0
-    return Motion(rhs, [n0[0], n0[2], 0.0, 0.0], (0.0, s_end),
-                  event=Event(polar_minus_theta1, direction=-1, name="theta = theta1"),
-                  monitors={"|L| + mu M g R t": friction_torque}, t_scale=L0 / (p.M * p.g * p.l), y_scale=L0,
-                  y_size=[math.exp(-30.0), math.exp(-30.0), min(0.25 * s_end, 1.0), math.inf],
-                  to_states=lambda y: y[:2], clock=lambda y: y[2] / k)
+    return Motion(_rise_rhs(rl, mu, p.theta1 - p.theta0), [math.sin(p.theta0), math.cos(p.theta0), 0.0, 0.0],
+                  (0.0, 1.0), t_scale=L0 / (p.M * p.g * p.l), y_scale=L0, to_states=lambda y: y[:2],
+                  clock=lambda y: y[2] / k)
 
 
-@exercise.numeric
-def numeric(p, run):
-    L0 = p.I3 * p.omega0
-    Mgl = p.M * p.g * p.l
-    rl = p.R / p.l
-    n0 = (math.sin(p.theta0), 0.0, math.cos(p.theta0))
-    omega_dot = -_axial_torque(n0, rl, p.mu) * Mgl / p.I3
-    rate_theta = -_tilt_torque(n0, rl, p.mu)  # dtheta/dt in units, |L| = 1 at t = 0
-    theta_dot0 = rate_theta * Mgl / L0
-    if rate_theta <= 0.0:
-        raise NumericFailure("the initial torque does not raise the axis")
-    m = motion(p)
-    end = run.follow(m)
-    run.info["precession_turns"] = float(end.y_end[3] / (2 * math.pi))
+@exercise.batched(("omega_dot", "theta_dot0", "t_rise", "omega_rise"))
+def numeric(P, rtol, outputs, tally=None):
+    """The rise of N variants at once (a one-point solve is the batch of one): the initial rates from the
+    torque at theta0, the rise integrated over u (``motion``) by mech's DOP853 stepping the ensemble
+    (``floquet.integrate_ensemble``; a batch that fails is integrated again variant by variant, so a variant
+    fails alone).  Monitored: |L| + mu M g R t, which the friction's axial torque keeps constant in this model,
+    and the polar angle of L at the end against theta1."""
+    from mech.core.budget import OutOfBudget
+    from mech.problems.spec import Tally
+    from mech.solvers.mechanics.floquet import integrate_ensemble
+    from mech.solvers.numerics.batch import Column
+
+    tally = Tally() if tally is None else tally
+    M, I3, l, R, mu, w0, th0, th1, g = (np.atleast_1d(np.asarray(P[k], dtype=float))
+                                        for k in ("M", "I3", "l", "R", "mu", "omega0", "theta0", "theta1", "g"))
+    N = M.size
+    L0, Mgl, rl = I3 * w0, M * g * l, R / l
+    k = mu * (1.0 + rl)
+    n0 = (np.sin(th0), np.zeros(N), np.cos(th0))
+    omega_dot = -_axial_torque(n0, rl, mu) * Mgl / I3
+    rate = -_tilt_torque(n0, rl, mu)  # dtheta/dt in units, |L| = 1 at t = 0
+    why = np.where(rate > 0.0, "", "the initial torque does not raise the axis").astype(object)
+    # L_x', L_z' stay positive (0 < theta < pi/2) and |L| may fall by up to e^25 (constraint): relative error
+    # control, with an absolute floor far below that.  k t grows from 0 at the rate |L| = exp(-a s), a <= 1, to
+    # at least (1 - 1/e) min(s_ev, 1) at the end, s_ev ~ (theta0 - theta1) k/rate: an absolute floor of
+    # rtol 1e-3 min(s_ev, 1) keeps it relative there (a relative control from 0 made DOP853 start with steps
+    # of 1e-16 and spend 250 evaluations on them).  phi is only recorded.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s_ev = np.minimum((th0 - th1) * k / rate, 1.0)
+    atol = 1e-3 * rtol * np.array([np.full(N, math.exp(-30.0)), np.full(N, math.exp(-30.0)), s_ev, np.full(N, np.inf)])
+    y0 = np.array([np.sin(th0), np.cos(th0), np.zeros(N), np.zeros(N)])
+    y_end = np.full((4, N), np.nan)
+
+    def rise(idx):
+        def make_rhs(sel):
+            j = idx[sel]
+            return _rise_rhs(rl[j], mu[j], th1[j] - th0[j])
+
+        try:
+            y_end[:, idx], results = integrate_ensemble(make_rhs, (0.0, 1.0), y0[:, idx], rtol=rtol,
+                                                        atol=atol[:, idx], integrator=tally.integrator)
+            for r in results:
+                tally.record(r)
+        except OutOfBudget:
+            raise
+        except NumericFailure as exc:
+            if idx.size == 1:
+                why[idx[0]] = str(exc)
+            for j in idx if idx.size > 1 else ():
+                rise(np.array([j]))
+
+    go = np.flatnonzero(why == "")
+    if go.size:
+        rise(go)
+    Ln = np.hypot(y_end[0], y_end[1])
+    tally.invariant("|L| + mu M g R t", np.nan_to_num(Ln + mu * rl * y_end[2] / k - 1.0))  # 0: failed
+    tally.invariant("polar angle of L at the end - theta1, over theta0 - theta1",
+                    np.nan_to_num((np.arctan2(y_end[0], y_end[1]) - th1) / (th0 - th1)))
+    tally.info["precession_turns"] = y_end[3] / (2 * math.pi)
+    tf = exercise.tol_factor * rtol
+    values = {"omega_dot": omega_dot, "theta_dot0": rate * Mgl / L0, "t_rise": y_end[2] / k * L0 / Mgl,
+              "omega_rise": Ln * w0}
     # omega_dot, theta_dot0: projections of one torque, round-off exact
-    run.claim("omega_dot", rel=1e-12)
-    run.claim("theta_dot0", rel=1e-12)
-    return {
-        "omega_dot": omega_dot,
-        "theta_dot0": theta_dot0,
-        "t_rise": m.clock(end.y_end) * m.t_scale,
-        "omega_rise": float(math.hypot(end.y_end[0], end.y_end[1])) * p.omega0,
-    }
+    rels = {"omega_dot": 1e-12, "theta_dot0": 1e-12, "t_rise": tf, "omega_rise": tf}
+    failed = [(why == text, text) for text in sorted(set(why[why != ""]))]
+    return {q: Column(np.where(why == "", values[q], np.nan), rel=rels[q], failed=failed) for q in outputs}

@@ -40,6 +40,7 @@ T = 2 pi/omega_pitch from (2).
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -63,21 +64,23 @@ exercise = Exercise(
 
 def _omega(p):
     # the orbital rate (GM/R^3)^(1/2), formed without R^3 (which leaves the range at R = 1e+-200 times 7e6 m)
-    return math.sqrt(p.GM) / math.sqrt(p.R) / p.R  # nor GM/R, which underflows for GM near 5e-324
+    return np.sqrt(p["GM"]) / np.sqrt(p["R"]) / p["R"]  # nor GM/R, which underflows for GM near 5e-324
 
 
 @exercise.analytic
-def analytic(p):
+def analytic(P):
+    """Over arrays of variants."""
+    from mech.solvers.numerics.batch import Column
     from mech.solvers.numerics.special import ellipkm1
 
-    W = _omega(p)
-    c = math.cos(p.theta_amp)
-    K = float(ellipkm1(c * c))  # K(m) with m = sin^2 = 1 - cos^2, accurate as m -> 1
+    W = np.asarray(_omega(P), dtype=float)
+    c = np.cos(P["theta_amp"])
+    K = np.vectorize(lambda m: float(ellipkm1(m)), otypes=[float])(c * c)  # K(m), m = 1 - cos^2: accurate as m -> 1
     return {
-        "cos_psi_eq": 1.0,
-        "omega_pitch": math.sqrt(3.0) * W,
-        "omega_roll": 2.0 * W,
-        "T_pitch": 4.0 * K / (math.sqrt(3.0) * W),
+        "cos_psi_eq": Column(np.ones_like(W)),
+        "omega_pitch": Column(math.sqrt(3.0) * W),
+        "omega_roll": Column(2.0 * W),
+        "T_pitch": Column(4.0 * K / (math.sqrt(3.0) * W)),
     }
 
 
@@ -153,59 +156,64 @@ def _linear_modes(q0):
 SMALL_SWING = 1e-9  # rad: below it the pitch period is the linear one to round-off
 
 
+def _pitch_rhs(t, y):
+    """One mass of the rod in the orbit's frame, scaled (``motion``), for y of shape (4,) or (4, N).
+    a = Coriolis + Hill - lambda r, lambda = (r.a_free + |v|^2)/|r|^2 keeping |r| fixed.  With
+    a_free = (2 vy + 3x, -2 vx), lambda = 3 + mu, mu = (2 (x vy - y vx) - 3 y^2 + |v|^2)/|r|^2; expanded so
+    that no order-one terms cancel (x ~ 1 in a tiny swing, y ~ 1 near the separatrix)."""
+    x, yy, vx, vy = y
+    r2 = x * x + yy * yy
+    v2 = vx * vx + vy * vy
+    ax = (2 * vy * yy * yy + 2 * x * yy * vx + 3 * x * yy * yy - x * v2) / r2
+    ay = -(2 * vx * x * x + 3 * x * x * yy + 2 * x * yy * vy + yy * v2) / r2
+    return np.array([vx, vy, ax, ay])
+
+
+def _pitch_sine(t, y):
+    return y[1]  # the rod crosses the local vertical
+
+
+def _jacobi(y):
+    """The Jacobi integral relative to the depth 3/2 of the potential well (y: (4,) or (4, N))."""
+    return (0.5 * (y[2] ** 2 + y[3] ** 2) + hill_potential([y[0], y[1], 0.0 * y[0]], 1.0)) / 1.5
+
+
+def _sizes(th):
+    """Absolute tolerances' sizes, scaled to the smallest offset: sin(theta_amp) for tiny swings, and
+    cos(theta_amp), the distance from the unstable along-track orientation, near the separatrix."""
+    s = np.maximum(np.sin(th), 1e-150)
+    c = np.maximum(np.cos(th), 1e-150)
+    return [c, s, np.minimum(c, s), np.minimum(c, s)]
+
+
 @exercise.motion
 def motion(p):
     """The finite pitch libration: one mass of the rod (the other mirrors it) in the orbit's frame, scaled
     (lengths l/2, time 1/Omega), r'' = Coriolis + Hill - lambda r with the link tension lambda from the
-    constraint, from rest at theta_amp to the rod's passage through the local vertical, a quarter period.
-    The states are the pitch angle and its rate.  None below SMALL_SWING (the linear mode's period)."""
+    constraint (``_pitch_rhs``), from rest at theta_amp to the rod's passage through the local vertical, a
+    quarter period.  The states are the pitch angle and its rate.  None below SMALL_SWING (the linear mode's
+    period)."""
     from mech.problems.motion import Motion
 
     th = p.theta_amp
     if th < SMALL_SWING:
         return None
-    W = _omega(p)
-
-    def rhs(t, y):
-        # a = Coriolis + Hill - lambda r, lambda = (r.a_free + |v|^2)/|r|^2 keeping |r| fixed.
-        # With a_free = (2 vy + 3x, -2 vx), lambda = 3 + mu, mu = (2 (x vy - y vx) - 3 y^2 + |v|^2)/|r|^2;
-        # expanded so that no order-one terms cancel (x ~ 1 in a tiny swing, y ~ 1 near the separatrix):
-        x, yy, vx, vy = y
-        r2 = x * x + yy * yy
-        v2 = vx * vx + vy * vy
-        ax = (2 * vy * yy * yy + 2 * x * yy * vx + 3 * x * yy * yy - x * v2) / r2
-        ay = -(2 * vx * x * x + 3 * x * x * yy + 2 * x * yy * vy + yy * v2) / r2
-        return np.array([vx, vy, ax, ay])
-
-    def pitch_sine(t, y):
-        return y[1]  # the rod crosses the local vertical
-
-    def jacobi(y):
-        """The Jacobi integral relative to the depth 3/2 of the potential well."""
-        return (0.5 * (y[2] ** 2 + y[3] ** 2) + hill_potential([y[0], y[1], 0.0], 1.0)) / 1.5
-
-    # absolute tolerances scaled to the smallest offset: sin(theta_amp) for tiny swings, and
-    # cos(theta_amp), the distance from the unstable along-track orientation, near the separatrix
-    s = max(math.sin(th), 1e-150)
-    c = max(math.cos(th), 1e-150)
     # Integrator: DOP853 at rtol 1e-10 (tolerance 1e-8), kept after `mech bench 4.34`: the fewest
     # evaluations with an error well under the tolerance.
-    return Motion(rhs, [math.cos(th), math.sin(th), 0.0, 0.0], (0.0, 1e4),
-                  event=Event(pitch_sine, direction=-1, name="rod along the vertical"),
-                  invariants={"Jacobi integral": jacobi, "link length": lambda y: math.hypot(y[0], y[1])},
-                  t_scale=1.0 / W, y_scale=[1.0, W], y_size=[c, s, min(c, s), min(c, s)],
+    return Motion(_pitch_rhs, [math.cos(th), math.sin(th), 0.0, 0.0], (0.0, 1e4),
+                  event=Event(_pitch_sine, direction=-1, name="rod along the vertical"),
+                  invariants={"Jacobi integral": _jacobi, "link length": lambda y: math.hypot(y[0], y[1])},
+                  t_scale=1.0 / float(_omega(p)), y_scale=[1.0, float(_omega(p))], y_size=[float(v) for v in _sizes(th)],
                   to_states=lambda y: [np.arctan2(y[1], y[0]),
                                        (y[0] * y[3] - y[1] * y[2]) / (y[0] ** 2 + y[1] ** 2)],
                   from_states=lambda x: [np.cos(x[0]), np.sin(x[0]), -np.sin(x[0]) * x[1], np.cos(x[0]) * x[1]])
 
 
-@exercise.numeric
-def numeric(p, run):
-    W = _omega(p)
-    # (1) the stable direction: minimum of the effective potential from an arbitrary start.  Each step
-    # goes downhill along the Newton direction where the Hessian is positive definite and along -grad U
-    # elsewhere, with a backtracking (Armijo) line search, so it cannot settle on a saddle as a bare
-    # Newton iteration could; the Newton polish below then finishes the minimum it reaches
+def _minimum():
+    """(1) The stable direction: minimum of the effective potential from an arbitrary start.  Each step goes
+    downhill along the Newton direction where the Hessian is positive definite and along -grad U elsewhere,
+    with a backtracking (Armijo) line search, so it cannot settle on a saddle as a bare Newton iteration
+    could; the Newton polish then finishes the minimum it reaches.  Returns q0, or raises NumericFailure."""
     q0 = np.array([1.1, 0.6])
     U0, g0 = _potential(q0), _grad(q0)
     for _ in range(200):
@@ -231,13 +239,23 @@ def numeric(p, run):
             break
     if np.linalg.norm(_grad(q0)) > 1e-12:
         raise NumericFailure(f"the potential's minimum was not reached: |grad U| = {np.linalg.norm(_grad(q0)):.3g}")
-    n0 = _direction(q0)
-    cos_psi = abs(n0[0])
+    return q0
 
+
+@functools.lru_cache(maxsize=1)
+def _orientation():
+    """(1) and (2), the same for every variant in units l = m = Omega = 1: (cos_psi_eq, pitch and roll
+    frequencies, None) at the minimum, or (NaN, NaN, NaN, why) where it fails; and the expanded accelerations
+    checked against the unexpanded constrained form (shared field code)."""
+    try:
+        q0 = _minimum()
+    except NumericFailure as exc:
+        return math.nan, math.nan, math.nan, str(exc)
+    cos_psi = abs(_direction(q0)[0])
     # (2) linearized rotating-frame equations at the minimum
     lam, vecs, M, K, G = _linear_modes(q0)
     if np.max(np.abs(lam.real)) > 1e-8 * np.max(np.abs(lam)):
-        raise NumericFailure(f"the orientation found is not stable: eigenvalues {lam}")
+        return math.nan, math.nan, math.nan, f"the orientation found is not stable: eigenvalues {lam}"
     freqs = {}
     for k in range(4):
         if lam[k].imag <= 0:
@@ -246,43 +264,100 @@ def numeric(p, run):
         # which tilt: the first angle moves the rod within the orbital plane (pitch), the second out of it
         freqs["pitch" if shape[0] > shape[1] else "roll"] = lam[k].imag
     if set(freqs) != {"pitch", "roll"}:
-        raise NumericFailure(f"could not tell the pitch and roll modes apart: {lam}")
-    run.info["stable"] = True
-    for name in ("cos_psi_eq", "omega_pitch", "omega_roll"):
-        run.claim(name, rel=1e-9)
+        return math.nan, math.nan, math.nan, f"could not tell the pitch and roll modes apart: {lam}"
+    y = np.array([math.cos(0.7), math.sin(0.7), 0.3, -0.2])
+    r, v = np.array([y[0], y[1], 0.0]), np.array([y[2], y[3], 0.0])
+    a_free = coriolis(v, 1.0) + hill_acceleration(r, 1.0)
+    lam_t = (r @ a_free + v @ v) / (r @ r)
+    if not np.allclose(_pitch_rhs(0.0, y)[2:], (a_free - lam_t * r)[:2], rtol=1e-13, atol=1e-13):
+        return math.nan, math.nan, math.nan, "the expanded accelerations disagree with the constrained form"
+    return cos_psi, float(freqs["pitch"]), float(freqs["roll"]), None
 
-    # (3) the finite pitch libration
-    if p.theta_amp < SMALL_SWING:
-        # the libration's nonlinearity enters the period at relative order theta_amp^2 (the period is
-        # an even, smooth function of the amplitude), below 1e-18 here: the linear mode's period is the
-        # finite swing's to round-off, and it avoids integrating offsets of 1e-200 (whose absolute
-        # tolerances underflow)
-        T_pitch = 2.0 * math.pi / freqs["pitch"]
-        run.claim("T_pitch", rel=1e-9)
-        run.info["T_pitch_from"] = "small-oscillation frequency (amplitude below 1e-9 rad)"
-    else:
-        m = motion(p)
 
-        def rhs_check(y):
-            # the same accelerations from the unexpanded constrained form (shared field code)
-            r = np.array([y[0], y[1], 0.0])
-            v = np.array([y[2], y[3], 0.0])
-            a_free = coriolis(v, 1.0) + hill_acceleration(r, 1.0)
-            lam_t = (r @ a_free + v @ v) / (r @ r)
-            return (a_free - lam_t * r)[:2]
+# a batched step's fixed cost and a step of one swing alone (plain floats), in swings' worth of arithmetic
+# (``chunks_by_work``): of the order 4.23 measured for its ensemble (900 and 180 there), not tuned
+STEP_OVERHEAD, STEP_ALONE = 600.0, 150.0
 
-        probe = np.array([math.cos(0.7), math.sin(0.7), 0.3, -0.2])
-        if not np.allclose(m.rhs(0.0, probe)[2:], rhs_check(probe), rtol=1e-13, atol=1e-13):
-            raise NumericFailure("the expanded accelerations disagree with the constrained form")
-        t_ev = run.follow(m).t_end
-        run.info["quarter_period"] = t_ev / W
-        T_pitch = 4.0 * t_ev
-    return {
-        "cos_psi_eq": cos_psi,
-        "omega_pitch": freqs["pitch"] * W,
-        "omega_roll": freqs["roll"] * W,
-        "T_pitch": T_pitch / W,
-    }
+
+def _quarters(th, rtol, tally):
+    """(3) The quarter libration of each swing th (> 0, units Omega = 1): (its time, the Jacobi integral's and
+    the link length's drifts, why it failed or "").  Swings of like lengths together (``batch.chunks_by_work``:
+    a quarter's steps grow as log(1/cos theta_amp) towards the separatrix, and a batch steps at its hardest
+    swing's pace), by mech's DOP853 stepping the chunk, each swing stopped at its own event and failing alone
+    (``batch.integrate_batch``); a swing alone, or with an integrator forced (``mech bench``), by
+    ``ode.integrate``."""
+    from mech.core.budget import OutOfBudget
+    from mech.solvers.numerics.batch import BatchEvent, chunks_by_work, integrate_batch
+    from mech.solvers.numerics.ode import integrate
+
+    N = th.size
+    t_ev, why = np.full(N, np.nan), np.full(N, "", dtype=object)
+    y0 = np.array([np.cos(th), np.sin(th), np.zeros(N), np.zeros(N)])
+    y_ev = np.full((4, N), np.nan)
+    atol = 1e-3 * rtol * np.array(_sizes(th))
+    work = 30.0 + 15.0 * np.log1p(1.0 / np.maximum(np.cos(th), 1e-300))
+    chunks = [np.arange(N)] if N == 1 else chunks_by_work(work, STEP_OVERHEAD, STEP_ALONE)
+    for idx in chunks if tally.integrator is None else np.arange(N)[:, None]:
+        if idx.size > 1:
+            res = tally.record(integrate_batch(_pitch_rhs, (0.0, 1e4), y0[:, idx], rtol=rtol, atol=atol[:, idx],
+                                               on_failure="mark",
+                                               events=[BatchEvent(_pitch_sine, -1.0, terminal=True)]))
+            t_ev[idx], y_ev[:, idx] = res.t_events[0], res.y_events[0]
+            why[idx[res.failed]] = [res.why[j] for j in np.flatnonzero(res.failed)]
+            continue
+        j = idx[0]
+        try:
+            traj = tally.record(integrate(_pitch_rhs, (0.0, 1e4), y0[:, j], rtol=rtol, atol=atol[:, j],
+                                          events=[Event(_pitch_sine, direction=-1)], integrator=tally.integrator))
+        except OutOfBudget:
+            raise
+        except NumericFailure as exc:
+            why[j] = str(exc)
+            continue
+        if len(traj.t_events[0]):
+            t_ev[j], y_ev[:, j] = traj.t_events[0][0], traj.y_events[0][0]
+    why[(why == "") & np.isnan(t_ev)] = "the rod did not pass the local vertical"
+    dJ = np.nan_to_num(_jacobi(y_ev) - _jacobi(y0))
+    dlink = np.nan_to_num(np.hypot(y_ev[0], y_ev[1]) - 1.0)
+    return t_ev, dJ, dlink, why
+
+
+@exercise.batched(("cos_psi_eq", "omega_pitch", "omega_roll", "T_pitch"))
+def numeric(P, rtol, outputs, tally=None):
+    """The orientation and its linear modes once for all variants (``_orientation``: they do not depend on the
+    parameters in units of l, m and Omega), the quarter libration of each swing (``_quarters``); a variant that
+    fails fails alone.  At theta_amp = 0 nothing moves: T = 2 pi/omega_pitch from (2)."""
+    from mech.problems.spec import Tally
+    from mech.solvers.numerics.batch import Column
+
+    tally = Tally() if tally is None else tally
+    W = np.atleast_1d(np.asarray(_omega(P), dtype=float))
+    th = np.atleast_1d(np.asarray(P["theta_amp"], dtype=float))
+    N = th.size
+    cos_psi, pitch, roll, fail = _orientation()
+    why = np.full(N, fail or "", dtype=object)
+    # the libration's nonlinearity enters the period at relative order theta_amp^2 (the period is an even,
+    # smooth function of the amplitude), below 1e-18 under SMALL_SWING: the linear mode's period is the finite
+    # swing's to round-off, and it avoids integrating offsets of 1e-200 (whose absolute tolerances underflow)
+    small = th < SMALL_SWING
+    T = np.full(N, 2.0 * math.pi / pitch)
+    swing = np.flatnonzero(~small & (why == ""))
+    t_ev, dJ, dlink, why[swing] = _quarters(th[swing], rtol, tally)
+    T[swing] = 4.0 * t_ev
+    drifts = {"Jacobi integral": np.zeros(N), "link length": np.zeros(N)}
+    drifts["Jacobi integral"][swing], drifts["link length"][swing] = dJ, dlink
+    for name, d in drifts.items():
+        if swing.size:
+            tally.invariant(name, d)
+    tally.info["stable"] = np.where(why == "", True, None).astype(object)
+    tally.info["quarter_period"] = np.where(~small & (why == ""), T / 4.0 / W, None).astype(object)
+    tally.info["T_pitch_from"] = np.where(small, "small-oscillation frequency (amplitude below 1e-9 rad)",
+                                          None).astype(object)
+    values = {"cos_psi_eq": np.full(N, cos_psi), "omega_pitch": pitch * W, "omega_roll": roll * W, "T_pitch": T / W}
+    rels = {"cos_psi_eq": 1e-9, "omega_pitch": 1e-9, "omega_roll": 1e-9,
+            "T_pitch": np.where(small, 1e-9, exercise.tol_factor * rtol)}
+    failed = [(why == text, text) for text in sorted(set(why[why != ""]))]
+    return {q: Column(np.where(why == "", values[q], np.nan), rel=rels[q], failed=failed) for q in outputs}
 
 
 @exercise.hamiltonian

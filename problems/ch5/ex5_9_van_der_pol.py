@@ -8,23 +8,24 @@ deviation from A0 relaxes at the rate
 d/dA[(mu/2) A (1 - beta A^2/4)] at A0 = -mu, the Floquet exponent.  Leading
 order in mu/omega0.
 
-Numeric (exact): in the scaled variables x = sqrt(beta) q, tau = omega0 t,
-eps = mu/omega0 the equation is x'' - eps (1 - x^2) x' + x = 0.
-eps <= 4: the return map from a maximum (X, 0) to the next (events on
-x' = 0, DOP853) carries the integral of (1 - x^2) x'^2, the energy gained
-over the return divided by eps; the cycle's X is its root (Brent, bracketed
-by X = 1, where the damping is negative all along, and X = 3).  Unlike Newton
-on the map itself, X -> X + O(eps), the root keeps its conditioning as
-eps -> 0.  A = X/sqrt(beta), omega = 2 pi omega0/T; lambda_lc: Liouville's
-formula, mu times the period average of (1 - x^2), checked against ln det M
-of the converged cycle where that is resolvable.
-eps > 4 (relaxation oscillation): x and u = x'/eps against the slow time
-tau/eps with LSODA (stiff on the slow branches); from the maximum (2, 0) the
-cycle attracts by exp(-1.44 eps^2) per half cycle, and the second full cycle
-gives period, amplitude and exponent; its two halves must agree.
-The declared motion (``motion``) is one period of the converged cycle (followed with its
-variational equations: det M) or the relaxation's three legs; the search's returns are
-tool runs of the same oscillator.
+Numeric (exact), written once over arrays of variants (``numeric``; a one-point solve is its batch of
+one), once for each distinct eps = mu/omega0: in x = sqrt(beta) q, tau = omega0 t the equation is
+x'' - eps (1 - x^2) x' + x = 0.
+eps <= 4: the return from a maximum (X, 0) to the next (two legs, each ended by its own event x' = 0,
+the variants stepped together by DOP853) carries the integral of (1 - x^2) x'^2, the energy gained over
+the return divided by eps; the cycle's X is its root (Illinois in X^2, bracketed by X = 1, where the
+damping is negative all along, and X = 3).  Unlike Newton on the map itself, X -> X + O(eps), the root
+keeps its conditioning as eps -> 0.  A = X/sqrt(beta), omega = 2 pi omega0/T; lambda_lc: Liouville's
+formula, mu times the period average of (1 - x^2), checked against ln det M of the converged cycle (its
+variational equations over the period, a fixed span) where det's cancellation leaves that resolvable.
+eps > 4 (relaxation oscillation): x and u = x'/eps against the slow time tau/eps, from the maximum
+(2, 0); the cycle attracts by exp(-1.44 eps^2) per half cycle, so the first minimum is on it, and the
+half cycle from there to the maximum gives half the period and of the divergence's integral (the cycle
+is symmetric under x -> -x), the maximum the amplitude; |x_min| = x_max is the check that it settled.
+Up to eps = 16 the variants are stepped together by DOP853; above, each alone with LSODA (stiff on the
+slow branches).
+The declared motion (``motion``) is one period of the converged cycle or the relaxation's three legs;
+the search's returns are tool runs of the same oscillator.
 
 Allowances (leading-order outputs; outside mu/omega0 >= 1 nothing is compared):
   A          twice the next order eps^2/192 (Poincare-Lindstedt; fitted 0.005208);
@@ -38,7 +39,7 @@ import math
 
 import numpy as np
 
-from mech.problems.spec import Exercise, NumericFailure
+from mech.problems.spec import Exercise, NumericFailure, Tally
 from mech.solvers.numerics.ode import Event
 
 exercise = Exercise(
@@ -51,7 +52,7 @@ exercise = Exercise(
     leading_order=("A", "omega", "lambda_lc"),
     route_note="""
 The cycle is the root of the energy gained over one return from the section
-(Brent in X alone), not Newton on (A, T): that Newton step is conditioned by
+(Illinois in X^2 alone), not Newton on (A, T): that Newton step is conditioned by
 1/eps and moved A by 1e-7 at rtol/10 for eps ~ 1e-5.  For eps > 4, LSODA in
 the slow time tau/eps replaces Radau, whose steps stalled at ~1e-6 of a
 cycle on the slow branches (30 s at eps = 100).
@@ -72,6 +73,9 @@ MAX_EPS = 1e5
 # and of int (1 - x^2) ds is not rtol but up to ~95 rtol (mu/omega0 = 20-26, against scipy at rtol 1e-12),
 # the whole default claim tol_factor * rtol; at rtol/10 it is <= 19 rtol over mu/omega0 = 4-120 (commit body)
 RELAX_RTOL = 0.1
+# mu/omega0 up to which the relaxation oscillations of many variants are stepped together by DOP853 (its ~2.4 eps^2
+# steps a cycle shared by all of them); above, each alone with LSODA, the stiff solver
+ENSEMBLE_EPS = 16.0
 
 
 exercise.declare_limits(
@@ -100,12 +104,21 @@ def _power_of_ten(k: float) -> str:
 
 
 @exercise.analytic
-def analytic(p):
-    return {"A": 2.0 / math.sqrt(p.beta), "omega": p.omega0, "lambda_lc": -p.mu}
+def analytic(P):
+    """Over arrays of variants."""
+    from mech.solvers.numerics.batch import Column
+
+    omega0, mu, beta = _arrays(P)
+    return {"A": Column(2.0 / np.sqrt(beta)), "omega": Column(omega0 + 0.0 * mu),
+            "lambda_lc": Column(-mu + 0.0 * omega0)}
+
+
+def _arrays(P):
+    return np.broadcast_arrays(*(np.asarray(P[k], dtype=float) for k in ("omega0", "mu", "beta")))
 
 
 @exercise.expected_error
-def expected_error(p):
+def expected_error(P):
     """The reduced equation is the first order of an expansion in eps = mu/omega0.  The second order
     (Poincare-Lindstedt; Nayfeh & Mook, Nonlinear Oscillations, sec. 3.3; Bogoliubov & Mitropolsky) gives
     omega = omega0 (1 - eps^2/16 + 17 eps^4/3072), the maximum of q 2/sqrt(beta) (1 + eps^2/192) and, by
@@ -116,14 +129,14 @@ def expected_error(p):
       omega      twice eps^2/16;
       lambda_lc  twice eps^2/16.
     At eps >= 1 the expansion is outside its range (``theory_range``): nothing is compared there."""
-    e2 = (p.mu / p.omega0) ** 2
+    e2 = (np.asarray(P["mu"], dtype=float) / np.asarray(P["omega0"], dtype=float)) ** 2
     return {"A": e2 / 96.0, "omega": e2 / 8.0, "lambda_lc": e2 / 8.0}
 
 
 @exercise.theory_range
-def theory_range(p):
+def theory_range(P):
     """The reduced equation expands in mu/omega0."""
-    eps = ("mu/omega0", p.mu / p.omega0)
+    eps = ("mu/omega0", np.asarray(P["mu"], dtype=float) / np.asarray(P["omega0"], dtype=float))
     return {"A": eps, "omega": eps, "lambda_lc": eps}
 
 
@@ -180,16 +193,21 @@ def _turn(path, what, missing):
 
 
 @exercise.motion
-def motion(p, X=2.0, T=2.0 * math.pi):
+def motion(p, X=None, T=None):
     """mu/omega0 <= 4: one period of the cycle from its maximum (X, 0) in x = sqrt(beta) q, tau = omega0 t
-    (the solve finds X and the period T; by default x = 2 over 2 pi, their limits as mu -> 0).  Above: the
-    relaxation oscillation in the slow time tau/eps from the maximum (2, 0), three legs, max -> min -> max
-    -> min, with int (1 - x^2) ds carried along (``_slow``)."""
+    (by default the cycle the route finds, ``_cycles``, at the default rtol).  Above: the relaxation
+    oscillation in the slow time tau/eps from the maximum (2, 0), three legs, max -> min -> max -> min, with
+    int (1 - x^2) ds carried along (``_slow``)."""
     from mech.problems.motion import Motion
 
     eps = p.mu / p.omega0
     qs = 1.0 / math.sqrt(p.beta)
     if eps <= RELAX_EPS:
+        if X is None:
+            got = _cycles(np.array([eps]), exercise.default_rtol, Tally())
+            if got[5][0]:
+                raise NumericFailure(got[5][0])
+            X, T = float(got[0][0]), float(got[1][0])
         return Motion(lambda t, y: _f(t, y, eps), [X, 0.0], (0.0, T), t_scale=1.0 / p.omega0,
                       y_scale=[qs, qs * p.omega0], y_size=[1.0, max(1.0, eps)])
     rhs, jac = _slow(eps)
@@ -204,109 +222,221 @@ def motion(p, X=2.0, T=2.0 * math.pi):
                     t_scale=eps / p.omega0, y_scale=[qs, qs * p.omega0 * eps], to_states=lambda z: z[:2])
 
 
-def _return(m, X, eps, rtol, run):
-    """From the maximum (X, 0) to the next one, the declared oscillator ``m`` with int (1 - x^2) x'^2 dtau and
-    int (1 - x^2) dtau carried along: a tool run (a trial of the search), not the motion.
-
-    Returns (X_next, period, int (1 - x^2) x'^2 dtau, int (1 - x^2) dtau).  The energy
-    (x^2 + x'^2)/2 changes over the return by eps times the third: a periodic orbit is where
-    that integral vanishes, a root that keeps its conditioning however small eps is (the
-    return map itself, X -> X + eps (...), cannot resolve X better than rtol/eps)."""
-    vs = max(1.0, eps)  # x' reaches ~eps in the fast parts for eps ~ 1
-    f = m.rhs
-
+def _carried(eps):
+    """The oscillator (``_f``) with int (1 - x^2) x'^2 dtau and int (1 - x^2) dtau carried along, for floats or
+    arrays of variants.  The energy (x^2 + x'^2)/2 changes over a return by eps times the first: a periodic
+    orbit is where it vanishes, a root that keeps its conditioning however small eps is (the return map
+    itself, X -> X + eps (...), cannot resolve X better than rtol/eps)."""
     def rhs(t, z):
         x, v = z[0], z[1]
         d = 1.0 - x * x
-        return np.concatenate([f(t, z[:2]), [d * v * v, d]])
+        return np.array([v, eps * d * v - x, d * v * v, d])
 
-    t_max = 20.0 + 4.0 * eps  # a half period is pi at eps = 0 and ~4.5 at eps = 4
-
-    def missing(what):
-        return f"no {what} of x within tau = {t_max:g} from X = {X:.6g}"
-
-    # two legs: to the minimum (x' = 0 upward), then to the maximum; each starts on its other section
-    trial = _extrema(rhs, [X, 0.0, 0.0, 0.0], 0.0, t_max, ((1.0, "minimum"), (-1.0, "maximum")), missing,
-                     y_size=[1.0, vs, vs * vs, 1.0])
-    t, z = _turn(run.follow(trial, rtol=rtol, mark=False), "maximum", missing)
-    return float(z[0]), t, float(z[2]), float(z[3])
+    return rhs
 
 
-def _energy_balance(p, run, eps):
-    """The cycle's maximum X is the root of the energy gained over one return, in [1, 3]: for X <= 1
-    the damping is negative all along the orbit (the energy grows); from X = 3 it falls."""
-    from mech.solvers.numerics.roots import brentq
+def _returns(eps, X, rtol, tally):
+    """From the maxima (X, 0) to the next ones at N variants, in two legs (to the minimum, x' = 0 upward; then
+    to the maximum, each starting on its section): tool runs of the oscillator, the variants stepped together,
+    each stopped at its own event.  Returns (X_next, period, int (1 - x^2) x'^2, int (1 - x^2), failure)."""
+    from mech.solvers.numerics.ensemble_search import integrate_variants
 
-    rtol = run.rtol
-    r_search = max(rtol, 1e-7)  # the search runs cheaper; secant steps at rtol finish it
-    seen = {}
-    m = motion(p)
-
-    def gain(X, r):
-        seen[X, r] = _return(m, X, eps, r, run)
-        return seen[X, r][2] / (X * X)
-
-    g_lo, g_hi = gain(1.0, r_search), gain(3.0, r_search)
-    if not (g_lo > 0.0 > g_hi):
-        raise NumericFailure(f"the energy gained over a cycle does not change sign between X = 1 and 3 "
-                             f"({g_lo:.3g}, {g_hi:.3g}): no bracket for the limit cycle")
-    Xs = brentq(lambda X: gain(X, r_search), 1.0, 3.0, xtol=1e-5, rtol=1e-15, maxiter=100, fa=g_lo, fb=g_hi)
-    # the gain's slope is O(1) (-4 pi at eps -> 0): secant steps at rtol from either side of the search's root
-    x0, x1 = Xs - 1e-5, Xs + 1e-5
-    f0, f1 = gain(x0, rtol), gain(x1, rtol)
-    for _ in range(12):
-        if f1 == f0:
-            break
-        x2 = x1 - f1 * (x1 - x0) / (f1 - f0)
-        if not 1.0 <= x2 <= 3.0:
-            raise NumericFailure(f"the secant steps for the limit cycle left the bracket [1, 3] (X = {x2:.6g})")
-        x0, f0, x1 = x1, f1, x2
-        f1 = gain(x1, rtol)
-        if abs(x1 - x0) <= rtol * x1:  # the noise floor: g is resolved to ~rtol, its slope is O(1)
-            break
-    else:
-        raise NumericFailure("the secant steps for the limit cycle did not converge in 12 steps")
-    X = x1
-    X_next, T, _, int_div = seen[X, rtol]
-    run.info["closure"] = X_next - X
-    run.info["brent_evaluations"] = len(seen)
-
-    # Liouville: the second multiplier det M of the converged cycle is exp(eps int (1 - x^2) dtau); this
-    # period of the cycle, from its maximum, is the motion
-    cycle = run.follow(motion(p, X, T).with_variations(lambda t, y: _jac(t, y, eps)))
-    M = cycle.y_end[2:].reshape(2, 2)
-    det = float(np.linalg.det(M))
-    run.info["det_M"] = det
-    if det > 1e3 * rtol:
-        run.invariant("Liouville (ln det M - int div)", (math.log(det) - eps * int_div) / max(abs(eps * int_div), 1.0))
-    return {"A": X / math.sqrt(p.beta), "omega": 2.0 * math.pi * p.omega0 / T, "lambda_lc": p.mu * int_div / T}
+    vs = np.maximum(1.0, eps)  # x' reaches ~eps in the fast parts for eps ~ 1
+    atol = 1e-3 * rtol * np.vstack([np.ones_like(vs), vs, vs * vs, np.ones_like(vs)])
+    t_max = 20.0 + 4.0 * float(np.max(eps, initial=0.0))  # a half period is pi at eps = 0 and ~4.5 at eps = 4
+    z = np.vstack([X, np.zeros((3, X.size))])
+    t, why = np.zeros(X.size), np.full(X.size, "", dtype=object)
+    for direction, what in ((1.0, "minimum"), (-1.0, "maximum")):
+        z, w, leg = integrate_variants(_carried, (eps,), (0.0, t_max), z, rtol=rtol, atol=atol, work=1.0 + eps,
+                                       integrator=tally.integrator, record=tally.record,
+                                       event=(lambda t, y: y[1], direction))
+        why = np.where(why != "", why, w)
+        lost = (why == "") & np.isnan(leg)
+        why[lost] = [f"no {what} of x within tau = {t_max:g} from X = {x:.6g}" for x in X[lost]]
+        z[1], t = 0.0, t + leg  # on its section
+    return z[0], t, z[2], z[3], why
 
 
-@exercise.numeric
-def numeric(p, run):
-    eps = p.mu / p.omega0
-    if eps > RELAX_EPS:
-        return _relaxation(p, run, eps)
-    return _energy_balance(p, run, eps)
+def _cycles(eps, rtol, tally):
+    """The limit cycles of N variants (eps <= 4): each maximum X the root of the energy gained over one return
+    (``_returns``) divided by X^2, bracketed in [1, 3] (for X <= 1 the damping is negative all along the
+    orbit; from X = 3 the energy falls), by Illinois in X^2 (the gain is nearly linear in X^2 for small eps:
+    pi X^2 (1 - X^2/4)), to rtol of X (the noise floor: the gain is resolved to ~rtol, its slope is O(1)).
+    Returns (X, T, int (1 - x^2) over the cycle, closure X_next - X, evaluations, failure)."""
+    from mech.solvers.numerics.batch import illinois
+
+    N = eps.size
+    last = [np.full(N, np.nan) for _ in range(5)]  # X and the return from it, the last evaluated
+    why = np.full(N, "", dtype=object)
+    calls = np.zeros(N)
+
+    def gain(y, idx):
+        X = np.sqrt(y)
+        X_next, T, energy, div, w = _returns(eps[idx], X, rtol, tally)
+        for k, v in enumerate((X, X_next, T, energy, div)):
+            last[k][idx] = v
+        for k in np.flatnonzero((w != "") & (why[idx] == "")):
+            why[idx[k]] = w[k]
+        np.add.at(calls, idx, 1.0)
+        return energy / y
+
+    ends = gain(np.concatenate([np.ones(N), np.full(N, 9.0)]), np.concatenate([np.arange(N), np.arange(N)]))
+    g_lo, g_hi = ends[:N], ends[N:]
+    bracket = (g_lo > 0.0) & (g_hi < 0.0) & (why == "")
+    why[(why == "") & ~bracket] = [f"the energy gained over a cycle does not change sign between X = 1 and 3 "
+                                   f"({a:.3g}, {b:.3g}): no bracket for the limit cycle"
+                                   for a, b in zip(g_lo[(why == "") & ~bracket], g_hi[(why == "") & ~bracket])]
+    go = np.flatnonzero(bracket)
+    X = np.full(N, np.nan)
+    if go.size:
+        # a gain within half its resolution of zero is a root to that accuracy (0.5 rtol of X^2 times the mean
+        # slope over the local one): Illinois stops there, not when the far end of its bracket comes in too
+        thr = 0.5 * rtol * (g_lo[go] - g_hi[go]) / 8.0
+
+        def f(y, i):
+            g = gain(y, go[i])
+            return np.where(np.abs(g) <= thr[i] * y, 0.0, g)
+
+        y, conv = illinois(f, np.ones(go.size), np.full(go.size, 9.0), g_lo[go], g_hi[go], xtol=0.0, rtol=2.0 * rtol)
+        X[go] = np.sqrt(y)
+        why[go[~conv]] = "the root search for the limit cycle did not converge"
+        again = go[conv & (last[0][go] != X[go])]  # the root's own return, where it was not the last evaluated
+        if again.size:
+            gain(X[again] ** 2, again)
+    X[why != ""] = np.nan
+    return X, last[2], last[4], last[1] - X, calls, why
 
 
-def _relaxation(p, run, eps):
-    """The stiff case, the declared motion (``motion``): from the maximum (2, 0) the cycle attracts by
-    exp(-1.44 eps^2) per half cycle; of the three legs, max -> min -> max -> min, the last full cycle
-    (min to min) gives the period, its maximum the amplitude and the integral of the divergence the
-    exponent.  Its two halves must agree (the cycle is symmetric under x -> -x): the check that the start
-    has settled."""
-    rtol = run.rtol
+def _liouville(eps, X, T, int_div, rtol, tally):
+    """One period of each converged cycle from its maximum with its variational equations (the time scaled by
+    T: a fixed span): the second multiplier det M = exp(eps int (1 - x^2) dtau) (Liouville), where it is
+    resolvable.  Returns the relative drift of ln det M (0 where not resolvable), what it may drift, each
+    variant's failure and det M."""
+    from mech.solvers.numerics.ensemble_search import integrate_variants
+
+    def system(e, period):
+        def rhs(s, z):
+            x, v, m00, m01, m10, m11 = z
+            d = 1.0 - x * x
+            j10, j11 = -2.0 * e * x * v - 1.0, e * d
+            return period * np.array([v, e * d * v - x, m10, m11, j10 * m00 + j11 * m10, j10 * m01 + j11 * m11])
+
+        return rhs
+
+    vs = np.maximum(1.0, eps)
+    one = np.ones_like(vs)
+    z0 = np.vstack([X, 0.0 * X, one, 0.0 * X, 0.0 * X, one])  # M row by row from the identity
+    z, why, _ = integrate_variants(system, (eps, T), (0.0, 1.0), z0, rtol=rtol, integrator=tally.integrator,
+                                   atol=1e-3 * rtol * np.vstack([one, vs, one, 1.0 / vs, vs, one]),  # M: s_i/s_j
+                                   record=tally.record)
+    det = z[2] * z[5] - z[3] * z[4]
+    # ln det M carries each entry's error (rtol of it plus its atol) through det's cancellation: compared where
+    # that leaves it resolved to 1e-3 of its scale, allowed the claim plus tol_factor times that error
+    size = np.vstack([one, 1.0 / vs, vs, one])
+    err = rtol * (np.abs(z[2:]) + 1e-3 * size)
+    d_det = err[0] * np.abs(z[5]) + err[3] * np.abs(z[2]) + err[1] * np.abs(z[4]) + err[2] * np.abs(z[3])
+    scale = np.maximum(np.abs(eps * int_div), 1.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d_log = d_det / det / scale
+        seen = (det > 0.0) & (d_log < 1e-3)
+        drift = np.where(seen, (np.log(np.where(seen, det, 1.0)) - eps * int_div) / scale, 0.0)
+    allowed = exercise.tol_factor * rtol + exercise.tol_factor * np.where(seen, d_log, 0.0)
+    return drift, allowed, why, det
+
+
+def _slow_legs(eps, rtol, tally, options=None):
+    """The relaxation oscillation of N variants in the slow time (``_slow``) from the maximum (2, 0), the declared
+    motion's first two legs, max -> min -> max, each ending at its event u = 0 and the next starting there on
+    its section: (slow times of the two extrema, their states, failure)."""
+    from mech.solvers.numerics.ensemble_search import integrate_variants
+
+    n = eps.size
     e2 = eps * eps
-    # scipy raises an rtol below 100 EPS = 2.2e-14 to it, with a warning: 3e-14 is what LSODA can be asked
-    path = run.follow(motion(p), rtol=max(RELAX_RTOL * rtol, 3e-14))
-    marks = [_turn(leg, what, None) for leg, what in zip(path.legs, ("minimum", "maximum", "minimum"))]
-    (s1, z1), (s2, z2), (s3, z3) = marks
-    T, h1, h2 = s3 - s1, s2 - s1, s3 - s2
-    if abs(h1 - h2) > 100 * rtol * T or abs(z2[0] + z3[0]) > 100 * rtol * z2[0]:
-        raise NumericFailure(f"the relaxation cycle has not settled: half periods {h1:.12g}, {h2:.12g}")
-    int_div = z3[2] - z1[2]  # int (1 - x^2) ds over the cycle
-    run.info["second_multiplier_log10"] = e2 * int_div / math.log(10.0)
-    run.info["method_note"] = "LSODA in the slow time tau/eps: stiff relaxation oscillation"
-    return {"A": z2[0] / math.sqrt(p.beta), "omega": 2.0 * math.pi * p.omega0 / (eps * T),
-            "lambda_lc": p.mu * int_div / T}
+    z = np.vstack([np.full(n, 2.0), np.zeros((2, n))])
+    s, marks, why = np.zeros(n), [], np.full(n, "", dtype=object)
+    for direction, what in ((1.0, "minimum"), (-1.0, "maximum")):
+        z, w, leg = integrate_variants(lambda e: _slow(e)[0], (eps,), (0.0, 4.0), z, rtol=rtol, options=options,
+                                       work=e2,
+                                       atol=1e-3 * rtol * np.vstack([np.ones(n), 1.0 / e2, np.ones(n)]),
+                                       integrator=tally.integrator, record=tally.record,
+                                       event=(lambda t, y: y[1], direction))
+        why = np.where(why != "", why, w)
+        why[(why == "") & np.isnan(leg)] = (f"no {what} of x within 4 slow times (the relaxation cycle's half "
+                                            "takes ~0.8)")
+        z[1], s = 0.0, s + leg
+        marks.append((s.copy(), z.copy()))
+    return marks, why
+
+
+def _relaxation(eps, rtol, tally):
+    """The stiff case (eps > 4) at N variants, the declared motion's legs (``_slow_legs``): from the maximum (2, 0)
+    the cycle attracts by exp(-1.44 eps^2) per half cycle, so that the first minimum is on it; the cycle is
+    symmetric under x -> -x (so is the equation), and the half from that minimum to the next maximum gives
+    half the period, the amplitude and half the integral of the divergence.  The minimum and the maximum must
+    agree (|x_min| = x_max): the check that the start has settled.  Up to ENSEMBLE_EPS the variants
+    are stepped together by DOP853 (~2.4 eps^2 steps a cycle, shared by all); above, one by one with LSODA
+    (stiff, asked RELAX_RTOL rtol).  Returns (X, T in tau, int (1 - x^2) dtau over the cycle, failure)."""
+    n = eps.size
+    X, T, div, why = np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan), np.full(n, "", dtype=object)
+    for sel, r, options in ((eps <= ENSEMBLE_EPS, rtol, None),
+                            # scipy raises an rtol below 100 EPS = 2.2e-14 to it, with a warning: 3e-14 is what
+                            # LSODA can be asked
+                            (eps > ENSEMBLE_EPS, max(RELAX_RTOL * rtol, 3e-14),
+                             lambda e: {"method": "LSODA", "jac": _slow(e)[1]})):
+        k = np.flatnonzero(sel)
+        if not k.size:
+            continue
+        ((s1, z1), (s2, z2)), why[k] = _slow_legs(eps[k], r, tally, options)
+        unsettled = np.abs(z1[0] + z2[0]) > 100 * rtol * z2[0]
+        why[k[unsettled & (why[k] == "")]] = [f"the relaxation cycle has not settled: extrema {a:.12g}, {b:.12g}"
+                                              for a, b in zip(z1[0][unsettled], z2[0][unsettled])]
+        X[k], T[k], div[k] = z2[0], 2.0 * eps[k] * (s2 - s1), 2.0 * eps[k] * (z2[2] - z1[2])
+    return X, T, div, why
+
+
+def _scaled(eps, rtol, tally):
+    """Each distinct eps's cycle in x = sqrt(beta) q and tau = omega0 t: (X, T, lambda/mu, the Liouville drift
+    and its allowance, failure, closure, evaluations, det M); the relaxation oscillations (``_relaxation``)."""
+    N = eps.size
+    X, T, div, det = (np.full(N, np.nan) for _ in range(4))
+    drift, allowed = np.zeros(N), np.full(N, exercise.tol_factor * rtol)
+    why, closure, calls = np.full(N, "", dtype=object), np.full(N, np.nan), np.zeros(N)
+    small = np.flatnonzero(eps <= RELAX_EPS)
+    if small.size:
+        e = eps[small]
+        X[small], T[small], div[small], closure[small], calls[small], why[small] = _cycles(e, rtol, tally)
+        ok = small[why[small] == ""]
+        drift[ok], allowed[ok], why[ok], det[ok] = _liouville(eps[ok], X[ok], T[ok], div[ok], rtol, tally)
+    big = np.flatnonzero(eps > RELAX_EPS)
+    if big.size:
+        X[big], T[big], div[big], why[big] = _relaxation(eps[big], rtol, tally)
+    return X, T, div / T, drift, allowed, why, closure, calls, det
+
+
+@exercise.batched(("A", "omega", "lambda_lc"))
+def numeric(P, rtol, outputs, memo=None, tally=None):
+    """The route at N variants at once (a one-point solve is the batch of one): the cycle depends on eps =
+    mu/omega0 alone, found once for each distinct eps (``_scaled``, kept in ``memo`` across a sweep's chunks):
+    the energy balance's root with the returns of all variants stepped together (``_cycles``), its Liouville
+    check (``_liouville``), the relaxation oscillations one by one.  A variant that fails fails alone."""
+    from mech.solvers.numerics.batch import Column, by_rows
+
+    tally = Tally() if tally is None else tally
+    memo = {} if memo is None else memo
+    omega0, mu, beta = _arrays(P)
+    eps = mu / omega0
+    X, T, lam, drift, allowed, why, closure, calls, det = by_rows(memo, ("5.9 cycle", rtol), (eps,),
+                                                    lambda e: _scaled(e, rtol, tally))
+    why = np.asarray(why, dtype=object)
+    small = eps <= RELAX_EPS
+    if small.any():
+        tally.invariant("Liouville (ln det M - int div)", np.where(small, drift, 0.0), allowed)
+    tally.info["closure"] = np.where(small, closure, None)
+    tally.info["cycle_evaluations"], tally.info["det_M"] = np.where(small, calls, None), np.where(small, det, None)
+    tally.info["method_note"] = np.where(small, None, "LSODA in the slow time tau/eps: stiff relaxation oscillation")
+    claim = exercise.tol_factor * rtol
+    failed = [(why == w, w) for w in sorted(set(why[why != ""]))]
+    failed.append((~(np.abs(drift) <= allowed), "the invariant 'Liouville (ln det M - int div)' drifts by more than "
+                   "the claim: the integration is not to be trusted"))
+    values = {"A": X / np.sqrt(beta), "omega": 2.0 * math.pi * omega0 / T, "lambda_lc": mu * lam}
+    return {o: Column(values[o], rel=claim, failed=failed) for o in outputs}

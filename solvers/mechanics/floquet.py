@@ -129,25 +129,12 @@ def minus_one_function(M: np.ndarray) -> float:
 def integrate_ensemble(make_rhs: Callable, t_span: tuple[float, float], y0: np.ndarray, *, rtol: float, atol,
                        integrator: str | None = None) -> tuple[np.ndarray, list]:
     """N variants of one equation integrated over the same ``t_span`` from ``y0`` (n x N): (states at the end,
-    n x N; the integrations, each with ``nfev`` and ``method``).
+    n x N; the integrations, each with ``nfev`` and ``method``): ``ensemble.follow`` (which says how; a
+    failure of any variant fails the call)."""
+    from mech.solvers.numerics.ensemble import follow
 
-    ``make_rhs(sel)`` gives the right-hand side of the variants ``sel``: ``slice(None)`` for all (states n x N),
-    an index j for variant j alone (states of n floats).  Many variants: mech's DOP853 steps them together
-    (``batch.integrate_batch``, each variant's error held to rtol as its own run would); one alone, or each
-    with an ``integrator`` forced (``mech bench``), by ``ode.integrate`` (mech's DOP853 by default: the same
-    tableau and step control without the ensemble's array overhead).  ``atol``: n x N."""
-    from mech.solvers.numerics.batch import integrate_batch
-
-    y0 = np.asarray(y0, dtype=float)
-    if integrator is None and y0.shape[1] > 1:
-        res = integrate_batch(make_rhs(slice(None)), t_span, y0, rtol=rtol, atol=atol)
-        return res.y_end, [res]
-    y_end, results = np.empty_like(y0), []
-    for j in range(y0.shape[1]):
-        traj = integrate(make_rhs(j), t_span, y0[:, j], rtol=rtol, atol=atol[:, j], integrator=integrator)
-        y_end[:, j] = traj.y_end
-        results.append(traj)
-    return y_end, results
+    got = follow(make_rhs, t_span, y0, rtol=rtol, atol=atol, integrator=integrator)
+    return got.y_end, got.records
 
 
 def even_hill_half(

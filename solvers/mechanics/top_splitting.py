@@ -36,10 +36,11 @@ from __future__ import annotations
 
 import math
 
-from mech.solvers.numerics.splitting import KAHAN_LI8, YOSHIDA6, lowest, stages
+from mech.core.budget import check as budget_check
+from mech.solvers.numerics.splitting import KAHAN_LI8, YOSHIDA6, crossing, lowest, stages
 
 __all__ = ["fine_steps", "fine_stepper", "strang_stepper", "retune", "coarse_step", "tan_root", "coarse_ladder",
-           "lowest_nz"]
+           "lowest_nz", "march"]
 
 K8_COEF, K8_EXP, K8_MIN = 2.3, 0.2, 2.5
 
@@ -246,3 +247,96 @@ def lowest_nz(a, b, w, h, H, step, low, low_c):
     elif low_c[1] is not None:
         cos_min = min(cos_min, low_c[0])
     return cos_min
+
+
+def _crossing(step, n, L, t, h, sign, nz_end):
+    """Partial step tau in (0, h] where n_z changes sign (sign = +1: from positive to negative); ``nz_end``:
+    n_z after the whole step."""
+    return crossing(lambda tau: sign * step(n, L, t, tau)[0][2], h, sign * n[2], sign * nz_end)
+
+
+
+def _jacobi(a, b, w, k):
+    def jacobi(n, L, t):
+        # energy in the frame turning with F, scaled by L3^2/I_A:  |L|^2/2 + (a n_z - f.n)/k - (w/k) L_z
+        fx, fy = b * math.cos(w * t), b * math.sin(w * t)
+        return 0.5 * (L[0] ** 2 + L[1] ** 2 + L[2] ** 2) + (a * n[2] - fx * n[0] - fy * n[1]) / k - w / k * L[2]
+    return jacobi
+
+
+def march(a, b, k, w, h, ladder, step, coarse, units=1.0):
+    """The overturn and back from n = z, L = n (scaled): coarse steps far from the events, fine steps
+    near them; returns what the outputs are read from (event times, the lowest steps, the drifts)."""
+    Om = math.hypot(a, b)
+    H = ladder[0][0] if ladder else None
+    margin = ladder[-1][1] if ladder else 0.0  # fine steps within +-margin of n_z = 0, crossed at a rate ~ b
+    t_max = 12.0 / b  # the force's tipping time 1/b, with a wide margin for the full overturn and back
+    jacobi = _jacobi(a, b, w, k)
+    n, L, t = (0.0, 0.0, 1.0), (0.0, 0.0, 1.0), 0.0
+    J0, J_scale = jacobi(n, L, t), (a + b) / k
+    drift_J = drift_L3 = 0.0
+    stage = 0
+    # n_z nutates about its slow motion by up to the cone angle of n about L (~ Om/k on the exact motion,
+    # more where round-off in |L| ~ 1e-14 opens it, sqrt(2e-14) >> Om/k for the fastest tops): measured
+    arm = 6.0 * Om / k
+    armed = False
+    t_down = t_up = phi_lead = None
+    low = (2.0, None)  # lowest fine step: (n_z at its end, state at its start)
+    low_c = (2.0, None, [], 0.0)  # lowest coarse boundary: (n_z, state a step before, (t, n_z) around it, step)
+    nsteps = ncoarse = 0
+    fine = H is None
+    H_now = 0.0  # the size of the Strang steps whose forced nutation L carries (0: the fine steps')
+    while t < t_max:
+        if not fine:
+            dist = n[2] if stage == 0 else -n[2]
+            Hj = next((Hj for Hj, win in ladder if win + arm < dist), None)
+            if Hj is None:
+                fine = True  # the event may lie anywhere past (n, L, t): go on from there in fine steps
+                continue
+            if Hj != H_now:
+                n, L = retune(a, b, w, n, L, t, Hj * Hj - H_now * H_now)
+                H_now = Hj
+            n2, L2, t2 = coarse(n, L, t, Hj)
+            ncoarse += 1
+            if (stage == 0 and n2[2] <= margin + arm) or (stage == 1 and n2[2] >= -margin - arm):
+                fine = True
+                continue
+            if stage == 1:
+                armed = armed or n2[2] < -min(arm, 0.3)
+                if n2[2] < low_c[0]:
+                    low_c = (n2[2], (n, L, t), [(t, n[2]), (t2, n2[2])], Hj)
+                elif len(low_c[2]) == 2:
+                    low_c[2].append((t2, n2[2]))
+        else:
+            if H_now:
+                n, L = retune(a, b, w, n, L, t, -H_now * H_now)
+                H_now = 0.0
+            n2, L2, t2 = step(n, L, t, h)
+            nsteps += 1
+            if stage == 0 and n2[2] <= 0.0 < n[2]:
+                tau = _crossing(step, n, L, t, h, +1, n2[2])
+                nd, _, t_down = step(n, L, t, tau)
+                lead = math.atan2(nd[1], nd[0]) - w * t_down
+                phi_lead = math.pi - (math.pi - lead) % (2 * math.pi)  # wrapped to (-pi, pi]
+                stage = 1
+            elif stage == 1:
+                # n_z nutates by up to ~2 Om/k about its slow motion, faster than that moves when a > b:
+                # the way back up counts only once the axis has gone below the nutation's reach (or below
+                # cos(theta) = -0.3 for a slow top, whose wide nutation is no wiggle about a slow motion)
+                armed = armed or n2[2] < -min(arm, 0.3)
+                if n2[2] < low[0]:
+                    low = (n2[2], (n, L, t))
+                if n2[2] >= 0.0 > n[2] and armed:
+                    t_up = t + _crossing(step, n, L, t, h, -1, n2[2])
+                    break
+                if H and n2[2] < -margin - arm:
+                    fine = False
+        if (nsteps + ncoarse) % 64 == 0:
+            budget_check("top splitting steps", 64 * units)
+            cx, cy, cz = n2[1] * L2[2] - n2[2] * L2[1], n2[2] * L2[0] - n2[0] * L2[2], n2[0] * L2[1] - n2[1] * L2[0]
+            arm = max(arm, 6.0 * math.sqrt(cx * cx + cy * cy + cz * cz))  # 6 sin(cone angle) (|L| ~ 1)
+            drift_J = max(drift_J, abs(jacobi(n2, L2, t2) - J0) / J_scale)
+            drift_L3 = max(drift_L3, abs(n2[0] * L2[0] + n2[1] * L2[1] + n2[2] * L2[2] - 1.0))
+        n, L, t = n2, L2, t2
+    return {"t_down": t_down, "t_up": t_up, "phi_lead": phi_lead, "low": low, "low_c": low_c, "t": t,
+            "nsteps": nsteps, "ncoarse": ncoarse, "drift_J": drift_J, "drift_L3": drift_L3}

@@ -1,0 +1,88 @@
+"""An ensemble of N variants of one equation of motion followed over one span: the route every batched
+exercise integrates by (``Tally.follow`` records it for the exercise's run).
+
+``follow(make_rhs, t_span, y0, rtol=, atol=)``: ``make_rhs(sel)`` gives the right-hand side of the variants
+``sel``: ``slice(None)`` for all (states n x N), an index j for variant j alone (states of n floats).  Many
+variants: mech's DOP853 steps them together (``batch.integrate_batch``: each variant's error held to rtol
+as its own run would; each its own events; a variant that fails, alone).  One variant, or each with an
+``integrator`` forced (``mech bench``): ``ode.integrate`` one by one, the same events and failures, so a
+forced integrator answers the same question.  The result reads the same either way (``Ensemble``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from mech.core.errors import NumericFailure
+
+__all__ = ["Ensemble", "follow"]
+
+
+@dataclass
+class Ensemble:
+    """What following N variants gave: each one's state where it stopped (``y_end``, n x N), where that was
+    (``t_stop``: the span's end or its terminal event; NaN where it failed), each event's first crossing
+    per variant (``t_events``: one (N,) array per event, NaN: none; ``y_events``: (n, N) each), the failed
+    variants (``failed``, ``why``) and the integrations run (``records``, each with ``nfev`` and
+    ``method``)."""
+
+    y_end: np.ndarray
+    t_stop: np.ndarray
+    t_events: list
+    y_events: list
+    failed: np.ndarray
+    why: list
+    records: list = field(default_factory=list)
+
+    def reason(self, k: int) -> str | None:
+        return self.why[k]
+
+
+def _one_event(ev, j: int, n_all: int):
+    """``ev`` (a ``batch.BatchEvent``) for variant j alone, as ``ode.Event``: its function sees variant j's
+    state in every column of an ensemble of ``n_all`` (so per-variant constants line up) and gives j's value."""
+    from mech.solvers.numerics.ode import Event
+
+    def fn(t, y):
+        return float(np.asarray(ev.g(t, np.repeat(np.asarray(y, dtype=float)[:, None], n_all, axis=1)))[j])
+
+    return Event(fn, terminal=ev.terminal, direction=ev.direction, name=ev.name or "event")
+
+
+def follow(make_rhs: Callable, t_span: tuple[float, float], y0, *, rtol: float, atol, events=(),
+           integrator: str | None = None, on_failure: str = "raise") -> Ensemble:
+    """The N variants of ``y0`` (n x N) followed over ``t_span`` (see the module).  ``atol``: a number, per
+    component or n x N.  ``events``: ``batch.BatchEvent``s.  ``on_failure="mark"``: a variant that fails is
+    marked with its reason and the others go on; by default the first failure raises ``NumericFailure``."""
+    from mech.solvers.numerics.batch import integrate_batch
+
+    y0 = np.asarray(y0, dtype=float)
+    n, N = y0.shape
+    atol = np.broadcast_to(np.asarray(atol, dtype=float).reshape(-1, 1) if np.ndim(atol) == 1 else atol, (n, N))
+    if integrator is None and N > 1:
+        res = integrate_batch(make_rhs(slice(None)), t_span, y0, rtol=rtol, atol=atol, events=events,
+                              on_failure=on_failure)
+        return Ensemble(res.y_end, res.t_stop, res.t_events, res.y_events, res.failed, res.why, [res])
+    from mech.solvers.numerics.ode import integrate
+
+    out = Ensemble(y0.copy(), np.full(N, float(t_span[1])), [np.full(N, np.nan) for _ in events],
+                   [np.full((n, N), np.nan) for _ in events], np.zeros(N, dtype=bool), [None] * N)
+    for j in range(N):
+        try:
+            traj = integrate(make_rhs(j), t_span, y0[:, j], rtol=rtol, atol=atol[:, j],
+                             events=[_one_event(ev, j, N) for ev in events], integrator=integrator)
+        except NumericFailure as exc:
+            if on_failure != "mark":
+                raise
+            out.failed[j], out.why[j], out.t_stop[j] = True, str(exc), np.nan
+            continue
+        out.records.append(traj)
+        out.y_end[:, j], out.t_stop[j] = traj.y_end, traj.t_end
+        for k in range(len(events)):
+            if len(traj.t_events[k]):
+                out.t_events[k][j] = traj.t_events[k][0]
+                out.y_events[k][:, j] = traj.y_events[k][0]
+    return out

@@ -1,0 +1,119 @@
+"""``ensemble_search.brent_minimum``: Brent's bounded minimizer on arrays of N functions.
+
+Each point takes the same steps as a one-point Brent search would (``roots.minimize_bounded``, the
+same rules written for one float), so both land on the same x; the minima themselves are checked against
+where they are known by hand (a shifted cosine's, a quartic's)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from mech.solvers.numerics.ensemble_search import brent_minimum
+from mech.solvers.numerics.roots import minimize_bounded
+
+
+def _funcs():
+    # (function of x and a shift c, where its minimum on [a, b] lies by hand)
+    return [
+        (lambda x, c: (x - c) ** 2 * (1 + 0.3 * (x - c)), lambda c, a, b: c),  # a cubic term: not a parabola
+        (lambda x, c: -np.cos(x - c), lambda c, a, b: c),
+        (lambda x, c: (x - c) ** 4 + 0.1 * x, lambda c, a, b: c - (0.1 / 4) ** (1 / 3)),
+        (lambda x, c: x + 0 * c, lambda c, a, b: a),  # the minimum at the bracket's end
+    ]
+
+
+@pytest.mark.parametrize("k", range(4))
+def test_every_point_lands_where_its_one_point_search_does(k):
+    fn, where = _funcs()[k]
+    c = np.array([0.1, -0.4, 0.77, 0.0, 0.3])
+    a = np.array([-1.0, -2.0, 0.0, -0.5, -1.0])
+    b = np.array([1.0, 1.0, 2.0, 0.5, 0.35])
+    calls = []
+
+    def f(x, idx):
+        calls.append(idx.size)
+        return fn(x, c[idx])
+
+    x, fx, ok = brent_minimum(f, a, b, xatol=1e-9)
+    assert ok.all()
+    for j in range(c.size):
+        xs, fs, _ = minimize_bounded(lambda t: float(fn(np.float64(t), c[j])), a[j], b[j], xatol=1e-9)
+        assert x[j] == xs and fx[j] == fs
+        assert x[j] == pytest.approx(min(max(where(c[j], a[j], b[j]), a[j]), b[j]), abs=1e-7)
+    assert max(calls) == c.size and min(calls) < c.size  # points that are done are no longer evaluated
+
+
+def test_a_start_inside_the_bracket_and_a_point_not_converged():
+    c = np.array([0.25, 2.0])
+    x, fx, ok = brent_minimum(lambda x, idx: (x - c[idx]) ** 2, np.zeros(2), np.full(2, 4.0), xatol=1e-10,
+                              x0=c + 0.01)
+    assert ok.all() and x == pytest.approx(c, abs=1e-9)
+    x, fx, ok = brent_minimum(lambda x, idx: (x - c[idx]) ** 2, np.zeros(2), np.full(2, 4.0), xatol=1e-12,
+                              max_iter=2)
+    assert not ok.any()
+
+
+def test_integrate_variants_fails_a_variant_alone():
+    """y' = c y^2 from y = 1: y = 1/(1 - c t), which blows up at t = 1/c.  Over [0, 2] the variant c = 1 cannot
+    be integrated (its step underflows before t = 1); the others keep their values, in one chunk or in chunks
+    by work, and every integration is recorded."""
+    from mech.solvers.numerics.ensemble_search import integrate_variants
+
+    def system(c):
+        return lambda t, y: c * y * y
+
+    c = np.array([0.1, 1.0, -0.5, 0.3])
+    for work in (None, 1.0 / (2.0 - np.minimum(c, 1.0))):
+        seen = []
+        y, why, t_stop = integrate_variants(system, (c,), (0.0, 2.0), np.ones((1, 4)), rtol=1e-10, atol=1e-13,
+                                            work=work, record=seen.append)
+        ok = np.array([True, False, True, True])
+        assert np.allclose(y[0, ok], 1.0 / (1.0 - 2.0 * c[ok]), rtol=1e-8, atol=0)
+        assert np.isnan(y[0, 1]) and why[1] and all(w == "" for w in why[ok])
+        assert seen
+
+
+@pytest.mark.parametrize("integrator", [None, "DOP853"])
+def test_integrate_variants_stops_each_variant_at_its_event(integrator):
+    """x'' = -k^2 x from (1, 0): x' = -k sin(k t) first crosses zero upward at t = pi/k (a minimum, x = -1);
+    a variant whose minimum lies beyond the span has no stop time and its state at the span's end."""
+    from mech.solvers.numerics.ensemble_search import integrate_variants
+
+    def system(k):
+        return lambda t, y: np.array([y[1], -k * k * y[0]])
+
+    k = np.array([1.0, 2.0, 0.5, 3.0])
+    y0 = np.array([[1.0] * 4, [0.0] * 4])
+    y, why, t_stop = integrate_variants(system, (k,), (0.0, 5.0), y0, rtol=1e-11, atol=1e-14,
+                                        event=(lambda t, y: y[1], 1.0), integrator=integrator)
+    assert all(w == "" for w in why)
+    hit = np.pi / k < 5.0
+    assert t_stop[hit] == pytest.approx(np.pi / k[hit], rel=1e-10)
+    assert y[0, hit] == pytest.approx(-1.0, abs=1e-10)
+    assert np.isnan(t_stop[~hit]).all() and y[0, ~hit] == pytest.approx(np.cos(5.0 * k[~hit]), abs=1e-9)
+
+
+def test_integrate_variants_a_spent_work_budget_fails_the_variants_not_reached():
+    """Variants integrated alone within a batch's work budget: those it no longer reaches fail alone, saying
+    so; the ones done keep their values (y' = -y: e^-1).  A batch of one raises, as a one-point solve would."""
+    from mech.core import budget
+    from mech.solvers.numerics.ensemble_search import integrate_variants
+
+    def system(k):
+        return lambda t, y: -k * y
+
+    k = np.ones(4)
+    with budget.limit(work=1e12):
+        start = budget.used()
+        integrate_variants(system, (k[:1],), (0.0, 1.0), np.ones((1, 1)), rtol=1e-12, atol=1e-15,
+                           options=lambda k: {})
+        one = budget.used() - start
+    with budget.limit(work=2.5 * one):
+        y, why, _ = integrate_variants(system, (k,), (0.0, 1.0), np.ones((1, 4)), rtol=1e-12, atol=1e-15,
+                                       options=lambda k: {})
+    assert y[0, :2] == pytest.approx(np.exp(-1.0), rel=1e-10) and not why[0] and not why[1]
+    assert all("work budget" in w for w in why[2:]) and np.isnan(y[0, 2:]).all()
+    with budget.limit(work=0.5 * one), pytest.raises(budget.OutOfWork):
+        integrate_variants(system, (k[:1],), (0.0, 1.0), np.ones((1, 1)), rtol=1e-12, atol=1e-15,
+                           options=lambda k: {})
