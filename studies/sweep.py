@@ -667,7 +667,8 @@ def _run_batched(
             try:
                 if left <= 0.05:
                     raise budget.OutOfBudget(f"not run: {spent}")
-                with budget.limit(left, what=f"the batched sweep of {ex.id}", work=budget.SOLVE_WORK):
+                # each variant the work of a one-point solve (budget.SOLVE_WORK), pooled over the chunk
+                with budget.limit(left, what=f"the batched sweep of {ex.id}", work=budget.SOLVE_WORK * m):
                     got = (route.numeric(Pc, tol, tuple(outputs), memo=memo) if takes_memo
                            else route.numeric(Pc, tol, tuple(outputs)))
             except budget.OutOfWork as exc:  # the chunk's work, the same on any machine: its failure

@@ -110,21 +110,25 @@ def test_4_34_swings_together_as_alone_and_a_broken_start_alone():
     assert cols["omega_roll"].value[:3] == pytest.approx([2 * Omega] * 3, rel=1e-9)
 
 
-def test_4_24_a_batch_counts_each_variant_a_share_of_the_work():
-    """A batched route's work is counted per batch step (a batched DOP853 step counts its evaluations once for
-    all variants): the splitting's steps of N variants count 1/N each, so a batch of N solves within the work
-    a solve may do, and one variant alone still runs out of a limit below its own steps (about 1700 at the
-    defaults, rtol 1e-6: 676 nutation periods at 2.5 steps each)."""
+def test_4_24_a_batch_counts_the_work_of_every_variant():
+    """A batch's work is the sum of its variants' (a batched sweep gives each variant a one-point solve's
+    share): one variant at the defaults (rtol 1e-6: 676 nutation periods at about 2.5 steps each, ~1700
+    units) runs within 3000 and out of 1000; four of them run out of 3000 and within 4 x 3000."""
     from mech.core import budget
     from mech.problems import registry
 
     ex = registry.get("4.24")
     route = ex.batched_route
     P = _arrays(ex, [{}] * 4)
-    with budget.limit(None, what="the test's batch", work=3000):
-        cols = route.numeric(P, 1e-6, OUT24)
-    assert not _failed(cols["t_down"]).any()
-    assert np.all(cols["t_down"].value == cols["t_down"].value[0])
+    with budget.limit(None, what="the test's variant", work=3000):
+        route.numeric(_alone(P, 0), 1e-6, OUT24)
     with pytest.raises(budget.OutOfWork):
         with budget.limit(None, what="the test's variant", work=1000):
             route.numeric(_alone(P, 0), 1e-6, OUT24)
+    with pytest.raises(budget.OutOfWork):
+        with budget.limit(None, what="the test's batch", work=3000):
+            route.numeric(P, 1e-6, OUT24)
+    with budget.limit(None, what="the test's batch", work=4 * 3000):
+        cols = route.numeric(P, 1e-6, OUT24)
+    assert not _failed(cols["t_down"]).any()
+    assert np.all(cols["t_down"].value == cols["t_down"].value[0])

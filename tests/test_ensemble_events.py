@@ -139,3 +139,20 @@ def test_the_tally_records_what_it_followed():
     got = tally.follow(_make_oscillator, (0.0, 0.5), start(), rtol=1e-9, atol=1e-12)
     assert len(tally.records) == W.size and all(r.forced for r in tally.records)
     assert np.allclose(got.y_end[0], np.cos(0.5 * W), atol=1e-7)
+
+
+def test_a_start_without_numbers_fails_at_once_never_loops():
+    """Right-hand sides that are NaN at the start (every variant, or one): the variants fail at once, saying
+    why; the rest go on (e^-1 at t = 1).  The loop stepped a NaN step size for ever before."""
+    from mech.core import budget
+
+    nan_all = lambda t, y: np.full_like(y, np.nan)  # noqa: E731
+    one_nan = lambda t, y: np.where(np.arange(y.shape[1]) == 1, np.nan, -y)  # noqa: E731
+    with budget.limit(5.0, what="the test"):
+        res = integrate_batch(nan_all, (0.0, 1.0), np.ones((1, 3)), rtol=1e-8, atol=1e-10, on_failure="mark")
+        assert res.failed.all() and all("not finite at the start" in w for w in res.why)
+        with pytest.raises(NumericFailure, match="not finite at the start"):
+            integrate_batch(one_nan, (0.0, 1.0), np.ones((1, 3)), rtol=1e-8, atol=1e-10)
+        res = integrate_batch(one_nan, (0.0, 1.0), np.ones((1, 3)), rtol=1e-8, atol=1e-10, on_failure="mark")
+    assert res.failed.tolist() == [False, True, False]
+    assert res.y_end[0][[0, 2]] == pytest.approx(math.exp(-1.0), rel=1e-7)

@@ -232,39 +232,53 @@ def test_5_2_exact_flows_match_the_derived_equations():
     assert worst <= TOL
 
 
-def test_5_7_deviation_from_the_harmonic_matches_the_derived_equations():
-    """5.7's c3 integrals follow r = x - cos(ws s) (x = q/A, s = S omega0 t), r'' = -ws^2 r + (ws^2 - a) x
-    - b x^3: a map that moves with the time, x = cos(ws s) + r, x' = -ws sin(ws s) + r'.  So r'' = x'' +
-    ws^2 cos(ws s), with x'' from the derived equation (in SI, over (S omega0)^2 A); any ws will do (the
-    module's is its measured frequency)."""
-    import math
-
+def test_5_7_clock_and_deviation_match_the_derived_equations():
+    """5.7's route integrates x = q/A (s = S omega0 t) in two maps that move with the time.  The clock: the
+    polar angle psi of (x, u), u = -dx/ds, as the independent variable, state (y = 1 - x, u, E = s - psi), so
+    dy/dpsi = u ds/dpsi, du/dpsi = -x'' ds/dpsi with ds/dpsi = (x^2 + u^2)/(-x x'' + u^2), and dE/dpsi =
+    ds/dpsi - 1.  The deviation: theta = ws s, x = cos theta + z, so z'' = x''/ws^2 + cos theta in theta.
+    x'' from the derived equation (in SI, over (S omega0)^2 A); any ws will do."""
     import mpmath
 
-    from mech.problems.ch5.ex5_7_duffing_free import _deviation, _eps, _scaled
+    from mech.problems.ch5.ex5_7_duffing_free import _clock_rhs, _coefficients, _harmonic_rhs
 
     ex = registry.get("5.7")
     der = ex.derive()
     rng = np.random.default_rng(17)
     worst = 0.0
-    for p in [ex.resolve({}), ex.resolve({"alpha": 6.0})] + draw(ex, N_PARAMS, 17):
-        if _eps(p) <= -0.5:  # the barrier branch integrates x itself (``test_derived_equations...``)
-            continue
-        S, a, _ = _scaled(p)
+    for p in [ex.resolve({}), ex.resolve({"alpha": 6.0}), ex.resolve({"alpha": -15.0, "A": 0.5})] + \
+            draw(ex, N_PARAMS, 17):
+        P = {k: np.array([float(v)]) for k, v in dict(p).items()}
+        eps, g, S, k_, b, barrier = (np.asarray(c) for c in _coefficients(P))
+        clock = _clock_rhs(eps[0], k_[0], b[0], bool(eps[0] >= 0.5))
         ws = 1.0 + 0.1 * rng.standard_normal()
-        rhs = _deviation(p, ws, ws * ws - a).rhs
-        for _ in range(N_STATES):
-            s_, r, dr = rng.uniform(0.0, 2.0), 0.3 * rng.standard_normal(), 0.3 * rng.standard_normal()
+        a = 1.0 / float(S[0]) ** 2
+        deviation = _harmonic_rhs(b[0], ws, ws * ws - a)
+        kk = mpmath.mpf(float(S[0])) * mpmath.mpf(p.omega0)  # ds/dt
+
+        def xdd(x, v):  # x'' in s from the derived equation, at x and dx/ds = v
             with mpmath.workdps(40):
-                k = mpmath.mpf(S) * mpmath.mpf(p.omega0)  # ds/dt
-                ph = mpmath.mpf(ws) * mpmath.mpf(s_)
-                x = mpmath.cos(ph) + r
-                v = -mpmath.mpf(ws) * mpmath.sin(ph) + dr
-                _, xd, _ = der.evaluate(p, float(s_ / k), [float(x * p.A)], [float(v * k * p.A)])
-                want = xd[1] / (k * k * mpmath.mpf(p.A)) + mpmath.mpf(ws) ** 2 * mpmath.cos(ph)
-            got = rhs(s_, np.array([r, dr, 0.0]))[1]
-            worst = max(worst, abs(got - float(want)) / max(abs(float(want)), 1.0))
-    print(f"5.7 deviation: worst {worst:.2e}")
+                _, xd, _ = der.evaluate(p, 0.0, [float(x * p.A)], [float(v * kk * p.A)])
+                return xd[1] / (kk * kk * mpmath.mpf(p.A))
+
+        for _ in range(N_STATES):
+            y, u = rng.uniform(0.0, 1.0), 0.5 * rng.standard_normal()
+            with mpmath.workdps(40):
+                x = 1 - mpmath.mpf(y)
+                acc = xdd(x, -u)
+                ds = (x * x + mpmath.mpf(u) ** 2) / (-x * acc + mpmath.mpf(u) ** 2)
+                want = [mpmath.mpf(u) * ds, -acc * ds, ds - 1]
+            got = clock(0.3, np.array([y, u, 0.0]))
+            worst = max(worst, max(abs(gv - float(w)) / max(abs(float(w)), 1.0) for gv, w in zip(got, want)))
+            if eps[0] > -0.5:
+                th, z, dz = rng.uniform(0.0, 1.5), 0.3 * rng.standard_normal(), 0.3 * rng.standard_normal()
+                with mpmath.workdps(40):
+                    x = mpmath.cos(th) + z
+                    v = ws * (-mpmath.sin(th) + dz)  # dx/ds
+                    want = xdd(x, v) / mpmath.mpf(ws) ** 2 + mpmath.cos(th)
+                got = deviation(th, np.array([z, dz, 0.0]))[1]
+                worst = max(worst, abs(got - float(want)) / max(abs(float(want)), 1.0))
+    print(f"5.7 clock and deviation: worst {worst:.2e}")
     assert worst <= TOL
 
 

@@ -345,7 +345,7 @@ def _plan(a, b, k, rtol, model_err):
     return weights, order, m, h, ladder
 
 
-def _resolved(a, b, k, w, plan, units):
+def _resolved(a, b, k, w, plan):
     """One variant by the splitting (solvers.mechanics.top_splitting): its outputs, invariants' drifts, what
     it tells (info, method) and its cost; raises ``NumericFailure`` where an event was not reached."""
     weights, order, m, h, ladder = plan
@@ -354,7 +354,7 @@ def _resolved(a, b, k, w, plan, units):
     method = f"{order}th-order splitting, exact nutation rotation, {m:.3g} steps per nutation period"
     if H:
         method += f" near the events; Strang steps of {k * H / (2 * math.pi):.3g} nutation periods between them"
-    r = march(a, b, k, w, h, ladder, step, strang_stepper(k, a, b, w) if H else None, units)
+    r = march(a, b, k, w, h, ladder, step, strang_stepper(k, a, b, w) if H else None)
     info = {"steps": r["nsteps"] + r["ncoarse"], "steps_per_nutation_period": m}
     if H:
         info.update(coarse_steps=r["ncoarse"], coarse_step_nutation_periods=k * H / (2 * math.pi))
@@ -405,8 +405,7 @@ def numeric(P, rtol, outputs, memo=None, tally=None):
             why[j] = plans[j]
             continue
         try:
-            values, inv, info, cost = _resolved(float(a[j]), float(b[j]), float(k[j]), float(w[j]), plans[j],
-                                                1.0 / N)
+            values, inv, info, cost = _resolved(float(a[j]), float(b[j]), float(k[j]), float(w[j]), plans[j])
         except OutOfBudget:
             raise
         except NumericFailure as exc:

@@ -10,15 +10,18 @@ computed as the deviation of the AGM from 1, carried through the iteration, so
 a tiny shift is not lost.  Small amplitude: domega ~ -omega0 theta0^2/16 (relative
 error O(theta0^2)); near the top T ~ (4/omega0) ln(8/phi0) (logarithmic divergence).
 
-Numeric: theta'' = -omega0^2 sin theta from rest at theta0 to the event theta = 0
-(a quarter period), DOP853 in tau = omega0 t; above 90 degrees in the deviation
-phi = pi - theta from the upright position (phi'' = sin phi, event phi = pi),
-which keeps the small offset phi0 to full relative accuracy.  The energy is
-monitored.  For theta0 < 1 rad, domega comes from a quadrature (scipy quad) of the
-period integral minus its harmonic counterpart, with theta = theta0 sin u and the
-integrand F - 1 = (F^2 - 1)/(F + 1), F^2 = 1/(sinc a sinc b),
-a, b = (theta0 -+ theta)/2, and 1 - sinc by its series: no difference of nearly
-equal numbers is formed.
+Numeric: theta'' = -omega0^2 sin theta from rest at theta0, in tau = omega0 t, with the polar angle
+psi = atan2(v, theta) of the phase point (theta, v = -theta') as the independent variable: it grows
+monotonically, dpsi/dtau = (theta sin theta + v^2)/(theta^2 + v^2) > 0 away from the origin, from 0 at the
+start to pi/2 at the bottom theta = 0, so the quarter period is the end of the fixed span [0, pi/2] for
+every variant and an ensemble of pendulums integrates together (DOP853, ``integrate_ensemble``).  The clock
+is carried as its excess over psi, E = tau - psi, with dE/dpsi = theta (theta - sin theta)/(theta sin theta +
+v^2) (theta - sin theta by its series at small theta): T = 4 (pi/2 + E)/omega0 and
+domega = -omega0 E/(pi/2 + E), with no difference of nearly equal numbers even at a tiny amplitude.
+Above 90 degrees the angle is carried as the deviation phi = pi - theta from the upright position, which
+keeps the small offset phi0 to full relative accuracy.  The energy is monitored, and theta = 0 at
+psi = pi/2 (the polar angle the clock assumed) checked.  The declared motion (``motion``: the same quarter
+swing in the time, to the event theta = 0) is what a trajectory and the scene show.
 """
 
 from __future__ import annotations
@@ -38,6 +41,12 @@ exercise = Exercise(
         "δω = 2π/T − ω₀ = ω₀ [AGM(1, cos(θ₀/2)) − 1] ≈ −ω₀ θ₀²/16",
         "θ₀ → π: T ≈ (4/ω₀) ln(8/(π − θ₀))",
     ],
+    route_note=(
+        "The quarter period is integrated with the phase point's polar angle as the independent variable (its "
+        "end, the bottom, at the fixed angle pi/2 for every pendulum, so many integrate together), the clock's "
+        "excess over that angle carried as a state: T - T0 and the frequency shift keep their relative digits "
+        "at a tiny amplitude without a separate quadrature of the period integral."
+    ),
     # a quarter swing from rest at theta0 down to the bottom
     states=[("theta", "rad"), ("theta_dot", "rad/s")],
 )
@@ -60,60 +69,55 @@ def approximations(p):
             "domega": [(-math.sqrt(p.g / p.l) * c, "the leading-order shift -omega0 theta0^2/16")]}
 
 
+def _arrays(P):
+    return (np.asarray(P[k], dtype=float) for k in ("theta0", "l", "g"))
+
+
 @exercise.analytic
-def analytic(p):
+def analytic(P):
+    """T = 4 K/omega0 (K by ellipkm1 of cos^2(theta0/2)), T/T0 and the shift from the AGM's deviation, over
+    arrays of variants."""
+    from mech.solvers.numerics.batch import Column
     from mech.solvers.numerics.special import ellipkm1
 
-    w0 = math.sqrt(p.g) / math.sqrt(p.l)  # roots apart: g/l leaves the range where w0 does not
-    c = math.sin(_phi0(p.theta0) / 2.0)  # cos(theta0/2)
-    K = float(ellipkm1(c * c))
+    theta0, l, g = _arrays(P)
+    w0 = np.sqrt(g) / np.sqrt(l)  # roots apart: g/l leaves the range where w0 does not
+    c = np.sin(_phi0(theta0) / 2.0)  # cos(theta0/2)
+    K = np.asarray(ellipkm1(c * c), dtype=float)
     # AGM(1, c) as 1 - alpha: the means a, b and their deviations alpha, beta from 1 carried side by side,
     # each new pair formed from whichever is accurate: while a b >= 1/2, 1 - sqrt(a b) from the deviations
     # (a tiny shift is not lost in 1 - AGM); below, sqrt(a b) from the means themselves (near the top
     # c = cos(theta0/2) ~ 1e-12, and 1 - a b formed from the deviations held c only to 1e-16/c: domega
     # came out 6.5e-8 off at theta0 = pi - 3e-12)
-    a, b = 1.0, c
-    alpha, beta = 0.0, 2.0 * math.sin(p.theta0 / 4.0) ** 2  # 1 - cos(theta0/2)
+    a, b = np.ones_like(c), c
+    alpha, beta = np.zeros_like(c), 2.0 * np.sin(theta0 / 4.0) ** 2  # 1 - cos(theta0/2)
+    live = np.ones(c.shape, dtype=bool)
     for _ in range(60):
-        if a * b >= 0.5:
-            x = alpha + beta - alpha * beta  # 1 - a b
-            beta_next = x / (1.0 + math.sqrt(1.0 - x))
-            b_next = 1.0 - beta_next
-        else:
-            b_next = math.sqrt(a * b)
-            beta_next = 1.0 - b_next
-        a, alpha = 0.5 * (a + b), 0.5 * (alpha + beta)
-        b, beta = b_next, beta_next
-        if abs(alpha - beta) <= 1e-17 * abs(alpha):
+        near = a * b >= 0.5
+        x = alpha + beta - alpha * beta  # 1 - a b
+        beta_near = x / (1.0 + np.sqrt(np.abs(1.0 - x)))
+        root = np.sqrt(a * b)
+        b_next, beta_next = np.where(near, 1.0 - beta_near, root), np.where(near, beta_near, 1.0 - root)
+        a, alpha = np.where(live, 0.5 * (a + b), a), np.where(live, 0.5 * (alpha + beta), alpha)
+        b, beta = np.where(live, b_next, b), np.where(live, beta_next, beta)
+        live &= ~(np.abs(alpha - beta) <= 1e-17 * np.abs(alpha))
+        if not live.any():
             break
-    return {"T": 4.0 * K / w0, "T_ratio": 2.0 * K / math.pi, "domega": -w0 * alpha}
+    return {"T": Column(4.0 * K / w0), "T_ratio": Column(2.0 * K / math.pi), "domega": Column(-w0 * alpha)}
 
 
-def _one_minus_sinc(x):
-    if abs(x) < 0.3:
-        x2, term, total = x * x, x * x / 6.0, 0.0
-        for k in range(1, 12):
-            total += term
-            term *= -x2 / ((2 * k + 2) * (2 * k + 3))
-        return total
-    return 1.0 - math.sin(x) / x
+# theta - sin(theta) = theta^3 (1/3! - theta^2/5! + ...): the series' coefficients, the last first (Horner); seven
+# terms reach 2e-18 of the sum at theta = 0.3
+_SERIES = [(-1.0) ** k / math.factorial(2 * k + 3) for k in range(6, -1, -1)]
 
 
-def _period_excess(theta0):
-    """(T - T0) omega0 by quadrature of the period integral minus the harmonic one; also its error estimate."""
-    from mech.solvers.numerics.quadrature import quad
-
-    def integrand(u):
-        th = theta0 * math.sin(u)
-        a = theta0 * math.sin(math.pi / 4.0 - u / 2.0) ** 2  # (theta0 - theta)/2
-        b = (theta0 + th) / 2.0
-        sa, sb = 1.0 - _one_minus_sinc(a), 1.0 - _one_minus_sinc(b)
-        f2m1 = (_one_minus_sinc(a) + sa * _one_minus_sinc(b)) / (sa * sb)
-        f = math.sqrt(1.0 + f2m1)
-        return f2m1 / (f + 1.0)
-
-    val, err = quad(integrand, 0.0, math.pi / 2.0, epsabs=0.0, epsrel=1e-13, limit=200)
-    return 4.0 * val, 4.0 * err
+def _theta_minus_sin(theta):
+    """theta - sin(theta) over arrays, by its series below 0.3 (no cancellation at a small swing)."""
+    t2 = theta * theta
+    series = _SERIES[0]
+    for c in _SERIES[1:]:
+        series = series * t2 + c
+    return np.where(np.abs(theta) < 0.3, theta * t2 * series, theta - np.sin(theta))
 
 
 @exercise.motion
@@ -153,27 +157,67 @@ def motion(p):
                   y_size=[min(scale, start[0]), scale])
 
 
-@exercise.numeric
-def numeric(p, run):
-    w0 = math.sqrt(p.g) / math.sqrt(p.l)  # roots apart: g/l leaves the range where w0 does not
-    rtol = run.rtol
-    th0 = p.theta0
-    t_q = run.follow(motion(p)).t_end
-    T = 4.0 * t_q / w0
-    T0 = 2.0 * math.pi / w0
-    out = {"T": T, "T_ratio": T / T0}
-    if th0 < 1.0:
-        excess, err = _period_excess(th0)
-        out["domega"] = -w0 * excess / (2.0 * math.pi + excess)
-        run.claim("domega", rel=max(1e-12, 10.0 * err / excess))
-        run.info["domega_route"] = "quadrature of T - T0"
-    else:
-        out["domega"] = 2.0 * math.pi / T - w0
-        run.claim("domega", rel=exercise.tol_factor * rtol * (2.0 * math.pi / T) / abs(out["domega"]))
-    if not math.isfinite(T):
-        raise NumericFailure("no finite quarter period")
-    return out
+def _swing_rhs(high):
+    """The right-hand side in the polar angle psi of the phase point, state (x, v, E) with x = theta (or
+    phi = pi - theta where ``high``), v = -theta' and E = tau - psi, over arrays of variants (or one)."""
+    def rhs(psi, y):
+        x, v = y[0], y[1]
+        theta = np.where(high, math.pi - x, x)
+        s = np.sin(x)  # sin(theta) = sin(phi)
+        excess = theta * _theta_minus_sin(theta) / (theta * s + v * v)  # dE/dpsi
+        clock = 1.0 + excess  # dtau/dpsi = (theta^2 + v^2)/(theta sin theta + v^2)
+        return np.array([np.where(high, 1.0, -1.0) * v * clock, s * clock, excess])
 
+    return rhs
+
+
+def _quarter_swings(theta0, rtol, tally):
+    """(x, v, E) at psi = pi/2 for every variant (``_swing_rhs``, all at once: ``Tally.follow``), and each
+    variant's failure (None: none), its own alone."""
+    high = theta0 > math.pi / 2.0
+    x0 = np.where(high, _phi0(theta0), theta0)
+    n = theta0.size
+    y0 = np.stack([x0, np.zeros(n), np.zeros(n)])
+    # sizes: x from x0 (a small offset from upright keeps its digits), v ~ theta0 (1 above 90 degrees),
+    # E ~ (pi/2) theta0^2/16 at a small swing
+    atol = 1e-3 * rtol * np.stack([x0, np.where(high, 1.0, theta0), math.pi * theta0**2 / 32.0])
+    got = tally.follow(lambda sel: _swing_rhs(high[sel]), (0.0, 0.5 * math.pi), y0, rtol=rtol, atol=atol,
+                       on_failure="mark")
+    y_end = np.where(got.failed, np.nan, got.y_end)
+    return y_end, high, list(got.why)
+
+
+@exercise.batched(("T", "T_ratio", "domega"))
+def numeric(P, rtol, outputs, tally=None):
+    """The quarter swings of N pendulums at once (a one-point solve is the batch of one), each from its own
+    equation of motion in the phase point's polar angle (``_quarter_swings``); the energy and the bottom
+    theta = 0 at psi = pi/2 checked per variant, a variant beyond its claim failing alone."""
+    from mech.problems.spec import Tally
+    from mech.solvers.numerics.batch import Column
+
+    tally = Tally() if tally is None else tally
+    theta0, l, g = _arrays(P)
+    w0 = np.sqrt(g) / np.sqrt(l)  # roots apart: g/l leaves the range where w0 does not
+    (x, v, E), high, why = _quarter_swings(theta0, rtol, tally)
+    allowed = exercise.tol_factor * rtol
+    with np.errstate(invalid="ignore", divide="ignore"):
+        theta_end = np.where(high, math.pi - x, x)
+        # the energy v^2/2 + 2 sin^2(theta/2) (from the bottom) against its value at rest, the drop
+        # 2 sin^2(theta0/2) = 2 cos^2(phi0/2) (in phi above 90 degrees: no rounding of theta0 near pi)
+        drop = 2.0 * np.where(high, np.cos(_phi0(theta0) / 2.0), np.sin(theta0 / 2.0)) ** 2
+        energy = (0.5 * v * v + 2.0 * np.sin(theta_end / 2.0) ** 2) / drop - 1.0
+        bottom = np.abs(theta_end) / np.abs(v)  # the polar angle's departure from pi/2 at its end
+        quarter = 0.5 * math.pi + E
+    tally.invariant("energy", energy)
+    tally.invariant("theta = 0 at psi = pi/2", bottom)
+    tally.info["period_route"] = ["clock in the phase point's polar angle: T/4 = pi/2 + E"] * theta0.size
+    ran = np.array([w is None for w in why])
+    failed = [(np.array([w == text for w in why]), text) for text in sorted({w for w in why if w})]
+    failed += [(ran & ~(np.abs(energy) <= allowed), f"the energy drifted by more than {allowed:.3g}"),
+               (ran & ~(bottom <= allowed), "the swing did not reach theta = 0 at the polar angle pi/2 "
+                                            "(the clock's variable is off)")]
+    values = {"T": 4.0 * quarter / w0, "T_ratio": quarter / (0.5 * math.pi), "domega": -w0 * E / quarter}
+    return {o: Column(values[o], rel=allowed, failed=failed) for o in outputs}
 
 @exercise.hamiltonian
 def hamiltonian(p):

@@ -16,20 +16,22 @@ for |m| < 1e-8 the series c3 = A (m/16)(1 + m/2).  Leading order (Lindstedt):
 omega = omega0 + 3 alpha A^2/(8 omega0), c3 = alpha A^3/(32 omega0^2).  For alpha < 0
 the period diverges like ln(1/(1 + eps)) as A approaches the barrier omega0/sqrt(|alpha|).
 
-Numeric (units 1/omega0 and A: x'' = -x - eps x^3 from (1, 0)); the quarter period is the
-declared motion (``motion``), the c3 integrals are tool runs of the same oscillator:
-* eps > -1/2: the quarter period by the event x = 0 (DOP853, energy monitored); for
-  |eps| < 1/2 omega - omega0 instead from a quadrature of T - T0: energy
-  conservation with x = cos th gives T/4 = int_0^{pi/2} dth/sqrt(1 + (eps/2)(1 + cos^2 th)),
-  integrated as the cancellation-free difference from the harmonic pi/2.  c3 from
-  the deviation r = x - cos(omega t), integrated as a state of its own
-  (r'' = -omega^2 r + (omega^2 - 1) x - eps x^3, so a c3 of 1e-8 A keeps its relative
-  digits) together with int r cos 3 omega t dt over a quarter period; the half-wave
-  symmetry gives c3 = (8/T) times that integral (int cos wt cos 3wt vanishes there).
-* eps <= -1/2 (softening, towards the barrier x_b = 1/sqrt(-eps)): the distance from
-  the barrier top s = x_b - x, s'' = 2 s - 3 s^2/x_b - eps s^3, started at
-  s0 = (1 + eps)/((-eps)(x_b + 1)) with 1 + eps exact, to the event s = x_b (x = 0);
-  then c3 from int (x_b - s) cos 3 omega t over that quarter period.
+Numeric (units 1/omega0 and A: x'' = -x - eps x^3 from (1, 0), in sigma = S omega0 t with S^2 = 1 + eps for a
+stiff spring, eps >= 1/2, so that a period is of order one), over arrays of variants at once (a one-point
+solve is the batch of one; ``numeric``):
+* the quarter period with the polar angle psi of the phase point (x, -dx/dsigma) as the independent variable:
+  it rises monotonically from 0 at rest to pi/2 at x = 0 for every bounded motion, so all variants end at the
+  same psi; the clock is carried as its excess E = sigma - psi (T - T0 and omega - omega0 keep their digits
+  at a tiny eps, no separate quadrature), and x as y = 1 - x with the force written from 1 + eps exact, so
+  near the barrier top (1 + eps ~ 1e-8) the small force at the start keeps its digits (``_clock_rhs``);
+* c3 (eps > -1/2) in the phase theta = ws sigma over [0, pi/2], ws the frequency measured, from the deviation
+  z = x - cos theta integrated as a state with int z cos 3 theta (a c3 of 1e-8 A keeps its relative digits;
+  ``_harmonic_rhs``); the half-wave symmetry gives c3 = (4/pi) int_0^{pi/2} x cos 3 theta, and int cos theta
+  cos 3 theta vanishes there.  Near the barrier (eps <= -1/2) the long dwell at the start is crossed in the
+  polar angle again, int x cos(3 ws sigma) dsigma carried as a fourth state.
+The statement's energy is checked at the end of both, and x = 0 at psi = pi/2.  The declared motion
+(``motion``: the quarter period in the time to the event x = 0, in the distance from the barrier top below
+eps = -1/2) is what a trajectory and the scene show.
 """
 
 from __future__ import annotations
@@ -40,7 +42,6 @@ from fractions import Fraction
 import numpy as np
 
 from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.numerics.special import agm
 
 exercise = Exercise(
     "5.7",
@@ -51,6 +52,12 @@ exercise = Exercise(
         "leading order: ω ≈ ω₀ + 3αA²/(8ω₀),  c₃ ≈ αA³/(32ω₀²)",
         "α < 0, A² → ω₀²/|α|: T ≈ (2√2/ω₀) ln(8ω₀²/(ω₀² + αA²)) → ∞ (logarithmic divergence)",
     ],
+    route_note=(
+        "The quarter period is integrated with the phase point's polar angle as the independent variable "
+        "(x = 0 at the fixed angle pi/2, so many oscillators integrate together), its clock's excess carried "
+        "as a state: the small-amplitude shift keeps its digits without a quadrature of T - T0; near the "
+        "barrier x is carried as its distance 1 - x from the start, the force formed from 1 + eps exact."
+    ),
     # a quarter period from rest at q = A down to q = 0
     states=[("q", "m"), ("v", "m/s")],
 )
@@ -58,10 +65,17 @@ exercise = Exercise(
 EPS_MAX = 1e200  # alpha A^2/omega0^2 above this the scaled force and energy terms approach overflow
 
 
-def _one_plus_eps(p) -> float:
-    """1 + alpha A^2/omega0^2, computed exactly in rational arithmetic then rounded once."""
-    w0, al, a = Fraction(p.omega0), Fraction(p.alpha), Fraction(p.A)
+def _exact_one_plus_eps(w0, al, a) -> float:
+    w0, al, a = Fraction(w0), Fraction(al), Fraction(a)
     return float((w0 * w0 + al * a * a) / (w0 * w0))
+
+
+_ONE_PLUS_EPS = np.frompyfunc(_exact_one_plus_eps, 3, 1)
+
+
+def _one_plus_eps(p) -> float:
+    """1 + alpha A^2/omega0^2 at one point, computed exactly in rational arithmetic then rounded once."""
+    return _exact_one_plus_eps(p.omega0, p.alpha, p.A)
 
 
 def _eps(p) -> float:
@@ -94,11 +108,13 @@ def constraint(p):
 
 
 def _agm_deviation(da, db):
-    """AGM(1 + da, 1 + db) - 1 from the deviations, without forming 1 + small and subtracting."""
+    """AGM(1 + da, 1 + db) - 1 from the deviations (arrays), without forming 1 + small and subtracting."""
+    live = np.ones(np.shape(da), dtype=bool)
     for _ in range(80):
         x = da + db + da * db  # a b - 1
-        da, db = 0.5 * (da + db), x / (1.0 + math.sqrt(1.0 + x))
-        if abs(da - db) <= 1e-17 * max(abs(da), 1e-300):
+        da, db = np.where(live, 0.5 * (da + db), da), np.where(live, x / (1.0 + np.sqrt(1.0 + x)), db)
+        live &= ~(np.abs(da - db) <= 1e-17 * np.maximum(np.abs(da), 1e-300))
+        if not live.any():
             break
     return 0.5 * (da + db)
 
@@ -115,41 +131,51 @@ def approximations(p):
             "c3": [(c3, "the leading-order third harmonic alpha A^3/(32 omega0^2)")]}
 
 
-@exercise.analytic
-def analytic(p):
+def _arrays(P):
+    return (np.asarray(P[k], dtype=float) for k in ("omega0", "alpha", "A"))
+
+
+def _third_harmonic(A, eps, g, h):
+    """c3 from the nome series of cn (see the module's docstring), over arrays."""
     from mech.solvers.numerics.special import ellipk, ellipkm1
 
-    w0, A = p.omega0, p.A
-    eps = _eps(p)
-    g = _one_plus_eps(p)  # (omega0^2 + alpha A^2)/omega0^2 = Omega^2/omega0^2
-    h = 0.5 * (1.0 + g)  # (omega0^2 + alpha A^2/2)/omega0^2
-    if abs(eps) < 0.5:
-        # deviations of sqrt(1 + eps), sqrt(1 + eps/2) from 1
-        da = eps / (math.sqrt(g) + 1.0)
-        db = 0.5 * eps / (math.sqrt(h) + 1.0)
-        dw = _agm_deviation(da, db)
-        omega = w0 * (1.0 + dw)
-        domega = w0 * dw
-    else:
-        omega = w0 * agm(math.sqrt(g), math.sqrt(h))
-        domega = omega - w0
-    # third harmonic
     m = 0.5 * eps / g  # alpha A^2/(2 Omega^2)
-    if abs(m) < 1e-8:
-        c3 = A * (m / 16.0) * (1.0 + 0.5 * m)
-    elif m > 0.0:
-        K, Kp = float(ellipk(m)), float(ellipkm1(m))
-        qn = math.exp(-math.pi * Kp / K)
-        c3 = A * (2.0 * math.pi / (K * math.sqrt(m))) * qn * math.sqrt(qn) / (1.0 + qn**3)
-    else:
-        # m1 = -m/(1 - m) = -eps/(1 + h); 1 - m1 = 2 g/(1 + g), exact near the barrier
-        m1 = -eps / (2.0 * h)
-        p1 = 2.0 * g / (1.0 + g)
-        K1, K1p = float(ellipkm1(p1)), float(ellipk(p1))
+    tiny, pos = np.abs(m) < 1e-8, m > 0.0
+    with np.errstate(all="ignore"):
+        mp = np.where(pos & ~tiny, m, 0.5)
+        K, Kp = np.asarray(ellipk(mp)), np.asarray(ellipkm1(mp))
+        qn = np.exp(-math.pi * Kp / K)
+        c_pos = A * (2.0 * math.pi / (K * np.sqrt(mp))) * qn * np.sqrt(qn) / (1.0 + qn**3)
+        # m < 0: m1 = -m/(1 - m) = -eps/(1 + h); 1 - m1 = 2 g/(1 + g), exact near the barrier
+        neg = ~pos & ~tiny
+        m1 = np.where(neg, -eps / (2.0 * h), 0.5)
+        p1 = np.where(neg, 2.0 * g / (1.0 + g), 0.5)
+        K1, K1p = np.asarray(ellipkm1(p1)), np.asarray(ellipk(p1))
         x = math.pi * K1p / K1
-        q1 = math.exp(-x)
-        c3 = -A * (2.0 * math.pi / (K1 * math.sqrt(m1))) * q1 * math.sqrt(q1) / (-math.expm1(-3.0 * x))
-    return {"omega": omega, "domega": domega, "c3": c3}
+        q1 = np.exp(-x)
+        c_neg = -A * (2.0 * math.pi / (K1 * np.sqrt(m1))) * q1 * np.sqrt(q1) / (-np.expm1(-3.0 * x))
+    return np.where(tiny, A * (m / 16.0) * (1.0 + 0.5 * m), np.where(pos, c_pos, c_neg))
+
+
+@exercise.analytic
+def analytic(P):
+    """omega by the AGM (from the deviations below |eps| = 1/2) and c3 by the nome series, over arrays."""
+    from mech.solvers.numerics.batch import Column
+    from mech.solvers.numerics.special import agm
+
+    w0, alpha, A = _arrays(P)
+    eps = (alpha / w0) * (A / w0) * A
+    g = np.asarray(_ONE_PLUS_EPS(w0, alpha, A), dtype=float)  # (omega0^2 + alpha A^2)/omega0^2 = Omega^2/omega0^2
+    h = 0.5 * (1.0 + g)  # (omega0^2 + alpha A^2/2)/omega0^2
+    small = np.abs(eps) < 0.5
+    with np.errstate(all="ignore"):
+        # deviations of sqrt(1 + eps), sqrt(1 + eps/2) from 1
+        dw = _agm_deviation(np.where(small, eps / (np.sqrt(g) + 1.0), 0.0),
+                            np.where(small, 0.5 * eps / (np.sqrt(h) + 1.0), 0.0))
+        big = w0 * np.asarray(agm(np.sqrt(np.where(small, 1.0, g)), np.sqrt(np.where(small, 1.0, h))))
+    omega = np.where(small, w0 * (1.0 + dw), big)
+    domega = np.where(small, w0 * dw, big - w0)
+    return {"omega": Column(omega), "domega": Column(domega), "c3": Column(_third_harmonic(A, eps, g, h))}
 
 
 # ------------------------------------------------------------------ numeric
@@ -177,20 +203,6 @@ def physical_energy(p, x, u):
     omega0^2 q^2 or q^4 left the range: energy drift NaN)."""
     k4 = (p.alpha / p.omega0) * (p.A / p.omega0) * p.A  # alpha A^2 / omega0^2, each factor in range
     return 0.5 * u * u + 0.5 * x * x + 0.25 * k4 * x**4
-
-
-def _quarter_excess(eps):
-    """(T/4 - pi/2) in units 1/omega0 by quadrature of the energy integral, and its error estimate."""
-    from mech.solvers.numerics.quadrature import quad
-
-    def f(th):
-        c = math.cos(th)
-        s = 0.5 * eps * (1.0 + c * c)
-        g = math.sqrt(1.0 + s)
-        return -s / (g * (g + 1.0))  # 1/g - 1
-
-    val, err = quad(f, 0.0, 0.5 * math.pi, epsabs=0.0, epsrel=1e-13, limit=200)
-    return val, err
 
 
 def _scaled(p):
@@ -246,79 +258,134 @@ def motion(p):
                   t_scale=1.0 / w0, y_scale=[A, A * w0], to_states=lambda y: [xb - y[0], -y[1]], y_size=[s0, s0])
 
 
-def _deviation(p, ws, ws2ma):
-    """The same oscillator (eps > -1/2) as its deviation r = x - cos(ws sigma) from the harmonic motion at
-    its own frequency ws, with int r cos(3 ws sigma) d sigma carried along, over a quarter period from
-    r = r' = 0: r'' = x'' + ws^2 cos(ws sigma) = -ws^2 r + (ws^2 - a) x - b x^3 (the -a x of x'' split as
-    -ws^2 x + (ws^2 - a) x so that r stays small; ``ws2ma`` = ws^2 - a without cancellation)."""
-    from mech.problems.motion import Motion
-
-    _, _, b = _scaled(p)
-
-    def rhs_r(t, y):
-        c = math.cos(ws * t)
-        x = c + y[0]
-        return np.array([y[1], -ws * ws * y[0] + ws2ma * x + cubic_force(x, b), y[0] * math.cos(3.0 * ws * t)])
-
-    rs = min(max(abs(_eps(p)), 1e-300), 1.0)  # the size of r (|eps|/32 small, order one large)
-    tq = 0.5 * math.pi / ws
-    return Motion(rhs_r, [0.0, 0.0, 0.0], (0.0, tq), y_size=[rs, rs * ws, rs * tq])
+def restoring_factor(y, k, b):
+    """-x''/x of the scaled equation, a + b x^2 = (1 + eps x^2)/S^2, at x = 1 - y, written from the distance y
+    to the start: k - b y (2 - y), with k = (1 + eps)/S^2 (1 for S^2 = 1 + eps) and b = eps/S^2; 1 + eps
+    exact, so near the barrier top (1 + eps ~ 1e-8) the small force at the start keeps its digits."""
+    return k - b * y * (2.0 - y)
 
 
-def _with_harmonic(m, xb, omega1, t_q):
-    """The barrier branch's quarter period ``m`` again, with int x cos(3 omega1 tau) d tau carried along."""
-    def rhs_c(t, y):
-        s, ds = m.rhs(t, y[:2])
-        return np.array([s, ds, (xb - y[0]) * math.cos(3.0 * omega1 * t)])
+def _coefficients(P):
+    """Per variant: (eps, 1 + eps exact, S, k, b, barrier) of the scaled equation (``_scaled``, over arrays):
+    sigma = S omega0 t with S^2 = 1 + eps at eps >= 1/2 (1 below), ``barrier`` where eps <= -1/2."""
+    w0, alpha, A = _arrays(P)
+    eps = (alpha / w0) * (A / w0) * A
+    g = np.asarray(_ONE_PLUS_EPS(w0, alpha, A), dtype=float)
+    stiff = eps >= 0.5
+    S = np.where(stiff, np.sqrt(np.where(stiff, g, 1.0)), 1.0)
+    k = np.where(stiff, 1.0, g)
+    b = eps / (S * S)
+    return eps, g, S, k, b, eps <= -0.5
 
-    s0 = m.y0[0]
-    return m.starting(y0=[s0, 0.0, 0.0], span=(0.0, t_q), rhs=rhs_c, event=None, invariants={},
-                      to_states=None, y_size=[s0, s0, t_q])
+
+def _clock_rhs(eps, k, b, stiff, ws=None):
+    """The quarter period in the polar angle psi of the phase point (x, u), u = -dx/dsigma, state (y, u, E)
+    with y = 1 - x and E = sigma - psi: dpsi/dsigma = (x F + u^2)/(x^2 + u^2), F = x (a + b x^2) = -x'', rises
+    from 0 at the start to pi/2 at x = 0 for every bounded variant; E' = x (x - F)/(x F + u^2), x - F formed
+    without cancellation (-eps x^3 at S = 1, b x (1 - x^2) above).  With ``ws`` (the frequency measured) a
+    fourth state, int x cos(3 ws sigma) dsigma (the barrier's c3, whose long dwell at the start the polar
+    angle crosses in few steps)."""
+    def rhs(psi, Y):
+        y, u = Y[0], Y[1]
+        x = 1.0 - y
+        F = x * restoring_factor(y, k, b)
+        gap = x * np.where(stiff, b * y * (2.0 - y), -eps * x * x)  # x - F
+        den = x * F + u * u
+        excess = x * gap / den
+        clock = 1.0 + excess  # dsigma/dpsi
+        rates = [u * clock, F * clock, excess]
+        if ws is not None:
+            rates.append(x * np.cos(3.0 * ws * (psi + Y[2])) * clock)
+        return np.array(rates)
+
+    return rhs
 
 
-@exercise.numeric
-def numeric(p, run):
-    w0, A = p.omega0, p.A
-    eps = _eps(p)
-    m = motion(p)
-    end = run.follow(m)
-    t_q = end.t_end
+def _harmonic_rhs(b, ws, wgap):
+    """The same quarter period (eps > -1/2) in the phase theta = ws sigma (0 to pi/2, ws the frequency the
+    clock measured), state (z, z', I): z = x - cos theta, the deviation from the harmonic motion, so a c3 of
+    1e-8 A keeps its digits, and I = int z cos 3 theta d theta; x'' = -x (a + b x^2)/ws^2 in theta, so
+    z'' = -z + x (ws^2 - a - b x^2)/ws^2 (``wgap`` = ws^2 - a without cancellation)."""
+    def rhs(th, Y):
+        z = Y[0]
+        x = np.cos(th) + z
+        return np.array([Y[1], -z + x * (wgap - b * x * x) / ws**2, z * np.cos(3.0 * th)])
 
-    if eps > -0.5:
-        S, a, b = _scaled(p)
-        if abs(eps) < 0.5:
-            excess, err = _quarter_excess(eps)
-            dw = -excess / (0.5 * math.pi + excess)  # pi/(2 (pi/2 + excess)) - 1
-            run.claim("domega", rel=max(1e-12, 10.0 * err / max(abs(excess), 1e-300)) if excess != 0.0 else None,
-                      abs=0.0 if excess != 0.0 else 1e-300)
-            run.info["domega_route"] = "quadrature of T - T0"
-            run.invariant("quarter period: event vs quadrature", (t_q - (0.5 * math.pi + excess)) / t_q)
-            ws = 1.0 + dw  # angular frequency in units of S omega0 = omega0
-            ws2ma = dw * (2.0 + dw)  # ws^2 - a without cancellation
-        else:
-            ws = 0.5 * math.pi / t_q
-            ws2ma = ws * ws - a
-            run.info["domega_route"] = "event x = 0"
+    return rhs
+
+
+def _ensemble(make_rhs, span, y0, atol, rtol, tally, why, among):
+    """The variants ``among`` (a mask) still without a failure followed together (``Tally.follow``), each
+    failing alone (``why``, filled in); ``make_rhs(idx, sel)``: the right-hand side of the variants ``idx``
+    (then ``sel`` of them).  NaN where not followed or failed."""
+    y_end = np.full(y0.shape, np.nan)
+    idx = np.flatnonzero(np.array([w is None for w in why], dtype=bool) & among)
+    if idx.size:
+        got = tally.follow(lambda sel: make_rhs(idx, sel), span, y0[:, idx], rtol=rtol, atol=atol[:, idx],
+                           on_failure="mark")
+        y_end[:, idx] = np.where(got.failed, np.nan, got.y_end)
+        for j, w in zip(idx, got.why):
+            why[int(j)] = w if w else why[int(j)]
+    return y_end
+
+
+def _energy(eps, S, x, dx):
+    """The statement's energy v^2/2 + omega0^2 q^2/2 + alpha q^4/4 in units of (A omega0)^2 (q = A x,
+    v = A omega0 S dx/dsigma), relative to its value at rest at q = A, minus 1: its drift."""
+    e0 = 0.5 + 0.25 * eps
+    return (0.5 * (S * dx) ** 2 + 0.5 * x * x + 0.25 * eps * x**4) / e0 - 1.0
+
+
+@exercise.batched(("omega", "domega", "c3"))
+def numeric(P, rtol, outputs, tally=None):
+    """N oscillators at once (a one-point solve is the batch of one): the quarter period by the phase point's
+    polar angle (``_clock_rhs``), then c3 in the measured phase (``_harmonic_rhs``), both over fixed spans;
+    the energy at both ends and x = 0 at the quarter checked per variant, a variant beyond failing alone."""
+    from mech.problems.spec import Tally
+    from mech.solvers.numerics.batch import Column
+
+    tally = Tally() if tally is None else tally
+    w0, _, A = _arrays(P)
+    eps, g, S, k, b, barrier = _coefficients(P)
+    stiff = eps >= 0.5
+    n = eps.size
+    why = [None] * n
+    half = 0.5 * math.pi
+    small = np.minimum(g, 1.0)  # the start's distance from the barrier sets the scale of y and u early on
+    every = np.ones(n, dtype=bool)
+    with np.errstate(all="ignore"):
+        u_max = np.sqrt((1.0 + 0.5 * eps) / np.where(stiff, g, 1.0))
+        e_size = np.maximum(np.minimum(np.abs(eps), 1.0), 1e-300)
+        sizes = np.stack([small, small * u_max, e_size])
+        y, u, E = _ensemble(lambda i, sel: _clock_rhs(eps[i][sel], k[i][sel], b[i][sel], stiff[i][sel]),
+                            (0.0, half), np.zeros((3, n)), 1e-3 * rtol * sizes, rtol, tally, why, every)
+        quarter = half + E  # in sigma
+        ws = half / quarter
+        dws = -E / quarter  # ws - 1
+        # c3: in the phase theta = ws sigma from the deviation z = x - cos theta (eps > -1/2); by the polar
+        # angle again near the barrier, with int x cos 3 theta carried
+        wgap = np.where(stiff, ws * ws - 1.0 / np.where(stiff, g, 1.0), dws * (2.0 + dws))  # ws^2 - a, a = 1/S^2
+        sizes = np.stack([e_size, e_size, e_size])
+        z, dz, integral = _ensemble(lambda i, sel: _harmonic_rhs(b[i][sel], ws[i][sel], wgap[i][sel]), (0.0, half),
+                                    np.zeros((3, n)), 1e-3 * rtol * sizes, rtol, tally, why, ~barrier)
+        sizes = np.stack([small, small * u_max, e_size, np.ones(n)])
+        yb, ub, _, ib = _ensemble(lambda i, sel: _clock_rhs(eps[i][sel], k[i][sel], b[i][sel], stiff[i][sel],
+                                                            ws[i][sel]),
+                                  (0.0, half), np.zeros((4, n)), 1e-3 * rtol * sizes, rtol, tally, why, barrier)
+        x_q = np.where(barrier, 1.0 - yb, z)  # cos(pi/2) is 6e-17: left out
+        dx_q = np.where(barrier, -ub, ws * (-1.0 + dz))  # dx/dsigma
+        drift = np.maximum(np.abs(_energy(eps, S, 1.0 - y, -u)), np.abs(_energy(eps, S, x_q, dx_q)))
+        bottom = np.abs(1.0 - y) / np.abs(u)
         omega1 = S * ws
-        dw = omega1 - 1.0 if abs(eps) >= 0.5 else dw
-
-        # c3 from the deviation r = x - cos(ws sigma)
-        h = run.follow(_deviation(p, ws, ws2ma), mark=False)
-        r_end, v_end, integral = h.y_end
-        tq = h.t_end
-        x_end = r_end + math.cos(ws * tq)
-        e0 = physical_energy(p, 1.0, 0.0)
-        run.invariant("energy", (physical_energy(p, x_end, S * (v_end - ws * math.sin(ws * tq))) - e0) / e0)
-        run.info["x_at_quarter_period"] = x_end
-        c3_over_a = 4.0 * ws / math.pi * integral
-    else:
-        omega1 = 0.5 * math.pi / t_q
-        dw = omega1 - 1.0
-        run.info["domega_route"] = "event x = 0 in the distance from the barrier top"
-        xb, _ = _barrier(p)
-        h = run.follow(_with_harmonic(m, xb, omega1, t_q), mark=False)
-        run.info["x_at_quarter_period"] = xb - h.y_end[0]
-        c3_over_a = 4.0 * omega1 / math.pi * h.y_end[2]
-    if not math.isfinite(omega1) or not math.isfinite(c3_over_a):
-        raise NumericFailure("non-finite frequency or harmonic")
-    return {"omega": w0 * omega1, "domega": w0 * dw, "c3": A * c3_over_a}
+        dw = np.where(stiff, omega1 - 1.0, dws)
+        c3 = (4.0 / math.pi) * np.where(barrier, ws * ib, integral)
+    tally.invariant("energy", drift)
+    tally.invariant("x = 0 at psi = pi/2", bottom)
+    tally.info["x_at_quarter_period"] = x_q
+    allowed = exercise.tol_factor * rtol
+    ran = np.array([w is None for w in why], dtype=bool)
+    failed = [(np.array([w == text for w in why], dtype=bool), text) for text in sorted({w for w in why if w})]
+    failed += [(ran & ~(drift <= allowed), f"the energy drifted by more than {allowed:.3g}"),
+               (ran & ~(bottom <= allowed), "the swing did not reach x = 0 at the polar angle pi/2")]
+    values = {"omega": w0 * omega1, "domega": w0 * dw, "c3": A * c3}
+    return {o: Column(values[o], rel=allowed, failed=failed) for o in outputs}

@@ -667,3 +667,293 @@ def bisect_parameter(pred: Callable[[float], bool], lo: float, hi: float, *, xto
 def _unit(v):
     v = np.asarray(v, dtype=float)
     return v / np.linalg.norm(v)
+
+
+# ---------------------------------------------------------------------------------------------------------
+# Many oscillators at once: the one-period maps of N variants integrated together (floquet.integrate_ensemble:
+# mech's DOP853 stepping the ensemble), Newton on each variant's own plane with its own iterate, convergence
+# and failure.
+
+
+class OrbitEnsemble:
+    """The one-period maps of N oscillators q'' + omega_ref^2 q = r(q, q') + f0 cos(omega t), omega = omega_ref
+    + W w, in the units of ``OrbitMap`` (plain) or of ``RotatingOrbitMap`` (in the frame rotating with the
+    drive, the increments over ``eps``), variant by variant (``rotating``: a mask).
+
+    ``remainder(sel)`` gives the function (q, p) -> (r, dr/dq, dr/dp) of the variants ``sel`` (an index array,
+    or an int for one variant alone: floats); ``f0``, ``Q``, ``omega_ref``, ``W``, ``eps`` are arrays of N (``eps``: 1 on the
+    plain map).  ``evaluate`` integrates the variants asked (8 numbers each: the state and its derivatives in
+    (z0, z1, w)) over one drive period; ``calls[j]`` counts variant j's maps, ``records`` the integrations."""
+
+    def __init__(self, remainder, f0, Q, omega_ref, W, eps, rotating, *, integrator=None):
+        self.remainder, self.integrator = remainder, integrator
+        self.f0, self.Q, self.w0, self.W, self.eps = (np.asarray(x, dtype=float) for x in (f0, Q, omega_ref, W, eps))
+        self.rotating = np.asarray(rotating, dtype=bool)
+        self.calls = np.zeros(self.f0.size, dtype=int)
+        self.records: list = []
+
+    def evaluate(self, z, idx, rtol):
+        """(residual (2, m), Jacobian (2, 3, m)) of the maps of the variants ``idx`` at z (3, m), each held to its
+        ``rtol`` (a number or one per variant; relative, 1e-3 rtol absolute in units of its state's size).  The
+        variants are integrated in groups, one per kind of map and decade of rtol, each group at the tightest
+        rtol in it."""
+        z, idx = np.asarray(z, dtype=float), np.asarray(idx)
+        budget.check("periodic orbits' one-period maps")
+        rtol = np.broadcast_to(np.asarray(rtol, dtype=float), (idx.size,))
+        res, J = np.empty((2, idx.size)), np.empty((2, 3, idx.size))
+        group = 2 * np.floor(np.log10(rtol) + 1e-9) + self.rotating[idx]
+        for g in np.unique(group):
+            part = np.flatnonzero(group == g)
+            res[:, part], J[:, :, part] = self._integrate(z[:, part], idx[part], float(rtol[part].min()),
+                                                          bool(self.rotating[idx[part[0]]]))
+        return res, J
+
+    def _integrate(self, zp, sel, rtol, rot):
+        """The maps of the variants ``sel`` (all plain or all rotating) at zp, integrated together at rtol."""
+        from mech.solvers.mechanics.floquet import integrate_ensemble
+
+        m = sel.size
+        omega = self.w0[sel] + self.W[sel] * zp[2]
+        if not np.all(omega > 0):
+            raise NumericFailure("a periodic orbit's drive frequency came out non-positive")
+        scale = np.maximum(np.maximum(np.abs(zp[0]), np.abs(zp[1])), 1.0 if rot else 1e-3)
+        y0 = np.zeros((8, m))
+        if rot:
+            atol = np.broadcast_to(1e-3 * rtol * scale, (8, m)).copy()
+        else:
+            y0[0], y0[1], y0[2], y0[6] = zp[0], zp[1], 1.0, 1.0
+            atol = np.vstack([np.broadcast_to(1e-3 * rtol * scale, (2, m)), np.full((6, m), 1e-3 * rtol)])
+        make = self._rotating_rhs if rot else self._plain_rhs
+        s, runs = integrate_ensemble(lambda k: make(sel, zp, k), (0.0, 2.0 * math.pi), y0, rtol=rtol, atol=atol,
+                                     integrator=self.integrator)
+        self.records += runs
+        np.add.at(self.calls, sel, 1)
+        J = np.stack([s[2:5], s[5:8]])
+        if rot:
+            return s[:2], J
+        J[0, 0] -= 1.0
+        J[1, 1] -= 1.0
+        return s[:2] - zp[:2], J
+
+    def _params(self, sel, zp, k):
+        """(f0, Q, omega_ref, W, eps, z) of the variants ``sel[k]`` (k: slice(None) for all, an int for one)."""
+        pick = sel[k]
+        return (self.f0[pick], self.Q[pick], self.w0[pick], self.W[pick], self.eps[pick], zp[:, k], pick)
+
+    def _plain_rhs(self, sel, zp, k):
+        f0, Q, ws, W, _, z, pick = self._params(sel, zp, k)
+        omega = ws + W * z[2]
+        c_xy, c_y = ws / omega, 1.0 / (omega * ws * Q)
+        k_x, f_y, c_q, c_p, w_o = ws * ws * Q * c_y, f0 * c_y, 1.0 / (omega * ws), 1.0 / omega, W / omega
+        rem = self.remainder(pick)
+
+        def rhs(tau, s):  # (the products folded into constants: the ensemble's cost is its numpy calls)
+            r, r_q, r_p = rem(Q * s[0], ws * Q * s[1])
+            out = np.empty_like(s)
+            out[0] = fx = c_xy * s[1]
+            out[1] = fy = r * c_y - k_x * s[0] + f_y * math.cos(tau)
+            out[2:5] = c_xy * s[5:8]
+            out[5:8] = (r_q * c_q - c_xy) * s[2:5] + (r_p * c_p) * s[5:8]
+            out[4] -= w_o * fx
+            out[7] -= w_o * fy
+            return out
+
+        return rhs
+
+    def _rotating_rhs(self, sel, zp, k):
+        f0, Q, w0, W, eps, z, pick = self._params(sel, zp, k)
+        omega = w0 + W * z[2]
+        om2 = omega * omega
+        kk = W * z[2] * (2.0 * w0 + W * z[2]) / om2  # 1 - omega0^2/omega^2, without cancellation
+        inv_om2Q, dk = 1.0 / (om2 * Q), 2.0 * w0 * w0 / (om2 * omega)
+        a0, b0, rem = z[0], z[1], self.remainder(pick)
+        # F = (r + f0 cos tau)/(omega^2 Q) + k x over eps, and its derivatives, with the products folded in
+        g_r, g_x = inv_om2Q / eps, kk / eps
+        c_fx, c_fv = 1.0 / (om2 * eps), 1.0 / (omega * eps)
+        w_p, w_r, w_x = W / (om2 * eps), 2.0 * W * inv_om2Q / (omega * eps), W * dk / eps
+        Qw = omega * Q
+        e0, e1 = np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
+        if np.ndim(a0):  # many variants: the unit columns broadcast over them
+            e0, e1 = e0[:, None], e1[:, None]
+
+        def rhs(tau, s):
+            c, sn = math.cos(tau), math.sin(tau)
+            a, b = a0 + eps * s[0], b0 + eps * s[1]
+            x, v = a * c + b * sn, b * c - a * sn
+            r, r_q, r_p = rem(Q * x, Qw * v)
+            rd = r + f0 * c
+            G = rd * g_r + g_x * x
+            Fx, Fv = r_q * c_fx + g_x, r_p * c_fv
+            P0, P1 = eps * s[2:5] + e0, eps * s[5:8] + e1
+            dF = (Fx * c - Fv * sn) * P0 + (Fx * sn + Fv * c) * P1
+            dF[2] += (r_p * v) * w_p - rd * w_r + w_x * x
+            out = np.empty_like(s)
+            out[0], out[1] = -sn * G, c * G
+            out[2:5], out[5:8] = -sn * dF, c * dF
+            return out
+
+        return rhs
+
+
+def _solve3(J, n, res, gap):
+    """Newton's steps and |K^-1|'s largest row sum for m systems K = [J; n] (J: (2, 3, m), n: (3, m)); NaN where K
+    is singular."""
+    K = np.concatenate([np.transpose(J, (2, 0, 1)), n.T[:, None, :]], axis=1)  # (m, 3, 3)
+    det = np.linalg.det(K)
+    bad = ~(np.isfinite(det) & (det != 0.0))
+    K[bad] = np.eye(3)
+    inv = np.linalg.inv(K)
+    rhs = np.concatenate([-res, gap[None, :]]).T  # (m, 3)
+    dz = np.einsum("mij,mj->mi", inv, rhs).T
+    norm = np.abs(inv).sum(axis=2).max(axis=1)
+    dz[:, bad], norm[bad] = np.nan, np.nan
+    return dz, norm
+
+
+def newton_on_planes(ens: OrbitEnsemble, idx, z_guess, n, c, *, rtol, tol: float, max_iter: int, fresh):
+    """Newton on {phi(z0, z1; w) = (z0, z1), n . z = c} for each variant ``idx`` at once (``solve_on_plane``'s
+    rule, each variant its own iterate, stop and failure): z_guess, n (3, m), c (m,); each variant's maps
+    integrated at its ``rtol`` (a number or one per variant), its noise floor taken there.
+    ``fresh`` (m,): 0, the last iterate's Jacobian kept; 1, a stop at the noise floor evaluated again and
+    confirmed (``FLOOR_RESIDUAL``); 2, every stop evaluated again.  Returns (z, J (Jacobian of the last
+    evaluation), converged)."""
+    z = np.array(z_guess, dtype=float)
+    m = z.shape[1]
+    n, c, rtol = np.asarray(n, dtype=float), np.asarray(c, dtype=float), np.broadcast_to(rtol, (m,))
+    fresh = np.broadcast_to(np.asarray(fresh), (m,))
+    J, res = np.full((2, 3, m), np.nan), np.full((2, m), np.nan)
+    done, ok, checking = np.zeros(m, bool), np.zeros(m, bool), np.zeros(m, bool)
+    last, left = np.full(m, np.inf), np.full(m, max_iter)
+    while not done.all():
+        act = np.flatnonzero(~done)
+        res[:, act], J[:, :, act] = ens.evaluate(z[:, act], idx[act], rtol[act])
+        scale = np.maximum(1e-3, np.max(np.abs(z[:2, act]), axis=0))
+        chk = checking[act]
+        accept = chk & ((last[act] < tol) | (np.max(np.abs(res[:, act]), axis=0)
+                                             <= FLOOR_RESIDUAL * rtol[act] * scale))
+        done[act[accept]] = ok[act[accept]] = True
+        checking[act] = False
+        go = act[~accept]
+        out = go[left[go] <= 0]
+        done[out] = True
+        go = go[left[go] > 0]
+        if go.size == 0:
+            continue
+        dz, norm = _solve3(J[:, :, go], n[:, go], res[:, go], c[go] - np.einsum("ij,ij->j", n[:, go], z[:, go]))
+        step = np.max(np.abs(dz), axis=0)
+        sc = np.maximum(1e-3, np.max(np.abs(z[:2, go]), axis=0))
+        tol_eff = np.maximum(tol, rtol[go] * norm * sc)
+        finite = np.isfinite(step)
+        done[go[~finite]] = True
+        go, dz, step, tol_eff = go[finite], dz[:, finite], step[finite], tol_eff[finite]
+        z[:, go] += dz
+        left[go] -= 1
+        last[go] = step
+        stop = step < tol_eff
+        again = stop & ((fresh[go] == 2) | ((fresh[go] == 1) & (step >= tol)))
+        checking[go[again]] = True
+        kept = go[stop & ~again]  # the last iterate's Jacobian, a step below the floor away
+        done[kept] = ok[kept] = True
+    return z, J, ok
+
+
+__all__ += ["OrbitEnsemble", "newton_on_planes", "on_phase_loop", "loop_fold_brackets", "loop_fold"]
+
+
+# The locked orbits form a closed loop around the w axis, parametrized by their phase against the drive: on
+# the plane n = (-sin th, cos th, 0), Newton solves for the swing and w, well posed however weak the drive (at
+# a fixed w instead, its first step along the nearly neutral phase overshoots from a far start).
+def on_phase_loop(ens, idx, th, known, r, fresh):
+    """The locked orbits of phases th (m,) of the variants idx, Newton started from the solved points
+    ``known`` = (th', z', tangent') moved along the branch's tangent (first order in th - th'; None at a
+    start: a swing of 2 Q, w = 0), each at its rtol ``r``.  ``fresh`` (newton_on_planes): 1 from a far
+    start or on the rotating map, whose weak drive leaves the phase nearly neutral and the noise floor a poor
+    bound on the distance to the orbit (5.10's locking ranges of 5e-17 omega0 came out in the
+    wrong order without the check); 0 from a solved point nearby on the plain map, the last iterate's
+    Jacobian kept (det(M - I) moves by a step below the floor times its curvature).  (z, tangent, ok): the
+    tangent, the null vector of [M - I | d phi/dw], has det(M - I) as its w-component."""
+    m = idx.size
+    R, w = np.full(m, 2.0), np.zeros(m)
+    if known is not None:
+        t_k, zk, tg = known
+        R, w = np.hypot(zk[0], zk[1]), zk[2].copy()
+        dth = (zk[0] * tg[1] - zk[1] * tg[0]) / (R * R)  # d(phase)/ds along the tangent
+        use = np.abs(dth) * R > 1e-3 * np.linalg.norm(tg, axis=0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            R = np.where(use, R + (zk[0] * tg[0] + zk[1] * tg[1]) / R / dth * (th - t_k), R)
+            w = np.where(use, w + tg[2] / dth * (th - t_k), w)
+    c, sn = np.cos(th), np.sin(th)
+    z, J, ok = newton_on_planes(ens, idx, np.stack([R * c, R * sn, w]), np.stack([-sn, c, np.zeros(m)]),
+                                np.zeros(m), rtol=r, tol=1e-9, max_iter=12, fresh=fresh)
+    ok &= np.hypot(z[0], z[1]) > 1.0  # not the small unstable orbit near rest
+    return z, np.cross(J[0], J[1], axis=0), ok, J
+
+
+def loop_fold_brackets(ens, idx, rs, step=math.pi / 3.0):
+    """Phases bracketing the two folds of each variant: from the phase where the drive pushes the swing
+    outward (the centre of the range, w ~ 0), in steps of ``step`` (a third of a turn) each way round (both
+    ways at once) until w turns back: the edges are the folds, where det(M - I), the w-component of the
+    branch's tangent, changes sign.  Adler's loop is w ~ -(Delta/W) cos(phase) with the folds a quarter turn
+    either side, moved by ~Delta/mu rad by the drive's push on the swing (at most 0.25 rad, half a step).
+    Not all the way round: where the drive pushes the swing inward and 4 Delta/mu exceeds 4/(3 sqrt 3), no
+    locked orbit of a large swing has that phase.  An array (m, 29): per direction (th, z, tangent) of the
+    point before the turn and after it, then a failure code (0 none, 1 Newton, 2 no turn)."""
+    m, th0 = idx.size, 0.5 * math.pi
+    z0, tg0, ok, _ = on_phase_loop(ens, idx, np.full(m, th0), None, rs, 1)
+    code = np.where(ok, 0.0, 1.0)
+    # both directions as 2 m searches: variant j going up is j, going down m + j
+    two, r2, d = np.concatenate([idx, idx]), np.concatenate([rs, rs]), np.repeat([1.0, -1.0], m)
+    fresh = np.where(ens.rotating[two], 1, 0)
+    pt, pz, ptg = np.full(2 * m, th0), np.hstack([z0, z0]), np.hstack([tg0, tg0])
+    bt, bz, btg = pt.copy(), pz.copy(), ptg.copy()
+    found, bad = np.zeros(2 * m, dtype=bool), np.tile(code != 0, 2)
+    for k in (1, 2, 3):
+        go = np.flatnonzero(~found & ~bad)
+        if go.size == 0:
+            break
+        th = th0 + d[go] * k * step
+        z, tg, okk, _ = on_phase_loop(ens, two[go], th, (pt[go], pz[:, go], ptg[:, go]), r2[go], fresh[go])
+        bad[go[~okk]] = True
+        turn = okk & (np.sign(tg[2]) != np.sign(ptg[2, go]))
+        on = okk & ~turn
+        g, h = go[turn], go[on]
+        bt[g], bz[:, g], btg[:, g], found[g] = th[turn], z[:, turn], tg[:, turn], True
+        pt[h], pz[:, h], ptg[:, h] = th[on], z[:, on], tg[:, on]
+    code[(code == 0) & (bad[:m] | bad[m:])] = 1.0
+    code[(code == 0) & ~(found[:m] & found[m:])] = 2.0
+    cols = [np.hstack([pt[s][:, None], pz[:, s].T, ptg[:, s].T, bt[s][:, None], bz[:, s].T, btg[:, s].T])
+            for s in (slice(0, m), slice(m, 2 * m))]
+    return np.hstack(cols + [code[:, None]])
+
+
+def loop_fold(ens, idx, br, r_search, rr, xtol, fresh):
+    """Each variant's fold in its bracket ``br`` (th, z, tangent before and after): Illinois on det(M - I)
+    over the phase at r_search, each trial started from the nearest point solved, then the fold solved at rr
+    from the nearest (its Jacobian that of the last iterate: the edge is z's w).  (z, J-tangent, ok)."""
+    from mech.solvers.numerics.batch import illinois
+
+    m = idx.size
+    hist = [(br[:, 0], br[:, 1:4].T, br[:, 4:7].T), (br[:, 7], br[:, 8:11].T, br[:, 11:14].T)]
+    ok = np.ones(m, dtype=bool)
+
+    def nearest(sel, x):
+        ths = np.stack([h[0][sel] for h in hist])
+        k = np.argmin(np.where(np.isnan(ths), np.inf, np.abs(ths - x)), axis=0)
+        cols = np.arange(sel.size)
+        return (ths[k, cols], np.stack([h[1][:, sel] for h in hist])[k, :, cols].T,
+                np.stack([h[2][:, sel] for h in hist])[k, :, cols].T)
+
+    def det(x, i):
+        z, tg, okk, _ = on_phase_loop(ens, idx[i], x, nearest(i, x), r_search[i], fresh[i])
+        ok[i[~okk]] = False
+        th, zz, tt = np.full(m, np.nan), np.full((3, m), np.nan), np.full((3, m), np.nan)
+        th[i], zz[:, i], tt[:, i] = x, z, tg
+        hist.append((th, zz, tt))
+        return np.where(okk, tg[2], 0.0)
+
+    x, conv = illinois(det, br[:, 0], br[:, 7], br[:, 6], br[:, 13], xtol=xtol, rtol=0.0)
+    z, _, okk, J = on_phase_loop(ens, idx, x, nearest(np.arange(m), x), rr, np.zeros(m, dtype=int))
+    # Liouville: the divergence mu (1 - beta q^2) is not constant, so det M is not known in closed form; at a
+    # fold one multiplier is exactly 1, recorded (the largest in modulus) as a check of the refinement
+    M = ens.eps[idx, None, None] * np.transpose(J[:, :2], (2, 0, 1)) + np.eye(2)
+    return z, np.max(np.abs(np.linalg.eigvals(M)), axis=1), ok & okk & conv

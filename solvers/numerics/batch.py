@@ -83,23 +83,23 @@ def _tableau():
     return dop853._TABLEAU
 
 
-def _starting_step(f, t0, y, fy, direction, span, rtol, atol, first_step) -> float:
-    """``first_step``, or Hairer's starting step with the worst point's norms."""
+def _starting_step(f, t0, y, fy, direction, span, rtol, atol, first_step, active=None) -> float:
+    """``first_step``, or Hairer's starting step with the worst point's norms (of the points ``active``)."""
     if first_step is not None:
-        h_abs = min(abs(float(first_step)), span)
-    else:
-        # Hairer's starting step, with the worst point's norms
-        scale = atol + np.abs(y) * rtol
-        d0 = np.sqrt(np.mean((y / scale) ** 2, axis=0))
-        d1 = np.sqrt(np.mean((fy / scale) ** 2, axis=0))
-        ratio = np.where((d0 < 1e-5) | (d1 < 1e-5), 1e-6, 0.01 * d0 / np.maximum(d1, 1e-300))
-        h0 = min(float(np.nanmin(ratio)), span)
-        f1 = f(t0 + direction * h0, y + direction * h0 * fy)
-        d2 = float(np.nanmax(np.sqrt(np.mean(((f1 - fy) / scale) ** 2, axis=0)))) / h0
-        dm = max(float(np.nanmax(d1)), d2)
-        h1 = max(1e-6, h0 * 1e-3) if not dm > 1e-15 else (0.01 / dm) ** (1.0 / 8.0)
-        h_abs = min(100.0 * h0, h1, span)
-    return h_abs
+        return min(abs(float(first_step)), span)
+    act = np.ones(y.shape[1], dtype=bool) if active is None else active
+    # Hairer's starting step, with the worst point's norms
+    scale = atol + np.abs(y) * rtol
+    d0 = np.sqrt(np.mean((y / scale) ** 2, axis=0))[act]
+    d1 = np.sqrt(np.mean((fy / scale) ** 2, axis=0))[act]
+    ratio = np.where((d0 < 1e-5) | (d1 < 1e-5), 1e-6, 0.01 * d0 / np.maximum(d1, 1e-300))
+    h0 = min(float(ratio.min()), span)
+    f1 = f(t0 + direction * h0, y + direction * h0 * fy)
+    d2 = float(np.max(np.sqrt(np.mean(((f1 - fy) / scale) ** 2, axis=0))[act])) / h0
+    dm = max(float(d1.max()), d2)
+    h1 = max(1e-6, h0 * 1e-3) if not dm > 1e-15 else (0.01 / dm) ** (1.0 / 8.0)
+    h = min(100.0 * h0, h1, span)
+    return h if math.isfinite(h) else h0  # a trial state off the domain (NaN): the first guess, shrunk if need be
 
 
 class _Ensemble:
@@ -119,6 +119,10 @@ class _Ensemble:
         self.failed = np.zeros(self.N, dtype=bool)
         self.why: list = [None] * self.N
         self.err_max = np.zeros(self.N)
+
+    def moving(self) -> int:
+        """The points still stepped (their steps are the work done)."""
+        return int(np.count_nonzero(self.active))
 
     def f(self, t, yy):
         self.nfev += 1
@@ -283,7 +287,15 @@ def integrate_batch(
     if t_end == t0 or N == 0:
         return res
     ens.fy = ens.f(t0, ens.y)
-    h_abs = _starting_step(ens.f, t0, ens.y, ens.fy, direction, abs(t_end - t0), rtol, ens.atol, first_step)
+    off = ~(np.isfinite(ens.y).all(axis=0) & np.isfinite(ens.fy).all(axis=0))
+    if off.any():  # a start where the equations give no number: nothing to step from
+        ens.fail(off, f"the state or its rate is not finite at the start (t = {t0:.6g})")
+        if not ens.active.any():
+            res.y_end, res.nfev = ens.y, ens.nfev
+            res.t_stop[ens.failed] = np.nan
+            return res
+    h_abs = _starting_step(ens.f, t0, ens.y, ens.fy, direction, abs(t_end - t0), rtol, ens.atol, first_step,
+                           ens.active)
     g_old = [np.asarray(ev.g(t0, ens.y), dtype=float) for ev in events]
     found = [np.zeros(N, dtype=bool) for _ in events]
     t = t0
@@ -303,9 +315,9 @@ def _step(ens, t, h_abs, direction, t_end, res, events, g_old, found):
     step_rejected = False
     last_err = np.full(ens.N, np.inf)
     while True:
-        budget.check("batched DOP853 step", 12)
+        budget.check("batched DOP853 step", 12 * ens.moving())  # the work of each variant's own step
         min_step = 10.0 * abs(math.nextafter(t, direction * math.inf) - t)
-        if h_abs < min_step:
+        if not h_abs >= min_step:  # (NaN too)
             ens.fail(ens.active & ~(last_err < 1.0),
                      f"the batched integration's step size underflowed at t = {t:.6g}")
             if not ens.active.any():

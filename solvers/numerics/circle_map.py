@@ -1,10 +1,11 @@
-"""A circle map's increment as a Fourier series, and its rotation number.
+"""A circle map's increment as a Fourier series, and its rotation number, for many maps at once.
 
 A map theta -> theta + d(theta) (mod 2 pi) sampled at some angles: ``fourier_fit`` fits d with K harmonics by
 least squares (with the largest residual, an honest error of the fit); ``rotation_number`` is the mean
 increment per iterate, by the weighted Birkhoff average of d along an orbit (weights exp(-1/(s (1 - s))),
-which converges faster than any power of the orbit's length for a smooth quasi-periodic orbit).  5.10 uses
-them for the beat of an oscillator just outside its locking range.
+which converges faster than any power of the orbit's length for a smooth quasi-periodic orbit).  Both take
+stacks of maps (rows; a single map is a stack of one).  5.10 uses them for the beat of an oscillator just
+outside its locking range.
 """
 
 from __future__ import annotations
@@ -15,47 +16,89 @@ import numpy as np
 
 __all__ = ["fourier_fit", "rotation_number"]
 
+# below this many maps still iterating, each is iterated alone on plain complex numbers (a numpy call on a
+# few numbers costs more than the arithmetic)
+ALONE_BELOW = 6
+
 
 def _basis(theta, K):
     k = np.arange(1, K + 1)
-    ang = np.outer(np.atleast_1d(theta), k)
-    return np.hstack([np.ones((ang.shape[0], 1)), np.cos(ang), np.sin(ang)])
+    ang = np.asarray(theta, dtype=float)[..., None] * k
+    return np.concatenate([np.ones(ang.shape[:-1] + (1,)), np.cos(ang), np.sin(ang)], axis=-1)
 
 
 def fourier_fit(theta, d, K):
     """(coefficients [c0, a_1..a_K, b_1..b_K], the largest residual) of d ~ c0 + sum a_k cos k theta +
-    b_k sin k theta, least squares."""
+    b_k sin k theta, least squares (QR); theta, d: (n,) for one map or (R, n) for R maps at once."""
     B = _basis(theta, K)
-    coef, *_ = np.linalg.lstsq(B, d, rcond=None)
-    resid = float(np.max(np.abs(B @ coef - d)))
+    d = np.asarray(d, dtype=float)
+    q, r = np.linalg.qr(B)
+    coef = np.linalg.solve(r, np.einsum("...ji,...j->...i", q, d)[..., None])[..., 0]
+    resid = np.max(np.abs(np.einsum("...ij,...j->...i", B, coef) - d), axis=-1)
     return coef, resid
 
 
-def rotation_number(coef, K):
-    """Weighted Birkhoff average of d along an orbit of theta -> theta + d(theta) (mod 2 pi), d the series
-    of ``coef`` (``fourier_fit``'s order)."""
-    c0 = float(coef[0])
-    # sum_k a_k cos k theta + b_k sin k theta = Re sum_k (a_k - i b_k) e^(i k theta): Horner in e^(i theta),
-    # a few complex products per iterate instead of numpy calls on K-vectors (the loop below runs
-    # thousands of times)
-    c = [complex(float(coef[k]), -float(coef[K + k])) for k in range(1, K + 1)]
+def _length(c0):
+    """Iterates of the orbit: the quasi-period in iterations is about 2 pi/|c0| (c0 ~ the mean of d); many
+    of them are needed."""
+    slip = 2.0 * math.pi / np.maximum(np.abs(c0), 1e-12)
+    return np.minimum(np.maximum(400.0, 25.0 * slip), 200000).astype(int)
 
-    def d(theta):
-        z = complex(math.cos(theta), math.sin(theta))
-        acc = 0j
-        for ck in reversed(c):
-            acc = (acc + ck) * z
-        return c0 + acc.real
 
-    # the orbit's quasi-period in iterations is about 2 pi/|c0| (c0 ~ the mean of d); many of them are needed
-    slip = 2.0 * math.pi / max(abs(c0), 1e-12)
-    n = int(min(max(400.0, 25.0 * slip), 200000))
-    theta, num, den = 0.0, 0.0, 0.0
-    for i in range(n):
+def _alone(c0, c, n, i0=0, theta=0.0, num=0.0, den=0.0):
+    """The weighted Birkhoff average of one map (Horner in e^(i theta) on plain complex numbers), from the
+    iterate i0 on (theta, and the sums so far)."""
+    for i in range(i0, n):
         s = (i + 0.5) / n
         wgt = math.exp(-1.0 / (s * (1.0 - s)))
-        dd = d(theta)
+        z = complex(math.cos(theta), math.sin(theta))
+        acc = 0j
+        for ck in c:
+            acc = (acc + ck) * z
+        dd = c0 + acc.real
         num += wgt * dd
         den += wgt
         theta = math.fmod(theta + dd, 2.0 * math.pi)
     return num / den
+
+
+def rotation_number(coef, K):
+    """Weighted Birkhoff average of d along an orbit of theta -> theta + d(theta) (mod 2 pi), d the series
+    of ``coef`` (``fourier_fit``'s order; (2K + 1,) for one map, (R, 2K + 1) for R): a number, or R of them.
+    Each map runs its own orbit length; the maps iterate together while many are left, then one by one."""
+    coef = np.asarray(coef, dtype=float)
+    one = coef.ndim == 1
+    coef = np.atleast_2d(coef)
+    R = coef.shape[0]
+    c0 = coef[:, 0]
+    # sum_k a_k cos k theta + b_k sin k theta = Re sum_k (a_k - i b_k) e^(i k theta): Horner in e^(i theta)
+    c = (coef[:, 1:K + 1] - 1j * coef[:, K + 1:])[:, ::-1]  # highest harmonic first
+    n = _length(c0)
+    out = np.full(R, np.nan)
+    # the maps still iterating, compressed whenever some finish: (theta, the two sums, c0, n, the harmonics
+    # as columns, highest first)
+    act = np.arange(R)
+    th, num, den, c0a, na, cc = np.zeros(R), np.zeros(R), np.zeros(R), c0.copy(), n.copy(), np.ascontiguousarray(c.T)
+    i = 0
+    while act.size >= ALONE_BELOW:
+        s = (i + 0.5) / na
+        wgt = np.exp(-1.0 / (s * (1.0 - s)))
+        z = np.exp(1j * th)
+        acc = cc[0] * z
+        for k in range(1, K):
+            acc += cc[k]
+            acc *= z
+        dd = c0a + acc.real
+        num += wgt * dd
+        den += wgt
+        th = np.fmod(th + dd, 2.0 * math.pi)
+        i += 1
+        fin = na <= i
+        if fin.any():
+            out[act[fin]] = num[fin] / den[fin]
+            keep = ~fin
+            act, th, num, den, c0a, na, cc = act[keep], th[keep], num[keep], den[keep], c0a[keep], na[keep], cc[:, keep]
+    for r, j in enumerate(act):  # the few longest orbits, on alone
+        out[j] = _alone(float(c0[j]), [complex(x) for x in c[j]], int(n[j]), i, float(th[r]), float(num[r]),
+                        float(den[r]))
+    return float(out[0]) if one else out

@@ -2,7 +2,7 @@
 
 A batched route (many variants of one exercise) evaluates its function for all variants together, one
 ensemble integration a round; a search written for one point would integrate them one at a time.
-``integrate_variants`` integrates them (mech's DOP853 stepping variants of like cost together, a variant
+``integrate_variants`` integrates them (``ensemble.follow`` over chunks of like cost: mech's DOP853 stepping variants together, a variant
 whose integration fails failing alone); ``brent_minimum`` is Brent's bounded minimizer
 (``roots.minimize_bounded``'s steps: golden sections that guarantee progress, a parabola through the three
 best points where it falls inside and shrinks the step), each point with its own bracket, its own steps and
@@ -109,12 +109,10 @@ def integrate_variants(system, coefs, span, y0, *, rtol, atol, work=None, integr
     ``alone``; None: one chunk); a chunk of one, or each variant with an ``integrator`` forced (``mech
     bench``), by ``ode.integrate``; ``options(*c)``: ``ode.integrate``'s keywords for a variant (a stiff
     method and its Jacobian), each variant then alone.  A variant that fails keeps its reason and a NaN
-    state; so does one integrated alone that the batch's work budget no longer reaches (``OutOfWork``).  ``record(result)`` takes each integration (its ``nfev``, ``method``).  Returns (y_end, why,
+    state; the work budget running out stops the call (``ensemble.follow``: never one variant's failure).  ``record(result)`` takes each integration (its ``nfev``, ``method``).  Returns (y_end, why,
     t_stop)."""
-    from mech.core.budget import OutOfBudget, OutOfWork
-    from mech.core.errors import NumericFailure
-    from mech.solvers.numerics.batch import BatchEvent, chunks_by_work, integrate_batch
-    from mech.solvers.numerics.ode import Event, integrate
+    from mech.solvers.numerics.batch import BatchEvent, chunks_by_work
+    from mech.solvers.numerics.ensemble import follow
 
     y0 = np.asarray(y0, dtype=float)
     n, N = y0.shape
@@ -124,43 +122,19 @@ def integrate_variants(system, coefs, span, y0, *, rtol, atol, work=None, integr
     y_end, why = np.full((n, N), np.nan), np.full(N, "", dtype=object)
     t_stop = np.full(N, float(span[1]) if event is None else np.nan)
     record = record or (lambda result: None)
-
-    def ensemble(idx):
-        events = [] if event is None else [BatchEvent(event[0], event[1], terminal=True)]
-        res = integrate_batch(system(*(c[idx] for c in coefs)), span, y0[:, idx], rtol=rtol,
-                              atol=np.array(atol[:, idx]), events=events, on_failure="mark")
-        record(res)
-        y_end[:, idx] = np.where(res.failed, np.nan, res.y_end)
-        why[idx[res.failed]] = [res.why[k] for k in np.flatnonzero(res.failed)]
-        if event is not None:
-            t_stop[idx] = np.where(res.failed, np.nan, res.t_events[0])
-
-    def alone_(k):
-        events = [] if event is None else [Event(event[0], terminal=True, direction=event[1])]
-        c = [float(c[k]) for c in coefs]
-        try:
-            traj = integrate(system(*c), span, y0[:, k], rtol=rtol, atol=np.array(atol[:, k]), events=events,
-                             integrator=integrator, **(options(*c) if options else {}))
-        except OutOfWork as exc:  # the work a batch was given, spent: the variants it did not reach fail alone
-            if N == 1:
-                raise
-            why[k] = str(exc)
-            return
-        except OutOfBudget:
-            raise
-        except NumericFailure as exc:
-            why[k] = str(exc)
-            return
-        record(traj)
-        y_end[:, k] = traj.y_end
-        if event is not None and len(traj.t_events[0]):
-            t_stop[k], y_end[:, k] = traj.t_events[0][0], traj.y_events[0][0]
-
+    events = [] if event is None else [BatchEvent(event[0], event[1], terminal=True)]
     chunks = [np.arange(N)] if work is None or N <= 1 else chunks_by_work(work, overhead, alone)
     for chunk in chunks:
-        if integrator is None and options is None and chunk.size > 1:
-            ensemble(chunk)
-        else:
-            for k in chunk:
-                alone_(k)
+        def make_rhs(sel, _c=chunk):  # the chunk's variants together (a slice), or its variant sel alone
+            return system(*(c[_c] if isinstance(sel, slice) else float(c[_c[sel]]) for c in coefs))
+
+        opts = None if options is None else (lambda j, _c=chunk: options(*(float(c[_c[j]]) for c in coefs)))
+        got = follow(make_rhs, span, y0[:, chunk], rtol=rtol, atol=np.array(atol[:, chunk]), events=events,
+                     integrator=integrator, on_failure="mark", options=opts)
+        for result in got.records:
+            record(result)
+        y_end[:, chunk] = np.where(got.failed, np.nan, got.y_end)
+        why[chunk[got.failed]] = [got.why[k] for k in np.flatnonzero(got.failed)]
+        if event is not None:
+            t_stop[chunk] = np.where(got.failed, np.nan, got.t_events[0])
     return y_end, why, t_stop

@@ -59,25 +59,33 @@ def _squarings(norms: np.ndarray) -> np.ndarray:
     return out
 
 
+def _norms1(a: np.ndarray) -> np.ndarray:
+    """The 1-norm of each matrix of a stack (N x n x n)."""
+    return np.max(np.sum(np.abs(a), axis=-2), axis=-1) if a.size else np.zeros(a.shape[0])
+
+
 def expm_minus_identity(a) -> np.ndarray:
-    """exp(A) - I for a real or complex square matrix, each entry to its own relative accuracy where
-    the squarings allow it (no 1 + small - 1)."""
+    """exp(A) - I for a real or complex square matrix, or for each of a stack of them (N x n x n, each with
+    its own squarings), each entry to its own relative accuracy where the squarings allow it (no 1 + small
+    - 1)."""
     a = np.asarray(a)
     a = a.astype(complex if np.iscomplexobj(a) else float)
-    n = a.shape[0]
-    if a.shape != (n, n):
-        raise ValueError("expm: a square matrix is needed")
-    norm = _norm1(a)
-    if not math.isfinite(norm):
+    n = a.shape[-1]
+    if a.ndim not in (2, 3) or a.shape[-2:] != (n, n):
+        raise ValueError("expm: a square matrix (or a stack of them) is needed")
+    stack = a if a.ndim == 3 else a[None, :, :]
+    norms = _norms1(stack)
+    if not np.all(np.isfinite(norms)):
         raise ValueError("expm: the matrix has non-finite entries")
-    s = _squarings(np.array([norm]))
-    return _series_and_squarings((a / 2.0 ** int(s[0]))[None, :, :], s)[0]
+    s = _squarings(norms)
+    d = _series_and_squarings(stack / (2.0 ** s)[:, None, None], s)
+    return d if a.ndim == 3 else d[0]
 
 
 def expm(a) -> np.ndarray:
-    """exp(A) by scaling and squaring (see ``expm_minus_identity``)."""
+    """exp(A) by scaling and squaring (see ``expm_minus_identity``; a stack of matrices gives a stack)."""
     a = np.asarray(a)
-    return np.eye(a.shape[0]) + expm_minus_identity(a)
+    return np.eye(a.shape[-1]) + expm_minus_identity(a)
 
 
 def expm_many(a, ts) -> np.ndarray:
@@ -96,6 +104,10 @@ def expm_many(a, ts) -> np.ndarray:
     return _series_and_squarings(x, squarings) + np.eye(n)
 
 
-def rounding_bound(a, t: float = 1.0) -> float:
-    """The relative rounding error of exp(A t) by these squarings: ROUNDING_FACTOR u (1 + ||A t||_1)."""
-    return ROUNDING_FACTOR * _U * (1.0 + _norm1(np.asarray(a)) * abs(t))
+def rounding_bound(a, t=1.0):
+    """The relative rounding error of exp(A t) by these squarings: ROUNDING_FACTOR u (1 + ||A t||_1) (a
+    number; an array for a stack of matrices or an array of t)."""
+    a = np.asarray(a)
+    norm = _norm1(a) if a.ndim == 2 else _norms1(a)
+    out = ROUNDING_FACTOR * _U * (1.0 + norm * np.abs(t))
+    return float(out) if np.ndim(out) == 0 else out

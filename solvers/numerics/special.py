@@ -21,38 +21,52 @@ import math
 __all__ = ["agm", "ellipk", "ellipkm1", "ellipe"]
 
 
-def agm(a: float, b: float) -> float:
-    """The arithmetic-geometric mean of two non-negative numbers."""
-    a, b = float(a), float(b)
-    if a < 0 or b < 0 or math.isnan(a) or math.isnan(b):
-        return math.nan
-    if a == 0.0 or b == 0.0:
-        return 0.0
-    for _ in range(100):
-        if abs(a - b) <= 2e-16 * a:
-            break
-        a, b = 0.5 * (a + b), math.sqrt(a * b)
-    return 0.5 * (a + b)
+def _out(x, scalar: bool):
+    """A result as its argument came: a float for a number, an array for an array."""
+    return float(x) if scalar else x
 
 
-def ellipkm1(p: float) -> float:
-    """K(m) at m = 1 - p, for p >= 0."""
-    p = float(p)
-    if math.isnan(p) or p < 0:
-        return math.nan
-    if p == 0.0:
-        return math.inf
-    if math.isinf(p):
-        return 0.0
-    return math.pi / (2.0 * agm(1.0, math.sqrt(p)))
+def agm(a, b):
+    """The arithmetic-geometric mean of two non-negative numbers (numbers or arrays of them, elementwise)."""
+    import numpy as np
+
+    scalar = np.ndim(a) == 0 and np.ndim(b) == 0
+    a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+    a, b = a.copy(), b.copy()
+    bad = (a < 0) | (b < 0) | np.isnan(a) | np.isnan(b)
+    zero = ~bad & ((a == 0.0) | (b == 0.0))
+    inf = ~bad & ~zero & (np.isinf(a) | np.isinf(b))
+    live = ~bad & ~zero & ~inf
+    with np.errstate(invalid="ignore", over="ignore"):
+        for _ in range(100):
+            live &= ~(np.abs(a - b) <= 2e-16 * a)
+            if not live.any():
+                break
+            a, b = np.where(live, 0.5 * (a + b), a), np.where(live, np.sqrt(a * b), b)
+        out = np.where(bad, np.nan, np.where(zero, 0.0, np.where(inf, np.inf, 0.5 * (a + b))))
+    return _out(out, scalar)
 
 
-def ellipk(m: float) -> float:
-    """K(m) = integral_0^(pi/2) (1 - m sin^2 t)^(-1/2) dt, for m <= 1."""
-    m = float(m)
-    if math.isnan(m) or m > 1.0:
-        return math.nan
-    return ellipkm1(1.0 - m)
+def ellipkm1(p):
+    """K(m) at m = 1 - p, for p >= 0 (a number or an array)."""
+    import numpy as np
+
+    scalar = np.ndim(p) == 0
+    p = np.asarray(p, dtype=float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        k = math.pi / (2.0 * np.asarray(agm(1.0, np.sqrt(np.where(p > 0, p, 1.0)))))
+        out = np.where(np.isnan(p) | (p < 0), np.nan, np.where(p == 0.0, np.inf, np.where(np.isinf(p), 0.0, k)))
+    return _out(out, scalar)
+
+
+def ellipk(m):
+    """K(m) = integral_0^(pi/2) (1 - m sin^2 t)^(-1/2) dt, for m <= 1 (a number or an array)."""
+    import numpy as np
+
+    scalar = np.ndim(m) == 0
+    m = np.asarray(m, dtype=float)
+    out = np.where(m > 1.0, np.nan, np.asarray(ellipkm1(np.where(m > 1.0, 0.5, 1.0 - m))))
+    return _out(out, scalar)
 
 
 def ellipe(m: float) -> float:
