@@ -26,6 +26,9 @@ def tidy(e, cache: dict | None = None):
     factors out of the rest (``trigsimp`` would take 80 s of CPU on 4.8's equations with friction)."""
     if cache is not None and e in cache:
         return cache[e]
+    if cache is not None and isinstance(e, sp.Basic) and -e in cache:  # a reaction: the action's form, negated
+        cache[e] = -cache[-e]
+        return cache[e]
     out = e
     if isinstance(e, sp.Basic) and not isinstance(e, (sp.Symbol, sp.Number)):
         out = pythagoras(e)

@@ -117,3 +117,29 @@ def personal_answer(student: str, ex_id: str, params: dict, expect: dict) -> str
     given = ", ".join(f'{k} = "{v!r}"' for k, v in params.items())
     wants = ", ".join(f'{k} = "{v}"' for k, v in expect.items())
     return f'[[answer]]\nstudent = "{student}"\nexercise = "{ex_id}"\nparams = {{ {given} }}\nexpect = {{ {wants} }}\n'
+
+
+def mech_cli(*args, env=None):
+    """``mech ARGS`` in this process through click's runner, as a ``subprocess.CompletedProcess`` (exit code,
+    standard output, standard error): for tests of what a command prints and exits with, where a fresh
+    Python (0.4-1 CPU-s of start-up each) is not what is tested.  What a fresh process would add on standard
+    error is added here too: an exception the command lets out, printed as Python prints it, and each warning
+    it raises under Python's default filters."""
+    import subprocess
+    import traceback
+    import warnings
+
+    from click.testing import CliRunner
+
+    from mech.cli.main import cli
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")
+        for quiet in (DeprecationWarning, PendingDeprecationWarning, ImportWarning, ResourceWarning):
+            warnings.filterwarnings("ignore", category=quiet)
+        res = CliRunner().invoke(cli, [str(a) for a in args], env=env)
+    err = res.stderr
+    if res.exception is not None and not isinstance(res.exception, SystemExit):
+        err += "".join(traceback.format_exception(res.exception))
+    err += "".join(warnings.formatwarning(w.message, w.category, w.filename, w.lineno) for w in caught)
+    return subprocess.CompletedProcess(list(args), res.exit_code, res.stdout, err)

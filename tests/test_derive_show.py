@@ -13,8 +13,11 @@ generalized eigenvalues are the squared mode frequencies (solved here numericall
 
 from __future__ import annotations
 
+import gzip
 import io
+import json
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -29,23 +32,44 @@ WIDTH = 100
 DECLARED = [e.id for e in registry.index() if physics.why_not(registry.get(e.id)) is None]
 
 
-def _printed(ex, latex):
+def _printed(ex, latex, as_json=False):
     out, sys.stdout = sys.stdout, io.StringIO()
     try:
-        listing.print_derivation(ex, latex=latex)
+        listing.print_derivation(ex, latex=latex, as_json=as_json)
         return sys.stdout.getvalue()
     finally:
         sys.stdout = out
 
 
+# What `mech show ID --derive` (text, --latex, --json) printed for every declared exercise before the
+# printing path was made cheaper (a reaction's load tidied as its action's form, negated): the same text,
+# byte for byte.  Where a change of a declaration or of the printing is meant to change the text,
+# regenerate the file (`python tests/test_derive_show.py`) and read its diff.
+PRINTED = Path(__file__).parent / "data" / "derive_show.json.gz"
+
+
+def _printed_forms(ex) -> dict:
+    return {"text": _printed(ex, False), "latex": _printed(ex, True), "json": _printed(ex, False, as_json=True)}
+
+
+@pytest.fixture(scope="module")
+def printed_before():
+    with gzip.open(PRINTED, "rt", encoding="utf-8") as f:
+        return json.load(f)
+
+
 @pytest.mark.parametrize("ex_id", DECLARED)
-def test_no_line_of_show_derive_is_over_100_characters(ex_id):
+def test_no_line_of_show_derive_is_over_100_characters_and_the_text_is_unchanged(ex_id, printed_before):
     ex = registry.get(ex_id)
-    for latex in (False, True):
-        text = _printed(ex, latex)
+    forms = _printed_forms(ex)
+    for form in ("text", "latex"):
+        text = forms[form]
         long = [(len(line), line[:60]) for line in text.splitlines() if len(line) > WIDTH]
-        assert not long, (ex_id, "latex" if latex else "text", long[:3])
+        assert not long, (ex_id, form, long[:3])
         assert "equations of motion" in text
+    assert ex_id in printed_before, f"{ex_id}: no printed text saved; regenerate {PRINTED.name}"
+    for form, text in forms.items():
+        assert text == printed_before[ex_id][form], (ex_id, form)
 
 
 def test_long_expressions_are_wrapped_at_their_operators_and_named():
@@ -102,3 +126,10 @@ def test_4_12_derived_equations_linearized_give_the_stated_modes():
         assert omegas[1] == pytest.approx(got["omega2"], rel=1e-9)
         assert ratios[0] == pytest.approx(got["r1"], rel=1e-8)
         assert ratios[1] == pytest.approx(got["r2"], rel=1e-8)
+
+
+if __name__ == "__main__":  # regenerate the saved printed text (read its diff before committing it)
+    # sympy was imported above, before stdout is swapped: it reads stdout's encoding to choose unicode
+    saved = {ex_id: _printed_forms(registry.get(ex_id)) for ex_id in DECLARED}
+    with gzip.GzipFile(PRINTED, "wb", mtime=0) as fh:
+        fh.write(json.dumps(saved, indent=1, sort_keys=True, ensure_ascii=False).encode("utf-8"))

@@ -241,19 +241,19 @@ def test_arithmetic_enclosures_hold_the_exact_values(a, b, n, op):
 
 
 def test_min_digits_on_the_command_line_and_in_the_api():
-    import subprocess
-    import sys
+    from click.testing import CliRunner
 
     import mech
+    from mech.cli.main import cli
 
-    def run(*args):
-        return subprocess.run([sys.executable, "-m", "mech.cli.main", "solve", "4.15", *args], capture_output=True,
-                              text=True, timeout=120)
+    def run(*args):  # in this process (click's runner): the exit codes and messages are the command's own
+        return CliRunner().invoke(cli, ["solve", "4.15", *args])
 
-    assert run("--expect", "theta_c=0.7").returncode == 1  # as 0.70: wrong (theta_c = 0.7297)
-    assert run("--expect", "theta_c=0.7", "--min-digits", "1").returncode == 0  # as written: 0.7 +- 0.05
+    assert run("--expect", "theta_c=0.7").exit_code == 1  # as 0.70: wrong (theta_c = 0.7297)
+    assert run("--expect", "theta_c=0.7", "--min-digits", "1").exit_code == 0  # as written: 0.7 +- 0.05
     bad = run("--expect", "theta_c=0.7", "--min-digits", "0")
-    assert bad.returncode == 2 and "--min-digits" in bad.stderr and "Traceback" not in bad.stderr
-    assert run("--min-digits", "3").returncode == 2  # without any --expect
+    assert bad.exit_code == 2 and "--min-digits" in bad.stderr and "Traceback" not in bad.stderr
+    assert bad.exception is None or isinstance(bad.exception, SystemExit)
+    assert run("--min-digits", "3").exit_code == 2  # without any --expect
     assert mech.solve("4.15", expect={"theta_c": "0.7"}, expect_min_digits=1)["theta_c"].expected.match
     assert not mech.solve("4.15", expect={"theta_c": "0.7"})["theta_c"].expected.match

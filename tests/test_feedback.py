@@ -7,10 +7,9 @@ errors naming ``expect=``, and ``Sweep.plot``.
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
 
 import pytest
+from conftest import mech_cli
 
 import mech
 from mech.problems import registry
@@ -31,7 +30,7 @@ def _judge(ex_id, out, text, **params):
 
 
 def _mech(*args):
-    p = subprocess.run([sys.executable, "-m", "mech.cli.main", *args], capture_output=True, text=True, timeout=120)
+    p = mech_cli(*args)  # in this process: what the command prints and exits with (conftest)
     return p.returncode, p.stdout, p.stderr
 
 

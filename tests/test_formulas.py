@@ -10,14 +10,13 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
-import subprocess
-import sys
 import time
 import tracemalloc
 from fractions import Fraction
 
 import numpy as np
 import pytest
+from conftest import mech_cli
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -33,8 +32,7 @@ EX = registry.get("4.15")
 
 
 def _mech(*args):
-    return subprocess.run([sys.executable, "-m", "mech.cli.main", *args], capture_output=True, text=True,
-                          timeout=120)
+    return mech_cli(*args)  # in this process: what the command prints and exits with (conftest)
 
 
 # -- the parser ----------------------------------------------------------------------------------------

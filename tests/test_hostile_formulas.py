@@ -19,6 +19,7 @@ import sys
 
 import numpy as np
 import pytest
+from conftest import mech_cli
 
 from mech.problems import registry
 from mech.students import points as P
@@ -28,7 +29,11 @@ from mech.students.formulas import judge_formula
 HERE = pathlib.Path(__file__).parent
 
 
-def _mech(*args, env=None, timeout=120):
+def _mech(*args, env=None, timeout=120, fresh=False):
+    """``mech ARGS`` in this process (conftest's ``mech_cli``), or in a fresh Python where the command's own
+    clock from its start, or what Python itself prints on standard error, is what a test is about."""
+    if not fresh:
+        return mech_cli(*args, env=env)
     e = dict(os.environ, **(env or {}))
     return subprocess.run([sys.executable, "-m", "mech.cli.main", *args], capture_output=True, text=True,
                           timeout=timeout, env=e)
@@ -300,7 +305,7 @@ def test_solve_budget_covers_the_formula_check():
 
     t0 = time.monotonic()
     r = _mech("solve", "4.32", "--expect", "h_high=M_S/M_E*R_E^4/r_S^3", "--expect-points", "10000",
-              env={"MECH_BUDGET_S": "1"})
+              env={"MECH_BUDGET_S": "1"}, fresh=True)
     assert time.monotonic() - t0 < 10, r.stdout  # was 35 s
     assert r.returncode == 1, r.stdout + r.stderr
     assert "not graded (budget)" in r.stdout and "Traceback" not in r.stderr
@@ -313,7 +318,7 @@ def test_grade_budget_covers_the_formula_checks(tmp_path):
     hw.write_text("".join('[[answer]]\nexercise = "4.32"\npoints = 10000\n'
                           'expect = { h_high = "M_S/M_E*R_E^4/r_S^3" }\n\n' for _ in range(6)))
     t0 = time.monotonic()
-    r = _mech("grade", str(hw), "--budget", "2")
+    r = _mech("grade", str(hw), "--budget", "2", fresh=True)
     assert time.monotonic() - t0 < 15, r.stdout  # was 37 s, every entry graded
     assert r.returncode == 1 and "not graded" in r.stdout, r.stdout + r.stderr
 
@@ -484,7 +489,7 @@ def test_control_characters_never_reach_the_yours_column():
 
 
 def test_runtime_warnings_never_reach_stderr():
-    r = _mech("solve", "5.11", "--expect", "mu_th=4*delta/omega0", "--expect-seed", "5")
+    r = _mech("solve", "5.11", "--expect", "mu_th=4*delta/omega0", "--expect-seed", "5", fresh=True)
     assert "Warning" not in r.stderr and r.returncode in (0, 1), r.stderr
-    r = _mech("solve", "4.15", "--expect", "theta_c=asin(2/3*sin(theta0))*1e308*10")
+    r = _mech("solve", "4.15", "--expect", "theta_c=asin(2/3*sin(theta0))*1e308*10", fresh=True)
     assert "Warning" not in r.stderr and r.returncode == 1 and "internal error" not in r.stderr, r.stderr
