@@ -58,7 +58,8 @@ class Tally:
         self.records.append(result)
         return result
 
-    def follow(self, make_rhs: Callable, t_span, y0, *, rtol: float, atol, events=(), on_failure: str = "mark"):
+    def follow(self, make_rhs: Callable, t_span, y0, *, rtol: float, atol, events=(), on_failure: str = "mark",
+               max_step=math.inf):
         """The ensemble's ``Run.follow``: N variants (``y0``: n x N) followed over ``t_span`` by
         ``ensemble.follow`` (mech's DOP853 stepping them together; one by one under a forced ``integrator``),
         each with its own events and, by default, its own failure (``failed``, ``why``); the integrations
@@ -66,7 +67,7 @@ class Tally:
         from mech.solvers.numerics.ensemble import follow
 
         got = follow(make_rhs, t_span, y0, rtol=rtol, atol=atol, events=events, integrator=self.integrator,
-                     on_failure=on_failure)
+                     on_failure=on_failure, max_step=max_step)
         self.records.extend(got.records)
         return got
 

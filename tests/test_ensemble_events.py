@@ -156,3 +156,20 @@ def test_a_start_without_numbers_fails_at_once_never_loops():
         res = integrate_batch(one_nan, (0.0, 1.0), np.ones((1, 3)), rtol=1e-8, atol=1e-10, on_failure="mark")
     assert res.failed.tolist() == [False, True, False]
     assert res.y_end[0][[0, 2]] == pytest.approx(math.exp(-1.0), rel=1e-7)
+
+
+@pytest.mark.parametrize("integrator", [None, "scipy-DOP853"])
+def test_max_step_holds_each_variant_to_its_own_cap(integrator):
+    """y' = 1 from 0 to 1 is one step without a cap; with caps (0.1, 0.25) the shared step keeps within the
+    least cap of the variants still stepping, and one by one each within its own."""
+    from mech.solvers.numerics.ensemble import follow
+
+    got = follow(lambda sel: (lambda t, y: np.ones_like(y)), (0.0, 1.0), np.zeros((1, 2)), rtol=1e-8, atol=1e-10,
+                 max_step=np.array([0.1, 0.25]), integrator=integrator)
+    assert got.y_end[0] == pytest.approx([1.0, 1.0], rel=1e-12)
+    if integrator is None:
+        assert got.records[0].steps >= 10
+    else:
+        assert [r.t.size - 1 for r in got.records][0] >= 10 and [r.t.size - 1 for r in got.records][1] >= 4
+    free = integrate_batch(lambda t, y: np.ones_like(y), (0.0, 1.0), np.zeros((1, 2)), rtol=1e-8, atol=1e-10)
+    assert free.steps < 10

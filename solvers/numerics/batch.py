@@ -120,6 +120,10 @@ class _Ensemble:
         self.why: list = [None] * self.N
         self.err_max = np.zeros(self.N)
 
+    def step_cap(self) -> float:
+        """The largest step the points still stepping allow (``max_step``)."""
+        return float(self.max_step[self.active].min()) if self.active.any() else math.inf
+
     def f(self, t, yy):
         self.nfev += 1
         return np.asarray(self.rhs(t, yy), dtype=float)
@@ -259,10 +263,13 @@ def integrate_batch(
     max_steps: int = MAX_STEPS,
     events=(),
     on_failure: str = "raise",
+    max_step=math.inf,
 ) -> BatchResult:
     """Integrate ``y' = rhs(t, y)`` for a state ``y`` of shape (n, N) from ``t_span[0]`` to ``t_span[1]``.
 
     ``atol``: a number, or one per component (shape (n,) or (n, 1)), or per component and point (n, N).
+    ``max_step``: the largest step, a number or one per point (the shared step stays within the least of the
+    points still stepping, as each one's own run would keep within its own).
     ``events``: ``BatchEvent``s, each point's first crossing of each recorded (``t_events``,
     ``y_events``); a terminal one stops its point.  ``rhs`` is always called with all N points (a point
     that stopped or failed keeps its state).  When the step size underflows, a point's state turns
@@ -290,8 +297,9 @@ def integrate_batch(
             res.y_end, res.nfev = ens.y, ens.nfev
             res.t_stop[ens.failed] = np.nan
             return res
-    h_abs = _starting_step(ens.f, t0, ens.y, ens.fy, direction, abs(t_end - t0), rtol, ens.atol, first_step,
-                           ens.active)
+    ens.max_step = np.broadcast_to(np.asarray(max_step, dtype=float), (N,))
+    h_abs = min(_starting_step(ens.f, t0, ens.y, ens.fy, direction, abs(t_end - t0), rtol, ens.atol, first_step,
+                               ens.active), ens.step_cap())
     g_old = [np.asarray(ev.g(t0, ens.y), dtype=float) for ev in events]
     found = [np.zeros(N, dtype=bool) for _ in events]
     t = t0
@@ -339,7 +347,7 @@ def _step(ens, t, h_abs, direction, t_end, res, events, g_old, found):
         g_old[:] = _events_in_step(ens, events, g_old, t, h, y_new, f_new, res, found)
     ens.y, ens.fy = y_new, f_new
     res.steps += 1
-    return t_new, h_abs * factor
+    return t_new, min(h_abs * factor, ens.step_cap())
 
 
 @dataclass

@@ -11,6 +11,7 @@ forced integrator answers the same question.  The result reads the same either w
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Callable, NamedTuple
 
@@ -58,13 +59,14 @@ def _one_event(ev, j: int, n_all: int):
 
 
 def follow(make_rhs: Callable, t_span: tuple[float, float], y0, *, rtol: float, atol, events=(),
-           integrator: str | None = None, on_failure: str = "raise", options: Callable | None = None) -> Ensemble:
+           integrator: str | None = None, on_failure: str = "raise", options: Callable | None = None,
+           max_step=math.inf) -> Ensemble:
     """The N variants of ``y0`` (n x N) followed over ``t_span`` (see the module).  ``atol``: a number, per
     component or n x N.  ``events``: ``batch.BatchEvent``s.  ``on_failure="mark"``: a variant that fails is
     marked with its reason and the others go on; by default the first failure raises ``NumericFailure``.
     ``options(j)``: ``ode.integrate``'s keywords for variant j (a stiff method and its Jacobian): each
-    variant then alone.  The work budget running out, or the clock, stops the whole call (``OutOfBudget``):
-    it is never one variant's failure."""
+    variant then alone.  ``max_step``: the largest step, a number or one per variant.  The work budget
+    running out, or the clock, stops the whole call (``OutOfBudget``): it is never one variant's failure."""
     from mech.core.budget import OutOfBudget
     from mech.solvers.numerics.batch import integrate_batch
 
@@ -73,17 +75,18 @@ def follow(make_rhs: Callable, t_span: tuple[float, float], y0, *, rtol: float, 
     atol = np.broadcast_to(np.asarray(atol, dtype=float).reshape(-1, 1) if np.ndim(atol) == 1 else atol, (n, N))
     if integrator is None and options is None and N > 1:
         res = integrate_batch(make_rhs(slice(None)), t_span, y0, rtol=rtol, atol=atol, events=events,
-                              on_failure=on_failure)
+                              on_failure=on_failure, max_step=max_step)
         return Ensemble(res.y_end, res.t_stop, res.t_events, res.y_events, res.failed, res.why, [res])
     from mech.solvers.numerics.ode import integrate
 
+    caps = np.broadcast_to(np.asarray(max_step, dtype=float), (N,))
     out = _Filling(y0.copy(), np.full(N, float(t_span[1])), [np.full(N, np.nan) for _ in events],
                    [np.full((n, N), np.nan) for _ in events], np.zeros(N, dtype=bool), [None] * N, [])
     for j in range(N):
         try:
             traj = integrate(make_rhs(j), t_span, y0[:, j], rtol=rtol, atol=atol[:, j],
                              events=[_one_event(ev, j, N) for ev in events], integrator=integrator,
-                             **(options(j) if options else {}))
+                             **{"max_step": float(caps[j]), **(options(j) if options else {})})
         except NumericFailure as exc:
             if on_failure != "mark" or isinstance(exc, OutOfBudget):
                 raise
