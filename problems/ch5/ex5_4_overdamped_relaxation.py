@@ -11,15 +11,17 @@ zeta = 1), v_max = |q'(t*)|.  t_eps solves ln(q/q0) = ln eps (monotone; brackete
 root).  The decay time ~ 1/lambda_s = (zeta + s)/omega0 grows ~ 2 zeta/omega0 at
 large zeta and is least, 1/omega0, at critical damping.
 
-Numeric: x = q/q0 and tau = omega0 t, x'' + 2 zeta x' + x = 0 from (1, 0).  For
-zeta > 5 (stiffness ratio ~4 zeta^2) no integrator: the state is the exact flow
+Numeric, written once over arrays of variants (``numeric``; a one-point solve is
+its batch of one): x = q/q0 and tau = omega0 t, x'' + 2 zeta x' + x = 0 from (1, 0).
+For zeta > 5 (stiffness ratio ~4 zeta^2) no integrator: the state is the exact flow
 exp(A tau) y0 (numpy scaling and squaring), the events roots of its components
 bracketed on a geometric grid and polished by Brent's method to rtol/10
-(``_numeric_flow``; scipy's Radau only when mech bench forces an integrator).
-Otherwise DOP853 on the declared motion (``motion``), carrying the dissipated
-energy W = int 2 zeta x'^2 dtau so that E + W is monitored; events x = eps
-(t_eps) and x'' = 0 crossing upward (largest speed); q(t1) from a leg ending at
-t1.  The flow's generator is the declared equations' Jacobian.
+(``_flow_one``, variant by variant; an integrator only when mech bench forces one).
+Otherwise the declared motion's legs (``motion``) followed together by DOP853
+(``_stepped``), carrying the dissipated energy W = int 2 zeta x'^2 dtau so that
+E + W is monitored; events x = eps (t_eps) and x'' = 0 crossing upward (largest
+speed); q(t1) from a leg ending at t1.  The flow's generator is the declared
+equations' Jacobian.
 lambda_slow: the reciprocal of the largest-magnitude eigenvalue of the inverse
 system matrix (numpy), whose accuracy near the defective critical case is
 limited to ~sqrt(machine eps) and claimed so; compared (info) with the
@@ -29,11 +31,15 @@ late-time slope of ln q at t_eps.
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 
-from mech.problems.spec import Exercise, NumericFailure
+from mech.core import budget
+from mech.problems.spec import Exercise, NumericFailure, Tally
+from mech.solvers.numerics.linear_flow import expm, expm_many
 from mech.solvers.numerics.ode import Event
+from mech.solvers.numerics.roots import brentq
 
 exercise = Exercise(
     "5.4",
@@ -78,32 +84,44 @@ def constraint(p):
                 "fewer than 3 digits")
 
 
-def _g(x):
-    return 1.0 if x == 0.0 else -math.expm1(-x) / x
+def _arrays(P):  # omega0, zeta, q0, t1, eps
+    return np.broadcast_arrays(*(np.atleast_1d(np.asarray(P[k], float)) for k in ("omega0", "zeta", "q0", "t1", "eps")))
 
 
-@exercise.analytic
-def analytic(p):
-    w0, z = p.omega0, p.zeta
+def _analytic_one(w0, z, q0, t1, eps):
+    """The closed forms at one variant (t_eps a bracketed root of the log form): (lambda_s, q(t1), t_eps, v_max)."""
     s = math.sqrt((z - 1.0) * (z + 1.0))
     lam = w0 / (z + s)
     delta = 2.0 * w0 * s
+    g = lambda x: 1.0 if x == 0.0 else -math.expm1(-x) / x  # noqa: E731  (1 - e^-x)/x, 1 at 0
 
     def log_ratio(t):  # ln(q/q0)
-        return -lam * t + math.log1p(lam * t * _g(delta * t))
+        return -lam * t + math.log1p(lam * t * g(delta * t))
 
-    q_t = p.q0 * math.exp(log_ratio(p.t1))
+    q_t = q0 * math.exp(log_ratio(t1))
     t_star = 1.0 / w0 if s == 0.0 else math.log1p((z - 1.0) + s) / (w0 * s)
-    v_max = p.q0 * w0 * w0 * t_star * math.exp(-lam * t_star) * _g(delta * t_star)
-
-    from mech.solvers.numerics.roots import brentq
-
-    target = math.log(p.eps)
+    v_max = q0 * w0 * w0 * t_star * math.exp(-lam * t_star) * g(delta * t_star)
+    target = math.log(eps)
     hi = 1.0 / lam
     while log_ratio(hi) > target:
         hi *= 2.0
     t_eps = brentq(lambda t: log_ratio(t) - target, 0.0, hi, xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=500)
-    return {"lambda_slow": lam, "q_t": q_t, "t_eps": t_eps, "v_max": v_max}
+    return lam, q_t, t_eps, v_max
+
+
+@exercise.analytic
+def analytic(P):
+    """Over arrays of variants: the closed forms (``_analytic_one``: a bracketed root each) for every variant."""
+    from mech.solvers.numerics.batch import Column
+
+    rows = np.array([_analytic_one(*v) for v in zip(*_arrays(P))], dtype=float).reshape(-1, 4)
+    return {name: Column(rows[:, k]) for k, name in enumerate(("lambda_slow", "q_t", "t_eps", "v_max"))}
+
+
+def _equations(z, y):
+    """x'' + 2 zeta x' + x = 0 in (x, x', W), W = int 2 zeta x'^2 dtau the dissipated work: one state (3,) or
+    an ensemble (3, N) with zeta one per variant."""
+    return np.array([y[1], -2.0 * z * y[1] - y[0], 2.0 * z * y[1] ** 2])
 
 
 def _jac(z):
@@ -112,9 +130,27 @@ def _jac(z):
     return lambda t, y: np.array([[0.0, 1.0, 0.0], [-1.0, -2.0 * z, 0.0], [0.0, 4.0 * z * y[1], 0.0]])
 
 
+def _generators(z):
+    """The upper blocks of the Jacobians (``_jac``) of N variants, N x 2 x 2."""
+    return np.stack([_jac(v)(0.0, np.zeros(3))[:2, :2] for v in np.atleast_1d(z)])
+
+
 def _balance(y):
     """E + W relative to its value 1/2 at the start, (x^2 + x'^2)/2 + W - 1/2 over 1/2."""
     return (0.5 * (y[0] ** 2 + y[1] ** 2) + y[2] - 0.5) / 0.5
+
+
+def _max_step(z):
+    """DOP853's largest step in tau, 3/lambda_fast (the equations' Jacobian), inf past zeta 5: well inside its
+    stability region (it reaches about 6 on the negative axis), where at the edge the step control hovers on
+    stability and the error estimate misses: x came out up to 9 rtol off (zeta 1.2-5, rtol 1e-7 to 1e-10, 100
+    runs without a bound), 0.16 rtol with it, for 1.3 times the evaluations."""
+    lam_fast = np.max(np.abs(np.linalg.eigvals(_generators(z))), axis=-1)
+    return np.where(np.atleast_1d(z) <= 5.0, 3.0 / lam_fast, np.inf)
+
+
+def _horizon(z, eps, tau1):
+    return np.maximum(tau1, 1e3 * (2.0 * z + 1.0) * np.maximum(1.0, -np.log(eps)))
 
 
 @exercise.motion
@@ -123,43 +159,29 @@ def motion(p, rtol=None):
     dissipated work W = int 2 zeta x'^2 dtau carried as a third variable (E + W monitored at each leg's
     end).  A first leg up to t1 (events x = eps, x'' = 0 upward, and a stop once the energy is below a tenth
     of the claim on q(t1), which depends on ``rtol``: the Run's, the exercise's default when declared for a
-    scene), then, while x = eps is not met, a leg on to it."""
+    scene), then, while x = eps is not met, a leg on to it.  The batched route follows the same legs."""
     from mech.problems.motion import Motion
 
     z, w0, eps = p.zeta, p.omega0, p.eps
     rtol = exercise.default_rtol if rtol is None else rtol
-
-    def rhs(t, y):
-        return np.array([y[1], -2.0 * z * y[1] - y[0], 2.0 * z * y[1] ** 2])
-
     jac = _jac(z)
-    # sizes: x <= 1, |x'| <= 1/(2 zeta) roughly; resolve x well below eps (the absolute tolerances at this
-    # rtol as they always were, so given as an option rather than as y_size)
     atol = np.array([1e-3 * eps, 1e-3 * eps / (2.0 * z), 1e-3 * eps / (2.0 * z)]) * rtol
     reach = Event(lambda t, y: y[0] - eps, terminal=False, direction=-1, name="x = eps")
     reach_stop = Event(reach.fn, terminal=True, direction=-1, name="x = eps")
     turn = Event(lambda t, y: -2.0 * z * y[1] - y[0], terminal=False, direction=1, name="x'' = 0")
     tau1 = w0 * p.t1
     # stiffness ratio lambda_f/lambda_s ~ 4 zeta^2: explicit DOP853 only while it is mild (beyond, the
-    # exact flow in ``numeric``; Radau here only when mech bench forces an integrator, which replaces it)
+    # exact flow in ``numeric``; Radau here for a scene's trajectory or when mech bench forces an integrator)
     method = "DOP853" if z <= 5.0 else "Radau"
-    # ... and even then its steps are kept well inside its stability region, |h lambda_fast| <= 3 (DOP853's
-    # reaches about 6 on the negative axis): at the edge the step control hovers on stability, not accuracy,
-    # and the error estimate misses: x came out up to 9 rtol off (zeta 1.2-5, rtol 1e-7 to 1e-10, 100 runs
-    # without a bound; t_eps 4.8e-8 off at rtol 1e-8 at one bounds draw, unearned claims at two others),
-    # 0.16 rtol with the bound, for 1.3 times the evaluations.  lambda_fast: the equations' Jacobian
-    lam_fast = float(np.max(np.abs(np.linalg.eigvals(jac(0.0, np.zeros(3))[:2, :2]))))
-    max_step = 3.0 / lam_fast if method == "DOP853" else np.inf
-    horizon = max(tau1, 1e3 * (2.0 * z + 1.0) * max(1.0, -math.log(eps)))
-    # The energy (x^2 + x'^2)/2 never grows under damping, so once (x^2 + x'^2)^(1/2) is below a tenth of
-    # the claim on q(t1), |x| stays below it up to t1: the first leg stops there (a t1 of 1e5 decay times
-    # once took 6e5 steps) and q(t1) is 0 within its claim.
+    max_step = float(_max_step(z)[0])
+    horizon = float(_horizon(z, eps, tau1))
     q_claim = exercise.tol_factor * rtol * 1e-3 * eps  # relative to q0, as claimed in ``numeric``
     settled = Event(lambda t, y: math.hypot(y[0], y[1]) - 0.1 * q_claim, terminal=True, direction=-1,
                     name="energy below the claim")
 
     def leg(span, y0, events, then=None):
-        return Motion(rhs, y0, span, monitors={"E + dissipated work": lambda Y: _balance(Y[:, -1])},
+        return Motion(lambda t, y: _equations(z, y), y0, span,
+                      monitors={"E + dissipated work": lambda Y: _balance(Y[:, -1])},
                       t_scale=1.0 / w0, y_scale=[p.q0, p.q0 * w0], to_states=lambda Y: Y[[0, 1]],  # not W
                       options={"atol": atol, "method": method, "jac": jac, "events": events, "max_step": max_step},
                       then=then)
@@ -176,71 +198,131 @@ def motion(p, rtol=None):
     return leg((tau1, horizon), start, [reach_stop, turn])
 
 
-@exercise.numeric
-def numeric(p, run):
-    z, w0 = p.zeta, p.omega0
-    if z > 5.0 and run.integrator is None:
-        return _numeric_flow(p, run)
-    tau1 = w0 * p.t1
-    path = run.follow(motion(p, run.rtol))
-    found = {}
-    for leg in path.legs:
-        for ev, times, states in zip(leg.motion.options["events"], leg.traj.t_events, leg.traj.y_events):
-            if len(times) and ev.name not in found:
-                found[ev.name] = (float(times[0]), states[0])
-    x1 = 1.0
-    if tau1 > 0.0:
-        first = path.legs[0]
-        x1 = first.y_end[0] if first.t_end >= tau1 else 0.0
-        if first.t_end < tau1:
-            run.info["q_t_settled_at_t"] = first.t_end / w0
-    t_eps, y_eps = found.get("x = eps", (None, None))
-    t_star, y_star = found.get("x'' = 0", (None, None))
-    if t_eps is None:
-        raise NumericFailure(f"x = eps not reached by tau = {path.motion.span[1]:.3g}")
-    if t_star is None:
-        raise NumericFailure("the largest speed (x'' = 0) was not found")
-    if y_eps[1] >= 0.0 or x1 < 0.0:
-        raise NumericFailure("the oscillator crossed q = 0 or turned back: not aperiodic")
+def _leg(tally, z, eps, qc, tau_a, length, y0, rtol, cap, first):
+    """One leg of the declared motion for the variants given (arrays of M), each over its own span
+    tau_a .. tau_a + length, followed together in s = (tau - tau_a)/length, s: 0 -> 1.  Events: x = eps
+    (downward), x'' = 0 (upward), and terminal: on the ``first`` leg the energy below a tenth of the claim
+    on q(t1) (``qc``), on the second x = eps once x'' = 0 is passed.  Returns the ``Ensemble`` (event times
+    in tau)."""
+    from mech.solvers.numerics.batch import BatchEvent
 
-    return _slow_rate_and_outputs(p, run, x1, t_eps, y_eps, y_star)
+    def make_rhs(sel):
+        zs, ls = z[sel], length[sel]
+        return lambda s, y: ls * _equations(zs, y)
+
+    reach = BatchEvent(lambda s, y: y[0] - eps, direction=-1, name="x = eps")
+    turn = BatchEvent(lambda s, y: -2.0 * z * y[1] - y[0], direction=1, name="x'' = 0")
+    if first:
+        stop = BatchEvent(lambda s, y: np.hypot(y[0], y[1]) - 0.1 * qc, direction=-1, terminal=True,
+                          name="energy below the claim")
+    else:  # both x <= eps and x'' >= 0
+        stop = BatchEvent(lambda s, y: np.maximum(y[0] - eps, 2.0 * z * y[1] + y[0]), direction=-1, terminal=True,
+                          name="x = eps past the largest speed")
+    atol = np.vstack([1e-3 * eps, 1e-3 * eps / (2.0 * z), 1e-3 * eps / (2.0 * z)]) * rtol
+    got = tally.follow(make_rhs, (0.0, 1.0), y0, rtol=rtol, atol=atol, events=[reach, turn, stop],
+                       max_step=cap / length)
+    got.t_events = [tau_a + t * length for t in got.t_events]
+    return got
 
 
-def _slow_rate_and_outputs(p, run, x1, t_eps, y_eps, y_star, q_t=None):
-    z, w0, rtol = p.zeta, p.omega0, run.rtol
-    q_claim = exercise.tol_factor * rtol * 1e-3 * p.eps
+def _stepped(tally, z, w0, t1, eps, rtol):
+    """The declared motion's legs (``motion``) for M variants together: (x1, t_eps and the states at x = eps
+    and at x'' = 0 in tau, each variant's failure, E + W's drift, where the first leg settled in t)."""
+    M, tau1 = z.size, w0 * t1
+    qc = exercise.tol_factor * rtol * 1e-3 * eps
+    cap = _max_step(z)
+    x1, why, (t_eps, t_star, drift) = np.ones(M), np.full(M, "", dtype=object), np.full((3, M), np.nan)
+    y_eps, y_star, settled = np.full((3, M), np.nan), np.full((3, M), np.nan), np.full(M, None, dtype=object)
+    y_a, tau_a = np.tile([[1.0], [0.0], [0.0]], M), np.zeros(M)
+    k1 = np.flatnonzero(tau1 > 0.0)
+    if k1.size:
+        got = _leg(tally, z[k1], eps[k1], qc[k1], 0.0, tau1[k1], y_a[:, k1], rtol, cap[k1], True)
+        why[k1] = got.why
+        ends = got.t_stop >= 1.0
+        x1[k1] = np.where(ends, got.y_end[0], 0.0)
+        settled[k1[~ends & ~got.failed]] = (got.t_stop * tau1[k1] / w0[k1])[~ends & ~got.failed]
+        t_eps[k1], t_star[k1] = got.t_events[0], got.t_events[1]
+        y_eps[:, k1], y_star[:, k1] = got.y_events[0], got.y_events[1]
+        drift[k1] = _balance(got.y_end)
+        y_a[:, k1], tau_a[k1] = got.y_end, tau1[k1]
+    k2 = np.flatnonzero((why == "") & np.isnan(t_eps))
+    if k2.size:
+        horizon = _horizon(z[k2], eps[k2], tau1[k2])
+        got = _leg(tally, z[k2], eps[k2], qc[k2], tau_a[k2], horizon - tau_a[k2], y_a[:, k2], rtol, cap[k2], False)
+        why[k2] = got.why
+        # the stop's root is x = eps's once x'' = 0 is passed (an integrator may keep only the terminal one)
+        alone = np.isnan(got.t_events[0])
+        t_eps[k2] = np.where(alone, got.t_events[2], got.t_events[0])
+        y_eps[:, k2] = np.where(alone, got.y_events[2], got.y_events[0])
+        new = np.isnan(t_star[k2])
+        t_star[k2[new]], y_star[:, k2[new]] = got.t_events[1][new], got.y_events[1][:, new]
+        drift[k2] = np.fmax(drift[k2], _balance(got.y_end))
+        lost = (why[k2] == "") & np.isnan(t_eps[k2])
+        why[k2[lost]] = [f"x = eps not reached by tau = {h:.3g}" for h in horizon[lost]]
+    why[(why == "") & np.isnan(t_star)] = "the largest speed (x'' = 0) was not found"
+    return x1, t_eps, y_eps[:2], y_star[:2], why, drift, settled
+
+
+def _reasons(why):
+    """[(mask, reason)] of an array of failures ("" where none), one entry a distinct reason."""
+    return [(why == w, w) for w in sorted(set(why[why != ""]))]
+
+
+@exercise.batched(("lambda_slow", "q_t", "t_eps", "v_max"))
+def numeric(P, rtol, outputs, memo=None, tally=None):
+    """The route at N variants at once (a one-point solve is the batch of one): for zeta <= 5 (or an
+    integrator forced) the declared motion's legs followed together by DOP853 (``_stepped``), beyond the
+    exact flow variant by variant (``_flow_one``); then the slow rate from the system matrix and each
+    variant's claims.  A variant that fails fails alone; E + W's and the semigroup's drifts go to ``tally``."""
+    from mech.core.budget import OutOfBudget
+    from mech.solvers.numerics.batch import Column
+
+    tally = Tally() if tally is None else tally
+    w0, z, q0, t1, eps = _arrays(P)
+    N = z.size
+    claim = exercise.tol_factor * rtol
+    flow = (z > 5.0) & (tally.integrator is None)
+    x1, why, (t_eps, q_t, drift, semigroup) = np.ones(N), np.full(N, "", dtype=object), np.full((4, N), np.nan)
+    y_eps, y_star = np.full((2, N), np.nan), np.full((2, N), np.nan)
+    settled, samples = np.full(N, None, dtype=object), np.full(N, None, dtype=object)
+    k = np.flatnonzero(~flow)
+    if k.size:
+        x1[k], t_eps[k], y_eps[:, k], y_star[:, k], why[k], drift[k], settled[k] = _stepped(
+            tally, z[k], w0[k], t1[k], eps[k], rtol)
+        q_t[k] = q0[k] * x1[k]
+        tally.invariant("E + dissipated work", drift)
+    for j in np.flatnonzero(flow):
+        try:
+            q_t[j], t_eps[j], y_eps[:, j], y_star[:, j], semigroup[j], samples[j] = _flow_one(
+                z[j], w0[j], q0[j], t1[j], eps[j], rtol)
+        except NumericFailure as exc:
+            if isinstance(exc, OutOfBudget):
+                raise
+            why[j] = str(exc)
+        x1[j] = q_t[j] / q0[j]
+    if flow.any():  # no right-hand side evaluated
+        tally.record(SimpleNamespace(nfev=0, forced=False, method="exact flow exp(A t) + Brent events"))
+        tally.invariant("semigroup Phi(a) Phi(b) = Phi(a + b)", semigroup)
+    bent = (why == "") & ((y_eps[1] >= 0.0) | (x1 < 0.0))
+    why[bent] = "the oscillator crossed q = 0 or turned back: not aperiodic"
+    failed = _reasons(why) + [
+        (~flow & (why == "") & ~(np.abs(drift) <= claim), "the invariant 'E + dissipated work' drifts by more than "
+         "the claim: the integration is not to be trusted"),
+        (flow & (why == "") & ~(semigroup <= claim), "the invariant 'semigroup Phi(a) Phi(b) = Phi(a + b)' drifts "
+         "by more than the claim: the flow is not to be trusted")]
     # slow rate: largest-magnitude eigenvalue of the inverse of the system matrix [[0, 1], [-1, -2 zeta]]
-    inv = np.array([[-2.0 * z, -1.0], [1.0, 0.0]])
+    inv = np.stack([np.stack([-2.0 * z, -np.ones(N)], -1), np.stack([np.ones(N), np.zeros(N)], -1)], -2)
     mu = np.linalg.eigvals(inv)
-    mu_big = float(np.max(np.abs(mu)))
-    lam = w0 / mu_big
-    norm = float(np.linalg.norm(inv, 2))
-    gap = float(abs(mu[0] - mu[1]))
-    e_mu = min(np.finfo(float).eps * norm / max(gap, 1e-300), 2.0 * math.sqrt(np.finfo(float).eps * norm))
-    run.claim("lambda_slow", rel=max(exercise.tol_factor * rtol, 10.0 * e_mu / mu_big))
-    run.info["late_slope_rate"] = -w0 * y_eps[1] / y_eps[0]
-    run.claim("q_t", rel=exercise.tol_factor * rtol, abs=p.q0 * q_claim)
-    run.claim("t_eps", rel=exercise.tol_factor * rtol + _t_eps_rounding(p.eps))
+    mu_big, norm = np.max(np.abs(mu), axis=-1), np.linalg.norm(inv, 2, axis=(-2, -1))
+    gap = np.abs(mu[:, 0] - mu[:, 1])
+    e_mu = np.minimum(np.finfo(float).eps * norm / np.maximum(gap, 1e-300), 2.0 * np.sqrt(np.finfo(float).eps * norm))
+    tally.info.update(late_slope_rate=-w0 * y_eps[1] / y_eps[0], q_t_settled_at_t=settled, grid_samples=samples)
     return {
-        "lambda_slow": lam,
-        "q_t": p.q0 * x1 if q_t is None else q_t,
-        "t_eps": t_eps / w0,
-        "v_max": p.q0 * w0 * abs(y_star[1]),
+        "lambda_slow": Column(w0 / mu_big, rel=np.maximum(claim, 10.0 * e_mu / mu_big), failed=failed),
+        "q_t": Column(q_t, rel=claim, abs=q0 * claim * 1e-3 * eps, failed=failed),
+        "t_eps": Column(t_eps / w0, rel=claim + _t_eps_rounding(eps), failed=failed),
+        "v_max": Column(q0 * w0 * np.abs(y_star[1]), rel=claim, failed=failed),
     }
-
-
-class _Flow:
-    """The sampled exact flow as a trajectory (``run.motion``): t, y at the samples and ``sol`` anywhere."""
-
-    def __init__(self, A, y0, ts):
-        self._A, self._y0 = A, y0
-        self.t = np.asarray(ts, float)
-        self.y = self.sol(self.t)
-
-    def sol(self, ts):
-        from mech.solvers.numerics.linear_flow import expm_many
-
-        return (expm_many(self._A, np.atleast_1d(ts)) @ self._y0).T
 
 
 def _advance(matrix, y, log_size):
@@ -253,11 +335,8 @@ def _advance(matrix, y, log_size):
 
 
 def _flow_chain(A, z, cap, horizon, log_eps):
-    """The chain of hops (see ``_numeric_flow``) up to both events: (grid, states, log sizes, found), found
+    """The chain of hops (see ``_flow_one``) up to both events: (grid, states, log sizes, found), found
     mapping each event to the chain's last node before it."""
-    from mech.solvers.numerics.linear_flow import expm, expm_many
-    from mech.core import budget
-
     fast = float(np.max(np.sum(np.abs(A), axis=0)))
     grid = [0.0]
     tau = 0.01 / fast
@@ -296,16 +375,13 @@ def _accel(y, z):  # x'' (up to the positive scale), crossed upward at the large
     return -2.0 * z * y[1] - y[0]
 
 
-def _q_at(p, A, grid, ys, logs, hop, cap):
+def _q_at(w0, t1, q0, A, grid, ys, logs, hop, cap):
     """q(t1): from the chain's last node at or before tau1, on by hops of ``cap`` while the state is
     representable (the chain stops at its second event: the grid of short hops may reach past its last node)."""
-    from mech.solvers.numerics.linear_flow import expm
-    from mech.core import budget
-
-    tau1 = p.omega0 * p.t1
+    tau1 = w0 * t1
     j1 = min(int(np.searchsorted(np.asarray(grid), tau1, side="right")) - 1, len(ys) - 1)
     y1, log1, at = ys[j1], logs[j1], grid[j1]
-    floor = -800.0 - math.log(p.q0)  # q0 e^log below the smallest double: q(t1) = 0
+    floor = -800.0 - math.log(q0)  # q0 e^log below the smallest double: q(t1) = 0
     while tau1 - at > cap and log1 > floor:
         budget.check("5.4 long decay")
         y1, log1 = _advance(hop, y1, log1)
@@ -314,15 +390,12 @@ def _q_at(p, A, grid, ys, logs, hop, cap):
     if log1 > floor:
         if tau1 > at:
             y1, log1 = _advance(expm(A * (tau1 - at)), y1, log1)
-        q_t = p.q0 * y1[0] * math.exp(log1) if log1 + math.log(p.q0) > -800.0 else 0.0
+        q_t = q0 * y1[0] * math.exp(log1) if log1 + math.log(q0) > -800.0 else 0.0
     return q_t
 
 
 def _semigroup_drift(A, cap, t_eps, t_star, y_star, log_star, y_eps, log_eps_state):
     """The rounding of the chain: the state at t_eps reached from the one at t_star by hops of another length."""
-    from mech.solvers.numerics.linear_flow import expm
-    from mech.core import budget
-
     n = max(1, math.ceil((t_eps - t_star) / (0.7 * cap)))
     again = expm(A * ((t_eps - t_star) / n))
     via, log_via = y_star, log_star
@@ -333,7 +406,7 @@ def _semigroup_drift(A, cap, t_eps, t_star, y_star, log_star, y_eps, log_eps_sta
     return float(np.max(np.abs(via * math.exp(log_via - log_eps_state) - y_eps)) / np.max(np.abs(y_eps)))
 
 
-def _numeric_flow(p, run):
+def _flow_one(z, w0, q0, t1, eps, rtol):
     """The stiff case (zeta > 5) without stepping: the equation of motion x'' + 2 zeta x' + x = 0 is linear
     with constant coefficients, y' = A y, so the state at any tau is exp(A tau) y0 (scaling and squaring,
     solvers/numerics/linear_flow).  exp(A h) is exact only to ~1e-16 of its largest entry, 1 at short h: in
@@ -346,12 +419,8 @@ def _numeric_flow(p, run):
     integrator's steps grow the same way) up to zeta.  The events are sign changes along the chain, polished
     by Brent's method to a tenth of rtol in tau, x = eps as ln x = ln eps.  The flow's rounding is
     monitored by the semigroup property: the state at t_eps reached again from the state at the largest
-    speed by hops of another length."""
-    from mech.solvers.numerics.linear_flow import expm
-    from mech.solvers.numerics.roots import brentq
-
-    z, w0, eps = p.zeta, p.omega0, p.eps
-    rtol = run.rtol
+    speed by hops of another length.  Returns q(t1), t_eps in tau, the states (x, x') at t_eps (scaled)
+    and at the largest speed, the semigroup drift and the grid's size; NumericFailure where it fails."""
     A = _jac(z)(0.0, np.zeros(3))[:2, :2].copy()  # the generator of the declared equations in (x, x')
     log_eps = math.log(eps)
     horizon = 1e3 * (2.0 * z + 1.0) * max(1.0, -log_eps)
@@ -375,18 +444,6 @@ def _numeric_flow(p, run):
     upto = np.array([y for y, t in zip(ys, grid) if t <= t_eps])
     if np.any(upto[:, 0] <= 0.0) or np.any(upto[1:, 1] > 0.0):
         raise NumericFailure("the oscillator crossed q = 0 or turned back: not aperiodic")
-    q_t = _q_at(p, A, grid, ys, logs, hop, cap)
+    q_t = _q_at(w0, t1, q0, A, grid, ys, logs, hop, cap)
     drift = _semigroup_drift(A, cap, t_eps, t_star, y_star, log_star, y_eps, log_eps_state)
-    run.invariant("semigroup Phi(a) Phi(b) = Phi(a + b)", drift)
-    if run.keep_trajectories:
-        end = max(t_eps, w0 * p.t1)
-        samples = [t for t in grid if t < end] + [end]
-        m = motion(p, rtol)  # the declared motion's scales: the sampled flow is its trajectory
-        run.motion(_Flow(A, np.array([1.0, 0.0]), samples), t_scale=m.t_scale, y_scale=m.y_scale)
-    run.method = "exact flow exp(A t) + Brent events"
-    run.info["grid_samples"] = len(grid)
-    if y_eps[1] >= 0.0 or q_t < 0.0:
-        raise NumericFailure("the oscillator crossed q = 0 or turned back: not aperiodic")
-    y_star_si = y_star * math.exp(log_star)
-    return _slow_rate_and_outputs(p, run, q_t / p.q0, t_eps, y_eps, y_star_si, q_t=q_t)
-
+    return q_t, t_eps, y_eps, y_star * math.exp(log_star), drift, len(grid)
