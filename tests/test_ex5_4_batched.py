@@ -6,11 +6,9 @@ tau = omega0 t, x = (l2 e^{-l1 tau} - l1 e^{-l2 tau})/(l2 - l1), l1,2 = zeta -+ 
 in size at tau* = ln(l2/l1)/(l2 - l1) (1); t_eps the root of x = eps found by mpmath's bisection.
 """
 
-import math
 
 import mpmath
 import numpy as np
-import pytest
 
 from mech.problems import registry
 
@@ -115,14 +113,14 @@ def test_a_flow_variant_that_fails_fails_alone(monkeypatch):
     from mech.core.errors import NumericFailure
     from mech.problems.ch5 import ex5_4_overdamped_relaxation as mod
 
-    real = mod._flow_one
+    real = mod._flow_chain
 
-    def failing(z, *args):
+    def failing(A, z, *args):
         if z == 9.0:
             raise NumericFailure("the flow's state vanished along the chain")
-        return real(z, *args)
+        return real(A, z, *args)
 
-    monkeypatch.setattr(mod, "_flow_one", failing)
+    monkeypatch.setattr(mod, "_flow_chain", failing)
     cols, _ = route_at([dict(zeta=6.0), dict(zeta=9.0), dict(zeta=2.0)])
     assert cols["q_t"].mask("failed").tolist() == [False, True, False]
     assert cols["q_t"].reason("failed", 1) == "the flow's state vanished along the chain"

@@ -13,15 +13,12 @@ large zeta and is least, 1/omega0, at critical damping.
 
 Numeric, written once over arrays of variants (``numeric``; a one-point solve is
 its batch of one): x = q/q0 and tau = omega0 t, x'' + 2 zeta x' + x = 0 from (1, 0).
-For zeta > 5 (stiffness ratio ~4 zeta^2) no integrator: the state is the exact flow
-exp(A tau) y0 (numpy scaling and squaring), the events roots of its components
-bracketed on a geometric grid and polished by Brent's method to rtol/10
-(``_flow_one``, variant by variant; an integrator only when mech bench forces one).
-Otherwise the declared motion's legs (``motion``) followed together by DOP853
-(``_stepped``), carrying the dissipated energy W = int 2 zeta x'^2 dtau so that
-E + W is monitored; events x = eps (t_eps) and x'' = 0 crossing upward (largest
-speed); q(t1) from a leg ending at t1.  The flow's generator is the declared
-equations' Jacobian.
+For zeta > 5 (stiffness ratio ~4 zeta^2) no integrator unless mech bench forces one:
+the state is the exact flow exp(A tau) y0 (``_flow``), the events bracketed on a
+geometric grid and polished to rtol/10.  Otherwise the declared motion's legs
+(``motion``) followed together by DOP853 (``_stepped``), carrying the dissipated
+energy W = int 2 zeta x'^2 dtau so that E + W is monitored; events x = eps (t_eps)
+and x'' = 0 crossing upward (largest speed); q(t1) from a leg ending at t1.
 lambda_slow: the reciprocal of the largest-magnitude eigenvalue of the inverse
 system matrix (numpy), whose accuracy near the defective critical case is
 limited to ~sqrt(machine eps) and claimed so; compared (info) with the
@@ -101,11 +98,10 @@ def _analytic_one(w0, z, q0, t1, eps):
     q_t = q0 * math.exp(log_ratio(t1))
     t_star = 1.0 / w0 if s == 0.0 else math.log1p((z - 1.0) + s) / (w0 * s)
     v_max = q0 * w0 * w0 * t_star * math.exp(-lam * t_star) * g(delta * t_star)
-    target = math.log(eps)
     hi = 1.0 / lam
-    while log_ratio(hi) > target:
+    while log_ratio(hi) > math.log(eps):
         hi *= 2.0
-    t_eps = brentq(lambda t: log_ratio(t) - target, 0.0, hi, xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=500)
+    t_eps = brentq(lambda t: log_ratio(t) - math.log(eps), 0.0, hi, xtol=1e-300, rtol=4 * 2.0**-52, maxiter=500)
     return lam, q_t, t_eps, v_max
 
 
@@ -125,8 +121,7 @@ def _equations(z, y):
 
 
 def _jac(z):
-    """The Jacobian of the equations in (x, x', W); its upper block [[0, 1], [-1, -2 zeta]] is the generator
-    of the linear flow in (x, x')."""
+    """The Jacobian of the equations in (x, x', W); its upper block generates the linear flow in (x, x')."""
     return lambda t, y: np.array([[0.0, 1.0, 0.0], [-1.0, -2.0 * z, 0.0], [0.0, 4.0 * z * y[1], 0.0]])
 
 
@@ -135,16 +130,14 @@ def _generators(z):
     return np.stack([_jac(v)(0.0, np.zeros(3))[:2, :2] for v in np.atleast_1d(z)])
 
 
-def _balance(y):
-    """E + W relative to its value 1/2 at the start, (x^2 + x'^2)/2 + W - 1/2 over 1/2."""
+def _balance(y):  # E + W relative to its value 1/2 at the start
     return (0.5 * (y[0] ** 2 + y[1] ** 2) + y[2] - 0.5) / 0.5
 
 
 def _max_step(z):
     """DOP853's largest step in tau, 3/lambda_fast (the equations' Jacobian), inf past zeta 5: well inside its
-    stability region (it reaches about 6 on the negative axis), where at the edge the step control hovers on
-    stability and the error estimate misses: x came out up to 9 rtol off (zeta 1.2-5, rtol 1e-7 to 1e-10, 100
-    runs without a bound), 0.16 rtol with it, for 1.3 times the evaluations."""
+    stability region (about 6 on the negative axis; at its edge the error estimate misses: x came out up to 9
+    rtol off at zeta 1.2-5, rtol 1e-7 to 1e-10 without the bound), 0.16 rtol with it, for 1.3 times the work."""
     lam_fast = np.max(np.abs(np.linalg.eigvals(_generators(z))), axis=-1)
     return np.where(np.atleast_1d(z) <= 5.0, 3.0 / lam_fast, np.inf)
 
@@ -199,11 +192,9 @@ def motion(p, rtol=None):
 
 
 def _leg(tally, z, eps, qc, tau_a, length, y0, rtol, cap, first):
-    """One leg of the declared motion for the variants given (arrays of M), each over its own span
-    tau_a .. tau_a + length, followed together in s = (tau - tau_a)/length, s: 0 -> 1.  Events: x = eps
-    (downward), x'' = 0 (upward), and terminal: on the ``first`` leg the energy below a tenth of the claim
-    on q(t1) (``qc``), on the second x = eps once x'' = 0 is passed.  Returns the ``Ensemble`` (event times
-    in tau)."""
+    """One leg of the declared motion for M variants, each over tau_a .. tau_a + length, together in
+    s = (tau - tau_a)/length.  Events: x = eps, x'' = 0 upward, and terminal: on the ``first`` leg the energy
+    below a tenth of the claim on q(t1) (``qc``), else x = eps past x'' = 0.  The ``Ensemble``, times in tau."""
     from mech.solvers.numerics.batch import BatchEvent
 
     def make_rhs(sel):
@@ -263,18 +254,15 @@ def _stepped(tally, z, w0, t1, eps, rtol):
     return x1, t_eps, y_eps[:2], y_star[:2], why, drift, settled
 
 
-def _reasons(why):
-    """[(mask, reason)] of an array of failures ("" where none), one entry a distinct reason."""
+def _reasons(why):  # [(mask, reason)] of an array of failures ("" where none), one a distinct reason
     return [(why == w, w) for w in sorted(set(why[why != ""]))]
 
 
 @exercise.batched(("lambda_slow", "q_t", "t_eps", "v_max"))
 def numeric(P, rtol, outputs, memo=None, tally=None):
-    """The route at N variants at once (a one-point solve is the batch of one): for zeta <= 5 (or an
-    integrator forced) the declared motion's legs followed together by DOP853 (``_stepped``), beyond the
-    exact flow variant by variant (``_flow_one``); then the slow rate from the system matrix and each
-    variant's claims.  A variant that fails fails alone; E + W's and the semigroup's drifts go to ``tally``."""
-    from mech.core.budget import OutOfBudget
+    """The route at N variants at once (a one-point solve is the batch of one): for zeta <= 5 (or an integrator
+    forced) the declared motion's legs by DOP853 (``_stepped``), beyond the exact flow (``_flow``); the slow rate
+    from the system matrix.  A variant that fails fails alone; E + W's and the semigroup's drifts to ``tally``."""
     from mech.solvers.numerics.batch import Column
 
     tally = Tally() if tally is None else tally
@@ -291,17 +279,12 @@ def numeric(P, rtol, outputs, memo=None, tally=None):
             tally, z[k], w0[k], t1[k], eps[k], rtol)
         q_t[k] = q0[k] * x1[k]
         tally.invariant("E + dissipated work", drift)
-    for j in np.flatnonzero(flow):
-        try:
-            q_t[j], t_eps[j], y_eps[:, j], y_star[:, j], semigroup[j], samples[j] = _flow_one(
-                z[j], w0[j], q0[j], t1[j], eps[j], rtol)
-        except NumericFailure as exc:
-            if isinstance(exc, OutOfBudget):
-                raise
-            why[j] = str(exc)
-        x1[j] = q_t[j] / q0[j]
-    if flow.any():  # no right-hand side evaluated
-        tally.record(SimpleNamespace(nfev=0, forced=False, method="exact flow exp(A t) + Brent events"))
+    k = np.flatnonzero(flow)
+    if k.size:  # no right-hand side evaluated
+        q_t[k], t_eps[k], y_eps[:, k], y_star[:, k], semigroup[k], samples[k], why[k] = _flow(
+            z[k], w0[k], q0[k], t1[k], eps[k], rtol)
+        x1[k] = q_t[k] / q0[k]
+        tally.record(SimpleNamespace(nfev=0, forced=False, method="exact flow exp(A t) + Illinois events"))
         tally.invariant("semigroup Phi(a) Phi(b) = Phi(a + b)", semigroup)
     bent = (why == "") & ((y_eps[1] >= 0.0) | (x1 < 0.0))
     why[bent] = "the oscillator crossed q = 0 or turned back: not aperiodic"
@@ -335,19 +318,17 @@ def _advance(matrix, y, log_size):
 
 
 def _flow_chain(A, z, cap, horizon, log_eps):
-    """The chain of hops (see ``_flow_one``) up to both events: (grid, states, log sizes, found), found
+    """The chain of hops (see ``_flow``) up to both events: (grid, states, log sizes, found), found
     mapping each event to the chain's last node before it."""
     fast = float(np.max(np.sum(np.abs(A), axis=0)))
-    grid = [0.0]
-    tau = 0.01 / fast
+    grid, tau = [0.0], 0.01 / fast
     while 0.25 * tau < cap:
         grid.append(tau)
         tau *= 1.25
     short = expm_many(A, np.diff(grid))
     hop = expm(A * cap)
     ys, logs = [np.array([1.0, 0.0])], [0.0]  # the state at grid[k] is ys[k] e^logs[k], max |ys[k]| = 1
-    found = {}
-    k = 0
+    found, k = {}, 0
     while "x = eps" not in found or "x'' = 0" not in found:
         if k % 1000 == 0:
             budget.check("5.4 flow chain")
@@ -367,8 +348,9 @@ def _flow_chain(A, z, cap, horizon, log_eps):
     return grid, ys, logs, found, hop
 
 
-def _reach_value(y, log_size, log_eps):  # ln x - ln eps (x <= 0: a crossing of q = 0, far below)
-    return math.log(y[0]) + log_size - log_eps if y[0] > 0.0 else -math.inf
+def _reach_value(y, log_size, log_eps):  # ln x - ln eps (x <= 0: a crossing of q = 0, far below); arrays too
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(y[0] > 0.0, np.log(np.abs(y[0])) + log_size - log_eps, -np.inf)
 
 
 def _accel(y, z):  # x'' (up to the positive scale), crossed upward at the largest speed
@@ -376,8 +358,7 @@ def _accel(y, z):  # x'' (up to the positive scale), crossed upward at the large
 
 
 def _q_at(w0, t1, q0, A, grid, ys, logs, hop, cap):
-    """q(t1): from the chain's last node at or before tau1, on by hops of ``cap`` while the state is
-    representable (the chain stops at its second event: the grid of short hops may reach past its last node)."""
+    """q(t1): from the chain's last node at or before tau1, on by hops of ``cap`` while the state is representable."""
     tau1 = w0 * t1
     j1 = min(int(np.searchsorted(np.asarray(grid), tau1, side="right")) - 1, len(ys) - 1)
     y1, log1, at = ys[j1], logs[j1], grid[j1]
@@ -406,44 +387,64 @@ def _semigroup_drift(A, cap, t_eps, t_star, y_star, log_star, y_eps, log_eps_sta
     return float(np.max(np.abs(via * math.exp(log_via - log_eps_state) - y_eps)) / np.max(np.abs(y_eps)))
 
 
-def _flow_one(z, w0, q0, t1, eps, rtol):
-    """The stiff case (zeta > 5) without stepping: the equation of motion x'' + 2 zeta x' + x = 0 is linear
-    with constant coefficients, y' = A y, so the state at any tau is exp(A tau) y0 (scaling and squaring,
-    solvers/numerics/linear_flow).  exp(A h) is exact only to ~1e-16 of its largest entry, 1 at short h: in
-    one piece a state of size eps came out with an absolute error of 1e-16 (zeta 1e4, eps 1e-12: x 1.3e-4
-    off, t_eps 1.3e-6 off against a claim of 1e-7).  So the state is carried along a chain of hops, each
-    exp(A h) applied to the state reached so far, with h at most zeta: the slow mode (rate between
-    1/(2 zeta) and 1/zeta) falls by at most e^-1 per hop, so every hop keeps the state to a few units of
-    round-off relative to its own size, and the size is carried apart as a logarithm (no underflow).  The
-    hops grow geometrically from a hundredth of the fast time 1/||A|| (a factor 1.25 apart: an implicit
-    integrator's steps grow the same way) up to zeta.  The events are sign changes along the chain, polished
-    by Brent's method to a tenth of rtol in tau, x = eps as ln x = ln eps.  The flow's rounding is
-    monitored by the semigroup property: the state at t_eps reached again from the state at the largest
-    speed by hops of another length.  Returns q(t1), t_eps in tau, the states (x, x') at t_eps (scaled)
-    and at the largest speed, the semigroup drift and the grid's size; NumericFailure where it fails."""
-    A = _jac(z)(0.0, np.zeros(3))[:2, :2].copy()  # the generator of the declared equations in (x, x')
-    log_eps = math.log(eps)
-    horizon = 1e3 * (2.0 * z + 1.0) * max(1.0, -log_eps)
-    cap = z
-    grid, ys, logs, found, hop = _flow_chain(A, z, cap, horizon, log_eps)
+def _flow(z, w0, q0, t1, eps, rtol):
+    """The stiff case (zeta > 5) for M variants without stepping: y' = A y is linear, y(tau) = exp(A tau) y0.
+    exp(A h) is exact only to ~1e-16 of its largest entry (in one piece x at zeta 1e4, eps 1e-12 came out
+    1.3e-4 off, t_eps 1.3e-6 against a claim of 1e-7), so the state is carried along a chain of hops
+    (``_flow_chain``: h from a hundredth of 1/||A|| growing by 1.25 up to zeta, where the slow mode falls by at
+    most e^-1 a hop), its size apart as a logarithm.  The events, sign changes along the chain, are polished by
+    Illinois' false position (all variants together) to rtol/10 in tau (x = eps as ln x = ln eps); the rounding
+    is monitored by the semigroup property (t_eps reached again from the largest speed by other hops).  Returns
+    q(t1), t_eps in tau, (x, x') there (scaled) and at the largest speed, the drift, grid sizes, failures."""
+    from mech.core.budget import OutOfBudget
+    from mech.solvers.numerics.batch import illinois
 
-    def state_from(j, tau):  # (y, log size) at tau from the chain's node j <= tau
-        return _advance(expm(A * (tau - grid[j])), ys[j], logs[j]) if tau > grid[j] else (ys[j], logs[j])
+    M = z.size
+    out = [np.full(M, np.nan), np.full(M, np.nan), np.full((2, M), np.nan), np.full((2, M), np.nan),
+           np.full(M, np.nan), np.full(M, None, dtype=object), np.full(M, "", dtype=object)]
+    A, log_eps, chains = _generators(z), np.log(eps), [None] * M  # the generators of the declared equations
+    for j in range(M):
+        try:
+            chains[j] = _flow_chain(A[j], z[j], z[j], float(_horizon(z[j], eps[j], 0.0)), log_eps[j])
+        except NumericFailure as exc:
+            if isinstance(exc, OutOfBudget):
+                raise
+            out[6][j] = str(exc)
+    ok = np.flatnonzero(out[6] == "")
+    roots = {}
+    for name in ("x = eps", "x'' = 0"):
+        node = [(chains[j], chains[j][3][name]) for j in ok]
+        g0, g1 = np.array([[c[0][n], c[0][n + 1]] for c, n in node]).reshape(-1, 2).T
+        y0, l0 = np.array([c[1][n] for c, n in node]).reshape(-1, 2), np.array([c[2][n] for c, n in node])
 
-    def polish(j, fn):
-        a, b = grid[j], grid[j + 1]
-        if fn(b) == 0.0:
-            return b
-        return brentq(fn, a, b, xtol=1e-300, rtol=max(0.1 * rtol, 4.0 * np.finfo(float).eps))
+        def f(tau, i, name=name, g0=g0, y0=y0, l0=l0):  # the event's function from its node, unnormalized
+            y = (expm(A[ok[i]] * (tau - g0[i])[:, None, None]) @ y0[i][:, :, None])[:, :, 0].T
+            return _accel(y, z[ok[i]]) if name == "x'' = 0" else _reach_value(y, l0[i], log_eps[ok[i]])
 
-    j_eps, j_star = found["x = eps"], found["x'' = 0"]
-    t_eps = polish(j_eps, lambda t: _reach_value(*state_from(j_eps, t), log_eps))
-    t_star = polish(j_star, lambda t: _accel(state_from(j_star, t)[0], z))
-    y_eps, log_eps_state = state_from(j_eps, t_eps)
-    y_star, log_star = state_from(j_star, t_star)
-    upto = np.array([y for y, t in zip(ys, grid) if t <= t_eps])
-    if np.any(upto[:, 0] <= 0.0) or np.any(upto[1:, 1] > 0.0):
-        raise NumericFailure("the oscillator crossed q = 0 or turned back: not aperiodic")
-    q_t = _q_at(w0, t1, q0, A, grid, ys, logs, hop, cap)
-    drift = _semigroup_drift(A, cap, t_eps, t_star, y_star, log_star, y_eps, log_eps_state)
-    return q_t, t_eps, y_eps, y_star * math.exp(log_star), drift, len(grid)
+        roots[name], conv = illinois(f, g0, g1, *(f(g, np.arange(ok.size)) for g in (g0, g1)), xtol=1e-300,
+                                     rtol=max(0.1 * rtol, 4.0 * np.finfo(float).eps))
+        out[6][ok[~conv]] = f"the search for {name} along the flow did not converge"
+    for i, j in enumerate(ok):
+        if out[6][j]:
+            continue
+        grid, ys, logs, found, hop = chains[j]
+
+        def state_from(n, tau, j=j, grid=grid, ys=ys, logs=logs):  # (y, log size) at tau from node n <= tau
+            return _advance(expm(A[j] * (tau - grid[n])), ys[n], logs[n]) if tau > grid[n] else (ys[n], logs[n])
+
+        t_eps, t_star = roots["x = eps"][i], roots["x'' = 0"][i]
+        try:
+            y_eps, log_eps_state = state_from(found["x = eps"], t_eps)
+            y_star, log_star = state_from(found["x'' = 0"], t_star)
+            upto = np.array([y for y, t in zip(ys, grid) if t <= t_eps])
+            if np.any(upto[:, 0] <= 0.0) or np.any(upto[1:, 1] > 0.0):
+                raise NumericFailure("the oscillator crossed q = 0 or turned back: not aperiodic")
+            out[0][j] = _q_at(w0[j], t1[j], q0[j], A[j], grid, ys, logs, hop, z[j])
+            out[4][j] = _semigroup_drift(A[j], z[j], t_eps, t_star, y_star, log_star, y_eps, log_eps_state)
+        except NumericFailure as exc:
+            if isinstance(exc, OutOfBudget):
+                raise
+            out[6][j] = str(exc)
+            continue
+        out[1][j], out[2][:, j], out[3][:, j], out[5][j] = t_eps, y_eps, y_star * math.exp(log_star), len(grid)
+    return out
