@@ -84,6 +84,10 @@ def _gauss(n: int):
 
 
 def _series(p):
+    """The series' pieces: Legendre coefficients of S, T, V (and their derivatives) and the level c.
+
+    Products of the series are formed pointwise (at Gauss nodes for the means, at the point wanted
+    for u): the quadrature of 2*size + 8 nodes is exact for them (degree at most 4*size - 4)."""
     eps = p.R_E / p.r_S
     mu = p.M_S / p.M_E
     a2 = mu * eps**3
@@ -98,36 +102,49 @@ def _series(p):
     A = np.array(coeffs)
     budget.check("4.32 series", 200 + 5 * A.size * A.size)  # work: products of series of A.size terms
     nn = np.arange(A.size)
-    S = L.Legendre(A)
-    T = L.Legendre(nn * A)
-    V = L.Legendre(0.5 * nn * (nn - 1) * A)
+    base = np.stack([A, nn * A, 0.5 * nn * (nn - 1) * A])  # S, T, V
+    d1 = L.legder(base, axis=1)
+    d2 = L.legder(d1, axis=1)
     x, wts = _gauss(max(64, 2 * A.size + 8))
+    S, T, V = L.legval(x, base.T)
 
-    def mean(poly):
-        return 0.5 * np.sum(wts * poly(x))
+    def mean(values):
+        return 0.5 * np.sum(wts * values)
 
-    # each product once (the same operands in the same order: the same values as writing them out)
     SS, ST = S * S, S * T
-    SSS, SST, STT, SSV = SS * S, SS * T, ST * T, SS * V
     c2 = -2 * mean(SS) - mean(ST)
-    c3 = -(10.0 / 3.0) * mean(SSS) - 5 * mean(SST) - mean(STT) - mean(SSV)
-    c = c2 + c3
-    u = c + S + SS + ST + c * (T + 2 * S) + SSS + 3 * S * S * T + STT + SSV
-    return u, eps
+    c3 = -(10.0 / 3.0) * mean(SS * S) - 5 * mean(SS * T) - mean(ST * T) - mean(SS * V)
+    return (base.T, d1.T, d2.T), c2 + c3, eps
+
+
+def _u(parts, c, x):
+    """u at x with its first two derivatives in x, from the series of S, T, V (chain rule)."""
+    base, d1, d2 = parts
+    S, T, V = L.legval(x, base)
+    S1, T1, V1 = L.legval(x, d1)
+    S2, T2, V2 = L.legval(x, d2)
+    u = c + S + S * S + S * T + c * (T + 2 * S) + S**3 + 3 * S * S * T + S * T * T + S * S * V
+    gS = 1 + 2 * c + 2 * S + T + 3 * S * S + 6 * S * T + T * T + 2 * S * V
+    gT = c + S + 3 * S * S + 2 * S * T
+    gV = S * S
+    du = gS * S1 + gT * T1 + gV * V1
+    d2u = (gS * S2 + gT * T2 + gV * V2 + (2 + 6 * S + 6 * T + 2 * V) * S1 * S1 + 2 * S * T1 * T1
+           + 2 * (1 + 6 * S + 2 * T) * S1 * T1 + 4 * S * S1 * V1)
+    return u, du, d2u
 
 
 @exercise.analytic
 def analytic(p):
-    u, eps = _series(p)
-    du, d2u = u.deriv(), u.deriv(2)
+    parts, c, eps = _series(p)
     x = 0.0
     for _ in range(100):  # Newton for the minimum, from 90 degrees
-        step = du(x) / d2u(x)
+        _, du, d2u = _u(parts, c, x)
+        step = du / d2u
         x -= step
         if abs(step) < 1e-16:
             break
-    h_high = p.R_E * u(1.0)
-    h_low = p.R_E * u(x)
+    h_high = p.R_E * float(_u(parts, c, 1.0)[0])
+    h_low = p.R_E * float(_u(parts, c, x)[0])
     return {"h_range": h_high - h_low, "h_high": h_high, "h_low": h_low}
 
 
@@ -149,7 +166,7 @@ def _tidal_slope(rho, x):
 def numeric(p, run):
     eps = p.R_E / p.r_S
     k = (p.M_S / p.M_E) * eps  # (G M_S / r_S) / (G M_E / R_E)
-    x, wts = L.leggauss(64)
+    x, wts = _gauss(64)
     wts = 0.5 * wts
 
     def surface(c, xx):
