@@ -23,9 +23,12 @@ is the elevation u = h/R_E, not r: at each of 64 Gauss-Legendre nodes in
 cos psi, u/(1 + u) (the Earth's potential minus its value on the sphere) equals
 the level c plus the tidal term, solved by fixed-point iteration (contraction
 ~ h/R_E); the level c solves the volume condition (quadrature of
-3u + 3u^2 + u^3, secant iteration).  h_low: bisection for the zero of the
+3u + 3u^2 + u^3, secant iteration, done when its step is within 1e-15 of c or
+the quadrature's rounding, 1e-14 <|u|>).  h_low: bisection for the zero of the
 slope of the tidal term along the surface (bracket [0, 1] in cos psi: the slope
-is negative at 90 degrees, positive at the sub-solar point).
+is negative at 90 degrees, positive at the sub-solar point).  All of it over
+arrays of variants, each iterating on its own (a one-point solve is the batch
+of one); a variant that fails fails alone, with its reason.
 """
 
 from __future__ import annotations
@@ -37,8 +40,7 @@ import numpy as np
 from numpy.polynomial import legendre as L
 
 from mech.core import budget
-from mech.problems.spec import Exercise, NumericFailure
-from mech.solvers.numerics.roots import bracketed_root
+from mech.problems.spec import Exercise
 
 exercise = Exercise(
     "4.32",
@@ -83,9 +85,11 @@ def _gauss(n: int):
     return L.leggauss(n)
 
 
-def _series(p):
-    eps = p.R_E / p.r_S
-    mu = p.M_S / p.M_E
+def _series(eps: float, mu: float):
+    """The series' pieces: Legendre coefficients of S, T, V (and their derivatives) and the level c.
+
+    Products of the series are formed pointwise (at Gauss nodes for the means, at the point wanted
+    for u): the quadrature of 2*size + 8 nodes is exact for them (degree at most 4*size - 4)."""
     a2 = mu * eps**3
     coeffs = [0.0, 0.0]
     n = 2
@@ -98,37 +102,61 @@ def _series(p):
     A = np.array(coeffs)
     budget.check("4.32 series", 200 + 5 * A.size * A.size)  # work: products of series of A.size terms
     nn = np.arange(A.size)
-    S = L.Legendre(A)
-    T = L.Legendre(nn * A)
-    V = L.Legendre(0.5 * nn * (nn - 1) * A)
+    base = np.stack([A, nn * A, 0.5 * nn * (nn - 1) * A])  # S, T, V
+    d1 = L.legder(base, axis=1)
+    d2 = L.legder(d1, axis=1)
     x, wts = _gauss(max(64, 2 * A.size + 8))
+    S, T, V = L.legval(x, base.T)
 
-    def mean(poly):
-        return 0.5 * np.sum(wts * poly(x))
+    def mean(values):
+        return 0.5 * np.sum(wts * values)
 
-    # each product once (the same operands in the same order: the same values as writing them out)
     SS, ST = S * S, S * T
-    SSS, SST, STT, SSV = SS * S, SS * T, ST * T, SS * V
     c2 = -2 * mean(SS) - mean(ST)
-    c3 = -(10.0 / 3.0) * mean(SSS) - 5 * mean(SST) - mean(STT) - mean(SSV)
-    c = c2 + c3
-    u = c + S + SS + ST + c * (T + 2 * S) + SSS + 3 * S * S * T + STT + SSV
-    return u, eps
+    c3 = -(10.0 / 3.0) * mean(SS * S) - 5 * mean(SS * T) - mean(ST * T) - mean(SS * V)
+    return (base.T, d1.T, d2.T), c2 + c3
 
 
-@exercise.analytic
-def analytic(p):
-    u, eps = _series(p)
-    du, d2u = u.deriv(), u.deriv(2)
+def _u(parts, c, x):
+    """u at x with its first two derivatives in x, from the series of S, T, V (chain rule)."""
+    base, d1, d2 = parts
+    S, T, V = L.legval(x, base)
+    S1, T1, V1 = L.legval(x, d1)
+    S2, T2, V2 = L.legval(x, d2)
+    u = c + S + S * S + S * T + c * (T + 2 * S) + S**3 + 3 * S * S * T + S * T * T + S * S * V
+    gS = 1 + 2 * c + 2 * S + T + 3 * S * S + 6 * S * T + T * T + 2 * S * V
+    gT = c + S + 3 * S * S + 2 * S * T
+    gV = S * S
+    du = gS * S1 + gT * T1 + gV * V1
+    d2u = (gS * S2 + gT * T2 + gV * V2 + (2 + 6 * S + 6 * T + 2 * V) * S1 * S1 + 2 * S * T1 * T1
+           + 2 * (1 + 6 * S + 2 * T) * S1 * T1 + 4 * S * S1 * V1)
+    return u, du, d2u
+
+
+def _analytic_one(eps: float, mu: float) -> tuple[float, float]:
+    """(u at the sub-solar point, u at the lowest point) of one variant: Newton for the minimum from 90 deg."""
+    parts, c = _series(eps, mu)
     x = 0.0
-    for _ in range(100):  # Newton for the minimum, from 90 degrees
-        step = du(x) / d2u(x)
+    for _ in range(100):
+        _, du, d2u = _u(parts, c, x)
+        step = du / d2u
         x -= step
         if abs(step) < 1e-16:
             break
-    h_high = p.R_E * u(1.0)
-    h_low = p.R_E * u(x)
-    return {"h_range": h_high - h_low, "h_high": h_high, "h_low": h_low}
+    return float(_u(parts, c, 1.0)[0]), float(_u(parts, c, x)[0])
+
+
+@exercise.analytic
+def analytic(P):
+    """Over arrays of variants: the series (its length depends on R_E/r_S) one variant at a time."""
+    from mech.solvers.numerics.batch import Column
+
+    R_E, r_S, M_S, M_E = np.broadcast_arrays(*(np.asarray(P[k], dtype=float) for k in ("R_E", "r_S", "M_S", "M_E")))
+    eps, mu = (R_E / r_S).ravel(), (M_S / M_E).ravel()
+    got = np.array([_analytic_one(float(e), float(m)) for e, m in zip(eps, mu)]).reshape(eps.size, 2)
+    high = R_E * got[:, 0].reshape(R_E.shape)
+    low = R_E * got[:, 1].reshape(R_E.shape)
+    return {"h_range": Column(high - low), "h_high": Column(high), "h_low": Column(low)}
 
 
 def _tidal(rho, x):
@@ -145,58 +173,122 @@ def _tidal_slope(rho, x):
     return rho * w * (1.0 + s + s * s) / ((1.0 + s) * s**3)
 
 
-@exercise.numeric
-def numeric(p, run):
-    eps = p.R_E / p.r_S
-    k = (p.M_S / p.M_E) * eps  # (G M_S / r_S) / (G M_E / R_E)
-    x, wts = L.leggauss(64)
+def _surface(c, eps, k, x):
+    """u at cos psi = x (n x m) on the levels c (n) of n variants: u/(1+u) = c + k F(eps (1+u), x), by
+    fixed-point iteration, each variant until its own last change is at the last bits.  Returns u and
+    the variants whose iteration did not converge."""
+    n = x.shape[0]
+    u = np.zeros(x.shape)
+    todo = np.arange(n)
+    c, eps, k, x, ut = c[:, None], eps[:, None], k[:, None], x, u  # the rows still iterating
+    for _ in range(100):
+        q = c + k * _tidal(eps * (1.0 + ut), x)
+        new = q / (1.0 - q)
+        done = np.all(np.abs(new - ut) <= 1e-15 * np.abs(new) + 1e-300, axis=1)
+        ut = new
+        if done.any():
+            u[todo[done]] = new[done]
+            keep = ~done
+            todo, c, eps, k, x, ut = todo[keep], c[keep], eps[keep], k[keep], x[keep], ut[keep]
+            if todo.size == 0:
+                break
+    u[todo] = ut
+    bad = np.zeros(n, dtype=bool)
+    bad[todo] = True
+    return u, bad
+
+
+def _level(eps, k, why):
+    """The level c of each variant from the volume condition <(1+u)^3> = 1 (64 Gauss-Legendre nodes in
+    cos psi), by the secant from c = 0, each variant on its own; a variant that fails gets its reason in
+    ``why``.  Returns c and the volume residual."""
+    x, wts = _gauss(64)
     wts = 0.5 * wts
 
-    def surface(c, xx):
-        """u(x) on the level c: u/(1+u) = c + k F(eps (1+u), x), by fixed-point iteration."""
-        u = np.zeros_like(np.asarray(xx, dtype=float))
-        for it in range(100):
-            q = c + k * _tidal(eps * (1.0 + u), xx)
-            new = q / (1.0 - q)
-            done = np.all(np.abs(new - u) <= 1e-15 * np.abs(new) + 1e-300)
-            u = new
-            if done:
-                return u
-        raise NumericFailure("the surface iteration did not converge")
+    def volume(c, idx):
+        u, bad = _surface(c, eps[idx], k[idx], np.broadcast_to(x, (idx.size, x.size)))
+        why[idx[bad]] = "the surface iteration did not converge"
+        # <(1+u)^3> - 1, and <|u|>: the residual's rounding is a few ulps of 3<|u|>
+        return np.sum(wts * u * (3.0 + u * (3.0 + u)), axis=1), np.sum(wts * np.abs(u), axis=1)
 
-    def volume(c):
-        u = surface(c, x)
-        return np.sum(wts * u * (3.0 + u * (3.0 + u)))  # <(1+u)^3> - 1
-
-    # secant on the level
-    c0, v0 = 0.0, volume(0.0)
+    n = eps.size
+    every = np.arange(n)
+    c0 = np.zeros(n)
+    v0, _ = volume(c0, every)
     c1 = -v0 / 3.0
-    v1 = volume(c1)
-    for it in range(60):
-        if v1 == 0.0 or v1 == v0:
+    v1, size = volume(c1, every)
+    active = why == ""
+    for _ in range(60):  # each variant's own secant
+        idx = np.flatnonzero(active)
+        stop = (v1[idx] == 0.0) | (v1[idx] == v0[idx])
+        active[idx[stop]] = False
+        idx = idx[~stop]
+        if idx.size == 0:
             break
-        c2 = c1 - v1 * (c1 - c0) / (v1 - v0)
-        c0, v0 = c1, v1
-        c1, v1 = c2, volume(c2)
-        if abs(c1 - c0) <= 1e-15 * abs(c1):
-            break
-    else:
-        raise NumericFailure("the volume condition did not converge")
-    c = c1
-    run.invariant("volume", v1)  # residual of <(1+u)^3> = 1
+        c2 = c1[idx] - v1[idx] * (c1[idx] - c0[idx]) / (v1[idx] - v0[idx])
+        c0[idx], v0[idx] = c1[idx], v1[idx]
+        c1[idx], (v1[idx], size[idx]) = c2, volume(c2, idx)
+        # done when the step is within the level's own rounding: 1e-15 of c, or 1e-14 <|u|> where c is the
+        # small difference of the quadrature's terms (a tide of 1e-13 R_E: c ~ 1e-26, its residual's
+        # rounding ~1e-29 ~ 1e-3 of c); the elevations move by that step, 1e-14 of themselves at most
+        small = np.abs(c1[idx] - c0[idx]) <= 1e-15 * np.abs(c1[idx]) + 1e-14 * size[idx]
+        active[idx] = (why[idx] == "") & ~small
+    why[active & (why == "")] = "the volume condition did not converge"
+    return c1, v1
 
-    u_high = float(surface(c, np.array(1.0)))
 
-    def slope(xx):
-        return _tidal_slope(eps * (1.0 + float(surface(c, np.array(xx)))), xx)
+def _lowest(c, eps, k, why):
+    """cos psi of each variant's lowest point: the zero of the slope of the tidal term along the surface,
+    bracketed in [0, 1] (negative at 90 degrees, positive at the sub-solar point), to the last bit."""
+    from mech.solvers.numerics.searches import bisect_bits
 
-    if not (slope(0.0) < 0.0 < slope(1.0)):
-        raise NumericFailure("the lowest point is not bracketed in [0, 1] in cos(psi)")
-    x_low = bracketed_root(slope, 0.0, 1.0)
-    u_low = float(surface(c, np.array(x_low)))
-    run.method = "Gauss-Legendre surface solve"
-    run.info["cos_psi_low"] = x_low
-    run.info["level_c"] = c
-    for name in ("h_range", "h_high", "h_low"):
-        run.claim(name, rel=1e-12)
-    return {"h_range": p.R_E * (u_high - u_low), "h_high": p.R_E * u_high, "h_low": p.R_E * u_low}
+    def slope(idx, xx):
+        u, bad = _surface(c[idx], eps[idx], k[idx], np.asarray(xx, dtype=float)[:, None])
+        why[idx[bad & (why[idx] == "")]] = "the surface iteration did not converge"
+        return _tidal_slope(eps[idx] * (1.0 + u[:, 0]), xx)
+
+    ok = np.flatnonzero(why == "")
+    x_low = np.full(eps.size, np.nan)
+    tiny = 5e-324  # the bisection runs on positive floats; the minimum is at ~R_E/(2 r_S) >= 5e-101
+    s0, s_tiny, s1 = (slope(ok, np.full(ok.size, v)) for v in (0.0, tiny, 1.0))
+    bracketed = (s0 < 0.0) & (s_tiny < 0.0) & (s1 > 0.0)
+    why[ok[~bracketed & (why[ok] == "")]] = "the lowest point is not bracketed in [0, 1] in cos(psi)"
+    ok = ok[bracketed]
+    if ok.size:
+        x_low[ok] = bisect_bits(lambda j, xx: slope(ok[j], xx), np.full(ok.size, tiny), np.ones(ok.size),
+                                s_tiny[bracketed], s1[bracketed])
+    return x_low
+
+
+@exercise.batched(("h_range", "h_high", "h_low"))
+def numeric(P, rtol, outputs, memo=None, tally=None):
+    """The route at N variants at once (a one-point solve is the batch of one): each variant's level by its
+    own secant on the volume condition, its lowest point by its own bisection; a variant that fails fails
+    alone, with its reason.  The volume residual is each variant's invariant."""
+    from mech.problems.spec import Tally
+    from mech.solvers.numerics.batch import Column
+
+    tally = Tally() if tally is None else tally
+    R_E, r_S, M_S, M_E = np.broadcast_arrays(*(np.asarray(P[k], dtype=float).ravel()
+                                               for k in ("R_E", "r_S", "M_S", "M_E")))
+    eps = R_E / r_S
+    k = (M_S / M_E) * eps  # (G M_S / r_S) / (G M_E / R_E)
+    why = np.full(eps.size, "", dtype=object)
+    with np.errstate(all="ignore"):
+        c, residual = _level(eps, k, why)
+        x_low = _lowest(c, eps, k, why)
+        ok = np.flatnonzero(why == "")
+        u_high, u_low = np.full(eps.size, np.nan), np.full(eps.size, np.nan)
+        u, bad = _surface(c[ok], eps[ok], k[ok], np.ones((ok.size, 1)))
+        u_high[ok] = u[:, 0]
+        why[ok[bad]] = "the surface iteration did not converge"
+        u, bad = _surface(c[ok], eps[ok], k[ok], x_low[ok][:, None])
+        u_low[ok] = u[:, 0]
+        why[ok[bad & (why[ok] == "")]] = "the surface iteration did not converge"
+    good = why == ""
+    tally.invariant("volume", np.where(good, residual, 0.0))  # residual of <(1+u)^3> = 1
+    tally.info["cos_psi_low"] = np.where(good, x_low, None)
+    tally.info["level_c"] = np.where(good, c, None)
+    failed = [(why == text, text) for text in sorted(set(why[~good]))]
+    values = {"h_range": R_E * (u_high - u_low), "h_high": R_E * u_high, "h_low": R_E * u_low}
+    return {o: Column(np.where(good, values[o], np.nan), rel=1e-12, failed=failed) for o in outputs}
