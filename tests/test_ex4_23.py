@@ -182,3 +182,25 @@ def test_energy_monitor_catches_a_wrong_equation_of_motion(monkeypatch, torque_s
 
         with pytest.raises(NumericFailure, match="the invariant 'energy' drifts"):
             ex.solve_numeric(p, None)
+
+
+def test_rates_agree_with_the_newton_euler_system():
+    """``rolling_disk.rates`` (the contact frame, the attitude from one quadratic form) against the 9 x 9
+    Newton-Euler system solved in lab axes (``_newton_euler_rhs``: another derivation, a linear solve),
+    at random states (unit quaternions: that system's pull-back vanishes), one disk and N disks at once."""
+    import numpy as np
+
+    from mech.problems.ch4.ex4_23_rolling_coin import _BODY
+    from mech.solvers.mechanics.rolling_disk import rates
+
+    rhs = _newton_euler_rhs(1.0)
+    rng = np.random.default_rng(23)
+    Y = rng.normal(size=(13, 200))
+    Y[0:3] *= 10.0 ** rng.uniform(-2, 2, 200)
+    Y[3:7] /= np.linalg.norm(Y[3:7], axis=0)
+    want = np.stack([rhs(None, 0.0, Y[:, k]) for k in range(Y.shape[1])], axis=1)
+    got = rates(Y, _BODY.I1, _BODY.I3)
+    scale = np.abs(want).max(axis=0)
+    assert (np.abs(got - want).max(axis=0) <= 1e-12 * scale).all()
+    for k in range(5):  # one disk: the same rates (in plain floats)
+        assert np.abs(rates(Y[:, k], _BODY.I1, _BODY.I3) - want[:, k]).max() <= 1e-12 * scale[k]

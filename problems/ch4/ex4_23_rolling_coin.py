@@ -277,8 +277,9 @@ def _fit_rel(rtol, rate, t_run):
 # period: a run over one turn goes on to 1.3 of it, as ``motion``'s does, for the tilt's sake
 CHECKPOINTS, TURN_AT = 26, 20
 # a batched step's fixed cost and a step of one variant alone (plain floats), in variants' worth of arithmetic
-# (``chunks_by_work``): measured 76 us a step at 1 to 300 variants (+0.085 us a variant), 15 us alone
-STEP_OVERHEAD, STEP_ALONE = 900.0, 180.0
+# (``chunks_by_work``): measured (``follow_batch``'s process time) ~470 us a step at 40 variants + 1.3 us a
+# variant (to 300), 185 us alone
+STEP_OVERHEAD, STEP_ALONE = 360.0, 140.0
 
 
 def _follow_variants(theta, Rs, Om, spin0, y0, rtol, why, tally):

@@ -11,16 +11,16 @@ whose place on the rim moves as the disk turns (its geometric velocity d' enters
 Unknowns at an instant: the centre's acceleration a, the angular acceleration alpha, the contact force F:
     a - F = -z,   I alpha - d x F = -omega x I omega,   a + alpha x d = -omega x d'
 (the rolling constraint v_C + omega x d = 0 differentiated once).  F and a eliminated, a 3 x 3 system for
-alpha remains: K alpha = b with K = I - [d]x^2 (symmetric positive definite), written in body axes (see
-``accelerations``).  ``follow_batch`` integrates N disks at once (numerics.batch.integrate_batch).  No
-exercise's answer here.
+alpha remains: K alpha = b with K = I - [d]x^2 (symmetric positive definite), diagonal in the contact frame
+(u = -d, e3 x u, e3: see ``_contact_frame``).  ``follow_batch`` integrates N disks at once
+(numerics.batch.integrate_batch).  No exercise's answer here.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["cross", "dot", "rotation", "contact", "accelerations", "quaternion_rate", "rates", "tilted_rates",
+__all__ = ["cross", "dot", "rotation", "contact", "accelerations", "rates", "tilted_rates",
            "steady_rolling", "tilt_acceleration", "monitors", "drifts", "follow_batch"]
 
 
@@ -51,70 +51,98 @@ def contact(n):
     return (-wx / wn, -wy / wn, -wz / wn), wn
 
 
+def _contact_frame(u0, u1, zeta, zeta_h, w0, w1, w2, I1, I3):
+    """(alpha, f) in the contact frame (u, t, e3): the angular acceleration and the centre's acceleration of the
+    rolling disk turning at w (body axes), with the floor's normal zb = R^T z in body axes, u = (zb1, zb2, 0)/|.|
+    (so d = P - C = -u), zeta = zb3 and zeta_h = zeta/|(zb1, zb2)|.  Floats or arrays.
+
+    Written in the contact frame (u, t = e3 x u, e3), where zb = (rho, 0, zeta) and w = (Wu, Wt, w3):
+      e = the lab derivative of u = (p - u (u.p))/rho + w x u = (0, zeta Wu/rho, -Wt)   (p = zb' = zb x w),
+      c = w x e = (-Wt^2 - w3 E, Wu Wt, Wu E)                                            (E = zeta Wu/rho),
+      b = -w x I w - u x (zb + c) = (-dI Wt w3, zeta + Wu (E + dI w3), -Wu Wt)             (dI = I3 - I1),
+    K alpha = b with K = I - [d]x^2, the inertia about the contact point, diagonal here (I1, I1 + 1, I3 + 1),
+    and a = d x alpha - w x d' = c - u x alpha."""
+    Wu, Wt = w0 * u0 + w1 * u1, w1 * u0 - w0 * u1
+    E = zeta_h * Wu
+    ct, c3 = Wu * Wt, Wu * E
+    dI = I3 - I1
+    au = (Wt * w2) * (-dI / I1)
+    at = (zeta + Wu * (E + dI * w2)) * (1.0 / (I1 + 1.0))
+    a3 = ct * (-1.0 / (I3 + 1.0))
+    return (au, at, a3), (-(Wt * Wt + w2 * E), ct + a3, c3 - at)
+
+
 def accelerations(Rm, w, I1, I3):
     """(alpha, a): the angular acceleration in body axes and the centre's acceleration in lab axes of the rolling
-    disk with the attitude Rm (body -> lab) turning at w (body axes).
-
-    Written in body axes, where the symmetry axis is e3 and the floor's normal is zb = R^T z: m = zb - (zb.e3) e3
-    = (zb1, zb2, 0), d = -m/|m| lies in the body xy plane, and the time derivative (in the lab) of a body vector
-    v has the body components v' + w x v.  With n = e3 and d3 = 0, K = (I1 + |d|^2) 1 + (I3 - I1) e3 e3^T - d d^T
-    is diagonal on the axes d, e3 x d, e3."""
+    disk with the attitude Rm (body -> lab) turning at w (body axes) (``_contact_frame``)."""
     z0, z1, z2 = Rm[2]
-    w0, w1, w2 = w
     h = 1.0 / (z0 * z0 + z1 * z1) ** 0.5
-    u0, u1 = z0 * h, z1 * h  # d = -u
-    # zb' = -w x zb (z is fixed in the lab); u = (zb1, zb2, 0)/|.|, u' = (p' - u (u.p'))/|.|
-    p0, p1 = z1 * w2 - z2 * w1, z2 * w0 - z0 * w2
-    up = u0 * p0 + u1 * p1
-    # the body components of the lab derivative of u: u' + w x u (d' is its opposite)
-    e0 = (p0 - u0 * up) * h - w2 * u1
-    e1 = (p1 - u1 * up) * h + w2 * u0
-    e2 = w0 * u1 - w1 * u0
-    # c = w x u' (= -w x d')
-    c0, c1, c2 = w1 * e2 - w2 * e1, w2 * e0 - w0 * e2, w0 * e1 - w1 * e0
-    # b = -w x I w + d x (zb - w x d') = -w x I w - u x (zb + c)
-    dI = I3 - I1
-    g0, g1, g2 = z0 + c0, z1 + c1, z2 + c2
-    b0 = -(u1 * g2 + dI * w1 * w2)
-    b1 = u0 * g2 + dI * w0 * w2
-    b2 = u1 * g0 - u0 * g1
-    # K alpha = b, K = I - [d]x^2 the inertia about the contact point, whose principal axes are d (moment I1),
-    # the rim's tangent e3 x d (I1 + |d|^2) and e3 (I3 + |d|^2), |d| = 1:
-    # alpha = b/(I1 + 1) + (d.b) d (1/I1 - 1/(I1 + 1)) in the plane, b3/(I3 + 1) along e3
-    kt, kd = 1.0 / (I1 + 1.0), 1.0 / I1 - 1.0 / (I1 + 1.0)
-    ub = (u0 * b0 + u1 * b1) * kd
-    a0, a1, a2 = b0 * kt + ub * u0, b1 * kt + ub * u1, b2 * (1.0 / (I3 + 1.0))
-    # a = d x alpha - w x d' = c - u x alpha (body), then to the lab
-    f0, f1, f2 = c0 - u1 * a2, c1 + u0 * a2, c2 - u0 * a1 + u1 * a0
+    u0, u1 = z0 * h, z1 * h
+    (au, at, a3), (fu, ft, f3) = _contact_frame(u0, u1, z2, z2 * h, *w, I1, I3)
+    # back to body axes: X = Xu u + Xt t + X3 e3, t = e3 x u = (-u1, u0, 0)
+    al = (au * u0 - at * u1, au * u1 + at * u0, a3)
+    f0, f1, f2 = fu * u0 - ft * u1, fu * u1 + ft * u0, f3
     (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = Rm
-    return (a0, a1, a2), (r00 * f0 + r01 * f1 + r02 * f2, r10 * f0 + r11 * f1 + r12 * f2,
-                          r20 * f0 + r21 * f1 + r22 * f2)
+    return al, (r00 * f0 + r01 * f1 + r02 * f2, r10 * f0 + r11 * f1 + r12 * f2, r20 * f0 + r21 * f1 + r22 * f2)
 
 
-def quaternion_rate(q, w):
-    """dq/dt = q (0, w) / 2 for body rates w.  |q| is left to drift (the attitude is that of q/|q|: ``rotation``
-    normalizes): a pull-back -(|q|^2 - 1) c q at a fixed rate c = 1 was stiff across a slowly turning disk's
-    long steps (the step size underflowed), and at the attitude's rate it cost half again the steps; without
-    it |q| stays within 4e-10 of 1 over 300 drawn runs at rtol 1e-8."""
-    q0, q1, q2, q3 = q
-    w1, w2, w3 = w
-    return (-0.5 * (q1 * w1 + q2 * w2 + q3 * w3), 0.5 * (q0 * w1 + q2 * w3 - q3 * w2),
-            0.5 * (q0 * w2 - q1 * w3 + q3 * w1), 0.5 * (q0 * w3 + q1 * w2 - q2 * w1))
+def _quadratic_forms():
+    """The constant (16, 28) matrix taking the products y_i q_k (i < 7: the rates w, then q) of the state
+    (``tilted_rates``) to |q|^2 R (9 rows, row by row), q0^2 + q3^2, q1^2 + q2^2, |q|^2 and dq/dt = q (0, w)/2."""
+    M = np.zeros((16, 7, 4))
+    squares = {(0, 0): (1, 1, 1), (1, 1): (1, -1, -1), (2, 2): (-1, 1, -1), (3, 3): (-1, -1, 1)}
+    for (a, b), signs in squares.items():  # the diagonal of |q|^2 R, and the sums of squares
+        M[(0, 4, 8), 3 + a, b] = signs
+        M[9 if a in (0, 3) else 10, 3 + a, b] = 1.0
+        M[11, 3 + a, b] = 1.0
+    # the off-diagonal of |q|^2 R: 2 (q_a q_b +- q_0 q_c), each row (a, b, c, sign)
+    for row, (a, b, c, sign) in {1: (1, 2, 3, -1), 3: (1, 2, 3, 1), 2: (1, 3, 2, 1), 6: (1, 3, 2, -1),
+                                 5: (2, 3, 1, -1), 7: (2, 3, 1, 1)}.items():
+        M[row, 3 + a, b], M[row, 3, c] = 2.0, 2.0 * sign
+    # dq/dt = q (0, w)/2: rows of (w index, q index, coefficient)
+    for row, terms in enumerate((((0, 1, -1), (1, 2, -1), (2, 3, -1)), ((0, 0, 1), (2, 2, 1), (1, 3, -1)),
+                                 ((1, 0, 1), (2, 1, -1), (0, 3, 1)), ((2, 0, 1), (1, 1, 1), (0, 2, -1))), start=12):
+        for i, k, c in terms:
+            M[row, i, k] = 0.5 * c
+    return M.reshape(16, 28)
+
+
+_FORMS = _quadratic_forms()
 
 
 def rates(y, I1, I3):
-    """The 13 rates of the state y (a sequence of 13 floats, or of 13 arrays of N)."""
+    """The 13 rates of the state y (13 floats, or 13 x N: one column a disk)."""
     return tilted_rates(y, I1, I3)[0]
 
 
 def tilted_rates(y, I1, I3):
-    """(``rates``, the axis's vertical component n_z) of the state y."""
-    w = (y[0], y[1], y[2])
-    q = (y[3], y[4], y[5], y[6])
-    Rm = rotation(*q)
-    al, a = accelerations(Rm, w, I1, I3)
-    # the body components of omega change at alpha's body components (omega x omega = 0)
-    return [*al, *quaternion_rate(q, w), y[10], y[11], y[12], *a], Rm[2][2]
+    """(``rates`` (an array like y), the axis's vertical component n_z) of the state y (13, or 13 x N).
+
+    The attitude, |q|^2 R, and dq/dt = q (0, w)/2 are quadratic in the state: one product of the state with the
+    quaternion and one constant matrix (``_FORMS``) give them all; |(zb1, zb2)| = 2 sqrt((q0^2 + q3^2)(q1^2 +
+    q2^2))/|q|^2 exactly, without the cancellation 1 - zb3^2.  The accelerations: ``_contact_frame``.
+
+    |q| is left to drift (the attitude is that of q/|q|): a pull-back -(|q|^2 - 1) c q at a fixed rate c = 1 was
+    stiff across a slowly turning disk's long steps (the step size underflowed), and at the attitude's rate it
+    cost half again the steps; without it |q| stays within 4e-10 of 1 over 300 drawn runs at rtol 1e-8."""
+    y = np.asarray(y, dtype=float)
+    Z = _FORMS @ (y[0:7, None] * y[None, 3:7]).reshape((28,) + y.shape[1:])
+    # one disk: the rest in plain floats (a fraction of the arrays' overhead); N disks: rows of N
+    z, w = (Z.tolist(), y[0:3].tolist()) if y.ndim == 1 else (Z, y)
+    inv = 1.0 / z[11]
+    n0, n1, zeta = z[2] * inv, z[5] * inv, z[8] * inv  # the axis n in the lab (R's last column)
+    s = 0.5 / (z[9] * z[10]) ** 0.5
+    u0, u1, zh, h = z[6] * s, z[7] * s, z[8] * s, z[11] * s  # h = 1/|(zb1, zb2)|
+    (au, at, a3), (fu, ft, f3) = _contact_frame(u0, u1, zeta, zh, w[0], w[1], w[2], I1, I3)
+    out = np.empty_like(y)
+    # alpha in body axes: X = Xu u + Xt t + X3 e3, t = e3 x u = (-u1, u0, 0)
+    out[0], out[1], out[2] = au * u0 - at * u1, au * u1 + at * u0, a3
+    out[3:7] = Z[12:16]
+    out[7:10] = y[10:13]
+    # a in the lab: u and t are there (z - zeta n) h and (n x z) h = (n1, -n0, 0) h
+    G, H = f3 - fu * zh, ft * h
+    out[10], out[11], out[12] = n0 * G + n1 * H, n1 * G - n0 * H, fu / h + f3 * zeta
+    return out, zeta
 
 
 def steady_rolling(theta, Rs, Om):
@@ -238,21 +266,22 @@ def _batched_leg(y, leg, span, t0, I1, I3, rtol, atol, lost, h, runs):
     from mech.solvers.numerics.batch import integrate_batch
 
     s0, s1 = leg
-    if y.shape[1] == 1:  # one disk alone: its rates in plain floats (a fraction of the arrays' overhead)
+    if y.shape[1] == 1:  # one disk alone: its state as one column (``tilted_rates`` in plain floats)
         def rhs(s, yy, span=float(span[0]), t0=float(t0[0])):
             try:
-                f, nz = tilted_rates(yy[:, 0].tolist(), I1, I3)
+                f, nz = tilted_rates(yy[:, 0], I1, I3)
             except ArithmeticError:  # a trial stage off the floor's domain: NaN, and the step is refused
                 return np.full(yy.shape, np.nan)
-            return np.array(f)[:, None] * (span * _held(min(abs(nz - t0) / lost - 1.0, 1.0)) if
-                                           abs(nz - t0) > lost else span)
+            x = abs(nz - t0)
+            return np.asarray(f, dtype=float)[:, None] * (span * _held(min(x / lost - 1.0, 1.0)) if x > lost
+                                                          else span)
     else:
         def rhs(s, yy, span=span, t0=t0):
             f, nz = tilted_rates(yy, I1, I3)
             x = np.abs(nz - t0)
-            if (x > lost).any():
-                return np.array(f) * (span * _held(np.minimum(np.maximum(x / lost - 1.0, 0.0), 1.0)))
-            return np.array(f) * span
+            if np.maximum.reduce(x) > lost:
+                return np.asarray(f) * (span * _held(np.minimum(np.maximum(x / lost - 1.0, 0.0), 1.0)))
+            return np.asarray(f) * span
 
     # a trial stage may leave the floor's domain (NaN, inf): integrate_batch refuses that step and shrinks it
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
@@ -269,7 +298,7 @@ def _forced_leg(y, s_span, span, t0, I1, I3, rtol, atol, lost, integrator, runs)
     out = np.empty_like(y)
     for k in range(y.shape[1]):
         def rhs(s, yy, span=float(span[k]), t0=float(t0[k])):
-            f, nz = tilted_rates(list(yy), I1, I3)
+            f, nz = tilted_rates(yy, I1, I3)
             x = abs(nz - t0)
             return np.array(f) * (span * _held(min(x / lost - 1.0, 1.0)) if x > lost else span)
 
