@@ -173,3 +173,26 @@ def test_max_step_holds_each_variant_to_its_own_cap(integrator):
         assert [r.t.size - 1 for r in got.records][0] >= 10 and [r.t.size - 1 for r in got.records][1] >= 4
     free = integrate_batch(lambda t, y: np.ones_like(y), (0.0, 1.0), np.zeros((1, 2)), rtol=1e-8, atol=1e-10)
     assert free.steps < 10
+
+
+def test_each_alone_on_failure_gives_a_failure_to_its_own_variant():
+    """A step over four variants that fails whenever variant 2 is in it: the four again one by one, only
+    variant 2 failing with the step's reason; the budget running out is never a variant's verdict."""
+    from mech.core import budget
+    from mech.solvers.numerics.ensemble import each_alone_on_failure
+
+    done, why = [], np.full(4, "", dtype=object)
+
+    def step(idx):
+        if 2 in idx:
+            raise NumericFailure("variant 2 cannot")
+        done.extend(int(k) for k in idx)
+
+    each_alone_on_failure(step, np.arange(4), why)
+    assert sorted(done) == [0, 1, 3] and list(why) == ["", "", "variant 2 cannot", ""]
+
+    def spent(idx):
+        raise budget.OutOfWork("spent")
+
+    with pytest.raises(budget.OutOfWork):
+        each_alone_on_failure(spent, np.arange(4), np.full(4, "", dtype=object))

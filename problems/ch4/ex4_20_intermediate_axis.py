@@ -46,7 +46,7 @@ import math
 
 import numpy as np
 
-from mech.problems.spec import Exercise, NumericFailure
+from mech.problems.spec import Exercise
 from mech.solvers.mechanics.freebody import euler_omega_rhs, steady_rotation_pair
 from mech.solvers.mechanics.inertia import gauss_legendre
 from mech.solvers.numerics.ode import Event, first_event
@@ -203,8 +203,8 @@ def _half_periods(I, w0, t_size, rtol, tally):
     """The times (units omega0 = 1) at which the flips from w0 (3 x N) come back to omega3 = 0: at psi = -pi
     (omega3 crossing up, half a period) and -2 pi (crossing down, a period), each leg a fixed span of psi (no
     event to locate); and the states there.  A variant whose integration fails is NaN (its reason in ``why``)."""
-    from mech.core.budget import OutOfBudget
     from mech.solvers.mechanics.floquet import integrate_ensemble
+    from mech.solvers.numerics.ensemble import each_alone_on_failure
 
     n = w0.shape[1]
     Y = np.full((3, 4, n), np.nan)
@@ -215,26 +215,18 @@ def _half_periods(I, w0, t_size, rtol, tally):
     make_rhs = _phase_rhs(I)
 
     def both_legs(idx):
-        """Both legs of the variants idx together; a failure followed again variant by variant."""
-        try:
-            y = Y[0][:, idx]
-            for k in (1, 2):
-                y, results = integrate_ensemble(lambda sel: make_rhs(idx[sel]), (-(k - 1) * np.pi, -k * np.pi),
-                                                y, rtol=rtol, atol=atol[:, idx], integrator=tally.integrator)
-                Y[k][:, idx] = y
-                for r in results:
-                    tally.record(r)
-        except OutOfBudget:
-            raise
-        except NumericFailure as exc:
-            if idx.size == 1:
-                why[idx] = str(exc)
-            for j in idx if idx.size > 1 else ():
-                both_legs(np.array([j]))
+        """Both legs of the variants idx together (a failure followed again variant by variant)."""
+        y = Y[0][:, idx]
+        for k in (1, 2):
+            y, results = integrate_ensemble(lambda sel: make_rhs(idx[sel]), (-(k - 1) * np.pi, -k * np.pi),
+                                            y, rtol=rtol, atol=atol[:, idx], integrator=tally.integrator)
+            Y[k][:, idx] = y
+            for r in results:
+                tally.record(r)
 
     go = np.flatnonzero(np.isfinite(w0).all(axis=0))
     if go.size:
-        both_legs(go)
+        each_alone_on_failure(both_legs, go, why)
     return Y, why
 
 

@@ -245,7 +245,7 @@ SAMPLES = 64
 def _confirm(R, go, Om, omega3, theta0, rtol, tally):
     """The steady states of the tops go followed together (``tops.follow_scaled``, each over its own run) and
     read: (measured rate, tilt drift, run length, the invariants' drifts, why each failed to integrate)."""
-    from mech.core.budget import OutOfBudget
+    from mech.solvers.numerics.ensemble import each_alone_on_failure
 
     y0, Ls, T, max_step, size = _start(R, go, Om, omega3, theta0)
     IA, Mgl = R.IA[go], R.Mgl[go]
@@ -261,18 +261,9 @@ def _confirm(R, go, Om, omega3, theta0, rtol, tally):
             f = axis_rhs(IA_j, _torque(Mgl_j), L_scale=Ls_j)
             return lambda t, y: T_j * f(t, y)
 
-        try:
-            tau_k, Y_k, records = follow_scaled(make_rhs, y0[:, idx], SAMPLES, max_step=max_step[idx] / T[idx],
-                                                rtol=rtol, atol=1e-3 * rtol * size[idx] * np.ones((6, 1)),
-                                                integrator=tally.integrator)
-        except OutOfBudget:
-            raise
-        except NumericFailure as exc:
-            if idx.size == 1:
-                why[idx] = str(exc)
-            for k in idx if idx.size > 1 else ():
-                run(np.array([k]))
-            return
+        tau_k, Y_k, records = follow_scaled(make_rhs, y0[:, idx], SAMPLES, max_step=max_step[idx] / T[idx],
+                                            rtol=rtol, atol=1e-3 * rtol * size[idx] * np.ones((6, 1)),
+                                            integrator=tally.integrator)
         for r in records:
             tally.record(r)
         nk = Y_k[:, 0:3].transpose(1, 0, 2)
@@ -285,7 +276,7 @@ def _confirm(R, go, Om, omega3, theta0, rtol, tally):
 
     drifts: dict = {}
     if n:
-        run(np.arange(n))
+        each_alone_on_failure(run, np.arange(n), why)
     return rate, T, drifts, why
 
 

@@ -288,7 +288,7 @@ def _follow_variants(theta, Rs, Om, spin0, y0, rtol, why, tally):
     from 2 pi over its rate there), or over 20 spin turns with more than MAX_SPIN_TURNS per orbit (the azimuth's rate
     fitted over the checkpoints).  Returns ``_assess``'s arguments after rtol; ``why``: each variant's failure
     (a chunk's integration failing), filled in."""
-    from mech.core.budget import OutOfBudget
+    from mech.solvers.numerics.ensemble import each_alone_on_failure
     from mech.solvers.mechanics.rolling_disk import follow_batch
     from mech.solvers.numerics.batch import chunks_by_work
 
@@ -306,24 +306,16 @@ def _follow_variants(theta, Rs, Om, spin0, y0, rtol, why, tally):
     Y = np.full((CHECKPOINTS + 1, 13, N), np.nan)
     todo = np.flatnonzero(np.isfinite(y0).all(axis=0) & (why == ""))
     def follow(idx):  # a chunk that fails is followed again variant by variant: a failure is that variant's
-        try:
-            got = follow_batch(y0[:, idx], span[idx], _BODY.I1, _BODY.I3, s_pts, rtol=rtol,
-                               atol=1e-3 * rtol * size[:, idx], tilt0=n3z0[idx], tilt_tol=tilt_tol,
-                               integrator=tally.integrator)
-            Y[:, :, idx] = got[0]
-            for r in got[2]:
-                tally.record(r)
-        except OutOfBudget:
-            raise
-        except NumericFailure as exc:
-            if idx.size == 1:
-                why[idx] = str(exc)
-            for k in idx if idx.size > 1 else ():
-                follow(np.array([k]))
+        got = follow_batch(y0[:, idx], span[idx], _BODY.I1, _BODY.I3, s_pts, rtol=rtol,
+                           atol=1e-3 * rtol * size[:, idx], tilt0=n3z0[idx], tilt_tol=tilt_tol,
+                           integrator=tally.integrator)
+        Y[:, :, idx] = got[0]
+        for r in got[2]:
+            tally.record(r)
 
     # the expected steps: ~17 a turn of the fastest rate, at least ~4 turns' worth (the legs' ends)
     for chunk in chunks_by_work(big[todo] * span[todo] / (2 * math.pi) + 4.0, STEP_OVERHEAD, STEP_ALONE):
-        follow(todo[chunk])
+        each_alone_on_failure(follow, todo[chunk], why)
     Yt = Y.transpose(1, 0, 2)
     drifts, k = _drifts(Yt, n3z0, tilt_tol, scale, E0)
     lost = k <= CHECKPOINTS

@@ -48,7 +48,7 @@ import math
 
 import numpy as np
 
-from mech.problems.spec import Exercise, NumericFailure
+from mech.problems.spec import Exercise
 
 exercise = Exercise(
     "4.25",
@@ -220,7 +220,7 @@ def numeric(P, rtol, outputs, tally=None):
     (``floquet.integrate_ensemble``; a batch that fails is integrated again variant by variant, so a variant
     fails alone).  Monitored: |L| + mu M g R t, which the friction's axial torque keeps constant in this model,
     and the polar angle of L at the end against theta1."""
-    from mech.core.budget import OutOfBudget
+    from mech.solvers.numerics.ensemble import each_alone_on_failure
     from mech.problems.spec import Tally
     from mech.solvers.mechanics.floquet import integrate_ensemble
     from mech.solvers.numerics.batch import Column
@@ -251,22 +251,14 @@ def numeric(P, rtol, outputs, tally=None):
             j = idx[sel]
             return _rise_rhs(rl[j], mu[j], th1[j] - th0[j])
 
-        try:
-            y_end[:, idx], results = integrate_ensemble(make_rhs, (0.0, 1.0), y0[:, idx], rtol=rtol,
-                                                        atol=atol[:, idx], integrator=tally.integrator)
-            for r in results:
-                tally.record(r)
-        except OutOfBudget:
-            raise
-        except NumericFailure as exc:
-            if idx.size == 1:
-                why[idx[0]] = str(exc)
-            for j in idx if idx.size > 1 else ():
-                rise(np.array([j]))
+        y_end[:, idx], results = integrate_ensemble(make_rhs, (0.0, 1.0), y0[:, idx], rtol=rtol,
+                                                    atol=atol[:, idx], integrator=tally.integrator)
+        for r in results:
+            tally.record(r)
 
     go = np.flatnonzero(why == "")
     if go.size:
-        rise(go)
+        each_alone_on_failure(rise, go, why)
     Ln = np.hypot(y_end[0], y_end[1])
     tally.invariant("|L| + mu M g R t", np.nan_to_num(Ln + mu * rl * y_end[2] / k - 1.0))  # 0: failed
     tally.invariant("polar angle of L at the end - theta1, over theta0 - theta1",

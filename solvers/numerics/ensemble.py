@@ -19,7 +19,7 @@ import numpy as np
 
 from mech.core.errors import NumericFailure
 
-__all__ = ["Ensemble", "follow"]
+__all__ = ["Ensemble", "follow", "each_alone_on_failure"]
 
 
 @dataclass
@@ -111,3 +111,23 @@ class _Filling(NamedTuple):
     failed: np.ndarray
     why: list
     records: list
+
+
+def each_alone_on_failure(step: Callable, idx, why) -> None:
+    """``step(idx)`` for the variants ``idx`` together; where it fails (``NumericFailure``), again for each
+    variant alone, so that a failure is its own variant's: a variant that fails alone gets the reason in
+    ``why[k]``.  The work budget or the clock running out stops it all (``OutOfBudget``), never a variant's
+    verdict.  For routes whose integration over the ensemble cannot mark a variant's failure itself."""
+    from mech.core.budget import OutOfBudget
+
+    idx = np.asarray(idx)
+    try:
+        step(idx)
+    except OutOfBudget:
+        raise
+    except NumericFailure as exc:
+        if idx.size == 1:
+            why[idx[0]] = str(exc)
+            return
+        for k in idx:
+            each_alone_on_failure(step, np.array([k]), why)
