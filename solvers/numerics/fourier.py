@@ -230,10 +230,17 @@ class _Panels:
         else:
             vals = np.asarray(self.f(((lo + half)[:, None] + half[:, None] * self.nodes).ravel()))
         self.evaluations += vals.size
-        if not np.all(np.isfinite(vals)):
-            a, b = spans[0][0], spans[-1][1]
+        vals = vals.reshape(len(spans), self.n)
+        if not np.isfinite(vals).all():
+            a, b = spans[int(np.argmin(np.isfinite(vals).all(axis=1)))]  # the first panel that is not
             raise NumericFailure(f"Fourier quadrature: the integrand is not finite on [{a:.6g}, {b:.6g}]")
-        return vals.reshape(len(spans), self.n)
+        return vals
+
+    @staticmethod
+    def split(a: float, b: float):
+        """The panel [a, b] and its two halves, as ``piece`` rules them."""
+        m = a + 0.5 * (b - a)
+        return [(a, b), (a, m), (m, b)]
 
     def rule(self, a: float, b: float, vals=None) -> complex:
         """The Filon rule on [a, b] in the local variable w = a + h (1 + u): the phases at a and
@@ -246,10 +253,11 @@ class _Panels:
         weights, slope = _filon_weights(self.n, k)
         return half * _turn(self.omega, a) * _turn(self.omega, half) * complex((weights + dk * slope) @ vals)
 
-    def piece(self, a: float, b: float):
-        """(value, error estimate): the halves' sum, and its difference from the whole panel's rule."""
+    def piece(self, a: float, b: float, vals=None):
+        """(value, error estimate): the halves' sum, and its difference from the whole panel's rule;
+        ``vals``: f at the nodes of the whole panel and its halves, if already evaluated (``split``)."""
         m = a + 0.5 * (b - a)
-        whole, left, right = self.values([(a, b), (a, m), (m, b)])
+        whole, left, right = self.values(self.split(a, b)) if vals is None else vals
         halves = self.rule(a, m, left) + self.rule(m, b, right)
         return halves, float(abs(self.project(halves - self.rule(a, b, whole))))
 
@@ -257,9 +265,12 @@ class _Panels:
 def _adaptive(panels: _Panels, cuts, epsabs: float, epsrel: float, limit: int):
     """Global adaptive bisection of the panels between ``cuts``: ``(value, error estimate, panels)``."""
     heap = []
-    for a, b in zip(cuts[:-1], cuts[1:]):
-        if b > a:
-            v, e = panels.piece(a, b)
+    first = [(a, b) for a, b in zip(cuts[:-1], cuts[1:]) if b > a]
+    if first:
+        # the first panels and their halves evaluated in one call of f
+        vals = panels.values([span for a, b in first for span in panels.split(a, b)]).reshape(len(first), 3, -1)
+        for (a, b), v3 in zip(first, vals):
+            v, e = panels.piece(a, b, v3)
             heap.append((-e, a, b, v))
     if not heap:
         return 0.0, 0.0, 0
@@ -461,13 +472,14 @@ def inverse_fourier(chi, t: float, poles, *, epsrel: float = 1e-12, window_facto
     core_panels = [(c, _Panels(lambda ys, c=c: chi(np.full_like(ys, c), ys), -float(t), None))
                    for _, _, c, _ in cores]
     core_pieces = [[(a, b) for a, b in zip(offs[:-1], offs[1:])] for _, _, _, offs in cores]
-    scale = math.fsum(abs(panels.rule(a, b).real) for a, b in pieces)
+    at_nodes = panels.values(pieces) if pieces else np.zeros((0, panels.n))  # f on each piece, once
+    scale = math.fsum(abs(panels.rule(a, b, v).real) for (a, b), v in zip(pieces, at_nodes))
     scale += math.fsum(abs(cp.rule(a, b)) for (_, cp), cps in zip(core_panels, core_pieces) for a, b in cps)
     # the rule's round-off is relative to the integral of |f|, not to the oscillation's cancelled pieces:
     # at a late time (t 1e7 over a peak of width 1e-5) the pieces cancel far below it, and a tolerance
     # under that floor is never met (it once ran 20000 panels and gave up)
     weights = _filon_table(panels.n)[1]
-    l1 = math.fsum(0.5 * (b - a) * float(weights @ np.abs(v)) for (a, b), v in zip(pieces, panels.values(pieces)))
+    l1 = math.fsum(0.5 * (b - a) * float(weights @ np.abs(v)) for (a, b), v in zip(pieces, at_nodes))
     for (_, cp), cps in zip(core_panels, core_pieces):
         l1 += math.fsum(0.5 * (b - a) * float(weights @ np.abs(v)) for (a, b), v in zip(cps, cp.values(cps)))
     epsabs = max(epsrel * scale, 64.0 * 2.0**-52 * l1)
