@@ -217,6 +217,14 @@ class _Panels:
         self.nodes = _filon_table(n)[0]
         self.project = {"re": lambda z: z.real, "im": lambda z: z.imag, None: lambda z: z}[part]
         self.evaluations = 0
+        self._turns: dict = {}  # exp(i omega x) by x: a panel's start is its left half's start, and so on
+        self._halves: dict = {}  # a half width's corrected weights and exp(i omega h): bisections repeat them
+
+    def turn(self, x: float) -> complex:
+        found = self._turns.get(x)
+        if found is None:
+            found = self._turns[x] = _turn(self.omega, x)
+        return found
 
     def values(self, spans) -> np.ndarray:
         """f at the nodes of every panel in ``spans``, one call: a row per panel."""
@@ -249,9 +257,13 @@ class _Panels:
         if vals is None:
             vals = self.values([(a, b)])[0]
         half = 0.5 * (b - a)
-        k, dk = _two_product(self.omega, half)
-        weights, slope = _filon_weights(self.n, k)
-        return half * _turn(self.omega, a) * _turn(self.omega, half) * complex((weights + dk * slope) @ vals)
+        found = self._halves.get(half)
+        if found is None:
+            k, dk = _two_product(self.omega, half)
+            weights, slope = _filon_weights(self.n, k)
+            found = self._halves[half] = (weights + dk * slope, _turn(self.omega, half))
+        corrected, turn_half = found
+        return half * self.turn(a) * turn_half * complex(corrected @ vals)
 
     def piece(self, a: float, b: float, vals=None):
         """(value, error estimate): the halves' sum, and its difference from the whole panel's rule;
