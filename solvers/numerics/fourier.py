@@ -80,28 +80,40 @@ def _spherical_bessel(n: int, k: float) -> np.ndarray:
         return out
     s, c = math.sin(k), math.cos(k)
     j0, j1 = s / k, (s / k - c) / k
+    # (the recurrences on Python floats, the array formed once: a per-element store costs more than the step)
     if k >= n:
-        out[0] = j0
-        if n > 1:
-            out[1] = j1
+        seq = [j0, j1]
         for j in range(1, n - 1):
-            out[j + 1] = (2 * j + 1) / k * out[j] - out[j - 1]
+            seq.append((2 * j + 1) / k * seq[j] - seq[j - 1])
+        out[:] = seq[:n]
         return out
     top = n + 20 + int(k)
     upper, here = 0.0, 1.0
-    raw = np.zeros(n)
+    raw = [0.0] * n
     for j in range(top, 0, -1):
         lower = (2 * j + 1) / k * here - upper  # j_{j-1} from j_j and j_{j+1}
         upper, here = here, lower
         if abs(here) > 1e100:
             upper *= 1e-100
             here *= 1e-100
-            raw *= 1e-100
+            raw = [r * 1e-100 for r in raw]
         if j - 1 < n:
             raw[j - 1] = here
     # j_0 and j_1 never vanish together: scale to both in the least-squares sense
     scale = (raw[0] * j0 + raw[1] * j1) / (raw[0] ** 2 + raw[1] ** 2)
-    return raw * scale
+    return np.array(raw) * scale
+
+
+_MOMENTS: dict = {}
+
+
+def _filon_moments(n: int):
+    """2 i^j (j = 0..n) and the factors j + 1, j, 2 j + 1 (j < n) of ``_filon_weights``, made once per n."""
+    if n not in _MOMENTS:
+        j = np.arange(n + 1)
+        jj = j[:n].astype(float)
+        _MOMENTS[n] = (2.0 * np.array([1.0, 1j, -1.0, -1j])[j % 4], jj + 1.0, jj, 2.0 * jj + 1.0)
+    return _MOMENTS[n]
 
 
 def _filon_weights(n: int, k: float):
@@ -115,13 +127,14 @@ def _filon_weights(n: int, k: float):
     x, w, to_coeffs, cache = _filon_table(n)
     found = cache.get(k)
     if found is None:
-        j = np.arange(n + 1)
-        m = 2.0 * np.array([1.0, 1j, -1.0, -1j])[j % 4] * _spherical_bessel(n + 1, abs(k))
+        two_i_j, up, down, odd = _filon_moments(n)
+        m = two_i_j * _spherical_bessel(n + 1, abs(k))
         if k < 0:
             m = m.conj()  # j_j(-k) = (-1)^j j_j(k)
-        jj = j[:n]
-        below = np.concatenate([[0.0], m[: n - 1]])
-        dm = 1j * ((jj + 1) * m[1:] + jj * below) / (2 * jj + 1)
+        below = np.empty(n, dtype=complex)
+        below[0] = 0.0
+        below[1:] = m[: n - 1]
+        dm = 1j * (up * m[1:] + down * below) / odd
         found = (m[:n] @ to_coeffs, dm @ to_coeffs)
         if len(cache) < 4096:
             cache[k] = found
