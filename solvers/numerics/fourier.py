@@ -278,13 +278,23 @@ class _Panels:
         corrected, turn_half = found
         return half * self.turn(a) * turn_half * complex(corrected @ vals)
 
-    def piece(self, a: float, b: float, vals=None):
-        """(value, error estimate): the halves' sum, and its difference from the whole panel's rule;
-        ``vals``: f at the nodes of the whole panel and its halves, if already evaluated (``split``)."""
+    def piece(self, a: float, b: float, vals=None, known=None):
+        """(value, error estimate, halves): the halves' sum, its difference from the whole panel's rule,
+        and each half's (values at its nodes, rule), which its own ``piece`` takes as ``known`` once the
+        panel is bisected (f is then evaluated on the new halves only).  ``vals``: f at the nodes of the
+        whole panel and its halves, if already evaluated (``split``)."""
         m = a + 0.5 * (b - a)
-        whole, left, right = self.values(self.split(a, b)) if vals is None else vals
-        halves = self.rule(a, m, left) + self.rule(m, b, right)
-        return halves, float(abs(self.project(halves - self.rule(a, b, whole))))
+        if vals is not None:
+            whole, left, right = vals
+        elif known is not None:
+            whole = known[0]
+            left, right = self.values([(a, m), (m, b)])
+        else:
+            whole, left, right = self.values(self.split(a, b))
+        rule_left, rule_right = self.rule(a, m, left), self.rule(m, b, right)
+        halves = rule_left + rule_right
+        rule_whole = self.rule(a, b, whole) if known is None else known[1]
+        return halves, float(abs(self.project(halves - rule_whole))), ((left, rule_left), (right, rule_right))
 
 
 def _adaptive(panels: _Panels, cuts, epsabs: float, epsrel: float, limit: int):
@@ -295,8 +305,8 @@ def _adaptive(panels: _Panels, cuts, epsabs: float, epsrel: float, limit: int):
         # the first panels and their halves evaluated in one call of f
         vals = panels.values([span for a, b in first for span in panels.split(a, b)]).reshape(len(first), 3, -1)
         for (a, b), v3 in zip(first, vals):
-            v, e = panels.piece(a, b, v3)
-            heap.append((-e, a, b, v))
+            v, e, kids = panels.piece(a, b, v3)
+            heap.append((-e, a, b, v, kids))
     if not heap:
         return 0.0, 0.0, 0
     heapq.heapify(heap)
@@ -322,14 +332,14 @@ def _adaptive(panels: _Panels, cuts, epsabs: float, epsrel: float, limit: int):
                 f"{tolerance(total, size):.3g} after {len(heap)} panels"
             )
         budget.check("Fourier quadrature")
-        neg_e, a, b, v = heapq.heappop(heap)
+        neg_e, a, b, v, kids = heapq.heappop(heap)
         m = a + 0.5 * (b - a)
         if not (a < m < b):
             raise NumericFailure(f"Fourier quadrature: panel [{a:.17g}, {b:.17g}] too narrow to refine")
         total, err, size = total - v, err + neg_e, size - abs(panels.project(v))
-        for lo, hi in ((a, m), (m, b)):
-            v, e = panels.piece(lo, hi)
-            heapq.heappush(heap, (-e, lo, hi, v))
+        for (lo, hi), kid in zip(((a, m), (m, b)), kids):
+            v, e, grand = panels.piece(lo, hi, known=kid)
+            heapq.heappush(heap, (-e, lo, hi, v, grand))
             total, err, size = total + v, err + e, size + abs(panels.project(v))
         if len(heap) % 64 == 0:
             total, err, size = sums()
