@@ -80,28 +80,40 @@ def _spherical_bessel(n: int, k: float) -> np.ndarray:
         return out
     s, c = math.sin(k), math.cos(k)
     j0, j1 = s / k, (s / k - c) / k
+    # (the recurrences on Python floats, the array formed once: a per-element store costs more than the step)
     if k >= n:
-        out[0] = j0
-        if n > 1:
-            out[1] = j1
+        seq = [j0, j1]
         for j in range(1, n - 1):
-            out[j + 1] = (2 * j + 1) / k * out[j] - out[j - 1]
+            seq.append((2 * j + 1) / k * seq[j] - seq[j - 1])
+        out[:] = seq[:n]
         return out
     top = n + 20 + int(k)
     upper, here = 0.0, 1.0
-    raw = np.zeros(n)
+    raw = [0.0] * n
     for j in range(top, 0, -1):
         lower = (2 * j + 1) / k * here - upper  # j_{j-1} from j_j and j_{j+1}
         upper, here = here, lower
         if abs(here) > 1e100:
             upper *= 1e-100
             here *= 1e-100
-            raw *= 1e-100
+            raw = [r * 1e-100 for r in raw]
         if j - 1 < n:
             raw[j - 1] = here
     # j_0 and j_1 never vanish together: scale to both in the least-squares sense
     scale = (raw[0] * j0 + raw[1] * j1) / (raw[0] ** 2 + raw[1] ** 2)
-    return raw * scale
+    return np.array(raw) * scale
+
+
+_MOMENTS: dict = {}
+
+
+def _filon_moments(n: int):
+    """2 i^j (j = 0..n) and the factors j + 1, j, 2 j + 1 (j < n) of ``_filon_weights``, made once per n."""
+    if n not in _MOMENTS:
+        j = np.arange(n + 1)
+        jj = j[:n].astype(float)
+        _MOMENTS[n] = (2.0 * np.array([1.0, 1j, -1.0, -1j])[j % 4], jj + 1.0, jj, 2.0 * jj + 1.0)
+    return _MOMENTS[n]
 
 
 def _filon_weights(n: int, k: float):
@@ -115,13 +127,14 @@ def _filon_weights(n: int, k: float):
     x, w, to_coeffs, cache = _filon_table(n)
     found = cache.get(k)
     if found is None:
-        j = np.arange(n + 1)
-        m = 2.0 * np.array([1.0, 1j, -1.0, -1j])[j % 4] * _spherical_bessel(n + 1, abs(k))
+        two_i_j, up, down, odd = _filon_moments(n)
+        m = two_i_j * _spherical_bessel(n + 1, abs(k))
         if k < 0:
             m = m.conj()  # j_j(-k) = (-1)^j j_j(k)
-        jj = j[:n]
-        below = np.concatenate([[0.0], m[: n - 1]])
-        dm = 1j * ((jj + 1) * m[1:] + jj * below) / (2 * jj + 1)
+        below = np.empty(n, dtype=complex)
+        below[0] = 0.0
+        below[1:] = m[: n - 1]
+        dm = 1j * (up * m[1:] + down * below) / odd
         found = (m[:n] @ to_coeffs, dm @ to_coeffs)
         if len(cache) < 4096:
             cache[k] = found
@@ -217,6 +230,14 @@ class _Panels:
         self.nodes = _filon_table(n)[0]
         self.project = {"re": lambda z: z.real, "im": lambda z: z.imag, None: lambda z: z}[part]
         self.evaluations = 0
+        self._turns: dict = {}  # exp(i omega x) by x: a panel's start is its left half's start, and so on
+        self._halves: dict = {}  # a half width's corrected weights and exp(i omega h): bisections repeat them
+
+    def turn(self, x: float) -> complex:
+        found = self._turns.get(x)
+        if found is None:
+            found = self._turns[x] = _turn(self.omega, x)
+        return found
 
     def values(self, spans) -> np.ndarray:
         """f at the nodes of every panel in ``spans``, one call: a row per panel."""
@@ -230,10 +251,17 @@ class _Panels:
         else:
             vals = np.asarray(self.f(((lo + half)[:, None] + half[:, None] * self.nodes).ravel()))
         self.evaluations += vals.size
-        if not np.all(np.isfinite(vals)):
-            a, b = spans[0][0], spans[-1][1]
+        vals = vals.reshape(len(spans), self.n)
+        if not np.isfinite(vals).all():
+            a, b = spans[int(np.argmin(np.isfinite(vals).all(axis=1)))]  # the first panel that is not
             raise NumericFailure(f"Fourier quadrature: the integrand is not finite on [{a:.6g}, {b:.6g}]")
-        return vals.reshape(len(spans), self.n)
+        return vals
+
+    @staticmethod
+    def split(a: float, b: float):
+        """The panel [a, b] and its two halves, as ``piece`` rules them."""
+        m = a + 0.5 * (b - a)
+        return [(a, b), (a, m), (m, b)]
 
     def rule(self, a: float, b: float, vals=None) -> complex:
         """The Filon rule on [a, b] in the local variable w = a + h (1 + u): the phases at a and
@@ -242,25 +270,43 @@ class _Panels:
         if vals is None:
             vals = self.values([(a, b)])[0]
         half = 0.5 * (b - a)
-        k, dk = _two_product(self.omega, half)
-        weights, slope = _filon_weights(self.n, k)
-        return half * _turn(self.omega, a) * _turn(self.omega, half) * complex((weights + dk * slope) @ vals)
+        found = self._halves.get(half)
+        if found is None:
+            k, dk = _two_product(self.omega, half)
+            weights, slope = _filon_weights(self.n, k)
+            found = self._halves[half] = (weights + dk * slope, _turn(self.omega, half))
+        corrected, turn_half = found
+        return half * self.turn(a) * turn_half * complex(corrected @ vals)
 
-    def piece(self, a: float, b: float):
-        """(value, error estimate): the halves' sum, and its difference from the whole panel's rule."""
+    def piece(self, a: float, b: float, vals=None, known=None):
+        """(value, error estimate, halves): the halves' sum, its difference from the whole panel's rule,
+        and each half's (values at its nodes, rule), which its own ``piece`` takes as ``known`` once the
+        panel is bisected (f is then evaluated on the new halves only).  ``vals``: f at the nodes of the
+        whole panel and its halves, if already evaluated (``split``)."""
         m = a + 0.5 * (b - a)
-        whole, left, right = self.values([(a, b), (a, m), (m, b)])
-        halves = self.rule(a, m, left) + self.rule(m, b, right)
-        return halves, float(abs(self.project(halves - self.rule(a, b, whole))))
+        if vals is not None:
+            whole, left, right = vals
+        elif known is not None:
+            whole = known[0]
+            left, right = self.values([(a, m), (m, b)])
+        else:
+            whole, left, right = self.values(self.split(a, b))
+        rule_left, rule_right = self.rule(a, m, left), self.rule(m, b, right)
+        halves = rule_left + rule_right
+        rule_whole = self.rule(a, b, whole) if known is None else known[1]
+        return halves, float(abs(self.project(halves - rule_whole))), ((left, rule_left), (right, rule_right))
 
 
 def _adaptive(panels: _Panels, cuts, epsabs: float, epsrel: float, limit: int):
     """Global adaptive bisection of the panels between ``cuts``: ``(value, error estimate, panels)``."""
     heap = []
-    for a, b in zip(cuts[:-1], cuts[1:]):
-        if b > a:
-            v, e = panels.piece(a, b)
-            heap.append((-e, a, b, v))
+    first = [(a, b) for a, b in zip(cuts[:-1], cuts[1:]) if b > a]
+    if first:
+        # the first panels and their halves evaluated in one call of f
+        vals = panels.values([span for a, b in first for span in panels.split(a, b)]).reshape(len(first), 3, -1)
+        for (a, b), v3 in zip(first, vals):
+            v, e, kids = panels.piece(a, b, v3)
+            heap.append((-e, a, b, v, kids))
     if not heap:
         return 0.0, 0.0, 0
     heapq.heapify(heap)
@@ -286,14 +332,14 @@ def _adaptive(panels: _Panels, cuts, epsabs: float, epsrel: float, limit: int):
                 f"{tolerance(total, size):.3g} after {len(heap)} panels"
             )
         budget.check("Fourier quadrature")
-        neg_e, a, b, v = heapq.heappop(heap)
+        neg_e, a, b, v, kids = heapq.heappop(heap)
         m = a + 0.5 * (b - a)
         if not (a < m < b):
             raise NumericFailure(f"Fourier quadrature: panel [{a:.17g}, {b:.17g}] too narrow to refine")
         total, err, size = total - v, err + neg_e, size - abs(panels.project(v))
-        for lo, hi in ((a, m), (m, b)):
-            v, e = panels.piece(lo, hi)
-            heapq.heappush(heap, (-e, lo, hi, v))
+        for (lo, hi), kid in zip(((a, m), (m, b)), kids):
+            v, e, grand = panels.piece(lo, hi, known=kid)
+            heapq.heappush(heap, (-e, lo, hi, v, grand))
             total, err, size = total + v, err + e, size + abs(panels.project(v))
         if len(heap) % 64 == 0:
             total, err, size = sums()
@@ -461,13 +507,14 @@ def inverse_fourier(chi, t: float, poles, *, epsrel: float = 1e-12, window_facto
     core_panels = [(c, _Panels(lambda ys, c=c: chi(np.full_like(ys, c), ys), -float(t), None))
                    for _, _, c, _ in cores]
     core_pieces = [[(a, b) for a, b in zip(offs[:-1], offs[1:])] for _, _, _, offs in cores]
-    scale = math.fsum(abs(panels.rule(a, b).real) for a, b in pieces)
+    at_nodes = panels.values(pieces) if pieces else np.zeros((0, panels.n))  # f on each piece, once
+    scale = math.fsum(abs(panels.rule(a, b, v).real) for (a, b), v in zip(pieces, at_nodes))
     scale += math.fsum(abs(cp.rule(a, b)) for (_, cp), cps in zip(core_panels, core_pieces) for a, b in cps)
     # the rule's round-off is relative to the integral of |f|, not to the oscillation's cancelled pieces:
     # at a late time (t 1e7 over a peak of width 1e-5) the pieces cancel far below it, and a tolerance
     # under that floor is never met (it once ran 20000 panels and gave up)
     weights = _filon_table(panels.n)[1]
-    l1 = math.fsum(0.5 * (b - a) * float(weights @ np.abs(v)) for (a, b), v in zip(pieces, panels.values(pieces)))
+    l1 = math.fsum(0.5 * (b - a) * float(weights @ np.abs(v)) for (a, b), v in zip(pieces, at_nodes))
     for (_, cp), cps in zip(core_panels, core_pieces):
         l1 += math.fsum(0.5 * (b - a) * float(weights @ np.abs(v)) for (a, b), v in zip(cps, cp.values(cps)))
     epsabs = max(epsrel * scale, 64.0 * 2.0**-52 * l1)
@@ -530,12 +577,28 @@ def impulse_spectrum(A, b, c, omega: float, *, rtol: float, segment: float, meth
     if not _decays(A):
         raise NumericFailure("impulse_spectrum: the system does not decay; its transform does not exist")
 
+    nn = n * n
+    a00, a01, a10, a11 = A.ravel().tolist() if n == 2 else (0.0,) * 4
+    c0, c1 = c.tolist() if n == 2 else (0.0,) * 2
+
+    def rhs2(s, y):
+        # n = 2 on Python floats (called a dozen times a step: numpy's per-call overhead dominated):
+        # Phi' = A Phi (row-major) and the accumulators' rates c.Phi cos(omega s), c.Phi sin(omega s)
+        p0, p1, p2, p3 = y[:4].tolist()
+        o0, o1 = c0 * p0 + c1 * p2, c0 * p1 + c1 * p3
+        cs, sn = math.cos(omega * s), math.sin(omega * s)
+        return np.array([a00 * p0 + a01 * p2, a00 * p1 + a01 * p3, a10 * p0 + a11 * p2, a10 * p1 + a11 * p3,
+                         o0 * cs, o1 * cs, o0 * sn, o1 * sn])
+
     def rhs(s, y):
-        Phi = y[: n * n].reshape(n, n)
+        # Phi' = A Phi, and the accumulators' rates c.Phi cos(omega s), c.Phi sin(omega s), filled in place
+        Phi = y[:nn].reshape(n, n)
         out = c @ Phi  # the coordinate's response to each basis initial state
-        ph = complex(math.cos(omega * s), math.sin(omega * s))
-        acc = out * ph
-        return np.concatenate([(A @ Phi).ravel(), acc.real, acc.imag])
+        dy = np.empty(nn + 2 * n)
+        np.matmul(A, Phi, out=dy[:nn].reshape(n, n))
+        np.multiply(out, math.cos(omega * s), out=dy[nn : nn + n])
+        np.multiply(out, math.sin(omega * s), out=dy[nn + n :])
+        return dy
 
     def jac(s, y):
         J = np.zeros((n * n + 2 * n, n * n + 2 * n))
@@ -554,7 +617,7 @@ def impulse_spectrum(A, b, c, omega: float, *, rtol: float, segment: float, meth
     y0 = np.concatenate([np.eye(n).ravel(), np.zeros(2 * n)])
     if atol is None:
         atol = rtol * 1e-3
-    traj = integrate(rhs, (0.0, segment), y0, rtol=rtol, atol=atol, method=method, jac=jac, integrator=integrator)
+    traj = integrate(rhs2 if n == 2 else rhs, (0.0, segment), y0, rtol=rtol, atol=atol, method=method, jac=jac, integrator=integrator)
     yend = traj.y_end
     Phi = yend[: n * n].reshape(n, n)
     w = yend[n * n : n * n + n] + 1j * yend[n * n + n :]
