@@ -136,8 +136,7 @@ def expected_error(P):
       theta_st      a bound: the largest change of the leading-order swing when eps moves by its
                     neglected O(xi/omega0, mu^2, theta^2) and the detuning by the zone's shift
                     mu^2 omega0/64 + delta^2/(2 omega0) + xi^2/omega0 + omega0 A^4/256 (the backbone's next term).
-    A zero theta_st (below the theory's threshold) has no relative error to give: it is compared as a zero,
-    so both methods must put a on the same side of the threshold."""
+    A zero theta_st (below the theory's threshold) is compared as a zero (``theory_range``: not near it)."""
     l, g, delta, a, Omega = _arrays(P)
     w0 = np.sqrt(g / l)
     xi = Omega / 2 - w0
@@ -158,14 +157,17 @@ def expected_error(P):
 @exercise.theory_range
 def theory_range(P):
     """The reduced equations expand in the pump's Mathieu parameter k = a Omega^2/(2 g), delta/omega0, the
-    detuning |Omega/2 - omega0|/omega0 and, for the swing, its amplitude theta_st^2/8 (the largest is shown,
-    named at each variant)."""
+    detuning |Omega/2 - omega0|/omega0 and, for the swing, its amplitude theta_st^2/8 and the threshold's own
+    error over a's distance from it (within it the theory cannot tell whether a swing exists)."""
     l, g, delta, a, Omega = _arrays(P)
     w0 = np.sqrt(g / l)
-    th = _lo_of(l, g, delta, a, Omega)["theta_st"]
+    lo = _lo_of(l, g, delta, a, Omega)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        near = _small_swing_allowances(l, g, delta, a, Omega)["a_th"] / np.abs(a / lo["a_th"] - 1.0)
     cands = np.stack(np.broadcast_arrays(a * Omega**2 / (2 * g), delta / w0, np.abs(Omega / 2 - w0) / w0,
-                                         th * th / 8.0))
-    names = np.array(["a Omega^2/(2 g)", "delta/omega0", "|Omega/2 - omega0|/omega0", "theta_st^2/8"], dtype=object)
+                                         lo["theta_st"] ** 2 / 8.0, np.nan_to_num(near, nan=0.0, posinf=np.inf)))
+    names = np.array(["a Omega^2/(2 g)", "delta/omega0", "|Omega/2 - omega0|/omega0", "theta_st^2/8",
+                      "the threshold's error over |a/a_th - 1|"], dtype=object)
     small = (names[np.argmax(cands[:3], axis=0)], cands[:3].max(axis=0))
     return {"a_th": small, "growth": small,
             "theta_st": (names[np.argmax(cands, axis=0)], cands.max(axis=0))}
