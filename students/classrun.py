@@ -151,11 +151,12 @@ def grade(entries: list[Entry], total_s: float | None = None, jobs: int | None =
 
 
 MIN_BATCHED = 4  # variants of one exercise from which its batched route solves them (below: one by one)
+BATCH_BLOCK = 64  # variants a batched solve takes at once (a class's 300 of one exercise: 5 blocks over the cores)
 
 
 def _batch_plan(todo: list[Entry], groups: list[list[int]]) -> dict:
-    """{exercise id: the indices of its groups} for each exercise whose batched route (the charts') gives
-    all its outputs, with a tighter rerun to verify by, and at least ``MIN_BATCHED`` variants."""
+    """{(exercise id, block): the indices of its groups} for each exercise whose batched route (the charts')
+    gives all its outputs, with a tighter rerun to verify by, and at least ``MIN_BATCHED`` variants."""
     from mech.studies.variants import batchable
 
     by_ex: dict = {}
@@ -163,7 +164,10 @@ def _batch_plan(todo: list[Entry], groups: list[list[int]]) -> dict:
         ex = todo[g[0]].exercise
         if batchable(ex):
             by_ex.setdefault(ex.id, []).append(k)
-    return {i: ks for i, ks in by_ex.items() if len(ks) >= MIN_BATCHED}
+    # blocks of at most BATCH_BLOCK variants in the file's order: the cores share an exercise's variants, and
+    # a block, so each variant's solve, is the same for any number of workers
+    return {(i, b): ks[b:b + BATCH_BLOCK] for i, ks in by_ex.items() if len(ks) >= MIN_BATCHED
+            for b in range(0, len(ks), BATCH_BLOCK)}
 
 
 def _batched_solve(firsts: list[Entry], deadline: float) -> dict:
@@ -217,7 +221,7 @@ def _grade_pooled(todo, groups, workers, deadline, total_s, plan) -> None:
 
     pending: dict = {}  # future -> ("batch", group indices) or ("grade", entry indices)
     try:
-        for ex_id, ks in plan.items():
+        for ks in plan.values():
             pending[pool.submit(_remote_batch, [groups[k][0] for k in ks])] = ("batch", ks)
         for k in range(0, len(rest), size):
             indices = sum(rest[k:k + size], [])

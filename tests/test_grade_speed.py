@@ -102,3 +102,25 @@ def test_the_time_grade_prints_counts_the_printing_of_its_table(tmp_path, monkey
     assert r.exit_code == 0, r.output
     said = float(re.search(r"in ([0-9.]+) s$", r.stdout.strip()).group(1))
     assert 0.5 <= said <= wall + 0.05, (said, wall)
+
+
+def test_a_batched_exercise_is_shared_out_in_blocks_fixed_by_the_file():
+    """150 variants of one batched exercise (5.13) and 3 of another (too few to batch): blocks of at most
+    BATCH_BLOCK groups in the file's order (64, 64, 22), whatever the workers, so that the cores share an
+    exercise's variants and each variant's solve is the same with -j 1 and -j 2."""
+    from mech.problems import registry
+    from mech.students import classrun
+    from mech.students.answers_files import Entry
+
+    kapitza, ladder = registry.get("5.13"), registry.get("4.15")
+
+    def entry(ex, k):
+        e = Entry.__new__(Entry)
+        e.exercise, e.given = ex, {}
+        return e
+
+    todo = [entry(kapitza, k) for k in range(150)] + [entry(ladder, k) for k in range(3)]
+    groups = [[i] for i in range(len(todo))]
+    plan = classrun._batch_plan(todo, groups)
+    assert [len(ks) for ks in plan.values()] == [64, 64, 22]
+    assert [k for ks in plan.values() for k in ks] == list(range(150))
