@@ -77,15 +77,20 @@ def main() -> int:
         rows.append(row)
         print(" | ".join(row), file=sys.stderr, flush=True)
     head = ["exercise"] + (["before", "now", "ratio"] if args.before else ["CPU a variant"])
-    if args.markdown:
+    table(head, rows, args.markdown)
+    return 0
+
+
+def table(head: list[str], rows: list[list[str]], markdown: bool, width: int = 14) -> None:
+    """The rows under their head: a Markdown table, or right-aligned columns of ``width``."""
+    if markdown:
         print("| " + " | ".join(head) + " |")
         print("|" + "---|" * len(head))
         for r in rows:
             print("| " + " | ".join(r) + " |")
     else:
         for r in [head] + rows:
-            print("  ".join(f"{c:>14}" for c in r))
-    return 0
+            print("  ".join(f"{c:>{width}}" for c in r))
 
 
 if __name__ == "__main__":

@@ -75,14 +75,9 @@ def main() -> int:
             row += [f"{1000 * wall:.1f} ms", f"{1000 * cpu:.1f} ms", str(max(r[2] for r in runs))]
         rows.append(row)
         print(" | ".join(row), file=sys.stderr, flush=True)
-    if args.markdown:
-        print("| " + " | ".join(head) + " |")
-        print("|" + "---|" * len(head))
-        for r in rows:
-            print("| " + " | ".join(r) + " |")
-    else:
-        for r in [head] + rows:
-            print("  ".join(f"{c:>16}" for c in r))
+    from perf_assign import table  # beside this script
+
+    table(head, rows, args.markdown, width=16)
     return 0
 
 
