@@ -196,3 +196,16 @@ def test_each_alone_on_failure_gives_a_failure_to_its_own_variant():
 
     with pytest.raises(budget.OutOfWork):
         each_alone_on_failure(spent, np.arange(4), np.full(4, "", dtype=object))
+
+
+@pytest.mark.parametrize("integrator", [None, "scipy-DOP853"])
+def test_follow_sampled_gives_each_variant_at_each_sample(integrator):
+    """The oscillators sampled at 0, 0.25, ..., 1: q = cos(w t) at every sample, batched and one by one."""
+    from mech.solvers.numerics.ensemble import follow_sampled
+
+    t = np.linspace(0.0, 1.0, 5)
+    Y, records = follow_sampled(_make_oscillator, t, start(), rtol=1e-10, atol=1e-12, integrator=integrator,
+                                legs_start_whole=True)
+    assert Y.shape == (5, 2, W.size)
+    assert np.allclose(Y[:, 0, :], np.cos(np.outer(t, W)), atol=1e-7)
+    assert len(records) == (4 if integrator is None else W.size)

@@ -21,6 +21,8 @@ import math
 import numpy as np
 import pytest
 
+from mech.core.errors import BadInput
+
 from mech.problems import registry
 
 
@@ -94,7 +96,7 @@ def points(ex_id, n_draws=10, seed=4):
     for p in draw(ex, n_draws, seed):
         try:
             pts.append(dict(ex.resolve(p)))
-        except Exception:  # noqa: BLE001  a draw the limits refuse
+        except BadInput:  # a draw the joint limits refuse
             continue
     return ex, pts
 

@@ -19,7 +19,6 @@ from __future__ import annotations
 import numpy as np
 
 from mech.solvers.mechanics.frames import quat_to_matrix
-from mech.solvers.numerics.ode import integrate
 
 __all__ = [
     "euler_omega_rhs",
@@ -76,27 +75,10 @@ def follow_free(I, y0, t_pts, *, rtol, atol, integrator=None, restore=1.0):
     Many bodies: mech's DOP853 steps them together (``batch.integrate_batch``), leg by leg between the
     samples, each body's error held to rtol as its own run would hold it.  One alone, or each with an
     ``integrator`` forced (``mech bench``): one ``ode.integrate`` run a body, sampled at ``t_pts``."""
-    from mech.solvers.numerics.batch import integrate_batch
+    from mech.solvers.numerics.ensemble import follow_sampled
 
-    y0 = np.asarray(y0, dtype=float)
-    t_pts = np.asarray(t_pts, dtype=float)
-    atol = np.broadcast_to(np.asarray(atol, dtype=float), y0.shape)
     rhs = free_rhs(I, restore=restore)
-    Y = np.empty((t_pts.size,) + y0.shape)
-    Y[0] = y0
-    records = []
-    if integrator is None and y0.shape[1] > 1:
-        for k in range(1, t_pts.size):
-            res = integrate_batch(rhs, (t_pts[k - 1], t_pts[k]), Y[k - 1], rtol=rtol, atol=atol)
-            Y[k] = res.y_end
-            records.append(res)
-        return Y, records
-    for j in range(y0.shape[1]):
-        traj = integrate(rhs, (t_pts[0], t_pts[-1]), y0[:, j], rtol=rtol, atol=atol[:, j], t_eval=t_pts,
-                         integrator=integrator)
-        Y[:, :, j] = traj.y.T
-        records.append(traj)
-    return Y, records
+    return follow_sampled(lambda sel: rhs, t_pts, y0, rtol=rtol, atol=atol, integrator=integrator)
 
 
 def lab_axes(q, body_vector) -> np.ndarray:

@@ -75,31 +75,14 @@ def follow_scaled(make_rhs, y0, samples: int, *, max_step, rtol: float, atol, in
     (so no step exceeds it), each variant's error held to rtol as its own run would hold it.  One alone, or
     each with an ``integrator`` forced (``mech bench``): ``ode.integrate`` with ``max_step`` and the samples
     as ``t_eval``.  ``atol``: n x N."""
-    from mech.solvers.numerics.batch import integrate_batch
-    from mech.solvers.numerics.ode import integrate
+    from mech.solvers.numerics.ensemble import follow_sampled
 
     y0 = np.asarray(y0, dtype=float)
-    n, N = y0.shape
-    max_step = np.broadcast_to(np.asarray(max_step, dtype=float), (N,))
+    max_step = np.broadcast_to(np.asarray(max_step, dtype=float), (y0.shape[1],))
     K = int(max(samples, np.ceil(1.0 / float(np.min(max_step)))))
     tau = np.linspace(0.0, 1.0, K + 1)
-    atol = np.broadcast_to(np.asarray(atol, dtype=float), y0.shape)
-    Y = np.empty((K + 1, n, N))
-    Y[0] = y0
-    records = []
-    if integrator is None and N > 1:
-        rhs = make_rhs(slice(None))
-        for k in range(1, K + 1):
-            res = integrate_batch(rhs, (tau[k - 1], tau[k]), Y[k - 1], rtol=rtol, atol=atol,
-                                  first_step=tau[k] - tau[k - 1])
-            Y[k] = res.y_end
-            records.append(res)
-        return tau, Y, records
-    for j in range(N):
-        traj = integrate(make_rhs(j), (0.0, 1.0), y0[:, j], rtol=rtol, atol=atol[:, j], max_step=float(max_step[j]),
-                         t_eval=tau, integrator=integrator)
-        Y[:, :, j] = traj.y.T
-        records.append(traj)
+    Y, records = follow_sampled(make_rhs, tau, y0, rtol=rtol, atol=atol, integrator=integrator, max_step=max_step,
+                                legs_start_whole=True)
     return tau, Y, records
 
 

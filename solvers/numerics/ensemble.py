@@ -19,7 +19,7 @@ import numpy as np
 
 from mech.core.errors import NumericFailure
 
-__all__ = ["Ensemble", "follow", "each_alone_on_failure"]
+__all__ = ["Ensemble", "follow", "follow_sampled", "each_alone_on_failure"]
 
 
 @dataclass
@@ -131,3 +131,38 @@ def each_alone_on_failure(step: Callable, idx, why) -> None:
             return
         for k in idx:
             each_alone_on_failure(step, np.array([k]), why)
+
+
+def follow_sampled(make_rhs: Callable, t_pts, y0, *, rtol: float, atol, integrator: str | None = None,
+                   max_step=math.inf, legs_start_whole: bool = False) -> tuple[np.ndarray, list]:
+    """N variants (``y0``: n x N) sampled at the times ``t_pts`` (from t_pts[0]): (states K x n x N, the
+    integrations).  Many variants: mech's DOP853 steps them together leg by leg between the samples (each
+    variant's error held to rtol as its own run would hold it; ``legs_start_whole``: each leg tried first as
+    one step, so that no step exceeds a leg).  One alone, or each with an ``integrator`` forced (``mech
+    bench``): one ``ode.integrate`` run a variant, sampled at ``t_pts`` (``max_step``: a number or one per
+    variant).  A failure fails the call (``each_alone_on_failure`` gives it to its variant)."""
+    from mech.solvers.numerics.batch import integrate_batch
+    from mech.solvers.numerics.ode import integrate
+
+    y0 = np.asarray(y0, dtype=float)
+    t_pts = np.asarray(t_pts, dtype=float)
+    n, N = y0.shape
+    atol = np.broadcast_to(np.asarray(atol, dtype=float), y0.shape)
+    Y = np.empty((t_pts.size, n, N))
+    Y[0] = y0
+    records = []
+    if integrator is None and N > 1:
+        rhs = make_rhs(slice(None))
+        for k in range(1, t_pts.size):
+            res = integrate_batch(rhs, (t_pts[k - 1], t_pts[k]), Y[k - 1], rtol=rtol, atol=atol,
+                                  first_step=t_pts[k] - t_pts[k - 1] if legs_start_whole else None)
+            Y[k] = res.y_end
+            records.append(res)
+        return Y, records
+    caps = np.broadcast_to(np.asarray(max_step, dtype=float), (N,))
+    for j in range(N):
+        traj = integrate(make_rhs(j), (t_pts[0], t_pts[-1]), y0[:, j], rtol=rtol, atol=atol[:, j],
+                         max_step=float(caps[j]), t_eval=t_pts, integrator=integrator)
+        Y[:, :, j] = traj.y.T
+        records.append(traj)
+    return Y, records
