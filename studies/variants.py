@@ -33,8 +33,18 @@ def cross_check_variants(ex, params: Sequence, total_s: float | None = None) -> 
 
     from mech.studies.sweep import iter_batched_solutions, run_batched
 
-    P = {p.name: np.array([float(q[p.name]) for q in params]) for p in ex.params}
-    with warnings.catch_warnings():  # never a message: the values are judged
-        warnings.simplefilter("ignore")
-        result = run_batched(ex, [], {}, tuple(o.name for o in ex.outputs), total_s=total_s, points=P)
-    return list(iter_batched_solutions(result))
+    def solve(group: Sequence, budget: float | None) -> list:
+        P = {p.name: np.array([float(q[p.name]) for q in group]) for p in ex.params}
+        with warnings.catch_warnings():  # never a message: the values are judged
+            warnings.simplefilter("ignore")
+            result = run_batched(ex, [], {}, tuple(o.name for o in ex.outputs), total_s=budget, points=P)
+        return list(iter_batched_solutions(result))
+
+    solutions = solve(params, total_s)
+    if len(params) > 1:
+        # a variant that failed beside others is solved again as the batch of one, as ``mech solve`` solves
+        # it: the ensemble shares its steps, so whether a variant is answered must not depend on its company
+        for k, sol in enumerate(solutions):
+            if sol.agree is False:
+                solutions[k] = solve([params[k]], total_s)[0]
+    return solutions
