@@ -231,8 +231,9 @@ class Dips:
     defaults).  Over a stretch of length s between ends z0 and z1, n_z stays above (z0 + z1)/2 - V s/2, V a
     bound on |dn_z/dt| = |dn/dt . (n + z)| <= v |n + z|, with v a bound on the axis's speed |dn/dt| =
     k |L x n| and |n + z| = sqrt(2 (1 + n_z)) moving by at most v s.  v: 1.5 times the largest speed met at
-    the starts of the last two nutation periods' steps (at least 16): |L x n| is the nutation's cone, which
-    the torque moves slowly, and the steps' starts sample its phases.  Every step whose bound lies below
+    the starts of the last steps examined (two nutation periods' worth, at least 16; a step whose ends lie
+    too far above the lowest to dip below it is passed over): |L x n| is the nutation's cone, which the
+    torque moves slowly, and the steps' starts sample its phases.  Every step whose bound lies below
     the lowest end is kept, then followed in 16 substeps (40 or more a nutation period: n_z, of one
     nutation frequency, turns at most once within a substep), and every substep in which dn_z/dt turns
     from negative to positive and whose bound lies below the lowest value met, the lowest bound first, is
@@ -246,6 +247,7 @@ class Dips:
         self.k, self.h = k, h
         self.speeds = deque(maxlen=max(16, math.ceil(4 * math.pi / (k * h))))  # k |L x n| at the steps' starts
         self.speed = 0.0
+        self.reach = math.inf  # h v (2 + v h): no step dips below the mean of its ends by more than half of it
         self.best = 2.0  # the lowest step end
         self.steps = []  # (the bound, the state at the step's start)
 
@@ -256,10 +258,17 @@ class Dips:
 
     def add(self, n, L, t, nz_end):
         """The fine step of h from (n, L, t) that ended at n_z = nz_end."""
+        if nz_end < self.best:
+            self.best = nz_end
+        # (z0 + z1)/2 - V h/2 >= min(z0, z1) - reach/2 (|n + z| <= 2): a step whose lower end lies above the
+        # lowest by more than that cannot dip below it, and is passed over without its speed
+        if min(n[2], nz_end) - self.best > 0.5 * self.reach:
+            return
         cx, cy, cz = L[1] * n[2] - L[2] * n[1], L[2] * n[0] - L[0] * n[2], L[0] * n[1] - L[1] * n[0]
         self.speeds.append(self.k * math.sqrt(cx * cx + cy * cy + cz * cz))
         self.speed = max(self.speeds)
-        self.best = min(self.best, nz_end)
+        v = 1.5 * self.speed
+        self.reach = self.h * v * (2.0 + v * self.h)
         floor = self._floor(n[2], nz_end, self.h)
         if floor < self.best:
             self.steps.append((floor, (n, L, t)))
