@@ -224,15 +224,15 @@ def run_unit(cases: list[Case]) -> list[Case]:
 
 def run_check(exercises, hard: bool = False, jobs: int | None = None, started=None, finished=None) -> Report:
     """Every planned case, in plan order.  ``jobs``: processes to use (None: one per core when there are
-    enough units of work to share, see ``plan_jobs``).  ``started(case, n_cases)`` and ``finished(case)``,
-    where given, are called around every case (a batch's cases all started before it, all finished after),
-    in this process and never from a thread (a progress bar: the cross-check forks its rerun, and the pool
-    its workers, only from a single-threaded process)."""
+    enough cases to share, see ``plan_jobs``; never more than the units of work, ``units``).
+    ``started(case, n_cases)`` and ``finished(case)``, where given, are called around every case (a batch's
+    cases all started before it, all finished after), in this process and never from a thread (a progress
+    bar: the cross-check forks its rerun, and the pool its workers, only from a single-threaded process)."""
     cases = plan(exercises, hard)
     report = Report(cases=cases)
     t0 = time.perf_counter()
     work = units(cases)
-    workers = plan_jobs(len(work), jobs)
+    workers = min(plan_jobs(len(cases), jobs), len(work))  # a batch is one worker's
 
     def begin(case):
         if started is not None:
@@ -259,7 +259,7 @@ MIN_POOLED_CASES = 8  # fewer cases stay in this process, each with its rerun fo
 
 
 def plan_jobs(n_cases: int, jobs: int | None = None) -> int:
-    """Processes for ``n_cases`` units of work: ``jobs`` when given, else one per core once there are enough.
+    """Processes for ``n_cases``: ``jobs`` when given, else one per core once there are enough cases.
 
     Measured on a 2-core machine (``mech check --hard``, 162 cases): the cases one after the other, each
     with its rerun forked onto the second core, spend 3.4 s of CPU on the 162 forks alone; two workers,
