@@ -4,6 +4,7 @@ its hard cases, in a process pool when there are enough cases to share.  An exer
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 import time
@@ -180,13 +181,26 @@ def run_batch(cases: list[Case]) -> list[Case]:
             solutions = []
         share = (time.perf_counter() - t0) / len(todo)  # each case's part of the batch
         for case, solution in zip(todo, solutions):
-            if solution.agree is True and not solution.errors:
+            if _clean(solution):
                 _conclude(case, solution, share)
                 solved.add(id(case))
     for case in cases:
         if id(case) not in solved:
             run_case(case)
     return cases
+
+
+def _clean(solution) -> bool:
+    """Did the batch pass the case as the one-point cross-check would?  It agrees, notes no failure, and each
+    value is a finite number inside mech's floating-point range or declared undefined (the one-point check
+    fails a value beyond that range, ``crosscheck._undefine_bad_values``; the batch does not look)."""
+    from mech.problems.params import Undefined
+    from mech.problems.scales import out_of_range
+
+    if solution.agree is not True or solution.errors:
+        return False
+    return all(isinstance(v, Undefined) or (isinstance(v, float) and math.isfinite(v) and not out_of_range(v))
+               for q in solution.quantities for v in (q.analytic, q.numeric))
 
 
 def batched(ex: Exercise) -> bool:

@@ -119,6 +119,21 @@ def test_a_variant_that_fails_numerically_fails_alone(monkeypatch):
     assert bad.detail == f"numeric solver failed: {why}"
 
 
+def test_a_value_beyond_the_floating_point_range_fails_as_alone(monkeypatch):
+    """4.8's hard 1 rolls no distance (x_roll = 0 by both methods, held to an absolute claim): a numeric
+    1e-300 there agrees with 0 within that claim, but the one-point check fails a value beyond mech's
+    floating-point range, and so does the batch's case."""
+    ex = registry.get("4.8")
+
+    def tiny(P, rtol, cols, tally):
+        hit = np.asarray(P["h_over_R"]) == 1.4  # hard 1
+        cols["x_roll"].value = np.where(hit, 1e-300, cols["x_roll"].value)
+
+    _planted(monkeypatch, ex, tiny)
+    bad = _one_fails("4.8", "hard 1")
+    assert "x_roll: the numeric value 1e-300 m lies outside the floating-point range" in bad.detail
+
+
 def test_a_batch_that_raises_falls_back_case_by_case(monkeypatch):
     """A route that raises for one variant fails the whole batch's solve: every case is then cross-checked
     alone, and only the one that raises alone fails."""
