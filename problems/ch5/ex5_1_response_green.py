@@ -247,7 +247,8 @@ def _green_numeric(d, t, rtol):
         # and the scaled time t = tau w0 is rounded: the integral is G at t (1 + u), off by u t |G'(t)|
         g_phase = 2.0 * _U * float(t[k]) * _impulse_slope(poles, float(t[k]))
         Gp[k], Gm[k], ep[k], em[k] = plus.value, minus.value, g_abs + g_phase, g_abs
-        for name, v in (("quad_error_estimate", plus.abserr + minus.abserr), ("quad_panels", plus.panels + minus.panels),
+        for name, v in (("quad_error_estimate", plus.abserr + minus.abserr),
+                        ("quad_panels", plus.panels + minus.panels),
                         ("quad_tail_cycles", plus.tail_cycles + minus.tail_cycles),
                         ("quad_evaluations", plus.evaluations + minus.evaluations), ("G_phase_roundoff", g_phase)):
             info[name][k] = v

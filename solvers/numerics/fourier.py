@@ -35,7 +35,8 @@ from mech.core.errors import NumericFailure
 from mech.core import budget
 from mech.solvers.numerics.ode import integrate
 
-__all__ = ["inverse_fourier", "impulse_spectrum", "oscillator_spectra", "Spectrum", "FourierIntegral", "fourier_quad", "fourier_tail"]
+__all__ = ["inverse_fourier", "impulse_spectrum", "oscillator_spectra", "Spectrum", "FourierIntegral", "fourier_quad",
+           "fourier_tail"]
 
 
 # ---------------------------------------------------------------------------------------------
