@@ -32,6 +32,11 @@ geometric series; solvers/numerics/fourier.impulse_spectrum (a drive much faster
 the oscillator gets segments of half its period).  Liouville's
 det Phi = exp(-2 delta t) is monitored.
 
+The route is written once, over arrays of variants (``numeric``; a one-point solve is its
+batch of one): the non-stiff variants' segments are stepped together, each in the time
+s/D (fourier.oscillator_spectra), the stiff ones by their flow one by one, and each
+variant's G by its own adaptive quadrature, once per distinct (delta/omega0, tau omega0).
+
 A weakly damped oscillator asked late (tau of 1e5..1e11 periods) has a phase
 Theta = w1 tau known in floats to u Theta only (u = 2^-53; the product tau w0 is
 rounded, in both methods): the claims and ``analytic_error`` carry that
