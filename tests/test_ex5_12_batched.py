@@ -37,7 +37,8 @@ def test_the_swings_together_are_each_alone():
             assert abs(col.value[j] - one.value[0]) <= claim, name
     th = together["theta_st"]
     assert th.value[3] == 0.0 and together["growth"].value[3] < 0  # below threshold: no swing, exactly
-    assert np.all(th.value[:3] > 0.1) and np.all(np.asarray(th.rel)[:3] == 100 * rtol)
+    # claimed to 100 rtol times the swing's conditioning (>= 1; 9 to 36 here, far from any threshold)
+    assert np.all(th.value[:3] > 0.1) and np.all((100 * rtol <= th.rel[:3]) & (th.rel[:3] <= 1e5 * rtol))
 
 
 def test_the_one_point_solve_is_the_batch_of_one():

@@ -1,35 +1,31 @@
 """5.12 Pendulum pumped by vertical vibration of its pivot: threshold, growth, stationary swing.
 
-Analytic (reduced equations near Omega = 2 omega0): the pivot modulates the
-stiffness, omega0^2 (1 - mu cos Omega t) with mu = a Omega^2/g; for
-theta = Re[A e^{i Omega t/2}] the coupling of A to A* is
-eps = mu omega0^2/(2 Omega) = a Omega/(2 l), and with xi = Omega/2 - omega0
-small swings grow at -delta + sqrt(eps^2 - xi^2); the threshold is
-a_th = (2 l/Omega) sqrt(delta^2 + xi^2).  The cubic term of sin theta lowers the
-swing's own frequency to omega0 (1 - A^2/16), so the detuning seen by a
-swing of amplitude A is xi + omega0 A^2/16; the growth stops where
-(xi + omega0 A^2/16)^2 + delta^2 = eps^2, and the branch a small swing grows
-into (above threshold) is theta_st^2 = 16 (sqrt(eps^2 - delta^2) - xi)/omega0.
-Where the theory puts a below its threshold, theta_st = 0 has no relative
-error to give (expected error 0): it is compared as a zero, so both methods
-must put a on the same side of the threshold.
+Analytic (reduced equations near Omega = 2 omega0): the pivot modulates the stiffness, omega0^2 (1 - mu cos Omega t)
+with mu = a Omega^2/g; for theta = Re[A e^{i Omega t/2}] the coupling of A to A* is eps = mu omega0^2/(2 Omega) = a
+Omega/(2 l), and with xi = Omega/2 - omega0 small swings grow at -delta + sqrt(eps^2 - xi^2); the threshold is a_th =
+(2 l/Omega) sqrt(delta^2 + xi^2). The cubic term of sin theta lowers the swing's own frequency to omega0 (1 - A^2/16),
+so the detuning seen by a swing of amplitude A is xi + omega0 A^2/16; the growth stops where (xi + omega0 A^2/16)^2 +
+delta^2 = eps^2, and the branch a small swing grows into (above threshold) is theta_st^2 = 16 (sqrt(eps^2 - delta^2) -
+xi)/omega0. Where the theory puts a below its threshold, theta_st = 0 has no relative error to give (expected error 0):
+it is compared as a zero, so both methods must put a on the same side of the threshold.
 
-Numeric: a_th and growth from the monodromy matrix of the linearized equation over one pivot period
-(q = exp(-delta t) y leaves an even Hill equation: half a period of DOP853); a_th is the root in a of
-det(M + I), bracketed by a scan up from a = 1e-4 l in factors of 2 to 4 l at most (at |xi| = 0.3 omega0
-the exact threshold lies at 0.64 l, well above the leading-order 0.43 l, and the zone reaches past 2.3 l:
-a factor-2 scan cannot step over it).  Every output is written once over arrays of variants
-(``small_swings``, the swing in ``_swing``): a one-point solve is its batch of one.  theta_st: the stationary swing has period 4 pi/Omega and
-theta(t + 2 pi/Omega) = -theta(t), so its start z is a fixed point of the half-map
-H(z) = -phi_{2 pi/Omega}(z).  From the bifurcation at a_th (H's multiplier +1, eigenvector e) the branch
-of fixed points is followed by its amplitude s = |z| in (theta, theta'/omega0) with (z, a) as unknowns
-(solvers.numerics.branch, every variant in lock-step with its own step; in the pivot's phase Omega t, so
-that every variant's period is 2 pi; a carried as a constant third state, so that the variational
-equations give d/da with d/dz): for Omega < 2 omega0 the bifurcation is subcritical and the branch first runs down in a
-to a fold near eps = delta, then up through the given a.  The branch is only a path to a guess (rtol
-1e-8); z is then refined by Newton at fixed a (its last steps at the full rtol), both multipliers of H are
-checked inside the unit circle, and the largest |theta| on the orbit is found by events on theta' = 0.
-The declared motion (``motion``) is the swing's full period, two pivot periods from z.
+Numeric: a_th and growth from the monodromy matrix of the linearized equation over one pivot period (q = exp(-delta t)
+y leaves an even Hill equation: half a period of DOP853); a_th is the root in a of det(M + I), bracketed by a scan up
+from a = 1e-4 l in factors of 2 to 4 l at most (at |xi| = 0.3 omega0 the exact threshold lies at 0.64 l, well above the
+leading-order 0.43 l, and the zone reaches past 2.3 l: a factor-2 scan cannot step over it). Every output is written
+once over arrays of variants (``small_swings``, the swing in ``_swing``): a one-point solve is its batch of one.
+theta_st: the stationary swing has period 4 pi/Omega and theta(t + 2 pi/Omega) = -theta(t), so its start z is a fixed
+point of the half-map H(z) = -phi_{2 pi/Omega}(z). From the bifurcation at a_th (H's multiplier +1, eigenvector e) the
+branch of fixed points is followed by its amplitude s = |z| in (theta, theta'/omega0) with (z, a) as unknowns
+(solvers.numerics.branch, every variant in lock-step with its own step; in the pivot's phase Omega t, so that every
+variant's period is 2 pi; a carried as a constant third state, so that the variational equations give d/da with d/dz):
+for Omega < 2 omega0 the bifurcation is subcritical and the branch first runs down in a to a fold near eps = delta,
+then up through the given a. The branch is only a path to a guess (rtol 1e-8); z is then refined by Newton at fixed a
+(its last steps at the full rtol), both multipliers of H are checked inside the unit circle, and the largest |theta| on
+the orbit is found by events on theta' = 0. Its claim, 100 rtol, is times kappa, the fixed point's conditioning |(I + D
+phi)^-1| (in ``_swing``): near the threshold the swing's multiplier nears +1 (critical slowing down) and a flow error
+moves z by 1/(1 - multiplier) of itself (1.3e4 at growth 5.4e-5/s, mech sweep 5.12 --l 0.49:0.51:200). The declared
+motion (``motion``) is the swing's full period, two pivot periods from z.
 """
 
 from __future__ import annotations
@@ -232,6 +228,7 @@ def _threshold(l, g, delta, Omega, rtol, tally):
 
 NO_ROOT = "no pivot amplitude below 4 l brings a multiplier to -1"
 UNCONVERGED = "the root search for the threshold did not converge"
+UNDECIDED = "a is within the threshold's own error of a_th: whether a stationary swing grows is not decided"
 
 
 @exercise.motion
@@ -258,11 +255,10 @@ def motion(p, z=None):
 def _start(p):
     """The stationary swing's start (theta, theta') at the one point p, by the route at its default rtol."""
     P = {k: np.array([float(p[k])]) for k in ("l", "g", "delta", "a", "Omega")}
-    rtol, tally = exercise.default_rtol, Tally()
-    small = small_swings(P, rtol, ("growth", "a_th"), tally=tally)
+    small = small_swings(P, (rtol := exercise.default_rtol), ("growth", "a_th"), tally=(tally := Tally()))
     if not small["growth"].value[0] > 0.0:
         return (0.0, 0.0)
-    _, why, z = _swing(*_arrays(P), small["a_th"].value, rtol, tally)
+    _, why, z, _ = _swing(*_arrays(P), small["a_th"].value, rtol, tally)
     if why[0] is not None:
         raise NumericFailure(why[0])
     return tuple(z[:, 0])
@@ -295,8 +291,7 @@ def _flow(c2, kg, ksc, vsc, z, k, rtol, tally, variations=True, events=()):
     (the integration, its end states (12 or 3, N), NaN where a variant failed)."""
     from mech.solvers.numerics.batch import integrate_batch
 
-    m = k.size
-    nv = 12 if variations else 3
+    m, nv = k.size, (12 if variations else 3)
 
     def rhs(s, y):
         c = math.cos(s)
@@ -326,12 +321,12 @@ def _flow(c2, kg, ksc, vsc, z, k, rtol, tally, variations=True, events=()):
 
 
 def _swing(l, g, delta, a, Omega, a_th, rtol, tally):
-    """(theta_st, why each failed (None: it did not), the swing's start (theta, theta') (2, N)) at N variants
-    above threshold: z, the swing's start,
-    is a fixed point of the half-map H(z) = -phi_{2 pi/Omega}(z), followed from the bifurcation at a_th
-    (H's multiplier +1, eigenvector e) by its amplitude with (z, a) as unknowns (solvers.numerics.branch: a
-    path to a guess at 1e-8), refined by Newton at the given a (its last steps at rtol), both multipliers
-    of H checked inside the unit circle, then the largest |theta| by events on theta' = 0."""
+    """(theta_st, why each failed (None: it did not), the swing's start (theta, theta') (2, N), kappa) at N variants
+    above threshold (kappa: the fixed point's conditioning): z, the swing's start, is a fixed point of the
+    half-map H(z) = -phi_{2 pi/Omega}(z), followed from the bifurcation at a_th (H's multiplier +1, eigenvector e)
+    by its amplitude with (z, a) as unknowns (solvers.numerics.branch: a path to a guess at 1e-8), refined by
+    Newton at the given a (its last steps at rtol), both multipliers of H checked inside the unit circle, then the
+    largest |theta| by events on theta' = 0."""
     from mech.solvers.numerics.batch import BatchEvent
 
     N = l.size
@@ -356,18 +351,21 @@ def _swing(l, g, delta, a, Omega, a_th, rtol, tally):
     for k in np.flatnonzero(lost != None):  # noqa: E711
         why[k] = f"the branch of stationary swings: {lost[k]} (a swing over the top?)"
     tally.info["continuation_tries"], tally.info["continuation_steps"] = tries.astype(float), steps.astype(float)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        z = zc + np.where(kn != kc, (kt - kc) / (kn - kc), 1.0) * (zn - zc)
+    with np.errstate(invalid="ignore", divide="ignore"):  # from the bifurcation itself (zc = 0): a - a_th ~ s^2
+        frac = np.where(kn != kc, (kt - kc) / (kn - kc), 1.0)
+        z = zc + np.where((zc == 0.0).all(axis=0), np.sqrt(np.abs(frac)), frac) * (zn - zc)
     go = np.flatnonzero(why == None)  # noqa: E711
-    theta, start = np.full(N, np.nan), np.full((2, N), np.nan)
+    theta, start, kappa = np.full(N, np.nan), np.full((2, N), np.nan), np.ones(N)
     if go.size == 0:
-        return theta, why, start
+        return theta, why, start, kappa
     z, ok = newton(lambda i, zz, tol: flow(go[i], zz, kt[go[i]], tol)[:2], z[:, go], scale[:, go], crude, rtol)
     why[go[~ok]] = "Newton's method for the stationary swing did not converge"
     go, z = go[ok], z[:, ok]
     J = flow(go, z, kt[go], rtol)[1]
     Ms = (J - np.eye(2)[:, :, None]) * scale[None, :, go] / scale[:, None, go]
     mult, stable, double = _half_map_moduli(Ms, -2.0 * math.pi * c2[go], rtol)
+    J = np.eye(2)[:, :, None] + Ms  # z = -phi(z) moves by J^-1 times the flow's error: kappa >= |J^-1| (adj/det)
+    kappa[go] = np.sqrt((J**2).sum(axis=(0, 1))) / np.abs(J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0])
     tally.info["swing_multiplier_max"] = np.full(N, None, dtype=object)
     tally.info["swing_multiplier_max"][go] = mult.max(axis=0)
     why[go[double]] = ("the swing's half-map is at a double multiplier (tr^2 - 4 det within its rounding): "
@@ -381,7 +379,7 @@ def _swing(l, g, delta, a, Omega, a_th, rtol, tally):
     theta[go] = np.where(res.failed, np.nan, tops)
     why[go[res.failed]] = "the integration of the swing failed"
     start[0, go], start[1, go] = z[0], z[1] * Omega[go]  # theta' = Omega dtheta/ds
-    return theta, why, start
+    return theta, why, start, kappa
 
 
 def _half_map_moduli(M, lndet, rtol):
@@ -434,17 +432,19 @@ def small_swings(P, rtol, outputs, memo=None, tally=None):
 
 
 def _swing_column(l, g, delta, a, Omega, out, rtol, tally):
-    """theta_st where the small swings grow (``_swing``, claimed to the exercise's 100 rtol), 0 exactly
-    where they decay; failed where growth or a_th failed, or the swing."""
+    """theta_st where the small swings grow (``_swing``, claimed to 100 rtol kappa), 0 exactly where they decay;
+    failed where growth, a_th or the swing failed, refused where a is within a_th's claim of it (undecided)."""
     from mech.solvers.numerics.batch import Column
 
-    grow = out["growth"].value > 0.0
-    pairs = list(out["growth"].failed) + [(m & grow, r) for m, r in out["a_th"].failed]
-    up = np.flatnonzero(grow & ~out["growth"].mask("failed") & ~out["a_th"].mask("failed"))
+    grow = (growth := out["growth"]).value > 0.0
+    pairs = list(growth.failed) + [(m & grow, r) for m, r in out["a_th"].failed]
+    with np.errstate(invalid="ignore", divide="ignore"):  # a within a_th's own claim of it
+        pairs.append((np.abs(a / out["a_th"].value - 1.0) <= out["a_th"].rel, UNDECIDED))
+    up = np.flatnonzero(grow & ~growth.mask("failed") & ~out["a_th"].mask("failed") & ~pairs[-1][0])
     value, rel = np.zeros(l.size), np.zeros(l.size)
     why = np.full(l.size, None, dtype=object)
     if up.size:
-        value[up], why[up], _ = _swing(l[up], g[up], delta[up], a[up], Omega[up], out["a_th"].value[up], rtol, tally)
-        rel[up] = exercise.tol_factor * rtol
+        value[up], why[up], _, kappa = _swing(*(x[up] for x in (l, g, delta, a, Omega, out["a_th"].value)), rtol, tally)
+        rel[up] = exercise.tol_factor * rtol * np.maximum(1.0, kappa)
     pairs += [(why == r, r) for r in set(why[why != None])]  # noqa: E711
     return Column(value, rel=rel, abs=0.0, failed=pairs)

@@ -32,6 +32,11 @@ geometric series; solvers/numerics/fourier.impulse_spectrum (a drive much faster
 the oscillator gets segments of half its period).  Liouville's
 det Phi = exp(-2 delta t) is monitored.
 
+The route is written once, over arrays of variants (``numeric``; a one-point solve is its
+batch of one): the non-stiff variants' segments are stepped together, each in the time
+s/D (fourier.oscillator_spectra), the stiff ones by their flow one by one, and each
+variant's G by its own adaptive quadrature, once per distinct (delta/omega0, tau omega0).
+
 A weakly damped oscillator asked late (tau of 1e5..1e11 periods) has a phase
 Theta = w1 tau known in floats to u Theta only (u = 2^-53; the product tau w0 is
 rounded, in both methods): the claims and ``analytic_error`` carry that
@@ -45,8 +50,10 @@ import math
 
 import numpy as np
 
-from mech.problems.spec import Exercise
-from mech.solvers.numerics.fourier import FLOW, impulse_spectrum, inverse_fourier
+from mech.core.budget import OutOfBudget
+from mech.core.errors import NumericFailure
+from mech.problems.spec import Exercise, Tally
+from mech.solvers.numerics.fourier import FLOW, impulse_spectrum, inverse_fourier, oscillator_spectra
 
 exercise = Exercise(
     "5.1",
@@ -95,35 +102,45 @@ def constraint(p):
                 f"delta tau = {decay:.3g} < {FADED:g}: lower tau)")
 
 
-@exercise.analytic
-def analytic(p):
-    m, w0, d, t, w = p.m, p.omega0, p.delta, p.tau, p.omega
-    if d < w0:
-        w1 = math.sqrt((w0 - d) * (w0 + d))
-        G = math.exp(-d * t) * math.sin(w1 * t) / (m * w1)
-    elif d == w0:
-        G = t * math.exp(-d * t) / m
-    else:
-        wp = math.sqrt((d - w0) * (d + w0))
+def _arrays(P):
+    return (np.asarray(P[k], dtype=float) for k in ("m", "omega0", "delta", "tau", "omega"))
+
+
+def _green(m, w0, d, t):
+    """G(tau) by the closed forms, over arrays, and its round-off: sin of the phase Theta = w1 tau computed
+    in floats is off by ~ u Theta (w1 from a rounded product and root, w1 tau rounded), moving G by its
+    slope, at most the envelope exp(-delta tau)/(m w1), times 4 u (1 + Theta); the exponentials' arguments
+    delta tau (or g1 tau) are rounded too: a relative 4 u (1 + delta tau) of G."""
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        under, over = d < w0, d > w0
+        w1 = np.sqrt(np.where(under, (w0 - d) * (w0 + d), 1.0))
+        wp = np.sqrt(np.where(over, (d - w0) * (d + w0), 1.0))
         g1 = w0 * w0 / (d + wp)  # = d - wp without cancellation
-        G = math.exp(-g1 * t) * (-math.expm1(-2.0 * wp * t)) / (2.0 * m * wp)
-    chi = 1.0 / (m * complex((w0 - w) * (w0 + w), -2.0 * d * w))
-    return {"G": G, "G_minus": 0.0, "chi_re": chi.real, "chi_im": chi.imag}
+        G = np.where(under, np.exp(-d * t) * np.sin(w1 * t) / (m * w1),
+                     np.where(over, np.exp(-g1 * t) * (-np.expm1(-2.0 * wp * t)) / (2.0 * m * wp),
+                              t * np.exp(-d * t) / m))
+        phase, decay = np.where(under, w1 * t, 0.0), d * t
+        err = 4.0 * _U * (1.0 + decay) * np.abs(G)
+        err = err + np.where(phase > 0.0, 4.0 * _U * (1.0 + phase) * np.exp(-decay) / (m * w1), 0.0)
+    return G, err
+
+
+@exercise.analytic
+def analytic(P):
+    """The closed forms over arrays of variants, G's round-off its Column's ``abs`` (``_green``)."""
+    from mech.solvers.numerics.batch import Column
+
+    m, w0, d, t, w = _arrays(P)
+    G, err = _green(m, w0, d, t)
+    chi = 1.0 / (m * ((w0 - w) * (w0 + w) - 2j * d * w))
+    return {"G": Column(G, abs=err), "G_minus": Column(np.zeros_like(G)), "chi_re": Column(chi.real),
+            "chi_im": Column(chi.imag)}
 
 
 @exercise.analytic_error
 def analytic_error(p):
-    """Round-off of G's closed forms: sin of the phase Theta = w1 tau computed in floats is off by ~ u Theta
-    (w1 from a rounded product and root, w1 tau rounded), moving G by its slope, at most the envelope
-    exp(-delta tau)/(m w1), times 4 u (1 + Theta); the exponentials' arguments delta tau (or g1 tau) are
-    rounded too: a relative 4 u (1 + delta tau) of G."""
-    phase, decay = _phase(p)
-    G = analytic(p)["G"]
-    err = 4.0 * _U * (1.0 + decay) * abs(G)
-    if phase > 0.0:
-        w1 = phase / p.tau
-        err += 4.0 * _U * (1.0 + phase) * math.exp(-decay) / (p.m * w1)
-    return {"G": err}
+    """G's round-off at one point (``_green``)."""
+    return {"G": float(_green(*(np.float64(p[k]) for k in ("m", "omega0", "delta", "tau")))[1])}
 
 
 def _characteristic_roots(d):
@@ -189,17 +206,8 @@ def _impulse_slope(poles, t):
     return slope
 
 
-@exercise.numeric
-def numeric(p, run):
-    m, w0 = p.m, p.omega0
-    d = p.delta / w0  # scaled damping
-    t = p.tau * w0
-    w = p.omega / w0
-
-    # the equation of motion q'' + 2 d q' + q = f in scaled units, as y' = A y + b f
-    A = np.array([[0.0, 1.0], [-1.0, -2.0 * d]])
-    b = np.array([0.0, 1.0])
-    c = np.array([1.0, 0.0])
+def _chi_local(d):
+    """chi in scaled units at x = base + off (arrays) for the damping d (``inverse_fourier``'s local form)."""
 
     def chi_local(base, off):
         # frequency domain: q = a exp(-i x t) turns q'' + 2 d q' + q = F into (-x^2 - 2 i d x + 1) a = F,
@@ -210,58 +218,130 @@ def numeric(p, run):
         with np.errstate(over="ignore"):
             return 1.0 / (((1.0 - base) - off) * ((1.0 + base) + off) - 2j * d * (base + off))
 
-    # characteristic roots in the frequency variable: where the coefficient above vanishes
-    lam = _characteristic_roots(d)  # time domain: q = exp(lam t)
-    poles = 1j * lam  # frequency domain: q = exp(-i x t) at x = i lam
-    eps_q = max(0.1 * run.rtol, 1e-14)
-    Gp = inverse_fourier(chi_local, t, poles, epsrel=eps_q, vectorized=True, local=True)
-    Gm = inverse_fourier(chi_local, -t, poles, epsrel=eps_q, vectorized=True, local=True)
+    return chi_local
 
-    segment, stiff, slow, amplification = _segment_length(lam, w)
-    method = FLOW if stiff else "DOP853"
-    atol = None
-    if stiff:
+
+def _green_numeric(d, t, rtol):
+    """G(+-t) in scaled units (time 1/w0, G in 1/(m w0)) by the inverse Fourier integral of chi, each
+    variant's own adaptive quadrature: (G+, G-, claimed absolute errors of each, quadrature info, why
+    failed ("" where not)).  The claims: relative to G's scale, plus the quadrature's own estimate, plus the
+    rounding of the scaled time (see the comments)."""
+    N = d.size
+    Gp, Gm, ep, em = (np.full(N, np.nan) for _ in range(4))
+    info = {k: np.full(N, np.nan) for k in ("quad_error_estimate", "quad_panels", "quad_tail_cycles",
+                                            "quad_evaluations", "G_phase_roundoff")}
+    why = np.full(N, "", dtype=object)
+    eps_q = max(0.1 * rtol, 1e-14)
+    for k in range(N):
+        poles = 1j * _characteristic_roots(float(d[k]))  # frequency domain: q = exp(-i x t) at x = i lam
+        chi_local = _chi_local(float(d[k]))
+        try:
+            plus = inverse_fourier(chi_local, float(t[k]), poles, epsrel=eps_q, vectorized=True, local=True)
+            minus = inverse_fourier(chi_local, -float(t[k]), poles, epsrel=eps_q, vectorized=True, local=True)
+        except NumericFailure as exc:
+            if isinstance(exc, OutOfBudget):
+                raise
+            why[k] = str(exc)
+            continue
+        # the quadrature: relative to the size of G's scale (1/(m w0) in these units), plus its own error
+        # estimate (a strongly overdamped chi is a peak of width 1/(2d) and G is ~ 1/(2d): the quadrature's
+        # target is eps_q times the pieces' summed sizes, that small too, and 100 eps_q claimed 2e-9 of G
+        # at d = 1e8)
+        g_scale = min(1.0, max(plus.target, minus.target) / eps_q) if d[k] > 1.0 else 1.0
+        g_abs = 100.0 * eps_q * g_scale + 10.0 * (plus.abserr + minus.abserr)
+        # and the scaled time t = tau w0 is rounded: the integral is G at t (1 + u), off by u t |G'(t)|
+        g_phase = 2.0 * _U * float(t[k]) * _impulse_slope(poles, float(t[k]))
+        Gp[k], Gm[k], ep[k], em[k] = plus.value, minus.value, g_abs + g_phase, g_abs
+        for name, v in (("quad_error_estimate", plus.abserr + minus.abserr),
+                        ("quad_panels", plus.panels + minus.panels),
+                        ("quad_tail_cycles", plus.tail_cycles + minus.tail_cycles),
+                        ("quad_evaluations", plus.evaluations + minus.evaluations), ("G_phase_roundoff", g_phase)):
+            info[name][k] = v
+    return Gp, Gm, ep, em, info, why
+
+
+def _chi_numeric(d, w, rtol, tally):
+    """chi in scaled units (1/(m w0^2)) as the transform of the integrated impulse response: each variant's
+    segment, the non-stiff ones stepped together (``oscillator_spectra``), a stiff one by its exact flow
+    (``impulse_spectrum``'s FLOW); (values, relative claims, Liouville drifts, segments, stiff, why failed)."""
+    N = d.size
+    value = np.full(N, np.nan, dtype=complex)
+    rel, drift, segment = np.full(N, np.nan), np.zeros(N), np.full(N, np.nan)
+    stiff = np.zeros(N, dtype=bool)
+    amp = np.ones(N)
+    why = np.full(N, "", dtype=object)
+    for k in range(N):
+        segment[k], stiff[k], slow, amplification = _segment_length(_characteristic_roots(float(d[k])), float(w[k]))
+        amp[k] = amplification(segment[k])
+        if not stiff[k]:
+            continue
         # absolute tolerances at each component's own size: Phi's entries (row-major) go as 1, s, s, s^2
         # (s the slow rate, 1/s the fast one), the accumulators as those of q times min(D, 1/w).  A common
         # atol of 1e-3 rtol sat above the q' row (1/(2d)): det(Phi) drifted 8e-7 at d = 1e10
-        L = min(segment, 1.0 / w) if w > 0 else segment
-        atol = 1e-3 * run.rtol * np.array([1.0, slow, slow, slow * slow, L, slow * L, L, slow * L])
-    spec = impulse_spectrum(A, b, c, w, rtol=run.rtol, segment=segment, method=method,
-                            integrator=run.integrator, atol=atol)
-    run.record(spec.traj)
-    run.invariant("Liouville det(Phi)", spec.liouville_drift)
-    run.info["segment"] = segment / w0
-    run.info["stiff"] = bool(stiff)
-    run.info["quad_error_estimate"] = Gp.abserr + Gm.abserr
-    run.info["quad_panels"] = Gp.panels + Gm.panels
-    run.info["quad_tail_cycles"] = Gp.tail_cycles + Gm.tail_cycles
-    run.info["quad_evaluations"] = Gp.evaluations + Gm.evaluations
-
-    # honest accuracy: the segment map's error is amplified as above
-    amp = amplification(segment)
-    chi_abs = float(abs(spec.value)) / (m * w0 * w0)  # |chi| in the output's units (spec.value is scaled)
+        L = min(segment[k], 1.0 / w[k]) if w[k] > 0 else segment[k]
+        atol = 1e-3 * rtol * np.array([1.0, slow, slow, slow * slow, L, slow * L, L, slow * L])
+        A = np.array([[0.0, 1.0], [-1.0, -2.0 * d[k]]])
+        try:
+            spec = impulse_spectrum(A, np.array([0.0, 1.0]), np.array([1.0, 0.0]), float(w[k]), rtol=rtol,
+                                    segment=float(segment[k]), method=FLOW, integrator=tally.integrator, atol=atol)
+        except NumericFailure as exc:
+            if isinstance(exc, OutOfBudget):
+                raise
+            why[k] = str(exc)
+            continue
+        tally.record(spec.traj)
+        value[k], drift[k] = spec.value, spec.liouville_drift
+    easy = np.flatnonzero(~stiff)
+    if easy.size:
+        got, dr, ens = oscillator_spectra(d[easy], w[easy], rtol=rtol, segment=segment[easy],
+                                          follow=lambda *a, **kw: tally.follow(*a, **kw, on_failure="mark"))
+        value[easy], drift[easy] = got, np.where(ens.failed, 0.0, dr)
+        why[easy] = np.where(ens.failed, ens.why, why[easy])
+    # honest accuracy: the segment map's error is amplified by 1/|1 - exp(i w D) mu| (``_segment_length``),
     # and for a fast drive the half-period segments' integrals (~1/w) cancel down to chi (~1/w^2): relative ~ w
-    rel_chi = max(run.rtol * 100.0, 1e-13) * max(1.0, amp) * max(1.0, w)
-    rel_chi = float(rel_chi)
-    run.claim("chi_re", rel=rel_chi, abs=rel_chi * chi_abs)
-    run.claim("chi_im", rel=rel_chi, abs=rel_chi * chi_abs)
-    # the quadrature: relative to the size of G's scale (1/(m w0) in these units), plus its own error estimate
-    # (a strongly overdamped chi is a peak of width 1/(2d) and G is ~ 1/(2d): the quadrature's target is
-    # eps_q times the pieces' summed sizes, that small too, and 100 eps_q claimed 2e-9 of G at d = 1e8)
-    g_scale = min(1.0, max(Gp.target, Gm.target) / eps_q) if d > 1.0 else 1.0
-    g_abs = float(100.0 * eps_q * g_scale + 10.0 * (Gp.abserr + Gm.abserr))
-    # and the scaled time t = tau w0 is rounded: the integral is G at t (1 + u), off by u t |G'(t)|
-    slope = _impulse_slope(poles, t)
-    g_phase = 2.0 * 2.0**-53 * t * slope
-    run.info["G_phase_roundoff"] = g_phase / (m * w0)
-    run.claim("G", rel=100.0 * eps_q, abs=(g_abs + g_phase) / (m * w0))
-    run.claim("G_minus", rel=100.0 * eps_q, abs=g_abs / (m * w0))
-    run.method = spec.traj.method + " + Filon/Wynn Fourier quadrature"
+    rel = max(rtol * 100.0, 1e-13) * np.maximum(1.0, amp) * np.maximum(1.0, w)
+    return value, rel, drift, segment, stiff, why
 
-    chi = spec.value / (m * w0 * w0)
-    return {
-        "G": Gp.value / (m * w0),
-        "G_minus": Gm.value / (m * w0),
-        "chi_re": chi.real,
-        "chi_im": chi.imag,
-    }
+
+@exercise.batched(("G", "G_minus", "chi_re", "chi_im"))
+def numeric(P, rtol, outputs, memo=None, tally=None):
+    """Both domains crossed over arrays of variants, in scaled units (time 1/w0): G(+-tau) by the inverse
+    Fourier integral of chi once per distinct (d, t) and chi by the integrated impulse response once per
+    distinct (d, w), kept in ``memo`` across a sweep's chunks; Liouville's det(Phi) = exp(-2 d D) monitored
+    and failing chi where it drifts beyond the claim."""
+    from mech.solvers.numerics.batch import Column, by_rows
+
+    m, w0, delta, tau, omega = _arrays(P)
+    memo = {} if memo is None else memo
+    tally = Tally() if tally is None else tally
+    d, t, w = delta / w0, tau * w0, omega / w0  # scaled damping, time and drive
+    out = {}
+    if {"G", "G_minus"} & set(outputs):
+        def green(dd, tt):
+            Gp, Gm, ep, em, info, why = _green_numeric(dd, tt, rtol)
+            return (Gp, Gm, ep, em, why, *info.values())
+
+        got = by_rows(memo, ("G", rtol), (d, t), green)
+        failed = [(got[4] == r, r) for r in dict.fromkeys(got[4][got[4] != ""])]
+        scale = m * w0
+        out["G"] = Column(got[0] / scale, rel=100.0 * max(0.1 * rtol, 1e-14), abs=got[2] / scale, failed=failed)
+        out["G_minus"] = Column(got[1] / scale, rel=100.0 * max(0.1 * rtol, 1e-14), abs=got[3] / scale,
+                                failed=failed)
+        names = ("quad_error_estimate", "quad_panels", "quad_tail_cycles", "quad_evaluations", "G_phase_roundoff")
+        for name, v in zip(names, got[5:]):
+            v = v / scale if name in ("quad_error_estimate", "G_phase_roundoff") else v
+            tally.info[name] = [None if x != x else x for x in v.tolist()]
+    if {"chi_re", "chi_im"} & set(outputs):
+        chi, rel, drift, segment, stiff, why = by_rows(memo, ("chi", rtol), (d, w),
+                                                       lambda dd, ww: _chi_numeric(dd, ww, rtol, tally))
+        tally.invariant("Liouville det(Phi)", drift)
+        allowed = exercise.tol_factor * rtol
+        drifted = f"Liouville's det(Phi) drifted by more than {allowed:.3g}"
+        failed = [(why == r, r) for r in dict.fromkeys(why[why != ""])] + [(~(np.abs(drift) <= allowed), drifted)]
+        chi = chi / (m * w0 * w0)
+        size = np.abs(chi)
+        out["chi_re"] = Column(chi.real, rel=rel, abs=rel * size, failed=failed)
+        out["chi_im"] = Column(chi.imag, rel=rel, abs=rel * size, failed=failed)
+        tally.info["segment"] = (segment / w0).tolist()
+        tally.info["stiff"] = stiff.tolist()
+    return out
