@@ -44,12 +44,14 @@ class Tally:
 
     ``invariant(name, drift, allowed=None)``: the drift of a monitored invariant per variant (an array of N,
     the worst kept over calls), ``allowed`` what the method may drift (None: the exercise's claim);
-    ``record(result)``: an integration (``nfev``, ``method``, ``forced``); ``info``: anything else, one value
-    per variant.  ``integrator``: the integrator a
+    ``record(result)``: an integration (``nfev``, ``method``, ``forced``); ``method``: the route's own name
+    for its method where the integrations' does not say it all (None: theirs); ``info``: anything else, one
+    value per variant.  ``integrator``: the integrator a
     one-point solve was asked to force (``mech bench``), None for mech's DOP853 over the ensemble."""
 
     def __init__(self, integrator: str | None = None):
         self.integrator = integrator
+        self.method: str | None = None
         self.invariants: dict = {}
         self.records: list = []
         self.info: dict = {}  # name -> one value per variant (None: nothing to say), ``run.info`` at one point
@@ -181,6 +183,8 @@ def one_point(ex: Any, p: Mapping, run: Any, outputs=None) -> dict:
     if "tally" in takes:
         kw["tally"] = tally
     cols = route.numeric(_one(p), run.rtol, outputs, **kw)
+    if tally.method:
+        run.method = tally.method
     for result in tally.records:
         run.record(result)
     for name, (drift, allowed) in tally.invariants.items():

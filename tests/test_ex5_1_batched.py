@@ -79,3 +79,13 @@ def test_a_sweep_along_omega_integrates_g_once(monkeypatch):
     assert len(calls) == 2
     for k, w in enumerate((1.0, 3.0, 5.0, 7.0)):
         assert got["chi_re"].value[k] == pytest.approx(_hand(0.5, 6.0, 0.4, 0.7, w)["chi_re"], rel=1e-8)
+
+
+def test_the_one_point_solve_names_both_methods():
+    """The batch of one says how each domain was crossed, as the one-point route did: chi by DOP853, G by
+    the Fourier quadrature (a Tally's ``method``)."""
+    from mech.problems import registry
+
+    ex = registry.get("5.1")
+    _, run = ex.solve_numeric(ex.resolve({}))
+    assert run.method == "DOP853 + Filon/Wynn Fourier quadrature"

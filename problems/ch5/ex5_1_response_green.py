@@ -316,6 +316,9 @@ def numeric(P, rtol, outputs, memo=None, tally=None):
     tally = Tally() if tally is None else tally
     d, t, w = delta / w0, tau * w0, omega / w0  # scaled damping, time and drive
     out = {}
+    parts = ["DOP853"] * bool({"chi_re", "chi_im"} & set(outputs)) + ["Filon/Wynn Fourier quadrature"] * bool(
+        {"G", "G_minus"} & set(outputs))
+    tally.method = " + ".join(parts)
     if {"G", "G_minus"} & set(outputs):
         def green(dd, tt):
             Gp, Gm, ep, em, info, why = _green_numeric(dd, tt, rtol)
