@@ -163,16 +163,6 @@ class Exercise:
         self._theory_range = fn
         return fn
 
-    def outside_regime(self, values: dict) -> str | None:
-        """Why outputs ``values`` (SI) lie outside the regime the statement is about (the catalogue's
-        ``[regime]``: ``positive``, outputs that must be above zero, and ``about``, the regime in words), or
-        None; ``mech assign`` issues only variants inside it."""
-        for name in self.regime.get("positive", ()):
-            v = values.get(name)
-            if not (isinstance(v, float) and v > 0):
-                return f"{name} is not positive: not {self.regime.get('about', 'the regime of the statement')}"
-        return None
-
     def approximations(self, fn: Callable[[Params], dict]) -> Callable:
         """Where the statement asks for an approximation next to an exact output: ``fn(p) -> {output:
         [(value, "what it is"), ...]}`` (values in SI), e.g. the small-swing period next to the exact one."""
@@ -407,37 +397,6 @@ class Exercise:
             run.shared = shared
         values = self.numeric_solver(p, run)
         return self._finish(values, "numeric"), run
-
-    def expected_errors(self, p: Params) -> dict:
-        if self._expected_error is None:
-            return {}
-        if "expected_error" in self._on_arrays:
-            return _batched.expected_at(self._expected_error, p)
-        return dict(self._expected_error(p))
-
-    def theory_ranges(self, p: Params) -> dict:
-        """{output: (label, value)}: the expansion parameter of each leading-order output at ``p``."""
-        if self._theory_range is None:
-            return {}
-        if "theory_range" in self._on_arrays:
-            return _batched.range_at(self._theory_range, p)
-        return dict(self._theory_range(p))
-
-    def theory_validity(self, p: Params, expected: dict | None = None) -> dict:
-        """{output: None | reason} for every leading-order output (``validity.theory_validity``)."""
-        return validity.theory_validity(self, p, expected)
-
-    def outside_ranges(self, P: Mapping, expected: dict) -> dict:
-        """``theory_validity`` over arrays of variants: {output: (outside mask, reasons)}
-        (``validity.outside_ranges``)."""
-        return validity.outside_ranges(self, P, expected)
-
-    def approximations_at(self, p: Params) -> dict:
-        """{output: [(value, text), ...]}: the approximations the statement asks for next to exact outputs."""
-        return dict(self._approximations(p)) if self._approximations else {}
-
-    def analytic_errors(self, p: Params) -> dict:
-        return dict(self._analytic_error(p)) if self._analytic_error else {}
 
     def _finish(self, values: dict, which: str) -> dict:
         return solving.finish(self, values, which)

@@ -420,7 +420,7 @@ class _Points:
         cache = self.ps.lines.setdefault(("explain", "approx", self.name), {})
         if i not in cache:
             try:
-                cache[i] = [(float(v), d) for v, d in (self.ps.ex.approximations_at(self.ps.points[i]).get(self.name)
+                cache[i] = [(float(v), d) for v, d in (declared(self.ps.ex, self.ps.points[i]).get(self.name)
                                                        or []) if isinstance(v, (int, float))]
             except Exception:  # an approximation with no value here
                 cache[i] = []
