@@ -332,22 +332,9 @@ class Exercise:
         return self._hamiltonian(p)
 
     @property
-    def joint_checks(self) -> tuple:
-        """The registered joint checks (``@exercise.constraint``), in order."""
-        return tuple(self._constraints)
-
-    @property
     def has_constraints(self) -> bool:
         """Whether joint checks beyond the bounds are registered (``@exercise.constraint``)."""
         return bool(self._constraints)
-
-    def constraint_message(self, p: Any) -> str | None:
-        """The first joint check's one-line message that ``p`` fails (anything read as ``p.name``), or None."""
-        for check in self._constraints:
-            msg = check(p)
-            if msg:
-                return msg
-        return None
 
     @property
     def has_motion(self) -> bool:
@@ -389,17 +376,8 @@ class Exercise:
 
     def solve_numeric(self, p: Params, rtol: float | None = None, shared: dict | None = None,
                       keep_trajectories: bool = False, integrator: str | None = None) -> tuple[dict, Run]:
-        """The numeric solver's answers and its Run; ``integrator`` forces every ODE integration onto one
-        integrator (``mech bench``; see ``Run.integrator``)."""
-        run = Run(rtol=float(rtol or self.default_rtol), keep_trajectories=keep_trajectories,
-                  integrator=integrator)
-        if shared is not None:
-            run.shared = shared
-        values = self.numeric_solver(p, run)
-        return self._finish(values, "numeric"), run
-
-    def _finish(self, values: dict, which: str) -> dict:
-        return solving.finish(self, values, which)
+        """The numeric answers and their Run (``solving.solve_numeric``)."""
+        return solving.solve_numeric(self, p, rtol, shared, keep_trajectories, integrator)
 
     def as_json(self) -> dict:
         return {

@@ -29,6 +29,7 @@ import numpy as np
 
 from mech.core import budget
 from mech.core.safeio import shown
+from mech.problems.solving import constraint_message
 from mech.problems.spec import BadInput, Params, Undefined
 from mech.problems.validity import analytic_errors
 from mech.students.formula_ast import MAX_PREC, Formula, Problem
@@ -164,7 +165,7 @@ def _allowed(ex, values: dict) -> bool:
             return False
     params = Params({p.name: float(values.get(p.name, p.default)) for p in ex.params})
     try:
-        return not ex.constraint_message(params)
+        return not constraint_message(ex, params)
     except (ArithmeticError, ValueError):
         return False
 

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Iterator, Sequence
 
 from mech.core.errors import BadInput
+from mech.problems.solving import constraint_message
 from mech.problems.spec import Exercise, Params, Undefined
 from mech.verification.result import Failure, Quantity, Solution, to_json
 
@@ -996,7 +997,7 @@ def grid_refusals(ex: Exercise, axes, fixed) -> dict:
         try:
             with warnings.catch_warnings():  # a check's overflow at a far point refuses it, never prints
                 warnings.simplefilter("ignore")
-                msg = ex.constraint_message(view)
+                msg = constraint_message(ex, view)
         except Exception:  # a check that needs more than attribute access: the real Params
             try:
                 ex.resolve(dict(view.__dict__))
