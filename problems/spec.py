@@ -196,14 +196,6 @@ class Exercise:
         """The declared motion at ``p`` (``@exercise.motion``), None without one."""
         return None if self._motion is None else self._motion(p)
 
-    def motion_path(self, p: Params, rtol: float | None = None) -> tuple:
-        """The declared motion at ``p`` integrated at ``rtol`` with its continuous extension: ``(motion,
-        path)`` (``motion.Motion``, ``motion.Path``), (None, None) without one."""
-        m = self.motion_at(p)
-        if m is None:
-            return None, None
-        return m, Run(rtol=rtol).follow(m, dense=True)
-
     def physics(self, fn: Callable[[Any], None]) -> Callable:
         """Register ``fn(d)``: the exercise's physics declared for sympy (``mech.problems.physics``), kept in
         ``physicsN_M.py`` beside the module and imported only by ``derive()``."""
@@ -226,15 +218,6 @@ class Exercise:
         exercise, computed from the exercise's own physics (``run``: a ``scene.SceneRun``)."""
         self._scene = fn
         return fn
-
-    def make_scene(self, p: Params, rtol: float | None = None, points: int = 5):
-        """The exercise's scene at ``p`` and the run that made it, or (None, None) without a scene hook."""
-        if self._scene is None:
-            return None, None
-        from mech.problems.scene import SceneRun
-
-        run = SceneRun(self, rtol, points)
-        return self._scene(p, run), run
 
     def batched(self, outputs: tuple[str, ...], *, boundaries: Mapping[str, tuple[str, str]] | None = None
                 ) -> Callable:
