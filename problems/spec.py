@@ -221,40 +221,14 @@ class Exercise:
 
     def batched(self, outputs: tuple[str, ...], *, boundaries: Mapping[str, tuple[str, str]] | None = None
                 ) -> Callable:
-        """Register the exercise's route over arrays of variants: ``fn(P, rtol, outputs[, memo, tally]) ->
-        {output: Column}``, and declare its other hooks written on arrays too (problems/batched.py).
-
-        ``P`` maps every parameter name to an array of N values (one per
-        variant, already validated); ``fn`` computes only the ``outputs`` asked
-        (a subset of ``outputs`` given here) from the equations of motion for
-        all N at once (see ``mech.solvers.numerics.batch``).  The exercise's
-        ``analytic(P)``, ``expected_error(P)`` and ``theory_range(P)`` take the
-        same arrays ({output: Column}, {output: array or (rel, abs) arrays,
-        NaN: none}, {output: (label or labels, array)}).  A one-point solve is
-        the batch of one: the hooks called with arrays of one and unpacked
-        (the numeric solver too, where ``fn`` gives every output; else the
-        registered ``numeric`` calls ``batch_of_one`` for those it gives).
-        ``boundaries`` maps a parameter to (output, label): the analytic value
-        of that output is a boundary in that parameter (5.11's mu =
-        mu_th(omega)), drawn on maps over that parameter.  A ``memo`` keyword,
-        if ``fn`` takes one, is a dict shared by all chunks of one sweep (by a
-        solve and its rerun); ``tally`` (a ``Tally``) takes the invariants'
-        drifts and the integrations.
-        """
+        """Register the exercise's route over arrays of variants, ``fn(P, rtol, outputs[, memo, tally]) ->
+        {output: Column}``, and declare its ``analytic``, ``expected_error`` and ``theory_range`` hooks written on
+        arrays too: a one-point solve is the batch of one (problems/batched.py).  ``boundaries``: parameter ->
+        (output, label), the analytic value of that output a boundary in that parameter, drawn on maps."""
         unknown = set(outputs) - {o.name for o in self.outputs}
         if unknown:
             raise ValueError(f"{self.id}: batched route names unknown outputs {sorted(unknown)}")
-
-        def register(fn: Callable) -> Callable:
-            self._on_arrays = {"analytic", "expected_error", "theory_range"}
-            self._batched = BatchedRoute(
-                fn, tuple(outputs), lambda P: self._analytic(P),
-                expected_error=lambda P: self._expected_error(P) if self._expected_error else {},
-                boundaries=dict(boundaries or {}),
-                theory_range=lambda P: self._theory_range(P) if self._theory_range else {})
-            return fn
-
-        return register
+        return lambda fn: _batched.register(self, fn, outputs, boundaries)
 
     def batch_of_one(self, p: Params, run: Run, outputs: tuple[str, ...] | None = None) -> dict:
         """The batched route at the one point ``p`` (problems/batched.py ``one_point``): {output: value}, its
@@ -267,20 +241,14 @@ class Exercise:
         """The analytic solver at one point, ``fn(p) -> {output: value}`` (None without one; a hook written on
         arrays called as the batch of one); assigning registers another (a one-point function)."""
         if self._analytic is not None and "analytic" in self._on_arrays:
-            hook = self._analytic
-            one = lambda p: _batched.analytic_at(hook, p)  # noqa: E731
-            one.array_hook = hook  # assigned back (a test's monkeypatch undone), the hook on arrays returns
-            return one
+            return _batched.analytic_solver(self._analytic)
         return self._analytic
 
     @analytic_solver.setter
     def analytic_solver(self, fn: Callable | None) -> None:
         hook = getattr(fn, "array_hook", None)
         self._analytic = fn if hook is None else hook
-        if hook is None:
-            self._on_arrays.discard("analytic")
-        else:
-            self._on_arrays.add("analytic")
+        (self._on_arrays.discard if hook is None else self._on_arrays.add)("analytic")
 
     @property
     def numeric_solver(self) -> Callable | None:
