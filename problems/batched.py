@@ -90,7 +90,7 @@ def register(ex: Any, fn: Callable, outputs: tuple[str, ...], boundaries: Mappin
     """``Exercise.batched``'s registration: ``fn`` is ``ex``'s route over arrays of variants giving ``outputs``,
     and its analytic, expected_error and theory_range hooks are declared written on arrays too."""
     ex._on_arrays = {"analytic", "expected_error", "theory_range"}
-    ex._batched = BatchedRoute(
+    ex.batched_route = BatchedRoute(
         fn, tuple(outputs), lambda P: ex._analytic(P),
         expected_error=lambda P: ex._expected_error(P) if ex._expected_error else {},
         boundaries=dict(boundaries or {}),

@@ -61,7 +61,8 @@ class Exercise:
 
     # the registered hooks (None: not declared), each set by its decorator below
     _analytic = _numeric = _expected_error = _analytic_error = _theory_range = _approximations = None
-    _hamiltonian = _scene = _motion = _physics = _physics_withheld = _batched = None
+    _hamiltonian = _scene = _motion = _physics = _physics_withheld = None
+    batched_route: BatchedRoute | None = None  # ``@exercise.batched``: the route over arrays of variants
 
     def __init__(self, id: str, *, formulas: list[str], leading_order: tuple[str, ...] = (),
                  axes: tuple[str, ...] = (), tol_factor: float = 100.0, default_rtol: float = 1e-10,
@@ -173,23 +174,14 @@ class Exercise:
     def numeric_solver(self) -> Callable | None:
         """``fn(p, run)`` at one point (None without one): the registered one, else the batched route's batch
         of one where it gives every output; assigning registers another."""
-        if self._numeric is None and self._batched is not None and \
-                set(self._batched.outputs) == {o.name for o in self.outputs}:
+        if self._numeric is None and self.batched_route is not None and \
+                set(self.batched_route.outputs) == {o.name for o in self.outputs}:
             return self.batch_of_one
         return self._numeric
 
     @numeric_solver.setter
     def numeric_solver(self, fn: Callable | None) -> None:
         self._numeric = fn
-
-    @property
-    def batched_route(self) -> BatchedRoute | None:
-        """The route over arrays of variants (``@exercise.batched``), None without one; assigning replaces it."""
-        return self._batched
-
-    @batched_route.setter
-    def batched_route(self, route: BatchedRoute | None) -> None:
-        self._batched = route
 
     has_analytic = property(lambda self: self._analytic is not None)
     has_numeric = property(lambda self: self.numeric_solver is not None)
