@@ -11,7 +11,7 @@ from __future__ import annotations
 
 
 def has_scene(ex) -> bool:
-    return getattr(ex, "_scene", None) is not None
+    return bool(getattr(ex, "has_scene", False))
 
 
 def draw(ex, params, *, generic: bool = False, vary: str | None = None, n_numeric: int = 5, rtol=None,
