@@ -1,8 +1,10 @@
 """The check runner behind ``mech check``: every exercise's cross-check at its defaults and, with --hard, on
-its hard cases, in a process pool when there are enough cases to share."""
+its hard cases, in a process pool when there are enough cases to share.  An exercise with a batched route
+(``batched``) has its cases solved together through it, each judged alone (``run_batch``)."""
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 import time
@@ -109,6 +111,7 @@ def case_text(ex: Exercise, values: dict) -> str:
 
 
 def run_case(case: Case) -> Case:
+    """One case cross-checked alone, as ``mech solve`` cross-checks it."""
     from mech.verification.crosscheck import cross_check
 
     t0 = time.perf_counter()
@@ -126,8 +129,14 @@ def run_case(case: Case) -> Case:
         case.seconds = time.perf_counter() - t0
         return case
     result = cross_check(ex, params)
+    _conclude(case, result, time.perf_counter() - t0)
+    return case
+
+
+def _conclude(case: Case, result, seconds: float) -> None:
+    """The case's verdict, worst ratio and detail from its cross-check ``result``."""
     case.result = result
-    case.seconds = time.perf_counter() - t0
+    case.seconds = seconds
     # |numeric - analytic| over the allowance the judge held it to (its verdict is the case's)
     ratios = [q.abs_err / q.allowed for q in result.quantities
               if q.abs_err is not None and q.allowed and q.agree is not None]
@@ -142,18 +151,102 @@ def run_case(case: Case) -> Case:
         if q.agree is False and q.notes:
             details.append(f"{q.name}: {'; '.join(q.notes)}")
     case.detail = "; ".join(details)
-    return case
+
+
+def run_batch(cases: list[Case]) -> list[Case]:
+    """The cases of one exercise with a batched route, solved together through it (``variants.
+    cross_check_variants``: both solves over the variants' arrays, each variant judged by the cross-check's
+    rule, its claim, rerun at rtol/10 and invariants its own).  A case the batch does not pass cleanly (it
+    fails, has no verdict or a failure noted), or the whole batch when it raises, is then cross-checked alone
+    (``run_case``): a failure reads as ``mech solve`` gives it, and fails that case only.  A case whose
+    parameters are refused is reported by ``run_case``.  The batch is the exercise's, never the pool's: the
+    same for any number of workers."""
+    from mech.studies.variants import cross_check_variants
+
+    t0 = time.perf_counter()
+    ex = cases[0].exercise
+    todo, params = [], []
+    if batched(ex) and len(ex.methods) >= 2:
+        for case in cases:
+            try:
+                params.append(ex.resolve(case.given))
+                todo.append(case)
+            except BadInput:
+                continue
+    solved: set[int] = set()
+    if len(todo) >= 2:
+        try:
+            solutions = cross_check_variants(ex, params)
+        except Exception:  # noqa: BLE001  the batch failed as a whole: each case is cross-checked alone
+            solutions = []
+        share = (time.perf_counter() - t0) / len(todo)  # each case's part of the batch
+        for case, solution in zip(todo, solutions):
+            if _clean(solution):
+                _conclude(case, solution, share)
+                solved.add(id(case))
+    for case in cases:
+        if id(case) not in solved:
+            run_case(case)
+    return cases
+
+
+def _clean(solution) -> bool:
+    """Did the batch pass the case as the one-point cross-check would?  It agrees, notes no failure, and each
+    value is a finite number inside mech's floating-point range or declared undefined (the one-point check
+    fails a value beyond that range, ``crosscheck._undefine_bad_values``; the batch does not look)."""
+    from mech.problems.params import Undefined
+    from mech.problems.scales import out_of_range
+
+    if solution.agree is not True or solution.errors:
+        return False
+    return all(isinstance(v, Undefined) or (isinstance(v, float) and math.isfinite(v) and not out_of_range(v))
+               for q in solution.quantities for v in (q.analytic, q.numeric))
+
+
+def batched(ex: Exercise) -> bool:
+    """Are ``ex``'s cases solved together?  Where its batched route gives every output with a tighter rerun
+    (``variants.batchable``) and its one-point solve is that route's batch of one, on the same analytic hook
+    (a one-point solver of its own, such as 5.8's, or one a test swapped in, is what ``mech solve`` runs:
+    its cases are checked one by one)."""
+    from mech.studies.variants import batchable
+
+    return (batchable(ex) and ex.numeric_solver == ex.batch_of_one
+            and getattr(ex.analytic_solver, "array_hook", None) is not None)
+
+
+def units(cases: list[Case]) -> list[list[int]]:
+    """The work in plan order, as indices of ``cases``: the cases of an exercise with a batched route
+    together (``run_batch``), every other case alone."""
+    out: list[list[int]] = []
+    batch_of: dict = {}
+    for i, case in enumerate(cases):
+        ex = case.exercise
+        if not batched(ex):
+            out.append([i])
+        elif ex.id in batch_of:
+            batch_of[ex.id].append(i)
+        else:
+            batch_of[ex.id] = [i]
+            out.append(batch_of[ex.id])
+    return out
+
+
+def run_unit(cases: list[Case]) -> list[Case]:
+    """One unit of ``units``: a batch, or a case alone."""
+    return run_batch(cases) if len(cases) > 1 else [run_case(cases[0])]
 
 
 def run_check(exercises, hard: bool = False, jobs: int | None = None, started=None, finished=None) -> Report:
     """Every planned case, in plan order.  ``jobs``: processes to use (None: one per core when there are
-    enough cases to share, see ``plan_jobs``).  ``started(case, n_cases)`` and ``finished(case)``, where
-    given, are called around every case, in this process and never from a thread (a progress bar: the
-    cross-check forks its rerun, and the pool its workers, only from a single-threaded process)."""
+    enough cases to share, see ``plan_jobs``; never more than the units of work, ``units``).
+    ``started(case, n_cases)`` and ``finished(case)``, where given, are called around every case (a batch's
+    cases all started before it, all finished after), in this process and never from a thread (a progress
+    bar: the cross-check forks its rerun, and the pool its workers, only from a single-threaded process)."""
     cases = plan(exercises, hard)
     report = Report(cases=cases)
     t0 = time.perf_counter()
-    workers = plan_jobs(len(cases), jobs)
+    work = units(cases)
+    workers = min(plan_jobs(len(cases), jobs), len(work))  # a batch is one worker's
 
     def begin(case):
         if started is not None:
@@ -164,12 +257,14 @@ def run_check(exercises, hard: bool = False, jobs: int | None = None, started=No
             finished(case)
 
     if workers > 1:
-        _run_pooled(cases, workers, begin, end)
+        _run_pooled(cases, work, workers, begin, end)
     else:
-        for case in cases:
-            begin(case)
-            run_case(case)
-            end(case)
+        for unit in work:
+            for i in unit:
+                begin(cases[i])
+            run_unit([cases[i] for i in unit])
+            for i in unit:
+                end(cases[i])
     report.seconds = time.perf_counter() - t0
     return report
 
@@ -193,17 +288,19 @@ def plan_jobs(n_cases: int, jobs: int | None = None) -> int:
     return min(cores, n_cases)
 
 
-def _schedule(cases: list[Case]) -> list[int]:
-    """The order cases are handed to the workers: those that integrate equations of motion first (they
-    are the long ones), hard cases before defaults, so that the last case to finish is a short one."""
-    def key(i):
-        c = cases[i]
-        return (not c.exercise.states, c.label == "defaults", i)
+def _schedule(cases: list[Case], work: list[list[int]]) -> list[list[int]]:
+    """The order units are handed to the workers: batches first, then the cases that integrate equations of
+    motion (they are the long ones), hard cases before defaults, so that the last unit to finish is a short
+    one."""
+    def key(k):
+        unit = work[k]
+        c = cases[unit[0]]
+        return (len(unit) == 1, not c.exercise.states, c.label == "defaults", k)
 
-    return sorted(range(len(cases)), key=key)
+    return [work[k] for k in sorted(range(len(work)), key=key)]
 
 
-def _run_pooled(cases: list[Case], workers: int, started, finished) -> None:
+def _run_pooled(cases: list[Case], work: list[list[int]], workers: int, started, finished) -> None:
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
@@ -213,29 +310,36 @@ def _run_pooled(cases: list[Case], workers: int, started, finished) -> None:
                                initializer=pool_worker_init, initargs=(os.getpid(),))
     try:
         futures = {}
-        for i in _schedule(cases):
-            c = cases[i]
-            futures[pool.submit(_remote_case, c.exercise.id, c.label, c.given)] = i
+        for unit in _schedule(cases, work):
+            ex_id = cases[unit[0]].exercise.id
+            futures[pool.submit(_remote_unit, ex_id, [(cases[i].label, cases[i].given) for i in unit])] = unit
         for fut in as_completed(futures):
-            case = cases[futures[fut]]
-            started(case)
-            agree, seconds, ratio, detail, result = fut.result()
-            if result is not None:
-                result = result.replace(exercise=case.exercise)
-            case.agree, case.seconds, case.worst_ratio, case.detail, case.result = agree, seconds, ratio, detail, result
-            finished(case)
+            unit = futures[fut]
+            got = fut.result()
+            for i, (agree, seconds, ratio, detail, result) in zip(unit, got):
+                case = cases[i]
+                started(case)
+                if result is not None:
+                    result = result.replace(exercise=case.exercise)
+                case.agree, case.seconds, case.worst_ratio, case.detail, case.result = (agree, seconds, ratio,
+                                                                                        detail, result)
+                finished(case)
     except BaseException:
         pool.shutdown(wait=False, cancel_futures=True)
         raise
     pool.shutdown(wait=True)
 
 
-def _remote_case(ex_id: str, label: str, given: dict):
-    """One case in a pool worker (its rerun after its solve: the cores are the pool's)."""
+def _remote_unit(ex_id: str, labelled: list):
+    """One unit of work (a batch, or a case alone) in a pool worker (a case alone runs its rerun after its
+    solve: the cores are the pool's): each case's outcome, in order."""
     from mech.problems import registry
 
-    case = run_case(Case(registry.get(ex_id), label, given))
-    result = case.result
-    if result is not None:  # what a report uses travels back; the exercise is the parent's own
-        result = result.replace(exercise=None, run=None)
-    return case.agree, case.seconds, case.worst_ratio, case.detail, result
+    ex = registry.get(ex_id)
+    out = []
+    for case in run_unit([Case(ex, label, given) for label, given in labelled]):
+        result = case.result
+        if result is not None:  # what a report uses travels back; the exercise is the parent's own
+            result = result.replace(exercise=None, run=None)
+        out.append((case.agree, case.seconds, case.worst_ratio, case.detail, result))
+    return out

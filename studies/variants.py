@@ -4,7 +4,8 @@ A class's personal variants and an assignment's candidates are scattered points 
 the exercise has a batched route for every output and a tighter rerun to verify by, the points are run
 as one sweep over their arrays (``sweep.run_batched`` with ``points``): both solves (at rtol and rtol/10)
 over the ensemble, the analytic side on arrays, each variant judged by the cross-check's rule and given
-its own ``Solution``, as ``mech solve`` gives it.  Elsewhere the caller cross-checks them one by one.
+its own ``Solution``, as ``mech solve`` gives it, its invariants too.  Elsewhere the caller cross-checks
+them one by one.
 """
 
 from __future__ import annotations
@@ -33,8 +34,84 @@ def cross_check_variants(ex, params: Sequence, total_s: float | None = None) -> 
 
     from mech.studies.sweep import iter_batched_solutions, run_batched
 
-    P = {p.name: np.array([float(q[p.name]) for q in params]) for p in ex.params}
-    with warnings.catch_warnings():  # never a message: the values are judged
-        warnings.simplefilter("ignore")
-        result = run_batched(ex, [], {}, tuple(o.name for o in ex.outputs), total_s=total_s, points=P)
-    return list(iter_batched_solutions(result))
+    def solve(group: Sequence, budget: float | None) -> list:
+        P = {p.name: np.array([float(q[p.name]) for q in group]) for p in ex.params}
+        calls: list = []  # (rtol, variants, Tally) of each call of the route
+        with warnings.catch_warnings():  # never a message: the values are judged
+            warnings.simplefilter("ignore")
+            result = run_batched(_tallied(ex, calls), [], {}, tuple(o.name for o in ex.outputs), total_s=budget,
+                                 points=P)
+        drifts = _drifts(calls, ex.default_rtol, len(group))
+        return [sol.replace(exercise=ex, errors=sol.errors + _invariant_failures(ex, drifts, k))
+                for k, sol in enumerate(iter_batched_solutions(result))]
+
+    solutions = solve(params, total_s)
+    if len(params) > 1:
+        # a variant that failed beside others is solved again as the batch of one, as ``mech solve`` solves
+        # it: the ensemble shares its steps, so whether a variant is answered must not depend on its company
+        for k, sol in enumerate(solutions):
+            if sol.agree is False:
+                solutions[k] = solve([params[k]], total_s)[0]
+    return solutions
+
+
+def _tallied(ex, calls: list):
+    """``ex`` with its route handed a ``Tally`` at every call (kept in ``calls``), as the one-point solve
+    hands it one: each variant's invariant drifts are then judged as ``mech solve`` judges them."""
+    import copy
+    import dataclasses
+    import inspect
+
+    from mech.problems.batched import Tally
+
+    route = ex.batched_route
+    takes = inspect.signature(route.numeric).parameters
+    if "tally" not in takes:
+        return ex
+
+    def numeric(P, rtol, outputs, memo=None):
+        tally = Tally()
+        calls.append((rtol, next(iter(P.values())).size, tally))
+        return route.numeric(P, rtol, outputs, tally=tally, **({"memo": memo} if "memo" in takes else {}))
+
+    tallied = copy.copy(ex)
+    tallied.batched_route = dataclasses.replace(route, numeric=numeric)
+    return tallied
+
+
+def _drifts(calls: list, rtol: float, n: int) -> dict:
+    """{invariant: (drift, allowed)} per variant (arrays of ``n``) of the solves at ``rtol`` (the rerun's are not
+    judged, as in the cross-check), chunk after chunk.  A NaN drift is not measured at that variant (a
+    ``Tally`` keeps the worst over calls with ``fmax``: 5.4 measures one invariant on the variants it
+    integrates, another on those it solves by the exact flow); a NaN allowed is the exercise's claim."""
+    import numpy as np
+
+    out: dict = {}
+    start = 0
+    for tol, m, tally in calls:
+        if tol != rtol:
+            continue
+        for name, (drift, allowed) in tally.invariants.items():
+            d, a = out.setdefault(name, (np.full(n, np.nan), np.full(n, np.nan)))
+            d[start:start + m] = np.broadcast_to(drift, (m,))
+            if allowed is not None:
+                a[start:start + m] = np.broadcast_to(np.asarray(allowed, dtype=float), (m,))
+        start += m
+    return out
+
+
+def _invariant_failures(ex, drifts: dict, k: int) -> tuple:
+    """The cross-check's invariant failures (the rule of ``crosscheck._check_invariants``) of variant ``k``."""
+    if not drifts:
+        return ()
+    from mech.problems.motion import Run
+    from mech.verification.crosscheck import _check_invariants
+
+    run = Run(rtol=ex.default_rtol)
+    for name, (drift, allowed) in drifts.items():
+        if drift[k] != drift[k]:
+            continue
+        run.invariant(name, float(drift[k]), allowed=None if allowed[k] != allowed[k] else float(allowed[k]))
+    errors: list = []
+    _check_invariants(ex, run, ex.default_rtol, errors)
+    return tuple(errors)

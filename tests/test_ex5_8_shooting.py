@@ -202,3 +202,54 @@ def test_at_a_q_of_1e10_the_peak_shift_is_claimed_on_the_half_width():
     assert q.agree is True
     assert abs(q.numeric - q.analytic) <= q.numeric_err
     assert q.numeric_err <= 1e-2 * 0.000156656  # a claim on the half-width scale (1.5e-3 of it), not a blank
+
+
+def _balance_swing_peak(p, lo, hi):
+    """The largest swing (half the peak-to-peak of q) along mech's harmonic-balance branch between phases lo
+    and hi, and its omega: the series summed on a grid and refined by scalar searches."""
+    from mech.solvers.mechanics.harmonic_balance import DuffingBalance
+
+    Q = p["f0"] / (2 * p["omega0"] * p["delta"])
+    hb = DuffingBalance(np.array([p["delta"] / p["omega0"]]), np.array([p["alpha"] * Q * Q / (p["omega0"] * p["delta"])]))
+
+    def swing_at(phi):
+        hb.evaluate(np.array([phi]), np.array([0]))
+        c = hb.c[0]
+        k = 2.0 * np.arange(c.size // 2) + 1.0
+
+        def x(t):
+            return float(np.sum(c[0::2] * np.cos(k * t) + c[1::2] * np.sin(k * t)))
+
+        ts = np.linspace(0.0, 2 * math.pi, 2001)
+        xs = [x(t) for t in ts]
+        i, j = int(np.argmax(xs)), int(np.argmin(xs))
+        top = -minimize_scalar(lambda t: -x(t), bounds=(ts[i - 1], ts[i + 1]), method="bounded",
+                               options={"xatol": 1e-12}).fun
+        bottom = minimize_scalar(x, bounds=(ts[j - 1], ts[j + 1]), method="bounded", options={"xatol": 1e-12}).fun
+        return 0.5 * (top - bottom) * Q, p["omega0"] + p["delta"] * hb.w[0]
+
+    r = minimize_scalar(lambda ph: -swing_at(ph)[0], bounds=(lo, hi), method="bounded", options={"xatol": 1e-10})
+    return swing_at(r.x)
+
+
+def test_a_peak_a_hair_from_its_fold_is_shot_at_every_tolerance():
+    """A softening curve (a class's variant) whose peak lies 2.7e-3 in w = xi/delta from its lower fold:
+    shooting's second orbit for d^2A/dw^2, at w + 1e-4 (1 + |w|) = w + 9e-3, fell beyond the fold, and the
+    rerun at rtol 1e-11 failed ("shooting's Newton did not converge").  Now both solves answer, and the peak
+    is where the harmonic balance's series (a different method: 7 odd harmonics, no time integration; the
+    route uses it only to start shooting) has its largest swing."""
+    from mech.problems import registry
+    from mech.verification.crosscheck import cross_check
+
+    p = dict(omega0=45.62191323837242, delta=0.0016944208727464613, alpha=-0.7762327073865516,
+             f0=0.7601048273303056)
+    ex = registry.get("5.8")
+    sol = cross_check(ex, ex.resolve(p))
+    assert not sol.errors and sol.agree is True
+    _, n, _ = solve_both("5.8", **p)
+    _, n_tight, _ = solve_both("5.8", rtol=1e-11, **p)
+    A, omega = _balance_swing_peak(p, 1.5, 1.6)
+    assert 0.0 < (n["xi_peak"] - n["xi_lo"]) / p["delta"] < 5e-3  # the peak next to the fold
+    for v in (n, n_tight):
+        assert v["xi_peak"] == pytest.approx(omega - p["omega0"], abs=1e-6 * p["delta"])
+        assert v["A_max"] == pytest.approx(A, rel=1e-9)

@@ -312,6 +312,21 @@ def _shot_tolerances(d, rtol):
     return eps, np.maximum(SHOT_TOL * rtol, 10.0 * noise(eps, d))
 
 
+def _nearest_fold(w, slots, n):
+    """Per variant, the balance's w of the fold nearest its peak (slots k n + row; NaN where it has none)."""
+    peak = np.full(n, np.nan)
+    on = slots < n
+    peak[slots[on]] = w[slots[on]]
+    rf, wf = slots[~on] % n, w[slots[~on]]
+    dist = np.abs(wf - peak[rf])
+    best = np.full(n, np.inf)
+    np.minimum.at(best, rf, dist)
+    fold = np.full(n, np.nan)
+    near = dist == best[rf]
+    fold[rf[near]] = wf[near]
+    return fold
+
+
 def _shoot(d, gamma, sub, slots, n, rtol):
     """The reported orbits, by shooting from the balance's at the peak's and folds' phases (``slots``, k n + row):
     (the detunings over delta (3, n), the peak's swing over Q, the rows whose Newton did not converge, (Shots,
@@ -331,7 +346,7 @@ def _shoot(d, gamma, sub, slots, n, rtol):
     if pk.any():
         r = rows[pk]
         w, A, y, good = shoot_peak(d[r], gamma[r], sub.w[slots[pk]], y0[:, pk], crest[pk], idx=r, eps=eps[r],
-                                 tol=tol[r], **opts)
+                                 tol=tol[r], fold=_nearest_fold(sub.w, slots, n)[r], **opts)
         res[slots[pk]], amp[r], states[:, slots[pk]] = w, A, y
         ok[r[~good]] = False
     if fo.any():

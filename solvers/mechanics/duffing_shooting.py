@@ -191,18 +191,25 @@ def _swing(d, g, w, y, tc, eps, shots):
     return 0.5 * sign * (ext[0] - ext[1]), 0.5 * sign * (dext[0] - dext[1]), moved[0], close, tangent, M
 
 
-def shoot_peak(d, gamma, w, y0, tc, *, eps, tol, shots, idx, h=1e-4):
+def shoot_peak(d, gamma, w, y0, tc, *, eps, tol, shots, idx, h=1e-4, fold=None):
     """Newton in w on dA/dw = 0 along the branch, each orbit closed by Newton on Phi(y, w) = y; two orbits a
-    problem (at w and w + h, h relative to the peak's scale 1 + |w|) for d^2A/dw^2.  Returns (w, A, y0, ok)."""
+    problem (at w and w + h, h relative to the peak's scale 1 + |w|) for d^2A/dw^2.  ``fold``: the w of the
+    fold nearest each peak (NaN where none): the second orbit is taken away from it, at most a quarter of the
+    way there, so that it stays on the peak's side of the fold, where the branch exists.  Returns
+    (w, A, y0, ok)."""
     n = w.size
     w, y, tc = np.array(w, dtype=float), np.array(y0, dtype=float), np.array(tc, dtype=float)
+    fold = np.full(n, np.nan) if fold is None else np.asarray(fold, dtype=float)
     A = np.full(n, np.nan)
     ok = np.zeros(n, dtype=bool)
     live = np.arange(n)
     for _ in range(MAX_ITER):
         if live.size == 0:
             break
-        hl = h * (1.0 + np.abs(w[live]))
+        gap = w[live] - fold[live]
+        with np.errstate(invalid="ignore"):
+            room = np.where(np.isfinite(gap), 0.25 * np.abs(gap), np.inf)
+        hl = np.where(gap < 0.0, -1.0, 1.0) * np.minimum(h * (1.0 + np.abs(w[live])), room)
         both = np.concatenate([live, live])
         ww = np.concatenate([w[live], w[live] + hl])
         yy = np.concatenate([y[:, live], y[:, live]], axis=1)
