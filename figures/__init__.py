@@ -11,7 +11,7 @@ from __future__ import annotations
 
 
 def has_scene(ex) -> bool:
-    return getattr(ex, "_scene", None) is not None
+    return bool(getattr(ex, "has_scene", False))
 
 
 def draw(ex, params, *, generic: bool = False, vary: str | None = None, n_numeric: int = 5, rtol=None,
@@ -23,7 +23,9 @@ def draw(ex, params, *, generic: bool = False, vary: str | None = None, n_numeri
     if not (generic or vary) and has_scene(ex):
         from mech.figures.scene import draw_scene
 
-        scene, run = ex.make_scene(params, rtol=rtol, points=n_numeric)
+        from mech.problems.scene import make_scene
+
+        scene, run = make_scene(ex, params, rtol=rtol, points=n_numeric)
         fig = draw_scene(ex, params, scene, run)
     else:
         from mech.figures.generic import generic_figure

@@ -4,8 +4,14 @@ An exercise that registers a batched route (``Exercise.batched``) writes its hoo
 variants: ``analytic(P) -> {output: Column}``, ``expected_error(P) -> {output: rel | (rel, abs)}`` (arrays,
 NaN: none), ``theory_range(P) -> {output: (label or labels, values)}`` and the numeric route
 ``fn(P, rtol, outputs, memo=None, tally=None) -> {output: Column}``.  ``P`` maps every parameter to an array
-of N values.  A sweep, a class and a chart call them over N variants; a one-point solve calls them here over
-arrays of one and unpacks, so the one-point solve and the batched route cannot drift apart.
+of N values (validated); the route computes only the ``outputs`` asked, for all N at once (see
+``mech.solvers.numerics.batch``).  A sweep, a class and a chart call them over N variants; a one-point solve
+calls them here over arrays of one and unpacks (the numeric route too where it gives every output; else the
+registered ``numeric`` calls ``Exercise.batch_of_one`` for those it gives), so the one-point solve and the
+batched route cannot drift apart.  A ``memo`` keyword, if the route takes one, is a dict shared by all the
+chunks of one sweep (by a solve and its rerun); ``tally`` (a ``Tally``) takes the invariants' drifts and the
+integrations.  ``boundaries`` maps a parameter to (output, label): the analytic value of that output is a
+boundary in that parameter (5.11's mu = mu_th(omega)), drawn on maps over that parameter.
 
 ``Tally``: what a numeric route reports besides its Columns (each variant's invariant drifts, its
 integrations); the batch of one hands them to the ``Run`` (``numeric_info``, bench's counts).
@@ -22,7 +28,8 @@ from typing import Any, Callable, Mapping
 from mech.core.errors import NumericFailure
 from mech.problems.params import Params, Undefined
 
-__all__ = ["BatchedRoute", "Tally", "one_point", "analytic_at", "expected_at", "range_at"]
+__all__ = ["BatchedRoute", "Tally", "register", "one_point", "analytic_solver", "analytic_at", "expected_at",
+           "range_at"]
 
 
 @dataclass(frozen=True)
@@ -79,6 +86,29 @@ class Tally:
         drift = np.abs(np.asarray(drift, dtype=float))
         old = self.invariants.get(name)
         self.invariants[name] = (drift if old is None else np.fmax(old[0], drift), allowed)
+
+
+def register(ex: Any, fn: Callable, outputs: tuple[str, ...], boundaries: Mapping | None) -> Callable:
+    """``Exercise.batched``'s registration: ``fn`` is ``ex``'s route over arrays of variants giving ``outputs``,
+    and its analytic, expected_error and theory_range hooks are declared written on arrays too."""
+    ex._on_arrays = {"analytic", "expected_error", "theory_range"}
+    ex.batched_route = BatchedRoute(
+        fn, tuple(outputs), lambda P: ex._analytic(P),
+        expected_error=lambda P: ex._expected_error(P) if ex._expected_error else {},
+        boundaries=dict(boundaries or {}),
+        theory_range=lambda P: ex._theory_range(P) if ex._theory_range else {})
+    return fn
+
+
+def analytic_solver(hook: Callable) -> Callable:
+    """An analytic hook on arrays as a one-point solver, ``fn(p) -> {output: value}`` (the batch of one); its
+    ``array_hook`` is the hook (assigned back, as a test's monkeypatch undone does, it registers the hook)."""
+
+    def one(p):
+        return analytic_at(hook, p)
+
+    one.array_hook = hook
+    return one
 
 
 def _one(p: Mapping) -> Params:

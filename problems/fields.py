@@ -1,15 +1,24 @@
 """A parameter and an output as the catalogue declares them: name, unit, default and bounds (checked
-against what a user typed, with a one-line refusal naming the allowed range), and how each is shown."""
+against what a user typed, with a one-line refusal naming the allowed range), and how each is shown; and the
+catalogue file read."""
 
 from __future__ import annotations
 
 import math
+import tomllib
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from mech.core.errors import BadInput
 
-__all__ = ["Param", "Output"]
+__all__ = ["Param", "Output", "read_catalogue"]
+
+
+def read_catalogue(ex_id: str) -> dict:
+    """The catalogue file ``problems/catalogue/ID.toml`` (the shared specification, verbatim), parsed."""
+    # beside this module (importlib.resources would cost 4 ms of imports at every start-up)
+    return tomllib.loads((Path(__file__).parent / "catalogue" / f"{ex_id}.toml").read_text("utf-8"))
 
 
 def _fmt(x: float) -> str:

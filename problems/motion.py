@@ -22,7 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping, Sequence
 
-__all__ = ["Motion", "Path", "join", "Run"]
+__all__ = ["Motion", "Path", "join", "Run", "motion_path"]
 
 
 @dataclass(frozen=True)
@@ -412,3 +412,10 @@ class Run:
         return d
 
 
+def motion_path(ex, p, rtol: float | None = None) -> tuple:
+    """``ex``'s declared motion at ``p`` integrated at ``rtol`` with its continuous extension: ``(motion, path)``
+    (``Motion``, ``Path``), (None, None) without one."""
+    m = ex.motion_at(p)
+    if m is None:
+        return None, None
+    return m, Run(rtol=rtol).follow(m, dense=True)

@@ -19,8 +19,10 @@ from dataclasses import dataclass, field
 from typing import Any, Sequence
 
 from mech.core.errors import BadInput
+from mech.problems.motion import motion_path
 
-__all__ = ["Axis", "Band", "Guide", "Line", "Map", "Markers", "Note", "Panel", "Scene", "SceneRun", "spread"]
+__all__ = ["Axis", "Band", "Guide", "Line", "Map", "Markers", "Note", "Panel", "Scene", "SceneRun", "make_scene",
+           "spread"]
 
 
 @dataclass
@@ -229,7 +231,15 @@ class SceneRun:
         """The exercise's declared motion at ``p`` (``@exercise.motion``) integrated at the figure's
         accuracy: ``(motion, path)``, the ``motion.Motion`` and the ``motion.Path`` it gave (its
         ``traj.sol`` a continuous extension in the integrated variables; ``motion.si`` brings them to SI)."""
-        m, path = self.exercise.motion_path(p, self.rtol)
+        m, path = motion_path(self.exercise, p, self.rtol)
         if m is None:
             raise RuntimeError(f"{self.exercise.id} declares no motion")
         return m, path
+
+
+def make_scene(ex, p, rtol: float | None = None, points: int = 5) -> tuple:
+    """``ex``'s scene at ``p`` (``@exercise.scene``) and the run that made it, or (None, None) without one."""
+    if ex._scene is None:
+        return None, None
+    run = SceneRun(ex, rtol, points)
+    return ex._scene(p, run), run

@@ -1,6 +1,7 @@
-"""What an exercise's declaration is used for at one point: its parameters resolved and checked, its
-analytic answers in the units that suit them, a solver's answers checked against the outputs declared.
-``Exercise`` (problems/spec.py) calls these; they read only what it declares."""
+"""What an exercise's declaration is used for at one point: its parameters resolved and checked (the bounds,
+then the joint checks), its analytic answers in the units that suit them, its numeric answers and their
+``Run``, a solver's answers checked against the outputs declared.  They read only what ``Exercise``
+(problems/spec.py) declares; its ``resolve``, ``solve_analytic`` and ``solve_numeric`` call them."""
 
 from __future__ import annotations
 
@@ -8,9 +9,10 @@ import math
 from typing import Mapping
 
 from mech.core.errors import BadInput
+from mech.problems.motion import Run
 from mech.problems.params import Params, Undefined
 
-__all__ = ["resolve", "solve_analytic", "finish"]
+__all__ = ["resolve", "constraint_message", "solve_analytic", "solve_numeric", "finish"]
 
 
 def resolve(ex, given: Mapping[str, float] | None = None) -> Params:
@@ -28,7 +30,7 @@ def resolve(ex, given: Mapping[str, float] | None = None) -> Params:
     params = Params(values)
     from mech.problems import scales
 
-    for check in ex.joint_checks:
+    for check in ex._constraints:
         try:
             msg = check(params)
         except (OverflowError, ZeroDivisionError) as exc:
@@ -42,6 +44,15 @@ def resolve(ex, given: Mapping[str, float] | None = None) -> Params:
     if msg:
         raise BadInput(msg)
     return params
+
+
+def constraint_message(ex, p) -> str | None:
+    """The first joint check's one-line message that ``p`` fails (anything read as ``p.name``), or None."""
+    for check in ex._constraints:
+        msg = check(p)
+        if msg:
+            return msg
+    return None
 
 
 def solve_analytic(ex, p: Params) -> dict:
@@ -77,6 +88,17 @@ def solve_analytic(ex, p: Params) -> dict:
                     and abs(scales.to_natural(w, units[n], u)) < scales.TINY):
                 back[n] = w
     return back
+
+
+def solve_numeric(ex, p: Params, rtol: float | None = None, shared: dict | None = None,
+                  keep_trajectories: bool = False, integrator: str | None = None) -> tuple[dict, Run]:
+    """The numeric solver's answers and its Run; ``integrator`` forces every ODE integration onto one
+    integrator (``mech bench``; see ``Run.integrator``)."""
+    run = Run(rtol=float(rtol or ex.default_rtol), keep_trajectories=keep_trajectories, integrator=integrator)
+    if shared is not None:
+        run.shared = shared
+    values = ex.numeric_solver(p, run)
+    return finish(ex, values, "numeric"), run
 
 
 def finish(ex, values: dict, which: str) -> dict:

@@ -1,50 +1,49 @@
-"""What an exercise is: its catalogue metadata, its parameters, its outputs and its two solvers.
+"""What an exercise is: a declaration its module writes and the floors above read.
 
 The catalogue file (``problems/catalogue/ID.toml``, a verbatim copy of the shared
 specification) is the single source of the statement, the parameters and the
 outputs; an exercise module binds it with ``Exercise("4.15", formulas=[...])``
-and adds what only the module knows: the formulas as text, the analytic and
-numeric solvers, joint parameter constraints and, for a leading-order theory,
-the size of what it neglects.
+and registers, with the decorators below, what only the module knows: the
+analytic and numeric solvers, joint parameter constraints, its motion, its
+scene, its route over arrays of variants and, for a leading-order theory, its
+range and the size of what it neglects.
+
+The work done with a declaration lives beside it, in functions taking the
+exercise: ``solving`` (parameters resolved, the solvers run at one point),
+``validity`` (a theory's range, the allowances), ``batched`` (the route over
+arrays and its batch of one), ``motion`` (``Run``, a motion followed), ``scene``
+(a scene made); ``fields`` holds ``Param`` and ``Output``.
 """
 
 from __future__ import annotations
 
-import tomllib
-from pathlib import Path
 from typing import Any, Callable, Mapping
 
 from mech.core.errors import BadInput, NumericFailure
-from mech.problems import batched as _batched, solving, validity
+from mech.problems import batched as _batched, solving
 from mech.problems.batched import BatchedRoute, Tally
-from mech.problems.fields import Output, Param
+from mech.problems.fields import Output, Param, read_catalogue
 from mech.problems.motion import Run
 from mech.problems.params import Params, Undefined
 
-__all__ = [
-    "BadInput",
-    "BatchedRoute",
-    "Exercise",
-    "Output",
-    "Param",
-    "Params",
-    "Run",
-    "Tally",
-    "Undefined",
-    "NumericFailure",
-]
+__all__ = ["BadInput", "BatchedRoute", "Exercise", "Output", "Param", "Params", "Run", "Tally", "Undefined",
+           "NumericFailure"]
 
 
+def _hook(name: str, doc: str) -> Callable:
+    """The decorator method that registers ``fn`` as the exercise's hook ``name`` (``_name``) and returns it."""
 
+    def register(self, fn: Callable) -> Callable:
+        setattr(self, "_" + name, fn)
+        return fn
 
-def _load_catalogue(ex_id: str) -> dict:
-    # beside this module (importlib.resources would cost 4 ms of imports at every start-up)
-    text = (Path(__file__).parent / "catalogue" / f"{ex_id}.toml").read_text("utf-8")
-    return tomllib.loads(text)
+    register.__name__, register.__qualname__ = name, f"Exercise.{name}"
+    register.__doc__ = "Register " + " ".join(doc.split())
+    return register
 
 
 class Exercise:
-    """One exercise: catalogue metadata plus the analytic and numeric solvers.
+    """One exercise: its catalogue metadata and the hooks its module registers.
 
     Parameters beyond the id:
       formulas      the analytic results as text, for ``mech show``
@@ -52,31 +51,25 @@ class Exercise:
       axes          names of outputs that are the direction of an axis (no sense): answers judged modulo pi
       tol_factor    the numeric claim for every output is ``tol_factor * rtol`` unless
                     the solver claims otherwise; the cross-check uses that claim
-      default_rtol  the numeric solver's default requested accuracy
+      default_rtol  the numeric solver's default requested accuracy (``min_rtol``: the smallest it takes)
+      route_note    where the implementation departs from the catalogue's numeric route, shown by ``mech show``
+      states        (name, unit) of each component of the state its numeric route integrates, in order: the
+                    rows of a trajectory (``mech solve --trajectory``, ``Solution.trajectory``)
+      constants     the dimensional constants the solvers use that are not parameters, name -> unit
+                    ({"G": "m^3/(kg s^2)"}), so that a change of units (``scales.natural_units``) keeps them
     """
 
-    def __init__(
-        self,
-        id: str,
-        *,
-        formulas: list[str],
-        leading_order: tuple[str, ...] = (),
-        axes: tuple[str, ...] = (),
-        tol_factor: float = 100.0,
-        default_rtol: float = 1e-10,
-        min_rtol: float = 1e-13,
-        route_note: str = "",
-        states: tuple[tuple[str, str], ...] | list = (),
-        constants: Mapping[str, str] | None = None,
-    ):
-        """``route_note``: where the implementation departs from the catalogue's numeric route (a
-        named library routine replaced, say), shown by ``mech show`` under the route.  ``constants``: the
-        dimensional constants the solvers use that are not parameters, name -> unit ({"G": "m^3/(kg s^2)"}),
-        so that a change of units (``scales.natural_units``) leaves them unchanged."""
-        spec = _load_catalogue(id)
-        self.id = spec["id"]
-        self.title = spec["title"]
-        self.topic = spec["topic"]
+    # the registered hooks (None: not declared), each set by its decorator below
+    _analytic = _numeric = _expected_error = _analytic_error = _theory_range = _approximations = None
+    _hamiltonian = _scene = _motion = _physics = _physics_withheld = None
+    batched_route: BatchedRoute | None = None  # ``@exercise.batched``: the route over arrays of variants
+
+    def __init__(self, id: str, *, formulas: list[str], leading_order: tuple[str, ...] = (),
+                 axes: tuple[str, ...] = (), tol_factor: float = 100.0, default_rtol: float = 1e-10,
+                 min_rtol: float = 1e-13, route_note: str = "", states: tuple[tuple[str, str], ...] | list = (),
+                 constants: Mapping[str, str] | None = None):
+        spec = read_catalogue(id)
+        self.id, self.title, self.topic = spec["id"], spec["title"], spec["topic"]
         self.from_book = bool(spec.get("from_book", False))  # the book's own, or set for mech on its topics
         self.statement = spec["statement"].strip()
         # the statement as a class's handout gives it, where the statement quotes the defaults: ``{name}``
@@ -87,234 +80,102 @@ class Exercise:
         self.model = spec["model"].strip()
         self.numeric_route = spec.get("numeric", {}).get("route", "").strip()
         self.params = [Param(**p) for p in spec["params"]]
-        self.outputs = [
-            Output(**o, theory="leading-order" if o["name"] in leading_order else "exact", axis=o["name"] in axes)
-            for o in spec["outputs"]
-        ]
+        self.param_map = {p.name: p for p in self.params}
+        self.outputs = [Output(**o, theory="leading-order" if o["name"] in leading_order else "exact",
+                               axis=o["name"] in axes) for o in spec["outputs"]]
         unknown = (set(leading_order) | set(axes)) - {o.name for o in self.outputs}
         if unknown:
             raise ValueError(f"{id}: leading_order names unknown outputs {sorted(unknown)}")
         self.hard_cases = [{"params": dict(h["params"]), "why": h.get("why", "")} for h in spec.get("hard_cases", [])]
         self.formulas = list(formulas)
-        self.tol_factor = tol_factor
-        self.default_rtol = default_rtol
-        self.min_rtol = min_rtol
+        self.tol_factor, self.default_rtol, self.min_rtol = tol_factor, default_rtol, min_rtol
         self.route_note = route_note.strip()
-        # (name, unit) of each component of the state vector its numeric route integrates, in order:
-        # what a trajectory's rows are (``mech solve --trajectory``, ``Solution.trajectory``)
         self.states = tuple((str(n), str(u)) for n, u in states)
         self.constants = dict(constants or {})
-        self._analytic: Callable | None = None
-        self._numeric: Callable | None = None
         self._constraints: list[Callable] = []
         self.joint_limits: list[str] = []  # what the constraints enforce, as text (`mech show`, "constraints")
-        self._expected_error: Callable | None = None
-        self._analytic_error: Callable | None = None
-        self._hamiltonian: Callable | None = None
-        self._scene: Callable | None = None
-        self._motion: Callable | None = None
-        self._physics: Callable | None = None  # @exercise.physics: the symbolic declaration (problems/physics.py)
-        self._physics_withheld: str | None = None
-        self._batched: "BatchedRoute | None" = None
-        # the hooks written on arrays (those of an exercise with a batched route): a one-point call is the
-        # batch of one (problems/batched.py)
-        self._on_arrays: set[str] = set()
-        self._theory_range: Callable | None = None
-        self._approximations: Callable | None = None
-        self.param_map = {p.name: p for p in self.params}
+        self._on_arrays: set[str] = set()  # the hooks written on arrays (``batched``): called as a batch of one
 
-    # -- decorators -------------------------------------------------------
-    def analytic(self, fn: Callable[[Params], dict]) -> Callable:
-        """Register ``fn(p) -> {output: value}``: the derived answer."""
-        self._analytic = fn
-        return fn
-
-    def numeric(self, fn: Callable[[Params, Run], dict]) -> Callable:
-        """Register ``fn(p, run) -> {output: value}``: the independent computation from the physics."""
-        self._numeric = fn
-        return fn
+    # -- what an exercise module declares ----------------------------------------------------------------
+    # the hooks its decorators register (``@exercise.analytic`` and so on), each ``fn`` returned as it is
+    analytic = _hook("analytic", "``fn(p) -> {output: value}``: the derived answer.")
+    numeric = _hook("numeric", "``fn(p, run) -> {output: value}``: the independent computation from the physics.")
+    expected_error = _hook("expected_error", """``fn(p) -> {output: relative size of what its leading-order
+        theory neglects}``, or ``(relative, absolute)`` where the value can be zero (absolute in SI).""")
+    theory_range = _hook("theory_range", """``fn(p) -> {output: (label, value)}``: the parameter a leading-order
+        theory expands in (``("mu/omega0", 3.3)``); at 1 or more it is outside its range.""")
+    approximations = _hook("approximations", """``fn(p) -> {output: [(value, "what it is"), ...]}`` (SI): what the
+        statement asks for beside an exact output (the small-swing period beside the exact one, say).""")
+    analytic_error = _hook("analytic_error", """``fn(p) -> {output: absolute round-off error, SI}`` where an
+        analytic value is ill-conditioned (a phase of 1e6 rad, a cancellation): added to what agreement allows.""")
+    hamiltonian = _hook("hamiltonian", """``fn(p) -> symplectic.SeparableHamiltonian`` (optional): the scene with
+        the readout of the outputs, for ``mech bench``'s symplectic rows (never the numeric solver).""")
+    physics = _hook("physics", "``fn(d)``: the physics declared for sympy (problems/physics.py), in physicsN_M.py.")
+    scene = _hook("scene", "``fn(p, run) -> scene.Scene`` (optional): what ``mech plot`` draws, from its physics.")
 
     def constraint(self, fn: Callable[[Params], str | None]) -> Callable:
         """Register a joint check of the parameters: return a one-line message when they are unphysical."""
         self._constraints.append(fn)
         return fn
 
-    def restate_hard_case(self, k: int, why: str) -> None:
-        """Replace the catalogue's note on hard case ``k`` (0-based) where it misdescribes mech's solution
-        (the catalogue file stays the shared one)."""
-        self.hard_cases[k]["why"] = why
-
     def declare_limits(self, *texts: str) -> None:
-        """State, one line each, every joint limit the ``@exercise.constraint`` checks refuse beyond
-        (``"|x0|/R <= 0.1"``): shown by ``mech show`` and in its JSON as ``"constraints"``, so that a
-        user or a script can keep inside them. Declared beside the constraint, from the same constants."""
+        """State, one line each, every joint limit the ``@exercise.constraint`` checks refuse beyond (``"|x0|/R
+        <= 0.1"``): ``mech show`` and its JSON's ``"constraints"``; declared beside the check, from its constants."""
         self.joint_limits.extend(str(t) for t in texts)
 
-    def expected_error(self, fn: Callable[[Params], dict]) -> Callable:
-        """For leading-order outputs: ``fn(p) -> {output: relative size of what the theory neglects}``; an
-        output whose leading-order value can be zero gives ``(relative, absolute)`` instead (absolute in SI)."""
-        self._expected_error = fn
-        return fn
-
-    def theory_range(self, fn: Callable[[Params], dict]) -> Callable:
-        """For leading-order outputs: ``fn(p) -> {output: (label, value)}``, the parameter the theory expands
-        in at ``p`` (the largest where there are several): ``{"omega": ("mu/omega0", 3.3)}``.  At a value of 1
-        or more the theory is outside its range (``theory_validity``)."""
-        self._theory_range = fn
-        return fn
-
-    def outside_regime(self, values: dict) -> str | None:
-        """Why outputs ``values`` (SI) lie outside the regime the statement is about (the catalogue's
-        ``[regime]``: ``positive``, outputs that must be above zero, and ``about``, the regime in words), or
-        None; ``mech assign`` issues only variants inside it."""
-        for name in self.regime.get("positive", ()):
-            v = values.get(name)
-            if not (isinstance(v, float) and v > 0):
-                return f"{name} is not positive: not {self.regime.get('about', 'the regime of the statement')}"
-        return None
-
-    def approximations(self, fn: Callable[[Params], dict]) -> Callable:
-        """Where the statement asks for an approximation next to an exact output: ``fn(p) -> {output:
-        [(value, "what it is"), ...]}`` (values in SI), e.g. the small-swing period next to the exact one."""
-        self._approximations = fn
-        return fn
-
-    def analytic_error(self, fn: Callable[[Params], dict]) -> Callable:
-        """For outputs whose analytic value is ill-conditioned in its inputs (a phase of 1e6 rad, a
-        cancellation): ``fn(p) -> {output: absolute round-off error of the analytic value, SI}``.
-        Agreement is then judged against the numeric and analytic errors combined."""
-        self._analytic_error = fn
-        return fn
-
-    def hamiltonian(self, fn: Callable[[Params], Any]) -> Callable:
-        """Optional: ``fn(p) -> mech.solvers.numerics.symplectic.SeparableHamiltonian``, the scene as a separable
-        Hamiltonian with the readout of the outputs, so that a symplectic integrator can solve it too
-        (``mech bench`` adds that row).  It does not replace the numeric solver."""
-        self._hamiltonian = fn
-        return fn
+    def restate_hard_case(self, k: int, why: str) -> None:
+        """Replace the catalogue's note on hard case ``k`` (0-based) where it misdescribes mech's solution."""
+        self.hard_cases[k]["why"] = why
 
     def motion(self, fn: Callable[[Params], Any]) -> Callable:
-        """Register ``fn(p) -> mech.problems.motion.Motion``: the motion the numeric solve integrates, declared
-        once (right-hand side, start, span, event, invariants, scales to SI; rows are ``states``).  The
-        numeric solve follows it (``run.follow``), the scene takes it (``SceneRun.motion``)."""
+        """Register ``fn(p) -> motion.Motion``: the motion the numeric solve integrates, declared once (rows are
+        ``states``); the numeric solve follows it (``run.follow``), the scene takes it (``SceneRun.motion``)."""
         if not self.states:
             raise ValueError(f"{self.id}: a motion needs the exercise's states (names and units)")
         self._motion = fn
-        return fn
-
-    def motion_at(self, p: Params) -> Any:
-        """The declared motion at ``p`` (``@exercise.motion``), None without one."""
-        return None if self._motion is None else self._motion(p)
-
-    def motion_path(self, p: Params, rtol: float | None = None) -> tuple:
-        """The declared motion at ``p`` integrated at ``rtol`` with its continuous extension: ``(motion,
-        path)`` (``motion.Motion``, ``motion.Path``), (None, None) without one."""
-        m = self.motion_at(p)
-        if m is None:
-            return None, None
-        return m, Run(rtol=rtol).follow(m, dense=True)
-
-    def physics(self, fn: Callable[[Any], None]) -> Callable:
-        """Register ``fn(d)``: the exercise's physics declared for sympy (``mech.problems.physics``), kept in
-        ``physicsN_M.py`` beside the module and imported only by ``derive()``."""
-        self._physics = fn
         return fn
 
     def physics_withheld(self, why: str) -> None:
         """Say why the motion has no declaration (a reduced or averaged model no Lagrangian gives)."""
         self._physics_withheld = " ".join(why.split())
 
-    def derive(self):
-        """The declared physics with its equations derived (sympy: the ``derive`` extra); LookupError says
-        why there is none."""
-        from mech.problems.physics import derive
-
-        return derive(self)
-
-    def scene(self, fn: Callable[[Params, Any], Any]) -> Callable:
-        """Optional: ``fn(p, run) -> mech.problems.scene.Scene``, what ``mech plot`` draws for this
-        exercise, computed from the exercise's own physics (``run``: a ``scene.SceneRun``)."""
-        self._scene = fn
-        return fn
-
-    def make_scene(self, p: Params, rtol: float | None = None, points: int = 5):
-        """The exercise's scene at ``p`` and the run that made it, or (None, None) without a scene hook."""
-        if self._scene is None:
-            return None, None
-        from mech.problems.scene import SceneRun
-
-        run = SceneRun(self, rtol, points)
-        return self._scene(p, run), run
-
     def batched(self, outputs: tuple[str, ...], *, boundaries: Mapping[str, tuple[str, str]] | None = None
                 ) -> Callable:
-        """Register the exercise's route over arrays of variants: ``fn(P, rtol, outputs[, memo, tally]) ->
-        {output: Column}``, and declare its other hooks written on arrays too (problems/batched.py).
-
-        ``P`` maps every parameter name to an array of N values (one per
-        variant, already validated); ``fn`` computes only the ``outputs`` asked
-        (a subset of ``outputs`` given here) from the equations of motion for
-        all N at once (see ``mech.solvers.numerics.batch``).  The exercise's
-        ``analytic(P)``, ``expected_error(P)`` and ``theory_range(P)`` take the
-        same arrays ({output: Column}, {output: array or (rel, abs) arrays,
-        NaN: none}, {output: (label or labels, array)}).  A one-point solve is
-        the batch of one: the hooks called with arrays of one and unpacked
-        (the numeric solver too, where ``fn`` gives every output; else the
-        registered ``numeric`` calls ``batch_of_one`` for those it gives).
-        ``boundaries`` maps a parameter to (output, label): the analytic value
-        of that output is a boundary in that parameter (5.11's mu =
-        mu_th(omega)), drawn on maps over that parameter.  A ``memo`` keyword,
-        if ``fn`` takes one, is a dict shared by all chunks of one sweep (by a
-        solve and its rerun); ``tally`` (a ``Tally``) takes the invariants'
-        drifts and the integrations.
-        """
+        """Register the exercise's route over arrays of variants, ``fn(P, rtol, outputs[, memo, tally]) ->
+        {output: Column}``, and declare its ``analytic``, ``expected_error`` and ``theory_range`` hooks written on
+        arrays too: a one-point solve is the batch of one (problems/batched.py).  ``boundaries``: parameter ->
+        (output, label), the analytic value of that output a boundary in that parameter, drawn on maps."""
         unknown = set(outputs) - {o.name for o in self.outputs}
         if unknown:
             raise ValueError(f"{self.id}: batched route names unknown outputs {sorted(unknown)}")
-
-        def register(fn: Callable) -> Callable:
-            self._on_arrays = {"analytic", "expected_error", "theory_range"}
-            self._batched = BatchedRoute(
-                fn, tuple(outputs), lambda P: self._analytic(P),
-                expected_error=lambda P: self._expected_error(P) if self._expected_error else {},
-                boundaries=dict(boundaries or {}),
-                theory_range=lambda P: self._theory_range(P) if self._theory_range else {})
-            return fn
-
-        return register
+        return lambda fn: _batched.register(self, fn, outputs, boundaries)
 
     def batch_of_one(self, p: Params, run: Run, outputs: tuple[str, ...] | None = None) -> dict:
-        """The batched route at the one point ``p`` (problems/batched.py ``one_point``): {output: value}, its
-        claims, invariants and failure reported to ``run``."""
+        """The batched route at the one point ``p`` (``batched.one_point``): {output: value}; its claims,
+        invariants and failure go to ``run``."""
         return _batched.one_point(self, p, run, outputs)
 
-    # -- what is registered: read by verification, bench, sweeps and tests ----
+    # -- what the floors above read ----------------------------------------------------------------------
     @property
     def analytic_solver(self) -> Callable | None:
-        """The analytic solver at one point, ``fn(p) -> {output: value}`` (None without one; a hook written on
-        arrays called as the batch of one); assigning registers another (a one-point function)."""
+        """``fn(p) -> {output: value}`` at one point (None without one; a hook on arrays called as the batch of
+        one); assigning registers another."""
         if self._analytic is not None and "analytic" in self._on_arrays:
-            hook = self._analytic
-            one = lambda p: _batched.analytic_at(hook, p)  # noqa: E731
-            one.array_hook = hook  # assigned back (a test's monkeypatch undone), the hook on arrays returns
-            return one
+            return _batched.analytic_solver(self._analytic)
         return self._analytic
 
     @analytic_solver.setter
     def analytic_solver(self, fn: Callable | None) -> None:
         hook = getattr(fn, "array_hook", None)
         self._analytic = fn if hook is None else hook
-        if hook is None:
-            self._on_arrays.discard("analytic")
-        else:
-            self._on_arrays.add("analytic")
+        (self._on_arrays.discard if hook is None else self._on_arrays.add)("analytic")
 
     @property
     def numeric_solver(self) -> Callable | None:
-        """The numeric solver at one point, ``fn(p, run)`` (None without one): the registered one, else the
-        batched route's batch of one where it gives every output; assigning registers another."""
-        if self._numeric is None and self._batched is not None and \
-                set(self._batched.outputs) == {o.name for o in self.outputs}:
+        """``fn(p, run)`` at one point (None without one): the registered one, else the batched route's batch
+        of one where it gives every output; assigning registers another."""
+        if self._numeric is None and self.batched_route is not None and \
+                set(self.batched_route.outputs) == {o.name for o in self.outputs}:
             return self.batch_of_one
         return self._numeric
 
@@ -322,141 +183,54 @@ class Exercise:
     def numeric_solver(self, fn: Callable | None) -> None:
         self._numeric = fn
 
-    @property
-    def has_analytic(self) -> bool:
-        return self._analytic is not None
+    has_analytic = property(lambda self: self._analytic is not None)
+    has_numeric = property(lambda self: self.numeric_solver is not None)
+    has_constraints = property(lambda self: bool(self._constraints))  # checks beyond the bounds
+    has_motion = property(lambda self: self._motion is not None)
+    has_scene = property(lambda self: self._scene is not None)  # ``mech plot`` draws the exercise's own
+    has_hamiltonian = property(lambda self: self._hamiltonian is not None)  # ``mech bench``'s symplectic rows
+    chapter = property(lambda self: int(self.id.split(".")[0]))
 
-    @property
-    def has_numeric(self) -> bool:
-        return self.numeric_solver is not None
-
-    @property
-    def has_hamiltonian(self) -> bool:
-        """Whether the exercise exposes its scene as a separable Hamiltonian (``mech bench``'s symplectic rows)."""
-        return self._hamiltonian is not None
-
-    def separable_hamiltonian(self, p: Params) -> Any:
-        """The registered ``@exercise.hamiltonian`` at ``p``: a ``symplectic.SeparableHamiltonian``."""
-        if self._hamiltonian is None:
-            raise ValueError(f"{self.id} exposes no separable Hamiltonian")
-        return self._hamiltonian(p)
-
-    @property
-    def joint_checks(self) -> tuple:
-        """The registered joint checks (``@exercise.constraint``), in order."""
-        return tuple(self._constraints)
-
-    @property
-    def has_constraints(self) -> bool:
-        """Whether joint checks beyond the bounds are registered (``@exercise.constraint``)."""
-        return bool(self._constraints)
-
-    def constraint_message(self, p: Any) -> str | None:
-        """The first joint check's one-line message that ``p`` fails (anything read as ``p.name``), or None."""
-        for check in self._constraints:
-            msg = check(p)
-            if msg:
-                return msg
-        return None
-
-    @property
-    def has_motion(self) -> bool:
-        """Whether the exercise declares its motion (``@exercise.motion``)."""
-        return self._motion is not None
-
-    @property
-    def has_scene(self) -> bool:
-        """Whether the exercise draws a scene of its own (``@exercise.scene``, ``mech plot``)."""
-        return self._scene is not None
-
-    @property
-    def batched_route(self) -> "BatchedRoute | None":
-        """The chart's batched route (``@exercise.batched``), None without one; assigning replaces it."""
-        return self._batched
-
-    @batched_route.setter
-    def batched_route(self, route: "BatchedRoute | None") -> None:
-        self._batched = route
-
-    # -- use --------------------------------------------------------------
     @property
     def methods(self) -> list[str]:
         return [m for m, f in (("analytic", self._analytic), ("numeric", self.numeric_solver)) if f is not None]
 
-    @property
-    def chapter(self) -> int:
-        return int(self.id.split(".")[0])
+    def motion_at(self, p: Params) -> Any:
+        """The declared motion at ``p`` (``@exercise.motion``), None without one."""
+        return None if self._motion is None else self._motion(p)
 
+    def separable_hamiltonian(self, p: Params) -> Any:
+        """The registered ``@exercise.hamiltonian`` at ``p``."""
+        if self._hamiltonian is None:
+            raise ValueError(f"{self.id} exposes no separable Hamiltonian")
+        return self._hamiltonian(p)
+
+    def derive(self):
+        """The declared physics with its equations derived (sympy); LookupError says why there is none."""
+        from mech.problems.physics import derive
+
+        return derive(self)
+
+    # the solving done at one point, in problems/solving.py: one line each here, for their many callers
     def resolve(self, given: Mapping[str, float] | None = None) -> Params:
-        """Defaults overlaid by the given values, each checked against its bounds, then the joint checks
-        (``solving.resolve``)."""
+        """Defaults overlaid by the given values, checked against the bounds and the joint checks."""
         return solving.resolve(self, given)
 
     def solve_analytic(self, p: Params) -> dict:
-        """The analytic answers, solved in the units that bring the parameters nearest their defaults where
-        they are far from them (``solving.solve_analytic``)."""
+        """The analytic answers, in the units that suit the parameters (``solving.solve_analytic``)."""
         return solving.solve_analytic(self, p)
 
     def solve_numeric(self, p: Params, rtol: float | None = None, shared: dict | None = None,
                       keep_trajectories: bool = False, integrator: str | None = None) -> tuple[dict, Run]:
-        """The numeric solver's answers and its Run; ``integrator`` forces every ODE integration onto one
-        integrator (``mech bench``; see ``Run.integrator``)."""
-        run = Run(rtol=float(rtol or self.default_rtol), keep_trajectories=keep_trajectories,
-                  integrator=integrator)
-        if shared is not None:
-            run.shared = shared
-        values = self.numeric_solver(p, run)
-        return self._finish(values, "numeric"), run
-
-    def expected_errors(self, p: Params) -> dict:
-        if self._expected_error is None:
-            return {}
-        if "expected_error" in self._on_arrays:
-            return _batched.expected_at(self._expected_error, p)
-        return dict(self._expected_error(p))
-
-    def theory_ranges(self, p: Params) -> dict:
-        """{output: (label, value)}: the expansion parameter of each leading-order output at ``p``."""
-        if self._theory_range is None:
-            return {}
-        if "theory_range" in self._on_arrays:
-            return _batched.range_at(self._theory_range, p)
-        return dict(self._theory_range(p))
-
-    def theory_validity(self, p: Params, expected: dict | None = None) -> dict:
-        """{output: None | reason} for every leading-order output (``validity.theory_validity``)."""
-        return validity.theory_validity(self, p, expected)
-
-    def outside_ranges(self, P: Mapping, expected: dict) -> dict:
-        """``theory_validity`` over arrays of variants: {output: (outside mask, reasons)}
-        (``validity.outside_ranges``)."""
-        return validity.outside_ranges(self, P, expected)
-
-    def approximations_at(self, p: Params) -> dict:
-        """{output: [(value, text), ...]}: the approximations the statement asks for next to exact outputs."""
-        return dict(self._approximations(p)) if self._approximations else {}
-
-    def analytic_errors(self, p: Params) -> dict:
-        return dict(self._analytic_error(p)) if self._analytic_error else {}
-
-    def _finish(self, values: dict, which: str) -> dict:
-        return solving.finish(self, values, which)
+        """The numeric answers and their Run (``solving.solve_numeric``)."""
+        return solving.solve_numeric(self, p, rtol, shared, keep_trajectories, integrator)
 
     def as_json(self) -> dict:
-        return {
-            "id": self.id,
-            "title": self.title,
-            "topic": self.topic,
-            "statement": self.statement,
-            "model": self.model,
-            "params": [p.as_json() for p in self.params],
-            "outputs": [o.as_json() for o in self.outputs],
-            "formulas": self.formulas,
-            "numeric_route": self.numeric_route,
-            "hard_cases": self.hard_cases,
-            "constraints": list(self.joint_limits),
-            "methods": self.methods,
-        }
+        """The declaration as ``mech show --json`` gives it (docs/json.md)."""
+        return {**{k: getattr(self, k) for k in ("id", "title", "topic", "statement", "model")},
+                "params": [p.as_json() for p in self.params], "outputs": [o.as_json() for o in self.outputs],
+                "formulas": self.formulas, "numeric_route": self.numeric_route, "hard_cases": self.hard_cases,
+                "constraints": list(self.joint_limits), "methods": self.methods}
 
     def __repr__(self) -> str:
         return f"<Exercise {self.id}: {self.title}>"

@@ -1,19 +1,55 @@
-"""Where a leading-order theory applies: its expansion parameter below ``RANGE_LIMIT`` and its neglect
-estimate below ``NEGLECT_LIMIT`` relative, at one point or over a batch; outside, nothing is compared
-(the judge words the reason)."""
+"""Where a leading-order theory applies, and what an answer is allowed: read from an exercise's declaration.
+
+The theory applies where its expansion parameter (``@exercise.theory_range``) is below ``RANGE_LIMIT`` and its
+neglect estimate (``@exercise.expected_error``) below ``NEGLECT_LIMIT`` relative, at one point or over a batch;
+outside, nothing is compared (the judge words the reason).  The allowances at one point: what the theory
+neglects, the analytic value's round-off (``@exercise.analytic_error``), and the approximations the statement
+asks for beside an exact output (``@exercise.approximations``).  A hook written on arrays (an exercise with a
+batched route) is called as the batch of one."""
 
 from __future__ import annotations
 
 import math
 from typing import Mapping
 
-__all__ = ["RANGE_LIMIT", "NEGLECT_LIMIT", "theory_validity", "outside_ranges"]
+from mech.problems.batched import expected_at, label_at, range_at
+
+__all__ = ["RANGE_LIMIT", "NEGLECT_LIMIT", "expected_errors", "theory_ranges", "analytic_errors", "approximations_at",
+           "theory_validity", "outside_ranges"]
 
 
 # A leading-order theory is outside its range where its expansion parameter reaches RANGE_LIMIT or its
 # neglect estimate (``expected_error``'s relative part) reaches NEGLECT_LIMIT: nothing is compared there
 RANGE_LIMIT = 1.0
 NEGLECT_LIMIT = 0.3
+
+
+def expected_errors(ex, p) -> dict:
+    """{output: relative size of what its leading-order theory neglects at ``p``, or (relative, absolute)}."""
+    if ex._expected_error is None:
+        return {}
+    if "expected_error" in ex._on_arrays:
+        return expected_at(ex._expected_error, p)
+    return dict(ex._expected_error(p))
+
+
+def theory_ranges(ex, p) -> dict:
+    """{output: (label, value)}: the expansion parameter of each leading-order output at ``p``."""
+    if ex._theory_range is None:
+        return {}
+    if "theory_range" in ex._on_arrays:
+        return range_at(ex._theory_range, p)
+    return dict(ex._theory_range(p))
+
+
+def analytic_errors(ex, p) -> dict:
+    """{output: absolute round-off error of its analytic value at ``p``, SI} where it is ill-conditioned."""
+    return dict(ex._analytic_error(p)) if ex._analytic_error else {}
+
+
+def approximations_at(ex, p) -> dict:
+    """{output: [(value, text), ...]}: the approximations the statement asks for next to exact outputs."""
+    return dict(ex._approximations(p)) if ex._approximations else {}
 
 
 def _outside_reason(label: str | None, value: float | None, neglect: float | None) -> str | None:
@@ -39,8 +75,6 @@ def _reasons(names, ranges: Mapping, rel: Mapping, n: int) -> dict:
     relative part of its neglect estimate (arrays; NaN: none)."""
     import numpy as np
 
-    from mech.problems.batched import label_at
-
     out = {}
     for name in names:
         label, vals = ranges.get(name, (None, None))
@@ -59,8 +93,8 @@ def theory_validity(ex, p, expected: dict | None = None) -> dict:
     lead = [o.name for o in ex.outputs if o.theory != "exact"]
     if not lead:
         return {}
-    ranges = ex.theory_ranges(p)
-    expected = ex.expected_errors(p) if expected is None else expected
+    ranges = theory_ranges(ex, p)
+    expected = expected_errors(ex, p) if expected is None else expected
     rel = {name: math.nan if _rel_part(expected.get(name)) is None else _rel_part(expected.get(name))
            for name in lead}
     return {name: reasons[0] or None for name, (_, reasons) in _reasons(lead, ranges, rel, 1).items()}

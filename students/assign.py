@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 
 from mech.core.errors import BadInput
 from mech.core.safeio import shown
+from mech.problems.validity import expected_errors
 from mech.verification.judge import within
 
 __all__ = ["Assignment", "Variant", "read_roster", "parse_overs", "make", "assign", "MAX_STUDENTS"]
@@ -395,6 +396,17 @@ def _rounded(ex, p_si: dict, digits: int, rng: dict):
     return texts, params
 
 
+def _outside_regime(ex, values: dict) -> str | None:
+    """Why outputs ``values`` (SI) lie outside the regime the statement is about (the catalogue's ``[regime]``:
+    ``positive``, outputs that must be above zero, and ``about``, the regime in words), or None: only variants
+    inside it are issued."""
+    for name in ex.regime.get("positive", ()):
+        v = values.get(name)
+        if not (isinstance(v, float) and v > 0):
+            return f"{name} is not positive: not {ex.regime.get('about', 'the regime of the statement')}"
+    return None
+
+
 def _promising(ex, params) -> bool:
     """A cheap screen before the cross-check: every analytic value finite, and inside the statement's
     regime (by the analytic values; the verified ones decide).  Only ever throws a candidate out."""
@@ -406,14 +418,14 @@ def _promising(ex, params) -> bool:
     if len(values) != len(got) or not all(math.isfinite(v) for v in values.values()):
         return False
     try:
-        neglected = ex.expected_errors(params)
+        neglected = expected_errors(ex, params)
     except (ArithmeticError, ValueError):
         return False
     for name, err in neglected.items():  # what the theory neglects, estimated (rel, or (rel, abs))
         rel = err[0] if isinstance(err, (tuple, list)) else err
         if rel is None or not rel <= SCREEN_NEGLECT:
             return False
-    return ex.outside_regime(values) is None
+    return _outside_regime(ex, values) is None
 
 
 def _screen(ex, params: list) -> list[bool]:
@@ -450,7 +462,7 @@ def _screen(ex, params: list) -> list[bool]:
         rel = np.broadcast_to(np.asarray(rel, dtype=float), ok.shape)
         given = ~(np.isnan(rel) & np.isnan(np.broadcast_to(np.asarray(ab, dtype=float), ok.shape)))
         ok &= ~given | (rel <= SCREEN_NEGLECT)
-    return [bool(ok[k]) and ex.outside_regime({n: float(v[k]) for n, v in values.items()}) is None
+    return [bool(ok[k]) and _outside_regime(ex, {n: float(v[k]) for n, v in values.items()}) is None
             for k in range(len(params))]
 
 
@@ -472,7 +484,7 @@ def _record(ex, result) -> dict | None:
             return None
         out[q.name] = {"value": float(n) if lead else float(a), "unit": q.unit, "analytic": float(a),
                        "numeric": float(n), "numeric_err": float(q.numeric_err), "leading_order": lead}
-    if ex.outside_regime({k: r["value"] for k, r in out.items()}) is not None:
+    if _outside_regime(ex, {k: r["value"] for k, r in out.items()}) is not None:
         return None
     return out
 

@@ -24,6 +24,7 @@ from fractions import Fraction
 
 import numpy as np
 
+from mech.problems.solving import constraint_message
 from mech.problems.spec import Params
 from mech.students.formula_ast import Formula, dim_of_unit
 from mech.verification.judge import ROUND_OFF, allowance, within
@@ -348,7 +349,7 @@ def _jointly(ex, values: dict) -> dict:
     there)."""
     _in_bounds(ex, values)
     try:
-        why = ex.constraint_message(Params(values))
+        why = constraint_message(ex, Params(values))
     except (ArithmeticError, ValueError):
         why = "no"
     if why:
@@ -420,7 +421,7 @@ class _Points:
         cache = self.ps.lines.setdefault(("explain", "approx", self.name), {})
         if i not in cache:
             try:
-                cache[i] = [(float(v), d) for v, d in (self.ps.ex.approximations_at(self.ps.points[i]).get(self.name)
+                cache[i] = [(float(v), d) for v, d in (declared(self.ps.ex, self.ps.points[i]).get(self.name)
                                                        or []) if isinstance(v, (int, float))]
             except Exception:  # an approximation with no value here
                 cache[i] = []

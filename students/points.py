@@ -29,9 +29,11 @@ import numpy as np
 
 from mech.core import budget
 from mech.core.safeio import shown
+from mech.problems.solving import constraint_message
 from mech.problems.spec import BadInput, Params, Undefined
+from mech.problems.validity import analytic_errors
 from mech.students.formula_ast import MAX_PREC, Formula, Problem
-from mech.verification.judge import allowance, within
+from mech.verification.judge import allowance, theory_validity, within
 
 __all__ = ["DEFAULT_POINTS", "DEFAULT_SEED", "MAX_POINTS", "CACHE_BYTES", "PointSet", "PointJudgement", "point_set", "draw", "ranges",
            "parse_over", "depends", "line_of", "accept", "make", "judge_points", "yours_at_given", "describe_point",
@@ -163,7 +165,7 @@ def _allowed(ex, values: dict) -> bool:
             return False
     params = Params({p.name: float(values.get(p.name, p.default)) for p in ex.params})
     try:
-        return not ex.constraint_message(params)
+        return not constraint_message(ex, params)
     except (ArithmeticError, ValueError):
         return False
 
@@ -352,7 +354,7 @@ def _analytic_at(ex, pts: list, memo: dict) -> tuple[dict, dict, dict]:
         if got is None:
             budget.check("working out mech's values at the points")
             try:
-                got = (ex.solve_analytic(p), ex.analytic_errors(p))
+                got = (ex.solve_analytic(p), analytic_errors(ex, p))
             except budget.OutOfBudget:
                 raise
             except Exception as exc:  # a point where the analytic route has no answer: not a point to judge at
@@ -390,20 +392,19 @@ def make(ex, pts: list, labels: list, memo: dict, outside_memo: dict | None = No
 
 
 def _outside_theory(ex, pts: list, memo: dict | None = None) -> dict:
-    """For each leading-order output, where its theory does not apply (``Exercise.theory_validity``, where
+    """For each leading-order output, where its theory does not apply (``validity.theory_validity``, where
     the exercise declares its theory's range): there a leading-order formula is not judged.  ``memo``:
     parameter values -> the reasons there, kept across calls."""
     lead = [o.name for o in ex.outputs if o.theory != "exact"]
-    validity = getattr(ex, "theory_validity", None)
     out = {n: np.zeros(len(pts), bool) for n in lead}
-    if not lead or validity is None:
+    if not lead:
         return out
     for i, p in enumerate(pts):
         key = _key(ex, p) if memo is not None else None
         why = memo.get(key) if memo is not None else None
         if why is None:
             try:
-                why = validity(p)
+                why = theory_validity(ex, p)
             except budget.OutOfBudget:
                 raise
             except Exception:  # no range to read here: the point is judged like any other

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Iterator, Sequence
 
 from mech.core.errors import BadInput
+from mech.problems.solving import constraint_message
 from mech.problems.spec import Exercise, Params, Undefined
 from mech.verification.result import Failure, Quantity, Solution, to_json
 
@@ -481,7 +482,7 @@ CHUNK = 8192  # points integrated together: the stages take 16 * 4 * CHUNK numbe
 
 def batched_outputs(ex: Exercise, only: Sequence[str] | None) -> tuple[str, ...] | None:
     """The outputs a batched sweep computes, or None when the exercise has no batched route for them all."""
-    route = getattr(ex, "_batched", None)
+    route = getattr(ex, "batched_route", None)
     if route is None:
         return None
     wanted = tuple(only) if only else tuple(o.name for o in ex.outputs)
@@ -919,7 +920,7 @@ def boundary_curves(result: Sweep) -> list[tuple[str, "object", "object", str]]:
     exercise's own analytic value of the declared output along the other axis (the others fixed)."""
     import numpy as np
 
-    route = getattr(result.exercise, "_batched", None)
+    route = getattr(result.exercise, "batched_route", None)
     if route is None or len(result.axes) != 2:
         return []
     curves = []
@@ -996,7 +997,7 @@ def grid_refusals(ex: Exercise, axes, fixed) -> dict:
         try:
             with warnings.catch_warnings():  # a check's overflow at a far point refuses it, never prints
                 warnings.simplefilter("ignore")
-                msg = ex.constraint_message(view)
+                msg = constraint_message(ex, view)
         except Exception:  # a check that needs more than attribute access: the real Params
             try:
                 ex.resolve(dict(view.__dict__))

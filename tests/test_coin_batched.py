@@ -15,6 +15,7 @@ from click.testing import CliRunner
 
 from mech.cli.main import cli
 from mech.problems import registry
+from mech.problems.motion import motion_path
 
 OUTPUTS = ("T", "Omega", "omega_spin")
 
@@ -98,7 +99,7 @@ def test_the_turn_agrees_with_the_declared_motions_timed_turn(batched):
     rel = np.broadcast_to(got["T"].rel, got["T"].value.shape)
     checked = 0
     for k, p in enumerate(pts):
-        m, path = ex.motion_path(ex.resolve(p), rtol=1e-10)
+        m, path = motion_path(ex, ex.resolve(p), rtol=1e-10)
         if len(m.options["events"]) != 2 or len(path.traj.t_events[1]):
             continue
         times = [t for t in path.traj.t_events[0] if t > 0.5 * m.span[1] / 1.3]

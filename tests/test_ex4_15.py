@@ -14,6 +14,7 @@ from conftest import solve_both
 
 import mech
 from mech.problems import registry
+from mech.problems.scene import make_scene
 
 
 @pytest.mark.parametrize(
@@ -95,7 +96,7 @@ def test_the_scene_draws_the_declared_motion_to_the_wall_letting_go():
     wall's force there is zero (N ∝ cos θ ((3/2) sin θ - sin θ₀) from energy, by hand)."""
     ex = registry.get("4.15")
     p = ex.resolve({"theta0": 1.2})
-    scene, _ = ex.make_scene(p, points=0)
+    scene, _ = make_scene(ex, p, points=0)
     curve = scene.panels[0].items[0]
     theta_c = math.asin(2.0 / 3.0 * math.sin(1.2))
     assert math.radians(curve.x[-1]) == pytest.approx(theta_c, rel=1e-8)

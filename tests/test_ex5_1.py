@@ -19,6 +19,7 @@ import math
 import pytest
 
 from conftest import claimed_error, solve_both
+from mech.problems import validity
 
 
 def G_hand(m, w0, d, t):
@@ -148,7 +149,7 @@ def test_late_times_within_the_stated_errors(given):
     # 1e6-1e10 evaluations; a count, not a wall time, so a loaded machine cannot fail it
     assert run.nfev < 20_000
     a = ex.solve_analytic(p)
-    a_err = ex.analytic_errors(p)
+    a_err = validity.analytic_errors(ex, p)
     ref, envelope = _exact(**given)
     for name, exact in ref.items():
         assert abs(n[name] - exact) <= claimed_error(ex, run, name, n[name]), name

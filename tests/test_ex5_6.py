@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from conftest import solve_both
+from mech.problems.scene import make_scene
 
 
 def test_ninety_degrees_lemniscate():
@@ -65,7 +66,7 @@ def test_the_scene_draws_the_declared_quarter_swing_and_its_mirror_images_on_one
 
     ex = registry.get("5.6")
     theta0 = 2.5
-    scene, _ = ex.make_scene(ex.resolve({"theta0": theta0}), points=0)
+    scene, _ = make_scene(ex, ex.resolve({"theta0": theta0}), points=0)
     swing = next(i for i in scene.panels[0].items if getattr(i, "kind", "") == "trajectory")
     q, v = np.radians(swing.x), np.asarray(swing.y)
     assert np.max(np.abs(0.5 * v**2 - np.cos(q) + math.cos(theta0))) < 1e-8

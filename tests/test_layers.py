@@ -62,7 +62,7 @@ def test_the_judge_importing_a_room_above_it_breaks_a_contract(tmp_path):
 
 
 def test_no_one_outside_problems_reads_an_exercises_private_parts():
-    """The exercise contract is its public methods (``analytic_solver``, ``constraint_message``, ...); no module
+    """The exercise contract is its public methods (``analytic_solver``, ``has_constraints``, ...); no module
     outside problems/, tests included, reads an exercise's private solver, constraint or route attributes."""
     import re
 

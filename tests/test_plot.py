@@ -14,6 +14,7 @@ from click.testing import CliRunner
 
 from mech.cli.main import cli
 from mech.problems import registry
+from mech.problems.scene import make_scene
 
 matplotlib = pytest.importorskip("matplotlib")
 matplotlib.use("Agg", force=True)
@@ -120,7 +121,7 @@ def test_every_scene_is_data_with_units_and_finite_curves(ex_id):
     from mech.problems.scene import Band, Line, Map, Markers, Panel, Scene
 
     ex = registry.get(ex_id)
-    scene, run = ex.make_scene(ex.resolve({}), points=1)
+    scene, run = make_scene(ex, ex.resolve({}), points=1)
     assert isinstance(scene, Scene) and scene.panels
     for panel in scene.panels:
         assert isinstance(panel, Panel)
@@ -154,7 +155,7 @@ def test_points_0_draws_analytic_lines_only(ex_id):
 
     ex = registry.get(ex_id)
     params = ex.resolve({})
-    scene, scene_run = ex.make_scene(params, points=0)
+    scene, scene_run = make_scene(ex, params, points=0)
     kinds = {i.kind for p in scene.panels for i in p.items if isinstance(i, Markers) and len(np.atleast_1d(i.x))}
     assert "numeric" not in kinds
     assert scene_run.failures == []
@@ -175,7 +176,7 @@ def test_ladder_force_curve_is_newtons_law(theta0_deg):
     zero first at sin theta_c = (2/3) sin theta0.  The scene's integrated curve must follow it."""
     ex = registry.get("4.15")
     th0 = math.radians(theta0_deg)
-    scene, _ = ex.make_scene(ex.resolve({"theta0": th0, "l": 2.5}), points=0)
+    scene, _ = make_scene(ex, ex.resolve({"theta0": th0, "l": 2.5}), points=0)
     (curve,) = _lines(scene, "trajectory")
     th = np.radians(np.asarray(curve.x))
     expected = 0.75 * np.cos(th) * (3 * np.sin(th) - 2 * math.sin(th0))
@@ -188,7 +189,7 @@ def test_heavy_top_effective_potential_has_its_minimum_at_theta0():
     (I_A cos th0 Om^2 - I3 w3 Om + M g l = 0); the scene's U_ef curve must bottom out there (to its grid step)."""
     ex = registry.get("4.21")
     for th0 in (0.3, 1.0, 2.0):
-        scene, _ = ex.make_scene(ex.resolve({"theta0": th0}), points=0)
+        scene, _ = make_scene(ex, ex.resolve({"theta0": th0}), points=0)
         curve = _lines(scene, "analytic")[0]
         x, y = np.asarray(curve.x), np.asarray(curve.y)
         assert abs(x[np.argmin(y)] - math.degrees(th0)) < 0.35  # the grid step is 0.30 deg
@@ -200,7 +201,7 @@ def test_pendulum_swing_reaches_theta0_and_the_energy_speed():
     = 2 sin(theta0/2) at the bottom; the swing turns at +-theta0."""
     ex = registry.get("5.6")
     th0 = math.radians(120.0)
-    scene, _ = ex.make_scene(ex.resolve({"theta0": th0}), points=0)
+    scene, _ = make_scene(ex, ex.resolve({"theta0": th0}), points=0)
     (swing,) = _lines(scene, "trajectory")
     assert abs(np.max(np.abs(swing.x)) - 120.0) < 1e-3
     assert abs(np.max(np.abs(swing.y)) - 2 * math.sin(th0 / 2)) < 1e-4
@@ -213,7 +214,7 @@ def test_lagrange_maps_mark_l4_on_the_equilateral_apex():
     ex = registry.get("4.28")
     p = ex.resolve({})
     mu = p.M2 / (p.M1 + p.M2)
-    scene, _ = ex.make_scene(p, points=1)
+    scene, _ = make_scene(ex, p, points=1)
     marks = [i for i in scene.panels[0].items if isinstance(i, Markers) and i.kind in ("analytic", "numeric")]
     for m in marks:
         assert np.allclose(np.asarray(m.x), 0.5 - mu, atol=1e-9)

@@ -11,11 +11,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 WALKED = ("problems", "solvers")
 SUFFIXES = ("_batch", "_batched", "_many", "_vec", "s")
-# X beside Xs where the plural is not a second copy of X's computation: a decorator that registers a hook
-# beside the getter that reads it (``Exercise.expected_error`` / ``expected_errors``)
-NOT_TWINS = {("problems/spec.py", "expected_error"), ("problems/spec.py", "theory_range"),
-             ("problems/spec.py", "analytic_error"),
-             # the declaration's builder of a rate-given state beside the solved rates at a state
+# X beside Xs where the plural is not a second copy of X's computation
+NOT_TWINS = {# the declaration's builder of a rate-given state beside the solved rates at a state
              ("problems/physics.py", "rate"),
              # exp(A) and exp(A t) at many t: two entries of the module's one scaling-and-squaring loop
              ("solvers/numerics/linear_flow.py", "expm")}

@@ -48,6 +48,7 @@ from typing import Any
 
 from mech.problems.scales import LOG10_LIMIT, out_of_range
 from mech.problems.spec import BadInput, Exercise, NumericFailure, Params, Undefined
+from mech.problems.validity import analytic_errors, expected_errors
 from mech.verification.result import Failure, Quantity, Solution, _clean  # noqa: F401  (_clean: bench)
 
 __all__ = ["Quantity", "Solution", "Failure", "cross_check", "PARALLEL_VERIFY"]
@@ -411,14 +412,14 @@ def _draft_outputs(ex, params, rtol, analytic, numeric, run, verify_values, erro
     """Every output's draft quantity and the judge's arguments for it (one row each)."""
     from mech.verification import judge as judging
 
-    expected = ex.expected_errors(params) if analytic and numeric else {}
+    expected = expected_errors(ex, params) if analytic and numeric else {}
     try:
         validity = judging.theory_validity(ex, params, expected if analytic and numeric else None)
     except Exception as exc:
         validity = {}
         errors.append(Failure("estimate", f"the leading-order theory's range failed: {_failure_text(exc)}"))
     try:
-        analytic_errs = ex.analytic_errors(params) if analytic else {}
+        analytic_errs = analytic_errors(ex, params) if analytic else {}
     except Exception as exc:
         analytic_errs = {}
         errors.append(Failure("estimate", f"analytic error estimate failed: {_failure_text(exc)}"))

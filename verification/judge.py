@@ -22,7 +22,7 @@ The rule, for one element:
   by more than its claim (``rel_claim`` times the analytic value, or the numeric
   one, plus ``abs_claim``), or when the claim is not finite;
 * **outside its range** (no verdict) where a leading-order theory does not
-  apply (``Exercise.theory_validity``): nothing is compared, the numeric value,
+  apply (``validity.theory_validity``): nothing is compared, the numeric value,
   verified by its rerun, is the answer (an unreliable one still fails);
 * **analytic only** / **numeric only** (no verdict) where one method did not
   run, and no verdict where the numeric solve failed (the failure is loud).
@@ -37,6 +37,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from mech.problems import validity
 
 __all__ = ["Verdict", "holds", "conclude", "conclude_arrays", "outside_text", "Judged", "judge", "within", "allowance", "ROUND_OFF", "numeric_err", "analytic_err", "notes",
            "theory_validity", "theory_validity_batch", "approximations",
@@ -84,7 +86,7 @@ OUTSIDE_WORDS = "leading-order theory outside its range"
 
 
 def outside_text(reason: str) -> str:
-    """The note of an ``OUTSIDE`` verdict: its words and its reason (``Exercise.theory_validity``'s)."""
+    """The note of an ``OUTSIDE`` verdict: its words and its reason (``validity.theory_validity``'s)."""
     return f"{OUTSIDE_WORDS}: {reason}" if reason else OUTSIDE_WORDS
 
 
@@ -316,15 +318,15 @@ def notes(J: Judged, k: int) -> list[str]:
 
 def theory_validity(ex, params, expected: dict | None = None) -> dict:
     """{output: None | reason}: why each leading-order theory does not apply at ``params`` (None: it does;
-    ``Exercise.theory_validity``)."""
-    return dict(ex.theory_validity(params, expected))
+    ``validity.theory_validity``)."""
+    return dict(validity.theory_validity(ex, params, expected))
 
 
 def theory_validity_batch(ex, P, expected: dict) -> dict:
-    """The batched form: {output: (mask, reasons)} (``Exercise.outside_ranges``)."""
-    return dict(ex.outside_ranges(P, expected))
+    """The batched form: {output: (mask, reasons)} (``validity.outside_ranges``)."""
+    return dict(validity.outside_ranges(ex, P, expected))
 
 
 def approximations(ex, params) -> dict:
     """{output: [(value, what it is)]}: the approximations the exercise declares next to exact outputs."""
-    return dict(ex.approximations_at(params))
+    return dict(validity.approximations_at(ex, params))
