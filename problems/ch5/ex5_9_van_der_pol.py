@@ -75,7 +75,7 @@ RELAX_RTOL = 0.1
 ENSEMBLE_EPS = 16.0
 # the cycle's search (``_cycles``): its bracket's top (X = 2.5, in X^2); a first stage with returns at PRE_RTOL (half
 # the steps of 1e-10) to PRE_STOP of it, then at the solve's rtol from a bracket of +-PRE_SPAN about that root
-TOP, PRE_RTOL, PRE_STOP, PRE_SPAN = 6.25, 1e-7, 10.0, 1e-5
+TOP, PRE_RTOL, PRE_STOP, PRE_SPAN = 6.25, 1e-7, 10.0, 3e-6
 
 
 exercise.declare_limits(f"mu/omega0 <= {MAX_EPS:g}")
