@@ -127,7 +127,7 @@ def interpolated_root(f, a, b, fa, fb, x0=None, f0=None, *, rtol, max_iter: int 
         left, right = np.minimum(lo, hi), np.maximum(lo, hi)
         inside = np.isfinite(trial) & (trial > left) & (trial < right)
         tol = rtol * np.abs(x1)
-        done |= (right - left <= tol) | (inside & (s <= tol) & (s <= 0.1 * step))
+        done |= (right - left <= tol) | ((s <= tol) & (s <= 0.1 * step))  # a tiny step may round outside
         idx = np.flatnonzero(~done)
         if idx.size == 0:
             break
