@@ -54,8 +54,7 @@ alone), not Newton on (A, T), conditioned by 1/eps: it moved A by 1e-7 at rtol/1
 eps ~ 1e-5.  For eps > 4, LSODA in the slow time tau/eps replaces Radau, whose steps
 stalled at ~1e-6 of a cycle on the slow branches (30 s at eps = 100).
 """,
-    # one period of the limit cycle from its maximum (mu/omega0 <= 4); for a relaxation oscillation
-    # (mu/omega0 > 4) the cycle and a half from q = 2/beta^(1/2) at rest that settle onto it
+    # one period of the limit cycle from its maximum (mu/omega0 <= 4); else a cycle and a half from q = 2/beta^(1/2)
     states=[("q", "m"), ("v", "m/s")],
 )
 
@@ -216,6 +215,10 @@ def motion(p, X=None, T=None):
                     t_scale=eps / p.omega0, y_scale=[qs, qs * p.omega0 * eps], to_states=lambda z: z[:2])
 
 
+def _jac(t, y, eps):
+    return np.array([[0.0, 1.0], [-2.0 * eps * y[0] * y[1] - 1.0, eps * (1.0 - y[0] ** 2)]])
+
+
 def _carried(eps):
     """The oscillator (``_f``) with int (1 - x^2) x'^2 dtau and int (1 - x^2) dtau carried along, for floats or
     arrays of variants.  The energy (x^2 + x'^2)/2 changes over a return by eps times the first: a periodic
@@ -275,8 +278,7 @@ def _cycles(eps, rtol, tally, starts=None):
         return energy / y
 
     def search(r, go, *bracket, stop=2.0):
-        # a gain within half its resolution of zero is a root to that accuracy (0.5 r of X^2 times the mean
-        # slope over the local one): the search stops there
+        # a gain within half its resolution of zero (0.5 r of X^2 times the mean slope over the local one) is a root
         thr = 0.5 * r * (g_lo[go] - g_hi[go]) / (TOP - 1.0)
 
         def f(y, i):
@@ -319,9 +321,8 @@ def _cycles(eps, rtol, tally, starts=None):
 
 def _liouville(eps, X, T, int_div, rtol, tally):
     """One period of each converged cycle from its maximum with its variational equations (the time scaled by
-    T: a fixed span): the second multiplier det M = exp(eps int (1 - x^2) dtau) (Liouville), where it is
-    resolvable.  Returns the relative drift of ln det M (0 where not resolvable), what it may drift, each
-    variant's failure and det M."""
+    T: a fixed span): the second multiplier det M = exp(eps int (1 - x^2) dtau) (Liouville), where resolvable.
+    Returns the relative drift of ln det M (0 where not resolvable), what it may drift, failures and det M."""
     from mech.solvers.numerics.ensemble_search import integrate_variants
 
     def system(e, period):
@@ -422,10 +423,9 @@ def _scaled(eps, rtol, tally, starts=None):
 
 @exercise.batched(("A", "omega", "lambda_lc"))
 def numeric(P, rtol, outputs, memo=None, tally=None):
-    """The route at N variants at once (a one-point solve is the batch of one): the cycle depends on eps =
-    mu/omega0 alone, found once for each distinct eps (``_scaled``, kept in ``memo`` across a sweep's chunks):
-    the energy balance's root with the returns of all variants stepped together (``_cycles``), its Liouville
-    check (``_liouville``), the relaxation oscillations one by one.  A variant that fails fails alone."""
+    """The route at N variants at once (a one-point solve is the batch of one): the cycle depends on eps alone,
+    found once for each distinct eps (``_scaled``, kept in ``memo`` across a sweep's chunks): the energy balance's
+    root (``_cycles``), its Liouville check (``_liouville``), the relaxation oscillations.  A variant fails alone."""
     from mech.solvers.numerics.batch import Column, by_rows
 
     tally = Tally() if tally is None else tally
