@@ -169,3 +169,36 @@ def test_interpolated_root_stops_at_an_exact_zero_and_refuses_no_bracket():
                               np.arctan(200.0 * np.array([-1.3])), np.arctan(200.0 * np.array([1.7])), rtol=1e-14,
                               max_iter=2)
     assert not ok.any()
+
+
+def test_integrate_variants_alone_with_a_stiff_method_to_an_event():
+    """Variants each alone with ``options`` (LSODA and its Jacobian) up to a terminal event: each variant's end
+    state and event time are solve_ivp's with that event, bit for bit; a variant whose right-hand side fails
+    fails alone with its reason.  y' = -c (y - cos t): y follows cos t, crossing y = 0.5 downward near t = pi/3."""
+    from scipy.integrate import solve_ivp
+
+    from mech.core.errors import NumericFailure
+    from mech.solvers.numerics.ensemble_search import integrate_variants
+
+    c = np.array([10.0, 1e4, -1.0, 300.0])
+
+    def system(k):
+        def rhs(t, y):
+            if k < 0:
+                raise NumericFailure("no such variant")
+            return [-k * (y[0] - math.cos(t))]
+
+        return rhs
+
+    opts = lambda k: {"method": "LSODA", "jac": lambda t, y: [[-k]]}  # noqa: E731
+    g = lambda t, y: y[0] - 0.5  # noqa: E731
+    y, why, t_stop = integrate_variants(system, (c,), (0.0, 3.0), np.ones((1, c.size)), rtol=1e-10, atol=1e-13,
+                                        event=(g, -1.0), options=opts)
+    assert why[2] == "no such variant" and np.isnan(y[0, 2]) and np.isnan(t_stop[2])
+    for j in (0, 1, 3):
+        ev = lambda t, y: g(t, y)  # noqa: E731
+        ev.terminal, ev.direction = True, -1.0
+        ref = solve_ivp(system(c[j]), (0.0, 3.0), [1.0], method="LSODA", jac=opts(c[j])["jac"], rtol=1e-10,
+                        atol=1e-13, events=[ev])
+        assert why[j] == "" and t_stop[j] == ref.t_events[0][0] and y[0, j] == ref.y[0, -1]
+        assert t_stop[j] == pytest.approx(math.pi / 3, abs=2.0 / c[j])  # y lags cos t by ~sin t / c
