@@ -196,3 +196,44 @@ def test_batched_route_equals_each_variant_alone():
             ref = _cycle_by_lsoda(omega0, mu, beta)
             for name in ("A", "omega", "lambda_lc"):
                 assert cols[name].value[j] == pytest.approx(ref[name], rel=1e-8), (j, name)
+
+
+def test_cycle_at_eps_one_against_its_high_precision_values():
+    """mu = omega0: the cycle of x'' - (1 - x^2) x' + x = 0 has the period 6.66328685933130 and the largest x
+    2.00861986087484 (long known to many digits; reproduced by scipy's Radau at rtol 1e-12 over eight periods
+    from (2, 0): 6.6632868593231365, 2.0086198608748544).  In SI: A = x_max/sqrt(beta), omega = 2 pi omega0/T."""
+    omega0, beta = 2.5, 3.0
+    _, n, _ = solve_both("5.9", omega0=omega0, mu=omega0, beta=beta)
+    assert n["A"] * math.sqrt(beta) == pytest.approx(2.00861986087484, rel=2e-10)
+    assert 2 * math.pi * omega0 / n["omega"] == pytest.approx(6.66328685933130, rel=2e-10)
+
+
+@pytest.mark.parametrize("eps", [3.99, 4.0])
+def test_the_search_brackets_the_cycle_up_to_its_last_eps(eps):
+    """The cycle's search brackets X in [1, 2.5]: at mu/omega0 = 4, the last eps it serves, the energy still falls
+    over a return from X = 2.5, and the root is the cycle of the direct integration (``_cycle_by_lsoda``)."""
+    omega0, beta = 1.5, 2.0
+    _, n, run = solve_both("5.9", omega0=omega0, mu=eps * omega0, beta=beta)
+    ref = _cycle_by_lsoda(omega0, eps * omega0, beta)
+    for name in ("A", "omega", "lambda_lc"):
+        assert n[name] == pytest.approx(ref[name], rel=1e-8), name
+    assert run.info["cycle_evaluations"] <= 12
+
+
+def test_a_rerun_reuses_the_first_stage_and_agrees_with_one_from_scratch():
+    """The search's first stage (returns at PRE_RTOL) is the same computation for a solve and its rerun at rtol/10:
+    kept in the memo by eps, the rerun evaluates only its own stage, and its values are those of a rerun that
+    found its first stage itself, within the rerun's rtol."""
+    from mech.problems import registry
+    from mech.problems.spec import Tally
+
+    ex = registry.get("5.9")
+    P = {"omega0": np.array([1.0, 2.0, 1.0, 3.0]), "mu": np.array([0.01, 1.0, 3.5, 0.3]), "beta": np.ones(4)}
+    rtol, memo = ex.default_rtol, {}
+    ex.batched_route.numeric(P, rtol, ("A",), memo=memo, tally=Tally())
+    shared, fresh = Tally(), Tally()
+    again = ex.batched_route.numeric(P, rtol / 10, ("A", "omega", "lambda_lc"), memo=memo, tally=shared)
+    alone = ex.batched_route.numeric(P, rtol / 10, ("A", "omega", "lambda_lc"), tally=fresh)
+    assert sum(shared.info["cycle_evaluations"]) < sum(fresh.info["cycle_evaluations"]) - 4 * 3
+    for name in again:
+        assert again[name].value == pytest.approx(alone[name].value, rel=10 * rtol / 10), name

@@ -13,19 +13,17 @@ one), once for each distinct eps = mu/omega0: in x = sqrt(beta) q, tau = omega0 
 x'' - eps (1 - x^2) x' + x = 0.
 eps <= 4: the return from a maximum (X, 0) to the next (two legs, each ended by its own event x' = 0,
 the variants stepped together by DOP853) carries the integral of (1 - x^2) x'^2, the energy gained over
-the return divided by eps; the cycle's X is its root (Illinois in X^2, bracketed by X = 1, where the
-damping is negative all along, and X = 3).  Unlike Newton on the map itself, X -> X + O(eps), the root
-keeps its conditioning as eps -> 0.  A = X/sqrt(beta), omega = 2 pi omega0/T; lambda_lc: Liouville's
-formula, mu times the period average of (1 - x^2), checked against ln det M of the converged cycle (its
-variational equations over the period, a fixed span) where det's cancellation leaves that resolvable.
-eps > 4 (relaxation oscillation): x and u = x'/eps against the slow time tau/eps, from the maximum
-(2, 0); the cycle attracts by exp(-1.44 eps^2) per half cycle, so the first minimum is on it, and the
-half cycle from there to the maximum gives half the period and of the divergence's integral (the cycle
-is symmetric under x -> -x), the maximum the amplitude; |x_min| = x_max is the check that it settled.
-Up to eps = 16 the variants are stepped together by DOP853; above, each alone with LSODA (stiff on the
-slow branches).
-The declared motion (``motion``) is one period of the converged cycle or the relaxation's three legs;
-the search's returns are tool runs of the same oscillator.
+the return divided by eps; the cycle's X is its root in X^2 (bracketed by X = 1, where the damping is
+negative all along, and X = 2.5), which keeps its conditioning as eps -> 0 (the map, X -> X + O(eps), does
+not).  A = X/sqrt(beta), omega = 2 pi omega0/T; lambda_lc: Liouville's formula, mu times the period average
+of (1 - x^2), checked against ln det M of the converged cycle (its variational equations over the period,
+a fixed span) where det's cancellation leaves that resolvable.
+eps > 4 (relaxation oscillation): x and u = x'/eps against the slow time tau/eps, from the maximum (2, 0);
+the cycle attracts by exp(-1.44 eps^2) per half cycle, so the first minimum is on it, and the half cycle
+from there to the maximum gives half the period and of the divergence's integral (the cycle is symmetric
+under x -> -x), the maximum the amplitude; |x_min| = x_max is the check that it settled.  Up to eps = 16
+the variants are stepped together by DOP853; above, each alone with LSODA (stiff).  The declared motion
+(``motion``) is one period of the converged cycle or the relaxation's three legs.
 
 Allowances (leading-order outputs; outside mu/omega0 >= 1 nothing is compared):
   A          twice the next order eps^2/192 (Poincare-Lindstedt; fitted 0.005208);
@@ -51,14 +49,12 @@ exercise = Exercise(
     ],
     leading_order=("A", "omega", "lambda_lc"),
     route_note="""
-The cycle is the root of the energy gained over one return from the section
-(Illinois in X^2 alone), not Newton on (A, T): that Newton step is conditioned by
-1/eps and moved A by 1e-7 at rtol/10 for eps ~ 1e-5.  For eps > 4, LSODA in
-the slow time tau/eps replaces Radau, whose steps stalled at ~1e-6 of a
-cycle on the slow branches (30 s at eps = 100).
+The cycle is the root of the energy gained over one return from the section (in X^2
+alone), not Newton on (A, T), conditioned by 1/eps: it moved A by 1e-7 at rtol/10 for
+eps ~ 1e-5.  For eps > 4, LSODA in the slow time tau/eps replaces Radau, whose steps
+stalled at ~1e-6 of a cycle on the slow branches (30 s at eps = 100).
 """,
-    # one period of the limit cycle from its maximum (mu/omega0 <= 4); for a relaxation oscillation
-    # (mu/omega0 > 4) the cycle and a half from q = 2/beta^(1/2) at rest that settle onto it
+    # one period of the limit cycle from its maximum (mu/omega0 <= 4); else a cycle and a half from q = 2/beta^(1/2)
     states=[("q", "m"), ("v", "m/s")],
 )
 
@@ -76,11 +72,12 @@ RELAX_RTOL = 0.1
 # mu/omega0 up to which the relaxation oscillations of many variants are stepped together by DOP853 (its ~2.4 eps^2
 # steps a cycle shared by all of them); above, each alone with LSODA, the stiff solver
 ENSEMBLE_EPS = 16.0
+# the cycle's search (``_cycles``): its bracket's top (X = 2.5, in X^2); a first stage with returns at PRE_RTOL (half
+# the steps of 1e-10) to PRE_STOP of it, then at the solve's rtol from a bracket of +-PRE_SPAN about that root
+TOP, PRE_RTOL, PRE_STOP, PRE_SPAN = 6.25, 1e-7, 10.0, 3e-6
 
 
-exercise.declare_limits(
-    f"mu/omega0 <= {MAX_EPS:g}",
-)
+exercise.declare_limits(f"mu/omega0 <= {MAX_EPS:g}")
 
 
 @exercise.constraint
@@ -145,10 +142,6 @@ def _f(t, y, eps):
     return np.array([y[1], eps * (1.0 - y[0] ** 2) * y[1] - y[0]])
 
 
-def _jac(t, y, eps):
-    return np.array([[0.0, 1.0], [-2.0 * eps * y[0] * y[1] - 1.0, eps * (1.0 - y[0] ** 2)]])
-
-
 def _slow(eps):
     """The same oscillator in x and u = x'/eps against the slow time s = tau/eps (a relaxation oscillation):
     x_s = eps^2 u, u_s = eps^2 (1 - x^2) u - x, with int (1 - x^2) ds carried along; and its Jacobian."""
@@ -167,9 +160,9 @@ def _slow(eps):
 
 
 def _extrema(rhs, z, t, length, turns, missing, options=None, **fields):
-    """The motion from ``z`` at ``t`` on to the next extrema of x, one leg each: ``turns`` the (direction,
-    name) of each in order, a leg ending at its terminal event x' = 0 (found within ``length``, else
-    ``missing(name)`` fails), the next one starting there with x' = 0 exactly (on its section)."""
+    """The motion from ``z`` at ``t`` on to the next extrema of x, one leg each: ``turns`` the (direction, name) of
+    each in order, a leg ending at its terminal event x' = 0 (found within ``length``, else ``missing(name)``
+    fails), the next one starting there with x' = 0 exactly."""
     from mech.problems.motion import Motion
 
     (direction, what), rest = turns[0], turns[1:]
@@ -222,6 +215,10 @@ def motion(p, X=None, T=None):
                     t_scale=eps / p.omega0, y_scale=[qs, qs * p.omega0 * eps], to_states=lambda z: z[:2])
 
 
+def _jac(t, y, eps):
+    return np.array([[0.0, 1.0], [-2.0 * eps * y[0] * y[1] - 1.0, eps * (1.0 - y[0] ** 2)]])
+
+
 def _carried(eps):
     """The oscillator (``_f``) with int (1 - x^2) x'^2 dtau and int (1 - x^2) dtau carried along, for floats or
     arrays of variants.  The energy (x^2 + x'^2)/2 changes over a return by eps times the first: a periodic
@@ -237,8 +234,8 @@ def _carried(eps):
 
 def _returns(eps, X, rtol, tally):
     """From the maxima (X, 0) to the next ones at N variants, in two legs (to the minimum, x' = 0 upward; then
-    to the maximum, each starting on its section): tool runs of the oscillator, the variants stepped together,
-    each stopped at its own event.  Returns (X_next, period, int (1 - x^2) x'^2, int (1 - x^2), failure)."""
+    to the maximum, each from its section), the variants stepped together, each stopped at its own event:
+    (X_next, period, int (1 - x^2) x'^2, int (1 - x^2), failure)."""
     from mech.solvers.numerics.ensemble_search import integrate_variants
 
     vs = np.maximum(1.0, eps)  # x' reaches ~eps in the fast parts for eps ~ 1
@@ -257,22 +254,22 @@ def _returns(eps, X, rtol, tally):
     return z[0], t, z[2], z[3], why
 
 
-def _cycles(eps, rtol, tally):
+def _cycles(eps, rtol, tally, starts=None):
     """The limit cycles of N variants (eps <= 4): each maximum X the root of the energy gained over one return
-    (``_returns``) divided by X^2, bracketed in [1, 3] (for X <= 1 the damping is negative all along the
-    orbit; from X = 3 the energy falls), by Illinois in X^2 (the gain is nearly linear in X^2 for small eps:
-    pi X^2 (1 - X^2/4)), to rtol of X (the noise floor: the gain is resolved to ~rtol, its slope is O(1)).
+    (``_returns``) over X^2, bracketed in [1, 2.5] (for X <= 1 the damping is negative all along the orbit;
+    from X = 2.5 the energy falls), by interpolation in X^2 (``interpolated_root``; the gain is ~pi (1 - X^2/4)
+    for small eps): first at PRE_RTOL (kept in ``starts`` by eps: a rerun's is the same), then at rtol from
+    +-PRE_SPAN about that root, to rtol of X (the noise floor: the gain is resolved to ~rtol, its slope O(1)).
     Returns (X, T, int (1 - x^2) over the cycle, closure X_next - X, evaluations, failure)."""
-    from mech.solvers.numerics.batch import illinois
+    from mech.solvers.numerics.ensemble_search import interpolated_root
 
-    N = eps.size
+    N, r0, starts = eps.size, max(rtol, PRE_RTOL), {} if starts is None else starts
     last = [np.full(N, np.nan) for _ in range(5)]  # X and the return from it, the last evaluated
-    why = np.full(N, "", dtype=object)
-    calls = np.zeros(N)
+    why, calls, y0, g_lo, g_hi = np.full(N, "", dtype=object), np.zeros(N), *(np.full(N, np.nan) for _ in range(3))
 
-    def gain(y, idx):
+    def gain(y, idx, r):
         X = np.sqrt(y)
-        X_next, T, energy, div, w = _returns(eps[idx], X, rtol, tally)
+        X_next, T, energy, div, w = _returns(eps[idx], X, r, tally)
         for k, v in enumerate((X, X_next, T, energy, div)):
             last[k][idx] = v
         for k in np.flatnonzero((w != "") & (why[idx] == "")):
@@ -280,38 +277,52 @@ def _cycles(eps, rtol, tally):
         np.add.at(calls, idx, 1.0)
         return energy / y
 
-    ends = gain(np.concatenate([np.ones(N), np.full(N, 9.0)]), np.concatenate([np.arange(N), np.arange(N)]))
-    g_lo, g_hi = ends[:N], ends[N:]
-    bracket = (g_lo > 0.0) & (g_hi < 0.0) & (why == "")
-    why[(why == "") & ~bracket] = [f"the energy gained over a cycle does not change sign between X = 1 and 3 "
-                                   f"({a:.3g}, {b:.3g}): no bracket for the limit cycle"
-                                   for a, b in zip(g_lo[(why == "") & ~bracket], g_hi[(why == "") & ~bracket])]
-    go = np.flatnonzero(bracket)
-    X = np.full(N, np.nan)
-    if go.size:
-        # a gain within half its resolution of zero is a root to that accuracy (0.5 rtol of X^2 times the mean
-        # slope over the local one): Illinois stops there, not when the far end of its bracket comes in too
-        thr = 0.5 * rtol * (g_lo[go] - g_hi[go]) / 8.0
+    def search(r, go, *bracket, stop=2.0):
+        # a gain within half its resolution of zero (0.5 r of X^2 times the mean slope over the local one) is a root
+        thr = 0.5 * r * (g_lo[go] - g_hi[go]) / (TOP - 1.0)
 
         def f(y, i):
-            g = gain(y, go[i])
+            g = gain(y, go[i], r)
             return np.where(np.abs(g) <= thr[i] * y, 0.0, g)
 
-        y, conv = illinois(f, np.ones(go.size), np.full(go.size, 9.0), g_lo[go], g_hi[go], xtol=0.0, rtol=2.0 * rtol)
-        X[go] = np.sqrt(y)
+        y, conv = interpolated_root(f, *bracket, rtol=stop * r)
         why[go[~conv]] = "the root search for the limit cycle did not converge"
-        again = go[conv & (last[0][go] != X[go])]  # the root's own return, where it was not the last evaluated
+        return y
+
+    keys = [(float(e), r0) for e in eps]
+    new = np.flatnonzero([k not in starts for k in keys])
+    if new.size:
+        one, top, mid = np.ones(new.size), np.full(new.size, TOP), np.full(new.size, 0.5 * (1.0 + TOP))
+        g_lo[new], g_hi[new], g_mid = np.split(gain(np.concatenate([one, top, mid]), np.tile(new, 3), r0), 3)
+        gap = (why[new] == "") & ~((g_lo[new] > 0.0) & (g_hi[new] < 0.0))
+        why[new[gap]] = [f"the energy gained over a cycle does not change sign between X = 1 and 2.5 ({a:.3g}, "
+                         f"{b:.3g}): no bracket for the limit cycle" for a, b in zip(g_lo[new[gap]], g_hi[new[gap]])]
+        k = why[new] == ""
+        go = new[k]
+        y0[go] = search(r0, go, one[k], top[k], g_lo[go], g_hi[go], mid[k], g_mid[k], stop=PRE_STOP)
+        starts.update({keys[j]: (y0[j], g_lo[j], g_hi[j], why[j]) for j in new})
+    for j in range(N):
+        y0[j], g_lo[j], g_hi[j], why[j] = starts[keys[j]]
+    go, X = np.flatnonzero(why == ""), np.full(N, np.nan)
+    if go.size:
+        ya, yb = y0[go] * (1.0 - PRE_SPAN), y0[go] * (1.0 + PRE_SPAN)
+        ga, gb = np.split(gain(np.concatenate([ya, yb]), np.concatenate([go, go]), rtol), 2)
+        ok = why[go] == ""  # each end of the bracket at rtol where the pair brackets the root, else the far end
+        a, fa = np.where(gb > 0, yb, np.where(ga > 0, ya, 1.0)), np.where(gb > 0, gb, np.where(ga > 0, ga, g_lo[go]))
+        b, fb = np.where(ga < 0, ya, np.where(gb < 0, yb, TOP)), np.where(ga < 0, ga, np.where(gb < 0, gb, g_hi[go]))
+        go = go[ok]
+        X[go] = np.sqrt(search(rtol, go, a[ok], b[ok], fa[ok], fb[ok]))
+        again = go[(why[go] == "") & (last[0][go] != X[go])]  # the root's own return, where not the last evaluated
         if again.size:
-            gain(X[again] ** 2, again)
+            gain(X[again] ** 2, again, rtol)
     X[why != ""] = np.nan
     return X, last[2], last[4], last[1] - X, calls, why
 
 
 def _liouville(eps, X, T, int_div, rtol, tally):
     """One period of each converged cycle from its maximum with its variational equations (the time scaled by
-    T: a fixed span): the second multiplier det M = exp(eps int (1 - x^2) dtau) (Liouville), where it is
-    resolvable.  Returns the relative drift of ln det M (0 where not resolvable), what it may drift, each
-    variant's failure and det M."""
+    T: a fixed span): the second multiplier det M = exp(eps int (1 - x^2) dtau) (Liouville), where resolvable.
+    Returns the relative drift of ln det M (0 where not resolvable), what it may drift, failures and det M."""
     from mech.solvers.numerics.ensemble_search import integrate_variants
 
     def system(e, period):
@@ -346,8 +357,8 @@ def _liouville(eps, X, T, int_div, rtol, tally):
 
 def _slow_legs(eps, rtol, tally, options=None):
     """The relaxation oscillation of N variants in the slow time (``_slow``) from the maximum (2, 0), the declared
-    motion's first two legs, max -> min -> max, each ending at its event u = 0 and the next starting there on
-    its section: (slow times of the two extrema, their states, failure)."""
+    motion's first two legs, max -> min -> max, each ending at its event u = 0, the next starting there on its
+    section: (slow times of the two extrema, their states, failure)."""
     from mech.solvers.numerics.ensemble_search import integrate_variants
 
     n = eps.size
@@ -371,16 +382,14 @@ def _slow_legs(eps, rtol, tally, options=None):
 def _relaxation(eps, rtol, tally):
     """The stiff case (eps > 4) at N variants, the declared motion's legs (``_slow_legs``): from the maximum (2, 0)
     the cycle attracts by exp(-1.44 eps^2) per half cycle, so that the first minimum is on it; the cycle is
-    symmetric under x -> -x (so is the equation), and the half from that minimum to the next maximum gives
-    half the period, the amplitude and half the integral of the divergence.  The minimum and the maximum must
-    agree (|x_min| = x_max): the check that the start has settled.  Up to ENSEMBLE_EPS the variants
-    are stepped together by DOP853 (~2.4 eps^2 steps a cycle, shared by all); above, one by one with LSODA
-    (stiff, asked RELAX_RTOL rtol).  Returns (X, T in tau, int (1 - x^2) dtau over the cycle, failure)."""
+    symmetric under x -> -x, and the half from that minimum to the next maximum gives half the period, the
+    amplitude and half the divergence's integral; |x_min| = x_max checks that the start has settled.  Up to
+    ENSEMBLE_EPS the variants are stepped together by DOP853 (~2.4 eps^2 steps a cycle); above, one by one with
+    LSODA (asked RELAX_RTOL rtol).  Returns (X, T in tau, int (1 - x^2) dtau over the cycle, failure)."""
     n = eps.size
-    X, T, div, why = np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan), np.full(n, "", dtype=object)
+    (X, T, div), why = (np.full(n, np.nan) for _ in range(3)), np.full(n, "", dtype=object)
     for sel, r, options in ((eps <= ENSEMBLE_EPS, rtol, None),
-                            # scipy raises an rtol below 100 EPS = 2.2e-14 to it, with a warning: 3e-14 is what
-                            # LSODA can be asked
+                            # scipy raises an rtol below 100 EPS = 2.2e-14 to it, with a warning: 3e-14 it takes
                             (eps > ENSEMBLE_EPS, max(RELAX_RTOL * rtol, 3e-14),
                              lambda e: {"method": "LSODA", "jac": _slow(e)[1]})):
         k = np.flatnonzero(sel)
@@ -394,17 +403,16 @@ def _relaxation(eps, rtol, tally):
     return X, T, div, why
 
 
-def _scaled(eps, rtol, tally):
+def _scaled(eps, rtol, tally, starts=None):
     """Each distinct eps's cycle in x = sqrt(beta) q and tau = omega0 t: (X, T, lambda/mu, the Liouville drift
     and its allowance, failure, closure, evaluations, det M); the relaxation oscillations (``_relaxation``)."""
-    N = eps.size
-    X, T, div, det = (np.full(N, np.nan) for _ in range(4))
+    N, (X, T, div, det) = eps.size, (np.full(eps.size, np.nan) for _ in range(4))
     drift, allowed = np.zeros(N), np.full(N, exercise.tol_factor * rtol)
     why, closure, calls = np.full(N, "", dtype=object), np.full(N, np.nan), np.zeros(N)
     small = np.flatnonzero(eps <= RELAX_EPS)
     if small.size:
         e = eps[small]
-        X[small], T[small], div[small], closure[small], calls[small], why[small] = _cycles(e, rtol, tally)
+        X[small], T[small], div[small], closure[small], calls[small], why[small] = _cycles(e, rtol, tally, starts)
         ok = small[why[small] == ""]
         drift[ok], allowed[ok], why[ok], det[ok] = _liouville(eps[ok], X[ok], T[ok], div[ok], rtol, tally)
     big = np.flatnonzero(eps > RELAX_EPS)
@@ -415,18 +423,18 @@ def _scaled(eps, rtol, tally):
 
 @exercise.batched(("A", "omega", "lambda_lc"))
 def numeric(P, rtol, outputs, memo=None, tally=None):
-    """The route at N variants at once (a one-point solve is the batch of one): the cycle depends on eps =
-    mu/omega0 alone, found once for each distinct eps (``_scaled``, kept in ``memo`` across a sweep's chunks):
-    the energy balance's root with the returns of all variants stepped together (``_cycles``), its Liouville
-    check (``_liouville``), the relaxation oscillations one by one.  A variant that fails fails alone."""
+    """The route at N variants at once (a one-point solve is the batch of one): the cycle depends on eps alone,
+    found once for each distinct eps (``_scaled``, kept in ``memo`` across a sweep's chunks): the energy balance's
+    root (``_cycles``), its Liouville check (``_liouville``), the relaxation oscillations.  A variant fails alone."""
     from mech.solvers.numerics.batch import Column, by_rows
 
     tally = Tally() if tally is None else tally
     memo = {} if memo is None else memo
     omega0, mu, beta = _arrays(P)
     eps = mu / omega0
+    starts = memo.setdefault("5.9 starts", {})  # the cycle search's first stage, the same for a solve and its rerun
     X, T, lam, drift, allowed, why, closure, calls, det = by_rows(memo, ("5.9 cycle", rtol), (eps,),
-                                                    lambda e: _scaled(e, rtol, tally))
+                                                    lambda e: _scaled(e, rtol, tally, starts))
     why = np.asarray(why, dtype=object)
     small = eps <= RELAX_EPS
     if small.any():
