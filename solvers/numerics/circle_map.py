@@ -5,7 +5,9 @@ least squares (with the largest residual, an honest error of the fit); ``rotatio
 increment per iterate, by the weighted Birkhoff average of d along an orbit (weights exp(-1/(s (1 - s))),
 which converges faster than any power of the orbit's length for a smooth quasi-periodic orbit).  Both take
 stacks of maps (rows; a single map is a stack of one).  5.10 uses them for the beat of an oscillator just
-outside its locking range.
+outside its locking range.  ``invariant_circle`` finds, by Newton's method, the closed curve a planar map
+carries onto itself (the section of an attracting torus), where iterating onto it would take ~1/(1 - lambda)
+iterates at a transverse multiplier lambda near 1.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ import math
 
 import numpy as np
 
-__all__ = ["fourier_fit", "rotation_number"]
+__all__ = ["fourier_fit", "rotation_number", "invariant_circle"]
 
 # below this many maps still iterating, each is iterated alone on plain complex numbers (a numpy call on a
 # few numbers costs more than the arithmetic)
@@ -102,3 +104,54 @@ def rotation_number(coef, K):
         out[j] = _alone(float(c0[j]), [complex(x) for x in c[j]], int(n[j]), i, float(th[r]), float(num[r]),
                         float(den[r]))
     return float(out[0]) if one else out
+
+
+def _dbasis(theta, K):
+    """d/dtheta of ``_basis``."""
+    k = np.arange(1, K + 1)
+    ang = np.asarray(theta, dtype=float)[..., None] * k
+    return np.concatenate([np.zeros(ang.shape[:-1] + (1,)), -k * np.sin(ang), k * np.cos(ang)], axis=-1)
+
+
+def invariant_circle(advance, rho0, stretch, K, n, tol, n_out=None, max_iter=12, h=1e-7):
+    """The invariant circles of R planar maps at once, as graphs rho(theta) over the angle theta = atan2(p, q):
+    Gauss-Newton on the K-harmonic Fourier coefficients of rho, collocated at the n > 2 K + 1 angles 2 pi j/n.
+
+    ``advance(y)``: the maps applied to points y of shape (2, 2 R, n), rows q and stretch * p (each map is given
+    its points, then the same points pushed out along rho by h rho0: the Jacobian's difference, both taken by
+    the same steps of the caller's integrator).  ``rho0``: (R, 1) starting radii; ``stretch``: (R, 1) (5.10: the
+    velocity, -omega0 p).  The residual at theta_j is the image's radius less rho at the image's angle; each
+    Newton step stops below ``tol`` (relative to rho0; a number or (R,)).  Returns (the points on the circle at
+    the n_out (default n) angles 2 pi j/n_out, (2, R, n_out); the last Newton step over rho0, (R,); converged,
+    (R,) bool)."""
+    R = rho0.shape[0]
+    th = 2.0 * math.pi * np.arange(n) / n
+    B = _basis(th, K)  # (n, 2K+1)
+    cs = np.stack([np.cos(th), np.sin(th)])
+    coef = np.zeros((R, 2 * K + 1))
+    coef[:, 0] = rho0[:, 0]
+    step = np.full(R, np.inf)
+    for _ in range(max_iter):
+        rho = coef @ B.T  # (R, n)
+        dr = h * rho0
+        pts = np.concatenate([rho, rho + dr], axis=0)[None] * cs[:, None, :]
+        pts[1] *= np.concatenate([stretch, stretch])
+        img = advance(pts)
+        q, p = img[0], img[1] / np.concatenate([stretch, stretch])
+        a, psi = np.hypot(q, p), np.arctan2(p, q)
+        da = (a[R:] - a[:R]) / dr
+        dpsi = (np.mod(psi[R:] - psi[:R] + math.pi, 2.0 * math.pi) - math.pi) / dr
+        Bpsi = _basis(psi[:R], K)  # (R, n, 2K+1)
+        slope = np.einsum("rnk,rk->rn", _dbasis(psi[:R], K), coef)
+        resid = a[:R] - np.einsum("rnk,rk->rn", Bpsi, coef)
+        J = (da - slope * dpsi)[..., None] * B[None] - Bpsi
+        qm, rm = np.linalg.qr(J)
+        delta = -np.linalg.solve(rm, np.einsum("rji,rj->ri", qm, resid)[..., None])[..., 0]
+        coef += delta
+        step = np.max(np.abs(delta), axis=1) / rho0[:, 0]
+        if np.all(step < tol):
+            break
+    th = 2.0 * math.pi * np.arange(n_out or n) / (n_out or n)
+    pts = (coef @ _basis(th, K).T)[None] * np.stack([np.cos(th), np.sin(th)])[:, None, :]
+    pts[1] *= stretch
+    return pts, step, step < tol
