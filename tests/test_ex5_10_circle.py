@@ -24,15 +24,14 @@ def test_invariant_circle_of_a_weakly_contracting_map_with_a_known_one():
 
     calls = []
 
-    def advance(y):
-        calls.append(y.shape)
-        R = y.shape[1] // 2
-        st = np.concatenate([stretch, stretch])
+    def advance(y, idx):
+        calls.append(idx)
+        st = np.concatenate([stretch[idx], stretch[idx]])
         q, p = y[0], y[1] / st
         th, r = np.arctan2(p, q), np.hypot(q, p)
         out = np.empty_like(y)
-        for j in range(2 * R):
-            k = j % R
+        for j in range(2 * idx.size):
+            k = idx[j % idx.size]
             th2 = th[j] + 0.3 + 0.2 * np.sin(th[j])
             r2 = rho(th2, k) + lam[k] * (r[j] - rho(th[j], k))
             out[0, j], out[1, j] = r2 * np.cos(th2), st[j] * r2 * np.sin(th2)

@@ -381,8 +381,8 @@ def _beat(w0, mu, beta, f0, w, amp, rtol, memo, tally):
     keys = [("5.10 circle", r_settle, *row) for row in zip(*(x.tolist() for x in (w0, mu, beta, f0, w, amp)))]
     todo = np.array([j for j, key in enumerate(keys) if key not in memo], dtype=int)
     if todo.size:  # the torus section: Newton on its radius, each iterate one drive period of its copies
-        def advance(y):
-            sel = np.tile(todo, y.shape[1] // todo.size)
+        def advance(y, idx):
+            sel = np.tile(todo[idx], 2)
             return _periods(w0[sel], mu[sel], beta[sel], f0[sel], w[sel], y, np.ones(sel.size), r_settle, tally)
 
         # an error e of the map moves the circle by about e/(1 - exp(-mu T)): the Newton steps stop there

@@ -117,9 +117,9 @@ def invariant_circle(advance, rho0, stretch, K, n, tol, n_out=None, max_iter=12,
     """The invariant circles of R planar maps at once, as graphs rho(theta) over the angle theta = atan2(p, q):
     Gauss-Newton on the K-harmonic Fourier coefficients of rho, collocated at the n > 2 K + 1 angles 2 pi j/n.
 
-    ``advance(y)``: the maps applied to points y of shape (2, 2 R, n), rows q and stretch * p (each map is given
-    its points, then the same points pushed out along rho by h rho0: the Jacobian's difference, both taken by
-    the same steps of the caller's integrator).  ``rho0``: (R, 1) starting radii; ``stretch``: (R, 1) (5.10: the
+    ``advance(y, idx)``: the maps idx (those still iterating) applied to points y of shape (2, 2 len(idx), n),
+    rows q and stretch * p (each map's points, then the same points pushed out along rho by h rho0: the
+    Jacobian's difference, both taken by the same steps of the caller's integrator).  ``rho0``: (R, 1) starting radii; ``stretch``: (R, 1) (5.10: the
     velocity, -omega0 p).  The residual at theta_j is the image's radius less rho at the image's angle; each
     Newton step stops below ``tol`` (relative to rho0; a number or (R,)).  Returns (the points on the circle at
     the n_out (default n) angles 2 pi j/n_out, (2, R, n_out); the last Newton step over rho0, (R,); converged,
@@ -131,25 +131,30 @@ def invariant_circle(advance, rho0, stretch, K, n, tol, n_out=None, max_iter=12,
     coef = np.zeros((R, 2 * K + 1))
     coef[:, 0] = rho0[:, 0]
     step = np.full(R, np.inf)
+    tol = np.broadcast_to(np.asarray(tol, dtype=float), (R,))
+    act = np.arange(R)  # the maps still iterating: a converged one stops
     for _ in range(max_iter):
-        rho = coef @ B.T  # (R, n)
-        dr = h * rho0
+        c, r0, st = coef[act], rho0[act], np.concatenate([stretch[act], stretch[act]])
+        rho = c @ B.T  # (R', n)
+        dr = h * r0
         pts = np.concatenate([rho, rho + dr], axis=0)[None] * cs[:, None, :]
-        pts[1] *= np.concatenate([stretch, stretch])
-        img = advance(pts)
-        q, p = img[0], img[1] / np.concatenate([stretch, stretch])
+        pts[1] *= st
+        img = advance(pts, act)
+        q, p = img[0], img[1] / st
         a, psi = np.hypot(q, p), np.arctan2(p, q)
-        da = (a[R:] - a[:R]) / dr
-        dpsi = (np.mod(psi[R:] - psi[:R] + math.pi, 2.0 * math.pi) - math.pi) / dr
-        Bpsi = _basis(psi[:R], K)  # (R, n, 2K+1)
-        slope = np.einsum("rnk,rk->rn", _dbasis(psi[:R], K), coef)
-        resid = a[:R] - np.einsum("rnk,rk->rn", Bpsi, coef)
+        m = act.size
+        da = (a[m:] - a[:m]) / dr
+        dpsi = (np.mod(psi[m:] - psi[:m] + math.pi, 2.0 * math.pi) - math.pi) / dr
+        Bpsi = _basis(psi[:m], K)  # (R', n, 2K+1)
+        slope = np.einsum("rnk,rk->rn", _dbasis(psi[:m], K), c)
+        resid = a[:m] - np.einsum("rnk,rk->rn", Bpsi, c)
         J = (da - slope * dpsi)[..., None] * B[None] - Bpsi
         qm, rm = np.linalg.qr(J)
         delta = -np.linalg.solve(rm, np.einsum("rji,rj->ri", qm, resid)[..., None])[..., 0]
-        coef += delta
-        step = np.max(np.abs(delta), axis=1) / rho0[:, 0]
-        if np.all(step < tol):
+        coef[act] += delta
+        step[act] = np.max(np.abs(delta), axis=1) / r0[:, 0]
+        act = act[~(step[act] < tol[act])]
+        if not act.size:
             break
     th = 2.0 * math.pi * np.arange(n_out or n) / (n_out or n)
     pts = (coef @ _basis(th, K).T)[None] * np.stack([np.cos(th), np.sin(th)])[:, None, :]
