@@ -69,6 +69,26 @@ def test_the_beat_at_small_mu_against_a_long_scipy_integration():
     assert abs(beat - SMALL_MU_BEAT) <= rel * beat
 
 
+# The same reference near the upper locking edge (|xi|/Delta = 1.15), over 8 slip periods (187 CPU-s;
+# over 4 it gave 3.21682e-4: the slip there is far from uniform, and the average converges slowly)
+NEAR_EDGE = {"omega0": 3.0, "mu": 0.003, "beta": 4.0, "f0": 0.0036, "omega": 3.00069}
+NEAR_EDGE_BEAT = 3.2058784381883143e-04
+
+
+def test_the_beat_near_an_edge_at_a_fine_rtol_keeps_its_reference_within_its_claim():
+    """Asked for rtol 1e-12, the beat used to claim 9.4e-7 (its floor, 100 rtol omega/beat) and lay 8.3e-5 from
+    the reference: its weighted Birkhoff average over 25 quasi-periods was 6e-5 off, and the claim did not
+    count it.  Now the average runs twice as long and carries the difference from its first half."""
+    from mech.problems import registry
+
+    ex = registry.get("5.10")
+    P = {k: np.array([v]) for k, v in NEAR_EDGE.items()}
+    out = ex.batched_route.numeric(P, 1e-12, ("xi_lo", "xi_hi", "width", "beat"), memo={})["beat"]
+    beat, rel = float(out.value[0]), float(np.broadcast_to(out.rel, out.value.shape)[0])
+    assert not out.mask("failed")[0] and rel < 1e-3
+    assert abs(beat - NEAR_EDGE_BEAT) <= rel * beat
+
+
 def test_assign_draws_where_the_leading_order_holds(tmp_path):
     """The typical ranges are the regime of the book's theory (mu/omega0 ~ 1e-3): the default assignment
     is issued; the textbook's factor-3 box is refused after 2048 draws (not 20256), naming the ranges that work."""
@@ -79,3 +99,21 @@ def test_assign_draws_where_the_leading_order_holds(tmp_path):
                          "--over", "omega=1.01:9.09")
     assert code == 2 and len(err.strip().splitlines()) == 1, err
     assert "none of 2048 draws" in err and "mu=0.001:0.003" in err and "f0=0.0002:0.0006" in err, err
+
+
+def test_the_birkhoff_average_carries_its_own_error():
+    """theta -> h(h^-1(theta) + a), h(x) = x + 0.5 sin x, is conjugate to the rotation by a: its mean increment
+    is a exactly.  Over the default orbit the weighted average is 1e-9 off (near 5.10's locking edges 6e-5 of
+    the beat, which its claim did not count); over twice the orbit it is closer, and its estimate (the
+    difference from the first half) bounds that."""
+    from mech.solvers.numerics.circle_map import fourier_fit, rotation_number
+
+    a, e, K = 2 * math.pi * 0.0123456, 0.5, 60
+    x = np.linspace(0, 2 * math.pi, 400, endpoint=False)
+    th, y = x + e * np.sin(x), x + a
+    coef, res = fourier_fit(th, y + e * np.sin(y) - th, K)
+    assert res < 1e-14
+    plain = rotation_number(coef, K)
+    value, err = rotation_number(coef, K, with_error=True)
+    assert abs(plain - a) > 1e-10
+    assert abs(value - a) <= err and err < 1e-8
