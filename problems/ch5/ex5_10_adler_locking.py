@@ -418,9 +418,15 @@ def _beat(w0, mu, beta, f0, w, amp, rtol, memo, tally):
             why[j] = "the torus the beat is read on was not found: Newton on its section did not converge"
         elif mean_d[j] == 0.0:
             why[j] = "the fitted circle map has no mean drift: the oscillator looks locked outside the range"
+        elif not rel[j] < 1.0 and birkhoff[1, j] > left[j] + fit_err[j]:
+            # a slip of ~1e5 drive periods (just outside a narrow range): the circle map's average over the
+            # orbit it is iterated along (circle_map._length, 2e5 iterates at most, twice) is not converged
+            why[j] = (f"the beat {beat[j]:.2g} rad/s is not resolved: omega is so close to a locking edge that "
+                      "the phase slips too slowly for the average over the 4e5 drive periods followed (its error "
+                      f"bar would be {rel[j]:.1g} times its value)")
         elif not rel[j] < 1.0:
             # outside the range the beat is positive; an error bar as large as the beat itself is no answer
-            # (just outside a range far narrower than omega0's round-off, the settling run cannot resolve it)
+            # (just outside a range far narrower than omega0's round-off, the map cannot resolve it)
             why[j] = (f"the beat {beat[j]:.2g} rad/s is not resolved: its error bar would be {rel[j]:.1g} times "
                       "its value (omega is too close to a locking range far narrower than omega0's round-off)")
     return beat, rel, why, info
