@@ -40,6 +40,9 @@ MAX_STUDENTS = 2000
 MAX_ROSTER_BYTES = 256 * 1024
 MAX_TRIES = 40  # verified draws a student may take for one exercise before mech gives up (a loud one line)
 MAX_DRAWS_PER_VARIANT = 200  # draws screened (rounded, analytic, regime) per variant before mech gives up
+# draws of an exercise none of which passes the screen: refused at once (a pass rate of 1/MAX_DRAWS_PER_VARIANT
+# leaves all of them out with a chance of exp(-10)), rather than after MAX_DRAWS_PER_VARIANT per student
+HOPELESS_DRAWS = 2048
 MIN_DIGITS, MAX_DIGITS = 2, 12
 
 
@@ -523,6 +526,8 @@ def _candidates(ex, seed: int, digits: int, rng: dict, pool: list, drawn_n: int,
     size = max(wanted, drawn_n + 8)
     while len(pool) < wanted:
         size = max(2 * size, drawn_n + 2 * (wanted - len(pool)) + 8)
+        if not pool and drawn_n < HOPELESS_DRAWS:
+            size = min(size, HOPELESS_DRAWS)
         pts = draw(ex, size, _seed_for(seed, ex.id), rng)
         new = pts[drawn_n:]
         if not new:
@@ -531,11 +536,48 @@ def _candidates(ex, seed: int, digits: int, rng: dict, pool: list, drawn_n: int,
         drawn_n = len(pts)
         rounded = [got for got in (_rounded(ex, p, digits, rng) for p in new) if got is not None]
         pool.extend(got for got, ok in zip(rounded, _screen(ex, [got[1] for got in rounded])) if ok)
+        if not pool and drawn_n >= HOPELESS_DRAWS:
+            raise BadInput(_hopeless(ex, seed, digits, rng, [got[1] for got in rounded], drawn_n))
         if len(pool) < wanted and drawn_n >= MAX_DRAWS_PER_VARIANT * wanted + 256:
             raise BadInput(f"{ex.id}: too few drawn variants rounded to {digits} digits stay inside the ranges, "
                            "the joint constraints, the statement's regime and 1 % of the exact value for every "
                            "leading-order answer; give more --digits or change --over")
     return drawn_n
+
+
+def _least_neglect(ex, params: list) -> float | None:
+    """The smallest, over ``params``, of the largest relative error the theory's own estimate gives."""
+    best = None
+    for p in params[:256]:
+        try:
+            errs = expected_errors(ex, p)
+        except (ArithmeticError, ValueError, BadInput):
+            continue
+        rels = [e[0] if isinstance(e, (tuple, list)) else e for e in errs.values()]
+        if rels and all(r is not None and math.isfinite(r) for r in rels):
+            best = max(rels) if best is None else min(best, max(rels))
+    return best
+
+
+def _hopeless(ex, seed: int, digits: int, rng: dict, params: list, drawn_n: int) -> str:
+    """The one line refusing an exercise none of whose first ``drawn_n`` draws passes the screen, naming
+    what would work: the exercise's typical ranges, where --over moved them and they pass."""
+    from mech.students.points import draw
+
+    least = _least_neglect(ex, params) if any(o.theory != "exact" for o in ex.outputs) else None
+    why = (f"what its theory neglects is at least {100 * least:.2g} % at each of them (its own estimate; "
+           f"a leading-order answer must be within {100 * LEADING_ORDER_AGREE:g} %)" if least is not None
+           and least > SCREEN_NEGLECT else "they fail its joint limits, its regime or its analytic answer")
+    typical = {p.name: tuple(p.typical) for p in ex.params}
+    moved = [name for name in rng if tuple(rng[name]) != typical[name]]
+    hint = "change --over"
+    if moved:
+        pts = draw(ex, 64, _seed_for(seed, ex.id), typical)
+        rounded = [got for got in (_rounded(ex, p, digits, typical) for p in pts) if got is not None]
+        if any(_screen(ex, [got[1] for got in rounded])):
+            hint = ("its typical ranges do: " + ", ".join(f"{name}={_range_text(*typical[name])}" for name in moved)
+                    + " (drop those --over)")
+    return f"{ex.id}: none of {drawn_n} draws inside the ranges is worth assigning: {why}; {hint}"
 
 
 def make(exercises: list, students: list[str], seed: int, overs: dict | None = None, digits: int = 3,

@@ -205,6 +205,27 @@ def test_every_exercise_handout_is_free_of_defaults():
     assert "{" not in re.sub(r"`[^`]*`", "", text)  # every placeholder filled
 
 
+# exercises whose leading-order theory holds to 1 % nowhere within a factor 3 of the textbook values: their
+# typical ranges are the regime where it does (5.10: mu/omega0 ~ 1e-3), which the test below holds them to
+NOWHERE_NEAR_THE_DEFAULTS = {"5.10"}
+
+
+@pytest.mark.parametrize("ex_id", sorted(NOWHERE_NEAR_THE_DEFAULTS))
+def test_a_typical_range_leaves_the_factor_3_band_only_where_the_theory_fails_all_of_it(ex_id):
+    """Drawn within a factor 3 of its textbook values, none of 256 variants passes the screen (the theory's
+    own estimate of what it neglects within 2 %); drawn in its declared ranges, most do."""
+    from mech.problems import registry
+    from mech.students.assign import _screen
+    from mech.students.points import draw
+
+    ex = registry.get(ex_id)
+    band = {p.name: (p.default / 3, 3 * p.default) if p.default and not p.fixed else tuple(p.typical)
+            for p in ex.params}
+    pts = draw(ex, 256, 5, band)
+    assert len(pts) == 256 and not any(_screen(ex, pts))
+    assert sum(_screen(ex, draw(ex, 64, 5, {p.name: tuple(p.typical) for p in ex.params}))) >= 32
+
+
 def test_catalogue_typical_ranges():
     from mech.problems import registry
 
@@ -221,7 +242,7 @@ def test_catalogue_typical_ranges():
                 assert p.fixed and lo == hi == p.default, (ex.id, p.name)
             elif p.unit in ("1", "rad"):  # angles and ratios: a sub-range chosen from the statement
                 assert p.typical_min is not None and p.typical_max is not None and lo < hi, (ex.id, p.name)
-            elif p.default:
+            elif p.default and ex.id not in NOWHERE_NEAR_THE_DEFAULTS:
                 assert abs(p.default) / 3 * (1 - 1e-12) <= min(abs(lo), abs(hi)), (ex.id, p.name)
                 assert max(abs(lo), abs(hi)) <= 3 * abs(p.default) * (1 + 1e-12), (ex.id, p.name)
     code, out, _ = run("show", "4.15", "--json")

@@ -19,12 +19,15 @@ omega0 (locking ranges of 1e-16 omega0 to a part in 1e7).  The locked orbits for
 against the drive: Newton on the plane of one phase solves for the swing and the frequency, each variant its
 own iterate and stop, stepping from the centre of the range a third of a turn at a time each way until
 det(M - I) changes sign; each edge, a fold, refined by Illinois on det(M - I) over the phase.
-(2) The beat: inside the numeric range the locked orbit exists and attracts: beat = 0.  Outside, 96 copies
-started around the cycle settle on the invariant torus for 16/mu (at most 300 drive periods); their phases
-theta = atan2(-q'/omega0, q) over the next drive period give the circle map theta -> theta + 2 pi + d(theta)
-on the torus's section, fitted by a Fourier series; its weighted Birkhoff average (weight exp(-1/(s(1 - s))),
-circle_map) gives the mean of d, and beat = omega |<d>|/(2 pi).  Two consecutive periods give two fits: their
-difference over 1 - exp(-mu T) bounds the transient left, and with the fit's residual makes the claim.
+(2) The beat: inside the numeric range the locked orbit exists and attracts: beat = 0.  Outside, the section
+of the attracting torus by the drive's phase, a closed curve rho(theta) the one-period map carries onto itself,
+is found by Newton's method on rho's Fourier series (circle_map.invariant_circle, from the circle of the edge's
+swing; each iterate one drive period of 2 x 48 copies), where settling onto it would take ~1/(mu T) periods.
+96 copies on it, their phases theta = atan2(-q'/omega0, q) over the next drive period give the circle map
+theta -> theta + 2 pi + d(theta), fitted by a Fourier series; its weighted Birkhoff average (weight
+exp(-1/(s(1 - s))), circle_map) gives the mean of d, and beat = omega |<d>|/(2 pi).  Two consecutive periods
+give two fits: their difference over 1 - exp(-mu T) bounds what is left of the transient, and with the fit's
+residual and the average's own error (over twice 25 quasi-periods, against its first half) makes the claim.
 
 Allowances (bounds, factor 3 over the neglected sizes): xi_lo, xi_hi  the free-frequency shift
 mu^2/(16 omega0) plus Delta ((Delta/mu)^2 + Delta/omega0); width  the latter with (mu/omega0)^2 (the shift
@@ -48,7 +51,7 @@ exercise = Exercise(
     ],
     leading_order=("xi_lo", "xi_hi", "width", "beat"),
     # outside the locking range: one of the oscillators the beat is read from, on the torus, over the two
-    # drive periods after it settled (none inside the range: the beat is 0 there, nothing is integrated)
+    # drive periods once on it (none inside the range: the beat is 0 there, nothing is integrated)
     states=[("q", "m"), ("v", "m/s")],
 )
 
@@ -155,16 +158,15 @@ def theory_range(P):
 # ---------------------------------------------------------------------------------------------------------
 N_COPIES = 96
 N_MODES = 14
-SETTLE_MU_T = 16.0  # e^-16 ~ 1e-7 of the start's distance from the torus (itself ~ Delta/mu)
+CIRCLE_MODES = 16  # harmonics of the torus section's radius rho(theta) (its Newton solve, ``_beat``)
 # mu/omega0 below which the one-period map is taken in the frame rotating with the drive: the plain map
 # resolves the detuning w only to about rtol omega0/W, the rotating one to rtol mu/W (W ~ 4 Delta); above,
 # the plain map is cheaper for the same accuracy (fewer harmonics in its integrand)
 ROTATING_BELOW = 5e-3
 CHUNK_COPIES = 8192  # copies integrated together at most (``_periods``)
-# the settling's tolerance: it only has to land on the attracting torus (the two fits see what it left; over
-# 300 class draws the beats moved by at most 0.06 of their claims from 1e-6's, for 17 % less work)
-R_SETTLE = 1e-5
-MAX_SETTLE = 300  # drive periods at most (very small mu): the claim then carries the transient left over
+# the torus section's tolerance: the copies only have to start on the attracting torus (the two fits see what
+# is left, which relaxes at exp(-mu T) a period), and the same for a solve and its rerun
+R_SETTLE = 1e-8
 
 
 def _ensemble(w0, mu, beta, f0, integrator):
@@ -315,7 +317,7 @@ def _periods(w0, mu, beta, f0, w, y0, n, r, tally):
     for group in chunks_by_work(n, overhead=4.0):
         for part in np.array_split(group, -(-group.size * M // CHUNK_COPIES)):
             Q = np.repeat(1.0 / np.sqrt(beta[part]), M)
-            make = _drive_phase_rhs(w0[part], mu[part], beta[part], f0[part], w[part], 2.0 * math.pi * n[part])
+            make = _drive_phase_rhs(w0[part], mu[part], beta[part], f0[part], w[part], 2.0 * math.pi * n[part], M)
             atol = 1e-3 * r * np.stack([Q, Q * np.repeat(w0[part], M)])
             y, runs = integrate_ensemble(make, (0.0, 1.0), y0[:, part].reshape(2, -1), rtol=r, atol=atol,
                                          integrator=tally.integrator)
@@ -325,11 +327,10 @@ def _periods(w0, mu, beta, f0, w, y0, n, r, tally):
     return out
 
 
-def _drive_phase_rhs(w0, mu, beta, f0, w, L):
-    """``integrate_ensemble``'s make_rhs for the copies of the variants (N_COPIES each, variant-major) in the
+def _drive_phase_rhs(w0, mu, beta, f0, w, L, M):
+    """``integrate_ensemble``'s make_rhs for the copies of the variants (M each, variant-major) in the
     drive phase tau = omega t scaled by L per variant (s = tau/L: L = 2 pi for one period): dq/ds = L v/omega,
     dv/ds = L (mu (1 - beta q^2) v - omega0^2 q + f0 cos tau)/omega."""
-    M = N_COPIES
     k, c1, c2, c3 = (L / w)[:, None], mu[:, None], (mu * beta)[:, None], (w0 * w0)[:, None]
     drive, Lc = f0[:, None], L[:, None]
 
@@ -368,28 +369,30 @@ def _drive_phase_rhs(w0, mu, beta, f0, w, L):
 def _beat(w0, mu, beta, f0, w, amp, rtol, memo, tally):
     """|omega - mean oscillator frequency| from the circle map on the torus (see the module doc), for the
     variants outside their locking range: (beat, relative claim, failure reason or None per variant)."""
-    from mech.solvers.numerics.circle_map import fourier_fit, rotation_number
+    from mech.solvers.numerics.circle_map import fourier_fit, invariant_circle, rotation_number
 
     M, m = N_COPIES, w.size
     T = 2.0 * math.pi / w
-    n = np.clip(np.ceil(SETTLE_MU_T / (mu * T)), 2, MAX_SETTLE)
-    # the copies start on a circle of about the locked swing, only to be near the torus: 4 digits of it
-    # are plenty, and make the start (and so the settling, at a tolerance that does not depend on rtol)
-    # the same for the solve and its rerun at rtol/10, which then takes it from the memo
+    # the torus section is found by Newton from a circle of about the locked swing: 4 digits of it are plenty,
+    # and make the start (and so the section, at a tolerance that does not depend on rtol) the same for the
+    # solve and its rerun at rtol/10, which then takes it from the memo
     amp = np.array([float(f"{a:.4g}") for a in amp])
-    r_settle = max(rtol, R_SETTLE)  # the settling only has to land on the attracting torus
-    keys = [("5.10 settle", r_settle, *row) for row in zip(*(x.tolist() for x in (w0, mu, beta, f0, w, amp, n)))]
+    r_settle = max(rtol, R_SETTLE)
+    keys = [("5.10 circle", r_settle, *row) for row in zip(*(x.tolist() for x in (w0, mu, beta, f0, w, amp)))]
     todo = np.array([j for j, key in enumerate(keys) if key not in memo], dtype=int)
-    if todo.size:  # the copies start on a circle around the cycle
-        th = 2.0 * math.pi * np.arange(M) / M
-        a_t = amp[todo, None]
-        y0 = np.stack([a_t * np.cos(th), -w0[todo, None] * a_t * np.sin(th)])
-        got = _periods(w0[todo], mu[todo], beta[todo], f0[todo], w[todo], y0, n[todo], r_settle, tally)
-        for j, y in zip(todo, np.moveaxis(got, 1, 0)):
-            memo[keys[j]] = y
-    info = {"beat_settle_periods": n}
+    if todo.size:  # the torus section: Newton on its radius, each iterate one drive period of its copies
+        def advance(y, idx):
+            sel = np.tile(todo[idx], 2)
+            return _periods(w0[sel], mu[sel], beta[sel], f0[sel], w[sel], y, np.ones(sel.size), r_settle, tally)
+
+        # an error e of the map moves the circle by about e/(1 - exp(-mu T)): the Newton steps stop there
+        tol = 30.0 * r_settle / -np.expm1(-mu[todo] * T[todo])
+        pts, step, ok = invariant_circle(advance, amp[todo, None], -w0[todo, None], CIRCLE_MODES, M // 2, tol, M)
+        for j, y, st, good in zip(todo, np.moveaxis(pts, 1, 0), step, ok):
+            memo[keys[j]] = (y, float(st), bool(good))
+    info = {"beat_circle_newton_step": np.array([memo[key][1] for key in keys])}
     # the next two drive periods, on the torus (the drive's phase is a whole number of turns: cos tau again)
-    sections = [np.stack([memo[key] for key in keys], axis=1)]  # (2, m, M)
+    sections = [np.stack([memo[key][0] for key in keys], axis=1)]  # (2, m, M)
     for _ in (0, 1):
         sections.append(_periods(w0, mu, beta, f0, w, sections[-1], np.ones(m), rtol, tally))
     phases = [np.arctan2(-s[1] / w0[:, None], s[0]) for s in sections]
@@ -397,7 +400,7 @@ def _beat(w0, mu, beta, f0, w, amp, rtol, memo, tally):
     th0 = np.concatenate(phases[:2])
     d = np.mod(np.concatenate(phases[1:]) - th0 + math.pi, 2.0 * math.pi) - math.pi
     coef, resid = fourier_fit(th0, d, N_MODES)
-    means = rotation_number(coef, N_MODES).reshape(2, m)
+    means, birkhoff = (x.reshape(2, m) for x in rotation_number(coef, N_MODES, with_error=True))
     fit_err = resid.reshape(2, m).max(axis=0)
     mean_d = means[1]
     beat = w * np.abs(mean_d) / (2.0 * math.pi)
@@ -405,16 +408,25 @@ def _beat(w0, mu, beta, f0, w, amp, rtol, memo, tally):
     # times what remains of it
     left = np.abs(means[1] - means[0]) / -np.expm1(-mu * T)
     with np.errstate(divide="ignore", invalid="ignore"):
-        err = (left + fit_err) / np.abs(mean_d)
+        err = (left + fit_err + birkhoff[1]) / np.abs(mean_d)
         rel = np.maximum(10.0 * err, 100.0 * rtol * w / beat)
-    info.update(beat_fit_residual=fit_err, beat_two_fits_rel_diff=np.abs(means[1] - means[0]) / np.abs(mean_d))
+    info.update(beat_fit_residual=fit_err, beat_birkhoff_error=birkhoff[1],
+                beat_two_fits_rel_diff=np.abs(means[1] - means[0]) / np.abs(mean_d))
     why = [None] * m
     for j in range(m):
-        if mean_d[j] == 0.0:
+        if not memo[keys[j]][2]:
+            why[j] = "the torus the beat is read on was not found: Newton on its section did not converge"
+        elif mean_d[j] == 0.0:
             why[j] = "the fitted circle map has no mean drift: the oscillator looks locked outside the range"
+        elif not rel[j] < 1.0 and birkhoff[1, j] > left[j] + fit_err[j]:
+            # a slip of ~1e5 drive periods (just outside a narrow range): the circle map's average over the
+            # orbit it is iterated along (circle_map._length, 2e5 iterates at most, twice) is not converged
+            why[j] = (f"the beat {beat[j]:.2g} rad/s is not resolved: omega is so close to a locking edge that "
+                      "the phase slips too slowly for the average over the 4e5 drive periods followed (its error "
+                      f"bar would be {rel[j]:.1g} times its value)")
         elif not rel[j] < 1.0:
             # outside the range the beat is positive; an error bar as large as the beat itself is no answer
-            # (just outside a range far narrower than omega0's round-off, the settling run cannot resolve it)
+            # (just outside a range far narrower than omega0's round-off, the map cannot resolve it)
             why[j] = (f"the beat {beat[j]:.2g} rad/s is not resolved: its error bar would be {rel[j]:.1g} times "
                       "its value (omega is too close to a locking range far narrower than omega0's round-off)")
     return beat, rel, why, info
