@@ -253,14 +253,6 @@ class Declaration:
 # ---------------------------------------------------------------------------------------------- deriving
 
 
-def _tidy(e, most: int = 60):
-    """``e`` simplified where it is small enough for that to be quick (simplify takes seconds on Kane's
-    equations of the rolling coin), else with its common factors taken out."""
-    import sympy as sp
-
-    return sp.simplify(e) if sp.count_ops(e) <= most else sp.factor_terms(e)
-
-
 class Derivation:
     """The declared physics of one exercise with its equations derived, and their numeric evaluation."""
 
@@ -538,7 +530,8 @@ class Derivation:
 
         d = self.d
         cache = self.__dict__.setdefault("_tidied", {})
-        show = Shower(latex, {str(s) for s in self.P} | {str(qi.func) for qi in d.q}, fold)
+        show = Shower(latex, {str(s) for s in self.P} | {str(qi.func) for qi in d.q}, fold,
+                      self.__dict__.setdefault("_drawn", {}))
 
         def eq(head, e, zero=False):
             return show.equation(head, tidy(e, cache), zero)
@@ -609,6 +602,8 @@ class Derivation:
         unknowns (their closed form is no help to read)."""
         import sympy as sp
 
+        from mech.problems.derive_text import simplify
+
         if len(self.unknowns) > most or not self.d.solve_shown:
             return []
         if getattr(self, "_solved", None) is not None:
@@ -630,7 +625,10 @@ class Derivation:
             for k, v in self.dep_sol.items():  # the dependent coordinates (and their rates) from the constraints
                 t = self.d.t
                 e = e.subs({k.diff(t): sp.diff(v, t)}).subs({k: v})
-            out.append((w, sp.simplify(e)))
+            # a long LU solution is a nest of fractions: cancelled to one first, simplify has less to carry
+            # (the 12 printed solutions of over 60 operations simplify to the same form, 3.8 -> 2.5 CPU-s
+            # over them; a short one may not: 4.33's, 5.9's and 5.10's would change)
+            out.append((w, simplify(sp.cancel(e) if sp.count_ops(e) > 60 else e)))
         self._solved = out
         return out
 
@@ -670,9 +668,11 @@ class Derivation:
 def _body_text(b, fmt):
     from sympy.physics.mechanics import Particle
 
+    from mech.problems.derive_text import simplify
+
     if isinstance(b, Particle):
         return f"particle {b.name}: mass {b.mass}, at {b.masscenter}"
-    matrix = fmt(b.central_inertia.to_matrix(b.frame).applyfunc(__import__("sympy").simplify))
+    matrix = fmt(b.central_inertia.to_matrix(b.frame).applyfunc(simplify))
     # a matrix the terminal draws goes on lines of its own, under the words
     return f"rigid body {b.name}: mass {b.mass}, inertia about {b.masscenter} =" + ("\n" if "\n" in matrix else " ") \
         + matrix

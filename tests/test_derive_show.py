@@ -80,6 +80,27 @@ def test_long_expressions_are_wrapped_at_their_operators_and_named():
     assert lagrangian[0].startswith("L = ") and lagrangian[1].startswith("    + ")  # a sum cut between terms
 
 
+def test_simplify_is_sympys_and_puts_factor_back():
+    """derive_text.simplify keeps factor's results while sympy's simplify runs (trigsimp factors one sum
+    many times over): it returns what sympy's simplify returns, and sympy's trigsimp has its own factor
+    again after.  By hand, sin²x cos y + cos²x cos y + sin x cos x = cos y + sin(2x)/2."""
+    import importlib
+
+    from mech.problems import derive_text
+
+    trig = importlib.import_module("sympy.simplify.trigsimp")
+    own = trig.factor
+    x, y = sympy.symbols("x y", real=True)
+    e = (sympy.sin(x)**2 * sympy.cos(y) + sympy.cos(x)**2 * sympy.cos(y) + sympy.sin(x) * sympy.cos(x)
+         + (x**2 - y**2) / (x - y))
+    got = derive_text.simplify(e)
+    assert trig.factor is own
+    assert got == sympy.simplify(e)
+    hand = sympy.cos(y) + sympy.sin(2 * x) / 2 + x + y
+    assert all(abs(complex((got - hand).subs({x: a, y: b}).evalf(30))) < 1e-25
+               for a, b in [(0.3, -1.1), (2.0, 0.7), (-0.4, 5.0)])
+
+
 def test_4_12_is_declared_and_its_equations_are_lagranges_by_hand():
     ex = registry.get("4.12")
     assert ex_id_declared("4.12")
