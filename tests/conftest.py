@@ -7,22 +7,22 @@ from pathlib import Path
 # every command-line test's fresh Python compiled mech's modules and rewrote the test modules again: about
 # 0.2 s for each `mech` a test starts and 7 s of collection per worker.  With the cache, a second run
 # collects in a fraction of that.  The folder is .gitignore'd; deleting it only costs the next run.
-# Only this repository's modules go there: a prefix alone would also hide the compiled modules pip wrote
-# beside numpy, scipy, sympy and the standard library, and on a fresh clone every worker compiled those
-# again (about 4.5 of the 12 CPU-s a worker collected in, measured with --collect-only -n 0).
-_ROOT = Path(__file__).resolve().parent.parent
-_PYC = _ROOT / ".pytest_cache" / "pyc"
+# Installed code keeps its own: a prefix alone would also hide the compiled modules pip wrote beside numpy,
+# scipy and sympy, and those of the standard library, and on a fresh clone every worker compiled those again
+# (about 4.5 of the 12 CPU-s a worker collected in, measured with --collect-only -n 0).
+_PYC = Path(__file__).resolve().parent.parent / ".pytest_cache" / "pyc"
 if sys.dont_write_bytecode or os.environ.get("PYTHONDONTWRITEBYTECODE"):
     import importlib._bootstrap_external as _bootstrap  # the import system's own module, read per import
 
-    _OURS = str(_ROOT) + os.sep
-    _THEIRS = str(_ROOT / ".venv") + os.sep
+    # installed code: the environment's site-packages and the standard library (a repository's .venv too)
+    _INSTALLED = tuple({os.path.join(p, "") for p in (sys.prefix, sys.exec_prefix, sys.base_prefix,
+                                                      sys.base_exec_prefix)})
     _prefixed = _bootstrap.cache_from_source
 
     def _cache_from_source(path, debug_override=None, *, optimization=None):
-        """Where the compiled form of ``path`` is read and written: in the prefix for this repository's
-        sources, beside the source (``__pycache__``, as pip wrote it) for everything else."""
-        if (path.startswith(_OURS) and not path.startswith(_THEIRS)) or not sys.pycache_prefix:
+        """Where the compiled form of ``path`` is read and written: beside the source (``__pycache__``, as
+        the installers wrote it) for installed code, in the prefix for everything else."""
+        if not sys.pycache_prefix or not path.startswith(_INSTALLED):
             return _prefixed(path, debug_override, optimization=optimization)
         name = os.path.basename(_prefixed(path, debug_override, optimization=optimization))
         return os.path.join(os.path.dirname(path), "__pycache__", name)
