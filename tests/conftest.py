@@ -36,6 +36,38 @@ if sys.dont_write_bytecode or os.environ.get("PYTHONDONTWRITEBYTECODE"):
 import pytest
 from hypothesis import settings
 
+# What a test's fresh `mech` imports (installed code included: a child has the prefix from its environment
+# only), compiled into the cache once by one child started beside the workers where the cache lacks it,
+# as on a fresh clone: else the first tests that start `mech` each compiled it all, a wall-clock test
+# among them (1-2 CPU-s each).
+_WARM = "import numpy, rich.console, mech.cli.main, mech.verification.crosscheck, mech.students.classrun"
+_warming = []
+
+
+def pytest_configure(config):
+    if hasattr(config, "workerinput") or "_prefixed" not in globals():
+        return  # a pytest-xdist worker (the controller warms), or bytecode is written as usual
+    import importlib.util
+    import subprocess
+
+    click = importlib.util.find_spec("click")
+    if click is None or os.path.exists(_prefixed(click.origin)):
+        return
+    _warming.append(subprocess.Popen([sys.executable, "-c", _WARM], stdout=subprocess.DEVNULL,
+                                     stderr=subprocess.DEVNULL))
+
+
+def pytest_unconfigure(config):
+    import subprocess
+
+    for proc in _warming:
+        try:
+            proc.wait(timeout=60)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+
+
 # property tests are deterministic: the same examples on every run and every machine
 settings.register_profile("mech", derandomize=True, database=None)
 settings.load_profile("mech")
