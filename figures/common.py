@@ -64,7 +64,10 @@ def save(fig, path: str, dpi: float = 110) -> None:
         # (the layout passes were 2/3 of a figure's time)
         fig.set_dpi(dpi)
         if finish_legends(fig, final=True):
-            fig.set_layout_engine("none")
+            # no engine at all where the rc file asks for none (None would bring its engine back): with an
+            # engine, even "none", savefig draws the figure once more, without rendering, before the file
+            rc_engine = plt.rcParams["figure.autolayout"] or plt.rcParams["figure.constrained_layout.use"]
+            fig.set_layout_engine("none" if rc_engine else None)
         with atomic_write(path, "--plot", mode="wb") as fh:
             fig.savefig(fh, format=fmt, dpi=dpi, metadata=meta)
     except BadInput as exc:

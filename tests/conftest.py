@@ -7,8 +7,27 @@ from pathlib import Path
 # every command-line test's fresh Python compiled mech's modules and rewrote the test modules again: about
 # 0.2 s for each `mech` a test starts and 7 s of collection per worker.  With the cache, a second run
 # collects in a fraction of that.  The folder is .gitignore'd; deleting it only costs the next run.
+# Installed code keeps its own: a prefix alone would also hide the compiled modules pip wrote beside numpy,
+# scipy and sympy, and those of the standard library, and on a fresh clone every worker compiled those again
+# (about 4.5 of the 12 CPU-s a worker collected in, measured with --collect-only -n 0).
 _PYC = Path(__file__).resolve().parent.parent / ".pytest_cache" / "pyc"
 if sys.dont_write_bytecode or os.environ.get("PYTHONDONTWRITEBYTECODE"):
+    import importlib._bootstrap_external as _bootstrap  # the import system's own module, read per import
+
+    # installed code: the environment's site-packages and the standard library (a repository's .venv too)
+    _INSTALLED = tuple({os.path.join(p, "") for p in (sys.prefix, sys.exec_prefix, sys.base_prefix,
+                                                      sys.base_exec_prefix)})
+    _prefixed = _bootstrap.cache_from_source
+
+    def _cache_from_source(path, debug_override=None, *, optimization=None):
+        """Where the compiled form of ``path`` is read and written: beside the source (``__pycache__``, as
+        the installers wrote it) for installed code, in the prefix for everything else."""
+        if not sys.pycache_prefix or not path.startswith(_INSTALLED):
+            return _prefixed(path, debug_override, optimization=optimization)
+        name = os.path.basename(_prefixed(path, debug_override, optimization=optimization))
+        return os.path.join(os.path.dirname(path), "__pycache__", name)
+
+    _bootstrap.cache_from_source = _cache_from_source
     sys.pycache_prefix = str(_PYC)
     sys.dont_write_bytecode = False
     os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
@@ -16,6 +35,38 @@ if sys.dont_write_bytecode or os.environ.get("PYTHONDONTWRITEBYTECODE"):
 
 import pytest
 from hypothesis import settings
+
+# What a test's fresh `mech` imports (installed code included: a child has the prefix from its environment
+# only), compiled into the cache once by one child started beside the workers where the cache lacks it,
+# as on a fresh clone: else the first tests that start `mech` each compiled it all, a wall-clock test
+# among them (1-2 CPU-s each).
+_WARM = "import numpy, rich.console, mech.cli.main, mech.verification.crosscheck, mech.students.classrun"
+_warming = []
+
+
+def pytest_configure(config):
+    if hasattr(config, "workerinput") or "_prefixed" not in globals():
+        return  # a pytest-xdist worker (the controller warms), or bytecode is written as usual
+    import importlib.util
+    import subprocess
+
+    click = importlib.util.find_spec("click")
+    if click is None or os.path.exists(_prefixed(click.origin)):
+        return
+    _warming.append(subprocess.Popen([sys.executable, "-c", _WARM], stdout=subprocess.DEVNULL,
+                                     stderr=subprocess.DEVNULL))
+
+
+def pytest_unconfigure(config):
+    import subprocess
+
+    for proc in _warming:
+        try:
+            proc.wait(timeout=60)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+
 
 # property tests are deterministic: the same examples on every run and every machine
 settings.register_profile("mech", derandomize=True, database=None)
@@ -143,3 +194,44 @@ def mech_cli(*args, env=None):
         err += "".join(traceback.format_exception(res.exception))
     err += "".join(warnings.formatwarning(w.message, w.category, w.filename, w.lineno) for w in caught)
     return subprocess.CompletedProcess(list(args), res.exit_code, res.stdout, err)
+
+
+# The longest tests first.  pytest-xdist deals the tests out in the order collected, so a long test collected
+# late keeps one worker busy at the end while the other has nothing left to do.  CPU-seconds of each, measured
+# with a per-test CPU timer on the 2-core machine (a test not named here keeps its place, after these).
+FIRST = {
+    "test_hostile_formulas.py::test_property_hidden_slips_are_wrong_and_right_formulas_right": 11.9,
+    "test_exact_grading.py::test_planted_errors_behind_zero_slope_cancellation_and_oscillation_are_wrong": 5.1,
+    "test_fuzz.py::test_fuzz_solve_arguments": 4.5,
+    "test_exact_grading.py::test_next_order_formula_of_5_9_is_right": 4.0,
+    "test_chart.py::test_batched_points_match_single_cross_checks": 3.7,
+    "test_time_decides_nothing.py::test_the_command_with_its_table_ends_soon_after_the_budget": 3.4,
+    "test_time_decides_nothing.py::test_grade_budget_holds_on_5000_formula_entries": 3.3,
+    "test_grade_speed.py::test_batched_and_pooled_grading_give_the_verdicts_of_one_by_one": 2.8,
+    "test_ex5_10.py::test_numeric_beat_against_slip_times_of_a_long_simulation": 2.4,
+    "test_fuzz.py::test_out_of_bounds_values_are_refused_with_the_range": 2.2,
+    "test_hostile.py::test_a_failed_100000_point_batched_sweep_in_bounded_memory": 2.1,
+    "test_plot.py::test_cli_writes_svg_and_pdf_by_suffix": 2.0,
+    "test_hostile_formulas.py::test_api_raises_bad_input_for_every_bad_argument": 2.0,
+    "test_check_pool.py::test_pooled_and_serial_checks_agree_to_the_bit": 2.0,
+    "test_chart.py::test_5_13_slow_frequencies_against_radau": 2.0,
+    "test_assign_hostile.py::test_any_argument_gives_bad_input_or_a_valid_class": 2.0,
+    "test_sizes.py::test_no_function_over_100_lines_outside_tests": 1.9,
+    "test_hostile.py::test_batched_sweep_json_memory_does_not_grow_with_the_points": 1.9,
+    "test_judge.py::test_solve_check_sweeps_and_grade_give_the_same_verdicts": 1.8,
+    "test_coin_batched.py::test_the_turn_agrees_with_the_declared_motions_timed_turn": 1.8,
+    "test_ex5_12.py::test_stationary_swing_against_long_simulation": 1.8,
+    "test_one_rule.py::test_a_judged_quantity_is_built_in_one_place": 1.7,
+    "test_hostile_formulas.py::test_cache_is_bounded_in_bytes": 1.7,
+    "test_sizes.py::test_no_exercise_module_over_450_lines": 1.7,
+    "test_fuzz.py::test_fuzz_any_command_line": 1.6,
+    "test_api.py::test_grade_bench_and_plot_from_python": 1.6,
+    # 49 figures of 0.4-0.7 CPU-s each: collected late, they were dealt out as one run at the end, and in two
+    # whole-suite runs one worker drew the last 18 CPU-s of them while the other had ended
+    "test_plot.py::test_default_figure_of_every_exercise": 0.6,
+}
+
+
+def pytest_collection_modifyitems(config, items):
+    """The tests in ``FIRST`` before the others, longest first (a stable sort: the rest keep their order)."""
+    items.sort(key=lambda item: -FIRST.get(item.nodeid.rsplit("/", 1)[-1].split("[", 1)[0], 0.0))

@@ -322,26 +322,8 @@ def test_illinois_finds_every_root():
     assert ok.all() and x[0] == pytest.approx(math.pi / 2, abs=1e-14)
 
 
-@pytest.mark.parametrize("ex_id", BATCHED)
-def test_hard_cases_through_the_batched_route(ex_id):
-    """The catalogue's hard cases, all in one batch: each within its error bar of `mech solve`, same verdict."""
-    ex = registry.get(ex_id)
-    cases = [ex.resolve(h["params"]) for h in ex.hard_cases] + [ex.resolve({})]
-    P = {p.name: np.array([c[p.name] for c in cases]) for p in ex.params}
-    outs = ex.batched_route.outputs
-    num = ex.batched_route.numeric(P, ex.default_rtol, outs)
-    for j, c in enumerate(cases):
-        single = cross_check(ex, c).as_json()
-        for name in outs:
-            s = next(x for x in single["quantities"] if x["name"] == name)
-            col = num[name]
-            assert not col.mask("failed")[j], (dict(c), name, col.reason("failed", j))
-            if s["numeric"] is None:
-                assert col.mask("undefined")[j]
-            else:
-                err = np.broadcast_to(col.rel, col.value.shape)[j] * abs(col.value[j]) + \
-                    np.broadcast_to(col.abs, col.value.shape)[j]
-                assert abs(col.value[j] - s["numeric"]) <= err + s["numeric_err"], (dict(c), name)
+# the catalogue's hard cases through the batched route, all in one batch: tests/test_check_all.py (each
+# within its error bar of the case's cross-check, which that test computes anyway)
 
 
 def test_map_marks_failed_points_with_their_reason(monkeypatch):

@@ -28,6 +28,7 @@ tan and atan2 over a pole or the branch cut are not enclosed.  Generic: no physi
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -189,16 +190,30 @@ class _Precise:
         return self._ops[key]
 
     def _arith(self, op, a, b, r):
+        u = self._ops.get((op, r))
+        if u is None:
+            u = self._ops[(op, r)] = np.frompyfunc(self._rounded(op, r), 2, 1)
+        return u(a, b)
+
+    def _rounded(self, op, r):
+        """``op`` of two numbers at ``prec`` bits, rounded down (r < 0) or up."""
         m, p = self.mpmath, self.prec
         rnd = "f" if r < 0 else "c"  # floor, ceiling (mpmath: "d", "u" are toward and away from zero)
         f = {"add": m.fadd, "mul": m.fmul, "div": m.fdiv}[op]
+        # what fadd/fmul/fdiv call for two mpf, without their parsing of keywords (most of their time)
+        raw = getattr(m.libmp, f"mpf_{op}")
+        make = m.mp.make_mpf
+        nan = m.mpf("nan")
 
         def one(x, y):
             try:
-                return f(x, y, prec=p, rounding=rnd)
+                try:
+                    return make(raw(x._mpf_, y._mpf_, p, rnd))
+                except AttributeError:  # a Python number: mpmath converts it
+                    return f(x, y, prec=p, rounding=rnd)
             except ZeroDivisionError:
-                return m.mpf("nan")
-        return self._u((op, r), one, 2)(a, b)
+                return nan
+        return one
 
     def add(self, a, b, r):
         return self._arith("add", a, b, r)
@@ -304,8 +319,10 @@ class _Precise:
 DOUBLE = _Double()
 
 
+@functools.lru_cache(maxsize=16)
 def precise(prec: int) -> _Precise:
-    """The high-precision backend at ``prec`` bits."""
+    """The high-precision backend at ``prec`` bits (one for each precision: it holds its constants and
+    the element-wise operations it has built, nothing of a call)."""
     return _Precise(prec)
 
 
