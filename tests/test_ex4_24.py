@@ -39,27 +39,10 @@ def test_leading_order_by_hand():
 def _dop853(M=0.5, l=0.05, I1=3.125e-4, I3=6.25e-4, w3=600.0, F=2.0, g=9.81):
     from scipy.integrate import solve_ivp
 
-    IA = I1 + M * l * l
-    L3 = I3 * w3
-    w = M * g * l / L3
-    k = L3 / IA
+    from ref_top424 import exact_rhs, horizontal_events
 
-    def rhs(t, y):  # scaled: L in units of L3; dn/dt = k L x n, dL/dt = (l/L3) n x (F(t) - M g z)
-        nx, ny, nz, Lx, Ly, Lz = y
-        fx, fy, fz = l * F * math.cos(w * t) / L3, l * F * math.sin(w * t) / L3, -M * g * l / L3
-        return [k * (Ly * nz - Lz * ny), k * (Lz * nx - Lx * nz), k * (Lx * ny - Ly * nx),
-                ny * fz - nz * fy, nz * fx - nx * fz, nx * fy - ny * fx]
-
-    def down(t, y):
-        return y[2]
-
-    down.direction = -1
-
-    def up(t, y):
-        return y[2]
-
-    up.direction = 1
-    up.terminal = True
+    rhs, w, _k, L3 = exact_rhs(M, l, I1, I3, w3, F, g)
+    down, up = horizontal_events()
     t_end = 6 * math.pi * L3 / (2 * l * F)  # twice the leading-order t_up
     sol = solve_ivp(rhs, (0, t_end), [0, 0, 1, 0, 0, 1], method="DOP853", rtol=1e-10, atol=1e-13, events=[down, up])
     td, tu = sol.t_events[0][0], sol.t_events[1][0]

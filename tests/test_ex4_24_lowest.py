@@ -27,22 +27,10 @@ def _reference(M, l=0.05, I1=3.125e-4, I3=6.25e-4, w3=600.0, F=2.0, g=9.81):
     from scipy.integrate import solve_ivp
     from scipy.optimize import minimize_scalar
 
-    IA, L3 = I1 + M * l * l, I3 * w3
-    w, k = M * g * l / L3, L3 / IA
+    from ref_top424 import exact_rhs, horizontal_events
 
-    def rhs(t, y):
-        nx, ny, nz, Lx, Ly, Lz = y
-        fx, fy, fz = l * F * math.cos(w * t) / L3, l * F * math.sin(w * t) / L3, -M * g * l / L3
-        return [k * (Ly * nz - Lz * ny), k * (Lz * nx - Lx * nz), k * (Lx * ny - Ly * nx),
-                ny * fz - nz * fy, nz * fx - nx * fz, nx * fy - ny * fx]
-
-    def down(t, y):
-        return y[2]
-
-    def up(t, y):
-        return y[2]
-
-    down.direction, up.direction, up.terminal = -1, 1, True
+    rhs, _w, k, L3 = exact_rhs(M, l, I1, I3, w3, F, g)
+    down, up = horizontal_events()
     sol = solve_ivp(rhs, (0.0, 6 * math.pi * L3 / (2 * l * F)), [0, 0, 1, 0, 0, 1], method="DOP853", rtol=1e-12,
                     atol=1e-14, events=[down, up], dense_output=True)
     t_down = sol.t_events[0][0]
