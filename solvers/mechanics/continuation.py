@@ -695,16 +695,21 @@ class OrbitEnsemble:
     def evaluate(self, z, idx, rtol):
         """(residual (2, m), Jacobian (2, 3, m)) of the maps of the variants ``idx`` at z (3, m), each held to its
         ``rtol`` (a number or one per variant; relative, 1e-3 rtol absolute in units of its state's size).  The
-        variants are integrated in groups, one per kind of map and decade of rtol, each group at the tightest
-        rtol in it."""
+        variants are integrated in groups, one per kind of map, each variant's error held to its own rtol (the
+        shared step the least they allow: the ensemble's cost is its numpy calls, 921 integrations of a class
+        of 300 in groups per decade of rtol against 5.10's ...); with an ``integrator`` (variant by variant)
+        per kind of map and decade of rtol, each group at the tightest rtol in it."""
         z, idx = np.asarray(z, dtype=float), np.asarray(idx)
         budget.check("periodic orbits' one-period maps")
         rtol = np.broadcast_to(np.asarray(rtol, dtype=float), (idx.size,))
         res, J = np.empty((2, idx.size)), np.empty((2, 3, idx.size))
-        group = 2 * np.floor(np.log10(rtol) + 1e-9) + self.rotating[idx]
+        group = self.rotating[idx].astype(float)
+        if self.integrator is not None:  # variant by variant, each at one rtol: per decade as the shared step
+            group += 2 * np.floor(np.log10(rtol) + 1e-9)
         for g in np.unique(group):
             part = np.flatnonzero(group == g)
-            res[:, part], J[:, :, part] = self._integrate(z[:, part], idx[part], float(rtol[part].min()),
+            r = rtol[part] if part.size > 1 and self.integrator is None else float(rtol[part].min())
+            res[:, part], J[:, :, part] = self._integrate(z[:, part], idx[part], r,
                                                           bool(self.rotating[idx[part[0]]]))
         return res, J
 
