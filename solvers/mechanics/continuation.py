@@ -696,8 +696,8 @@ class OrbitEnsemble:
         """(residual (2, m), Jacobian (2, 3, m)) of the maps of the variants ``idx`` at z (3, m), each held to its
         ``rtol`` (a number or one per variant; relative, 1e-3 rtol absolute in units of its state's size).  The
         variants are integrated in groups, one per kind of map, each variant's error held to its own rtol (the
-        shared step the least they allow: the ensemble's cost is its numpy calls, 921 integrations of a class
-        of 300 in groups per decade of rtol against 5.10's ...); with an ``integrator`` (variant by variant)
+        shared step the least they allow: the ensemble's cost is its numpy calls, and a class of 300 over 5.10
+        integrated 921 groups per decade of rtol against 474 so); with an ``integrator`` (variant by variant)
         per kind of map and decade of rtol, each group at the tightest rtol in it."""
         z, idx = np.asarray(z, dtype=float), np.asarray(idx)
         budget.check("periodic orbits' one-period maps")
