@@ -26,20 +26,21 @@ NEGLECT_LIMIT = 0.3
 
 def expected_errors(ex, p) -> dict:
     """{output: relative size of what its leading-order theory neglects at ``p``, or (relative, absolute)}."""
-    if ex._expected_error is None:
-        return {}
-    if "expected_error" in ex._on_arrays:
-        return expected_at(ex._expected_error, p)
-    return dict(ex._expected_error(p))
+    return _hook_at(ex, "expected_error", expected_at, p)
 
 
 def theory_ranges(ex, p) -> dict:
     """{output: (label, value)}: the expansion parameter of each leading-order output at ``p``."""
-    if ex._theory_range is None:
+    return _hook_at(ex, "theory_range", range_at, p)
+
+
+def _hook_at(ex, name: str, batch_of_one, p) -> dict:
+    """The declared hook ``name`` at the one point ``p`` ({} where none is declared): a hook written on arrays
+    read through ``batch_of_one``."""
+    hook = getattr(ex, "_" + name)
+    if hook is None:
         return {}
-    if "theory_range" in ex._on_arrays:
-        return range_at(ex._theory_range, p)
-    return dict(ex._theory_range(p))
+    return batch_of_one(hook, p) if name in ex._on_arrays else dict(hook(p))
 
 
 def analytic_errors(ex, p) -> dict:
