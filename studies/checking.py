@@ -4,7 +4,6 @@ its hard cases, in a process pool when there are enough cases to share.  An exer
 
 from __future__ import annotations
 
-import math
 import os
 import sys
 import time
@@ -194,13 +193,11 @@ def _clean(solution) -> bool:
     """Did the batch pass the case as the one-point cross-check would?  It agrees, notes no failure, and each
     value is a finite number inside mech's floating-point range or declared undefined (the one-point check
     fails a value beyond that range, ``crosscheck._undefine_bad_values``; the batch does not look)."""
-    from mech.problems.params import Undefined
-    from mech.problems.scales import out_of_range
+    from mech.studies.variants import in_range
 
     if solution.agree is not True or solution.errors:
         return False
-    return all(isinstance(v, Undefined) or (isinstance(v, float) and math.isfinite(v) and not out_of_range(v))
-               for q in solution.quantities for v in (q.analytic, q.numeric))
+    return in_range(solution)
 
 
 def batched(ex: Exercise) -> bool:

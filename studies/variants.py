@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from typing import Sequence
 
-__all__ = ["batchable", "cross_check_variants"]
+__all__ = ["batchable", "cross_check_variants", "in_range"]
 
 
 def batchable(ex) -> bool:
@@ -52,7 +52,26 @@ def cross_check_variants(ex, params: Sequence, total_s: float | None = None) -> 
         for k, sol in enumerate(solutions):
             if sol.agree is False:
                 solutions[k] = solve([params[k]], total_s)[0]
+    for k, sol in enumerate(solutions):
+        if not in_range(sol):
+            from mech.verification.crosscheck import cross_check
+
+            solutions[k] = cross_check(ex, params[k])  # it fails such a value, as ``mech solve`` does
     return solutions
+
+
+def in_range(solution) -> bool:
+    """Is each value of ``solution`` a finite number inside mech's floating-point range, or declared
+    undefined?  The one-point cross-check fails any other (``crosscheck._undefine_bad_values``); a batched
+    route does not look."""
+    import math
+
+    from mech.problems.params import Undefined
+    from mech.problems.scales import out_of_range
+
+    return all(v is None or isinstance(v, Undefined) or (isinstance(v, float) and math.isfinite(v)
+                                                          and not out_of_range(v))
+               for q in solution.quantities for v in (q.analytic, q.numeric))
 
 
 def _tallied(ex, calls: list):

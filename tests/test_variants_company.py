@@ -64,3 +64,36 @@ def test_a_variant_failing_alone_too_keeps_its_failure(monkeypatch):
     got = variants.cross_check_variants(ex, params)
     assert got[0].agree is True
     assert got[1].agree is False and "planted" in str(got[1].errors[0])
+
+
+def test_a_value_beyond_the_floating_point_range_reads_as_mech_solve_reads_it(monkeypatch):
+    """A class's or an assignment's variant whose batched value lies beyond 1e+-290 (here a planted 1e-300
+    for 4.8's x_roll at its hard case 1, where both methods roll no distance and 1e-300 agrees with 0 within
+    the absolute claim) gets the one-point cross-check's verdict: that value fails, as ``mech solve`` fails
+    it; its companions keep the batch's."""
+    import dataclasses
+    import inspect
+
+    import numpy as np
+
+    from mech.verification.crosscheck import cross_check
+
+    ex = registry.get("4.8")
+    route = ex.batched_route
+    takes = inspect.signature(route.numeric).parameters
+
+    def numeric(P, rtol, outputs, memo=None, tally=None):
+        kw = {k: v for k, v in (("memo", memo), ("tally", tally)) if k in takes}
+        cols = route.numeric(P, rtol, outputs, **kw)
+        hit = np.asarray(P["h_over_R"]) == 1.4
+        cols["x_roll"].value = np.where(hit, 1e-300, cols["x_roll"].value)
+        return cols
+
+    monkeypatch.setattr(ex, "batched_route", dataclasses.replace(route, numeric=numeric))
+    params = [ex.resolve({}), ex.resolve({"h_over_R": 1.4, "b_over_R": 0.0})]
+    got = variants.cross_check_variants(ex, params)
+    alone = cross_check(ex, params[1])
+    assert alone.agree is False
+    assert [str(e) for e in got[1].errors] == [str(e) for e in alone.errors]
+    assert any("outside the floating-point range" in str(e) for e in got[1].errors)
+    assert got[0].agree is True
