@@ -86,21 +86,11 @@ def test_disk_a_variant_sampled_too_sparsely_fails_alone(monkeypatch):
 # --------------------------------------------------------------------------- 4.20
 
 def _flip_quarter_by_scipy(I, delta):
-    """T/4 of the flip: the first sign change of omega2 (an event the route does not use), by scipy."""
-    from scipy.integrate import solve_ivp
+    """T/4 of the flip: the first sign change of omega2 (an event the route does not use), by scipy: the
+    reference test_ex4_20 integrates."""
+    from test_ex4_20 import _quarter_period_by_omega2
 
-    I1, I2, I3 = I
-
-    def rhs(t, w):
-        return [(I2 - I3) * w[1] * w[2] / I1, (I3 - I1) * w[2] * w[0] / I2, (I1 - I2) * w[0] * w[1] / I3]
-
-    def w2(t, w):
-        return w[1]
-
-    w2.terminal = True
-    sol = solve_ivp(rhs, (0, 1e4), [math.sin(delta), math.cos(delta), 0.0], method="DOP853", rtol=1e-13,
-                    atol=1e-16, events=w2, max_step=0.05)
-    return sol.t_events[0][0]
+    return _quarter_period_by_omega2(I, delta)
 
 
 FLIPS = [dict(I1=1.0, I2=2.0, I3=3.0, omega0=1.0, delta=0.3), dict(I1=2.8e-3, I2=5.3e-3, I3=7.9e-3, omega0=10.0,
