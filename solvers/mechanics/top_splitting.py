@@ -127,10 +127,10 @@ def strang_stepper(k, a, b, w):
     torque n x g (g = -a z + b f) by 1 - (hh^2/12)(3 (g.n)^2 - |g|^2); both cancel O(hh^2) errors of the
     slow motion that the plain step makes."""
     a0, b0 = a, b
+    made = {}  # per step size: its constants (a few sizes a run: the ladder's)
+    last = [None, 0.0, 0.0]  # the force's direction (cos w t, sin w t) at the last step's end t
 
-    def step(n, L, t, hh):
-        nx, ny, nz = n
-        Lx, Ly, Lz = L
+    def constants(hh):
         c = 0.5 * hh
         q = hh * hh / 12.0
         x = 0.5 * w * hh
@@ -138,24 +138,39 @@ def strang_stepper(k, a, b, w):
         # subnormal x (M 1e-320 times the default: tan(x) ulps are a part in 1e3 of x)
         b = b0 * x / math.tan(x) if abs(x) > 1e-8 else b0
         a = a0 * (1.0 - (b0 * hh) ** 2 / 3.0)
-        Om2 = a * a + b * b
-        fx, fy = b * math.cos(w * t), b * math.sin(w * t)
+        # the rate k, not k |L|: |L| = 1 + O(eps^2) on the exact motion, but the half kick tilts L off n by
+        # H |torque|/2, so |L| here exceeds 1 by (H Om)^2/8, which would detune the step's rotation
+        # 2 x (x cot x = 1) by 2 x (H Om)^2/8 and, through d(x cot x)/dx = -x, spoil the forced nutation
+        th = k * hh
+        return c, q, b, a, a * a + b * b, math.cos(th), math.sin(th)
+
+    def step(n, L, t, hh):
+        nx, ny, nz = n
+        Lx, Ly, Lz = L
+        got = made.get(hh)
+        if got is None:
+            if len(made) > 8:
+                made.clear()
+            got = made[hh] = constants(hh)
+        c, q, b, a, Om2, ct, st = got
+        if last[0] == t:  # the previous step ended here: its force's direction, not cos and sin again
+            C, S = last[1], last[2]
+        else:
+            C, S = math.cos(w * t), math.sin(w * t)
+        fx, fy = b * C, b * S
         cc = c * (1.0 - q * (3.0 * (fx * nx + fy * ny - a * nz) ** 2 - Om2))
         Lx += cc * (-a * ny - nz * fy)
         Ly += cc * (nz * fx + a * nx)
         Lz += cc * (nx * fy - ny * fx)
         Ln = math.sqrt(Lx * Lx + Ly * Ly + Lz * Lz)
         ux, uy, uz = Lx / Ln, Ly / Ln, Lz / Ln
-        # the rate k, not k |L|: |L| = 1 + O(eps^2) on the exact motion, but the half kick tilts L off n by
-        # H |torque|/2, so |L| here exceeds 1 by (H Om)^2/8, which would detune the step's rotation
-        # 2 x (x cot x = 1) by 2 x (H Om)^2/8 and, through d(x cot x)/dx = -x, spoil the forced nutation
-        th = k * hh
-        ct, st = math.cos(th), math.sin(th)
         dd = (ux * nx + uy * ny + uz * nz) * (1.0 - ct)
         cx, cy, cz = uy * nz - uz * ny, uz * nx - ux * nz, ux * ny - uy * nx
         nx, ny, nz = nx * ct + cx * st + ux * dd, ny * ct + cy * st + uy * dd, nz * ct + cz * st + uz * dd
         t2 = t + hh
-        fx, fy = b * math.cos(w * t2), b * math.sin(w * t2)
+        C, S = math.cos(w * t2), math.sin(w * t2)
+        last[0], last[1], last[2] = t2, C, S
+        fx, fy = b * C, b * S
         cc = c * (1.0 - q * (3.0 * (fx * nx + fy * ny - a * nz) ** 2 - Om2))
         Lx += cc * (-a * ny - nz * fy)
         Ly += cc * (nz * fx + a * nx)
@@ -250,6 +265,7 @@ class Dips:
         self.reach = math.inf  # h v (2 + v h): no step dips below the mean of its ends by more than half of it
         self.best = 2.0  # the lowest step end
         self.steps = []  # (the bound, the state at the step's start)
+        self.prune_at = 64
 
     def _floor(self, z0, z1, s):
         """The least n_z a stretch of s between ends z0, z1 may reach."""
@@ -272,8 +288,12 @@ class Dips:
         floor = self._floor(n[2], nz_end, self.h)
         if floor < self.best:
             self.steps.append((floor, (n, L, t)))
-            if len(self.steps) > 64:
+            # pruned once the list has doubled since the last pruning (a pass per added step, before, cost a
+            # third of a weight-dominated top's run); what ``lowest`` reads is the same either way, as it
+            # passes over every step whose bound lies above the final lowest end
+            if len(self.steps) > self.prune_at:
                 self.steps = [x for x in self.steps if x[0] < self.best]
+                self.prune_at = max(64, 2 * len(self.steps))
 
     def lowest(self, step):
         """The least n_z over the kept steps (2.0 if none), by substeps and partial substeps of ``step``."""
@@ -369,7 +389,11 @@ def march(a, b, k, w, h, ladder, step, coarse, units=1.0):
     while t < t_max:
         if not fine:
             dist = n[2] if stage == 0 else -n[2]
-            Hj = next((Hj for Hj, win in ladder if win + arm < dist), None)
+            Hj = None
+            for Hx, win in ladder:  # the largest step whose window the axis is outside of (a loop, not a generator:
+                if win + arm < dist:  # this runs once a coarse step, up to a million times a run)
+                    Hj = Hx
+                    break
             if Hj is None:
                 fine = True  # the event may lie anywhere past (n, L, t): go on from there in fine steps
                 continue
