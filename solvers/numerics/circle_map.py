@@ -47,12 +47,6 @@ def _length(c0):
     return np.minimum(np.maximum(400.0, 25.0 * slip), 200000).astype(int)
 
 
-def _weight(i, n):
-    """The bump exp(-1/(s(1 - s))) at the iterate i of orbits of n (an array, each n > i)."""
-    s = (i + 0.5) / n
-    return np.exp(-1.0 / (s * (1.0 - s)))
-
-
 def _alone(c0, c, n, i0=0, theta=0.0, sums=(0.0, 0.0, 0.0, 0.0)):
     """The weighted Birkhoff averages of one map over its orbit of n and the first n // 2 of it (Horner in
     e^(i theta) on plain complex numbers), from the iterate i0 on (theta, and the four sums so far)."""
@@ -76,6 +70,8 @@ def _alone(c0, c, n, i0=0, theta=0.0, sums=(0.0, 0.0, 0.0, 0.0)):
             den_h += wh
         theta = fmod(theta + dd, turn)
     return num / den, num_h / den_h
+
+
 def rotation_number(coef, K, length=1.0, with_error=False):
     """Weighted Birkhoff average of d along an orbit of theta -> theta + d(theta) (mod 2 pi), d the series
     of ``coef`` (``fourier_fit``'s order; (2K + 1,) for one map, (R, 2K + 1) for R): a number, or R of them.
@@ -88,44 +84,63 @@ def rotation_number(coef, K, length=1.0, with_error=False):
     coef = np.atleast_2d(coef)
     R = coef.shape[0]
     c0 = coef[:, 0]
-    # sum_k a_k cos k theta + b_k sin k theta = Re sum_k (a_k - i b_k) e^(i k theta): Horner in e^(i theta)
-    c = (coef[:, 1:K + 1] - 1j * coef[:, K + 1:])[:, ::-1]  # highest harmonic first
+    # sum_k a_k cos k theta + b_k sin k theta = Re sum_k (a_k - i b_k) e^(i k theta)
+    c = coef[:, 1:K + 1] - 1j * coef[:, K + 1:]
     n = np.maximum(4, (_length(c0) * length * (2 if with_error else 1)).astype(int))
-    out, out_h = np.full(R, np.nan), np.full(R, np.nan)
-    # the maps still iterating, compressed whenever some finish: (theta, the four sums, c0, n, the harmonics
-    # as columns, highest first)
-    act = np.arange(R)
-    th, c0a, na, cc = np.zeros(R), c0.copy(), n.copy(), np.ascontiguousarray(c.T)
-    num, den, num_h, den_h = np.zeros(R), np.zeros(R), np.zeros(R), np.zeros(R)
-    i = 0
-    while act.size >= ALONE_BELOW:
-        z = np.exp(1j * th)
-        acc = cc[0] * z
-        for k in range(1, K):
-            acc += cc[k]
-            acc *= z
-        dd = c0a + acc.real
-        wgt = _weight(i, na)
-        num += wgt * dd
-        den += wgt
-        wh = np.where(i < na // 2, _weight(i, np.maximum(na // 2, i + 1)), 0.0)
-        num_h += wh * dd
-        den_h += wh
-        th = np.fmod(th + dd, 2.0 * math.pi)
-        i += 1
-        fin = na <= i
-        if fin.any():
-            out[act[fin]], out_h[act[fin]] = num[fin] / den[fin], num_h[fin] / den_h[fin]
-            keep = ~fin
-            act, th, c0a, na, cc = act[keep], th[keep], c0a[keep], na[keep], cc[:, keep]
-            num, den, num_h, den_h = num[keep], den[keep], num_h[keep], den_h[keep]
-    for r, j in enumerate(act):  # the few longest orbits, on alone
-        out[j], out_h[j] = _alone(float(c0[j]), [complex(x) for x in c[j]], int(n[j]), i, float(th[r]),
-                                  (float(num[r]), float(den[r]), float(num_h[r]), float(den_h[r])))
+    sums = np.zeros((4, R))  # the weighted sums of d and of the weights, over the orbit and its first half
+    th, i = _together(c0, c, n, sums)
+    with np.errstate(invalid="ignore", divide="ignore"):  # the maps left to run alone are filled in below
+        out, out_h = sums[0] / sums[1], sums[2] / sums[3]
+    for j in np.flatnonzero(n > i):  # the few longest orbits, on alone
+        out[j], out_h[j] = _alone(float(c0[j]), [complex(x) for x in c[j, ::-1]], int(n[j]), i, float(th[j]),
+                                  tuple(float(x) for x in sums[:, j]))
     if with_error:
         err = np.abs(out - out_h)
         return (float(out[0]), float(err[0])) if one else (out, err)
     return float(out[0]) if one else out
+
+
+def _together(c0, c, n, sums):
+    """The maps' orbits iterated together, each its own n iterates, while at least ALONE_BELOW of them are
+    still running: (each map's angle where it stopped, the iterate reached).  ``sums`` is filled in place,
+    rows: the weighted sum of d and the sum of the weights over the orbit, the same over its first n // 2.
+    An iterate costs a handful of numpy calls whatever K (the powers e^(i k theta) by doubling, d one
+    dot product); the increments are kept and weighted a stretch at a time, between two maps' ends."""
+    R, K = c.shape
+    half = np.maximum(n // 2, 1)
+    th = np.zeros(R)
+    act = np.arange(R)
+    stop = np.sort(n)[::-1]
+    i = 0
+    while act.size >= ALONE_BELOW:
+        # to the next map's end (or to where fewer than ALONE_BELOW would be left)
+        upto = int(min(n[act].min(), stop[ALONE_BELOW - 1]))
+        c0a, cca, tha = c0[act], np.ascontiguousarray(c[act].T), th[act]
+        powers = np.empty((K, act.size), dtype=complex)
+        doubling, m = [], 1  # z^(m+1..2m) = z^(1..m) z^m
+        while m < K:
+            doubling.append((powers[:min(m, K - m)], powers[m - 1], powers[m:2 * m]))
+            m *= 2
+        incr = np.empty((upto - i, act.size))
+        for row in incr:
+            np.exp(1j * tha, out=powers[0])
+            for low, top, out in doubling:
+                np.multiply(low, top, out=out)
+            np.add(c0a, np.einsum("kr,kr->r", powers, cca).real, out=row)
+            tha += row
+            np.fmod(tha, 2.0 * math.pi, out=tha)
+        # the bump exp(-1/(s (1 - s))), s = (i + 1/2)/n, over the whole orbit and over its first half (past
+        # the half s (1 - s) <= 0, floored at a tiny positive number: the weight is 0 there)
+        mid = np.arange(i, upto)[:, None] + 0.5
+        for r, length in ((0, n[act]), (2, half[act])):
+            s = mid / length
+            wgt = np.exp(-1.0 / np.maximum(s * (1.0 - s), 1e-300))
+            sums[r, act] += np.einsum("ij,ij->j", wgt, incr)
+            sums[r + 1, act] += wgt.sum(axis=0)
+        th[act] = tha
+        i = upto
+        act = act[n[act] > i]
+    return th, i
 
 
 def _dbasis(theta, K):
