@@ -122,11 +122,17 @@ def _together(c0, c, n, sums):
             doubling.append((powers[:min(m, K - m)], powers[m - 1], powers[m:2 * m]))
             m *= 2
         incr = np.empty((upto - i, act.size))
+        terms = np.empty_like(powers)
+        total = np.empty(act.size, dtype=complex)
+        itheta = np.zeros(act.size, dtype=complex)
         for row in incr:
-            np.exp(1j * tha, out=powers[0])
+            itheta.imag = tha
+            np.exp(itheta, out=powers[0])
             for low, top, out in doubling:
                 np.multiply(low, top, out=out)
-            np.add(c0a, np.einsum("kr,kr->r", powers, cca).real, out=row)
+            np.multiply(powers, cca, out=terms)
+            np.add.reduce(terms, axis=0, out=total)
+            np.add(c0a, total.real, out=row)
             tha += row
             np.fmod(tha, 2.0 * math.pi, out=tha)
         # the bump exp(-1/(s (1 - s))), s = (i + 1/2)/n, over the whole orbit and over its first half (past
