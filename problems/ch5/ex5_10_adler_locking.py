@@ -85,25 +85,28 @@ exercise.declare_limits(
 
 @exercise.constraint
 def constraint(p):
-    if p.mu > MAX_EPS * p.omega0:
-        return (f"mu = {p.mu:g} 1/s is not small against omega0 = {p.omega0:g} rad/s: the reduced equations "
+    # plain floats and math (assign's draws call this ~1e5 times); the same operations, in the same order, as
+    # _delta and _edge_uncertainty on arrays
+    w0, mu, beta, f0, w = p.omega0, p.mu, p.beta, p.f0, p.omega
+    if mu > MAX_EPS * w0:
+        return (f"mu = {mu:g} 1/s is not small against omega0 = {w0:g} rad/s: the reduced equations "
                 f"need mu <= {MAX_EPS:g} omega0")
-    D = _delta(p)
-    if D > MAX_FORCING * p.mu:
+    D = f0 * math.sqrt(beta) / (4.0 * w0)
+    if D > MAX_FORCING * mu:
         return (f"the drive is not weak: the locking half-width f0 sqrt(beta)/(4 omega0) = {D:.3g} rad/s must be "
-                f"<= {MAX_FORCING:g} mu = {MAX_FORCING * p.mu:.3g} rad/s (lower f0)")
-    shift = p.mu**2 / (16.0 * p.omega0)
+                f"<= {MAX_FORCING:g} mu = {MAX_FORCING * mu:.3g} rad/s (lower f0)")
+    shift = mu**2 / (16.0 * w0)
     if shift > MAX_SHIFT * D:
         return (f"the drive is too weak for this mu: the free oscillator's frequency shift mu^2/(16 omega0) = "
                 f"{shift:.3g} rad/s, which the leading order neglects, exceeds {MAX_SHIFT:g} of the half-width "
                 f"{D:.3g} rad/s (the predicted range would miss the true one; raise f0 or lower mu)")
-    xi = p.omega - p.omega0
-    if abs(xi) > MAX_DETUNING * p.omega0:
-        return (f"omega = {p.omega:g} rad/s is too far from omega0 = {p.omega0:g} rad/s: the reduced equations "
+    xi = w - w0
+    if abs(xi) > MAX_DETUNING * w0:
+        return (f"omega = {w:g} rad/s is too far from omega0 = {w0:g} rad/s: the reduced equations "
                 f"need |omega - omega0| <= {MAX_DETUNING:g} omega0")
-    u = EDGE_BAND * _edge_uncertainty(p)
+    u = EDGE_BAND * (shift + D * ((D / mu) ** 2 + D / w0))
     if abs(abs(xi) - D) < u:
-        return (f"omega = {p.omega:g} rad/s is within {u:.3g} rad/s of a locking edge (omega0 -+ {D:.6g}): "
+        return (f"omega = {w:g} rad/s is within {u:.3g} rad/s of a locking edge (omega0 -+ {D:.6g}): "
                 "closer than the leading-order theory's own error, it cannot tell locked from slipping")
 
 
