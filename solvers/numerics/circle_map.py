@@ -12,7 +12,9 @@ iterates at a transverse multiplier lambda near 1.
 
 from __future__ import annotations
 
+import cmath
 import math
+from array import array
 
 import numpy as np
 
@@ -49,27 +51,26 @@ def _length(c0):
 
 def _alone(c0, c, n, i0=0, theta=0.0, sums=(0.0, 0.0, 0.0, 0.0)):
     """The weighted Birkhoff averages of one map over its orbit of n and the first n // 2 of it (Horner in
-    e^(i theta) on plain complex numbers), from the iterate i0 on (theta, and the four sums so far)."""
-    num, den, num_h, den_h = sums
-    half = n // 2
-    exp, cos, sin, fmod, turn = math.exp, math.cos, math.sin, math.fmod, 2.0 * math.pi
-    for i in range(i0, n):
-        s = (i + 0.5) / n
-        wgt = exp(-1.0 / (s * (1.0 - s)))
-        z = complex(cos(theta), sin(theta))
+    e^(i theta) on plain complex numbers), from the iterate i0 on (theta, and the four sums so far).  The loop
+    only iterates the map; the increments are weighted afterwards, all at once."""
+    cexp, fmod, turn = cmath.exp, math.fmod, 2.0 * math.pi
+    incr = array("d", bytes(8 * max(n - i0, 0)))
+    for k in range(n - i0):
+        z = cexp(1j * theta)
         acc = 0j
         for ck in c:
             acc = (acc + ck) * z
         dd = c0 + acc.real
-        num += wgt * dd
-        den += wgt
-        if i < half:
-            s = (i + 0.5) / half
-            wh = exp(-1.0 / (s * (1.0 - s)))
-            num_h += wh * dd
-            den_h += wh
+        incr[k] = dd
         theta = fmod(theta + dd, turn)
-    return num / den, num_h / den_h
+    d = np.frombuffer(incr, dtype=float)
+    mid = np.arange(i0, n) + 0.5
+    out = []
+    for r, length in ((0, n), (2, max(n // 2, 1))):
+        s = mid / length
+        wgt = np.exp(-1.0 / np.maximum(s * (1.0 - s), 1e-300))
+        out.append((sums[r] + float(wgt @ d)) / (sums[r + 1] + float(wgt.sum())))
+    return out[0], out[1]
 
 
 def rotation_number(coef, K, length=1.0, with_error=False):
