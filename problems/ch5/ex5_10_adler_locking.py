@@ -388,9 +388,12 @@ def _beat(w0, mu, beta, f0, w, amp, rtol, memo, tally):
     keys = [("5.10 circle", r_settle, *row) for row in zip(*(x.tolist() for x in (w0, mu, beta, f0, w, amp)))]
     todo = np.array([j for j, key in enumerate(keys) if key not in memo], dtype=int)
     if todo.size:  # the torus section: Newton on its radius, each iterate one drive period of its copies
-        def advance(y, idx):
-            sel = np.tile(todo[idx], 2)
-            return _periods(w0[sel], mu[sel], beta[sel], f0[sel], w[sel], y, np.ones(sel.size), r_settle, tally)
+        def advance(y, idx, loose):
+            # far from the section a rougher map does (circle_map.invariant_circle), at most 1e-6; the copies
+            # integrated together share the finest tolerance any of them asks
+            sel = np.tile(todo[idx], y.shape[1] // idx.size)
+            r = max(r_settle, min(1e-6, r_settle * float(loose.min())))
+            return _periods(w0[sel], mu[sel], beta[sel], f0[sel], w[sel], y, np.ones(sel.size), r, tally)
 
         # an error e of the map moves the circle by about e/(1 - exp(-mu T)): the Newton steps stop there
         tol = 30.0 * r_settle / -np.expm1(-mu[todo] * T[todo])

@@ -20,6 +20,10 @@ import numpy as np
 
 __all__ = ["fourier_fit", "rotation_number", "invariant_circle"]
 
+# invariant_circle: how much rougher than the finest a map far from the circle may be, and the steps below
+# which the radial derivatives of the last difference are kept
+LOOSE_MAX = 100.0
+FRESH_BELOW = 1e-4
 # below this many maps still iterating, each is iterated alone on plain complex numbers (a numpy call on a
 # few numbers costs more than the arithmetic)
 ALONE_BELOW = 6
@@ -150,24 +154,32 @@ def _together(c0, c, n, sums):
     return th, i
 
 
-def _dbasis(theta, K):
-    """d/dtheta of ``_basis``."""
+def _basis_and_slope(theta, K, c):
+    """``_basis`` at theta (R, n) and the slope d rho/d theta there of the series c (R, 2K+1), from one set of
+    cosines and sines."""
     k = np.arange(1, K + 1)
-    ang = np.asarray(theta, dtype=float)[..., None] * k
-    return np.concatenate([np.zeros(ang.shape[:-1] + (1,)), -k * np.sin(ang), k * np.cos(ang)], axis=-1)
+    ang = theta[..., None] * k
+    cos, sin = np.cos(ang), np.sin(ang)
+    basis = np.concatenate([np.ones(ang.shape[:-1] + (1,)), cos, sin], axis=-1)
+    slope = np.einsum("rnk,rk->rn", sin, -k * c[:, 1:K + 1]) + np.einsum("rnk,rk->rn", cos, k * c[:, K + 1:])
+    return basis, slope
 
 
 def invariant_circle(advance, rho0, stretch, K, n, tol, n_out=None, max_iter=12, h=1e-7):
     """The invariant circles of R planar maps at once, as graphs rho(theta) over the angle theta = atan2(p, q):
     Gauss-Newton on the K-harmonic Fourier coefficients of rho, collocated at the n > 2 K + 1 angles 2 pi j/n.
 
-    ``advance(y, idx)``: the maps idx (those still iterating) applied to points y of shape (2, 2 len(idx), n),
-    rows q and stretch * p (each map's points, then the same points pushed out along rho by h rho0: the
-    Jacobian's difference, both taken by the same steps of the caller's integrator).  ``rho0``: (R, 1) starting radii; ``stretch``: (R, 1) (5.10: the
-    velocity, -omega0 p).  The residual at theta_j is the image's radius less rho at the image's angle; each
-    Newton step stops below ``tol`` (relative to rho0; a number or (R,)).  Returns (the points on the circle at
-    the n_out (default n) angles 2 pi j/n_out, (2, R, n_out); the last Newton step over rho0, (R,); converged,
-    (R,) bool)."""
+    ``advance(y, idx, loose)``: the maps idx (those still iterating) applied to points y of shape
+    (2, k len(idx), n), rows q and stretch * p: each map's points, and with k = 2 the same points then pushed
+    out along rho by h rho0 (the Jacobian's difference, both taken by the same steps of the caller's
+    integrator).  ``loose`` (len(idx),) >= 1: how many times the finest error the evaluation may make, where
+    the finest moves the circle by about tol/30 (far from the circle a rougher map does as well; the step
+    that stops is always taken at 1).  While every step left is below FRESH_BELOW the radial derivatives of
+    the last difference are kept (k = 1: the Jacobian's other parts are taken at each iterate).  ``rho0``:
+    (R, 1) starting radii; ``stretch``: (R, 1) (5.10: the velocity, -omega0 p).  The residual at theta_j is
+    the image's radius less rho at the image's angle; each Newton step stops below ``tol`` (relative to
+    rho0; a number or (R,)).  Returns (the points on the circle at the n_out (default n) angles 2 pi j/n_out,
+    (2, R, n_out); the last Newton step over rho0, (R,); converged, (R,) bool)."""
     R = rho0.shape[0]
     th = 2.0 * math.pi * np.arange(n) / n
     B = _basis(th, K)  # (n, 2K+1)
@@ -176,31 +188,40 @@ def invariant_circle(advance, rho0, stretch, K, n, tol, n_out=None, max_iter=12,
     coef[:, 0] = rho0[:, 0]
     step = np.full(R, np.inf)
     tol = np.broadcast_to(np.asarray(tol, dtype=float), (R,))
+    # the first map's error kept to ~1e-3 of rho0 (loose tol/30), below a far start's first step
+    loose = np.clip(0.03 / tol, 1.0, LOOSE_MAX)
+    da_kept, dpsi_kept = np.zeros((R, n)), np.zeros((R, n))
+    converged = np.zeros(R, dtype=bool)
     act = np.arange(R)  # the maps still iterating: a converged one stops
-    for _ in range(max_iter):
-        c, r0, st = coef[act], rho0[act], np.concatenate([stretch[act], stretch[act]])
+    for it in range(max_iter):
+        fresh = it == 0 or not np.all(step[act] < FRESH_BELOW)
+        c, r0, st = coef[act], rho0[act], stretch[act]
         rho = c @ B.T  # (R', n)
         dr = h * r0
-        pts = np.concatenate([rho, rho + dr], axis=0)[None] * cs[:, None, :]
-        pts[1] *= st
-        img = advance(pts, act)
-        q, p = img[0], img[1] / st
-        a, psi = np.hypot(q, p), np.arctan2(p, q)
         m = act.size
-        da = (a[m:] - a[:m]) / dr
-        dpsi = (np.mod(psi[m:] - psi[:m] + math.pi, 2.0 * math.pi) - math.pi) / dr
-        Bpsi = _basis(psi[:m], K)  # (R', n, 2K+1)
-        slope = np.einsum("rnk,rk->rn", _dbasis(psi[:m], K), c)
-        resid = a[:m] - np.einsum("rnk,rk->rn", Bpsi, c)
-        J = (da - slope * dpsi)[..., None] * B[None] - Bpsi
+        pts = (np.concatenate([rho, rho + dr], axis=0) if fresh else rho)[None] * cs[:, None, :]
+        pts[1] *= np.concatenate([st, st]) if fresh else st
+        img = advance(pts, act, loose[act])
+        q, p = img[0, :m], img[1, :m] / st
+        a, psi = np.hypot(q, p), np.arctan2(p, q)
+        if fresh:
+            q2, p2 = img[0, m:], img[1, m:] / st
+            da_kept[act] = (np.hypot(q2, p2) - a) / dr
+            dpsi_kept[act] = (np.mod(np.arctan2(p2, q2) - psi + math.pi, 2.0 * math.pi) - math.pi) / dr
+        Bpsi, slope = _basis_and_slope(psi, K, c)  # (R', n, 2K+1), (R', n)
+        resid = a - np.einsum("rnk,rk->rn", Bpsi, c)
+        J = (da_kept[act] - slope * dpsi_kept[act])[..., None] * B[None] - Bpsi
         qm, rm = np.linalg.qr(J)
         delta = -np.linalg.solve(rm, np.einsum("rji,rj->ri", qm, resid)[..., None])[..., 0]
         coef[act] += delta
         step[act] = np.max(np.abs(delta), axis=1) / r0[:, 0]
-        act = act[~(step[act] < tol[act])]
+        converged[act] = (step[act] < tol[act]) & (loose[act] == 1.0)
+        # the next map's error kept to a hundredth of the next step (~ this one squared), in units of tol/30
+        loose[act] = np.clip(0.3 * step[act] ** 2 / tol[act], 1.0, LOOSE_MAX)
+        act = act[~converged[act]]
         if not act.size:
             break
     th = 2.0 * math.pi * np.arange(n_out or n) / (n_out or n)
     pts = (coef @ _basis(th, K).T)[None] * np.stack([np.cos(th), np.sin(th)])[:, None, :]
     pts[1] *= stretch
-    return pts, step, step < tol
+    return pts, step, converged
