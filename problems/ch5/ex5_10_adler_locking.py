@@ -85,9 +85,9 @@ exercise.declare_limits(
 
 @exercise.constraint
 def constraint(p):
-    # plain floats and math (assign's draws call this ~1e5 times); the same operations, in the same order, as
-    # _delta and _edge_uncertainty on arrays
-    w0, mu, beta, f0, w = p.omega0, p.mu, p.beta, p.f0, p.omega
+    # plain floats and math (assign's draws call this ~1e5 times; p[...] skips the failed attribute lookup
+    # p.name takes first); the same operations, in the same order, as _delta and _edge_uncertainty on arrays
+    w0, mu, beta, f0, w = p["omega0"], p["mu"], p["beta"], p["f0"], p["omega"]
     if mu > MAX_EPS * w0:
         return (f"mu = {mu:g} 1/s is not small against omega0 = {w0:g} rad/s: the reduced equations "
                 f"need mu <= {MAX_EPS:g} omega0")
