@@ -47,6 +47,38 @@ def test_invariant_circle_of_a_weakly_contracting_map_with_a_known_one():
         assert np.allclose(np.sort(np.mod(th, 2 * math.pi)), 2 * math.pi * np.arange(40) / 40, atol=1e-12)
 
 
+def test_invariant_circle_asks_a_rough_map_only_far_from_the_circle():
+    """The same kind of map, rough where Newton allows it: its image radius off by (loose - 1) e sin 3 theta,
+    e (1 - lam) = tol/30 (the finest map exact, a rough one moving the circle by up to 100 tol/30 = 3.3e-8).
+    The circle still comes out to 1e-9 (the stopping step is always taken on the finest map), the first maps
+    are rough, and the last ones carry the points alone (their radial derivatives kept: one copy a point)."""
+    from mech.solvers.numerics.circle_map import invariant_circle
+
+    lam, tol = 0.9, 1e-8
+    e = tol / 30.0 * (1.0 - lam)
+
+    def rho(th):
+        return 1.0 + 0.1 * np.cos(th) + 0.04 * np.sin(2 * th)
+
+    calls = []
+
+    def advance(y, idx, loose):
+        copies = y.shape[1] // idx.size
+        calls.append((copies, float(loose.min())))
+        q, p = y[0], y[1] / 2.0
+        th, r = np.arctan2(p, q), np.hypot(q, p)
+        th2 = th + 0.3 + 0.2 * np.sin(th)
+        r2 = rho(th2) + lam * (r - rho(th)) + (np.tile(loose, copies)[:, None] - 1.0) * e * np.sin(3 * th2)
+        return np.stack([r2 * np.cos(th2), 2.0 * r2 * np.sin(th2)])
+
+    pts, step, ok = invariant_circle(advance, np.array([[1.0]]), np.array([[2.0]]), 8, 24, tol, n_out=40)
+    assert ok.all() and len(calls) <= 8
+    q, p = pts[0, 0], pts[1, 0] / 2.0
+    assert np.max(np.abs(np.hypot(q, p) - rho(np.arctan2(p, q)))) < 1e-9
+    assert calls[0] == (2, 100.0)  # the first map rough (its error ~ 1e-3 of rho0 allowed, at most 100 times)
+    assert calls[-1][1] == 1.0 and calls[-1][0] == 1  # the stop on the finest map, the derivatives kept
+
+
 # The reference: scipy's DOP853 at rtol 1e-12 on q'' = mu (1 - beta q^2) q' - omega0^2 q + f0 cos(omega t) from
 # q = 2/sqrt(beta) at rest, 25/mu of settling, then the weighted Birkhoff average (bump exp(-1/(s (1 - s))))
 # of d(theta)/dt, theta = atan2(-q'/omega0, q), carried as a third state over 8 slip periods:

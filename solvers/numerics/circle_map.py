@@ -217,7 +217,8 @@ def invariant_circle(advance, rho0, stretch, K, n, tol, n_out=None, max_iter=12,
         step[act] = np.max(np.abs(delta), axis=1) / r0[:, 0]
         converged[act] = (step[act] < tol[act]) & (loose[act] == 1.0)
         # the next map's error kept to a hundredth of the next step (~ this one squared), in units of tol/30
-        loose[act] = np.clip(0.3 * step[act] ** 2 / tol[act], 1.0, LOOSE_MAX)
+        # (never rougher again: a step measured on a finer map does not license a rougher one)
+        loose[act] = np.minimum(loose[act], np.clip(0.3 * step[act] ** 2 / tol[act], 1.0, LOOSE_MAX))
         act = act[~converged[act]]
         if not act.size:
             break
