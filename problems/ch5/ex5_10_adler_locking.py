@@ -22,7 +22,8 @@ det(M - I) changes sign; each edge, a fold, refined by Illinois on det(M - I) ov
 (2) The beat: inside the numeric range the locked orbit exists and attracts: beat = 0.  Outside, the section
 of the attracting torus by the drive's phase, a closed curve rho(theta) the one-period map carries onto itself,
 is found by Newton's method on rho's Fourier series (circle_map.invariant_circle, from the circle of the edge's
-swing; each iterate one drive period of 2 x 48 copies), where settling onto it would take ~1/(mu T) periods.
+swing; each iterate one drive period of 2 x 48 copies, 48 near the end, at rtol up to 1e-6 far from the
+curve), where settling onto it would take ~1/(mu T) periods.
 96 copies on it, their phases theta = atan2(-q'/omega0, q) over the next drive period give the circle map
 theta -> theta + 2 pi + d(theta), fitted by a Fourier series; its weighted Birkhoff average (weight
 exp(-1/(s(1 - s))), circle_map) gives the mean of d, and beat = omega |<d>|/(2 pi).  Two consecutive periods
