@@ -24,6 +24,10 @@ __all__ = ["fourier_fit", "rotation_number", "invariant_circle"]
 # which the radial derivatives of the last difference are kept
 LOOSE_MAX = 100.0
 FRESH_BELOW = 1e-4
+# a long orbit of a map that barely bends (_alone): stretches of STRETCH_MIN to STRETCH_MAX iterates solved at
+# once, each sweep of Picard's iteration contracting the error at least STRETCH_CONTRACTION-fold, at most
+# STRETCH_SWEEPS of them
+STRETCH_MIN, STRETCH_MAX, STRETCH_CONTRACTION, STRETCH_SWEEPS = 512, 8192, 1e-3, 12
 # below this many maps still iterating, each is iterated alone on plain complex numbers (a numpy call on a
 # few numbers costs more than the arithmetic)
 ALONE_BELOW = 6
@@ -53,13 +57,81 @@ def _length(c0):
     return np.minimum(np.maximum(400.0, 25.0 * slip), 200000).astype(int)
 
 
+def _series(c0, c):
+    """theta (m,) -> d(theta) = c0 + Re sum_k c_k e^(i k theta) (c: (K,), lowest harmonic first), on arrays:
+    the powers of e^(i theta) by doubling."""
+    K = c.size
+    col = c[:, None]
+
+    def d(theta):
+        powers = np.empty((K, theta.size), dtype=complex)
+        powers[0] = np.exp(1j * theta)
+        m = 1
+        while m < K:
+            np.multiply(powers[:min(m, K - m)], powers[m - 1], out=powers[m:2 * m])
+            m *= 2
+        powers *= col
+        return c0 + powers.sum(axis=0).real
+
+    return d
+
+
+def _stretch(d, theta, m, bend):
+    """m iterates of theta -> theta + d(theta) from theta at once: the orbit theta_j = theta + sum_{i<j} d(theta_i)
+    by Picard's iteration over the whole stretch from the rigid rotation by d(theta).  Each sweep multiplies
+    the error by at most q = m bend (bend >= max|d'|; q below STRETCH_CONTRACTION): a sweep that moved the
+    orbit by delta leaves it within q delta of the fixed point, and it stops when that is 4 ulp of the angle
+    (the increments, at the orbit before the sweep, are then off by bend delta <= 4 eps |theta|/m).  (The m
+    increments, the angle after them), or None if the sweeps did not settle."""
+    th = theta + d(np.array([theta]))[0] * np.arange(m)
+    partial = np.empty(m)
+    q = m * bend
+    for _ in range(STRETCH_SWEEPS):
+        dd = d(th)
+        partial[0], partial[1:] = theta, dd[:-1]
+        new = np.cumsum(partial)  # the sums in the order the iterates add them
+        if q * np.max(np.abs(new - th)) <= 4.0 * np.finfo(float).eps * np.max(np.abs(new)):
+            return dd, float(new[-1] + dd[-1])
+        th = new
+    return None
+
+
 def _alone(c0, c, n, i0=0, theta=0.0, sums=(0.0, 0.0, 0.0, 0.0)):
-    """The weighted Birkhoff averages of one map over its orbit of n and the first n // 2 of it (Horner in
-    e^(i theta) on plain complex numbers), from the iterate i0 on (theta, and the four sums so far).  The loop
-    only iterates the map; the increments are weighted afterwards, all at once."""
+    """The weighted Birkhoff averages of one map over its orbit of n and the first n // 2 of it, from the
+    iterate i0 on (theta, and the four sums so far); c: the harmonics' coefficients, lowest first.  The
+    increments are weighted afterwards, all at once.  Where the map barely bends (a stretch of
+    STRETCH_MIN iterates or more keeps the sweeps' contraction, from |d'| <= sum k |c_k|: a slow slip far
+    from locking), the orbit is solved a stretch at a time on arrays; else iterated one by one (Horner in
+    e^(i theta) on plain complex numbers)."""
+    c = np.asarray(c, dtype=complex)
+    total = max(n - i0, 0)
+    bend = float(np.sum(np.arange(1, c.size + 1) * np.abs(c)))
+    span = STRETCH_MAX if bend * STRETCH_MAX <= STRETCH_CONTRACTION else int(STRETCH_CONTRACTION / bend)
+    d_of = _series(c0, c) if span >= STRETCH_MIN else None
+    incr = np.empty(total)
+    k = 0
+    while k < total:
+        m = min(span, total - k) if d_of is not None else total - k
+        got = _stretch(d_of, theta, m, bend) if d_of is not None and m >= STRETCH_MIN else None
+        if got is None:
+            got = _one_by_one(c0, [complex(x) for x in c[::-1]], theta, m)
+        incr[k:k + m], theta = got[0], math.fmod(got[1], 2.0 * math.pi)
+        k += m
+    mid = np.arange(i0, n) + 0.5
+    out = []
+    for r, length in ((0, n), (2, max(n // 2, 1))):
+        s = mid / length
+        wgt = np.exp(-1.0 / np.maximum(s * (1.0 - s), 1e-300))
+        out.append((sums[r] + float(wgt @ incr)) / (sums[r + 1] + float(wgt.sum())))
+    return out[0], out[1]
+
+
+def _one_by_one(c0, c, theta, m):
+    """m iterates of the map from theta on plain complex numbers (c highest harmonic first): (the increments,
+    the angle after them)."""
     cexp, fmod, turn = cmath.exp, math.fmod, 2.0 * math.pi
-    incr = array("d", bytes(8 * max(n - i0, 0)))
-    for k in range(n - i0):
+    incr = array("d", bytes(8 * m))
+    for k in range(m):
         z = cexp(1j * theta)
         acc = 0j
         for ck in c:
@@ -67,14 +139,7 @@ def _alone(c0, c, n, i0=0, theta=0.0, sums=(0.0, 0.0, 0.0, 0.0)):
         dd = c0 + acc.real
         incr[k] = dd
         theta = fmod(theta + dd, turn)
-    d = np.frombuffer(incr, dtype=float)
-    mid = np.arange(i0, n) + 0.5
-    out = []
-    for r, length in ((0, n), (2, max(n // 2, 1))):
-        s = mid / length
-        wgt = np.exp(-1.0 / np.maximum(s * (1.0 - s), 1e-300))
-        out.append((sums[r] + float(wgt @ d)) / (sums[r + 1] + float(wgt.sum())))
-    return out[0], out[1]
+    return np.frombuffer(incr, dtype=float), theta
 
 
 def rotation_number(coef, K, length=1.0, with_error=False):
@@ -97,7 +162,7 @@ def rotation_number(coef, K, length=1.0, with_error=False):
     with np.errstate(invalid="ignore", divide="ignore"):  # the maps left to run alone are filled in below
         out, out_h = sums[0] / sums[1], sums[2] / sums[3]
     for j in np.flatnonzero(n > i):  # the few longest orbits, on alone
-        out[j], out_h[j] = _alone(float(c0[j]), [complex(x) for x in c[j, ::-1]], int(n[j]), i, float(th[j]),
+        out[j], out_h[j] = _alone(float(c0[j]), c[j], int(n[j]), i, float(th[j]),
                                   tuple(float(x) for x in sums[:, j]))
     if with_error:
         err = np.abs(out - out_h)
@@ -173,9 +238,10 @@ def invariant_circle(advance, rho0, stretch, K, n, tol, n_out=None, max_iter=12,
     (2, k len(idx), n), rows q and stretch * p: each map's points, and with k = 2 the same points then pushed
     out along rho by h rho0 (the Jacobian's difference, both taken by the same steps of the caller's
     integrator).  ``loose`` (len(idx),) >= 1: how many times the finest error the evaluation may make, where
-    the finest moves the circle by about tol/30 (far from the circle a rougher map does as well; the step
-    that stops is always taken at 1).  While every step left is below FRESH_BELOW the radial derivatives of
-    the last difference are kept (k = 1: the Jacobian's other parts are taken at each iterate).  ``rho0``:
+    the finest moves the circle by about tol/30 (far from the circle a rougher map does as well; the first
+    map and the step that stops are always taken at 1).  While every step left is below FRESH_BELOW the
+    radial derivatives of the last difference taken on the finest map are kept (k = 1: the Jacobian's other
+    parts are taken at each iterate).  ``rho0``:
     (R, 1) starting radii; ``stretch``: (R, 1) (5.10: the velocity, -omega0 p).  The residual at theta_j is
     the image's radius less rho at the image's angle; each Newton step stops below ``tol`` (relative to
     rho0; a number or (R,)).  Returns (the points on the circle at the n_out (default n) angles 2 pi j/n_out,
@@ -188,26 +254,29 @@ def invariant_circle(advance, rho0, stretch, K, n, tol, n_out=None, max_iter=12,
     coef[:, 0] = rho0[:, 0]
     step = np.full(R, np.inf)
     tol = np.broadcast_to(np.asarray(tol, dtype=float), (R,))
-    # the first map's error kept to ~1e-3 of rho0 (loose tol/30), below a far start's first step
-    loose = np.clip(0.03 / tol, 1.0, LOOSE_MAX)
+    # the first map the finest: a start already close stops there, as a rough map would not let it
+    loose = np.ones(R)
     da_kept, dpsi_kept = np.zeros((R, n)), np.zeros((R, n))
+    fine = np.zeros(R, dtype=bool)  # the kept derivatives were taken on the finest map
     converged = np.zeros(R, dtype=bool)
     act = np.arange(R)  # the maps still iterating: a converged one stops
     for it in range(max_iter):
-        fresh = it == 0 or not np.all(step[act] < FRESH_BELOW)
+        fresh = not np.all((step[act] < FRESH_BELOW) & fine[act])
         c, r0, st = coef[act], rho0[act], stretch[act]
         rho = c @ B.T  # (R', n)
         dr = h * r0
         m = act.size
         pts = (np.concatenate([rho, rho + dr], axis=0) if fresh else rho)[None] * cs[:, None, :]
         pts[1] *= np.concatenate([st, st]) if fresh else st
-        img = advance(pts, act, loose[act])
+        ask = np.full(m, loose[act].min())  # the maps iterated together share the finest asked of any
+        img = advance(pts, act, ask)
         q, p = img[0, :m], img[1, :m] / st
         a, psi = np.hypot(q, p), np.arctan2(p, q)
         if fresh:
             q2, p2 = img[0, m:], img[1, m:] / st
             da_kept[act] = (np.hypot(q2, p2) - a) / dr
             dpsi_kept[act] = (np.mod(np.arctan2(p2, q2) - psi + math.pi, 2.0 * math.pi) - math.pi) / dr
+            fine[act] = ask == 1.0
         Bpsi, slope = _basis_and_slope(psi, K, c)  # (R', n, 2K+1), (R', n)
         resid = a - np.einsum("rnk,rk->rn", Bpsi, c)
         J = (da_kept[act] - slope * dpsi_kept[act])[..., None] * B[None] - Bpsi
@@ -215,10 +284,11 @@ def invariant_circle(advance, rho0, stretch, K, n, tol, n_out=None, max_iter=12,
         delta = -np.linalg.solve(rm, np.einsum("rji,rj->ri", qm, resid)[..., None])[..., 0]
         coef[act] += delta
         step[act] = np.max(np.abs(delta), axis=1) / r0[:, 0]
-        converged[act] = (step[act] < tol[act]) & (loose[act] == 1.0)
-        # the next map's error kept to a hundredth of the next step (~ this one squared), in units of tol/30
-        # (never rougher again: a step measured on a finer map does not license a rougher one)
-        loose[act] = np.minimum(loose[act], np.clip(0.3 * step[act] ** 2 / tol[act], 1.0, LOOSE_MAX))
+        converged[act] = (step[act] < tol[act]) & (ask == 1.0)
+        # the next map's error kept to a hundredth of the next step (~ this one squared), in units of tol/30;
+        # after the first, never rougher again (a step measured on a finer map does not license a rougher one)
+        rough = np.clip(0.3 * step[act] ** 2 / tol[act], 1.0, LOOSE_MAX)
+        loose[act] = rough if it == 0 else np.minimum(loose[act], rough)
         act = act[~converged[act]]
         if not act.size:
             break
