@@ -106,7 +106,10 @@ def _alone(c0, c, n, i0=0, theta=0.0, sums=(0.0, 0.0, 0.0, 0.0)):
     c = np.asarray(c, dtype=complex)
     total = max(n - i0, 0)
     bend = float(np.sum(np.arange(1, c.size + 1) * np.abs(c)))
-    span = STRETCH_MAX if bend * STRETCH_MAX <= STRETCH_CONTRACTION else int(STRETCH_CONTRACTION / bend)
+    if not math.isfinite(bend):  # no series to bound (a NaN map): one by one, as it always was
+        span = 0
+    else:
+        span = STRETCH_MAX if bend * STRETCH_MAX <= STRETCH_CONTRACTION else int(STRETCH_CONTRACTION / bend)
     d_of = _series(c0, c) if span >= STRETCH_MIN else None
     incr = np.empty(total)
     k = 0
