@@ -12,14 +12,14 @@ from test_ex5_10 import DEF, NARROW_B, NARROW_C, hb_edges
 OUTPUTS = ("xi_lo", "xi_hi", "width", "beat")
 
 
-def _route(rows, rtol=1e-10):
+def _route(rows, rtol=1e-10, outputs=OUTPUTS):
     from mech.problems import registry
     from mech.problems.spec import Tally
 
     ex = registry.get("5.10")
     P = {k: np.array([float(r[k]) for r in rows]) for k in DEF}
     tally = Tally()
-    return ex.batched_route.numeric(P, rtol, OUTPUTS, memo={}, tally=tally), tally
+    return ex.batched_route.numeric(P, rtol, outputs, memo={}, tally=tally), tally
 
 
 ROWS = [dict(DEF), {**DEF, "omega": 3.005}, {**DEF, "mu": 0.03, "f0": 0.018, "omega": 3.015},
@@ -41,7 +41,7 @@ def test_the_batch_edges_against_harmonic_balance():
     """The edges of three variants solved together, each against the harmonic balance of its own equation (no
     shooting, no integration), to 1e-7 as tests/test_ex5_10.py holds the one-point solve."""
     rows = ROWS[:1] + ROWS[2:4]
-    got, tally = _route(rows)
+    got, tally = _route(rows, outputs=("xi_lo", "xi_hi", "width"))  # the beats are not asserted here
     for j, row in enumerate(rows):
         hi, lo = hb_edges(row)
         assert got["xi_hi"].value[j] == pytest.approx(hi, rel=1e-7)
