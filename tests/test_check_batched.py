@@ -14,6 +14,9 @@ from mech.studies import checking
 from mech.studies.variants import cross_check_variants
 from mech.verification.crosscheck import cross_check
 
+from hard_cases import alone as cross_checked_alone
+from hard_cases import batch as batched_once
+
 BATCHED = [i for i, ex in registry.all_exercises().items() if checking.batched(ex)]
 
 
@@ -41,8 +44,10 @@ def test_a_batch_judges_each_case_as_the_one_point_check(ex_id):
     """The batch's verdicts equal the one-point cross-check's (the old path, kept as ``run_case``) field by
     field; its values lie within the two runs' combined error bars; its analytic values are the same
     function's, to round-off."""
-    batch = checking.run_batch(_cases(ex_id))
-    alone = [checking.run_case(c) for c in _cases(ex_id)]
+    batch = batched_once(ex_id)[0]  # checking.run_batch(_cases(ex_id)), shared with test_check_all
+    assert [(c.label, c.given) for c in batch] == [(c.label, c.given) for c in _cases(ex_id)]
+    alone = cross_checked_alone(ex_id)  # run_case of each case, shared with test_check_all
+    assert [a.label for a in alone] == [b.label for b in batch]
     # the batch was used: a batch's case carries the batched route's solution, not a one-point run
     assert all(c.result.run is None and c.result.numeric_info["method"] == "DOP853 (batched)" for c in batch)
     for b, a in zip(batch, alone):

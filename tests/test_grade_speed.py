@@ -38,11 +38,18 @@ def verdicts(out):
                                            for q in e["quantities"] if "expected" in q]) for e in d["entries"]]
 
 
-def test_batched_and_pooled_grading_give_the_verdicts_of_one_by_one(tmp_path, monkeypatch):
+@pytest.fixture(scope="module")
+def fast(tmp_path_factory):
+    """The class file of 6 students graded as `mech grade` grades it (batched 5.11, pooled workers): read by
+    the two tests below, graded once."""
+    path = class_file(tmp_path_factory.mktemp("class"))
+    return path, CliRunner().invoke(cli, ["grade", str(path), "--json"])
+
+
+def test_batched_and_pooled_grading_give_the_verdicts_of_one_by_one(fast, monkeypatch):
     from mech.students import classrun
 
-    path = class_file(tmp_path)
-    fast = CliRunner().invoke(cli, ["grade", str(path), "--json"])  # batched 5.11, pooled workers
+    path, fast = fast
     assert fast.exit_code == 1, fast.stderr
     monkeypatch.setattr(classrun, "MIN_BATCHED", 10**9)
     slow = CliRunner().invoke(cli, ["grade", str(path), "--json", "-j", "1"])  # each variant cross-checked alone
@@ -54,10 +61,10 @@ def test_batched_and_pooled_grading_give_the_verdicts_of_one_by_one(tmp_path, mo
         assert match is (ex == "4.15" or int(student[1:]) % 2 == 0), (student, ex, qs)
 
 
-def test_the_batched_solutions_are_cross_checked(tmp_path):
+def test_the_batched_solutions_are_cross_checked(fast):
     """The batched route's variants carry both methods and the rerun's verdict, as a cross-check does."""
-    path = class_file(tmp_path)
-    d = json.loads(CliRunner().invoke(cli, ["grade", str(path), "--json"]).stdout)
+    d = json.loads(fast[1].stdout)
+    assert sum(e["exercise"] == "5.11" for e in d["entries"]) == 6
     for e in d["entries"]:
         if e["exercise"] != "5.11":
             continue
