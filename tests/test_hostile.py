@@ -374,7 +374,7 @@ def test_a_baseline_records_mechs_real_version(tmp_path):
 
 def test_a_good_baseline_survives_a_failed_write(tmp_path):
     good = tmp_path / "good.json"
-    r = mech_cli("check", "4.15", "--save-baseline", str(good))  # the good file: no limit, in this process
+    r = mech("check", "4.15", "--save-baseline", str(good))
     assert r.returncode == 0
     before = good.read_bytes()
     assert len(before) > 500
