@@ -235,3 +235,35 @@ FIRST = {
 def pytest_collection_modifyitems(config, items):
     """The tests in ``FIRST`` before the others, longest first (a stable sort: the rest keep their order)."""
     items.sort(key=lambda item: -FIRST.get(item.nodeid.rsplit("/", 1)[-1].split("[", 1)[0], 0.0))
+
+
+# -- parsed sources, shared by the tests that walk the tree (suiteC) -----------------------------------------
+
+def parsed(path):
+    """The syntax tree of the source file at ``path``, parsed once per process: the size limits, the import
+    loops, the twins and the one-rule tests walk the same modules (about 0.3 CPU-s a parse of the tree).
+    Callers only read it.  Keyed by the file's size and time, so a file rewritten during the run is read
+    again."""
+    st = os.stat(path)
+    return _parsed(str(path), st.st_mtime_ns, st.st_size)
+
+
+def _parsed(path, mtime_ns, size):
+    import ast
+
+    key = (path, mtime_ns, size)
+    if key not in _PARSED:
+        with open(path, encoding="utf-8") as fh:
+            source = fh.read()
+        _PARSED[key] = (source, ast.parse(source))
+    return _PARSED[key][1]
+
+
+def parsed_source(path):
+    """The text ``parsed(path)`` was parsed from."""
+    parsed(path)
+    st = os.stat(path)
+    return _PARSED[str(path), st.st_mtime_ns, st.st_size][0]
+
+
+_PARSED: dict = {}

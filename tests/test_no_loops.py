@@ -8,7 +8,10 @@ only downward by the layer contract) fails."""
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
+
+from conftest import parsed
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = {"verification": "mech.verification", "students": "mech.students", "studies": "mech.studies",
@@ -21,14 +24,16 @@ def _module_of(path: Path, folder: str) -> str:
     return ".".join([PACKAGES[folder], *parts])
 
 
+@functools.lru_cache(maxsize=None)
 def _edges() -> dict[str, set[str]]:
+    """The import edges among the walked modules (computed once: callers only read them)."""
     mods = {}
     for folder in PACKAGES:
         for path in (ROOT / folder).rglob("*.py"):
             mods[_module_of(path, folder)] = path
     edges = {m: set() for m in mods}
     for m, path in mods.items():
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in ast.walk(parsed(path)):
             names = []
             if isinstance(node, ast.Import):
                 names = [a.name for a in node.names]

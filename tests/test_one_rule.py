@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import parsed
 
 from mech.verification import judge as J
 
@@ -189,7 +190,7 @@ def test_a_judged_quantity_is_built_in_one_place():
         rel = path.relative_to(ROOT).as_posix()
         if rel.startswith(("tests/", ".venv/", "scripts/")) or "/." in rel or rel == "verification/result.py":
             continue
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in ast.walk(parsed(path)):
             if isinstance(node, ast.Call) and getattr(node.func, "id", getattr(node.func, "attr", None)) == "Quantity":
                 kws = {k.arg or "**" for k in node.keywords}
                 found.append((rel, sorted(kws)))

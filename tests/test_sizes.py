@@ -9,7 +9,10 @@ the limit is split into named steps, an exercise that grows past it moves its ge
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
+
+from conftest import parsed, parsed_source
 
 ROOT = Path(__file__).resolve().parents[1]
 EXERCISE_MODULE_MAX = 450  # lines of one problems/chN/ module
@@ -27,9 +30,11 @@ def _sources(root: Path = ROOT) -> list[Path]:
     return out
 
 
-def function_lengths(source: str) -> list[tuple[str, int]]:
-    """(name, lines) of every function of a module, nested ones and methods included."""
-    return [(node.name, node.end_lineno - node.lineno + 1) for node in ast.walk(ast.parse(source))
+def function_lengths(source: str, tree: ast.Module | None = None) -> list[tuple[str, int]]:
+    """(name, lines) of every function of a module, nested ones and methods included (``tree``: ``source``
+    parsed already)."""
+    return [(node.name, node.end_lineno - node.lineno + 1)
+            for node in ast.walk(ast.parse(source) if tree is None else tree)
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))]
 
 
@@ -42,11 +47,11 @@ def over_limits(root: Path = ROOT) -> tuple[list[str], list[str]]:
     functions, modules = [], []
     for path in _sources(root):
         rel = path.relative_to(root).as_posix()
-        source = path.read_text(encoding="utf-8")
+        source = parsed_source(path)
         lines = source.count("\n")
         if _is_exercise(rel) and lines > EXERCISE_MODULE_MAX:
             modules.append(f"{rel}: {lines} lines")
-        for name, length in function_lengths(source):
+        for name, length in function_lengths(source, parsed(path)):
             if length > FUNCTION_MAX:
                 functions.append(f"{rel}:{name}: {length} lines")
     return functions, modules
@@ -60,13 +65,19 @@ def test_the_tree_is_read():
     assert not any(r.startswith("tests/") for r in rels)
 
 
+@functools.lru_cache(maxsize=None)
+def _tree_over_limits() -> tuple[list[str], list[str]]:
+    """``over_limits()`` of the source tree, read and parsed once for the two tests that judge it."""
+    return over_limits()
+
+
 def test_no_function_over_100_lines_outside_tests():
-    functions, _ = over_limits()
+    functions, _ = _tree_over_limits()
     assert functions == [], "split into named steps:\n" + "\n".join(functions)
 
 
 def test_no_exercise_module_over_450_lines():
-    _, modules = over_limits()
+    _, modules = _tree_over_limits()
     assert modules == [], "move generic numerics to solvers/:\n" + "\n".join(modules)
 
 

@@ -8,6 +8,8 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
+from conftest import parsed, parsed_source
+
 ROOT = Path(__file__).resolve().parents[1]
 WALKED = ("problems", "solvers")
 SUFFIXES = ("_batch", "_batched", "_many", "_vec", "s")
@@ -18,10 +20,10 @@ NOT_TWINS = {# the declaration's builder of a rate-given state beside the solved
              ("solvers/numerics/linear_flow.py", "expm")}
 
 
-def twins(source: str, rel: str = "") -> list[str]:
+def twins(source: str, rel: str = "", tree: ast.Module | None = None) -> list[str]:
     """``X/X_batch`` (and the other suffixes) of the functions a module defines, methods and nested ones
-    included."""
-    names = {node.name for node in ast.walk(ast.parse(source))
+    included (``tree``: ``source`` parsed already)."""
+    names = {node.name for node in ast.walk(ast.parse(source) if tree is None else tree)
              if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))}
     out = []
     for name in sorted(names):
@@ -36,7 +38,7 @@ def all_twins(root: Path = ROOT) -> list[str]:
     for floor in WALKED:
         for path in sorted((root / floor).rglob("*.py")):
             rel = path.relative_to(root).as_posix()
-            found += twins(path.read_text(encoding="utf-8"), rel)
+            found += twins(parsed_source(path), rel, parsed(path))
     return found
 
 
