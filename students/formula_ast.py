@@ -492,9 +492,18 @@ def _unit_size(B, node, n: int):
     return _literal(B, repr(float(factor)), float(factor), n)
 
 
-def _enclose(node, env: dict, B, n: int, problems: list):
+def _enclose(node, env: dict, B, n: int, problems: list, memo: dict):
     """(lo, hi): an enclosure of the exact value of ``node`` at the points ``env`` (name -> array, exact);
-    ``problems`` gains each certain domain error (``Problem``)."""
+    ``problems`` gains each certain domain error (``Problem``).  A part written twice (``F`` in
+    ``F + (C F - C F)``) is enclosed once: ``memo`` (node -> enclosure) holds each part's enclosure at these
+    points and this precision, and its domain errors are in ``problems`` already."""
+    got = memo.get(node)
+    if got is None:
+        got = memo[node] = _enclose_part(node, env, B, n, problems, memo)
+    return got
+
+
+def _enclose_part(node, env: dict, B, n: int, problems: list, memo: dict):
     from mech.solvers.numerics import interval as iv
 
     k = node[0]
@@ -507,19 +516,19 @@ def _enclose(node, env: dict, B, n: int, problems: list):
     if k == "par":
         return iv.point(B, env[node[1]])
     if k == "neg":
-        return iv.neg(B, _enclose(node[1], env, B, n, problems))
+        return iv.neg(B, _enclose(node[1], env, B, n, problems, memo))
     if k == "sum":
         (s0, t0), rest = node[1][0], node[1][1:]
-        y = _enclose(t0, env, B, n, problems)
+        y = _enclose(t0, env, B, n, problems, memo)
         y = y if s0 > 0 else iv.neg(B, y)
         for s, t in rest:
-            b = _enclose(t, env, B, n, problems)
+            b = _enclose(t, env, B, n, problems, memo)
             y = iv.add(B, y, b) if s > 0 else iv.sub(B, y, b)
         return y
     if k == "prod":
-        y = _enclose(node[1][0][1], env, B, n, problems)
+        y = _enclose(node[1][0][1], env, B, n, problems, memo)
         for s, t in node[1][1:]:
-            b = _enclose(t, env, B, n, problems)
+            b = _enclose(t, env, B, n, problems, memo)
             if s > 0:
                 y = iv.mul(B, y, b)
                 continue
@@ -527,14 +536,14 @@ def _enclose(node, env: dict, B, n: int, problems: list):
             _note(problems, zero, "a division by zero", None, n)
         return y
     if k == "pow":
-        a = _enclose(node[1], env, B, n, problems)
-        b = _enclose(node[2], env, B, n, problems)
+        a = _enclose(node[1], env, B, n, problems, memo)
+        b = _enclose(node[2], env, B, n, problems, memo)
         y, bad = iv.power(B, a, b)
         _note(problems, bad, "a negative number to a fractional power or zero to a negative one", None, n)
         return y
     if k == "fn":
         fn, args = node[1], node[2]
-        vals = [_enclose(a, env, B, n, problems) for a in args]
+        vals = [_enclose(a, env, B, n, problems, memo) for a in args]
         if fn == "atan2":
             y, bad = iv.atan2(B, *vals)
             _note(problems, bad, "atan2 of (0, 0)", None, n)
@@ -615,7 +624,7 @@ class Formula:
             env = {k: B.asarray([mpmath.mpf(float(x)) for x in np.asarray(v, float)]) for k, v in env.items()}
         problems: list[Problem] = []
         with np.errstate(all="ignore"):
-            lo, hi = _enclose(self.tree, env, B, n, problems)
+            lo, hi = _enclose(self.tree, env, B, n, problems, {})
         lo = np.broadcast_to(B.asarray(lo), (n,)).copy()
         hi = np.broadcast_to(B.asarray(hi), (n,)).copy()
         return lo, hi, problems
