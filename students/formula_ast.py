@@ -615,6 +615,13 @@ class Formula:
         from mech.solvers.numerics import interval as iv
 
         n = len(next(iter(env.values()))) if env else 1
+        at = _distinct_points(env, n)
+        if at is not None:  # the same point more than once: each enclosed once (interval arithmetic is per point)
+            first, where = at
+            lo, hi, problems = self.enclose({k: np.asarray(v, float)[first] for k, v in env.items()}, prec)
+            for pr in problems:
+                pr.mask, pr.args = np.asarray(pr.mask)[where], np.asarray(pr.args)[where]
+            return lo[where], hi[where], problems
         B = iv.DOUBLE if prec is None else iv.precise(prec)
         if prec is None:
             env = {k: np.asarray(v, dtype=float) for k, v in env.items()}
@@ -628,6 +635,24 @@ class Formula:
         lo = np.broadcast_to(B.asarray(lo), (n,)).copy()
         hi = np.broadcast_to(B.asarray(hi), (n,)).copy()
         return lo, hi, problems
+
+
+def _distinct_points(env: dict, n: int):
+    """``(first, where)`` when the points ``env`` repeat one (a line along a parameter the formula does not
+    name, or a formula of no parameter): ``first`` the index of each distinct point's first occurrence in
+    order, ``where`` each point's index into ``first``; None when every point is distinct.  Points are the
+    same when their doubles are the same bits."""
+    if n < 2 or not env:
+        return None
+    rows = np.stack([np.asarray(v, float).reshape(-1) for v in env.values()], axis=1)
+    _, first, inverse = np.unique(np.ascontiguousarray(rows).view(np.int64), axis=0, return_index=True,
+                                  return_inverse=True)
+    if first.size == n:
+        return None
+    order = np.argsort(first)
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size)
+    return first[order], rank[np.asarray(inverse).reshape(-1)]
 
 
 def parameter_symbols(ex) -> dict[str, str]:
