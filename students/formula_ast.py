@@ -243,7 +243,9 @@ def _dim(node, pdims: dict[str, Dim]) -> Dim:
     if k == "prod":
         out = ONE
         for sign, t in node[1]:
-            out = _bounded(tuple(x + sign * y for x, y in zip(out, _dim(t, pdims))))
+            d = _dim(t, pdims)
+            if d is not ONE and d != ONE:  # a pure number leaves the product's dimension as it is
+                out = _bounded(tuple(x + sign * y for x, y in zip(out, d)))
         return out
     if k == "pow":
         a, b = _dim(node[1], pdims), _dim(node[2], pdims)
