@@ -497,12 +497,43 @@ def _unit_size(B, node, n: int):
 def _enclose(node, env: dict, B, n: int, problems: list, memo: dict):
     """(lo, hi): an enclosure of the exact value of ``node`` at the points ``env`` (name -> array, exact);
     ``problems`` gains each certain domain error (``Problem``).  A part written twice (``F`` in
-    ``F + (C F - C F)``) is enclosed once: ``memo`` (node -> enclosure) holds each part's enclosure at these
-    points and this precision, and its domain errors are in ``problems`` already."""
+    ``F + (C F - C F)``) is enclosed once: ``memo`` holds the enclosures of the parts the formula repeats
+    (``memo[None]``, see ``_repeated``) at these points and this precision, their domain errors are in
+    ``problems`` already; the others are not kept (10000 points: 160 kB a part)."""
+    if node[0] in _LEAVES or node not in memo[None]:
+        return _enclose_part(node, env, B, n, problems, memo)
     got = memo.get(node)
     if got is None:
         got = memo[node] = _enclose_part(node, env, B, n, problems, memo)
     return got
+
+
+_LEAVES = ("num", "unit", "par")
+
+
+@functools.lru_cache(maxsize=256)
+def _repeated(tree) -> frozenset:
+    """The parts of ``tree`` other than numbers, units and parameters that it holds more than once."""
+    seen: dict = {}
+
+    def walk(node):
+        if node[0] in _LEAVES:
+            return
+        seen[node] = seen.get(node, 0) + 1
+        if seen[node] > 1:
+            return  # its own parts were counted with its first occurrence: held twice as well
+        if node[0] in ("neg", "pow"):
+            for a in node[1:3] if node[0] == "pow" else node[1:2]:
+                walk(a)
+        elif node[0] in ("sum", "prod"):
+            for _, t in node[1]:
+                walk(t)
+        elif node[0] == "fn":
+            for a in node[2]:
+                walk(a)
+
+    walk(tree)
+    return frozenset(k for k, c in seen.items() if c > 1)
 
 
 def _enclose_part(node, env: dict, B, n: int, problems: list, memo: dict):
@@ -633,7 +664,7 @@ class Formula:
             env = {k: B.asarray([mpmath.mpf(float(x)) for x in np.asarray(v, float)]) for k, v in env.items()}
         problems: list[Problem] = []
         with np.errstate(all="ignore"):
-            lo, hi = _enclose(self.tree, env, B, n, problems, {})
+            lo, hi = _enclose(self.tree, env, B, n, problems, {None: _repeated(self.tree)})
         lo = np.broadcast_to(B.asarray(lo), (n,)).copy()
         hi = np.broadcast_to(B.asarray(hi), (n,)).copy()
         return lo, hi, problems
