@@ -127,6 +127,10 @@ class _Memo(dict):
 
     formula_chars = 0
 
+    def __init__(self):
+        super().__init__()
+        self.resolved: dict = {}  # (exercise, parameters as written in SI) -> the joint checks' refusal or None
+
 
 def _entry_lines(text: str) -> list[int]:
     return [i for i, line in enumerate(text.splitlines(), 1) if re.match(r"\s*\[\[\s*answer\s*\]\]", line)]
@@ -190,7 +194,7 @@ def _read_entry(k: int, item: dict, line: int | None, where: str, keys=_ENTRY_KE
     if against is not None:
         for fld, why in against.refusals(item, ex, student):
             found.bad(fld, why)
-    given, written = _read_params(ex, item.get("params", {}), found)
+    given, written = _read_params(ex, item.get("params", {}), found, memo)
     variant = against.variant(student, ex.id) if against is not None and ex is not None else None
     if variant is not None and not found.lines:
         for fld, why in against.params_problems(ex, variant, written, every_param):
@@ -241,8 +245,9 @@ def _read_exercise(ex_id, found: _Problems) -> Exercise | None:
         return None
 
 
-def _read_params(ex: Exercise | None, params, found: _Problems) -> tuple[dict, dict]:
-    """The answer's parameters: (SI values, the values as written), each checked against its range."""
+def _read_params(ex: Exercise | None, params, found: _Problems, memo=None) -> tuple[dict, dict]:
+    """The answer's parameters: (SI values, the values as written), each checked against its range (the
+    joint checks once per exercise and values in a file: ``memo``)."""
     if not isinstance(params, dict):
         found.bad("params", "not a table such as { theta0 = \"60deg\" }")
         params = {}
@@ -269,11 +274,26 @@ def _read_params(ex: Exercise | None, params, found: _Problems) -> tuple[dict, d
             continue
         written[pname] = shown(value, 40)
     if ex is not None and not found.lines:
-        try:
-            ex.resolve(given)
-        except BadInput as exc:
-            found.bad("params", str(exc))
+        why = _joint_refusal(ex, given, getattr(memo, "resolved", None))
+        if why is not None:
+            found.bad("params", why)
     return given, written
+
+
+def _joint_refusal(ex: Exercise, given: dict, seen: dict | None) -> str | None:
+    """Why ``ex`` refuses the parameters ``given`` together (None: it takes them), once per file for the
+    same values (``seen``; a class writes the same parameters thousands of times)."""
+    key = (ex.id, tuple((k, float(v).hex()) for k, v in given.items()))
+    if seen is not None and key in seen:
+        return seen[key]
+    try:
+        ex.resolve(given)
+        why = None
+    except BadInput as exc:
+        why = str(exc)
+    if seen is not None and len(seen) < 10000:
+        seen[key] = why
+    return why
 
 
 def _read_expect(ex: Exercise | None, expect, rtol, memo: dict | None, found: _Problems,

@@ -243,7 +243,9 @@ def _dim(node, pdims: dict[str, Dim]) -> Dim:
     if k == "prod":
         out = ONE
         for sign, t in node[1]:
-            out = _bounded(tuple(x + sign * y for x, y in zip(out, _dim(t, pdims))))
+            d = _dim(t, pdims)
+            if d is not ONE and d != ONE:  # a pure number leaves the product's dimension as it is
+                out = _bounded(tuple(x + sign * y for x, y in zip(out, d)))
         return out
     if k == "pow":
         a, b = _dim(node[1], pdims), _dim(node[2], pdims)
@@ -492,9 +494,49 @@ def _unit_size(B, node, n: int):
     return _literal(B, repr(float(factor)), float(factor), n)
 
 
-def _enclose(node, env: dict, B, n: int, problems: list):
+def _enclose(node, env: dict, B, n: int, problems: list, memo: dict):
     """(lo, hi): an enclosure of the exact value of ``node`` at the points ``env`` (name -> array, exact);
-    ``problems`` gains each certain domain error (``Problem``)."""
+    ``problems`` gains each certain domain error (``Problem``).  A part written twice (``F`` in
+    ``F + (C F - C F)``) is enclosed once: ``memo`` holds the enclosures of the parts the formula repeats
+    (``memo[None]``, see ``_repeated``) at these points and this precision, their domain errors are in
+    ``problems`` already; the others are not kept (10000 points: 160 kB a part)."""
+    if node[0] in _LEAVES or node not in memo[None]:
+        return _enclose_part(node, env, B, n, problems, memo)
+    got = memo.get(node)
+    if got is None:
+        got = memo[node] = _enclose_part(node, env, B, n, problems, memo)
+    return got
+
+
+_LEAVES = ("num", "unit", "par")
+
+
+@functools.lru_cache(maxsize=256)
+def _repeated(tree) -> frozenset:
+    """The parts of ``tree`` other than numbers, units and parameters that it holds more than once."""
+    seen: dict = {}
+
+    def walk(node):
+        if node[0] in _LEAVES:
+            return
+        seen[node] = seen.get(node, 0) + 1
+        if seen[node] > 1:
+            return  # its own parts were counted with its first occurrence: held twice as well
+        if node[0] in ("neg", "pow"):
+            for a in node[1:3] if node[0] == "pow" else node[1:2]:
+                walk(a)
+        elif node[0] in ("sum", "prod"):
+            for _, t in node[1]:
+                walk(t)
+        elif node[0] == "fn":
+            for a in node[2]:
+                walk(a)
+
+    walk(tree)
+    return frozenset(k for k, c in seen.items() if c > 1)
+
+
+def _enclose_part(node, env: dict, B, n: int, problems: list, memo: dict):
     from mech.solvers.numerics import interval as iv
 
     k = node[0]
@@ -507,19 +549,19 @@ def _enclose(node, env: dict, B, n: int, problems: list):
     if k == "par":
         return iv.point(B, env[node[1]])
     if k == "neg":
-        return iv.neg(B, _enclose(node[1], env, B, n, problems))
+        return iv.neg(B, _enclose(node[1], env, B, n, problems, memo))
     if k == "sum":
         (s0, t0), rest = node[1][0], node[1][1:]
-        y = _enclose(t0, env, B, n, problems)
+        y = _enclose(t0, env, B, n, problems, memo)
         y = y if s0 > 0 else iv.neg(B, y)
         for s, t in rest:
-            b = _enclose(t, env, B, n, problems)
+            b = _enclose(t, env, B, n, problems, memo)
             y = iv.add(B, y, b) if s > 0 else iv.sub(B, y, b)
         return y
     if k == "prod":
-        y = _enclose(node[1][0][1], env, B, n, problems)
+        y = _enclose(node[1][0][1], env, B, n, problems, memo)
         for s, t in node[1][1:]:
-            b = _enclose(t, env, B, n, problems)
+            b = _enclose(t, env, B, n, problems, memo)
             if s > 0:
                 y = iv.mul(B, y, b)
                 continue
@@ -527,14 +569,14 @@ def _enclose(node, env: dict, B, n: int, problems: list):
             _note(problems, zero, "a division by zero", None, n)
         return y
     if k == "pow":
-        a = _enclose(node[1], env, B, n, problems)
-        b = _enclose(node[2], env, B, n, problems)
+        a = _enclose(node[1], env, B, n, problems, memo)
+        b = _enclose(node[2], env, B, n, problems, memo)
         y, bad = iv.power(B, a, b)
         _note(problems, bad, "a negative number to a fractional power or zero to a negative one", None, n)
         return y
     if k == "fn":
         fn, args = node[1], node[2]
-        vals = [_enclose(a, env, B, n, problems) for a in args]
+        vals = [_enclose(a, env, B, n, problems, memo) for a in args]
         if fn == "atan2":
             y, bad = iv.atan2(B, *vals)
             _note(problems, bad, "atan2 of (0, 0)", None, n)
@@ -606,6 +648,13 @@ class Formula:
         from mech.solvers.numerics import interval as iv
 
         n = len(next(iter(env.values()))) if env else 1
+        at = _distinct_points(env, n)
+        if at is not None:  # the same point more than once: each enclosed once (interval arithmetic is per point)
+            first, where = at
+            lo, hi, problems = self.enclose({k: np.asarray(v, float)[first] for k, v in env.items()}, prec)
+            for pr in problems:
+                pr.mask, pr.args = np.asarray(pr.mask)[where], np.asarray(pr.args)[where]
+            return lo[where], hi[where], problems
         B = iv.DOUBLE if prec is None else iv.precise(prec)
         if prec is None:
             env = {k: np.asarray(v, dtype=float) for k, v in env.items()}
@@ -615,10 +664,28 @@ class Formula:
             env = {k: B.asarray([mpmath.mpf(float(x)) for x in np.asarray(v, float)]) for k, v in env.items()}
         problems: list[Problem] = []
         with np.errstate(all="ignore"):
-            lo, hi = _enclose(self.tree, env, B, n, problems)
+            lo, hi = _enclose(self.tree, env, B, n, problems, {None: _repeated(self.tree)})
         lo = np.broadcast_to(B.asarray(lo), (n,)).copy()
         hi = np.broadcast_to(B.asarray(hi), (n,)).copy()
         return lo, hi, problems
+
+
+def _distinct_points(env: dict, n: int):
+    """``(first, where)`` when the points ``env`` repeat one (a line along a parameter the formula does not
+    name, or a formula of no parameter): ``first`` the index of each distinct point's first occurrence in
+    order, ``where`` each point's index into ``first``; None when every point is distinct.  Points are the
+    same when their doubles are the same bits."""
+    if n < 2 or not env:
+        return None
+    rows = np.stack([np.asarray(v, float).reshape(-1) for v in env.values()], axis=1)
+    _, first, inverse = np.unique(np.ascontiguousarray(rows).view(np.int64), axis=0, return_index=True,
+                                  return_inverse=True)
+    if first.size == n:
+        return None
+    order = np.argsort(first)
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size)
+    return first[order], rank[np.asarray(inverse).reshape(-1)]
 
 
 def parameter_symbols(ex) -> dict[str, str]:
