@@ -16,8 +16,10 @@ import pytest
 
 OUT24 = ("t_down", "t_up", "phi_lead", "cos_min")
 OUT25 = ("omega_dot", "theta_dot0", "t_rise", "omega_rise")
-REFUSED = dict(M=0.46875361854149183, l=0.036352184009412175, I1=0.008576633361471636, I3=9.020512395960165e-05,
-               omega_rot=38822.76458801414, F=0.2820073532975728, g=74.3923341561488)
+# refused by 4.24's step budget: a weight 49050 times the force (a/b), with the slip at 0.196 (its bound 0.2);
+# what averaging neglects, 2.4e-6, exceeds 10 rtol at rtol 1e-7, and neither the resolved splitting nor
+# stroboscopic averaging (whose fine steps grow with a/b) fits in the budget
+REFUSED = dict(M=0.5, l=0.05, I1=3.125e-4, I3=6.25e-4, omega_rot=15660.0, F=1e-4, g=9.81)
 
 
 def _arrays(ex, points):
@@ -57,7 +59,7 @@ def test_4_24_variants_together_as_alone_and_a_refused_one_alone():
     L3 = REFUSED["I3"] * REFUSED["omega_rot"]
     IA = REFUSED["I1"] + REFUSED["M"] * REFUSED["l"] ** 2
     periods = 5 / (REFUSED["l"] * REFUSED["F"] / L3) * (L3 / IA) / (2 * math.pi)
-    assert f"{periods:.3g} nutation periods" in why and "1.04e+05" in why
+    assert f"{periods:.3g} nutation periods" in why and "9.76e+09" in why
     _check_alone(route, P, 1e-7, OUT24, cols, np.array([True, True, False]))
     # by hand: the fast-top answer, off by at most 3 eps_g (eps_g = 2.7e-3 at the defaults, 1e-11 at 1e6 rad/s)
     t_down = math.pi * 6.25e-4 * np.array([600.0, 1e6]) / (2 * 0.05 * 2.0)

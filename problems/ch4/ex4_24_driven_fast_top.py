@@ -37,6 +37,11 @@ from the state there; cos_min: the lowest step, then a bounded minimization over
 partial steps around it.  Monitored: L3 = L . n3, |n3|, and the Jacobi integral of the
 frame turning with F.
 
+Tops that nutate many thousand times over the overturn: where its estimated cost is lower,
+stroboscopic averaging (solvers.mechanics.top_strobe): DOP853 on the map over a
+nutation period in the frame turning with F, whole periods a step from one true state to
+the next, the same fine steps near the events and the lowest point.
+
 Fastest tops: where what averaging neglects (``averaging_error``) is below the accuracy
 asked, or the resolved run would be long and averaging costs no more than the claim,
 the guiding-center equations answer, by DOP853.  Their run's own error is claimed as
@@ -55,6 +60,8 @@ import numpy as np
 from mech.problems.spec import Exercise, NumericFailure
 from mech.solvers.mechanics.top_splitting import (coarse_ladder, fine_stepper, fine_steps, lowest_nz, march,
                                                   strang_stepper)
+from mech.solvers.mechanics.top_strobe import per_period, strobe_cost
+from mech.solvers.mechanics.top_strobe import solve as strobe_solve
 from mech.solvers.numerics.splitting import YOSHIDA6
 
 exercise = Exercise(
@@ -339,10 +346,18 @@ def _plan(a, b, k, rtol, model_err):
     if budget > AVERAGE_BEYOND_STEPS and model_err <= exercise.tol_factor * rtol:
         # a long resolved run, where averaging costs no more than the accuracy claimed
         return "averaged"
-    if budget > MAX_STEPS:
+    strobe = strobe_cost(a, b, rtol, per_period(m, a, b)) * cost  # stroboscopic averaging's
+    if min(strobe, budget) > MAX_STEPS:
         return (f"the overturn lasts about {5 / b * k / (2 * math.pi):.3g} nutation periods: beyond this "
                 f"solver's budget of {MAX_STEPS} steps")
-    return weights, order, m, h, ladder
+    return weights, order, m, h, "strobe" if strobe < budget else ladder
+
+
+def _strobed(a, b, k, w, plan, rtol):
+    """One variant by stroboscopic averaging (solvers.mechanics.top_strobe): as ``_resolved``."""
+    weights, order, m, h, _ = plan
+    values, invariants, info, work, method = strobe_solve(a, b, k, w, weights, order, m, h, rtol)
+    return values, invariants, info, _Cost(work * (len(weights) + 1), method)
 
 
 def _resolved(a, b, k, w, plan):
@@ -405,7 +420,8 @@ def numeric(P, rtol, outputs, memo=None, tally=None):
             why[j] = plans[j]
             continue
         try:
-            values, inv, info, cost = _resolved(float(a[j]), float(b[j]), float(k[j]), float(w[j]), plans[j])
+            solve = _strobed if plans[j][4] == "strobe" else (lambda *x, rtol: _resolved(*x))
+            values, inv, info, cost = solve(float(a[j]), float(b[j]), float(k[j]), float(w[j]), plans[j], rtol=rtol)
         except OutOfBudget:
             raise
         except NumericFailure as exc:

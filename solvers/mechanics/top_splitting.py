@@ -40,6 +40,7 @@ from mech.core.budget import check as budget_check
 from mech.solvers.numerics.splitting import KAHAN_LI8, YOSHIDA6, crossing, stages
 
 __all__ = ["fine_steps", "fine_stepper", "strang_stepper", "retune", "coarse_step", "tan_root", "coarse_ladder",
+           "nz_crossing", "jacobi_of",
            "Dips", "lowest_nz", "march"]
 
 K8_COEF, K8_EXP, K8_MIN = 2.3, 0.2, 2.5
@@ -349,14 +350,14 @@ def lowest_nz(a, b, w, h, H, step, low, low_c):
     return cos_min
 
 
-def _crossing(step, n, L, t, h, sign, nz_end):
+def nz_crossing(step, n, L, t, h, sign, nz_end):
     """Partial step tau in (0, h] where n_z changes sign (sign = +1: from positive to negative); ``nz_end``:
     n_z after the whole step."""
     return crossing(lambda tau: sign * step(n, L, t, tau)[0][2], h, sign * n[2], sign * nz_end)
 
 
 
-def _jacobi(a, b, w, k):
+def jacobi_of(a, b, w, k):
     def jacobi(n, L, t):
         # energy in the frame turning with F, scaled by L3^2/I_A:  |L|^2/2 + (a n_z - f.n)/k - (w/k) L_z
         fx, fy = b * math.cos(w * t), b * math.sin(w * t)
@@ -371,7 +372,7 @@ def march(a, b, k, w, h, ladder, step, coarse, units=1.0):
     H = ladder[0][0] if ladder else None
     margin = ladder[-1][1] if ladder else 0.0  # fine steps within +-margin of n_z = 0, crossed at a rate ~ b
     t_max = 12.0 / b  # the force's tipping time 1/b, with a wide margin for the full overturn and back
-    jacobi = _jacobi(a, b, w, k)
+    jacobi = jacobi_of(a, b, w, k)
     n, L, t = (0.0, 0.0, 1.0), (0.0, 0.0, 1.0), 0.0
     J0, J_scale = jacobi(n, L, t), (a + b) / k
     drift_J = drift_L3 = 0.0
@@ -418,7 +419,7 @@ def march(a, b, k, w, h, ladder, step, coarse, units=1.0):
             n2, L2, t2 = step(n, L, t, h)
             nsteps += 1
             if stage == 0 and n2[2] <= 0.0 < n[2]:
-                tau = _crossing(step, n, L, t, h, +1, n2[2])
+                tau = nz_crossing(step, n, L, t, h, +1, n2[2])
                 nd, _, t_down = step(n, L, t, tau)
                 lead = math.atan2(nd[1], nd[0]) - w * t_down
                 phi_lead = math.pi - (math.pi - lead) % (2 * math.pi)  # wrapped to (-pi, pi]
@@ -430,7 +431,7 @@ def march(a, b, k, w, h, ladder, step, coarse, units=1.0):
                 armed = armed or n2[2] < -min(arm, 0.3)
                 low.add(n, L, t, n2[2])
                 if n2[2] >= 0.0 > n[2] and armed:
-                    t_up = t + _crossing(step, n, L, t, h, -1, n2[2])
+                    t_up = t + nz_crossing(step, n, L, t, h, -1, n2[2])
                     break
                 if H and n2[2] < -margin - arm:
                     fine = False

@@ -37,7 +37,7 @@ import numpy as np
 from mech.core import budget
 from mech.core.errors import NumericFailure
 
-__all__ = ["available", "tableau_load_seconds", "solve", "DenseSolution", "Result"]
+__all__ = ["available", "tableau_load_seconds", "solve", "stepper", "DenseSolution", "Result"]
 
 _TABLEAU = None
 _TABLEAU_TRIED = False
@@ -225,14 +225,19 @@ class _Stepper:
         out = np.asarray(self.fun(t, yy), dtype=float)
         return out if out.ndim == 1 else out.ravel()
 
-    def attempt(self, t, y, fy, h_abs, direction, t_end):
+    def attempt(self, t, y, fy, h_abs, direction, t_end, quantum=None):
         """Steps from (t, y) until one is accepted: (t_new, h, y_new, f_new, h_next), or None where the
-        step would fall below the spacing of the numbers near t (status -1)."""
+        step would fall below the spacing of the numbers near t (status -1).  ``quantum``: every try spans
+        a whole number (at least 1) of it, and None comes back where one quantum is rejected."""
         K, call, A, Cl, B, n = self.K, self.call, self.A, self.Cl, self.B, self.n
         min_step = 10.0 * abs(math.nextafter(t, direction * math.inf) - t)
         step_rejected = False
         while True:
             budget.check("DOP853 step", 12)  # 12 evaluations a try, rejected ones too (4.9 far out)
+            if quantum is not None:
+                if step_rejected and h_abs < quantum:
+                    return None
+                h_abs = max(1, math.floor(h_abs / quantum)) * quantum
             if h_abs < min_step:
                 return None
             t_new, h, h_abs = step_to(t, h_abs, direction, t_end)
@@ -279,6 +284,14 @@ class _Stepper:
         F[2] = 2.0 * dy - h * (fy + f_new)
         F[3:] = h * (self.D @ K)
         return _Segment(t, h, y.copy(), F)
+
+
+def stepper(fun: Callable, n: int, *, rtol: float, atol: float, max_step: float = math.inf) -> _Stepper:
+    """The pair one step at a time, for a caller that runs its own loop (``attempt`` and its ``quantum``:
+    4.24's stroboscopic averaging, whose steps span whole periods); ``fun(t, y)`` gives n numbers."""
+    if not available():
+        raise RuntimeError("DOP853 tableau unavailable")
+    return _Stepper(fun, fun, n, _TABLEAU, rtol, np.asarray(atol, float), abs(max_step))
 
 
 def _events_in_step(events, g_old, t, t_new, y_new, segment, res):
