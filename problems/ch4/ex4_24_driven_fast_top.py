@@ -346,7 +346,7 @@ def _plan(a, b, k, rtol, model_err):
     if budget > AVERAGE_BEYOND_STEPS and model_err <= exercise.tol_factor * rtol:
         # a long resolved run, where averaging costs no more than the accuracy claimed
         return "averaged"
-    strobe = strobe_cost(a, b, rtol, per_period(m, a, b)) * cost  # stroboscopic averaging's
+    strobe = strobe_cost(a, b, k, rtol, per_period(m, a, b)) * cost  # stroboscopic averaging's
     if min(strobe, budget) > MAX_STEPS:
         return (f"the overturn lasts about {5 / b * k / (2 * math.pi):.3g} nutation periods: beyond this "
                 f"solver's budget of {MAX_STEPS} steps")

@@ -107,13 +107,18 @@ def per_period(m, a, b):
     return math.ceil((1.5 if a <= 50.0 * b else 2.5) * m)
 
 
-def strobe_cost(a, b, rtol, per_period):
-    """A run's cost in fine steps: its fields (4 periods of ``per_period`` steps each) and the fine steps near
+def strobe_cost(a, b, k, rtol, per_period):
+    """A run's cost in fine steps (inf where the route does not fit): its fields (4 periods of ``per_period`` steps each) and the fine steps near
     the events.  Fitted on runs at rtol 1e-6 and 1e-7 (a/b 0.6-1000, k/b 3.6e3-6e6): 180-560 fields where
     a/b < 30, growing as sqrt(a/b) (the slip of the precession, at a^2/k, is what the macro steps resolve
     there) to 2300 at a/b = 1000; 200-1500 fine steps, growing as a/b to 2e4.  A choice between routes, not a
     claim."""
     ab = a / b
+    if k > 2e13 * rtol * b:
+        # the fields' round-off, ~1e-16 of the state over a period's T = 2 pi/k, is 1e-16 k/b of the slow rate:
+        # near the macro steps' tolerance rtol/1000 the pair's error estimate reads it as error and its steps
+        # shrink (measured: at rtol 1e-8, 9 s where k/b = 2.2e7, 137 s where k/b = 5.6e8; well where k/b <= 5e5)
+        return math.inf
     fields = (250.0 + 60.0 * math.sqrt(ab)) * (1e-6 / rtol) ** 0.125
     return fields * 4 * per_period + 500.0 + 15.0 * ab
 
