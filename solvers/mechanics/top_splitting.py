@@ -79,7 +79,7 @@ def fine_stepper(k, a, b, w, h, weights=YOSHIDA6):
         # per kick: (c a, c b cos(w o), c b sin(w o)) with c = its weight times hh, o its offset; per rotation
         # the nutation's angle per unit |L|
         kicks = [(c * hh * a, c * hh * b * cos(w * o * hh), c * hh * b * sin(w * o * hh)) for c, o in zip(kw, offsets)]
-        return list(zip(kicks[:-1], [k * d * hh for d in cs])), kicks[-1]
+        return [(*kick, k * d * hh) for kick, d in zip(kicks[:-1], cs)], kicks[-1]
 
     made = {h: constants(h)}  # the full step's, and the last other size's (a run of substeps)
 
@@ -92,8 +92,9 @@ def fine_stepper(k, a, b, w, h, weights=YOSHIDA6):
         body, (ca, kc, ks) = got
         nx, ny, nz = n
         Lx, Ly, Lz = L
+        LN = Lx * nx + Ly * ny + Lz * nz  # L . n: the kicks are normal to n and the turns are about L
         C, S = cos(w * t), sin(w * t)
-        for (ca_i, kc_i, ks_i), kr in body:
+        for ca_i, kc_i, ks_i, kr in body:
             # kick: L += c n x (-a z + f), c f = (C kc - S ks, S kc + C ks) the force at the kick's time
             fx = C * kc_i - S * ks_i
             fy = S * kc_i + C * ks_i
@@ -106,7 +107,7 @@ def fine_stepper(k, a, b, w, h, weights=YOSHIDA6):
             th = kr * Ln
             ct, st = cos(th), sin(th)
             s1 = st / Ln
-            s2 = (Lx * nx + Ly * ny + Lz * nz) * (1.0 - ct) / L2
+            s2 = LN * (1.0 - ct) / L2
             nx, ny, nz = (nx * ct + (Ly * nz - Lz * ny) * s1 + Lx * s2,
                           ny * ct + (Lz * nx - Lx * nz) * s1 + Ly * s2,
                           nz * ct + (Lx * ny - Ly * nx) * s1 + Lz * s2)
