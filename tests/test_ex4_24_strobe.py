@@ -88,6 +88,11 @@ def test_dop853_steps_whole_quanta():
         assert h / q == pytest.approx(round(h / q), abs=1e-9) and round(h / q) >= 1
         assert y[0] == pytest.approx(math.exp(-t_new), rel=1e-9)
         t = t_new
+    # a try of four quanta too long for the tolerance falls back to one quantum, which passes
+    tight = dop853.stepper(lambda t, y: -y, 1, rtol=1e-12, atol=1e-12)
+    got = tight.attempt(0.0, np.array([1.0]), np.array([-1.0]), 0.8, 1.0, math.inf, quantum=0.2)
+    assert got is not None and got[1] == pytest.approx(0.2, rel=1e-15)
+    assert got[2][0] == pytest.approx(math.exp(-0.2), rel=1e-12)
     # one quantum too long for the tolerance: no step, rather than a step off the grid
     assert dop853.stepper(lambda t, y: -y, 1, rtol=1e-14, atol=1e-16).attempt(0.0, np.array([1.0]), np.array([-1.0]),
                                                                             5.0, 1.0, math.inf, quantum=5.0) is None

@@ -231,13 +231,16 @@ class _Stepper:
         a whole number (at least 1) of it, and None comes back where one quantum is rejected."""
         K, call, A, Cl, B, n = self.K, self.call, self.A, self.Cl, self.B, self.n
         min_step = 10.0 * abs(math.nextafter(t, direction * math.inf) - t)
-        step_rejected = False
+        step_rejected = one_tried = False
         while True:
             budget.check("DOP853 step", 12)  # 12 evaluations a try, rejected ones too (4.9 far out)
             if quantum is not None:
-                if step_rejected and h_abs < quantum:
-                    return None
-                h_abs = max(1, math.floor(h_abs / quantum)) * quantum
+                j = max(1, math.floor(h_abs / quantum))
+                if j == 1:
+                    if one_tried:
+                        return None
+                    one_tried = True
+                h_abs = j * quantum
             if h_abs < min_step:
                 return None
             t_new, h, h_abs = step_to(t, h_abs, direction, t_end)
