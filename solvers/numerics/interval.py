@@ -260,8 +260,10 @@ class _Precise:
     def _fused_mul(self, a_point, b_point):
         down, up, isnan = self._rounded("mul", -1), self._rounded("mul", 1), self.mpmath.isnan
         inf, minus_inf = self.inf, -self.inf
+        lib, make, p = self.mpmath.libmp, self.mpmath.mp.make_mpf, self.prec
+        exact_mul, cmp, round_to, fzero = lib.mpf_mul, lib.mpf_cmp, lib.mpf_pos, lib.fzero
 
-        def one(x0, x1, y0, y1):
+        def general(x0, x1, y0, y1):
             xs = (x0,) if a_point else (x0, x1)
             ys = (y0,) if b_point else (y0, y1)
             lo = hi = None
@@ -280,6 +282,31 @@ class _Precise:
             if nan or isnan(lo) or isnan(hi):
                 return minus_inf, inf
             return lo, hi
+
+        def one(x0, x1, y0, y1):
+            """Four finite mpf: the corners' exact products (finite, never NaN), their least rounded down and
+            their greatest up, the same numbers as the least and greatest of the rounded corners (rounding
+            is monotone): two roundings for eight."""
+            try:
+                ends = (x0._mpf_, x1._mpf_, y0._mpf_, y1._mpf_)
+            except AttributeError:
+                return general(x0, x1, y0, y1)
+            if any(not e[1] and e[2] for e in ends):  # an infinity or a NaN
+                return general(x0, x1, y0, y1)
+            X0, X1, Y0, Y1 = ends
+            if (X0 == fzero and X1 == fzero) or (Y0 == fzero and Y1 == fzero):
+                return 0, 0
+            lo = hi = None
+            for x in ((X0,) if a_point else (X0, X1)):
+                for y in ((Y0,) if b_point else (Y0, Y1)):
+                    c = exact_mul(x, y)
+                    if lo is None:
+                        lo = hi = c
+                    elif cmp(c, lo) < 0:
+                        lo = c
+                    if cmp(c, hi) > 0:
+                        hi = c
+            return make(round_to(lo, p, "f")), make(round_to(hi, p, "c"))
         return one
 
     def interval_div(self, a, b):
