@@ -313,27 +313,47 @@ class _Precise:
         """``div``'s ``((lo, hi), zero)``, fused."""
         u = self._ops.get("idiv")
         if u is None:
-            down, up, isnan = self._rounded("div", -1), self._rounded("div", 1), self.mpmath.isnan
-            inf, minus_inf = self.inf, -self.inf
-
-            def one(x0, x1, y0, y1):
-                through = bool(y0 <= 0) and bool(y1 >= 0)
-                zero = bool(y0 == 0) and bool(y1 == 0)
-                ys = (1, 1) if through else (y0, y1)
-                lows = [down(x, y) for x in (x0, x1) for y in ys]
-                highs = [up(x, y) for x in (x0, x1) for y in ys]
-                lo, hi = lows[0], highs[0]
-                nan = isnan(lo) or isnan(hi)
-                for c_lo, c_hi in zip(lows[1:], highs[1:]):
-                    nan = nan or isnan(c_lo) or isnan(c_hi)
-                    lo = lo if lo <= c_lo else c_lo
-                    hi = hi if hi >= c_hi else c_hi
-                if through or nan or isnan(lo) or isnan(hi):
-                    return minus_inf, inf, zero
-                return lo, hi, zero
-            u = self._ops["idiv"] = np.frompyfunc(one, 4, 3)
+            u = self._ops["idiv"] = np.frompyfunc(self._fused_div(), 4, 3)
         lo, hi, zero = u(a[0], a[1], b[0], b[1])
         return (self.asarray(lo), self.asarray(hi)), np.asarray(zero, bool)
+
+    def _fused_div(self):
+        down, up, isnan = self._rounded("div", -1), self._rounded("div", 1), self.mpmath.isnan
+        inf, minus_inf = self.inf, -self.inf
+        lib = self.mpmath.libmp
+        cmp, fzero = lib.mpf_cmp, lib.fzero
+
+        def general(x0, x1, y0, y1, zero):
+            lows = [down(x, y) for x in (x0, x1) for y in (y0, y1)]
+            highs = [up(x, y) for x in (x0, x1) for y in (y0, y1)]
+            lo, hi = lows[0], highs[0]
+            nan = isnan(lo) or isnan(hi)
+            for c_lo, c_hi in zip(lows[1:], highs[1:]):
+                nan = nan or isnan(c_lo) or isnan(c_hi)
+                lo = lo if lo <= c_lo else c_lo
+                hi = hi if hi >= c_hi else c_hi
+            if nan or isnan(lo) or isnan(hi):
+                return minus_inf, inf, zero
+            return lo, hi, zero
+
+        def one(x0, x1, y0, y1):
+            """b through zero: not enclosed (nothing to divide).  Four finite mpf, ends in order, b off zero:
+            the least and the greatest exact corner are known from the signs (x / y is monotone in each on
+            the box), and rounding is monotone: the same numbers as the least and greatest rounded corner,
+            at two divisions for eight."""
+            zero = bool(y0 == 0) and bool(y1 == 0)
+            if bool(y0 <= 0) and bool(y1 >= 0):
+                return minus_inf, inf, zero
+            try:
+                X0, X1, Y0, Y1 = x0._mpf_, x1._mpf_, y0._mpf_, y1._mpf_
+            except AttributeError:
+                return general(x0, x1, y0, y1, zero)
+            if any(not e[1] and e[2] for e in (X0, X1, Y0, Y1)) or cmp(X0, X1) > 0 or cmp(Y0, Y1) > 0:
+                return general(x0, x1, y0, y1, zero)
+            if Y0[0] == 0 and Y0 != fzero:  # b > 0
+                return down(x0, y1 if X0[0] == 0 else y0), up(x1, y0 if X1[0] == 0 else y1), zero
+            return down(x1, y1 if X1[0] == 0 else y0), up(x0, y0 if X0[0] == 0 else y1), zero  # b < 0
+        return one
 
     def dn(self, x):
         return x
