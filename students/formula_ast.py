@@ -677,9 +677,11 @@ def _distinct_points(env: dict, n: int):
     same when their doubles are the same bits."""
     if n < 2 or not env:
         return None
-    rows = np.stack([np.asarray(v, float).reshape(-1) for v in env.values()], axis=1)
-    _, first, inverse = np.unique(np.ascontiguousarray(rows).view(np.int64), axis=0, return_index=True,
-                                  return_inverse=True)
+    rows = np.ascontiguousarray(np.stack([np.asarray(v, float).reshape(-1) for v in env.values()], axis=1))
+    bits = rows.view(np.int64)
+    if n <= 256 and len(set(map(tuple, bits.tolist()))) == n:  # a few points, all distinct: told without sorting
+        return None
+    _, first, inverse = np.unique(bits, axis=0, return_index=True, return_inverse=True)
     if first.size == n:
         return None
     order = np.argsort(first)
