@@ -66,6 +66,8 @@ def natural_units(ex, p) -> tuple[tuple[int, int, int], dict] | None:
     fixed = [si_exponents(unit) for unit in getattr(ex, "constants", {}).values()]
     if any(d is None for d in fixed):
         return None
+    if _si_by_bound(rows, rhs):
+        return None
     import numpy as np
 
     # a constant the solvers hold (G) must keep its value: a heavily weighted row, checked exactly below
@@ -93,6 +95,32 @@ def natural_units(ex, p) -> tuple[tuple[int, int, int], dict] | None:
         if values is not None:
             return u, values
     return None
+
+
+_LEAST_SINGULAR: dict = {}  # the parameter dimensions' matrix (a tuple of rows) -> its least singular value
+
+
+def _si_by_bound(rows, rhs) -> bool:
+    """True where the fit below is certain to choose SI (no shift), told without it: the parameters'
+    dimensions span kg, m and s (least singular value s > 0) and their deviations ``rhs`` (bits) are small.
+
+    Every fit component is then at most |rhs| / s (the constants' rows only raise s) below 64: zero is a
+    candidate; a candidate u != 0 has |A u| >= 64 (A whole, u multiples of 64, A u != 0 as A has rank 3),
+    so its cost |A u - rhs|^2 >= (64 - |rhs|)^2 = 2304 or more, above zero's |rhs|^2 <= 256: zero is the
+    best fit, alone, which is SI.  The margins (16 of 64 bits, 60 of 64) dwarf the round-off of the fit."""
+    size = math.sqrt(sum(r * r for r in rhs))
+    if size > 16:
+        return False
+    key = tuple(rows)
+    least = _LEAST_SINGULAR.get(key)
+    if least is None:
+        import numpy as np
+
+        whole = len(rows) >= 3 and all(isinstance(x, int) for d in rows for x in d)
+        least = float(np.linalg.svd(np.array(rows, float), compute_uv=False)[-1]) if whole else 0.0
+        if len(_LEAST_SINGULAR) < 4096:
+            _LEAST_SINGULAR[key] = least
+    return least > 0.5 and size < 60 * least
 
 
 def _shifted(ex, p, u) -> dict | None:

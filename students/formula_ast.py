@@ -458,18 +458,35 @@ def _literal(B, text: str, v: float, n: int):
     """The number ``text`` as written (``0.4`` is 2/5), enclosed."""
     from mech.solvers.numerics import interval as iv
 
-    exact = _exact_fraction(text)
     if B is iv.DOUBLE:
-        if exact is not None and Fraction(v) == exact:
+        point, lo, hi = _double_bounds(text, v)
+        if point:
             return iv.point(B, np.full(n, v))
-        lo, hi = np.nextafter(v, -np.inf), np.nextafter(v, np.inf)
-        return iv.constant(B, np.full(n, max(lo, 0.0) if v >= 0 else lo), np.full(n, hi))
-    m = B.mpmath
-    if exact is None:
-        return iv.constant(B, [-m.inf] * n, [m.inf] * n)
-    lo = m.fdiv(exact.numerator, exact.denominator, prec=B.prec, rounding="f")
-    hi = m.fdiv(exact.numerator, exact.denominator, prec=B.prec, rounding="c")
+        return iv.constant(B, np.full(n, lo), np.full(n, hi))
+    lo, hi = _precise_bounds(text, B.prec)
     return iv.constant(B, [lo] * n, [hi] * n)
+
+
+@functools.lru_cache(maxsize=4096)
+def _double_bounds(text: str, v: float):
+    """(exact, lo, hi): whether the double ``v`` is the number ``text`` exactly, else the doubles around it."""
+    exact = _exact_fraction(text)
+    if exact is not None and Fraction(v) == exact:
+        return True, v, v
+    lo, hi = np.nextafter(v, -np.inf), np.nextafter(v, np.inf)
+    return False, max(lo, 0.0) if v >= 0 else lo, hi
+
+
+@functools.lru_cache(maxsize=4096)
+def _precise_bounds(text: str, prec: int):
+    """The number ``text`` rounded down and up to ``prec`` bits (mpmath numbers: immutable), or -inf, inf."""
+    import mpmath as m
+
+    exact = _exact_fraction(text)
+    if exact is None:
+        return -m.inf, m.inf
+    return (m.fdiv(exact.numerator, exact.denominator, prec=prec, rounding="f"),
+            m.fdiv(exact.numerator, exact.denominator, prec=prec, rounding="c"))
 
 
 @functools.lru_cache(maxsize=4096)
@@ -677,9 +694,11 @@ def _distinct_points(env: dict, n: int):
     same when their doubles are the same bits."""
     if n < 2 or not env:
         return None
-    rows = np.stack([np.asarray(v, float).reshape(-1) for v in env.values()], axis=1)
-    _, first, inverse = np.unique(np.ascontiguousarray(rows).view(np.int64), axis=0, return_index=True,
-                                  return_inverse=True)
+    rows = np.ascontiguousarray(np.stack([np.asarray(v, float).reshape(-1) for v in env.values()], axis=1))
+    bits = rows.view(np.int64)
+    if n <= 256 and len(set(map(tuple, bits.tolist()))) == n:  # a few points, all distinct: told without sorting
+        return None
+    _, first, inverse = np.unique(bits, axis=0, return_index=True, return_inverse=True)
     if first.size == n:
         return None
     order = np.argsort(first)

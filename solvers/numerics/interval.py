@@ -106,6 +106,9 @@ class _Double:
             return np.vectorize(getattr(special, name), otypes=[float])(x)
         return _NP[name](x)
 
+    def fn_both(self, name, x0, x1):
+        return self.fn(name, x0), self.fn(name, x1)
+
     @staticmethod
     def agm(a, b):
         from mech.solvers.numerics import special
@@ -227,12 +230,141 @@ class _Precise:
     def div(self, a, b, r):
         return self._arith("div", a, b, r)
 
+    # the interval operations below, fused: one pass of Python over the points for an interval + * /, with
+    # the very roundings, corners, NaN rules and ties of the array code of ``add``, ``mul`` and ``div`` (numpy's
+    # minimum and maximum of objects keep their first argument on a tie, so do these); that code's dozen
+    # ufunc passes over a few points cost more than the arithmetic
+    def interval_add(self, a, b):
+        u = self._ops.get("iadd")
+        if u is None:
+            down, up, isnan = self._rounded("add", -1), self._rounded("add", 1), self.mpmath.isnan
+            inf, minus_inf = self.inf, -self.inf
+
+            def one(x0, x1, y0, y1):
+                lo, hi = down(x0, y0), up(x1, y1)
+                if isnan(lo) or isnan(hi):
+                    return minus_inf, inf
+                return lo, hi
+            u = self._ops["iadd"] = np.frompyfunc(one, 4, 2)
+        lo, hi = u(a[0], a[1], b[0], b[1])
+        return self.asarray(lo), self.asarray(hi)
+
+    def interval_mul(self, a, b):
+        points = (a[0] is a[1], b[0] is b[1])  # a point: one corner fewer, as in ``mul``
+        u = self._ops.get(("imul", points))
+        if u is None:
+            u = self._ops[("imul", points)] = np.frompyfunc(self._fused_mul(*points), 4, 2)
+        lo, hi = u(a[0], a[1], b[0], b[1])
+        return self.asarray(lo), self.asarray(hi)
+
+    def _fused_mul(self, a_point, b_point):
+        down, up, isnan = self._rounded("mul", -1), self._rounded("mul", 1), self.mpmath.isnan
+        inf, minus_inf = self.inf, -self.inf
+        lib, make, p = self.mpmath.libmp, self.mpmath.mp.make_mpf, self.prec
+        exact_mul, cmp, round_to, fzero = lib.mpf_mul, lib.mpf_cmp, lib.mpf_pos, lib.fzero
+
+        def general(x0, x1, y0, y1):
+            xs = (x0,) if a_point else (x0, x1)
+            ys = (y0,) if b_point else (y0, y1)
+            lo = hi = None
+            nan = False
+            for x in xs:
+                for y in ys:
+                    c_lo, c_hi = down(x, y), up(x, y)
+                    nan = nan or isnan(c_lo) or isnan(c_hi)
+                    if lo is None:
+                        lo, hi = c_lo, c_hi
+                    else:
+                        lo = lo if lo <= c_lo else c_lo
+                        hi = hi if hi >= c_hi else c_hi
+            if (x0 == 0 and x1 == 0) or (y0 == 0 and y1 == 0):  # an exact zero times anything real is zero
+                return 0, 0
+            if nan or isnan(lo) or isnan(hi):
+                return minus_inf, inf
+            return lo, hi
+
+        def one(x0, x1, y0, y1):
+            """Four finite mpf: the corners' exact products (finite, never NaN), their least rounded down and
+            their greatest up, the same numbers as the least and greatest of the rounded corners (rounding
+            is monotone): two roundings for eight."""
+            try:
+                ends = (x0._mpf_, x1._mpf_, y0._mpf_, y1._mpf_)
+            except AttributeError:
+                return general(x0, x1, y0, y1)
+            if any(not e[1] and e[2] for e in ends):  # an infinity or a NaN
+                return general(x0, x1, y0, y1)
+            X0, X1, Y0, Y1 = ends
+            if (X0 == fzero and X1 == fzero) or (Y0 == fzero and Y1 == fzero):
+                return 0, 0
+            lo = hi = None
+            for x in ((X0,) if a_point else (X0, X1)):
+                for y in ((Y0,) if b_point else (Y0, Y1)):
+                    c = exact_mul(x, y)
+                    if lo is None:
+                        lo = hi = c
+                    elif cmp(c, lo) < 0:
+                        lo = c
+                    if cmp(c, hi) > 0:
+                        hi = c
+            return make(round_to(lo, p, "f")), make(round_to(hi, p, "c"))
+        return one
+
+    def interval_div(self, a, b):
+        """``div``'s ``((lo, hi), zero)``, fused."""
+        u = self._ops.get("idiv")
+        if u is None:
+            u = self._ops["idiv"] = np.frompyfunc(self._fused_div(), 4, 3)
+        lo, hi, zero = u(a[0], a[1], b[0], b[1])
+        return (self.asarray(lo), self.asarray(hi)), np.asarray(zero, bool)
+
+    def _fused_div(self):
+        down, up, isnan = self._rounded("div", -1), self._rounded("div", 1), self.mpmath.isnan
+        inf, minus_inf = self.inf, -self.inf
+        lib = self.mpmath.libmp
+        cmp, fzero = lib.mpf_cmp, lib.fzero
+
+        def general(x0, x1, y0, y1, zero):
+            lows = [down(x, y) for x in (x0, x1) for y in (y0, y1)]
+            highs = [up(x, y) for x in (x0, x1) for y in (y0, y1)]
+            lo, hi = lows[0], highs[0]
+            nan = isnan(lo) or isnan(hi)
+            for c_lo, c_hi in zip(lows[1:], highs[1:]):
+                nan = nan or isnan(c_lo) or isnan(c_hi)
+                lo = lo if lo <= c_lo else c_lo
+                hi = hi if hi >= c_hi else c_hi
+            if nan or isnan(lo) or isnan(hi):
+                return minus_inf, inf, zero
+            return lo, hi, zero
+
+        def one(x0, x1, y0, y1):
+            """b through zero: not enclosed (nothing to divide).  Four finite mpf, ends in order, b off zero:
+            the least and the greatest exact corner are known from the signs (x / y is monotone in each on
+            the box), and rounding is monotone: the same numbers as the least and greatest rounded corner,
+            at two divisions for eight."""
+            zero = bool(y0 == 0) and bool(y1 == 0)
+            if bool(y0 <= 0) and bool(y1 >= 0):
+                return minus_inf, inf, zero
+            try:
+                X0, X1, Y0, Y1 = x0._mpf_, x1._mpf_, y0._mpf_, y1._mpf_
+            except AttributeError:
+                return general(x0, x1, y0, y1, zero)
+            if any(not e[1] and e[2] for e in (X0, X1, Y0, Y1)) or cmp(X0, X1) > 0 or cmp(Y0, Y1) > 0:
+                return general(x0, x1, y0, y1, zero)
+            if Y0[0] == 0 and Y0 != fzero:  # b > 0
+                return down(x0, y1 if X0[0] == 0 else y0), up(x1, y0 if X1[0] == 0 else y1), zero
+            return down(x1, y1 if X1[0] == 0 else y0), up(x0, y0 if X0[0] == 0 else y1), zero  # b < 0
+        return one
+
     def dn(self, x):
         return x
 
     up = dn
 
-    def fn(self, name, x):
+    def _fn_one(self, name):
+        """``name`` of one number, with 32 guard bits (NaN where it has no real value)."""
+        got = self._ops.get(("fn1", name))
+        if got is not None:
+            return got
         m = self.mpmath
         f = {"abs": abs, "atan2": m.atan2}.get(name) or getattr(m, name)
 
@@ -243,7 +375,24 @@ class _Precise:
                 except (ValueError, ZeroDivisionError):
                     return m.mpf("nan")
                 return y if isinstance(y, m.mpf) else m.mpf("nan")
-        return self._u(("fn", name), one, 1)(x)
+        self._ops[("fn1", name)] = one
+        return one
+
+    def fn(self, name, x):
+        return self._u(("fn", name), self._fn_one(name), 1)(x)
+
+    def fn_both(self, name, x0, x1):
+        """``(fn(name, x0), fn(name, x1))``, computed once where the two ends are the same number (a point,
+        or an operation exact at these bits: the function costs most at high precision)."""
+        u = self._ops.get(("fn_both", name))
+        if u is None:
+            one = self._fn_one(name)
+
+            def two(v0, v1):
+                y0 = one(v0)
+                return y0, (y0 if v0 is v1 or (type(v0) is type(v1) and v0 == v1) else one(v1))
+            u = self._ops[("fn_both", name)] = np.frompyfunc(two, 2, 2)
+        return u(x0, x1)
 
     def agm(self, a, b):
         m = self.mpmath
@@ -352,6 +501,8 @@ def neg(B, a):
 
 
 def add(B, a, b):
+    if B is not DOUBLE:
+        return B.interval_add(a, b)
     if a[0] is a[1] and b[0] is b[1] and B is DOUBLE:  # two points: one two-sum for both ends
         s, err = B._two_sum(a[0], b[0])
         return _unknown(B, B._directed(s, err, -1), B._directed(s, err, 1), False)
@@ -363,6 +514,8 @@ def sub(B, a, b):
 
 
 def mul(B, a, b):
+    if B is not DOUBLE:
+        return B.interval_mul(a, b)
     # the corners: one where an argument is a point (its two ends the same array)
     xs = (a[0],) if a[0] is a[1] else a
     ys = (b[0],) if b[0] is b[1] else b
@@ -381,6 +534,8 @@ def mul(B, a, b):
 
 def div(B, a, b):
     """a / b, and the mask of a certain division by zero (b exactly 0)."""
+    if B is not DOUBLE:
+        return B.interval_div(a, b)
     through = (b[0] <= 0) & (b[1] >= 0)
     zero = (b[0] == 0) & (b[1] == 0)
     safe_b = (np.where(through, 1, b[0]), np.where(through, 1, b[1]))
@@ -397,7 +552,7 @@ def div(B, a, b):
 
 
 def _monotone(B, name, a, increasing=True, ulps=FN_ULPS):
-    f_lo, f_hi = B.fn(name, a[0]), B.fn(name, a[1])
+    f_lo, f_hi = B.fn_both(name, a[0], a[1])
     if not increasing:
         f_lo, f_hi = f_hi, f_lo
     return B.spread(f_lo, ulps, -1), B.spread(f_hi, ulps, 1)
@@ -421,7 +576,7 @@ def _cos_like(B, name, a):
     big = (np.abs(a[0]) > B.trig_limit) | (np.abs(a[1]) > B.trig_limit) | B.isnan(a[0]) | B.isnan(a[1])
     safe = (np.where(big, 0, a[0]), np.where(big, 0, a[1]))
     even, odd = _holds(B, safe, shift)
-    y1, y2 = B.fn(name, safe[0]), B.fn(name, safe[1])
+    y1, y2 = B.fn_both(name, safe[0], safe[1])
     lo = B.spread(np.minimum(y1, y2), FN_ULPS, -1)
     hi = B.spread(np.maximum(y1, y2), FN_ULPS, 1)
     lo = np.where(odd | big, -1, np.maximum(lo, -1))
@@ -456,7 +611,7 @@ def function(B, name, a):
     if name == "cosh":
         big = (B.mag(lo) > HUGE_BITS) | (B.mag(hi) > HUGE_BITS)
         safe = (np.where(big, 0, lo), np.where(big, 0, hi))
-        y1, y2 = B.fn("cosh", safe[0]), B.fn("cosh", safe[1])
+        y1, y2 = B.fn_both("cosh", safe[0], safe[1])
         through = (safe[0] <= 0) & (safe[1] >= 0)
         out_lo = np.where(through, 1, B.spread(np.minimum(y1, y2), FN_ULPS, -1))
         out_hi = B.spread(np.maximum(y1, y2), FN_ULPS, 1)
