@@ -52,17 +52,8 @@ def _mul(B, a, b):
 
 
 def _div(B, a, b):
-    through = (b[0] <= 0) & (b[1] >= 0)
-    safe = (np.where(through, 1, b[0]), np.where(through, 1, b[1]))
-    lows = [B.div(x, y, -1) for x in a for y in safe]
-    highs = [B.div(x, y, 1) for x in a for y in safe]
-    lo, hi = lows[0], highs[0]
-    nan = B.isnan(lo) | B.isnan(hi)
-    for x, y in zip(lows[1:], highs[1:]):
-        nan = nan | B.isnan(x) | B.isnan(y)
-        lo, hi = np.minimum(lo, x), np.maximum(hi, y)
-    lo, hi = iv._unknown(B, lo, hi, through | nan)
-    return lo, hi, (b[0] == 0) & (b[1] == 0)
+    (lo, hi), zero = iv.corner_div(B, a, b)
+    return lo, hi, zero
 
 
 def _same(got, want):

@@ -33,7 +33,7 @@ import math
 
 import numpy as np
 
-__all__ = ["DOUBLE", "precise", "FN_ULPS", "SPECIAL_ULPS", "point", "constant", "add", "sub", "mul", "div", "neg",
+__all__ = ["DOUBLE", "precise", "FN_ULPS", "SPECIAL_ULPS", "point", "constant", "add", "sub", "mul", "div", "corner_div", "neg",
            "power", "function", "atan2", "agm", "FUNCTIONS"]
 
 FN_ULPS = 4  # numpy's exp, log, sin, ... (measured within an ulp); basic operations: 1
@@ -536,6 +536,12 @@ def div(B, a, b):
     """a / b, and the mask of a certain division by zero (b exactly 0)."""
     if B is not DOUBLE:
         return B.interval_div(a, b)
+    return corner_div(B, a, b)
+
+
+def corner_div(B, a, b):
+    """a / b by all four corners, each rounded outward, in any backend (the precise one's fused
+    ``interval_div`` picks two of them and is tested against this)."""
     through = (b[0] <= 0) & (b[1] >= 0)
     zero = (b[0] == 0) & (b[1] == 0)
     safe_b = (np.where(through, 1, b[0]), np.where(through, 1, b[1]))
