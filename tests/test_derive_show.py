@@ -81,20 +81,25 @@ def test_long_expressions_are_wrapped_at_their_operators_and_named():
 
 
 def test_simplify_is_sympys_and_puts_factor_back():
-    """derive_text.simplify keeps factor's and _futrig's results while sympy's simplify runs (trigsimp
-    factors one sum many times over, and searches the same node again): it returns what sympy's simplify
-    returns, and sympy's trigsimp has its own factor and _futrig again after.  By hand, sin²x cos y + cos²x cos y + sin x cos x = cos y + sin(2x)/2."""
+    """derive_text.simplify keeps the results of sympy's pure functions (trigsimp's factor and _futrig,
+    simplify itself, count_ops under each name) while sympy's simplify runs (trigsimp factors one sum many
+    times over, and searches the same node again): it returns what sympy's simplify returns, and sympy has
+    its own functions again after.  By hand, sin²x cos y + cos²x cos y + sin x cos x = cos y + sin(2x)/2."""
     import importlib
 
     from mech.problems import derive_text
 
-    trig = importlib.import_module("sympy.simplify.trigsimp")
-    own, own_futrig = trig.factor, trig._futrig
+    kept = [("sympy.simplify.trigsimp", "factor"), ("sympy.simplify.trigsimp", "_futrig"),
+            ("sympy.simplify.simplify", "simplify"), ("sympy.simplify.simplify", "count_ops"),
+            ("sympy.simplify.trigsimp", "count_ops"), ("sympy.core.function", "count_ops")]
+    assert set(kept) == set(derive_text._KEPT)
+    own = {(m, n): getattr(importlib.import_module(m), n) for m, n in kept}
+    assert not any(getattr(f, "remembers", False) for f in own.values())
     x, y = sympy.symbols("x y", real=True)
     e = (sympy.sin(x)**2 * sympy.cos(y) + sympy.cos(x)**2 * sympy.cos(y) + sympy.sin(x) * sympy.cos(x)
          + (x**2 - y**2) / (x - y))
     got = derive_text.simplify(e)
-    assert trig.factor is own and trig._futrig is own_futrig
+    assert all(getattr(importlib.import_module(m), n) is f for (m, n), f in own.items())
     assert derive_text.simplify(e) == got  # again, from what the first call kept
     assert got == sympy.simplify(e)
     hand = sympy.cos(y) + sympy.sin(2 * x) / 2 + x + y
