@@ -361,6 +361,32 @@ def test_4_15_lagrangian_and_equation_by_hand():
     assert sympy.simplify(expr + 3 * g / (2 * l) * sympy.cos(theta)) == 0
 
 
+def test_a_derivation_checks_its_states_at_once_and_compiles_its_numbers_when_asked():
+    """A fresh derivation of 4.15: printing it compiles nothing (``show --derive`` asks for no number);
+    the first number asked for compiles the numeric side, and theta'' is the hand's -(3 g/2 l) cos theta;
+    a declaration giving one state too few is refused when derived, not when first evaluated."""
+    import math
+
+    ex = registry.get("4.15")
+    fn, _ = physics.find_declaration(ex)
+    d = physics.Declaration(ex)
+    fn(d)
+    der = physics.Derivation(ex, d)
+    der.sections()
+    assert der._unbuilt is not None and not hasattr(der, "_A")
+    p = ex.resolve({})
+    theta = 0.7
+    got = der.rates(p, 0.0, [theta], [0.3])
+    want = -3 * float(p["g"]) / (2 * float(p["l"])) * math.cos(theta)
+    assert got[str(d.q[0].diff(d.t, 2))] == pytest.approx(want, rel=1e-12)
+    assert der._unbuilt is None
+    short = physics.Declaration(ex)
+    fn(short)
+    short.state_exprs = short.state_exprs[:-1]
+    with pytest.raises(ValueError, match="states"):
+        physics.Derivation(ex, short)
+
+
 def test_5_12_lagrangian_and_equation_by_hand():
     """Bob at (l sin theta, a cos(W t) - l cos theta): T = (M/2)(l^2 w^2 - 2 a W l sin(W t) sin(theta) w
     + a^2 W^2 sin^2(W t)), U = M g (a cos(W t) - l cos theta), F = M l^2 delta w^2; Lagrange with F:
