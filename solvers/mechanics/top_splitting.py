@@ -40,8 +40,7 @@ from mech.core.budget import check as budget_check
 from mech.solvers.numerics.splitting import KAHAN_LI8, YOSHIDA6, crossing, stages
 
 __all__ = ["fine_steps", "fine_stepper", "strang_stepper", "retune", "coarse_step", "tan_root", "coarse_ladder",
-           "nz_crossing", "jacobi_of",
-           "Dips", "lowest_nz", "march"]
+           "Dips", "lowest_nz", "FineEvents", "march"]
 
 K8_COEF, K8_EXP, K8_MIN = 2.3, 0.2, 2.5
 
@@ -351,14 +350,14 @@ def lowest_nz(a, b, w, h, H, step, low, low_c):
     return cos_min
 
 
-def nz_crossing(step, n, L, t, h, sign, nz_end):
+def _crossing(step, n, L, t, h, sign, nz_end):
     """Partial step tau in (0, h] where n_z changes sign (sign = +1: from positive to negative); ``nz_end``:
     n_z after the whole step."""
     return crossing(lambda tau: sign * step(n, L, t, tau)[0][2], h, sign * n[2], sign * nz_end)
 
 
 
-def jacobi_of(a, b, w, k):
+def _jacobi(a, b, w, k):
     def jacobi(n, L, t):
         # energy in the frame turning with F, scaled by L3^2/I_A:  |L|^2/2 + (a n_z - f.n)/k - (w/k) L_z
         fx, fy = b * math.cos(w * t), b * math.sin(w * t)
@@ -366,32 +365,73 @@ def jacobi_of(a, b, w, k):
     return jacobi
 
 
+class FineEvents:
+    """The fine steps of a march from n = z, L = n (scaled) and what they meet, one step at a time
+    (``advance``): t_down and phi_lead, t_up, the steps that may hold the lowest n_z (``Dips``); and what a
+    state tells (``watch``): the nutation's reach ``arm`` (6 sin of the cone of n about L, at least its
+    start's 6 Om/k) and the drifts of the Jacobi integral and of L . n.  Both marches (``march`` and
+    solvers.mechanics.top_strobe's) step through their events by it."""
+
+    def __init__(self, a, b, k, w, h, step):
+        self.w, self.h, self.step = w, h, step
+        self.jacobi = _jacobi(a, b, w, k)
+        self.J0, self.J_scale = self.jacobi((0.0, 0.0, 1.0), (0.0, 0.0, 1.0), 0.0), (a + b) / k
+        self.drift_J = self.drift_L3 = 0.0
+        # n_z nutates about its slow motion by up to the cone angle of n about L (~ Om/k on the exact motion,
+        # more where round-off in |L| ~ 1e-14 opens it, sqrt(2e-14) >> Om/k for the fastest tops): measured
+        self.arm = 6.0 * math.hypot(a, b) / k
+        self.low = Dips(k, h)
+        self.stage, self.armed, self.nsteps = 0, False, 0
+        self.t_down = self.t_up = self.phi_lead = None
+
+    def advance(self, n, L, t):
+        """One fine step from (n, L, t), its end returned; where n_z crosses 0 in it, t_down (and phi_lead)
+        or t_up is located on a partial step (t_up set: the march is over)."""
+        step, h = self.step, self.h
+        n2, L2, t2 = step(n, L, t, h)
+        self.nsteps += 1
+        if self.stage == 0 and n2[2] <= 0.0 < n[2]:
+            tau = _crossing(step, n, L, t, h, +1, n2[2])
+            nd, _, self.t_down = step(n, L, t, tau)
+            lead = math.atan2(nd[1], nd[0]) - self.w * self.t_down
+            self.phi_lead = math.pi - (math.pi - lead) % (2 * math.pi)  # wrapped to (-pi, pi]
+            self.stage = 1
+        elif self.stage == 1:
+            # n_z nutates by up to ~2 Om/k about its slow motion, faster than that moves when a > b: the way
+            # back up counts only once the axis has gone below the nutation's reach (or below cos(theta) =
+            # -0.3 for a slow top, whose wide nutation is no wiggle about a slow motion)
+            self.armed = self.armed or n2[2] < -min(self.arm, 0.3)
+            self.low.add(n, L, t, n2[2])
+            if n2[2] >= 0.0 > n[2] and self.armed:
+                self.t_up = t + _crossing(step, n, L, t, h, -1, n2[2])
+        return n2, L2, t2
+
+    def watch(self, n, L, t):
+        """The reach and the drifts, read at the state (n, L, t)."""
+        cx, cy, cz = n[1] * L[2] - n[2] * L[1], n[2] * L[0] - n[0] * L[2], n[0] * L[1] - n[1] * L[0]
+        self.arm = max(self.arm, 6.0 * math.sqrt(cx * cx + cy * cy + cz * cz))  # 6 sin(cone angle) (|L| ~ 1)
+        self.drift_J = max(self.drift_J, abs(self.jacobi(n, L, t) - self.J0) / self.J_scale)
+        self.drift_L3 = max(self.drift_L3, abs(n[0] * L[0] + n[1] * L[1] + n[2] * L[2] - 1.0))
+
+
 def march(a, b, k, w, h, ladder, step, coarse, units=1.0):
     """The overturn and back from n = z, L = n (scaled): coarse steps far from the events, fine steps
-    near them; returns what the outputs are read from (event times, the lowest steps, the drifts)."""
-    Om = math.hypot(a, b)
+    near them (``FineEvents``); returns what the outputs are read from (event times, the lowest steps, the
+    drifts)."""
     H = ladder[0][0] if ladder else None
     margin = ladder[-1][1] if ladder else 0.0  # fine steps within +-margin of n_z = 0, crossed at a rate ~ b
     t_max = 12.0 / b  # the force's tipping time 1/b, with a wide margin for the full overturn and back
-    jacobi = jacobi_of(a, b, w, k)
+    ev = FineEvents(a, b, k, w, h, step)
     n, L, t = (0.0, 0.0, 1.0), (0.0, 0.0, 1.0), 0.0
-    J0, J_scale = jacobi(n, L, t), (a + b) / k
-    drift_J = drift_L3 = 0.0
-    stage = 0
-    # n_z nutates about its slow motion by up to the cone angle of n about L (~ Om/k on the exact motion,
-    # more where round-off in |L| ~ 1e-14 opens it, sqrt(2e-14) >> Om/k for the fastest tops): measured
-    arm = 6.0 * Om / k
-    armed = False
-    t_down = t_up = phi_lead = None
-    low = Dips(k, h)  # the fine steps that may hold the lowest n_z
     low_c = (2.0, None, [], 0.0)  # lowest coarse boundary: (n_z, state a step before, (t, n_z) around it, step)
-    nsteps = ncoarse = 0
+    ncoarse = 0
     fine = H is None
     H_now = 0.0  # the size of the Strang steps whose forced nutation L carries (0: the fine steps')
     while t < t_max:
         if not fine:
-            dist = n[2] if stage == 0 else -n[2]
+            dist = n[2] if ev.stage == 0 else -n[2]
             Hj = None
+            arm = ev.arm
             for Hx, win in ladder:  # the largest step whose window the axis is outside of (a loop, not a generator:
                 if win + arm < dist:  # this runs once a coarse step, up to a million times a run)
                     Hj = Hx
@@ -404,11 +444,11 @@ def march(a, b, k, w, h, ladder, step, coarse, units=1.0):
                 H_now = Hj
             n2, L2, t2 = coarse(n, L, t, Hj)
             ncoarse += 1
-            if (stage == 0 and n2[2] <= margin + arm) or (stage == 1 and n2[2] >= -margin - arm):
+            if (ev.stage == 0 and n2[2] <= margin + arm) or (ev.stage == 1 and n2[2] >= -margin - arm):
                 fine = True
                 continue
-            if stage == 1:
-                armed = armed or n2[2] < -min(arm, 0.3)
+            if ev.stage == 1:
+                ev.armed = ev.armed or n2[2] < -min(arm, 0.3)
                 if n2[2] < low_c[0]:
                     low_c = (n2[2], (n, L, t), [(t, n[2]), (t2, n2[2])], Hj)
                 elif len(low_c[2]) == 2:
@@ -417,31 +457,15 @@ def march(a, b, k, w, h, ladder, step, coarse, units=1.0):
             if H_now:
                 n, L = retune(a, b, w, n, L, t, -H_now * H_now)
                 H_now = 0.0
-            n2, L2, t2 = step(n, L, t, h)
-            nsteps += 1
-            if stage == 0 and n2[2] <= 0.0 < n[2]:
-                tau = nz_crossing(step, n, L, t, h, +1, n2[2])
-                nd, _, t_down = step(n, L, t, tau)
-                lead = math.atan2(nd[1], nd[0]) - w * t_down
-                phi_lead = math.pi - (math.pi - lead) % (2 * math.pi)  # wrapped to (-pi, pi]
-                stage = 1
-            elif stage == 1:
-                # n_z nutates by up to ~2 Om/k about its slow motion, faster than that moves when a > b:
-                # the way back up counts only once the axis has gone below the nutation's reach (or below
-                # cos(theta) = -0.3 for a slow top, whose wide nutation is no wiggle about a slow motion)
-                armed = armed or n2[2] < -min(arm, 0.3)
-                low.add(n, L, t, n2[2])
-                if n2[2] >= 0.0 > n[2] and armed:
-                    t_up = t + nz_crossing(step, n, L, t, h, -1, n2[2])
-                    break
-                if H and n2[2] < -margin - arm:
-                    fine = False
-        if (nsteps + ncoarse) % 64 == 0:
+            was = ev.stage
+            n2, L2, t2 = ev.advance(n, L, t)
+            if ev.t_up is not None:
+                break
+            if was == 1 and H and n2[2] < -margin - ev.arm:
+                fine = False
+        if (ev.nsteps + ncoarse) % 64 == 0:
             budget_check("top splitting steps", 64 * units)
-            cx, cy, cz = n2[1] * L2[2] - n2[2] * L2[1], n2[2] * L2[0] - n2[0] * L2[2], n2[0] * L2[1] - n2[1] * L2[0]
-            arm = max(arm, 6.0 * math.sqrt(cx * cx + cy * cy + cz * cz))  # 6 sin(cone angle) (|L| ~ 1)
-            drift_J = max(drift_J, abs(jacobi(n2, L2, t2) - J0) / J_scale)
-            drift_L3 = max(drift_L3, abs(n2[0] * L2[0] + n2[1] * L2[1] + n2[2] * L2[2] - 1.0))
+            ev.watch(n2, L2, t2)
         n, L, t = n2, L2, t2
-    return {"t_down": t_down, "t_up": t_up, "phi_lead": phi_lead, "low": low, "low_c": low_c, "t": t,
-            "nsteps": nsteps, "ncoarse": ncoarse, "drift_J": drift_J, "drift_L3": drift_L3}
+    return {"t_down": ev.t_down, "t_up": ev.t_up, "phi_lead": ev.phi_lead, "low": ev.low, "low_c": low_c, "t": t,
+            "nsteps": ev.nsteps, "ncoarse": ncoarse, "drift_J": ev.drift_J, "drift_L3": ev.drift_L3}

@@ -43,7 +43,7 @@ import numpy as np
 
 from mech.core.budget import check as budget_check
 from mech.core.errors import NumericFailure
-from mech.solvers.mechanics.top_splitting import Dips, fine_stepper, jacobi_of, nz_crossing
+from mech.solvers.mechanics.top_splitting import FineEvents, fine_stepper
 
 __all__ = ["Strobe", "per_period", "solve", "strobe_cost", "strobe_march"]
 
@@ -199,26 +199,16 @@ class _Macro:
         return n2, (L2[0] + d * n2[0], L2[1] + d * n2[1], L2[2] + d * n2[2]), t + h
 
 
-class _Fine:
-    """The fine steps between macro steps, and what they find: t_down and phi_lead, t_up, the steps that may
-    hold the lowest n_z (``Dips``), the invariants' drifts and the nutation's reach ``arm``."""
+class _Fine(FineEvents):
+    """The fine steps between macro steps (``top_splitting.FineEvents``), run until a state is left to the
+    macro steps; ``watch`` also arms the way back up and stops a march that passes t_max."""
 
     def __init__(self, a, b, k, w, h, step, units):
-        self.a, self.b, self.k, self.w, self.h, self.step, self.units = a, b, k, w, h, step, units
-        self.jacobi = jacobi_of(a, b, w, k)
-        self.J0, self.J_scale = self.jacobi((0.0, 0.0, 1.0), (0.0, 0.0, 1.0), 0.0), (a + b) / k
-        self.drift_J = self.drift_L3 = 0.0
-        self.arm = 6.0 * math.hypot(a, b) / k  # 6 sin(the cone of n about L), at least its start's
-        self.low = Dips(k, h)
-        self.stage, self.armed, self.nsteps = 0, False, 0
-        self.t_down = self.t_up = self.phi_lead = None
-        self.t_max = 12.0 / b
+        super().__init__(a, b, k, w, h, step)
+        self.units, self.t_max = units, 12.0 / b
 
     def watch(self, n, L, t):
-        cx, cy, cz = n[1] * L[2] - n[2] * L[1], n[2] * L[0] - n[0] * L[2], n[0] * L[1] - n[1] * L[0]
-        self.arm = max(self.arm, 6.0 * math.sqrt(cx * cx + cy * cy + cz * cz))
-        self.drift_J = max(self.drift_J, abs(self.jacobi(n, L, t) - self.J0) / self.J_scale)
-        self.drift_L3 = max(self.drift_L3, abs(n[0] * L[0] + n[1] * L[1] + n[2] * L[2] - 1.0))
+        super().watch(n, L, t)
         if self.stage == 1:
             self.armed = self.armed or n[2] < -min(self.arm, 0.3)
         if t > self.t_max:
@@ -227,26 +217,13 @@ class _Fine:
 
     def run(self, n, L, t, leave):
         """Fine steps from (n, L, t) until ``leave(n, L, t)`` after a step (then that state), or t_up (None)."""
-        step, h = self.step, self.h
         while True:
-            n2, L2, t2 = step(n, L, t, h)
-            self.nsteps += 1
-            if self.stage == 0 and n2[2] <= 0.0 < n[2]:
-                tau = nz_crossing(step, n, L, t, h, +1, n2[2])
-                nd, _, self.t_down = step(n, L, t, tau)
-                lead = math.atan2(nd[1], nd[0]) - self.w * self.t_down
-                self.phi_lead = math.pi - (math.pi - lead) % (2 * math.pi)  # wrapped to (-pi, pi]
-                self.stage = 1
-            elif self.stage == 1:
-                self.armed = self.armed or n2[2] < -min(self.arm, 0.3)
-                self.low.add(n, L, t, n2[2])
-                if n2[2] >= 0.0 > n[2] and self.armed:
-                    self.t_up = t + nz_crossing(step, n, L, t, h, -1, n2[2])
-                    return None
+            n, L, t = self.advance(n, L, t)
+            if self.t_up is not None:
+                return None
             if self.nsteps % 64 == 0:
                 budget_check("top splitting steps", 64 * self.units)
-                self.watch(n2, L2, t2)
-            n, L, t = n2, L2, t2
+                self.watch(n, L, t)
             if leave(n, L, t):
                 self.watch(n, L, t)
                 return n, L, t
